@@ -1,0 +1,98 @@
+"""C emission: common subexpressions eliminated, const temporaries, op counts."""
+import sympy as sp
+from sympy.printing.c import C99CodePrinter
+
+from .model import PARAMETERS, P
+
+PI_LITERAL = "3.141592653589793238462643383279502884"
+
+
+class KernelPrinter(C99CodePrinter):
+    """C99 printer without pow() for small integer powers and without M_PI."""
+
+    def __init__(self, names):
+        super().__init__()
+        self._names = names
+
+    def _print_Symbol(self, expr):
+        if expr in self._names:
+            return self._names[expr]
+        return super()._print_Symbol(expr)
+
+    def _print_Pi(self, expr):
+        return PI_LITERAL
+
+    def _print_Pow(self, expr):
+        base, e = expr.base, expr.exp
+        if e.is_Integer and 2 <= abs(int(e)) <= 4:
+            b = self.parenthesize(base, sp.printing.precedence.PRECEDENCE["Mul"] + 1)
+            prod = "*".join([b] * abs(int(e)))
+            return prod if e > 0 else f"1.0/({prod})"
+        if e == -1:
+            return f"1.0/{self.parenthesize(base, sp.printing.precedence.PRECEDENCE['Mul'] + 1)}"
+        if e == sp.Rational(1, 2):
+            return f"sqrt({self._print(base)})"
+        if e == sp.Rational(-1, 2):
+            return f"1.0/sqrt({self._print(base)})"
+        return super()._print_Pow(expr)
+
+    def _print_Rational(self, expr):
+        return f"{float(expr.p)!r}/{float(expr.q)!r}".replace("e+", "e")
+
+    def _print_Integer(self, expr):
+        return f"{int(expr)}.0" if abs(int(expr)) < 10**15 else super()._print_Integer(expr)
+
+
+def param_names():
+    return {P[name]: f"p->{name}" for name, *_ in PARAMETERS}
+
+
+class Kernel:
+    """One C function: named inputs bound to array entries, a list of outputs.
+
+    ``args`` is a list of (C declaration, symbols it provides); an argument none
+    of whose symbols occurs in the outputs is marked unused with a (void) cast.
+    """
+
+    def __init__(self, name, doc, args, bindings, outputs, out_doc):
+        self.name, self.doc, self.args = name, doc, args
+        self.bindings = bindings      # list of (symbol, C expression, comment)
+        self.outputs = outputs        # list of sympy expressions (out[i])
+        self.out_doc = out_doc        # comment describing the out layout
+
+    def signature(self):
+        return f"void {self.name}({', '.join(d for d, _ in self.args)})"
+
+    def emit(self):
+        names = param_names()
+        exprs = [sp.sympify(e) for e in self.outputs]
+        used = set().union(*(e.free_symbols for e in exprs))
+        bind = [f"    const double {sym.name} = {c_expr};  /* {comment} */"
+                for sym, c_expr, comment in self.bindings if sym in used]
+        unused = [f"    (void){decl.split()[-1].lstrip('*')};"
+                  for decl, provided in self.args
+                  if provided is not None and not (set(provided) & used)]
+        repl, reduced = sp.cse(exprs, symbols=sp.numbered_symbols("w"),
+                               order="canonical")
+        printer = KernelPrinter(names)
+        ops_before = sum(sp.count_ops(e) for e in exprs)
+        ops_after = (sum(sp.count_ops(e) for _, e in repl)
+                     + sum(sp.count_ops(e) for e in reduced))
+        temps = [f"    const double {sym.name} = {printer.doprint(e)};"
+                 for sym, e in repl]
+        outs = [f"    out[{i}] = {printer.doprint(e)};"
+                for i, e in enumerate(reduced)]
+        head = ["/* " + self.doc[0]] + [" * " + line for line in self.doc[1:]]
+        head += [f" * {self.out_doc}",
+                 f" * Operations: {ops_after} after CSE ({ops_before} before), "
+                 f"{len(repl)} temporaries.",
+                 " */"]
+        parts = ["\n".join(head), self.signature(), "{"]
+        if unused:
+            parts += unused
+        if bind:
+            parts += ["    /* inputs */"] + bind
+        if temps:
+            parts += ["    /* common subexpressions */"] + temps
+        parts += ["    /* outputs */"] + outs + ["}", ""]
+        return "\n".join(parts), ops_after

@@ -1,0 +1,319 @@
+"""Equations of motion of the motor, derived from named modelling assumptions.
+
+Everything the C kernels compute comes out of ``derive_model``: nothing here is
+an equation of motion typed by hand; the only inputs are the kinematics of
+``kinematics.py``, the force laws of the paper (2.1), (2.2), (2.5), (2.8)-(2.10)
+and the assumptions of a variant (``variants.py``).
+
+Rotational equations.  Euler's equations (2.6) hold in the body frame K.  The
+mass-matrix form uses them projected on frame A (rows = C_AK * (2.6)): the
+solution set is the same (C_AK is orthogonal), and in frame A the stationary
+solution is constant, which makes the stationary residuals (3.3)-(3.5) free of
+time without any simplification of large expressions.  The linearisation about
+a solution is unchanged by such a row rotation, because the rotated residual
+vanishes on the solution.
+"""
+from dataclasses import dataclass, field
+import sympy as sp
+
+from .kinematics import Kinematics
+
+# The paper's parameter symbols in ASCII (Appendix A plus f, M, mu0, kappa),
+# with SI units.  Their order is the field order of the C struct usm_params.
+PARAMETERS = [
+    ("m0", "N m", "excitation torque amplitude", "positive"),
+    ("T", "N m", "load torque", "any"),
+    ("F0", "N", "spring preload", "nonnegative"),
+    ("c_R", "N/m", "rotor spring stiffness", "nonnegative"),
+    ("d_R", "N s/m", "rotor axial damping", "nonnegative"),
+    ("c_t", "N m/rad", "twist stiffness", "nonnegative"),
+    ("c_r", "N m/rad", "tilt stiffness", "nonnegative"),
+    ("d_t", "N m s/rad", "twist damping", "nonnegative"),
+    ("d_r", "N m s/rad", "tilt damping", "nonnegative"),
+    ("R", "m", "contact radius at rest", "positive"),
+    ("H", "m", "height of the contact plane", "positive"),
+    ("I_R", "kg m^2", "rotor moment of inertia", "positive"),
+    ("I_xx", "kg m^2", "stator moment of inertia about x", "positive"),
+    ("I_yy", "kg m^2", "stator moment of inertia about y", "positive"),
+    ("I_zz", "kg m^2", "stator moment of inertia about z", "positive"),
+    ("M", "kg", "rotor mass", "nonnegative"),
+    ("f", "Hz", "excitation frequency (Omega = 2 pi f)", "positive"),
+    ("mu0", "1", "friction law scale", "nonnegative"),
+    ("kappa", "s/m", "friction law slope", "positive"),
+]
+
+P = {name: sp.Symbol(name, real=True) for name, *_ in PARAMETERS}
+t = sp.Symbol("t", real=True)
+OMEGA = 2 * sp.pi * P["f"]
+
+
+def friction_law(name, v):
+    """mu(v_rel) for the slip model: the paper's (5.2) and alternatives."""
+    mu0, kappa = P["mu0"], P["kappa"]
+    if name == "atan":
+        return mu0 * sp.atan(kappa * v)
+    if name == "tanh":
+        return mu0 * sp.tanh(kappa * v)
+    raise ValueError(f"unknown friction law {name!r}")
+
+
+@dataclass
+class Model:
+    """A derived model: first-order form and stationary-solution problem."""
+    name: str
+    assumptions: dict
+    states: list            # symbols of x, in order
+    state_names: list
+    mass: sp.Matrix         # M(x), n x n
+    rhs: sp.Matrix          # f(x, t), n
+    v: list                 # symbols of the vector v in d(M v)/dx
+    outputs: dict           # name -> expression of (x, xdot, t)
+    xdot: list              # symbols of xdot used by outputs
+    unknowns: list          # stationary unknowns u
+    unknown_names: list
+    residual: sp.Matrix     # r(u)
+    steady_outputs: dict    # name -> expression of u
+    steady_state: sp.Matrix  # xbar(t) as function of (u, beta, t)
+    steady_rate: sp.Matrix   # d xbar/dt
+    seed: dict              # name -> expression of theta (see derive_model)
+    friction: object = None  # mu(v) expression in symbol v_rel, slip only
+    v_rel: object = None
+    cyclic: list = field(default_factory=list)
+    equations: dict = field(default_factory=dict)  # for the readable export
+
+
+def _plain(expr, fun_to_sym):
+    """Replace q''(t), q'(t), q(t) by plain symbols (highest order first)."""
+    return expr.subs(fun_to_sym)
+
+
+def derive_model(name, assumptions):
+    contact = assumptions["contact"]
+    twist = assumptions["twist"]
+    spring_reference = assumptions["spring_reference"]
+    inertia = assumptions["stator_inertia"]
+    p = P
+    R, H = p["R"], p["H"]
+
+    phi_f, theta_f, psi_f = (sp.Function(n, real=True)(t)
+                             for n in ("phi", "theta", "psi"))
+    kin = Kinematics(t, phi_f, theta_f, psi_f, R, H)
+    coords = [phi_f, theta_f, psi_f]
+    coord_names = ["phi", "theta", "psi"]
+    if contact == "slip":
+        phiR_f = sp.Function("phi_R", real=True)(t)
+        coords = [phiR_f] + coords
+        coord_names = ["phi_R"] + coord_names
+    nq = len(coords)
+
+    q = [sp.Symbol(n, real=True) for n in coord_names]
+    qd = [sp.Symbol(n + "dot", real=True) for n in coord_names]
+    qdd = [sp.Symbol(n + "ddot", real=True) for n in coord_names]
+    fun_to_sym = {}
+    for i, c in enumerate(coords):
+        fun_to_sym[c.diff(t, 2)] = qdd[i]
+    subs_lists = ([(c.diff(t, 2), qdd[i]) for i, c in enumerate(coords)]
+                  + [(c.diff(t), qd[i]) for i, c in enumerate(coords)]
+                  + [(c, q[i]) for i, c in enumerate(coords)])
+
+    def plain(e):
+        return e.subs(subs_lists)
+
+    # --- rotor, (2.1)-(2.5): contact forces in terms of the stator motion ----
+    Z, R_star, v_c = kin.Z, kin.R_star, kin.v_c
+    Z_ref = {"theta0": H, "literal": 0}[spring_reference]
+    F_n = (p["M"] * Z.diff(t, 2) + p["F0"] + p["c_R"] * (Z - Z_ref)
+           + p["d_R"] * Z.diff(t))                                   # (2.1), (2.3)
+    # Newton's third law: the stator feels F_c = -F_t e_x1 - F_n e_z1 (2.5);
+    # the rotor feels -F_c at r_c, whose moment about Z is -R* F_t, and the load
+    # T opposes the driving direction w_R = -phidot_R.  Moment balance (2.2):
+    #   I_R dw_R/dt = F_t R* - T.
+    Ft_s, Fn_s = sp.symbols("F_t F_n", real=True)
+    if contact == "stick":
+        w_R = v_c / R_star                                            # (2.4)
+    elif contact == "slip":
+        w_R = -phiR_f.diff(t)
+    else:
+        raise ValueError(f"unknown contact law {contact!r}")
+    rotor_balance = p["I_R"] * w_R.diff(t) - (Ft_s * R_star - p["T"])  # (2.2)
+    phiR_rate = -w_R
+    if contact == "stick":
+        F_t = sp.solve(rotor_balance, Ft_s)[0]
+        v_rel = sp.Integer(0)
+        rotor_rows = []
+        mu_expr, v_sym = None, None
+    else:
+        v_rel = v_c - w_R * R_star                                    # (5.1)
+        v_sym = sp.Symbol("v_rel", real=True)
+        mu_expr = friction_law(assumptions["friction"], v_sym)        # (5.2)
+        F_t = mu_expr.subs(v_sym, v_rel) * F_n
+        rotor_rows = [rotor_balance.subs(Ft_s, F_t)]
+
+    # --- stator, (2.6)-(2.11) in frame A ------------------------------------
+    Iyy = p["I_xx"] if inertia == "axisymmetric" else p["I_yy"]
+    I_A = kin.tensor_in_A_from_K((p["I_xx"], Iyy, p["I_zz"]))
+    L_A = I_A * kin.omega_A
+    dLdt_A = L_A.diff(t) + kin.frame_A_rate.cross(L_A)
+    Om = OMEGA
+    M_E_A = (kin.C_NA.T * sp.Matrix([p["m0"] * sp.cos(Om * t),
+                                     p["m0"] * sp.sin(Om * t), 0])
+             ).applyfunc(sp.trigsimp)                                 # (2.8)
+    extra_states, extra_names, extra_rates = [], [], []
+    if twist == "paper":
+        twist_angle = phi_f + psi_f * sp.cos(theta_f)                # (2.9)
+    elif twist == "integrated":
+        tau = sp.Symbol("tau", real=True)
+        twist_angle = tau
+        extra_states, extra_names = [tau], ["tau"]
+        extra_rates = [kin.omega_A[2]]                    # tau' = omega_Z
+    else:
+        raise ValueError(f"unknown twist law {twist!r}")
+    M_R_A = sp.Matrix([p["c_r"] * theta_f, 0, p["c_t"] * twist_angle])
+    D_A = kin.tensor_in_A_from_N((p["d_r"], p["d_r"], p["d_t"]))
+    M_D_A = D_A * kin.omega_A                                         # (2.10)
+    F_c_A = sp.Matrix([-Ft_s, 0, -Fn_s])                              # (2.5)
+    M_C_A = kin.r_c_A.cross(F_c_A)                                    # (2.11)
+    stator_generic = dLdt_A - (M_E_A - M_R_A - M_D_A + M_C_A)         # (2.6), (2.7)
+    stator_rows = list(stator_generic.subs({Ft_s: F_t, Fn_s: F_n}))
+
+    rows = [plain(r) for r in rotor_rows + stator_rows]
+    # rows are linear in the accelerations: M_q qdd = f_q
+    M_q = sp.Matrix(rows).jacobian(qdd)
+    f_q = -sp.Matrix(rows).subs({a: 0 for a in qdd})
+
+    n = 2 * nq + len(extra_states)
+    states = q + qd + extra_states
+    state_names = coord_names + [c + "dot" for c in coord_names] + extra_names
+    mass = sp.zeros(n, n)
+    for i in range(nq):
+        mass[i, i] = 1
+    mass[nq:2 * nq, nq:2 * nq] = M_q
+    for i in range(len(extra_states)):
+        mass[2 * nq + i, 2 * nq + i] = 1
+    rhs = sp.Matrix(qd + list(f_q) + [plain(r) for r in extra_rates])
+    v = [sp.Symbol(f"v{i}", real=True) for i in range(n)]
+
+    # --- derived output quantities along any motion ---------------------------
+    xdot = [sp.Symbol(nm + "_rate", real=True) for nm in state_names]
+    xdot_subs = {}
+    for i in range(nq):
+        xdot_subs[qdd[i]] = xdot[nq + i]
+    outputs = {
+        "R_star": plain(R_star),
+        "Z": plain(Z),
+        "v_c": plain(v_c),
+        "F_n": plain(F_n).subs(xdot_subs),
+        "F_t": plain(F_t).subs(xdot_subs),
+        "v_rel": plain(v_rel),
+        "rotor_speed": plain(phiR_rate),
+    }
+
+    # --- stationary solution, (3.1)-(3.7) and section 5 ------------------------
+    theta_b, alpha, beta = sp.symbols("theta alpha beta", real=True)
+    unknowns = [theta_b, alpha]
+    unknown_names = ["theta", "alpha"]
+    psi_rate = -Om / sp.cos(theta_b)
+    ansatz = {phi_f: Om * t + alpha, theta_f: theta_b,
+              psi_f: psi_rate * t + beta}                              # (3.1)
+    rate_bar = {phi_f: Om, theta_f: 0, psi_f: psi_rate}
+    if contact == "slip":
+        wR = sp.Symbol("phidot_R", real=True)
+        unknowns.append(wR)
+        unknown_names.append("phidot_R")
+        ansatz[phiR_f] = wR * t
+        rate_bar[phiR_f] = wR
+    tau_bar = None
+    if twist == "integrated":
+        tau_bar = beta  # the constant twist angle takes the place of beta
+
+    def on_ansatz(e):
+        e = e.subs({c.diff(t, 2): 0 for c in coords})
+        e = e.subs({c.diff(t): rate_bar[c] for c in coords})
+        e = e.subs(ansatz)
+        if tau_bar is not None:
+            e = e.subs(tau, tau_bar)
+        return e
+
+    st_rows = [on_ansatz(r) for r in rotor_rows + stator_rows]
+    rZ = sp.expand(st_rows[-1])
+    residual_rows = st_rows[:-1]
+    for r in residual_rows:
+        if t in r.free_symbols:
+            raise RuntimeError("stationary residual depends on time: "
+                               "the ansatz (3.1) is not a solution of this variant")
+    beta_sol = sp.solve(rZ, beta)
+    if len(beta_sol) != 1 or t in beta_sol[0].free_symbols:
+        raise RuntimeError("twisting balance does not determine beta uniquely")
+    beta_expr = beta_sol[0]
+    residual = sp.Matrix(residual_rows)
+
+    def steady(e):
+        return on_ansatz(e).subs(beta, beta_expr)
+
+    F_n_bar, F_t_bar = steady(F_n), steady(F_t)
+    v_c_bar = steady(v_c)
+    steady_outputs = {
+        "beta": beta_expr,
+        "rotor_speed": steady(phiR_rate),
+        "F_n": F_n_bar,
+        "F_t": F_t_bar,
+        "v_c": v_c_bar,
+        "v_rel": steady(v_rel),
+        "R_star": theta_to(R_star, theta_f, theta_b),
+        "Z": theta_to(Z, theta_f, theta_b),
+    }
+
+    # State on the stationary orbit and its rate, for any t (used by Floquet).
+    xbar = [ansatz[c] for c in coords] + [rate_bar[c] for c in coords]
+    xbar_rate = [sp.diff(e, t) for e in xbar]
+    if twist == "integrated":
+        xbar.append(beta)
+        xbar_rate.append(sp.Integer(0))
+    steady_state = sp.Matrix(xbar).subs(beta, sp.Symbol("beta", real=True))
+    steady_rate = sp.Matrix(xbar_rate)
+
+    # Seed for the root search: at given theta the stator rows are linear in
+    # (cos alpha, sin alpha) once the steady contact forces are known; solving
+    # that 2x2 system gives alpha, and |(cos, sin)| = 1 is a scalar equation in
+    # theta alone whose sign changes bracket every stationary solution.
+    C, S = sp.symbols("C S", real=True)
+    stator_seed = [on_ansatz(r) for r in list(stator_generic)[:2]]
+    Ft_steady = sp.solve(on_ansatz(rotor_balance), Ft_s)[0]
+    Fn_steady = on_ansatz(F_n)
+    lin = [sp.expand(r.subs({Ft_s: Ft_steady, Fn_s: Fn_steady}))
+           .subs({sp.cos(alpha): C, sp.sin(alpha): S}) for r in stator_seed]
+    for r in lin:
+        if alpha in r.free_symbols:
+            raise RuntimeError("stator rows are not linear in cos/sin alpha")
+    sol = sp.solve(lin, [C, S], dict=True)
+    if len(sol) != 1:
+        raise RuntimeError("cannot solve the seed system for cos/sin alpha")
+    Cs, Ss = sol[0][C], sol[0][S]
+    seed = {"amplitude_mismatch": Cs**2 + Ss**2 - 1, "cos_alpha": Cs, "sin_alpha": Ss,
+            "F_t": Ft_steady, "F_n": Fn_steady}
+
+    cyclic = []
+    for i, s in enumerate(states):
+        if s not in rhs.free_symbols and s not in mass.free_symbols:
+            cyclic.append(i)
+
+    equations = {
+        "C_NA": kin.C_NA, "C_AB": kin.C_AB, "C_BK": kin.C_BK,
+        "omega_K": kin.omega_K.applyfunc(plain), "omega_A": kin.omega_A.applyfunc(plain),
+        "r_c_A": kin.r_c_A.applyfunc(plain), "R_star": plain(R_star), "Z": plain(Z),
+        "v_c": plain(v_c), "F_n": plain(F_n), "F_t": plain(F_t),
+        "stator_rows_generic": stator_generic.applyfunc(plain),
+        "M_q": M_q, "f_q": f_q, "residual": residual, "beta": beta_expr,
+        "qdd": qdd,
+    }
+    return Model(name=name, assumptions=dict(assumptions), states=states,
+                 state_names=state_names, mass=mass, rhs=rhs, v=v,
+                 outputs=outputs, xdot=xdot, unknowns=unknowns,
+                 unknown_names=unknown_names, residual=residual,
+                 steady_outputs=steady_outputs, steady_state=steady_state,
+                 steady_rate=steady_rate, seed=seed, friction=mu_expr,
+                 v_rel=v_sym, cyclic=cyclic, equations=equations)
+
+
+def theta_to(e, theta_f, theta_b):
+    return e.subs(theta_f, theta_b)
