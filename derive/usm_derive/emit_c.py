@@ -26,8 +26,9 @@ class KernelPrinter(C99CodePrinter):
         base, e = expr.base, expr.exp
         if e.is_Integer and 2 <= abs(int(e)) <= 4:
             b = self.parenthesize(base, sp.printing.precedence.PRECEDENCE["Mul"] + 1)
-            prod = "*".join([b] * abs(int(e)))
-            return prod if e > 0 else f"1.0/({prod})"
+            # parenthesised: the product must bind as tightly as the power it replaces
+            prod = "(" + "*".join([b] * abs(int(e))) + ")"
+            return prod if e > 0 else f"1.0/{prod}"
         if e == -1:
             return f"1.0/{self.parenthesize(base, sp.printing.precedence.PRECEDENCE['Mul'] + 1)}"
         if e == sp.Rational(1, 2):

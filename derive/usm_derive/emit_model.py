@@ -99,6 +99,12 @@ def build_kernels(m):
                       ("double *restrict out", None)], ub,
                      list(m.steady_state) + list(m.steady_rate),
                      f"out: [xbar(t) ({n}), dxbar/dt ({n})], ordered as x."))
+    ks.append(Kernel(f"{pre}_tangent_map",
+                     ["Change of perturbation coordinates dy = T(x) dx: Euler-angle",
+                      "perturbations and rates to the small-rotation vector in frame A",
+                      "(d(omega_A)/d(qdot)); well conditioned near theta = 0.", xdoc],
+                     [x_arg, PARAMS, ("double *restrict out", None)], xb,
+                     list(m.tangent_map), f"out: {n}x{n}, row-major."))
     if m.friction is not None:
         ks.append(Kernel(f"{pre}_friction",
                          ["Friction law mu(v_rel) and its slope (5.2)."],
@@ -147,7 +153,7 @@ def model_files(m, description, stamp):
           f"    {n}, {nu},\n    state_names, unknown_names, cyclic,\n"
           f"    {pre}_mass, {pre}_rhs, {pre}_jac_rhs, {pre}_jac_mass, {pre}_outputs,\n"
           f"    {pre}_steady_residual, {pre}_steady_jacobian, {pre}_steady_outputs,\n"
-          f"    {pre}_steady_seed, {pre}_steady_state, {friction}\n}};\n")
+          f"    {pre}_steady_seed, {pre}_steady_state, {pre}_tangent_map, {friction}\n}};\n")
     return {f"{pre}.h": h, f"{pre}.c": c}
 
 
@@ -204,6 +210,7 @@ def common_files(models, stamp):
           "    void (*steady_outputs)(const double *restrict u, const usm_params *restrict p, double *restrict out);\n"
           "    void (*steady_seed)(double theta, const usm_params *restrict p, double *restrict out);\n"
           "    void (*steady_state)(const double *restrict u, double beta, double t, const usm_params *restrict p, double *restrict out);\n"
+          "    void (*tangent_map)(const double *restrict x, const usm_params *restrict p, double *restrict out);\n"
           "    void (*friction)(double v_rel, const usm_params *restrict p, double *restrict out); /* NULL for stick */\n"
           "} usm_model;\n\n")
     for name, _ in models:

@@ -1,0 +1,97 @@
+/* Parameter defaults, lookup by name and validation. */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "usm.h"
+
+void usm_params_default(usm_params *p)
+{
+    /* Appendix A (Table 5) of the paper. */
+    p->m0 = 0.005;
+    p->T = 6.46e-5;
+    p->F0 = 0.4;
+    p->c_R = 4000.0;
+    p->d_R = 0.1632;
+    p->c_t = 10000.0;
+    p->c_r = 924.6677;
+    p->d_t = 9.1232e-4;
+    p->d_r = 2.3865e-4;
+    p->R = 0.005;
+    p->H = 0.003;
+    p->I_R = 7.9522e-9;
+    p->I_xx = 1.7109e-8;
+    p->I_yy = 1.7109e-8;
+    p->I_zz = 2.3120e-8;
+    /* Not in the paper's table (see README, "Values the paper leaves out"):
+     * c_r = I_xx (2 pi 37 kHz)^2 fixes the excitation frequency, a solid-disk
+     * rotor gives M = 2 I_R / R^2, and section 5 states mu0 and kappa. */
+    p->f = 37000.0;
+    p->M = 2.0 * p->I_R / (p->R * p->R);
+    p->mu0 = 0.3;
+    p->kappa = 20.0;
+}
+
+const usm_param_info *usm_params_find(const char *name)
+{
+    if (!name)
+        return NULL;
+    for (int i = 0; i < USM_NPARAMS; ++i)
+        if (strcmp(usm_param_table[i].name, name) == 0)
+            return &usm_param_table[i];
+    return NULL;
+}
+
+double *usm_params_field(usm_params *p, const usm_param_info *info)
+{
+    return (double *)((char *)p + info->offset);
+}
+
+double usm_params_get(const usm_params *p, const usm_param_info *info)
+{
+    return *(const double *)((const char *)p + info->offset);
+}
+
+int usm_params_set(usm_params *p, const char *name, double value, char msg[USM_MSG_LEN])
+{
+    const usm_param_info *info = usm_params_find(name);
+    if (!info) {
+        snprintf(msg, USM_MSG_LEN, "%s: unknown parameter", name ? name : "(null)");
+        return USM_EINPUT;
+    }
+    if (!isfinite(value)) {
+        snprintf(msg, USM_MSG_LEN, "%s: value must be a finite number", name);
+        return USM_EINPUT;
+    }
+    *usm_params_field(p, info) = value;
+    return USM_OK;
+}
+
+int usm_params_check(const usm_params *p, const usm_model *m, char msg[USM_MSG_LEN])
+{
+    for (int i = 0; i < USM_NPARAMS; ++i) {
+        const usm_param_info *info = &usm_param_table[i];
+        double v = usm_params_get(p, info);
+        if (!isfinite(v)) {
+            snprintf(msg, USM_MSG_LEN, "%s: value must be a finite number", info->name);
+            return USM_EINPUT;
+        }
+        if (strcmp(info->constraint, "positive") == 0 && !(v > 0.0)) {
+            snprintf(msg, USM_MSG_LEN, "%s: must be positive (%s), got %g", info->name,
+                     info->description, v);
+            return USM_EINPUT;
+        }
+        if (strcmp(info->constraint, "nonnegative") == 0 && !(v >= 0.0)) {
+            snprintf(msg, USM_MSG_LEN, "%s: must not be negative (%s), got %g", info->name,
+                     info->description, v);
+            return USM_EINPUT;
+        }
+    }
+    if (m && strstr(m->assumptions, "stator_inertia=axisymmetric") && p->I_yy != p->I_xx) {
+        snprintf(msg, USM_MSG_LEN,
+                 "I_yy: must equal I_xx (%g) in model %s, which assumes an axisymmetric stator",
+                 p->I_xx, m->name);
+        return USM_EINPUT;
+    }
+    return USM_OK;
+}

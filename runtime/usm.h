@@ -1,0 +1,167 @@
+/* usm.h: runtime library around the generated ultrasonic-motor kernels.
+ *
+ * Model (paper: "Modeling and stability analysis for an ultrasonic motor"):
+ * the stator of a wobbling-disk motor is a rigid body described by z-x-z Euler
+ * angles (phi, theta, psi); the rotor is pressed onto it by a spring and driven
+ * through frictional contact.  The generated kernels give the first-order form
+ *     M(x) x' = f(x, t),
+ * its Jacobians, and the stationary-solution residuals r(u) = 0 with
+ * u = (theta, alpha[, phidot_R]) for the ansatz (3.1)
+ *     phi = Omega t + alpha,  theta = const,  psi = -Omega t / cos(theta) + beta.
+ * This library finds every stationary solution (GSL multiroot) and its Floquet
+ * multipliers: eigenvalues of the monodromy matrix over T = 2 pi / Omega of the
+ * linearisation  M(xbar) dx' = (df/dx - d(M v)/dx |_{v = xbar'}) dx.
+ *
+ * Life cycle (GSL style): usm_<thing>_alloc, usm_<thing>_<verb>, usm_<thing>_free.
+ * Thread safety: no global mutable state.  Distinct objects may be used from
+ * distinct threads at the same time; one object must not be shared without a
+ * lock.  The parameter table and model descriptors are read-only.
+ *
+ * Errors: every GSL and SUNDIALS return code is checked and turned into a
+ * status and a message.  GSL's default error handler aborts the process on
+ * conditions this library handles itself (a singular matrix, a non-finite
+ * function value); applications call gsl_set_error_handler_off() once at start
+ * (the usm command does).  The handler is process-global, so the library
+ * leaves that choice to the application.
+ */
+#ifndef USM_H
+#define USM_H
+
+#include <stddef.h>
+
+#include "usm_kernels.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Status codes; the values are the `usm` command's exit codes. */
+enum {
+    USM_OK = 0,          /* solved */
+    USM_EFAILED = 1,     /* numerical failure (integrator, eigen solver) */
+    USM_EINPUT = 2,      /* bad input: the message names the field and reason */
+    USM_ENOSOLUTION = 3  /* no stationary solution for these parameters */
+};
+
+/* Length of the message buffers used by this API (messages are truncated). */
+#define USM_MSG_LEN 256
+
+/* ---- models ---------------------------------------------------------------- */
+
+/* The generated model called `name` ("3dof", "4dof", ...), or NULL. */
+const usm_model *usm_model_find(const char *name);
+
+/* ---- parameters ------------------------------------------------------------ */
+
+/* The paper's parameters: Appendix A, f = 37000 Hz, M = 2 I_R / R^2,
+ * mu0 = 0.3, kappa = 20 s/m. */
+void usm_params_default(usm_params *p);
+
+/* Table entry of the parameter called `name`, or NULL. */
+const usm_param_info *usm_params_find(const char *name);
+
+/* Address of the field described by `info` inside `p`. */
+double *usm_params_field(usm_params *p, const usm_param_info *info);
+double usm_params_get(const usm_params *p, const usm_param_info *info);
+
+/* Set parameter `name` to `value`.  Returns USM_OK, or USM_EINPUT with a
+ * message "NAME: reason" in msg (unknown name, value not finite). */
+int usm_params_set(usm_params *p, const char *name, double value, char msg[USM_MSG_LEN]);
+
+/* Check that every value is finite and physical for model m (NULL: any model):
+ * positive inertias, radii, frequency; non-negative stiffnesses and damping;
+ * the axisymmetric-stator assumption's I_yy == I_xx; H, R such that the
+ * contact radius is positive.  USM_OK or USM_EINPUT with "NAME: reason". */
+int usm_params_check(const usm_params *p, const usm_model *m, char msg[USM_MSG_LEN]);
+
+/* ---- stationary solution --------------------------------------------------- */
+
+typedef struct usm_steady_solution {
+    double u[USM_MAX_NU];  /* the unknowns (theta, alpha[, phidot_R]) */
+    double theta;          /* tilt [rad] */
+    double alpha;          /* phase of phi relative to the excitation [rad], in [0, 2 pi) */
+    double beta;           /* phase of psi [rad], from the twisting balance */
+    double rotor_speed;    /* phidot_R [1/s], the paper's sign (negative when driving) */
+    double F_n, F_t;       /* contact forces [N] */
+    double v_c, v_rel;     /* contact-point speed, slip velocity [m/s] */
+    double R_star, Z;      /* contact radius and height [m] */
+    double mu_used;        /* F_t / F_n */
+    double mu_stick;       /* friction coefficient of the stick check */
+    int stick_admissible;  /* F_t <= mu_stick * F_n */
+    double residual_norm;  /* max |r_i(u)| [N m] at the returned root */
+} usm_steady_solution;
+
+typedef struct usm_steady_options {
+    double theta_min, theta_max; /* tilt range searched [rad] (default 1e-9 .. 0.2) */
+    int grid;                    /* log-spaced samples of the range (default 500) */
+    double xtol;                 /* relative tolerance on the unknowns (default 1e-13) */
+} usm_steady_options;
+
+void usm_steady_options_default(usm_steady_options *opt);
+
+typedef struct usm_steady usm_steady;
+
+usm_steady *usm_steady_alloc(const usm_model *m);
+void usm_steady_free(usm_steady *s);
+
+/* Find every stationary solution in the tilt range.  USM_OK when at least one
+ * root converged; USM_ENOSOLUTION (with a reason in usm_steady_message) when
+ * none exists; USM_EINPUT for bad parameters.  opt may be NULL. */
+int usm_steady_solve(usm_steady *s, const usm_params *p, const usm_steady_options *opt);
+
+/* Polish a single root from a starting guess (continuation): Newton/hybridsj
+ * from u0 only, no search.  USM_OK or USM_ENOSOLUTION. */
+int usm_steady_solve_from(usm_steady *s, const usm_params *p, const double *u0);
+
+size_t usm_steady_count(const usm_steady *s);
+/* Root i (0 = the primary root: the smallest tilt), NULL when out of range. */
+const usm_steady_solution *usm_steady_root(const usm_steady *s, size_t i);
+const char *usm_steady_message(const usm_steady *s);
+
+/* Fill the derived quantities of `sol` from sol->u (used by the solver and by
+ * callers that solve the residuals themselves). */
+void usm_steady_evaluate(const usm_model *m, const usm_params *p, usm_steady_solution *sol);
+
+/* ---- Floquet multipliers --------------------------------------------------- */
+
+typedef enum {
+    USM_FLOQUET_VARIATIONAL = 0, /* CVODE on the variational equations (default) */
+    USM_FLOQUET_EXPONENTIAL = 1  /* product of balanced matrix exponentials, frame A */
+} usm_floquet_method;
+
+typedef struct usm_floquet_options {
+    usm_floquet_method method;
+    double rtol, atol;   /* CVODES tolerances in the scaled coordinates (default 1e-8, 1e-12) */
+    int steps;           /* exponential method: sub-intervals per period (default 64) */
+} usm_floquet_options;
+
+void usm_floquet_options_default(usm_floquet_options *opt);
+
+typedef struct usm_floquet_result {
+    int n;                              /* number of multipliers (= nx) */
+    double re[USM_MAX_NX], im[USM_MAX_NX];
+    int cyclic[USM_MAX_NX];             /* 1: the multiplier 1 of a cyclic coordinate */
+    double max_modulus;                 /* largest |lambda| excluding cyclic ones */
+    int stable;                         /* max_modulus < 1 */
+    double t0;                          /* start time of the period [s] */
+    double monodromy[USM_MAX_NX * USM_MAX_NX]; /* row-major n x n */
+} usm_floquet_result;
+
+typedef struct usm_floquet usm_floquet;
+
+usm_floquet *usm_floquet_alloc(const usm_model *m);
+void usm_floquet_free(usm_floquet *f);
+
+/* Multipliers of the stationary solution `sol` over [t0, t0 + T].  The paper's
+ * Table 3 uses t0 = 0 with alpha in [0, 2 pi) (see README: the paper's twist law
+ * makes the linearisation depend on t0).  opt may be NULL.  Sorted by
+ * decreasing modulus.  USM_OK or USM_EFAILED (message in usm_floquet_message). */
+int usm_floquet_compute(usm_floquet *f, const usm_params *p, const usm_steady_solution *sol,
+                        double t0, const usm_floquet_options *opt, usm_floquet_result *out);
+const char *usm_floquet_message(const usm_floquet *f);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* USM_H */
