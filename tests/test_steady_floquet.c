@@ -1,0 +1,227 @@
+/* Stationary solution and Floquet multipliers, checked against independent truth.
+ *
+ * 1. The stationary solution found from the reduced residuals (3.5) makes the
+ *    full nonlinear equations M(xbar) xbar' - f(xbar, t) vanish at many times t
+ *    (the mass/rhs kernels are derived separately from the residual kernels).
+ * 2. The two Floquet methods (CVODES on the variational equations; product of
+ *    matrix exponentials) agree multiplier by multiplier.
+ * 3. Integrating the full nonlinear model (CVODES, BDF) from xbar(0) for 20
+ *    periods stays on the orbit.
+ * 4. The slip model's cyclic rotor angle gives the multiplier 1 exactly.
+ * 5. Parameters without a stationary solution are reported as such.
+ */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cvodes/cvodes.h>
+#include <gsl/gsl_errno.h>
+#include <gsl/gsl_linalg.h>
+#include <nvector/nvector_serial.h>
+#include <sunlinsol/sunlinsol_dense.h>
+#include <sunmatrix/sunmatrix_dense.h>
+
+#include "usm.h"
+
+static int failures;
+
+#define CHECK(cond, ...)                                                                           \
+    do {                                                                                           \
+        if (!(cond)) {                                                                             \
+            ++failures;                                                                            \
+            printf("FAIL %s:%d: ", __FILE__, __LINE__);                                            \
+            printf(__VA_ARGS__);                                                                   \
+            printf("\n");                                                                          \
+        }                                                                                          \
+    } while (0)
+
+/* ---- 1. full residual on the orbit ----------------------------------------- */
+
+static void check_orbit_residual(const usm_model *m, const usm_params *p,
+                                 const usm_steady_solution *sol)
+{
+    const int n = m->nx;
+    double worst = 0;
+    for (int k = 0; k < 50; ++k) {
+        const double t = (k * 0.37) / p->f; /* spread over ~18 periods */
+        double o[2 * USM_MAX_NX], M[USM_MAX_NX * USM_MAX_NX], f[USM_MAX_NX];
+        m->steady_state(sol->u, sol->beta, t, p, o);
+        m->mass(o, p, M);
+        m->rhs(o, t, p, f);
+        for (int i = 0; i < n; ++i) {
+            /* scale of row i: the largest term it balances */
+            double r = -f[i], scale = fabs(f[i]);
+            for (int j = 0; j < n; ++j) {
+                r += M[i * n + j] * o[n + j];
+                scale = fmax(scale, fabs(M[i * n + j] * o[n + j]));
+            }
+            /* torque rows are compared with the excitation amplitude, and
+             * with the twist torque's terms c_t*phi and c_t*psi*cos(theta),
+             * which grow with t and cancel to c_t*(alpha + beta*cos(theta)) */
+            const int ip = m->nx == 6 ? 0 : 1; /* index of phi; psi is ip + 2 */
+            scale = fmax(scale, fmax(p->m0, p->c_t * (fabs(o[ip]) + fabs(o[ip + 2]))));
+            worst = fmax(worst, fabs(r) / scale);
+        }
+    }
+    printf("%s: full residual on the stationary orbit, worst relative %.2e\n", m->name, worst);
+    CHECK(worst < 1e-9, "%s: M xbar' - f does not vanish on the orbit (%.3e)", m->name, worst);
+}
+
+/* ---- 2. two Floquet methods ------------------------------------------------- */
+
+static void check_floquet_methods(const usm_model *m, const usm_params *p,
+                                  const usm_steady_solution *sol, usm_floquet_result *res)
+{
+    usm_floquet *f = usm_floquet_alloc(m);
+    usm_floquet_options o;
+    usm_floquet_result r2;
+    usm_floquet_options_default(&o);
+    int rc = usm_floquet_compute(f, p, sol, 0.0, &o, res);
+    CHECK(rc == USM_OK, "%s: variational Floquet failed: %s", m->name, usm_floquet_message(f));
+    o.method = USM_FLOQUET_EXPONENTIAL;
+    rc = usm_floquet_compute(f, p, sol, 0.0, &o, &r2);
+    CHECK(rc == USM_OK, "%s: exponential Floquet failed: %s", m->name, usm_floquet_message(f));
+    double worst = 0;
+    for (int i = 0; i < res->n; ++i)
+        worst = fmax(worst, hypot(res->re[i] - r2.re[i], res->im[i] - r2.im[i]));
+    printf("%s: Floquet methods differ by at most %.2e\n", m->name, worst);
+    CHECK(worst < 1e-6, "%s: Floquet methods disagree by %.3e", m->name, worst);
+    int ncyc = 0;
+    for (int i = 0; i < m->nx; ++i)
+        ncyc += m->cyclic[i];
+    int found = 0;
+    for (int i = 0; i < res->n; ++i)
+        if (res->cyclic[i]) {
+            ++found;
+            CHECK(res->re[i] == 1.0 && res->im[i] == 0.0, "%s: cyclic multiplier is not 1",
+                  m->name);
+        }
+    CHECK(found == ncyc, "%s: %d cyclic multipliers reported, %d cyclic coordinates", m->name,
+          found, ncyc);
+    /* the cyclic column of B is e_i: an independent look at the monodromy */
+    for (int j = 0; j < m->nx; ++j)
+        if (m->cyclic[j])
+            for (int i = 0; i < m->nx; ++i)
+                CHECK(fabs(res->monodromy[i * m->nx + j] - (i == j)) < 1e-12,
+                      "%s: monodromy column %d is not e_%d", m->name, j, j);
+    usm_floquet_free(f);
+}
+
+/* ---- 3. nonlinear integration stays on the orbit ---------------------------- */
+
+typedef struct {
+    const usm_model *m;
+    const usm_params *p;
+} ode_ctx;
+
+static int ode_rhs(sunrealtype t, N_Vector y, N_Vector ydot, void *data)
+{
+    const ode_ctx *c = data;
+    const int n = c->m->nx;
+    double M[USM_MAX_NX * USM_MAX_NX];
+    c->m->mass(N_VGetArrayPointer(y), c->p, M);
+    c->m->rhs(N_VGetArrayPointer(y), t, c->p, N_VGetArrayPointer(ydot));
+    gsl_matrix_view Mv = gsl_matrix_view_array(M, (size_t)n, (size_t)n);
+    gsl_vector_view fv = gsl_vector_view_array(N_VGetArrayPointer(ydot), (size_t)n);
+    gsl_permutation *perm = gsl_permutation_alloc((size_t)n);
+    int sign, rc = gsl_linalg_LU_decomp(&Mv.matrix, perm, &sign);
+    if (rc == GSL_SUCCESS)
+        rc = gsl_linalg_LU_svx(&Mv.matrix, perm, &fv.vector);
+    gsl_permutation_free(perm);
+    return rc == GSL_SUCCESS ? 0 : 1;
+}
+
+static void check_stays_on_orbit(const usm_model *m, const usm_params *p,
+                                 const usm_steady_solution *sol)
+{
+    const int n = m->nx;
+    SUNContext ctx;
+    ode_ctx c = {m, p};
+    double o[2 * USM_MAX_NX];
+    SUNContext_Create(NULL, &ctx);
+    N_Vector y = N_VNew_Serial(n, ctx);
+    m->steady_state(sol->u, sol->beta, 0.0, p, o);
+    memcpy(N_VGetArrayPointer(y), o, sizeof(double) * (size_t)n);
+    void *cv = CVodeCreate(CV_BDF, ctx);
+    SUNMatrix A = SUNDenseMatrix(n, n, ctx);
+    SUNLinearSolver LS = SUNLinSol_Dense(y, A, ctx);
+    CHECK(cv && A && LS, "CVODES allocation");
+    CHECK(CVodeInit(cv, ode_rhs, 0.0, y) == CV_SUCCESS, "CVodeInit");
+    CHECK(CVodeSStolerances(cv, 1e-11, 1e-15) == CV_SUCCESS, "CVodeSStolerances");
+    CHECK(CVodeSetUserData(cv, &c) == CV_SUCCESS, "CVodeSetUserData");
+    CHECK(CVodeSetLinearSolver(cv, LS, A) == CVLS_SUCCESS, "CVodeSetLinearSolver");
+    CHECK(CVodeSetMaxNumSteps(cv, 1000000) == CV_SUCCESS, "CVodeSetMaxNumSteps");
+    const double T = 1.0 / p->f;
+    double worst_theta = 0, worst_speed = 0, t = 0;
+    for (int k = 1; k <= 20; ++k) {
+        int flag = CVode(cv, k * T, y, &t, CV_NORMAL);
+        CHECK(flag >= 0, "%s: CVode failed at t = %g: %s", m->name, t, CVodeGetReturnFlagName(flag));
+        if (flag < 0)
+            break;
+        const double *x = N_VGetArrayPointer(y);
+        m->steady_state(sol->u, sol->beta, t, p, o);
+        const int it = m->nx == 6 ? 1 : 2; /* index of theta */
+        worst_theta = fmax(worst_theta, fabs(x[it] - o[it]) / sol->theta);
+        if (m->nx == 8)
+            worst_speed = fmax(worst_speed, fabs(x[4] - o[4]) / fabs(sol->rotor_speed));
+    }
+    printf("%s: 20 periods from xbar(0): theta drift %.2e, rotor speed drift %.2e (relative)\n",
+           m->name, worst_theta, worst_speed);
+    CHECK(worst_theta < 1e-5, "%s: tilt leaves the stationary orbit (%.3e)", m->name, worst_theta);
+    CHECK(worst_speed < 1e-5, "%s: rotor speed leaves the orbit (%.3e)", m->name, worst_speed);
+    CVodeFree(&cv);
+    SUNLinSolFree(LS);
+    SUNMatDestroy(A);
+    N_VDestroy(y);
+    SUNContext_Free(&ctx);
+}
+
+/* ---- 5. no solution --------------------------------------------------------- */
+
+static void check_no_solution(const usm_model *m, const char *field, double value,
+                              const char *expect)
+{
+    usm_params p;
+    usm_params_default(&p);
+    char msg[USM_MSG_LEN];
+    CHECK(usm_params_set(&p, field, value, msg) == USM_OK, "set %s", field);
+    usm_steady *s = usm_steady_alloc(m);
+    int rc = usm_steady_solve(s, &p, NULL);
+    printf("%s with %s = %g: status %d, \"%s\"\n", m->name, field, value, rc, usm_steady_message(s));
+    CHECK(rc == USM_ENOSOLUTION, "%s: %s = %g should have no stationary solution", m->name, field,
+          value);
+    CHECK(strstr(usm_steady_message(s), expect) != NULL, "message lacks \"%s\"", expect);
+    CHECK(usm_steady_count(s) == 0, "roots reported although none exists");
+    usm_steady_free(s);
+}
+
+int main(void)
+{
+    gsl_set_error_handler_off();
+    for (int k = 0; k < USM_NMODELS; ++k) {
+        const usm_model *m = usm_models[k];
+        usm_params p;
+        usm_params_default(&p);
+        usm_steady *s = usm_steady_alloc(m);
+        int rc = usm_steady_solve(s, &p, NULL);
+        CHECK(rc == USM_OK, "%s: no stationary solution at the paper's parameters: %s", m->name,
+              usm_steady_message(s));
+        if (rc != USM_OK)
+            continue;
+        const usm_steady_solution *sol = usm_steady_root(s, 0);
+        check_orbit_residual(m, &p, sol);
+        usm_floquet_result res;
+        check_floquet_methods(m, &p, sol, &res);
+        check_stays_on_orbit(m, &p, sol);
+        usm_steady_free(s);
+    }
+    const usm_model *m3 = usm_model_find("3dof"), *m4 = usm_model_find("4dof");
+    CHECK(m3 && m4, "models 3dof and 4dof exist");
+    check_no_solution(m3, "m0", 1e-4, "m0");
+    /* beyond mu_max = mu0*pi/2: T > 0.47*0.4 N*5 mm = 0.95 N mm */
+    check_no_solution(m4, "T", 2e-3, "friction");
+    if (failures)
+        printf("%d failure(s)\n", failures);
+    return failures ? 1 : 0;
+}
