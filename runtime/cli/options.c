@@ -1,0 +1,172 @@
+/* Command-line options shared by the usm subcommands. */
+#include "options.h"
+
+#include <ctype.h>
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "params_file.h"
+
+void cli_common_init(cli_common *c)
+{
+    memset(c, 0, sizeof *c);
+    c->model = usm_model_find("3dof");
+    usm_params_default(&c->params);
+}
+
+int cli_option_value(int argc, char **argv, int *i, const char *name, const char **value,
+                     char msg[CLI_MSG_LEN])
+{
+    const char *arg = argv[*i];
+    size_t len = strlen(name);
+    if (strncmp(arg, name, len) != 0)
+        return CLI_OPT_NOT_MINE;
+    if (arg[len] == '=') {
+        *value = arg + len + 1;
+        return CLI_OPT_TAKEN;
+    }
+    if (arg[len] != '\0')
+        return CLI_OPT_NOT_MINE;
+    if (*i + 1 >= argc) {
+        cli_msg(msg, "%s: missing argument", name);
+        return CLI_OPT_ERROR;
+    }
+    *value = argv[++*i];
+    return CLI_OPT_TAKEN;
+}
+
+int cli_parse_double(const char *field, const char *text, double *out, char msg[CLI_MSG_LEN])
+{
+    char *end;
+    double v;
+    /* strtod skips leading blanks and accepts "nan"/"inf"; a value the user
+     * typed with a stray blank or a non-finite value is a mistake, not a number. */
+    if (text[0] == '\0' || isspace((unsigned char)text[0])) {
+        cli_msg(msg, "%s: \"%s\" is not a number", field, text);
+        return USM_EINPUT;
+    }
+    errno = 0;
+    v = strtod(text, &end);
+    if (end == text || *end != '\0') {
+        cli_msg(msg, "%s: \"%s\" is not a number", field, text);
+        return USM_EINPUT;
+    }
+    if (errno == ERANGE) {
+        cli_msg(msg, "%s: \"%s\" is out of range for a double", field, text);
+        return USM_EINPUT;
+    }
+    if (!isfinite(v)) {
+        cli_msg(msg, "%s: \"%s\" is not a finite number", field, text);
+        return USM_EINPUT;
+    }
+    *out = v;
+    return USM_OK;
+}
+
+/* "--set NAME=VALUE": checked at once so that errors name the --set option. */
+static int take_set(cli_common *c, const char *arg, char msg[CLI_MSG_LEN])
+{
+    const char *eq = strchr(arg, '=');
+    char name[64];
+    char field[96];
+    const usm_param_info *info;
+    double v;
+    if (!eq) {
+        cli_msg(msg, "--set %s: expected NAME=VALUE", arg);
+        return CLI_OPT_ERROR;
+    }
+    if ((size_t)(eq - arg) >= sizeof name) {
+        cli_msg(msg, "--set %.*s: unknown parameter", (int)(eq - arg), arg);
+        return CLI_OPT_ERROR;
+    }
+    memcpy(name, arg, (size_t)(eq - arg));
+    name[eq - arg] = '\0';
+    if (name[0] == '\0') {
+        cli_msg(msg, "--set %s: expected NAME=VALUE, the name is empty", arg);
+        return CLI_OPT_ERROR;
+    }
+    info = usm_params_find(name);
+    if (!info) {
+        cli_msg(msg, "--set %s: unknown parameter (see usm steady --help)", name);
+        return CLI_OPT_ERROR;
+    }
+    snprintf(field, sizeof field, "--set %s", name);
+    if (cli_parse_double(field, eq + 1, &v, msg) != USM_OK)
+        return CLI_OPT_ERROR;
+    c->set_value[info - usm_param_table] = v;
+    c->is_set[info - usm_param_table] = 1;
+    return CLI_OPT_TAKEN;
+}
+
+static void list_models(char *buf, size_t len)
+{
+    size_t used = 0;
+    buf[0] = '\0';
+    for (int k = 0; k < USM_NMODELS && used < len; ++k) {
+        int n = snprintf(buf + used, len - used, "%s%s", k ? ", " : "", usm_models[k]->name);
+        if (n < 0)
+            break;
+        used += (size_t)n;
+    }
+}
+
+int cli_common_option(cli_common *c, int argc, char **argv, int *i, char msg[CLI_MSG_LEN])
+{
+    const char *value;
+    int r;
+    if (strcmp(argv[*i], "--json") == 0) {
+        c->json = 1;
+        return CLI_OPT_TAKEN;
+    }
+    if ((r = cli_option_value(argc, argv, i, "--model", &value, msg)) != CLI_OPT_NOT_MINE) {
+        if (r == CLI_OPT_TAKEN && !(c->model = usm_model_find(value))) {
+            char known[128];
+            list_models(known, sizeof known);
+            cli_msg(msg, "--model: unknown model \"%s\" (known: %s)", value, known);
+            return CLI_OPT_ERROR;
+        }
+        return r;
+    }
+    if ((r = cli_option_value(argc, argv, i, "--params", &value, msg)) != CLI_OPT_NOT_MINE) {
+        if (r == CLI_OPT_TAKEN && value[0] == '\0') {
+            cli_msg(msg, "--params: empty file name");
+            return CLI_OPT_ERROR;
+        }
+        if (r == CLI_OPT_TAKEN)
+            c->params_file = value;
+        return r;
+    }
+    if ((r = cli_option_value(argc, argv, i, "--set", &value, msg)) != CLI_OPT_NOT_MINE)
+        return r == CLI_OPT_TAKEN ? take_set(c, value, msg) : r;
+    return CLI_OPT_NOT_MINE;
+}
+
+int cli_common_finish(cli_common *c, char msg[CLI_MSG_LEN])
+{
+    char lib[USM_MSG_LEN];
+    usm_params_default(&c->params);
+    if (c->params_file && cli_params_file_read(c->params_file, &c->params, msg) != USM_OK)
+        return USM_EINPUT;
+    for (int k = 0; k < USM_NPARAMS; ++k)
+        if (c->is_set[k])
+            *usm_params_field(&c->params, &usm_param_table[k]) = c->set_value[k];
+    if (usm_params_check(&c->params, c->model, lib) != USM_OK) {
+        cli_msg(msg, "%s", lib);
+        return USM_EINPUT;
+    }
+    return USM_OK;
+}
+
+void cli_common_usage(FILE *out)
+{
+    char known[128];
+    list_models(known, sizeof known);
+    fprintf(out,
+            "  --model NAME        model to use: %s (default 3dof)\n"
+            "  --params FILE.json  parameter values, a JSON object {\"NAME\": number, ...}\n"
+            "  --set NAME=VALUE    set one parameter (repeatable; applied after --params)\n"
+            "  --json              print one JSON object instead of a table\n",
+            known);
+}

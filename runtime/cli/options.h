@@ -1,0 +1,58 @@
+/* options.h: command-line options shared by the usm subcommands.
+ *
+ * Every subcommand that works on one parameter set accepts
+ *   --model NAME  --params FILE.json  --set NAME=VALUE (repeatable)  --json
+ * A subcommand parses its own argv and offers each argument to
+ * cli_common_option() before its own options; cli_common_finish() then builds
+ * the parameters: defaults, then the file, then the --set values (whatever
+ * their position on the command line), then usm_params_check().
+ * Options take their value as "--opt VALUE" or "--opt=VALUE".
+ */
+#ifndef USM_CLI_OPTIONS_H
+#define USM_CLI_OPTIONS_H
+
+#include <stdio.h>
+
+#include "diag.h"
+#include "usm.h"
+
+typedef struct cli_common {
+    const usm_model *model;      /* --model (default 3dof) */
+    usm_params params;           /* valid after cli_common_finish() */
+    int json;                    /* --json */
+    const char *params_file;     /* --params, or NULL */
+    /* --set values, already parsed; applied after the file. */
+    double set_value[USM_NPARAMS];
+    unsigned char is_set[USM_NPARAMS];
+} cli_common;
+
+/* Outcome of offering an argument to an option parser. */
+enum {
+    CLI_OPT_ERROR = -1, /* the argument is this parser's but is wrong: msg says why */
+    CLI_OPT_NOT_MINE = 0,
+    CLI_OPT_TAKEN = 1   /* consumed; *i points at the last argument used */
+};
+
+void cli_common_init(cli_common *c);
+
+/* Offer argv[*i] to the shared options.  CLI_OPT_TAKEN, CLI_OPT_NOT_MINE, or
+ * CLI_OPT_ERROR with "FIELD: reason" in msg. */
+int cli_common_option(cli_common *c, int argc, char **argv, int *i, char msg[CLI_MSG_LEN]);
+
+/* Read the params file, apply the --set values and check the result for the
+ * model.  USM_OK, or USM_EINPUT with "FIELD: reason" in msg. */
+int cli_common_finish(cli_common *c, char msg[CLI_MSG_LEN]);
+
+/* Print the shared options' lines of a usage text. */
+void cli_common_usage(FILE *out);
+
+/* If argv[*i] is option `name` ("--name VALUE" or "--name=VALUE"), store its
+ * value and return CLI_OPT_TAKEN; CLI_OPT_ERROR when the value is missing. */
+int cli_option_value(int argc, char **argv, int *i, const char *name, const char **value,
+                     char msg[CLI_MSG_LEN]);
+
+/* Parse a finite double with strtod, requiring the whole text to be used.
+ * On failure returns USM_EINPUT with "FIELD: \"text\" reason" in msg. */
+int cli_parse_double(const char *field, const char *text, double *out, char msg[CLI_MSG_LEN]);
+
+#endif /* USM_CLI_OPTIONS_H */

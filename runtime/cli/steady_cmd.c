@@ -1,0 +1,196 @@
+/* usm steady: every stationary solution of a model and the Floquet
+ * multipliers of the primary one (smallest tilt). */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include <jansson.h>
+
+#include "commands.h"
+#include "diag.h"
+#include "json_out.h"
+#include "options.h"
+#include "steady_out.h"
+#include "usm.h"
+
+static void usage(FILE *out)
+{
+    fprintf(out,
+            "usage: usm steady [--model 3dof|4dof] [--params FILE.json] [--set NAME=VALUE]...\n"
+            "                  [--t0 S] [--json]\n"
+            "\n"
+            "Find every stationary solution (paper, eq. 3.1) and the Floquet multipliers of\n"
+            "the one with the smallest tilt.\n"
+            "\n"
+            "options:\n");
+    cli_common_usage(out);
+    fprintf(out,
+            "  --t0 S              start of the Floquet period [s] (default 0, the paper's)\n"
+            "  -h, --help          print this help\n"
+            "\n"
+            "parameters (SI units; defaults from the paper, Appendix A):\n");
+    {
+        usm_params def;
+        usm_params_default(&def);
+        for (int k = 0; k < USM_NPARAMS; ++k) {
+            const usm_param_info *info = &usm_param_table[k];
+            fprintf(out, "  %-6s %-12.7g %-10s %s\n", info->name, usm_params_get(&def, info),
+                    info->unit, info->description);
+        }
+    }
+    fprintf(out,
+            "\n"
+            "exit status: 0 solved, 1 numerical failure, 2 bad input,\n"
+            "             3 no stationary solution (--json still prints converged=false)\n");
+}
+
+typedef struct steady_args {
+    cli_common common;
+    double t0;
+    int help;
+} steady_args;
+
+static int parse(steady_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
+{
+    cli_common_init(&a->common);
+    a->t0 = 0.0;
+    a->help = 0;
+    for (int i = 1; i < argc; ++i) {
+        const char *value;
+        int r;
+        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
+            a->help = 1;
+            return USM_OK;
+        }
+        if ((r = cli_common_option(&a->common, argc, argv, &i, msg)) == CLI_OPT_TAKEN)
+            continue;
+        if (r == CLI_OPT_ERROR)
+            return USM_EINPUT;
+        if ((r = cli_option_value(argc, argv, &i, "--t0", &value, msg)) == CLI_OPT_ERROR)
+            return USM_EINPUT;
+        if (r == CLI_OPT_TAKEN) {
+            if (cli_parse_double("--t0", value, &a->t0, msg) != USM_OK)
+                return USM_EINPUT;
+            continue;
+        }
+        if (argv[i][0] == '-')
+            cli_msg(msg, "%s: unknown option (see usm steady --help)", argv[i]);
+        else
+            cli_msg(msg, "%s: unexpected argument (see usm steady --help)", argv[i]);
+        return USM_EINPUT;
+    }
+    return cli_common_finish(&a->common, msg);
+}
+
+static int emit_json(const cli_steady_report *rep)
+{
+    json_t *obj = cli_steady_json(rep);
+    int rc;
+    if (!obj) {
+        cli_error("out of memory");
+        return USM_EFAILED;
+    }
+    rc = cli_json_print(obj, stdout);
+    json_decref(obj);
+    /* Flush here so that a write error is reported once, by this function,
+     * and main's final check (after clearerr) does not repeat it. */
+    if (rc != 0 || fflush(stdout) != 0 || ferror(stdout)) {
+        clearerr(stdout);
+        cli_error("stdout: write error");
+        return USM_EFAILED;
+    }
+    return USM_OK;
+}
+
+/* Guard the "never NaN in the output" promise against a library result that
+ * slipped through: a non-finite value is a numerical failure. */
+static const char *non_finite(const usm_steady_solution *s, const usm_floquet_result *f)
+{
+    const double v[] = {s->theta, s->alpha, s->beta, s->rotor_speed, s->F_n, s->F_t,
+                        s->v_c, s->v_rel, s->R_star, s->Z, s->mu_used};
+    for (size_t k = 0; k < sizeof v / sizeof v[0]; ++k)
+        if (!isfinite(v[k]))
+            return "steady: the stationary solution has a non-finite value";
+    for (int k = 0; k < f->n; ++k)
+        if (!isfinite(f->re[k]) || !isfinite(f->im[k]))
+            return "floquet: a multiplier is not finite";
+    if (!isfinite(f->max_modulus))
+        return "floquet: the largest modulus is not finite";
+    return NULL;
+}
+
+static int run(const steady_args *a)
+{
+    const cli_common *c = &a->common;
+    cli_steady_report rep = {c->model, &c->params, NULL, NULL, NULL};
+    usm_floquet_result res;
+    usm_floquet *fl = NULL;
+    const char *bad;
+    int status;
+    usm_steady *s = usm_steady_alloc(c->model);
+    if (!s) {
+        cli_error("out of memory");
+        return USM_EFAILED;
+    }
+    rep.steady = s;
+    status = usm_steady_solve(s, &c->params, NULL);
+    if (status == USM_ENOSOLUTION) {
+        rep.error = usm_steady_message(s);
+        if (c->json) {
+            int rc = emit_json(&rep);
+            status = rc != USM_OK ? rc : status;
+        } else
+            cli_error("no stationary solution: %s", rep.error);
+        goto done;
+    }
+    if (status == USM_EINPUT) {
+        cli_error("%s", usm_steady_message(s));
+        goto done;
+    }
+    if (status != USM_OK || usm_steady_count(s) == 0) {
+        cli_error("steady: %s", usm_steady_message(s));
+        status = USM_EFAILED;
+        goto done;
+    }
+    if (!(fl = usm_floquet_alloc(c->model))) {
+        cli_error("out of memory");
+        status = USM_EFAILED;
+        goto done;
+    }
+    status = usm_floquet_compute(fl, &c->params, usm_steady_root(s, 0), a->t0, NULL, &res);
+    if (status != USM_OK) {
+        cli_error("floquet: %s", usm_floquet_message(fl));
+        status = status == USM_EINPUT ? USM_EINPUT : USM_EFAILED;
+        goto done;
+    }
+    if ((bad = non_finite(usm_steady_root(s, 0), &res))) {
+        cli_error("%s", bad);
+        status = USM_EFAILED;
+        goto done;
+    }
+    rep.floquet = &res;
+    if (c->json)
+        status = emit_json(&rep);
+    else
+        cli_steady_table(&rep, stdout);
+done:
+    if (fl)
+        usm_floquet_free(fl);
+    usm_steady_free(s);
+    return status;
+}
+
+int cli_steady_main(int argc, char **argv)
+{
+    steady_args a;
+    char msg[CLI_MSG_LEN];
+    if (parse(&a, argc, argv, msg) != USM_OK) {
+        cli_error("%s", msg);
+        return USM_EINPUT;
+    }
+    if (a.help) {
+        usage(stdout);
+        return USM_OK;
+    }
+    return run(&a);
+}

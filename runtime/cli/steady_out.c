@@ -1,0 +1,128 @@
+/* Output of a stationary solution and its Floquet multipliers. */
+#include "steady_out.h"
+
+#include <math.h>
+#include <stdlib.h>
+
+#include "json_out.h"
+
+json_t *cli_steady_json(const cli_steady_report *r)
+{
+    json_t *obj = json_object();
+    json_t *roots = json_array();
+    int ok = obj && roots;
+    size_t n = r->error ? 0 : usm_steady_count(r->steady);
+
+    cli_json_put(obj, "model", json_string(r->model->name), &ok);
+    cli_json_put(obj, "parameters", cli_json_params(r->params), &ok);
+    cli_json_put(obj, "converged", json_boolean(r->error == NULL), &ok);
+    if (r->error)
+        cli_json_put(obj, "error", json_string(r->error), &ok);
+    else {
+        /* The primary root's values at top level, so that the common case
+         * needs no indexing. */
+        json_t *primary = cli_json_root(usm_steady_root(r->steady, 0));
+        if (!primary || json_object_update(obj, primary) != 0)
+            ok = 0;
+        json_decref(primary);
+    }
+    for (size_t k = 0; k < n; ++k)
+        if (json_array_append_new(roots, cli_json_root(usm_steady_root(r->steady, k))) != 0)
+            ok = 0;
+    cli_json_put(obj, "roots", roots, &ok);
+    if (r->floquet)
+        cli_json_put(obj, "floquet", cli_json_floquet(r->floquet), &ok);
+    if (!ok) {
+        json_decref(obj);
+        return NULL;
+    }
+    return obj;
+}
+
+static void row(FILE *out, const char *name, double v, const char *unit, const char *what)
+{
+    fprintf(out, "  %-17s %-24.10g %-7s %s\n", name, v, unit, what);
+}
+
+static void solution(FILE *out, const usm_steady_solution *s)
+{
+    row(out, "theta", s->theta, "rad", "stator tilt");
+    row(out, "alpha", s->alpha, "rad", "phase of phi behind the excitation, in [0, 2 pi)");
+    row(out, "beta", s->beta, "rad", "phase of psi");
+    row(out, "rotor_speed", s->rotor_speed, "1/s", "phidot_R (negative when driving)");
+    row(out, "F_n", s->F_n, "N", "normal contact force");
+    row(out, "F_t", s->F_t, "N", "tangential contact force");
+    row(out, "mu_used", s->mu_used, "1", "F_t / F_n");
+    row(out, "v_c", s->v_c, "m/s", "speed of the stator's contact point");
+    row(out, "v_rel", s->v_rel, "m/s", "slip velocity");
+    row(out, "R_star", s->R_star, "m", "contact radius");
+    row(out, "Z", s->Z, "m", "contact height");
+    fprintf(out, "  %-17s %-24s %-7s F_t <= %.6g F_n\n", "stick_admissible",
+            s->stick_admissible ? "yes" : "no", "", s->mu_stick);
+    row(out, "residual_norm", s->residual_norm, "N m", "max |r_i| of eq. (3.5)");
+}
+
+static void multipliers(FILE *out, const usm_floquet_result *f)
+{
+    fprintf(out, "\nFloquet multipliers over [t0, t0 + 2 pi / Omega], t0 = %.10g s\n", f->t0);
+    fprintf(out, "  %3s %-24s %-24s %-18s\n", "#", "re", "im", "|lambda|");
+    for (int k = 0; k < f->n; ++k)
+        fprintf(out, "  %3d %-24.15g %-24.15g %-18.10g%s\n", k + 1, f->re[k], f->im[k],
+                hypot(f->re[k], f->im[k]), f->cyclic[k] ? " cyclic coordinate" : "");
+    fprintf(out, "  max |lambda| (non-cyclic) = %.10g: %s\n", f->max_modulus,
+            f->stable ? "stable" : "unstable");
+}
+
+static void other_roots(FILE *out, const usm_steady *s)
+{
+    size_t n = usm_steady_count(s);
+    if (n < 2)
+        return;
+    fprintf(out, "\nall %zu stationary solutions (Floquet multipliers above are of #1)\n", n);
+    fprintf(out, "  %3s %-18s %-18s %-18s %-18s %s\n", "#", "theta [rad]", "alpha [rad]",
+            "rotor_speed [1/s]", "F_n [N]", "stick");
+    for (size_t k = 0; k < n; ++k) {
+        const usm_steady_solution *r = usm_steady_root(s, k);
+        fprintf(out, "  %3zu %-18.10g %-18.10g %-18.10g %-18.10g %s\n", k + 1, r->theta, r->alpha,
+                r->rotor_speed, r->F_n, r->stick_admissible ? "yes" : "no");
+    }
+}
+
+/* The shortest %g text that reads back as exactly v: a person should see the
+ * 0.005 they typed, not 0.0050000000000000001, without losing any bits.  At
+ * least 6 digits, so that 4000 does not print as 4e+03. */
+static const char *shortest(char buf[32], double v)
+{
+    for (int prec = 6; prec <= 17; ++prec) {
+        snprintf(buf, 32, "%.*g", prec, v);
+        if (strtod(buf, NULL) == v)
+            break;
+    }
+    return buf;
+}
+
+static void parameters(FILE *out, const usm_params *p)
+{
+    char buf[32];
+    usm_params def;
+    usm_params_default(&def);
+    fprintf(out, "\nparameters (* differs from the default)\n");
+    for (int k = 0; k < USM_NPARAMS; ++k) {
+        const usm_param_info *info = &usm_param_table[k];
+        double v = usm_params_get(p, info);
+        fprintf(out, "  %-6s %c %-24s %-10s %s\n", info->name,
+                v != usm_params_get(&def, info) ? '*' : ' ', shortest(buf, v), info->unit,
+                info->description);
+    }
+}
+
+void cli_steady_table(const cli_steady_report *r, FILE *out)
+{
+    fprintf(out, "model %s: %s\n", r->model->name, r->model->description);
+    fprintf(out, "\nstationary solution #1 of %zu (smallest tilt)\n", usm_steady_count(r->steady));
+    solution(out, usm_steady_root(r->steady, 0));
+    if (r->floquet)
+        multipliers(out, r->floquet);
+    other_roots(out, r->steady);
+    parameters(out, r->params);
+}

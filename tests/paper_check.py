@@ -1,0 +1,96 @@
+#!/usr/bin/env python3
+"""The paper's published numbers, reproduced by running `usm steady --json`.
+
+    paper_check.py PATH/TO/usm
+
+Only the paper's own values are typed in here (sections 3-5, Tables 3 and 4);
+every computed value comes from the program.  Where the paper is known to be
+misprinted (see README, "Where the paper and the model disagree"), the
+corrected reading is checked and the printed value is reported beside it.
+"""
+import cmath
+import json
+import math
+import subprocess
+import sys
+
+USM = sys.argv[1]
+failures = []
+
+
+def run(*args):
+    out = subprocess.run([USM, "steady", "--json", *args], capture_output=True, text=True)
+    if out.returncode != 0:
+        sys.exit(f"usm steady {' '.join(args)} exited {out.returncode}: {out.stderr}")
+    return json.loads(out.stdout)
+
+
+def check(name, computed, paper, tol, relative=False):
+    diff = abs(computed - paper) / (abs(paper) if relative else 1.0)
+    ok = diff <= tol
+    print(f"{'ok  ' if ok else 'FAIL'} {name:34s} paper {paper:>12.6g}  computed "
+          f"{computed:>14.8g}  {'rel ' if relative else ''}diff {diff:.2e} (tol {tol:g})")
+    if not ok:
+        failures.append(name)
+
+
+def match_multipliers(name, computed, table, tol, skip=()):
+    """Pair every published multiplier with the nearest computed one."""
+    pool = [complex(re, im) for re, im in computed]
+    for k, lam in enumerate(table):
+        z = min(pool, key=lambda c: abs(c - lam))
+        pool.remove(z)
+        d = abs(z - lam)
+        if k in skip:
+            print(f"note {name} lambda {lam:.4f}: computed {z:.4f}, |diff| {d:.2e}, "
+                  f"|lambda| {abs(lam):.4f} vs {abs(z):.4f} "
+                  f"({(abs(z) / abs(lam) - 1) * 100:+.2f} %), angle diff "
+                  f"{abs(cmath.phase(z) - cmath.phase(lam)):.2e} rad")
+            if abs(cmath.phase(z) - cmath.phase(lam)) > 0.02:
+                failures.append(f"{name} {lam} angle")
+            continue
+        ok = d <= tol
+        print(f"{'ok  ' if ok else 'FAIL'} {name} lambda {lam:.4f}: computed {z:.5f}, "
+              f"|diff| {d:.2e} (tol {tol:g})")
+        if not ok:
+            failures.append(f"{name} {lam}")
+
+
+stick = run("--model", "3dof")
+slip = run("--model", "4dof")
+
+# Section 3: theta = 0.81836e-4; alpha "5.16 degrees" is 5.126 rad (misprint,
+# see README); beta "-1.98" equals pi - 5.1256 (a branch taken modulo pi), the
+# twisting balance gives beta = (T/c_t - alpha)/cos(theta) = -5.126.
+check("3dof theta", stick["theta"], 0.81836e-4, 1e-4, relative=True)
+check("3dof alpha [rad] (printed 5.16)", stick["alpha"], 5.126, 5e-4)
+check("3dof beta [rad] (printed -1.98)", stick["beta"], -5.126, 5e-4)
+check("3dof beta + pi (printed -1.98)", stick["beta"] + math.pi, -1.98, 5e-3)
+# (3.7), small-angle speed H*theta*Omega/R, with the sign the rotor really has
+omega = 2 * math.pi * stick["parameters"]["f"]
+check("3dof rotor speed vs (3.7) [1/s]", stick["rotor_speed"],
+      -stick["parameters"]["H"] * stick["theta"] * omega / stick["parameters"]["R"], 1e-3,
+      relative=True)
+
+# Section 5: phidot_R = -10.34 1/s, theta = 0.81836e-4, alpha = 5.12, beta = -5.12.
+check("4dof theta", slip["theta"], 0.81836e-4, 1e-4, relative=True)
+check("4dof alpha [rad] (printed 5.12)", slip["alpha"], 5.12, 0.01)
+check("4dof beta [rad] (printed -5.12)", slip["beta"], -5.12, 0.01)
+check("4dof rotor speed [1/s]", slip["rotor_speed"], -10.34, 0.005)
+
+# Table 3 (t0 = 0, the paper's convention) and Table 4.
+table3 = [complex(-0.7101, 0.5908), complex(-0.7101, -0.5908), 0.8416, 0.8272,
+          complex(-0.6570, 0.0189), complex(-0.6570, -0.0189)]
+table4 = [complex(0.2616, 0.4934), complex(0.2616, -0.4934), 0.7702, 0.8269,
+          complex(-0.8021, 0.2712), complex(-0.8021, -0.2712), 0.8654, 1.0]
+match_multipliers("Table 3", stick["floquet"]["multipliers"], table3, 2e-3)
+match_multipliers("Table 4", slip["floquet"]["multipliers"], table4, 2e-3, skip=(0, 1))
+for name, r in (("3dof", stick), ("4dof", slip)):
+    if r["floquet"]["stable"] is not True:
+        failures.append(f"{name} stable")
+    print(f"{'ok  ' if r['floquet']['stable'] else 'FAIL'} {name} stable (paper: stable)")
+
+if failures:
+    print("FAILED:", ", ".join(failures))
+    sys.exit(1)
+print("the paper's numbers are reproduced")
