@@ -78,6 +78,14 @@ def build_kernels(m):
                      [u_arg, PARAMS, ("double *restrict out", None)], ub,
                      list(m.residual.jacobian(m.unknowns)),
                      f"out: {nu}x{nu}, row-major, out[i*{nu}+j] = dr_i/du_j."))
+    pnames = [name for name, *_ in PARAMETERS]
+    ks.append(Kernel(f"{pre}_steady_jacobian_params",
+                     ["Jacobian of the stationary residuals in the parameters (for",
+                      "continuation in any parameter).", udoc,
+                      "columns in usm_params field order: " + ", ".join(pnames)],
+                     [u_arg, PARAMS, ("double *restrict out", None)], ub,
+                     list(m.residual.jacobian([P[k] for k in pnames])),
+                     f"out: {nu}x{len(pnames)}, row-major, out[i*{len(pnames)}+k] = dr_i/dp_k."))
     ks.append(Kernel(f"{pre}_steady_outputs",
                      ["Quantities on the stationary solution u (beta from the twisting",
                       "balance, the Z row of Euler's equations).", udoc],
@@ -152,7 +160,8 @@ def model_files(m, description, stamp):
           f'    "{m.name}",\n    "{description}",\n    "{assumptions}",\n'
           f"    {n}, {nu},\n    state_names, unknown_names, cyclic,\n"
           f"    {pre}_mass, {pre}_rhs, {pre}_jac_rhs, {pre}_jac_mass, {pre}_outputs,\n"
-          f"    {pre}_steady_residual, {pre}_steady_jacobian, {pre}_steady_outputs,\n"
+          f"    {pre}_steady_residual, {pre}_steady_jacobian, {pre}_steady_jacobian_params,\n"
+          f"    {pre}_steady_outputs,\n"
           f"    {pre}_steady_seed, {pre}_steady_state, {pre}_tangent_map, {friction}\n}};\n")
     return {f"{pre}.h": h, f"{pre}.c": c}
 
@@ -207,6 +216,7 @@ def common_files(models, stamp):
           "    void (*outputs)(const double *restrict x, const double *restrict xdot, double t, const usm_params *restrict p, double *restrict out);\n"
           "    void (*steady_residual)(const double *restrict u, const usm_params *restrict p, double *restrict out);\n"
           "    void (*steady_jacobian)(const double *restrict u, const usm_params *restrict p, double *restrict out);\n"
+          "    void (*steady_jacobian_params)(const double *restrict u, const usm_params *restrict p, double *restrict out); /* nu x USM_NPARAMS */\n"
           "    void (*steady_outputs)(const double *restrict u, const usm_params *restrict p, double *restrict out);\n"
           "    void (*steady_seed)(double theta, const usm_params *restrict p, double *restrict out);\n"
           "    void (*steady_state)(const double *restrict u, double beta, double t, const usm_params *restrict p, double *restrict out);\n"
