@@ -1,0 +1,84 @@
+/* usm_sweep.h: motor characteristics by continuation of the stationary solution.
+ *
+ * Math: the stationary residual r(u; lambda) = 0, u = (theta, alpha[, phidot_R]),
+ * is followed in one parameter lambda (any field of usm_params) by
+ * pseudo-arclength continuation with the generated Jacobians dr/du and
+ * dr/dp, so the branch is not lost where it turns (a fold, d lambda/ds = 0).
+ * Along the branch the sweep reports events, each located to tolerance:
+ *   fold                 the stationary solution stops existing (d lambda/ds = 0,
+ *                        or the branch leaves the admissible tilt range)
+ *   stick_limit          F_t = mu F_n with mu = mu0 (stick no longer admissible)
+ *   friction_saturation  slip model: the friction needed, F_t/F_n, reaches the
+ *                        supremum of the friction law (no rotor speed balances)
+ *   stability_change     the largest non-cyclic Floquet multiplier crosses |lambda| = 1
+ * The points of the result are the requested grid values lambda_i on the
+ * branch, in sweep order.
+ */
+#ifndef USM_SWEEP_H
+#define USM_SWEEP_H
+
+#include "usm.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef enum {
+    USM_EVENT_FOLD = 0,
+    USM_EVENT_STICK_LIMIT = 1,
+    USM_EVENT_FRICTION_SATURATION = 2,
+    USM_EVENT_STABILITY_CHANGE = 3
+} usm_event_type;
+
+/* "fold", "stick_limit", "friction_saturation", "stability_change" */
+const char *usm_event_name(usm_event_type type);
+
+typedef struct usm_sweep_event {
+    usm_event_type type;
+    double value;           /* parameter value where the event happens */
+    usm_steady_solution sol; /* the stationary solution there (when it exists) */
+    char what[USM_MSG_LEN];  /* what changes there, one sentence */
+} usm_sweep_event;
+
+typedef struct usm_sweep_point {
+    double value;                 /* swept parameter value */
+    int converged;                /* a stationary solution exists here */
+    usm_steady_solution sol;
+    int has_floquet;
+    usm_floquet_result floquet;
+    char error[USM_MSG_LEN];      /* why not converged */
+} usm_sweep_point;
+
+typedef struct usm_sweep_options {
+    const char *over;   /* parameter name */
+    double from, to;
+    int points;         /* >= 2 */
+    int floquet;        /* compute multipliers at every point (1, default) */
+    double t0;          /* Floquet start time [s] (default 0) */
+    int threads;        /* worker threads for the Floquet part (default 2; 1 = serial) */
+    void (*progress)(double fraction, void *ctx); /* NULL: silent */
+    void *progress_ctx;
+} usm_sweep_options;
+
+void usm_sweep_options_default(usm_sweep_options *opt);
+
+typedef struct usm_sweep usm_sweep;
+
+usm_sweep *usm_sweep_alloc(const usm_model *m);
+void usm_sweep_free(usm_sweep *s);
+
+/* USM_OK (points may still be unconverged where no solution exists),
+ * USM_EINPUT (bad option or parameter; message names it), USM_EFAILED. */
+int usm_sweep_run(usm_sweep *s, const usm_params *p, const usm_sweep_options *opt);
+
+size_t usm_sweep_count(const usm_sweep *s);
+const usm_sweep_point *usm_sweep_point_at(const usm_sweep *s, size_t i);
+size_t usm_sweep_event_count(const usm_sweep *s);
+const usm_sweep_event *usm_sweep_event_at(const usm_sweep *s, size_t i);
+const char *usm_sweep_message(const usm_sweep *s);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* USM_SWEEP_H */
