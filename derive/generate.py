@@ -11,6 +11,7 @@ is pinned (the script re-executes itself with PYTHONHASHSEED=0).
 import argparse
 import filecmp
 import hashlib
+import multiprocessing
 import os
 import sys
 import tempfile
@@ -26,7 +27,7 @@ sys.path.insert(0, HERE)
 import sympy as sp  # noqa: E402
 
 from usm_derive import GENERATOR_VERSION  # noqa: E402
-from usm_derive.model import derive_model, PARAMETERS  # noqa: E402
+from usm_derive.model import derive_model  # noqa: E402
 from usm_derive import emit_model  # noqa: E402
 import variants  # noqa: E402
 
@@ -45,26 +46,40 @@ def input_digest():
     return h.hexdigest()
 
 
-def write_all(out_dir, only=None, verbose=True):
+def _model_files(job):
+    name, base, variant, spec, description, stamp = job
+    t0 = time.perf_counter()
+    model = derive_model(name, spec)
+    t1 = time.perf_counter()
+    files = emit_model.model_files(model, description, stamp, base, variant)
+    return name, files, t1 - t0, time.perf_counter() - t1
+
+
+def write_all(out_dir, only=None, verbose=True, jobs=2):
     os.makedirs(out_dir, exist_ok=True)
     digest = input_digest()
     stamp = {"generator": GENERATOR_VERSION, "sympy": sp.__version__,
              "digest": digest}
+    models = [m for m in variants.generated_models() if not only or m[0] in only]
+    work = [m + (stamp,) for m in models]
+    # The models are independent: derive them on both cores.  Each worker is a
+    # fork of this process (PYTHONHASHSEED=0), so the output does not depend on
+    # how the work is split.
+    if jobs > 1 and len(work) > 1:
+        with multiprocessing.get_context("fork").Pool(min(jobs, len(work))) as pool:
+            results = pool.map(_model_files, work, chunksize=1)
+    else:
+        results = [_model_files(w) for w in work]
     files = {}
-    names = [n for n in variants.VARIANTS if not only or n in only]
-    for name in names:
-        spec = dict(variants.VARIANTS[name])
-        description = spec.pop("description")
-        t0 = time.perf_counter()
-        model = derive_model(name, spec)
-        t1 = time.perf_counter()
-        files.update(emit_model.model_files(model, description, stamp))
+    for name, model_files, t_derive, t_emit in results:
+        files.update(model_files)
         if verbose:
-            print(f"  {name}: derived in {t1 - t0:.1f} s, emitted in "
-                  f"{time.perf_counter() - t1:.1f} s", file=sys.stderr)
+            print(f"  {name}: derived in {t_derive:.1f} s, emitted in {t_emit:.1f} s",
+                  file=sys.stderr)
     if not only:
         files.update(emit_model.common_files(
-            [(n, variants.VARIANTS[n]["description"]) for n in names], stamp))
+            [(m[0], m[1], m[2]) for m in models],
+            [(v, d[2]) for v, d in variants.VARIANTS.items()], stamp))
     for fname, text in files.items():
         with open(os.path.join(out_dir, fname), "w", encoding="utf-8", newline="\n") as fh:
             fh.write(text)
@@ -78,11 +93,12 @@ def main():
                     help="compare with --out instead of writing it")
     ap.add_argument("--only", nargs="*", help="variants to generate (default: all)")
     ap.add_argument("--quiet", action="store_true")
+    ap.add_argument("--jobs", type=int, default=2, help="worker processes (default 2)")
     args = ap.parse_args()
     t0 = time.perf_counter()
     if args.check:
         with tempfile.TemporaryDirectory() as tmp:
-            written = write_all(tmp, args.only, not args.quiet)
+            written = write_all(tmp, args.only, not args.quiet, args.jobs)
             stale = [f for f in written
                      if not os.path.exists(os.path.join(args.out, f))
                      or not filecmp.cmp(os.path.join(tmp, f),
@@ -94,7 +110,7 @@ def main():
             return 1
         print(f"generated/ is up to date ({len(written)} files)")
         return 0
-    written = write_all(args.out, args.only, not args.quiet)
+    written = write_all(args.out, args.only, not args.quiet, args.jobs)
     if not args.quiet:
         print(f"wrote {len(written)} files to {os.path.normpath(args.out)} in "
               f"{time.perf_counter() - t0:.1f} s", file=sys.stderr)

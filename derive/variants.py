@@ -1,9 +1,12 @@
 """The modelling assumptions: the input of the derivation.
 
-Each entry is one model variant that derive/generate.py turns into
-generated/usm_<name>.{h,c}.  Changing an assumption here and rebuilding
-regenerates the kernels; the runtime handles any variant through its
-descriptor (usm_model) without code changes.
+A generated model is a base model (MODELS) under a variant (VARIANTS): the
+variant's assumptions override the paper's (PAPER).  derive/generate.py turns
+every combination into generated/usm_<name>.{h,c}, where <name> is the base
+model's name for the paper's variant and "<base>_<variant>" otherwise.
+Changing an assumption here and rebuilding regenerates the kernels; the runtime
+handles any generated model through its descriptor (usm_model) without code
+changes.  See docs/changing-an-assumption.md.
 
 Assumptions and their choices:
   contact          "stick": no slip, rotor speed tied to the stator (2.4), 3 DOF
@@ -22,11 +25,41 @@ PAPER = {
     "twist": "paper",
     "spring_reference": "theta0",
     "stator_inertia": "axisymmetric",
+    "friction": "atan",
 }
 
-VARIANTS = {
-    "3dof": dict(PAPER, contact="stick",
-                 description="3-DOF stick model of sections 2-4 (paper's default)"),
-    "4dof": dict(PAPER, contact="slip", friction="atan",
-                 description="4-DOF slip model of section 5, mu = mu0*atan(kappa*v_rel)"),
+MODELS = {
+    "3dof": {"contact": "stick",
+             "description": "3-DOF stick model of sections 2-4"},
+    "4dof": {"contact": "slip",
+             "description": "4-DOF slip model of section 5"},
 }
+
+# name -> (assumptions that differ from PAPER, base models, description)
+VARIANTS = {
+    "paper": ({}, ["3dof", "4dof"],
+              "the paper's assumptions (default): twist angle phi + psi cos(theta), "
+              "mu = mu0 atan(kappa v_rel)"),
+    "twist_integrated": ({"twist": "integrated"}, ["3dof", "4dof"],
+                         "twist angle integrated from omega_Z (extra state tau): "
+                         "the linearisation is periodic, multipliers independent of t0"),
+    "friction_tanh": ({"friction": "tanh"}, ["4dof"],
+                      "friction law mu = mu0 tanh(kappa v_rel) instead of (5.2)"),
+}
+
+
+def generated_models():
+    """(name, base, variant, assumptions, description) of every generated model."""
+    out = []
+    for variant, (changes, bases, vdesc) in VARIANTS.items():
+        for base in bases:
+            spec = dict(PAPER, **changes)
+            spec["contact"] = MODELS[base]["contact"]
+            if spec["contact"] == "stick":
+                spec.pop("friction")
+            name = base if variant == "paper" else f"{base}_{variant}"
+            desc = MODELS[base]["description"]
+            if variant != "paper":
+                desc += f", variant {variant}"
+            out.append((name, base, variant, spec, desc))
+    return out

@@ -48,8 +48,16 @@ enum {
 
 /* ---- models ---------------------------------------------------------------- */
 
-/* The generated model called `name` ("3dof", "4dof", ...), or NULL. */
+/* The generated model called `name` ("3dof", "4dof", "4dof_friction_tanh", ...),
+ * or NULL. */
 const usm_model *usm_model_find(const char *name);
+
+/* Base model `base` ("3dof", "4dof") under variant `variant` ("paper",
+ * "twist_integrated", ...; see usm_variants), or NULL if not generated. */
+const usm_model *usm_model_variant(const char *base, const char *variant);
+
+/* The variant called `name`, or NULL. */
+const usm_variant_info *usm_variant_find(const char *name);
 
 /* ---- parameters ------------------------------------------------------------ */
 

@@ -44,6 +44,17 @@ class KernelPrinter(C99CodePrinter):
         return f"{int(expr)}.0" if abs(int(expr)) < 10**15 else super()._print_Integer(expr)
 
 
+def _drop_unused(repl, reduced):
+    """cse can leave a temporary that no output needs (its uses cancelled)."""
+    needed = set().union(*(sp.sympify(e).free_symbols for e in reduced))
+    kept = []
+    for sym, e in reversed(repl):
+        if sym in needed:
+            kept.append((sym, e))
+            needed |= e.free_symbols
+    return kept[::-1]
+
+
 def param_names():
     return {P[name]: f"p->{name}" for name, *_ in PARAMETERS}
 
@@ -75,6 +86,7 @@ class Kernel:
                   if provided is not None and not (set(provided) & used)]
         repl, reduced = sp.cse(exprs, symbols=sp.numbered_symbols("w"),
                                order="canonical")
+        repl = _drop_unused(repl, reduced)
         printer = KernelPrinter(names)
         ops_before = sum(sp.count_ops(e) for e in exprs)
         ops_after = (sum(sp.count_ops(e) for _, e in repl)

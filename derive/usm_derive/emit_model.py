@@ -5,7 +5,7 @@ from .emit_c import Kernel
 from .model import PARAMETERS, P, t
 
 OUTPUT_NAMES = ["R_star", "Z", "v_c", "F_n", "F_t", "v_rel", "rotor_speed"]
-STEADY_NAMES = ["beta", "rotor_speed", "F_n", "F_t", "v_c", "v_rel", "R_star", "Z"]
+STEADY_NAMES = ["beta", "rotor_speed", "F_n", "F_t", "v_c", "v_rel", "R_star", "Z", "twist"]
 SEED_NAMES = ["amplitude_mismatch", "cos_alpha", "sin_alpha", "F_t", "F_n"]
 PARAMS = ("const usm_params *restrict p", list(P.values()))
 
@@ -127,10 +127,12 @@ def _names_array(cname, names):
     return f"static const char *const {cname}[] = {{{items}}};\n"
 
 
-def model_files(m, description, stamp):
+def model_files(m, description, stamp, base, variant):
     pre = f"usm_{m.name}"
     kernels = build_kernels(m)
     n, nu = len(m.states), len(m.unknowns)
+    if n > 9 or nu > 3:
+        raise RuntimeError(f"{m.name}: raise USM_MAX_NX/USM_MAX_NU in emit_model.py")
     assumptions = ", ".join(f"{k}={v}" for k, v in m.assumptions.items())
     guard = f"USM_{m.name.upper().replace('-', '_')}_H"
     emitted = [k.emit() for k in kernels]
@@ -157,7 +159,7 @@ def model_files(m, description, stamp):
     c += f"static const unsigned char cyclic[] = {{{cyc}}};\n\n"
     friction = f"{pre}_friction" if m.friction is not None else "0"
     c += (f"const usm_model {pre.replace('usm_', 'usm_model_')} = {{\n"
-          f'    "{m.name}",\n    "{description}",\n    "{assumptions}",\n'
+          f'    "{m.name}",\n    "{base}",\n    "{variant}",\n    "{description}",\n    "{assumptions}",\n'
           f"    {n}, {nu},\n    state_names, unknown_names, cyclic,\n"
           f"    {pre}_mass, {pre}_rhs, {pre}_jac_rhs, {pre}_jac_mass, {pre}_outputs,\n"
           f"    {pre}_steady_residual, {pre}_steady_jacobian, {pre}_steady_jacobian_params,\n"
@@ -171,7 +173,7 @@ def _enum(prefix, names):
     return f"enum {{\n{body},\n    {prefix}_COUNT = {len(names)}\n}};\n"
 
 
-def common_files(models, stamp):
+def common_files(models, variant_list, stamp):
     major = stamp["generator"].split(".")[0]
     extra = ["Types shared by every generated model: parameters, output indices and",
              "the model descriptor through which the runtime calls the kernels."]
@@ -204,7 +206,10 @@ def common_files(models, stamp):
     h += ("#define USM_MAX_NX 9\n#define USM_MAX_NU 3\n\n"
           "/* A generated model: sizes, names and kernels (see usm_<name>.h). */\n"
           "typedef struct usm_model {\n"
-          "    const char *name;\n    const char *description;\n    const char *assumptions;\n"
+          "    const char *name;        /* e.g. \"4dof_friction_tanh\" */\n"
+          "    const char *base;        /* \"3dof\" or \"4dof\" */\n"
+          "    const char *variant;     /* \"paper\" for the paper's assumptions */\n"
+          "    const char *description;\n    const char *assumptions;\n"
           "    int nx; /* length of the state x */\n"
           "    int nu; /* number of stationary unknowns u */\n"
           "    const char *const *state_names;\n    const char *const *unknown_names;\n"
@@ -223,11 +228,16 @@ def common_files(models, stamp):
           "    void (*tangent_map)(const double *restrict x, const usm_params *restrict p, double *restrict out);\n"
           "    void (*friction)(double v_rel, const usm_params *restrict p, double *restrict out); /* NULL for stick */\n"
           "} usm_model;\n\n")
-    for name, _ in models:
+    for name, _, _ in models:
         h += f"extern const usm_model usm_model_{name};\n"
     h += (f"\n/* Every generated model, in derive/variants.py order. */\n"
           f"#define USM_NMODELS {len(models)}\n"
-          "extern const usm_model *const usm_models[USM_NMODELS];\n")
+          "extern const usm_model *const usm_models[USM_NMODELS];\n\n"
+          "/* The variants (sets of assumptions), first the paper's. */\n"
+          "typedef struct usm_variant_info {\n    const char *name;\n    const char *description;\n"
+          "} usm_variant_info;\n"
+          f"#define USM_NVARIANTS {len(variant_list)}\n"
+          "extern const usm_variant_info usm_variants[USM_NVARIANTS];\n")
     h += '\n#ifdef __cplusplus\n}\n#endif\n\n#endif /* USM_KERNELS_H */\n'
     c = _banner("usm_kernels.c: parameter table and model list.", stamp)
     c += '#include <stddef.h>\n\n#include "usm_kernels.h"\n\n'
@@ -236,5 +246,7 @@ def common_files(models, stamp):
         c += f'    {{"{name}", "{unit}", "{desc}", "{cons}", offsetof(usm_params, {name})}},\n'
     c += "};\n\n"
     c += "const usm_model *const usm_models[USM_NMODELS] = {\n"
-    c += "".join(f"    &usm_model_{name},\n" for name, _ in models) + "};\n"
+    c += "".join(f"    &usm_model_{name},\n" for name, _, _ in models) + "};\n\n"
+    c += "const usm_variant_info usm_variants[USM_NVARIANTS] = {\n"
+    c += "".join(f'    {{"{v}", "{d}"}},\n' for v, d in variant_list) + "};\n"
     return {"usm_kernels.h": h, "usm_kernels.c": c}

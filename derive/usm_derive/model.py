@@ -47,6 +47,15 @@ t = sp.Symbol("t", real=True)
 OMEGA = 2 * sp.pi * P["f"]
 
 
+def solve_linear(expr, x):
+    """Root of an expression affine in x.  sympy's solve() would call simplify
+    on the whole expression, which costs seconds here for nothing."""
+    a = sp.diff(expr, x)
+    if x in a.free_symbols:
+        raise RuntimeError(f"expression is not linear in {x}")
+    return -expr.subs(x, 0) / a
+
+
 def friction_law(name, v):
     """mu(v_rel) for the slip model: the paper's (5.2) and alternatives."""
     mu0, kappa = P["mu0"], P["kappa"]
@@ -139,7 +148,7 @@ def derive_model(name, assumptions):
     rotor_balance = p["I_R"] * w_R.diff(t) - (Ft_s * R_star - p["T"])  # (2.2)
     phiR_rate = -w_R
     if contact == "stick":
-        F_t = sp.solve(rotor_balance, Ft_s)[0]
+        F_t = solve_linear(rotor_balance, Ft_s)
         v_rel = sp.Integer(0)
         rotor_rows = []
         mu_expr, v_sym = None, None
@@ -169,13 +178,16 @@ def derive_model(name, assumptions):
         extra_rates = [kin.omega_A[2]]                    # tau' = omega_Z
     else:
         raise ValueError(f"unknown twist law {twist!r}")
-    M_R_A = sp.Matrix([p["c_r"] * theta_f, 0, p["c_t"] * twist_angle])
+    # The twist angle enters through a placeholder, so that the stationary
+    # problem can solve the twisting balance for its value whatever the law.
+    Tw = sp.Symbol("twist", real=True)
+    M_R_A = sp.Matrix([p["c_r"] * theta_f, 0, p["c_t"] * Tw])
     D_A = kin.tensor_in_A_from_N((p["d_r"], p["d_r"], p["d_t"]))
     M_D_A = D_A * kin.omega_A                                         # (2.10)
     F_c_A = sp.Matrix([-Ft_s, 0, -Fn_s])                              # (2.5)
     M_C_A = kin.r_c_A.cross(F_c_A)                                    # (2.11)
     stator_generic = dLdt_A - (M_E_A - M_R_A - M_D_A + M_C_A)         # (2.6), (2.7)
-    stator_rows = list(stator_generic.subs({Ft_s: F_t, Fn_s: F_n}))
+    stator_rows = list(stator_generic.subs({Ft_s: F_t, Fn_s: F_n, Tw: twist_angle}))
 
     rows = [plain(r) for r in rotor_rows + stator_rows]
     # rows are linear in the accelerations: M_q qdd = f_q
@@ -223,54 +235,55 @@ def derive_model(name, assumptions):
         unknown_names.append("phidot_R")
         ansatz[phiR_f] = wR * t
         rate_bar[phiR_f] = wR
-    tau_bar = None
-    if twist == "integrated":
-        tau_bar = beta  # the constant twist angle takes the place of beta
 
     def on_ansatz(e):
         e = e.subs({c.diff(t, 2): 0 for c in coords})
         e = e.subs({c.diff(t): rate_bar[c] for c in coords})
-        e = e.subs(ansatz)
-        if tau_bar is not None:
-            e = e.subs(tau, tau_bar)
-        return e
+        return e.subs(ansatz)
 
-    st_rows = [on_ansatz(r) for r in rotor_rows + stator_rows]
-    rZ = sp.expand(st_rows[-1])
-    residual_rows = st_rows[:-1]
+    steady_rows = [on_ansatz(r) for r in rotor_rows]
+    steady_rows += [on_ansatz(r.subs({Ft_s: F_t, Fn_s: F_n})) for r in stator_generic]
+    residual_rows = steady_rows[:-1]
     for r in residual_rows:
-        if t in r.free_symbols:
+        if t in r.free_symbols or Tw in r.free_symbols:
             raise RuntimeError("stationary residual depends on time: "
                                "the ansatz (3.1) is not a solution of this variant")
-    beta_sol = sp.solve(rZ, beta)
-    if len(beta_sol) != 1 or t in beta_sol[0].free_symbols:
-        raise RuntimeError("twisting balance does not determine beta uniquely")
-    beta_expr = beta_sol[0]
     residual = sp.Matrix(residual_rows)
+    # Twisting balance (Z row): the twist angle on the stationary solution.
+    # small expression: simplification makes omega_Z = 0 on the orbit exact
+    twist_bar = sp.simplify(solve_linear(steady_rows[-1], Tw))
+    if t in twist_bar.free_symbols:
+        raise RuntimeError("twisting balance depends on time")
+    # beta from the paper's twist angle phi + psi cos(theta) = twist_bar at any
+    # t (3.6); under the integrated law tau = twist_bar and psi's phase is free
+    # (psi is cyclic), and the same beta is used by convention.
+    beta_expr = solve_linear(sp.expand(on_ansatz(phi_f + psi_f * sp.cos(theta_f)))
+                             - twist_bar, beta)
+    if t in beta_expr.free_symbols:
+        raise RuntimeError("beta depends on time")
 
     def steady(e):
         return on_ansatz(e).subs(beta, beta_expr)
 
-    F_n_bar, F_t_bar = steady(F_n), steady(F_t)
-    v_c_bar = steady(v_c)
     steady_outputs = {
         "beta": beta_expr,
         "rotor_speed": steady(phiR_rate),
-        "F_n": F_n_bar,
-        "F_t": F_t_bar,
-        "v_c": v_c_bar,
+        "F_n": steady(F_n),
+        "F_t": steady(F_t),
+        "v_c": steady(v_c),
         "v_rel": steady(v_rel),
         "R_star": theta_to(R_star, theta_f, theta_b),
         "Z": theta_to(Z, theta_f, theta_b),
+        "twist": twist_bar,
     }
 
     # State on the stationary orbit and its rate, for any t (used by Floquet).
     xbar = [ansatz[c] for c in coords] + [rate_bar[c] for c in coords]
     xbar_rate = [sp.diff(e, t) for e in xbar]
     if twist == "integrated":
-        xbar.append(beta)
+        xbar.append(twist_bar)
         xbar_rate.append(sp.Integer(0))
-    steady_state = sp.Matrix(xbar).subs(beta, sp.Symbol("beta", real=True))
+    steady_state = sp.Matrix(xbar)
     steady_rate = sp.Matrix(xbar_rate)
 
     # Seed for the root search: at given theta the stator rows are linear in
@@ -278,18 +291,17 @@ def derive_model(name, assumptions):
     # that 2x2 system gives alpha, and |(cos, sin)| = 1 is a scalar equation in
     # theta alone whose sign changes bracket every stationary solution.
     C, S = sp.symbols("C S", real=True)
-    stator_seed = [on_ansatz(r) for r in list(stator_generic)[:2]]
-    Ft_steady = sp.solve(on_ansatz(rotor_balance), Ft_s)[0]
+    Ft_steady = solve_linear(on_ansatz(rotor_balance), Ft_s)
     Fn_steady = on_ansatz(F_n)
-    lin = [sp.expand(r.subs({Ft_s: Ft_steady, Fn_s: Fn_steady}))
-           .subs({sp.cos(alpha): C, sp.sin(alpha): S}) for r in stator_seed]
+    lin = [sp.expand(on_ansatz(r).subs({Ft_s: Ft_steady, Fn_s: Fn_steady}))
+           .subs({sp.cos(alpha): C, sp.sin(alpha): S}) for r in list(stator_generic)[:2]]
     for r in lin:
         if alpha in r.free_symbols:
             raise RuntimeError("stator rows are not linear in cos/sin alpha")
-    sol = sp.solve(lin, [C, S], dict=True)
-    if len(sol) != 1:
-        raise RuntimeError("cannot solve the seed system for cos/sin alpha")
-    Cs, Ss = sol[0][C], sol[0][S]
+    A, bvec = sp.linear_eq_to_matrix(lin, [C, S])
+    det = A[0, 0] * A[1, 1] - A[0, 1] * A[1, 0]
+    Cs = (bvec[0] * A[1, 1] - A[0, 1] * bvec[1]) / det
+    Ss = (A[0, 0] * bvec[1] - bvec[0] * A[1, 0]) / det
     seed = {"amplitude_mismatch": Cs**2 + Ss**2 - 1, "cos_alpha": Cs, "sin_alpha": Ss,
             "F_t": Ft_steady, "F_n": Fn_steady}
 

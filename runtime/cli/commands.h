@@ -11,5 +11,6 @@
 #define USM_CLI_COMMANDS_H
 
 int cli_steady_main(int argc, char **argv);
+int cli_variants_main(int argc, char **argv);
 
 #endif /* USM_CLI_COMMANDS_H */

@@ -21,6 +21,7 @@ typedef struct cli_command {
 
 static const cli_command commands[] = {
     {"steady", "stationary solutions and their Floquet multipliers", cli_steady_main},
+    {"variants", "list the modelling variants (--variant NAME selects one)", cli_variants_main},
 };
 #define NCOMMANDS (sizeof commands / sizeof commands[0])
 

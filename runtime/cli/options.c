@@ -12,6 +12,8 @@
 void cli_common_init(cli_common *c)
 {
     memset(c, 0, sizeof *c);
+    c->base = "3dof";
+    c->variant = "paper";
     c->model = usm_model_find("3dof");
     usm_params_default(&c->params);
 }
@@ -100,12 +102,30 @@ static int take_set(cli_common *c, const char *arg, char msg[CLI_MSG_LEN])
     return CLI_OPT_TAKEN;
 }
 
+/* The base models ("3dof", "4dof"), each named once. */
 static void list_models(char *buf, size_t len)
 {
     size_t used = 0;
     buf[0] = '\0';
     for (int k = 0; k < USM_NMODELS && used < len; ++k) {
-        int n = snprintf(buf + used, len - used, "%s%s", k ? ", " : "", usm_models[k]->name);
+        if (strcmp(usm_models[k]->variant, "paper") != 0)
+            continue;
+        int n = snprintf(buf + used, len - used, "%s%s", used ? ", " : "", usm_models[k]->base);
+        if (n < 0)
+            break;
+        used += (size_t)n;
+    }
+}
+
+/* The variants generated for base model `base`. */
+static void list_variants(const char *base, char *buf, size_t len)
+{
+    size_t used = 0;
+    buf[0] = '\0';
+    for (int k = 0; k < USM_NMODELS && used < len; ++k) {
+        if (strcmp(usm_models[k]->base, base) != 0)
+            continue;
+        int n = snprintf(buf + used, len - used, "%s%s", used ? ", " : "", usm_models[k]->variant);
         if (n < 0)
             break;
         used += (size_t)n;
@@ -121,12 +141,28 @@ int cli_common_option(cli_common *c, int argc, char **argv, int *i, char msg[CLI
         return CLI_OPT_TAKEN;
     }
     if ((r = cli_option_value(argc, argv, i, "--model", &value, msg)) != CLI_OPT_NOT_MINE) {
-        if (r == CLI_OPT_TAKEN && !(c->model = usm_model_find(value))) {
+        const usm_model *m = r == CLI_OPT_TAKEN ? usm_model_find(value) : NULL;
+        if (r == CLI_OPT_TAKEN && !m) {
             char known[128];
             list_models(known, sizeof known);
             cli_msg(msg, "--model: unknown model \"%s\" (known: %s)", value, known);
             return CLI_OPT_ERROR;
         }
+        if (m) {
+            /* a full generated name such as 4dof_friction_tanh also selects its variant */
+            c->base = m->base;
+            if (strcmp(m->variant, "paper") != 0)
+                c->variant = m->variant;
+        }
+        return r;
+    }
+    if ((r = cli_option_value(argc, argv, i, "--variant", &value, msg)) != CLI_OPT_NOT_MINE) {
+        if (r == CLI_OPT_TAKEN && !usm_variant_find(value)) {
+            cli_msg(msg, "--variant: unknown variant \"%s\" (usm variants lists them)", value);
+            return CLI_OPT_ERROR;
+        }
+        if (r == CLI_OPT_TAKEN)
+            c->variant = value;
         return r;
     }
     if ((r = cli_option_value(argc, argv, i, "--params", &value, msg)) != CLI_OPT_NOT_MINE) {
@@ -146,6 +182,13 @@ int cli_common_option(cli_common *c, int argc, char **argv, int *i, char msg[CLI
 int cli_common_finish(cli_common *c, char msg[CLI_MSG_LEN])
 {
     char lib[USM_MSG_LEN];
+    if (!(c->model = usm_model_variant(c->base, c->variant))) {
+        char known[128];
+        list_variants(c->base, known, sizeof known);
+        cli_msg(msg, "--variant: variant \"%s\" is not generated for model %s (it has: %s)",
+                c->variant, c->base, known);
+        return USM_EINPUT;
+    }
     usm_params_default(&c->params);
     if (c->params_file && cli_params_file_read(c->params_file, &c->params, msg) != USM_OK)
         return USM_EINPUT;
@@ -165,6 +208,7 @@ void cli_common_usage(FILE *out)
     list_models(known, sizeof known);
     fprintf(out,
             "  --model NAME        model to use: %s (default 3dof)\n"
+            "  --variant NAME      modelling assumptions (default paper; see usm variants)\n"
             "  --params FILE.json  parameter values, a JSON object {\"NAME\": number, ...}\n"
             "  --set NAME=VALUE    set one parameter (repeatable; applied after --params)\n"
             "  --json              print one JSON object instead of a table\n",

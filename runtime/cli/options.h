@@ -1,7 +1,7 @@
 /* options.h: command-line options shared by the usm subcommands.
  *
  * Every subcommand that works on one parameter set accepts
- *   --model NAME  --params FILE.json  --set NAME=VALUE (repeatable)  --json
+ *   --model NAME  --variant NAME  --params FILE.json  --set NAME=VALUE (repeatable)  --json
  * A subcommand parses its own argv and offers each argument to
  * cli_common_option() before its own options; cli_common_finish() then builds
  * the parameters: defaults, then the file, then the --set values (whatever
@@ -17,7 +17,9 @@
 #include "usm.h"
 
 typedef struct cli_common {
-    const usm_model *model;      /* --model (default 3dof) */
+    const usm_model *model;      /* --model + --variant, resolved by cli_common_finish() */
+    const char *base;            /* --model (default 3dof) */
+    const char *variant;         /* --variant (default paper) */
     usm_params params;           /* valid after cli_common_finish() */
     int json;                    /* --json */
     const char *params_file;     /* --params, or NULL */
