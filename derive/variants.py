@@ -11,8 +11,8 @@ changes.  See docs/changing-an-assumption.md.
 Assumptions and their choices:
   contact          "stick": no slip, rotor speed tied to the stator (2.4), 3 DOF
                    "slip":  rotor angle phi_R free, F_t = mu(v_rel) F_n (5.1), 4 DOF
-  friction         (slip only) "atan": mu0*atan(kappa*v_rel) (5.2);
-                   "tanh": mu0*tanh(kappa*v_rel)
+  friction         (slip only) a name in FRICTION_LAWS: "atan" is the paper's
+                   mu0*atan(kappa*v_rel) (5.2); "tanh" is mu0*tanh(kappa*v_rel)
   twist            "paper": twist angle phi + psi*cos(theta) (2.9)
                    "integrated": twist angle tau with tau' = omega_Z (extra state)
   spring_reference "theta0": F_R = F0 + c_R*(Z - H), Z measured from theta = 0
@@ -26,6 +26,13 @@ PAPER = {
     "spring_reference": "theta0",
     "stator_inertia": "axisymmetric",
     "friction": "atan",
+}
+
+# Friction laws mu(v_rel) of the slip model, as formulas in v_rel, mu0, kappa.
+# The runtime needs mu odd and increasing in v_rel (one rotor speed per load).
+FRICTION_LAWS = {
+    "atan": "mu0*atan(kappa*v_rel)",
+    "tanh": "mu0*tanh(kappa*v_rel)",
 }
 
 MODELS = {
@@ -57,6 +64,8 @@ def generated_models():
             spec["contact"] = MODELS[base]["contact"]
             if spec["contact"] == "stick":
                 spec.pop("friction")
+            else:
+                spec["friction_law"] = FRICTION_LAWS[spec["friction"]]
             name = base if variant == "paper" else f"{base}_{variant}"
             desc = MODELS[base]["description"]
             if variant != "paper":

@@ -430,6 +430,7 @@ int usm_floquet_compute(usm_floquet *f, const usm_params *p, const usm_steady_so
     const double period = 1.0 / p->f;
     memset(out, 0, sizeof *out);
     out->t0 = t0;
+    out->t0_dependent = !f->m->t0_independent;
     int rc = opt->method == USM_FLOQUET_EXPONENTIAL
                  ? monodromy_exponential(f, t0, period, opt->steps, out->monodromy)
                  : monodromy_variational(f, t0, period, opt, out->monodromy);

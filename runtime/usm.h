@@ -31,6 +31,18 @@
 
 #include "usm_kernels.h"
 
+/* Major version of the kernel generator (derive/generate.py) whose kernels
+ * this runtime is written for: the layout of usm_model and usm_params may
+ * change with it.  Mixing the runtime with kernels of another major version
+ * is refused at build time; regenerate the kernels. */
+#define USM_EXPECTED_GENERATOR_MAJOR 1
+
+#if !defined(USM_GENERATOR_VERSION_MAJOR)
+#error "usm_kernels.h has no USM_GENERATOR_VERSION_MAJOR: the generated kernels are older than this runtime; regenerate them (python3 derive/generate.py)"
+#elif USM_GENERATOR_VERSION_MAJOR != USM_EXPECTED_GENERATOR_MAJOR
+#error "the generated kernels come from another generator major version (USM_GENERATOR_VERSION_MAJOR in usm_kernels.h) than this runtime expects (USM_EXPECTED_GENERATOR_MAJOR in usm.h); regenerate them (python3 derive/generate.py)"
+#endif
+
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -45,6 +57,15 @@ enum {
 
 /* Length of the message buffers used by this API (messages are truncated). */
 #define USM_MSG_LEN 256
+
+/* ---- versions -------------------------------------------------------------- */
+
+/* Version of the library, "MAJOR.MINOR.PATCH" (the CMake project version). */
+const char *usm_version(void);
+
+/* Version of the generator that wrote the kernels built into the library
+ * (USM_GENERATOR_VERSION of the usm_kernels.h it was compiled with). */
+const char *usm_generator_version(void);
 
 /* ---- models ---------------------------------------------------------------- */
 
@@ -70,6 +91,8 @@ const usm_param_info *usm_params_find(const char *name);
 
 /* Address of the field described by `info` inside `p`. */
 double *usm_params_field(usm_params *p, const usm_param_info *info);
+
+/* Value of the field described by `info` in `p`. */
 double usm_params_get(const usm_params *p, const usm_param_info *info);
 
 /* Set parameter `name` to `value`.  Returns USM_OK, or USM_EINPUT with a
@@ -105,11 +128,16 @@ typedef struct usm_steady_options {
     double xtol;                 /* relative tolerance on the unknowns (default 1e-13) */
 } usm_steady_options;
 
+/* Fill `opt` with the defaults listed above. */
 void usm_steady_options_default(usm_steady_options *opt);
 
+/* Solver of the stationary solutions of one model, with its workspace and the
+ * roots found by the last solve (opaque). */
 typedef struct usm_steady usm_steady;
 
+/* A solver for model m (not NULL), or NULL when out of memory. */
 usm_steady *usm_steady_alloc(const usm_model *m);
+/* Free s and its roots; NULL is allowed. */
 void usm_steady_free(usm_steady *s);
 
 /* Find every stationary solution in the tilt range.  USM_OK when at least one
@@ -121,9 +149,12 @@ int usm_steady_solve(usm_steady *s, const usm_params *p, const usm_steady_option
  * from u0 only, no search.  USM_OK or USM_ENOSOLUTION. */
 int usm_steady_solve_from(usm_steady *s, const usm_params *p, const double *u0);
 
+/* Number of roots found by the last solve (0 before any). */
 size_t usm_steady_count(const usm_steady *s);
 /* Root i (0 = the primary root: the smallest tilt), NULL when out of range. */
 const usm_steady_solution *usm_steady_root(const usm_steady *s, size_t i);
+/* Why the last solve failed, or "" after success.  Owned by s; valid until
+ * the next solve or usm_steady_free. */
 const char *usm_steady_message(const usm_steady *s);
 
 /* Fill the derived quantities of `sol` from sol->u (used by the solver and by
@@ -143,8 +174,10 @@ typedef struct usm_floquet_options {
     int steps;           /* exponential method: sub-intervals per period (default 64) */
 } usm_floquet_options;
 
+/* Fill `opt` with the defaults listed above. */
 void usm_floquet_options_default(usm_floquet_options *opt);
 
+/* Floquet multipliers of one stationary solution and its monodromy matrix. */
 typedef struct usm_floquet_result {
     int n;                              /* number of multipliers (= nx) */
     double re[USM_MAX_NX], im[USM_MAX_NX];
@@ -152,12 +185,17 @@ typedef struct usm_floquet_result {
     double max_modulus;                 /* largest |lambda| excluding cyclic ones */
     int stable;                         /* max_modulus < 1 */
     double t0;                          /* start time of the period [s] */
+    int t0_dependent;                   /* 1: this model's multipliers depend on t0
+                                           (the paper's twist law; see README) */
     double monodromy[USM_MAX_NX * USM_MAX_NX]; /* row-major n x n */
 } usm_floquet_result;
 
+/* Floquet solver of one model: integrator and eigen-solver workspace (opaque). */
 typedef struct usm_floquet usm_floquet;
 
+/* A Floquet solver for model m (not NULL), or NULL when out of memory. */
 usm_floquet *usm_floquet_alloc(const usm_model *m);
+/* Free f; NULL is allowed. */
 void usm_floquet_free(usm_floquet *f);
 
 /* Multipliers of the stationary solution `sol` over [t0, t0 + T].  The paper's
@@ -166,6 +204,8 @@ void usm_floquet_free(usm_floquet *f);
  * decreasing modulus.  USM_OK or USM_EFAILED (message in usm_floquet_message). */
 int usm_floquet_compute(usm_floquet *f, const usm_params *p, const usm_steady_solution *sol,
                         double t0, const usm_floquet_options *opt, usm_floquet_result *out);
+/* Why the last usm_floquet_compute failed, or "" after success.  Owned by f;
+ * valid until the next compute or usm_floquet_free. */
 const char *usm_floquet_message(const usm_floquet *f);
 
 #ifdef __cplusplus

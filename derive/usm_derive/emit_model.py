@@ -45,11 +45,11 @@ def build_kernels(m):
     ks.append(Kernel(f"{pre}_rhs", ["Right-hand side f(x, t) of M(x) x' = f(x, t).", xdoc],
                      [x_arg, t_arg, PARAMS, ("double *restrict out", None)], xb,
                      list(m.rhs), f"out: {n} entries, out[i] = f_i."))
-    jf = m.rhs.jacobian(m.states)
+    jf = m.jac_rhs
     ks.append(Kernel(f"{pre}_jac_rhs", ["Jacobian df/dx of the right-hand side.", xdoc],
                      [x_arg, t_arg, PARAMS, ("double *restrict out", None)], xb,
                      list(jf), f"out: {n}x{n}, row-major, out[i*{n}+j] = df_i/dx_j."))
-    jm = (m.mass * sp.Matrix(m.v)).jacobian(m.states)
+    jm = m.jac_mass
     ks.append(Kernel(f"{pre}_jac_mass",
                      ["Jacobian d(M(x) v)/dx at fixed v; linearisation about a motion",
                       "x(t): M dx' = (df/dx - d(M v)/dx |_{v = x'}) dx.", xdoc],
@@ -140,6 +140,9 @@ def model_files(m, description, stamp, base, variant):
     extra = [f"Model {m.name}: {description}.", f"Assumptions: {assumptions}.",
              _index_doc("State x", m.state_names),
              _index_doc("Stationary unknowns u", m.unknown_names),
+             "Linearisation about the stationary orbit: "
+             + ("constant in frame A (multipliers independent of t0)." if m.t0_independent
+                else "depends on t (the paper's twist angle); multipliers depend on t0."),
              f"Operation counts after CSE: {ops}.",
              "All functions are pure: no globals, no allocation; safe to call from many threads."]
     h = _banner(f"{pre}.h: kernels of the {m.name} model.", stamp, extra)
@@ -160,7 +163,7 @@ def model_files(m, description, stamp, base, variant):
     friction = f"{pre}_friction" if m.friction is not None else "0"
     c += (f"const usm_model {pre.replace('usm_', 'usm_model_')} = {{\n"
           f'    "{m.name}",\n    "{base}",\n    "{variant}",\n    "{description}",\n    "{assumptions}",\n'
-          f"    {n}, {nu},\n    state_names, unknown_names, cyclic,\n"
+          f"    {n}, {nu}, {1 if m.t0_independent else 0},\n    state_names, unknown_names, cyclic,\n"
           f"    {pre}_mass, {pre}_rhs, {pre}_jac_rhs, {pre}_jac_mass, {pre}_outputs,\n"
           f"    {pre}_steady_residual, {pre}_steady_jacobian, {pre}_steady_jacobian_params,\n"
           f"    {pre}_steady_outputs,\n"
@@ -212,6 +215,8 @@ def common_files(models, variant_list, stamp):
           "    const char *description;\n    const char *assumptions;\n"
           "    int nx; /* length of the state x */\n"
           "    int nu; /* number of stationary unknowns u */\n"
+          "    int t0_independent; /* 1: the linearisation about the stationary orbit is\n"
+          "                           constant in frame A, multipliers do not depend on t0 */\n"
           "    const char *const *state_names;\n    const char *const *unknown_names;\n"
           "    const unsigned char *cyclic; /* 1 where x_i appears in neither M nor f */\n"
           "    void (*mass)(const double *restrict x, const usm_params *restrict p, double *restrict out);\n"

@@ -56,14 +56,15 @@ def solve_linear(expr, x):
     return -expr.subs(x, 0) / a
 
 
-def friction_law(name, v):
-    """mu(v_rel) for the slip model: the paper's (5.2) and alternatives."""
-    mu0, kappa = P["mu0"], P["kappa"]
-    if name == "atan":
-        return mu0 * sp.atan(kappa * v)
-    if name == "tanh":
-        return mu0 * sp.tanh(kappa * v)
-    raise ValueError(f"unknown friction law {name!r}")
+def friction_law(text, v):
+    """mu(v_rel) from its formula (derive/variants.py, FRICTION_LAWS), in the
+    symbols v_rel, mu0 and kappa."""
+    names = {"v_rel": v, "mu0": P["mu0"], "kappa": P["kappa"]}
+    expr = sp.sympify(text, locals=names)
+    unknown = expr.free_symbols - set(names.values())
+    if unknown:
+        raise ValueError(f"friction law {text!r} uses unknown symbols {unknown}")
+    return expr
 
 
 @dataclass
@@ -88,6 +89,9 @@ class Model:
     friction: object = None  # mu(v) expression in symbol v_rel, slip only
     v_rel: object = None
     tangent_map: sp.Matrix = None  # T(x): dy = T dx, see derive_model
+    jac_rhs: sp.Matrix = None      # df/dx
+    jac_mass: sp.Matrix = None     # d(M v)/dx
+    t0_independent: bool = False   # linearisation about xbar(t) free of t
     cyclic: list = field(default_factory=list)
     equations: dict = field(default_factory=dict)  # for the readable export
 
@@ -155,7 +159,7 @@ def derive_model(name, assumptions):
     else:
         v_rel = v_c - w_R * R_star                                    # (5.1)
         v_sym = sp.Symbol("v_rel", real=True)
-        mu_expr = friction_law(assumptions["friction"], v_sym)        # (5.2)
+        mu_expr = friction_law(assumptions["friction_law"], v_sym)    # (5.2)
         F_t = mu_expr.subs(v_sym, v_rel) * F_n
         rotor_rows = [rotor_balance.subs(Ft_s, F_t)]
 
@@ -319,6 +323,15 @@ def derive_model(name, assumptions):
             for b in range(3):
                 tangent_map[block + e_idx[a], block + e_idx[b]] = L[a, b]
 
+    jac_rhs = rhs.jacobian(states)
+    jac_mass = (mass * sp.Matrix(v)).jacobian(states)
+    # Does the linearisation about the stationary orbit depend on time?  In
+    # frame A it is constant except where an angle enters other than through
+    # phi - Omega t (the paper's twist angle phi + psi cos(theta) does).
+    on_orbit = dict(zip(states, steady_state))
+    A_bar = (jac_rhs - jac_mass.subs(dict(zip(v, steady_rate)))).subs(on_orbit)
+    t0_independent = t not in A_bar.free_symbols and t not in mass.subs(on_orbit).free_symbols
+
     cyclic = []
     for i, s in enumerate(states):
         if s not in rhs.free_symbols and s not in mass.free_symbols:
@@ -339,7 +352,8 @@ def derive_model(name, assumptions):
                  unknown_names=unknown_names, residual=residual,
                  steady_outputs=steady_outputs, steady_state=steady_state,
                  steady_rate=steady_rate, seed=seed, friction=mu_expr,
-                 v_rel=v_sym, tangent_map=tangent_map, cyclic=cyclic, equations=equations)
+                 v_rel=v_sym, tangent_map=tangent_map, jac_rhs=jac_rhs,
+                 jac_mass=jac_mass, t0_independent=t0_independent, cyclic=cyclic, equations=equations)
 
 
 def theta_to(e, theta_f, theta_b):

@@ -75,6 +75,7 @@ json_t *cli_json_floquet(const usm_floquet_result *r)
         push(cyclic, json_boolean(r->cyclic[k]), &ok);
     }
     cli_json_put(obj, "t0", cli_json_real(r->t0), &ok);
+    cli_json_put(obj, "t0_dependent", json_boolean(r->t0_dependent), &ok);
     cli_json_put(obj, "multipliers", mult, &ok);
     cli_json_put(obj, "cyclic", cyclic, &ok);
     cli_json_put(obj, "max_modulus", cli_json_real(r->max_modulus), &ok);

@@ -71,6 +71,10 @@ static void multipliers(FILE *out, const usm_floquet_result *f)
                 hypot(f->re[k], f->im[k]), f->cyclic[k] ? " cyclic coordinate" : "");
     fprintf(out, "  max |lambda| (non-cyclic) = %.10g: %s\n", f->max_modulus,
             f->stable ? "stable" : "unstable");
+    if (f->t0_dependent)
+        fprintf(out, "  note: under the paper's twist law the linearisation is not periodic and\n"
+                     "  the multipliers depend on t0 (Table 3 uses t0 = 0); --variant\n"
+                     "  twist_integrated removes the dependence\n");
 }
 
 static void other_roots(FILE *out, const usm_steady *s)
