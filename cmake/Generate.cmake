@@ -27,10 +27,23 @@ if(USM_REGENERATE AND NOT USM_HAVE_SYMPY)
   message(FATAL_ERROR "USM_REGENERATE needs python3 with sympy (Debian: python3-sympy)")
 endif()
 
-file(GLOB USM_GENERATED_NAMES RELATIVE ${USM_COMMITTED_GENERATED_DIR}
-     ${USM_COMMITTED_GENERATED_DIR}/*.c ${USM_COMMITTED_GENERATED_DIR}/*.h)
-list(SORT USM_GENERATED_NAMES)
 file(GLOB_RECURSE USM_DERIVE_INPUTS CONFIGURE_DEPENDS ${USM_DERIVE_DIR}/*.py)
+if(USM_REGENERATE)
+  # The generator says which files it writes (a new variant adds some);
+  # variants.py changing re-runs this configure step.
+  execute_process(COMMAND ${USM_PYTHON} ${USM_DERIVE_DIR}/generate.py --list
+                  OUTPUT_VARIABLE USM_GENERATED_NAMES OUTPUT_STRIP_TRAILING_WHITESPACE
+                  RESULT_VARIABLE _list_rc)
+  if(NOT _list_rc EQUAL 0)
+    message(FATAL_ERROR "derive/generate.py --list failed")
+  endif()
+  set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS ${USM_DERIVE_DIR}/variants.py)
+else()
+  file(GLOB USM_GENERATED_NAMES CONFIGURE_DEPENDS RELATIVE ${USM_COMMITTED_GENERATED_DIR}
+       ${USM_COMMITTED_GENERATED_DIR}/*.c ${USM_COMMITTED_GENERATED_DIR}/*.h
+       ${USM_COMMITTED_GENERATED_DIR}/*.md ${USM_COMMITTED_GENERATED_DIR}/*.tex)
+endif()
+list(SORT USM_GENERATED_NAMES)
 
 if(USM_REGENERATE)
   message(STATUS "usm: kernels regenerated from derive/ with sympy ${USM_SYMPY_VERSION} (${USM_PYTHON})")

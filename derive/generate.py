@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Regenerate the C kernels in generated/ from the variants in derive/variants.py.
 
-    python3 derive/generate.py [--out DIR] [--check] [--only NAME ...]
+    python3 derive/generate.py [--out DIR] [--check] [--only NAME ...] [--jobs N]
+    python3 derive/generate.py --list     (the files it writes, ;-separated)
 
 --check regenerates into a temporary directory and exits 1 (listing the files)
 when the committed generated/ differs, 0 when it is up to date.
@@ -24,11 +25,21 @@ if os.environ.get("PYTHONHASHSEED") != "0":
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 
+if sys.argv[1:] == ["--list"]:
+    # The files a regeneration writes, for the build system; needs no sympy.
+    import variants
+    names = [m[0] for m in variants.generated_models()]
+    files = ["usm_kernels.c", "usm_kernels.h", "usm_equations.c"]
+    for n in names:
+        files += [f"usm_{n}.c", f"usm_{n}.h", f"usm_{n}_equations.md", f"usm_{n}_equations.tex"]
+    print(";".join(sorted(files)))
+    sys.exit(0)
+
 import sympy as sp  # noqa: E402
 
 from usm_derive import GENERATOR_VERSION  # noqa: E402
 from usm_derive.model import derive_model  # noqa: E402
-from usm_derive import emit_model  # noqa: E402
+from usm_derive import emit_doc, emit_model  # noqa: E402
 import variants  # noqa: E402
 
 
@@ -52,6 +63,8 @@ def _model_files(job):
     model = derive_model(name, spec)
     t1 = time.perf_counter()
     files = emit_model.model_files(model, description, stamp, base, variant)
+    docs, _ = emit_doc.model_docs(model, description)
+    files.update(docs)
     return name, files, t1 - t0, time.perf_counter() - t1
 
 
@@ -80,6 +93,10 @@ def write_all(out_dir, only=None, verbose=True, jobs=2):
         files.update(emit_model.common_files(
             [(m[0], m[1], m[2]) for m in models],
             [(v, d[2]) for v, d in variants.VARIANTS.items()], stamp))
+        docs = [(m[0], fmt, files[f"usm_{m[0]}_equations.{ext}"])
+                for m in models for fmt, ext in (("markdown", "md"), ("latex", "tex"))]
+        files["usm_equations.c"] = emit_doc.equations_c(docs, emit_model.banner(
+            "usm_equations.c: the derived equations as documents, for `usm equations`.", stamp))
     for fname, text in files.items():
         with open(os.path.join(out_dir, fname), "w", encoding="utf-8", newline="\n") as fh:
             fh.write(text)

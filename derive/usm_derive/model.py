@@ -149,7 +149,9 @@ def derive_model(name, assumptions):
         w_R = -phiR_f.diff(t)
     else:
         raise ValueError(f"unknown contact law {contact!r}")
-    rotor_balance = p["I_R"] * w_R.diff(t) - (Ft_s * R_star - p["T"])  # (2.2)
+    wRdot_s, Rstar_s = sp.symbols("wdot_R R_star", real=True)
+    rotor_balance_generic = p["I_R"] * wRdot_s - (Ft_s * Rstar_s - p["T"])  # (2.2)
+    rotor_balance = rotor_balance_generic.subs({wRdot_s: w_R.diff(t), Rstar_s: R_star})
     phiR_rate = -w_R
     if contact == "stick":
         F_t = solve_linear(rotor_balance, Ft_s)
@@ -344,14 +346,27 @@ def derive_model(name, assumptions):
         if s not in rhs.free_symbols and s not in mass.free_symbols:
             cyclic.append(i)
 
+    # Pieces for the readable export (derive/usm_derive/emit_doc.py).
     equations = {
         "C_NA": kin.C_NA, "C_AB": kin.C_AB, "C_BK": kin.C_BK,
         "omega_K": kin.omega_K.applyfunc(plain), "omega_A": kin.omega_A.applyfunc(plain),
         "r_c_A": kin.r_c_A.applyfunc(plain), "R_star": plain(R_star), "Z": plain(Z),
-        "v_c": plain(v_c), "F_n": plain(F_n), "F_t": plain(F_t),
-        "stator_rows_generic": stator_generic.applyfunc(plain),
+        "v_c": plain(v_c), "F_n": plain(F_n), "F_t": plain(F_t), "v_rel": plain(v_rel),
+        "w_R": plain(w_R), "rotor_rows": [plain(r) for r in rotor_rows],
+        "rotor_balance": rotor_balance_generic, "F_t_generic": solve_linear(rotor_balance_generic, Ft_s),
+        "friction": mu_expr, "v_sym": v_sym,
+        "I_A": I_A.applyfunc(plain), "L_A": L_A.applyfunc(plain),
+        "M_E_A": M_E_A.applyfunc(plain), "M_R_A": M_R_A.applyfunc(plain).subs(Tw, plain(twist_angle)),
+        "M_D_A": M_D_A.applyfunc(plain), "M_C_A": M_C_A,
+        "extra_rates": [plain(r) for r in extra_rates], "extra_names": extra_names,
         "M_q": M_q, "f_q": f_q, "residual": residual, "beta": beta_expr,
-        "qdd": qdd,
+        "twist": twist_bar, "qdd": qdd, "qd": qd, "q": q,
+        "rotor_speed_bar": steady_outputs["rotor_speed"], "v_rel_bar": steady_outputs["v_rel"],
+        "beta_generic": solve_linear(sp.expand(on_ansatz(phi_f + psi_f * sp.cos(theta_f))) - Tw,
+                                     beta),
+        "twist_display": sp.simplify(solve_linear(
+            z_row.subs(steady_outputs["v_rel"], v_sym) if v_sym is not None else z_row, Tw)),
+        "ansatz": {c_name: ansatz[c] for c_name, c in zip(coord_names, coords)},
     }
     return Model(name=name, assumptions=dict(assumptions), states=states,
                  state_names=state_names, mass=mass, rhs=rhs, v=v,
