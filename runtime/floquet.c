@@ -59,6 +59,7 @@ struct usm_floquet {
     N_Vector y;
     SUNNonlinearSolver NLS;
     int cvode_ready;
+    double t0; /* start of the period being integrated */
     /* work space */
     gsl_matrix *G, *Mx, *E, *P, *Q, *W;
     gsl_permutation *perm;
@@ -213,12 +214,13 @@ static int variational_coordinates(usm_floquet *f, double t0)
     return 0;
 }
 
-/* y holds Psi column by column: y[j*n + i] = Psi_ij. */
-static int variational_rhs(sunrealtype t, N_Vector y, N_Vector ydot, void *data)
+/* y holds Psi column by column: y[j*n + i] = Psi_ij.  CVODES integrates in
+ * tau = t - t0 from 0: with t0 = 100 T, steps near 1e-19 s would vanish in t0 + h. */
+static int variational_rhs(sunrealtype tau, N_Vector y, N_Vector ydot, void *data)
 {
     usm_floquet *f = data;
     const int n = f->n;
-    if (balanced_coefficient_matrix(f, t) != 0)
+    if (balanced_coefficient_matrix(f, f->t0 + tau) != 0)
         return 1; /* recoverable: CVODES retries with a smaller step */
     const double *Y = N_VGetArrayPointer(y);
     double *D = N_VGetArrayPointer(ydot);
@@ -250,7 +252,7 @@ static int setup_cvode(usm_floquet *f, double t0, const usm_floquet_options *opt
             return USM_EFAILED;
         }
         N_VConst(0.0, f->y);
-        if ((flag = CVodeInit(f->cvode, variational_rhs, t0, f->y)) != CV_SUCCESS)
+        if ((flag = CVodeInit(f->cvode, variational_rhs, 0.0, f->y)) != CV_SUCCESS)
             return cvode_fail(f, "CVodeInit", flag);
         f->NLS = SUNNonlinSol_FixedPoint(f->y, 0, f->ctx);
         if (!f->NLS) {
@@ -269,7 +271,8 @@ static int setup_cvode(usm_floquet *f, double t0, const usm_floquet_options *opt
     N_VConst(0.0, f->y);
     for (int i = 0; i < f->n; ++i)
         Y[i * f->n + i] = 1.0;
-    if ((flag = CVodeReInit(f->cvode, t0, f->y)) != CV_SUCCESS)
+    f->t0 = t0;
+    if ((flag = CVodeReInit(f->cvode, 0.0, f->y)) != CV_SUCCESS)
         return cvode_fail(f, "CVodeReInit", flag);
     if ((flag = CVodeSStolerances(f->cvode, opt->rtol, opt->atol)) != CV_SUCCESS)
         return cvode_fail(f, "CVodeSStolerances", flag);
@@ -286,14 +289,13 @@ static int monodromy_variational(usm_floquet *f, double t0, double period,
     int rc = setup_cvode(f, t0, opt), flag;
     if (rc != USM_OK)
         return rc;
-    const double t1 = t0 + period;
-    if ((flag = CVodeSetStopTime(f->cvode, t1)) != CV_SUCCESS)
+    if ((flag = CVodeSetStopTime(f->cvode, period)) != CV_SUCCESS)
         return cvode_fail(f, "CVodeSetStopTime", flag);
-    double t = t0;
-    flag = CVode(f->cvode, t1, f->y, &t, CV_NORMAL);
+    double s = 0;
+    flag = CVode(f->cvode, period, f->y, &s, CV_NORMAL);
     if (flag < 0) {
-        snprintf(f->msg, USM_MSG_LEN, "CVODES failed at t = %.6g s of [%.6g, %.6g]: %s", t, t0, t1,
-                 CVodeGetReturnFlagName(flag));
+        snprintf(f->msg, USM_MSG_LEN, "CVODES failed at t = %.6g s of [%.6g, %.6g]: %s", t0 + s,
+                 t0, t0 + period, CVodeGetReturnFlagName(flag));
         return USM_EFAILED;
     }
     /* B = S^{-1} Psi S, with Psi stored column by column */

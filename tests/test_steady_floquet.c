@@ -202,6 +202,28 @@ static void check_no_solution(const usm_model *m, const char *field, double valu
     usm_steady_free(s);
 }
 
+/* ---- 0. the paper's stationary values make the residuals vanish ------------- */
+
+/* The paper gives theta = 0.81836e-4 (5 digits) and alpha = 5.126 rad (read as
+ * radians, see README).  At those values each residual must be no larger than
+ * what half a unit in their last digits can change it by. */
+static void check_paper_point(const usm_model *m, const usm_params *p)
+{
+    if (m->nu != 2)
+        return;
+    const double u[2] = {0.81836e-4, 5.126}, du[2] = {0.5e-9, 0.5e-3};
+    double r[2], J[4];
+    m->steady_residual(u, p, r);
+    m->steady_jacobian(u, p, J);
+    for (int i = 0; i < 2; ++i) {
+        const double allowed = fabs(J[2 * i]) * du[0] + fabs(J[2 * i + 1]) * du[1];
+        printf("%s: residual %d at the paper's (theta, alpha) = %.3e N m (paper precision %.3e)\n",
+               m->name, i, r[i], allowed);
+        CHECK(fabs(r[i]) <= allowed, "%s: residual %d = %.3e exceeds the paper's precision %.3e",
+              m->name, i, r[i], allowed);
+    }
+}
+
 /* ---- 6. start-time dependence ---------------------------------------------- */
 
 static double max_abs(const double *a, int n)
@@ -259,6 +281,8 @@ int main(void)
         const usm_model *m = usm_models[k];
         usm_params p;
         usm_params_default(&p);
+        if (strcmp(m->name, "3dof") == 0)
+            check_paper_point(m, &p);
         usm_steady *s = usm_steady_alloc(m);
         int rc = usm_steady_solve(s, &p, NULL);
         CHECK(rc == USM_OK, "%s: no stationary solution at the paper's parameters: %s", m->name,
