@@ -25,3 +25,13 @@ else()
     COMMAND ${CMAKE_COMMAND} -E echo "equations-pdf needs pdflatex: apt-get install texlive-latex-base texlive-latex-recommended"
     COMMAND ${CMAKE_COMMAND} -E false)
 endif()
+
+# The equations documents are installed with the other documentation.
+set(_docs "")
+foreach(f IN LISTS USM_GENERATED_NAMES)
+  if(f MATCHES "_equations\\.(md|tex)$")
+    list(APPEND _docs ${USM_GENERATED_DIR}/${f})
+  endif()
+endforeach()
+include(GNUInstallDirs)
+install(FILES ${_docs} DESTINATION ${CMAKE_INSTALL_DOCDIR}/equations)

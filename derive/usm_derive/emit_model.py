@@ -179,7 +179,9 @@ def _enum(prefix, names):
 def common_files(models, variant_list, stamp):
     major = stamp["generator"].split(".")[0]
     extra = ["Types shared by every generated model: parameters, output indices and",
-             "the model descriptor through which the runtime calls the kernels."]
+             "the model descriptor through which the runtime calls the kernels.",
+             "Thread safety: everything declared here is read-only data or a pure",
+             "function; any thread may use it at any time."]
     h = banner("usm_kernels.h: shared types of the generated kernels.", stamp, extra)
     h += "#ifndef USM_KERNELS_H\n#define USM_KERNELS_H\n\n#include <stddef.h>\n\n"
     h += ('#ifdef __cplusplus\n/* C++ has no restrict keyword; every major compiler knows __restrict. */\n'
