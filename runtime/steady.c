@@ -201,13 +201,14 @@ static int polish(usm_steady *s, double *u, double xtol)
     int status = GSL_CONTINUE;
     for (int it = 0; it < 200 && status == GSL_CONTINUE; ++it) {
         status = gsl_multiroot_fdfsolver_iterate(s->solver);
-        if (status == GSL_ENOPROG || status == GSL_ENOPROGJ) {
-            /* no further progress: accept only a vanishing residual */
+        if (status != GSL_SUCCESS) {
+            /* No further progress, or a trial step left the domain (a NaN):
+             * near a tilt of 1e-9 rad or a huge rotor speed, xtol can ask for
+             * more than rounding allows.  Accept the last iterate only if its
+             * residual vanishes. */
             status = gsl_multiroot_test_residual(s->solver->f, 1e-12 * fscale);
             break;
         }
-        if (status != GSL_SUCCESS)
-            break;
         status = gsl_multiroot_test_delta(s->solver->dx, s->solver->x, 0.0, xtol);
         if (status == GSL_SUCCESS)
             status = gsl_multiroot_test_residual(s->solver->f, 1e-10 * fscale);

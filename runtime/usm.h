@@ -107,6 +107,7 @@ int usm_params_check(const usm_params *p, const usm_model *m, char msg[USM_MSG_L
 
 /* ---- stationary solution --------------------------------------------------- */
 
+/* One stationary solution: the unknowns and the quantities derived from them. */
 typedef struct usm_steady_solution {
     double u[USM_MAX_NU];  /* the unknowns (theta, alpha[, phidot_R]) */
     double theta;          /* tilt [rad] */
@@ -122,6 +123,7 @@ typedef struct usm_steady_solution {
     double residual_norm;  /* max |r_i(u)| [N m] at the returned root */
 } usm_steady_solution;
 
+/* Where and how usm_steady_solve searches (usm_steady_options_default). */
 typedef struct usm_steady_options {
     double theta_min, theta_max; /* tilt range searched [rad] (default 1e-9 .. 0.2) */
     int grid;                    /* log-spaced samples of the range (default 500) */
@@ -163,11 +165,13 @@ void usm_steady_evaluate(const usm_model *m, const usm_params *p, usm_steady_sol
 
 /* ---- Floquet multipliers --------------------------------------------------- */
 
+/* How the monodromy matrix is computed. */
 typedef enum {
     USM_FLOQUET_VARIATIONAL = 0, /* CVODE on the variational equations (default) */
     USM_FLOQUET_EXPONENTIAL = 1  /* product of balanced matrix exponentials, frame A */
 } usm_floquet_method;
 
+/* Method and tolerances of usm_floquet_compute (usm_floquet_options_default). */
 typedef struct usm_floquet_options {
     usm_floquet_method method;
     double rtol, atol;   /* CVODES tolerances in the scaled coordinates (default 1e-8, 1e-12) */

@@ -13,6 +13,11 @@
  *   stability_change     the largest non-cyclic Floquet multiplier crosses |lambda| = 1
  * The points of the result are the requested grid values lambda_i on the
  * branch, in sweep order.
+ *
+ * Thread safety: as usm.h.  Distinct sweeps may run in distinct threads at
+ * the same time; one usm_sweep must not be shared without a lock.
+ * usm_sweep_run may compute the Floquet multipliers in worker threads of its
+ * own (usm_sweep_options.threads).
  */
 #ifndef USM_SWEEP_H
 #define USM_SWEEP_H
@@ -23,6 +28,7 @@
 extern "C" {
 #endif
 
+/* What happens at an event of the sweep (see the top of this file). */
 typedef enum {
     USM_EVENT_FOLD = 0,
     USM_EVENT_STICK_LIMIT = 1,
@@ -33,13 +39,17 @@ typedef enum {
 /* "fold", "stick_limit", "friction_saturation", "stability_change" */
 const char *usm_event_name(usm_event_type type);
 
+/* One event located along the branch. */
 typedef struct usm_sweep_event {
     usm_event_type type;
     double value;           /* parameter value where the event happens */
     usm_steady_solution sol; /* the stationary solution there (when it exists) */
+    int has_sol;             /* 0 when no stationary solution exists at `value`
+                              * (friction_saturation: the rotor speed diverges) */
     char what[USM_MSG_LEN];  /* what changes there, one sentence */
 } usm_sweep_event;
 
+/* One requested grid value of the swept parameter and the solution there. */
 typedef struct usm_sweep_point {
     double value;                 /* swept parameter value */
     int converged;                /* a stationary solution exists here */
@@ -49,6 +59,7 @@ typedef struct usm_sweep_point {
     char error[USM_MSG_LEN];      /* why not converged */
 } usm_sweep_point;
 
+/* What to sweep and how (usm_sweep_options_default). */
 typedef struct usm_sweep_options {
     const char *over;   /* parameter name */
     double from, to;
@@ -56,25 +67,41 @@ typedef struct usm_sweep_options {
     int floquet;        /* compute multipliers at every point (1, default) */
     double t0;          /* Floquet start time [s] (default 0) */
     int threads;        /* worker threads for the Floquet part (default 2; 1 = serial) */
-    void (*progress)(double fraction, void *ctx); /* NULL: silent */
+    void (*progress)(double fraction, void *ctx); /* NULL: silent.  Called with
+                        * fractions in [0, 1], from the calling thread or a
+                        * worker, never two calls at once. */
     void *progress_ctx;
+    usm_steady_options steady; /* tilt range of the full searches; the branch
+                        * ends (event fold) where theta leaves this range */
 } usm_sweep_options;
 
+/* Fill `opt` with the defaults (those listed above); the caller then sets
+ * over, from, to and points. */
 void usm_sweep_options_default(usm_sweep_options *opt);
 
+/* Continuation of one model's stationary solution, with the points and
+ * events of the last run (opaque). */
 typedef struct usm_sweep usm_sweep;
 
+/* A sweep for model m (not NULL), or NULL when out of memory. */
 usm_sweep *usm_sweep_alloc(const usm_model *m);
+/* Free s with its points and events; NULL is allowed. */
 void usm_sweep_free(usm_sweep *s);
 
 /* USM_OK (points may still be unconverged where no solution exists),
  * USM_EINPUT (bad option or parameter; message names it), USM_EFAILED. */
 int usm_sweep_run(usm_sweep *s, const usm_params *p, const usm_sweep_options *opt);
 
+/* Number of points of the last run (the requested grid). */
 size_t usm_sweep_count(const usm_sweep *s);
+/* Point i of the last run in sweep order, NULL when out of range. */
 const usm_sweep_point *usm_sweep_point_at(const usm_sweep *s, size_t i);
+/* Number of events located by the last run. */
 size_t usm_sweep_event_count(const usm_sweep *s);
+/* Event i of the last run, NULL when out of range. */
 const usm_sweep_event *usm_sweep_event_at(const usm_sweep *s, size_t i);
+/* Why the last run failed (see usm_sweep_run).  Owned by s; valid until the
+ * next run or usm_sweep_free. */
 const char *usm_sweep_message(const usm_sweep *s);
 
 #ifdef __cplusplus

@@ -11,6 +11,11 @@
 #define USM_CLI_COMMANDS_H
 
 int cli_steady_main(int argc, char **argv);
+int cli_sweep_main(int argc, char **argv);
 int cli_variants_main(int argc, char **argv);
+int cli_equations_main(int argc, char **argv);
+int cli_report_main(int argc, char **argv);
+int cli_map_main(int argc, char **argv);
+int cli_simulate_main(int argc, char **argv);
 
 #endif /* USM_CLI_COMMANDS_H */

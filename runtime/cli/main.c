@@ -21,7 +21,12 @@ typedef struct cli_command {
 
 static const cli_command commands[] = {
     {"steady", "stationary solutions and their Floquet multipliers", cli_steady_main},
+    {"sweep", "motor characteristics: a parameter sweep by continuation, with events", cli_sweep_main},
     {"variants", "list the modelling variants (--variant NAME selects one)", cli_variants_main},
+    {"equations", "the derived equations as Markdown or LaTeX", cli_equations_main},
+    {"report", "reproduce the paper: report.md with tables and figures", cli_report_main},
+    {"map", "stability map: largest Floquet multiplier over a 2-D parameter grid", cli_map_main},
+    {"simulate", "start-up transient of the full model: CSV time history, settling, contact checks", cli_simulate_main},
 };
 #define NCOMMANDS (sizeof commands / sizeof commands[0])
 

@@ -92,10 +92,10 @@ static void other_roots(FILE *out, const usm_steady *s)
     }
 }
 
-/* The shortest %g text that reads back as exactly v: a person should see the
- * 0.005 they typed, not 0.0050000000000000001, without losing any bits.  At
- * least 6 digits, so that 4000 does not print as 4e+03. */
-static const char *shortest(char buf[32], double v)
+/* A person should see the 0.005 they typed, not 0.0050000000000000001,
+ * without losing any bits.  At least 6 digits, so that 4000 does not print as
+ * 4e+03. */
+const char *cli_shortest(char buf[32], double v)
 {
     for (int prec = 6; prec <= 17; ++prec) {
         snprintf(buf, 32, "%.*g", prec, v);
@@ -115,7 +115,7 @@ static void parameters(FILE *out, const usm_params *p)
         const usm_param_info *info = &usm_param_table[k];
         double v = usm_params_get(p, info);
         fprintf(out, "  %-6s %c %-24s %-10s %s\n", info->name,
-                v != usm_params_get(&def, info) ? '*' : ' ', shortest(buf, v), info->unit,
+                v != usm_params_get(&def, info) ? '*' : ' ', cli_shortest(buf, v), info->unit,
                 info->description);
     }
 }

@@ -24,4 +24,8 @@ json_t *cli_steady_json(const cli_steady_report *r);
 /* The human-readable table (only for a report without error). */
 void cli_steady_table(const cli_steady_report *r, FILE *out);
 
+/* The shortest %g text (at least 6 digits) that reads back as exactly v, in
+ * buf; returns buf. */
+const char *cli_shortest(char buf[32], double v);
+
 #endif /* USM_CLI_STEADY_OUT_H */

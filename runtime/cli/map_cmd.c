@@ -1,0 +1,280 @@
+/* usm map: the largest Floquet multiplier over a 2-D grid of two parameters
+ * (a stability map), with the existence, stability and stick boundaries. */
+#define _POSIX_C_SOURCE 200809L
+
+#include <errno.h>
+#include <fcntl.h>
+#include <limits.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include <jansson.h>
+
+#include "commands.h"
+#include "diag.h"
+#include "json_out.h"
+#include "options.h"
+#include "report_map.h"
+#include "usm.h"
+
+static void usage(FILE *out)
+{
+    fprintf(out,
+            "usage: usm map [--x NAME --x-from A --x-to B] [--x-points N]\n"
+            "               [--y NAME --y-from A --y-to B] [--y-points N]\n"
+            "               [--model 3dof|4dof] [--params FILE.json] [--set NAME=VALUE]...\n"
+            "               [--t0 S] [--threads N] [--json] [--out FILE [--force]]\n"
+            "\n"
+            "Stability map: at every point of a grid over two parameters, the stationary\n"
+            "solution (full search) and the largest modulus of its Floquet multipliers.\n"
+            "Default grid: f from 30000 to 46000 Hz (x, 33 points) times T from 0 to\n"
+            "0.008 N m (y, 33 points).  Naming another parameter needs its range.\n"
+            "\n"
+            "options:\n");
+    cli_common_usage(out);
+    fprintf(out,
+            "  --x NAME, --y NAME  the parameters of the two axes (see usm steady --help)\n"
+            "  --x-from A, --x-to B, --y-from A, --y-to B   axis ranges\n"
+            "  --x-points N, --y-points N   grid points per axis (default 33, at least 2)\n"
+            "  --t0 S              start of the Floquet period [s] (default 0, the paper's)\n"
+            "  --threads N         worker threads (default 2)\n"
+            "  --out FILE          write to FILE instead of stdout; an existing FILE is\n"
+            "                      kept unless --force is given\n"
+            "  --force             overwrite FILE\n"
+            "  -h, --help          print this help\n"
+            "\n"
+            "Output: CSV (default), header\n"
+            "  X,Y,exists,roots,max_modulus,stable,theta,rotor_speed,mu_used,stick_admissible\n"
+            "one row per grid point, x fastest, \"nan\" where a value does not exist.  With\n"
+            "--json one object: model, parameters, t0, x, y, points[] and boundaries\n"
+            "{existence, stability, stick}: [x, y] pairs where, along y, a solution starts\n"
+            "or stops existing, |lambda| crosses 1, F_t = mu0 F_n (located by bisection).\n"
+            "\n"
+            "exit status: 0 done, 1 numerical failure or write error, 2 bad input\n");
+}
+
+typedef struct map_args {
+    cli_common common;
+    const char *xname, *yname;
+    double xfrom, xto, yfrom, yto;
+    int have_xfrom, have_xto, have_yfrom, have_yto;
+    int xpoints, ypoints, threads;
+    double t0;
+    const char *out;
+    int force, help;
+} map_args;
+
+static int parse_int(const char *field, const char *text, int lo, int hi, int *out,
+                     char msg[CLI_MSG_LEN])
+{
+    double v;
+    if (cli_parse_double(field, text, &v, msg) != USM_OK)
+        return USM_EINPUT;
+    if (v != (double)(long)v || v < lo || v > hi) {
+        cli_msg(msg, "%s: \"%s\" must be an integer from %d to %d", field, text, lo, hi);
+        return USM_EINPUT;
+    }
+    *out = (int)v;
+    return USM_OK;
+}
+
+static int parse(map_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
+{
+    static const char *const dbl_names[] = {"--x-from", "--x-to", "--y-from", "--y-to", "--t0"};
+    double *dbl_dest[] = {&a->xfrom, &a->xto, &a->yfrom, &a->yto, &a->t0};
+    int *dbl_flag[] = {&a->have_xfrom, &a->have_xto, &a->have_yfrom, &a->have_yto, NULL};
+    memset(a, 0, sizeof *a);
+    cli_common_init(&a->common);
+    a->xpoints = a->ypoints = 33;
+    a->threads = 2;
+    for (int i = 1; i < argc; ++i) {
+        const char *value;
+        int r, done = 0;
+        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
+            a->help = 1;
+            return USM_OK;
+        }
+        if (strcmp(argv[i], "--force") == 0) {
+            a->force = 1;
+            continue;
+        }
+        if ((r = cli_common_option(&a->common, argc, argv, &i, msg)) == CLI_OPT_TAKEN)
+            continue;
+        if (r == CLI_OPT_ERROR)
+            return USM_EINPUT;
+        for (size_t k = 0; k < sizeof dbl_names / sizeof dbl_names[0] && !done; ++k) {
+            if ((r = cli_option_value(argc, argv, &i, dbl_names[k], &value, msg)) == CLI_OPT_ERROR)
+                return USM_EINPUT;
+            if (r == CLI_OPT_TAKEN) {
+                if (cli_parse_double(dbl_names[k], value, dbl_dest[k], msg) != USM_OK)
+                    return USM_EINPUT;
+                if (dbl_flag[k])
+                    *dbl_flag[k] = 1;
+                done = 1;
+            }
+        }
+        if (done)
+            continue;
+        if ((r = cli_option_value(argc, argv, &i, "--x-points", &value, msg)) != CLI_OPT_NOT_MINE) {
+            if (r == CLI_OPT_ERROR || parse_int("--x-points", value, 2, 100000, &a->xpoints, msg))
+                return USM_EINPUT;
+            continue;
+        }
+        if ((r = cli_option_value(argc, argv, &i, "--y-points", &value, msg)) != CLI_OPT_NOT_MINE) {
+            if (r == CLI_OPT_ERROR || parse_int("--y-points", value, 2, 100000, &a->ypoints, msg))
+                return USM_EINPUT;
+            continue;
+        }
+        if ((r = cli_option_value(argc, argv, &i, "--threads", &value, msg)) != CLI_OPT_NOT_MINE) {
+            if (r == CLI_OPT_ERROR || parse_int("--threads", value, 1, 64, &a->threads, msg))
+                return USM_EINPUT;
+            continue;
+        }
+        if ((r = cli_option_value(argc, argv, &i, "--x", &value, msg)) != CLI_OPT_NOT_MINE) {
+            if (r == CLI_OPT_ERROR)
+                return USM_EINPUT;
+            a->xname = value;
+            continue;
+        }
+        if ((r = cli_option_value(argc, argv, &i, "--y", &value, msg)) != CLI_OPT_NOT_MINE) {
+            if (r == CLI_OPT_ERROR)
+                return USM_EINPUT;
+            a->yname = value;
+            continue;
+        }
+        if ((r = cli_option_value(argc, argv, &i, "--out", &value, msg)) != CLI_OPT_NOT_MINE) {
+            if (r == CLI_OPT_ERROR)
+                return USM_EINPUT;
+            if (value[0] == '\0') {
+                cli_msg(msg, "--out: empty file name");
+                return USM_EINPUT;
+            }
+            a->out = value;
+            continue;
+        }
+        if (argv[i][0] == '-')
+            cli_msg(msg, "%s: unknown option (see usm map --help)", argv[i]);
+        else
+            cli_msg(msg, "%s: unexpected argument (see usm map --help)", argv[i]);
+        return USM_EINPUT;
+    }
+    return cli_common_finish(&a->common, msg);
+}
+
+/* An axis from the options: the default parameter has a default range,
+ * another one needs --?-from and --?-to. */
+static int make_axis(report_axis *ax, const char *field, const char *name, const char *def,
+                     double def_from, double def_to, int have_from, double from, int have_to,
+                     double to, int points, char msg[CLI_MSG_LEN])
+{
+    const char *n = name ? name : def;
+    ax->param = usm_params_find(n);
+    if (!ax->param) {
+        cli_msg(msg, "%s %s: unknown parameter (see usm steady --help)", field, n);
+        return USM_EINPUT;
+    }
+    if (strcmp(n, def) != 0 && !(have_from && have_to)) {
+        cli_msg(msg, "%s-%s: required when %s is not %s (the range of %s)", field,
+                have_from ? "to" : "from", field, def, n);
+        return USM_EINPUT;
+    }
+    ax->from = have_from ? from : def_from;
+    ax->to = have_to ? to : def_to;
+    ax->points = points;
+    return report_axis_check(ax, field, msg);
+}
+
+/* Open --out without overwriting an existing file unless --force. */
+static FILE *open_out(const map_args *a, char msg[CLI_MSG_LEN])
+{
+    int fd;
+    FILE *f;
+    fd = open(a->out, O_WRONLY | O_CREAT | (a->force ? O_TRUNC : O_EXCL), 0666);
+    if (fd < 0) {
+        if (errno == EEXIST)
+            cli_msg(msg, "--out %s: file exists (use --force to overwrite it)", a->out);
+        else
+            cli_msg(msg, "--out %s: %s", a->out, strerror(errno));
+        return NULL;
+    }
+    if (!(f = fdopen(fd, "w"))) {
+        cli_msg(msg, "--out %s: %s", a->out, strerror(errno));
+        close(fd);
+    }
+    return f;
+}
+
+int cli_map_main(int argc, char **argv)
+{
+    map_args a;
+    report_map map;
+    char msg[CLI_MSG_LEN];
+    FILE *out = stdout;
+    int status;
+
+    if (parse(&a, argc, argv, msg) != USM_OK) {
+        cli_error("%s", msg);
+        return USM_EINPUT;
+    }
+    if (a.help) {
+        usage(stdout);
+        return USM_OK;
+    }
+    memset(&map, 0, sizeof map);
+    if (make_axis(&map.x, "--x", a.xname, "f", 30000, 46000, a.have_xfrom, a.xfrom, a.have_xto,
+                  a.xto, a.xpoints, msg) != USM_OK ||
+        make_axis(&map.y, "--y", a.yname, "T", 0, 0.008, a.have_yfrom, a.yfrom, a.have_yto,
+                  a.yto, a.ypoints, msg) != USM_OK) {
+        cli_error("%s", msg);
+        return USM_EINPUT;
+    }
+    map.model = a.common.model;
+    map.params = a.common.params;
+    map.t0 = a.t0;
+    map.threads = a.threads;
+    map.boundaries = a.common.json;
+    /* Refuse an existing --out before the (long) computation. */
+    if (a.out && !a.force && access(a.out, F_OK) == 0) {
+        cli_error("--out %s: file exists (use --force to overwrite it)", a.out);
+        return USM_EINPUT;
+    }
+    status = report_map_run(&map, msg);
+    if (status != USM_OK) {
+        cli_error("%s", msg);
+        return status;
+    }
+    if (a.out && !(out = open_out(&a, msg))) {
+        cli_error("%s", msg);
+        report_map_free(&map);
+        return USM_EINPUT;
+    }
+    if (a.common.json) {
+        json_t *obj = report_map_json(&map);
+        if (!obj) {
+            cli_error("out of memory");
+            status = USM_EFAILED;
+        } else {
+            if (cli_json_print(obj, out) != 0)
+                status = USM_EFAILED;
+            json_decref(obj);
+        }
+    } else if (report_map_write_csv(&map, out) != 0)
+        status = USM_EFAILED;
+    if (out != stdout) {
+        if (fclose(out) != 0 || status != USM_OK) {
+            cli_error("--out %s: write error", a.out);
+            status = USM_EFAILED;
+        }
+    } else if (fflush(stdout) != 0 || ferror(stdout)) {
+        clearerr(stdout);
+        cli_error("stdout: write error");
+        status = USM_EFAILED;
+    }
+    if (map.floquet_failures > 0 && status == USM_OK)
+        fprintf(stderr, "usm: map: the Floquet computation failed at %zu point(s) (max_modulus nan)\n",
+                map.floquet_failures);
+    report_map_free(&map);
+    return status;
+}

@@ -1,0 +1,192 @@
+/* report.h: `usm report`, the paper reproduced in a Markdown report with
+ * figures (internal to the usm command).
+ *
+ *   report_paper_values.c  the paper's published values (the only numbers typed in)
+ *   report_compute.c       everything the report shows, computed through libusm
+ *   report_map.c           the 2-D stability map (threads), also `usm map`
+ *   report_plot.c          CSV data, gnuplot scripts, running gnuplot
+ *   report_md.c            report.md
+ *   report_cmd.c           options, output directory, the run
+ */
+#ifndef USM_CLI_REPORT_H
+#define USM_CLI_REPORT_H
+
+#include <stdio.h>
+
+#include "diag.h"
+#include "report_map.h"
+#include "usm.h"
+#include "usm_sweep.h"
+
+/* ---- the paper's published values (report_paper_values.c) ---------------- */
+
+typedef struct report_published {
+    const char *where;    /* where the paper prints it */
+    const char *what;     /* the quantity */
+    const char *printed;  /* exactly as printed */
+    double value;         /* the printed number, in the printed unit */
+    const char *unit;     /* the printed unit */
+} report_published;
+
+typedef struct report_published_multiplier {
+    const char *label;           /* "lambda_1,2" */
+    const char *printed;         /* "-0.7101 ± 0.5908i" */
+    double re, im;               /* im > 0: the pair re ± im i */
+    const char *modulus_printed; /* the table's "absolute value" column */
+    double modulus;
+} report_published_multiplier;
+
+typedef struct report_paper {
+    report_published theta3, alpha3, beta3;
+    report_published speed4, theta4, alpha4, beta4;
+    report_published_multiplier table3[4];
+    int n3;
+    report_published_multiplier table4[6];
+    int n4;
+    report_published f_max, slip_load, speed_ratio;
+} report_paper;
+
+extern const report_paper report_paper_values;
+
+/* ---- what the report computes (report_compute.c) -------------------------- */
+
+/* Start times of the t0 study, in periods: 0, 1/4, 1/2, 10, 100, 1000. */
+#define REPORT_NT0 6
+extern const double report_t0_fraction[REPORT_NT0];
+extern const char *const report_t0_label[REPORT_NT0]; /* "0", "T/4", ... */
+
+typedef struct report_model_result {
+    const usm_model *model;
+    usm_steady_solution sol;                /* primary root, paper's parameters */
+    usm_floquet_result fl[REPORT_NT0];      /* at t0 = fraction * period */
+    /* twist_integrated variant of the same model (NULL when not generated) */
+    const usm_model *integrated;
+    usm_floquet_result fl_integrated[2];    /* at t0 = 0 and T/2 */
+} report_model_result;
+
+/* A located value (bisection or golden section); ok = 0 when not found in
+ * the range searched (text in note). */
+typedef struct report_located {
+    int ok;
+    double value;
+    usm_steady_solution sol; /* there (last point with a solution) */
+    char note[USM_MSG_LEN];
+} report_located;
+
+/* One characteristic curve: a sweep of one parameter, one model. */
+typedef struct report_curve {
+    const char *over;
+    double from, to;
+    int points;
+    usm_sweep *sweep;       /* owns the points and events */
+} report_curve;
+
+enum { REPORT_CURVE_F = 0, REPORT_CURVE_T = 1, REPORT_CURVE_M0 = 2, REPORT_NCURVES = 3 };
+enum { REPORT_3DOF = 0, REPORT_4DOF = 1, REPORT_NMODELS = 2 };
+
+typedef struct report_options {
+    int quick;    /* coarser grids */
+    int threads;  /* >= 1 */
+    int plots;    /* run gnuplot */
+} report_options;
+
+/* A nearly vanishing preload [N], to show what the contact moment does. */
+#define REPORT_SMALL_F0 0.01
+
+typedef struct report_data {
+    usm_params params;
+    report_options opt;
+    report_model_result model[REPORT_NMODELS];
+
+    /* parameter choices, checked on the spot */
+    double f_from_cr;           /* sqrt(c_r / I_xx) / (2 pi) [Hz] */
+    double dr_3pct, dt_3pct;    /* 2 * 0.03 * sqrt(c I) */
+    double M_disk;              /* 2 I_R / R^2 */
+    double M_from_dR;           /* M if d_R were 3 % damping: (d_R / 0.06)^2 / c_R */
+    double theta_at_fmax_paper; /* tilt at the paper's 36.8 kHz */
+    /* Table 3 fit for rotor masses: 0, 2 I_R/R^2, (d_R/0.06)^2/c_R */
+    double M_trial[3];
+    double M_trial_dev[3];      /* largest |computed - Table 3| */
+
+    /* characteristic curves [curve][model] */
+    report_curve curve[REPORT_NCURVES][REPORT_NMODELS];
+
+    /* key numbers */
+    report_located f_max[REPORT_NMODELS];       /* speed maximum over f */
+    report_located f_theta_max;                 /* tilt maximum over f (3dof) */
+    report_located f_theta_max_small_F0;        /* the same with F0 = REPORT_SMALL_F0 */
+    report_located stick_limit;                 /* T where F_t = mu0 F_n (3dof) */
+    report_located stick_limit_sat;             /* T where F_t = mu0 (pi/2) F_n (3dof) */
+    report_located existence_T[REPORT_NMODELS]; /* largest T with a solution */
+    report_located stability_T;                 /* T where the 3dof |lambda| reaches 1 */
+    report_located existence_m0[REPORT_NMODELS];/* smallest m0 with a solution */
+
+    /* stability maps (f x T) */
+    report_map map[REPORT_NMODELS];
+    int have_map[REPORT_NMODELS];
+
+    double seconds[4]; /* timing: tables, curves, maps, plots */
+} report_data;
+
+/* Compute everything but the maps.  USM_OK or an error status with msg. */
+int report_compute(report_data *d, char msg[CLI_MSG_LEN]);
+/* The stability maps.  USM_OK or an error status with msg. */
+int report_compute_maps(report_data *d, char msg[CLI_MSG_LEN]);
+void report_data_free(report_data *d);
+
+/* Nearest computed multiplier to (re, im) among the non-cyclic and cyclic
+ * ones of r (each computed one used once: `used` flags, n entries). */
+int report_match_multiplier(const usm_floquet_result *r, double re, double im, int *used);
+
+/* ---- files (report_plot.c) -------------------------------------------------- */
+
+typedef struct report_figure {
+    const char *name;    /* file stem: NAME.png, NAME.svg, NAME.gp */
+    const char *title;   /* caption */
+} report_figure;
+
+enum {
+    REPORT_FIG_SPEED_F = 0,
+    REPORT_FIG_SPEED_T,
+    REPORT_FIG_SPEED_M0,
+    REPORT_FIG_MULT_3DOF,
+    REPORT_FIG_MULT_4DOF,
+    REPORT_FIG_MAP_3DOF,
+    REPORT_FIG_MAP_4DOF,
+    REPORT_NFIGURES
+};
+extern const report_figure report_figures[REPORT_NFIGURES];
+
+/* Every file name `usm report` writes into its directory (NULL-terminated). */
+extern const char *const report_files[];
+
+/* Write every CSV file and gnuplot script into dir.  USM_OK or USM_EFAILED. */
+int report_write_data(const report_data *d, const char *dir, char msg[CLI_MSG_LEN]);
+
+/* Run gnuplot on every script (up to `jobs` at a time), with dir as working
+ * directory.  USM_OK, or USM_EFAILED with msg (gnuplot missing or failing;
+ * its messages are in dir/gnuplot.log). */
+int report_run_gnuplot(const char *dir, int jobs, char msg[CLI_MSG_LEN]);
+
+/* ---- report.md (report_md.c) -------------------------------------------------- */
+
+/* The first line of every report.md that usm writes. */
+#define REPORT_MARKER "<!-- usm report: written by `usm report`; the next run overwrites this file -->"
+
+/* Write the report to out.  plots_ok: the figures were rendered.  0 or -1. */
+int report_write_md(const report_data *d, int plots_ok, const char *plot_note, FILE *out);
+
+/* ---- helpers ------------------------------------------------------------------- */
+
+/* dir + "/" + name into buf (size len); 0, or -1 when too long. */
+int report_path(char *buf, size_t len, const char *dir, const char *name);
+
+/* Open dir/name for writing; NULL with msg on failure. */
+FILE *report_open(const char *dir, const char *name, char msg[CLI_MSG_LEN]);
+/* Close f; USM_OK, or USM_EFAILED with msg naming dir/name on a write error. */
+int report_close(FILE *f, const char *dir, const char *name, char msg[CLI_MSG_LEN]);
+
+/* Seconds of a monotonic clock. */
+double report_now(void);
+
+#endif /* USM_CLI_REPORT_H */

@@ -1,0 +1,316 @@
+/* usm report: the paper reproduced in DIR/report.md, with figures. */
+#define _POSIX_C_SOURCE 200809L
+
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/types.h>
+#include <unistd.h>
+
+#include "commands.h"
+#include "diag.h"
+#include "options.h"
+#include "report.h"
+#include "usm.h"
+
+static void usage(FILE *out)
+{
+    fprintf(out,
+            "usage: usm report --out DIR [--quick] [--force] [--no-plots] [--threads N]\n"
+            "                  [--params FILE.json] [--set NAME=VALUE]...\n"
+            "\n"
+            "Reproduce the paper: compute the stationary solutions, Floquet multipliers,\n"
+            "motor characteristics (speed vs f, T, m0) and stability maps of both models and\n"
+            "write DIR/report.md: every published number beside the computed one, the\n"
+            "reasons where they differ, and the figures (PNG and SVG, drawn by gnuplot from\n"
+            "CSV data and scripts written into DIR as well).\n"
+            "\n"
+            "options:\n"
+            "  --out DIR           output directory (created if missing)\n"
+            "  --quick             coarser grids (a few seconds; for tests)\n"
+            "  --force             overwrite DIR/report.md and the report's files even if\n"
+            "                      they were not written by usm report.  Without it a report\n"
+            "                      that usm wrote is replaced, anything else is kept\n"
+            "  --no-plots          write data and gnuplot scripts but do not run gnuplot\n"
+            "  --threads N         worker threads (default 2)\n"
+            "  --params FILE.json  parameter values (default: the paper's)\n"
+            "  --set NAME=VALUE    set one parameter (repeatable; applied after --params)\n"
+            "  -h, --help          print this help\n"
+            "\n"
+            "gnuplot is taken from $USM_GNUPLOT, else \"gnuplot\" on the PATH.\n"
+            "On success prints the path of report.md.\n"
+            "exit status: 0 written, 1 numerical failure or figures not rendered (the\n"
+            "             report is still written), 2 bad input or DIR not usable,\n"
+            "             3 no stationary solution at the chosen parameters\n");
+}
+
+typedef struct report_args {
+    cli_common common;
+    const char *out;
+    int quick, force, plots, threads, help;
+} report_args;
+
+static int parse(report_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
+{
+    memset(a, 0, sizeof *a);
+    cli_common_init(&a->common);
+    a->plots = 1;
+    a->threads = 2;
+    for (int i = 1; i < argc; ++i) {
+        const char *value;
+        int r;
+        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
+            a->help = 1;
+            return USM_OK;
+        }
+        if (strcmp(argv[i], "--quick") == 0) {
+            a->quick = 1;
+            continue;
+        }
+        if (strcmp(argv[i], "--force") == 0) {
+            a->force = 1;
+            continue;
+        }
+        if (strcmp(argv[i], "--no-plots") == 0) {
+            a->plots = 0;
+            continue;
+        }
+        {
+            /* The report always covers the paper's two models; --json has no
+             * meaning for a directory of files. */
+            static const char *const not_here[] = {"--json", "--model", "--variant"};
+            for (size_t k = 0; k < sizeof not_here / sizeof not_here[0]; ++k) {
+                size_t len = strlen(not_here[k]);
+                if (strncmp(argv[i], not_here[k], len) == 0 &&
+                    (argv[i][len] == '\0' || argv[i][len] == '=')) {
+                    cli_msg(msg, "%s: not an option of usm report (it covers the paper's 3dof "
+                                 "and 4dof models; see usm report --help)", not_here[k]);
+                    return USM_EINPUT;
+                }
+            }
+        }
+        if ((r = cli_common_option(&a->common, argc, argv, &i, msg)) == CLI_OPT_TAKEN)
+            continue;
+        if (r == CLI_OPT_ERROR)
+            return USM_EINPUT;
+        if ((r = cli_option_value(argc, argv, &i, "--out", &value, msg)) != CLI_OPT_NOT_MINE) {
+            if (r == CLI_OPT_ERROR)
+                return USM_EINPUT;
+            if (value[0] == '\0') {
+                cli_msg(msg, "--out: empty directory name");
+                return USM_EINPUT;
+            }
+            a->out = value;
+            continue;
+        }
+        if ((r = cli_option_value(argc, argv, &i, "--threads", &value, msg)) != CLI_OPT_NOT_MINE) {
+            double v;
+            if (r == CLI_OPT_ERROR || cli_parse_double("--threads", value, &v, msg) != USM_OK)
+                return USM_EINPUT;
+            if (v != (double)(int)v || v < 1 || v > 64) {
+                cli_msg(msg, "--threads: \"%s\" must be an integer from 1 to 64", value);
+                return USM_EINPUT;
+            }
+            a->threads = (int)v;
+            continue;
+        }
+        if (argv[i][0] == '-')
+            cli_msg(msg, "%s: unknown option (see usm report --help)", argv[i]);
+        else
+            cli_msg(msg, "%s: unexpected argument (see usm report --help)", argv[i]);
+        return USM_EINPUT;
+    }
+    if (!a->out) {
+        cli_msg(msg, "--out: missing, the output directory is required");
+        return USM_EINPUT;
+    }
+    return cli_common_finish(&a->common, msg);
+}
+
+/* mkdir -p */
+static int make_dir(const char *dir, char msg[CLI_MSG_LEN])
+{
+    char path[4096];
+    struct stat st;
+    size_t len = strlen(dir);
+    if (len >= sizeof path) {
+        cli_msg(msg, "--out %s: path too long", dir);
+        return USM_EINPUT;
+    }
+    memcpy(path, dir, len + 1);
+    for (size_t i = 1; i <= len; ++i) {
+        if (path[i] != '/' && path[i] != '\0')
+            continue;
+        char c = path[i];
+        path[i] = '\0';
+        if (mkdir(path, 0777) != 0 && errno != EEXIST) {
+            cli_msg(msg, "--out %s: cannot create %s: %s", dir, path, strerror(errno));
+            return USM_EINPUT;
+        }
+        path[i] = c;
+    }
+    if (stat(dir, &st) != 0 || !S_ISDIR(st.st_mode)) {
+        cli_msg(msg, "--out %s: not a directory", dir);
+        return USM_EINPUT;
+    }
+    return USM_OK;
+}
+
+/* 1 when DIR/report.md starts with the marker of a report usm wrote. */
+static int is_own_report(const char *path)
+{
+    char line[512];
+    FILE *f = fopen(path, "r");
+    int own = 0;
+    if (!f)
+        return 0;
+    if (fgets(line, sizeof line, f)) {
+        line[strcspn(line, "\r\n")] = '\0';
+        own = strcmp(line, REPORT_MARKER) == 0;
+    }
+    fclose(f);
+    return own;
+}
+
+/* Refuse to overwrite files usm did not write (see --force). */
+static int check_dir(const char *dir, int force, char msg[CLI_MSG_LEN])
+{
+    char path[4096];
+    struct stat st;
+    if (stat(dir, &st) != 0) {
+        if (errno == ENOENT)
+            return USM_OK; /* created later */
+        cli_msg(msg, "--out %s: %s", dir, strerror(errno));
+        return USM_EINPUT;
+    }
+    if (!S_ISDIR(st.st_mode)) {
+        cli_msg(msg, "--out %s: exists and is not a directory", dir);
+        return USM_EINPUT;
+    }
+    if (access(dir, W_OK) != 0) {
+        cli_msg(msg, "--out %s: not writable", dir);
+        return USM_EINPUT;
+    }
+    if (force)
+        return USM_OK;
+    if (report_path(path, sizeof path, dir, "report.md") != 0) {
+        cli_msg(msg, "--out %s: path too long", dir);
+        return USM_EINPUT;
+    }
+    if (access(path, F_OK) == 0) {
+        if (is_own_report(path))
+            return USM_OK;
+        cli_msg(msg, "--out %s: report.md there was not written by usm report; not "
+                     "overwriting it (use --force, or another directory)", dir);
+        return USM_EINPUT;
+    }
+    for (int k = 0; report_files[k]; ++k) {
+        if (report_path(path, sizeof path, dir, report_files[k]) != 0) {
+            cli_msg(msg, "--out %s: path too long", dir);
+            return USM_EINPUT;
+        }
+        if (access(path, F_OK) == 0) {
+            cli_msg(msg, "--out %s: %s exists and no usm report is there; not overwriting it "
+                         "(use --force, or another directory)", dir, report_files[k]);
+            return USM_EINPUT;
+        }
+    }
+    return USM_OK;
+}
+
+/* report.md through a temporary file, renamed when complete. */
+static int write_md(const report_data *d, const char *dir, int plots_ok, const char *note,
+                    char msg[CLI_MSG_LEN])
+{
+    char tmp[4096], path[4096];
+    FILE *f;
+    int fd;
+    if (report_path(path, sizeof path, dir, "report.md") != 0 ||
+        report_path(tmp, sizeof tmp, dir, ".report.md.XXXXXX") != 0) {
+        cli_msg(msg, "--out %s: path too long", dir);
+        return USM_EFAILED;
+    }
+    if ((fd = mkstemp(tmp)) < 0 || !(f = fdopen(fd, "w"))) {
+        cli_msg(msg, "%s: %s", tmp, strerror(errno));
+        if (fd >= 0) {
+            close(fd);
+            unlink(tmp);
+        }
+        return USM_EFAILED;
+    }
+    fchmod(fd, 0644);
+    if (report_write_md(d, plots_ok, note, f) != 0 || fclose(f) != 0) {
+        cli_msg(msg, "%s: write error", path);
+        unlink(tmp);
+        return USM_EFAILED;
+    }
+    if (rename(tmp, path) != 0) {
+        cli_msg(msg, "%s: %s", path, strerror(errno));
+        unlink(tmp);
+        return USM_EFAILED;
+    }
+    return USM_OK;
+}
+
+int cli_report_main(int argc, char **argv)
+{
+    report_args a;
+    report_data *d;
+    char msg[CLI_MSG_LEN], plot_note[CLI_MSG_LEN] = "";
+    int status, plots_ok = 0;
+    double t;
+
+    if (parse(&a, argc, argv, msg) != USM_OK) {
+        cli_error("%s", msg);
+        return USM_EINPUT;
+    }
+    if (a.help) {
+        usage(stdout);
+        return USM_OK;
+    }
+    if (check_dir(a.out, a.force, msg) != USM_OK || make_dir(a.out, msg) != USM_OK) {
+        cli_error("%s", msg);
+        return USM_EINPUT;
+    }
+    if (!(d = calloc(1, sizeof *d))) {
+        cli_error("out of memory");
+        return USM_EFAILED;
+    }
+    d->params = a.common.params;
+    d->opt.quick = a.quick;
+    d->opt.threads = a.threads;
+    d->opt.plots = a.plots;
+    status = report_compute(d, msg);
+    if (status == USM_OK)
+        status = report_compute_maps(d, msg);
+    if (status == USM_OK)
+        status = report_write_data(d, a.out, msg);
+    if (status != USM_OK) {
+        cli_error("%s", msg);
+        report_data_free(d);
+        free(d);
+        return status == USM_EINPUT || status == USM_ENOSOLUTION ? status : USM_EFAILED;
+    }
+    t = report_now();
+    if (a.plots) {
+        if (report_run_gnuplot(a.out, a.threads, plot_note) == USM_OK)
+            plots_ok = 1;
+    }
+    d->seconds[3] = report_now() - t;
+    d->opt.plots = plots_ok; /* the report links figures only when they exist */
+    status = write_md(d, a.out, plots_ok || !a.plots, plot_note, msg);
+    report_data_free(d);
+    free(d);
+    if (status != USM_OK) {
+        cli_error("%s", msg);
+        return USM_EFAILED;
+    }
+    if (a.plots && !plots_ok) {
+        cli_error("%s", plot_note);
+        return USM_EFAILED;
+    }
+    printf("%s/report.md\n", a.out);
+    return USM_OK;
+}

@@ -1,0 +1,514 @@
+/* Everything `usm report` shows, computed through libusm: stationary
+ * solutions and multipliers at the paper's parameters, the t0 study, the
+ * checks of the values the paper leaves out, the characteristic curves
+ * (usm_sweep), their key numbers (bisection, golden section) and the maps. */
+#define _POSIX_C_SOURCE 200809L
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "report.h"
+
+#define TWO_PI 6.283185307179586476925286766559
+#define PI 3.14159265358979323846264338327950
+
+const double report_t0_fraction[REPORT_NT0] = {0.0, 0.25, 0.5, 10.0, 100.0, 1000.0};
+const char *const report_t0_label[REPORT_NT0] = {"0", "T/4", "T/2", "10 T", "100 T", "1000 T"};
+
+double report_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* ---- small solvers ------------------------------------------------------------ */
+
+typedef struct solver {
+    const usm_model *m;
+    usm_steady *steady;
+    usm_floquet *floquet;
+} solver;
+
+static int solver_init(solver *s, const usm_model *m)
+{
+    s->m = m;
+    s->steady = usm_steady_alloc(m);
+    s->floquet = usm_floquet_alloc(m);
+    return s->steady && s->floquet ? 0 : -1;
+}
+
+static void solver_free(solver *s)
+{
+    usm_steady_free(s->steady);
+    usm_floquet_free(s->floquet);
+    s->steady = NULL;
+    s->floquet = NULL;
+}
+
+/* Primary root and multipliers at p.  USM_OK, USM_ENOSOLUTION or USM_EFAILED
+ * with msg. */
+static int solve_point(solver *s, const usm_params *p, double t0, usm_steady_solution *sol,
+                       usm_floquet_result *fl, char msg[CLI_MSG_LEN])
+{
+    int st = usm_steady_solve(s->steady, p, NULL);
+    if (st != USM_OK || usm_steady_count(s->steady) == 0) {
+        cli_msg(msg, "%s: no stationary solution: %s", s->m->name, usm_steady_message(s->steady));
+        return st == USM_EINPUT ? USM_EINPUT : USM_ENOSOLUTION;
+    }
+    *sol = *usm_steady_root(s->steady, 0);
+    if (fl && usm_floquet_compute(s->floquet, p, sol, t0, NULL, fl) != USM_OK) {
+        cli_msg(msg, "%s: floquet: %s", s->m->name, usm_floquet_message(s->floquet));
+        return USM_EFAILED;
+    }
+    return USM_OK;
+}
+
+int report_match_multiplier(const usm_floquet_result *r, double re, double im, int *used)
+{
+    int best = -1;
+    double dbest = INFINITY;
+    for (int k = 0; k < r->n; ++k) {
+        double d = hypot(r->re[k] - re, r->im[k] - im);
+        if (!used[k] && d < dbest) {
+            dbest = d;
+            best = k;
+        }
+    }
+    if (best >= 0)
+        used[best] = 1;
+    return best;
+}
+
+/* Largest distance between Table 3 (both members of each pair) and the
+ * nearest computed multipliers. */
+static double table3_deviation(const usm_floquet_result *r)
+{
+    const report_paper *pv = &report_paper_values;
+    int used[USM_MAX_NX] = {0};
+    double dev = 0;
+    for (int k = 0; k < pv->n3; ++k)
+        for (int sgn = 1; sgn >= (pv->table3[k].im > 0 ? -1 : 1); sgn -= 2) {
+            double im = sgn * pv->table3[k].im;
+            int j = report_match_multiplier(r, pv->table3[k].re, im, used);
+            if (j < 0)
+                return INFINITY;
+            dev = fmax(dev, hypot(r->re[j] - pv->table3[k].re, r->im[j] - im));
+        }
+    return dev;
+}
+
+/* ---- locating a change along one parameter ----------------------------------- */
+
+enum { PRED_EXISTS, PRED_MU_BELOW, PRED_STABLE };
+
+/* 1/0, or -1 when undefined (no solution for the stability/stick tests). */
+static int predicate(int kind, double mu_limit, const report_map_cell *c)
+{
+    switch (kind) {
+    case PRED_EXISTS: return c->exists;
+    case PRED_MU_BELOW: return c->exists ? c->mu_used <= mu_limit : -1;
+    case PRED_STABLE: return c->floquet_ok ? c->max_modulus < 1.0 : -1;
+    default: return -1;
+    }
+}
+
+typedef struct locate_job {
+    solver *s;
+    usm_params p;
+    const usm_param_info *info;
+    int kind;
+    double mu_limit;
+    double t0;
+} locate_job;
+
+static int eval_at(locate_job *j, double v, report_map_cell *c, usm_steady_solution *sol)
+{
+    char lib[USM_MSG_LEN];
+    *usm_params_field(&j->p, j->info) = v;
+    if (report_map_eval(j->s->steady, j->s->floquet, &j->p, j->t0, j->kind == PRED_STABLE, c,
+                        lib) != USM_OK)
+        return -1;
+    if (c->exists && sol)
+        *sol = *usm_steady_root(j->s->steady, 0);
+    return predicate(j->kind, j->mu_limit, c);
+}
+
+/* The value between a and b where the predicate changes, by bisection to a
+ * relative tolerance 1e-10 of |b - a|. */
+static void locate(locate_job *j, double a, double b, report_located *out)
+{
+    report_map_cell c;
+    usm_steady_solution sol_a, sol_b;
+    int ia = eval_at(j, a, &c, &sol_a), ib = eval_at(j, b, &c, &sol_b);
+    const double tol = 1e-10 * fabs(b - a);
+    memset(out, 0, sizeof *out);
+    if (ia < 0 || ib < 0 || ia == ib) {
+        snprintf(out->note, USM_MSG_LEN, "no change of the condition between %s = %g and %g",
+                 j->info->name, a, b);
+        return;
+    }
+    /* the solution nearest to the change seen so far (where one exists) */
+    if (j->kind == PRED_EXISTS)
+        out->sol = ia ? sol_a : sol_b;
+    else
+        out->sol = sol_a;
+    for (int it = 0; it < 200 && fabs(b - a) > tol; ++it) {
+        double m = 0.5 * (a + b);
+        usm_steady_solution sm;
+        int im = eval_at(j, m, &c, &sm);
+        if (im < 0) {
+            snprintf(out->note, USM_MSG_LEN, "the condition is undefined at %s = %g",
+                     j->info->name, m);
+            return;
+        }
+        if (im == ia)
+            a = m;
+        else
+            b = m;
+        if (c.exists)
+            out->sol = sm;
+    }
+    out->ok = 1;
+    out->value = 0.5 * (a + b);
+}
+
+/* Bracket the change of the predicate on the points of a curve, then locate
+ * it.  The first change met in sweep order. */
+static void locate_on_curve(solver *s, const usm_params *p, const report_curve *cv, int kind,
+                            double mu_limit, report_located *out)
+{
+    locate_job j = {s, *p, usm_params_find(cv->over), kind, mu_limit, 0.0};
+    const size_t n = cv->sweep ? usm_sweep_count(cv->sweep) : 0;
+    int prev = -2;
+    double prev_v = 0;
+    memset(out, 0, sizeof *out);
+    for (size_t i = 0; i < n; ++i) {
+        const usm_sweep_point *pt = usm_sweep_point_at(cv->sweep, i);
+        report_map_cell c;
+        int ind;
+        memset(&c, 0, sizeof c);
+        c.exists = pt->converged;
+        if (pt->converged) {
+            c.mu_used = pt->sol.mu_used;
+            c.floquet_ok = pt->has_floquet;
+            c.max_modulus = pt->has_floquet ? pt->floquet.max_modulus : NAN;
+        }
+        ind = predicate(kind, mu_limit, &c);
+        if (ind >= 0 && prev >= 0 && ind != prev) {
+            locate(&j, prev_v, pt->value, out);
+            return;
+        }
+        if (ind >= 0) {
+            prev = ind;
+            prev_v = pt->value;
+        }
+    }
+    snprintf(out->note, USM_MSG_LEN, "no change along %s from %g to %g", cv->over, cv->from,
+             cv->to);
+}
+
+/* The maximum of the speed w_R = -phidot_R over the curve's parameter: the
+ * best grid point, then golden section on its two neighbouring intervals. */
+static double quantity(const usm_steady_solution *sol, int tilt)
+{
+    return tilt ? sol->theta : -sol->rotor_speed;
+}
+
+static double speed_at(solver *s, usm_params *p, const usm_param_info *info, double v,
+                       usm_steady_solution *sol, int tilt)
+{
+    *usm_params_field(p, info) = v;
+    if (usm_steady_solve(s->steady, p, NULL) != USM_OK || usm_steady_count(s->steady) == 0)
+        return -INFINITY;
+    *sol = *usm_steady_root(s->steady, 0);
+    return quantity(sol, tilt);
+}
+
+/* tilt = 0: the maximum of the speed; 1: of the tilt. */
+/* Golden section for the maximum of the speed (tilt = 0) or tilt (1) over
+ * [a, b] of parameter `info`. */
+static void golden_max(solver *s, const usm_params *p0, const usm_param_info *info, double a,
+                       double b, int tilt, report_located *out)
+{
+    const double g = 0.5 * (sqrt(5.0) - 1.0);
+    usm_params p = *p0;
+    usm_steady_solution sol;
+    double c = b - g * (b - a), d = a + g * (b - a);
+    double fc = speed_at(s, &p, info, c, &sol, tilt), fd = speed_at(s, &p, info, d, &sol, tilt);
+    for (int it = 0; it < 200 && fabs(b - a) > 1e-9 * fabs(a) + 1e-12; ++it) {
+        if (fc > fd) {
+            b = d;
+            d = c;
+            fd = fc;
+            c = b - g * (b - a);
+            fc = speed_at(s, &p, info, c, &sol, tilt);
+        } else {
+            a = c;
+            c = d;
+            fc = fd;
+            d = a + g * (b - a);
+            fd = speed_at(s, &p, info, d, &sol, tilt);
+        }
+    }
+    out->value = 0.5 * (a + b);
+    if (isfinite(speed_at(s, &p, info, out->value, &out->sol, tilt)))
+        out->ok = 1;
+    else
+        snprintf(out->note, USM_MSG_LEN, "no solution at the located maximum");
+}
+
+/* The maximum over a curve: its best grid point, then golden section on the
+ * two neighbouring intervals. */
+static void speed_maximum(solver *s, const usm_params *p0, const report_curve *cv, int tilt,
+                          report_located *out)
+{
+    const size_t n = cv->sweep ? usm_sweep_count(cv->sweep) : 0;
+    size_t best = n;
+    memset(out, 0, sizeof *out);
+    for (size_t i = 0; i < n; ++i) {
+        const usm_sweep_point *pt = usm_sweep_point_at(cv->sweep, i);
+        if (pt->converged &&
+            (best == n || quantity(&pt->sol, tilt) >
+                              quantity(&usm_sweep_point_at(cv->sweep, best)->sol, tilt)))
+            best = i;
+    }
+    if (best == n || best == 0 || best + 1 == n) {
+        snprintf(out->note, USM_MSG_LEN, "no interior maximum on %s from %g to %g", cv->over,
+                 cv->from, cv->to);
+        return;
+    }
+    golden_max(s, p0, usm_params_find(cv->over), usm_sweep_point_at(cv->sweep, best - 1)->value,
+               usm_sweep_point_at(cv->sweep, best + 1)->value, tilt, out);
+}
+
+/* The same from a scan of n full solves over [from, to] (no sweep). */
+static void scan_maximum(solver *s, const usm_params *p0, const char *name, double from,
+                         double to, int n, int tilt, report_located *out)
+{
+    const usm_param_info *info = usm_params_find(name);
+    usm_params p = *p0;
+    usm_steady_solution sol;
+    int best = -1;
+    double vbest = -INFINITY;
+    memset(out, 0, sizeof *out);
+    for (int i = 0; i < n; ++i) {
+        double v = speed_at(s, &p, info, from + (to - from) * i / (n - 1), &sol, tilt);
+        if (v > vbest) {
+            vbest = v;
+            best = i;
+        }
+    }
+    if (best <= 0 || best >= n - 1) {
+        snprintf(out->note, USM_MSG_LEN, "no interior maximum on %s from %g to %g", name, from,
+                 to);
+        return;
+    }
+    golden_max(s, p0, info, from + (to - from) * (best - 1) / (n - 1),
+               from + (to - from) * (best + 1) / (n - 1), tilt, out);
+}
+
+/* ---- the characteristic curves ------------------------------------------------- */
+
+static void curve_setup(report_curve *cv, const char *over, double from, double to, int points)
+{
+    cv->over = over;
+    cv->from = from;
+    cv->to = to;
+    cv->points = points;
+}
+
+static int run_curve(report_curve *cv, const usm_model *m, const usm_params *p, int threads,
+                     char msg[CLI_MSG_LEN])
+{
+    usm_sweep_options opt;
+    usm_sweep_options_default(&opt);
+    opt.over = cv->over;
+    opt.from = cv->from;
+    opt.to = cv->to;
+    opt.points = cv->points;
+    opt.floquet = 1;
+    opt.t0 = 0.0;
+    opt.threads = threads;
+    if (!(cv->sweep = usm_sweep_alloc(m))) {
+        cli_msg(msg, "out of memory");
+        return USM_EFAILED;
+    }
+    if (usm_sweep_run(cv->sweep, p, &opt) != USM_OK) {
+        cli_msg(msg, "sweep %s of %s from %g to %g: %s", cv->over, m->name, cv->from, cv->to,
+                usm_sweep_message(cv->sweep));
+        return USM_EFAILED;
+    }
+    return USM_OK;
+}
+
+/* ---- the whole computation ------------------------------------------------------- */
+
+static int model_tables(report_data *d, int k, solver *s, char msg[CLI_MSG_LEN])
+{
+    report_model_result *r = &d->model[k];
+    const double period = 1.0 / d->params.f;
+    int st;
+    for (int i = 0; i < REPORT_NT0; ++i) {
+        st = solve_point(s, &d->params, report_t0_fraction[i] * period, &r->sol, &r->fl[i], msg);
+        if (st != USM_OK)
+            return st; /* USM_ENOSOLUTION: no operating point to report on */
+    }
+    r->integrated = usm_model_variant(r->model->base, "twist_integrated");
+    if (r->integrated) {
+        solver si;
+        usm_steady_solution sol;
+        if (solver_init(&si, r->integrated) != 0) {
+            solver_free(&si);
+            cli_msg(msg, "out of memory");
+            return USM_EFAILED;
+        }
+        for (int i = 0; i < 2 && r->integrated; ++i)
+            if (solve_point(&si, &d->params, i * 0.5 * period, &sol, &r->fl_integrated[i], msg) !=
+                USM_OK)
+                r->integrated = NULL; /* shown as "not available" */
+        solver_free(&si);
+    }
+    return USM_OK;
+}
+
+static int parameter_checks(report_data *d, solver *s3, char msg[CLI_MSG_LEN])
+{
+    const usm_params *p = &d->params;
+    usm_params q;
+    usm_steady_solution sol;
+    usm_floquet_result fl;
+    d->f_from_cr = sqrt(p->c_r / p->I_xx) / TWO_PI;
+    d->dr_3pct = 2 * 0.03 * sqrt(p->c_r * p->I_xx);
+    d->dt_3pct = 2 * 0.03 * sqrt(p->c_t * p->I_zz);
+    d->M_disk = 2 * p->I_R / (p->R * p->R);
+    d->M_from_dR = (p->d_R / 0.06) * (p->d_R / 0.06) / p->c_R;
+    q = *p;
+    q.f = report_paper_values.f_max.value;
+    d->theta_at_fmax_paper = solve_point(s3, &q, 0, &sol, NULL, msg) == USM_OK ? sol.theta : NAN;
+    d->M_trial[0] = 0.0;
+    d->M_trial[1] = d->M_disk;
+    d->M_trial[2] = d->M_from_dR;
+    for (int i = 0; i < 3; ++i) {
+        q = *p;
+        q.M = d->M_trial[i];
+        d->M_trial_dev[i] =
+            solve_point(s3, &q, 0, &sol, &fl, msg) == USM_OK ? table3_deviation(&fl) : NAN;
+    }
+    return USM_OK;
+}
+
+int report_compute(report_data *d, char msg[CLI_MSG_LEN])
+{
+    const int quick = d->opt.quick;
+    const int nf = quick ? 41 : 161, nT = quick ? 41 : 161, nTs = quick ? 25 : 121,
+              nm = quick ? 41 : 111;
+    solver s[REPORT_NMODELS];
+    double t = report_now();
+    int st = USM_OK;
+
+    memset(s, 0, sizeof s);
+    d->model[REPORT_3DOF].model = usm_model_find("3dof");
+    d->model[REPORT_4DOF].model = usm_model_find("4dof");
+    for (int k = 0; k < REPORT_NMODELS; ++k)
+        if (!d->model[k].model || solver_init(&s[k], d->model[k].model) != 0) {
+            cli_msg(msg, "%s", d->model[k].model ? "out of memory" : "model 3dof/4dof not built");
+            st = USM_EFAILED;
+            goto done;
+        }
+    for (int k = 0; k < REPORT_NMODELS; ++k)
+        if ((st = model_tables(d, k, &s[k], msg)) != USM_OK)
+            goto done;
+    if ((st = parameter_checks(d, &s[REPORT_3DOF], msg)) != USM_OK)
+        goto done;
+    d->seconds[0] = report_now() - t;
+    t = report_now();
+
+    /* Figs. 9-11.  The slip model's load curve ends near mu0 pi/2 F_n R*,
+     * far below the stick model's, so it gets its own (shorter) range. */
+    curve_setup(&d->curve[REPORT_CURVE_F][REPORT_3DOF], "f", 30000, 46000, nf);
+    curve_setup(&d->curve[REPORT_CURVE_F][REPORT_4DOF], "f", 30000, 46000, nf);
+    curve_setup(&d->curve[REPORT_CURVE_T][REPORT_3DOF], "T", 0, 8e-3, nT);
+    curve_setup(&d->curve[REPORT_CURVE_T][REPORT_4DOF], "T", 0, 1.2e-3, nTs);
+    curve_setup(&d->curve[REPORT_CURVE_M0][REPORT_3DOF], "m0", 1e-3, 12e-3, nm);
+    curve_setup(&d->curve[REPORT_CURVE_M0][REPORT_4DOF], "m0", 1e-3, 12e-3, nm);
+    for (int c = 0; c < REPORT_NCURVES; ++c)
+        for (int k = 0; k < REPORT_NMODELS; ++k)
+            if ((st = run_curve(&d->curve[c][k], d->model[k].model, &d->params, d->opt.threads,
+                                msg)) != USM_OK)
+                goto done;
+
+    /* key numbers */
+    for (int k = 0; k < REPORT_NMODELS; ++k) {
+        speed_maximum(&s[k], &d->params, &d->curve[REPORT_CURVE_F][k], 0, &d->f_max[k]);
+        locate_on_curve(&s[k], &d->params, &d->curve[REPORT_CURVE_T][k], PRED_EXISTS, 0,
+                        &d->existence_T[k]);
+        locate_on_curve(&s[k], &d->params, &d->curve[REPORT_CURVE_M0][k], PRED_EXISTS, 0,
+                        &d->existence_m0[k]);
+    }
+    speed_maximum(&s[REPORT_3DOF], &d->params, &d->curve[REPORT_CURVE_F][REPORT_3DOF], 1,
+                  &d->f_theta_max);
+    {
+        /* the tilt peak with a nearly vanishing preload: without the contact
+         * moment F_n R* it sits at the stator's damped eigenfrequency */
+        usm_params q = d->params;
+        q.F0 = REPORT_SMALL_F0;
+        scan_maximum(&s[REPORT_3DOF], &q, "f", 30000, 46000, 161, 1, &d->f_theta_max_small_F0);
+    }
+    locate_on_curve(&s[REPORT_3DOF], &d->params, &d->curve[REPORT_CURVE_T][REPORT_3DOF],
+                    PRED_MU_BELOW, d->params.mu0, &d->stick_limit);
+    locate_on_curve(&s[REPORT_3DOF], &d->params, &d->curve[REPORT_CURVE_T][REPORT_3DOF],
+                    PRED_MU_BELOW, d->params.mu0 * 0.5 * PI, &d->stick_limit_sat);
+    locate_on_curve(&s[REPORT_3DOF], &d->params, &d->curve[REPORT_CURVE_T][REPORT_3DOF],
+                    PRED_STABLE, 0, &d->stability_T);
+    d->seconds[1] = report_now() - t;
+done:
+    for (int k = 0; k < REPORT_NMODELS; ++k)
+        solver_free(&s[k]);
+    return st;
+}
+
+int report_compute_maps(report_data *d, char msg[CLI_MSG_LEN])
+{
+    const int quick = d->opt.quick;
+    const double t = report_now();
+    for (int k = 0; k < REPORT_NMODELS; ++k) {
+        report_map *m = &d->map[k];
+        int st;
+        memset(m, 0, sizeof *m);
+        m->model = d->model[k].model;
+        m->params = d->params;
+        m->x.param = usm_params_find("f");
+        m->x.from = 30000;
+        m->x.to = 46000;
+        m->x.points = quick ? 17 : 41;
+        m->y.param = usm_params_find("T");
+        m->y.from = 0;
+        m->y.to = k == REPORT_3DOF ? 8e-3 : 1.2e-3;
+        m->y.points = quick ? 13 : 33;
+        m->t0 = 0;
+        m->threads = d->opt.threads;
+        m->boundaries = 1;
+        if ((st = report_map_run(m, msg)) != USM_OK)
+            return st;
+        d->have_map[k] = 1;
+    }
+    d->seconds[2] = report_now() - t;
+    return USM_OK;
+}
+
+void report_data_free(report_data *d)
+{
+    for (int c = 0; c < REPORT_NCURVES; ++c)
+        for (int k = 0; k < REPORT_NMODELS; ++k) {
+            usm_sweep_free(d->curve[c][k].sweep);
+            d->curve[c][k].sweep = NULL;
+        }
+    for (int k = 0; k < REPORT_NMODELS; ++k)
+        if (d->have_map[k]) {
+            report_map_free(&d->map[k]);
+            d->have_map[k] = 0;
+        }
+}

@@ -1,0 +1,254 @@
+/* usm sweep: motor characteristics, the stationary solution followed over a
+ * range of one parameter by continuation, with its events (fold, stick limit,
+ * friction saturation, stability change). */
+#define _POSIX_C_SOURCE 200809L
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+#include <unistd.h>
+
+#include <jansson.h>
+
+#include "commands.h"
+#include "diag.h"
+#include "json_out.h"
+#include "options.h"
+#include "sweep_out.h"
+#include "usm_sweep.h"
+
+static void usage(FILE *out)
+{
+    fprintf(out,
+            "usage: usm sweep --over NAME --from A --to B [--points N]\n"
+            "                 [--model 3dof|4dof] [--params FILE.json] [--set NAME=VALUE]...\n"
+            "                 [--t0 S] [--threads N] [--no-floquet] [--json]\n"
+            "\n"
+            "Follow the stationary solution of smallest tilt at A through the parameter\n"
+            "range A..B by pseudo-arclength continuation and report it at N equally spaced\n"
+            "values, with its Floquet multipliers and the events on the way: fold (the\n"
+            "solution stops existing), stick_limit (F_t = mu0 F_n), friction_saturation\n"
+            "(slip model: the friction needed reaches the law's supremum) and\n"
+            "stability_change (the largest multiplier crosses 1), each located to tolerance.\n"
+            "\n"
+            "options:\n");
+    cli_common_usage(out);
+    fprintf(out,
+            "  --over NAME         the parameter to sweep (any of usm steady --help)\n"
+            "  --from A, --to B    the range, in the parameter's unit (A != B; B < A sweeps down)\n"
+            "  --points N          grid values, at least 2 (default 101)\n"
+            "  --t0 S              start of the Floquet period [s] (default 0, the paper's)\n"
+            "  --threads N         worker threads for the multipliers (default 2)\n"
+            "  --no-floquet        skip the multipliers (and the stability events)\n"
+            "  -h, --help          print this help\n"
+            "\n"
+            "Output: CSV (default), header\n"
+            "  NAME [unit],theta [rad],alpha [rad],rotor_speed [1/s],F_n [N],F_t [N],\n"
+            "  mu_needed [1],max_modulus [1],stable,converged\n"
+            "one row per grid value (empty fields where no solution exists), then one\n"
+            "comment line per event: \"# TYPE at NAME = VALUE: what happens\".\n"
+            "With --json one object {over, model, parameters, points[], events[]}; a point\n"
+            "has the keys of usm steady --json plus NAME.\n"
+            "A progress bar is drawn on stderr when it is a terminal.\n"
+            "\n"
+            "exit status: 0 done (even where points have no solution), 1 numerical\n"
+            "             failure or write error, 2 bad input\n");
+}
+
+typedef struct sweep_args {
+    cli_common common;
+    const char *over;
+    double from, to, t0;
+    int have_from, have_to;
+    int points, threads, floquet, help;
+} sweep_args;
+
+static int parse_int(const char *field, const char *text, int lo, int hi, int *out,
+                     char msg[CLI_MSG_LEN])
+{
+    double v;
+    if (cli_parse_double(field, text, &v, msg) != USM_OK)
+        return USM_EINPUT;
+    if (v != floor(v) || v < lo || v > hi) {
+        cli_msg(msg, "%s: \"%s\" must be an integer from %d to %d", field, text, lo, hi);
+        return USM_EINPUT;
+    }
+    *out = (int)v;
+    return USM_OK;
+}
+
+/* One of this command's own options, or CLI_OPT_NOT_MINE. */
+static int own_option(sweep_args *a, int argc, char **argv, int *i, char msg[CLI_MSG_LEN])
+{
+    const char *value;
+    int r;
+    if (strcmp(argv[*i], "--no-floquet") == 0) {
+        a->floquet = 0;
+        return CLI_OPT_TAKEN;
+    }
+    if ((r = cli_option_value(argc, argv, i, "--over", &value, msg)) != CLI_OPT_NOT_MINE) {
+        if (r == CLI_OPT_TAKEN && !usm_params_find(value)) {
+            cli_msg(msg, "--over: unknown parameter \"%s\" (see usm steady --help)", value);
+            return CLI_OPT_ERROR;
+        }
+        if (r == CLI_OPT_TAKEN)
+            a->over = value;
+        return r;
+    }
+    if ((r = cli_option_value(argc, argv, i, "--from", &value, msg)) != CLI_OPT_NOT_MINE) {
+        a->have_from = 1;
+        return r == CLI_OPT_TAKEN && cli_parse_double("--from", value, &a->from, msg) ? CLI_OPT_ERROR : r;
+    }
+    if ((r = cli_option_value(argc, argv, i, "--to", &value, msg)) != CLI_OPT_NOT_MINE) {
+        a->have_to = 1;
+        return r == CLI_OPT_TAKEN && cli_parse_double("--to", value, &a->to, msg) ? CLI_OPT_ERROR : r;
+    }
+    if ((r = cli_option_value(argc, argv, i, "--t0", &value, msg)) != CLI_OPT_NOT_MINE)
+        return r == CLI_OPT_TAKEN && cli_parse_double("--t0", value, &a->t0, msg) ? CLI_OPT_ERROR : r;
+    if ((r = cli_option_value(argc, argv, i, "--points", &value, msg)) != CLI_OPT_NOT_MINE)
+        return r == CLI_OPT_TAKEN && parse_int("--points", value, 2, 1000000, &a->points, msg)
+                   ? CLI_OPT_ERROR
+                   : r;
+    if ((r = cli_option_value(argc, argv, i, "--threads", &value, msg)) != CLI_OPT_NOT_MINE)
+        return r == CLI_OPT_TAKEN && parse_int("--threads", value, 1, 64, &a->threads, msg)
+                   ? CLI_OPT_ERROR
+                   : r;
+    return CLI_OPT_NOT_MINE;
+}
+
+static int parse(sweep_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
+{
+    memset(a, 0, sizeof *a);
+    cli_common_init(&a->common);
+    a->points = 101;
+    a->threads = 2;
+    a->floquet = 1;
+    for (int i = 1; i < argc; ++i) {
+        int r;
+        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
+            a->help = 1;
+            return USM_OK;
+        }
+        if ((r = cli_common_option(&a->common, argc, argv, &i, msg)) == CLI_OPT_TAKEN)
+            continue;
+        if (r == CLI_OPT_ERROR)
+            return USM_EINPUT;
+        if ((r = own_option(a, argc, argv, &i, msg)) == CLI_OPT_TAKEN)
+            continue;
+        if (r == CLI_OPT_ERROR)
+            return USM_EINPUT;
+        if (argv[i][0] == '-')
+            cli_msg(msg, "%s: unknown option (see usm sweep --help)", argv[i]);
+        else
+            cli_msg(msg, "%s: unexpected argument (see usm sweep --help)", argv[i]);
+        return USM_EINPUT;
+    }
+    if (!a->over || !a->have_from || !a->have_to) {
+        cli_msg(msg, "%s: required (see usm sweep --help)",
+                !a->over ? "--over" : !a->have_from ? "--from" : "--to");
+        return USM_EINPUT;
+    }
+    if (a->from == a->to) {
+        cli_msg(msg, "--to: must differ from --from (%g)", a->from);
+        return USM_EINPUT;
+    }
+    return cli_common_finish(&a->common, msg);
+}
+
+/* ---- progress bar ------------------------------------------------------------ */
+
+typedef struct bar {
+    int shown; /* last percentage drawn, -1 before the first */
+} bar;
+
+static void draw(double fraction, void *ctx)
+{
+    bar *b = ctx;
+    const int pct = (int)(100.0 * fraction);
+    if (pct == b->shown)
+        return;
+    b->shown = pct;
+    char cells[41];
+    for (int k = 0; k < 40; ++k)
+        cells[k] = k < pct * 40 / 100 ? '#' : '.';
+    cells[40] = '\0';
+    fprintf(stderr, "\rusm sweep [%s] %3d%%", cells, pct);
+    fflush(stderr);
+}
+
+/* ---- run ---------------------------------------------------------------------- */
+
+static int emit(const sweep_args *a, const usm_sweep *s)
+{
+    const cli_common *c = &a->common;
+    int rc;
+    if (c->json) {
+        json_t *obj = cli_sweep_json(s, c->model, &c->params, a->over);
+        if (!obj) {
+            cli_error("out of memory");
+            return USM_EFAILED;
+        }
+        rc = cli_json_print(obj, stdout);
+        json_decref(obj);
+    } else
+        rc = cli_sweep_csv(s, a->over, a->floquet, stdout);
+    /* reported here once; main's final check then sees a clean stream */
+    if (rc != 0 || fflush(stdout) != 0 || ferror(stdout)) {
+        clearerr(stdout);
+        cli_error("stdout: write error");
+        return USM_EFAILED;
+    }
+    return USM_OK;
+}
+
+static int run(const sweep_args *a)
+{
+    const cli_common *c = &a->common;
+    usm_sweep_options opt;
+    bar progress = {-1};
+    int status;
+    usm_sweep *s = usm_sweep_alloc(c->model);
+    if (!s) {
+        cli_error("out of memory");
+        return USM_EFAILED;
+    }
+    usm_sweep_options_default(&opt);
+    opt.over = a->over;
+    opt.from = a->from;
+    opt.to = a->to;
+    opt.points = a->points;
+    opt.floquet = a->floquet;
+    opt.t0 = a->t0;
+    opt.threads = a->threads;
+    if (isatty(STDERR_FILENO)) {
+        opt.progress = draw;
+        opt.progress_ctx = &progress;
+    }
+    status = usm_sweep_run(s, &c->params, &opt);
+    if (progress.shown >= 0)
+        fputc('\n', stderr);
+    if (status == USM_EINPUT)
+        cli_error("%s", usm_sweep_message(s));
+    else if (status != USM_OK) {
+        cli_error("sweep: %s", usm_sweep_message(s));
+        status = USM_EFAILED;
+    } else
+        status = emit(a, s);
+    usm_sweep_free(s);
+    return status;
+}
+
+int cli_sweep_main(int argc, char **argv)
+{
+    sweep_args a;
+    char msg[CLI_MSG_LEN];
+    if (parse(&a, argc, argv, msg) != USM_OK) {
+        cli_error("%s", msg);
+        return USM_EINPUT;
+    }
+    if (a.help) {
+        usage(stdout);
+        return USM_OK;
+    }
+    return run(&a);
+}

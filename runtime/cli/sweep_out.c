@@ -1,0 +1,121 @@
+/* Output of a sweep: CSV rows or one JSON object. */
+#include "sweep_out.h"
+
+#include <math.h>
+#include <string.h>
+
+#include "json_out.h"
+#include "steady_out.h"
+
+/* A point carries the keys of `usm steady --json` for one root, so that a
+ * program reading either finds the same names. */
+static json_t *point_json(const usm_sweep_point *pt, const usm_model *m, const char *over)
+{
+    json_t *obj = json_object();
+    int ok = obj != NULL;
+    cli_json_put(obj, over, cli_json_real(pt->value), &ok);
+    cli_json_put(obj, "model", json_string(m->name), &ok);
+    cli_json_put(obj, "converged", json_boolean(pt->converged), &ok);
+    if (!pt->converged)
+        cli_json_put(obj, "error", json_string(pt->error), &ok);
+    else {
+        json_t *root = cli_json_root(&pt->sol);
+        if (!root || json_object_update(obj, root) != 0)
+            ok = 0;
+        json_decref(root);
+    }
+    if (pt->has_floquet)
+        cli_json_put(obj, "floquet", cli_json_floquet(&pt->floquet), &ok);
+    if (!ok) {
+        json_decref(obj);
+        return NULL;
+    }
+    return obj;
+}
+
+static json_t *event_json(const usm_sweep_event *e, const char *over)
+{
+    json_t *obj = json_object();
+    int ok = obj != NULL;
+    cli_json_put(obj, "type", json_string(usm_event_name(e->type)), &ok);
+    cli_json_put(obj, over, cli_json_real(e->value), &ok);
+    cli_json_put(obj, "what", json_string(e->what), &ok);
+    if (e->has_sol)
+        cli_json_put(obj, "solution", cli_json_root(&e->sol), &ok);
+    if (!ok) {
+        json_decref(obj);
+        return NULL;
+    }
+    return obj;
+}
+
+json_t *cli_sweep_json(const usm_sweep *s, const usm_model *m, const usm_params *p,
+                       const char *over)
+{
+    json_t *obj = json_object();
+    json_t *points = json_array();
+    json_t *events = json_array();
+    int ok = obj && points && events;
+    cli_json_put(obj, "over", json_string(over), &ok);
+    cli_json_put(obj, "model", json_string(m->name), &ok);
+    cli_json_put(obj, "parameters", cli_json_params(p), &ok);
+    for (size_t i = 0; i < usm_sweep_count(s); ++i)
+        if (json_array_append_new(points, point_json(usm_sweep_point_at(s, i), m, over)) != 0)
+            ok = 0;
+    for (size_t i = 0; i < usm_sweep_event_count(s); ++i)
+        if (json_array_append_new(events, event_json(usm_sweep_event_at(s, i), over)) != 0)
+            ok = 0;
+    cli_json_put(obj, "points", points, &ok);
+    cli_json_put(obj, "events", events, &ok);
+    if (!ok) {
+        json_decref(obj);
+        return NULL;
+    }
+    return obj;
+}
+
+/* An empty field rather than "nan": spreadsheets and numpy read it as missing. */
+static void field(FILE *out, double v, const char *fmt)
+{
+    fputc(',', out);
+    if (isfinite(v))
+        fprintf(out, fmt, v);
+}
+
+int cli_sweep_csv(const usm_sweep *s, const char *over, int floquet, FILE *out)
+{
+    const usm_param_info *info = usm_params_find(over);
+    fprintf(out, "%s [%s],theta [rad],alpha [rad],rotor_speed [1/s],F_n [N],F_t [N],"
+                 "mu_needed [1],max_modulus [1],stable,converged\n",
+            over, info ? info->unit : "");
+    for (size_t i = 0; i < usm_sweep_count(s); ++i) {
+        const usm_sweep_point *pt = usm_sweep_point_at(s, i);
+        char buf[32];
+        /* every bit of the swept value: `usm steady --set` reproduces the row */
+        fputs(cli_shortest(buf, pt->value), out);
+        if (!pt->converged) {
+            fputs(",,,,,,,,,false\n", out);
+            continue;
+        }
+        const usm_steady_solution *r = &pt->sol;
+        field(out, r->theta, "%.12g");
+        field(out, r->alpha, "%.12g");
+        field(out, r->rotor_speed, "%.12g");
+        field(out, r->F_n, "%.12g");
+        field(out, r->F_t, "%.12g");
+        field(out, r->mu_used, "%.12g");
+        if (floquet && pt->has_floquet) {
+            field(out, pt->floquet.max_modulus, "%.12g");
+            fprintf(out, ",%s", pt->floquet.stable ? "true" : "false");
+        } else
+            fputs(",,", out);
+        fputs(",true\n", out);
+    }
+    for (size_t i = 0; i < usm_sweep_event_count(s); ++i) {
+        const usm_sweep_event *e = usm_sweep_event_at(s, i);
+        char buf[32];
+        fprintf(out, "# %s at %s = %s: %s\n", usm_event_name(e->type), over,
+                cli_shortest(buf, e->value), e->what);
+    }
+    return ferror(out) ? -1 : 0;
+}

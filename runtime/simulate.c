@@ -1,0 +1,951 @@
+/* Transient simulation of M(x) x' = f(x, t) with CVODES (see usm_simulate.h).
+ *
+ * Events drive the loop: CVode in CV_NORMAL mode is asked for the next sample
+ * time or the next end of an excitation period, whichever comes first, so the
+ * values handed out are CVODES' interpolants (dense output) and the internal
+ * steps are chosen by the error control alone.  Quadratures of theta and of
+ * phidot_R give exact period means (and the stick model's rotor angle, which
+ * is not a state there).  Root functions find contact events and runaway.
+ */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <gsl/gsl_errno.h>
+#include <gsl/gsl_linalg.h>
+
+#include <cvodes/cvodes.h>
+#include <nvector/nvector_serial.h>
+#include <sunlinsol/sunlinsol_dense.h>
+#include <sunmatrix/sunmatrix_dense.h>
+
+#include "usm_simulate.h"
+
+#define TWO_PI 6.283185307179586476925286766559
+
+/* Root functions, in CVODES' order. */
+enum { ROOT_TILT_ZERO, ROOT_TILT_LIMIT, ROOT_SPEED, ROOT_FN, ROOT_STICK, NROOTS };
+
+/* A step count per CVode call (at most one excitation period) that no sane
+ * motion needs: the paper's parameters take about 30 to 60. */
+#define STEPS_PER_CALL 20000
+
+struct usm_sim {
+    const usm_model *m;
+    int n;
+    int iphi, ith, ipsi, irot; /* positions in x (irot = -1: rotor angle not a state) */
+    int iphid, ithd, ipsid;    /* positions of their rates */
+    int layout_ok;
+    usm_params p;
+    usm_sim_options o;
+    double Omega, t0, t1;
+    /* integrator state z = T x + c + d (t - t0) (see to_x) */
+    double c[USM_MAX_NX], d[USM_MAX_NX];
+    double ewt_scale[USM_MAX_NX];
+    unsigned char ewt_absolute[USM_MAX_NX];
+    int nroots;
+    /* SUNDIALS */
+    SUNContext ctx;
+    void *cv;
+    N_Vector y, q;
+    SUNMatrix A;
+    SUNLinearSolver LS;
+    /* linear algebra */
+    gsl_matrix *Mx;
+    gsl_matrix *G;
+    gsl_permutation *perm;
+    usm_steady *steady;
+    /* running diagnostics, updated by the root function at every step */
+    usm_sim_summary *sum;
+    double Fn_min, excess_max;
+    int in_open, in_stick;
+    double open_since, stick_since;
+    char cvmsg[USM_MSG_LEN];
+    char msg[USM_MSG_LEN];
+};
+
+void usm_sim_options_default(usm_sim_options *opt)
+{
+    memset(opt, 0, sizeof *opt);
+    opt->start = USM_SIM_FROM_REST;
+    opt->t0 = 0.0;
+    opt->duration = 0.0;
+    opt->tilt0 = 1e-6;
+    opt->rotor_angle0 = 0.0;
+    opt->rate = 0.0;
+    opt->rtol = 1e-8;
+    opt->settle_tol = 1e-3;
+    opt->settle_periods = 100;
+    opt->theta_limit = 0.5;
+    opt->speed_limit = 1e4;
+    opt->max_steps = 0;
+    opt->max_step = 0.0;
+}
+
+const char *usm_sim_stop_name(usm_sim_stop stop)
+{
+    switch (stop) {
+    case USM_SIM_COMPLETED:
+        return "completed";
+    case USM_SIM_INTEGRATOR:
+        return "integrator";
+    case USM_SIM_RUNAWAY_TILT:
+        return "runaway_tilt";
+    case USM_SIM_TILT_ZERO:
+        return "tilt_zero";
+    case USM_SIM_RUNAWAY_SPEED:
+        return "runaway_speed";
+    case USM_SIM_MAX_STEPS:
+        return "max_steps";
+    case USM_SIM_STOPPED:
+        return "stopped";
+    }
+    return "unknown";
+}
+
+const char *usm_sim_message(const usm_sim *s) { return s->msg; }
+
+static int state_index(const usm_model *m, const char *name)
+{
+    for (int i = 0; i < m->nx; ++i)
+        if (strcmp(m->state_names[i], name) == 0)
+            return i;
+    return -1;
+}
+
+usm_sim *usm_sim_alloc(const usm_model *m)
+{
+    usm_sim *s = calloc(1, sizeof *s);
+    if (!s)
+        return NULL;
+    s->m = m;
+    s->n = m->nx;
+    s->iphi = state_index(m, "phi");
+    s->ith = state_index(m, "theta");
+    s->ipsi = state_index(m, "psi");
+    s->irot = state_index(m, "phi_R");
+    s->iphid = state_index(m, "phidot");
+    s->ithd = state_index(m, "thetadot");
+    s->ipsid = state_index(m, "psidot");
+    s->layout_ok = s->iphi >= 0 && s->ith >= 0 && s->ipsi >= 0 && s->iphid >= 0 &&
+                   s->ithd >= 0 && s->ipsid >= 0;
+    s->Mx = gsl_matrix_alloc((size_t)s->n, (size_t)s->n);
+    s->G = gsl_matrix_alloc((size_t)s->n, (size_t)s->n);
+    s->perm = gsl_permutation_alloc((size_t)s->n);
+    s->steady = usm_steady_alloc(m);
+    if (!s->Mx || !s->G || !s->perm || !s->steady || SUNContext_Create(NULL, &s->ctx) != 0) {
+        s->ctx = NULL;
+        usm_sim_free(s);
+        return NULL;
+    }
+    return s;
+}
+
+static void free_integrator(usm_sim *s)
+{
+    if (s->cv)
+        CVodeFree(&s->cv);
+    if (s->LS)
+        SUNLinSolFree(s->LS);
+    if (s->A)
+        SUNMatDestroy(s->A);
+    if (s->y)
+        N_VDestroy(s->y);
+    if (s->q)
+        N_VDestroy(s->q);
+    s->cv = NULL;
+    s->LS = NULL;
+    s->A = NULL;
+    s->y = s->q = NULL;
+}
+
+void usm_sim_free(usm_sim *s)
+{
+    if (!s)
+        return;
+    free_integrator(s);
+    if (s->ctx)
+        SUNContext_Free(&s->ctx);
+    gsl_matrix_free(s->Mx);
+    gsl_matrix_free(s->G);
+    gsl_permutation_free(s->perm);
+    usm_steady_free(s->steady);
+    free(s);
+}
+
+/* ---- the model in the integrator's coordinates -------------------------------- */
+
+/* z = T x + c + d (t - t0), where T replaces phi by phi + psi and phidot by
+ * phidot + psidot (see set_scales for why). */
+static void to_x(const usm_sim *s, double t, const double *z, double *x)
+{
+    const double dt = t - s->t0;
+    for (int i = 0; i < s->n; ++i)
+        x[i] = z[i] - s->c[i] - s->d[i] * dt;
+    x[s->iphi] -= x[s->ipsi];
+    x[s->iphid] -= x[s->ipsid];
+}
+
+static void to_z(const usm_sim *s, double t, const double *x, double *z)
+{
+    const double dt = t - s->t0;
+    double u[USM_MAX_NX];
+    memcpy(u, x, sizeof(double) * (size_t)s->n);
+    u[s->iphi] += u[s->ipsi];
+    u[s->iphid] += u[s->ipsid];
+    for (int i = 0; i < s->n; ++i)
+        z[i] = u[i] + s->c[i] + s->d[i] * dt;
+}
+
+/* z' = T x' + d */
+static void to_zdot(const usm_sim *s, const double *xdot, double *zdot)
+{
+    for (int i = 0; i < s->n; ++i)
+        zdot[i] = xdot[i] + s->d[i];
+    zdot[s->iphi] += xdot[s->ipsi];
+    zdot[s->iphid] += xdot[s->ipsid];
+}
+
+/* LU of M(x) into s->Mx; 0, or -1 when singular or not finite (theta -> 0). */
+static int factor_mass(usm_sim *s, const double *x)
+{
+    const int n = s->n;
+    double M[USM_MAX_NX * USM_MAX_NX];
+    int sign;
+    s->m->mass(x, &s->p, M);
+    for (int i = 0; i < n * n; ++i) {
+        if (!isfinite(M[i]))
+            return -1;
+        s->Mx->data[i] = M[i];
+    }
+    if (gsl_linalg_LU_decomp(s->Mx, s->perm, &sign) != GSL_SUCCESS)
+        return -1;
+    /* GSL's LU does not fail on an exactly singular matrix; its solve would
+     * return inf.  Reject a zero pivot here. */
+    for (int i = 0; i < n; ++i)
+        if (gsl_matrix_get(s->Mx, (size_t)i, (size_t)i) == 0.0)
+            return -1;
+    return 0;
+}
+
+/* x and xdot = M^{-1} f at (t, y).  0, or -1 (recoverable for CVODES). */
+static int evaluate(usm_sim *s, double t, const double *y, double *x, double *xdot)
+{
+    to_x(s, t, y, x);
+    if (factor_mass(s, x) != 0)
+        return -1;
+    s->m->rhs(x, t, &s->p, xdot);
+    gsl_vector_view v = gsl_vector_view_array(xdot, (size_t)s->n);
+    if (gsl_linalg_LU_svx(s->Mx, s->perm, &v.vector) != GSL_SUCCESS)
+        return -1;
+    for (int i = 0; i < s->n; ++i)
+        if (!isfinite(xdot[i]))
+            return -1;
+    return 0;
+}
+
+static int cv_rhs(sunrealtype t, N_Vector yv, N_Vector ydot, void *data)
+{
+    usm_sim *s = data;
+    double x[USM_MAX_NX], xdot[USM_MAX_NX];
+    if (evaluate(s, t, N_VGetArrayPointer(yv), x, xdot) != 0)
+        return 1; /* recoverable: CVODES retries with a smaller step */
+    to_zdot(s, xdot, N_VGetArrayPointer(ydot));
+    return 0;
+}
+
+/* x' = T^{-1} (z' - d) */
+static void to_xdot(const usm_sim *s, const double *zdot, double *xdot)
+{
+    for (int i = 0; i < s->n; ++i)
+        xdot[i] = zdot[i] - s->d[i];
+    xdot[s->iphi] -= xdot[s->ipsi];
+    xdot[s->iphid] -= xdot[s->ipsid];
+}
+
+/* dz'/dz = T (dx'/dx) T^{-1}, dx'/dx = M^{-1} (df/dx - d(M v)/dx |_{v = x'}). */
+static int cv_jac(sunrealtype t, N_Vector yv, N_Vector fy, SUNMatrix J, void *data,
+                  N_Vector tmp1, N_Vector tmp2, N_Vector tmp3)
+{
+    usm_sim *s = data;
+    const int n = s->n;
+    double x[USM_MAX_NX], xdot[USM_MAX_NX];
+    double Jf[USM_MAX_NX * USM_MAX_NX], Jm[USM_MAX_NX * USM_MAX_NX];
+    const double *f = N_VGetArrayPointer(fy);
+    (void)tmp1;
+    (void)tmp2;
+    (void)tmp3;
+    to_x(s, t, N_VGetArrayPointer(yv), x);
+    to_xdot(s, f, xdot);
+    if (factor_mass(s, x) != 0)
+        return 1;
+    s->m->jac_rhs(x, t, &s->p, Jf);
+    s->m->jac_mass(x, xdot, &s->p, Jm);
+    for (int i = 0; i < n * n; ++i)
+        s->G->data[i] = Jf[i] - Jm[i];
+    for (int j = 0; j < n; ++j) {
+        gsl_vector_view col = gsl_matrix_column(s->G, (size_t)j);
+        if (gsl_linalg_LU_svx(s->Mx, s->perm, &col.vector) != GSL_SUCCESS)
+            return 1;
+    }
+    /* T^{-1} on the right: column psi -= column phi; T on the left: row phi += row psi */
+    for (int k = 0; k < 2; ++k) {
+        const int a = k ? s->iphid : s->iphi, b = k ? s->ipsid : s->ipsi;
+        for (int i = 0; i < n; ++i)
+            s->G->data[i * n + b] -= s->G->data[i * n + a];
+        for (int j = 0; j < n; ++j)
+            s->G->data[a * n + j] += s->G->data[b * n + j];
+    }
+    for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j) {
+            const double g = gsl_matrix_get(s->G, (size_t)i, (size_t)j);
+            if (!isfinite(g))
+                return 1;
+            SM_ELEMENT_D(J, i, j) = g;
+        }
+    return 0;
+}
+
+/* Quadratures: q0 = int theta dt, q1 = int phidot_R dt. */
+static int cv_quad(sunrealtype t, N_Vector yv, N_Vector qdot, void *data)
+{
+    usm_sim *s = data;
+    double x[USM_MAX_NX], xdot[USM_MAX_NX], out[USM_OUT_COUNT];
+    double *d = N_VGetArrayPointer(qdot);
+    if (evaluate(s, t, N_VGetArrayPointer(yv), x, xdot) != 0)
+        return 1;
+    s->m->outputs(x, xdot, t, &s->p, out);
+    d[0] = x[s->ith];
+    d[1] = out[USM_OUT_ROTOR_SPEED];
+    return isfinite(d[1]) ? 0 : 1;
+}
+
+/* CVODES evaluates the root functions at the end of every step (and at
+ * interpolated points while locating a root), which makes this the place to
+ * see extremes at step resolution without stepping one at a time. */
+static int cv_roots(sunrealtype t, N_Vector yv, sunrealtype *g, void *data)
+{
+    usm_sim *s = data;
+    double x[USM_MAX_NX], xdot[USM_MAX_NX], out[USM_OUT_COUNT];
+    if (evaluate(s, t, N_VGetArrayPointer(yv), x, xdot) != 0)
+        return -1;
+    s->m->outputs(x, xdot, t, &s->p, out);
+    const double theta = x[s->ith], Fn = out[USM_OUT_F_N], Ft = out[USM_OUT_F_T];
+    const double speed = out[USM_OUT_ROTOR_SPEED];
+    g[ROOT_TILT_ZERO] = theta;
+    g[ROOT_TILT_LIMIT] = s->o.theta_limit - theta;
+    g[ROOT_SPEED] = s->o.speed_limit - fabs(speed);
+    g[ROOT_FN] = Fn;
+    if (s->nroots > ROOT_STICK)
+        g[ROOT_STICK] = s->p.mu0 * Fn - fabs(Ft);
+    for (int i = 0; i < s->nroots; ++i)
+        if (!isfinite(g[i]))
+            return -1;
+    s->sum->theta_min = fmin(s->sum->theta_min, theta);
+    s->sum->theta_max = fmax(s->sum->theta_max, theta);
+    s->Fn_min = fmin(s->Fn_min, Fn);
+    s->excess_max = fmax(s->excess_max, fabs(Ft) - s->p.mu0 * Fn);
+    return 0;
+}
+
+static void cv_errors(int code, const char *module, const char *function, char *text, void *data)
+{
+    usm_sim *s = data;
+    (void)code;
+    (void)module;
+    snprintf(s->cvmsg, sizeof s->cvmsg, "%s: %s", function, text);
+}
+
+/* Error weights.  phi and psi are absolute (see usm_simulate.h): their size,
+ * |alpha| or a slowly growing psi offset, says nothing about the accuracy the
+ * twisting torque needs. */
+static int cv_ewt(N_Vector yv, N_Vector ewt, void *data)
+{
+    const usm_sim *s = data;
+    const double *y = N_VGetArrayPointer(yv);
+    double *w = N_VGetArrayPointer(ewt);
+    for (int i = 0; i < s->n; ++i) {
+        const double tol = s->o.rtol * (s->ewt_absolute[i] ? s->ewt_scale[i]
+                                                           : fabs(y[i]) + s->ewt_scale[i]);
+        w[i] = 1.0 / tol;
+    }
+    return 0;
+}
+
+/* ---- set-up ------------------------------------------------------------------------- */
+
+static int input_error(usm_sim *s, const char *what)
+{
+    snprintf(s->msg, USM_MSG_LEN, "%s", what);
+    return USM_EINPUT;
+}
+
+static int check_options(usm_sim *s, const usm_sim_options *o)
+{
+    if (!s->layout_ok)
+        return input_error(s, "model: the state has no phi, theta, psi and their rates");
+    if (!isfinite(o->t0))
+        return input_error(s, "t0: must be a finite number");
+    if (!(o->duration > 0) || !isfinite(o->duration))
+        return input_error(s, "duration: must be a positive number of seconds");
+    if (!(o->rate >= 0) || !isfinite(o->rate))
+        return input_error(s, "rate: must be >= 0 samples per second");
+    if (!(o->rtol >= 1e-14 && o->rtol <= 1e-3))
+        return input_error(s, "rtol: must be in [1e-14, 1e-3]");
+    if (!(o->settle_tol > 0 && o->settle_tol < 1))
+        return input_error(s, "settle_tol: must be in (0, 1)");
+    if (o->settle_periods < 1)
+        return input_error(s, "settle_periods: must be at least 1");
+    if (!(o->theta_limit > 0 && o->theta_limit < 1.5))
+        return input_error(s, "theta_limit: must be in (0, 1.5) rad");
+    if (!(o->speed_limit > 0) || !isfinite(o->speed_limit))
+        return input_error(s, "speed_limit: must be a positive number");
+    if (o->max_steps < 0)
+        return input_error(s, "max_steps: must be >= 0");
+    if (!(o->max_step >= 0) || !isfinite(o->max_step))
+        return input_error(s, "max_step: must be >= 0 seconds");
+    if (o->start == USM_SIM_FROM_REST && !(o->tilt0 > 0 && o->tilt0 < o->theta_limit))
+        return input_error(s, "tilt0: must be > 0 and below theta_limit");
+    if (!isfinite(o->rotor_angle0))
+        return input_error(s, "rotor_angle0: must be a finite number");
+    if (o->start == USM_SIM_FROM_STATE) {
+        for (int i = 0; i < s->n; ++i)
+            if (!isfinite(o->x0[i])) {
+                snprintf(s->msg, USM_MSG_LEN, "x0: %s is not a finite number", s->m->state_names[i]);
+                return USM_EINPUT;
+            }
+        if (!(o->x0[s->ith] > 0 && o->x0[s->ith] < o->theta_limit))
+            return input_error(s, "x0: theta must be > 0 (the z-x-z angles are singular at 0) "
+                                  "and below theta_limit");
+    }
+    if (o->start != USM_SIM_FROM_REST && o->start != USM_SIM_FROM_STATIONARY &&
+        o->start != USM_SIM_FROM_STATE)
+        return input_error(s, "start: unknown start");
+    return USM_OK;
+}
+
+/* usm_params_check demands m0 > 0 because a stationary solution needs the
+ * excitation; a transient with the excitation off (ring-down, energy checks)
+ * is still a meaningful motion. */
+static int check_params(usm_sim *s, const usm_params *p)
+{
+    usm_params q = *p;
+    char why[USM_MSG_LEN];
+    if (q.m0 == 0.0)
+        q.m0 = 1.0;
+    if (usm_params_check(&q, s->m, why) != USM_OK) {
+        snprintf(s->msg, USM_MSG_LEN, "%s", why);
+        return USM_EINPUT;
+    }
+    return USM_OK;
+}
+
+static int cv_setup_fail(usm_sim *s, const char *call, int flag)
+{
+    snprintf(s->msg, USM_MSG_LEN, "CVODES %s failed: %s", call, CVodeGetReturnFlagName(flag));
+    return USM_EFAILED;
+}
+
+static int setup_integrator(usm_sim *s, const double *x0, double rotor_angle0)
+{
+    const int n = s->n;
+    int flag;
+    free_integrator(s);
+    s->y = N_VNew_Serial(n, s->ctx);
+    s->q = N_VNew_Serial(2, s->ctx);
+    s->A = SUNDenseMatrix(n, n, s->ctx);
+    s->cv = CVodeCreate(CV_BDF, s->ctx);
+    if (!s->y || !s->q || !s->A || !s->cv) {
+        snprintf(s->msg, USM_MSG_LEN, "CVODES: out of memory");
+        return USM_EFAILED;
+    }
+    s->LS = SUNLinSol_Dense(s->y, s->A, s->ctx);
+    if (!s->LS) {
+        snprintf(s->msg, USM_MSG_LEN, "CVODES: out of memory");
+        return USM_EFAILED;
+    }
+    to_z(s, s->t0, x0, N_VGetArrayPointer(s->y));
+    double *q = N_VGetArrayPointer(s->q);
+    q[0] = 0.0;
+    q[1] = rotor_angle0;
+    int dir[NROOTS] = {-1, -1, -1, 0, 0};
+    if ((flag = CVodeSetErrHandlerFn(s->cv, cv_errors, s)) != CV_SUCCESS)
+        return cv_setup_fail(s, "CVodeSetErrHandlerFn", flag);
+    if ((flag = CVodeInit(s->cv, cv_rhs, s->t0, s->y)) != CV_SUCCESS)
+        return cv_setup_fail(s, "CVodeInit", flag);
+    if ((flag = CVodeSetUserData(s->cv, s)) != CV_SUCCESS)
+        return cv_setup_fail(s, "CVodeSetUserData", flag);
+    if ((flag = CVodeWFtolerances(s->cv, cv_ewt)) != CV_SUCCESS)
+        return cv_setup_fail(s, "CVodeWFtolerances", flag);
+    if ((flag = CVodeSetLinearSolver(s->cv, s->LS, s->A)) != CVLS_SUCCESS)
+        return cv_setup_fail(s, "CVodeSetLinearSolver", flag);
+    if ((flag = CVodeSetJacFn(s->cv, cv_jac)) != CVLS_SUCCESS)
+        return cv_setup_fail(s, "CVodeSetJacFn", flag);
+    if ((flag = CVodeSetMaxNumSteps(s->cv, STEPS_PER_CALL)) != CV_SUCCESS)
+        return cv_setup_fail(s, "CVodeSetMaxNumSteps", flag);
+    /* every mode is an oscillator with a few percent damping: eigenvalues
+     * close to the imaginary axis, where BDF orders 3 to 5 are unstable */
+    if ((flag = CVodeSetStabLimDet(s->cv, SUNTRUE)) != CV_SUCCESS)
+        return cv_setup_fail(s, "CVodeSetStabLimDet", flag);
+    /* Near the stationary orbit z hardly changes, and CVODES would step over
+     * hundreds of excitation periods at once: blind to a perturbation that
+     * grows from one period to the next (the 3-DOF orbit does, after about
+     * 20 ms: README-simulate.md).  A quarter period keeps it visible. */
+    if ((flag = CVodeSetMaxStep(s->cv, s->o.max_step > 0 ? s->o.max_step : 0.25 / s->p.f)) !=
+        CV_SUCCESS)
+        return cv_setup_fail(s, "CVodeSetMaxStep", flag);
+    if ((flag = CVodeSetStopTime(s->cv, s->t1)) != CV_SUCCESS)
+        return cv_setup_fail(s, "CVodeSetStopTime", flag);
+    if ((flag = CVodeQuadInit(s->cv, cv_quad, s->q)) != CV_SUCCESS)
+        return cv_setup_fail(s, "CVodeQuadInit", flag);
+    if ((flag = CVodeSetQuadErrCon(s->cv, SUNFALSE)) != CV_SUCCESS)
+        return cv_setup_fail(s, "CVodeSetQuadErrCon", flag);
+    if ((flag = CVodeRootInit(s->cv, s->nroots, cv_roots)) != CV_SUCCESS)
+        return cv_setup_fail(s, "CVodeRootInit", flag);
+    if ((flag = CVodeSetRootDirection(s->cv, dir)) != CV_SUCCESS)
+        return cv_setup_fail(s, "CVodeSetRootDirection", flag);
+    if ((flag = CVodeSetNoInactiveRootWarn(s->cv)) != CV_SUCCESS)
+        return cv_setup_fail(s, "CVodeSetNoInactiveRootWarn", flag);
+    return USM_OK;
+}
+
+/* ---- the run ------------------------------------------------------------------------ */
+
+typedef struct run_state {
+    const usm_sim_callbacks *cb;
+    double T;                 /* excitation period */
+    long k, k_last;           /* next sample index, last regular sample index */
+    double dt_sample;
+    int final_sample;         /* one more sample at t1 */
+    long j;                   /* next period end: t0 + j T */
+    double q_prev[2];         /* quadratures at the previous period end */
+    int have_avg;
+    double theta_avg, speed_avg;
+    double last_out;          /* end of the last period outside the tolerance */
+    long in_tol_run;          /* consecutive periods inside, at the end */
+} run_state;
+
+static double sample_time(const usm_sim *s, const run_state *r)
+{
+    if (r->dt_sample <= 0)
+        return INFINITY;
+    if (r->k <= r->k_last)
+        return fmin(s->t0 + (double)r->k * r->dt_sample, s->t1);
+    return r->k == r->k_last + 1 && r->final_sample ? s->t1 : INFINITY;
+}
+
+static double period_end(const usm_sim *s, const run_state *r)
+{
+    const double t = s->t0 + (double)r->j * r->T;
+    return t <= s->t1 ? t : INFINITY;
+}
+
+static int emit_sample(usm_sim *s, run_state *r, double t, const double *y, const double *q)
+{
+    double x[USM_MAX_NX], xdot[USM_MAX_NX];
+    usm_sim_sample smp;
+    memset(&smp, 0, sizeof smp);
+    if (evaluate(s, t, y, x, xdot) != 0) {
+        /* the state CVODES accepted is always evaluable; keep going with rates */
+        to_x(s, t, y, x);
+        for (int i = 0; i < s->n; ++i)
+            xdot[i] = NAN;
+    }
+    s->m->outputs(x, xdot, t, &s->p, smp.out);
+    smp.t = t;
+    smp.nx = s->n;
+    smp.x = x;
+    smp.xdot = xdot;
+    smp.phi = x[s->iphi];
+    smp.theta = x[s->ith];
+    smp.psi = x[s->ipsi];
+    smp.phidot = x[s->iphid];
+    smp.thetadot = x[s->ithd];
+    smp.psidot = x[s->ipsid];
+    smp.rotor_angle = s->irot >= 0 ? x[s->irot] : q[1];
+    smp.rotor_speed = smp.out[USM_OUT_ROTOR_SPEED];
+    smp.have_avg = r->have_avg;
+    smp.theta_avg = r->theta_avg;
+    smp.rotor_speed_avg = r->speed_avg;
+    s->sum->samples++;
+    if (r->cb && r->cb->sample)
+        return r->cb->sample(&smp, r->cb->data);
+    return 0;
+}
+
+static double rel_diff(double v, double ref)
+{
+    return (v - ref) / fmax(fabs(ref), 1e-300);
+}
+
+static void end_of_period(usm_sim *s, run_state *r, double t, const double *q)
+{
+    usm_sim_summary *sum = s->sum;
+    r->theta_avg = (q[0] - r->q_prev[0]) / r->T;
+    r->speed_avg = (q[1] - r->q_prev[1]) / r->T;
+    r->q_prev[0] = q[0];
+    r->q_prev[1] = q[1];
+    r->have_avg = 1;
+    sum->periods++;
+    sum->theta_avg_end = r->theta_avg;
+    sum->rotor_speed_avg_end = r->speed_avg;
+    if (sum->have_steady) {
+        sum->theta_rel_end = rel_diff(r->theta_avg, sum->steady.theta);
+        sum->rotor_speed_rel_end = rel_diff(r->speed_avg, sum->steady.rotor_speed);
+        if (fabs(sum->theta_rel_end) <= sum->settle_tol &&
+            fabs(sum->rotor_speed_rel_end) <= sum->settle_tol)
+            r->in_tol_run++;
+        else {
+            r->in_tol_run = 0;
+            r->last_out = t;
+        }
+    }
+}
+
+static void episode_begin(int *inside, double *since, usm_sim_episodes *e, double t)
+{
+    if (*inside)
+        return;
+    *inside = 1;
+    *since = t;
+    if (e->count++ == 0)
+        e->first = t;
+}
+
+static void episode_end(int *inside, double since, usm_sim_episodes *e, double t)
+{
+    if (!*inside)
+        return;
+    *inside = 0;
+    e->last = t;
+    e->total += t - since;
+}
+
+static void callback_stop(usm_sim *s, double t)
+{
+    s->sum->stop = USM_SIM_STOPPED;
+    snprintf(s->sum->reason, USM_MSG_LEN, "stopped by the sample callback at t = %.9g s", t);
+}
+
+/* A root was located at t: record contact events; decide about runaway. */
+static int handle_roots(usm_sim *s, double t, const double *y)
+{
+    int found[NROOTS] = {0};
+    double x[USM_MAX_NX], xdot[USM_MAX_NX], out[USM_OUT_COUNT];
+    usm_sim_summary *sum = s->sum;
+    CVodeGetRootInfo(s->cv, found);
+    if (found[ROOT_FN] < 0)
+        episode_begin(&s->in_open, &s->open_since, &sum->contact_open, t);
+    else if (found[ROOT_FN] > 0)
+        episode_end(&s->in_open, s->open_since, &sum->contact_open, t);
+    if (s->nroots > ROOT_STICK) {
+        if (found[ROOT_STICK] < 0)
+            episode_begin(&s->in_stick, &s->stick_since, &sum->stick_exceeded, t);
+        else if (found[ROOT_STICK] > 0)
+            episode_end(&s->in_stick, s->stick_since, &sum->stick_exceeded, t);
+    }
+    if (evaluate(s, t, y, x, xdot) == 0)
+        s->m->outputs(x, xdot, t, &s->p, out);
+    else
+        out[USM_OUT_ROTOR_SPEED] = NAN;
+    if (found[ROOT_TILT_ZERO]) {
+        sum->stop = USM_SIM_TILT_ZERO;
+        snprintf(sum->reason, USM_MSG_LEN,
+                 "the tilt reached 0 at t = %.9g s (theta = %.3g rad): the z-x-z Euler angles "
+                 "are singular there; start from a larger tilt0",
+                 t, x[s->ith]);
+        return 1;
+    }
+    if (found[ROOT_TILT_LIMIT]) {
+        sum->stop = USM_SIM_RUNAWAY_TILT;
+        snprintf(sum->reason, USM_MSG_LEN,
+                 "runaway: the tilt reached theta_limit = %.6g rad at t = %.9g s "
+                 "(theta = %.6g rad); the model is meant for small tilts",
+                 s->o.theta_limit, t, x[s->ith]);
+        return 1;
+    }
+    if (found[ROOT_SPEED]) {
+        const double w = out[USM_OUT_ROTOR_SPEED];
+        sum->stop = USM_SIM_RUNAWAY_SPEED;
+        snprintf(sum->reason, USM_MSG_LEN,
+                 "runaway: |rotor speed| reached speed_limit = %.6g 1/s at t = %.9g s "
+                 "(phidot_R = %.6g 1/s, %s)",
+                 s->o.speed_limit, t, w,
+                 w > 0 ? "running backwards: the load overcomes the drive"
+                       : "in the driving direction");
+        return 1;
+    }
+    return 0;
+}
+
+/* Initial state from the options; USM_OK, or USM_ENOSOLUTION. */
+static int initial_state(usm_sim *s, double *x0, double *rotor_angle0)
+{
+    const int n = s->n;
+    const usm_sim_options *o = &s->o;
+    memset(x0, 0, sizeof(double) * (size_t)n);
+    *rotor_angle0 = o->rotor_angle0;
+    switch (o->start) {
+    case USM_SIM_FROM_REST:
+        /* tilt about the excitation torque's axis at t0, twist angle zero */
+        x0[s->iphi] = s->Omega * o->t0;
+        x0[s->ipsi] = -s->Omega * o->t0;
+        x0[s->ith] = o->tilt0;
+        if (s->irot >= 0)
+            x0[s->irot] = o->rotor_angle0;
+        break;
+    case USM_SIM_FROM_STATIONARY: {
+        double orbit[2 * USM_MAX_NX];
+        if (!s->sum->have_steady) {
+            snprintf(s->msg, USM_MSG_LEN, "no stationary solution to start from: %.200s",
+                     s->sum->steady_message);
+            return USM_ENOSOLUTION;
+        }
+        s->m->steady_state(s->sum->steady.u, s->sum->steady.beta, o->t0, &s->p, orbit);
+        memcpy(x0, orbit, sizeof(double) * (size_t)n);
+        if (s->irot >= 0)
+            x0[s->irot] += o->rotor_angle0;
+        break;
+    }
+    case USM_SIM_FROM_STATE:
+        memcpy(x0, o->x0, sizeof(double) * (size_t)n);
+        break;
+    }
+    return USM_OK;
+}
+
+/* Coordinates and error weights of the integrator.
+ *
+ * In z-x-z angles a small physical perturbation of the tilt vector
+ * perpendicular to the nodal line is a change of phi or psi of size
+ * (perturbation / theta), with phi and psi moving opposite to each other; the
+ * spin phi + psi (twist, omega_Z) is what the stiff twist spring and the rotor
+ * speed see.  So CVODES works on
+ *     z = (phi + psi, theta, psi + Omega (t - t0) - psi(t0), and the rates
+ *          phidot + psidot, thetadot, psidot + Omega)    [+ phi_R, phi_Rdot, tau]
+ * and its error weights are stated physically, with theta_c the stationary
+ * tilt (or the initial one if larger):
+ *   phi + psi:       rtol * theta_c           (absolute: the twisting torque
+ *                                              c_t (phi + psi cos theta) needs it)
+ *   psi:             rtol * 1 rad              (absolute: theta * dpsi is a tilt
+ *                                              error of rtol * theta)
+ *   theta, phi_R:    rtol * (|.| + theta_c)
+ *   phidot + psidot: rtol * theta_c * Omega   (absolute: the rotor speed is
+ *                                              about (phidot + psidot) + Omega theta H / R)
+ *   psidot + Omega:  rtol * (|.| + Omega)
+ *   thetadot, phi_Rdot: rtol * (|.| + theta_c * Omega)
+ *   tau (integrated twist angle of the twist_integrated variants): as phi + psi
+ * Weighting phi and psi separately either lets the twist wander (relative
+ * weights on angles that grow like Omega t) or forces CVODES to resolve
+ * perturbations of the nodal line's direction of 1e-11 rad (absolute weights
+ * on each), which cost a factor of 30 in steps. */
+static void set_scales(usm_sim *s, const double *x0)
+{
+    const int irotd = state_index(s->m, "phi_Rdot"), itau = state_index(s->m, "tau");
+    double theta_c = s->sum->have_steady ? s->sum->steady.theta : 1e-4;
+    theta_c = fmax(theta_c, fabs(x0[s->ith]));
+    memset(s->c, 0, sizeof s->c);
+    memset(s->d, 0, sizeof s->d);
+    s->c[s->ipsi] = -x0[s->ipsi];
+    s->d[s->ipsi] = s->Omega;
+    s->c[s->ipsid] = s->Omega;
+    for (int i = 0; i < s->n; ++i) {
+        s->ewt_scale[i] = theta_c;
+        s->ewt_absolute[i] = 0;
+    }
+    s->ewt_absolute[s->iphi] = 1;
+    s->ewt_absolute[s->ipsi] = 1;
+    s->ewt_scale[s->ipsi] = 1.0;
+    s->ewt_absolute[s->iphid] = 1;
+    s->ewt_scale[s->iphid] = theta_c * s->Omega;
+    s->ewt_scale[s->ithd] = theta_c * s->Omega;
+    s->ewt_scale[s->ipsid] = s->Omega;
+    if (irotd >= 0)
+        s->ewt_scale[irotd] = theta_c * s->Omega;
+    if (itau >= 0) /* an integrated twist angle: what the twist spring sees */
+        s->ewt_absolute[itau] = 1;
+}
+
+static void collect_stats(usm_sim *s)
+{
+    long v;
+    usm_sim_summary *sum = s->sum;
+    if (CVodeGetNumSteps(s->cv, &v) == CV_SUCCESS)
+        sum->steps = v;
+    if (CVodeGetNumRhsEvals(s->cv, &v) == CV_SUCCESS)
+        sum->rhs_evals = v;
+    if (CVodeGetNumJacEvals(s->cv, &v) == CV_SUCCESS)
+        sum->jac_evals = v;
+    if (CVodeGetNumErrTestFails(s->cv, &v) == CV_SUCCESS)
+        sum->error_test_fails = v;
+    if (CVodeGetNumNonlinSolvConvFails(s->cv, &v) == CV_SUCCESS)
+        sum->newton_fails = v;
+}
+
+static int integrate(usm_sim *s, run_state *r)
+{
+    usm_sim_summary *sum = s->sum;
+    double *y = N_VGetArrayPointer(s->y);
+    double q[2] = {0.0, s->o.rotor_angle0};
+    double t = s->t0;
+    const long max_steps = s->o.max_steps > 0
+                               ? s->o.max_steps
+                               : 2000 * (long)ceil((s->t1 - s->t0) / r->T) + 100000;
+
+    if (r->dt_sample > 0) {
+        if (emit_sample(s, r, t, y, q) != 0) {
+            callback_stop(s, t);
+            return USM_EFAILED;
+        }
+        r->k = 1;
+    }
+    for (;;) {
+        const double ts = sample_time(s, r), tp = period_end(s, r);
+        const double tout = fmin(fmin(ts, tp), s->t1);
+        s->cvmsg[0] = '\0';
+        int flag = CVode(s->cv, tout, s->y, &t, CV_NORMAL);
+        sum->t_reached = t;
+        if (flag < 0) {
+            sum->stop = USM_SIM_INTEGRATOR;
+            snprintf(sum->reason, USM_MSG_LEN, "CVODES failed at t = %.9g s: %s%s%.150s", t,
+                     CVodeGetReturnFlagName(flag), s->cvmsg[0] ? " -- " : "", s->cvmsg);
+            return USM_EFAILED;
+        }
+        if (CVodeGetQuad(s->cv, &t, s->q) == CV_SUCCESS)
+            memcpy(q, N_VGetArrayPointer(s->q), sizeof q);
+        if (flag == CV_ROOT_RETURN) {
+            if (handle_roots(s, t, y))
+                return USM_EFAILED;
+            continue;
+        }
+        if (tout == tp) {
+            end_of_period(s, r, t, q);
+            r->j++;
+            if (r->cb && r->cb->progress)
+                r->cb->progress(t, s->t0, s->t1, r->cb->data);
+        }
+        if (tout == ts) {
+            if (emit_sample(s, r, t, y, q) != 0) {
+                callback_stop(s, t);
+                return USM_EFAILED;
+            }
+            r->k++;
+        }
+        if (tout >= s->t1)
+            return USM_OK;
+        long nst = 0;
+        if (CVodeGetNumSteps(s->cv, &nst) == CV_SUCCESS && nst >= max_steps) {
+            sum->stop = USM_SIM_MAX_STEPS;
+            snprintf(sum->reason, USM_MSG_LEN,
+                     "step cap: %ld internal steps used by t = %.9g s (max_steps); "
+                     "the motion needs far more work than a motor start-up",
+                     nst, t);
+            return USM_EFAILED;
+        }
+    }
+}
+
+int usm_sim_run(usm_sim *s, const usm_params *p, const usm_sim_options *opt,
+                const usm_sim_callbacks *cb, usm_sim_summary *sum)
+{
+    usm_sim_options def;
+    double x0[USM_MAX_NX], rotor_angle0;
+    run_state r;
+    int rc;
+    if (!opt) {
+        usm_sim_options_default(&def);
+        opt = &def;
+    }
+    s->msg[0] = '\0';
+    if ((rc = check_options(s, opt)) != USM_OK || (rc = check_params(s, p)) != USM_OK)
+        return rc;
+    s->p = *p;
+    s->o = *opt;
+    s->Omega = TWO_PI * p->f;
+    s->t0 = opt->t0;
+    s->t1 = opt->t0 + opt->duration;
+    s->nroots = s->m->friction ? ROOT_STICK : NROOTS; /* stick check only without a friction law */
+    s->sum = sum;
+    memset(sum, 0, sizeof *sum);
+    sum->stop = USM_SIM_COMPLETED;
+    sum->t0 = s->t0;
+    sum->t1 = s->t1;
+    sum->t_reached = s->t0;
+    sum->settle_tol = opt->settle_tol;
+    sum->settle_periods = opt->settle_periods;
+    sum->theta_min = INFINITY;
+    sum->theta_max = -INFINITY;
+    sum->stick_checked = s->nroots > ROOT_STICK;
+    s->Fn_min = INFINITY;
+    s->excess_max = -INFINITY;
+    s->in_open = s->in_stick = 0;
+
+    if (usm_steady_solve(s->steady, p, NULL) == USM_OK && usm_steady_count(s->steady) > 0) {
+        sum->have_steady = 1;
+        sum->steady = *usm_steady_root(s->steady, 0);
+    } else
+        snprintf(sum->steady_message, USM_MSG_LEN, "%s", usm_steady_message(s->steady));
+
+    if ((rc = initial_state(s, x0, &rotor_angle0)) != USM_OK)
+        return rc;
+    set_scales(s, x0);
+    memcpy(sum->final_x, x0, sizeof(double) * (size_t)s->n);
+    sum->final_rotor_angle = s->irot >= 0 ? x0[s->irot] : rotor_angle0;
+
+    if ((rc = setup_integrator(s, x0, rotor_angle0)) != USM_OK)
+        goto done;
+    {
+        double g[NROOTS];
+        if (cv_roots(s->t0, s->y, g, s) != 0) {
+            snprintf(s->msg, USM_MSG_LEN,
+                     "the initial state is not valid: the mass matrix is singular or a value "
+                     "is not finite");
+            rc = USM_EINPUT;
+            goto done;
+        }
+        if (g[ROOT_FN] < 0)
+            episode_begin(&s->in_open, &s->open_since, &sum->contact_open, s->t0);
+        if (s->nroots > ROOT_STICK && g[ROOT_STICK] < 0)
+            episode_begin(&s->in_stick, &s->stick_since, &sum->stick_exceeded, s->t0);
+        if (g[ROOT_SPEED] <= 0) {
+            snprintf(s->msg, USM_MSG_LEN, "the initial rotor speed is beyond speed_limit");
+            rc = USM_EINPUT;
+            goto done;
+        }
+    }
+
+    memset(&r, 0, sizeof r);
+    r.cb = cb;
+    r.T = 1.0 / p->f;
+    r.j = 1;
+    r.last_out = s->t0;
+    r.q_prev[0] = 0.0;
+    r.q_prev[1] = rotor_angle0;
+    if (opt->rate > 0) {
+        r.dt_sample = 1.0 / opt->rate;
+        r.k_last = (long)floor(opt->duration * opt->rate * (1 + 1e-12));
+        r.final_sample = (s->t1 - (s->t0 + (double)r.k_last * r.dt_sample)) > 1e-9 * r.dt_sample;
+    }
+    rc = integrate(s, &r);
+    collect_stats(s);
+    {
+        double x[USM_MAX_NX];
+        to_x(s, sum->t_reached, N_VGetArrayPointer(s->y), x);
+        memcpy(sum->final_x, x, sizeof(double) * (size_t)s->n);
+        sum->final_rotor_angle = s->irot >= 0 ? x[s->irot] : N_VGetArrayPointer(s->q)[1];
+    }
+    episode_end(&s->in_open, s->open_since, &sum->contact_open, sum->t_reached);
+    episode_end(&s->in_stick, s->stick_since, &sum->stick_exceeded, sum->t_reached);
+    if (sum->contact_open.count)
+        sum->contact_open.worst = s->Fn_min;
+    if (sum->stick_exceeded.count)
+        sum->stick_exceeded.worst = s->excess_max;
+    sum->settled = sum->have_steady && rc == USM_OK && r.in_tol_run >= opt->settle_periods;
+    sum->t_settle = sum->settled ? r.last_out : NAN;
+    if (rc != USM_OK)
+        snprintf(s->msg, USM_MSG_LEN, "%s", sum->reason);
+done:
+    free_integrator(s);
+    return rc;
+}

@@ -1,0 +1,262 @@
+/* Motor characteristics: the stationary solution followed in one parameter.
+ *
+ * This file holds the API of usm_sweep.h: options and their checks, the grid,
+ * the result arrays and the order of the work.  The continuation itself is in
+ * sweep_branch.c, the Floquet part in sweep_stability.c.
+ */
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "sweep_internal.h"
+
+const char *usm_event_name(usm_event_type type)
+{
+    switch (type) {
+    case USM_EVENT_FOLD:
+        return "fold";
+    case USM_EVENT_STICK_LIMIT:
+        return "stick_limit";
+    case USM_EVENT_FRICTION_SATURATION:
+        return "friction_saturation";
+    case USM_EVENT_STABILITY_CHANGE:
+        return "stability_change";
+    }
+    return "unknown";
+}
+
+void usm_sweep_options_default(usm_sweep_options *opt)
+{
+    memset(opt, 0, sizeof *opt);
+    opt->over = "f";
+    opt->from = 36000.0;
+    opt->to = 39000.0;
+    opt->points = 31;
+    opt->floquet = 1;
+    opt->t0 = 0.0;
+    opt->threads = 2;
+    opt->progress = NULL;
+    opt->progress_ctx = NULL;
+    usm_steady_options_default(&opt->steady);
+}
+
+usm_sweep *usm_sweep_alloc(const usm_model *m)
+{
+    usm_sweep *s = calloc(1, sizeof *s);
+    if (!s)
+        return NULL;
+    s->m = m;
+    s->steady = usm_steady_alloc(m);
+    if (!s->steady || sweep_branch_alloc(&s->br, m) != 0) {
+        usm_sweep_free(s);
+        return NULL;
+    }
+    return s;
+}
+
+void usm_sweep_free(usm_sweep *s)
+{
+    if (!s)
+        return;
+    usm_steady_free(s->steady);
+    sweep_branch_free(&s->br);
+    free(s->pts);
+    free(s->ev);
+    free(s);
+}
+
+size_t usm_sweep_count(const usm_sweep *s) { return s->npts; }
+
+const usm_sweep_point *usm_sweep_point_at(const usm_sweep *s, size_t i)
+{
+    return i < s->npts ? &s->pts[i] : NULL;
+}
+
+size_t usm_sweep_event_count(const usm_sweep *s) { return s->nev; }
+
+const usm_sweep_event *usm_sweep_event_at(const usm_sweep *s, size_t i)
+{
+    return i < s->nev ? &s->ev[i] : NULL;
+}
+
+const char *usm_sweep_message(const usm_sweep *s) { return s->msg; }
+
+const char *sweep_value_text(const usm_sweep *s, double value, char buf[64])
+{
+    const char *unit = s->br.info->unit;
+    /* a dimensionless value reads better without the unit "1" */
+    snprintf(buf, 64, "%s = %.10g%s%s", s->br.info->name, value, strcmp(unit, "1") ? " " : "",
+             strcmp(unit, "1") ? unit : "");
+    return buf;
+}
+
+int sweep_add_event(usm_sweep *s, usm_event_type type, double value,
+                    const usm_steady_solution *sol, const char *fmt, ...)
+{
+    if (s->nev == s->evcap) {
+        size_t cap = s->evcap ? 2 * s->evcap : 8;
+        usm_sweep_event *ev = realloc(s->ev, cap * sizeof *ev);
+        if (!ev)
+            return -1;
+        s->ev = ev;
+        s->evcap = cap;
+    }
+    usm_sweep_event *e = &s->ev[s->nev++];
+    memset(e, 0, sizeof *e);
+    e->type = type;
+    e->value = value;
+    if (sol) {
+        e->sol = *sol;
+        e->has_sol = 1;
+    }
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(e->what, USM_MSG_LEN, fmt, ap);
+    va_end(ap);
+    return 0;
+}
+
+void sweep_progress(const usm_sweep *s, double fraction)
+{
+    if (s->opt && s->opt->progress)
+        s->opt->progress(fmin(1.0, fmax(0.0, fraction)), s->opt->progress_ctx);
+}
+
+void sweep_point_done(usm_sweep *s)
+{
+    ++s->done;
+    sweep_progress(s, s->progress_split * (double)s->done / (double)s->npts);
+}
+
+/* ---- options ------------------------------------------------------------------ */
+
+static double grid_value(const usm_sweep_options *opt, int i)
+{
+    /* one rounding where the values allow it: 36000..39000 in 301 points gives
+     * 36010, not 36009.999999999993, and the ends are from and to exactly */
+    const double n = opt->points - 1;
+    if (i == 0)
+        return opt->from;
+    if (i == opt->points - 1)
+        return opt->to;
+    return (opt->from * (n - i) + opt->to * i) / n;
+}
+
+static int check_options(usm_sweep *s, const usm_params *p, const usm_sweep_options *opt)
+{
+    const usm_param_info *info;
+    char lib[USM_MSG_LEN];
+    if (!opt || !p) {
+        snprintf(s->msg, USM_MSG_LEN, "%s: must not be NULL", !opt ? "options" : "params");
+        return USM_EINPUT;
+    }
+    if (!opt->over || !(info = usm_params_find(opt->over))) {
+        snprintf(s->msg, USM_MSG_LEN, "over: unknown parameter \"%s\"",
+                 opt->over ? opt->over : "(null)");
+        return USM_EINPUT;
+    }
+    if (!isfinite(opt->from) || !isfinite(opt->to)) {
+        snprintf(s->msg, USM_MSG_LEN, "%s: must be a finite number",
+                 !isfinite(opt->from) ? "from" : "to");
+        return USM_EINPUT;
+    }
+    if (opt->to == opt->from) {
+        snprintf(s->msg, USM_MSG_LEN, "to: must differ from from (%g)", opt->from);
+        return USM_EINPUT;
+    }
+    if (opt->points < 2) {
+        snprintf(s->msg, USM_MSG_LEN, "points: must be at least 2, got %d", opt->points);
+        return USM_EINPUT;
+    }
+    if (opt->threads < 1 || opt->threads > SWEEP_MAX_THREADS) {
+        snprintf(s->msg, USM_MSG_LEN, "threads: must be between 1 and %d, got %d", SWEEP_MAX_THREADS,
+                 opt->threads);
+        return USM_EINPUT;
+    }
+    if (!isfinite(opt->t0)) {
+        snprintf(s->msg, USM_MSG_LEN, "t0: must be a finite number");
+        return USM_EINPUT;
+    }
+    if (!(opt->steady.theta_min > 0 && opt->steady.theta_max > opt->steady.theta_min &&
+          opt->steady.grid >= 2 && opt->steady.xtol > 0)) {
+        snprintf(s->msg, USM_MSG_LEN,
+                 "steady: need 0 < theta_min < theta_max, grid >= 2 and xtol > 0");
+        return USM_EINPUT;
+    }
+    /* Every grid value, not only the ends: the range may cross a bound
+     * (f from -1 to 1) and a message naming the point beats a silent gap. */
+    usm_params q = *p;
+    for (int i = 0; i < opt->points; ++i) {
+        *usm_params_field(&q, info) = grid_value(opt, i);
+        if (usm_params_check(&q, s->m, lib) != USM_OK) {
+            snprintf(s->msg, USM_MSG_LEN, "%.190s (sweep point %d of %d)", lib, i + 1,
+                     opt->points);
+            return USM_EINPUT;
+        }
+    }
+    return USM_OK;
+}
+
+static int setup_points(usm_sweep *s, const usm_sweep_options *opt)
+{
+    const size_t n = (size_t)opt->points;
+    if (n > s->cap) {
+        usm_sweep_point *pts = realloc(s->pts, n * sizeof *pts);
+        if (!pts) {
+            snprintf(s->msg, USM_MSG_LEN, "out of memory for %zu sweep points", n);
+            return USM_EFAILED;
+        }
+        s->pts = pts;
+        s->cap = n;
+    }
+    s->npts = n;
+    memset(s->pts, 0, n * sizeof *s->pts);
+    for (size_t i = 0; i < n; ++i)
+        s->pts[i].value = grid_value(opt, (int)i);
+    return USM_OK;
+}
+
+/* Events in sweep order, whatever phase found them. */
+static int by_position(const void *a, const void *b)
+{
+    const usm_sweep_event *x = a, *y = b;
+    return (x->value > y->value) - (x->value < y->value);
+}
+
+int usm_sweep_run(usm_sweep *s, const usm_params *p, const usm_sweep_options *opt)
+{
+    int status;
+    s->npts = 0;
+    s->nev = 0;
+    s->msg[0] = '\0';
+    s->opt = NULL;
+    if ((status = check_options(s, p, opt)) != USM_OK)
+        return status;
+    if ((status = setup_points(s, opt)) != USM_OK)
+        return status;
+    s->opt = opt;
+    s->done = 0;
+    s->progress_split = opt->floquet ? 0.05 : 1.0;
+    sweep_progress(s, 0.0);
+    status = sweep_trace_grid(s, p, opt);
+    if (status == USM_OK && opt->floquet) {
+        status = sweep_floquet_points(s, p, opt);
+        if (status == USM_OK)
+            status = sweep_stability_events(s, p, opt);
+    }
+    if (s->nev > 1) {
+        qsort(s->ev, s->nev, sizeof *s->ev, by_position);
+        if (opt->to < opt->from)
+            for (size_t i = 0, j = s->nev - 1; i < j; ++i, --j) {
+                usm_sweep_event t = s->ev[i];
+                s->ev[i] = s->ev[j];
+                s->ev[j] = t;
+            }
+    }
+    if (status == USM_OK)
+        sweep_progress(s, 1.0);
+    s->opt = NULL;
+    return status;
+}

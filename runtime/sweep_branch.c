@@ -1,0 +1,783 @@
+/* Pseudo-arclength continuation of the stationary solution, and the events
+ * on the branch (fold, tilt-range boundary, stick limit, friction saturation).
+ *
+ * Math: with z = (u / su, lambda / Lambda) the branch is F(z) = r(u; lambda) = 0,
+ * one equation short of a square system.  Keller's bordered system adds one
+ * linear row c.z = c0:
+ *   tangent    [F_z; t_prev] t = e_n            (F_z from steady_jacobian and the
+ *                                                 swept column of steady_jacobian_params)
+ *   step       predictor z + h t, corrector Newton on [F; t.(z - z_k) - h] = 0
+ *   landing    Newton on [F; z_lambda - g / Lambda] = 0   (a grid value g)
+ *   saturation Newton on [F; z_rotor - W / su]     = 0   (rotor speed "infinite")
+ * The bordered matrix stays regular at a fold, where F_u alone is singular, so
+ * the branch is followed through points where lambda turns.
+ *
+ * An accepted step from z_k is the arc s -> z(s), s in [0, h], each z(s)
+ * corrected onto the branch in the hyperplane t_k.(z - z_k) = s.  Events are
+ * roots of scalar functions of s located by Brent's method on that arc:
+ *   fold      the lambda component of the tangent (lambda is extremal there, so
+ *             the error in lambda is quadratic in the error in s)
+ *   boundary  theta(s) - theta_min, theta_max - theta(s)
+ *   stick     |F_t| - mu0 F_n
+ *   grid      lambda(s) - g, then the landing correction at exactly g.
+ */
+#include <math.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <gsl/gsl_errno.h>
+
+#include "sweep_internal.h"
+
+#define NEWTON_MAX 12
+#define NEWTON_TOL 1e-10      /* max |dz| of the last Newton step (scaled units) */
+#define H_MAX 0.05            /* longest step: 1/20 of the sweep range in lambda */
+#define H_MIN 1e-13
+#define COS_MAX_TURN 0.9      /* successive tangents at most ~25 degrees apart */
+#define MAX_STEPS 2000000
+/* Once F_t / F_n is this close to the friction law's supremum the saturation
+ * point is computed directly instead of following the diverging rotor speed. */
+#define SAT_TRIGGER 0.999
+#define V_HUGE 1e15           /* slip velocity [m/s] that stands for infinity */
+#define TWO_PI 6.283185307179586476925286766559
+
+int sweep_branch_alloc(sweep_branch *b, const usm_model *m)
+{
+    const size_t n = (size_t)m->nu + 1;
+    memset(b, 0, sizeof *b);
+    b->m = m;
+    b->nu = m->nu;
+    b->n = m->nu + 1;
+    b->rotor = -1;
+    if (m->friction)
+        for (int i = 0; i < m->nu; ++i)
+            if (strcmp(m->unknown_names[i], "phidot_R") == 0)
+                b->rotor = i;
+    b->A = gsl_matrix_alloc(n, n);
+    b->perm = gsl_permutation_alloc(n);
+    b->b = gsl_vector_alloc(n);
+    b->x = gsl_vector_alloc(n);
+    b->brent = gsl_root_fsolver_alloc(gsl_root_fsolver_brent);
+    return b->A && b->perm && b->b && b->x && b->brent ? 0 : -1;
+}
+
+void sweep_branch_free(sweep_branch *b)
+{
+    if (b->A)
+        gsl_matrix_free(b->A);
+    if (b->perm)
+        gsl_permutation_free(b->perm);
+    if (b->b)
+        gsl_vector_free(b->b);
+    if (b->x)
+        gsl_vector_free(b->x);
+    if (b->brent)
+        gsl_root_fsolver_free(b->brent);
+    memset(b, 0, sizeof *b);
+}
+
+/* ---- the bordered system ------------------------------------------------------ */
+
+static double dot(const sweep_branch *b, const double *x, const double *y)
+{
+    double d = 0;
+    for (int j = 0; j < b->n; ++j)
+        d += x[j] * y[j];
+    return d;
+}
+
+static double lambda_of(const sweep_branch *b, const double *z) { return z[b->nu] * b->scale[b->nu]; }
+
+static void unscale(const sweep_branch *b, const double *z, double *u)
+{
+    for (int i = 0; i < b->nu; ++i)
+        u[i] = z[i] * b->scale[i];
+}
+
+static void set_lambda(sweep_branch *b, double lambda) { *usm_params_field(&b->p, b->info) = lambda; }
+
+/* F(z) into F[0..nu-1]; with jac, the scaled F_z into rows 0..nu-1 of A. */
+static int eval(sweep_branch *b, const double *z, double *F, int jac)
+{
+    const int nu = b->nu;
+    double u[USM_MAX_NU], J[USM_MAX_NU * USM_MAX_NU], Jp[USM_MAX_NU * USM_NPARAMS];
+    unscale(b, z, u);
+    set_lambda(b, lambda_of(b, z));
+    b->m->steady_residual(u, &b->p, F);
+    for (int i = 0; i < nu; ++i)
+        if (!isfinite(F[i]))
+            return -1;
+    if (!jac)
+        return 0;
+    b->m->steady_jacobian(u, &b->p, J);
+    b->m->steady_jacobian_params(u, &b->p, Jp);
+    for (int i = 0; i < nu; ++i) {
+        for (int j = 0; j < nu; ++j)
+            gsl_matrix_set(b->A, (size_t)i, (size_t)j, J[i * nu + j] * b->scale[j]);
+        gsl_matrix_set(b->A, (size_t)i, (size_t)nu, Jp[i * USM_NPARAMS + b->col] * b->scale[nu]);
+    }
+    for (size_t k = 0; k < b->A->size1 * b->A->size2; ++k)
+        if (!isfinite(b->A->data[k]))
+            return -1;
+    return 0;
+}
+
+/* x = A^{-1} rhs with the last row of A replaced by c (rows 0..nu-1 from eval). */
+static int solve_bordered(sweep_branch *b, const double *c, const double *rhs, double *x)
+{
+    int sign;
+    for (int j = 0; j < b->n; ++j) {
+        gsl_matrix_set(b->A, (size_t)b->nu, (size_t)j, c[j]);
+        gsl_vector_set(b->b, (size_t)j, rhs[j]);
+    }
+    if (gsl_linalg_LU_decomp(b->A, b->perm, &sign) != GSL_SUCCESS ||
+        gsl_linalg_LU_solve(b->A, b->perm, b->b, b->x) != GSL_SUCCESS)
+        return -1;
+    for (int j = 0; j < b->n; ++j) {
+        x[j] = gsl_vector_get(b->x, (size_t)j);
+        if (!isfinite(x[j]))
+            return -1;
+    }
+    return 0;
+}
+
+/* Newton on [F(z); c.z - c0] = 0 from z, in place.  Iterations used, or -1. */
+static int correct(sweep_branch *b, double *z, const double *c, double c0)
+{
+    double F[SWEEP_MAX_N], dz[SWEEP_MAX_N], prev = INFINITY;
+    for (int it = 1; it <= NEWTON_MAX; ++it) {
+        if (eval(b, z, F, 1) != 0)
+            return -1;
+        F[b->nu] = dot(b, c, z) - c0;
+        for (int j = 0; j < b->n; ++j)
+            F[j] = -F[j];
+        if (solve_bordered(b, c, F, dz) != 0)
+            return -1;
+        double norm = 0;
+        for (int j = 0; j < b->n; ++j) {
+            z[j] += dz[j];
+            norm = fmax(norm, fabs(dz[j]));
+        }
+        if (norm <= NEWTON_TOL)
+            return it;
+        /* a growing update means the start lies outside Newton's basin of this
+         * branch; giving up early lets the step control shorten the step */
+        if (it >= 2 && norm > prev)
+            return -1;
+        prev = norm;
+    }
+    return -1;
+}
+
+/* Unit tangent at z (on the branch), oriented so that c.t > 0. */
+static int tangent(sweep_branch *b, const double *z, const double *c, double *t)
+{
+    double F[SWEEP_MAX_N], rhs[SWEEP_MAX_N] = {0};
+    rhs[b->nu] = 1.0;
+    if (eval(b, z, F, 1) != 0 || solve_bordered(b, c, rhs, t) != 0)
+        return -1;
+    const double len = sqrt(dot(b, t, t));
+    for (int j = 0; j < b->n; ++j)
+        t[j] /= len;
+    return 0;
+}
+
+/* ---- quantities along the branch --------------------------------------------- */
+
+static void outputs(sweep_branch *b, const double *z, double *y)
+{
+    double u[USM_MAX_NU];
+    unscale(b, z, u);
+    set_lambda(b, lambda_of(b, z));
+    b->m->steady_outputs(u, &b->p, y);
+}
+
+/* |F_t| - mu0 F_n: negative where stick is admissible (as usm_steady_evaluate). */
+static double stick_gap(sweep_branch *b, const double *z)
+{
+    double y[USM_STEADY_COUNT];
+    outputs(b, z, y);
+    return fabs(y[USM_STEADY_F_T]) - b->p.mu0 * y[USM_STEADY_F_N];
+}
+
+/* The friction law's limit on the side of slip velocity v (p at lambda of the
+ * last evaluation): the generated law evaluated at a huge speed, so that any
+ * monotone law with a finite supremum works. */
+static double friction_limit(const sweep_branch *b, double v)
+{
+    double mu[2];
+    b->m->friction(copysign(V_HUGE, v), &b->p, mu);
+    return fabs(mu[0]);
+}
+
+static void solution_at(sweep_branch *b, const double *z, usm_steady_solution *sol)
+{
+    memset(sol, 0, sizeof *sol);
+    unscale(b, z, sol->u);
+    set_lambda(b, lambda_of(b, z));
+    usm_steady_evaluate(b->m, &b->p, sol);
+}
+
+/* ---- events on the arc of one step ---------------------------------------------- */
+
+typedef struct arc {
+    double za[SWEEP_MAX_N], ta[SWEEP_MAX_N]; /* start and tangent of the step */
+} arc;
+
+enum { FN_LAMBDA, FN_TANGENT, FN_THETA_LOW, FN_THETA_HIGH, FN_STICK };
+
+typedef struct arc_fn {
+    sweep_branch *b;
+    const arc *a;
+    int kind;
+    double arg;
+    int failed;
+} arc_fn;
+
+static int arc_point(sweep_branch *b, const arc *a, double s, double *z)
+{
+    for (int j = 0; j < b->n; ++j)
+        z[j] = a->za[j] + s * a->ta[j];
+    return correct(b, z, a->ta, dot(b, a->ta, a->za) + s) >= 0 ? 0 : -1;
+}
+
+static double arc_value(double s, void *ctx)
+{
+    arc_fn *f = ctx;
+    sweep_branch *b = f->b;
+    double z[SWEEP_MAX_N], t[SWEEP_MAX_N];
+    if (f->failed || arc_point(b, f->a, s, z) != 0) {
+        f->failed = 1;
+        return 0.0;
+    }
+    switch (f->kind) {
+    case FN_LAMBDA:
+        return z[b->nu] - f->arg;
+    case FN_TANGENT:
+        if (tangent(b, z, f->a->ta, t) != 0) {
+            f->failed = 1;
+            return 0.0;
+        }
+        return t[b->nu] * b->dir;
+    case FN_THETA_LOW:
+        return z[0] * b->scale[0] - f->arg;
+    case FN_THETA_HIGH:
+        return f->arg - z[0] * b->scale[0];
+    default:
+        return stick_gap(b, z);
+    }
+}
+
+/* Root in s of function `kind` on [lo, hi], where its values are flo and fhi
+ * of opposite sign (or one of them zero).  0 and *s, or -1. */
+static int arc_root(sweep_branch *b, const arc *a, int kind, double arg, double lo, double hi,
+                    double flo, double fhi, double epsabs, double *s)
+{
+    arc_fn f = {b, a, kind, arg, 0};
+    gsl_function F = {arc_value, &f};
+    if (flo == 0.0 || fhi == 0.0) {
+        *s = flo == 0.0 ? lo : hi;
+        return 0;
+    }
+    if ((flo < 0) == (fhi < 0) || gsl_root_fsolver_set(b->brent, &F, lo, hi) != GSL_SUCCESS)
+        return -1;
+    for (int it = 0; it < 200; ++it) {
+        if (gsl_root_fsolver_iterate(b->brent) != GSL_SUCCESS || f.failed)
+            return -1;
+        lo = gsl_root_fsolver_x_lower(b->brent);
+        hi = gsl_root_fsolver_x_upper(b->brent);
+        if (gsl_root_test_interval(lo, hi, epsabs, 0.0) == GSL_SUCCESS)
+            break;
+    }
+    *s = gsl_root_fsolver_root(b->brent);
+    return 0;
+}
+
+/* ---- following the branch -------------------------------------------------------- */
+
+enum { END_STOP, END_FOLD, END_BOUNDARY, END_SATURATION };
+
+typedef struct trace {
+    usm_sweep *s;
+    sweep_branch *b;
+    ptrdiff_t next;     /* next grid point to land on */
+    int step;           /* +1: the trace runs in sweep order, -1: backwards */
+    double stop;        /* lambda where the trace ends */
+    int sat_checked;    /* the saturation point was computed and lies beyond stop */
+    /* outcome */
+    int end;
+    double end_value;
+} trace;
+
+static int within(const trace *tr, double lambda) { return (lambda - tr->stop) * tr->b->dir <= 0; }
+
+static int pending(const trace *tr)
+{
+    return tr->next >= 0 && tr->next < (ptrdiff_t)tr->s->npts;
+}
+
+static const char *side(int dir) { return dir > 0 ? "above" : "below"; }
+
+/* The root of the full search at q that is the branch's root u, or NULL. */
+static const usm_steady_solution *same_root(usm_sweep *s, const usm_params *q, const double *u)
+{
+    if (usm_steady_solve(s->steady, q, &s->opt->steady) != USM_OK)
+        return NULL;
+    for (size_t k = 0; k < usm_steady_count(s->steady); ++k) {
+        const usm_steady_solution *r = usm_steady_root(s->steady, k);
+        if (fabs(r->theta - u[0]) <= 1e-6 * fabs(u[0]))
+            return r;
+    }
+    return NULL;
+}
+
+/* Grid point i from a point on the branch at (nearly) its value. */
+static void finish_point(trace *tr, size_t i, double *z)
+{
+    usm_sweep *s = tr->s;
+    sweep_branch *b = tr->b;
+    usm_sweep_point *pt = &s->pts[i];
+    double e[SWEEP_MAX_N] = {0}, u[USM_MAX_NU];
+    e[b->nu] = 1.0;
+    /* on the branch at the grid value itself: the start of the polish below,
+     * and the result where the polish fails (a failed Newton leaves z as it
+     * was, already on the branch near the value) */
+    correct(b, z, e, pt->value / b->scale[b->nu]);
+    unscale(b, z, u);
+    usm_params q = b->p;
+    *usm_params_field(&q, b->info) = pt->value;
+    /* The continuation says which root; the full search's polish of that root
+     * gives its value, so that a row equals `usm steady` at these parameters
+     * bit for bit (the Floquet integration amplifies a last-bit difference to
+     * ~1e-7).  Where the search misses the root, polish from the branch. */
+    const usm_steady_solution *r = same_root(s, &q, u);
+    if (!r && usm_steady_solve_from(s->steady, &q, u) == USM_OK)
+        r = usm_steady_root(s->steady, 0);
+    if (r && fabs(r->theta - u[0]) <= 1e-6 * fabs(u[0]))
+        pt->sol = *r;
+    else {
+        memset(&pt->sol, 0, sizeof pt->sol);
+        memcpy(pt->sol.u, u, sizeof u);
+        usm_steady_evaluate(b->m, &q, &pt->sol);
+    }
+    pt->converged = 1;
+    pt->error[0] = '\0';
+    sweep_point_done(s);
+}
+
+/* Land on every grid value reached by the arc [0, s_end] (zend = z(s_end)). */
+static int land_on_grid(trace *tr, const arc *a, double s_end, const double *zend)
+{
+    sweep_branch *b = tr->b;
+    const int nu = b->nu;
+    while (pending(tr)) {
+        const double g = tr->s->pts[tr->next].value / b->scale[nu];
+        double z[SWEEP_MAX_N], sg;
+        if ((g - zend[nu]) * b->dir > 0)
+            break;
+        if (arc_root(b, a, FN_LAMBDA, g, 0.0, s_end, a->za[nu] - g, zend[nu] - g,
+                     1e-10 * s_end, &sg) != 0 ||
+            arc_point(b, a, sg, z) != 0)
+            return -1;
+        finish_point(tr, (size_t)tr->next, z);
+        tr->next += tr->step;
+    }
+    return 0;
+}
+
+static void end_text(const trace *tr, char *buf, size_t len, const char *what, double value)
+{
+    char v[64];
+    snprintf(buf, len, "%s: no stationary solution on this branch %s %s", what,
+             side(tr->b->dir), sweep_value_text(tr->s, value, v));
+}
+
+/* Events of the arc [0, s_end] other than its end: the stick limit. */
+static int arc_events(trace *tr, const arc *a, double s_end, const double *zend)
+{
+    sweep_branch *b = tr->b;
+    const double g0 = stick_gap(b, a->za), g1 = stick_gap(b, zend);
+    double s, z[SWEEP_MAX_N];
+    char v[64];
+    if ((g0 < 0) == (g1 < 0))
+        return 0;
+    if (arc_root(b, a, FN_STICK, 0.0, 0.0, s_end, g0, g1, 1e-15, &s) != 0 ||
+        arc_point(b, a, s, z) != 0)
+        return -1;
+    const double lambda = lambda_of(b, z);
+    if (!within(tr, lambda))
+        return 0;
+    usm_steady_solution sol;
+    solution_at(b, z, &sol);
+    /* admissible on the side where the gap is negative */
+    const int admissible_dir = g0 < 0 ? -b->dir : b->dir;
+    return sweep_add_event(tr->s, USM_EVENT_STICK_LIMIT, lambda, &sol,
+                           "F_t = mu0 F_n (mu0 = %g) at %s: stick is admissible %s it, "
+                           "not %s",
+                           b->p.mu0, sweep_value_text(tr->s, lambda, v), side(admissible_dir),
+                           side(-admissible_dir));
+}
+
+/* The end of the branch inside the arc [0, h] ending at z1 (tangent t1): a fold
+ * or the tilt leaving [theta_min, theta_max].  *s_end = h when neither. */
+static int arc_end(trace *tr, const arc *a, double h, const double *z1, const double *t1,
+                   double *s_end, int *end)
+{
+    sweep_branch *b = tr->b;
+    const double th0 = a->za[0] * b->scale[0], th1 = z1[0] * b->scale[0];
+    double s;
+    *s_end = h;
+    *end = END_STOP;
+    if (t1[b->nu] * b->dir <= 0) {
+        if (arc_root(b, a, FN_TANGENT, 0.0, 0.0, h, a->ta[b->nu] * b->dir, t1[b->nu] * b->dir,
+                     1e-15, &s) != 0)
+            return -1;
+        *s_end = s;
+        *end = END_FOLD;
+    }
+    if (th1 < b->theta_min) {
+        if (arc_root(b, a, FN_THETA_LOW, b->theta_min, 0.0, h, th0 - b->theta_min,
+                     th1 - b->theta_min, 1e-15, &s) != 0)
+            return -1;
+        if (s <= *s_end) {
+            *s_end = s;
+            *end = END_BOUNDARY;
+        }
+    } else if (th1 > b->theta_max) {
+        if (arc_root(b, a, FN_THETA_HIGH, b->theta_max, 0.0, h, b->theta_max - th0,
+                     b->theta_max - th1, 1e-15, &s) != 0)
+            return -1;
+        if (s <= *s_end) {
+            *s_end = s;
+            *end = END_BOUNDARY;
+        }
+    }
+    return 0;
+}
+
+static int report_end(trace *tr, const double *z)
+{
+    sweep_branch *b = tr->b;
+    usm_steady_solution sol;
+    char what[USM_MSG_LEN];
+    const double lambda = lambda_of(b, z);
+    solution_at(b, z, &sol);
+    tr->end_value = lambda;
+    if (tr->end == END_FOLD)
+        end_text(tr, what, sizeof what, "fold: the branch turns back (d lambda/ds = 0)", lambda);
+    else {
+        const int low = sol.theta < 0.5 * (b->theta_min + b->theta_max);
+        char head[160];
+        snprintf(head, sizeof head, "the tilt reaches theta_%s = %g rad, the end of the admissible range%s",
+                 low ? "min" : "max", low ? b->theta_min : b->theta_max,
+                 low ? " (theta -> 0)" : "");
+        end_text(tr, what, sizeof what, head, lambda);
+    }
+    return sweep_add_event(tr->s, USM_EVENT_FOLD, lambda, &sol, "%s", what);
+}
+
+/* Slip model: F_t / F_n approaches the friction law's supremum and the rotor
+ * speed diverges.  The limit is the branch point at a rotor speed W so large
+ * that the law equals its supremum to rounding: Newton on [F; z_rotor = W]. */
+static int saturation(trace *tr, const double *z1, double *zs)
+{
+    sweep_branch *b = tr->b;
+    const int r = b->rotor;
+    double y[USM_STEADY_COUNT], e[SWEEP_MAX_N] = {0};
+    outputs(b, z1, y);
+    const double v = y[USM_STEADY_V_REL], w = z1[r] * b->scale[r];
+    if (!(fabs(v) > 0) || !(fabs(w) > 0))
+        return -1;
+    const double W = w * (V_HUGE / fabs(v));
+    memcpy(zs, z1, sizeof(double) * (size_t)b->n);
+    zs[r] = W / b->scale[r];
+    e[r] = 1.0;
+    return correct(b, zs, e, zs[r]) >= 0 ? 0 : -1;
+}
+
+static double mu_ratio(sweep_branch *b, const double *z)
+{
+    double y[USM_STEADY_COUNT];
+    outputs(b, z, y);
+    const double lim = friction_limit(b, y[USM_STEADY_V_REL]);
+    return lim > 0 ? fabs(y[USM_STEADY_F_T] / y[USM_STEADY_F_N]) / lim : 0.0;
+}
+
+/* Grid points between the branch at z1 and the saturation point zs: the
+ * rotor speed diverges like 1/(lambda_sat - lambda), which continuation would
+ * approach in ever shorter steps; the full search brackets the rotor speed
+ * directly.  Of its roots the one nearest the branch's tilt is taken. */
+static void land_before_saturation(trace *tr, const double *z1, const double *zs)
+{
+    usm_sweep *s = tr->s;
+    sweep_branch *b = tr->b;
+    const int nu = b->nu;
+    while (pending(tr)) {
+        usm_sweep_point *pt = &s->pts[tr->next];
+        const double g = pt->value / b->scale[nu];
+        if ((g - zs[nu]) * b->dir >= 0)
+            break;
+        const double w = (g - z1[nu]) / (zs[nu] - z1[nu]);
+        const double theta = (z1[0] + w * (zs[0] - z1[0])) * b->scale[0];
+        usm_params q = b->p;
+        *usm_params_field(&q, b->info) = pt->value;
+        if (usm_steady_solve(s->steady, &q, &s->opt->steady) == USM_OK) {
+            size_t best = 0;
+            for (size_t k = 1; k < usm_steady_count(s->steady); ++k)
+                if (fabs(usm_steady_root(s->steady, k)->theta - theta) <
+                    fabs(usm_steady_root(s->steady, best)->theta - theta))
+                    best = k;
+            pt->sol = *usm_steady_root(s->steady, best);
+            pt->converged = 1;
+        } else
+            snprintf(pt->error, USM_MSG_LEN, "%s", usm_steady_message(s->steady));
+        sweep_point_done(s);
+        tr->next += tr->step;
+    }
+}
+
+/* Returns 1 when the branch ended in saturation within the trace. */
+static int check_saturation(trace *tr, const double *z1)
+{
+    sweep_branch *b = tr->b;
+    double zs[SWEEP_MAX_N];
+    char v[64];
+    if (b->rotor < 0 || tr->sat_checked || mu_ratio(b, z1) < SAT_TRIGGER)
+        return 0;
+    if (saturation(tr, z1, zs) != 0)
+        return 0; /* keep following the branch; the step control decides */
+    const double lambda = lambda_of(b, zs);
+    if (!within(tr, lambda) || (lambda - lambda_of(b, z1)) * b->dir <= 0) {
+        tr->sat_checked = 1;
+        return 0;
+    }
+    land_before_saturation(tr, z1, zs);
+    double y[USM_STEADY_COUNT], u[USM_MAX_NU];
+    outputs(b, zs, y);
+    unscale(b, zs, u);
+    tr->end = END_SATURATION;
+    tr->end_value = lambda;
+    sweep_add_event(tr->s, USM_EVENT_FRICTION_SATURATION, lambda, NULL,
+                    "F_t / F_n reaches the friction law's supremum %.6g at %s (theta = %.6g rad): "
+                    "the rotor speed diverges and no stationary solution exists %s it",
+                    fabs(y[USM_STEADY_F_T] / y[USM_STEADY_F_N]), sweep_value_text(tr->s, lambda, v),
+                    u[0], side(b->dir));
+    return 1;
+}
+
+/* Scale each unknown by the largest size it has had: the rotor speed may grow
+ * by many orders of magnitude towards friction saturation. */
+static void rescale(sweep_branch *b, double *z, double *t)
+{
+    int changed = 0;
+    for (int i = 0; i < b->nu; ++i) {
+        const double size = fabs(z[i] * b->scale[i]);
+        if (size > b->scale[i]) {
+            const double f = b->scale[i] / size;
+            z[i] *= f;
+            t[i] *= f;
+            b->scale[i] = size;
+            changed = 1;
+        }
+    }
+    if (changed) {
+        const double len = sqrt(dot(b, t, t));
+        for (int j = 0; j < b->n; ++j)
+            t[j] /= len;
+    }
+}
+
+/* Follow the branch from the solution u0 at lambda0 in direction b->dir until
+ * lambda passes tr->stop or the branch ends.  0, or -1 when it is lost. */
+static int follow(trace *tr, const double *u0, double lambda0, double h)
+{
+    sweep_branch *b = tr->b;
+    const int nu = b->nu, n = b->n;
+    double z[SWEEP_MAX_N], t[SWEEP_MAX_N], z1[SWEEP_MAX_N], t1[SWEEP_MAX_N];
+    double e[SWEEP_MAX_N] = {0};
+    arc a;
+    tr->end = END_STOP;
+    for (int i = 0; i < nu; ++i)
+        z[i] = u0[i] / b->scale[i];
+    z[nu] = lambda0 / b->scale[nu];
+    e[nu] = b->dir;
+    if (tangent(b, z, e, t) != 0)
+        return -1;
+    for (long step = 0; step < MAX_STEPS; ++step) {
+        for (int j = 0; j < n; ++j)
+            z1[j] = z[j] + h * t[j];
+        const int its = correct(b, z1, t, dot(b, t, z) + h);
+        double turn = -1;
+        if (its >= 0 && tangent(b, z1, t, t1) == 0)
+            turn = dot(b, t, t1);
+        if (turn < COS_MAX_TURN) {
+            if ((h *= 0.5) < H_MIN)
+                return -1;
+            continue;
+        }
+        memcpy(a.za, z, sizeof z);
+        memcpy(a.ta, t, sizeof t);
+        double s_end, zend[SWEEP_MAX_N];
+        if (arc_end(tr, &a, h, z1, t1, &s_end, &tr->end) != 0)
+            return -1;
+        if (tr->end == END_STOP)
+            memcpy(zend, z1, sizeof z1);
+        else if (arc_point(b, &a, s_end, zend) != 0)
+            return -1;
+        if (arc_events(tr, &a, s_end, zend) != 0 || land_on_grid(tr, &a, s_end, zend) != 0)
+            return -1;
+        if (tr->end != END_STOP) {
+            if (within(tr, lambda_of(b, zend)))
+                return report_end(tr, zend);
+            tr->end = END_STOP; /* the branch ends beyond the range asked for */
+            return 0;
+        }
+        if (!within(tr, lambda_of(b, z1)))
+            return 0;
+        if (check_saturation(tr, z1))
+            return 0;
+        memcpy(z, z1, sizeof z1);
+        memcpy(t, t1, sizeof t1);
+        rescale(b, z, t);
+        if (its <= 3 && turn > 0.995)
+            h = fmin(2.0 * h, H_MAX);
+        else if (its >= 6)
+            h *= 0.5;
+    }
+    return -1;
+}
+
+/* ---- the grid ------------------------------------------------------------------- */
+
+/* The grid points a trace did not reach, from tr->next on in its direction. */
+static void mark_beyond(const trace *tr, const usm_params *p, const char *why)
+{
+    usm_sweep *s = tr->s;
+    for (ptrdiff_t i = tr->next; i >= 0 && i < (ptrdiff_t)s->npts; i += tr->step) {
+        usm_sweep_point *pt = &s->pts[i];
+        usm_params q = *p;
+        *usm_params_field(&q, s->br.info) = pt->value;
+        pt->converged = 0;
+        /* another root here lies on another branch; say so, but do not jump */
+        if (usm_steady_solve(s->steady, &q, &s->opt->steady) == USM_OK)
+            snprintf(pt->error, USM_MSG_LEN,
+                     "%.150s; a stationary solution on another branch exists here "
+                     "(theta = %.6g rad), not followed",
+                     why, usm_steady_root(s->steady, 0)->theta);
+        else
+            snprintf(pt->error, USM_MSG_LEN, "%s", why);
+        sweep_point_done(s);
+    }
+}
+
+static void setup_branch(sweep_branch *b, const usm_params *p, const usm_sweep_options *opt,
+                         const double *u)
+{
+    b->info = usm_params_find(opt->over);
+    b->col = (int)(b->info - usm_param_table);
+    b->p = *p;
+    b->theta_min = opt->steady.theta_min;
+    b->theta_max = opt->steady.theta_max;
+    /* the tilt by its own size; the phase (rad) and rotor speed (1/s) by at
+     * least one unit, since their size depends on an arbitrary origin */
+    b->scale[0] = fabs(u[0]);
+    for (int i = 1; i < b->nu; ++i)
+        b->scale[i] = fmax(1.0, fabs(u[i]));
+    b->scale[b->nu] = fabs(opt->to - opt->from);
+}
+
+/* The first grid point where the full search finds a solution (npts: none);
+ * the points before it get the search's reason. */
+static size_t first_solution(usm_sweep *s, const usm_params *p, int *status)
+{
+    *status = USM_OK;
+    for (size_t i = 0; i < s->npts; ++i) {
+        usm_params q = *p;
+        *usm_params_field(&q, s->br.info) = s->pts[i].value;
+        const int rc = usm_steady_solve(s->steady, &q, &s->opt->steady);
+        if (rc == USM_OK)
+            return i;
+        if (rc != USM_ENOSOLUTION) {
+            snprintf(s->msg, USM_MSG_LEN, "%s", usm_steady_message(s->steady));
+            *status = rc;
+            return s->npts;
+        }
+        snprintf(s->pts[i].error, USM_MSG_LEN, "%s", usm_steady_message(s->steady));
+    }
+    return s->npts;
+}
+
+int sweep_trace_grid(usm_sweep *s, const usm_params *p, const usm_sweep_options *opt)
+{
+    sweep_branch *b = &s->br;
+    const int dir = opt->to > opt->from ? 1 : -1;
+    int status;
+    char v[64];
+    b->info = usm_params_find(opt->over);
+    const size_t i = first_solution(s, p, &status);
+    if (i == s->npts) {
+        for (size_t k = 0; status == USM_OK && k < s->npts; ++k)
+            sweep_point_done(s);
+        return status;
+    }
+    const usm_steady_solution start = *usm_steady_root(s->steady, 0);
+    s->pts[i].sol = start;
+    s->pts[i].converged = 1;
+    sweep_point_done(s);
+    setup_branch(b, p, opt, start.u);
+    const double h0 = fmin(H_MAX, 0.5 / (double)(s->npts - 1));
+
+    if (i > 0) {
+        /* Where does the solution appear?  Follow the branch back to `from`:
+         * a fold or range boundary on the way is an event, and grid points
+         * the full search missed are landed on. */
+        trace back = {s, b, (ptrdiff_t)i - 1, -1, opt->from, 0, END_STOP, 0};
+        b->dir = -dir;
+        follow(&back, start.u, s->pts[i].value, h0);
+        for (size_t k = 0; k < i; ++k)
+            if (!s->pts[k].converged)
+                sweep_point_done(s);
+    }
+    trace tr = {s, b, (ptrdiff_t)i + 1, 1, opt->to, 0, END_STOP, 0};
+    b->dir = dir;
+    if (follow(&tr, start.u, s->pts[i].value, h0) != 0) {
+        snprintf(s->msg, USM_MSG_LEN,
+                 "continuation lost the branch after %s (the step length fell below %g)",
+                 sweep_value_text(s, s->pts[tr.next - 1].value, v), H_MIN);
+        mark_beyond(&tr, p, "continuation lost the branch");
+        return USM_EFAILED;
+    }
+    if (tr.end != END_STOP) {
+        char why[USM_MSG_LEN];
+        const char *kind = tr.end == END_FOLD       ? "the fold"
+                           : tr.end == END_BOUNDARY ? "the end of the tilt range"
+                                                    : "friction saturation";
+        snprintf(why, sizeof why, "no stationary solution on the branch beyond %s at %s", kind,
+                 sweep_value_text(s, tr.end_value, v));
+        mark_beyond(&tr, p, why);
+    }
+    return USM_OK;
+}
+
+int sweep_solve_between(usm_sweep *s, const usm_params *p, size_t a, size_t b, double value,
+                        usm_steady_solution *sol)
+{
+    const usm_sweep_point *pa = &s->pts[a], *pb = &s->pts[b];
+    const double w = (value - pa->value) / (pb->value - pa->value);
+    double u[USM_MAX_NU];
+    for (int i = 0; i < s->m->nu; ++i) {
+        double ub = pb->sol.u[i];
+        /* alpha is stored in [0, 2 pi): undo a wrap between the two points */
+        if (i == 1 && fabs(ub - pa->sol.u[i]) > 0.5 * TWO_PI)
+            ub += ub > pa->sol.u[i] ? -TWO_PI : TWO_PI;
+        u[i] = pa->sol.u[i] + w * (ub - pa->sol.u[i]);
+    }
+    usm_params q = *p;
+    *usm_params_field(&q, s->br.info) = value;
+    if (usm_steady_solve_from(s->steady, &q, u) != USM_OK)
+        return -1;
+    *sol = *usm_steady_root(s->steady, 0);
+    return 0;
+}

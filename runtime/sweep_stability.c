@@ -1,0 +1,214 @@
+/* Floquet multipliers along a sweep, and where stability changes.
+ *
+ * The multipliers of different grid points are independent, so worker threads
+ * take points from a shared counter; each has its own usm_floquet (the objects
+ * are not thread-safe, the generated kernels are pure).  The calling thread is
+ * one of the workers.
+ *
+ * A stability change is a sign change of g(lambda) = max non-cyclic |multiplier| - 1
+ * between neighbouring converged grid points; Brent's method on lambda locates
+ * it, each evaluation solving the stationary equations on the branch (from the
+ * neighbours' interpolation) and computing the multipliers.  The location is as
+ * accurate as the multipliers (CVODES rtol 1e-8 gives max_modulus to ~1e-7).
+ */
+#define _POSIX_C_SOURCE 200809L
+#include <math.h>
+#include <pthread.h>
+#include <stdio.h>
+#include <string.h>
+
+#include <gsl/gsl_errno.h>
+#include <gsl/gsl_roots.h>
+
+#include "sweep_internal.h"
+
+typedef struct pool {
+    usm_sweep *s;
+    const usm_params *p;
+    const usm_sweep_options *opt;
+    pthread_mutex_t lock;
+    size_t next, done, total;
+    int status;
+    char msg[USM_MSG_LEN];
+} pool;
+
+static void fail(pool *w, const char *what, size_t i, const char *why)
+{
+    char v[64];
+    if (w->status == USM_OK) {
+        w->status = USM_EFAILED;
+        snprintf(w->msg, USM_MSG_LEN, "floquet at %s: %.150s",
+                 sweep_value_text(w->s, w->s->pts[i].value, v), why ? why : what);
+    }
+}
+
+static void *worker(void *arg)
+{
+    pool *w = arg;
+    usm_sweep *s = w->s;
+    usm_floquet *f = usm_floquet_alloc(s->m);
+    if (!f) {
+        pthread_mutex_lock(&w->lock);
+        fail(w, "out of memory", w->next < s->npts ? w->next : 0, NULL);
+        pthread_mutex_unlock(&w->lock);
+        return NULL;
+    }
+    for (;;) {
+        pthread_mutex_lock(&w->lock);
+        while (w->next < s->npts && !s->pts[w->next].converged)
+            w->next++;
+        if (w->next >= s->npts || w->status != USM_OK) {
+            pthread_mutex_unlock(&w->lock);
+            break;
+        }
+        const size_t i = w->next++;
+        pthread_mutex_unlock(&w->lock);
+
+        usm_sweep_point *pt = &s->pts[i];
+        usm_params q = *w->p;
+        *usm_params_field(&q, s->br.info) = pt->value;
+        const int rc = usm_floquet_compute(f, &q, &pt->sol, w->opt->t0, NULL, &pt->floquet);
+
+        pthread_mutex_lock(&w->lock);
+        if (rc == USM_OK)
+            pt->has_floquet = 1;
+        else
+            fail(w, "failed", i, usm_floquet_message(f));
+        w->done++;
+        sweep_progress(s, s->progress_split +
+                              (1.0 - s->progress_split) * (double)w->done / (double)w->total);
+        pthread_mutex_unlock(&w->lock);
+    }
+    usm_floquet_free(f);
+    return NULL;
+}
+
+int sweep_floquet_points(usm_sweep *s, const usm_params *p, const usm_sweep_options *opt)
+{
+    pool w;
+    pthread_t tid[SWEEP_MAX_THREADS];
+    int started = 0;
+    memset(&w, 0, sizeof w);
+    w.s = s;
+    w.p = p;
+    w.opt = opt;
+    w.status = USM_OK;
+    for (size_t i = 0; i < s->npts; ++i)
+        w.total += s->pts[i].converged != 0;
+    if (w.total == 0)
+        return USM_OK;
+    if (pthread_mutex_init(&w.lock, NULL) != 0) {
+        snprintf(s->msg, USM_MSG_LEN, "cannot create a mutex");
+        return USM_EFAILED;
+    }
+    const int want = (int)fmin((double)opt->threads, (double)w.total);
+    /* a thread that cannot be started only costs speed: the others take its points */
+    for (int k = 1; k < want && k <= (int)(sizeof tid / sizeof tid[0]); ++k)
+        if (pthread_create(&tid[started], NULL, worker, &w) == 0)
+            ++started;
+    worker(&w);
+    for (int k = 0; k < started; ++k)
+        pthread_join(tid[k], NULL);
+    pthread_mutex_destroy(&w.lock);
+    if (w.status != USM_OK)
+        snprintf(s->msg, USM_MSG_LEN, "%s", w.msg);
+    return w.status;
+}
+
+/* ---- stability changes ----------------------------------------------------------- */
+
+typedef struct crossing {
+    usm_sweep *s;
+    const usm_params *p;
+    const usm_sweep_options *opt;
+    usm_floquet *f;
+    size_t a, b;
+    usm_steady_solution sol;
+    usm_floquet_result res;
+    int failed;
+} crossing;
+
+static double margin(double value, void *ctx)
+{
+    crossing *c = ctx;
+    usm_params q = *c->p;
+    if (c->failed || sweep_solve_between(c->s, c->p, c->a, c->b, value, &c->sol) != 0) {
+        c->failed = 1;
+        return 0.0;
+    }
+    *usm_params_field(&q, c->s->br.info) = value;
+    if (usm_floquet_compute(c->f, &q, &c->sol, c->opt->t0, NULL, &c->res) != USM_OK) {
+        c->failed = 1;
+        return 0.0;
+    }
+    return c->res.max_modulus - 1.0;
+}
+
+static int locate(crossing *c, gsl_root_fsolver *brent, double *value)
+{
+    const double va = c->s->pts[c->a].value, vb = c->s->pts[c->b].value;
+    double lo = fmin(va, vb), hi = fmax(va, vb);
+    gsl_function F = {margin, c};
+    if (gsl_root_fsolver_set(brent, &F, lo, hi) != GSL_SUCCESS || c->failed)
+        return -1;
+    for (int it = 0; it < 100; ++it) {
+        if (gsl_root_fsolver_iterate(brent) != GSL_SUCCESS || c->failed)
+            return -1;
+        lo = gsl_root_fsolver_x_lower(brent);
+        hi = gsl_root_fsolver_x_upper(brent);
+        if (gsl_root_test_interval(lo, hi, 1e-12 * fabs(vb - va), 1e-10) == GSL_SUCCESS)
+            break;
+    }
+    *value = gsl_root_fsolver_root(brent);
+    /* the solution stored with the event is the one at the reported value */
+    margin(*value, c);
+    return c->failed ? -1 : 0;
+}
+
+int sweep_stability_events(usm_sweep *s, const usm_params *p, const usm_sweep_options *opt)
+{
+    crossing c;
+    memset(&c, 0, sizeof c);
+    c.s = s;
+    c.p = p;
+    c.opt = opt;
+    c.f = usm_floquet_alloc(s->m);
+    gsl_root_fsolver *brent = gsl_root_fsolver_alloc(gsl_root_fsolver_brent);
+    int status = USM_OK;
+    char v[64];
+    if (!c.f || !brent) {
+        snprintf(s->msg, USM_MSG_LEN, "out of memory");
+        status = USM_EFAILED;
+        goto done;
+    }
+    for (size_t i = 0; i + 1 < s->npts; ++i) {
+        const usm_sweep_point *pa = &s->pts[i], *pb = &s->pts[i + 1];
+        if (!pa->has_floquet || !pb->has_floquet || pa->floquet.stable == pb->floquet.stable)
+            continue;
+        double value;
+        c.a = i;
+        c.b = i + 1;
+        c.failed = 0;
+        const int located = locate(&c, brent, &value) == 0;
+        if (!located) /* still worth reporting: between two grid points */
+            value = pa->value + (1.0 - pa->floquet.max_modulus) /
+                                    (pb->floquet.max_modulus - pa->floquet.max_modulus) *
+                                    (pb->value - pa->value);
+        const int stable_dir = (pb->value > pa->value) == (pa->floquet.stable != 0) ? -1 : 1;
+        if (sweep_add_event(s, USM_EVENT_STABILITY_CHANGE, value, located ? &c.sol : NULL,
+                            "the largest non-cyclic Floquet multiplier crosses |lambda| = 1 "
+                            "(t0 = %g s) at %s: stable %s it, unstable %s%s",
+                            opt->t0, sweep_value_text(s, value, v), stable_dir > 0 ? "above" : "below",
+                            stable_dir > 0 ? "below" : "above",
+                            located ? "" : " (interpolated between grid points)") != 0) {
+            snprintf(s->msg, USM_MSG_LEN, "out of memory");
+            status = USM_EFAILED;
+            goto done;
+        }
+    }
+done:
+    usm_floquet_free(c.f);
+    if (brent)
+        gsl_root_fsolver_free(brent);
+    return status;
+}

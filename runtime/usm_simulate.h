@@ -1,0 +1,180 @@
+/* usm_simulate.h: transient simulation of the full nonlinear motor model.
+ *
+ * Math: the generated kernels give M(x) x' = f(x, t).  CVODES integrates the
+ * explicit ODE x' = M(x)^{-1} f(x, t) (BDF, dense direct linear solver) with
+ * the analytic Jacobian
+ *     J = M^{-1} (df/dx - d(M v)/dx |_{v = x'}).
+ * The mass matrix is at most 8 x 8 and regular for theta > 0, so solving it in
+ * every right-hand side costs less than a DAE formulation (IDA) would, and it
+ * keeps CVODES' error control on the state alone (no algebraic components to
+ * exclude).  See README-simulate.md for the choices below.
+ *
+ *  - Coordinates.  phi and psi grow like +-Omega t and, at the small tilts of
+ *    the motor, move almost exactly opposite to each other: a perturbation
+ *    of the tilt vector of size e shows up in them as e / theta.  CVODES
+ *    therefore works on z = (phi + psi, theta, psi + Omega (t - t0), and the
+ *    same for the rates), a constant linear change of variables, with error
+ *    weights stated in physical terms (simulate.c, set_scales): the spin
+ *    phi + psi is controlled absolutely at rtol * theta_c (theta_c the
+ *    stationary tilt), since the twisting torque c_t (phi + psi cos theta)
+ *    is a small difference of two large angles.
+ *  - Start from rest.  The z-x-z angles are singular at theta = 0.  The motor
+ *    "at rest" starts from theta = tilt0 (default 1e-6 rad) with zero rates and
+ *    phi = Omega t0, psi = -Omega t0: the tilt is a rotation about the axis of
+ *    the excitation torque at t0, the twist angle is zero.
+ *  - Settling.  At the end of every excitation period T = 1/f the mean tilt and
+ *    the mean rotor speed over that period (quadratures) are compared with the
+ *    primary stationary solution of usm_steady_solve.  The motion has settled
+ *    at t_settle when every period from t_settle to the end is within
+ *    settle_tol (relative) in both, and that stretch lasts at least
+ *    settle_periods periods.
+ *  - Diagnostics.  Root functions locate, to the integrator's accuracy, where
+ *    F_n changes sign (contact would open) and, in the stick model, where
+ *    |F_t| crosses mu0 F_n; and stop the run at runaway: theta >= theta_limit,
+ *    theta <= 0 (the coordinates' singularity), |phidot_R| >= speed_limit.
+ *
+ * Life cycle (GSL style): usm_sim_alloc, usm_sim_run (any number of times),
+ * usm_sim_free.  Thread safety: no global mutable state; distinct usm_sim
+ * objects may run in distinct threads at the same time, one object must not
+ * be shared without a lock.  The library never prints: CVODES' messages are
+ * captured into the summary's reason.
+ */
+#ifndef USM_SIMULATE_H
+#define USM_SIMULATE_H
+
+#include "usm.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef enum {
+    USM_SIM_FROM_REST = 0,       /* theta = tilt0, zero rates */
+    USM_SIM_FROM_STATIONARY = 1, /* the primary stationary orbit at t0 */
+    USM_SIM_FROM_STATE = 2       /* x0 (and rotor_angle0 for the stick model) */
+} usm_sim_start;
+
+typedef struct usm_sim_options {
+    usm_sim_start start;
+    double t0;             /* start time [s] (the excitation is m0 (cos Omega t, sin Omega t)) */
+    double duration;       /* [s], > 0 */
+    double tilt0;          /* FROM_REST: initial tilt [rad] (default 1e-6) */
+    double x0[USM_MAX_NX]; /* FROM_STATE: the state, in the model's state order */
+    double rotor_angle0;   /* initial rotor angle phi_R [rad] of the stick model (default 0) */
+    double rate;           /* samples per second passed to the callback; 0: none (default) */
+    double rtol;           /* relative tolerance (default 1e-8) */
+    double settle_tol;     /* relative settling tolerance (default 1e-3) */
+    int settle_periods;    /* periods the settled state must last (default 100) */
+    double theta_limit;    /* runaway: tilt [rad] (default 0.5) */
+    double speed_limit;    /* runaway: |phidot_R| [1/s] (default 1e4) */
+    long max_steps;        /* cap on internal steps; 0: 2000 per period + 10^5 (default) */
+    double max_step;       /* largest internal step [s]; 0: T / 4 (default), see README */
+} usm_sim_options;
+
+/* Defaults: start from rest at t0 = 0, tilt0 = 1e-6 rad, duration 0 (must be
+ * set), no samples, the tolerances and limits stated above. */
+void usm_sim_options_default(usm_sim_options *opt);
+
+/* One point of the time history. */
+typedef struct usm_sim_sample {
+    double t;                 /* [s] */
+    int nx;
+    const double *x;          /* the state, model order (usm_model.state_names) */
+    const double *xdot;       /* its time derivative */
+    double phi, theta, psi;   /* z-x-z Euler angles [rad] */
+    double phidot, thetadot, psidot; /* [rad/s] */
+    double rotor_angle;       /* phi_R [rad] */
+    double rotor_speed;       /* phidot_R [1/s], the paper's sign (negative when driving) */
+    double out[USM_OUT_COUNT];/* the model's outputs (USM_OUT_*) */
+    int have_avg;             /* 0 before the first complete excitation period */
+    double theta_avg;         /* mean tilt over the last complete period [rad] */
+    double rotor_speed_avg;   /* mean phidot_R over the last complete period [1/s] */
+} usm_sim_sample;
+
+typedef struct usm_sim_callbacks {
+    /* Called at t0 + k / rate and at the end; non-zero stops the run. */
+    int (*sample)(const usm_sim_sample *s, void *data);
+    /* Called at the end of every excitation period (for progress bars). */
+    void (*progress)(double t, double t0, double t1, void *data);
+    void *data;
+} usm_sim_callbacks;
+
+/* Time intervals where a contact condition is violated. */
+typedef struct usm_sim_episodes {
+    long count;      /* separate intervals */
+    double first;    /* start of the first [s] */
+    double last;     /* end of the last [s] (the end of the run if still violated) */
+    double total;    /* total time [s] */
+    double worst;    /* F_n < 0: most negative F_n [N]; stick: largest |F_t| - mu0 F_n [N] */
+} usm_sim_episodes;
+
+typedef enum {
+    USM_SIM_COMPLETED = 0,
+    USM_SIM_INTEGRATOR = 1,     /* CVODES failed (flag in `reason`) */
+    USM_SIM_RUNAWAY_TILT = 2,   /* theta >= theta_limit */
+    USM_SIM_TILT_ZERO = 3,      /* theta <= 0: the Euler angles' singularity */
+    USM_SIM_RUNAWAY_SPEED = 4,  /* |phidot_R| >= speed_limit */
+    USM_SIM_MAX_STEPS = 5,      /* max_steps internal steps used */
+    USM_SIM_STOPPED = 6         /* the sample callback asked to stop */
+} usm_sim_stop;
+
+/* "completed", "integrator", "runaway_tilt", "tilt_zero", "runaway_speed",
+ * "max_steps", "stopped" */
+const char *usm_sim_stop_name(usm_sim_stop stop);
+
+typedef struct usm_sim_summary {
+    usm_sim_stop stop;
+    char reason[USM_MSG_LEN];   /* why the run stopped early ("" when completed) */
+    double t0, t1;              /* requested interval [s] */
+    double t_reached;           /* [s] */
+    double final_x[USM_MAX_NX]; /* state at t_reached */
+    double final_rotor_angle;   /* phi_R at t_reached [rad] */
+    long steps, rhs_evals, jac_evals, error_test_fails, newton_fails;
+    long samples;               /* calls of the sample callback */
+    double theta_min, theta_max;/* over every internal step [rad] */
+    /* the stationary solution the motion is compared with */
+    int have_steady;
+    usm_steady_solution steady;
+    char steady_message[USM_MSG_LEN]; /* why there is none */
+    /* settling (see the header comment) */
+    double settle_tol;
+    int settle_periods;
+    long periods;               /* complete excitation periods integrated */
+    int settled;
+    double t_settle;            /* [s]; meaningful when settled */
+    double theta_avg_end, rotor_speed_avg_end; /* means over the last complete period */
+    double theta_rel_end, rotor_speed_rel_end; /* (mean - stationary) / |stationary| */
+    /* contact diagnostics */
+    usm_sim_episodes contact_open;   /* F_n < 0 */
+    int stick_checked;               /* stick model: |F_t| > mu0 F_n is checked */
+    usm_sim_episodes stick_exceeded; /* |F_t| > mu0 F_n */
+} usm_sim_summary;
+
+/* A transient simulation of one model: integrator workspace and the
+ * message of the last run (opaque). */
+typedef struct usm_sim usm_sim;
+
+/* A simulation of model m (not NULL), or NULL when out of memory. */
+usm_sim *usm_sim_alloc(const usm_model *m);
+/* Free s; NULL is allowed. */
+void usm_sim_free(usm_sim *s);
+
+/* Integrate over [t0, t0 + duration].  Returns USM_OK when the interval was
+ * completed (settled or not), USM_EFAILED when the run stopped early
+ * (integrator failure, runaway, step cap, callback), USM_EINPUT for bad
+ * parameters or options, USM_ENOSOLUTION for FROM_STATIONARY without a
+ * stationary solution.  The summary is filled in every case but USM_EINPUT;
+ * usm_sim_message repeats its reason.  cb and opt may be NULL. */
+int usm_sim_run(usm_sim *s, const usm_params *p, const usm_sim_options *opt,
+                const usm_sim_callbacks *cb, usm_sim_summary *sum);
+
+/* The reason of the last run's outcome (see usm_sim_run).  Owned by s; valid
+ * until the next run or usm_sim_free. */
+/* Why the last usm_sim_run did not return USM_OK ("" otherwise). */
+const char *usm_sim_message(const usm_sim *s);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* USM_SIMULATE_H */

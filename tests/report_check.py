@@ -1,0 +1,258 @@
+#!/usr/bin/env python3
+"""`usm report` and `usm map`, end to end.
+
+    report_check.py PATH/TO/usm
+
+Builds the report (--quick) into a temporary directory and checks that
+ - report.md starts with usm's marker line;
+ - every file it links (Markdown images and links) exists, PNGs are PNGs
+   (signature, IHDR, plausible size) and SVGs parse as XML with root <svg>;
+ - every CSV file a gnuplot script reads exists;
+ - the paper-vs-computed table (section 2) contains every number the paper
+   publishes, and no value is missing ("n/a", "not found");
+ - a report usm wrote is overwritten, anything else only with --force;
+ - `usm map` writes its CSV/JSON and rejects bad options (exit 2, one line).
+Exit 77 (ctest: skipped) when gnuplot is not installed.
+"""
+import json
+import os
+import re
+import shutil
+import struct
+import subprocess
+import sys
+import tempfile
+import xml.etree.ElementTree as ET
+
+USM = sys.argv[1]
+failures = []
+
+# The paper's published numbers as printed (sections 3, 5, 6, Tables 3 and 4,
+# the text on Figs. 9 and 10).  The report must show each of them.
+PUBLISHED = [
+    "0.81836e-4", "5.16 degrees", "-1.98 degrees",                       # Sec. 3
+    "-10.34", "5.12", "-5.12",                                           # Sec. 5
+    "-0.7101 ± 0.5908i", "0.9238", "0.8416", "0.8272",                   # Table 3
+    "-0.6570 ± 0.0189i", "0.6573",
+    "0.2616 ± 0.4934i", "0.5585", "0.7702", "0.8269",                    # Table 4
+    "-0.8021 ± 0.2712i", "0.8467", "0.8654",
+    "36.8 kHz", "9.7 Nmm", "10^4",                                       # Figs. 9, 10; Sec. 6
+]
+
+
+def fail(msg):
+    print("FAIL", msg)
+    failures.append(msg)
+
+
+def ok(msg):
+    print("ok  ", msg)
+
+
+def run(*args):
+    return subprocess.run([USM, *args], capture_output=True, text=True)
+
+
+def check_png(path):
+    with open(path, "rb") as f:
+        data = f.read()
+    if not data.startswith(b"\x89PNG\r\n\x1a\n"):
+        return "no PNG signature"
+    if data[12:16] != b"IHDR":
+        return "no IHDR chunk"
+    w, h = struct.unpack(">II", data[16:24])
+    if not (200 <= w <= 5000 and 200 <= h <= 5000):
+        return f"implausible size {w}x{h}"
+    if len(data) < 5000:
+        return f"only {len(data)} bytes"
+    return None
+
+
+def check_svg(path):
+    try:
+        root = ET.parse(path).getroot()
+    except ET.ParseError as e:
+        return f"not XML: {e}"
+    if root.tag.split("}")[-1] != "svg":
+        return f"root element is <{root.tag}>, not <svg>"
+    if len(list(root.iter())) < 20:
+        return "almost empty"
+    return None
+
+
+def check_report(out):
+    md_path = os.path.join(out, "report.md")
+    with open(md_path, encoding="utf-8") as f:
+        md = f.read()
+    if md.splitlines()[0].startswith("<!-- usm report:"):
+        ok("report.md starts with the usm marker")
+    else:
+        fail("report.md lacks the marker line")
+
+    images = re.findall(r"!\[[^\]]*\]\(([^)\s]+)\)", md)
+    links = [t for t in re.findall(r"(?<!!)\[[^\]]*\]\(([^)\s]+)\)", md)
+             if not t.startswith(("#", "http:", "https:"))]
+    pngs = [t for t in images + links if t.endswith(".png")]
+    svgs = [t for t in images + links if t.endswith(".svg")]
+    if len(set(pngs)) >= 7 and len(set(svgs)) >= 7:
+        ok(f"report links {len(set(pngs))} PNG and {len(set(svgs))} SVG figures")
+    else:
+        fail(f"report links only {len(set(pngs))} PNG and {len(set(svgs))} SVG figures")
+    for name in sorted(set(images + links)):
+        path = os.path.join(out, name)
+        if not os.path.isfile(path):
+            fail(f"{name}: linked but missing")
+            continue
+        err = check_png(path) if name.endswith(".png") else \
+            check_svg(path) if name.endswith(".svg") else None
+        if err:
+            fail(f"{name}: {err}")
+        else:
+            ok(f"{name}: valid")
+    for name in images:
+        if not name.endswith(".png"):
+            fail(f"embedded image {name} is not a PNG")
+
+    # every data file a script reads exists and has a header and data
+    for gp in sorted(n for n in os.listdir(out) if n.endswith(".gp")):
+        with open(os.path.join(out, gp), encoding="utf-8") as f:
+            text = f.read()
+        for csv in sorted(set(re.findall(r'"([\w.-]+\.csv)"', text))):
+            path = os.path.join(out, csv)
+            if not os.path.isfile(path):
+                fail(f"{gp} reads {csv}, which is missing")
+                continue
+            with open(path, encoding="utf-8") as f:
+                lines = [l for l in f.read().splitlines() if l.strip()]
+            if len(lines) < 2 and not csv.endswith(("_stability.csv", "_existence.csv",
+                                                     "_stick.csv")):
+                fail(f"{csv}: no data rows")
+        ok(f"{gp}: its CSV files exist")
+
+    # the comparison table holds every published number
+    m = re.search(r"^## 2\..*?(?=^## 3\.)", md, re.S | re.M)
+    if not m:
+        fail("no section 2 (the paper's numbers beside the computed ones)")
+        return
+    table = "\n".join(l for l in m.group(0).splitlines() if l.startswith("|"))
+    for number in PUBLISHED:
+        if number in table:
+            ok(f"table shows the published {number!r}")
+        else:
+            fail(f"table lacks the published {number!r}")
+    rows = [l for l in table.splitlines()[2:]]
+    if len(rows) >= 20:
+        ok(f"table has {len(rows)} rows")
+    else:
+        fail(f"table has only {len(rows)} rows")
+    for bad in ("n/a", "not found"):
+        if bad in md:
+            fail(f"report contains {bad!r}: a value was not computed")
+    for key in ("Table 3 uses t0 = 0", "f = 37000 Hz", "2 I_R / R^2"):
+        if key in md:
+            ok(f"report states {key!r}")
+        else:
+            fail(f"report does not state {key!r}")
+
+
+def expect_bad(args, field):
+    r = run(*args)
+    lines = r.stderr.splitlines()
+    if r.returncode == 2 and len(lines) == 1 and lines[0].startswith("usm: ") and \
+            field in lines[0] and not r.stdout:
+        ok(f"usm {' '.join(args)}: exit 2, {lines[0]}")
+    else:
+        fail(f"usm {' '.join(args)}: exit {r.returncode}, stderr {r.stderr!r}")
+
+
+def main():
+    gnuplot = os.environ.get("USM_GNUPLOT") or "gnuplot"
+    if not shutil.which(gnuplot):
+        print(f"SKIP: {gnuplot} not found (install gnuplot-nox)")
+        sys.exit(77)
+    tmp = tempfile.mkdtemp(prefix="usm-report-")
+    try:
+        out = os.path.join(tmp, "rep")
+        r = run("report", "--out", out, "--quick")
+        if r.returncode != 0:
+            fail(f"usm report exited {r.returncode}: {r.stderr}")
+            return
+        ok(f"usm report --quick: {r.stdout.strip()}")
+        check_report(out)
+
+        # its own report is overwritten
+        r = run("report", "--out", out, "--quick", "--no-plots")
+        if r.returncode == 0:
+            ok("a second run overwrites usm's own report")
+        else:
+            fail(f"second run into the same directory: exit {r.returncode}: {r.stderr}")
+
+        # a report.md usm did not write is kept
+        mine = os.path.join(tmp, "mine")
+        os.mkdir(mine)
+        with open(os.path.join(mine, "report.md"), "w") as f:
+            f.write("# my notes\n")
+        expect_bad(["report", "--out", mine, "--quick", "--no-plots"], "report.md")
+        with open(os.path.join(mine, "report.md")) as f:
+            if f.read() == "# my notes\n":
+                ok("a foreign report.md is left untouched")
+            else:
+                fail("a foreign report.md was changed")
+        # and so is any file of the report's names without a usm report.md
+        other = os.path.join(tmp, "other")
+        os.mkdir(other)
+        with open(os.path.join(other, "map_3dof.csv"), "w") as f:
+            f.write("mine\n")
+        expect_bad(["report", "--out", other, "--quick", "--no-plots"], "map_3dof.csv")
+        r = run("report", "--out", mine, "--quick", "--no-plots", "--force")
+        if r.returncode == 0:
+            ok("--force overwrites")
+        else:
+            fail(f"--force: exit {r.returncode}: {r.stderr}")
+
+        # bad options
+        expect_bad(["report"], "--out")
+        expect_bad(["report", "--out", out, "--model", "4dof"], "--model")
+        expect_bad(["report", "--out", out, "--threads", "0"], "--threads")
+        expect_bad(["report", "--out", out, "--set", "m0=abc"], "m0")
+        expect_bad(["report", "--out", out, "--bogus"], "--bogus")
+
+        # usm map
+        r = run("map", "--x-points", "3", "--y-points", "2", "--threads", "2")
+        rows = r.stdout.splitlines()
+        if r.returncode == 0 and rows[0].startswith("f,T,exists,roots,max_modulus") and \
+                len(rows) == 7:
+            ok("usm map: CSV with header and 6 rows")
+        else:
+            fail(f"usm map CSV: exit {r.returncode}, {rows[:2]}, {r.stderr}")
+        r = run("map", "--model", "4dof", "--x", "m0", "--x-from", "0.003", "--x-to", "0.006",
+                "--x-points", "3", "--y-points", "3", "--y-to", "0.0012", "--json")
+        try:
+            obj = json.loads(r.stdout)
+            good = (r.returncode == 0 and obj["model"] == "4dof" and len(obj["points"]) == 9
+                    and obj["x"]["name"] == "m0" and set(obj["boundaries"]) ==
+                    {"existence", "stability", "stick"})
+        except (ValueError, KeyError):
+            good = False
+        if good:
+            ok("usm map --json: 9 points, boundaries")
+        else:
+            fail(f"usm map --json: exit {r.returncode}: {r.stdout[:200]} {r.stderr}")
+        csv_out = os.path.join(tmp, "map.csv")
+        with open(csv_out, "w") as f:
+            f.write("keep\n")
+        expect_bad(["map", "--x-points", "2", "--y-points", "2", "--out", csv_out], "exists")
+        expect_bad(["map", "--x", "nosuch"], "nosuch")
+        expect_bad(["map", "--x", "m0"], "--x-from")
+        expect_bad(["map", "--x-points", "1"], "--x-points")
+        expect_bad(["map", "--y", "f"], "--y")
+        expect_bad(["map", "--x", "m0", "--x-from", "-1", "--x-to", "1"], "m0")
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+
+
+main()
+if failures:
+    print(f"FAILED: {len(failures)} check(s)")
+    sys.exit(1)
+print("usm report and usm map: all checks passed")

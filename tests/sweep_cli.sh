@@ -1,0 +1,145 @@
+#!/bin/bash
+# usm sweep from the command line:
+#  - every converged grid point equals a single `usm steady --json` run at the
+#    same parameters (theta, alpha, rotor_speed and the multipliers, 1e-9 relative);
+#  - the CSV has the documented header, one row per point (empty fields where
+#    no solution exists) and the events as '#' lines at the end;
+#  - bad input exits with 2 and one line "usm: FIELD: reason".
+#
+# usage: sweep_cli.sh PATH/TO/usm
+set -u
+
+USM=${1:?usage: sweep_cli.sh PATH/TO/usm}
+PY=/usr/bin/python3
+failures=0
+checks=0
+
+tmp=$(mktemp -d) || exit 1
+trap 'rm -rf "$tmp"' EXIT
+out=$tmp/stdout
+err=$tmp/stderr
+
+fail() {
+    failures=$((failures + 1))
+    echo "FAIL: $*"
+    echo "  stdout: $(head -c 400 "$out")"
+    echo "  stderr: $(head -c 400 "$err")"
+}
+
+# ---- grid points equal single stationary solves -----------------------------------
+# compare MODEL ARGS...: run the sweep with --json, then usm steady at each point.
+compare() {
+    local model=$1
+    shift
+    checks=$((checks + 1))
+    if ! "$USM" sweep --json --model "$model" "$@" >"$out" 2>"$err"; then
+        fail "usm sweep --model $model $*: exit $?"
+        return
+    fi
+    cat >"$tmp/compare.py" <<'EOF'
+import json, subprocess, sys
+usm, model = sys.argv[1], sys.argv[2]
+with open(sys.argv[3]) as f:
+    sweep = json.load(f)
+sweep_args = sys.argv[4:]
+fixed = []  # the sweep's --set options, for usm steady too
+for k, a in enumerate(sweep_args):
+    if a == "--set":
+        fixed += ["--set", sweep_args[k + 1]]
+over = sweep["over"]
+worst, compared = 0.0, 0
+for pt in sweep["points"]:
+    if not pt["converged"]:
+        continue
+    run = subprocess.run([usm, "steady", "--json", "--model", model,
+                          *fixed, "--set", f"{over}={pt[over]!r}"],
+                         capture_output=True, text=True)
+    if run.returncode == 3:
+        continue  # no solution found by the full search: nothing to compare
+    assert run.returncode == 0, run.stderr
+    st = json.loads(run.stdout)
+    for k in ("theta", "alpha", "rotor_speed"):
+        worst = max(worst, abs(pt[k] - st[k]) / abs(st[k]))
+    a, b = pt["floquet"]["multipliers"], st["floquet"]["multipliers"]
+    assert len(a) == len(b)
+    for x, y in zip(a, b):
+        worst = max(worst, abs(complex(*x) - complex(*y)) / abs(complex(*y)))
+    compared += 1
+assert compared >= 3, f"only {compared} points compared"
+print(f"{model} over {over}: {compared} points, largest relative difference {worst:.2e}")
+assert worst <= 1e-9, f"largest relative difference {worst:.3e}"
+EOF
+    if ! "$PY" "$tmp/compare.py" "$USM" "$model" "$out" "$@" >"$tmp/py" 2>&1; then
+        fail "usm sweep --model $model $*: $(tail -n 1 "$tmp/py")"
+        return
+    fi
+    cat "$tmp/py"
+}
+compare 3dof --over f --from 36000 --to 39000 --points 7
+compare 3dof --over T --from 0 --to 0.0076 --points 6
+compare 4dof --over T --from 0 --to 0.0012 --points 7
+compare 4dof --over m0 --from 0.004 --to 0.006 --points 5 --set T=3e-4
+
+# ---- CSV ----------------------------------------------------------------------
+checks=$((checks + 1))
+if "$USM" sweep --over T --from 0 --to 0.01 --points 11 >"$out" 2>"$err"; then
+    cat >"$tmp/csv.py" <<'EOF'
+import sys
+with open(sys.argv[1]) as f:
+    lines = f.read().splitlines()
+assert lines[0] == ("T [N m],theta [rad],alpha [rad],rotor_speed [1/s],F_n [N],F_t [N],"
+                    "mu_needed [1],max_modulus [1],stable,converged"), lines[0]
+rows = [l for l in lines[1:] if not l.startswith("#")]
+assert len(rows) == 11, len(rows)
+assert lines[1:12] == rows, "event lines must follow the rows"
+for r in rows:
+    f = r.split(",")
+    assert len(f) == 10, r
+    if f[-1] == "true":
+        assert all(f[:8]) and f[8] in ("true", "false"), r
+    else:
+        assert f[-1] == "false" and not any(f[1:9]), r
+events = lines[12:]
+assert [e.split()[1] for e in events] == ["stick_limit", "stability_change", "fold"], events
+assert all(e.startswith("# ") and " at T = " in e for e in events), events
+EOF
+    if ! "$PY" "$tmp/csv.py" "$out" >"$tmp/py" 2>&1; then
+        fail "CSV: $(tail -n 1 "$tmp/py")"
+    fi
+    [ -s "$err" ] && fail "CSV: stderr not empty (no progress bar when stderr is not a terminal)"
+else
+    fail "usm sweep --over T --from 0 --to 0.01: exit $?, want 0 (points without solution are not an error)"
+fi
+
+# ---- bad input ------------------------------------------------------------------
+expect_bad() { # FIELD REASON ARGS...
+    local field=$1 reason=$2
+    shift 2
+    checks=$((checks + 1))
+    "$USM" "$@" >"$out" 2>"$err"
+    local rc=$?
+    if [ $rc -ne 2 ]; then fail "usm $*: exit $rc, want 2"; return; fi
+    if [ "$(wc -l <"$err")" -ne 1 ]; then fail "usm $*: stderr is not one line"; return; fi
+    if ! grep -q '^usm: ' "$err"; then fail "usm $*: stderr lacks the 'usm: ' prefix"; return; fi
+    if ! grep -qF -- "$field" "$err"; then fail "usm $*: stderr does not name '$field'"; return; fi
+    if ! grep -qiE -- "$reason" "$err"; then fail "usm $*: stderr does not say '$reason'"; return; fi
+    if [ -s "$out" ]; then fail "usm $*: output on stdout"; return; fi
+}
+R=(--from 36000 --to 39000 --points 5)
+expect_bad '--over' 'unknown parameter' sweep --over nosuch "${R[@]}"
+expect_bad '--over' 'required' sweep "${R[@]}"
+expect_bad '--points' 'integer from 2' sweep --over f --from 36000 --to 39000 --points 1
+expect_bad '--points' 'integer from 2' sweep --over f --from 36000 --to 39000 --points 2.5
+expect_bad '--points' 'not a number' sweep --over f --from 36000 --to 39000 --points x
+expect_bad '--from' 'not a number' sweep --over f --from abc --to 39000
+expect_bad '--from' 'not a finite number' sweep --over f --from nan --to 39000
+expect_bad '--to' 'required' sweep --over f --from 36000
+expect_bad '--to' 'must differ' sweep --over f --from 36000 --to 36000
+expect_bad '--threads' 'integer from 1' sweep --over f "${R[@]}" --threads 0
+expect_bad 'usm: f:' 'must be positive' sweep --over f --from -1000 --to 1000 --points 3
+expect_bad '--frobnicate' 'unknown option' sweep --over f "${R[@]}" --frobnicate
+expect_bad '--set m0' 'not a number' sweep --over f "${R[@]}" --set m0=abc
+expect_bad '--from' 'missing argument' sweep --over f --from
+
+echo "$checks checks, $failures failures"
+[ $failures -eq 0 ]

@@ -1,0 +1,458 @@
+/* Sweeps by continuation, checked against independent computations that do
+ * not use the continuation (full searches, bisection, golden section).
+ *
+ * 1. Speed maximum over f (3dof): a parabola through the fine sweep's largest
+ *    |rotor speed| agrees with a golden-section search on usm_steady_solve.
+ * 2. Fold in T (3dof, the tilt runs into theta_min): agrees with the value
+ *    where a bisection on usm_steady_solve stops finding a solution.
+ * 3. Stick limit: usm_steady_solve at the reported T gives F_t = mu0 F_n.
+ * 4. Stability change: the multipliers just below and above the reported T
+ *    are inside and outside the unit circle.
+ * 5. A true fold (3dof, m0 = 50 N m, tilt range up to 1 rad): agrees with the
+ *    frequency where the maximum over theta of the amplitude mismatch (the
+ *    steady_seed kernel; its sign changes bracket the roots) touches zero.
+ * 6. Friction saturation (4dof): agrees with the bisection on usm_steady_solve.
+ * 7. The same sweep downwards: the points without a solution come first, and
+ *    the events are the same.
+ * 8. Floquet on 1 and 2 threads: bit-identical results.
+ * 9. Bad options: USM_EINPUT with a message naming the field.
+ */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <gsl/gsl_errno.h>
+
+#include "usm_sweep.h"
+
+static int failures;
+
+#define CHECK(cond, ...)                                                                           \
+    do {                                                                                           \
+        if (!(cond)) {                                                                             \
+            ++failures;                                                                            \
+            printf("FAIL %s:%d: ", __FILE__, __LINE__);                                            \
+            printf(__VA_ARGS__);                                                                   \
+            printf("\n");                                                                          \
+        }                                                                                          \
+    } while (0)
+
+#define GOLDEN 0.6180339887498949
+
+static usm_sweep *run(const char *model, const usm_params *p, const char *over, double from,
+                      double to, int points, int floquet)
+{
+    usm_sweep_options o;
+    usm_sweep *s = usm_sweep_alloc(usm_model_find(model));
+    usm_sweep_options_default(&o);
+    o.over = over;
+    o.from = from;
+    o.to = to;
+    o.points = points;
+    o.floquet = floquet;
+    int rc = usm_sweep_run(s, p, &o);
+    CHECK(rc == USM_OK, "%s sweep over %s: status %d: %s", model, over, rc, usm_sweep_message(s));
+    return s;
+}
+
+static const usm_sweep_event *find_event(const usm_sweep *s, usm_event_type type)
+{
+    const usm_sweep_event *found = NULL;
+    int n = 0;
+    for (size_t i = 0; i < usm_sweep_event_count(s); ++i)
+        if (usm_sweep_event_at(s, i)->type == type) {
+            found = usm_sweep_event_at(s, i);
+            ++n;
+        }
+    CHECK(n == 1, "expected one %s event, found %d", usm_event_name(type), n);
+    return found;
+}
+
+/* The full search with xtol 1e-10: with the default 1e-13 the polish asks
+ * for theta below its rounding floor when theta < ~1e-8 rad (and for the
+ * rotor speed when it exceeds ~1e5 1/s) and fails at random parameter values
+ * there, which would fool a bisection. */
+static int solves(usm_steady *s, const usm_params *p)
+{
+    usm_steady_options o;
+    usm_steady_options_default(&o);
+    o.xtol = 1e-10;
+    return usm_steady_solve(s, p, &o) == USM_OK;
+}
+
+/* Bisection on T for the end of existence between lo (solved) and hi (not). */
+static double existence_end(const char *model, usm_params p, double lo, double hi)
+{
+    usm_steady *s = usm_steady_alloc(usm_model_find(model));
+    p.T = lo;
+    CHECK(solves(s, &p), "bisection: no solution at the lower end T = %g", lo);
+    p.T = hi;
+    CHECK(!solves(s, &p), "bisection: a solution at the upper end T = %g", hi);
+    for (int it = 0; it < 200 && hi - lo > 1e-15 * hi; ++it) {
+        p.T = 0.5 * (lo + hi);
+        if (solves(s, &p))
+            lo = p.T;
+        else
+            hi = p.T;
+    }
+    usm_steady_free(s);
+    return 0.5 * (lo + hi);
+}
+
+/* ---- 1. speed maximum ------------------------------------------------------------ */
+
+static double speed_at(usm_steady *s, usm_params *p, double f)
+{
+    p->f = f;
+    if (usm_steady_solve(s, p, NULL) != USM_OK)
+        return NAN;
+    return fabs(usm_steady_root(s, 0)->rotor_speed);
+}
+
+static void check_speed_maximum(void)
+{
+    usm_params p;
+    usm_params_default(&p);
+    usm_sweep *sw = run("3dof", &p, "f", 36000, 39000, 301, 0);
+    size_t best = 0;
+    for (size_t i = 0; i < usm_sweep_count(sw); ++i) {
+        const usm_sweep_point *pt = usm_sweep_point_at(sw, i);
+        CHECK(pt->converged, "f sweep: no solution at f = %g: %s", pt->value, pt->error);
+        if (fabs(pt->sol.rotor_speed) > fabs(usm_sweep_point_at(sw, best)->sol.rotor_speed))
+            best = i;
+    }
+    CHECK(best > 0 && best + 1 < usm_sweep_count(sw), "f sweep: the maximum is at an end");
+    if (best == 0 || best + 1 >= usm_sweep_count(sw))
+        return;
+    /* vertex of the parabola through the three grid points around the maximum */
+    const usm_sweep_point *a = usm_sweep_point_at(sw, best - 1), *b = usm_sweep_point_at(sw, best),
+                          *c = usm_sweep_point_at(sw, best + 1);
+    const double ya = fabs(a->sol.rotor_speed), yb = fabs(b->sol.rotor_speed),
+                 yc = fabs(c->sol.rotor_speed), h = b->value - a->value;
+    const double f_sweep = b->value + 0.5 * h * (ya - yc) / (ya - 2 * yb + yc);
+
+    /* golden section on the stationary solver alone */
+    usm_steady *s = usm_steady_alloc(usm_model_find("3dof"));
+    double lo = 36000, hi = 39000;
+    double x1 = hi - GOLDEN * (hi - lo), x2 = lo + GOLDEN * (hi - lo);
+    double y1 = speed_at(s, &p, x1), y2 = speed_at(s, &p, x2);
+    while (hi - lo > 1e-3) {
+        if (y1 > y2) {
+            hi = x2;
+            x2 = x1;
+            y2 = y1;
+            x1 = hi - GOLDEN * (hi - lo);
+            y1 = speed_at(s, &p, x1);
+        } else {
+            lo = x1;
+            x1 = x2;
+            y1 = y2;
+            x2 = lo + GOLDEN * (hi - lo);
+            y2 = speed_at(s, &p, x2);
+        }
+    }
+    const double f_golden = 0.5 * (lo + hi);
+    printf("speed maximum: sweep + parabola f = %.4f Hz (|rotor_speed| %.6f 1/s), golden section "
+           "f = %.4f Hz, difference %.3g Hz\n",
+           f_sweep, yb, f_golden, f_sweep - f_golden);
+    CHECK(fabs(f_sweep - f_golden) < 1.0, "speed maximum: sweep %.4f Hz, golden section %.4f Hz",
+          f_sweep, f_golden);
+    usm_steady_free(s);
+    usm_sweep_free(sw);
+}
+
+/* ---- 2.-4. the load sweep of the stick model ------------------------------------------ */
+
+static void check_load_sweep(void)
+{
+    usm_params p;
+    usm_params_default(&p);
+    usm_sweep *sw = run("3dof", &p, "T", 0, 0.01, 101, 1);
+
+    /* 2. fold: the tilt reaches theta_min */
+    const usm_sweep_event *fold = find_event(sw, USM_EVENT_FOLD);
+    if (fold) {
+        const double ref = existence_end("3dof", p, 7.0e-3, 8.0e-3);
+        const double rel = fabs(fold->value - ref) / ref;
+        printf("fold (3dof, T): sweep T = %.12g N m, bisection on usm_steady_solve %.12g N m, "
+               "relative difference %.2e; %s\n",
+               fold->value, ref, rel, fold->what);
+        CHECK(rel < 1e-6, "fold: sweep %.12g, bisection %.12g", fold->value, ref);
+        CHECK(fold->has_sol && fabs(fold->sol.theta - 1e-9) < 1e-15,
+              "fold: theta there %.6g, want theta_min = 1e-9", fold->sol.theta);
+        for (size_t i = 0; i < usm_sweep_count(sw); ++i) {
+            const usm_sweep_point *pt = usm_sweep_point_at(sw, i);
+            CHECK(pt->converged == (pt->value < fold->value), "T = %g: converged %d, fold at %g",
+                  pt->value, pt->converged, fold->value);
+        }
+    }
+
+    /* 3. stick limit */
+    const usm_sweep_event *stick = find_event(sw, USM_EVENT_STICK_LIMIT);
+    if (stick) {
+        usm_steady *s = usm_steady_alloc(usm_model_find("3dof"));
+        usm_params q = p;
+        q.T = stick->value;
+        CHECK(usm_steady_solve(s, &q, NULL) == USM_OK, "stick limit: no solution at T = %g",
+              stick->value);
+        const usm_steady_solution *r = usm_steady_root(s, 0);
+        const double rel = fabs(r->F_t - q.mu0 * r->F_n) / (q.mu0 * r->F_n);
+        printf("stick limit: T = %.12g N m; usm_steady_solve there: F_t = %.12g N, "
+               "mu0 F_n = %.12g N, relative difference %.2e\n",
+               stick->value, r->F_t, q.mu0 * r->F_n, rel);
+        CHECK(rel < 1e-9, "stick limit: F_t - mu0 F_n relative %.3g", rel);
+        usm_steady_free(s);
+    }
+
+    /* 4. stability change: the sign of max|lambda| - 1 on either side */
+    const usm_sweep_event *stab = find_event(sw, USM_EVENT_STABILITY_CHANGE);
+    if (stab) {
+        usm_steady *s = usm_steady_alloc(usm_model_find("3dof"));
+        usm_floquet *f = usm_floquet_alloc(usm_model_find("3dof"));
+        double mod[2];
+        for (int k = 0; k < 2; ++k) {
+            usm_params q = p;
+            usm_floquet_result res;
+            q.T = stab->value * (k ? 1 + 1e-5 : 1 - 1e-5);
+            mod[k] = NAN;
+            if (usm_steady_solve(s, &q, NULL) == USM_OK &&
+                usm_floquet_compute(f, &q, usm_steady_root(s, 0), 0.0, NULL, &res) == USM_OK)
+                mod[k] = res.max_modulus;
+        }
+        printf("stability change: T = %.10g N m; max|lambda| at T(1 -+ 1e-5): %.9f, %.9f\n",
+               stab->value, mod[0], mod[1]);
+        CHECK(mod[0] < 1 && mod[1] > 1, "stability change: max|lambda| %.9f below, %.9f above",
+              mod[0], mod[1]);
+        usm_floquet_free(f);
+        usm_steady_free(s);
+    }
+    usm_sweep_free(sw);
+}
+
+/* ---- 5. a fold where the branch turns ------------------------------------------------- */
+
+static double mismatch(const usm_model *m, const usm_params *p, double theta)
+{
+    double out[USM_SEED_COUNT];
+    m->steady_seed(theta, p, out);
+    return out[USM_SEED_AMPLITUDE_MISMATCH];
+}
+
+/* max over theta in [0.3, 0.45] (one hump there) by golden section */
+static double mismatch_peak(const usm_model *m, const usm_params *p)
+{
+    double lo = 0.3, hi = 0.45;
+    double x1 = hi - GOLDEN * (hi - lo), x2 = lo + GOLDEN * (hi - lo);
+    double y1 = mismatch(m, p, x1), y2 = mismatch(m, p, x2);
+    while (hi - lo > 1e-12) {
+        if (y1 > y2) {
+            hi = x2;
+            x2 = x1;
+            y2 = y1;
+            x1 = hi - GOLDEN * (hi - lo);
+            y1 = mismatch(m, p, x1);
+        } else {
+            lo = x1;
+            x1 = x2;
+            y1 = y2;
+            x2 = lo + GOLDEN * (hi - lo);
+            y2 = mismatch(m, p, x2);
+        }
+    }
+    return fmax(y1, y2);
+}
+
+static void check_true_fold(void)
+{
+    const usm_model *m = usm_model_find("3dof");
+    usm_params p;
+    usm_sweep_options o;
+    usm_params_default(&p);
+    p.m0 = 50.0;
+    usm_sweep_options_default(&o);
+    o.over = "f";
+    o.from = 20000;
+    o.to = 40000;
+    o.points = 41;
+    o.floquet = 0;
+    o.steady.theta_max = 1.0;
+    usm_sweep *sw = usm_sweep_alloc(m);
+    CHECK(usm_sweep_run(sw, &p, &o) == USM_OK, "m0 = 50: %s", usm_sweep_message(sw));
+    const usm_sweep_event *fold = find_event(sw, USM_EVENT_FOLD);
+    if (fold) {
+        double lo = 32000, hi = 33500;
+        usm_params q = p;
+        q.f = lo;
+        CHECK(mismatch_peak(m, &q) > 0, "m0 = 50: no double root below the fold");
+        q.f = hi;
+        CHECK(mismatch_peak(m, &q) < 0, "m0 = 50: a double root above the fold");
+        for (int it = 0; it < 100 && hi - lo > 1e-9; ++it) {
+            q.f = 0.5 * (lo + hi);
+            if (mismatch_peak(m, &q) > 0)
+                lo = q.f;
+            else
+                hi = q.f;
+        }
+        const double ref = 0.5 * (lo + hi), rel = fabs(fold->value - ref) / ref;
+        printf("true fold (3dof, m0 = 50 N m, f): sweep f = %.10f Hz (theta %.6f rad), "
+               "double root of the amplitude mismatch at f = %.10f Hz, relative difference "
+               "%.2e\n",
+               fold->value, fold->sol.theta, ref, rel);
+        CHECK(rel < 1e-9, "true fold: sweep %.10f, reference %.10f", fold->value, ref);
+        CHECK(strstr(fold->what, "turns back") != NULL, "true fold: what = %s", fold->what);
+    }
+    usm_sweep_free(sw);
+}
+
+/* ---- 6. friction saturation -------------------------------------------------------- */
+
+static void check_saturation(void)
+{
+    usm_params p;
+    usm_params_default(&p);
+    usm_sweep *sw = run("4dof", &p, "T", 0, 0.0012, 25, 0);
+    const usm_sweep_event *sat = find_event(sw, USM_EVENT_FRICTION_SATURATION);
+    if (sat) {
+        const double ref = existence_end("4dof", p, 9.0e-4, 1.0e-3);
+        const double rel = fabs(sat->value - ref) / ref;
+        printf("friction saturation (4dof, T): sweep T = %.12g N m, bisection on "
+               "usm_steady_solve %.12g N m, relative difference %.2e\n",
+               sat->value, ref, rel);
+        CHECK(rel < 1e-6, "saturation: sweep %.12g, bisection %.12g", sat->value, ref);
+        CHECK(!sat->has_sol, "saturation: has_sol should be 0 (the rotor speed diverges)");
+        for (size_t i = 0; i < usm_sweep_count(sw); ++i) {
+            const usm_sweep_point *pt = usm_sweep_point_at(sw, i);
+            CHECK(pt->converged == (pt->value < sat->value), "T = %g: converged %d", pt->value,
+                  pt->converged);
+        }
+    }
+    usm_sweep_free(sw);
+}
+
+/* ---- 7. downwards ----------------------------------------------------------------- */
+
+static void check_downwards(void)
+{
+    usm_params p;
+    usm_params_default(&p);
+    usm_sweep *up = run("3dof", &p, "T", 0, 0.01, 41, 0);
+    usm_sweep *down = run("3dof", &p, "T", 0.01, 0, 41, 0);
+    CHECK(usm_sweep_event_count(up) == usm_sweep_event_count(down), "events: %zu up, %zu down",
+          usm_sweep_event_count(up), usm_sweep_event_count(down));
+    for (size_t i = 0; i < usm_sweep_event_count(up) && i < usm_sweep_event_count(down); ++i) {
+        const usm_sweep_event *a = usm_sweep_event_at(up, i);
+        const usm_sweep_event *b = usm_sweep_event_at(down, usm_sweep_event_count(down) - 1 - i);
+        CHECK(a->type == b->type && fabs(a->value - b->value) <= 1e-10 * fabs(a->value),
+              "event %zu: %s at %.15g up, %s at %.15g down", i, usm_event_name(a->type), a->value,
+              usm_event_name(b->type), b->value);
+    }
+    for (size_t i = 0; i < usm_sweep_count(up); ++i) {
+        const usm_sweep_point *a = usm_sweep_point_at(up, i);
+        const usm_sweep_point *b = usm_sweep_point_at(down, usm_sweep_count(down) - 1 - i);
+        CHECK(a->value == b->value && a->converged == b->converged &&
+                  (!a->converged || a->sol.theta == b->sol.theta),
+              "T = %g: up and down differ", a->value);
+    }
+    printf("downwards: %zu events, the same as upwards\n", usm_sweep_event_count(down));
+    usm_sweep_free(up);
+    usm_sweep_free(down);
+}
+
+/* ---- 8. threads ------------------------------------------------------------------ */
+
+static void check_threads(void)
+{
+    usm_params p;
+    usm_sweep_options o;
+    usm_sweep *s[2];
+    usm_params_default(&p);
+    for (int k = 0; k < 2; ++k) {
+        usm_sweep_options_default(&o);
+        o.over = "f";
+        o.from = 36000;
+        o.to = 39000;
+        o.points = 41;
+        o.threads = k + 1;
+        s[k] = usm_sweep_alloc(usm_model_find("4dof"));
+        CHECK(usm_sweep_run(s[k], &p, &o) == USM_OK, "threads %d: %s", k + 1,
+              usm_sweep_message(s[k]));
+    }
+    int same = usm_sweep_count(s[0]) == usm_sweep_count(s[1]);
+    for (size_t i = 0; same && i < usm_sweep_count(s[0]); ++i) {
+        const usm_sweep_point *a = usm_sweep_point_at(s[0], i), *b = usm_sweep_point_at(s[1], i);
+        same = a->has_floquet && b->has_floquet &&
+               memcmp(a->floquet.re, b->floquet.re, sizeof a->floquet.re) == 0 &&
+               memcmp(a->floquet.im, b->floquet.im, sizeof a->floquet.im) == 0;
+    }
+    CHECK(same, "Floquet results on 1 and 2 threads differ");
+    printf("threads: 41 points, multipliers on 1 and 2 threads bit-identical: %s\n",
+           same ? "yes" : "no");
+    usm_sweep_free(s[0]);
+    usm_sweep_free(s[1]);
+}
+
+/* ---- 9. bad options --------------------------------------------------------------- */
+
+static void expect_einput(const char *label, const usm_sweep_options *o, const char *field)
+{
+    usm_params p;
+    usm_params_default(&p);
+    usm_sweep *s = usm_sweep_alloc(usm_model_find("3dof"));
+    int rc = usm_sweep_run(s, &p, o);
+    CHECK(rc == USM_EINPUT && strncmp(usm_sweep_message(s), field, strlen(field)) == 0,
+          "%s: status %d, message \"%s\", want USM_EINPUT naming %s", label, rc,
+          usm_sweep_message(s), field);
+    usm_sweep_free(s);
+}
+
+static void check_bad_options(void)
+{
+    usm_sweep_options o, d;
+    usm_sweep_options_default(&d);
+    o = d;
+    o.over = "nosuch";
+    expect_einput("unknown parameter", &o, "over:");
+    o = d;
+    o.points = 1;
+    expect_einput("one point", &o, "points:");
+    o = d;
+    o.from = NAN;
+    expect_einput("from NaN", &o, "from:");
+    o = d;
+    o.to = INFINITY;
+    expect_einput("to infinite", &o, "to:");
+    o = d;
+    o.to = o.from;
+    expect_einput("empty range", &o, "to:");
+    o = d;
+    o.threads = 0;
+    expect_einput("no threads", &o, "threads:");
+    o = d;
+    o.from = -1000;
+    o.to = 1000;
+    expect_einput("f through zero", &o, "f:");
+    o = d;
+    o.over = "I_R";
+    o.from = 1e-9;
+    o.to = -1e-9;
+    expect_einput("I_R negative", &o, "I_R:");
+}
+
+int main(void)
+{
+    gsl_set_error_handler_off();
+    check_speed_maximum();
+    check_load_sweep();
+    check_true_fold();
+    check_saturation();
+    check_downwards();
+    check_threads();
+    check_bad_options();
+    if (failures) {
+        printf("%d check(s) failed\n", failures);
+        return 1;
+    }
+    printf("all sweep checks passed\n");
+    return 0;
+}
