@@ -11,7 +11,8 @@ Builds the report (--quick) into a temporary directory and checks that
  - the paper-vs-computed table (section 2) contains every number the paper
    publishes, and no value is missing ("n/a", "not found");
  - a report usm wrote is overwritten, anything else only with --force;
- - `usm map` writes its CSV/JSON and rejects bad options (exit 2, one line).
+ - `usm map` writes its CSV/JSON, the same for 1 and 2 threads, and rejects
+   bad options (exit 2, one line).
 Exit 77 (ctest: skipped) when gnuplot is not installed.
 """
 import json
@@ -225,6 +226,12 @@ def main():
             ok("usm map: CSV with header and 6 rows")
         else:
             fail(f"usm map CSV: exit {r.returncode}, {rows[:2]}, {r.stderr}")
+        one = run("map", "--x-points", "5", "--y-points", "4", "--threads", "1", "--json")
+        two = run("map", "--x-points", "5", "--y-points", "4", "--threads", "2", "--json")
+        if one.returncode == 0 and one.stdout == two.stdout:
+            ok("usm map: the same output from 1 and 2 threads")
+        else:
+            fail("usm map: the output depends on the number of threads")
         r = run("map", "--model", "4dof", "--x", "m0", "--x-from", "0.003", "--x-to", "0.006",
                 "--x-points", "3", "--y-points", "3", "--y-to", "0.0012", "--json")
         try:

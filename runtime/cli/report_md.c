@@ -16,12 +16,14 @@
 
 /* ---- formatting -------------------------------------------------------------- */
 
-/* Rotating buffers so that several formatted numbers fit in one fprintf. */
+/* Rotating buffers so that several formatted numbers fit in one fprintf
+ * (no call below formats more than 32; the report is written by one thread). */
+#define NBUF 64
 static char *buf_next(void)
 {
-    static char bufs[16][64];
+    static char bufs[NBUF][64];
     static int k;
-    k = (k + 1) % 16;
+    k = (k + 1) % NBUF;
     return bufs[k];
 }
 
