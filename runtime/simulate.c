@@ -491,7 +491,7 @@ static int setup_integrator(usm_sim *s, const double *x0, double rotor_angle0)
     /* Near the stationary orbit z hardly changes, and CVODES would step over
      * hundreds of excitation periods at once: blind to a perturbation that
      * grows from one period to the next (the 3-DOF orbit does, after about
-     * 20 ms: README-simulate.md).  A quarter period keeps it visible. */
+     * 20 ms: docs/simulate.md).  A quarter period keeps it visible. */
     if ((flag = CVodeSetMaxStep(s->cv, s->o.max_step > 0 ? s->o.max_step : 0.25 / s->p.f)) !=
         CV_SUCCESS)
         return cv_setup_fail(s, "CVodeSetMaxStep", flag);

@@ -7,7 +7,7 @@
  * The mass matrix is at most 8 x 8 and regular for theta > 0, so solving it in
  * every right-hand side costs less than a DAE formulation (IDA) would, and it
  * keeps CVODES' error control on the state alone (no algebraic components to
- * exclude).  See README-simulate.md for the choices below.
+ * exclude).  See docs/simulate.md for the choices below.
  *
  *  - Coordinates.  phi and psi grow like +-Omega t and, at the small tilts of
  *    the motor, move almost exactly opposite to each other: a perturbation

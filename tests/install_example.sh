@@ -6,7 +6,7 @@
 # builds examples/usm_example.c from the installed tree
 #   - with CMake (find_package(usm)): usm::usm and usm::usm_static,
 #   - with pkg-config: the documented command lines, shared and static
-#     (docs/README-library.md), and examples/Makefile,
+#     (docs/library.md), and examples/Makefile,
 # runs every build and compares its numbers with the installed
 # `usm steady --json`: theta, alpha, rotor speed and the Floquet multipliers
 # to 1e-12 relative, and the versions with `usm --version`.

@@ -17,7 +17,7 @@ typedef struct cli_steady_report {
     const usm_floquet_result *floquet; /* of root 0; NULL when error is set */
 } cli_steady_report;
 
-/* The `usm steady --json` object (keys: see README-cli.md), or NULL when out
+/* The `usm steady --json` object (keys: see docs/cli.md), or NULL when out
  * of memory. */
 json_t *cli_steady_json(const cli_steady_report *r);
 

@@ -1,5 +1,5 @@
 /* sweep_out.h: output of `usm sweep`, as CSV for plotting or as one JSON
- * object for programs (formats: runtime/README-sweep.md). */
+ * object for programs (formats: docs/sweep.md). */
 #ifndef USM_CLI_SWEEP_OUT_H
 #define USM_CLI_SWEEP_OUT_H
 
