@@ -8,67 +8,7 @@
 set -u
 
 USM=${1:?usage: cli_bad_input.sh PATH/TO/usm}
-PY=/usr/bin/python3
-failures=0
-checks=0
-
-tmp=$(mktemp -d) || exit 1
-trap 'rm -rf "$tmp"' EXIT
-out=$tmp/stdout
-err=$tmp/stderr
-
-fail() {
-    failures=$((failures + 1))
-    echo "FAIL: $*"
-    echo "  stdout: $(head -c 400 "$out")"
-    echo "  stderr: $(head -c 400 "$err")"
-}
-
-run() {
-    "$USM" "$@" >"$out" 2>"$err"
-}
-
-no_nan() { # no NaN or infinity in stdout
-    ! grep -qiwE 'nan|[+-]?inf(inity)?' "$out"
-}
-
-# expect_bad FIELD REASON ARGS...: exit 2, one line "usm: ...FIELD...REASON...".
-expect_bad() {
-    local field=$1 reason=$2
-    shift 2
-    checks=$((checks + 1))
-    run "$@"
-    local rc=$?
-    if [ $rc -ne 2 ]; then fail "usm $*: exit $rc, want 2"; return; fi
-    if [ "$(wc -l <"$err")" -ne 1 ]; then fail "usm $*: stderr is not one line"; return; fi
-    if ! grep -q '^usm: ' "$err"; then fail "usm $*: stderr lacks the 'usm: ' prefix"; return; fi
-    if ! grep -qF -- "$field" "$err"; then fail "usm $*: stderr does not name '$field'"; return; fi
-    if ! grep -qiE -- "$reason" "$err"; then fail "usm $*: stderr does not say '$reason'"; return; fi
-    if [ -s "$out" ] || ! no_nan; then fail "usm $*: output on stdout"; return; fi
-}
-
-# expect_ok RC ARGS...: exit status RC, no NaN/inf on stdout.
-expect_rc() {
-    local want=$1
-    shift
-    checks=$((checks + 1))
-    run "$@"
-    local rc=$?
-    if [ $rc -ne "$want" ]; then fail "usm $*: exit $rc, want $want"; return 1; fi
-    if ! no_nan; then fail "usm $*: NaN or inf on stdout"; return 1; fi
-    return 0
-}
-
-# py CODE: run CODE on the JSON in $out (as `o`); failing asserts fail the check.
-py() {
-    checks=$((checks + 1))
-    if ! "$PY" -c "import json,sys
-o = json.load(sys.stdin)
-$1" <"$out" 2>"$tmp/py"; then
-        failures=$((failures + 1))
-        echo "FAIL: JSON check: $(tail -n 1 "$tmp/py")"
-    fi
-}
+. "$(dirname "$0")/cli_common.sh"
 
 # ---- parameter files --------------------------------------------------------
 printf '{\n  "m0": 0.006,\n  "T": ,\n}\n' >"$tmp/malformed.json"
@@ -255,5 +195,4 @@ assert 'model' in o and len(o['parameters']) == 19"
     fi
 done
 
-echo "cli_bad_input: $checks checks, $failures failures"
-[ "$failures" -eq 0 ]
+finish cli_bad_input

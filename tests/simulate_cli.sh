@@ -8,26 +8,7 @@
 set -u
 
 USM=${1:?usage: simulate_cli.sh PATH/TO/usm}
-PY=/usr/bin/python3
-failures=0
-checks=0
-
-tmp=$(mktemp -d) || exit 1
-trap 'rm -rf "$tmp"' EXIT
-out=$tmp/stdout
-err=$tmp/stderr
-
-fail() {
-    failures=$((failures + 1))
-    echo "FAIL: $*"
-    echo "  stdout: $(head -c 600 "$out")"
-    echo "  stderr: $(head -c 600 "$err")"
-}
-
-# run ARGS...: the command with a time limit (a hang is a failure, not a wait)
-run() {
-    timeout 60 "$USM" "$@" >"$out" 2>"$err"
-}
+. "$(dirname "$0")/cli_common.sh"
 
 # expect RC ARGS...
 expect() {
@@ -38,17 +19,6 @@ expect() {
     local rc=$?
     if [ $rc -ne "$want" ]; then fail "usm $*: exit $rc, want $want"; return 1; fi
     return 0
-}
-
-# py FILE CODE: run CODE on the JSON in FILE (as `o`)
-py() {
-    checks=$((checks + 1))
-    if ! "$PY" -c "import json,sys
-o = json.load(open(sys.argv[1]))
-$2" "$1" 2>"$tmp/py"; then
-        failures=$((failures + 1))
-        echo "FAIL: JSON check: $(tail -n 1 "$tmp/py")"
-    fi
 }
 
 # ---- a start-up that settles: table on stdout with --out, CSV with units ------
@@ -66,7 +36,7 @@ fi
 # ---- JSON summary; CSV on stdout puts the summary on stderr ---------------------
 if expect 0 simulate --model 4dof --duration 5e-3 --rate 0 --json; then
     cp "$out" "$tmp/s.json"
-    py "$tmp/s.json" "
+    py_file "$tmp/s.json" "
 assert o['model'] == '4dof' and o['completed'] and o['stop'] == 'completed'
 assert o['settled'] is True and 1e-3 < o['t_settle'] < 2e-3, o['t_settle']
 assert abs(o['theta_rel_end']) < 1e-6 and abs(o['rotor_speed_rel_end']) < 1e-6
@@ -77,7 +47,7 @@ fi
 if expect 0 simulate --model 4dof --duration 2e-4 --rate 1e5 --json; then
     head -n 1 "$out" | grep -q '^t \[s\],' || fail "CSV is not on stdout without --out"
     [ "$(wc -l <"$out")" -eq 22 ] || fail "CSV on stdout: $(wc -l <"$out") lines, want 22"
-    py "$err" "assert o['samples'] == 21"
+    py_file "$err" "assert o['samples'] == 21"
 fi
 
 # ---- an impossible load: clear report, exit 1, quickly -------------------------
@@ -92,7 +62,7 @@ for model in 3dof 4dof; do
 done
 # the step cap ends a run with a report too
 if expect 1 simulate --duration 1e-3 --rate 0 --max-steps 50 --json; then
-    py "$out" "assert o['stop'] == 'max_steps' and 'step cap' in o['reason'] and not o['completed']"
+    py_file "$out" "assert o['stop'] == 'max_steps' and 'step cap' in o['reason'] and not o['completed']"
 fi
 
 # ---- --out never overwrites without --force -------------------------------------
@@ -111,12 +81,12 @@ fi
 if expect 0 simulate --model 4dof --duration 1e-3 --rate 1e5 --out "$tmp/b.csv" --json; then
     cp "$out" "$tmp/b.json"
     if expect 0 simulate --model 4dof --from "$tmp/b.csv" --duration 4e-3 --rate 0 --json; then
-        py "$out" "
+        py_file "$out" "
 assert o['start'] == 'file' and abs(o['t0'] - 1e-3) < 1e-15, o['t0']
 assert o['settled'] and o['t_settle'] > 1e-3"
     fi
     if expect 0 simulate --model 4dof --from "$tmp/b.json" --duration 1e-4 --rate 0 --json; then
-        py "$out" "assert abs(o['t0'] - 1e-3) < 1e-15"
+        py_file "$out" "assert abs(o['t0'] - 1e-3) < 1e-15"
     fi
 fi
 printf '{"t": 0, "x": [0.1, 8e-5, -0.1, 2.3e5, 0, -2.3e5]}\n' >"$tmp/x.json"
@@ -154,5 +124,4 @@ if command -v gnuplot >/dev/null; then
     [ -e "$tmp/q.csv" ] && fail "--out written although --plot was refused"
 fi
 
-echo "$checks checks, $failures failures"
-[ $failures -eq 0 ]
+finish simulate_cli

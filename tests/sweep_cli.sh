@@ -10,21 +10,7 @@
 set -u
 
 USM=${1:?usage: sweep_cli.sh PATH/TO/usm}
-PY=/usr/bin/python3
-failures=0
-checks=0
-
-tmp=$(mktemp -d) || exit 1
-trap 'rm -rf "$tmp"' EXIT
-out=$tmp/stdout
-err=$tmp/stderr
-
-fail() {
-    failures=$((failures + 1))
-    echo "FAIL: $*"
-    echo "  stdout: $(head -c 400 "$out")"
-    echo "  stderr: $(head -c 400 "$err")"
-}
+. "$(dirname "$0")/cli_common.sh"
 
 # ---- grid points equal single stationary solves -----------------------------------
 # compare MODEL ARGS...: run the sweep with --json, then usm steady at each point.
@@ -112,19 +98,6 @@ else
 fi
 
 # ---- bad input ------------------------------------------------------------------
-expect_bad() { # FIELD REASON ARGS...
-    local field=$1 reason=$2
-    shift 2
-    checks=$((checks + 1))
-    "$USM" "$@" >"$out" 2>"$err"
-    local rc=$?
-    if [ $rc -ne 2 ]; then fail "usm $*: exit $rc, want 2"; return; fi
-    if [ "$(wc -l <"$err")" -ne 1 ]; then fail "usm $*: stderr is not one line"; return; fi
-    if ! grep -q '^usm: ' "$err"; then fail "usm $*: stderr lacks the 'usm: ' prefix"; return; fi
-    if ! grep -qF -- "$field" "$err"; then fail "usm $*: stderr does not name '$field'"; return; fi
-    if ! grep -qiE -- "$reason" "$err"; then fail "usm $*: stderr does not say '$reason'"; return; fi
-    if [ -s "$out" ]; then fail "usm $*: output on stdout"; return; fi
-}
 R=(--from 36000 --to 39000 --points 5)
 expect_bad '--over' 'unknown parameter' sweep --over nosuch "${R[@]}"
 expect_bad '--over' 'required' sweep "${R[@]}"
@@ -141,5 +114,4 @@ expect_bad '--frobnicate' 'unknown option' sweep --over f "${R[@]}" --frobnicate
 expect_bad '--set m0' 'not a number' sweep --over f "${R[@]}" --set m0=abc
 expect_bad '--from' 'missing argument' sweep --over f --from
 
-echo "$checks checks, $failures failures"
-[ $failures -eq 0 ]
+finish sweep_cli
