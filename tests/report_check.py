@@ -149,6 +149,27 @@ def check_report(out):
     for bad in ("n/a", "not found"):
         if bad in md:
             fail(f"report contains {bad!r}: a value was not computed")
+    # the variants section: every generated model, t0 dependence stated for each
+    out_v = subprocess.run([USM, "variants"], capture_output=True, text=True).stdout
+    models = [(b if v == "paper" else f"{b}_{v}") for v, bases, *_ in
+              (l.split(None, 2) for l in out_v.splitlines()) for b in bases.split(",")]
+    m = re.search(r"^## 7\. Modelling variants.*?(?=^## 8\.)", md, re.S | re.M)
+    if not m:
+        fail("no section 7 (modelling variants side by side)")
+    else:
+        rows = {r.split("|")[1].strip(" `"): r for r in m.group(0).splitlines()
+                if r.startswith("| `")}
+        for name in models:
+            row = rows.get(name)
+            if row is None:
+                fail(f"variants section lacks {name}")
+            elif not row.rstrip(" |").endswith(("yes", "no")):
+                fail(f"variants section: {name} has no t0 verdict")
+            else:
+                ok(f"variants section shows {name}")
+        for name, dep in (("3dof", "yes"), ("3dof_twist_integrated", "no")):
+            if name in rows and not rows[name].rstrip(" |").endswith(dep):
+                fail(f"variants section: {name} should say t0 dependence {dep}")
     for key in ("Table 3 uses t0 = 0", "f = 37000 Hz", "2 I_R / R^2"):
         if key in md:
             ok(f"report states {key!r}")

@@ -64,6 +64,16 @@ typedef struct report_model_result {
     usm_floquet_result fl_integrated[2];    /* at t0 = 0 and T/2 */
 } report_model_result;
 
+/* Every generated model (variant) at the report's parameters, side by side. */
+#define REPORT_NVARIANT_T0 3 /* t0 = 0, T/2, 100 T */
+typedef struct report_variant_result {
+    const usm_model *model;
+    int ok;                                  /* a stationary solution exists */
+    usm_steady_solution sol;
+    usm_floquet_result fl[REPORT_NVARIANT_T0];
+    char note[USM_MSG_LEN];                  /* why not ok */
+} report_variant_result;
+
 /* A located value (bisection or golden section); ok = 0 when not found in
  * the range searched (text in note). */
 typedef struct report_located {
@@ -120,6 +130,9 @@ typedef struct report_data {
     report_located existence_T[REPORT_NMODELS]; /* largest T with a solution */
     report_located stability_T;                 /* T where the 3dof |lambda| reaches 1 */
     report_located existence_m0[REPORT_NMODELS];/* smallest m0 with a solution */
+
+    /* every generated model, in usm_models order */
+    report_variant_result variant[USM_NMODELS];
 
     /* stability maps (f x T) */
     report_map map[REPORT_NMODELS];

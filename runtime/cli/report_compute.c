@@ -374,6 +374,35 @@ static int model_tables(report_data *d, int k, solver *s, char msg[CLI_MSG_LEN])
     return USM_OK;
 }
 
+/* Each variant's stationary solution and multipliers from three start times:
+ * the comparison of the assumptions.  A variant without a solution is shown
+ * as such, not an error of the report. */
+static int variants_side_by_side(report_data *d, char msg[CLI_MSG_LEN])
+{
+    const double period = 1.0 / d->params.f;
+    const double t0[REPORT_NVARIANT_T0] = {0.0, 0.5 * period, 100.0 * period};
+    for (int k = 0; k < USM_NMODELS; ++k) {
+        report_variant_result *v = &d->variant[k];
+        solver s;
+        int st = USM_OK;
+        v->model = usm_models[k];
+        if (solver_init(&s, v->model) != 0) {
+            solver_free(&s);
+            cli_msg(msg, "out of memory");
+            return USM_EFAILED;
+        }
+        for (int i = 0; i < REPORT_NVARIANT_T0 && st == USM_OK; ++i)
+            st = solve_point(&s, &d->params, t0[i], &v->sol, &v->fl[i], msg);
+        solver_free(&s);
+        v->ok = st == USM_OK;
+        if (st == USM_ENOSOLUTION)
+            snprintf(v->note, sizeof v->note, "%s", msg);
+        else if (st != USM_OK)
+            return st;
+    }
+    return USM_OK;
+}
+
 static int parameter_checks(report_data *d, solver *s3, char msg[CLI_MSG_LEN])
 {
     const usm_params *p = &d->params;
@@ -422,6 +451,8 @@ int report_compute(report_data *d, char msg[CLI_MSG_LEN])
         if ((st = model_tables(d, k, &s[k], msg)) != USM_OK)
             goto done;
     if ((st = parameter_checks(d, &s[REPORT_3DOF], msg)) != USM_OK)
+        goto done;
+    if ((st = variants_side_by_side(d, msg)) != USM_OK)
         goto done;
     d->seconds[0] = report_now() - t;
     t = report_now();

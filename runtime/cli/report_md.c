@@ -85,7 +85,8 @@ static void head(FILE *f, const report_data *d)
             "4. [Floquet multipliers and the start time t0](#4-floquet-multipliers-and-the-start-time-t0)\n"
             "5. [Motor characteristics](#5-motor-characteristics)\n"
             "6. [Stability maps](#6-stability-maps)\n"
-            "7. [Files](#7-files)\n"
+            "7. [Modelling variants side by side](#7-modelling-variants-side-by-side)\n"
+            "8. [Files](#8-files)\n"
             "\n",
             REPORT_MARKER, USM_VERSION, USM_GENERATOR_VERSION,
             d->opt.quick ? "coarse (`--quick`)" : "full",
@@ -653,9 +654,42 @@ static void sec_maps(FILE *f, const report_data *d)
     }
 }
 
+static void sec_variants(FILE *f, const report_data *d)
+{
+    fputs("## 7. Modelling variants side by side\n\n"
+          "Every generated model (`usm variants`; derive/variants.py) at the parameters of "
+          "section 1: the paper's assumptions and the alternatives. The largest non-cyclic "
+          "multiplier modulus is given from three start times t0 of the Floquet period; under "
+          "the paper's twist law it depends on t0, under the integrated twist law it does "
+          "not. Select a variant with `--variant NAME` in `usm steady`, `sweep`, `map` and "
+          "`simulate`.\n\n"
+          "| model | assumptions | theta [rad] | rotor speed [1/s] | v_rel [m/s] | max \\|λ\\| "
+          "(t0 = 0) | (t0 = T/2) | (t0 = 100 T) | multipliers depend on t0 |\n"
+          "|---|---|---|---|---|---|---|---|---|\n",
+          f);
+    for (int k = 0; k < USM_NMODELS; ++k) {
+        const report_variant_result *v = &d->variant[k];
+        fprintf(f, "| `%s` | %s | ", v->model->name, v->model->assumptions);
+        if (!v->ok) {
+            fprintf(f, "no stationary solution: %s | | | | | | |\n", v->note);
+            continue;
+        }
+        fprintf(f, "%s | %s | %s | ", g(v->sol.theta, 6), g(v->sol.rotor_speed, 6),
+                g(v->sol.v_rel, 4));
+        for (int i = 0; i < REPORT_NVARIANT_T0; ++i)
+            fprintf(f, "%s | ", g(v->fl[i].max_modulus, 6));
+        fprintf(f, "%s |\n", v->fl[0].t0_dependent ? "yes" : "no");
+    }
+    fputs("\nThe stationary solution itself does not depend on the twist law (the twist "
+          "angle enters only the Z row, which fixes beta) nor, in theta, on the friction law "
+          "(the stator sees F_t = T/R* on any stationary solution); the friction law sets the "
+          "slip velocity and so the rotor speed of the slip model.\n\n",
+          f);
+}
+
 static void sec_files(FILE *f, const report_data *d)
 {
-    fputs("## 7. Files\n\n"
+    fputs("## 8. Files\n\n"
           "Everything is in this directory. Each figure `NAME` has `NAME.png`, `NAME.svg`, the "
           "gnuplot script `NAME.gp` and its CSV data (header line, SI units, `nan` where a "
           "value does not exist). To re-plot: `cd` here and run `gnuplot NAME.gp`. To "
@@ -691,6 +725,7 @@ int report_write_md(const report_data *d, int plots_ok, const char *plot_note, F
     sec_floquet(out, d);
     sec_characteristics(out, d);
     sec_maps(out, d);
+    sec_variants(out, d);
     sec_files(out, d);
     return ferror(out) ? -1 : 0;
 }
