@@ -7,7 +7,7 @@ Equation numbers are the paper's where one exists.
 """
 import sympy as sp
 
-from .model import P, t, OMEGA
+from .model import P, t
 
 OMEGA_SYM = sp.Symbol("Omega", positive=True)
 

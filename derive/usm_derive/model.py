@@ -96,12 +96,8 @@ class Model:
     equations: dict = field(default_factory=dict)  # for the readable export
 
 
-def _plain(expr, fun_to_sym):
-    """Replace q''(t), q'(t), q(t) by plain symbols (highest order first)."""
-    return expr.subs(fun_to_sym)
-
-
 def derive_model(name, assumptions):
+    """The Model of one variant: assumptions as in derive/variants.py."""
     contact = assumptions["contact"]
     twist = assumptions["twist"]
     spring_reference = assumptions["spring_reference"]
@@ -123,9 +119,7 @@ def derive_model(name, assumptions):
     q = [sp.Symbol(n, real=True) for n in coord_names]
     qd = [sp.Symbol(n + "dot", real=True) for n in coord_names]
     qdd = [sp.Symbol(n + "ddot", real=True) for n in coord_names]
-    fun_to_sym = {}
-    for i, c in enumerate(coords):
-        fun_to_sym[c.diff(t, 2)] = qdd[i]
+    # q''(t), q'(t), q(t) -> plain symbols, highest order first
     subs_lists = ([(c.diff(t, 2), qdd[i]) for i, c in enumerate(coords)]
                   + [(c.diff(t), qd[i]) for i, c in enumerate(coords)]
                   + [(c, q[i]) for i, c in enumerate(coords)])
@@ -285,8 +279,8 @@ def derive_model(name, assumptions):
         "F_t": steady(F_t),
         "v_c": steady(v_c),
         "v_rel": steady(v_rel),
-        "R_star": theta_to(R_star, theta_f, theta_b),
-        "Z": theta_to(Z, theta_f, theta_b),
+        "R_star": R_star.subs(theta_f, theta_b),
+        "Z": Z.subs(theta_f, theta_b),
         "twist": twist_bar,
     }
 
@@ -376,7 +370,3 @@ def derive_model(name, assumptions):
                  steady_rate=steady_rate, seed=seed, friction=mu_expr,
                  v_rel=v_sym, tangent_map=tangent_map, jac_rhs=jac_rhs,
                  jac_mass=jac_mass, t0_independent=t0_independent, cyclic=cyclic, equations=equations)
-
-
-def theta_to(e, theta_f, theta_b):
-    return e.subs(theta_f, theta_b)
