@@ -23,7 +23,7 @@ for model in $models; do
     done
     # the paper's numbered equations that every model must state
     for tag in 2.1 2.2 2.3 2.8 2.9 2.10 2.11 3.1a 3.1b 3.1c 3.5a 3.5b 3.6; do
-        echo "$tags" | grep -qx "$tag" || { echo "FAIL $model: equation ($tag) missing"; fail=1; }
+        grep -qx "$tag" <<< "$tags" || { echo "FAIL $model: equation ($tag) missing"; fail=1; }
     done
     if command -v pdflatex > /dev/null; then
         if (cd "$tmp" && pdflatex -interaction=nonstopmode -halt-on-error "$model.tex" > "$model.out" 2>&1); then

@@ -83,9 +83,12 @@ LD_LIBRARY_PATH=$libdir${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH} run pkgconfig "$tmp
 run makefile "$tmp/usm_example"   # run path set by the Makefile
 run pkgconfig_static "$tmp/usm_example_pc_static"
 # The shared builds use the installed libusm.so, the static ones do not.
-ldd "$tmp/build-cmake/usm_example" | grep -q "$libdir/libusm.so" || fail "CMake build does not use $libdir/libusm.so"
+ldd "$tmp/build-cmake/usm_example" > "$tmp/ldd.txt" 2>&1
+grep -q "$libdir/libusm.so" "$tmp/ldd.txt" || { cat "$tmp/ldd.txt"; fail "CMake build does not use $libdir/libusm.so"; }
 for exe in "$tmp/build-cmake/usm_example_static" "$tmp/usm_example_pc_static"; do
-    if ldd "$exe" | grep -q libusm; then fail "$exe is linked with libusm.so"; fi
+    # (no `ldd | grep -q` under pipefail: grep's early exit would make ldd's SIGPIPE the status)
+    ldd "$exe" > "$tmp/ldd.txt" 2>&1
+    if grep -q libusm "$tmp/ldd.txt"; then fail "$exe is linked with libusm.so"; fi
 done
 
 "$python" - "$tmp" <<'EOF'

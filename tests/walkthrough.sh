@@ -30,7 +30,7 @@ cmake -S . -B build -DUSM_REGENERATE=ON -DUSM_BUILD_TESTS=ON > cmake.log
 # step 3, as documented
 cmake --build build --target generate && cmake --build build -j2 > build.log
 test -f generated/usm_4dof_friction_rational.c
-build/usm variants | grep -q '^friction_rational '
+grep -q '^friction_rational ' <<< "$(build/usm variants)"
 out=$(build/usm steady --model 4dof --variant friction_rational --json)
 printf '%s' "$out" | python3 -c '
 import json, sys
