@@ -59,7 +59,8 @@ typedef struct report_model_result {
     const usm_model *model;
     usm_steady_solution sol;                /* primary root, paper's parameters */
     usm_floquet_result fl[REPORT_NT0];      /* at t0 = fraction * period */
-    /* twist_integrated variant of the same model (NULL when not generated) */
+    /* twist_integrated variant of the same model (NULL when not generated or
+     * without a solution), taken from report_data.variant */
     const usm_model *integrated;
     usm_floquet_result fl_integrated[2];    /* at t0 = 0 and T/2 */
 } report_model_result;

@@ -356,21 +356,6 @@ static int model_tables(report_data *d, int k, solver *s, char msg[CLI_MSG_LEN])
         if (st != USM_OK)
             return st; /* USM_ENOSOLUTION: no operating point to report on */
     }
-    r->integrated = usm_model_variant(r->model->base, "twist_integrated");
-    if (r->integrated) {
-        solver si;
-        usm_steady_solution sol;
-        if (solver_init(&si, r->integrated) != 0) {
-            solver_free(&si);
-            cli_msg(msg, "out of memory");
-            return USM_EFAILED;
-        }
-        for (int i = 0; i < 2 && r->integrated; ++i)
-            if (solve_point(&si, &d->params, i * 0.5 * period, &sol, &r->fl_integrated[i], msg) !=
-                USM_OK)
-                r->integrated = NULL; /* shown as "not available" */
-        solver_free(&si);
-    }
     return USM_OK;
 }
 
@@ -399,6 +384,19 @@ static int variants_side_by_side(report_data *d, char msg[CLI_MSG_LEN])
             snprintf(v->note, sizeof v->note, "%s", msg);
         else if (st != USM_OK)
             return st;
+    }
+    /* the t0 study of section 4 shows the twist_integrated multipliers at
+     * t0 = 0 and T/2: the first two start times computed here */
+    for (int m = 0; m < REPORT_NMODELS; ++m) {
+        report_model_result *r = &d->model[m];
+        const usm_model *mi = usm_model_variant(r->model->base, "twist_integrated");
+        r->integrated = NULL;
+        for (int k = 0; mi && k < USM_NMODELS; ++k)
+            if (d->variant[k].model == mi && d->variant[k].ok) {
+                r->integrated = mi;
+                r->fl_integrated[0] = d->variant[k].fl[0];
+                r->fl_integrated[1] = d->variant[k].fl[1];
+            }
     }
     return USM_OK;
 }
