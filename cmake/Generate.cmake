@@ -18,13 +18,16 @@ if(USM_PYTHON)
   execute_process(COMMAND ${USM_PYTHON} -c "import sympy; print(sympy.__version__)"
                   OUTPUT_VARIABLE USM_SYMPY_VERSION RESULT_VARIABLE _sympy_rc
                   OUTPUT_STRIP_TRAILING_WHITESPACE ERROR_QUIET)
-  if(_sympy_rc EQUAL 0)
+  # Only the pinned sympy reproduces the committed generated/ byte for byte
+  # (derive/generate.py, PINNED_SYMPY).
+  if(_sympy_rc EQUAL 0 AND USM_SYMPY_VERSION VERSION_EQUAL 1.11.1)
     set(USM_HAVE_SYMPY ON)
   endif()
 endif()
 option(USM_REGENERATE "Regenerate the kernels from derive/ at build time" ${USM_HAVE_SYMPY})
 if(USM_REGENERATE AND NOT USM_HAVE_SYMPY)
-  message(FATAL_ERROR "USM_REGENERATE needs python3 with sympy (Debian: python3-sympy)")
+  message(FATAL_ERROR "USM_REGENERATE needs the pinned sympy 1.11.1 (Debian's /usr/bin/python3 "
+                      "with python3-sympy); ${USM_PYTHON} has sympy '${USM_SYMPY_VERSION}'")
 endif()
 
 file(GLOB_RECURSE USM_DERIVE_INPUTS CONFIGURE_DEPENDS ${USM_DERIVE_DIR}/*.py)
@@ -52,25 +55,38 @@ if(USM_REGENERATE)
   foreach(f IN LISTS USM_GENERATED_NAMES)
     list(APPEND _outs ${USM_GENERATED_DIR}/${f})
   endforeach()
+  # generate.py derives only the models whose inputs changed (its cache,
+  # derive/.cache) and rewrites only the files whose text changed, so that
+  # only their objects are rebuilt; the stamp records the run.
+  set(_stamp ${PROJECT_BINARY_DIR}/generated.stamp)
   add_custom_command(
-    OUTPUT ${_outs}
+    OUTPUT ${_stamp}
+    BYPRODUCTS ${_outs}
     COMMAND ${USM_PYTHON} ${USM_DERIVE_DIR}/generate.py --quiet --out ${USM_GENERATED_DIR}
+            --stamp ${_stamp}
     DEPENDS ${USM_DERIVE_INPUTS}
     COMMENT "Deriving the model kernels (derive/ -> build/generated)"
     VERBATIM)
-  add_custom_target(usm_kernels_generated DEPENDS ${_outs})
+  add_custom_target(usm_kernels_generated DEPENDS ${_stamp})
+  # The committed generated/ from the files the build derived (no second derivation).
   add_custom_target(generate
-    COMMAND ${USM_PYTHON} ${USM_DERIVE_DIR}/generate.py --out ${USM_COMMITTED_GENERATED_DIR}
-    COMMENT "Rewriting the committed generated/ from derive/"
+    COMMAND ${CMAKE_COMMAND} -E copy_if_different ${_outs} ${USM_COMMITTED_GENERATED_DIR}
+    DEPENDS ${_stamp}
+    COMMENT "Rewriting the committed generated/ from derive/ (the build's derived files)"
     VERBATIM)
 else()
   message(STATUS "usm: building the committed kernels in generated/ (no sympy)")
   set(USM_GENERATED_DIR ${USM_COMMITTED_GENERATED_DIR})
 endif()
 
+# The equations documents (usm_equations.c) are not part of libusm: only the
+# command links them (runtime/CMakeLists.txt, USM_EQUATIONS_SOURCES).
 set(USM_GENERATED_SOURCES "")
+set(USM_EQUATIONS_SOURCES "")
 foreach(f IN LISTS USM_GENERATED_NAMES)
-  if(f MATCHES "\\.c$")
+  if(f STREQUAL "usm_equations.c")
+    list(APPEND USM_EQUATIONS_SOURCES ${USM_GENERATED_DIR}/${f})
+  elseif(f MATCHES "\\.c$")
     list(APPEND USM_GENERATED_SOURCES ${USM_GENERATED_DIR}/${f})
   endif()
 endforeach()

@@ -94,7 +94,7 @@ file(GLOB USM_PUBLIC_RUNTIME_HEADERS CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/run
 list(SORT USM_PUBLIC_RUNTIME_HEADERS)
 set(USM_PUBLIC_GENERATED_HEADERS "")
 foreach(f IN LISTS USM_GENERATED_NAMES)
-  if(f MATCHES "\\.h$")
+  if(f MATCHES "\\.h$" AND NOT f STREQUAL "usm_equations.h")  # the command's, not libusm's
     list(APPEND USM_PUBLIC_GENERATED_HEADERS ${USM_GENERATED_DIR}/${f})
   endif()
 endforeach()

@@ -2,7 +2,15 @@
 """Regenerate the C kernels in generated/ from the variants in derive/variants.py.
 
     python3 derive/generate.py [--out DIR] [--check] [--only NAME ...] [--jobs N]
+                               [--cache DIR | --no-cache] [--allow-other-sympy]
     python3 derive/generate.py --list     (the files it writes, ;-separated)
+
+It refuses to run with a sympy other than the pinned one (PINNED_SYMPY below,
+Debian's /usr/bin/python3 with python3-sympy) unless --allow-other-sympy.
+Each model is derived only when one of its inputs changed: its outputs are
+cached (derive/.cache) under a digest of its assumptions, the generator's code
+(derive/generate.py, derive/usm_derive/*.py) and the sympy and Python versions.
+Files whose content is unchanged are not rewritten.
 
 --check regenerates into a temporary directory and exits 1 (listing the files)
 when the committed generated/ differs, 0 when it is up to date.
@@ -12,8 +20,10 @@ is pinned (the script re-executes itself with PYTHONHASHSEED=0).
 import argparse
 import filecmp
 import hashlib
+import json
 import multiprocessing
 import os
+import platform
 import sys
 import tempfile
 import time
@@ -29,7 +39,7 @@ if sys.argv[1:] == ["--list"]:
     # The files a regeneration writes, for the build system; needs no sympy.
     import variants
     names = [m[0] for m in variants.generated_models()]
-    files = ["usm_kernels.c", "usm_kernels.h", "usm_equations.c"]
+    files = ["usm_kernels.c", "usm_kernels.h", "usm_equations.c", "usm_equations.h"]
     for n in names:
         files += [f"usm_{n}.c", f"usm_{n}.h", f"usm_{n}_equations.md", f"usm_{n}_equations.tex"]
     print(";".join(sorted(files)))
@@ -43,18 +53,45 @@ from usm_derive import emit_doc, emit_model  # noqa: E402
 import variants  # noqa: E402
 
 
+PINNED_PYTHON = "/usr/bin/python3"
+PINNED_SYMPY = "1.11.1"
+CODE_FILES = ["generate.py"] + sorted(
+    os.path.join("usm_derive", n) for n in os.listdir(os.path.join(HERE, "usm_derive"))
+    if n.endswith(".py"))
+
+
+def _sha(*parts):
+    h = hashlib.sha256()
+    for part in parts:
+        h.update(part if isinstance(part, bytes) else part.encode())
+        h.update(b"\0")
+    return h.hexdigest()
+
+
+def _file_digest(names):
+    parts = []
+    for name in names:
+        with open(os.path.join(HERE, name), "rb") as fh:
+            parts += [name, fh.read()]
+    return _sha(*parts)
+
+
 def input_digest():
     """sha256 over every file of derive/ that can change the output."""
-    h = hashlib.sha256()
-    files = []
-    for root, dirs, names in os.walk(HERE):
-        dirs[:] = sorted(d for d in dirs if d != "__pycache__")
-        files += [os.path.join(root, n) for n in names if n.endswith(".py")]
-    for path in sorted(files):
-        h.update(os.path.relpath(path, HERE).encode() + b"\0")
-        with open(path, "rb") as fh:
-            h.update(fh.read() + b"\0")
-    return h.hexdigest()
+    return _file_digest(CODE_FILES + ["variants.py"])
+
+
+def code_digest():
+    """sha256 over the generator's code (not variants.py) and the sympy and
+    Python versions: everything a model's output depends on besides its spec."""
+    return _sha(_file_digest(CODE_FILES), GENERATOR_VERSION, sp.__version__,
+                platform.python_version())
+
+
+def model_digest(model, code):
+    """The cache key of one model: exactly the inputs its files depend on."""
+    name, base, variant, spec, description = model
+    return _sha(code, json.dumps([name, base, variant, spec, description], sort_keys=True))
 
 
 def _model_files(job):
@@ -68,13 +105,56 @@ def _model_files(job):
     return name, files, t1 - t0, time.perf_counter() - t1
 
 
-def write_all(out_dir, only=None, verbose=True, jobs=2):
+def _cache_read(cache, key):
+    if not cache:
+        return None
+    try:
+        with open(os.path.join(cache, key + ".json"), encoding="utf-8") as fh:
+            return json.load(fh)
+    except (OSError, ValueError):
+        return None
+
+
+def _cache_write(cache, key, files):
+    if not cache:
+        return
+    os.makedirs(cache, exist_ok=True)
+    # atomic: a build and a manual run may write the same entry at once
+    fd, tmp = tempfile.mkstemp(dir=cache, suffix=".tmp")
+    with os.fdopen(fd, "w", encoding="utf-8") as fh:
+        json.dump(files, fh, sort_keys=True)
+    os.replace(tmp, os.path.join(cache, key + ".json"))
+
+
+def _write_if_changed(path, text):
+    """Unchanged files keep their time stamp, so the build recompiles only
+    the kernels of the models that changed."""
+    try:
+        with open(path, encoding="utf-8", newline="") as fh:
+            if fh.read() == text:
+                return False
+    except OSError:
+        pass
+    with open(path, "w", encoding="utf-8", newline="\n") as fh:
+        fh.write(text)
+    return True
+
+
+def write_all(out_dir, only=None, verbose=True, jobs=2, cache=None):
     os.makedirs(out_dir, exist_ok=True)
-    digest = input_digest()
-    stamp = {"generator": GENERATOR_VERSION, "sympy": sp.__version__,
-             "digest": digest}
+    code = code_digest()
     models = [m for m in variants.generated_models() if not only or m[0] in only]
-    work = [m + (stamp,) for m in models]
+    files, work = {}, []
+    for m in models:
+        key = model_digest(m, code)
+        cached = _cache_read(cache, key)
+        if cached is not None:
+            files.update(cached)
+            if verbose:
+                print(f"  {m[0]}: unchanged (cache {key[:12]})", file=sys.stderr)
+        else:
+            work.append(m + ({"generator": GENERATOR_VERSION, "sympy": sp.__version__,
+                              "digest": key},))
     # The models are independent: derive them on both cores.  Each worker is a
     # fork of this process (PYTHONHASHSEED=0), so the output does not depend on
     # how the work is split.
@@ -83,24 +163,50 @@ def write_all(out_dir, only=None, verbose=True, jobs=2):
             results = pool.map(_model_files, work, chunksize=1)
     else:
         results = [_model_files(w) for w in work]
-    files = {}
-    for name, model_files, t_derive, t_emit in results:
+    for (name, model_files, t_derive, t_emit), job in zip(results, work):
         files.update(model_files)
+        _cache_write(cache, job[-1]["digest"], model_files)
         if verbose:
             print(f"  {name}: derived in {t_derive:.1f} s, emitted in {t_emit:.1f} s",
                   file=sys.stderr)
     if not only:
+        # usm_kernels.h depends on the code and the list of models and
+        # variants only; usm_kernels.c also holds the digest of all inputs.
+        variant_list = [(v, d[2]) for v, d in variants.VARIANTS.items()]
+        listing = json.dumps([[m[0], m[1], m[2]] for m in models] + variant_list)
+        stamp = {"generator": GENERATOR_VERSION, "sympy": sp.__version__,
+                 "digest": _sha(code, listing), "input_digest": input_digest()}
         files.update(emit_model.common_files(
-            [(m[0], m[1], m[2]) for m in models],
-            [(v, d[2]) for v, d in variants.VARIANTS.items()], stamp))
+            [(m[0], m[1], m[2]) for m in models], variant_list, stamp))
         docs = [(m[0], fmt, files[f"usm_{m[0]}_equations.{ext}"])
                 for m in models for fmt, ext in (("markdown", "md"), ("latex", "tex"))]
+        doc_stamp = dict(stamp, digest=_sha(code, *(d[2] for d in docs)))
         files["usm_equations.c"] = emit_doc.equations_c(docs, emit_model.banner(
-            "usm_equations.c: the derived equations as documents, for `usm equations`.", stamp))
-    for fname, text in files.items():
-        with open(os.path.join(out_dir, fname), "w", encoding="utf-8", newline="\n") as fh:
-            fh.write(text)
-    return sorted(files)
+            "usm_equations.c: the derived equations as documents, for `usm equations`.",
+            doc_stamp))
+        files["usm_equations.h"] = emit_doc.equations_h(len(docs), emit_model.banner(
+            "usm_equations.h: the derived equations as documents, for `usm equations`\n"
+            " * (linked into the command only, not into libusm).", stamp))
+    changed = [f for f, text in files.items()
+               if _write_if_changed(os.path.join(out_dir, f), text)]
+    return sorted(files), changed
+
+
+def check_sympy(allow_other):
+    """The committed generated/ is byte-identical only with the pinned sympy."""
+    if sp.__version__ == PINNED_SYMPY:
+        return True
+    what = (f"sympy {sp.__version__} (python {sys.executable}) is not the pinned sympy "
+            f"{PINNED_SYMPY} (python {PINNED_PYTHON}, Debian's python3-sympy)")
+    if not allow_other:
+        print(f"derive/generate.py: {what}: its output would differ from the committed "
+              f"generated/; run {PINNED_PYTHON} derive/generate.py, or pass "
+              "--allow-other-sympy to generate anyway", file=sys.stderr)
+        return False
+    print(f"derive/generate.py: warning: {what}; generating anyway (--allow-other-sympy): "
+          "the output may differ from the committed generated/ and fail generated_in_sync",
+          file=sys.stderr)
+    return True
 
 
 def main():
@@ -111,11 +217,21 @@ def main():
     ap.add_argument("--only", nargs="*", help="variants to generate (default: all)")
     ap.add_argument("--quiet", action="store_true")
     ap.add_argument("--jobs", type=int, default=2, help="worker processes (default 2)")
+    ap.add_argument("--cache", default=os.path.join(HERE, ".cache"),
+                    help="directory of derived models, keyed by the digest of their "
+                         "inputs (default derive/.cache)")
+    ap.add_argument("--no-cache", action="store_true", help="derive every model again")
+    ap.add_argument("--stamp", help="file to touch after writing (for the build)")
+    ap.add_argument("--allow-other-sympy", action="store_true",
+                    help=f"generate with a sympy other than the pinned {PINNED_SYMPY} (warns)")
     args = ap.parse_args()
+    if not check_sympy(args.allow_other_sympy):
+        return 2
+    cache = None if args.no_cache else args.cache
     t0 = time.perf_counter()
     if args.check:
         with tempfile.TemporaryDirectory() as tmp:
-            written = write_all(tmp, args.only, not args.quiet, args.jobs)
+            written, _ = write_all(tmp, args.only, not args.quiet, args.jobs, cache)
             stale = [f for f in written
                      if not os.path.exists(os.path.join(args.out, f))
                      or not filecmp.cmp(os.path.join(tmp, f),
@@ -127,10 +243,14 @@ def main():
             return 1
         print(f"generated/ is up to date ({len(written)} files)")
         return 0
-    written = write_all(args.out, args.only, not args.quiet, args.jobs)
+    written, changed = write_all(args.out, args.only, not args.quiet, args.jobs, cache)
+    if args.stamp:
+        with open(args.stamp, "w", encoding="utf-8") as fh:
+            fh.write("\n".join(written) + "\n")
     if not args.quiet:
-        print(f"wrote {len(written)} files to {os.path.normpath(args.out)} in "
-              f"{time.perf_counter() - t0:.1f} s", file=sys.stderr)
+        print(f"wrote {len(changed)} of {len(written)} files (the others unchanged) to "
+              f"{os.path.normpath(args.out)} in {time.perf_counter() - t0:.1f} s",
+              file=sys.stderr)
     return 0
 
 

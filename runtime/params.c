@@ -87,7 +87,7 @@ int usm_params_check(const usm_params *p, const usm_model *m, char msg[USM_MSG_L
             return USM_EINPUT;
         }
     }
-    if (m && strstr(m->assumptions, "stator_inertia=axisymmetric") && p->I_yy != p->I_xx) {
+    if (m && m->axisymmetric_stator && p->I_yy != p->I_xx) {
         snprintf(msg, USM_MSG_LEN,
                  "I_yy: must equal I_xx (%g) in model %s, which assumes an axisymmetric stator",
                  p->I_xx, m->name);

@@ -106,14 +106,6 @@ const char *usm_sim_stop_name(usm_sim_stop stop)
 
 const char *usm_sim_message(const usm_sim *s) { return s->msg; }
 
-static int state_index(const usm_model *m, const char *name)
-{
-    for (int i = 0; i < m->nx; ++i)
-        if (strcmp(m->state_names[i], name) == 0)
-            return i;
-    return -1;
-}
-
 usm_sim *usm_sim_alloc(const usm_model *m)
 {
     usm_sim *s = calloc(1, sizeof *s);
@@ -121,13 +113,13 @@ usm_sim *usm_sim_alloc(const usm_model *m)
         return NULL;
     s->m = m;
     s->n = m->nx;
-    s->iphi = state_index(m, "phi");
-    s->ith = state_index(m, "theta");
-    s->ipsi = state_index(m, "psi");
-    s->irot = state_index(m, "phi_R");
-    s->iphid = state_index(m, "phidot");
-    s->ithd = state_index(m, "thetadot");
-    s->ipsid = state_index(m, "psidot");
+    s->iphi = m->x_phi;
+    s->ith = m->x_theta;
+    s->ipsi = m->x_psi;
+    s->irot = m->x_phi_R;
+    s->iphid = m->x_phidot;
+    s->ithd = m->x_thetadot;
+    s->ipsid = m->x_psidot;
     s->layout_ok = s->iphi >= 0 && s->ith >= 0 && s->ipsi >= 0 && s->iphid >= 0 &&
                    s->ithd >= 0 && s->ipsid >= 0;
     s->Mx = gsl_matrix_alloc((size_t)s->n, (size_t)s->n);
@@ -742,7 +734,7 @@ static int initial_state(usm_sim *s, double *x0, double *rotor_angle0)
  * on each), which cost a factor of 30 in steps. */
 static void set_scales(usm_sim *s, const double *x0)
 {
-    const int irotd = state_index(s->m, "phi_Rdot"), itau = state_index(s->m, "tau");
+    const int irotd = s->m->x_phi_Rdot, itau = s->m->x_tau;
     double theta_c = s->sum->have_steady ? s->sum->steady.theta : 1e-4;
     theta_c = fmax(theta_c, fabs(x0[s->ith]));
     memset(s->c, 0, sizeof s->c);

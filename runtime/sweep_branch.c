@@ -50,11 +50,7 @@ int sweep_branch_alloc(sweep_branch *b, const usm_model *m)
     b->m = m;
     b->nu = m->nu;
     b->n = m->nu + 1;
-    b->rotor = -1;
-    if (m->friction)
-        for (int i = 0; i < m->nu; ++i)
-            if (strcmp(m->unknown_names[i], "phidot_R") == 0)
-                b->rotor = i;
+    b->rotor = m->friction ? m->u_phidot_R : -1;
     b->A = gsl_matrix_alloc(n, n);
     b->perm = gsl_permutation_alloc(n);
     b->b = gsl_vector_alloc(n);

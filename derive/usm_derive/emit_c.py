@@ -66,11 +66,16 @@ class Kernel:
     of whose symbols occurs in the outputs is marked unused with a (void) cast.
     """
 
-    def __init__(self, name, doc, args, bindings, outputs, out_doc):
+    def __init__(self, name, doc, args, bindings, outputs, out_doc, arrays=()):
         self.name, self.doc, self.args = name, doc, args
         self.bindings = bindings      # list of (symbol, C expression, comment)
         self.outputs = outputs        # list of sympy expressions (out[i])
         self.out_doc = out_doc        # comment describing the out layout
+        self.arrays = list(arrays)    # (argument name, length) of each array input
+
+    def lengths(self):
+        """(argument name, length) of every array argument, inputs first, out last."""
+        return self.arrays + [("out", len(self.outputs))]
 
     def signature(self):
         return f"void {self.name}({', '.join(d for d, _ in self.args)})"

@@ -226,7 +226,7 @@ def _c_lines(text):
 def equations_c(docs, banner):
     """generated/usm_equations.c: the documents as line arrays for `usm equations`
     (one string per line: ISO C guarantees only 4095 characters per literal)."""
-    c = banner + '#include <stddef.h>\n\n#include "usm_kernels.h"\n\n'
+    c = banner + '#include <stddef.h>\n\n#include "usm_equations.h"\n\n'
     entries = []
     for k, (model, fmt, text) in enumerate(docs):
         c += f"static const char *const doc{k}[] = {{\n{_c_lines(text)}\n    NULL}};\n\n"
@@ -234,3 +234,18 @@ def equations_c(docs, banner):
     c += ("const usm_equation_doc usm_equation_docs[USM_NEQUATION_DOCS] = {\n"
           + "\n".join(entries) + "\n};\n")
     return c
+
+
+def equations_h(ndocs, banner):
+    """generated/usm_equations.h: the declaration of the documents.  Not part of
+    the library (libusm): only the `usm` command links usm_equations.c."""
+    return (banner + "#ifndef USM_EQUATIONS_H\n#define USM_EQUATIONS_H\n\n"
+            '#ifdef __cplusplus\nextern "C" {\n#endif\n\n'
+            "/* The derived equations of every model as Markdown and LaTeX documents\n"
+            "   (also generated/usm_<model>_equations.{md,tex}); lines end at NULL. */\n"
+            "typedef struct usm_equation_doc {\n    const char *model;\n"
+            "    const char *format; /* \"markdown\" or \"latex\" */\n"
+            "    const char *const *lines;\n} usm_equation_doc;\n"
+            f"#define USM_NEQUATION_DOCS {ndocs}\n"
+            "extern const usm_equation_doc usm_equation_docs[USM_NEQUATION_DOCS];\n"
+            '\n#ifdef __cplusplus\n}\n#endif\n\n#endif /* USM_EQUATIONS_H */\n')

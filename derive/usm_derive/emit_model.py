@@ -7,7 +7,7 @@ from .model import PARAMETERS, P, t
 OUTPUT_NAMES = ["R_star", "Z", "v_c", "F_n", "F_t", "v_rel", "rotor_speed"]
 STEADY_NAMES = ["beta", "rotor_speed", "F_n", "F_t", "v_c", "v_rel", "R_star", "Z", "twist"]
 SEED_NAMES = ["amplitude_mismatch", "cos_alpha", "sin_alpha", "F_t", "F_n"]
-PARAMS = ("const usm_params *restrict p", list(P.values()))
+PARAMS = ("const usm_params *USM_RESTRICT p", list(P.values()))
 
 
 def banner(title, stamp, extra=()):
@@ -33,90 +33,106 @@ def _array_bindings(array, syms, names):
 def build_kernels(m):
     pre = f"usm_{m.name}"
     n = len(m.states)
-    x_arg = ("const double *restrict x", m.states)
+    x_arg = ("const double *USM_RESTRICT x", m.states)
     xb = _array_bindings("x", m.states, m.state_names)
     t_arg = ("double t", [t])
     xdoc = _index_doc("x", m.state_names)
     udoc = _index_doc("u", m.unknown_names)
     ks = []
     ks.append(Kernel(f"{pre}_mass", ["Mass matrix M(x) of M(x) x' = f(x, t).", xdoc],
-                     [x_arg, PARAMS, ("double *restrict out", None)], xb,
-                     list(m.mass), f"out: {n}x{n}, row-major, out[i*{n}+j] = M_ij."))
+                     [x_arg, PARAMS, ("double *USM_RESTRICT out", None)], xb,
+                     list(m.mass), f"out: {n}x{n}, row-major, out[i*{n}+j] = M_ij.",
+                     [("x", n)]))
     ks.append(Kernel(f"{pre}_rhs", ["Right-hand side f(x, t) of M(x) x' = f(x, t).", xdoc],
-                     [x_arg, t_arg, PARAMS, ("double *restrict out", None)], xb,
-                     list(m.rhs), f"out: {n} entries, out[i] = f_i."))
+                     [x_arg, t_arg, PARAMS, ("double *USM_RESTRICT out", None)], xb,
+                     list(m.rhs), f"out: {n} entries, out[i] = f_i.", [("x", n)]))
     jf = m.jac_rhs
     ks.append(Kernel(f"{pre}_jac_rhs", ["Jacobian df/dx of the right-hand side.", xdoc],
-                     [x_arg, t_arg, PARAMS, ("double *restrict out", None)], xb,
-                     list(jf), f"out: {n}x{n}, row-major, out[i*{n}+j] = df_i/dx_j."))
+                     [x_arg, t_arg, PARAMS, ("double *USM_RESTRICT out", None)], xb,
+                     list(jf), f"out: {n}x{n}, row-major, out[i*{n}+j] = df_i/dx_j.",
+                     [("x", n)]))
     jm = m.jac_mass
     ks.append(Kernel(f"{pre}_jac_mass",
                      ["Jacobian d(M(x) v)/dx at fixed v; linearisation about a motion",
                       "x(t): M dx' = (df/dx - d(M v)/dx |_{v = x'}) dx.", xdoc],
-                     [x_arg, ("const double *restrict v", m.v), PARAMS,
-                      ("double *restrict out", None)],
+                     [x_arg, ("const double *USM_RESTRICT v", m.v), PARAMS,
+                      ("double *USM_RESTRICT out", None)],
                      xb + _array_bindings("v", m.v, [f"v[{i}]" for i in range(n)]),
-                     list(jm), f"out: {n}x{n}, row-major, out[i*{n}+j] = d(Mv)_i/dx_j."))
+                     list(jm), f"out: {n}x{n}, row-major, out[i*{n}+j] = d(Mv)_i/dx_j.",
+                     [("x", n), ("v", n)]))
+    ks.append(Kernel(f"{pre}_linearisation",
+                     ["Fused linearisation: M(x), df/dx and d(M(x) v)/dx at fixed v, with",
+                      "one common-subexpression pass (the three are always needed together",
+                      "to linearise about a motion: M dx' = (df/dx - d(M v)/dx |_{v = x'}) dx).",
+                      xdoc],
+                     [x_arg, ("const double *USM_RESTRICT v", m.v), t_arg, PARAMS,
+                      ("double *USM_RESTRICT out", None)],
+                     xb + _array_bindings("v", m.v, [f"v[{i}]" for i in range(n)]),
+                     list(m.mass) + list(jf) + list(jm),
+                     f"out: [M ({n}x{n}), df/dx ({n}x{n}), d(Mv)/dx ({n}x{n})], each row-major,"
+                     f" out[k*{n * n}+i*{n}+j].",
+                     [("x", n), ("v", n)]))
     ks.append(Kernel(f"{pre}_outputs",
                      ["Derived quantities along a motion (x, x'); F_n and F_t need x'.", xdoc],
-                     [x_arg, ("const double *restrict xdot", m.xdot), t_arg, PARAMS,
-                      ("double *restrict out", None)],
+                     [x_arg, ("const double *USM_RESTRICT xdot", m.xdot), t_arg, PARAMS,
+                      ("double *USM_RESTRICT out", None)],
                      xb + _array_bindings("xdot", m.xdot, [f"d{nm}/dt" for nm in m.state_names]),
                      [m.outputs[k] for k in OUTPUT_NAMES],
-                     _index_doc("out", OUTPUT_NAMES)))
-    u_arg = ("const double *restrict u", m.unknowns)
+                     _index_doc("out", OUTPUT_NAMES), [("x", n), ("xdot", n)]))
+    u_arg = ("const double *USM_RESTRICT u", m.unknowns)
     ub = _array_bindings("u", m.unknowns, m.unknown_names)
     nu = len(m.unknowns)
     ks.append(Kernel(f"{pre}_steady_residual",
                      ["Stationary-solution residuals (3.3)-(3.5): frame-A components x1, y1",
                       "of Euler's equations on the ansatz (3.1)"
                       + (", then the rotor's moment balance." if nu == 3 else "."), udoc],
-                     [u_arg, PARAMS, ("double *restrict out", None)], ub,
-                     list(m.residual), f"out: {nu} residuals (N m)."))
+                     [u_arg, PARAMS, ("double *USM_RESTRICT out", None)], ub,
+                     list(m.residual), f"out: {nu} residuals (N m).", [("u", nu)]))
     ks.append(Kernel(f"{pre}_steady_jacobian",
                      ["Jacobian of the stationary residuals in the unknowns.", udoc],
-                     [u_arg, PARAMS, ("double *restrict out", None)], ub,
+                     [u_arg, PARAMS, ("double *USM_RESTRICT out", None)], ub,
                      list(m.residual.jacobian(m.unknowns)),
-                     f"out: {nu}x{nu}, row-major, out[i*{nu}+j] = dr_i/du_j."))
+                     f"out: {nu}x{nu}, row-major, out[i*{nu}+j] = dr_i/du_j.", [("u", nu)]))
     pnames = [name for name, *_ in PARAMETERS]
     ks.append(Kernel(f"{pre}_steady_jacobian_params",
                      ["Jacobian of the stationary residuals in the parameters (for",
                       "continuation in any parameter).", udoc,
                       "columns in usm_params field order: " + ", ".join(pnames)],
-                     [u_arg, PARAMS, ("double *restrict out", None)], ub,
+                     [u_arg, PARAMS, ("double *USM_RESTRICT out", None)], ub,
                      list(m.residual.jacobian([P[k] for k in pnames])),
-                     f"out: {nu}x{len(pnames)}, row-major, out[i*{len(pnames)}+k] = dr_i/dp_k."))
+                     f"out: {nu}x{len(pnames)}, row-major, out[i*{len(pnames)}+k] = dr_i/dp_k.",
+                     [("u", nu)]))
     ks.append(Kernel(f"{pre}_steady_outputs",
                      ["Quantities on the stationary solution u (beta from the twisting",
                       "balance, the Z row of Euler's equations).", udoc],
-                     [u_arg, PARAMS, ("double *restrict out", None)], ub,
+                     [u_arg, PARAMS, ("double *USM_RESTRICT out", None)], ub,
                      [m.steady_outputs[k] for k in STEADY_NAMES],
-                     _index_doc("out", STEADY_NAMES)))
+                     _index_doc("out", STEADY_NAMES), [("u", nu)]))
     th = m.unknowns[0]
     ks.append(Kernel(f"{pre}_steady_seed",
                      ["Root-search seed: at a given tilt theta, the x1/y1 residual rows with",
                       "the stationary contact forces are linear in (cos alpha, sin alpha);",
                       "amplitude_mismatch = cos^2 + sin^2 - 1 vanishes at stationary solutions."],
-                     [("double theta", [th]), PARAMS, ("double *restrict out", None)], [],
+                     [("double theta", [th]), PARAMS, ("double *USM_RESTRICT out", None)], [],
                      [m.seed[k] for k in SEED_NAMES], _index_doc("out", SEED_NAMES)))
     beta = sp.Symbol("beta", real=True)
     ks.append(Kernel(f"{pre}_steady_state",
                      ["State on the stationary orbit (3.1) at time t and its rate.",
                       udoc + "; beta from steady_outputs."],
                      [u_arg, ("double beta", [beta]), t_arg, PARAMS,
-                      ("double *restrict out", None)], ub,
+                      ("double *USM_RESTRICT out", None)], ub,
                      list(m.steady_state) + list(m.steady_rate),
-                     f"out: [xbar(t) ({n}), dxbar/dt ({n})], ordered as x."))
+                     f"out: [xbar(t) ({n}), dxbar/dt ({n})], ordered as x.", [("u", nu)]))
     ks.append(Kernel(f"{pre}_tangent_map",
                      ["Change of perturbation coordinates dy = T(x) dx: Euler-angle",
                       "perturbations and rates to the small-rotation vector in frame A",
                       "(d(omega_A)/d(qdot)); well conditioned near theta = 0.", xdoc],
-                     [x_arg, PARAMS, ("double *restrict out", None)], xb,
-                     list(m.tangent_map), f"out: {n}x{n}, row-major."))
+                     [x_arg, PARAMS, ("double *USM_RESTRICT out", None)], xb,
+                     list(m.tangent_map), f"out: {n}x{n}, row-major.", [("x", n)]))
     if m.friction is not None:
         ks.append(Kernel(f"{pre}_friction",
                          ["Friction law mu(v_rel) and its slope (5.2)."],
-                         [("double v_rel", [m.v_rel]), PARAMS, ("double *restrict out", None)],
+                         [("double v_rel", [m.v_rel]), PARAMS, ("double *USM_RESTRICT out", None)],
                          [], [m.friction, m.friction.diff(m.v_rel)],
                          "out = [0:mu, 1:dmu/dv_rel]."))
     return ks
@@ -148,7 +164,18 @@ def model_files(m, description, stamp, base, variant):
     h = banner(f"{pre}.h: kernels of the {m.name} model.", stamp, extra)
     h += f"#ifndef {guard}\n#define {guard}\n\n#include \"usm_kernels.h\"\n\n"
     h += '#ifdef __cplusplus\nextern "C" {\n#endif\n\n'
-    h += f"#define {pre.upper()}_NX {n}\n#define {pre.upper()}_NU {nu}\n\n"
+    P_ = pre.upper()
+    h += f"#define {P_}_NX {n}\n#define {P_}_NU {nu}\n\n"
+    h += "/* Index of each state variable in x. */\n"
+    h += "".join(f"#define {P_}_X_{nm.upper()} {i}\n" for i, nm in enumerate(m.state_names))
+    h += "/* Index of each stationary unknown in u. */\n"
+    h += "".join(f"#define {P_}_U_{nm.upper()} {i}\n" for i, nm in enumerate(m.unknown_names))
+    h += ("\n/* Lengths of every kernel's array arguments: <KERNEL>_<ARGUMENT>_LEN, the\n"
+          "   output array out included (<KERNEL>_OUT_LEN). */\n")
+    for k in kernels:
+        kn = k.name[len(pre) + 1:].upper()
+        h += "".join(f"#define {P_}_{kn}_{arg.upper()}_LEN {ln}\n" for arg, ln in k.lengths())
+    h += "\n"
     for k in kernels:
         h += k.signature() + ";\n"
     h += f"\n/* Descriptor used by the runtime. */\nextern const usm_model {pre.replace('usm_', 'usm_model_')};\n"
@@ -161,13 +188,36 @@ def model_files(m, description, stamp, base, variant):
     cyc = ", ".join("1" if i in m.cyclic else "0" for i in range(n))
     c += f"static const unsigned char cyclic[] = {{{cyc}}};\n\n"
     friction = f"{pre}_friction" if m.friction is not None else "0"
+
+    def index(names, name):
+        return names.index(name) if name in names else -1
+    fields = [("name", f'"{m.name}"'), ("base", f'"{base}"'), ("variant", f'"{variant}"'),
+              ("description", f'"{description}"'), ("assumptions", f'"{assumptions}"'),
+              ("nx", n), ("nu", nu), ("t0_independent", 1 if m.t0_independent else 0),
+              ("state_names", "state_names"), ("unknown_names", "unknown_names"),
+              ("cyclic", "cyclic")]
+    fields += [(k, f"{pre}_{k}") for k in (
+        "mass", "rhs", "jac_rhs", "jac_mass", "outputs", "steady_residual", "steady_jacobian",
+        "steady_jacobian_params", "steady_outputs", "steady_seed", "steady_state",
+        "tangent_map")]
+    fields += [("friction", friction),
+               ("slip", 1 if m.assumptions["contact"] == "slip" else 0),
+               ("axisymmetric_stator", 1 if m.assumptions["stator_inertia"] == "axisymmetric" else 0),
+               ("x_phi", index(m.state_names, "phi")),
+               ("x_theta", index(m.state_names, "theta")),
+               ("x_psi", index(m.state_names, "psi")),
+               ("x_phidot", index(m.state_names, "phidot")),
+               ("x_thetadot", index(m.state_names, "thetadot")),
+               ("x_psidot", index(m.state_names, "psidot")),
+               ("x_phi_R", index(m.state_names, "phi_R")),
+               ("x_phi_Rdot", index(m.state_names, "phi_Rdot")),
+               ("x_tau", index(m.state_names, "tau")),
+               ("u_theta", index(m.unknown_names, "theta")),
+               ("u_alpha", index(m.unknown_names, "alpha")),
+               ("u_phidot_R", index(m.unknown_names, "phidot_R")),
+               ("linearisation", f"{pre}_linearisation")]
     c += (f"const usm_model {pre.replace('usm_', 'usm_model_')} = {{\n"
-          f'    "{m.name}",\n    "{base}",\n    "{variant}",\n    "{description}",\n    "{assumptions}",\n'
-          f"    {n}, {nu}, {1 if m.t0_independent else 0},\n    state_names, unknown_names, cyclic,\n"
-          f"    {pre}_mass, {pre}_rhs, {pre}_jac_rhs, {pre}_jac_mass, {pre}_outputs,\n"
-          f"    {pre}_steady_residual, {pre}_steady_jacobian, {pre}_steady_jacobian_params,\n"
-          f"    {pre}_steady_outputs,\n"
-          f"    {pre}_steady_seed, {pre}_steady_state, {pre}_tangent_map, {friction}\n}};\n")
+          + "".join(f"    .{k} = {v},\n" for k, v in fields) + "};\n")
     return {f"{pre}.h": h, f"{pre}.c": c}
 
 
@@ -184,11 +234,17 @@ def common_files(models, variant_list, stamp):
              "function; any thread may use it at any time."]
     h = banner("usm_kernels.h: shared types of the generated kernels.", stamp, extra)
     h += "#ifndef USM_KERNELS_H\n#define USM_KERNELS_H\n\n#include <stddef.h>\n\n"
-    h += ('#ifdef __cplusplus\n/* C++ has no restrict keyword; every major compiler knows __restrict. */\n'
-          '#define restrict __restrict\nextern "C" {\n#endif\n\n')
+    h += ("/* restrict in C; C++ has no restrict keyword, every major compiler knows\n"
+          "   __restrict.  A user may define USM_RESTRICT (e.g. empty) beforehand. */\n"
+          "#ifndef USM_RESTRICT\n#ifdef __cplusplus\n#define USM_RESTRICT __restrict\n"
+          "#else\n#define USM_RESTRICT restrict\n#endif\n#endif\n\n"
+          '#ifdef __cplusplus\nextern "C" {\n#endif\n\n')
     h += (f'#define USM_GENERATOR_VERSION "{stamp["generator"]}"\n'
           f"#define USM_GENERATOR_VERSION_MAJOR {major}\n"
-          f'#define USM_INPUT_DIGEST "{stamp["digest"]}"\n\n')
+          "/* sha256 of every input of the derivation (derive/); a variable, not a\n"
+          "   literal, so that changing one model does not change this header. */\n"
+          "extern const char usm_input_digest[];\n"
+          "#define USM_INPUT_DIGEST usm_input_digest\n\n")
     h += "/* Model parameters in SI units, named by the paper's symbols (Appendix A). */\n"
     h += "typedef struct usm_params {\n"
     for name, unit, desc, _ in PARAMETERS:
@@ -221,19 +277,31 @@ def common_files(models, variant_list, stamp):
           "                           constant in frame A, multipliers do not depend on t0 */\n"
           "    const char *const *state_names;\n    const char *const *unknown_names;\n"
           "    const unsigned char *cyclic; /* 1 where x_i appears in neither M nor f */\n"
-          "    void (*mass)(const double *restrict x, const usm_params *restrict p, double *restrict out);\n"
-          "    void (*rhs)(const double *restrict x, double t, const usm_params *restrict p, double *restrict out);\n"
-          "    void (*jac_rhs)(const double *restrict x, double t, const usm_params *restrict p, double *restrict out);\n"
-          "    void (*jac_mass)(const double *restrict x, const double *restrict v, const usm_params *restrict p, double *restrict out);\n"
-          "    void (*outputs)(const double *restrict x, const double *restrict xdot, double t, const usm_params *restrict p, double *restrict out);\n"
-          "    void (*steady_residual)(const double *restrict u, const usm_params *restrict p, double *restrict out);\n"
-          "    void (*steady_jacobian)(const double *restrict u, const usm_params *restrict p, double *restrict out);\n"
-          "    void (*steady_jacobian_params)(const double *restrict u, const usm_params *restrict p, double *restrict out); /* nu x USM_NPARAMS */\n"
-          "    void (*steady_outputs)(const double *restrict u, const usm_params *restrict p, double *restrict out);\n"
-          "    void (*steady_seed)(double theta, const usm_params *restrict p, double *restrict out);\n"
-          "    void (*steady_state)(const double *restrict u, double beta, double t, const usm_params *restrict p, double *restrict out);\n"
-          "    void (*tangent_map)(const double *restrict x, const usm_params *restrict p, double *restrict out);\n"
-          "    void (*friction)(double v_rel, const usm_params *restrict p, double *restrict out); /* NULL for stick */\n"
+          "    void (*mass)(const double *USM_RESTRICT x, const usm_params *USM_RESTRICT p, double *USM_RESTRICT out);\n"
+          "    void (*rhs)(const double *USM_RESTRICT x, double t, const usm_params *USM_RESTRICT p, double *USM_RESTRICT out);\n"
+          "    void (*jac_rhs)(const double *USM_RESTRICT x, double t, const usm_params *USM_RESTRICT p, double *USM_RESTRICT out);\n"
+          "    void (*jac_mass)(const double *USM_RESTRICT x, const double *USM_RESTRICT v, const usm_params *USM_RESTRICT p, double *USM_RESTRICT out);\n"
+          "    void (*outputs)(const double *USM_RESTRICT x, const double *USM_RESTRICT xdot, double t, const usm_params *USM_RESTRICT p, double *USM_RESTRICT out);\n"
+          "    void (*steady_residual)(const double *USM_RESTRICT u, const usm_params *USM_RESTRICT p, double *USM_RESTRICT out);\n"
+          "    void (*steady_jacobian)(const double *USM_RESTRICT u, const usm_params *USM_RESTRICT p, double *USM_RESTRICT out);\n"
+          "    void (*steady_jacobian_params)(const double *USM_RESTRICT u, const usm_params *USM_RESTRICT p, double *USM_RESTRICT out); /* nu x USM_NPARAMS */\n"
+          "    void (*steady_outputs)(const double *USM_RESTRICT u, const usm_params *USM_RESTRICT p, double *USM_RESTRICT out);\n"
+          "    void (*steady_seed)(double theta, const usm_params *USM_RESTRICT p, double *USM_RESTRICT out);\n"
+          "    void (*steady_state)(const double *USM_RESTRICT u, double beta, double t, const usm_params *USM_RESTRICT p, double *USM_RESTRICT out);\n"
+          "    void (*tangent_map)(const double *USM_RESTRICT x, const usm_params *USM_RESTRICT p, double *USM_RESTRICT out);\n"
+          "    void (*friction)(double v_rel, const usm_params *USM_RESTRICT p, double *USM_RESTRICT out); /* NULL for stick */\n"
+          "    /* Model flags, from the assumptions (derive/variants.py). */\n"
+          "    int slip;                /* 1: rotor angle free, F_t = mu(v_rel) F_n; 0: stick */\n"
+          "    int axisymmetric_stator; /* 1: I_yy is taken equal to I_xx */\n"
+          "    /* Indices of named state variables in x and unknowns in u, -1 where absent. */\n"
+          "    int x_phi, x_theta, x_psi; /* Euler angles of the stator */\n"
+          "    int x_phidot, x_thetadot, x_psidot; /* and their rates */\n"
+          "    int x_phi_R, x_phi_Rdot;   /* rotor angle and its rate (slip models) */\n"
+          "    int x_tau;                 /* integrated twist angle (twist = integrated) */\n"
+          "    int u_theta, u_alpha;      /* stationary tilt and phase */\n"
+          "    int u_phidot_R;            /* stationary rotor speed (slip models) */\n"
+          "    /* M(x), df/dx and d(M v)/dx at once: out = [M, df/dx, d(Mv)/dx], nx*nx each. */\n"
+          "    void (*linearisation)(const double *USM_RESTRICT x, const double *USM_RESTRICT v, double t, const usm_params *USM_RESTRICT p, double *USM_RESTRICT out);\n"
           "} usm_model;\n\n")
     for name, _, _ in models:
         h += f"extern const usm_model usm_model_{name};\n"
@@ -244,17 +312,11 @@ def common_files(models, variant_list, stamp):
           "typedef struct usm_variant_info {\n    const char *name;\n    const char *description;\n"
           "} usm_variant_info;\n"
           f"#define USM_NVARIANTS {len(variant_list)}\n"
-          "extern const usm_variant_info usm_variants[USM_NVARIANTS];\n\n"
-          "/* The derived equations of every model as Markdown and LaTeX documents\n"
-          "   (also generated/usm_<model>_equations.{md,tex}); lines end at NULL. */\n"
-          "typedef struct usm_equation_doc {\n    const char *model;\n"
-          "    const char *format; /* \"markdown\" or \"latex\" */\n"
-          "    const char *const *lines;\n} usm_equation_doc;\n"
-          f"#define USM_NEQUATION_DOCS {2 * len(models)}\n"
-          "extern const usm_equation_doc usm_equation_docs[USM_NEQUATION_DOCS];\n")
+          "extern const usm_variant_info usm_variants[USM_NVARIANTS];\n")
     h += '\n#ifdef __cplusplus\n}\n#endif\n\n#endif /* USM_KERNELS_H */\n'
     c = banner("usm_kernels.c: parameter table and model list.", stamp)
     c += '#include <stddef.h>\n\n#include "usm_kernels.h"\n\n'
+    c += f'const char usm_input_digest[] = "{stamp["input_digest"]}";\n\n'
     c += "const usm_param_info usm_param_table[USM_NPARAMS] = {\n"
     for name, unit, desc, cons in PARAMETERS:
         c += f'    {{"{name}", "{unit}", "{desc}", "{cons}", offsetof(usm_params, {name})}},\n'

@@ -9,6 +9,7 @@
 #include "diag.h"
 #include "options.h"
 #include "usm.h"
+#include "usm_equations.h"
 
 static void usage(FILE *out)
 {
