@@ -83,16 +83,24 @@ int main(void)
         return status;
     }
 
-    /* Kernels, called directly: the state on the stationary orbit at t = 0,
-     * M(x), f(x, 0), df/dx. */
+    /* Kernels, called directly: the state on the stationary orbit at t = 0
+     * and its rate, M(x), f(x, 0), df/dx.  Every array has the length the
+     * generated header gives for the kernel that writes it
+     * (USM_3DOF_<KERNEL>_OUT_LEN): steady_state writes the state and its
+     * rate, 2 NX numbers. */
     const double t = 0.0;
-    double x[NX], mass[NX * NX], rhs[NX], jac[NX * NX], xdot[NX], residual[NX];
-    usm_3dof_steady_state(sol->u, sol->beta, t, &p, x);
+    double orbit[USM_3DOF_STEADY_STATE_OUT_LEN], mass[USM_3DOF_MASS_OUT_LEN],
+        rhs[USM_3DOF_RHS_OUT_LEN], jac[USM_3DOF_JAC_RHS_OUT_LEN], xdot[NX], residual[NX];
+    usm_3dof_steady_state(sol->u, sol->beta, t, &p, orbit);
+    const double *x = orbit; /* orbit = [x (NX), dx/dt (NX)] */
     usm_3dof_mass(x, &p, mass);
     usm_3dof_rhs(x, t, &p, rhs);
     usm_3dof_jac_rhs(x, t, &p, jac);
-    for (int i = 0; i < NX; ++i)
-        xdot[i] = i < NX / 2 ? x[NX / 2 + i] : 0.0;
+    /* the angles turn at constant rates: x' = (phidot, thetadot, psidot, 0, 0, 0) */
+    xdot[USM_3DOF_X_PHI] = x[USM_3DOF_X_PHIDOT];
+    xdot[USM_3DOF_X_THETA] = x[USM_3DOF_X_THETADOT];
+    xdot[USM_3DOF_X_PSI] = x[USM_3DOF_X_PSIDOT];
+    xdot[USM_3DOF_X_PHIDOT] = xdot[USM_3DOF_X_THETADOT] = xdot[USM_3DOF_X_PSIDOT] = 0.0;
     double residual_max = 0.0;
     for (int i = 0; i < NX; ++i) {
         residual[i] = -rhs[i];

@@ -7,6 +7,8 @@
 #   - with CMake (find_package(usm)): usm::usm and usm::usm_static,
 #   - with pkg-config: the documented command lines, shared and static
 #     (docs/library.md), and examples/Makefile,
+#   - at -O0, and at -O0 with AddressSanitizer and UBSan (a kernel writing
+#     past an array the example passes it fails here),
 # runs every build and compares its numbers with the installed
 # `usm steady --json`: theta, alpha, rotor speed and the Floquet multipliers
 # to 1e-12 relative, and the versions with `usm --version`.
@@ -69,6 +71,19 @@ echo "== pkg-config, static: ... -Wl,-Bstatic -lusm -Wl,-Bdynamic \$(pkg-config 
 "$cc" -O2 -Wall -Wextra -Werror -o "$tmp/usm_example_pc_static" "$src/examples/usm_example.c" \
       $(pkg-config --cflags usm) -L"$(pkg-config --variable=libdir usm)" \
       -Wl,-Bstatic -lusm -Wl,-Bdynamic $(pkg-config --static --libs usm) || fail "static build with pkg-config"
+# -O0: an array the example hands a kernel too short overwrites its
+# neighbours on the stack (the kernels, in the uninstrumented library, write
+# past it unseen by ASan; an earlier example lost its Floquet multipliers so),
+# and the numbers compared below differ; ASan and UBSan check the example's
+# own accesses.
+echo "== pkg-config, -O0, and -O0 with AddressSanitizer and UBSan"
+# shellcheck disable=SC2046
+"$cc" -O0 -g -Wall -Wextra -Werror -o "$tmp/usm_example_O0" "$src/examples/usm_example.c" \
+      $(pkg-config --cflags --libs usm) || fail "build with -O0"
+# shellcheck disable=SC2046
+"$cc" -O0 -g -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all \
+      -Wall -Wextra -Werror -o "$tmp/usm_example_asan" "$src/examples/usm_example.c" \
+      $(pkg-config --cflags --libs usm) || fail "build with -O0 -fsanitize=address"
 echo "== pkg-config: examples/Makefile"
 cp "$src/examples/Makefile" "$src/examples/usm_example.c" "$tmp/"
 make -s -C "$tmp" CC="$cc" usm_example > "$tmp/make.log" 2>&1 || { cat "$tmp/make.log"; fail "make"; }
@@ -82,6 +97,9 @@ run cmake_static "$tmp/build-cmake/usm_example_static"
 LD_LIBRARY_PATH=$libdir${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH} run pkgconfig "$tmp/usm_example_pc"
 run makefile "$tmp/usm_example"   # run path set by the Makefile
 run pkgconfig_static "$tmp/usm_example_pc_static"
+LD_LIBRARY_PATH=$libdir${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH} run O0 "$tmp/usm_example_O0"
+ASAN_OPTIONS=detect_leaks=1:abort_on_error=0 LD_LIBRARY_PATH=$libdir${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH} \
+    run asan_O0 "$tmp/usm_example_asan"
 # The shared builds use the installed libusm.so, the static ones do not.
 ldd "$tmp/build-cmake/usm_example" > "$tmp/ldd.txt" 2>&1
 grep -q "$libdir/libusm.so" "$tmp/ldd.txt" || { cat "$tmp/ldd.txt"; fail "CMake build does not use $libdir/libusm.so"; }
@@ -99,7 +117,7 @@ version = open(f"{tmp}/version.txt").read().split("\n")
 def close(a, b, rel=1e-12):
     return abs(a - b) <= rel * max(abs(a), abs(b), 1e-300)
 bad = []
-for name in ("cmake_shared", "cmake_static", "pkgconfig", "pkgconfig_static", "makefile"):
+for name in ("cmake_shared", "cmake_static", "pkgconfig", "pkgconfig_static", "makefile", "O0", "asan_O0"):
     ex = json.load(open(f"{tmp}/{name}.json"))
     if version[0] != f"usm {ex['usm_version']}":
         bad.append(f"{name}: usm_version() {ex['usm_version']} but `usm --version`: {version[0]}")
