@@ -18,8 +18,8 @@
  *    tangential force.
  * 2. Friction work balance, slip models: as 1 but with mu0 > 0 and a rotor
  *    spinning the wrong way, E(t) + W(t) = E(0), W' = F_t v_rel with
- *    F_t = mu(v_rel) F_n (mu0 atan(kappa v_rel), or mu0 tanh(kappa v_rel) as
- *    the model's assumptions say), v_rel = v_c + phidot_R R*, and F_n from
+ *    F_t = mu(v_rel) F_n (mu from the model's friction kernel: any law of
+ *    derive/variants.py), v_rel = v_c + phidot_R R*, and F_n from
  *    the rotor's axial equation M Zddot = F_n - F0 - c_R (Z - H) - d_R Zdot.
  *    (W' >= 0 only while F_n > 0; at these tilts M Zddot swings F_n through
  *    +-1e3 N -- the model keeps contact by assumption -- so W oscillates.)
@@ -194,49 +194,35 @@ static vec3 mvec(mat3 A, vec3 x)
 
 /* ---- the test's own kinematics ---------------------------------------------------- */
 
-/* Where the Euler angles, their rates and the rotor sit in a model's state. */
+/* Where the Euler angles, their rates and the rotor sit in a model's state
+ * (the generated indices of the model descriptor). */
 typedef struct layout {
     int phi, theta, psi, phidot, thetadot, psidot;
     int phi_R, phi_Rdot; /* -1 in stick models */
     int tau;             /* integrated twist angle, tau' = omega_Z; -1 if the
                             twist angle is the paper's phi + psi cos theta */
-    int friction;        /* slip models: 1 atan, 2 tanh law; 0 stick */
+    const usm_model *m;  /* its friction kernel: the law mu(v_rel) it assumes */
 } layout;
-
-static int index_of(const usm_model *m, const char *name)
-{
-    for (int i = 0; i < m->nx; ++i)
-        if (strcmp(m->state_names[i], name) == 0)
-            return i;
-    return -1;
-}
 
 static int make_layout(const usm_model *m, layout *L)
 {
-    L->phi = index_of(m, "phi");
-    L->theta = index_of(m, "theta");
-    L->psi = index_of(m, "psi");
-    L->phidot = index_of(m, "phidot");
-    L->thetadot = index_of(m, "thetadot");
-    L->psidot = index_of(m, "psidot");
-    L->phi_R = index_of(m, "phi_R");
-    L->phi_Rdot = index_of(m, "phi_Rdot");
-    L->tau = index_of(m, "tau");
-    L->friction = 0;
-    if (L->phi_Rdot >= 0) {
-        if (strstr(m->assumptions, "friction=atan"))
-            L->friction = 1;
-        else if (strstr(m->assumptions, "friction=tanh"))
-            L->friction = 2;
-        else {
-            fprintf(stderr, "FAIL: model %s: friction law of \"%s\" unknown to this test\n",
-                    m->name, m->assumptions);
-            return 1;
-        }
+    L->phi = m->x_phi;
+    L->theta = m->x_theta;
+    L->psi = m->x_psi;
+    L->phidot = m->x_phidot;
+    L->thetadot = m->x_thetadot;
+    L->psidot = m->x_psidot;
+    L->phi_R = m->x_phi_R;
+    L->phi_Rdot = m->x_phi_Rdot;
+    L->tau = m->x_tau;
+    L->m = m;
+    if (L->phi_Rdot >= 0 && !m->friction) {
+        fprintf(stderr, "FAIL: model %s: slip model without a friction kernel\n", m->name);
+        return 1;
     }
     if (L->phi < 0 || L->theta < 0 || L->psi < 0 || L->phidot < 0 || L->thetadot < 0 ||
         L->psidot < 0 || (L->phi_R < 0) != (L->phi_Rdot < 0)) {
-        fprintf(stderr, "FAIL: model %s: state names not understood by this test\n", m->name);
+        fprintf(stderr, "FAIL: model %s: state layout not understood by this test\n", m->name);
         return 1;
     }
     return 0;
@@ -301,10 +287,15 @@ static double energy(const layout *L, const double *x, const usm_params *p)
            (L->tau >= 0 ? 0.5 * p->c_t * x[L->tau] * x[L->tau] : 0.0);
 }
 
-/* The friction law mu(v_rel) of the model ((5.2) or its tanh variant). */
+/* The friction law mu(v_rel) the model assumes, whatever it is: the model's
+ * generated friction kernel (derive/variants.py, FRICTION_LAWS), the law being
+ * an input of the model, not something derived.  Checked against its
+ * derivative in test_jacobians. */
 static double friction_mu(const layout *L, const usm_params *p, double v_rel)
 {
-    return L->friction == 2 ? p->mu0 * tanh(p->kappa * v_rel) : p->mu0 * atan(p->kappa * v_rel);
+    double mu[2];
+    L->m->friction(v_rel, p, mu);
+    return mu[0];
 }
 
 /* Normal force from the rotor's axial equation (2.1), spring measured from H. */
@@ -536,7 +527,7 @@ static int energy_run(const usm_model *m, int friction)
     p.d_R = p.d_r = p.d_t = 0.0;
     p.m0 = 0.0;
     p.T = 0.0;
-    if (index_of(m, "tau") < 0)
+    if (m->x_tau < 0)
         p.c_t = 0.0; /* the paper's twist torque is not conservative */
     if (!friction)
         p.mu0 = 0.0;
@@ -795,7 +786,7 @@ int main(int argc, char **argv)
         const usm_model *m = usm_models[i];
         if (do_energy) {
             failures += energy_run(m, 0);
-            if (index_of(m, "phi_Rdot") >= 0)
+            if (m->x_phi_Rdot >= 0)
                 failures += energy_run(m, 1);
         }
         if (do_momentum)

@@ -32,34 +32,55 @@
 
 /* ---- 1. full residual on the orbit ----------------------------------------- */
 
+/* 1 where row i of M x' = f is a balance of torques (the rows of the rates),
+ * 0 for the kinematic rows q' = qdot and tau' = omega_Z. */
+static int torque_row(const usm_model *m, int i)
+{
+    return i == m->x_phidot || i == m->x_thetadot || i == m->x_psidot || i == m->x_phi_Rdot;
+}
+
+/* Torque rows are judged against the excitation amplitude m0: a correct model
+ * leaves only rounding, an error of 1e-3 m0 in one row (tests/mutation.sh)
+ * fails by a factor 1000.  The rounding: the twist torque c_t (phi + psi cos
+ * theta) is a difference of terms c_t phi and c_t psi that grow with t (about
+ * 2e6 N m after 18 periods), so it carries ~eps c_t (|phi| + |psi|); the
+ * allowance is 1e-6 m0 plus 64 times that.  (An earlier scale of
+ * c_t (|phi| + |psi|) alone let an error of 0.2 % of m0 pass.) */
+#define ORBIT_M0_TOL 1e-6
+#define ORBIT_KIN_TOL 1e-12
+
 static void check_orbit_residual(const usm_model *m, const usm_params *p,
                                  const usm_steady_solution *sol)
 {
     const int n = m->nx;
-    double worst = 0;
+    double worst_torque = 0, worst_kin = 0;
     for (int k = 0; k < 50; ++k) {
         const double t = (k * 0.37) / p->f; /* spread over ~18 periods */
         double o[2 * USM_MAX_NX], M[USM_MAX_NX * USM_MAX_NX], f[USM_MAX_NX];
         m->steady_state(sol->u, sol->beta, t, p, o);
         m->mass(o, p, M);
         m->rhs(o, t, p, f);
+        const double twist_terms =
+            p->c_t * (fabs(o[m->x_phi]) + fabs(o[m->x_psi]) + (m->x_tau >= 0 ? fabs(o[m->x_tau]) : 0));
         for (int i = 0; i < n; ++i) {
-            /* scale of row i: the largest term it balances */
-            double r = -f[i], scale = fabs(f[i]);
+            double r = -f[i], size = fabs(f[i]);
             for (int j = 0; j < n; ++j) {
                 r += M[i * n + j] * o[n + j];
-                scale = fmax(scale, fabs(M[i * n + j] * o[n + j]));
+                size = fmax(size, fabs(M[i * n + j] * o[n + j]));
             }
-            /* torque rows are compared with the excitation amplitude, and
-             * with the twist torque's terms c_t*phi and c_t*psi*cos(theta),
-             * which grow with t and cancel to c_t*(alpha + beta*cos(theta)) */
-            const int ip = m->nx == 6 ? 0 : 1; /* index of phi; psi is ip + 2 */
-            scale = fmax(scale, fmax(p->m0, p->c_t * (fabs(o[ip]) + fabs(o[ip + 2]))));
-            worst = fmax(worst, fabs(r) / scale);
+            if (torque_row(m, i))
+                worst_torque = fmax(worst_torque, fabs(r) / (ORBIT_M0_TOL * p->m0 +
+                                                             64 * 2.22e-16 * twist_terms));
+            else /* q' = qdot, tau' = omega_Z: differences of rates of size Omega */
+                worst_kin = fmax(worst_kin, fabs(r) / (ORBIT_KIN_TOL * fmax(size, 6.283185307179586 * p->f)));
         }
     }
-    printf("%s: full residual on the stationary orbit, worst relative %.2e\n", m->name, worst);
-    CHECK(worst < 1e-9, "%s: M xbar' - f does not vanish on the orbit (%.3e)", m->name, worst);
+    printf("%s: full residual on the stationary orbit: torque rows %.2e, kinematic rows %.2e "
+           "of their allowance\n", m->name, worst_torque, worst_kin);
+    CHECK(worst_torque <= 1, "%s: M xbar' - f does not vanish on the orbit: a torque row is off "
+          "by %.3e times %g m0", m->name, worst_torque, ORBIT_M0_TOL);
+    CHECK(worst_kin <= 1, "%s: a kinematic row is off on the orbit (%.3e of its allowance)",
+          m->name, worst_kin);
 }
 
 /* ---- 2. two Floquet methods ------------------------------------------------- */
@@ -81,19 +102,8 @@ static void check_floquet_methods(const usm_model *m, const usm_params *p,
         worst = fmax(worst, hypot(res->re[i] - r2.re[i], res->im[i] - r2.im[i]));
     printf("%s: Floquet methods differ by at most %.2e\n", m->name, worst);
     CHECK(worst < 1e-6, "%s: Floquet methods disagree by %.3e", m->name, worst);
-    int ncyc = 0;
-    for (int i = 0; i < m->nx; ++i)
-        ncyc += m->cyclic[i];
-    int found = 0;
-    for (int i = 0; i < res->n; ++i)
-        if (res->cyclic[i]) {
-            ++found;
-            CHECK(res->re[i] == 1.0 && res->im[i] == 0.0, "%s: cyclic multiplier is not 1",
-                  m->name);
-        }
-    CHECK(found == ncyc, "%s: %d cyclic multipliers reported, %d cyclic coordinates", m->name,
-          found, ncyc);
-    /* the cyclic column of B is e_i: an independent look at the monodromy */
+    /* (the cyclic multipliers themselves are set to 1 by construction; the
+     * cyclic column of the integrated monodromy B must be e_i) */
     for (int j = 0; j < m->nx; ++j)
         if (m->cyclic[j])
             for (int i = 0; i < m->nx; ++i)
@@ -150,6 +160,7 @@ static void check_stays_on_orbit(const usm_model *m, const usm_params *p,
     CHECK(CVodeSetMaxNumSteps(cv, 1000000) == CV_SUCCESS, "CVodeSetMaxNumSteps");
     const double T = 1.0 / p->f;
     double worst_theta = 0, worst_speed = 0, t = 0;
+    int checked = 0;
     for (int k = 1; k <= 20; ++k) {
         int flag = CVode(cv, k * T, y, &t, CV_NORMAL);
         CHECK(flag >= 0, "%s: CVode failed at t = %g: %s", m->name, t, CVodeGetReturnFlagName(flag));
@@ -157,11 +168,13 @@ static void check_stays_on_orbit(const usm_model *m, const usm_params *p,
             break;
         const double *x = N_VGetArrayPointer(y);
         m->steady_state(sol->u, sol->beta, t, p, o);
-        const int it = m->nx == 6 ? 1 : 2; /* index of theta */
+        const int it = m->x_theta, ir = m->x_phi_Rdot;
         worst_theta = fmax(worst_theta, fabs(x[it] - o[it]) / sol->theta);
-        if (m->nx == 8)
-            worst_speed = fmax(worst_speed, fabs(x[4] - o[4]) / fabs(sol->rotor_speed));
+        if (ir >= 0)
+            worst_speed = fmax(worst_speed, fabs(x[ir] - o[ir]) / fabs(sol->rotor_speed));
+        ++checked;
     }
+    CHECK(checked == 20, "%s: integration stopped after %d periods", m->name, checked);
     printf("%s: 20 periods from xbar(0): theta drift %.2e, rotor speed drift %.2e (relative)\n",
            m->name, worst_theta, worst_speed);
     CHECK(worst_theta < 1e-5, "%s: tilt leaves the stationary orbit (%.3e)", m->name, worst_theta);
@@ -260,7 +273,6 @@ static void check_t0(const usm_model *m, const usm_params *p, const usm_steady_s
     o.atol = 1e-16;
     CHECK(usm_floquet_compute(f, p, sol, 0.0, &o, &r0) == USM_OK, "%s: t0 = 0", m->name);
     CHECK(usm_floquet_compute(f, p, sol, 100 * T, &o, &r100) == USM_OK, "%s: t0 = 100 T", m->name);
-    CHECK(r0.t0_dependent == !m->t0_independent, "%s: t0 dependence not reported", m->name);
     /* entry-wise in the monodromy's own scale (its entries span many decades) */
     double scale = max_abs(r0.monodromy, n * n), dB = 0, dl = 0;
     for (int i = 0; i < n * n; ++i)
