@@ -6,6 +6,9 @@
  *   steady_jacobian(u)   vs  d r(u) / du
  *   steady_jacobian_params(u)  vs  d r(u; p) / dp   (every usm_params field)
  *   friction(v)[1]       vs  d mu(v) / dv             (models with slip)
+ *   linearisation(x, v)  the fused kernel [M, df/dx, d(Mv)/dx]: its Jacobian
+ *                        blocks as jac_rhs and jac_mass, its M block vs
+ *                        d (M(x) w) / dw of the mass kernel
  *
  * Samples: NSAMPLES random points per model, each with its own parameter set
  * (every default parameter times a log-uniform factor in [1/2, 2]; I_yy kept
@@ -231,6 +234,7 @@ typedef struct eval_ctx {
     double t;
     const double *v; /* jac_mass: the fixed vector */
     const double *u; /* steady_jacobian_params: the fixed unknowns */
+    const double *x; /* linearisation's M block: the fixed state */
 } eval_ctx;
 
 typedef void (*vec_fn)(const eval_ctx *c, const double *x, double *out);
@@ -319,6 +323,20 @@ static void eval_mass_v(const eval_ctx *c, const double *x, double *out)
         double acc = 0.0;
         for (int j = 0; j < n; ++j)
             acc += M[i * n + j] * c->v[j];
+        out[i] = acc;
+    }
+}
+
+/* M(x) w at the fixed state c->x, as a function of w: d(M w)/dw = M. */
+static void eval_mass_w(const eval_ctx *c, const double *w, double *out)
+{
+    double M[USM_MAX_NX * USM_MAX_NX];
+    int n = c->m->nx;
+    c->m->mass(c->x, c->p, M);
+    for (int i = 0; i < n; ++i) {
+        double acc = 0.0;
+        for (int j = 0; j < n; ++j)
+            acc += M[i * n + j] * w[j];
         out[i] = acc;
     }
 }
@@ -456,9 +474,20 @@ static int report(const char *model, const char *kernel, const stats *st)
 
 static const char *param_names[USM_NPARAMS];
 
+/* Difference scales of v: its own entries (M w is linear in w). */
+static const double *sv_of(const double *v, int n, double *sv)
+{
+    for (int i = 0; i < n; ++i)
+        sv[i] = fabs(v[i]) > 0.0 ? fabs(v[i]) : 1.0;
+    return sv;
+}
+
 static int check_model(const usm_model *m)
 {
-    stats s_rhs, s_mass, s_steady, s_params, s_fric;
+    stats s_rhs, s_mass, s_steady, s_params, s_fric, s_lin_m, s_lin_f, s_lin_mv;
+    stats_init(&s_lin_m);
+    stats_init(&s_lin_f);
+    stats_init(&s_lin_mv);
     stats_init(&s_params);
     stats_init(&s_rhs);
     stats_init(&s_mass);
@@ -490,7 +519,7 @@ static int check_model(const usm_model *m)
                 sc = strstr(nm, "dot") ? 1e5 : 1e3;
             v[i] = sc * rng_range(-1.0, 1.0);
         }
-        eval_ctx c = {m, &p, rng_range(0.0, 100.0 / p.f), v, NULL};
+        eval_ctx c = {m, &p, rng_range(0.0, 100.0 / p.f), v, NULL, x};
         double hx[USM_MAX_NX], hu[USM_MAX_NU];
         const int slip = index_of(m->state_names, n, "phi_Rdot") >= 0;
         if (slip)
@@ -503,6 +532,18 @@ static int check_model(const usm_model *m)
         m->jac_mass(x, v, &p, J);
         compare(m->name, "jac_mass", m->state_names, k, &c, eval_mass_v, mass_v_size, n, n, x, s,
                 REL_STEP, slip ? hx : NULL, J, &s_mass);
+
+        /* the fused kernel: [M, df/dx, d(Mv)/dx]; its Jacobian blocks against
+         * the same differences as above, its M block against differences in
+         * v of the mass kernel's M(x) v (linear in v: only rounding) */
+        double L[3 * USM_MAX_NX * USM_MAX_NX], sv[USM_MAX_NX];
+        m->linearisation(x, v, c.t, &p, L);
+        compare(m->name, "linearisation M", m->state_names, k, &c, eval_mass_w, NULL, n, n, v,
+                sv_of(v, n, sv), REL_STEP, NULL, L, &s_lin_m);
+        compare(m->name, "linearisation df", m->state_names, k, &c, eval_rhs, NULL, n, n, x, s,
+                REL_STEP, slip ? hx : NULL, L + n * n, &s_lin_f);
+        compare(m->name, "linearisation dMv", m->state_names, k, &c, eval_mass_v, mass_v_size, n,
+                n, x, s, REL_STEP, slip ? hx : NULL, L + 2 * n * n, &s_lin_mv);
 
         double u[USM_MAX_NU], su[USM_MAX_NU];
         if (random_unknowns(m, &p, u, su))
@@ -561,6 +602,9 @@ static int check_model(const usm_model *m)
     }
     bad += report(m->name, "jac_rhs", &s_rhs);
     bad += report(m->name, "jac_mass", &s_mass);
+    bad += report(m->name, "linearisation M", &s_lin_m);
+    bad += report(m->name, "linearisation df", &s_lin_f);
+    bad += report(m->name, "linearisation dMv", &s_lin_mv);
     bad += report(m->name, "steady_jacobian", &s_steady);
     if (m->steady_jacobian_params)
         bad += report(m->name, "steady_jac_params", &s_params);

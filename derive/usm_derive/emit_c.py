@@ -55,6 +55,63 @@ def _drop_unused(repl, reduced):
     return kept[::-1]
 
 
+def _square_of_trig(f):
+    """('sin' or 'cos', argument) if f is sin(a)**2 or cos(a)**2, else None."""
+    if f.is_Pow and f.exp == 2 and isinstance(f.base, (sp.sin, sp.cos)):
+        return ("sin" if isinstance(f.base, sp.sin) else "cos", f.base.args[0])
+    return None
+
+
+def _pythagoras_add(add):
+    """In one sum: c r sin^2(a) + c r cos^2(a) -> c r, and
+    c r sin^2(a) - c r -> -c r cos^2(a) (likewise with sin and cos swapped)."""
+    terms = list(add.args)
+    squares = {}                     # (kind, a, c, rest) -> index of the term
+    plain = {}                       # term -> index, for c r without a square
+    for i, term in enumerate(terms):
+        c, factors = term.as_coeff_mul()
+        plain.setdefault(term, i)
+        for k, f in enumerate(factors):
+            sq = _square_of_trig(f)
+            if sq is not None:
+                squares.setdefault((sq[0], sq[1], c, factors[:k] + factors[k + 1:]), i)
+    used, extra = set(), []
+    other = {"sin": "cos", "cos": "sin"}
+    for (kind, arg, c, rest), i in squares.items():
+        if i in used:
+            continue
+        j = squares.get((other[kind], arg, c, rest))
+        if j is not None and j not in used and j != i:
+            used |= {i, j}
+            extra.append(c * sp.Mul(*rest))
+            continue
+        base = c * sp.Mul(*rest)
+        j = plain.get(-base)
+        if j is not None and j not in used and j != i:
+            used |= {i, j}
+            fn = sp.cos if kind == "sin" else sp.sin
+            extra.append(-c * sp.Mul(*rest) * fn(arg) ** 2)
+    if not used:
+        return add
+    return sp.Add(*([t for i, t in enumerate(terms) if i not in used] + extra))
+
+
+def pythagoras(expr, memo=None):
+    """sin^2 + cos^2 = 1 applied wherever a sum shows it, bottom up: cheap
+    (one pass, no trigsimp), so it runs on every emitted expression."""
+    memo = {} if memo is None else memo
+    if expr in memo:
+        return memo[expr]
+    if not expr.args or expr.is_Atom:
+        return expr
+    args = [pythagoras(a, memo) for a in expr.args]
+    new = expr.func(*args) if any(a is not b for a, b in zip(args, expr.args)) else expr
+    if new.is_Add:
+        new = _pythagoras_add(new)
+    memo[expr] = new
+    return new
+
+
 def param_names():
     return {P[name]: f"p->{name}" for name, *_ in PARAMETERS}
 
@@ -82,7 +139,8 @@ class Kernel:
 
     def emit(self):
         names = param_names()
-        exprs = [sp.sympify(e) for e in self.outputs]
+        memo = {}
+        exprs = [pythagoras(sp.sympify(e), memo) for e in self.outputs]
         used = set().union(*(e.free_symbols for e in exprs))
         bind = [f"    const double {sym.name} = {c_expr};  /* {comment} */"
                 for sym, c_expr, comment in self.bindings if sym in used]
