@@ -20,6 +20,9 @@ if(USM_PDFLATEX)
     endif()
   endforeach()
   add_custom_target(equations-pdf DEPENDS ${_pdfs})
+  if(USM_REGENERATE)  # the .tex files are byproducts of the derivation
+    add_dependencies(equations-pdf usm_kernels_generated)
+  endif()
 else()
   add_custom_target(equations-pdf
     COMMAND ${CMAKE_COMMAND} -E echo "equations-pdf needs pdflatex: apt-get install texlive-latex-base texlive-latex-recommended"
