@@ -171,6 +171,13 @@ enum {
 };
 extern const report_figure report_figures[REPORT_NFIGURES];
 
+/* The report's own-output marker: written into DIR before any other file,
+ * its first line REPORT_MANIFEST_MARKER, then the names of report_files.  A
+ * directory holding it has only the report's files under those names (a run
+ * interrupted before report.md still leaves it), so the next run replaces them. */
+#define REPORT_MANIFEST ".usm-report"
+#define REPORT_MANIFEST_MARKER "usm report: files written by `usm report` (the next run replaces them)"
+
 /* Every file name `usm report` writes into its directory (NULL-terminated). */
 extern const char *const report_files[];
 

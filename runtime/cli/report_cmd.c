@@ -158,8 +158,8 @@ static int make_dir(const char *dir, char msg[CLI_MSG_LEN])
     return USM_OK;
 }
 
-/* 1 when DIR/report.md starts with the marker of a report usm wrote. */
-static int is_own_report(const char *path)
+/* 1 when the file at path starts with the line `marker`. */
+static int starts_with_line(const char *path, const char *marker)
 {
     char line[512];
     FILE *f = fopen(path, "r");
@@ -168,10 +168,22 @@ static int is_own_report(const char *path)
         return 0;
     if (fgets(line, sizeof line, f)) {
         line[strcspn(line, "\r\n")] = '\0';
-        own = strcmp(line, REPORT_MARKER) == 0;
+        own = strcmp(line, marker) == 0;
     }
     fclose(f);
     return own;
+}
+
+/* DIR/.usm-report, written before any other file of the report. */
+static int write_manifest(const char *dir, char msg[CLI_MSG_LEN])
+{
+    FILE *f = report_open(dir, REPORT_MANIFEST, msg);
+    if (!f)
+        return USM_EINPUT;
+    fprintf(f, "%s\n", REPORT_MANIFEST_MARKER);
+    for (int k = 0; report_files[k]; ++k)
+        fprintf(f, "%s\n", report_files[k]);
+    return report_close(f, dir, REPORT_MANIFEST, msg) == USM_OK ? USM_OK : USM_EINPUT;
 }
 
 /* Refuse to overwrite files usm did not write (see --force). */
@@ -200,12 +212,16 @@ static int check_dir(const char *dir, int force, char msg[CLI_MSG_LEN])
         return USM_EINPUT;
     }
     if (access(path, F_OK) == 0) {
-        if (is_own_report(path))
+        if (starts_with_line(path, REPORT_MARKER))
             return USM_OK;
         cli_msg(msg, "--out %s: report.md there was not written by usm report; not "
                      "overwriting it (use --force, or another directory)", dir);
         return USM_EINPUT;
     }
+    /* no report.md: a run that was interrupted left its manifest */
+    if (report_path(path, sizeof path, dir, REPORT_MANIFEST) == 0 &&
+        starts_with_line(path, REPORT_MANIFEST_MARKER))
+        return USM_OK;
     for (int k = 0; report_files[k]; ++k) {
         if (report_path(path, sizeof path, dir, report_files[k]) != 0) {
             cli_msg(msg, "--out %s: path too long", dir);
@@ -270,7 +286,8 @@ int cli_report_main(int argc, char **argv)
         usage(stdout);
         return USM_OK;
     }
-    if (check_dir(a.out, a.force, msg) != USM_OK || make_dir(a.out, msg) != USM_OK) {
+    if (check_dir(a.out, a.force, msg) != USM_OK || make_dir(a.out, msg) != USM_OK ||
+        write_manifest(a.out, msg) != USM_OK) {
         cli_error("%s", msg);
         return USM_EINPUT;
     }

@@ -13,6 +13,7 @@
 #include <signal.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <sys/types.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -578,8 +579,15 @@ int report_run_gnuplot(const char *dir, int jobs, char msg[CLI_MSG_LEN])
         return USM_EFAILED;
     }
     fflush(NULL);
-    for (int i = 0; i < REPORT_NFIGURES; ++i)
+    for (int i = 0; i < REPORT_NFIGURES; ++i) {
         pids[i] = -1;
+        /* a previous run's image must not pass for this run's */
+        for (int e = 0; e < 2; ++e) {
+            snprintf(script, sizeof script, "%s.%s", report_figures[i].name, e ? "svg" : "png");
+            if (report_path(path, sizeof path, dir, script) == 0)
+                unlink(path);
+        }
+    }
     while (next < REPORT_NFIGURES || running > 0) {
         if (next < REPORT_NFIGURES && running < jobs) {
             snprintf(script, sizeof script, "%s.gp", report_figures[next].name);
@@ -628,5 +636,18 @@ int report_run_gnuplot(const char *dir, int jobs, char msg[CLI_MSG_LEN])
             cli_msg(msg, "gnuplot failed on %s/%s (see %s/gnuplot.log)", dir, failed_name, dir);
         return USM_EFAILED;
     }
+    /* gnuplot may exit 0 without writing (a terminal missing, a script of
+     * the user's): the report links only images that exist. */
+    for (int i = 0; i < REPORT_NFIGURES; ++i)
+        for (int e = 0; e < 2; ++e) {
+            struct stat st;
+            snprintf(script, sizeof script, "%s.%s", report_figures[i].name, e ? "svg" : "png");
+            if (report_path(path, sizeof path, dir, script) != 0 || stat(path, &st) != 0 ||
+                st.st_size == 0) {
+                cli_msg(msg, "%s: gnuplot exited 0 but did not write %s/%s (see %s/gnuplot.log)",
+                        exe, dir, script, dir);
+                return USM_EFAILED;
+            }
+        }
     return USM_OK;
 }

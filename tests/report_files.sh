@@ -1,0 +1,79 @@
+#!/bin/bash
+# usm report and its output directory (issue 11 "Files"):
+#  - a report interrupted while plotting leaves files the next run replaces
+#    without --force (the .usm-report manifest is written first);
+#  - files the user wrote are still never overwritten without --force;
+#  - a gnuplot that exits 0 without writing the images is a failure (exit 1,
+#    one line), and report.md then links no image.
+#
+# usage: report_files.sh PATH/TO/usm
+set -u
+
+USM=${1:?usage: report_files.sh PATH/TO/usm}
+. "$(dirname "$0")/cli_common.sh"
+
+# a "gnuplot" that kills usm while it plots, like a Ctrl-C or a lost session
+cat >"$tmp/gnuplot_kill" <<'SH'
+#!/bin/sh
+kill -KILL "$PPID"
+sleep 5
+SH
+# a "gnuplot" that succeeds without drawing anything
+printf '#!/bin/sh\nexit 0\n' >"$tmp/gnuplot_lazy"
+chmod +x "$tmp/gnuplot_kill" "$tmp/gnuplot_lazy"
+
+# ---- interrupted during plotting ------------------------------------------------
+d=$tmp/interrupted
+checks=$((checks + 1))
+USM_GNUPLOT=$tmp/gnuplot_kill run report --out "$d" --quick
+rc=$?
+if [ $rc -ne 137 ] || [ -e "$d/report.md" ] || [ ! -e "$d/fig10_speed_load_3dof.csv" ]; then
+    fail "killed while plotting: exit $rc, want 137 with data files and no report.md"
+fi
+if expect_rc 0 report --out "$d" --quick --no-plots; then
+    checks=$((checks + 1))
+    [ "$(cat "$out")" = "$d/report.md" ] && [ -s "$d/report.md" ] ||
+        fail "the run after an interrupted one did not write report.md"
+fi
+
+# ---- the user's files are kept ------------------------------------------------------
+# beside a manifest, a report.md the user wrote is still the user's
+rm -f "$d/report.md"
+echo "# my notes" >"$d/report.md"
+expect_bad 'report.md' 'not written by usm report' report --out "$d" --quick --no-plots
+checks=$((checks + 1))
+[ "$(cat "$d/report.md")" = "# my notes" ] || fail "a foreign report.md was changed"
+# a file of the report's names without any mark of usm is the user's
+u=$tmp/user
+mkdir "$u"
+echo "mine" >"$u/fig09_speed_frequency.gp"
+expect_bad 'fig09_speed_frequency.gp' 'no usm report' report --out "$u" --quick --no-plots
+# a manifest the user wrote (another first line) does not count
+echo "my list" >"$u/.usm-report"
+expect_bad 'fig09_speed_frequency.gp' 'no usm report' report --out "$u" --quick --no-plots
+checks=$((checks + 1))
+[ "$(cat "$u/fig09_speed_frequency.gp")" = "mine" ] || fail "a user's file was changed"
+
+# ---- gnuplot exits 0 without writing images --------------------------------------
+l=$tmp/lazy
+checks=$((checks + 1))
+USM_GNUPLOT=$tmp/gnuplot_lazy run report --out "$l" --quick
+rc=$?
+if [ $rc -ne 1 ]; then
+    fail "gnuplot without images: exit $rc, want 1"
+elif [ "$(wc -l <"$err")" -ne 1 ] || ! grep -q '^usm: .*did not write' "$err"; then
+    fail "gnuplot without images: want one line '... did not write ...'"
+elif grep -qE '\.(png|svg)\)' "$l/report.md"; then
+    fail "gnuplot without images: report.md links images that do not exist"
+fi
+# stale images of an earlier run do not pass for new ones
+if command -v "${USM_GNUPLOT:-gnuplot}" >/dev/null; then
+    if expect_rc 0 report --out "$l" --quick; then
+        checks=$((checks + 1))
+        USM_GNUPLOT=$tmp/gnuplot_lazy run report --out "$l" --quick
+        rc=$?
+        [ $rc -eq 1 ] || fail "stale images accepted: exit $rc, want 1"
+    fi
+fi
+
+finish report_files
