@@ -1,7 +1,7 @@
 /* report.h: `usm report`, the paper reproduced in a Markdown report with
  * figures (internal to the usm command).
  *
- *   report_paper_values.c  the paper's published values (the only numbers typed in)
+ *   report_paper.c         the paper's published values, read from data/paper_values.json
  *   report_compute.c       everything the report shows, computed through libusm
  *   report_map.c           the 2-D stability map (threads), also `usm map`
  *   report_plot.c          CSV data, gnuplot scripts, running gnuplot
@@ -18,21 +18,21 @@
 #include "usm.h"
 #include "usm_sweep.h"
 
-/* ---- the paper's published values (report_paper_values.c) ---------------- */
+/* ---- the paper's published values (report_paper.c) ------------------------ */
 
 typedef struct report_published {
-    const char *where;    /* where the paper prints it */
-    const char *what;     /* the quantity */
-    const char *printed;  /* exactly as printed */
-    double value;         /* the printed number, in the printed unit */
-    const char *unit;     /* the printed unit */
+    char where[48];    /* where the paper prints it */
+    char what[96];     /* the quantity */
+    char printed[48];  /* exactly as printed */
+    double value;      /* the printed number, in the printed unit */
+    char unit[24];     /* the printed unit */
 } report_published;
 
 typedef struct report_published_multiplier {
-    const char *label;           /* "lambda_1,2" */
-    const char *printed;         /* "-0.7101 ± 0.5908i" */
-    double re, im;               /* im > 0: the pair re ± im i */
-    const char *modulus_printed; /* the table's "absolute value" column */
+    char label[24];           /* "lambda_1,2" */
+    char printed[48];         /* "-0.7101 ± 0.5908i" */
+    double re, im;            /* im > 0: the pair re ± im i */
+    char modulus_printed[24]; /* the table's "absolute value" column */
     double modulus;
 } report_published_multiplier;
 
@@ -46,7 +46,12 @@ typedef struct report_paper {
     report_published f_max, slip_load, speed_ratio;
 } report_paper;
 
-extern const report_paper report_paper_values;
+/* Read data/paper_values.json (see data_dir.h).  Called once before anything
+ * else of the report; USM_OK, or USM_EFAILED with msg naming the file. */
+int report_paper_load(char msg[CLI_MSG_LEN]);
+/* The values read by report_paper_load(). */
+const report_paper *report_paper_get(void);
+#define report_paper_values (*report_paper_get())
 
 /* ---- what the report computes (report_compute.c) -------------------------- */
 

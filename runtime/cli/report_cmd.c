@@ -291,6 +291,10 @@ int cli_report_main(int argc, char **argv)
         cli_error("%s", msg);
         return USM_EINPUT;
     }
+    if (report_paper_load(msg) != USM_OK) {
+        cli_error("%s", msg);
+        return USM_EFAILED;
+    }
     if (!(d = calloc(1, sizeof *d))) {
         cli_error("out of memory");
         return USM_EFAILED;

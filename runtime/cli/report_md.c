@@ -77,7 +77,7 @@ static void head(FILE *f, const report_data *d)
             "this report was computed by this run through libusm (`usm_steady_*`, "
             "`usm_floquet_*`, `usm_sweep_*`). The only numbers typed into the program are the "
             "paper's published values, kept in one table "
-            "(`runtime/cli/report_paper_values.c`). Grids: %s%s.\n"
+            "(`data/paper_values.json`, installed as `share/usm/paper_values.json`). Grids: %s%s.\n"
             "\n"
             "1. [Parameters](#1-parameters)\n"
             "2. [The paper's numbers beside the computed ones](#2-the-papers-numbers-beside-the-computed-ones)\n"
