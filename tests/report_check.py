@@ -90,6 +90,27 @@ def check_report(out):
     else:
         fail("report.md lacks the marker line")
 
+    # report.json: every number by name; report.md shows the same numbers
+    try:
+        with open(os.path.join(out, "report.json"), encoding="utf-8") as f:
+            data = json.load(f)
+    except (OSError, ValueError) as e:
+        fail(f"report.json: {e}")
+        data = None
+    if data is not None:
+        shown = [f"{data['model']['3dof']['theta']:.6g} rad",
+                 f"{data['model']['4dof']['rotor_speed']:.6g} 1/s",
+                 f"{data['characteristics']['located']['stick_limit']['Nmm']:.4g} N mm"]
+        missing = [t for t in shown if t not in md]
+        if missing:
+            fail(f"report.md does not show report.json's {missing}")
+        else:
+            ok("report.md shows report.json's numbers")
+        if data["paper"]["theta3"]["printed"] == _paper["theta3"]["printed"]:
+            ok("report.json holds the paper's values as loaded")
+        else:
+            fail("report.json: the paper's values differ from data/paper_values.json")
+
     images = re.findall(r"!\[[^\]]*\]\(([^)\s]+)\)", md)
     links = [t for t in re.findall(r"(?<!!)\[[^\]]*\]\(([^)\s]+)\)", md)
              if not t.startswith(("#", "http:", "https:"))]

@@ -76,4 +76,22 @@ if command -v "${USM_GNUPLOT:-gnuplot}" >/dev/null; then
     fi
 fi
 
+# ---- the data files: found through USM_DATA_DIR; a broken template is named ----
+data=$(cd "$(dirname "$0")/../data" && pwd)
+cp -r "$data" "$tmp/data"
+printf 'line one\n{{no_such_number:.3g}}\n' >"$tmp/data/report/report.md.in"
+checks=$((checks + 1))
+USM_DATA_DIR=$tmp/data run report --out "$tmp/tpl" --quick --no-plots
+rc=$?
+if [ $rc -ne 1 ] || [ "$(wc -l <"$err")" -ne 1 ] ||
+    ! grep -q '^usm: .*report.md.in:2: unknown name {{no_such_number:.3g}}' "$err"; then
+    fail "broken template: exit $rc, want 1 and one line naming report.md.in:2"
+fi
+rm "$tmp/data/paper_values.json"
+mkdir "$tmp/empty_data"
+checks=$((checks + 1))
+USM_DATA_DIR=$tmp/empty_data run report --out "$tmp/nodata" --quick --no-plots
+rc=$?
+[ $rc -eq 0 ] || fail "USM_DATA_DIR without the files: the source tree's data not used (exit $rc)"
+
 finish report_files

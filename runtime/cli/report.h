@@ -5,13 +5,16 @@
  *   report_compute.c       everything the report shows, computed through libusm
  *   report_map.c           the 2-D stability map (threads), also `usm map`
  *   report_plot.c          CSV data, gnuplot scripts, running gnuplot
- *   report_md.c            report.md
+ *   report_json.c          report.json: every number by name (report.md and
+ *                          report.html are rendered from it by templates)
  *   report_cmd.c           options, output directory, the run
  */
 #ifndef USM_CLI_REPORT_H
 #define USM_CLI_REPORT_H
 
 #include <stdio.h>
+
+#include <jansson.h>
 
 #include "diag.h"
 #include "report_map.h"
@@ -194,13 +197,15 @@ int report_write_data(const report_data *d, const char *dir, char msg[CLI_MSG_LE
  * its messages are in dir/gnuplot.log). */
 int report_run_gnuplot(const char *dir, int jobs, char msg[CLI_MSG_LEN]);
 
-/* ---- report.md (report_md.c) -------------------------------------------------- */
+/* ---- report.json, report.md, report.html (report_json.c, data/report/) ----- */
 
 /* The first line of every report.md that usm writes. */
 #define REPORT_MARKER "<!-- usm report: written by `usm report`; the next run overwrites this file -->"
 
-/* Write the report to out.  plots_ok: the figures were rendered.  0 or -1. */
-int report_write_md(const report_data *d, int plots_ok, const char *plot_note, FILE *out);
+/* Every number the report shows, by name (written as report.json; the
+ * templates data/report/report.{md,html}.in are rendered from it).
+ * plots_ok: the figures were rendered (or not asked for); plot_note: why not. */
+json_t *report_json(const report_data *d, int plots_ok, const char *plot_note);
 
 /* ---- helpers ------------------------------------------------------------------- */
 

@@ -10,9 +10,11 @@
 #include <unistd.h>
 
 #include "commands.h"
+#include "data_dir.h"
 #include "diag.h"
 #include "options.h"
 #include "report.h"
+#include "template.h"
 #include "usm.h"
 
 static void usage(FILE *out)
@@ -236,16 +238,29 @@ static int check_dir(const char *dir, int force, char msg[CLI_MSG_LEN])
     return USM_OK;
 }
 
-/* report.md through a temporary file, renamed when complete. */
-static int write_md(const report_data *d, const char *dir, int plots_ok, const char *note,
-                    char msg[CLI_MSG_LEN])
+/* DIR/name through a temporary file, renamed when complete: report.json as
+ * JSON, anything else rendered from template data/report/NAME.in. */
+static int write_output(json_t *data, const char *dir, const char *name, char msg[CLI_MSG_LEN])
 {
-    char tmp[4096], path[4096];
+    char tmp[4096], path[4096], tpl_path[4096], tpl_name[128];
+    char *tpl = NULL;
     FILE *f;
-    int fd;
-    if (report_path(path, sizeof path, dir, "report.md") != 0 ||
-        report_path(tmp, sizeof tmp, dir, ".report.md.XXXXXX") != 0) {
+    int fd, bad;
+    const int is_json = strcmp(name, "report.json") == 0;
+    snprintf(tpl_name, sizeof tpl_name, "report/%s.in", name);
+    if (!is_json) {
+        if (cli_data_path(tpl_name, tpl_path, sizeof tpl_path) != 0) {
+            cli_msg(msg, "%s: the report's template is not installed (set USM_DATA_DIR)",
+                    tpl_path);
+            return USM_EFAILED;
+        }
+        if (!(tpl = cli_template_read(tpl_path, msg)))
+            return USM_EFAILED;
+    }
+    if (report_path(path, sizeof path, dir, name) != 0 ||
+        report_path(tmp, sizeof tmp, dir, ".report.XXXXXX") != 0) {
         cli_msg(msg, "--out %s: path too long", dir);
+        free(tpl);
         return USM_EFAILED;
     }
     if ((fd = mkstemp(tmp)) < 0 || !(f = fdopen(fd, "w"))) {
@@ -254,11 +269,18 @@ static int write_md(const report_data *d, const char *dir, int plots_ok, const c
             close(fd);
             unlink(tmp);
         }
+        free(tpl);
         return USM_EFAILED;
     }
     fchmod(fd, 0644);
-    if (report_write_md(d, plots_ok, note, f) != 0 || fclose(f) != 0) {
-        cli_msg(msg, "%s: write error", path);
+    msg[0] = '\0';
+    bad = is_json ? json_dumpf(data, f, JSON_INDENT(2) | JSON_REAL_PRECISION(17)) != 0 ||
+                        fputc('\n', f) == EOF
+                  : cli_template_render(tpl, tpl_path, data, f, msg) != USM_OK;
+    free(tpl);
+    if (ferror(f) | (fclose(f) != 0) | bad) {
+        if (!msg[0])
+            cli_msg(msg, "%s: write error", path);
         unlink(tmp);
         return USM_EFAILED;
     }
@@ -321,7 +343,17 @@ int cli_report_main(int argc, char **argv)
     }
     d->seconds[3] = report_now() - t;
     d->opt.plots = plots_ok; /* the report links figures only when they exist */
-    status = write_md(d, a.out, plots_ok || !a.plots, plot_note, msg);
+    {
+        /* report.md last: its marker says a complete report is there */
+        static const char *const outputs[] = {"report.json", "report.md"};
+        json_t *data = report_json(d, plots_ok || !a.plots, plot_note);
+        status = data ? USM_OK : USM_EFAILED;
+        if (!data)
+            cli_msg(msg, "out of memory");
+        for (size_t k = 0; status == USM_OK && k < sizeof outputs / sizeof outputs[0]; ++k)
+            status = write_output(data, a.out, outputs[k], msg);
+        json_decref(data);
+    }
     report_data_free(d);
     free(d);
     if (status != USM_OK) {
