@@ -207,6 +207,10 @@ int report_run_gnuplot(const char *dir, int jobs, char msg[CLI_MSG_LEN]);
  * plots_ok: the figures were rendered (or not asked for); plot_note: why not. */
 json_t *report_json(const report_data *d, int plots_ok, const char *plot_note);
 
+/* report.md (text md) as one self-contained HTML page to out, the figures
+ * dir/NAME.svg inlined in place of the images NAME.png.  0 or -1. */
+int report_html_write(const char *md, const char *dir, FILE *out);
+
 /* ---- helpers ------------------------------------------------------------------- */
 
 /* dir + "/" + name into buf (size len); 0, or -1 when too long. */

@@ -238,29 +238,46 @@ static int check_dir(const char *dir, int force, char msg[CLI_MSG_LEN])
     return USM_OK;
 }
 
-/* DIR/name through a temporary file, renamed when complete: report.json as
- * JSON, anything else rendered from template data/report/NAME.in. */
-static int write_output(json_t *data, const char *dir, const char *name, char msg[CLI_MSG_LEN])
+/* report.md's text: data/report/report.md.in rendered with data (free() it). */
+static char *render_md(json_t *data, char msg[CLI_MSG_LEN])
 {
-    char tmp[4096], path[4096], tpl_path[4096], tpl_name[128];
-    char *tpl = NULL;
+    char path[4096], *tpl, *md = NULL;
+    size_t len = 0;
+    FILE *f;
+    int st;
+    if (cli_data_path("report/report.md.in", path, sizeof path) != 0) {
+        cli_msg(msg, "%s: the report's template is not installed (set USM_DATA_DIR)", path);
+        return NULL;
+    }
+    if (!(tpl = cli_template_read(path, msg)))
+        return NULL;
+    if (!(f = open_memstream(&md, &len))) {
+        cli_msg(msg, "out of memory");
+        free(tpl);
+        return NULL;
+    }
+    st = cli_template_render(tpl, path, data, f, msg);
+    free(tpl);
+    if (fclose(f) != 0 || st != USM_OK) {
+        if (st == USM_OK)
+            cli_msg(msg, "out of memory");
+        free(md);
+        return NULL;
+    }
+    return md;
+}
+
+/* DIR/name through a temporary file, renamed when complete: report.json
+ * (data), report.html (md as HTML) or report.md (md). */
+static int write_output(json_t *data, const char *md, const char *dir, const char *name,
+                        char msg[CLI_MSG_LEN])
+{
+    char tmp[4096], path[4096];
     FILE *f;
     int fd, bad;
-    const int is_json = strcmp(name, "report.json") == 0;
-    snprintf(tpl_name, sizeof tpl_name, "report/%s.in", name);
-    if (!is_json) {
-        if (cli_data_path(tpl_name, tpl_path, sizeof tpl_path) != 0) {
-            cli_msg(msg, "%s: the report's template is not installed (set USM_DATA_DIR)",
-                    tpl_path);
-            return USM_EFAILED;
-        }
-        if (!(tpl = cli_template_read(tpl_path, msg)))
-            return USM_EFAILED;
-    }
     if (report_path(path, sizeof path, dir, name) != 0 ||
         report_path(tmp, sizeof tmp, dir, ".report.XXXXXX") != 0) {
         cli_msg(msg, "--out %s: path too long", dir);
-        free(tpl);
         return USM_EFAILED;
     }
     if ((fd = mkstemp(tmp)) < 0 || !(f = fdopen(fd, "w"))) {
@@ -269,18 +286,18 @@ static int write_output(json_t *data, const char *dir, const char *name, char ms
             close(fd);
             unlink(tmp);
         }
-        free(tpl);
         return USM_EFAILED;
     }
     fchmod(fd, 0644);
-    msg[0] = '\0';
-    bad = is_json ? json_dumpf(data, f, JSON_INDENT(2) | JSON_REAL_PRECISION(17)) != 0 ||
-                        fputc('\n', f) == EOF
-                  : cli_template_render(tpl, tpl_path, data, f, msg) != USM_OK;
-    free(tpl);
+    if (strcmp(name, "report.json") == 0)
+        bad = json_dumpf(data, f, JSON_INDENT(2) | JSON_REAL_PRECISION(17)) != 0 ||
+              fputc('\n', f) == EOF;
+    else if (strcmp(name, "report.html") == 0)
+        bad = report_html_write(md, dir, f) != 0;
+    else
+        bad = fputs(md, f) == EOF;
     if (ferror(f) | (fclose(f) != 0) | bad) {
-        if (!msg[0])
-            cli_msg(msg, "%s: write error", path);
+        cli_msg(msg, "%s: write error", path);
         unlink(tmp);
         return USM_EFAILED;
     }
@@ -345,13 +362,15 @@ int cli_report_main(int argc, char **argv)
     d->opt.plots = plots_ok; /* the report links figures only when they exist */
     {
         /* report.md last: its marker says a complete report is there */
-        static const char *const outputs[] = {"report.json", "report.md"};
+        static const char *const outputs[] = {"report.json", "report.html", "report.md"};
         json_t *data = report_json(d, plots_ok || !a.plots, plot_note);
-        status = data ? USM_OK : USM_EFAILED;
+        char *md = data ? render_md(data, msg) : NULL;
+        status = md ? USM_OK : USM_EFAILED;
         if (!data)
             cli_msg(msg, "out of memory");
         for (size_t k = 0; status == USM_OK && k < sizeof outputs / sizeof outputs[0]; ++k)
-            status = write_output(data, a.out, outputs[k], msg);
+            status = write_output(data, md, a.out, outputs[k], msg);
+        free(md);
         json_decref(data);
     }
     report_data_free(d);

@@ -32,7 +32,7 @@ const report_figure report_figures[REPORT_NFIGURES] = {
 };
 
 const char *const report_files[] = {
-    "report.md", "report.json",
+    "report.md", "report.json", "report.html",
     "gnuplot.log",
     "fig09_speed_frequency.gp", "fig09_speed_frequency.png", "fig09_speed_frequency.svg",
     "fig09_speed_frequency_3dof.csv", "fig09_speed_frequency_4dof.csv",
