@@ -10,18 +10,14 @@
 #define _POSIX_C_SOURCE 200809L
 
 #include <errno.h>
-#include <fcntl.h>
 #include <math.h>
-#include <signal.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
-#include <sys/types.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include "csv_out.h"
 #include "data_dir.h"
+#include "plot_run.h"
 #include "report.h"
 #include "template.h"
 
@@ -275,112 +271,15 @@ int report_write_data(const report_data *d, const char *dir, char msg[CLI_MSG_LE
 
 /* ---- running gnuplot ------------------------------------------------------------ */
 
-static pid_t spawn_gnuplot(const char *exe, const char *dir, const char *script, int log_fd)
-{
-    pid_t pid = fork();
-    if (pid == 0) {
-        int null_fd = open("/dev/null", O_RDONLY);
-        if (null_fd >= 0)
-            dup2(null_fd, 0);
-        dup2(log_fd, 1);
-        dup2(log_fd, 2);
-        if (chdir(dir) != 0)
-            _exit(126);
-        execlp(exe, exe, script, (char *)NULL);
-        _exit(127);
-    }
-    return pid;
-}
-
 int report_run_gnuplot(const char *dir, int jobs, char msg[CLI_MSG_LEN])
 {
-    const char *exe = getenv("USM_GNUPLOT");
-    char path[4096], script[128];
-    pid_t pids[REPORT_NFIGURES];
-    int running = 0, next = 0, failed = 0, missing = 0, log_fd;
-    char failed_name[128] = "";
-    if (!exe || !exe[0])
-        exe = "gnuplot";
-    if (jobs < 1)
-        jobs = 1;
+    const char *stems[REPORT_NFIGURES];
+    char path[4096];
+    for (int i = 0; i < REPORT_NFIGURES; ++i)
+        stems[i] = report_figures[i].name;
     if (report_path(path, sizeof path, dir, "gnuplot.log") != 0) {
         cli_msg(msg, "--out %s: path too long", dir);
         return USM_EFAILED;
     }
-    if ((log_fd = open(path, O_WRONLY | O_CREAT | O_TRUNC | O_APPEND, 0666)) < 0) {
-        cli_msg(msg, "%s: %s", path, strerror(errno));
-        return USM_EFAILED;
-    }
-    fflush(NULL);
-    for (int i = 0; i < REPORT_NFIGURES; ++i) {
-        pids[i] = -1;
-        /* a previous run's image must not pass for this run's */
-        for (int e = 0; e < 2; ++e) {
-            snprintf(script, sizeof script, "%s.%s", report_figures[i].name, e ? "svg" : "png");
-            if (report_path(path, sizeof path, dir, script) == 0)
-                unlink(path);
-        }
-    }
-    while (next < REPORT_NFIGURES || running > 0) {
-        if (next < REPORT_NFIGURES && running < jobs) {
-            snprintf(script, sizeof script, "%s.gp", report_figures[next].name);
-            pids[next] = spawn_gnuplot(exe, dir, script, log_fd);
-            if (pids[next] < 0) {
-                cli_msg(msg, "gnuplot: cannot start a process: %s", strerror(errno));
-                failed = 1;
-                next = REPORT_NFIGURES;
-                continue;
-            }
-            ++next;
-            ++running;
-            continue;
-        }
-        {
-            int status;
-            pid_t pid = wait(&status);
-            if (pid < 0) {
-                if (errno == EINTR)
-                    continue;
-                break;
-            }
-            for (int i = 0; i < REPORT_NFIGURES; ++i)
-                if (pids[i] == pid) {
-                    --running;
-                    pids[i] = -1;
-                    if (WIFEXITED(status) && WEXITSTATUS(status) == 127)
-                        missing = 1;
-                    else if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
-                        if (!failed_name[0])
-                            snprintf(failed_name, sizeof failed_name, "%s.gp",
-                                     report_figures[i].name);
-                        failed = 1;
-                    }
-                }
-        }
-    }
-    close(log_fd);
-    if (missing) {
-        cli_msg(msg, "%s: not found, figures not rendered (install gnuplot-nox, or set "
-                     "USM_GNUPLOT; then run the *.gp scripts in %s)", exe, dir);
-        return USM_EFAILED;
-    }
-    if (failed) {
-        if (failed_name[0])
-            cli_msg(msg, "gnuplot failed on %s/%s (see %s/gnuplot.log)", dir, failed_name, dir);
-        return USM_EFAILED;
-    }
-    /* gnuplot may exit 0 without writing (a terminal missing, a script of
-     * the user's): the report links only images that exist. */
-    for (int i = 0; i < REPORT_NFIGURES; ++i)
-        for (int e = 0; e < 2; ++e) {
-            struct stat st;
-            snprintf(script, sizeof script, "%s.%s", report_figures[i].name, e ? "svg" : "png");
-            if (report_path(path, sizeof path, dir, script) != 0 || stat(path, &st) != 0 ||
-                st.st_size == 0) {
-                cli_msg(msg, "%s: gnuplot exited 0 but did not write %s/%s (see %s/gnuplot.log)",
-                        exe, dir, script, dir);
-                return USM_EFAILED;
-            }
-        }
-    return USM_OK;
+    return cli_gnuplot_run(dir, stems, REPORT_NFIGURES, jobs, path, msg);
 }

@@ -20,7 +20,8 @@
 #include "diag.h"
 #include "json_out.h"
 #include "options.h"
-#include "simulate_plot.h"
+#include "csv_out.h"
+#include "plot_run.h"
 #include "usm.h"
 #include "usm_simulate.h"
 
@@ -523,25 +524,30 @@ static double now(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
+/* The time history's columns (csv_out.h), read back by --from FILE. */
+static const cli_csv_column columns[] = {
+    {"t", "s"},           {"phi", "rad"},         {"theta", "rad"},    {"psi", "rad"},
+    {"phidot", "rad/s"},  {"thetadot", "rad/s"},  {"psidot", "rad/s"}, {"phi_R", "rad"},
+    {"phi_Rdot", "rad/s"}, {"F_n", "N"},          {"F_t", "N"},        {"v_rel", "m/s"},
+    {"theta_avg", "rad"}, {"phi_Rdot_avg", "rad/s"}};
+
 static void csv_header(FILE *f)
 {
-    for (int c = 1; c <= CLI_NCOLS; ++c)
-        fprintf(f, "%s%s", c > 1 ? "," : "", cli_sim_column_header(c));
-    fputc('\n', f);
+    cli_csv_header(f, columns, (int)(sizeof columns / sizeof columns[0]));
 }
 
 static int on_sample(const usm_sim_sample *s, void *data)
 {
     run_io *io = data;
     FILE *f = io->csv;
-    /* the state with all digits so that --from FILE continues exactly */
-    fprintf(f, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.10g,%.10g,%.10g,", s->t,
-            s->phi, s->theta, s->psi, s->phidot, s->thetadot, s->psidot, s->rotor_angle,
-            s->rotor_speed, s->out[USM_OUT_F_N], s->out[USM_OUT_F_T], s->out[USM_OUT_V_REL]);
-    if (s->have_avg)
-        fprintf(f, "%.10g,%.10g\n", s->theta_avg, s->rotor_speed_avg);
-    else
-        fputs(",\n", f);
+    /* shortest exact text: --from FILE continues exactly */
+    const double v[] = {s->t, s->phi, s->theta, s->psi, s->phidot, s->thetadot, s->psidot,
+                        s->rotor_angle, s->rotor_speed, s->out[USM_OUT_F_N],
+                        s->out[USM_OUT_F_T], s->out[USM_OUT_V_REL],
+                        s->have_avg ? s->theta_avg : NAN, s->have_avg ? s->rotor_speed_avg : NAN};
+    for (size_t k = 0; k < sizeof v / sizeof v[0]; ++k)
+        cli_csv_num(f, k == 0, v[k]);
+    fputc('\n', f);
     return ferror(f) ? 1 : 0;
 }
 
@@ -851,9 +857,19 @@ static int run(sim_args *a)
     if (rc != USM_OK)
         cli_error("stopped at t = %.9g s: %s", sum.t_reached, sum.reason);
     if (a->plot && sum.samples > 0) {
-        char title[256];
-        cli_plot_spec spec = {a->out, a->plot, title, sum.stick_checked, p->mu0, sum.have_steady,
-                              sum.steady.theta, sum.steady.rotor_speed, sum.settled, sum.t_settle};
+        char title[256], num[7][32];
+        static const char *const names[] = {"csv",         "title",     "stick",   "mu0",
+                                            "have_steady", "theta_bar", "speed_bar",
+                                            "settled",     "t_settle"};
+        const char *values[9] = {a->out, title,  num[0], num[1], num[2],
+                                 num[3], num[4], num[5], num[6]};
+        snprintf(num[0], 32, "%d", sum.stick_checked);
+        snprintf(num[1], 32, "%.17g", p->mu0);
+        snprintf(num[2], 32, "%d", sum.have_steady);
+        snprintf(num[3], 32, "%.17g", sum.have_steady ? sum.steady.theta : 0.0);
+        snprintf(num[4], 32, "%.17g", sum.have_steady ? sum.steady.rotor_speed : 0.0);
+        snprintf(num[5], 32, "%d", sum.settled);
+        snprintf(num[6], 32, "%.17g", sum.settled ? sum.t_settle : 0.0);
         if (sum.settled)
             snprintf(title, sizeof title, "usm simulate, model %s: settled at t = %.4g ms",
                      a->common.model->name, sum.t_settle * 1e3);
@@ -862,9 +878,7 @@ static int run(sim_args *a)
                      "usm simulate, model %s: not settled (period means within %g of the "
                      "stationary solution for %d periods)",
                      a->common.model->name, sum.settle_tol, sum.settle_periods);
-        int prc = cli_plot_write(&spec, a->force, msg);
-        if (prc == USM_OK)
-            prc = cli_plot_run(a->plot, msg);
+        int prc = cli_plot_render("simulate", a->plot, names, values, 9, msg);
         if (prc == USM_ENOSOLUTION)
             cli_error("warning: %s", msg);
         else if (prc != USM_OK) {
