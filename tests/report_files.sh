@@ -94,4 +94,28 @@ USM_DATA_DIR=$tmp/empty_data run report --out "$tmp/nodata" --quick --no-plots
 rc=$?
 [ $rc -eq 0 ] || fail "USM_DATA_DIR without the files: the source tree's data not used (exit $rc)"
 
+# ---- an installed usm reads share/usm beside it, wherever the tree is moved ----
+build=$(dirname "$USM")
+if [ -f "$build/cmake_install.cmake" ] && command -v cmake >/dev/null; then
+    checks=$((checks + 1))
+    if cmake --install "$build" --prefix "$tmp/prefix" >"$tmp/install.log" 2>&1; then
+        mv "$tmp/prefix" "$tmp/moved"
+        for f in paper_values.json report/report.md.in plots/sweep.gp plots/map_3dof.gp; do
+            [ -s "$tmp/moved/share/usm/$f" ] || fail "share/usm/$f not installed"
+        done
+        # a value changed in the installed copy shows up: that copy is the one read
+        sed -i 's/"printed": "9.7 Nmm"/"printed": "9.7 Nmm (installed copy)"/' \
+            "$tmp/moved/share/usm/paper_values.json"
+        checks=$((checks + 1))
+        if "$tmp/moved/bin/usm" report --out "$tmp/inst" --quick --no-plots >"$out" 2>"$err"; then
+            grep -q '9.7 Nmm (installed copy)' "$tmp/inst/report.md" ||
+                fail "the installed usm did not read share/usm/paper_values.json"
+        else
+            fail "the installed usm report failed: $(cat "$err")"
+        fi
+    else
+        fail "cmake --install: $(tail -n 3 "$tmp/install.log")"
+    fi
+fi
+
 finish report_files
