@@ -140,6 +140,21 @@ static int number(scan *sc)
     return USM_OK;
 }
 
+/* An object member's `"key" :` at sc->i (after blanks). */
+static int member_key(scan *sc, char key[KEY_LEN], int *long_key)
+{
+    ws(sc);
+    if (sc->i >= sc->n || sc->s[sc->i] != '"')
+        return malformed(sc, "expected a string as the key");
+    if (string(sc, key, long_key) != USM_OK)
+        return USM_EINPUT;
+    ws(sc);
+    if (sc->i >= sc->n || sc->s[sc->i] != ':')
+        return malformed(sc, "expected ':'");
+    ++sc->i;
+    return USM_OK;
+}
+
 /* Any JSON value at sc->i; *kind names it for messages ("a number", ...). */
 static int value(scan *sc, int depth, const char **kind)
 {
@@ -180,17 +195,8 @@ static int value(scan *sc, int depth, const char **kind)
     }
     for (;;) {
         const char *inner;
-        if (c == '{') {
-            ws(sc);
-            if (sc->i >= sc->n || sc->s[sc->i] != '"')
-                return malformed(sc, "expected a string as the key");
-            if (string(sc, skip, &long_key) != USM_OK)
-                return USM_EINPUT;
-            ws(sc);
-            if (sc->i >= sc->n || sc->s[sc->i] != ':')
-                return malformed(sc, "expected ':'");
-            ++sc->i;
-        }
+        if (c == '{' && member_key(sc, skip, &long_key) != USM_OK)
+            return USM_EINPUT;
         if (value(sc, depth + 1, &inner) != USM_OK)
             return USM_EINPUT;
         ws(sc);
@@ -235,15 +241,8 @@ static int object(scan *sc, usm_params *p)
             int long_key;
             size_t from;
             const usm_param_info *info;
-            ws(sc);
-            if (sc->i >= sc->n || sc->s[sc->i] != '"')
-                return malformed(sc, "expected a string as the key");
-            if (string(sc, key, &long_key) != USM_OK)
+            if (member_key(sc, key, &long_key) != USM_OK)
                 return USM_EINPUT;
-            ws(sc);
-            if (sc->i >= sc->n || sc->s[sc->i] != ':')
-                return malformed(sc, "expected ':'");
-            ++sc->i;
             ws(sc);
             from = sc->i;
             if (value(sc, 1, &kind) != USM_OK)
