@@ -3,9 +3,12 @@
 # this text; `gnuplot PREFIX.gp` re-plots.
 #   prefix       output prefix: reads PREFIX.csv, writes PREFIX.png and .svg
 #   xcol, ycol   the grid's columns, e.g. 'f' and 'T' (as in the CSV header)
+#   mcol         the modulus column (default 'max_modulus'; 'max_modulus [1]'
+#                in the common CSV dialect)
 # The largest non-cyclic |lambda| of each grid point, grey where no
 # stationary solution exists; the axes span the grid's cells (from the data).
 if (!exists("csv")) csv = prefix.'.csv'
+if (!exists("mcol")) mcol = 'max_modulus'
 set datafile separator ','
 set encoding utf8
 stats csv using (column(xcol)):(column(ycol)) nooutput
@@ -33,6 +36,6 @@ do for [fmt in 'png svg'] {
   }
   set output prefix.'.'.fmt
   set title 'usm map: '.csv.' (grey: no stationary solution)'
-  plot csv using (column(xcol)):(column(ycol)):(present(0) ? column('max_modulus') : NaN) with image notitle
+  plot csv using (column(xcol)):(column(ycol)):(present(0) ? column(mcol) : NaN) with image notitle
   unset output
 }
