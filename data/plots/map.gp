@@ -10,6 +10,8 @@
 if (!exists("csv")) csv = prefix.'.csv'
 if (!exists("mcol")) mcol = 'max_modulus'
 set datafile separator ','
+# the first line names the columns (columns are read by name, through variables)
+set datafile columnheaders
 set encoding utf8
 stats csv using (column(xcol)):(column(ycol)) nooutput
 xmin = STATS_min_x; xmax = STATS_max_x; ymin = STATS_min_y; ymax = STATS_max_y

@@ -9,6 +9,8 @@
 # the solution is unstable; bottom: the tilt.  Axis ranges from the data.
 if (!exists("csv")) csv = prefix.'.csv'
 set datafile separator ','
+# the first line names the columns (columns are read by name, through variables)
+set datafile columnheaders
 set encoding utf8
 set grid lc rgb '#dddddd'
 w = 'rotor_speed [1/s]'
