@@ -50,8 +50,43 @@ for v in nan NaN -nan inf -inf +inf Infinity; do
 done
 expect_bad '--set T' 'out of range' steady --set T=1e999
 expect_bad '--set T' 'out of range' steady --set T=-1e999
-expect_bad 'overflow.json:1:' 'malformed JSON' steady --params "$tmp/overflow.json"
+expect_bad 'overflow.json: m0' 'out of range.*overflow' steady --params "$tmp/overflow.json"
 expect_bad 'nan.json:1:' 'malformed JSON' steady --params "$tmp/nan.json"
+
+# ---- one number parser: --set and the parameter file agree -------------------
+# (issue 11) a subnormal, an underflow to 0 and an overflow are rejected by
+# both, naming the field; an integer beyond 2^63 is read by both as a double.
+for v in 1e-310 -1e-310 1e-400 4.9e-324; do
+    printf '{"T": %s}\n' "$v" >"$tmp/num.json"
+    expect_bad '--set T' 'out of range.*underflow' steady --set "T=$v"
+    expect_bad 'num.json: T' 'out of range.*underflow' steady --params "$tmp/num.json"
+done
+for v in 1e999 -1e400 1797693134862315807937289714053034150799341327710e260; do
+    printf '{"T": %s}\n' "$v" >"$tmp/num.json"
+    expect_bad '--set T' 'out of range.*overflow' steady --set "T=$v"
+    expect_bad 'num.json: T' 'out of range.*overflow' steady --params "$tmp/num.json"
+done
+for v in 0 -0 0.0e-999 1e-300 2.2250738585072014e-308; do
+    printf '{"T": %s}\n' "$v" >"$tmp/num.json"
+    if expect_rc 0 steady --set "T=$v" --json; then cp "$out" "$tmp/set.out"; fi
+    if expect_rc 0 steady --params "$tmp/num.json" --json; then
+        py_file "$tmp/set.out" "assert o['parameters']['T'] == float('$v'), o['parameters']['T']"
+        py "assert o['parameters']['T'] == float('$v'), o['parameters']['T']"
+    fi
+done
+big=98765432109876543210987654321
+printf '{"kappa": %s}\n' "$big" >"$tmp/num.json"
+if expect_rc 0 steady --params "$tmp/num.json" --json; then
+    py "assert o['parameters']['kappa'] == float('$big')"
+fi
+if expect_rc 0 steady --set "kappa=$big" --json; then
+    py "assert o['parameters']['kappa'] == float('$big')"
+fi
+# the file's syntax is JSON's: no hex, no leading '+', no blanks inside
+for v in 0x10 +1 '1 0' .5 01; do
+    printf '{"T": %s}\n' "$v" >"$tmp/num.json"
+    expect_bad 'num.json:1:' 'malformed JSON' steady --params "$tmp/num.json"
+done
 
 # ---- bad input: non-physical values (usm_params_check) ------------------------
 expect_bad 'I_xx' 'must be positive' steady --set I_xx=-1e-8 --set I_yy=-1e-8

@@ -1,12 +1,10 @@
 /* Command-line options shared by the usm subcommands. */
 #include "options.h"
 
-#include <ctype.h>
-#include <errno.h>
-#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "number.h"
 #include "params_file.h"
 
 void cli_common_init(cli_common *c)
@@ -41,30 +39,7 @@ int cli_option_value(int argc, char **argv, int *i, const char *name, const char
 
 int cli_parse_double(const char *field, const char *text, double *out, char msg[CLI_MSG_LEN])
 {
-    char *end;
-    double v;
-    /* strtod skips leading blanks and accepts "nan"/"inf"; a value the user
-     * typed with a stray blank or a non-finite value is a mistake, not a number. */
-    if (text[0] == '\0' || isspace((unsigned char)text[0])) {
-        cli_msg(msg, "%s: \"%s\" is not a number", field, text);
-        return USM_EINPUT;
-    }
-    errno = 0;
-    v = strtod(text, &end);
-    if (end == text || *end != '\0') {
-        cli_msg(msg, "%s: \"%s\" is not a number", field, text);
-        return USM_EINPUT;
-    }
-    if (errno == ERANGE) {
-        cli_msg(msg, "%s: \"%s\" is out of range for a double", field, text);
-        return USM_EINPUT;
-    }
-    if (!isfinite(v)) {
-        cli_msg(msg, "%s: \"%s\" is not a finite number", field, text);
-        return USM_EINPUT;
-    }
-    *out = v;
-    return USM_OK;
+    return cli_parse_number(field, text, strlen(text), out, msg);
 }
 
 /* "--set NAME=VALUE": checked at once so that errors name the --set option. */

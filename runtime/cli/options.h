@@ -53,8 +53,9 @@ void cli_common_usage(FILE *out);
 int cli_option_value(int argc, char **argv, int *i, const char *name, const char **value,
                      char msg[CLI_MSG_LEN]);
 
-/* Parse a finite double with strtod, requiring the whole text to be used.
- * On failure returns USM_EINPUT with "FIELD: \"text\" reason" in msg. */
+/* cli_parse_number() on a NUL-terminated text (see number.h): a finite,
+ * normal (or zero) double, the whole text used.  On failure returns USM_EINPUT
+ * with "FIELD: \"text\" reason" in msg. */
 int cli_parse_double(const char *field, const char *text, double *out, char msg[CLI_MSG_LEN]);
 
 #endif /* USM_CLI_OPTIONS_H */

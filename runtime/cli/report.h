@@ -1,11 +1,12 @@
 /* report.h: `usm report`, the paper reproduced in a Markdown report with
  * figures (internal to the usm command).
  *
- *   report_paper_values.c  the paper's published values (the only numbers typed in)
+ *   report_paper.c         the paper's published values, read from data/paper_values.json
  *   report_compute.c       everything the report shows, computed through libusm
  *   report_map.c           the 2-D stability map (threads), also `usm map`
  *   report_plot.c          CSV data, gnuplot scripts, running gnuplot
- *   report_md.c            report.md
+ *   report_json.c          report.json: every number by name (report.md and
+ *                          report.html are rendered from it by templates)
  *   report_cmd.c           options, output directory, the run
  */
 #ifndef USM_CLI_REPORT_H
@@ -13,26 +14,28 @@
 
 #include <stdio.h>
 
+#include <jansson.h>
+
 #include "diag.h"
 #include "report_map.h"
 #include "usm.h"
 #include "usm_sweep.h"
 
-/* ---- the paper's published values (report_paper_values.c) ---------------- */
+/* ---- the paper's published values (report_paper.c) ------------------------ */
 
 typedef struct report_published {
-    const char *where;    /* where the paper prints it */
-    const char *what;     /* the quantity */
-    const char *printed;  /* exactly as printed */
-    double value;         /* the printed number, in the printed unit */
-    const char *unit;     /* the printed unit */
+    char where[48];    /* where the paper prints it */
+    char what[96];     /* the quantity */
+    char printed[48];  /* exactly as printed */
+    double value;      /* the printed number, in the printed unit */
+    char unit[24];     /* the printed unit */
 } report_published;
 
 typedef struct report_published_multiplier {
-    const char *label;           /* "lambda_1,2" */
-    const char *printed;         /* "-0.7101 ± 0.5908i" */
-    double re, im;               /* im > 0: the pair re ± im i */
-    const char *modulus_printed; /* the table's "absolute value" column */
+    char label[24];           /* "lambda_1,2" */
+    char printed[48];         /* "-0.7101 ± 0.5908i" */
+    double re, im;            /* im > 0: the pair re ± im i */
+    char modulus_printed[24]; /* the table's "absolute value" column */
     double modulus;
 } report_published_multiplier;
 
@@ -46,7 +49,12 @@ typedef struct report_paper {
     report_published f_max, slip_load, speed_ratio;
 } report_paper;
 
-extern const report_paper report_paper_values;
+/* Read data/paper_values.json (see data_dir.h).  Called once before anything
+ * else of the report; USM_OK, or USM_EFAILED with msg naming the file. */
+int report_paper_load(char msg[CLI_MSG_LEN]);
+/* The values read by report_paper_load(). */
+const report_paper *report_paper_get(void);
+#define report_paper_values (*report_paper_get())
 
 /* ---- what the report computes (report_compute.c) -------------------------- */
 
@@ -171,6 +179,13 @@ enum {
 };
 extern const report_figure report_figures[REPORT_NFIGURES];
 
+/* The report's own-output marker: written into DIR before any other file,
+ * its first line REPORT_MANIFEST_MARKER, then the names of report_files.  A
+ * directory holding it has only the report's files under those names (a run
+ * interrupted before report.md still leaves it), so the next run replaces them. */
+#define REPORT_MANIFEST ".usm-report"
+#define REPORT_MANIFEST_MARKER "usm report: files written by `usm report` (the next run replaces them)"
+
 /* Every file name `usm report` writes into its directory (NULL-terminated). */
 extern const char *const report_files[];
 
@@ -182,13 +197,19 @@ int report_write_data(const report_data *d, const char *dir, char msg[CLI_MSG_LE
  * its messages are in dir/gnuplot.log). */
 int report_run_gnuplot(const char *dir, int jobs, char msg[CLI_MSG_LEN]);
 
-/* ---- report.md (report_md.c) -------------------------------------------------- */
+/* ---- report.json, report.md, report.html (report_json.c, data/report/) ----- */
 
 /* The first line of every report.md that usm writes. */
 #define REPORT_MARKER "<!-- usm report: written by `usm report`; the next run overwrites this file -->"
 
-/* Write the report to out.  plots_ok: the figures were rendered.  0 or -1. */
-int report_write_md(const report_data *d, int plots_ok, const char *plot_note, FILE *out);
+/* Every number the report shows, by name (written as report.json; the
+ * templates data/report/report.{md,html}.in are rendered from it).
+ * plots_ok: the figures were rendered (or not asked for); plot_note: why not. */
+json_t *report_json(const report_data *d, int plots_ok, const char *plot_note);
+
+/* report.md (text md) as one self-contained HTML page to out, the figures
+ * dir/NAME.svg inlined in place of the images NAME.png.  0 or -1. */
+int report_html_write(const char *md, const char *dir, FILE *out);
 
 /* ---- helpers ------------------------------------------------------------------- */
 

@@ -10,9 +10,11 @@
 #include <unistd.h>
 
 #include "commands.h"
+#include "data_dir.h"
 #include "diag.h"
 #include "options.h"
 #include "report.h"
+#include "template.h"
 #include "usm.h"
 
 static void usage(FILE *out)
@@ -158,8 +160,8 @@ static int make_dir(const char *dir, char msg[CLI_MSG_LEN])
     return USM_OK;
 }
 
-/* 1 when DIR/report.md starts with the marker of a report usm wrote. */
-static int is_own_report(const char *path)
+/* 1 when the file at path starts with the line `marker`. */
+static int starts_with_line(const char *path, const char *marker)
 {
     char line[512];
     FILE *f = fopen(path, "r");
@@ -168,10 +170,22 @@ static int is_own_report(const char *path)
         return 0;
     if (fgets(line, sizeof line, f)) {
         line[strcspn(line, "\r\n")] = '\0';
-        own = strcmp(line, REPORT_MARKER) == 0;
+        own = strcmp(line, marker) == 0;
     }
     fclose(f);
     return own;
+}
+
+/* DIR/.usm-report, written before any other file of the report. */
+static int write_manifest(const char *dir, char msg[CLI_MSG_LEN])
+{
+    FILE *f = report_open(dir, REPORT_MANIFEST, msg);
+    if (!f)
+        return USM_EINPUT;
+    fprintf(f, "%s\n", REPORT_MANIFEST_MARKER);
+    for (int k = 0; report_files[k]; ++k)
+        fprintf(f, "%s\n", report_files[k]);
+    return report_close(f, dir, REPORT_MANIFEST, msg) == USM_OK ? USM_OK : USM_EINPUT;
 }
 
 /* Refuse to overwrite files usm did not write (see --force). */
@@ -200,12 +214,16 @@ static int check_dir(const char *dir, int force, char msg[CLI_MSG_LEN])
         return USM_EINPUT;
     }
     if (access(path, F_OK) == 0) {
-        if (is_own_report(path))
+        if (starts_with_line(path, REPORT_MARKER))
             return USM_OK;
         cli_msg(msg, "--out %s: report.md there was not written by usm report; not "
                      "overwriting it (use --force, or another directory)", dir);
         return USM_EINPUT;
     }
+    /* no report.md: a run that was interrupted left its manifest */
+    if (report_path(path, sizeof path, dir, REPORT_MANIFEST) == 0 &&
+        starts_with_line(path, REPORT_MANIFEST_MARKER))
+        return USM_OK;
     for (int k = 0; report_files[k]; ++k) {
         if (report_path(path, sizeof path, dir, report_files[k]) != 0) {
             cli_msg(msg, "--out %s: path too long", dir);
@@ -220,15 +238,45 @@ static int check_dir(const char *dir, int force, char msg[CLI_MSG_LEN])
     return USM_OK;
 }
 
-/* report.md through a temporary file, renamed when complete. */
-static int write_md(const report_data *d, const char *dir, int plots_ok, const char *note,
-                    char msg[CLI_MSG_LEN])
+/* report.md's text: data/report/report.md.in rendered with data (free() it). */
+static char *render_md(json_t *data, char msg[CLI_MSG_LEN])
+{
+    char path[4096], *tpl, *md = NULL;
+    size_t len = 0;
+    FILE *f;
+    int st;
+    if (cli_data_path("report/report.md.in", path, sizeof path) != 0) {
+        cli_msg(msg, "%s: the report's template is not installed (set USM_DATA_DIR)", path);
+        return NULL;
+    }
+    if (!(tpl = cli_template_read(path, msg)))
+        return NULL;
+    if (!(f = open_memstream(&md, &len))) {
+        cli_msg(msg, "out of memory");
+        free(tpl);
+        return NULL;
+    }
+    st = cli_template_render(tpl, path, data, f, msg);
+    free(tpl);
+    if (fclose(f) != 0 || st != USM_OK) {
+        if (st == USM_OK)
+            cli_msg(msg, "out of memory");
+        free(md);
+        return NULL;
+    }
+    return md;
+}
+
+/* DIR/name through a temporary file, renamed when complete: report.json
+ * (data), report.html (md as HTML) or report.md (md). */
+static int write_output(json_t *data, const char *md, const char *dir, const char *name,
+                        char msg[CLI_MSG_LEN])
 {
     char tmp[4096], path[4096];
     FILE *f;
-    int fd;
-    if (report_path(path, sizeof path, dir, "report.md") != 0 ||
-        report_path(tmp, sizeof tmp, dir, ".report.md.XXXXXX") != 0) {
+    int fd, bad;
+    if (report_path(path, sizeof path, dir, name) != 0 ||
+        report_path(tmp, sizeof tmp, dir, ".report.XXXXXX") != 0) {
         cli_msg(msg, "--out %s: path too long", dir);
         return USM_EFAILED;
     }
@@ -241,7 +289,14 @@ static int write_md(const report_data *d, const char *dir, int plots_ok, const c
         return USM_EFAILED;
     }
     fchmod(fd, 0644);
-    if (report_write_md(d, plots_ok, note, f) != 0 || fclose(f) != 0) {
+    if (strcmp(name, "report.json") == 0)
+        bad = json_dumpf(data, f, JSON_INDENT(2) | JSON_REAL_PRECISION(17)) != 0 ||
+              fputc('\n', f) == EOF;
+    else if (strcmp(name, "report.html") == 0)
+        bad = report_html_write(md, dir, f) != 0;
+    else
+        bad = fputs(md, f) == EOF;
+    if (ferror(f) | (fclose(f) != 0) | bad) {
         cli_msg(msg, "%s: write error", path);
         unlink(tmp);
         return USM_EFAILED;
@@ -270,9 +325,14 @@ int cli_report_main(int argc, char **argv)
         usage(stdout);
         return USM_OK;
     }
-    if (check_dir(a.out, a.force, msg) != USM_OK || make_dir(a.out, msg) != USM_OK) {
+    if (check_dir(a.out, a.force, msg) != USM_OK || make_dir(a.out, msg) != USM_OK ||
+        write_manifest(a.out, msg) != USM_OK) {
         cli_error("%s", msg);
         return USM_EINPUT;
+    }
+    if (report_paper_load(msg) != USM_OK) {
+        cli_error("%s", msg);
+        return USM_EFAILED;
     }
     if (!(d = calloc(1, sizeof *d))) {
         cli_error("out of memory");
@@ -300,7 +360,19 @@ int cli_report_main(int argc, char **argv)
     }
     d->seconds[3] = report_now() - t;
     d->opt.plots = plots_ok; /* the report links figures only when they exist */
-    status = write_md(d, a.out, plots_ok || !a.plots, plot_note, msg);
+    {
+        /* report.md last: its marker says a complete report is there */
+        static const char *const outputs[] = {"report.json", "report.html", "report.md"};
+        json_t *data = report_json(d, plots_ok || !a.plots, plot_note);
+        char *md = data ? render_md(data, msg) : NULL;
+        status = md ? USM_OK : USM_EFAILED;
+        if (!data)
+            cli_msg(msg, "out of memory");
+        for (size_t k = 0; status == USM_OK && k < sizeof outputs / sizeof outputs[0]; ++k)
+            status = write_output(data, md, a.out, outputs[k], msg);
+        free(md);
+        json_decref(data);
+    }
     report_data_free(d);
     free(d);
     if (status != USM_OK) {

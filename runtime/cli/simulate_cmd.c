@@ -4,7 +4,6 @@
  * a table, or one JSON object with --json, on stdout unless the CSV occupies
  * stdout (then on stderr).  Never overwrites a file unless --force. */
 #define _POSIX_C_SOURCE 200809L
-#include <ctype.h>
 #include <errno.h>
 #include <fcntl.h>
 #include <math.h>
@@ -20,7 +19,9 @@
 #include "diag.h"
 #include "json_out.h"
 #include "options.h"
-#include "simulate_plot.h"
+#include "csv_out.h"
+#include "plot_run.h"
+#include "simulate_start.h"
 #include "usm.h"
 #include "usm_simulate.h"
 
@@ -272,240 +273,6 @@ static int parse(sim_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
     return cli_common_finish(&a->common, msg);
 }
 
-/* ---- --from FILE -------------------------------------------------------------- */
-
-/* The column name without its " [unit]". */
-static void bare_name(const char *field, char *out, size_t len)
-{
-    size_t n = 0;
-    while (isspace((unsigned char)*field))
-        ++field;
-    while (field[n] && field[n] != '[' && n + 1 < len)
-        ++n;
-    while (n > 0 && isspace((unsigned char)field[n - 1]))
-        --n;
-    memcpy(out, field, n);
-    out[n] = '\0';
-}
-
-/* Split a CSV line in place (no quoting: the files are numbers and names). */
-static int split(char *line, char **fields, int max)
-{
-    int n = 0;
-    char *p = line;
-    line[strcspn(line, "\r\n")] = '\0';
-    for (;;) {
-        if (n == max)
-            return -1;
-        fields[n++] = p;
-        char *c = strchr(p, ',');
-        if (!c)
-            return n;
-        *c = '\0';
-        p = c + 1;
-    }
-}
-
-typedef struct start_state {
-    double x[USM_MAX_NX];
-    int have[USM_MAX_NX];
-    double t;
-    int have_t;
-    double rotor_angle;
-    int have_rotor_angle;
-} start_state;
-
-/* Store `value` under `name` if it is a state variable (or t, or the stick
- * model's phi_R).  1 if used. */
-static int assign(const usm_model *m, start_state *st, const char *name, double value)
-{
-    if (strcmp(name, "t") == 0) {
-        st->t = value;
-        st->have_t = 1;
-        return 1;
-    }
-    for (int i = 0; i < m->nx; ++i)
-        if (strcmp(name, m->state_names[i]) == 0) {
-            st->x[i] = value;
-            st->have[i] = 1;
-            return 1;
-        }
-    if (strcmp(name, "phi_R") == 0) {
-        st->rotor_angle = value;
-        st->have_rotor_angle = 1;
-        return 1;
-    }
-    return 0;
-}
-
-static int read_csv_state(const char *path, FILE *f, const usm_model *m, start_state *st,
-                          char msg[CLI_MSG_LEN])
-{
-    char *line = NULL, *last = NULL;
-    size_t cap = 0;
-    ssize_t len;
-    char *names[64], *values[64];
-    char header[65536];
-    int nnames, nvalues;
-    long lineno = 0, last_lineno = 0;
-    if ((len = getline(&line, &cap, f)) < 0) {
-        free(line);
-        cli_msg(msg, "--from %s: empty file", path);
-        return USM_EINPUT;
-    }
-    ++lineno;
-    snprintf(header, sizeof header, "%s", line);
-    while ((len = getline(&line, &cap, f)) >= 0) {
-        ++lineno;
-        if (strspn(line, " \t\r\n") == (size_t)len)
-            continue;
-        free(last);
-        last = strdup(line);
-        last_lineno = lineno;
-        if (!last) {
-            free(line);
-            cli_msg(msg, "out of memory");
-            return USM_EFAILED;
-        }
-    }
-    free(line);
-    if (!last) {
-        cli_msg(msg, "--from %s: no data row after the header", path);
-        return USM_EINPUT;
-    }
-    nnames = split(header, names, 64);
-    nvalues = split(last, values, 64);
-    if (nnames < 0 || nvalues != nnames) {
-        cli_msg(msg, "--from %s:%ld: %d fields, the header has %d", path, last_lineno, nvalues,
-                nnames);
-        free(last);
-        return USM_EINPUT;
-    }
-    for (int k = 0; k < nnames; ++k) {
-        char name[64], field[256];
-        double v;
-        bare_name(names[k], name, sizeof name);
-        if (!assign(m, st, name, 0.0))
-            continue;
-        if (values[k][0] == '\0')
-            continue;
-        snprintf(field, sizeof field, "--from %s:%ld: %s", path, last_lineno, name);
-        if (cli_parse_double(field, values[k], &v, msg) != USM_OK) {
-            free(last);
-            return USM_EINPUT;
-        }
-        assign(m, st, name, v);
-    }
-    free(last);
-    return USM_OK;
-}
-
-static int json_number(const json_t *v, double *out)
-{
-    if (!json_is_number(v))
-        return -1;
-    *out = json_number_value(v);
-    return isfinite(*out) ? 0 : -1;
-}
-
-static int read_json_state(const char *path, const usm_model *m, start_state *st,
-                           char msg[CLI_MSG_LEN])
-{
-    json_error_t err;
-    json_t *root = json_load_file(path, JSON_REJECT_DUPLICATES, &err), *obj, *v;
-    const char *key;
-    int rc = USM_OK;
-    if (!root) {
-        cli_msg(msg, "--from %s:%d:%d: malformed JSON: %s", path, err.line, err.column, err.text);
-        return USM_EINPUT;
-    }
-    obj = root;
-    if (json_is_object(root) && json_is_object(json_object_get(root, "final_state")))
-        obj = json_object_get(root, "final_state"); /* a `usm simulate --json` summary */
-    if (!json_is_object(obj)) {
-        cli_msg(msg, "--from %s: expected a JSON object", path);
-        json_decref(root);
-        return USM_EINPUT;
-    }
-    if ((v = json_object_get(root, "model")) && json_is_string(v) &&
-        strcmp(json_string_value(v), m->name) != 0) {
-        cli_msg(msg, "--from %s: the state is of model %s, not %s", path, json_string_value(v),
-                m->name);
-        json_decref(root);
-        return USM_EINPUT;
-    }
-    json_object_foreach(obj, key, v) {
-        double d;
-        if (strcmp(key, "x") == 0) {
-            if (!json_is_array(v) || (int)json_array_size(v) != m->nx) {
-                cli_msg(msg, "--from %s: \"x\" must be a list of %d numbers (model %s)", path,
-                        m->nx, m->name);
-                rc = USM_EINPUT;
-                break;
-            }
-            for (int i = 0; i < m->nx; ++i) {
-                if (json_number(json_array_get(v, (size_t)i), &d) != 0) {
-                    cli_msg(msg, "--from %s: \"x\"[%d] is not a finite number", path, i);
-                    rc = USM_EINPUT;
-                    break;
-                }
-                st->x[i] = d;
-                st->have[i] = 1;
-            }
-            if (rc != USM_OK)
-                break;
-            continue;
-        }
-        if (!assign(m, st, key, 0.0))
-            continue; /* other keys (names, model, ...) are allowed */
-        if (json_number(v, &d) != 0) {
-            cli_msg(msg, "--from %s: \"%s\" is not a finite number", path, key);
-            rc = USM_EINPUT;
-            break;
-        }
-        assign(m, st, key, d);
-    }
-    json_decref(root);
-    return rc;
-}
-
-static int read_start(sim_args *a, char msg[CLI_MSG_LEN])
-{
-    const usm_model *m = a->common.model;
-    start_state st;
-    int c, rc;
-    FILE *f = fopen(a->from_file, "r");
-    memset(&st, 0, sizeof st);
-    if (!f) {
-        cli_msg(msg, "--from %s: %s", a->from_file, strerror(errno));
-        return USM_EINPUT;
-    }
-    do
-        c = fgetc(f);
-    while (c != EOF && isspace(c));
-    if (c == '{') {
-        fclose(f);
-        rc = read_json_state(a->from_file, m, &st, msg);
-    } else {
-        rewind(f);
-        rc = read_csv_state(a->from_file, f, m, &st, msg);
-        fclose(f);
-    }
-    if (rc != USM_OK)
-        return rc;
-    for (int i = 0; i < m->nx; ++i)
-        if (!st.have[i]) {
-            cli_msg(msg, "--from %s: no value for %s (model %s needs %d state variables)",
-                    a->from_file, m->state_names[i], m->name, m->nx);
-            return USM_EINPUT;
-        }
-    memcpy(a->opt.x0, st.x, sizeof st.x);
-    a->opt.t0 = st.have_t ? st.t : 0.0;
-    if (st.have_rotor_angle)
-        a->opt.rotor_angle0 = st.rotor_angle;
-    return USM_OK;
-}
-
 /* ---- output ----------------------------------------------------------------- */
 
 typedef struct run_io {
@@ -523,25 +290,30 @@ static double now(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
+/* The time history's columns (csv_out.h), read back by --from FILE. */
+static const cli_csv_column columns[] = {
+    {"t", "s"},           {"phi", "rad"},         {"theta", "rad"},    {"psi", "rad"},
+    {"phidot", "rad/s"},  {"thetadot", "rad/s"},  {"psidot", "rad/s"}, {"phi_R", "rad"},
+    {"phi_Rdot", "rad/s"}, {"F_n", "N"},          {"F_t", "N"},        {"v_rel", "m/s"},
+    {"theta_avg", "rad"}, {"phi_Rdot_avg", "rad/s"}};
+
 static void csv_header(FILE *f)
 {
-    for (int c = 1; c <= CLI_NCOLS; ++c)
-        fprintf(f, "%s%s", c > 1 ? "," : "", cli_sim_column_header(c));
-    fputc('\n', f);
+    cli_csv_header(f, columns, (int)(sizeof columns / sizeof columns[0]));
 }
 
 static int on_sample(const usm_sim_sample *s, void *data)
 {
     run_io *io = data;
     FILE *f = io->csv;
-    /* the state with all digits so that --from FILE continues exactly */
-    fprintf(f, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.10g,%.10g,%.10g,", s->t,
-            s->phi, s->theta, s->psi, s->phidot, s->thetadot, s->psidot, s->rotor_angle,
-            s->rotor_speed, s->out[USM_OUT_F_N], s->out[USM_OUT_F_T], s->out[USM_OUT_V_REL]);
-    if (s->have_avg)
-        fprintf(f, "%.10g,%.10g\n", s->theta_avg, s->rotor_speed_avg);
-    else
-        fputs(",\n", f);
+    /* shortest exact text: --from FILE continues exactly */
+    const double v[] = {s->t, s->phi, s->theta, s->psi, s->phidot, s->thetadot, s->psidot,
+                        s->rotor_angle, s->rotor_speed, s->out[USM_OUT_F_N],
+                        s->out[USM_OUT_F_T], s->out[USM_OUT_V_REL],
+                        s->have_avg ? s->theta_avg : NAN, s->have_avg ? s->rotor_speed_avg : NAN};
+    for (size_t k = 0; k < sizeof v / sizeof v[0]; ++k)
+        cli_csv_num(f, k == 0, v[k]);
+    fputc('\n', f);
     return ferror(f) ? 1 : 0;
 }
 
@@ -782,7 +554,7 @@ static int run(sim_args *a)
                   a->opt.rate, a->opt.duration, a->opt.rate * a->opt.duration, MAX_ROWS);
         return USM_EINPUT;
     }
-    if (a->opt.start == USM_SIM_FROM_STATE && (rc = read_start(a, msg)) != USM_OK) {
+    if (a->opt.start == USM_SIM_FROM_STATE && (rc = cli_sim_read_start(a->from_file, a->common.model, &a->opt, msg)) != USM_OK) {
         cli_error("%s", msg);
         return rc;
     }
@@ -851,9 +623,19 @@ static int run(sim_args *a)
     if (rc != USM_OK)
         cli_error("stopped at t = %.9g s: %s", sum.t_reached, sum.reason);
     if (a->plot && sum.samples > 0) {
-        char title[256];
-        cli_plot_spec spec = {a->out, a->plot, title, sum.stick_checked, p->mu0, sum.have_steady,
-                              sum.steady.theta, sum.steady.rotor_speed, sum.settled, sum.t_settle};
+        char title[256], num[7][32];
+        static const char *const names[] = {"csv",         "title",     "stick",   "mu0",
+                                            "have_steady", "theta_bar", "speed_bar",
+                                            "settled",     "t_settle"};
+        const char *values[9] = {a->out, title,  num[0], num[1], num[2],
+                                 num[3], num[4], num[5], num[6]};
+        snprintf(num[0], 32, "%d", sum.stick_checked);
+        snprintf(num[1], 32, "%.17g", p->mu0);
+        snprintf(num[2], 32, "%d", sum.have_steady);
+        snprintf(num[3], 32, "%.17g", sum.have_steady ? sum.steady.theta : 0.0);
+        snprintf(num[4], 32, "%.17g", sum.have_steady ? sum.steady.rotor_speed : 0.0);
+        snprintf(num[5], 32, "%d", sum.settled);
+        snprintf(num[6], 32, "%.17g", sum.settled ? sum.t_settle : 0.0);
         if (sum.settled)
             snprintf(title, sizeof title, "usm simulate, model %s: settled at t = %.4g ms",
                      a->common.model->name, sum.t_settle * 1e3);
@@ -862,9 +644,7 @@ static int run(sim_args *a)
                      "usm simulate, model %s: not settled (period means within %g of the "
                      "stationary solution for %d periods)",
                      a->common.model->name, sum.settle_tol, sum.settle_periods);
-        int prc = cli_plot_write(&spec, a->force, msg);
-        if (prc == USM_OK)
-            prc = cli_plot_run(a->plot, msg);
+        int prc = cli_plot_render("simulate", a->plot, names, values, 9, msg);
         if (prc == USM_ENOSOLUTION)
             cli_error("warning: %s", msg);
         else if (prc != USM_OK) {

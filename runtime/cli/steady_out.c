@@ -95,16 +95,6 @@ static void other_roots(FILE *out, const usm_steady *s)
 /* A person should see the 0.005 they typed, not 0.0050000000000000001,
  * without losing any bits.  At least 6 digits, so that 4000 does not print as
  * 4e+03. */
-const char *cli_shortest(char buf[32], double v)
-{
-    for (int prec = 6; prec <= 17; ++prec) {
-        snprintf(buf, 32, "%.*g", prec, v);
-        if (strtod(buf, NULL) == v)
-            break;
-    }
-    return buf;
-}
-
 static void parameters(FILE *out, const usm_params *p)
 {
     char buf[32];

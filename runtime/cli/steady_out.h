@@ -7,6 +7,8 @@
 
 #include <jansson.h>
 
+#include "csv_out.h" /* cli_shortest */
+
 #include "usm.h"
 
 typedef struct cli_steady_report {
@@ -23,9 +25,5 @@ json_t *cli_steady_json(const cli_steady_report *r);
 
 /* The human-readable table (only for a report without error). */
 void cli_steady_table(const cli_steady_report *r, FILE *out);
-
-/* The shortest %g text (at least 6 digits) that reads back as exactly v, in
- * buf; returns buf. */
-const char *cli_shortest(char buf[32], double v);
 
 #endif /* USM_CLI_STEADY_OUT_H */

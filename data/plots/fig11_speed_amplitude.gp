@@ -1,0 +1,35 @@
+# fig11_speed_amplitude.gp: a static script of usm report (share/usm/plots/).
+# Re-plot: cd into the report's directory and run  gnuplot fig11_speed_amplitude.gp
+# Reads fig11_speed_amplitude_{3dof,4dof}.csv and report_values.csv, columns
+# by name (docs/cli.md, "CSV files"); writes fig11_speed_amplitude.png and .svg.
+reset session
+set datafile separator ","
+set encoding utf8
+set title "Rotor speed vs excitation amplitude m0 (paper Fig. 11)"
+set grid lc rgb "#dddddd"
+ex3 = NaN; ex4 = NaN; m0 = NaN; w0 = NaN
+stats "report_values.csv" using (ex3 = column("existence_m0_3dof [N m]") * 1e3, \
+    ex4 = column("existence_m0_4dof [N m]") * 1e3, m0 = column("m0 [N m]") * 1e3, \
+    w0 = column("speed_3dof [1/s]"), 0) nooutput
+set xlabel "excitation torque amplitude m_0 [mN m]"
+set ylabel "rotor speed w_R = -dφ_R/dt [1/s]"
+set key top left box opaque
+if (ex3 == ex3) { set arrow 1 from ex3, graph 0 to ex3, graph 1 nohead lc rgb "#1f5fa8" dt 2 lw 1.5 }
+if (ex4 == ex4) { set arrow 2 from ex4, graph 0 to ex4, graph 1 nohead lc rgb "#c0392b" dt 4 lw 1.5 }
+do for [fmt in "png svg"] {
+  if (fmt eq "png") {
+    set terminal pngcairo size 900,560 enhanced font "DejaVu Sans,11"
+  } else {
+    set terminal svg size 900,560 dynamic enhanced font "DejaVu Sans,11"
+  }
+  set output "fig11_speed_amplitude.".fmt
+  plot \
+    "fig11_speed_amplitude_3dof.csv" using (column("m0 [N m]") * 1e3):(column("speed [1/s]")) \
+      with lines lw 2 lc rgb "#1f5fa8" title "3-DOF (stick)", \
+    keyentry with lines dt 2 lw 1.5 lc rgb "#1f5fa8" title (ex3 == ex3 ? sprintf("3dof: a solution exists from m_0 = %.5g mN m", ex3) : ""), \
+    "fig11_speed_amplitude_4dof.csv" using (column("m0 [N m]") * 1e3):(column("speed [1/s]")) \
+      with lines lw 2 lc rgb "#c0392b" title "4-DOF (slip)", \
+    keyentry with lines dt 4 lw 1.5 lc rgb "#c0392b" title (ex4 == ex4 ? sprintf("4dof: a solution exists from m_0 = %.5g mN m", ex4) : ""), \
+    "+" using (m0):(w0) every ::0::0 with points pt 3 ps 2 lc rgb "black" title sprintf("Appendix A: m_0 = %g mN m", m0)
+  unset output
+}

@@ -1,0 +1,43 @@
+# map.gp: the plot of `usm map --plot PREFIX`, a static script
+# (share/usm/plots/map.gp).  usm writes PREFIX.gp: the values below, then
+# this text; `gnuplot PREFIX.gp` re-plots.
+#   prefix       output prefix: reads PREFIX.csv, writes PREFIX.png and .svg
+#   xcol, ycol   the grid's columns, e.g. 'f' and 'T' (as in the CSV header)
+#   mcol         the modulus column (default 'max_modulus'; 'max_modulus [1]'
+#                in the common CSV dialect)
+# The largest non-cyclic |lambda| of each grid point, grey where no
+# stationary solution exists; the axes span the grid's cells (from the data).
+if (!exists("csv")) csv = prefix.'.csv'
+if (!exists("mcol")) mcol = 'max_modulus'
+set datafile separator ','
+# the first line names the columns (columns are read by name, through variables)
+set datafile columnheaders
+set encoding utf8
+stats csv using (column(xcol)):(column(ycol)) nooutput
+xmin = STATS_min_x; xmax = STATS_max_x; ymin = STATS_min_y; ymax = STATS_max_y
+nx = 0
+stats csv using (nx = nx + (column(ycol) == ymin), 0) nooutput
+ny = STATS_records / nx
+dx = nx > 1 ? (xmax - xmin) / (nx - 1) : 1; dy = ny > 1 ? (ymax - ymin) / (ny - 1) : 1
+set xrange [xmin - dx / 2:xmax + dx / 2]
+set yrange [ymin - dy / 2:ymax + dy / 2]
+set xlabel xcol noenhanced
+set ylabel ycol noenhanced
+set cblabel 'largest non-cyclic |lambda| (log scale)'
+set logscale cb
+set cbrange [0.8:1.25]
+set cbtics (0.8, 0.9, 1, 1.1, 1.25)
+set palette defined (0 '#313695', 0.25 '#74add1', 0.5 '#ffffbf', 0.75 '#f46d43', 1 '#a50026')
+set object 1 rectangle from graph 0,0 to graph 1,1 behind fillcolor rgb '#bdbdbd' fillstyle solid 1.0 noborder
+present(c) = strcol('exists') eq 'true' || strcol('exists') eq '1'
+do for [fmt in 'png svg'] {
+  if (fmt eq 'png') {
+    set terminal pngcairo size 900,720 noenhanced font 'DejaVu Sans,11'
+  } else {
+    set terminal svg size 900,720 dynamic noenhanced font 'DejaVu Sans,11'
+  }
+  set output prefix.'.'.fmt
+  set title 'usm map: '.csv.' (grey: no stationary solution)'
+  plot csv using (column(xcol)):(column(ycol)):(present(0) ? column(mcol) : NaN) with image notitle
+  unset output
+}

@@ -1,0 +1,34 @@
+/* csv_out.h: the one CSV dialect of the usm command (sweep, map, simulate and
+ * the report's data files; see docs/cli.md "CSV files"):
+ *   - one header line; a column with a unit is named "NAME [UNIT]" (SI units,
+ *     "[1]" for a pure number), a column without a unit (yes/no, text, an
+ *     index) just "NAME";
+ *   - numbers as the shortest text that reads back exactly (at least 6
+ *     digits); an empty field where a value does not exist (never "nan");
+ *   - yes/no as true/false; text quoted when it holds a comma or a quote;
+ *   - the names are the JSON keys of the same quantities, everywhere.
+ * gnuplot addresses the columns by name: column("theta [rad]"). */
+#ifndef USM_CLI_CSV_OUT_H
+#define USM_CLI_CSV_OUT_H
+
+#include <stdio.h>
+
+/* The shortest %g text (at least 6 digits) that reads back as exactly v, in
+ * buf; returns buf. */
+const char *cli_shortest(char buf[32], double v);
+
+/* One column of a header: unit NULL for a yes/no or text column. */
+typedef struct cli_csv_column {
+    const char *name;
+    const char *unit;
+} cli_csv_column;
+
+/* The header line of n columns. */
+void cli_csv_header(FILE *f, const cli_csv_column *cols, int n);
+
+/* One field; `first` is nonzero for a row's first field (no separator). */
+void cli_csv_num(FILE *f, int first, double v);
+void cli_csv_bool(FILE *f, int first, int b);
+void cli_csv_text(FILE *f, int first, const char *s);
+
+#endif /* USM_CLI_CSV_OUT_H */

@@ -1,0 +1,226 @@
+/* Running gnuplot on the static scripts of data/plots/ (see plot_run.h). */
+#define _POSIX_C_SOURCE 200809L
+
+#include "plot_run.h"
+
+#include <ctype.h>
+#include <errno.h>
+#include <math.h>
+#include <fcntl.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/types.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "data_dir.h"
+#include "options.h"
+#include "template.h"
+#include "usm.h"
+
+static int path_in(char *buf, size_t len, const char *dir, const char *stem, const char *ext)
+{
+    int n = strcmp(dir, ".") == 0 ? snprintf(buf, len, "%s%s", stem, ext)
+                                  : snprintf(buf, len, "%s/%s%s", dir, stem, ext);
+    return n < 0 || (size_t)n >= len ? -1 : 0;
+}
+
+static pid_t spawn(const char *exe, const char *dir, const char *script, int log_fd)
+{
+    pid_t pid = fork();
+    if (pid == 0) {
+        int null_fd = open("/dev/null", O_RDONLY);
+        if (null_fd >= 0)
+            dup2(null_fd, 0);
+        dup2(log_fd, 1);
+        dup2(log_fd, 2);
+        if (chdir(dir) != 0)
+            _exit(126);
+        execlp(exe, exe, script, (char *)NULL);
+        _exit(127);
+    }
+    return pid;
+}
+
+int cli_gnuplot_run(const char *dir, const char *const *stems, int n, int jobs,
+                    const char *log_path, char msg[CLI_MSG_LEN])
+{
+    const char *exe = getenv("USM_GNUPLOT");
+    char path[4096], script[256];
+    pid_t *pids = calloc((size_t)n + 1, sizeof *pids);
+    int running = 0, next = 0, failed = 0, missing = 0, log_fd;
+    int failed_at = -1;
+    if (!exe || !exe[0])
+        exe = "gnuplot";
+    if (!pids || (log_fd = open(log_path, O_WRONLY | O_CREAT | O_TRUNC, 0666)) < 0) {
+        cli_msg(msg, "%s: %s", log_path, pids ? strerror(errno) : "out of memory");
+        free(pids);
+        return USM_EFAILED;
+    }
+    for (int i = 0; i < n; ++i) {
+        pids[i] = -1;
+        /* a previous run's image must not pass for this run's */
+        for (int e = 0; e < 2; ++e)
+            if (path_in(path, sizeof path, dir, stems[i], e ? ".svg" : ".png") == 0)
+                unlink(path);
+    }
+    fflush(NULL);
+    while (next < n || running > 0) {
+        int status;
+        pid_t pid;
+        if (next < n && running < (jobs < 1 ? 1 : jobs)) {
+            snprintf(script, sizeof script, "%s.gp", stems[next]);
+            if ((pids[next] = spawn(exe, dir, script, log_fd)) < 0) {
+                cli_msg(msg, "gnuplot: cannot start a process: %s", strerror(errno));
+                failed = 1;
+                next = n;
+                continue;
+            }
+            ++next;
+            ++running;
+            continue;
+        }
+        if ((pid = wait(&status)) < 0) {
+            if (errno == EINTR)
+                continue;
+            break;
+        }
+        for (int i = 0; i < n; ++i)
+            if (pids[i] == pid) {
+                --running;
+                pids[i] = -1;
+                if (WIFEXITED(status) && WEXITSTATUS(status) == 127)
+                    missing = 1;
+                else if ((!WIFEXITED(status) || WEXITSTATUS(status) != 0) && failed_at < 0)
+                    failed_at = i;
+            }
+    }
+    close(log_fd);
+    if (missing) {
+        cli_msg(msg, "%s: not found, figures not rendered (install gnuplot-nox, or set "
+                     "USM_GNUPLOT; then run the *.gp scripts in %s)", exe, dir);
+        free(pids);
+        return USM_ENOSOLUTION;
+    } else if (failed_at >= 0) {
+        cli_msg(msg, "gnuplot failed on %s/%s.gp (see %s)", dir, stems[failed_at], log_path);
+    } else if (!failed) {
+        /* gnuplot may exit 0 without writing (a terminal missing, an edited
+         * script): only images that exist count */
+        for (int i = 0; i < n && !failed; ++i)
+            for (int e = 0; e < 2 && !failed; ++e) {
+                struct stat st;
+                if (path_in(path, sizeof path, dir, stems[i], e ? ".svg" : ".png") != 0 ||
+                    stat(path, &st) != 0 || st.st_size == 0) {
+                    cli_msg(msg, "%s: gnuplot exited 0 but did not write %s (see %s)", exe,
+                            path, log_path);
+                    failed = 1;
+                }
+            }
+        free(pids);
+        return failed ? USM_EFAILED : USM_OK;
+    }
+    free(pids);
+    return USM_EFAILED;
+}
+
+int cli_plot_check(const char *prefix, int force, char msg[CLI_MSG_LEN])
+{
+    static const char *const ext[] = {".gp", ".png", ".svg"};
+    char path[4096];
+    struct stat st;
+    if (prefix[0] == '\0' || strchr(prefix, '\n') || strlen(prefix) + 5 > sizeof path) {
+        cli_msg(msg, "--plot: \"%.200s\" is not usable as a file prefix", prefix);
+        return USM_EINPUT;
+    }
+    for (size_t k = 0; !force && k < sizeof ext / sizeof ext[0]; ++k) {
+        snprintf(path, sizeof path, "%s%s", prefix, ext[k]);
+        if (stat(path, &st) == 0) {
+            cli_msg(msg, "--plot %s: exists; refusing to overwrite it (use --force)", path);
+            return USM_EINPUT;
+        }
+    }
+    return USM_OK;
+}
+
+/* A gnuplot value: a number as it is, anything else single-quoted ('' is
+ * one quote inside). */
+static void value(FILE *f, const char *s)
+{
+    char *end;
+    double v = s[0] && !isspace((unsigned char)s[0]) ? strtod(s, &end) : NAN;
+    if (isfinite(v) && *end == '\0') {
+        fputs(s, f);
+        return;
+    }
+    fputc('\'', f);
+    for (; *s; ++s) {
+        if (*s == '\'')
+            fputc('\'', f);
+        fputc(*s == '\n' ? ' ' : *s, f);
+    }
+    fputc('\'', f);
+}
+
+int cli_plot_render(const char *script, const char *prefix, const char *const *names,
+                    const char *const *values, int n, char msg[CLI_MSG_LEN])
+{
+    char src[4096], name[256], out[4096], log[4096];
+    char *text;
+    FILE *f;
+    int bad;
+    if (cli_plot_check(prefix, 1, msg) != USM_OK)
+        return USM_EINPUT;
+    snprintf(name, sizeof name, "plots/%s.gp", script);
+    if (cli_data_path(name, src, sizeof src) != 0) {
+        cli_msg(msg, "--plot %s: %s: the gnuplot script is not installed (set USM_DATA_DIR)",
+                prefix, src);
+        return USM_EFAILED;
+    }
+    if (!(text = cli_template_read(src, msg)))
+        return USM_EFAILED;
+    snprintf(out, sizeof out, "%s.gp", prefix);
+    if (!(f = fopen(out, "w"))) {
+        cli_msg(msg, "--plot %s: %s", out, strerror(errno));
+        free(text);
+        return USM_EINPUT;
+    }
+    fputs("# written by usm (--plot): the values, then the static script ", f);
+    fprintf(f, "%s.gp;\n# re-plot: gnuplot ", script);
+    value(f, out);
+    fputs("\nprefix = ", f);
+    value(f, prefix);
+    fputc('\n', f);
+    for (int k = 0; k < n; ++k) {
+        fprintf(f, "%s = ", names[k]);
+        value(f, values[k]);
+        fputc('\n', f);
+    }
+    fputs(text, f);
+    free(text);
+    bad = ferror(f);
+    if ((fclose(f) != 0) | bad) {
+        cli_msg(msg, "--plot %s: write error", out);
+        return USM_EFAILED;
+    }
+    snprintf(log, sizeof log, "%s.log", prefix);
+    {
+        const char *stems[1] = {prefix};
+        return cli_gnuplot_run(".", stems, 1, 1, log, msg);
+    }
+}
+
+int cli_plot_option(int argc, char **argv, int *i, const char **prefix, char msg[CLI_MSG_LEN])
+{
+    const char *value;
+    int r = cli_option_value(argc, argv, i, "--plot", &value, msg);
+    if (r != CLI_OPT_TAKEN)
+        return r;
+    if (value[0] == '\0') {
+        cli_msg(msg, "--plot: empty file prefix");
+        return CLI_OPT_ERROR;
+    }
+    *prefix = value;
+    return CLI_OPT_TAKEN;
+}

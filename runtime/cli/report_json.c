@@ -1,0 +1,494 @@
+/* report.json: every number the report shows, by name, SI units unless the
+ * key names another (kHz, Nmm, mNm: the units report.md prints).  report.md
+ * and report.html are rendered from it by templates (data/report/). */
+#include <math.h>
+#include <string.h>
+
+#include "report.h"
+
+#ifndef USM_VERSION
+#define USM_VERSION "unknown"
+#endif
+
+#define TWO_PI 6.283185307179586476925286766559
+#define PI 3.14159265358979323846264338327950
+
+static const char *const tag[REPORT_NMODELS] = {"3dof", "4dof"};
+
+/* a number, or null where it does not exist */
+static void num(json_t *o, const char *key, double v)
+{
+    json_object_set_new(o, key, isfinite(v) ? json_real(v) : json_null());
+}
+
+static void str(json_t *o, const char *key, const char *s)
+{
+    json_object_set_new(o, key, json_string(s ? s : ""));
+}
+
+static void flag(json_t *o, const char *key, int b)
+{
+    json_object_set_new(o, key, json_boolean(b));
+}
+
+static void integer(json_t *o, const char *key, long long v)
+{
+    json_object_set_new(o, key, json_integer(v));
+}
+
+/* Largest distance between a published table and the multipliers r. */
+static double table_distance(const report_published_multiplier *t, int nt,
+                             const usm_floquet_result *r, int skip_first)
+{
+    int used[USM_MAX_NX] = {0};
+    double dev = 0;
+    for (int k = 0; k < nt; ++k)
+        for (int sgn = 1; sgn >= (t[k].im > 0 ? -1 : 1); sgn -= 2) {
+            int j = report_match_multiplier(r, t[k].re, sgn * t[k].im, used);
+            if (j < 0)
+                return INFINITY;
+            if (!(skip_first && k == 0))
+                dev = fmax(dev, hypot(r->re[j] - t[k].re, r->im[j] - sgn * t[k].im));
+        }
+    return dev;
+}
+
+/* The multipliers, a conjugate pair once ("pair": re ± im i). */
+static json_t *multipliers(const usm_floquet_result *r)
+{
+    json_t *a = json_array();
+    for (int k = 0; k < r->n; ++k) {
+        json_t *m = json_object();
+        const int pair = r->im[k] > 0 && k + 1 < r->n && r->im[k + 1] == -r->im[k] &&
+                         r->re[k + 1] == r->re[k];
+        num(m, "re", r->re[k]);
+        num(m, "im", r->im[k]);
+        num(m, "im_abs", fabs(r->im[k]));
+        num(m, "modulus", hypot(r->re[k], r->im[k]));
+        flag(m, "pair", pair);
+        flag(m, "single", !pair && r->im[k] != 0);
+        str(m, "sign", r->im[k] < 0 ? "-" : "+");
+        flag(m, "cyclic", r->cyclic[k]);
+        json_array_append_new(a, m);
+        k += pair;
+    }
+    return a;
+}
+
+static json_t *floquet(const usm_floquet_result *r, const char *label, double distance)
+{
+    json_t *o = json_object();
+    str(o, "label", label);
+    num(o, "max_modulus", r->max_modulus);
+    flag(o, "stable", r->stable);
+    flag(o, "t0_dependent", r->t0_dependent);
+    num(o, "distance", distance);
+    json_object_set_new(o, "multipliers", multipliers(r));
+    return o;
+}
+
+static json_t *solution(const usm_steady_solution *s, double f)
+{
+    json_t *o = json_object();
+    num(o, "theta", s->theta);
+    num(o, "alpha", s->alpha);
+    num(o, "beta", s->beta);
+    num(o, "beta_plus_pi", s->beta + PI);
+    num(o, "rotor_speed", s->rotor_speed);
+    num(o, "speed", -s->rotor_speed);
+    num(o, "F_n", s->F_n);
+    num(o, "F_t", s->F_t);
+    num(o, "R_star", s->R_star);
+    num(o, "v_rel", s->v_rel);
+    num(o, "mu_used", s->mu_used);
+    flag(o, "stick_admissible", s->stick_admissible);
+    num(o, "contact_moment_mNm", s->F_n * s->R_star * 1e3);
+    num(o, "speed_ratio", TWO_PI * f / fabs(s->rotor_speed));
+    return o;
+}
+
+/* A located value: SI "value", the same in the report's unit, the solution there. */
+static json_t *located(const report_located *l, const char *unit, double scale)
+{
+    json_t *o = l->ok ? solution(&l->sol, NAN) : json_object();
+    flag(o, "ok", l->ok);
+    num(o, "value", l->ok ? l->value : NAN);
+    num(o, unit, l->ok ? l->value * scale : NAN);
+    str(o, "note", l->note);
+    return o;
+}
+
+static json_t *model(const report_data *d, int k)
+{
+    const report_model_result *r = &d->model[k];
+    const report_paper *pv = &report_paper_values;
+    const report_published_multiplier *t = k == REPORT_3DOF ? pv->table3 : pv->table4;
+    const int nt = k == REPORT_3DOF ? pv->n3 : pv->n4;
+    json_t *o = solution(&r->sol, d->params.f), *t0 = json_array(), *in = json_array();
+    str(o, "name", r->model->name);
+    for (int i = 0; i < REPORT_NT0; ++i)
+        json_array_append_new(t0, floquet(&r->fl[i], report_t0_label[i],
+                                          table_distance(t, nt, &r->fl[i], k == REPORT_4DOF)));
+    for (int i = 0; r->integrated && i < 2; ++i)
+        json_array_append_new(in, floquet(&r->fl_integrated[i], i ? "T/2" : "0",
+                                          table_distance(t, nt, &r->fl_integrated[i],
+                                                         k == REPORT_4DOF)));
+    json_object_set_new(o, "t0", t0);
+    json_object_set_new(o, "integrated", in);
+    return o;
+}
+
+/* Section 2's multiplier rows: each published value beside its nearest. */
+static json_t *table_rows(const report_published_multiplier *t, int nt,
+                          const usm_floquet_result *r, int table4)
+{
+    json_t *a = json_array();
+    int used[USM_MAX_NX] = {0};
+    for (int k = 0; k < nt; ++k) {
+        int j = report_match_multiplier(r, t[k].re, t[k].im, used);
+        json_t *o;
+        double mod, dl;
+        if (j < 0)
+            continue;
+        if (t[k].im > 0) /* its conjugate is taken too */
+            (void)report_match_multiplier(r, t[k].re, -t[k].im, used);
+        mod = hypot(r->re[j], r->im[j]);
+        dl = hypot(r->re[j] - t[k].re, fabs(r->im[j]) - t[k].im);
+        o = json_object();
+        str(o, "label", t[k].label);
+        str(o, "printed", t[k].printed);
+        str(o, "modulus_printed", t[k].modulus_printed);
+        num(o, "re", r->re[j]);
+        num(o, "im", fabs(r->im[j]));
+        num(o, "modulus", mod);
+        flag(o, "cyclic", r->cyclic[j]);
+        num(o, "dlambda", dl);
+        num(o, "dmodulus", mod - t[k].modulus);
+        str(o, "verdict", table4 && k == 0 ? "**differs**, (c)" : dl > 2e-3 ? "**differs**"
+                                                                            : "agrees");
+        json_array_append_new(a, o);
+    }
+    return a;
+}
+
+static json_t *compare(const report_data *d)
+{
+    const report_paper *pv = &report_paper_values;
+    const report_model_result *r3 = &d->model[REPORT_3DOF], *r4 = &d->model[REPORT_4DOF];
+    const usm_steady_solution *s3 = &r3->sol, *s4 = &r4->sol;
+    const usm_floquet_result *fl4 = &r4->fl[0];
+    int used[USM_MAX_NX] = {0};
+    const int j = report_match_multiplier(fl4, pv->table4[0].re, pv->table4[0].im, used);
+    const double mod_c = j >= 0 ? hypot(fl4->re[j], fl4->im[j]) : NAN;
+    json_t *o = json_object();
+    num(o, "theta3_rel", s3->theta / pv->theta3.value - 1);
+    num(o, "alpha3_diff", s3->alpha - pv->alpha3.value);
+    num(o, "alpha3_printed_as_rad", pv->alpha3.value * PI / 180);
+    num(o, "beta3_diff", s3->beta + PI - pv->beta3.value);
+    num(o, "speed4_diff", s4->rotor_speed - pv->speed4.value);
+    num(o, "theta4_rel", s4->theta / pv->theta4.value - 1);
+    num(o, "alpha4_diff", s4->alpha - pv->alpha4.value);
+    num(o, "beta4_diff", s4->beta - pv->beta4.value);
+    json_object_set_new(o, "table3", table_rows(pv->table3, pv->n3, &r3->fl[0], 0));
+    json_object_set_new(o, "table4", table_rows(pv->table4, pv->n4, fl4, 1));
+    str(o, "stable_verdict", r3->fl[0].stable && fl4->stable ? "agrees" : "**differs**");
+    num(o, "f_max_diff", d->f_max[0].ok ? d->f_max[0].value - pv->f_max.value : NAN);
+    num(o, "f_max_diff_percent",
+        d->f_max[0].ok ? 100 * (d->f_max[0].value / pv->f_max.value - 1) : NAN);
+    num(o, "stick_limit_diff_Nmm",
+        d->stick_limit.ok ? (d->stick_limit.value - pv->slip_load.value) * 1e3 : NAN);
+    num(o, "stick_limit_sat_diff_Nmm",
+        d->stick_limit_sat.ok ? (d->stick_limit_sat.value - pv->slip_load.value) * 1e3 : NAN);
+    num(o, "existence_T_3dof_diff_Nmm",
+        d->existence_T[0].ok ? (d->existence_T[0].value - pv->slip_load.value) * 1e3 : NAN);
+    num(o, "small_angle_speed", d->params.H * s3->theta * TWO_PI * d->params.f / d->params.R);
+    /* (c): Table 4's first pair */
+    num(o, "table4_first_re", j >= 0 ? fl4->re[j] : NAN);
+    num(o, "table4_first_im", j >= 0 ? fabs(fl4->im[j]) : NAN);
+    num(o, "table4_first_modulus", mod_c);
+    num(o, "table4_first_angle", j >= 0 ? atan2(fabs(fl4->im[j]), fl4->re[j]) : NAN);
+    num(o, "table4_first_angle_paper", atan2(pv->table4[0].im, pv->table4[0].re));
+    num(o, "table4_first_modulus_percent", 100 * (mod_c / pv->table4[0].modulus - 1));
+    num(o, "tables_distance_others",
+        fmax(table_distance(pv->table3, pv->n3, &r3->fl[0], 0),
+             table_distance(pv->table4, pv->n4, fl4, 1)));
+    /* (e): the friction coefficient the paper's slip load would need */
+    num(o, "mu_needed", pv->slip_load.value / (s3->R_star * s3->F_n));
+    return o;
+}
+
+static json_t *params(const report_data *d)
+{
+    json_t *a = json_array();
+    usm_params def;
+    usm_params_default(&def);
+    for (int k = 0; k < USM_NPARAMS; ++k) {
+        const usm_param_info *info = &usm_param_table[k];
+        const double v = usm_params_get(&d->params, info);
+        json_t *o = json_object();
+        const char *source = strcmp(info->name, "f") == 0 ? "**not in the paper**: chosen, see below"
+            : strcmp(info->name, "M") == 0 ? "**not in the paper**: 2 I_R / R^2, see below"
+            : strcmp(info->name, "mu0") == 0 || strcmp(info->name, "kappa") == 0 ? "Sec. 5 text"
+            : "Appendix A, Table 5";
+        str(o, "name", info->name);
+        num(o, "value", v);
+        str(o, "unit", info->unit);
+        str(o, "description", info->description);
+        str(o, "source", v == usm_params_get(&def, info) ? source
+                                                         : "**changed** (`--set`/`--params`)");
+        json_array_append_new(a, o);
+    }
+    return a;
+}
+
+static json_t *choices(const report_data *d)
+{
+    json_t *o = json_object(), *dev = json_array();
+    num(o, "f_kHz", d->params.f / 1000);
+    num(o, "f_from_cr", d->f_from_cr);
+    num(o, "f_from_cr_kHz", d->f_from_cr / 1000);
+    num(o, "dr_3pct", d->dr_3pct);
+    num(o, "dt_3pct", d->dt_3pct);
+    num(o, "M_disk", d->M_disk);
+    num(o, "M_from_dR", d->M_from_dR);
+    num(o, "theta_at_fmax_paper", d->theta_at_fmax_paper);
+    num(o, "m0_mNm", d->params.m0 * 1e3);
+    num(o, "small_F0", REPORT_SMALL_F0);
+    for (int i = 0; i < 3; ++i)
+        json_array_append_new(dev, isfinite(d->M_trial_dev[i]) ? json_real(d->M_trial_dev[i])
+                                                               : json_null());
+    json_object_set_new(o, "M_trial_dev", dev);
+    return o;
+}
+
+static json_t *figure(int fig)
+{
+    json_t *o = json_object(), *files = json_array();
+    const char *name = report_figures[fig].name;
+    const size_t len = strlen(name);
+    str(o, "name", name);
+    str(o, "title", report_figures[fig].title);
+    for (int k = 0; report_files[k]; ++k)
+        if (strncmp(report_files[k], name, len) == 0 &&
+            (report_files[k][len] == '.' || report_files[k][len] == '_'))
+            json_array_append_new(files, json_string(report_files[k]));
+    json_object_set_new(o, "files", files);
+    return o;
+}
+
+static json_t *figures(int from, int to)
+{
+    json_t *a = json_array();
+    for (int i = from; i < to; ++i)
+        json_array_append_new(a, figure(i));
+    return a;
+}
+
+/* The first event of `type` on a curve, or NULL. */
+static const usm_sweep_event *find_event(const report_curve *cv, usm_event_type type)
+{
+    const size_t n = cv->sweep ? usm_sweep_event_count(cv->sweep) : 0;
+    for (size_t i = 0; i < n; ++i)
+        if (usm_sweep_event_at(cv->sweep, i)->type == type)
+            return usm_sweep_event_at(cv->sweep, i);
+    return NULL;
+}
+
+static json_t *characteristics(const report_data *d)
+{
+    static const char *const cname[REPORT_NCURVES] = {"f [Hz]", "T [N m]", "m0 [N m]"};
+    const struct {
+        const report_located *l;
+        int curve, model;
+        usm_event_type type;
+    } pairs[] = {
+        {&d->stick_limit, REPORT_CURVE_T, REPORT_3DOF, USM_EVENT_STICK_LIMIT},
+        {&d->stability_T, REPORT_CURVE_T, REPORT_3DOF, USM_EVENT_STABILITY_CHANGE},
+        {&d->existence_T[REPORT_3DOF], REPORT_CURVE_T, REPORT_3DOF, USM_EVENT_FOLD},
+        {&d->existence_T[REPORT_4DOF], REPORT_CURVE_T, REPORT_4DOF, USM_EVENT_FRICTION_SATURATION},
+        {&d->existence_m0[REPORT_3DOF], REPORT_CURVE_M0, REPORT_3DOF, USM_EVENT_FOLD},
+        {&d->existence_m0[REPORT_4DOF], REPORT_CURVE_M0, REPORT_4DOF, USM_EVENT_FOLD},
+    };
+    json_t *o = json_object(), *curves = json_array(), *loc = json_object();
+    double worst = 0;
+    int compared = 0, missing = 0;
+    integer(o, "points_min", d->curve[REPORT_CURVE_T][REPORT_4DOF].points);
+    integer(o, "points_max", d->curve[REPORT_CURVE_F][0].points);
+    for (int c = 0; c < REPORT_NCURVES; ++c)
+        for (int k = 0; k < REPORT_NMODELS; ++k) {
+            const usm_sweep *sw = d->curve[c][k].sweep;
+            const size_t n = sw ? usm_sweep_event_count(sw) : 0;
+            json_t *cv = json_object(), *ev = json_array();
+            str(cv, "curve", cname[c]);
+            str(cv, "over", d->curve[c][k].over);
+            str(cv, "model", d->model[k].model->name);
+            for (size_t i = 0; i < n; ++i) {
+                const usm_sweep_event *e = usm_sweep_event_at(sw, i);
+                json_t *eo = json_object();
+                str(eo, "event", usm_event_name(e->type));
+                num(eo, "at", e->value);
+                str(eo, "what", e->what);
+                json_array_append_new(ev, eo);
+            }
+            json_object_set_new(cv, "events", ev);
+            json_array_append_new(curves, cv);
+        }
+    json_object_set_new(o, "curves", curves);
+    for (size_t k = 0; k < sizeof pairs / sizeof pairs[0]; ++k) {
+        const usm_sweep_event *e =
+            find_event(&d->curve[pairs[k].curve][pairs[k].model], pairs[k].type);
+        if (!pairs[k].l->ok || !e) {
+            ++missing;
+            continue;
+        }
+        ++compared;
+        worst = fmax(worst, fabs(e->value - pairs[k].l->value) / fabs(pairs[k].l->value));
+    }
+    integer(o, "cross_check_compared", compared);
+    num(o, "cross_check_worst", worst);
+    flag(o, "cross_check_missing", missing);
+    for (int k = 0; k < REPORT_NMODELS; ++k) {
+        char key[64];
+        snprintf(key, sizeof key, "f_max_%s", tag[k]);
+        json_object_set_new(loc, key, located(&d->f_max[k], "kHz", 1e-3));
+        snprintf(key, sizeof key, "existence_T_%s", tag[k]);
+        json_object_set_new(loc, key, located(&d->existence_T[k], "Nmm", 1e3));
+        snprintf(key, sizeof key, "existence_m0_%s", tag[k]);
+        json_object_set_new(loc, key, located(&d->existence_m0[k], "mNm", 1e3));
+    }
+    json_object_set_new(loc, "f_theta_max", located(&d->f_theta_max, "kHz", 1e-3));
+    json_object_set_new(loc, "f_theta_max_small_F0",
+                        located(&d->f_theta_max_small_F0, "kHz", 1e-3));
+    json_object_set_new(loc, "stick_limit", located(&d->stick_limit, "Nmm", 1e3));
+    json_object_set_new(loc, "stick_limit_sat", located(&d->stick_limit_sat, "Nmm", 1e3));
+    json_object_set_new(loc, "stability_T", located(&d->stability_T, "Nmm", 1e3));
+    json_object_set_new(o, "located", loc);
+    return o;
+}
+
+static json_t *map_summary(const report_map *m, int fig)
+{
+    const size_t n = (size_t)m->x.points * (size_t)m->y.points;
+    size_t exist = 0, unstable = 0, unstable_stick = 0;
+    double maxmod = 0, maxmod_stick = 0;
+    json_t *o = figure(fig);
+    for (size_t q = 0; q < n; ++q) {
+        const report_map_cell *c = &m->cells[q];
+        if (!c->exists)
+            continue;
+        ++exist;
+        if (c->floquet_ok) {
+            maxmod = fmax(maxmod, c->max_modulus);
+            unstable += !c->stable;
+            if (c->stick_admissible) {
+                maxmod_stick = fmax(maxmod_stick, c->max_modulus);
+                unstable_stick += !c->stable;
+            }
+        }
+    }
+    str(o, "model", m->model->name);
+    integer(o, "x_points", m->x.points);
+    integer(o, "y_points", m->y.points);
+    num(o, "f_from_kHz", m->x.from / 1000);
+    num(o, "f_to_kHz", m->x.to / 1000);
+    num(o, "T_from_Nmm", m->y.from * 1e3);
+    num(o, "T_to_Nmm", m->y.to * 1e3);
+    integer(o, "points", (long long)n);
+    integer(o, "exist", (long long)exist);
+    integer(o, "unstable", (long long)unstable);
+    num(o, "max_modulus", maxmod);
+    integer(o, "unstable_stick", (long long)unstable_stick);
+    num(o, "max_modulus_stick", maxmod_stick);
+    flag(o, "floquet_failures", m->floquet_failures != 0);
+    return o;
+}
+
+static json_t *variants(const report_data *d)
+{
+    json_t *a = json_array();
+    for (int k = 0; k < USM_NMODELS; ++k) {
+        const report_variant_result *v = &d->variant[k];
+        json_t *o = v->ok ? solution(&v->sol, d->params.f) : json_object(), *mm = json_array();
+        str(o, "name", v->model->name);
+        str(o, "assumptions", v->model->assumptions);
+        flag(o, "ok", v->ok);
+        str(o, "note", v->note);
+        for (int i = 0; v->ok && i < REPORT_NVARIANT_T0; ++i)
+            json_array_append_new(mm, isfinite(v->fl[i].max_modulus)
+                                          ? json_real(v->fl[i].max_modulus) : json_null());
+        json_object_set_new(o, "max_modulus", mm);
+        flag(o, "t0_dependent", v->ok && v->fl[0].t0_dependent);
+        json_array_append_new(a, o);
+    }
+    return a;
+}
+
+json_t *report_json(const report_data *d, int plots_ok, const char *plot_note)
+{
+    json_t *o = json_object(), *maps = json_array(), *sec = json_object(), *models = json_object();
+    int unstable = 0, total = 0;
+    str(o, "marker", REPORT_MARKER);
+    str(o, "usm_version", USM_VERSION);
+    str(o, "generator_version", USM_GENERATOR_VERSION);
+    flag(o, "quick", d->opt.quick);
+    flag(o, "plots", d->opt.plots);
+    str(o, "figures_missing", !plots_ok && plot_note ? plot_note : "");
+    integer(o, "threads", d->opt.threads);
+    json_object_set_new(o, "parameters", params(d));
+    {
+        json_t *byname = json_object();
+        for (int k = 0; k < USM_NPARAMS; ++k)
+            num(byname, usm_param_table[k].name, usm_params_get(&d->params, &usm_param_table[k]));
+        json_object_set_new(o, "params", byname);
+    }
+    json_object_set_new(o, "choices", choices(d));
+    for (int k = 0; k < REPORT_NMODELS; ++k) {
+        json_object_set_new(models, tag[k], model(d, k));
+        for (int i = 0; i < REPORT_NT0; ++i) {
+            ++total;
+            unstable += !d->model[k].fl[i].stable;
+        }
+    }
+    json_object_set_new(o, "model", models);
+    integer(o, "t0_unstable", unstable);
+    integer(o, "t0_total", total);
+    json_object_set_new(o, "compare", compare(d));
+    json_object_set_new(o, "characteristics", characteristics(d));
+    json_object_set_new(o, "figures_floquet", figures(REPORT_FIG_MULT_3DOF, REPORT_FIG_MAP_3DOF));
+    json_object_set_new(o, "figures_curves", figures(REPORT_FIG_SPEED_F, REPORT_FIG_MULT_3DOF));
+    json_object_set_new(o, "figures", figures(0, REPORT_NFIGURES));
+    for (int k = 0; k < REPORT_NMODELS; ++k)
+        if (d->have_map[k])
+            json_array_append_new(maps, map_summary(&d->map[k], k == REPORT_3DOF
+                                                                    ? REPORT_FIG_MAP_3DOF
+                                                                    : REPORT_FIG_MAP_4DOF));
+    json_object_set_new(o, "maps", maps);
+    json_object_set_new(o, "variants", variants(d));
+    num(sec, "tables", d->seconds[0]);
+    num(sec, "curves", d->seconds[1]);
+    num(sec, "maps", d->seconds[2]);
+    num(sec, "plots", d->seconds[3]);
+    num(sec, "total", d->seconds[0] + d->seconds[1] + d->seconds[2] + d->seconds[3]);
+    json_object_set_new(o, "seconds", sec);
+    {
+        /* the paper's values, as loaded */
+        const report_paper *pv = &report_paper_values;
+        const report_published *v[] = {&pv->theta3, &pv->alpha3, &pv->beta3, &pv->speed4,
+                                       &pv->theta4, &pv->alpha4, &pv->beta4, &pv->f_max,
+                                       &pv->slip_load, &pv->speed_ratio};
+        static const char *const key[] = {"theta3", "alpha3", "beta3", "speed4", "theta4",
+                                          "alpha4", "beta4", "f_max", "slip_load", "speed_ratio"};
+        json_t *p = json_object();
+        for (size_t k = 0; k < sizeof key / sizeof key[0]; ++k) {
+            json_t *e = json_object();
+            str(e, "where", v[k]->where);
+            str(e, "what", v[k]->what);
+            str(e, "printed", v[k]->printed);
+            num(e, "value", v[k]->value);
+            str(e, "unit", v[k]->unit);
+            json_object_set_new(p, key[k], e);
+        }
+        json_object_set_new(o, "paper", p);
+    }
+    return o;
+}

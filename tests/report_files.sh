@@ -1,0 +1,121 @@
+#!/bin/bash
+# usm report and its output directory (issue 11 "Files"):
+#  - a report interrupted while plotting leaves files the next run replaces
+#    without --force (the .usm-report manifest is written first);
+#  - files the user wrote are still never overwritten without --force;
+#  - a gnuplot that exits 0 without writing the images is a failure (exit 1,
+#    one line), and report.md then links no image.
+#
+# usage: report_files.sh PATH/TO/usm
+set -u
+
+USM=${1:?usage: report_files.sh PATH/TO/usm}
+. "$(dirname "$0")/cli_common.sh"
+
+# a "gnuplot" that kills usm while it plots, like a Ctrl-C or a lost session
+cat >"$tmp/gnuplot_kill" <<'SH'
+#!/bin/sh
+kill -KILL "$PPID"
+sleep 5
+SH
+# a "gnuplot" that succeeds without drawing anything
+printf '#!/bin/sh\nexit 0\n' >"$tmp/gnuplot_lazy"
+chmod +x "$tmp/gnuplot_kill" "$tmp/gnuplot_lazy"
+
+# ---- interrupted during plotting ------------------------------------------------
+d=$tmp/interrupted
+checks=$((checks + 1))
+USM_GNUPLOT=$tmp/gnuplot_kill run report --out "$d" --quick
+rc=$?
+if [ $rc -ne 137 ] || [ -e "$d/report.md" ] || [ ! -e "$d/fig10_speed_load_3dof.csv" ]; then
+    fail "killed while plotting: exit $rc, want 137 with data files and no report.md"
+fi
+if expect_rc 0 report --out "$d" --quick --no-plots; then
+    checks=$((checks + 1))
+    [ "$(cat "$out")" = "$d/report.md" ] && [ -s "$d/report.md" ] ||
+        fail "the run after an interrupted one did not write report.md"
+fi
+
+# ---- the user's files are kept ------------------------------------------------------
+# beside a manifest, a report.md the user wrote is still the user's
+rm -f "$d/report.md"
+echo "# my notes" >"$d/report.md"
+expect_bad 'report.md' 'not written by usm report' report --out "$d" --quick --no-plots
+checks=$((checks + 1))
+[ "$(cat "$d/report.md")" = "# my notes" ] || fail "a foreign report.md was changed"
+# a file of the report's names without any mark of usm is the user's
+u=$tmp/user
+mkdir "$u"
+echo "mine" >"$u/fig09_speed_frequency.gp"
+expect_bad 'fig09_speed_frequency.gp' 'no usm report' report --out "$u" --quick --no-plots
+# a manifest the user wrote (another first line) does not count
+echo "my list" >"$u/.usm-report"
+expect_bad 'fig09_speed_frequency.gp' 'no usm report' report --out "$u" --quick --no-plots
+checks=$((checks + 1))
+[ "$(cat "$u/fig09_speed_frequency.gp")" = "mine" ] || fail "a user's file was changed"
+
+# ---- gnuplot exits 0 without writing images --------------------------------------
+l=$tmp/lazy
+checks=$((checks + 1))
+USM_GNUPLOT=$tmp/gnuplot_lazy run report --out "$l" --quick
+rc=$?
+if [ $rc -ne 1 ]; then
+    fail "gnuplot without images: exit $rc, want 1"
+elif [ "$(wc -l <"$err")" -ne 1 ] || ! grep -q '^usm: .*did not write' "$err"; then
+    fail "gnuplot without images: want one line '... did not write ...'"
+elif grep -qE '\.(png|svg)\)' "$l/report.md"; then
+    fail "gnuplot without images: report.md links images that do not exist"
+fi
+# stale images of an earlier run do not pass for new ones
+if command -v "${USM_GNUPLOT:-gnuplot}" >/dev/null; then
+    if expect_rc 0 report --out "$l" --quick; then
+        checks=$((checks + 1))
+        USM_GNUPLOT=$tmp/gnuplot_lazy run report --out "$l" --quick
+        rc=$?
+        [ $rc -eq 1 ] || fail "stale images accepted: exit $rc, want 1"
+    fi
+fi
+
+# ---- the data files: found through USM_DATA_DIR; a broken template is named ----
+data=$(cd "$(dirname "$0")/../data" && pwd)
+cp -r "$data" "$tmp/data"
+printf 'line one\n{{no_such_number:.3g}}\n' >"$tmp/data/report/report.md.in"
+checks=$((checks + 1))
+USM_DATA_DIR=$tmp/data run report --out "$tmp/tpl" --quick --no-plots
+rc=$?
+if [ $rc -ne 1 ] || [ "$(wc -l <"$err")" -ne 1 ] ||
+    ! grep -q '^usm: .*report.md.in:2: unknown name {{no_such_number:.3g}}' "$err"; then
+    fail "broken template: exit $rc, want 1 and one line naming report.md.in:2"
+fi
+rm "$tmp/data/paper_values.json"
+mkdir "$tmp/empty_data"
+checks=$((checks + 1))
+USM_DATA_DIR=$tmp/empty_data run report --out "$tmp/nodata" --quick --no-plots
+rc=$?
+[ $rc -eq 0 ] || fail "USM_DATA_DIR without the files: the source tree's data not used (exit $rc)"
+
+# ---- an installed usm reads share/usm beside it, wherever the tree is moved ----
+build=$(dirname "$USM")
+if [ -f "$build/cmake_install.cmake" ] && command -v cmake >/dev/null; then
+    checks=$((checks + 1))
+    if cmake --install "$build" --prefix "$tmp/prefix" >"$tmp/install.log" 2>&1; then
+        mv "$tmp/prefix" "$tmp/moved"
+        for f in paper_values.json report/report.md.in plots/sweep.gp plots/map_3dof.gp; do
+            [ -s "$tmp/moved/share/usm/$f" ] || fail "share/usm/$f not installed"
+        done
+        # a value changed in the installed copy shows up: that copy is the one read
+        sed -i 's/"printed": "9.7 Nmm"/"printed": "9.7 Nmm (installed copy)"/' \
+            "$tmp/moved/share/usm/paper_values.json"
+        checks=$((checks + 1))
+        if "$tmp/moved/bin/usm" report --out "$tmp/inst" --quick --no-plots >"$out" 2>"$err"; then
+            grep -q '9.7 Nmm (installed copy)' "$tmp/inst/report.md" ||
+                fail "the installed usm did not read share/usm/paper_values.json"
+        else
+            fail "the installed usm report failed: $(cat "$err")"
+        fi
+    else
+        fail "cmake --install: $(tail -n 3 "$tmp/install.log")"
+    fi
+fi
+
+finish report_files
