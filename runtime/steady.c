@@ -34,10 +34,12 @@
  *     rule b sees it, and the minimiser, started inside the window, finds it.
  *     Limit: two extrema of g within two neighbouring cells (3.9 % in theta
  *     each at the default 500 samples), i.e. features of g narrower than the
- *     grid, can hide a pair of roots; so can a pair within ~1e-9 relative of
- *     each other (the minimiser's resolution in theta) and a pair inside the
- *     last end cell.  A double root exactly at a fold (within rounding) is
- *     reported once or, if hybridsj does not converge there, not at all.
+ *     grid, can hide a pair of roots, and so can a pair inside one of the
+ *     two outermost cells (~4e-11 relative).  A pair closer than about 1e-8
+ *     relative (where g's extremum is within rounding of zero: the
+ *     resolution of a minimum in floating point is sqrt(eps)) is polished
+ *     from the extremum and reported as one root, or, if hybridsj does not
+ *     converge at the near-double root, not at all.
  *  2. Rotor speed (slip model).  Given theta, the rotor balance needs the
  *     friction coefficient mu_needed = F_t/F_n of the seed, and
  *     v_rel = v_0 + R* phidot_R is affine in the rotor speed, so every root is
@@ -59,7 +61,9 @@
  *     what the friction law can transmit.
  *  3. GSL's hybridsj polishes (theta, alpha[, phidot_R]) on the full residual
  *     with the generated Jacobian.  A root is reported only when hybridsj
- *     converged and the residual is small.
+ *     converged and each residual row is below 1e-10 m0 plus the rounding of
+ *     its terms (16 eps sum_j |dr_i/du_j| |u_j|: under a large load the
+ *     rotor row's terms are far larger than m0).
  * Each distinct (theta, alpha, phidot_R) is its own root.  Roots are ordered
  * by tilt; roots at the same tilt (several rotor speeds) by increasing
  * |v_rel|, then by increasing phidot_R.
@@ -579,10 +583,10 @@ static int by_tilt(const void *a, const void *b)
 /* What the search saw, for the message when no root converged. */
 typedef struct search_notes {
     int tilts;            /* tilts refined */
-    int rotor_failed;     /* tilts where no rotor speed was found */
-    int saturated;        /* ... because mu_needed is outside the law's range */
-    double sat_theta, sat_mu;
-    int no_contact;       /* ... because F_n = 0 there */
+    int saturated;        /* tilts without a rotor speed because mu_needed is
+                             outside the friction law's range */
+    double sat_theta, sat_mu; /* the first of them */
+    int no_contact;       /* tilts without a rotor speed because F_n = 0 there */
     int oom;
 } search_notes;
 
@@ -634,19 +638,18 @@ static int roots_at(usm_steady *s, double theta, double xtol, search_notes *note
     }
     const double F_t = seed[USM_SEED_F_T], F_n = seed[USM_SEED_F_N];
     if (F_n == 0) {
-        ++notes->rotor_failed;
-        notes->no_contact = 1;
+        ++notes->no_contact;
         return 0;
     }
     const double mu_needed = F_t / F_n;
     double v[64];
     const int nv = isfinite(mu_needed) ? slip_speeds(s, mu_needed, v, 64) : 0;
-    if (nv == 0) {
-        ++notes->rotor_failed;
-        if (!(mu_needed >= s->mu_inf && mu_needed <= s->mu_sup) && !notes->saturated) {
-            notes->saturated = 1;
-            notes->sat_theta = theta;
-            notes->sat_mu = mu_needed;
+    if (nv == 0 && !isnan(mu_needed)) {
+        if (!(mu_needed >= s->mu_inf && mu_needed <= s->mu_sup)) {
+            if (notes->saturated++ == 0) {
+                notes->sat_theta = theta;
+                notes->sat_mu = mu_needed;
+            }
         }
     }
     for (int k = 0; k < nv; ++k) {
@@ -683,15 +686,19 @@ static int tilt_grid(usm_steady *s, const usm_steady_options *opt, size_t *n)
     const double dl = (l1 - l0) / (opt->grid - 1);
     size_t k = 0;
     s->th[k++] = opt->theta_min;
-    if (opt->grid > 2 || dl > 0)
-        for (int j = END_REFINEMENTS; j >= 1; --j)
-            s->th[k++] = exp(l0 + ldexp(dl, -j));
+    for (int j = END_REFINEMENTS; j >= 1; --j)
+        s->th[k++] = exp(l0 + ldexp(dl, -j));
     for (int i = 1; i < opt->grid - 1; ++i)
         s->th[k++] = exp(l0 + dl * i);
     for (int j = 1; j <= END_REFINEMENTS; ++j)
         s->th[k++] = exp(l1 - ldexp(dl, -j));
     s->th[k++] = opt->theta_max;
-    *n = k;
+    /* drop repeated tilts (grid = 2: both refinements start at the middle) */
+    size_t m = 1;
+    for (size_t i = 1; i < k; ++i)
+        if (s->th[i] > s->th[m - 1])
+            s->th[m++] = s->th[i];
+    *n = m;
     return 0;
 }
 
@@ -823,7 +830,7 @@ int usm_steady_solve(usm_steady *s, const usm_params *p, const usm_steady_option
     qsort(s->roots, s->count, sizeof s->roots[0], by_tilt);
     if (s->count > 0)
         return USM_OK;
-    if (brackets > 0 && notes.saturated && notes.rotor_failed == notes.tilts) {
+    if (brackets > 0 && notes.tilts > 0 && notes.saturated == notes.tilts) {
         char b3[32], b4[32];
         snprintf(s->msg, USM_MSG_LEN,
                  "the load T = %g N m exceeds what the friction law can transmit "
@@ -832,7 +839,7 @@ int usm_steady_solve(usm_steady *s, const usm_params *p, const usm_steady_option
                  "balances the rotor",
                  p->T, p->mu0, p->kappa, notes.sat_theta, fmt_num(b1, notes.sat_mu, "%.6g"),
                  fmt_num(b3, s->mu_inf, "%.6g"), fmt_num(b4, s->mu_sup, "%.6g"));
-    } else if (brackets > 0 && notes.no_contact && notes.rotor_failed == notes.tilts)
+    } else if (brackets > 0 && notes.tilts > 0 && notes.no_contact == notes.tilts)
         snprintf(s->msg, USM_MSG_LEN,
                  "the contact force F_n vanishes at the stationary tilt(s): friction "
                  "cannot transmit the load T = %g N m",
@@ -889,5 +896,28 @@ int usm_steady_solve_from(usm_steady *s, const usm_params *p, const double *u0)
         snprintf(s->msg, USM_MSG_LEN, "out of memory");
         return USM_EFAILED;
     }
+    return USM_OK;
+}
+
+int usm_steady_friction_range(usm_steady *s, const usm_params *p, double *mu_inf, double *mu_sup)
+{
+    s->count = 0;
+    s->msg[0] = '\0';
+    s->law_ready = 0;
+    if (usm_params_check(p, s->m, s->msg) != USM_OK)
+        return USM_EINPUT;
+    if (!s->m->friction) {
+        snprintf(s->msg, USM_MSG_LEN, "model: %s has no friction law (stick contact)", s->m->name);
+        return USM_EINPUT;
+    }
+    s->p = *p;
+    s->p_unit = *p;
+    s->p_unit.m0 = 1.0;
+    if (friction_analyse(s) != 0) {
+        snprintf(s->msg, USM_MSG_LEN, "out of memory");
+        return USM_EFAILED;
+    }
+    *mu_inf = s->mu_inf;
+    *mu_sup = s->mu_sup;
     return USM_OK;
 }

@@ -165,6 +165,15 @@ const usm_steady_solution *usm_steady_root(const usm_steady *s, size_t i);
  * the next solve or usm_steady_free. */
 const char *usm_steady_message(const usm_steady *s);
 
+/* Range of the slip model's friction law mu(v_rel) over all slip speeds, as
+ * the solver sees it (its grid, extrema and far ends; runtime/steady.c): no
+ * rotor speed balances a load needing F_t/F_n outside [*mu_inf, *mu_sup].
+ * The supremum of a non-monotone law can be an interior peak, not the value
+ * at large slip.  USM_OK, USM_EINPUT (bad parameters, or a stick model: no
+ * friction law; message in usm_steady_message) or USM_EFAILED (out of
+ * memory).  Clears the roots of the last solve. */
+int usm_steady_friction_range(usm_steady *s, const usm_params *p, double *mu_inf, double *mu_sup);
+
 /* Fill the derived quantities of `sol` from sol->u (used by the solver and by
  * callers that solve the residuals themselves). */
 void usm_steady_evaluate(const usm_model *m, const usm_params *p, usm_steady_solution *sol);

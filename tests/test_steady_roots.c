@@ -19,7 +19,9 @@
  *    over the rotor speed has sign changes, each root's residual vanishes,
  *    and the sweep's points are among steady's roots.  The message "exceeds
  *    what the friction law can transmit" comes exactly when the friction
- *    needed is above the law's maximum (found here by golden section).
+ *    needed is above the law's maximum (found here by golden section), and
+ *    usm_steady_friction_range gives that maximum (and the atan law's
+ *    closed-form range mu0 pi/2).
  * 4. Messages for extreme inputs name no "inf" or "nan".
  */
 #include <ctype.h>
@@ -33,6 +35,8 @@
 #include "usm_sweep.h"
 
 #include "check.h"
+
+#define HALF_PI 1.5707963267948966192313216916397514
 
 /* ---- helpers ------------------------------------------------------------------- */
 
@@ -324,6 +328,12 @@ static void check_stribeck(void)
               "stribeck T = %g: mu needed %.6g, law max %.6g, status %d: %s", p.T, mu_needed,
               mu_max, rc, usm_steady_message(s));
     }
+    /* the solver's view of the law's range: the peak, not the value at large slip */
+    double lo_mu, hi_mu;
+    CHECK(usm_steady_friction_range(s, &p, &lo_mu, &hi_mu) == USM_OK, "friction range: %s",
+          usm_steady_message(s));
+    CHECK(close_to(hi_mu, mu_max, 1e-12) && close_to(lo_mu, -mu_max, 1e-12),
+          "stribeck law range [%.15g, %.15g], golden section max %.15g", lo_mu, hi_mu, mu_max);
     printf("4dof_friction_stribeck (kappa = 1000 s/m, law max %.6g): %d of 61 loads have "
            "several rotor speeds\n",
            mu_max, multi);
@@ -338,6 +348,26 @@ static void check_stribeck(void)
     printf("4dof_friction_stribeck: steady contains the sweep's root at %d points\n", n);
     CHECK(n >= 10, "stribeck sweep: only %d converged points", n);
     usm_sweep_free(sw);
+}
+
+/* The range of the paper's law is mu0 (-pi/2, pi/2) in closed form; a stick
+ * model has none. */
+static void check_friction_range(void)
+{
+    usm_params p;
+    double lo, hi;
+    usm_params_default(&p);
+    usm_steady *s = usm_steady_alloc(usm_model_find("4dof"));
+    CHECK(usm_steady_friction_range(s, &p, &lo, &hi) == USM_OK, "4dof friction range: %s",
+          usm_steady_message(s));
+    CHECK(close_to(hi, p.mu0 * HALF_PI, 1e-15) && close_to(lo, -p.mu0 * HALF_PI, 1e-15),
+          "atan law range [%.17g, %.17g], expected +-%.17g", lo, hi, p.mu0 * HALF_PI);
+    usm_steady_free(s);
+    s = usm_steady_alloc(usm_model_find("3dof"));
+    CHECK(usm_steady_friction_range(s, &p, &lo, &hi) == USM_EINPUT &&
+              strstr(usm_steady_message(s), "no friction law"),
+          "3dof friction range: %s", usm_steady_message(s));
+    usm_steady_free(s);
 }
 
 /* ---- 4: messages for extreme inputs ----------------------------------------------- */
@@ -419,6 +449,7 @@ int main(void)
     check_negative_load("3dof", 0.3);
     check_negative_load("4dof", 1e4);
     check_stribeck();
+    check_friction_range();
     check_messages();
     if (failures)
         printf("%d check(s) failed\n", failures);
