@@ -827,9 +827,10 @@ int usm_steady_solve(usm_steady *s, const usm_params *p, const usm_steady_option
         snprintf(s->msg, USM_MSG_LEN, "out of memory");
         return USM_EFAILED;
     }
-    qsort(s->roots, s->count, sizeof s->roots[0], by_tilt);
-    if (s->count > 0)
+    if (s->count > 0) {
+        qsort(s->roots, s->count, sizeof s->roots[0], by_tilt);
         return USM_OK;
+    }
     if (brackets > 0 && notes.tilts > 0 && notes.saturated == notes.tilts) {
         char b3[32], b4[32];
         snprintf(s->msg, USM_MSG_LEN,
