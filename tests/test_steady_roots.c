@@ -3,7 +3,7 @@
  *
  * 1. Close pairs near folds.  Sweeps (usm_sweep: continuation, a second
  *    method) locate folds where the branch turns back, in T (3dof; 4dof with a
- *    friction law that transmits the load), m0 (3dof, 4dof) and f (3dof).  At
+ *    friction law that transmits the load), m0 and f (3dof, 4dof).  At
  *    1e-6 and 1e-4 relative from each fold on the side where solutions
  *    exist, the two roots near the fold's tilt are counted independently by
  *    the sign changes of the seed kernel's amplitude mismatch on a fine grid
@@ -12,7 +12,9 @@
  * 2. Agreement with the sweeps: at every converged grid point of those sweeps
  *    and of the sweeps along the negative-load branch (T < 0, both of its
  *    halves), the sweep's root is among steady's roots (tilt and rotor speed
- *    to 1e-9 relative).
+ *    to 1e-9 relative); at 20 loads from the negative-load fold to 0, steady
+ *    finds as many roots as the amplitude mismatch has sign changes on a
+ *    grid of 4e5 tilts.
  * 3. Non-monotone friction (4dof_friction_stribeck, kappa = 1000 s/m): at
  *    loads where two slip speeds balance the rotor, steady finds as many
  *    rotor speeds at the stationary tilt as a fine scan of the rotor residual
@@ -169,8 +171,9 @@ static void check_fold(const fold_case *c)
                 if (!(r->theta == last))
                     ++distinct_tilts;
                 last = r->theta;
-                CHECK(r->residual_norm <= 1e-10 * (q.m0 + fabs(q.T)), "%s %s = %.15g: residual %.3g",
-                      c->model, c->over, *field, r->residual_norm);
+                CHECK(r->residual_norm <= 1e-10 * (q.m0 + fabs(q.T)),
+                      "%s %s = %.15g: residual %.3g", c->model, c->over, *field,
+                      r->residual_norm);
             }
             printf("%s, %s = fold %+g relative (%.12g; fold tilt %.6g rad): %d roots near the "
                    "fold, fine-grid sign changes %d\n",
@@ -312,8 +315,8 @@ static void check_stribeck(void)
             if (!close_to(r->theta, theta, 1e-9))
                 continue;
             ++at_theta;
-            CHECK(r->residual_norm <= 1e-10 * (p.m0 + fabs(p.T)), "stribeck T = %g root %zu: residual %.3g",
-                  p.T, k, r->residual_norm);
+            CHECK(r->residual_norm <= 1e-10 * (p.m0 + fabs(p.T)),
+                  "stribeck T = %g root %zu: residual %.3g", p.T, k, r->residual_norm);
             if (k > 0 && close_to(usm_steady_root(s, k - 1)->theta, r->theta, 1e-9))
                 CHECK(fabs(usm_steady_root(s, k - 1)->v_rel) <= fabs(r->v_rel),
                       "stribeck T = %g: roots at one tilt not ordered by |v_rel|", p.T);
