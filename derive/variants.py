@@ -12,7 +12,8 @@ Assumptions and their choices:
   contact          "stick": no slip, rotor speed tied to the stator (2.4), 3 DOF
                    "slip":  rotor angle phi_R free, F_t = mu(v_rel) F_n (5.1), 4 DOF
   friction         (slip only) a name in FRICTION_LAWS: "atan" is the paper's
-                   mu0*atan(kappa*v_rel) (5.2); "tanh" is mu0*tanh(kappa*v_rel)
+                   mu0*atan(kappa*v_rel) (5.2); "tanh" is mu0*tanh(kappa*v_rel);
+                   "stribeck" is tanh with a decaying static peak (non-monotone)
   twist            "paper": twist angle phi + psi*cos(theta) (2.9)
                    "integrated": twist angle tau with tau' = omega_Z (extra state)
   spring_reference "theta0": F_R = F0 + c_R*(Z - H), Z measured from theta = 0
@@ -29,10 +30,15 @@ PAPER = {
 }
 
 # Friction laws mu(v_rel) of the slip model, as formulas in v_rel, mu0, kappa.
-# The runtime needs mu odd and increasing in v_rel (one rotor speed per load).
+# The runtime needs mu continuous in v_rel; it may be non-monotone (then
+# several rotor speeds can balance one load, and the stationary solver reports
+# each of them; see runtime/steady.c).
 FRICTION_LAWS = {
     "atan": "mu0*atan(kappa*v_rel)",
     "tanh": "mu0*tanh(kappa*v_rel)",
+    # Stribeck peak: a static excess of 50 % over mu0 that decays with slip on
+    # the scale 0.01 m/s (written 100*v_rel so the constants stay exact).
+    "stribeck": "mu0*tanh(kappa*v_rel)*(1 + exp(-(100*v_rel)**2)/2)",
 }
 
 MODELS = {
@@ -52,6 +58,9 @@ VARIANTS = {
                          "the linearisation is periodic, multipliers independent of t0"),
     "friction_tanh": ({"friction": "tanh"}, ["4dof"],
                       "friction law mu = mu0 tanh(kappa v_rel) instead of (5.2)"),
+    "friction_stribeck": ({"friction": "stribeck"}, ["4dof"],
+                          "friction law mu = mu0 tanh(kappa v_rel) (1 + 0.5 exp(-(v_rel/0.01)^2)) "
+                          "(Stribeck peak; not monotone for kappa above about 114 s/m)"),
 }
 
 

@@ -5,40 +5,114 @@
  * moment balance, with the rotor speed phidot_R as third unknown.
  *
  * Search, from the parameters alone:
- *  1. At fixed tilt theta the x1/y1 rows are linear in (cos alpha, sin alpha)
- *     (the excitation is the only place alpha enters); the generated seed kernel
- *     solves them and returns amplitude_mismatch = cos^2 + sin^2 - 1.  Its sign
- *     changes on a log-spaced theta grid bracket every stationary tilt in the
- *     range; GSL's Brent solver refines each one.
- *  2. Slip model: the rotor balance is monotone in phidot_R for a monotone
- *     friction law; an expanding bracket around 0 finds the sign change, or
- *     shows there is none (the load exceeds what friction can transmit).
+ *  1. Tilt.  At fixed tilt theta the x1/y1 rows are linear in
+ *     (m0 cos alpha, m0 sin alpha): the excitation is the only place alpha and
+ *     m0 enter.  The generated seed kernel, called with m0 = 1, solves them for
+ *     the torque vector A(theta) the excitation must supply; theta is
+ *     stationary where |A(theta)| = m0.  The search function is
+ *         g(theta) = log |A(theta)| - log m0,
+ *     a monotone transform of the kernel's amplitude_mismatch
+ *     |A|^2/m0^2 - 1 with the same roots and extrema that neither overflows
+ *     nor underflows for extreme m0, c_r, F0.  It is sampled on a log-spaced
+ *     grid of the tilt range, refined geometrically towards both ends (cells
+ *     halving 30 times, down to ~4e-11 relative).  Every root is then found
+ *     by one of two rules:
+ *       a. a sign change of g between neighbouring samples: GSL's Brent root
+ *          solver refines it;
+ *       b. a discrete extremum pointing towards zero (a sample lower than
+ *          both neighbours with all three positive, or higher with all three
+ *          negative): GSL's Brent minimiser locates the extremum of g between
+ *          the neighbours; where it crosses zero the cell pair holds two
+ *          roots, bracketed on either side of it; where it touches zero
+ *          within 1e-13 the double root is polished from there.
+ *     Why nothing is missed: let g be continuous with at most one extremum in
+ *     any two neighbouring cells.  A cell holding an odd number of roots shows
+ *     a sign change (rule a).  A cell, or a pair of neighbouring cells, whose
+ *     ends have the same sign but which holds roots holds an extremum of the
+ *     opposite sign between them; being alone in the window, that extremum
+ *     makes the sample nearest to it lower (higher) than both neighbours, so
+ *     rule b sees it, and the minimiser, started inside the window, finds it.
+ *     Limit: two extrema of g within two neighbouring cells (3.9 % in theta
+ *     each at the default 500 samples), i.e. features of g narrower than the
+ *     grid, can hide a pair of roots, and so can a pair inside one of the
+ *     two outermost cells (~4e-11 relative).  A pair closer than about 1e-8
+ *     relative (where g's extremum is within rounding of zero: the
+ *     resolution of a minimum in floating point is sqrt(eps)) is polished
+ *     from the extremum and reported as one root, or, if hybridsj does not
+ *     converge at the near-double root, not at all.
+ *  2. Rotor speed (slip model).  Given theta, the rotor balance needs the
+ *     friction coefficient mu_needed = F_t/F_n of the seed, and
+ *     v_rel = v_0 + R* phidot_R is affine in the rotor speed, so every root is
+ *     a slip speed with mu(v_rel) = mu_needed.  The friction law is only
+ *     assumed continuous with a continuous slope (the generated friction
+ *     kernel's): its extrema are located as sign changes of the slope on a
+ *     symmetric log grid of |v_rel| (40 samples per decade from
+ *     min(1e-12, 1e-6/kappa) to max(1e6, 1e6/kappa) m/s, plus 0; a cell whose
+ *     end slopes agree but whose values move against them holds two extrema
+ *     and is bisected), each refined by Brent on the slope.  Between
+ *     neighbouring extrema (and 0) mu is monotone, so each piece holds at most
+ *     one root, bracketed by the values at its ends; the two outer pieces are
+ *     assumed monotone beyond the grid and searched by doubling out to
+ *     |v_rel| = 1e300 m/s.  Limit: extrema of mu closer than one grid step
+ *     (5.9 % in v_rel) that cancel in the slope's sign, and non-monotone
+ *     behaviour beyond the grid, are not seen.  The law's supremum and
+ *     infimum are taken over the grid, the extrema and the far ends; only
+ *     when mu_needed lies outside them does the solver say the load exceeds
+ *     what the friction law can transmit.
  *  3. GSL's hybridsj polishes (theta, alpha[, phidot_R]) on the full residual
- *     with the generated Jacobian.
- * A root is reported only when hybridsj converged and the residual is small.
+ *     with the generated Jacobian.  A root is reported only when hybridsj
+ *     converged and each residual row is below 1e-10 m0 plus the rounding of
+ *     its terms (16 eps sum_j |dr_i/du_j| |u_j|: under a large load the
+ *     rotor row's terms are far larger than m0).
+ * Each distinct (theta, alpha, phidot_R) is its own root.  Roots are ordered
+ * by tilt; roots at the same tilt (several rotor speeds) by increasing
+ * |v_rel|, then by increasing phidot_R.
  */
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include <gsl/gsl_errno.h>
+#include <gsl/gsl_min.h>
 #include <gsl/gsl_multiroots.h>
 #include <gsl/gsl_roots.h>
 
 #include "usm.h"
 
-#define MAX_ROOTS 16
 #define TWO_PI 6.283185307179586476925286766559
+#define END_REFINEMENTS 30      /* halvings of the end cells of the tilt grid */
+#define TOUCH_TOL 1e-13         /* |g| of an extremum treated as a double root */
+#define V_PER_DECADE 40         /* friction grid density */
+#define V_FAR 1e300             /* outermost slip speed searched [m/s] */
+#define MAX_BISECT_DEPTH 30     /* subdivision of a friction cell hiding extrema */
+
+/* A root and its sort key: the refined tilt it was seeded from (shared by the
+ * rotor speeds found at one tilt, unlike the polished tilts). */
+typedef struct root_entry {
+    usm_steady_solution sol;
+    double key;
+} root_entry;
 
 struct usm_steady {
     const usm_model *m;
-    usm_params p;
+    usm_params p;      /* parameters of the current solve */
+    usm_params p_unit; /* the same with m0 = 1: the seed returns the torque A(theta) */
     gsl_multiroot_fdfsolver *solver;
     gsl_root_fsolver *brent;
+    gsl_min_fminimizer *fmin;
     gsl_vector *u0;
-    size_t count;
-    usm_steady_solution roots[MAX_ROOTS];
+    size_t count, cap;
+    root_entry *roots;
+    /* tilt grid of the current solve */
+    double *th, *na, *g;
+    size_t grid_cap;
+    /* friction law of the current solve (slip model): extrema and 0, ascending */
+    double *brk;
+    size_t nbrk, brk_cap;
+    int law_ready;
+    double mu_sup, mu_inf;
     char msg[USM_MSG_LEN];
 };
 
@@ -58,8 +132,9 @@ usm_steady *usm_steady_alloc(const usm_model *m)
     s->m = m;
     s->solver = gsl_multiroot_fdfsolver_alloc(gsl_multiroot_fdfsolver_hybridsj, (size_t)m->nu);
     s->brent = gsl_root_fsolver_alloc(gsl_root_fsolver_brent);
+    s->fmin = gsl_min_fminimizer_alloc(gsl_min_fminimizer_brent);
     s->u0 = gsl_vector_alloc((size_t)m->nu);
-    if (!s->solver || !s->brent || !s->u0) {
+    if (!s->solver || !s->brent || !s->fmin || !s->u0) {
         usm_steady_free(s);
         return NULL;
     }
@@ -74,8 +149,15 @@ void usm_steady_free(usm_steady *s)
         gsl_multiroot_fdfsolver_free(s->solver);
     if (s->brent)
         gsl_root_fsolver_free(s->brent);
+    if (s->fmin)
+        gsl_min_fminimizer_free(s->fmin);
     if (s->u0)
         gsl_vector_free(s->u0);
+    free(s->roots);
+    free(s->th);
+    free(s->na);
+    free(s->g);
+    free(s->brk);
     free(s);
 }
 
@@ -83,10 +165,22 @@ size_t usm_steady_count(const usm_steady *s) { return s->count; }
 
 const usm_steady_solution *usm_steady_root(const usm_steady *s, size_t i)
 {
-    return i < s->count ? &s->roots[i] : NULL;
+    return i < s->count ? &s->roots[i].sol : NULL;
 }
 
 const char *usm_steady_message(const usm_steady *s) { return s->msg; }
+
+/* A number for a message: never "inf" or "nan". */
+static const char *fmt_num(char buf[32], double x, const char *fmt)
+{
+    if (isfinite(x))
+        snprintf(buf, 32, fmt, x);
+    else if (isnan(x))
+        snprintf(buf, 32, "an undefined value");
+    else
+        snprintf(buf, 32, "%s", x > 0 ? "more than 1.8e308" : "less than -1.8e308");
+    return buf;
+}
 
 /* ---- GSL adaptors ---------------------------------------------------------- */
 
@@ -124,12 +218,31 @@ static int residual_fdf(const gsl_vector *u, void *ctx, gsl_vector *r, gsl_matri
     return status ? status : residual_df(u, ctx, J);
 }
 
-static double mismatch(double theta, void *ctx)
+/* |A(theta)|: the excitation torque that holds tilt theta. */
+static double needed_torque(const usm_steady *s, double theta)
+{
+    double out[USM_SEED_COUNT];
+    s->m->steady_seed(theta, &s->p_unit, out);
+    return hypot(out[USM_SEED_COS_ALPHA], out[USM_SEED_SIN_ALPHA]);
+}
+
+/* g(theta) = log |A(theta)| - log m0 (NaN or infinite where A is). */
+static double tilt_g(double theta, void *ctx)
 {
     const usm_steady *s = ctx;
-    double out[USM_SEED_COUNT];
-    s->m->steady_seed(theta, &s->p, out);
-    return out[USM_SEED_AMPLITUDE_MISMATCH];
+    return log(needed_torque(s, theta)) - log(s->p.m0);
+}
+
+/* sign * g(exp(x)): the minimiser works in log theta, like the grid. */
+typedef struct extremum_ctx {
+    usm_steady *s;
+    double sign;
+} extremum_ctx;
+
+static double tilt_g_log(double x, void *ctx)
+{
+    const extremum_ctx *c = ctx;
+    return c->sign * tilt_g(exp(x), c->s);
 }
 
 /* Residual scale: torques are compared with the excitation amplitude. */
@@ -138,55 +251,224 @@ static double residual_scale(const usm_params *p)
     return p->m0 > 0 ? p->m0 : 1.0;
 }
 
-/* ---- search steps ---------------------------------------------------------- */
+/* ---- one-dimensional root refinement ---------------------------------------- */
 
-static int refine_theta(usm_steady *s, double lo, double hi, double *theta)
+/* Root of f in [lo, hi] where f changes sign (a zero end is the root). */
+static int refine_root(usm_steady *s, gsl_function *F, double lo, double hi, double flo,
+                       double fhi, double *root)
 {
-    gsl_function F = {mismatch, s};
-    if (gsl_root_fsolver_set(s->brent, &F, lo, hi) != GSL_SUCCESS)
+    if (flo == 0) {
+        *root = lo;
+        return 0;
+    }
+    if (fhi == 0) {
+        *root = hi;
+        return 0;
+    }
+    if (gsl_root_fsolver_set(s->brent, F, lo, hi) != GSL_SUCCESS)
         return -1;
     for (int it = 0; it < 200; ++it) {
         if (gsl_root_fsolver_iterate(s->brent) != GSL_SUCCESS)
             return -1;
         lo = gsl_root_fsolver_x_lower(s->brent);
         hi = gsl_root_fsolver_x_upper(s->brent);
-        if (gsl_root_test_interval(lo, hi, 0.0, 1e-15) == GSL_SUCCESS)
+        if (gsl_root_test_interval(lo, hi, DBL_MIN, 1e-15) == GSL_SUCCESS)
             break;
     }
-    *theta = gsl_root_fsolver_root(s->brent);
+    *root = gsl_root_fsolver_root(s->brent);
     return 0;
 }
 
-static double rotor_residual(const usm_steady *s, const double *u2, double w)
+/* ---- friction law (slip model) --------------------------------------------- */
+
+static double law_mu(const usm_steady *s, double v)
 {
-    double u[USM_MAX_NU] = {u2[0], u2[1], w}, r[USM_MAX_NU];
-    s->m->steady_residual(u, &s->p, r);
-    return r[2];
+    double out[2];
+    s->m->friction(v, &s->p, out);
+    return out[0];
 }
 
-/* Rotor speed bracket for the slip model: the rotor row changes sign between
- * -W and W for some W, unless friction cannot carry the load. */
-static int find_rotor_speed(usm_steady *s, double *u)
+static double law_slope(double v, void *ctx)
 {
-    double W = 1.0;
-    for (int k = 0; k < 60; ++k, W *= 2.0) {
-        double a = rotor_residual(s, u, -W), b = rotor_residual(s, u, W);
-        if (!isfinite(a) || !isfinite(b))
+    const usm_steady *s = ctx;
+    double out[2];
+    s->m->friction(v, &s->p, out);
+    return out[1];
+}
+
+typedef struct gap_ctx {
+    const usm_steady *s;
+    double mu_needed;
+} gap_ctx;
+
+static double mu_gap(double v, void *ctx)
+{
+    const gap_ctx *c = ctx;
+    return law_mu(c->s, v) - c->mu_needed;
+}
+
+static int sgn(double x) { return (x > 0) - (x < 0); }
+
+static int add_break(usm_steady *s, double v)
+{
+    if (s->nbrk == s->brk_cap) {
+        size_t cap = s->brk_cap ? 2 * s->brk_cap : 16;
+        double *b = realloc(s->brk, cap * sizeof *b);
+        if (!b)
             return -1;
-        if ((a < 0) != (b < 0)) {
-            double lo = -W, hi = W;
-            for (int it = 0; it < 200 && hi - lo > 1e-14 * W; ++it) {
-                double mid = 0.5 * (lo + hi), c = rotor_residual(s, u, mid);
-                if ((c < 0) == (a < 0))
-                    lo = mid;
-                else
-                    hi = mid;
+        s->brk = b;
+        s->brk_cap = cap;
+    }
+    s->brk[s->nbrk++] = v;
+    return 0;
+}
+
+static void note_mu(usm_steady *s, double mu)
+{
+    if (isfinite(mu)) {
+        s->mu_sup = fmax(s->mu_sup, mu);
+        s->mu_inf = fmin(s->mu_inf, mu);
+    }
+}
+
+/* Extrema of mu in the cell [a, b] (slope signs da, db, values ma, mb). */
+static int scan_cell(usm_steady *s, double a, double b, double ma, double mb, int da, int db,
+                     int depth)
+{
+    gsl_function F = {law_slope, s};
+    if (da != 0 && db != 0 && da != db) {
+        double e;
+        if (refine_root(s, &F, a, b, law_slope(a, s), law_slope(b, s), &e) == 0) {
+            note_mu(s, law_mu(s, e));
+            return add_break(s, e);
+        }
+        return 0;
+    }
+    /* Equal end slopes, but the values move against them: an even number of
+     * extrema inside; bisect until they separate. */
+    const int dir = da ? da : db;
+    if (dir == 0 || sgn(mb - ma) != -dir || depth >= MAX_BISECT_DEPTH)
+        return 0;
+    const double c = 0.5 * (a + b), mc = law_mu(s, c);
+    const int dc = sgn(law_slope(c, s));
+    note_mu(s, mc);
+    if (scan_cell(s, a, c, ma, mc, da, dc ? dc : da, depth + 1) != 0)
+        return -1;
+    return scan_cell(s, c, b, mc, mb, dc ? dc : db, db, depth + 1);
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* The monotone pieces of the friction law: its extrema and 0, ascending, and
+ * the law's supremum and infimum.  Depends only on the parameters. */
+static int friction_analyse(usm_steady *s)
+{
+    s->nbrk = 0;
+    s->mu_sup = -INFINITY;
+    s->mu_inf = INFINITY;
+    const double kappa = s->p.kappa;
+    const double v_lo = fmin(1e-12, 1e-6 / kappa), v_hi = fmax(1e6, 1e6 / kappa);
+    const int n = (int)ceil(log10(v_hi / v_lo) * V_PER_DECADE);
+    const double step = log(v_hi / v_lo) / n;
+    for (int side = -1; side <= 1; side += 2) {
+        /* from 0 outwards: 0, v_lo, ..., v_hi on this side */
+        double a = 0, ma = law_mu(s, 0);
+        int da = sgn(law_slope(0, s));
+        note_mu(s, ma);
+        for (int i = 0; i <= n; ++i) {
+            const double b = side * v_lo * exp(step * i), mb = law_mu(s, b);
+            const int db = sgn(law_slope(b, s));
+            note_mu(s, mb);
+            if (isfinite(ma) && isfinite(mb)) {
+                /* scan in increasing v_rel */
+                int rc = side > 0 ? scan_cell(s, a, b, ma, mb, da, db, 0)
+                                  : scan_cell(s, b, a, mb, ma, db, da, 0);
+                if (rc != 0)
+                    return -1;
             }
-            u[2] = 0.5 * (lo + hi);
-            return 0;
+            a = b;
+            ma = mb;
+            if (db != 0)
+                da = db;
+        }
+        note_mu(s, law_mu(s, side * V_FAR));
+    }
+    if (add_break(s, 0.0) != 0)
+        return -1;
+    qsort(s->brk, s->nbrk, sizeof *s->brk, cmp_double);
+    s->law_ready = 1;
+    return 0;
+}
+
+/* Every slip speed v with mu(v) = mu_needed: at most one per monotone piece. */
+static int slip_speeds(usm_steady *s, double mu_needed, double *v, int vmax)
+{
+    gap_ctx c = {s, mu_needed};
+    gsl_function F = {mu_gap, &c};
+    int nv = 0;
+    for (size_t j = 0; j + 1 < s->nbrk && nv < vmax; ++j) {
+        double lo = s->brk[j], hi = s->brk[j + 1], flo = mu_gap(lo, &c), fhi = mu_gap(hi, &c);
+        if (!isfinite(flo) || !isfinite(fhi) || sgn(flo) * sgn(fhi) > 0)
+            continue;
+        if (refine_root(s, &F, lo, hi, flo, fhi, &v[nv]) == 0)
+            ++nv;
+    }
+    /* the outer pieces, monotone out to +-V_FAR */
+    for (int side = -1; side <= 1 && nv < vmax; side += 2) {
+        const double b = side < 0 ? s->brk[0] : s->brk[s->nbrk - 1];
+        const double fb = mu_gap(b, &c);
+        if (!isfinite(fb))
+            continue;
+        if (fb == 0) {
+            v[nv++] = b;
+            continue;
+        }
+        double d = fmax(fabs(b), 1e-12), prev = b, fprev = fb;
+        while (fabs(b) + d <= V_FAR) {
+            const double x = b + side * d, fx = mu_gap(x, &c);
+            if (!isfinite(fx))
+                break;
+            if (sgn(fx) != sgn(fb)) {
+                double lo = side < 0 ? x : prev, hi = side < 0 ? prev : x;
+                double flo = side < 0 ? fx : fprev, fhi = side < 0 ? fprev : fx;
+                if (refine_root(s, &F, lo, hi, flo, fhi, &v[nv]) == 0)
+                    ++nv;
+                break;
+            }
+            prev = x;
+            fprev = fx;
+            d *= 2.0;
         }
     }
-    return -1;
+    return nv;
+}
+
+/* ---- polishing and storing roots ------------------------------------------- */
+
+/* The residual at x vanishes: each row within `base` plus the rounding of its
+ * terms, estimated as 16 eps sum_j |dr_i/du_j| |u_j| (the residual cannot be
+ * resolved better than a last-bit change of the unknowns moves it; this
+ * matters where a row's terms are much larger than m0, e.g. the rotor row
+ * of the slip model under a large load). */
+static int residual_vanishes(const usm_steady *s, const gsl_vector *x, const gsl_vector *f,
+                             double base)
+{
+    const int nu = s->m->nu;
+    double J[USM_MAX_NU * USM_MAX_NU];
+    s->m->steady_jacobian(x->data, &s->p, J);
+    for (int i = 0; i < nu; ++i) {
+        double floor = 0;
+        for (int j = 0; j < nu; ++j)
+            floor += fabs(J[i * nu + j]) * fabs(gsl_vector_get(x, (size_t)j));
+        const double tol = base + 16 * DBL_EPSILON * (isfinite(floor) ? floor : 0);
+        if (!(fabs(gsl_vector_get(f, (size_t)i)) <= tol))
+            return 0;
+    }
+    return 1;
 }
 
 static int polish(usm_steady *s, double *u, double xtol)
@@ -198,22 +480,27 @@ static int polish(usm_steady *s, double *u, double xtol)
     if (gsl_multiroot_fdfsolver_set(s->solver, &fdf, s->u0) != GSL_SUCCESS)
         return -1;
     const double fscale = residual_scale(&s->p);
-    int status = GSL_CONTINUE;
-    for (int it = 0; it < 200 && status == GSL_CONTINUE; ++it) {
-        status = gsl_multiroot_fdfsolver_iterate(s->solver);
-        if (status != GSL_SUCCESS) {
+    int ok = 0;
+    for (int it = 0; it < 200; ++it) {
+        if (gsl_multiroot_fdfsolver_iterate(s->solver) != GSL_SUCCESS) {
             /* No further progress, or a trial step left the domain (a NaN):
              * near a tilt of 1e-9 rad or a huge rotor speed, xtol can ask for
              * more than rounding allows.  Accept the last iterate only if its
              * residual vanishes. */
-            status = gsl_multiroot_test_residual(s->solver->f, 1e-12 * fscale);
+            ok = residual_vanishes(s, s->solver->x, s->solver->f, 1e-12 * fscale);
             break;
         }
-        status = gsl_multiroot_test_delta(s->solver->dx, s->solver->x, 0.0, xtol);
-        if (status == GSL_SUCCESS)
-            status = gsl_multiroot_test_residual(s->solver->f, 1e-10 * fscale);
+        /* converged: the step is below xtol and the residual small, or the
+         * residual is at rounding level (then the step is rounding noise and
+         * xtol may be out of reach) */
+        if ((gsl_multiroot_test_delta(s->solver->dx, s->solver->x, 0.0, xtol) == GSL_SUCCESS &&
+             residual_vanishes(s, s->solver->x, s->solver->f, 1e-10 * fscale)) ||
+            residual_vanishes(s, s->solver->x, s->solver->f, 1e-12 * fscale)) {
+            ok = 1;
+            break;
+        }
     }
-    if (status != GSL_SUCCESS)
+    if (!ok)
         return -1;
     for (size_t i = 0; i < nu; ++i)
         u[i] = gsl_vector_get(s->solver->x, i);
@@ -246,95 +533,346 @@ void usm_steady_evaluate(const usm_model *m, const usm_params *p, usm_steady_sol
         sol->residual_norm = fmax(sol->residual_norm, fabs(r[i]));
 }
 
+/* Same root: the same tilt and the same rotor speed (the slip model's third
+ * unknown; 0 in both for the stick model), to 1e-9 relative. */
+static int same_root(const usm_steady_solution *a, const double *u, int nu)
+{
+    if (!(fabs(a->u[0] - u[0]) <= 1e-9 * fabs(u[0])))
+        return 0;
+    if (nu < 3)
+        return 1;
+    double wscale = fabs(a->v_c / a->R_star); /* the rotor speed without slip */
+    if (!isfinite(wscale))
+        wscale = 0;
+    return fabs(a->u[2] - u[2]) <= 1e-9 * (fabs(a->u[2]) + fabs(u[2]) + wscale);
+}
+
 /* Store a polished root unless it duplicates one already found. */
-static void add_root(usm_steady *s, const double *u)
+static int add_root(usm_steady *s, const double *u, double key)
 {
     for (size_t k = 0; k < s->count; ++k)
-        if (fabs(s->roots[k].u[0] - u[0]) <= 1e-9 * fabs(u[0]))
-            return;
-    if (s->count == MAX_ROOTS)
-        return;
-    usm_steady_solution *sol = &s->roots[s->count++];
-    memset(sol, 0, sizeof *sol);
-    memcpy(sol->u, u, sizeof(double) * (size_t)s->m->nu);
-    usm_steady_evaluate(s->m, &s->p, sol);
+        if (same_root(&s->roots[k].sol, u, s->m->nu))
+            return 0;
+    if (s->count == s->cap) {
+        size_t cap = s->cap ? 2 * s->cap : 16;
+        root_entry *r = realloc(s->roots, cap * sizeof *r);
+        if (!r)
+            return -1;
+        s->roots = r;
+        s->cap = cap;
+    }
+    root_entry *e = &s->roots[s->count++];
+    memset(e, 0, sizeof *e);
+    memcpy(e->sol.u, u, sizeof(double) * (size_t)s->m->nu);
+    usm_steady_evaluate(s->m, &s->p, &e->sol);
+    e->key = key;
+    return 0;
 }
 
-static int by_theta(const void *a, const void *b)
+static int by_tilt(const void *a, const void *b)
 {
-    double ta = ((const usm_steady_solution *)a)->theta;
-    double tb = ((const usm_steady_solution *)b)->theta;
-    return (ta > tb) - (ta < tb);
+    const root_entry *x = a, *y = b;
+    if (x->key != y->key)
+        return (x->key > y->key) - (x->key < y->key);
+    double vx = fabs(x->sol.v_rel), vy = fabs(y->sol.v_rel);
+    if (vx != vy)
+        return (vx > vy) - (vx < vy);
+    return (x->sol.rotor_speed > y->sol.rotor_speed) - (x->sol.rotor_speed < y->sol.rotor_speed);
 }
 
-/* Seed (theta, alpha[, phidot_R]) at a refined tilt, then polish. */
-static int root_at(usm_steady *s, double theta, double xtol, int *saturated)
+/* What the search saw, for the message when no root converged. */
+typedef struct search_notes {
+    int tilts;            /* tilts refined */
+    int saturated;        /* tilts without a rotor speed because mu_needed is
+                             outside the friction law's range */
+    double sat_theta, sat_mu; /* the first of them */
+    int no_contact;       /* tilts without a rotor speed because F_n = 0 there */
+    int oom;
+} search_notes;
+
+/* v_rel as a function of the rotor speed at (theta, alpha). */
+static double slip_at(const usm_steady *s, double theta, double alpha, double w)
+{
+    double u[USM_MAX_NU] = {theta, alpha, w}, y[USM_STEADY_COUNT];
+    s->m->steady_outputs(u, &s->p, y);
+    return y[USM_STEADY_V_REL];
+}
+
+/* The rotor speed with slip v at (theta, alpha): v_rel is affine in it. */
+static int rotor_speed_for(const usm_steady *s, double theta, double alpha, double v, double *w)
+{
+    const double v0 = slip_at(s, theta, alpha, 0.0);
+    double W = 1.0, slope = 0.5 * (slip_at(s, theta, alpha, W) - slip_at(s, theta, alpha, -W));
+    if (isfinite(slope) && slope != 0 && isfinite(v0) && fabs(v0 / slope) > 1.0) {
+        W = fabs(v0 / slope);
+        slope = 0.5 * (slip_at(s, theta, alpha, W) - slip_at(s, theta, alpha, -W)) / W;
+    }
+    if (!isfinite(slope) || slope == 0 || !isfinite(v0))
+        return -1;
+    double x = (v - v0) / slope;
+    x += (v - slip_at(s, theta, alpha, x)) / slope; /* one correction for rounding */
+    if (!isfinite(x))
+        return -1;
+    *w = x;
+    return 0;
+}
+
+/* Seed (theta, alpha[, phidot_R]) at a refined tilt, then polish every root
+ * there (the slip model: one per slip speed balancing the rotor). */
+static int roots_at(usm_steady *s, double theta, double xtol, search_notes *notes)
 {
     double seed[USM_SEED_COUNT], u[USM_MAX_NU] = {theta, 0, 0};
-    s->m->steady_seed(theta, &s->p, seed);
+    s->m->steady_seed(theta, &s->p_unit, seed);
     u[1] = atan2(seed[USM_SEED_SIN_ALPHA], seed[USM_SEED_COS_ALPHA]);
-    if (s->m->nu == 3 && find_rotor_speed(s, u) != 0) {
-        *saturated = 1;
+    ++notes->tilts;
+    if (s->m->nu < 3) {
+        if (polish(s, u, xtol) == 0 && add_root(s, u, theta) != 0)
+            notes->oom = 1;
+        return 0;
+    }
+    if (!s->m->friction)
+        return -1;
+    if (!s->law_ready && friction_analyse(s) != 0) {
+        notes->oom = 1;
         return -1;
     }
-    if (polish(s, u, xtol) != 0)
-        return -1;
-    add_root(s, u);
+    const double F_t = seed[USM_SEED_F_T], F_n = seed[USM_SEED_F_N];
+    if (F_n == 0) {
+        ++notes->no_contact;
+        return 0;
+    }
+    const double mu_needed = F_t / F_n;
+    double v[64];
+    const int nv = isfinite(mu_needed) ? slip_speeds(s, mu_needed, v, 64) : 0;
+    if (nv == 0 && !isnan(mu_needed)) {
+        if (!(mu_needed >= s->mu_inf && mu_needed <= s->mu_sup)) {
+            if (notes->saturated++ == 0) {
+                notes->sat_theta = theta;
+                notes->sat_mu = mu_needed;
+            }
+        }
+    }
+    for (int k = 0; k < nv; ++k) {
+        double uk[USM_MAX_NU] = {theta, u[1], 0};
+        if (rotor_speed_for(s, theta, u[1], v[k], &uk[2]) != 0)
+            continue;
+        if (polish(s, uk, xtol) == 0 && add_root(s, uk, theta) != 0)
+            notes->oom = 1;
+    }
     return 0;
+}
+
+/* ---- the tilt search -------------------------------------------------------- */
+
+/* The tilt grid: log-spaced, each end cell halved END_REFINEMENTS times. */
+static int tilt_grid(usm_steady *s, const usm_steady_options *opt, size_t *n)
+{
+    const size_t need = (size_t)opt->grid + 2 * END_REFINEMENTS;
+    if (need > s->grid_cap) {
+        double *th = realloc(s->th, need * sizeof *th);
+        if (th)
+            s->th = th;
+        double *na = realloc(s->na, need * sizeof *na);
+        if (na)
+            s->na = na;
+        double *g = realloc(s->g, need * sizeof *g);
+        if (g)
+            s->g = g;
+        if (!th || !na || !g)
+            return -1;
+        s->grid_cap = need;
+    }
+    const double l0 = log(opt->theta_min), l1 = log(opt->theta_max);
+    const double dl = (l1 - l0) / (opt->grid - 1);
+    size_t k = 0;
+    s->th[k++] = opt->theta_min;
+    for (int j = END_REFINEMENTS; j >= 1; --j)
+        s->th[k++] = exp(l0 + ldexp(dl, -j));
+    for (int i = 1; i < opt->grid - 1; ++i)
+        s->th[k++] = exp(l0 + dl * i);
+    for (int j = 1; j <= END_REFINEMENTS; ++j)
+        s->th[k++] = exp(l1 - ldexp(dl, -j));
+    s->th[k++] = opt->theta_max;
+    /* drop repeated tilts (grid = 2: both refinements start at the middle) */
+    size_t m = 1;
+    for (size_t i = 1; i < k; ++i)
+        if (s->th[i] > s->th[m - 1])
+            s->th[m++] = s->th[i];
+    *n = m;
+    return 0;
+}
+
+/* The extremum of g in (th[j-1], th[j+1]) around the discrete one at th[j]:
+ * its tilt and g there.  sign = +1 for a minimum, -1 for a maximum. */
+static int locate_extremum(usm_steady *s, size_t j, double sign, double *theta, double *gext)
+{
+    extremum_ctx c = {s, sign};
+    gsl_function F = {tilt_g_log, &c};
+    double a = log(s->th[j - 1]), x = log(s->th[j]), b = log(s->th[j + 1]);
+    if (gsl_min_fminimizer_set_with_values(s->fmin, &F, x, sign * s->g[j], a, sign * s->g[j - 1],
+                                           b, sign * s->g[j + 1]) != GSL_SUCCESS)
+        return -1;
+    for (int it = 0; it < 100; ++it) {
+        if (gsl_min_fminimizer_iterate(s->fmin) != GSL_SUCCESS)
+            return -1;
+        if (gsl_min_fminimizer_f_minimum(s->fmin) < 0) /* crosses zero: enough */
+            break;
+        a = gsl_min_fminimizer_x_lower(s->fmin);
+        b = gsl_min_fminimizer_x_upper(s->fmin);
+        if (gsl_min_test_interval(a, b, 1e-10, 0.0) == GSL_SUCCESS)
+            break;
+    }
+    *theta = exp(gsl_min_fminimizer_x_minimum(s->fmin));
+    *gext = sign * gsl_min_fminimizer_f_minimum(s->fmin);
+    return 0;
+}
+
+/* Refine the root of g in [lo, hi] (g changes sign) and solve there. */
+static void tilt_root(usm_steady *s, double lo, double hi, double glo, double ghi, double xtol,
+                      search_notes *notes, int *brackets)
+{
+    gsl_function F = {tilt_g, s};
+    double theta;
+    ++*brackets;
+    if (refine_root(s, &F, lo, hi, glo, ghi, &theta) == 0)
+        roots_at(s, theta, xtol, notes);
 }
 
 int usm_steady_solve(usm_steady *s, const usm_params *p, const usm_steady_options *opt)
 {
     usm_steady_options def;
+    char b1[32], b2[32];
     if (!opt) {
         usm_steady_options_default(&def);
         opt = &def;
     }
     s->count = 0;
     s->msg[0] = '\0';
+    s->law_ready = 0;
     if (usm_params_check(p, s->m, s->msg) != USM_OK)
         return USM_EINPUT;
-    if (!(opt->theta_min > 0 && opt->theta_max > opt->theta_min && opt->grid >= 2)) {
+    if (!(opt->theta_min > 0 && opt->theta_max > opt->theta_min && isfinite(opt->theta_max) &&
+          opt->grid >= 2)) {
         snprintf(s->msg, USM_MSG_LEN, "theta range: need 0 < theta_min < theta_max and grid >= 2");
         return USM_EINPUT;
     }
     s->p = *p;
-    const double ratio = pow(opt->theta_max / opt->theta_min, 1.0 / (opt->grid - 1));
-    double th_prev = opt->theta_min, h_prev = mismatch(th_prev, s);
-    double need_min = INFINITY, need_at = th_prev;
-    int brackets = 0, saturated = 0;
-    for (int i = 1; i < opt->grid; ++i) {
-        double th = i == opt->grid - 1 ? opt->theta_max : th_prev * ratio, h = mismatch(th, s);
-        if (isfinite(h) && h + 1 >= 0 && sqrt(h + 1) * p->m0 < need_min) {
-            need_min = sqrt(h + 1) * p->m0;
-            need_at = th;
-        }
-        if (isfinite(h) && isfinite(h_prev) && (h < 0) != (h_prev < 0)) {
-            double theta;
-            ++brackets;
-            if (refine_theta(s, th_prev, th, &theta) == 0)
-                root_at(s, theta, opt->xtol, &saturated);
-        }
-        th_prev = th;
-        h_prev = h;
+    s->p_unit = *p;
+    s->p_unit.m0 = 1.0;
+    size_t n;
+    if (tilt_grid(s, opt, &n) != 0) {
+        snprintf(s->msg, USM_MSG_LEN, "out of memory");
+        return USM_EFAILED;
     }
-    qsort(s->roots, s->count, sizeof s->roots[0], by_theta);
-    if (s->count > 0)
+    /* sample; the torque needed over the range, for the message */
+    double need_min = INFINITY, need_min_at = NAN, need_max = -INFINITY, need_max_at = NAN;
+    size_t finite = 0;
+    for (size_t i = 0; i < n; ++i) {
+        s->na[i] = needed_torque(s, s->th[i]);
+        s->g[i] = log(s->na[i]) - log(p->m0);
+        if (!isfinite(s->g[i])) {
+            s->g[i] = NAN;
+            continue;
+        }
+        ++finite;
+        if (s->na[i] < need_min) {
+            need_min = s->na[i];
+            need_min_at = s->th[i];
+        }
+        if (s->na[i] > need_max) {
+            need_max = s->na[i];
+            need_max_at = s->th[i];
+        }
+    }
+    search_notes notes = {0};
+    int brackets = 0;
+    const double *th = s->th, *g = s->g;
+    for (size_t i = 0; i + 1 < n; ++i) {
+        /* rule a: a sign change in the cell */
+        if (isfinite(g[i]) && isfinite(g[i + 1]) && (g[i] < 0) != (g[i + 1] < 0))
+            tilt_root(s, th[i], th[i + 1], g[i], g[i + 1], opt->xtol, &notes, &brackets);
+        if (i == 0 || !isfinite(g[i - 1]) || !isfinite(g[i]) || !isfinite(g[i + 1]))
+            continue;
+        /* rule b: a discrete extremum pointing towards zero */
+        double sign;
+        if (g[i] > 0 && g[i] < g[i - 1] && g[i] < g[i + 1])
+            sign = 1.0;
+        else if (g[i] < 0 && g[i] > g[i - 1] && g[i] > g[i + 1])
+            sign = -1.0;
+        else
+            continue;
+        double te, ge;
+        if (locate_extremum(s, i, sign, &te, &ge) != 0)
+            continue;
+        /* the refined extremum bounds the torque needed over the range */
+        const double nt = needed_torque(s, te);
+        if (sign > 0 && nt < need_min) {
+            need_min = nt;
+            need_min_at = te;
+        }
+        if (sign < 0 && nt > need_max) {
+            need_max = nt;
+            need_max_at = te;
+        }
+        if (sign * ge < 0) {
+            tilt_root(s, th[i - 1], te, g[i - 1], ge, opt->xtol, &notes, &brackets);
+            tilt_root(s, te, th[i + 1], ge, g[i + 1], opt->xtol, &notes, &brackets);
+        } else if (fabs(ge) <= TOUCH_TOL) {
+            ++brackets;
+            roots_at(s, te, opt->xtol, &notes);
+        }
+    }
+    if (notes.oom) {
+        s->count = 0;
+        snprintf(s->msg, USM_MSG_LEN, "out of memory");
+        return USM_EFAILED;
+    }
+    if (s->count > 0) {
+        qsort(s->roots, s->count, sizeof s->roots[0], by_tilt);
         return USM_OK;
-    if (saturated)
+    }
+    if (brackets > 0 && notes.tilts > 0 && notes.saturated == notes.tilts) {
+        char b3[32], b4[32];
         snprintf(s->msg, USM_MSG_LEN,
                  "the load T = %g N m exceeds what the friction law can transmit "
-                 "(mu0 = %g, kappa = %g): no rotor speed balances the rotor",
-                 p->T, p->mu0, p->kappa);
-    else if (brackets == 0)
+                 "(mu0 = %g, kappa = %g): at the stationary tilt %.6g rad it needs "
+                 "F_t/F_n = %s, outside the law's range [%s, %s]: no rotor speed "
+                 "balances the rotor",
+                 p->T, p->mu0, p->kappa, notes.sat_theta, fmt_num(b1, notes.sat_mu, "%.6g"),
+                 fmt_num(b3, s->mu_inf, "%.6g"), fmt_num(b4, s->mu_sup, "%.6g"));
+    } else if (brackets > 0 && notes.tilts > 0 && notes.no_contact == notes.tilts)
         snprintf(s->msg, USM_MSG_LEN,
-                 "no tilt theta in [%g, %g] rad balances the excitation: m0 = %g N m, "
-                 "but holding any tilt needs at least %.4g N m (at theta = %.3g rad)",
-                 opt->theta_min, opt->theta_max, p->m0, need_min, need_at);
-    else
+                 "the contact force F_n vanishes at the stationary tilt(s): friction "
+                 "cannot transmit the load T = %g N m",
+                 p->T);
+    else if (brackets > 0)
         snprintf(s->msg, USM_MSG_LEN,
                  "the stationary equations (3.5) did not converge at the %d bracketed tilt(s)",
                  brackets);
+    else if (finite == 0)
+        snprintf(s->msg, USM_MSG_LEN,
+                 "no tilt theta in [%g, %g] rad can be evaluated: the torque needed to hold "
+                 "it is not finite in double precision anywhere in the range (a parameter "
+                 "is too large or too small)",
+                 opt->theta_min, opt->theta_max);
+    else if (need_min > p->m0)
+        snprintf(s->msg, USM_MSG_LEN,
+                 "no tilt theta in [%g, %g] rad balances the excitation: m0 = %g N m, "
+                 "but holding any tilt needs at least %s N m (at theta = %.3g rad)",
+                 opt->theta_min, opt->theta_max, p->m0, fmt_num(b1, need_min, "%.4g"),
+                 need_min_at);
+    else if (need_max < p->m0)
+        snprintf(s->msg, USM_MSG_LEN,
+                 "no tilt theta in [%g, %g] rad balances the excitation: m0 = %g N m "
+                 "exceeds the at most %s N m that any tilt in the range holds (at theta = "
+                 "%.3g rad); a stationary tilt, if any, lies outside the range",
+                 opt->theta_min, opt->theta_max, p->m0, fmt_num(b2, need_max, "%.4g"),
+                 need_max_at);
+    else
+        snprintf(s->msg, USM_MSG_LEN,
+                 "no tilt theta in [%g, %g] rad balances the excitation: the torque needed "
+                 "is not finite at %zu of the %zu tilts sampled",
+                 opt->theta_min, opt->theta_max, n - finite, n);
     return USM_ENOSOLUTION;
 }
 
@@ -346,12 +884,41 @@ int usm_steady_solve_from(usm_steady *s, const usm_params *p, const double *u0)
     if (usm_params_check(p, s->m, s->msg) != USM_OK)
         return USM_EINPUT;
     s->p = *p;
+    s->p_unit = *p;
+    s->p_unit.m0 = 1.0;
     memcpy(u, u0, sizeof(double) * (size_t)s->m->nu);
     int rc = polish(s, u, 1e-13);
     if (rc != 0 || !(u[0] > 0)) {
         snprintf(s->msg, USM_MSG_LEN, "Newton iteration from the given start did not converge");
         return USM_ENOSOLUTION;
     }
-    add_root(s, u);
+    if (add_root(s, u, u[0]) != 0) {
+        s->count = 0;
+        snprintf(s->msg, USM_MSG_LEN, "out of memory");
+        return USM_EFAILED;
+    }
+    return USM_OK;
+}
+
+int usm_steady_friction_range(usm_steady *s, const usm_params *p, double *mu_inf, double *mu_sup)
+{
+    s->count = 0;
+    s->msg[0] = '\0';
+    s->law_ready = 0;
+    if (usm_params_check(p, s->m, s->msg) != USM_OK)
+        return USM_EINPUT;
+    if (!s->m->friction) {
+        snprintf(s->msg, USM_MSG_LEN, "model: %s has no friction law (stick contact)", s->m->name);
+        return USM_EINPUT;
+    }
+    s->p = *p;
+    s->p_unit = *p;
+    s->p_unit.m0 = 1.0;
+    if (friction_analyse(s) != 0) {
+        snprintf(s->msg, USM_MSG_LEN, "out of memory");
+        return USM_EFAILED;
+    }
+    *mu_inf = s->mu_inf;
+    *mu_sup = s->mu_sup;
     return USM_OK;
 }

@@ -142,9 +142,13 @@ usm_steady *usm_steady_alloc(const usm_model *m);
 /* Free s and its roots; NULL is allowed. */
 void usm_steady_free(usm_steady *s);
 
-/* Find every stationary solution in the tilt range.  USM_OK when at least one
- * root converged; USM_ENOSOLUTION (with a reason in usm_steady_message) when
- * none exists; USM_EINPUT for bad parameters.  opt may be NULL. */
+/* Find every stationary solution in the tilt range: every tilt, and for the
+ * slip model every rotor speed that balances the rotor there (a non-monotone
+ * friction law can have several); runtime/steady.c states the search's
+ * argument and its resolution limit.  USM_OK when at least one root
+ * converged; USM_ENOSOLUTION (with a reason in usm_steady_message) when none
+ * exists; USM_EINPUT for bad parameters; USM_EFAILED when out of memory.
+ * opt may be NULL. */
 int usm_steady_solve(usm_steady *s, const usm_params *p, const usm_steady_options *opt);
 
 /* Polish a single root from a starting guess (continuation): Newton/hybridsj
@@ -153,11 +157,22 @@ int usm_steady_solve_from(usm_steady *s, const usm_params *p, const double *u0);
 
 /* Number of roots found by the last solve (0 before any). */
 size_t usm_steady_count(const usm_steady *s);
-/* Root i (0 = the primary root: the smallest tilt), NULL when out of range. */
+/* Root i, NULL when out of range.  Roots are ordered by increasing tilt;
+ * roots at the same tilt (slip model, several rotor speeds) by increasing
+ * |v_rel|, then by increasing phidot_R.  Root 0 is the primary root. */
 const usm_steady_solution *usm_steady_root(const usm_steady *s, size_t i);
 /* Why the last solve failed, or "" after success.  Owned by s; valid until
  * the next solve or usm_steady_free. */
 const char *usm_steady_message(const usm_steady *s);
+
+/* Range of the slip model's friction law mu(v_rel) over all slip speeds, as
+ * the solver sees it (its grid, extrema and far ends; runtime/steady.c): no
+ * rotor speed balances a load needing F_t/F_n outside [*mu_inf, *mu_sup].
+ * The supremum of a non-monotone law can be an interior peak, not the value
+ * at large slip.  USM_OK, USM_EINPUT (bad parameters, or a stick model: no
+ * friction law; message in usm_steady_message) or USM_EFAILED (out of
+ * memory).  Clears the roots of the last solve. */
+int usm_steady_friction_range(usm_steady *s, const usm_params *p, double *mu_inf, double *mu_sup);
 
 /* Fill the derived quantities of `sol` from sol->u (used by the solver and by
  * callers that solve the residuals themselves). */

@@ -257,8 +257,10 @@ def derive_model(name, assumptions):
     residual = sp.Matrix(residual_rows)
     z_row = on_ansatz(list(stator_generic)[2].subs(contact_bar))
     # Twisting balance (Z row): the twist angle on the stationary solution.
-    # small expression: simplification makes omega_Z = 0 on the orbit exact
-    twist_bar = sp.simplify(solve_linear(z_row, Tw))
+    # small expression: simplification makes omega_Z = 0 on the orbit exact.
+    # The contact law is substituted afterwards, as for the stator rows: a
+    # friction law with exp() makes simplify() take many minutes otherwise.
+    twist_bar = sp.simplify(solve_linear(on_ansatz(list(stator_generic)[2]), Tw)).subs(contact_bar)
     if t in twist_bar.free_symbols:
         raise RuntimeError("twisting balance depends on time")
     # beta from the paper's twist angle phi + psi cos(theta) = twist_bar at any
