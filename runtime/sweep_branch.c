@@ -98,11 +98,24 @@ static void unscale(const sweep_branch *b, const double *z, double *u)
 
 static void set_lambda(sweep_branch *b, double lambda) { *usm_params_field(&b->p, b->info) = lambda; }
 
+/* The swept parameter inside its physical range (kappa > 0, c_r >= 0, ...):
+ * Newton must not land on the mirror image of the branch at kappa < 0. */
+static int admissible(const sweep_branch *b, double lambda)
+{
+    if (strcmp(b->info->constraint, "positive") == 0)
+        return lambda > 0.0;
+    if (strcmp(b->info->constraint, "nonnegative") == 0)
+        return lambda >= 0.0;
+    return isfinite(lambda);
+}
+
 /* F(z) into F[0..nu-1]; with jac, the scaled F_z into rows 0..nu-1 of A. */
 static int eval(sweep_branch *b, const double *z, double *F, int jac)
 {
     const int nu = b->nu;
     double u[USM_MAX_NU], J[USM_MAX_NU * USM_MAX_NU], Jp[USM_MAX_NU * USM_NPARAMS];
+    if (!admissible(b, lambda_of(b, z)))
+        return -1;
     unscale(b, z, u);
     set_lambda(b, lambda_of(b, z));
     b->m->steady_residual(u, &b->p, F);
@@ -574,7 +587,10 @@ static void rescale(sweep_branch *b, double *z, double *t)
     int changed = 0;
     for (int i = 0; i < b->nu; ++i) {
         const double size = fabs(z[i] * b->scale[i]);
-        if (size > b->scale[i]) {
+        /* the tilt by its own size in both directions: it may fall by decades
+         * (theta ~ 1/c_r), and a step measured in the first size would then
+         * jump across theta = 0 */
+        if (size > b->scale[i] || (i == 0 && size < 0.25 * b->scale[i] && size > 0)) {
             const double f = b->scale[i] / size;
             z[i] *= f;
             t[i] *= f;
@@ -620,14 +636,23 @@ static int follow(trace *tr, const double *u0, double lambda0, double h)
         memcpy(a.za, z, sizeof z);
         memcpy(a.ta, t, sizeof t);
         double s_end, zend[SWEEP_MAX_N];
-        if (arc_end(tr, &a, h, z1, t1, &s_end, &tr->end) != 0)
-            return -1;
-        if (tr->end == END_STOP)
-            memcpy(zend, z1, sizeof z1);
-        else if (arc_point(b, &a, s_end, zend) != 0)
-            return -1;
-        if (arc_events(tr, &a, s_end, zend) != 0 || land_on_grid(tr, &a, s_end, zend) != 0)
-            return -1;
+        /* A Newton correction inside the arc may fail where the branch curves
+         * strongly (a parameter over decades): the step is then retried
+         * shorter, with what the failed attempt recorded undone. */
+        const size_t nev = tr->s->nev, done = tr->s->done;
+        const ptrdiff_t next = tr->next;
+        if (arc_end(tr, &a, h, z1, t1, &s_end, &tr->end) != 0 ||
+            (tr->end != END_STOP && arc_point(b, &a, s_end, zend) != 0) ||
+            (tr->end == END_STOP && (memcpy(zend, z1, sizeof z1), 0)) ||
+            arc_events(tr, &a, s_end, zend) != 0 || land_on_grid(tr, &a, s_end, zend) != 0) {
+            tr->s->nev = nev;
+            tr->s->done = done;
+            tr->next = next;
+            tr->end = END_STOP;
+            if ((h *= 0.5) < H_MIN)
+                return -1;
+            continue;
+        }
         if (tr->end != END_STOP) {
             if (within(tr, lambda_of(b, zend)))
                 return report_end(tr, zend);
