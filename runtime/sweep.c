@@ -23,6 +23,12 @@ const char *usm_event_name(usm_event_type type)
         return "friction_saturation";
     case USM_EVENT_STABILITY_CHANGE:
         return "stability_change";
+    case USM_EVENT_TILT_ZERO:
+        return "tilt_zero";
+    case USM_EVENT_RANGE_END:
+        return "range_end";
+    case USM_EVENT_STALL:
+        return "stall";
     }
     return "unknown";
 }

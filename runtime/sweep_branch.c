@@ -239,7 +239,7 @@ typedef struct arc {
     double za[SWEEP_MAX_N], ta[SWEEP_MAX_N]; /* start and tangent of the step */
 } arc;
 
-enum { FN_LAMBDA, FN_TANGENT, FN_THETA_LOW, FN_THETA_HIGH, FN_STICK };
+enum { FN_LAMBDA, FN_TANGENT, FN_THETA_LOW, FN_THETA_HIGH, FN_STICK, FN_ROTOR };
 
 typedef struct arc_fn {
     sweep_branch *b;
@@ -278,6 +278,8 @@ static double arc_value(double s, void *ctx)
         return z[0] * b->scale[0] - f->arg;
     case FN_THETA_HIGH:
         return f->arg - z[0] * b->scale[0];
+    case FN_ROTOR:
+        return z[b->rotor];
     default:
         return stick_gap(b, z);
     }
@@ -407,10 +409,46 @@ static void end_text(const trace *tr, char *buf, size_t len, const char *what, d
              side(tr->b->dir), sweep_value_text(tr->s, value, v));
 }
 
-/* Events of the arc [0, s_end] other than its end: the stick limit. */
+/* Slip model: the rotor speed phidot_R changes sign inside the arc (the rotor
+ * stops: the load equals the torque the motor can hold at rest). */
+static int arc_stall(trace *tr, const arc *a, double s_end, const double *zend)
+{
+    sweep_branch *b = tr->b;
+    const double w0 = a->za[b->rotor], w1 = zend[b->rotor];
+    double s, z[SWEEP_MAX_N];
+    char v[64];
+    if ((w0 < 0) == (w1 < 0) || w0 == 0.0)
+        return 0;
+    if (arc_root(b, a, FN_ROTOR, 0.0, 0.0, s_end, w0, w1, 1e-15, &s) != 0 ||
+        arc_point(b, a, s, z) != 0)
+        return -1;
+    /* on the branch at rotor speed 0 exactly: Newton on [F; z_rotor = 0] */
+    double e[SWEEP_MAX_N] = {0};
+    e[b->rotor] = 1.0;
+    if (correct(b, z, e, 0.0) < 0)
+        return -1;
+    const double lambda = lambda_of(b, z);
+    if (!within(tr, lambda))
+        return 0;
+    usm_steady_solution sol;
+    solution_at(b, z, &sol);
+    /* driving is phidot_R < 0 (the paper's sign) */
+    const int driving_dir = w0 < 0 ? -b->dir : b->dir;
+    return sweep_add_event(tr->s, USM_EVENT_STALL, lambda, &sol,
+                           "the rotor stands still (phidot_R = 0) at %s: it turns in the driving "
+                           "direction %s it and is driven backwards by the load %s it",
+                           sweep_value_text(tr->s, lambda, v), side(driving_dir),
+                           side(-driving_dir));
+}
+
+/* Events of the arc [0, s_end] other than its end: the stick limit of a stick
+ * model (with slip built in, F_t = mu(v) F_n holds by construction and stick
+ * has no meaning), the stall of a slip model. */
 static int arc_events(trace *tr, const arc *a, double s_end, const double *zend)
 {
     sweep_branch *b = tr->b;
+    if (b->rotor >= 0)
+        return arc_stall(tr, a, s_end, zend);
     const double g0 = stick_gap(b, a->za), g1 = stick_gap(b, zend);
     double s, z[SWEEP_MAX_N];
     char v[64];
@@ -470,25 +508,57 @@ static int arc_end(trace *tr, const arc *a, double h, const double *z1, const do
     return 0;
 }
 
+/* The branch left the tilt range at its lower end zb (theta = theta_min): the
+ * residuals are regular at theta = 0 (R* -> R, Z -> H), so the branch runs on
+ * through the limit where the tilt vanishes.  That limit, on the branch at
+ * theta = 0 exactly: Newton on [F; z_theta = 0] from zb.  0 and zt, or -1
+ * when the branch does not reach theta = 0 next to zb. */
+static int tilt_zero(trace *tr, const double *zb, double *zt)
+{
+    sweep_branch *b = tr->b;
+    double e[SWEEP_MAX_N] = {0};
+    e[0] = 1.0;
+    memcpy(zt, zb, sizeof(double) * (size_t)b->n);
+    if (correct(b, zt, e, 0.0) < 0)
+        return -1;
+    /* next to the boundary point: within the tilt's own size of the step */
+    const double dl = fabs(zt[b->nu] - zb[b->nu]);
+    return dl <= 1e-3 ? 0 : -1;
+}
+
 static int report_end(trace *tr, const double *z)
 {
     sweep_branch *b = tr->b;
     usm_steady_solution sol;
     char what[USM_MSG_LEN];
-    const double lambda = lambda_of(b, z);
+    double lambda = lambda_of(b, z);
+    usm_event_type type = USM_EVENT_FOLD;
     solution_at(b, z, &sol);
-    tr->end_value = lambda;
     if (tr->end == END_FOLD)
         end_text(tr, what, sizeof what, "fold: the branch turns back (d lambda/ds = 0)", lambda);
     else {
         const int low = sol.theta < 0.5 * (b->theta_min + b->theta_max);
-        char head[160];
-        snprintf(head, sizeof head, "the tilt reaches theta_%s = %g rad, the end of the admissible range%s",
-                 low ? "min" : "max", low ? b->theta_min : b->theta_max,
-                 low ? " (theta -> 0)" : "");
-        end_text(tr, what, sizeof what, head, lambda);
+        double zt[SWEEP_MAX_N];
+        char head[200];
+        if (low && tilt_zero(tr, z, zt) == 0) {
+            lambda = lambda_of(b, zt);
+            solution_at(b, zt, &sol);
+            type = USM_EVENT_TILT_ZERO;
+            end_text(tr, what, sizeof what,
+                     "the tilt vanishes (theta = 0): the stator no longer wobbles and the "
+                     "motor stops driving",
+                     lambda);
+        } else {
+            type = USM_EVENT_RANGE_END;
+            snprintf(head, sizeof head,
+                     "the tilt reaches theta_%s = %g rad, the end of the searched range "
+                     "(steady options)",
+                     low ? "min" : "max", low ? b->theta_min : b->theta_max);
+            end_text(tr, what, sizeof what, head, lambda);
+        }
     }
-    return sweep_add_event(tr->s, USM_EVENT_FOLD, lambda, &sol, "%s", what);
+    tr->end_value = lambda;
+    return sweep_add_event(tr->s, type, lambda, &sol, "%s", what);
 }
 
 /* Slip model: F_t / F_n approaches the friction law's supremum and the rotor
@@ -777,7 +847,7 @@ int sweep_trace_grid(usm_sweep *s, const usm_params *p, const usm_sweep_options 
     if (tr.end != END_STOP) {
         char why[USM_MSG_LEN];
         const char *kind = tr.end == END_FOLD       ? "the fold"
-                           : tr.end == END_BOUNDARY ? "the end of the tilt range"
+                           : tr.end == END_BOUNDARY ? usm_event_name(s->ev[s->nev - 1].type)
                                                     : "friction saturation";
         snprintf(why, sizeof why, "no stationary solution on the branch beyond %s at %s", kind,
                  sweep_value_text(s, tr.end_value, v));

@@ -70,10 +70,12 @@ static void *worker(void *arg)
         const int rc = usm_floquet_compute(f, &q, &pt->sol, w->opt->t0, NULL, &pt->floquet);
 
         pthread_mutex_lock(&w->lock);
+        /* one point whose multipliers fail is marked and the others go on:
+         * the stationary solution there is still valid */
         if (rc == USM_OK)
             pt->has_floquet = 1;
         else
-            fail(w, "failed", i, usm_floquet_message(f));
+            snprintf(pt->floquet_error, USM_MSG_LEN, "floquet: %.240s", usm_floquet_message(f));
         w->done++;
         sweep_progress(s, s->progress_split +
                               (1.0 - s->progress_split) * (double)w->done / (double)w->total);

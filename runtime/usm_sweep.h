@@ -5,9 +5,18 @@
  * pseudo-arclength continuation with the generated Jacobians dr/du and
  * dr/dp, so the branch is not lost where it turns (a fold, d lambda/ds = 0).
  * Along the branch the sweep reports events, each located to tolerance:
- *   fold                 the stationary solution stops existing (d lambda/ds = 0,
- *                        or the branch leaves the admissible tilt range)
- *   stick_limit          F_t = mu F_n with mu = mu0 (stick no longer admissible)
+ *   fold                 a turning point: d lambda/ds = 0, the branch turns back
+ *                        (only there; the ends below have their own names)
+ *   tilt_zero            the tilt vanishes: the branch reaches theta = 0 (located
+ *                        there exactly; the stator stops wobbling, the motor
+ *                        stops driving); no solution with theta > 0 beyond it
+ *   range_end            the branch leaves the searched tilt range
+ *                        [steady.theta_min, steady.theta_max] anywhere else
+ *   stick_limit          stick models: F_t = mu0 F_n (stick no longer admissible);
+ *                        not reported for slip models, where F_t = mu(v) F_n holds
+ *                        by construction
+ *   stall                slip models: the rotor speed phidot_R passes 0 (the rotor
+ *                        stands still under the load)
  *   friction_saturation  slip model: the friction needed, F_t/F_n, reaches the
  *                        supremum of the friction law (no rotor speed balances)
  *   stability_change     the largest non-cyclic Floquet multiplier crosses |lambda| = 1
@@ -33,10 +42,14 @@ typedef enum {
     USM_EVENT_FOLD = 0,
     USM_EVENT_STICK_LIMIT = 1,
     USM_EVENT_FRICTION_SATURATION = 2,
-    USM_EVENT_STABILITY_CHANGE = 3
+    USM_EVENT_STABILITY_CHANGE = 3,
+    USM_EVENT_TILT_ZERO = 4,
+    USM_EVENT_RANGE_END = 5,
+    USM_EVENT_STALL = 6
 } usm_event_type;
 
-/* "fold", "stick_limit", "friction_saturation", "stability_change" */
+/* "fold", "stick_limit", "friction_saturation", "stability_change",
+ * "tilt_zero", "range_end", "stall" */
 const char *usm_event_name(usm_event_type type);
 
 /* One event located along the branch. */
@@ -57,6 +70,9 @@ typedef struct usm_sweep_point {
     int has_floquet;
     usm_floquet_result floquet;
     char error[USM_MSG_LEN];      /* why not converged */
+    char floquet_error[USM_MSG_LEN]; /* why the multipliers failed here ("" when
+                                   * has_floquet or not asked for); the sweep
+                                   * goes on at the other points */
 } usm_sweep_point;
 
 /* What to sweep and how (usm_sweep_options_default). */
