@@ -335,14 +335,34 @@ static int pending(const trace *tr)
 
 static const char *side(int dir) { return dir > 0 ? "above" : "below"; }
 
-/* The root of the full search at q that is the branch's root u, or NULL. */
-static const usm_steady_solution *same_root(usm_sweep *s, const usm_params *q, const double *u)
+/* Whether ua and ub are the same root: every unknown agrees, not the tilt
+ * alone (the slip model's roots under a non-monotone friction law share
+ * theta and alpha and differ only in the rotor speed). */
+static int same_unknowns(const sweep_branch *b, const double *ua, const double *ub)
 {
+    for (int i = 0; i < b->nu; ++i) {
+        double d = fabs(ua[i] - ub[i]);
+        if (i == 1) /* alpha, stored in [0, 2 pi) */
+            d = fmin(d, fabs(TWO_PI - d));
+        const double size = i == 0 ? fabs(ua[0]) : fmax(1.0, fmax(fabs(ua[i]), fabs(ub[i])));
+        if (!(d <= 1e-6 * size))
+            return 0;
+    }
+    return 1;
+}
+
+/* The root of the full search at q that is the branch's root u, or NULL;
+ * *roots: the number of roots the search finds there. */
+static const usm_steady_solution *same_root(usm_sweep *s, const usm_params *q, const double *u,
+                                            int *roots)
+{
+    *roots = 0;
     if (usm_steady_solve(s->steady, q, &s->opt->steady) != USM_OK)
         return NULL;
+    *roots = (int)usm_steady_count(s->steady);
     for (size_t k = 0; k < usm_steady_count(s->steady); ++k) {
         const usm_steady_solution *r = usm_steady_root(s->steady, k);
-        if (fabs(r->theta - u[0]) <= 1e-6 * fabs(u[0]))
+        if (same_unknowns(&s->br, u, r->u))
             return r;
     }
     return NULL;
@@ -367,10 +387,13 @@ static void finish_point(trace *tr, size_t i, double *z)
      * gives its value, so that a row equals `usm steady` at these parameters
      * bit for bit (the Floquet integration amplifies a last-bit difference to
      * ~1e-7).  Where the search misses the root, polish from the branch. */
-    const usm_steady_solution *r = same_root(s, &q, u);
+    const usm_steady_solution *r = same_root(s, &q, u, &pt->roots);
+    /* the branch's root missed by the search is one more root */
+    if (!r)
+        pt->roots++;
     if (!r && usm_steady_solve_from(s->steady, &q, u) == USM_OK)
         r = usm_steady_root(s->steady, 0);
-    if (r && fabs(r->theta - u[0]) <= 1e-6 * fabs(u[0]))
+    if (r && same_unknowns(b, u, r->u))
         pt->sol = *r;
     else {
         memset(&pt->sol, 0, sizeof pt->sol);
@@ -607,12 +630,19 @@ static void land_before_saturation(trace *tr, const double *z1, const double *zs
         usm_params q = b->p;
         *usm_params_field(&q, b->info) = pt->value;
         if (usm_steady_solve(s->steady, &q, &s->opt->steady) == USM_OK) {
+            /* nearest in tilt; of roots with that tilt (a non-monotone
+             * friction law) the fastest rotor, the one that diverges */
             size_t best = 0;
-            for (size_t k = 1; k < usm_steady_count(s->steady); ++k)
-                if (fabs(usm_steady_root(s->steady, k)->theta - theta) <
-                    fabs(usm_steady_root(s->steady, best)->theta - theta))
+            for (size_t k = 1; k < usm_steady_count(s->steady); ++k) {
+                const usm_steady_solution *rk = usm_steady_root(s->steady, k),
+                                          *rb = usm_steady_root(s->steady, best);
+                const double dk = fabs(rk->theta - theta), db = fabs(rb->theta - theta);
+                if (dk < db - 1e-6 * fabs(theta) ||
+                    (dk <= db + 1e-6 * fabs(theta) && fabs(rk->rotor_speed) > fabs(rb->rotor_speed)))
                     best = k;
+            }
             pt->sol = *usm_steady_root(s->steady, best);
+            pt->roots = (int)usm_steady_count(s->steady);
             pt->converged = 1;
         } else
             snprintf(pt->error, USM_MSG_LEN, "%s", usm_steady_message(s->steady));
@@ -621,13 +651,40 @@ static void land_before_saturation(trace *tr, const double *z1, const double *zs
     }
 }
 
+/* Whether the friction law approaches its value at infinite slip monotonically
+ * from slip velocity v on (the tail where the rotor speed diverges).  A
+ * non-monotone law (Stribeck-like hump) may need F_t/F_n near that value at a
+ * small slip velocity too, where the branch goes on to a fold instead. */
+static int in_tail(const sweep_branch *b, double v)
+{
+    double mu[2], prev;
+    if (!(fabs(v) > 0))
+        return 0;
+    b->m->friction(v, &b->p, mu);
+    prev = fabs(mu[0]);
+    const double lim = friction_limit(b, v);
+    const int rising = prev <= lim;
+    for (int k = 1; k <= 200; ++k) {
+        const double vk = v * pow(V_HUGE / fabs(v), k / 200.0);
+        b->m->friction(vk, &b->p, mu);
+        const double m = fabs(mu[0]);
+        if (rising ? m < prev - 1e-12 * lim : m > prev + 1e-12 * lim)
+            return 0;
+        prev = m;
+    }
+    return 1;
+}
+
 /* Returns 1 when the branch ended in saturation within the trace. */
 static int check_saturation(trace *tr, const double *z1)
 {
     sweep_branch *b = tr->b;
-    double zs[SWEEP_MAX_N];
+    double zs[SWEEP_MAX_N], y[USM_STEADY_COUNT];
     char v[64];
     if (b->rotor < 0 || tr->sat_checked || mu_ratio(b, z1) < SAT_TRIGGER)
+        return 0;
+    outputs(b, z1, y);
+    if (!in_tail(b, y[USM_STEADY_V_REL]))
         return 0;
     if (saturation(tr, z1, zs) != 0)
         return 0; /* keep following the branch; the step control decides */
@@ -637,7 +694,7 @@ static int check_saturation(trace *tr, const double *z1)
         return 0;
     }
     land_before_saturation(tr, z1, zs);
-    double y[USM_STEADY_COUNT], u[USM_MAX_NU];
+    double u[USM_MAX_NU];
     outputs(b, zs, y);
     unscale(b, zs, u);
     tr->end = END_SATURATION;
@@ -673,6 +730,23 @@ static void rescale(sweep_branch *b, double *z, double *t)
         for (int j = 0; j < b->n; ++j)
             t[j] /= len;
     }
+}
+
+/* The arc of one accepted step [0, h] to z1: its end (s_end, zend), its events
+ * and the grid points on it.  0 or -1. */
+static int step_arc(trace *tr, const arc *a, double h, const double *z1, const double *t1,
+                    double *s_end, double *zend)
+{
+    sweep_branch *b = tr->b;
+    if (arc_end(tr, a, h, z1, t1, s_end, &tr->end) != 0)
+        return -1;
+    if (tr->end == END_STOP)
+        memcpy(zend, z1, sizeof(double) * (size_t)b->n);
+    else if (arc_point(b, a, *s_end, zend) != 0)
+        return -1;
+    if (arc_events(tr, a, *s_end, zend) != 0 || land_on_grid(tr, a, *s_end, zend) != 0)
+        return -1;
+    return 0;
 }
 
 /* Follow the branch from the solution u0 at lambda0 in direction b->dir until
@@ -711,10 +785,7 @@ static int follow(trace *tr, const double *u0, double lambda0, double h)
          * shorter, with what the failed attempt recorded undone. */
         const size_t nev = tr->s->nev, done = tr->s->done;
         const ptrdiff_t next = tr->next;
-        if (arc_end(tr, &a, h, z1, t1, &s_end, &tr->end) != 0 ||
-            (tr->end != END_STOP && arc_point(b, &a, s_end, zend) != 0) ||
-            (tr->end == END_STOP && (memcpy(zend, z1, sizeof z1), 0)) ||
-            arc_events(tr, &a, s_end, zend) != 0 || land_on_grid(tr, &a, s_end, zend) != 0) {
+        if (step_arc(tr, &a, h, z1, t1, &s_end, zend) != 0) {
             tr->s->nev = nev;
             tr->s->done = done;
             tr->next = next;
@@ -756,7 +827,9 @@ static void mark_beyond(const trace *tr, const usm_params *p, const char *why)
         *usm_params_field(&q, s->br.info) = pt->value;
         pt->converged = 0;
         /* another root here lies on another branch; say so, but do not jump */
-        if (usm_steady_solve(s->steady, &q, &s->opt->steady) == USM_OK)
+        pt->roots = 0;
+        if (usm_steady_solve(s->steady, &q, &s->opt->steady) == USM_OK &&
+            (pt->roots = (int)usm_steady_count(s->steady)) > 0)
             snprintf(pt->error, USM_MSG_LEN,
                      "%.150s; a stationary solution on another branch exists here "
                      "(theta = %.6g rad), not followed",
@@ -792,8 +865,10 @@ static size_t first_solution(usm_sweep *s, const usm_params *p, int *status)
         usm_params q = *p;
         *usm_params_field(&q, s->br.info) = s->pts[i].value;
         const int rc = usm_steady_solve(s->steady, &q, &s->opt->steady);
-        if (rc == USM_OK)
+        if (rc == USM_OK) {
+            s->pts[i].roots = (int)usm_steady_count(s->steady);
             return i;
+        }
         if (rc != USM_ENOSOLUTION) {
             snprintf(s->msg, USM_MSG_LEN, "%s", usm_steady_message(s->steady));
             *status = rc;

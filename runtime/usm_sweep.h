@@ -66,7 +66,10 @@ typedef struct usm_sweep_event {
 typedef struct usm_sweep_point {
     double value;                 /* swept parameter value */
     int converged;                /* a stationary solution exists here */
-    usm_steady_solution sol;
+    usm_steady_solution sol;      /* the branch's root (the sweep never jumps to another) */
+    int roots;                    /* stationary solutions at this value (the full
+                                   * search's count, with the branch's root);
+                                   * > 1: the others lie on other branches */
     int has_floquet;
     usm_floquet_result floquet;
     char error[USM_MSG_LEN];      /* why not converged */
