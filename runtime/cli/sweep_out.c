@@ -16,6 +16,7 @@ static json_t *point_json(const usm_sweep_point *pt, const usm_model *m, const c
     cli_json_put(obj, over, cli_json_real(pt->value), &ok);
     cli_json_put(obj, "model", json_string(m->name), &ok);
     cli_json_put(obj, "converged", json_boolean(pt->converged), &ok);
+    cli_json_put(obj, "roots", json_integer(pt->roots), &ok);
     if (!pt->converged)
         cli_json_put(obj, "error", json_string(pt->error), &ok);
     else {
@@ -104,7 +105,7 @@ int cli_sweep_csv(const usm_sweep *s, const char *over, int floquet, FILE *out)
 {
     const usm_param_info *info = usm_params_find(over);
     fprintf(out, "%s [%s],theta [rad],alpha [rad],rotor_speed [1/s],F_n [N],F_t [N],"
-                 "mu_needed [1],max_modulus [1],stable,converged,error\n",
+                 "mu_needed [1],max_modulus [1],stable,converged,roots,error\n",
             over, info ? info->unit : "");
     for (size_t i = 0; i < usm_sweep_count(s); ++i) {
         const usm_sweep_point *pt = usm_sweep_point_at(s, i);
@@ -112,7 +113,7 @@ int cli_sweep_csv(const usm_sweep *s, const char *over, int floquet, FILE *out)
         /* every bit of the swept value: `usm steady --set` reproduces the row */
         fputs(cli_shortest(buf, pt->value), out);
         if (!pt->converged) {
-            fputs(",,,,,,,,,false,", out);
+            fprintf(out, ",,,,,,,,,false,%d,", pt->roots);
             csv_text(out, pt->error);
             fputc('\n', out);
             continue;
@@ -129,7 +130,7 @@ int cli_sweep_csv(const usm_sweep *s, const char *over, int floquet, FILE *out)
             fprintf(out, ",%s", pt->floquet.stable ? "true" : "false");
         } else
             fputs(",,", out);
-        fputs(",true,", out);
+        fprintf(out, ",true,%d,", pt->roots);
         csv_text(out, pt->floquet_error);
         fputc('\n', out);
     }
