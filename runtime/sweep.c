@@ -29,6 +29,12 @@ const char *usm_event_name(usm_event_type type)
         return "range_end";
     case USM_EVENT_STALL:
         return "stall";
+    case USM_EVENT_MAXIMUM:
+        return "maximum";
+    case USM_EVENT_MINIMUM:
+        return "minimum";
+    case USM_EVENT_CROSSING:
+        return "crossing";
     }
     return "unknown";
 }
@@ -180,6 +186,29 @@ static int check_options(usm_sweep *s, const usm_params *p, const usm_sweep_opti
         snprintf(s->msg, USM_MSG_LEN, "threads: must be between 1 and %d, got %d", SWEEP_MAX_THREADS,
                  opt->threads);
         return USM_EINPUT;
+    }
+    if (opt->nmonitors < 0 || opt->nmonitors > USM_SWEEP_MAX_MONITORS ||
+        (opt->nmonitors > 0 && !opt->monitors)) {
+        snprintf(s->msg, USM_MSG_LEN, "monitors: need 0 to %d of them, got %d",
+                 USM_SWEEP_MAX_MONITORS, opt->nmonitors);
+        return USM_EINPUT;
+    }
+    for (int k = 0; k < opt->nmonitors; ++k) {
+        const usm_sweep_monitor *mo = &opt->monitors[k];
+        if (!mo->name || !mo->name[0] || strlen(mo->name) > 31 || strpbrk(mo->name, " \t\n") ||
+            !mo->fn || mo->nlevels < 0 || mo->nlevels > USM_SWEEP_MAX_LEVELS) {
+            snprintf(s->msg, USM_MSG_LEN,
+                     "monitors[%d]: need a name (1 to 31 characters, no spaces), a function "
+                     "and 0 to %d levels",
+                     k, USM_SWEEP_MAX_LEVELS);
+            return USM_EINPUT;
+        }
+        for (int l = 0; l < mo->nlevels; ++l)
+            if (!isfinite(mo->levels[l])) {
+                snprintf(s->msg, USM_MSG_LEN, "monitors[%d] (%s): level %d must be a finite number",
+                         k, mo->name, l);
+                return USM_EINPUT;
+            }
     }
     if (!isfinite(opt->t0)) {
         snprintf(s->msg, USM_MSG_LEN, "t0: must be a finite number");

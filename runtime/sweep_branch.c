@@ -239,7 +239,8 @@ typedef struct arc {
     double za[SWEEP_MAX_N], ta[SWEEP_MAX_N]; /* start and tangent of the step */
 } arc;
 
-enum { FN_LAMBDA, FN_TANGENT, FN_THETA_LOW, FN_THETA_HIGH, FN_STICK, FN_ROTOR };
+enum { FN_LAMBDA, FN_TANGENT, FN_THETA_LOW, FN_THETA_HIGH, FN_STICK, FN_ROTOR, FN_MONITOR,
+       FN_SLOPE };
 
 typedef struct arc_fn {
     sweep_branch *b;
@@ -247,7 +248,36 @@ typedef struct arc_fn {
     int kind;
     double arg;
     int failed;
+    const usm_sweep_monitor *mo;
 } arc_fn;
+
+/* ---- user monitors ---------------------------------------------------------------- */
+
+static void solution_at(sweep_branch *b, const double *z, usm_steady_solution *sol);
+
+static double monitor_at(sweep_branch *b, const usm_sweep_monitor *mo, const double *z)
+{
+    usm_steady_solution sol;
+    solution_at(b, z, &sol);
+    return mo->fn(&sol, &b->p, mo->ctx);
+}
+
+/* Step of the central differences along the tangent (scaled units, where the
+ * components of z are of order one): truncation ~1e-12, rounding ~1e-10. */
+#define SLOPE_STEP 1e-6
+
+/* dy/ds at z on the branch with unit tangent t: the derivative of y along t,
+ * by central differences (y is a smooth function of z off the branch too). */
+static double monitor_slope(sweep_branch *b, const usm_sweep_monitor *mo, const double *z,
+                            const double *t)
+{
+    double zp[SWEEP_MAX_N], zm[SWEEP_MAX_N];
+    for (int j = 0; j < b->n; ++j) {
+        zp[j] = z[j] + SLOPE_STEP * t[j];
+        zm[j] = z[j] - SLOPE_STEP * t[j];
+    }
+    return (monitor_at(b, mo, zp) - monitor_at(b, mo, zm)) / (2.0 * SLOPE_STEP);
+}
 
 static int arc_point(sweep_branch *b, const arc *a, double s, double *z)
 {
@@ -280,6 +310,14 @@ static double arc_value(double s, void *ctx)
         return f->arg - z[0] * b->scale[0];
     case FN_ROTOR:
         return z[b->rotor];
+    case FN_MONITOR:
+        return monitor_at(b, f->mo, z) - f->arg;
+    case FN_SLOPE:
+        if (tangent(b, z, f->a->ta, t) != 0) {
+            f->failed = 1;
+            return 0.0;
+        }
+        return monitor_slope(b, f->mo, z, t);
     default:
         return stick_gap(b, z);
     }
@@ -287,10 +325,11 @@ static double arc_value(double s, void *ctx)
 
 /* Root in s of function `kind` on [lo, hi], where its values are flo and fhi
  * of opposite sign (or one of them zero).  0 and *s, or -1. */
-static int arc_root(sweep_branch *b, const arc *a, int kind, double arg, double lo, double hi,
-                    double flo, double fhi, double epsabs, double *s)
+static int arc_root_fn(sweep_branch *b, const arc *a, int kind, const usm_sweep_monitor *mo,
+                       double arg, double lo, double hi, double flo, double fhi, double epsabs,
+                       double *s)
 {
-    arc_fn f = {b, a, kind, arg, 0};
+    arc_fn f = {b, a, kind, arg, 0, mo};
     gsl_function F = {arc_value, &f};
     if (flo == 0.0 || fhi == 0.0) {
         *s = flo == 0.0 ? lo : hi;
@@ -308,6 +347,12 @@ static int arc_root(sweep_branch *b, const arc *a, int kind, double arg, double 
     }
     *s = gsl_root_fsolver_root(b->brent);
     return 0;
+}
+
+static int arc_root(sweep_branch *b, const arc *a, int kind, double arg, double lo, double hi,
+                    double flo, double fhi, double epsabs, double *s)
+{
+    return arc_root_fn(b, a, kind, NULL, arg, lo, hi, flo, fhi, epsabs, s);
 }
 
 /* ---- following the branch -------------------------------------------------------- */
@@ -467,9 +512,76 @@ static int arc_stall(trace *tr, const arc *a, double s_end, const double *zend)
 /* Events of the arc [0, s_end] other than its end: the stick limit of a stick
  * model (with slip built in, F_t = mu(v) F_n holds by construction and stick
  * has no meaning), the stall of a slip model. */
+static int monitor_event(trace *tr, const arc *a, const usm_sweep_monitor *mo, int kind,
+                         double level, double s_end, double g0, double g1, usm_event_type type)
+{
+    sweep_branch *b = tr->b;
+    double s, z[SWEEP_MAX_N];
+    char v[64];
+    if (arc_root_fn(b, a, kind, mo, level, 0.0, s_end, g0, g1, 1e-15, &s) != 0 ||
+        arc_point(b, a, s, z) != 0)
+        return -1;
+    const double lambda = lambda_of(b, z);
+    if (!within(tr, lambda))
+        return 0;
+    usm_steady_solution sol;
+    solution_at(b, z, &sol);
+    const double y = mo->fn(&sol, &b->p, mo->ctx);
+    int rc;
+    if (type == USM_EVENT_CROSSING)
+        rc = sweep_add_event(tr->s, type, lambda, &sol, "%s crosses %.10g at %s", mo->name, level,
+                             sweep_value_text(tr->s, lambda, v));
+    else
+        rc = sweep_add_event(tr->s, type, lambda, &sol, "%s has a %s %.10g at %s", mo->name,
+                             type == USM_EVENT_MAXIMUM ? "maximum" : "minimum", y,
+                             sweep_value_text(tr->s, lambda, v));
+    if (rc == 0) {
+        usm_sweep_event *e = &tr->s->ev[tr->s->nev - 1];
+        snprintf(e->monitor, sizeof e->monitor, "%s", mo->name);
+        e->monitor_value = y;
+    }
+    return rc;
+}
+
+/* The user monitors' events inside the arc [0, s_end]: level crossings (sign
+ * changes of y - level) and extrema (sign changes of dy/ds), each by Brent. */
+static int arc_monitors(trace *tr, const arc *a, double s_end, const double *zend)
+{
+    sweep_branch *b = tr->b;
+    const usm_sweep_options *opt = tr->s->opt;
+    double tend[SWEEP_MAX_N];
+    int have_tend = 0;
+    for (int k = 0; k < opt->nmonitors; ++k) {
+        const usm_sweep_monitor *mo = &opt->monitors[k];
+        const double y0 = monitor_at(b, mo, a->za), y1 = monitor_at(b, mo, zend);
+        for (int l = 0; l < mo->nlevels; ++l) {
+            const double g0 = y0 - mo->levels[l], g1 = y1 - mo->levels[l];
+            if ((g0 < 0) != (g1 < 0) && g0 != 0.0 &&
+                monitor_event(tr, a, mo, FN_MONITOR, mo->levels[l], s_end, g0, g1,
+                              USM_EVENT_CROSSING) != 0)
+                return -1;
+        }
+        if (!mo->extrema)
+            continue;
+        if (!have_tend) {
+            if (tangent(b, zend, a->ta, tend) != 0)
+                return -1;
+            have_tend = 1;
+        }
+        const double d0 = monitor_slope(b, mo, a->za, a->ta), d1 = monitor_slope(b, mo, zend, tend);
+        if ((d0 < 0) != (d1 < 0) && d0 != 0.0 &&
+            monitor_event(tr, a, mo, FN_SLOPE, 0.0, s_end, d0, d1,
+                          d0 > 0 ? USM_EVENT_MAXIMUM : USM_EVENT_MINIMUM) != 0)
+            return -1;
+    }
+    return 0;
+}
+
 static int arc_events(trace *tr, const arc *a, double s_end, const double *zend)
 {
     sweep_branch *b = tr->b;
+    if (tr->s->opt->nmonitors > 0 && arc_monitors(tr, a, s_end, zend) != 0)
+        return -1;
     if (b->rotor >= 0)
         return arc_stall(tr, a, s_end, zend);
     const double g0 = stick_gap(b, a->za), g1 = stick_gap(b, zend);

@@ -20,6 +20,9 @@
  *   friction_saturation  slip model: the friction needed, F_t/F_n, reaches the
  *                        supremum of the friction law (no rotor speed balances)
  *   stability_change     the largest non-cyclic Floquet multiplier crosses |lambda| = 1
+ *   maximum, minimum     a user monitor (usm_sweep_monitor) is extremal along the
+ *                        branch: d y/ds = 0 (central differences along the tangent)
+ *   crossing             a user monitor crosses one of its levels
  * The points of the result are the requested grid values lambda_i on the
  * branch, in sweep order.
  *
@@ -45,11 +48,14 @@ typedef enum {
     USM_EVENT_STABILITY_CHANGE = 3,
     USM_EVENT_TILT_ZERO = 4,
     USM_EVENT_RANGE_END = 5,
-    USM_EVENT_STALL = 6
+    USM_EVENT_STALL = 6,
+    USM_EVENT_MAXIMUM = 7,
+    USM_EVENT_MINIMUM = 8,
+    USM_EVENT_CROSSING = 9
 } usm_event_type;
 
 /* "fold", "stick_limit", "friction_saturation", "stability_change",
- * "tilt_zero", "range_end", "stall" */
+ * "tilt_zero", "range_end", "stall", "maximum", "minimum", "crossing" */
 const char *usm_event_name(usm_event_type type);
 
 /* One event located along the branch. */
@@ -60,7 +66,29 @@ typedef struct usm_sweep_event {
     int has_sol;             /* 0 when no stationary solution exists at `value`
                               * (friction_saturation: the rotor speed diverges) */
     char what[USM_MSG_LEN];  /* what changes there, one sentence */
+    char monitor[32];        /* maximum, minimum, crossing: the monitor's name */
+    double monitor_value;    /* and its value there */
 } usm_sweep_event;
+
+/* A user monitor function (as AUTO's user points, COCO's monitor functions):
+ * a named scalar y of the stationary solution `sol` at parameters p (p holds
+ * the swept value).  Called from the thread that runs the sweep; must be
+ * smooth along the branch for extremum events. */
+typedef double (*usm_monitor_fn)(const usm_steady_solution *sol, const usm_params *p, void *ctx);
+
+#define USM_SWEEP_MAX_LEVELS 4
+#define USM_SWEEP_MAX_MONITORS 8
+
+/* What to watch: maxima and minima of y along the branch, and the values of
+ * the swept parameter where y crosses given levels. */
+typedef struct usm_sweep_monitor {
+    const char *name;            /* short, no spaces (<= 31 characters) */
+    usm_monitor_fn fn;
+    void *ctx;
+    int extrema;                 /* 1: report maxima and minima */
+    int nlevels;                 /* 0 .. USM_SWEEP_MAX_LEVELS */
+    double levels[USM_SWEEP_MAX_LEVELS];
+} usm_sweep_monitor;
 
 /* One requested grid value of the swept parameter and the solution there. */
 typedef struct usm_sweep_point {
@@ -91,7 +119,9 @@ typedef struct usm_sweep_options {
                         * worker, never two calls at once. */
     void *progress_ctx;
     usm_steady_options steady; /* tilt range of the full searches; the branch
-                        * ends (event fold) where theta leaves this range */
+                        * ends (event range_end) where theta leaves this range */
+    const usm_sweep_monitor *monitors; /* NULL or nmonitors of them (default none) */
+    int nmonitors;      /* 0 .. USM_SWEEP_MAX_MONITORS */
 } usm_sweep_options;
 
 /* Fill `opt` with the defaults (those listed above); the caller then sets
