@@ -178,8 +178,9 @@ static int check_options(usm_sweep *s, const usm_params *p, const usm_sweep_opti
         snprintf(s->msg, USM_MSG_LEN, "to: must differ from from (%g)", opt->from);
         return USM_EINPUT;
     }
-    if (opt->points < 2) {
-        snprintf(s->msg, USM_MSG_LEN, "points: must be at least 2, got %d", opt->points);
+    if (opt->points < 2 || opt->points > SWEEP_MAX_POINTS) {
+        snprintf(s->msg, USM_MSG_LEN, "points: must be at least 2 and at most %d, got %d",
+                 SWEEP_MAX_POINTS, opt->points);
         return USM_EINPUT;
     }
     if (opt->threads < 1 || opt->threads > SWEEP_MAX_THREADS) {

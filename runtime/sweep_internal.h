@@ -11,6 +11,9 @@
 
 #include "usm_sweep.h"
 
+/* More grid points than this are a typing error, not a request. */
+#define SWEEP_MAX_POINTS 1000000
+
 /* More worker threads than this would only contend for the cores. */
 #define SWEEP_MAX_THREADS 64
 

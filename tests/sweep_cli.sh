@@ -122,16 +122,16 @@ fi
 
 # ---- bad input ------------------------------------------------------------------
 R=(--from 36000 --to 39000 --points 5)
-expect_bad '--over' 'unknown parameter' sweep --over nosuch "${R[@]}"
+expect_bad 'over:' 'unknown parameter' sweep --over nosuch "${R[@]}"
 expect_bad '--over' 'required' sweep "${R[@]}"
-expect_bad '--points' 'integer from 2' sweep --over f --from 36000 --to 39000 --points 1
-expect_bad '--points' 'integer from 2' sweep --over f --from 36000 --to 39000 --points 2.5
+expect_bad 'points:' 'at least 2' sweep --over f --from 36000 --to 39000 --points 1
+expect_bad '--points' 'must be an integer' sweep --over f --from 36000 --to 39000 --points 2.5
 expect_bad '--points' 'not a number' sweep --over f --from 36000 --to 39000 --points x
 expect_bad '--from' 'not a number' sweep --over f --from abc --to 39000
 expect_bad '--from' 'not a finite number' sweep --over f --from nan --to 39000
 expect_bad '--to' 'required' sweep --over f --from 36000
-expect_bad '--to' 'must differ' sweep --over f --from 36000 --to 36000
-expect_bad '--threads' 'integer from 1' sweep --over f "${R[@]}" --threads 0
+expect_bad 'to:' 'must differ' sweep --over f --from 36000 --to 36000
+expect_bad 'threads:' 'between 1 and' sweep --over f "${R[@]}" --threads 0
 expect_bad 'usm: f:' 'must be positive' sweep --over f --from -1000 --to 1000 --points 3
 expect_bad '--frobnicate' 'unknown option' sweep --over f "${R[@]}" --frobnicate
 expect_bad '--set m0' 'not a number' sweep --over f "${R[@]}" --set m0=abc

@@ -30,6 +30,9 @@
  *    high slip: another one), never jumping: up from T = 0 on the low-slip
  *    root into a fold at the hump, down from inside the two-root range on the
  *    root it starts on.
+ * 14. User monitors: the maximum event of the speed over f agrees with a golden
+ *    section on usm_steady_solve (1e-3 Hz), and at a level crossing of theta
+ *    usm_steady_solve gives theta = level (1e-10).
  */
 #include <math.h>
 #include <stdio.h>
@@ -621,6 +624,88 @@ static void check_nonmonotone(void)
     }
 }
 
+/* ---- 14. user monitors ------------------------------------------------------------------ */
+
+static double mon_speed(const usm_steady_solution *sol, const usm_params *p, void *ctx)
+{
+    (void)p;
+    (void)ctx;
+    return -sol->rotor_speed;
+}
+
+static double mon_theta(const usm_steady_solution *sol, const usm_params *p, void *ctx)
+{
+    (void)p;
+    (void)ctx;
+    return sol->theta;
+}
+
+static void check_monitors(void)
+{
+    usm_params p;
+    usm_sweep_options o;
+    usm_params_default(&p);
+    usm_sweep_monitor mon[2] = {{"speed", mon_speed, NULL, 1, 0, {0}},
+                                {"theta", mon_theta, NULL, 0, 2, {8.5e-5, 7.5e-5}}};
+    usm_sweep *sw = usm_sweep_alloc(usm_model_find("3dof"));
+    usm_sweep_options_default(&o);
+    o.over = "f";
+    o.from = 36000;
+    o.to = 39000;
+    o.points = 31;
+    o.floquet = 0;
+    o.monitors = mon;
+    o.nmonitors = 2;
+    CHECK(usm_sweep_run(sw, &p, &o) == USM_OK, "monitor sweep: %s", usm_sweep_message(sw));
+    const usm_sweep_event *mx = find_event(sw, USM_EVENT_MAXIMUM);
+    usm_steady *s = usm_steady_alloc(usm_model_find("3dof"));
+    if (mx) {
+        double lo = 37000, hi = 38000;
+        double x1 = hi - GOLDEN * (hi - lo), x2 = lo + GOLDEN * (hi - lo);
+        double y1 = speed_at(s, &p, x1), y2 = speed_at(s, &p, x2);
+        while (hi - lo > 1e-7) {
+            if (y1 > y2) {
+                hi = x2;
+                x2 = x1;
+                y2 = y1;
+                x1 = hi - GOLDEN * (hi - lo);
+                y1 = speed_at(s, &p, x1);
+            } else {
+                lo = x1;
+                x1 = x2;
+                y1 = y2;
+                x2 = lo + GOLDEN * (hi - lo);
+                y2 = speed_at(s, &p, x2);
+            }
+        }
+        const double fg = 0.5 * (lo + hi);
+        printf("monitor maximum of the speed: event f = %.6f Hz (%.9f 1/s), golden section "
+               "%.6f Hz, difference %.2g Hz; %s\n",
+               mx->value, mx->monitor_value, fg, mx->value - fg, mx->what);
+        CHECK(fabs(mx->value - fg) < 1e-3 && strcmp(mx->monitor, "speed") == 0,
+              "monitor maximum: event %.6f Hz, golden section %.6f Hz", mx->value, fg);
+    }
+    int crossings = 0;
+    for (size_t i = 0; i < usm_sweep_event_count(sw); ++i) {
+        const usm_sweep_event *e = usm_sweep_event_at(sw, i);
+        if (e->type != USM_EVENT_CROSSING)
+            continue;
+        ++crossings;
+        usm_params q = p;
+        q.f = e->value;
+        CHECK(usm_steady_solve(s, &q, NULL) == USM_OK, "crossing at f = %g: no solution", e->value);
+        const double th = usm_steady_root(s, 0)->theta;
+        const double level = fabs(th - 8.5e-5) < fabs(th - 7.5e-5) ? 8.5e-5 : 7.5e-5;
+        printf("monitor crossing: theta = %.3g at f = %.9f Hz; usm_steady_solve there theta = "
+               "%.15g (relative %.1e)\n",
+               level, e->value, th, fabs(th - level) / level);
+        CHECK(fabs(th - level) <= 1e-10 * level, "crossing: theta %.15g, level %g", th, level);
+    }
+    CHECK(crossings == 4, "theta crosses 8.5e-5 and 7.5e-5 twice each over f, found %d", crossings);
+    usm_steady_free(s);
+    usm_sweep_free(sw);
+}
+
 int main(void)
 {
     gsl_set_error_handler_off();
@@ -635,6 +720,7 @@ int main(void)
     check_wide();
     check_floquet_failure();
     check_nonmonotone();
+    check_monitors();
     if (failures) {
         printf("%d check(s) failed\n", failures);
         return 1;
