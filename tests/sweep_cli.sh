@@ -120,6 +120,21 @@ else
     fail "usm sweep --over d_R --to 1e12: exit $?, want 0 (one failed Floquet point is marked)"
 fi
 
+R0=(--from 36000 --to 39000 --points 5)
+# ---- monitors -----------------------------------------------------------------------
+checks=$((checks + 1))
+if "$USM" sweep --over f --from 36000 --to 39000 --points 7 --no-floquet --extremum speed \
+        --crossing theta=8.5e-5 >"$out" 2>"$err"; then
+    [ "$(grep -c '^# maximum at f = 3745[0-9.]*: speed has a maximum' "$out")" = 1 ] ||
+        fail "--extremum speed: want one maximum near 37.45 kHz: $(grep '^#' "$out")"
+    [ "$(grep -c '^# crossing at f = .*: theta crosses 8.5e-05' "$out")" = 2 ] ||
+        fail "--crossing theta=8.5e-5: want two crossings: $(grep '^#' "$out")"
+else
+    fail "usm sweep --extremum speed: exit $?"
+fi
+expect_bad '--extremum' 'unknown quantity' sweep --over f "${R0[@]}" --extremum nope
+expect_bad '--crossing' 'QUANTITY=VALUE' sweep --over f "${R0[@]}" --crossing theta
+
 # ---- bad input ------------------------------------------------------------------
 R=(--from 36000 --to 39000 --points 5)
 expect_bad 'over:' 'unknown parameter' sweep --over nosuch "${R[@]}"

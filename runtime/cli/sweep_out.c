@@ -43,6 +43,10 @@ static json_t *event_json(const usm_sweep_event *e, const char *over)
     cli_json_put(obj, "type", json_string(usm_event_name(e->type)), &ok);
     cli_json_put(obj, over, cli_json_real(e->value), &ok);
     cli_json_put(obj, "what", json_string(e->what), &ok);
+    if (e->monitor[0]) {
+        cli_json_put(obj, "monitor", json_string(e->monitor), &ok);
+        cli_json_put(obj, "monitor_value", cli_json_real(e->monitor_value), &ok);
+    }
     if (e->has_sol)
         cli_json_put(obj, "solution", cli_json_root(&e->sol), &ok);
     if (!ok) {
