@@ -14,8 +14,10 @@
 /* More grid points than this are a typing error, not a request. */
 #define SWEEP_MAX_POINTS 1000000
 
+#include "pool_internal.h"
+
 /* More worker threads than this would only contend for the cores. */
-#define SWEEP_MAX_THREADS 64
+#define SWEEP_MAX_THREADS POOL_MAX_THREADS
 
 /* Unknowns of the continuation: u (nu of them) and the parameter. */
 #define SWEEP_MAX_N (USM_MAX_NU + 1)
@@ -52,6 +54,9 @@ struct usm_sweep {
     const usm_sweep_options *opt;
     double progress_split;
     size_t done;          /* grid points settled by the continuation phase */
+    /* the Floquet phase */
+    const usm_params *floquet_params;
+    size_t floquet_done, floquet_total;
 };
 
 /* sweep.c */

@@ -1,9 +1,8 @@
 /* Floquet multipliers along a sweep, and where stability changes.
  *
- * The multipliers of different grid points are independent, so worker threads
- * take points from a shared counter; each has its own usm_floquet (the objects
- * are not thread-safe, the generated kernels are pure).  The calling thread is
- * one of the workers.
+ * The multipliers of different grid points are independent: the library's one
+ * worker pool (pool.c) hands them out, each worker with its own usm_floquet,
+ * and usm_point_evaluate (usm_map.h), the one point evaluator, computes them.
  *
  * A stability change is a sign change of g(lambda) = max non-cyclic |multiplier| - 1
  * between neighbouring converged grid points; Brent's method on lambda locates
@@ -11,110 +10,66 @@
  * neighbours' interpolation) and computing the multipliers.  The location is as
  * accurate as the multipliers (CVODES rtol 1e-8 gives max_modulus to ~1e-7).
  */
-#define _POSIX_C_SOURCE 200809L
 #include <math.h>
-#include <pthread.h>
 #include <stdio.h>
 #include <string.h>
 
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_roots.h>
 
+#include "pool_internal.h"
 #include "sweep_internal.h"
+#include "usm_map.h"
 
-typedef struct pool {
-    usm_sweep *s;
-    const usm_params *p;
-    const usm_sweep_options *opt;
-    pthread_mutex_t lock;
-    size_t next, done, total;
-    int status;
-    char msg[USM_MSG_LEN];
-} pool;
-
-static void fail(pool *w, const char *what, size_t i, const char *why)
+/* The multipliers of grid point i, a task of the shared worker pool. */
+static void *floquet_alloc(void *ctx)
 {
-    char v[64];
-    if (w->status == USM_OK) {
-        w->status = USM_EFAILED;
-        snprintf(w->msg, USM_MSG_LEN, "floquet at %s: %.150s",
-                 sweep_value_text(w->s, w->s->pts[i].value, v), why ? why : what);
-    }
+    usm_sweep *s = ctx;
+    return usm_floquet_alloc(s->m);
 }
 
-static void *worker(void *arg)
+static void floquet_free(void *state) { usm_floquet_free(state); }
+
+static int point_task(void *ctx, void *state, size_t i)
 {
-    pool *w = arg;
-    usm_sweep *s = w->s;
-    usm_floquet *f = usm_floquet_alloc(s->m);
-    if (!f) {
-        pthread_mutex_lock(&w->lock);
-        fail(w, "out of memory", w->next < s->npts ? w->next : 0, NULL);
-        pthread_mutex_unlock(&w->lock);
-        return NULL;
-    }
-    for (;;) {
-        pthread_mutex_lock(&w->lock);
-        while (w->next < s->npts && !s->pts[w->next].converged)
-            w->next++;
-        if (w->next >= s->npts || w->status != USM_OK) {
-            pthread_mutex_unlock(&w->lock);
-            break;
-        }
-        const size_t i = w->next++;
-        pthread_mutex_unlock(&w->lock);
+    usm_sweep *s = ctx;
+    usm_sweep_point *pt = &s->pts[i];
+    usm_point res;
+    if (!pt->converged)
+        return 0;
+    usm_params q = *s->floquet_params;
+    *usm_params_field(&q, s->br.info) = pt->value;
+    /* one point whose multipliers fail is marked and the others go on: the
+     * stationary solution there is still valid */
+    if (usm_point_evaluate(NULL, state, &q, NULL, &pt->sol, 1, s->opt->t0, &res) == USM_OK &&
+        res.has_floquet) {
+        pt->floquet = res.floquet;
+        pt->has_floquet = 1;
+    } else
+        snprintf(pt->floquet_error, USM_MSG_LEN, "%s", res.error);
+    return 0;
+}
 
-        usm_sweep_point *pt = &s->pts[i];
-        usm_params q = *w->p;
-        *usm_params_field(&q, s->br.info) = pt->value;
-        const int rc = usm_floquet_compute(f, &q, &pt->sol, w->opt->t0, NULL, &pt->floquet);
-
-        pthread_mutex_lock(&w->lock);
-        /* one point whose multipliers fail is marked and the others go on:
-         * the stationary solution there is still valid */
-        if (rc == USM_OK)
-            pt->has_floquet = 1;
-        else
-            snprintf(pt->floquet_error, USM_MSG_LEN, "floquet: %.240s", usm_floquet_message(f));
-        w->done++;
-        sweep_progress(s, s->progress_split +
-                              (1.0 - s->progress_split) * (double)w->done / (double)w->total);
-        pthread_mutex_unlock(&w->lock);
-    }
-    usm_floquet_free(f);
-    return NULL;
+static void point_done(void *ctx, size_t i)
+{
+    usm_sweep *s = ctx;
+    if (!s->pts[i].converged)
+        return;
+    ++s->floquet_done;
+    sweep_progress(s, s->progress_split + (1.0 - s->progress_split) * (double)s->floquet_done /
+                                              (double)s->floquet_total);
 }
 
 int sweep_floquet_points(usm_sweep *s, const usm_params *p, const usm_sweep_options *opt)
 {
-    pool w;
-    pthread_t tid[SWEEP_MAX_THREADS];
-    int started = 0;
-    memset(&w, 0, sizeof w);
-    w.s = s;
-    w.p = p;
-    w.opt = opt;
-    w.status = USM_OK;
+    s->floquet_params = p;
+    s->floquet_done = s->floquet_total = 0;
     for (size_t i = 0; i < s->npts; ++i)
-        w.total += s->pts[i].converged != 0;
-    if (w.total == 0)
+        s->floquet_total += s->pts[i].converged != 0;
+    if (s->floquet_total == 0)
         return USM_OK;
-    if (pthread_mutex_init(&w.lock, NULL) != 0) {
-        snprintf(s->msg, USM_MSG_LEN, "cannot create a mutex");
-        return USM_EFAILED;
-    }
-    const int want = (int)fmin((double)opt->threads, (double)w.total);
-    /* a thread that cannot be started only costs speed: the others take its points */
-    for (int k = 1; k < want && k <= (int)(sizeof tid / sizeof tid[0]); ++k)
-        if (pthread_create(&tid[started], NULL, worker, &w) == 0)
-            ++started;
-    worker(&w);
-    for (int k = 0; k < started; ++k)
-        pthread_join(tid[k], NULL);
-    pthread_mutex_destroy(&w.lock);
-    if (w.status != USM_OK)
-        snprintf(s->msg, USM_MSG_LEN, "%s", w.msg);
-    return w.status;
+    pool_job job = {s->npts, opt->threads, s, floquet_alloc, floquet_free, point_task, point_done};
+    return pool_run(&job, s->msg);
 }
 
 /* ---- stability changes ----------------------------------------------------------- */

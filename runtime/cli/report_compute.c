@@ -393,11 +393,11 @@ int report_compute_maps(report_data *d, char msg[CLI_MSG_LEN])
         memset(m, 0, sizeof *m);
         m->model = d->model[k].model;
         m->params = d->params;
-        m->x.param = usm_params_find("f");
+        m->x.name = "f";
         m->x.from = 30000;
         m->x.to = 46000;
         m->x.points = quick ? 17 : 41;
-        m->y.param = usm_params_find("T");
+        m->y.name = "T";
         m->y.from = 0;
         m->y.to = k == REPORT_3DOF ? 8e-3 : 1.2e-3;
         m->y.points = quick ? 13 : 33;
