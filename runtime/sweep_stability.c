@@ -94,10 +94,13 @@ static double margin(double value, void *ctx)
         return 0.0;
     }
     *usm_params_field(&q, c->s->br.info) = value;
-    if (usm_floquet_compute(c->f, &q, &c->sol, c->opt->t0, NULL, &c->res) != USM_OK) {
+    usm_point pt;
+    if (usm_point_evaluate(NULL, c->f, &q, NULL, &c->sol, 1, c->opt->t0, &pt) != USM_OK ||
+        !pt.has_floquet) {
         c->failed = 1;
         return 0.0;
     }
+    c->res = pt.floquet;
     return c->res.max_modulus - 1.0;
 }
 

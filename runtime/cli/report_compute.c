@@ -11,6 +11,7 @@
 #include <time.h>
 
 #include "report.h"
+#include "usm_map.h"
 
 #define TWO_PI 6.283185307179586476925286766559
 #define PI 3.14159265358979323846264338327950
@@ -54,16 +55,22 @@ static void solver_free(solver *s)
 static int solve_point(solver *s, const usm_params *p, double t0, usm_steady_solution *sol,
                        usm_floquet_result *fl, char msg[CLI_MSG_LEN])
 {
-    int st = usm_steady_solve(s->steady, p, NULL);
-    if (st != USM_OK || usm_steady_count(s->steady) == 0) {
-        cli_msg(msg, "%s: no stationary solution: %s", s->m->name, usm_steady_message(s->steady));
-        return st == USM_EINPUT ? USM_EINPUT : USM_ENOSOLUTION;
+    usm_point pt;
+    if (usm_point_evaluate(s->steady, s->floquet, p, NULL, NULL, fl != NULL, t0, &pt) != USM_OK) {
+        cli_msg(msg, "%s: no stationary solution: %s", s->m->name, pt.error);
+        return USM_EINPUT;
     }
-    *sol = *usm_steady_root(s->steady, 0);
-    if (fl && usm_floquet_compute(s->floquet, p, sol, t0, NULL, fl) != USM_OK) {
-        cli_msg(msg, "%s: floquet: %s", s->m->name, usm_floquet_message(s->floquet));
+    if (!pt.exists) {
+        cli_msg(msg, "%s: no stationary solution: %s", s->m->name, pt.error);
+        return USM_ENOSOLUTION;
+    }
+    *sol = pt.sol;
+    if (fl && !pt.has_floquet) {
+        cli_msg(msg, "%s: %s", s->m->name, pt.error);
         return USM_EFAILED;
     }
+    if (fl)
+        *fl = pt.floquet;
     return USM_OK;
 }
 
