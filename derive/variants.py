@@ -33,7 +33,6 @@ PAPER = {
 FRICTION_LAWS = {
     "atan": "mu0*atan(kappa*v_rel)",
     "tanh": "mu0*tanh(kappa*v_rel)",
-    "stribeck": "mu0*tanh(kappa*v_rel)*(1 + 0.5*exp(-(v_rel/0.01)**2))",
 }
 
 MODELS = {
@@ -53,9 +52,6 @@ VARIANTS = {
                          "the linearisation is periodic, multipliers independent of t0"),
     "friction_tanh": ({"friction": "tanh"}, ["4dof"],
                       "friction law mu = mu0 tanh(kappa v_rel) instead of (5.2)"),
-    "friction_stribeck": ({"friction": "stribeck"}, ["4dof"],
-                          "non-monotone friction law mu = mu0 tanh(kappa v_rel) "
-                          "(1 + 0.5 exp(-(v_rel/0.01)^2)) instead of (5.2)"),
 }
 
 

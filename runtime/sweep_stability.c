@@ -21,27 +21,41 @@
 #include "sweep_internal.h"
 #include "usm_map.h"
 
-/* The multipliers of grid point i, a task of the shared worker pool. */
+#define TWO_PI 6.283185307179586476925286766559
+
+/* ---- the multipliers at the grid points --------------------------------------------- */
+
+typedef struct floquet_pass {
+    const usm_model *m;
+    const usm_params *p;
+    const usm_sweep_options *opt;
+    const usm_param_info *info;
+    usm_sweep_point *pts;
+    const sweep_sink *sink;
+    size_t done, total;
+} floquet_pass;
+
 static void *floquet_alloc(void *ctx)
 {
-    usm_sweep *s = ctx;
-    return usm_floquet_alloc(s->m);
+    const floquet_pass *fp = ctx;
+    return usm_floquet_alloc(fp->m);
 }
 
 static void floquet_free(void *state) { usm_floquet_free(state); }
 
+/* The multipliers of grid point i, a task of the shared worker pool. */
 static int point_task(void *ctx, void *state, size_t i)
 {
-    usm_sweep *s = ctx;
-    usm_sweep_point *pt = &s->pts[i];
+    floquet_pass *fp = ctx;
+    usm_sweep_point *pt = &fp->pts[i];
     usm_point res;
     if (!pt->converged)
         return 0;
-    usm_params q = *s->floquet_params;
-    *usm_params_field(&q, s->br.info) = pt->value;
+    usm_params q = *fp->p;
+    *usm_params_field(&q, fp->info) = pt->value;
     /* one point whose multipliers fail is marked and the others go on: the
      * stationary solution there is still valid */
-    if (usm_point_evaluate(NULL, state, &q, NULL, &pt->sol, 1, s->opt->t0, &res) == USM_OK &&
+    if (usm_point_evaluate(NULL, state, &q, NULL, &pt->sol, 1, fp->opt->t0, &res) == USM_OK &&
         res.has_floquet) {
         pt->floquet = res.floquet;
         pt->has_floquet = 1;
@@ -52,48 +66,72 @@ static int point_task(void *ctx, void *state, size_t i)
 
 static void point_done(void *ctx, size_t i)
 {
-    usm_sweep *s = ctx;
-    if (!s->pts[i].converged)
+    floquet_pass *fp = ctx;
+    if (!fp->pts[i].converged)
         return;
-    ++s->floquet_done;
-    sweep_progress(s, s->progress_split + (1.0 - s->progress_split) * (double)s->floquet_done /
-                                              (double)s->floquet_total);
+    ++fp->done;
+    if (fp->sink->progress)
+        fp->sink->progress(fp->sink->ctx, (double)fp->done / (double)fp->total);
 }
 
-int sweep_floquet_points(usm_sweep *s, const usm_params *p, const usm_sweep_options *opt)
+int sweep_floquet_points(const usm_model *m, const usm_params *p, const usm_sweep_options *opt,
+                         usm_sweep_point *pts, size_t n, const sweep_sink *sink,
+                         char msg[USM_MSG_LEN])
 {
-    s->floquet_params = p;
-    s->floquet_done = s->floquet_total = 0;
-    for (size_t i = 0; i < s->npts; ++i)
-        s->floquet_total += s->pts[i].converged != 0;
-    if (s->floquet_total == 0)
+    floquet_pass fp = {m, p, opt, usm_params_find(opt->over), pts, sink, 0, 0};
+    for (size_t i = 0; i < n; ++i)
+        fp.total += pts[i].converged != 0;
+    if (fp.total == 0)
         return USM_OK;
-    pool_job job = {s->npts, opt->threads, s, floquet_alloc, floquet_free, point_task, point_done};
-    return pool_run(&job, s->msg);
+    pool_job job = {n, opt->threads, &fp, floquet_alloc, floquet_free, point_task, point_done};
+    return pool_run(&job, msg);
 }
 
 /* ---- stability changes ----------------------------------------------------------- */
 
 typedef struct crossing {
-    usm_sweep *s;
     const usm_params *p;
     const usm_sweep_options *opt;
+    const usm_param_info *info;
+    usm_steady *steady;
     usm_floquet *f;
-    size_t a, b;
+    const usm_sweep_point *pa, *pb;
     usm_steady_solution sol;
     usm_floquet_result res;
     int failed;
 } crossing;
 
+/* The stationary solution at `value` on the branch between the converged
+ * points pa and pb: polished from their interpolation.  0 or -1. */
+static int solve_between(crossing *c, double value)
+{
+    const usm_sweep_point *pa = c->pa, *pb = c->pb;
+    const double w = (value - pa->value) / (pb->value - pa->value);
+    double u[USM_MAX_NU] = {0};
+    for (int i = 0; i < USM_MAX_NU; ++i) {
+        double ub = pb->sol.u[i];
+        /* alpha is stored in [0, 2 pi): undo a wrap between the two points */
+        if (i == 1 && fabs(ub - pa->sol.u[i]) > 0.5 * TWO_PI)
+            ub += ub > pa->sol.u[i] ? -TWO_PI : TWO_PI;
+        u[i] = pa->sol.u[i] + w * (ub - pa->sol.u[i]);
+    }
+    usm_params q = *c->p;
+    *usm_params_field(&q, c->info) = value;
+    if (usm_steady_solve_from(c->steady, &q, u) != USM_OK)
+        return -1;
+    c->sol = *usm_steady_root(c->steady, 0);
+    return 0;
+}
+
 static double margin(double value, void *ctx)
 {
     crossing *c = ctx;
     usm_params q = *c->p;
-    if (c->failed || sweep_solve_between(c->s, c->p, c->a, c->b, value, &c->sol) != 0) {
+    if (c->failed || solve_between(c, value) != 0) {
         c->failed = 1;
         return 0.0;
     }
-    *usm_params_field(&q, c->s->br.info) = value;
+    *usm_params_field(&q, c->info) = value;
     usm_point pt;
     if (usm_point_evaluate(NULL, c->f, &q, NULL, &c->sol, 1, c->opt->t0, &pt) != USM_OK ||
         !pt.has_floquet) {
@@ -106,7 +144,7 @@ static double margin(double value, void *ctx)
 
 static int locate(crossing *c, gsl_root_fsolver *brent, double *value)
 {
-    const double va = c->s->pts[c->a].value, vb = c->s->pts[c->b].value;
+    const double va = c->pa->value, vb = c->pb->value;
     double lo = fmin(va, vb), hi = fmax(va, vb);
     gsl_function F = {margin, c};
     if (gsl_root_fsolver_set(brent, &F, lo, hi) != GSL_SUCCESS || c->failed)
@@ -125,29 +163,32 @@ static int locate(crossing *c, gsl_root_fsolver *brent, double *value)
     return c->failed ? -1 : 0;
 }
 
-int sweep_stability_events(usm_sweep *s, const usm_params *p, const usm_sweep_options *opt)
+int sweep_stability_events(const usm_model *m, const usm_params *p,
+                           const usm_sweep_options *opt, const usm_sweep_point *pts, size_t n,
+                           const sweep_sink *sink, char msg[USM_MSG_LEN])
 {
     crossing c;
     memset(&c, 0, sizeof c);
-    c.s = s;
     c.p = p;
     c.opt = opt;
-    c.f = usm_floquet_alloc(s->m);
+    c.info = usm_params_find(opt->over);
+    c.steady = usm_steady_alloc(m);
+    c.f = usm_floquet_alloc(m);
     gsl_root_fsolver *brent = gsl_root_fsolver_alloc(gsl_root_fsolver_brent);
     int status = USM_OK;
     char v[64];
-    if (!c.f || !brent) {
-        snprintf(s->msg, USM_MSG_LEN, "out of memory");
+    if (!c.steady || !c.f || !brent) {
+        snprintf(msg, USM_MSG_LEN, "out of memory");
         status = USM_EFAILED;
         goto done;
     }
-    for (size_t i = 0; i + 1 < s->npts; ++i) {
-        const usm_sweep_point *pa = &s->pts[i], *pb = &s->pts[i + 1];
+    for (size_t i = 0; i + 1 < n; ++i) {
+        const usm_sweep_point *pa = &pts[i], *pb = &pts[i + 1];
         if (!pa->has_floquet || !pb->has_floquet || pa->floquet.stable == pb->floquet.stable)
             continue;
         double value;
-        c.a = i;
-        c.b = i + 1;
+        c.pa = pa;
+        c.pb = pb;
         c.failed = 0;
         const int located = locate(&c, brent, &value) == 0;
         if (!located) /* still worth reporting: between two grid points */
@@ -155,18 +196,28 @@ int sweep_stability_events(usm_sweep *s, const usm_params *p, const usm_sweep_op
                                     (pb->floquet.max_modulus - pa->floquet.max_modulus) *
                                     (pb->value - pa->value);
         const int stable_dir = (pb->value > pa->value) == (pa->floquet.stable != 0) ? -1 : 1;
-        if (sweep_add_event(s, USM_EVENT_STABILITY_CHANGE, value, located ? &c.sol : NULL,
-                            "the largest non-cyclic Floquet multiplier crosses |lambda| = 1 "
-                            "(t0 = %g s) at %s: stable %s it, unstable %s%s",
-                            opt->t0, sweep_value_text(s, value, v), stable_dir > 0 ? "above" : "below",
-                            stable_dir > 0 ? "below" : "above",
-                            located ? "" : " (interpolated between grid points)") != 0) {
-            snprintf(s->msg, USM_MSG_LEN, "out of memory");
+        usm_sweep_event e;
+        memset(&e, 0, sizeof e);
+        e.type = USM_EVENT_STABILITY_CHANGE;
+        e.value = value;
+        if (located) {
+            e.sol = c.sol;
+            e.has_sol = 1;
+        }
+        snprintf(e.what, USM_MSG_LEN,
+                 "the largest non-cyclic Floquet multiplier crosses |lambda| = 1 "
+                 "(t0 = %g s) at %s: stable %s it, unstable %s%s",
+                 opt->t0, sweep_value_text(c.info, value, v), stable_dir > 0 ? "above" : "below",
+                 stable_dir > 0 ? "below" : "above",
+                 located ? "" : " (interpolated between grid points)");
+        if (sink->event(sink->ctx, &e) != 0) {
+            snprintf(msg, USM_MSG_LEN, "out of memory");
             status = USM_EFAILED;
             goto done;
         }
     }
 done:
+    usm_steady_free(c.steady);
     usm_floquet_free(c.f);
     if (brent)
         gsl_root_fsolver_free(brent);

@@ -73,6 +73,7 @@ typedef struct usm_map_options {
     int boundaries;        /* locate the boundaries (default 1) */
 } usm_map_options;
 
+/* Fill `opt` with the defaults listed above. */
 void usm_map_options_default(usm_map_options *opt);
 
 /* One grid point: (x, y) and its evaluation. */
@@ -117,8 +118,9 @@ int usm_map_run(usm_map *map, const usm_params *p, const usm_map_options *opt);
 
 /* Cell (i, j) = (x_i, y_j) of the last run, NULL when out of range. */
 const usm_map_cell *usm_map_cell_at(const usm_map *map, int i, int j);
-/* Points of boundary `kind`, sorted by k, then column. */
+/* Number of points of boundary `kind` found by the last run. */
 size_t usm_map_boundary_count(const usm_map *map, usm_map_boundary_kind kind);
+/* Point q of boundary `kind` (sorted by k, then column), NULL when out of range. */
 const usm_map_boundary_point *usm_map_boundary_at(const usm_map *map,
                                                   usm_map_boundary_kind kind, size_t q);
 /* Solved cells whose multipliers failed. */
