@@ -219,7 +219,8 @@ static int eval(sweep_branch *b, const double *z, double *F, int jac)
             gsl_matrix_set(b->A, (size_t)i, (size_t)j, J[i * nu + j] * b->scale[j]);
         gsl_matrix_set(b->A, (size_t)i, (size_t)nu, Jp[i * USM_NPARAMS + b->col] * b->scale[nu]);
     }
-    for (size_t k = 0; k < b->A->size1 * b->A->size2; ++k)
+    /* rows 0..nu-1 only: the last row is the border, set by solve_bordered */
+    for (size_t k = 0; k < (size_t)nu * b->A->size2; ++k)
         if (!isfinite(b->A->data[k]))
             return -1;
     return 0;
