@@ -561,7 +561,7 @@ static int land_on_grid(trace *tr, const arc *a, double s_end, const double *zen
 static void end_text(const trace *tr, char *buf, size_t len, const char *what, double value)
 {
     char v[64];
-    snprintf(buf, len, "%s: no stationary solution on this branch %s %s", what,
+    snprintf(buf, len, "%.140s: no stationary solution on this branch %s %.63s", what,
              side(tr->b->dir), sweep_value_text(tr->b->info, value, v));
 }
 
