@@ -52,6 +52,8 @@ static void usage(FILE *out)
             "--json one object: model, parameters, t0, x, y, points[] and boundaries\n"
             "{existence, stability, stick}: [x, y] pairs where, along y, a solution starts\n"
             "or stops existing, |lambda| crosses 1, F_t = mu0 F_n (located by bisection).\n"
+            "A point without a solution or whose multipliers fail has its reason in\n"
+            "\"error\"; the map goes on.\n"
             "\n"
             "exit status: 0 done, 1 numerical failure or write error, 2 bad input\n");
 }

@@ -38,6 +38,7 @@ static void copy_cell(const usm_map_cell *in, report_map_cell *c)
     c->rotor_speed = pt->exists ? pt->sol.rotor_speed : NAN;
     c->mu_used = pt->exists ? pt->sol.mu_used : NAN;
     c->stick_admissible = pt->exists && pt->sol.stick_admissible;
+    snprintf(c->error, sizeof c->error, "%s", pt->error);
 }
 
 int report_map_run(report_map *map, char msg[CLI_MSG_LEN])
@@ -204,6 +205,8 @@ json_t *report_map_json(const report_map *map)
             cli_json_put(pt, "max_modulus", cli_json_real(c->max_modulus), &ok);
             cli_json_put(pt, "stable", json_boolean(c->stable), &ok);
         }
+        if (c->error[0])
+            cli_json_put(pt, "error", json_string(c->error), &ok);
         if (json_array_append_new(pts, pt) != 0)
             ok = 0;
     }

@@ -29,6 +29,7 @@ typedef struct report_map_cell {
     int stable;
     double theta, rotor_speed, mu_used; /* primary root (NaN unless exists) */
     int stick_admissible;
+    char error[USM_MSG_LEN]; /* why no solution, or why the multipliers failed */
 } report_map_cell;
 
 enum {
