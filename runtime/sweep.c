@@ -12,6 +12,22 @@
 
 #include "sweep_internal.h"
 
+struct usm_sweep {
+    const usm_model *m;
+    sweep_branch br;
+    usm_sweep_point *pts;
+    size_t npts, cap;
+    double *grid;         /* the grid values, for the tracer */
+    unsigned char *settled; /* per point: passed on by the tracer once */
+    usm_sweep_event *ev;
+    size_t nev, evcap;
+    char msg[USM_MSG_LEN];
+    /* progress: the continuation's share of the run, then the Floquet part's */
+    const usm_sweep_options *opt;
+    double progress_split;
+    size_t done;          /* grid points settled by the continuation phase */
+};
+
 const char *usm_event_name(usm_event_type type)
 {
     switch (type) {
@@ -23,6 +39,18 @@ const char *usm_event_name(usm_event_type type)
         return "friction_saturation";
     case USM_EVENT_STABILITY_CHANGE:
         return "stability_change";
+    case USM_EVENT_TILT_ZERO:
+        return "tilt_zero";
+    case USM_EVENT_RANGE_END:
+        return "range_end";
+    case USM_EVENT_STALL:
+        return "stall";
+    case USM_EVENT_MAXIMUM:
+        return "maximum";
+    case USM_EVENT_MINIMUM:
+        return "minimum";
+    case USM_EVENT_CROSSING:
+        return "crossing";
     }
     return "unknown";
 }
@@ -48,8 +76,7 @@ usm_sweep *usm_sweep_alloc(const usm_model *m)
     if (!s)
         return NULL;
     s->m = m;
-    s->steady = usm_steady_alloc(m);
-    if (!s->steady || sweep_branch_alloc(&s->br, m) != 0) {
+    if (sweep_branch_alloc(&s->br, m) != 0) {
         usm_sweep_free(s);
         return NULL;
     }
@@ -60,9 +87,10 @@ void usm_sweep_free(usm_sweep *s)
 {
     if (!s)
         return;
-    usm_steady_free(s->steady);
     sweep_branch_free(&s->br);
     free(s->pts);
+    free(s->grid);
+    free(s->settled);
     free(s->ev);
     free(s);
 }
@@ -83,18 +111,34 @@ const usm_sweep_event *usm_sweep_event_at(const usm_sweep *s, size_t i)
 
 const char *usm_sweep_message(const usm_sweep *s) { return s->msg; }
 
-const char *sweep_value_text(const usm_sweep *s, double value, char buf[64])
+/* ---- the sink: what the branch tracer and the stability pass find -------------- */
+
+static void progress(const usm_sweep *s, double fraction)
 {
-    const char *unit = s->br.info->unit;
-    /* a dimensionless value reads better without the unit "1" */
-    snprintf(buf, 64, "%s = %.10g%s%s", s->br.info->name, value, strcmp(unit, "1") ? " " : "",
-             strcmp(unit, "1") ? unit : "");
-    return buf;
+    if (s->opt && s->opt->progress)
+        s->opt->progress(fmin(1.0, fmax(0.0, fraction)), s->opt->progress_ctx);
 }
 
-int sweep_add_event(usm_sweep *s, usm_event_type type, double value,
-                    const usm_steady_solution *sol, const char *fmt, ...)
+static void sink_point(void *ctx, size_t i, const usm_steady_solution *sol, int roots,
+                       const char *error)
 {
+    usm_sweep *s = ctx;
+    usm_sweep_point *pt = &s->pts[i];
+    pt->converged = sol != NULL;
+    if (sol)
+        pt->sol = *sol;
+    pt->roots = roots;
+    snprintf(pt->error, USM_MSG_LEN, "%s", error ? error : "");
+    if (!s->settled[i]) {
+        s->settled[i] = 1;
+        ++s->done;
+        progress(s, s->progress_split * (double)s->done / (double)s->npts);
+    }
+}
+
+static int sink_event(void *ctx, const usm_sweep_event *e)
+{
+    usm_sweep *s = ctx;
     if (s->nev == s->evcap) {
         size_t cap = s->evcap ? 2 * s->evcap : 8;
         usm_sweep_event *ev = realloc(s->ev, cap * sizeof *ev);
@@ -103,31 +147,14 @@ int sweep_add_event(usm_sweep *s, usm_event_type type, double value,
         s->ev = ev;
         s->evcap = cap;
     }
-    usm_sweep_event *e = &s->ev[s->nev++];
-    memset(e, 0, sizeof *e);
-    e->type = type;
-    e->value = value;
-    if (sol) {
-        e->sol = *sol;
-        e->has_sol = 1;
-    }
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(e->what, USM_MSG_LEN, fmt, ap);
-    va_end(ap);
+    s->ev[s->nev++] = *e;
     return 0;
 }
 
-void sweep_progress(const usm_sweep *s, double fraction)
+static void sink_progress(void *ctx, double fraction)
 {
-    if (s->opt && s->opt->progress)
-        s->opt->progress(fmin(1.0, fmax(0.0, fraction)), s->opt->progress_ctx);
-}
-
-void sweep_point_done(usm_sweep *s)
-{
-    ++s->done;
-    sweep_progress(s, s->progress_split * (double)s->done / (double)s->npts);
+    usm_sweep *s = ctx;
+    progress(s, s->progress_split + (1.0 - s->progress_split) * fraction);
 }
 
 /* ---- options ------------------------------------------------------------------ */
@@ -166,14 +193,38 @@ static int check_options(usm_sweep *s, const usm_params *p, const usm_sweep_opti
         snprintf(s->msg, USM_MSG_LEN, "to: must differ from from (%g)", opt->from);
         return USM_EINPUT;
     }
-    if (opt->points < 2) {
-        snprintf(s->msg, USM_MSG_LEN, "points: must be at least 2, got %d", opt->points);
+    if (opt->points < 2 || opt->points > SWEEP_MAX_POINTS) {
+        snprintf(s->msg, USM_MSG_LEN, "points: must be at least 2 and at most %d, got %d",
+                 SWEEP_MAX_POINTS, opt->points);
         return USM_EINPUT;
     }
     if (opt->threads < 1 || opt->threads > SWEEP_MAX_THREADS) {
         snprintf(s->msg, USM_MSG_LEN, "threads: must be between 1 and %d, got %d", SWEEP_MAX_THREADS,
                  opt->threads);
         return USM_EINPUT;
+    }
+    if (opt->nmonitors < 0 || opt->nmonitors > USM_SWEEP_MAX_MONITORS ||
+        (opt->nmonitors > 0 && !opt->monitors)) {
+        snprintf(s->msg, USM_MSG_LEN, "monitors: need 0 to %d of them, got %d",
+                 USM_SWEEP_MAX_MONITORS, opt->nmonitors);
+        return USM_EINPUT;
+    }
+    for (int k = 0; k < opt->nmonitors; ++k) {
+        const usm_sweep_monitor *mo = &opt->monitors[k];
+        if (!mo->name || !mo->name[0] || strlen(mo->name) > 31 || strpbrk(mo->name, " \t\n") ||
+            !mo->fn || mo->nlevels < 0 || mo->nlevels > USM_SWEEP_MAX_LEVELS) {
+            snprintf(s->msg, USM_MSG_LEN,
+                     "monitors[%d]: need a name (1 to 31 characters, no spaces), a function "
+                     "and 0 to %d levels",
+                     k, USM_SWEEP_MAX_LEVELS);
+            return USM_EINPUT;
+        }
+        for (int l = 0; l < mo->nlevels; ++l)
+            if (!isfinite(mo->levels[l])) {
+                snprintf(s->msg, USM_MSG_LEN, "monitors[%d] (%s): level %d must be a finite number",
+                         k, mo->name, l);
+                return USM_EINPUT;
+            }
     }
     if (!isfinite(opt->t0)) {
         snprintf(s->msg, USM_MSG_LEN, "t0: must be a finite number");
@@ -204,17 +255,24 @@ static int setup_points(usm_sweep *s, const usm_sweep_options *opt)
     const size_t n = (size_t)opt->points;
     if (n > s->cap) {
         usm_sweep_point *pts = realloc(s->pts, n * sizeof *pts);
-        if (!pts) {
+        double *grid = pts ? realloc(s->grid, n * sizeof *grid) : NULL;
+        unsigned char *settled = grid ? realloc(s->settled, n) : NULL;
+        if (pts)
+            s->pts = pts;
+        if (grid)
+            s->grid = grid;
+        if (!settled) {
             snprintf(s->msg, USM_MSG_LEN, "out of memory for %zu sweep points", n);
             return USM_EFAILED;
         }
-        s->pts = pts;
+        s->settled = settled;
         s->cap = n;
     }
     s->npts = n;
     memset(s->pts, 0, n * sizeof *s->pts);
+    memset(s->settled, 0, n);
     for (size_t i = 0; i < n; ++i)
-        s->pts[i].value = grid_value(opt, (int)i);
+        s->grid[i] = s->pts[i].value = grid_value(opt, (int)i);
     return USM_OK;
 }
 
@@ -239,12 +297,17 @@ int usm_sweep_run(usm_sweep *s, const usm_params *p, const usm_sweep_options *op
     s->opt = opt;
     s->done = 0;
     s->progress_split = opt->floquet ? 0.05 : 1.0;
-    sweep_progress(s, 0.0);
-    status = sweep_trace_grid(s, p, opt);
+    progress(s, 0.0);
+    const sweep_sink sink = {s, sink_point, sink_event, sink_progress};
+    status = sweep_trace_grid(&s->br, p, opt, s->grid, s->npts, &sink, s->msg);
+    if (status == USM_OK)
+        for (size_t i = 0; i < s->npts; ++i)
+            if (!s->settled[i]) /* beyond a trace's reach: a branch that was lost */
+                sink_point(s, i, NULL, 0, "not reached by the continuation");
     if (status == USM_OK && opt->floquet) {
-        status = sweep_floquet_points(s, p, opt);
+        status = sweep_floquet_points(s->m, p, opt, s->pts, s->npts, &sink, s->msg);
         if (status == USM_OK)
-            status = sweep_stability_events(s, p, opt);
+            status = sweep_stability_events(s->m, p, opt, s->pts, s->npts, &sink, s->msg);
     }
     if (s->nev > 1) {
         qsort(s->ev, s->nev, sizeof *s->ev, by_position);
@@ -256,7 +319,7 @@ int usm_sweep_run(usm_sweep *s, const usm_params *p, const usm_sweep_options *op
             }
     }
     if (status == USM_OK)
-        sweep_progress(s, 1.0);
+        progress(s, 1.0);
     s->opt = NULL;
     return status;
 }

@@ -22,6 +22,7 @@
  *   grid      lambda(s) - g, then the landing correction at exactly g.
  */
 #include <math.h>
+#include <stdarg.h>
 #include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -56,7 +57,8 @@ int sweep_branch_alloc(sweep_branch *b, const usm_model *m)
     b->b = gsl_vector_alloc(n);
     b->x = gsl_vector_alloc(n);
     b->brent = gsl_root_fsolver_alloc(gsl_root_fsolver_brent);
-    return b->A && b->perm && b->b && b->x && b->brent ? 0 : -1;
+    b->steady = usm_steady_alloc(m);
+    return b->A && b->perm && b->b && b->x && b->brent && b->steady ? 0 : -1;
 }
 
 void sweep_branch_free(sweep_branch *b)
@@ -71,8 +73,94 @@ void sweep_branch_free(sweep_branch *b)
         gsl_vector_free(b->x);
     if (b->brent)
         gsl_root_fsolver_free(b->brent);
+    usm_steady_free(b->steady);
+    free(b->pev);
+    free(b->ppt);
     memset(b, 0, sizeof *b);
 }
+
+/* ---- what a step finds, passed on once the step is accepted --------------------- */
+
+struct sweep_pending_point {
+    size_t i;
+    int has_sol, roots;
+    usm_steady_solution sol;
+    char error[USM_MSG_LEN];
+};
+
+static void emit_point(sweep_branch *b, size_t i, const usm_steady_solution *sol, int roots,
+                       const char *error)
+{
+    if (b->nppt == b->pptcap) {
+        const size_t cap = b->pptcap ? 2 * b->pptcap : 16;
+        struct sweep_pending_point *q = realloc(b->ppt, cap * sizeof *q);
+        if (!q) {
+            b->oom = 1;
+            return;
+        }
+        b->ppt = q;
+        b->pptcap = cap;
+    }
+    struct sweep_pending_point *pp = &b->ppt[b->nppt++];
+    pp->i = i;
+    pp->has_sol = sol != NULL;
+    if (sol)
+        pp->sol = *sol;
+    pp->roots = roots;
+    snprintf(pp->error, USM_MSG_LEN, "%s", error ? error : "");
+}
+
+/* A new pending event, or NULL when out of memory. */
+static usm_sweep_event *emit_event(sweep_branch *b, usm_event_type type, double value,
+                                   const usm_steady_solution *sol, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 5, 6)))
+#endif
+    ;
+
+static usm_sweep_event *emit_event(sweep_branch *b, usm_event_type type, double value,
+                                   const usm_steady_solution *sol, const char *fmt, ...)
+{
+    if (b->npev == b->pevcap) {
+        const size_t cap = b->pevcap ? 2 * b->pevcap : 8;
+        usm_sweep_event *q = realloc(b->pev, cap * sizeof *q);
+        if (!q) {
+            b->oom = 1;
+            return NULL;
+        }
+        b->pev = q;
+        b->pevcap = cap;
+    }
+    usm_sweep_event *e = &b->pev[b->npev++];
+    memset(e, 0, sizeof *e);
+    e->type = type;
+    e->value = value;
+    if (sol) {
+        e->sol = *sol;
+        e->has_sol = 1;
+    }
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(e->what, USM_MSG_LEN, fmt, ap);
+    va_end(ap);
+    return e;
+}
+
+static void flush(sweep_branch *b)
+{
+    for (size_t k = 0; k < b->nppt; ++k) {
+        const struct sweep_pending_point *pp = &b->ppt[k];
+        b->sink->point(b->sink->ctx, pp->i, pp->has_sol ? &pp->sol : NULL, pp->roots, pp->error);
+        if (pp->has_sol)
+            b->last = pp->sol;
+    }
+    for (size_t k = 0; k < b->npev; ++k)
+        if (b->sink->event(b->sink->ctx, &b->pev[k]) != 0)
+            b->oom = 1;
+    b->nppt = b->npev = 0;
+}
+
+static void discard(sweep_branch *b) { b->nppt = b->npev = 0; }
 
 /* ---- the bordered system ------------------------------------------------------ */
 
@@ -94,11 +182,24 @@ static void unscale(const sweep_branch *b, const double *z, double *u)
 
 static void set_lambda(sweep_branch *b, double lambda) { *usm_params_field(&b->p, b->info) = lambda; }
 
+/* The swept parameter inside its physical range (kappa > 0, c_r >= 0, ...):
+ * Newton must not land on the mirror image of the branch at kappa < 0. */
+static int admissible(const sweep_branch *b, double lambda)
+{
+    if (strcmp(b->info->constraint, "positive") == 0)
+        return lambda > 0.0;
+    if (strcmp(b->info->constraint, "nonnegative") == 0)
+        return lambda >= 0.0;
+    return isfinite(lambda);
+}
+
 /* F(z) into F[0..nu-1]; with jac, the scaled F_z into rows 0..nu-1 of A. */
 static int eval(sweep_branch *b, const double *z, double *F, int jac)
 {
     const int nu = b->nu;
     double u[USM_MAX_NU], J[USM_MAX_NU * USM_MAX_NU], Jp[USM_MAX_NU * USM_NPARAMS];
+    if (!admissible(b, lambda_of(b, z)))
+        return -1;
     unscale(b, z, u);
     set_lambda(b, lambda_of(b, z));
     b->m->steady_residual(u, &b->p, F);
@@ -114,7 +215,8 @@ static int eval(sweep_branch *b, const double *z, double *F, int jac)
             gsl_matrix_set(b->A, (size_t)i, (size_t)j, J[i * nu + j] * b->scale[j]);
         gsl_matrix_set(b->A, (size_t)i, (size_t)nu, Jp[i * USM_NPARAMS + b->col] * b->scale[nu]);
     }
-    for (size_t k = 0; k < b->A->size1 * b->A->size2; ++k)
+    /* rows 0..nu-1 only: the last row is the border, set by solve_bordered */
+    for (size_t k = 0; k < (size_t)nu * b->A->size2; ++k)
         if (!isfinite(b->A->data[k]))
             return -1;
     return 0;
@@ -222,7 +324,8 @@ typedef struct arc {
     double za[SWEEP_MAX_N], ta[SWEEP_MAX_N]; /* start and tangent of the step */
 } arc;
 
-enum { FN_LAMBDA, FN_TANGENT, FN_THETA_LOW, FN_THETA_HIGH, FN_STICK };
+enum { FN_LAMBDA, FN_TANGENT, FN_THETA_LOW, FN_THETA_HIGH, FN_STICK, FN_ROTOR, FN_MONITOR,
+       FN_SLOPE };
 
 typedef struct arc_fn {
     sweep_branch *b;
@@ -230,7 +333,36 @@ typedef struct arc_fn {
     int kind;
     double arg;
     int failed;
+    const usm_sweep_monitor *mo;
 } arc_fn;
+
+/* ---- user monitors ---------------------------------------------------------------- */
+
+static void solution_at(sweep_branch *b, const double *z, usm_steady_solution *sol);
+
+static double monitor_at(sweep_branch *b, const usm_sweep_monitor *mo, const double *z)
+{
+    usm_steady_solution sol;
+    solution_at(b, z, &sol);
+    return mo->fn(&sol, &b->p, mo->ctx);
+}
+
+/* Step of the central differences along the tangent (scaled units, where the
+ * components of z are of order one): truncation ~1e-12, rounding ~1e-10. */
+#define SLOPE_STEP 1e-6
+
+/* dy/ds at z on the branch with unit tangent t: the derivative of y along t,
+ * by central differences (y is a smooth function of z off the branch too). */
+static double monitor_slope(sweep_branch *b, const usm_sweep_monitor *mo, const double *z,
+                            const double *t)
+{
+    double zp[SWEEP_MAX_N], zm[SWEEP_MAX_N];
+    for (int j = 0; j < b->n; ++j) {
+        zp[j] = z[j] + SLOPE_STEP * t[j];
+        zm[j] = z[j] - SLOPE_STEP * t[j];
+    }
+    return (monitor_at(b, mo, zp) - monitor_at(b, mo, zm)) / (2.0 * SLOPE_STEP);
+}
 
 static int arc_point(sweep_branch *b, const arc *a, double s, double *z)
 {
@@ -261,6 +393,16 @@ static double arc_value(double s, void *ctx)
         return z[0] * b->scale[0] - f->arg;
     case FN_THETA_HIGH:
         return f->arg - z[0] * b->scale[0];
+    case FN_ROTOR:
+        return z[b->rotor];
+    case FN_MONITOR:
+        return monitor_at(b, f->mo, z) - f->arg;
+    case FN_SLOPE:
+        if (tangent(b, z, f->a->ta, t) != 0) {
+            f->failed = 1;
+            return 0.0;
+        }
+        return monitor_slope(b, f->mo, z, t);
     default:
         return stick_gap(b, z);
     }
@@ -268,10 +410,11 @@ static double arc_value(double s, void *ctx)
 
 /* Root in s of function `kind` on [lo, hi], where its values are flo and fhi
  * of opposite sign (or one of them zero).  0 and *s, or -1. */
-static int arc_root(sweep_branch *b, const arc *a, int kind, double arg, double lo, double hi,
-                    double flo, double fhi, double epsabs, double *s)
+static int arc_root_fn(sweep_branch *b, const arc *a, int kind, const usm_sweep_monitor *mo,
+                       double arg, double lo, double hi, double flo, double fhi, double epsabs,
+                       double *s)
 {
-    arc_fn f = {b, a, kind, arg, 0};
+    arc_fn f = {b, a, kind, arg, 0, mo};
     gsl_function F = {arc_value, &f};
     if (flo == 0.0 || fhi == 0.0) {
         *s = flo == 0.0 ? lo : hi;
@@ -291,12 +434,17 @@ static int arc_root(sweep_branch *b, const arc *a, int kind, double arg, double 
     return 0;
 }
 
+static int arc_root(sweep_branch *b, const arc *a, int kind, double arg, double lo, double hi,
+                    double flo, double fhi, double epsabs, double *s)
+{
+    return arc_root_fn(b, a, kind, NULL, arg, lo, hi, flo, fhi, epsabs, s);
+}
+
 /* ---- following the branch -------------------------------------------------------- */
 
 enum { END_STOP, END_FOLD, END_BOUNDARY, END_SATURATION };
 
 typedef struct trace {
-    usm_sweep *s;
     sweep_branch *b;
     ptrdiff_t next;     /* next grid point to land on */
     int step;           /* +1: the trace runs in sweep order, -1: backwards */
@@ -305,25 +453,46 @@ typedef struct trace {
     /* outcome */
     int end;
     double end_value;
+    usm_event_type end_type;
 } trace;
 
 static int within(const trace *tr, double lambda) { return (lambda - tr->stop) * tr->b->dir <= 0; }
 
 static int pending(const trace *tr)
 {
-    return tr->next >= 0 && tr->next < (ptrdiff_t)tr->s->npts;
+    return tr->next >= 0 && tr->next < (ptrdiff_t)tr->b->npts;
 }
 
 static const char *side(int dir) { return dir > 0 ? "above" : "below"; }
 
-/* The root of the full search at q that is the branch's root u, or NULL. */
-static const usm_steady_solution *same_root(usm_sweep *s, const usm_params *q, const double *u)
+/* Whether ua and ub are the same root: every unknown agrees, not the tilt
+ * alone (the slip model's roots under a non-monotone friction law share
+ * theta and alpha and differ only in the rotor speed). */
+static int same_unknowns(const sweep_branch *b, const double *ua, const double *ub)
 {
-    if (usm_steady_solve(s->steady, q, &s->opt->steady) != USM_OK)
+    for (int i = 0; i < b->nu; ++i) {
+        double d = fabs(ua[i] - ub[i]);
+        if (i == 1) /* alpha, stored in [0, 2 pi) */
+            d = fmin(d, fabs(TWO_PI - d));
+        const double size = i == 0 ? fabs(ua[0]) : fmax(1.0, fmax(fabs(ua[i]), fabs(ub[i])));
+        if (!(d <= 1e-6 * size))
+            return 0;
+    }
+    return 1;
+}
+
+/* The root of the full search at q that is the branch's root u, or NULL;
+ * *roots: the number of roots the search finds there. */
+static const usm_steady_solution *same_root(sweep_branch *b, const usm_params *q, const double *u,
+                                            int *roots)
+{
+    *roots = 0;
+    if (usm_steady_solve(b->steady, q, &b->opt->steady) != USM_OK)
         return NULL;
-    for (size_t k = 0; k < usm_steady_count(s->steady); ++k) {
-        const usm_steady_solution *r = usm_steady_root(s->steady, k);
-        if (fabs(r->theta - u[0]) <= 1e-6 * fabs(u[0]))
+    *roots = (int)usm_steady_count(b->steady);
+    for (size_t k = 0; k < usm_steady_count(b->steady); ++k) {
+        const usm_steady_solution *r = usm_steady_root(b->steady, k);
+        if (same_unknowns(b, u, r->u))
             return r;
     }
     return NULL;
@@ -332,35 +501,37 @@ static const usm_steady_solution *same_root(usm_sweep *s, const usm_params *q, c
 /* Grid point i from a point on the branch at (nearly) its value. */
 static void finish_point(trace *tr, size_t i, double *z)
 {
-    usm_sweep *s = tr->s;
     sweep_branch *b = tr->b;
-    usm_sweep_point *pt = &s->pts[i];
+    const double value = b->grid[i];
+    usm_steady_solution sol;
+    int roots;
     double e[SWEEP_MAX_N] = {0}, u[USM_MAX_NU];
     e[b->nu] = 1.0;
     /* on the branch at the grid value itself: the start of the polish below,
      * and the result where the polish fails (a failed Newton leaves z as it
      * was, already on the branch near the value) */
-    correct(b, z, e, pt->value / b->scale[b->nu]);
+    correct(b, z, e, value / b->scale[b->nu]);
     unscale(b, z, u);
     usm_params q = b->p;
-    *usm_params_field(&q, b->info) = pt->value;
+    *usm_params_field(&q, b->info) = value;
     /* The continuation says which root; the full search's polish of that root
      * gives its value, so that a row equals `usm steady` at these parameters
      * bit for bit (the Floquet integration amplifies a last-bit difference to
      * ~1e-7).  Where the search misses the root, polish from the branch. */
-    const usm_steady_solution *r = same_root(s, &q, u);
-    if (!r && usm_steady_solve_from(s->steady, &q, u) == USM_OK)
-        r = usm_steady_root(s->steady, 0);
-    if (r && fabs(r->theta - u[0]) <= 1e-6 * fabs(u[0]))
-        pt->sol = *r;
+    const usm_steady_solution *r = same_root(b, &q, u, &roots);
+    /* the branch's root missed by the search is one more root */
+    if (!r)
+        roots++;
+    if (!r && usm_steady_solve_from(b->steady, &q, u) == USM_OK)
+        r = usm_steady_root(b->steady, 0);
+    if (r && same_unknowns(b, u, r->u))
+        sol = *r;
     else {
-        memset(&pt->sol, 0, sizeof pt->sol);
-        memcpy(pt->sol.u, u, sizeof u);
-        usm_steady_evaluate(b->m, &q, &pt->sol);
+        memset(&sol, 0, sizeof sol);
+        memcpy(sol.u, u, sizeof u);
+        usm_steady_evaluate(b->m, &q, &sol);
     }
-    pt->converged = 1;
-    pt->error[0] = '\0';
-    sweep_point_done(s);
+    emit_point(b, i, &sol, roots, "");
 }
 
 /* Land on every grid value reached by the arc [0, s_end] (zend = z(s_end)). */
@@ -369,7 +540,7 @@ static int land_on_grid(trace *tr, const arc *a, double s_end, const double *zen
     sweep_branch *b = tr->b;
     const int nu = b->nu;
     while (pending(tr)) {
-        const double g = tr->s->pts[tr->next].value / b->scale[nu];
+        const double g = b->grid[tr->next] / b->scale[nu];
         double z[SWEEP_MAX_N], sg;
         if ((g - zend[nu]) * b->dir > 0)
             break;
@@ -386,14 +557,118 @@ static int land_on_grid(trace *tr, const arc *a, double s_end, const double *zen
 static void end_text(const trace *tr, char *buf, size_t len, const char *what, double value)
 {
     char v[64];
-    snprintf(buf, len, "%s: no stationary solution on this branch %s %s", what,
-             side(tr->b->dir), sweep_value_text(tr->s, value, v));
+    snprintf(buf, len, "%.140s: no stationary solution on this branch %s %.63s", what,
+             side(tr->b->dir), sweep_value_text(tr->b->info, value, v));
 }
 
-/* Events of the arc [0, s_end] other than its end: the stick limit. */
+/* Slip model: the rotor speed phidot_R changes sign inside the arc (the rotor
+ * stops: the load equals the torque the motor can hold at rest). */
+static int arc_stall(trace *tr, const arc *a, double s_end, const double *zend)
+{
+    sweep_branch *b = tr->b;
+    const double w0 = a->za[b->rotor], w1 = zend[b->rotor];
+    double s, z[SWEEP_MAX_N];
+    char v[64];
+    if ((w0 < 0) == (w1 < 0) || w0 == 0.0)
+        return 0;
+    if (arc_root(b, a, FN_ROTOR, 0.0, 0.0, s_end, w0, w1, 1e-15, &s) != 0 ||
+        arc_point(b, a, s, z) != 0)
+        return -1;
+    /* on the branch at rotor speed 0 exactly: Newton on [F; z_rotor = 0] */
+    double e[SWEEP_MAX_N] = {0};
+    e[b->rotor] = 1.0;
+    if (correct(b, z, e, 0.0) < 0)
+        return -1;
+    const double lambda = lambda_of(b, z);
+    if (!within(tr, lambda))
+        return 0;
+    usm_steady_solution sol;
+    solution_at(b, z, &sol);
+    /* driving is phidot_R < 0 (the paper's sign) */
+    const int driving_dir = w0 < 0 ? -b->dir : b->dir;
+    return emit_event(b, USM_EVENT_STALL, lambda, &sol,
+                           "the rotor stands still (phidot_R = 0) at %s: it turns in the driving "
+                           "direction %s it and is driven backwards by the load %s it",
+                           sweep_value_text(b->info, lambda, v), side(driving_dir),
+                           side(-driving_dir))
+               ? 0
+               : -1;
+}
+
+/* Events of the arc [0, s_end] other than its end: the stick limit of a stick
+ * model (with slip built in, F_t = mu(v) F_n holds by construction and stick
+ * has no meaning), the stall of a slip model. */
+static int monitor_event(trace *tr, const arc *a, const usm_sweep_monitor *mo, int kind,
+                         double level, double s_end, double g0, double g1, usm_event_type type)
+{
+    sweep_branch *b = tr->b;
+    double s, z[SWEEP_MAX_N];
+    char v[64];
+    if (arc_root_fn(b, a, kind, mo, level, 0.0, s_end, g0, g1, 1e-15, &s) != 0 ||
+        arc_point(b, a, s, z) != 0)
+        return -1;
+    const double lambda = lambda_of(b, z);
+    if (!within(tr, lambda))
+        return 0;
+    usm_steady_solution sol;
+    solution_at(b, z, &sol);
+    const double y = mo->fn(&sol, &b->p, mo->ctx);
+    usm_sweep_event *e;
+    if (type == USM_EVENT_CROSSING)
+        e = emit_event(b, type, lambda, &sol, "%s crosses %.10g at %s", mo->name, level,
+                       sweep_value_text(b->info, lambda, v));
+    else
+        e = emit_event(b, type, lambda, &sol, "%s has a %s %.10g at %s", mo->name,
+                       type == USM_EVENT_MAXIMUM ? "maximum" : "minimum", y,
+                       sweep_value_text(b->info, lambda, v));
+    if (!e)
+        return -1;
+    snprintf(e->monitor, sizeof e->monitor, "%s", mo->name);
+    e->monitor_value = y;
+    return 0;
+}
+
+/* The user monitors' events inside the arc [0, s_end]: level crossings (sign
+ * changes of y - level) and extrema (sign changes of dy/ds), each by Brent. */
+static int arc_monitors(trace *tr, const arc *a, double s_end, const double *zend)
+{
+    sweep_branch *b = tr->b;
+    const usm_sweep_options *opt = b->opt;
+    double tend[SWEEP_MAX_N];
+    int have_tend = 0;
+    for (int k = 0; k < opt->nmonitors; ++k) {
+        const usm_sweep_monitor *mo = &opt->monitors[k];
+        const double y0 = monitor_at(b, mo, a->za), y1 = monitor_at(b, mo, zend);
+        for (int l = 0; l < mo->nlevels; ++l) {
+            const double g0 = y0 - mo->levels[l], g1 = y1 - mo->levels[l];
+            if ((g0 < 0) != (g1 < 0) && g0 != 0.0 &&
+                monitor_event(tr, a, mo, FN_MONITOR, mo->levels[l], s_end, g0, g1,
+                              USM_EVENT_CROSSING) != 0)
+                return -1;
+        }
+        if (!mo->extrema)
+            continue;
+        if (!have_tend) {
+            if (tangent(b, zend, a->ta, tend) != 0)
+                return -1;
+            have_tend = 1;
+        }
+        const double d0 = monitor_slope(b, mo, a->za, a->ta), d1 = monitor_slope(b, mo, zend, tend);
+        if ((d0 < 0) != (d1 < 0) && d0 != 0.0 &&
+            monitor_event(tr, a, mo, FN_SLOPE, 0.0, s_end, d0, d1,
+                          d0 > 0 ? USM_EVENT_MAXIMUM : USM_EVENT_MINIMUM) != 0)
+            return -1;
+    }
+    return 0;
+}
+
 static int arc_events(trace *tr, const arc *a, double s_end, const double *zend)
 {
     sweep_branch *b = tr->b;
+    if (b->opt->nmonitors > 0 && arc_monitors(tr, a, s_end, zend) != 0)
+        return -1;
+    if (b->rotor >= 0)
+        return arc_stall(tr, a, s_end, zend);
     const double g0 = stick_gap(b, a->za), g1 = stick_gap(b, zend);
     double s, z[SWEEP_MAX_N];
     char v[64];
@@ -409,11 +684,13 @@ static int arc_events(trace *tr, const arc *a, double s_end, const double *zend)
     solution_at(b, z, &sol);
     /* admissible on the side where the gap is negative */
     const int admissible_dir = g0 < 0 ? -b->dir : b->dir;
-    return sweep_add_event(tr->s, USM_EVENT_STICK_LIMIT, lambda, &sol,
+    return emit_event(b, USM_EVENT_STICK_LIMIT, lambda, &sol,
                            "F_t = mu0 F_n (mu0 = %g) at %s: stick is admissible %s it, "
                            "not %s",
-                           b->p.mu0, sweep_value_text(tr->s, lambda, v), side(admissible_dir),
-                           side(-admissible_dir));
+                           b->p.mu0, sweep_value_text(b->info, lambda, v), side(admissible_dir),
+                           side(-admissible_dir))
+               ? 0
+               : -1;
 }
 
 /* The end of the branch inside the arc [0, h] ending at z1 (tangent t1): a fold
@@ -453,25 +730,58 @@ static int arc_end(trace *tr, const arc *a, double h, const double *z1, const do
     return 0;
 }
 
+/* The branch left the tilt range at its lower end zb (theta = theta_min): the
+ * residuals are regular at theta = 0 (R* -> R, Z -> H), so the branch runs on
+ * through the limit where the tilt vanishes.  That limit, on the branch at
+ * theta = 0 exactly: Newton on [F; z_theta = 0] from zb.  0 and zt, or -1
+ * when the branch does not reach theta = 0 next to zb. */
+static int tilt_zero(trace *tr, const double *zb, double *zt)
+{
+    sweep_branch *b = tr->b;
+    double e[SWEEP_MAX_N] = {0};
+    e[0] = 1.0;
+    memcpy(zt, zb, sizeof(double) * (size_t)b->n);
+    if (correct(b, zt, e, 0.0) < 0)
+        return -1;
+    /* next to the boundary point: within the tilt's own size of the step */
+    const double dl = fabs(zt[b->nu] - zb[b->nu]);
+    return dl <= 1e-3 ? 0 : -1;
+}
+
 static int report_end(trace *tr, const double *z)
 {
     sweep_branch *b = tr->b;
     usm_steady_solution sol;
     char what[USM_MSG_LEN];
-    const double lambda = lambda_of(b, z);
+    double lambda = lambda_of(b, z);
+    usm_event_type type = USM_EVENT_FOLD;
     solution_at(b, z, &sol);
-    tr->end_value = lambda;
     if (tr->end == END_FOLD)
         end_text(tr, what, sizeof what, "fold: the branch turns back (d lambda/ds = 0)", lambda);
     else {
         const int low = sol.theta < 0.5 * (b->theta_min + b->theta_max);
-        char head[160];
-        snprintf(head, sizeof head, "the tilt reaches theta_%s = %g rad, the end of the admissible range%s",
-                 low ? "min" : "max", low ? b->theta_min : b->theta_max,
-                 low ? " (theta -> 0)" : "");
-        end_text(tr, what, sizeof what, head, lambda);
+        double zt[SWEEP_MAX_N];
+        char head[200];
+        if (low && tilt_zero(tr, z, zt) == 0) {
+            lambda = lambda_of(b, zt);
+            solution_at(b, zt, &sol);
+            type = USM_EVENT_TILT_ZERO;
+            end_text(tr, what, sizeof what,
+                     "the tilt vanishes (theta = 0): the stator no longer wobbles and the "
+                     "motor stops driving",
+                     lambda);
+        } else {
+            type = USM_EVENT_RANGE_END;
+            snprintf(head, sizeof head,
+                     "the tilt reaches theta_%s = %g rad, the end of the searched range "
+                     "(steady options)",
+                     low ? "min" : "max", low ? b->theta_min : b->theta_max);
+            end_text(tr, what, sizeof what, head, lambda);
+        }
     }
-    return sweep_add_event(tr->s, USM_EVENT_FOLD, lambda, &sol, "%s", what);
+    tr->end_value = lambda;
+    tr->end_type = type;
+    return emit_event(b, type, lambda, &sol, "%s", what) ? 0 : -1;
 }
 
 /* Slip model: F_t / F_n approaches the friction law's supremum and the rotor
@@ -507,40 +817,71 @@ static double mu_ratio(sweep_branch *b, const double *z)
  * directly.  Of its roots the one nearest the branch's tilt is taken. */
 static void land_before_saturation(trace *tr, const double *z1, const double *zs)
 {
-    usm_sweep *s = tr->s;
     sweep_branch *b = tr->b;
     const int nu = b->nu;
     while (pending(tr)) {
-        usm_sweep_point *pt = &s->pts[tr->next];
-        const double g = pt->value / b->scale[nu];
+        const double value = b->grid[tr->next];
+        const double g = value / b->scale[nu];
         if ((g - zs[nu]) * b->dir >= 0)
             break;
         const double w = (g - z1[nu]) / (zs[nu] - z1[nu]);
         const double theta = (z1[0] + w * (zs[0] - z1[0])) * b->scale[0];
         usm_params q = b->p;
-        *usm_params_field(&q, b->info) = pt->value;
-        if (usm_steady_solve(s->steady, &q, &s->opt->steady) == USM_OK) {
+        *usm_params_field(&q, b->info) = value;
+        if (usm_steady_solve(b->steady, &q, &b->opt->steady) == USM_OK) {
+            /* nearest in tilt; of roots with that tilt (a non-monotone
+             * friction law) the fastest rotor, the one that diverges */
             size_t best = 0;
-            for (size_t k = 1; k < usm_steady_count(s->steady); ++k)
-                if (fabs(usm_steady_root(s->steady, k)->theta - theta) <
-                    fabs(usm_steady_root(s->steady, best)->theta - theta))
+            for (size_t k = 1; k < usm_steady_count(b->steady); ++k) {
+                const usm_steady_solution *rk = usm_steady_root(b->steady, k),
+                                          *rb = usm_steady_root(b->steady, best);
+                const double dk = fabs(rk->theta - theta), db = fabs(rb->theta - theta);
+                if (dk < db - 1e-6 * fabs(theta) ||
+                    (dk <= db + 1e-6 * fabs(theta) && fabs(rk->rotor_speed) > fabs(rb->rotor_speed)))
                     best = k;
-            pt->sol = *usm_steady_root(s->steady, best);
-            pt->converged = 1;
+            }
+            emit_point(b, (size_t)tr->next, usm_steady_root(b->steady, best),
+                       (int)usm_steady_count(b->steady), "");
         } else
-            snprintf(pt->error, USM_MSG_LEN, "%s", usm_steady_message(s->steady));
-        sweep_point_done(s);
+            emit_point(b, (size_t)tr->next, NULL, 0, usm_steady_message(b->steady));
         tr->next += tr->step;
     }
+}
+
+/* Whether the friction law approaches its value at infinite slip monotonically
+ * from slip velocity v on (the tail where the rotor speed diverges).  A
+ * non-monotone law (Stribeck-like hump) may need F_t/F_n near that value at a
+ * small slip velocity too, where the branch goes on to a fold instead. */
+static int in_tail(const sweep_branch *b, double v)
+{
+    double mu[2], prev;
+    if (!(fabs(v) > 0))
+        return 0;
+    b->m->friction(v, &b->p, mu);
+    prev = fabs(mu[0]);
+    const double lim = friction_limit(b, v);
+    const int rising = prev <= lim;
+    for (int k = 1; k <= 200; ++k) {
+        const double vk = v * pow(V_HUGE / fabs(v), k / 200.0);
+        b->m->friction(vk, &b->p, mu);
+        const double m = fabs(mu[0]);
+        if (rising ? m < prev - 1e-12 * lim : m > prev + 1e-12 * lim)
+            return 0;
+        prev = m;
+    }
+    return 1;
 }
 
 /* Returns 1 when the branch ended in saturation within the trace. */
 static int check_saturation(trace *tr, const double *z1)
 {
     sweep_branch *b = tr->b;
-    double zs[SWEEP_MAX_N];
+    double zs[SWEEP_MAX_N], y[USM_STEADY_COUNT];
     char v[64];
     if (b->rotor < 0 || tr->sat_checked || mu_ratio(b, z1) < SAT_TRIGGER)
+        return 0;
+    outputs(b, z1, y);
+    if (!in_tail(b, y[USM_STEADY_V_REL]))
         return 0;
     if (saturation(tr, z1, zs) != 0)
         return 0; /* keep following the branch; the step control decides */
@@ -550,15 +891,16 @@ static int check_saturation(trace *tr, const double *z1)
         return 0;
     }
     land_before_saturation(tr, z1, zs);
-    double y[USM_STEADY_COUNT], u[USM_MAX_NU];
+    double u[USM_MAX_NU];
     outputs(b, zs, y);
     unscale(b, zs, u);
     tr->end = END_SATURATION;
     tr->end_value = lambda;
-    sweep_add_event(tr->s, USM_EVENT_FRICTION_SATURATION, lambda, NULL,
+    tr->end_type = USM_EVENT_FRICTION_SATURATION;
+    emit_event(b, USM_EVENT_FRICTION_SATURATION, lambda, NULL,
                     "F_t / F_n reaches the friction law's supremum %.6g at %s (theta = %.6g rad): "
                     "the rotor speed diverges and no stationary solution exists %s it",
-                    fabs(y[USM_STEADY_F_T] / y[USM_STEADY_F_N]), sweep_value_text(tr->s, lambda, v),
+                    fabs(y[USM_STEADY_F_T] / y[USM_STEADY_F_N]), sweep_value_text(b->info, lambda, v),
                     u[0], side(b->dir));
     return 1;
 }
@@ -570,7 +912,10 @@ static void rescale(sweep_branch *b, double *z, double *t)
     int changed = 0;
     for (int i = 0; i < b->nu; ++i) {
         const double size = fabs(z[i] * b->scale[i]);
-        if (size > b->scale[i]) {
+        /* the tilt by its own size in both directions: it may fall by decades
+         * (theta ~ 1/c_r), and a step measured in the first size would then
+         * jump across theta = 0 */
+        if (size > b->scale[i] || (i == 0 && size < 0.25 * b->scale[i] && size > 0)) {
             const double f = b->scale[i] / size;
             z[i] *= f;
             t[i] *= f;
@@ -583,6 +928,23 @@ static void rescale(sweep_branch *b, double *z, double *t)
         for (int j = 0; j < b->n; ++j)
             t[j] /= len;
     }
+}
+
+/* The arc of one accepted step [0, h] to z1: its end (s_end, zend), its events
+ * and the grid points on it.  0 or -1. */
+static int step_arc(trace *tr, const arc *a, double h, const double *z1, const double *t1,
+                    double *s_end, double *zend)
+{
+    sweep_branch *b = tr->b;
+    if (arc_end(tr, a, h, z1, t1, s_end, &tr->end) != 0)
+        return -1;
+    if (tr->end == END_STOP)
+        memcpy(zend, z1, sizeof(double) * (size_t)b->n);
+    else if (arc_point(b, a, *s_end, zend) != 0)
+        return -1;
+    if (arc_events(tr, a, *s_end, zend) != 0 || land_on_grid(tr, a, *s_end, zend) != 0)
+        return -1;
+    return 0;
 }
 
 /* Follow the branch from the solution u0 at lambda0 in direction b->dir until
@@ -616,24 +978,34 @@ static int follow(trace *tr, const double *u0, double lambda0, double h)
         memcpy(a.za, z, sizeof z);
         memcpy(a.ta, t, sizeof t);
         double s_end, zend[SWEEP_MAX_N];
-        if (arc_end(tr, &a, h, z1, t1, &s_end, &tr->end) != 0)
-            return -1;
-        if (tr->end == END_STOP)
-            memcpy(zend, z1, sizeof z1);
-        else if (arc_point(b, &a, s_end, zend) != 0)
-            return -1;
-        if (arc_events(tr, &a, s_end, zend) != 0 || land_on_grid(tr, &a, s_end, zend) != 0)
-            return -1;
+        /* A Newton correction inside the arc may fail where the branch curves
+         * strongly (a parameter over decades): the step is then retried
+         * shorter, with what the failed attempt found dropped. */
+        const ptrdiff_t next = tr->next;
+        if (step_arc(tr, &a, h, z1, t1, &s_end, zend) != 0) {
+            discard(b);
+            tr->next = next;
+            tr->end = END_STOP;
+            if ((h *= 0.5) < H_MIN)
+                return -1;
+            continue;
+        }
+        flush(b);
         if (tr->end != END_STOP) {
-            if (within(tr, lambda_of(b, zend)))
-                return report_end(tr, zend);
+            if (within(tr, lambda_of(b, zend))) {
+                const int rc = report_end(tr, zend);
+                flush(b);
+                return rc;
+            }
             tr->end = END_STOP; /* the branch ends beyond the range asked for */
             return 0;
         }
         if (!within(tr, lambda_of(b, z1)))
             return 0;
-        if (check_saturation(tr, z1))
+        if (check_saturation(tr, z1)) {
+            flush(b);
             return 0;
+        }
         memcpy(z, z1, sizeof z1);
         memcpy(t, t1, sizeof t1);
         rescale(b, z, t);
@@ -647,133 +1019,143 @@ static int follow(trace *tr, const double *u0, double lambda0, double h)
 
 /* ---- the grid ------------------------------------------------------------------- */
 
-/* The grid points a trace did not reach, from tr->next on in its direction. */
-static void mark_beyond(const trace *tr, const usm_params *p, const char *why)
+/* The grid points a trace did not reach, from tr->next on in its direction
+ * up to (not including) `end`. */
+static void mark_beyond(const trace *tr, ptrdiff_t end, const char *why)
 {
-    usm_sweep *s = tr->s;
-    for (ptrdiff_t i = tr->next; i >= 0 && i < (ptrdiff_t)s->npts; i += tr->step) {
-        usm_sweep_point *pt = &s->pts[i];
-        usm_params q = *p;
-        *usm_params_field(&q, s->br.info) = pt->value;
-        pt->converged = 0;
+    sweep_branch *b = tr->b;
+    char msg[USM_MSG_LEN];
+    for (ptrdiff_t i = tr->next; i >= 0 && i < (ptrdiff_t)b->npts && i != end; i += tr->step) {
+        usm_params q = b->p;
+        int roots = 0;
+        *usm_params_field(&q, b->info) = b->grid[i];
         /* another root here lies on another branch; say so, but do not jump */
-        if (usm_steady_solve(s->steady, &q, &s->opt->steady) == USM_OK)
-            snprintf(pt->error, USM_MSG_LEN,
+        if (usm_steady_solve(b->steady, &q, &b->opt->steady) == USM_OK &&
+            (roots = (int)usm_steady_count(b->steady)) > 0)
+            snprintf(msg, USM_MSG_LEN,
                      "%.150s; a stationary solution on another branch exists here "
                      "(theta = %.6g rad), not followed",
-                     why, usm_steady_root(s->steady, 0)->theta);
+                     why, usm_steady_root(b->steady, 0)->theta);
         else
-            snprintf(pt->error, USM_MSG_LEN, "%s", why);
-        sweep_point_done(s);
+            snprintf(msg, USM_MSG_LEN, "%s", why);
+        emit_point(b, (size_t)i, NULL, roots, msg);
     }
+    flush(b);
 }
 
-static void setup_branch(sweep_branch *b, const usm_params *p, const usm_sweep_options *opt,
-                         const double *u)
+static void setup_branch(sweep_branch *b, const double *u)
 {
-    b->info = usm_params_find(opt->over);
-    b->col = (int)(b->info - usm_param_table);
-    b->p = *p;
-    b->theta_min = opt->steady.theta_min;
-    b->theta_max = opt->steady.theta_max;
     /* the tilt by its own size; the phase (rad) and rotor speed (1/s) by at
      * least one unit, since their size depends on an arbitrary origin */
     b->scale[0] = fabs(u[0]);
     for (int i = 1; i < b->nu; ++i)
         b->scale[i] = fmax(1.0, fabs(u[i]));
-    b->scale[b->nu] = fabs(opt->to - opt->from);
+    b->scale[b->nu] = fabs(b->opt->to - b->opt->from);
 }
 
-/* The first grid point where the full search finds a solution (npts: none);
- * the points before it get the search's reason. */
-static size_t first_solution(usm_sweep *s, const usm_params *p, int *status)
+/* The first grid point from `from` on (step +1) where the full search finds a
+ * solution (npts: none); the points before it get the search's reason.  Of
+ * its roots the one nearest to `near` (every unknown, scaled; NULL: the
+ * primary root) into *start. */
+static size_t first_solution(sweep_branch *b, size_t from, const usm_steady_solution *near,
+                             usm_steady_solution *start, int *status, char msg[USM_MSG_LEN])
 {
     *status = USM_OK;
-    for (size_t i = 0; i < s->npts; ++i) {
-        usm_params q = *p;
-        *usm_params_field(&q, s->br.info) = s->pts[i].value;
-        const int rc = usm_steady_solve(s->steady, &q, &s->opt->steady);
-        if (rc == USM_OK)
+    for (size_t i = from; i < b->npts; ++i) {
+        usm_params q = b->p;
+        *usm_params_field(&q, b->info) = b->grid[i];
+        const int rc = usm_steady_solve(b->steady, &q, &b->opt->steady);
+        if (rc == USM_OK) {
+            size_t best = 0;
+            double dbest = INFINITY;
+            for (size_t k = 0; near && k < usm_steady_count(b->steady); ++k) {
+                const usm_steady_solution *r = usm_steady_root(b->steady, k);
+                double d = 0;
+                for (int j = 0; j < b->nu; ++j)
+                    d += fabs(r->u[j] - near->u[j]) /
+                         (j == 0 ? fabs(near->u[0]) : fmax(1.0, fabs(near->u[j])));
+                if (d < dbest) {
+                    dbest = d;
+                    best = k;
+                }
+            }
+            *start = *usm_steady_root(b->steady, best);
+            emit_point(b, i, start, (int)usm_steady_count(b->steady), "");
+            flush(b);
             return i;
-        if (rc != USM_ENOSOLUTION) {
-            snprintf(s->msg, USM_MSG_LEN, "%s", usm_steady_message(s->steady));
-            *status = rc;
-            return s->npts;
         }
-        snprintf(s->pts[i].error, USM_MSG_LEN, "%s", usm_steady_message(s->steady));
+        if (rc != USM_ENOSOLUTION) {
+            snprintf(msg, USM_MSG_LEN, "%s", usm_steady_message(b->steady));
+            *status = rc;
+            return b->npts;
+        }
+        emit_point(b, i, NULL, 0, usm_steady_message(b->steady));
+        flush(b);
     }
-    return s->npts;
+    return b->npts;
 }
 
-int sweep_trace_grid(usm_sweep *s, const usm_params *p, const usm_sweep_options *opt)
+int sweep_trace_grid(sweep_branch *b, const usm_params *p, const usm_sweep_options *opt,
+                     const double *grid, size_t n, const sweep_sink *sink, char msg[USM_MSG_LEN])
 {
-    sweep_branch *b = &s->br;
     const int dir = opt->to > opt->from ? 1 : -1;
     int status;
     char v[64];
+    usm_steady_solution start;
     b->info = usm_params_find(opt->over);
-    const size_t i = first_solution(s, p, &status);
-    if (i == s->npts) {
-        for (size_t k = 0; status == USM_OK && k < s->npts; ++k)
-            sweep_point_done(s);
+    b->col = (int)(b->info - usm_param_table);
+    b->p = *p;
+    b->theta_min = opt->steady.theta_min;
+    b->theta_max = opt->steady.theta_max;
+    b->opt = opt;
+    b->grid = grid;
+    b->npts = n;
+    b->sink = sink;
+    b->oom = 0;
+    discard(b);
+    size_t i = first_solution(b, 0, NULL, &start, &status, msg);
+    if (i == n)
         return status;
-    }
-    const usm_steady_solution start = *usm_steady_root(s->steady, 0);
-    s->pts[i].sol = start;
-    s->pts[i].converged = 1;
-    sweep_point_done(s);
-    setup_branch(b, p, opt, start.u);
-    const double h0 = fmin(H_MAX, 0.5 / (double)(s->npts - 1));
+    setup_branch(b, start.u);
+    const double h0 = fmin(H_MAX, 0.5 / (double)(n - 1));
 
     if (i > 0) {
         /* Where does the solution appear?  Follow the branch back to `from`:
          * a fold or range boundary on the way is an event, and grid points
          * the full search missed are landed on. */
-        trace back = {s, b, (ptrdiff_t)i - 1, -1, opt->from, 0, END_STOP, 0};
+        trace back = {b, (ptrdiff_t)i - 1, -1, opt->from, 0, END_STOP, 0, USM_EVENT_FOLD};
         b->dir = -dir;
-        follow(&back, start.u, s->pts[i].value, h0);
-        for (size_t k = 0; k < i; ++k)
-            if (!s->pts[k].converged)
-                sweep_point_done(s);
+        follow(&back, start.u, grid[i], h0);
+        discard(b);
     }
-    trace tr = {s, b, (ptrdiff_t)i + 1, 1, opt->to, 0, END_STOP, 0};
-    b->dir = dir;
-    if (follow(&tr, start.u, s->pts[i].value, h0) != 0) {
-        snprintf(s->msg, USM_MSG_LEN,
-                 "continuation lost the branch after %s (the step length fell below %g)",
-                 sweep_value_text(s, s->pts[tr.next - 1].value, v), H_MIN);
-        mark_beyond(&tr, p, "continuation lost the branch");
+    for (;;) {
+        trace tr = {b, (ptrdiff_t)i + 1, 1, opt->to, 0, END_STOP, 0, USM_EVENT_FOLD};
+        b->dir = dir;
+        setup_branch(b, start.u);
+        if (follow(&tr, start.u, grid[i], h0) == 0) {
+            if (tr.end != END_STOP) {
+                char why[USM_MSG_LEN];
+                snprintf(why, sizeof why, "no stationary solution on the branch beyond %s at %s",
+                         tr.end == END_FOLD ? "the fold" : usm_event_name(tr.end_type),
+                         sweep_value_text(b->info, tr.end_value, v));
+                mark_beyond(&tr, -1, why);
+            }
+            break;
+        }
+        /* The continuation lost the branch after the last grid point it
+         * reached: the full search goes on from the next one, taking the
+         * root nearest the branch's last. */
+        discard(b);
+        const usm_steady_solution near = b->last;
+        if (!pending(&tr))
+            break;
+        i = first_solution(b, (size_t)tr.next, &near, &start, &status, msg);
+        if (i == n)
+            return status;
+    }
+    if (b->oom) {
+        snprintf(msg, USM_MSG_LEN, "out of memory for the sweep's points and events");
         return USM_EFAILED;
     }
-    if (tr.end != END_STOP) {
-        char why[USM_MSG_LEN];
-        const char *kind = tr.end == END_FOLD       ? "the fold"
-                           : tr.end == END_BOUNDARY ? "the end of the tilt range"
-                                                    : "friction saturation";
-        snprintf(why, sizeof why, "no stationary solution on the branch beyond %s at %s", kind,
-                 sweep_value_text(s, tr.end_value, v));
-        mark_beyond(&tr, p, why);
-    }
     return USM_OK;
-}
-
-int sweep_solve_between(usm_sweep *s, const usm_params *p, size_t a, size_t b, double value,
-                        usm_steady_solution *sol)
-{
-    const usm_sweep_point *pa = &s->pts[a], *pb = &s->pts[b];
-    const double w = (value - pa->value) / (pb->value - pa->value);
-    double u[USM_MAX_NU];
-    for (int i = 0; i < s->m->nu; ++i) {
-        double ub = pb->sol.u[i];
-        /* alpha is stored in [0, 2 pi): undo a wrap between the two points */
-        if (i == 1 && fabs(ub - pa->sol.u[i]) > 0.5 * TWO_PI)
-            ub += ub > pa->sol.u[i] ? -TWO_PI : TWO_PI;
-        u[i] = pa->sol.u[i] + w * (ub - pa->sol.u[i]);
-    }
-    usm_params q = *p;
-    *usm_params_field(&q, s->br.info) = value;
-    if (usm_steady_solve_from(s->steady, &q, u) != USM_OK)
-        return -1;
-    *sol = *usm_steady_root(s->steady, 0);
-    return 0;
 }

@@ -1,21 +1,53 @@
-/* sweep_internal.h: pieces of the sweep shared by sweep.c (API, grid,
- * orchestration), sweep_branch.c (pseudo-arclength continuation and the
- * events on the branch) and sweep_stability.c (Floquet multipliers on worker
- * threads, stability changes).  Not installed; not part of the API.
+/* sweep_internal.h: the parts of the sweep.  Not installed; not part of the API.
+ *
+ * The calls go one way: sweep.c (API, options, grid, results, order of the
+ * work) calls sweep_branch.c (pseudo-arclength continuation and the events on
+ * the branch) and sweep_stability.c (Floquet multipliers on the worker pool,
+ * stability changes); those two know nothing of usm_sweep and report what they
+ * find through a sink (a struct of callbacks) that sweep.c provides.
  */
 #ifndef USM_SWEEP_INTERNAL_H
 #define USM_SWEEP_INTERNAL_H
 
+#include <stdio.h>
+#include <string.h>
+
 #include <gsl/gsl_linalg.h>
 #include <gsl/gsl_roots.h>
 
+#include "pool_internal.h"
 #include "usm_sweep.h"
 
+/* More grid points than this are a typing error, not a request. */
+#define SWEEP_MAX_POINTS 1000000
+
 /* More worker threads than this would only contend for the cores. */
-#define SWEEP_MAX_THREADS 64
+#define SWEEP_MAX_THREADS POOL_MAX_THREADS
 
 /* Unknowns of the continuation: u (nu of them) and the parameter. */
 #define SWEEP_MAX_N (USM_MAX_NU + 1)
+
+/* Where the parts report what they find. */
+typedef struct sweep_sink {
+    void *ctx;
+    /* Grid point i settled: sol the branch's root there (NULL: none, error
+     * says why), roots the number of stationary solutions at its value.  May
+     * be called again for the same i with a better result. */
+    void (*point)(void *ctx, size_t i, const usm_steady_solution *sol, int roots,
+                  const char *error);
+    /* One event (copied by the callee).  0, or -1 when out of memory. */
+    int (*event)(void *ctx, const usm_sweep_event *e);
+    /* Fraction [0, 1] of the Floquet phase done. */
+    void (*progress)(void *ctx, double fraction);
+} sweep_sink;
+
+/* "T = 0.0076 N m" style text of a parameter value, for messages. */
+static inline const char *sweep_value_text(const usm_param_info *info, double value, char buf[64])
+{
+    const int unit = strcmp(info->unit, "1") != 0; /* a dimensionless value reads better bare */
+    snprintf(buf, 64, "%s = %.10g%s%s", info->name, value, unit ? " " : "", unit ? info->unit : "");
+    return buf;
+}
 
 /* The branch r(u; lambda) = 0 in scaled coordinates z = (u / su, lambda / Lambda):
  * the components differ by ten orders of magnitude (theta ~ 1e-4 rad, f ~ 4e4 Hz),
@@ -34,49 +66,41 @@ typedef struct sweep_branch {
     gsl_permutation *perm;
     gsl_vector *b, *x;
     gsl_root_fsolver *brent;    /* events located along a step's arclength */
+    /* the run */
+    usm_steady *steady;         /* full searches and polishing at grid values */
+    const usm_sweep_options *opt;
+    const double *grid;
+    size_t npts;
+    const sweep_sink *sink;
+    /* what one step found, passed on to the sink once the step is accepted */
+    usm_sweep_event *pev;
+    size_t npev, pevcap;
+    struct sweep_pending_point *ppt;
+    size_t nppt, pptcap;
+    int oom;                    /* a pending list could not grow */
+    usm_steady_solution last;   /* the last grid point passed on with a solution */
 } sweep_branch;
 
-struct usm_sweep {
-    const usm_model *m;
-    usm_steady *steady;   /* full searches and polishing at grid values */
-    sweep_branch br;
-    usm_sweep_point *pts;
-    size_t npts, cap;
-    usm_sweep_event *ev;
-    size_t nev, evcap;
-    char msg[USM_MSG_LEN];
-    /* progress: the continuation's share of the run, then the Floquet part's */
-    const usm_sweep_options *opt;
-    double progress_split;
-    size_t done;          /* grid points settled by the continuation phase */
-};
-
-/* sweep.c */
-int sweep_add_event(usm_sweep *s, usm_event_type type, double value,
-                    const usm_steady_solution *sol, const char *fmt, ...)
-#if defined(__GNUC__)
-    __attribute__((format(printf, 5, 6)))
-#endif
-    ;
-void sweep_progress(const usm_sweep *s, double fraction);
-/* One more grid point settled (solved or found without solution). */
-void sweep_point_done(usm_sweep *s);
-/* "T = 0.0076 N m" style text of a parameter value, for messages. */
-const char *sweep_value_text(const usm_sweep *s, double value, char buf[64]);
-
-/* sweep_branch.c */
+/* sweep_branch.c: follow the branch of the primary root over the grid
+ * values grid[0..n-1] of opt->over, reporting points and events to sink.
+ * USM_OK, or a status with msg (a full search failing other than with "no
+ * solution").  Where the continuation loses the branch it restarts from the
+ * full search at the next grid value (the root nearest the branch's last). */
 int sweep_branch_alloc(sweep_branch *b, const usm_model *m);
 void sweep_branch_free(sweep_branch *b);
-/* Follow the primary branch over the grid: fills s->pts and the branch events.
- * USM_OK, or USM_EFAILED when the continuation lost the branch (message in s->msg). */
-int sweep_trace_grid(usm_sweep *s, const usm_params *p, const usm_sweep_options *opt);
-/* Solve at parameter value `value` on the branch between converged grid points
- * a and b (used to locate stability changes).  0 or -1. */
-int sweep_solve_between(usm_sweep *s, const usm_params *p, size_t a, size_t b, double value,
-                        usm_steady_solution *sol);
+int sweep_trace_grid(sweep_branch *b, const usm_params *p, const usm_sweep_options *opt,
+                     const double *grid, size_t n, const sweep_sink *sink,
+                     char msg[USM_MSG_LEN]);
 
-/* sweep_stability.c */
-int sweep_floquet_points(usm_sweep *s, const usm_params *p, const usm_sweep_options *opt);
-int sweep_stability_events(usm_sweep *s, const usm_params *p, const usm_sweep_options *opt);
+/* sweep_stability.c: the multipliers of every converged point of pts (into
+ * pts[i].floquet / floquet_error, on opt->threads workers), then the
+ * stability changes between neighbouring points as events.  USM_OK or
+ * USM_EFAILED with msg. */
+int sweep_floquet_points(const usm_model *m, const usm_params *p, const usm_sweep_options *opt,
+                         usm_sweep_point *pts, size_t n, const sweep_sink *sink,
+                         char msg[USM_MSG_LEN]);
+int sweep_stability_events(const usm_model *m, const usm_params *p,
+                           const usm_sweep_options *opt, const usm_sweep_point *pts, size_t n,
+                           const sweep_sink *sink, char msg[USM_MSG_LEN]);
 
 #endif /* USM_SWEEP_INTERNAL_H */

@@ -1,9 +1,8 @@
 /* Floquet multipliers along a sweep, and where stability changes.
  *
- * The multipliers of different grid points are independent, so worker threads
- * take points from a shared counter; each has its own usm_floquet (the objects
- * are not thread-safe, the generated kernels are pure).  The calling thread is
- * one of the workers.
+ * The multipliers of different grid points are independent: the library's one
+ * worker pool (pool.c) hands them out, each worker with its own usm_floquet,
+ * and usm_point_evaluate (usm_map.h), the one point evaluator, computes them.
  *
  * A stability change is a sign change of g(lambda) = max non-cyclic |multiplier| - 1
  * between neighbouring converged grid points; Brent's method on lambda locates
@@ -11,142 +10,141 @@
  * neighbours' interpolation) and computing the multipliers.  The location is as
  * accurate as the multipliers (CVODES rtol 1e-8 gives max_modulus to ~1e-7).
  */
-#define _POSIX_C_SOURCE 200809L
 #include <math.h>
-#include <pthread.h>
 #include <stdio.h>
 #include <string.h>
 
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_roots.h>
 
+#include "pool_internal.h"
 #include "sweep_internal.h"
+#include "usm_map.h"
 
-typedef struct pool {
-    usm_sweep *s;
+#define TWO_PI 6.283185307179586476925286766559
+
+/* ---- the multipliers at the grid points --------------------------------------------- */
+
+typedef struct floquet_pass {
+    const usm_model *m;
     const usm_params *p;
     const usm_sweep_options *opt;
-    pthread_mutex_t lock;
-    size_t next, done, total;
-    int status;
-    char msg[USM_MSG_LEN];
-} pool;
+    const usm_param_info *info;
+    usm_sweep_point *pts;
+    const sweep_sink *sink;
+    size_t done, total;
+} floquet_pass;
 
-static void fail(pool *w, const char *what, size_t i, const char *why)
+static void *floquet_alloc(void *ctx)
 {
-    char v[64];
-    if (w->status == USM_OK) {
-        w->status = USM_EFAILED;
-        snprintf(w->msg, USM_MSG_LEN, "floquet at %s: %.150s",
-                 sweep_value_text(w->s, w->s->pts[i].value, v), why ? why : what);
-    }
+    const floquet_pass *fp = ctx;
+    return usm_floquet_alloc(fp->m);
 }
 
-static void *worker(void *arg)
+static void floquet_free(void *state) { usm_floquet_free(state); }
+
+/* The multipliers of grid point i, a task of the shared worker pool. */
+static int point_task(void *ctx, void *state, size_t i)
 {
-    pool *w = arg;
-    usm_sweep *s = w->s;
-    usm_floquet *f = usm_floquet_alloc(s->m);
-    if (!f) {
-        pthread_mutex_lock(&w->lock);
-        fail(w, "out of memory", w->next < s->npts ? w->next : 0, NULL);
-        pthread_mutex_unlock(&w->lock);
-        return NULL;
-    }
-    for (;;) {
-        pthread_mutex_lock(&w->lock);
-        while (w->next < s->npts && !s->pts[w->next].converged)
-            w->next++;
-        if (w->next >= s->npts || w->status != USM_OK) {
-            pthread_mutex_unlock(&w->lock);
-            break;
-        }
-        const size_t i = w->next++;
-        pthread_mutex_unlock(&w->lock);
-
-        usm_sweep_point *pt = &s->pts[i];
-        usm_params q = *w->p;
-        *usm_params_field(&q, s->br.info) = pt->value;
-        const int rc = usm_floquet_compute(f, &q, &pt->sol, w->opt->t0, NULL, &pt->floquet);
-
-        pthread_mutex_lock(&w->lock);
-        if (rc == USM_OK)
-            pt->has_floquet = 1;
-        else
-            fail(w, "failed", i, usm_floquet_message(f));
-        w->done++;
-        sweep_progress(s, s->progress_split +
-                              (1.0 - s->progress_split) * (double)w->done / (double)w->total);
-        pthread_mutex_unlock(&w->lock);
-    }
-    usm_floquet_free(f);
-    return NULL;
+    floquet_pass *fp = ctx;
+    usm_sweep_point *pt = &fp->pts[i];
+    usm_point res;
+    if (!pt->converged)
+        return 0;
+    usm_params q = *fp->p;
+    *usm_params_field(&q, fp->info) = pt->value;
+    /* one point whose multipliers fail is marked and the others go on: the
+     * stationary solution there is still valid */
+    if (usm_point_evaluate(NULL, state, &q, NULL, &pt->sol, 1, fp->opt->t0, &res) == USM_OK &&
+        res.has_floquet) {
+        pt->floquet = res.floquet;
+        pt->has_floquet = 1;
+    } else
+        snprintf(pt->floquet_error, USM_MSG_LEN, "%s", res.error);
+    return 0;
 }
 
-int sweep_floquet_points(usm_sweep *s, const usm_params *p, const usm_sweep_options *opt)
+static void point_done(void *ctx, size_t i)
 {
-    pool w;
-    pthread_t tid[SWEEP_MAX_THREADS];
-    int started = 0;
-    memset(&w, 0, sizeof w);
-    w.s = s;
-    w.p = p;
-    w.opt = opt;
-    w.status = USM_OK;
-    for (size_t i = 0; i < s->npts; ++i)
-        w.total += s->pts[i].converged != 0;
-    if (w.total == 0)
+    floquet_pass *fp = ctx;
+    if (!fp->pts[i].converged)
+        return;
+    ++fp->done;
+    if (fp->sink->progress)
+        fp->sink->progress(fp->sink->ctx, (double)fp->done / (double)fp->total);
+}
+
+int sweep_floquet_points(const usm_model *m, const usm_params *p, const usm_sweep_options *opt,
+                         usm_sweep_point *pts, size_t n, const sweep_sink *sink,
+                         char msg[USM_MSG_LEN])
+{
+    floquet_pass fp = {m, p, opt, usm_params_find(opt->over), pts, sink, 0, 0};
+    for (size_t i = 0; i < n; ++i)
+        fp.total += pts[i].converged != 0;
+    if (fp.total == 0)
         return USM_OK;
-    if (pthread_mutex_init(&w.lock, NULL) != 0) {
-        snprintf(s->msg, USM_MSG_LEN, "cannot create a mutex");
-        return USM_EFAILED;
-    }
-    const int want = (int)fmin((double)opt->threads, (double)w.total);
-    /* a thread that cannot be started only costs speed: the others take its points */
-    for (int k = 1; k < want && k <= (int)(sizeof tid / sizeof tid[0]); ++k)
-        if (pthread_create(&tid[started], NULL, worker, &w) == 0)
-            ++started;
-    worker(&w);
-    for (int k = 0; k < started; ++k)
-        pthread_join(tid[k], NULL);
-    pthread_mutex_destroy(&w.lock);
-    if (w.status != USM_OK)
-        snprintf(s->msg, USM_MSG_LEN, "%s", w.msg);
-    return w.status;
+    pool_job job = {n, opt->threads, &fp, floquet_alloc, floquet_free, point_task, point_done};
+    return pool_run(&job, msg);
 }
 
 /* ---- stability changes ----------------------------------------------------------- */
 
 typedef struct crossing {
-    usm_sweep *s;
     const usm_params *p;
     const usm_sweep_options *opt;
+    const usm_param_info *info;
+    usm_steady *steady;
     usm_floquet *f;
-    size_t a, b;
+    const usm_sweep_point *pa, *pb;
     usm_steady_solution sol;
     usm_floquet_result res;
     int failed;
 } crossing;
 
+/* The stationary solution at `value` on the branch between the converged
+ * points pa and pb: polished from their interpolation.  0 or -1. */
+static int solve_between(crossing *c, double value)
+{
+    const usm_sweep_point *pa = c->pa, *pb = c->pb;
+    const double w = (value - pa->value) / (pb->value - pa->value);
+    double u[USM_MAX_NU] = {0};
+    for (int i = 0; i < USM_MAX_NU; ++i) {
+        double ub = pb->sol.u[i];
+        /* alpha is stored in [0, 2 pi): undo a wrap between the two points */
+        if (i == 1 && fabs(ub - pa->sol.u[i]) > 0.5 * TWO_PI)
+            ub += ub > pa->sol.u[i] ? -TWO_PI : TWO_PI;
+        u[i] = pa->sol.u[i] + w * (ub - pa->sol.u[i]);
+    }
+    usm_params q = *c->p;
+    *usm_params_field(&q, c->info) = value;
+    if (usm_steady_solve_from(c->steady, &q, u) != USM_OK)
+        return -1;
+    c->sol = *usm_steady_root(c->steady, 0);
+    return 0;
+}
+
 static double margin(double value, void *ctx)
 {
     crossing *c = ctx;
     usm_params q = *c->p;
-    if (c->failed || sweep_solve_between(c->s, c->p, c->a, c->b, value, &c->sol) != 0) {
+    if (c->failed || solve_between(c, value) != 0) {
         c->failed = 1;
         return 0.0;
     }
-    *usm_params_field(&q, c->s->br.info) = value;
-    if (usm_floquet_compute(c->f, &q, &c->sol, c->opt->t0, NULL, &c->res) != USM_OK) {
+    *usm_params_field(&q, c->info) = value;
+    usm_point pt;
+    if (usm_point_evaluate(NULL, c->f, &q, NULL, &c->sol, 1, c->opt->t0, &pt) != USM_OK ||
+        !pt.has_floquet) {
         c->failed = 1;
         return 0.0;
     }
+    c->res = pt.floquet;
     return c->res.max_modulus - 1.0;
 }
 
 static int locate(crossing *c, gsl_root_fsolver *brent, double *value)
 {
-    const double va = c->s->pts[c->a].value, vb = c->s->pts[c->b].value;
+    const double va = c->pa->value, vb = c->pb->value;
     double lo = fmin(va, vb), hi = fmax(va, vb);
     gsl_function F = {margin, c};
     if (gsl_root_fsolver_set(brent, &F, lo, hi) != GSL_SUCCESS || c->failed)
@@ -165,29 +163,32 @@ static int locate(crossing *c, gsl_root_fsolver *brent, double *value)
     return c->failed ? -1 : 0;
 }
 
-int sweep_stability_events(usm_sweep *s, const usm_params *p, const usm_sweep_options *opt)
+int sweep_stability_events(const usm_model *m, const usm_params *p,
+                           const usm_sweep_options *opt, const usm_sweep_point *pts, size_t n,
+                           const sweep_sink *sink, char msg[USM_MSG_LEN])
 {
     crossing c;
     memset(&c, 0, sizeof c);
-    c.s = s;
     c.p = p;
     c.opt = opt;
-    c.f = usm_floquet_alloc(s->m);
+    c.info = usm_params_find(opt->over);
+    c.steady = usm_steady_alloc(m);
+    c.f = usm_floquet_alloc(m);
     gsl_root_fsolver *brent = gsl_root_fsolver_alloc(gsl_root_fsolver_brent);
     int status = USM_OK;
     char v[64];
-    if (!c.f || !brent) {
-        snprintf(s->msg, USM_MSG_LEN, "out of memory");
+    if (!c.steady || !c.f || !brent) {
+        snprintf(msg, USM_MSG_LEN, "out of memory");
         status = USM_EFAILED;
         goto done;
     }
-    for (size_t i = 0; i + 1 < s->npts; ++i) {
-        const usm_sweep_point *pa = &s->pts[i], *pb = &s->pts[i + 1];
+    for (size_t i = 0; i + 1 < n; ++i) {
+        const usm_sweep_point *pa = &pts[i], *pb = &pts[i + 1];
         if (!pa->has_floquet || !pb->has_floquet || pa->floquet.stable == pb->floquet.stable)
             continue;
         double value;
-        c.a = i;
-        c.b = i + 1;
+        c.pa = pa;
+        c.pb = pb;
         c.failed = 0;
         const int located = locate(&c, brent, &value) == 0;
         if (!located) /* still worth reporting: between two grid points */
@@ -195,18 +196,28 @@ int sweep_stability_events(usm_sweep *s, const usm_params *p, const usm_sweep_op
                                     (pb->floquet.max_modulus - pa->floquet.max_modulus) *
                                     (pb->value - pa->value);
         const int stable_dir = (pb->value > pa->value) == (pa->floquet.stable != 0) ? -1 : 1;
-        if (sweep_add_event(s, USM_EVENT_STABILITY_CHANGE, value, located ? &c.sol : NULL,
-                            "the largest non-cyclic Floquet multiplier crosses |lambda| = 1 "
-                            "(t0 = %g s) at %s: stable %s it, unstable %s%s",
-                            opt->t0, sweep_value_text(s, value, v), stable_dir > 0 ? "above" : "below",
-                            stable_dir > 0 ? "below" : "above",
-                            located ? "" : " (interpolated between grid points)") != 0) {
-            snprintf(s->msg, USM_MSG_LEN, "out of memory");
+        usm_sweep_event e;
+        memset(&e, 0, sizeof e);
+        e.type = USM_EVENT_STABILITY_CHANGE;
+        e.value = value;
+        if (located) {
+            e.sol = c.sol;
+            e.has_sol = 1;
+        }
+        snprintf(e.what, USM_MSG_LEN,
+                 "the largest non-cyclic Floquet multiplier crosses |lambda| = 1 "
+                 "(t0 = %g s) at %s: stable %s it, unstable %s%s",
+                 opt->t0, sweep_value_text(c.info, value, v), stable_dir > 0 ? "above" : "below",
+                 stable_dir > 0 ? "below" : "above",
+                 located ? "" : " (interpolated between grid points)");
+        if (sink->event(sink->ctx, &e) != 0) {
+            snprintf(msg, USM_MSG_LEN, "out of memory");
             status = USM_EFAILED;
             goto done;
         }
     }
 done:
+    usm_steady_free(c.steady);
     usm_floquet_free(c.f);
     if (brent)
         gsl_root_fsolver_free(brent);

@@ -5,12 +5,24 @@
  * pseudo-arclength continuation with the generated Jacobians dr/du and
  * dr/dp, so the branch is not lost where it turns (a fold, d lambda/ds = 0).
  * Along the branch the sweep reports events, each located to tolerance:
- *   fold                 the stationary solution stops existing (d lambda/ds = 0,
- *                        or the branch leaves the admissible tilt range)
- *   stick_limit          F_t = mu F_n with mu = mu0 (stick no longer admissible)
+ *   fold                 a turning point: d lambda/ds = 0, the branch turns back
+ *                        (only there; the ends below have their own names)
+ *   tilt_zero            the tilt vanishes: the branch reaches theta = 0 (located
+ *                        there exactly; the stator stops wobbling, the motor
+ *                        stops driving); no solution with theta > 0 beyond it
+ *   range_end            the branch leaves the searched tilt range
+ *                        [steady.theta_min, steady.theta_max] anywhere else
+ *   stick_limit          stick models: F_t = mu0 F_n (stick no longer admissible);
+ *                        not reported for slip models, where F_t = mu(v) F_n holds
+ *                        by construction
+ *   stall                slip models: the rotor speed phidot_R passes 0 (the rotor
+ *                        stands still under the load)
  *   friction_saturation  slip model: the friction needed, F_t/F_n, reaches the
  *                        supremum of the friction law (no rotor speed balances)
  *   stability_change     the largest non-cyclic Floquet multiplier crosses |lambda| = 1
+ *   maximum, minimum     a user monitor (usm_sweep_monitor) is extremal along the
+ *                        branch: d y/ds = 0 (central differences along the tangent)
+ *   crossing             a user monitor crosses one of its levels
  * The points of the result are the requested grid values lambda_i on the
  * branch, in sweep order.
  *
@@ -33,10 +45,17 @@ typedef enum {
     USM_EVENT_FOLD = 0,
     USM_EVENT_STICK_LIMIT = 1,
     USM_EVENT_FRICTION_SATURATION = 2,
-    USM_EVENT_STABILITY_CHANGE = 3
+    USM_EVENT_STABILITY_CHANGE = 3,
+    USM_EVENT_TILT_ZERO = 4,
+    USM_EVENT_RANGE_END = 5,
+    USM_EVENT_STALL = 6,
+    USM_EVENT_MAXIMUM = 7,
+    USM_EVENT_MINIMUM = 8,
+    USM_EVENT_CROSSING = 9
 } usm_event_type;
 
-/* "fold", "stick_limit", "friction_saturation", "stability_change" */
+/* "fold", "stick_limit", "friction_saturation", "stability_change",
+ * "tilt_zero", "range_end", "stall", "maximum", "minimum", "crossing" */
 const char *usm_event_name(usm_event_type type);
 
 /* One event located along the branch. */
@@ -47,16 +66,44 @@ typedef struct usm_sweep_event {
     int has_sol;             /* 0 when no stationary solution exists at `value`
                               * (friction_saturation: the rotor speed diverges) */
     char what[USM_MSG_LEN];  /* what changes there, one sentence */
+    char monitor[32];        /* maximum, minimum, crossing: the monitor's name */
+    double monitor_value;    /* and its value there */
 } usm_sweep_event;
+
+/* A user monitor function (as AUTO's user points, COCO's monitor functions):
+ * a named scalar y of the stationary solution `sol` at parameters p (p holds
+ * the swept value).  Called from the thread that runs the sweep; must be
+ * smooth along the branch for extremum events. */
+typedef double (*usm_monitor_fn)(const usm_steady_solution *sol, const usm_params *p, void *ctx);
+
+#define USM_SWEEP_MAX_LEVELS 4
+#define USM_SWEEP_MAX_MONITORS 8
+
+/* What to watch: maxima and minima of y along the branch, and the values of
+ * the swept parameter where y crosses given levels. */
+typedef struct usm_sweep_monitor {
+    const char *name;            /* short, no spaces (<= 31 characters) */
+    usm_monitor_fn fn;
+    void *ctx;
+    int extrema;                 /* 1: report maxima and minima */
+    int nlevels;                 /* 0 .. USM_SWEEP_MAX_LEVELS */
+    double levels[USM_SWEEP_MAX_LEVELS];
+} usm_sweep_monitor;
 
 /* One requested grid value of the swept parameter and the solution there. */
 typedef struct usm_sweep_point {
     double value;                 /* swept parameter value */
     int converged;                /* a stationary solution exists here */
-    usm_steady_solution sol;
+    usm_steady_solution sol;      /* the branch's root (the sweep never jumps to another) */
+    int roots;                    /* stationary solutions at this value (the full
+                                   * search's count, with the branch's root);
+                                   * > 1: the others lie on other branches */
     int has_floquet;
     usm_floquet_result floquet;
     char error[USM_MSG_LEN];      /* why not converged */
+    char floquet_error[USM_MSG_LEN]; /* why the multipliers failed here ("" when
+                                   * has_floquet or not asked for); the sweep
+                                   * goes on at the other points */
 } usm_sweep_point;
 
 /* What to sweep and how (usm_sweep_options_default). */
@@ -72,7 +119,9 @@ typedef struct usm_sweep_options {
                         * worker, never two calls at once. */
     void *progress_ctx;
     usm_steady_options steady; /* tilt range of the full searches; the branch
-                        * ends (event fold) where theta leaves this range */
+                        * ends (event range_end) where theta leaves this range */
+    const usm_sweep_monitor *monitors; /* NULL or nmonitors of them (default none) */
+    int nmonitors;      /* 0 .. USM_SWEEP_MAX_MONITORS */
 } usm_sweep_options;
 
 /* Fill `opt` with the defaults (those listed above); the caller then sets

@@ -69,27 +69,28 @@ compare 4dof --over m0 --from 0.004 --to 0.006 --points 5 --set T=3e-4
 # ---- CSV ----------------------------------------------------------------------
 checks=$((checks + 1))
 if "$USM" sweep --over T --from 0 --to 0.01 --points 11 >"$out" 2>"$err"; then
-    cat >"$tmp/csv.py" <<'EOF'
+    cat >"$tmp/csv_check.py" <<'EOF'
+import csv
 import sys
 with open(sys.argv[1]) as f:
     lines = f.read().splitlines()
 assert lines[0] == ("T [N m],theta [rad],alpha [rad],rotor_speed [1/s],F_n [N],F_t [N],"
-                    "mu_needed [1],max_modulus [1],stable,converged"), lines[0]
+                    "mu_needed [1],max_modulus [1],stable,converged,roots,error"), lines[0]
 rows = [l for l in lines[1:] if not l.startswith("#")]
 assert len(rows) == 11, len(rows)
 assert lines[1:12] == rows, "event lines must follow the rows"
-for r in rows:
-    f = r.split(",")
-    assert len(f) == 10, r
-    if f[-1] == "true":
-        assert all(f[:8]) and f[8] in ("true", "false"), r
+for f in csv.reader(rows):
+    assert len(f) == 12, f
+    if f[9] == "true":
+        assert all(f[:8]) and f[8] in ("true", "false") and f[10] == "1" and not f[11], f
     else:
-        assert f[-1] == "false" and not any(f[1:9]), r
+        # beyond the tilt's end: no root at all, and the reason
+        assert f[9] == "false" and not any(f[1:9]) and f[10] == "0" and "tilt_zero" in f[11], f
 events = lines[12:]
-assert [e.split()[1] for e in events] == ["stick_limit", "stability_change", "fold"], events
+assert [e.split()[1] for e in events] == ["stick_limit", "stability_change", "tilt_zero"], events
 assert all(e.startswith("# ") and " at T = " in e for e in events), events
 EOF
-    if ! "$PY" "$tmp/csv.py" "$out" >"$tmp/py" 2>&1; then
+    if ! "$PY" "$tmp/csv_check.py" "$out" >"$tmp/py" 2>&1; then
         fail "CSV: $(tail -n 1 "$tmp/py")"
     fi
     [ -s "$err" ] && fail "CSV: stderr not empty (no progress bar when stderr is not a terminal)"
@@ -97,18 +98,55 @@ else
     fail "usm sweep --over T --from 0 --to 0.01: exit $?, want 0 (points without solution are not an error)"
 fi
 
+# ---- sweeps that must not give up ----------------------------------------------------
+# over decades of a parameter: every grid point solved, exit 0
+for args in "--over c_r --from 924.7 --to 924668" "--over mu0 --from 0.3 --to 300" \
+            "--model 4dof --over kappa --from 20 --to 20000" "--over d_r --from 2.3865e-4 --to 2.3865"; do
+    checks=$((checks + 1))
+    # shellcheck disable=SC2086
+    if "$USM" sweep $args --points 11 --no-floquet >"$out" 2>"$err"; then
+        n=$(grep -c ',true,1,$' "$out" || true)
+        [ "$n" = 11 ] || fail "usm sweep $args: $n of 11 points solved"
+    else
+        fail "usm sweep $args: exit $?, want 0: $(cat "$err")"
+    fi
+done
+# a point whose multipliers fail is marked; the others keep theirs
+checks=$((checks + 1))
+if "$USM" sweep --over d_R --from 0.1632 --to 1e12 --points 3 >"$out" 2>"$err"; then
+    grep -q '^0.1632,.*,true,true,1,$' "$out" || fail "d_R sweep: the first point lost its multipliers"
+    grep -q '^1e+12,.*,,,true,1,"floquet: ' "$out" || fail "d_R sweep: no marked Floquet failure at 1e12"
+else
+    fail "usm sweep --over d_R --to 1e12: exit $?, want 0 (one failed Floquet point is marked)"
+fi
+
+R0=(--from 36000 --to 39000 --points 5)
+# ---- monitors -----------------------------------------------------------------------
+checks=$((checks + 1))
+if "$USM" sweep --over f --from 36000 --to 39000 --points 7 --no-floquet --extremum speed \
+        --crossing theta=8.5e-5 >"$out" 2>"$err"; then
+    [ "$(grep -c '^# maximum at f = 3745[0-9.]*: speed has a maximum' "$out")" = 1 ] ||
+        fail "--extremum speed: want one maximum near 37.45 kHz: $(grep '^#' "$out")"
+    [ "$(grep -c '^# crossing at f = .*: theta crosses 8.5e-05' "$out")" = 2 ] ||
+        fail "--crossing theta=8.5e-5: want two crossings: $(grep '^#' "$out")"
+else
+    fail "usm sweep --extremum speed: exit $?"
+fi
+expect_bad '--extremum' 'unknown quantity' sweep --over f "${R0[@]}" --extremum nope
+expect_bad '--crossing' 'QUANTITY=VALUE' sweep --over f "${R0[@]}" --crossing theta
+
 # ---- bad input ------------------------------------------------------------------
 R=(--from 36000 --to 39000 --points 5)
-expect_bad '--over' 'unknown parameter' sweep --over nosuch "${R[@]}"
+expect_bad 'over:' 'unknown parameter' sweep --over nosuch "${R[@]}"
 expect_bad '--over' 'required' sweep "${R[@]}"
-expect_bad '--points' 'integer from 2' sweep --over f --from 36000 --to 39000 --points 1
-expect_bad '--points' 'integer from 2' sweep --over f --from 36000 --to 39000 --points 2.5
+expect_bad 'points:' 'at least 2' sweep --over f --from 36000 --to 39000 --points 1
+expect_bad '--points' 'must be an integer' sweep --over f --from 36000 --to 39000 --points 2.5
 expect_bad '--points' 'not a number' sweep --over f --from 36000 --to 39000 --points x
 expect_bad '--from' 'not a number' sweep --over f --from abc --to 39000
 expect_bad '--from' 'not a finite number' sweep --over f --from nan --to 39000
 expect_bad '--to' 'required' sweep --over f --from 36000
-expect_bad '--to' 'must differ' sweep --over f --from 36000 --to 36000
-expect_bad '--threads' 'integer from 1' sweep --over f "${R[@]}" --threads 0
+expect_bad 'to:' 'must differ' sweep --over f --from 36000 --to 36000
+expect_bad 'threads:' 'between 1 and' sweep --over f "${R[@]}" --threads 0
 expect_bad 'usm: f:' 'must be positive' sweep --over f --from -1000 --to 1000 --points 3
 expect_bad '--frobnicate' 'unknown option' sweep --over f "${R[@]}" --frobnicate
 expect_bad '--set m0' 'not a number' sweep --over f "${R[@]}" --set m0=abc

@@ -3,8 +3,10 @@
  *
  * 1. Speed maximum over f (3dof): a parabola through the fine sweep's largest
  *    |rotor speed| agrees with a golden-section search on usm_steady_solve.
- * 2. Fold in T (3dof, the tilt runs into theta_min): agrees with the value
- *    where a bisection on usm_steady_solve stops finding a solution.
+ * 2. The tilt vanishes in T (3dof): event tilt_zero (not fold) at theta = 0
+ *    exactly, just beyond where a bisection on usm_steady_solve (tilt range
+ *    down to 1e-9) stops finding a solution (the closed form is checked by
+ *    tilt_zero_check.py).
  * 3. Stick limit: usm_steady_solve at the reported T gives F_t = mu0 F_n.
  * 4. Stability change: the multipliers just below and above the reported T
  *    are inside and outside the unit circle.
@@ -16,6 +18,21 @@
  *    the events are the same.
  * 8. Floquet on 1 and 2 threads: bit-identical results.
  * 9. Bad options: USM_EINPUT with a message naming the field.
+ * 10. Stall (4dof): equals a bisection on the sign of usm_steady_solve's rotor
+ *    speed to 1e-9; slip sweeps report no stick_limit.
+ * 11. Sweeps over decades (c_r, mu0, kappa, d_r; both models): a solution at
+ *    every grid point where usm_steady_solve has one, the same root.
+ * 12. A point whose multipliers fail (d_R = 1e12) is marked; the sweep goes on.
+ * 13. Non-monotone friction (variant friction_stribeck, kappa = 1000): two slip
+ *    velocities balance the rotor for loads between mu0 and the law's hump.
+ *    A sweep stays on one of them at every point (low slip: the smallest
+ *    velocity balancing the rotor, found by bisection on the friction kernel;
+ *    high slip: another one), never jumping: up from T = 0 on the low-slip
+ *    root into a fold at the hump, down from inside the two-root range on the
+ *    root it starts on.
+ * 14. User monitors: the maximum event of the speed over f agrees with a golden
+ *    section on usm_steady_solve (1e-3 Hz), and at a level crossing of theta
+ *    usm_steady_solve gives theta = level (1e-10).
  */
 #include <math.h>
 #include <stdio.h>
@@ -160,17 +177,22 @@ static void check_load_sweep(void)
     usm_params_default(&p);
     usm_sweep *sw = run("3dof", &p, "T", 0, 0.01, 101, 1);
 
-    /* 2. fold: the tilt reaches theta_min */
-    const usm_sweep_event *fold = find_event(sw, USM_EVENT_FOLD);
+    /* 2. the tilt vanishes: tilt_zero, no fold */
+    for (size_t i = 0; i < usm_sweep_event_count(sw); ++i)
+        CHECK(usm_sweep_event_at(sw, i)->type != USM_EVENT_FOLD,
+              "a fold reported on a branch without a turning point: %s",
+              usm_sweep_event_at(sw, i)->what);
+    const usm_sweep_event *fold = find_event(sw, USM_EVENT_TILT_ZERO);
     if (fold) {
         const double ref = existence_end("3dof", p, 7.0e-3, 8.0e-3);
-        const double rel = fabs(fold->value - ref) / ref;
-        printf("fold (3dof, T): sweep T = %.12g N m, bisection on usm_steady_solve %.12g N m, "
-               "relative difference %.2e; %s\n",
+        /* the search stops at theta = 1e-9, a step of ~1e-9 / |dtheta/dT| before */
+        const double rel = (fold->value - ref) / ref;
+        printf("tilt_zero (3dof, T): sweep T = %.12g N m, bisection on usm_steady_solve "
+               "(theta >= 1e-9) %.12g N m, relative difference %.2e; %s\n",
                fold->value, ref, rel, fold->what);
-        CHECK(rel < 1e-6, "fold: sweep %.12g, bisection %.12g", fold->value, ref);
-        CHECK(fold->has_sol && fabs(fold->sol.theta - 1e-9) < 1e-15,
-              "fold: theta there %.6g, want theta_min = 1e-9", fold->sol.theta);
+        CHECK(rel > 0 && rel < 2e-5, "tilt_zero: sweep %.12g, bisection %.12g", fold->value, ref);
+        CHECK(fold->has_sol && fabs(fold->sol.theta) < 1e-18,
+              "tilt_zero: theta there %.6g, want 0", fold->sol.theta);
         for (size_t i = 0; i < usm_sweep_count(sw); ++i) {
             const usm_sweep_point *pt = usm_sweep_point_at(sw, i);
             CHECK(pt->converged == (pt->value < fold->value), "T = %g: converged %d, fold at %g",
@@ -429,6 +451,263 @@ static void check_bad_options(void)
     expect_einput("I_R negative", &o, "I_R:");
 }
 
+/* ---- 10. stall ------------------------------------------------------------------------ */
+
+static void check_stall(void)
+{
+    usm_params p;
+    usm_params_default(&p);
+    usm_sweep *sw = run("4dof", &p, "T", 0, 0.0009, 10, 0);
+    CHECK(usm_sweep_event_count(sw) >= 1, "4dof T sweep: no events");
+    for (size_t i = 0; i < usm_sweep_event_count(sw); ++i)
+        CHECK(usm_sweep_event_at(sw, i)->type != USM_EVENT_STICK_LIMIT,
+              "stick_limit reported by a slip model");
+    const usm_sweep_event *st = find_event(sw, USM_EVENT_STALL);
+    if (st) {
+        usm_steady *s = usm_steady_alloc(usm_model_find("4dof"));
+        double lo = 0.0, hi = 0.0009;
+        for (int it = 0; it < 200 && hi - lo > 1e-16; ++it) {
+            p.T = 0.5 * (lo + hi);
+            CHECK(usm_steady_solve(s, &p, NULL) == USM_OK, "stall bisection: no solution at %g", p.T);
+            if (usm_steady_root(s, 0)->rotor_speed < 0)
+                lo = p.T;
+            else
+                hi = p.T;
+        }
+        const double ref = 0.5 * (lo + hi), rel = fabs(st->value - ref) / ref;
+        printf("stall (4dof, T): sweep T = %.15g N m, bisection on usm_steady_solve's rotor "
+               "speed %.15g N m, relative difference %.2e\n",
+               st->value, ref, rel);
+        CHECK(rel <= 1e-9, "stall: sweep %.15g, bisection %.15g", st->value, ref);
+        CHECK(st->has_sol && fabs(st->sol.rotor_speed) < 1e-9, "stall: rotor speed %g there",
+              st->sol.rotor_speed);
+        usm_steady_free(s);
+    }
+    usm_sweep_free(sw);
+}
+
+/* ---- 11. sweeps over decades -------------------------------------------------------- */
+
+static void check_wide(void)
+{
+    static const struct {
+        const char *over;
+        double from, to;
+    } cases[] = {{"c_r", 924.7, 924668}, {"mu0", 0.3, 300},     {"kappa", 20, 20000},
+                 {"d_r", 2.3865e-4, 2.3865}, {"c_r", 924668, 924.7}, {"kappa", 20000, 20}};
+    static const char *models[] = {"3dof", "4dof"};
+    for (size_t m = 0; m < 2; ++m) {
+        usm_steady *s = usm_steady_alloc(usm_model_find(models[m]));
+        for (size_t c = 0; c < sizeof cases / sizeof cases[0]; ++c) {
+            usm_params p;
+            usm_params_default(&p);
+            usm_sweep *sw = run(models[m], &p, cases[c].over, cases[c].from, cases[c].to, 21, 0);
+            int solved = 0;
+            for (size_t i = 0; i < usm_sweep_count(sw); ++i) {
+                const usm_sweep_point *pt = usm_sweep_point_at(sw, i);
+                usm_params q = p;
+                usm_params_set(&q, cases[c].over, pt->value, (char[USM_MSG_LEN]){0});
+                const int has = usm_steady_solve(s, &q, NULL) == USM_OK;
+                CHECK(pt->converged == has, "%s %s = %g: sweep converged %d, steady %d",
+                      models[m], cases[c].over, pt->value, pt->converged, has);
+                if (has && pt->converged) {
+                    const usm_steady_solution *r = usm_steady_root(s, 0);
+                    CHECK(fabs(r->theta - pt->sol.theta) <= 1e-9 * r->theta &&
+                              fabs(r->rotor_speed - pt->sol.rotor_speed) <=
+                                  1e-9 * fabs(r->rotor_speed),
+                          "%s %s = %g: sweep theta %.12g, steady %.12g", models[m],
+                          cases[c].over, pt->value, pt->sol.theta, r->theta);
+                    ++solved;
+                }
+            }
+            printf("wide sweep %s %s %g -> %g: %d of %zu points solved, as usm_steady_solve\n",
+                   models[m], cases[c].over, cases[c].from, cases[c].to, solved,
+                   usm_sweep_count(sw));
+            usm_sweep_free(sw);
+        }
+        usm_steady_free(s);
+    }
+}
+
+/* ---- 12. a failed Floquet point ------------------------------------------------------ */
+
+static void check_floquet_failure(void)
+{
+    usm_params p;
+    usm_params_default(&p);
+    usm_sweep *sw = run("3dof", &p, "d_R", 0.1632, 1e12, 3, 1);
+    const usm_sweep_point *a = usm_sweep_point_at(sw, 0), *b = usm_sweep_point_at(sw, 2);
+    CHECK(a && a->converged && a->has_floquet && !a->floquet_error[0],
+          "d_R = 0.1632: multipliers missing");
+    CHECK(b && b->converged && !b->has_floquet && b->floquet_error[0],
+          "d_R = 1e12: want a marked Floquet failure");
+    if (b)
+        printf("floquet failure marked, the sweep goes on: %s\n", b->floquet_error);
+    usm_sweep_free(sw);
+}
+
+/* ---- 13. non-monotone friction ---------------------------------------------------------- */
+
+/* The smallest slip velocity v > 0 with mu(v) = need: a log grid up to the first
+ * crossing, then bisection (the law is independent of the sweep's code). */
+static double low_slip(const usm_model *m, const usm_params *p, double need, int *roots)
+{
+    double mu[2], prev = -need, lo = 0, hi = 0, v = 1e-12;
+    *roots = 0;
+    for (int k = 0; k <= 4000; ++k, v *= pow(1e24, 1.0 / 4000)) {
+        m->friction(v, p, mu);
+        const double g = mu[0] - need;
+        if ((g >= 0) != (prev >= 0)) {
+            if (++*roots == 1) {
+                lo = v / pow(1e24, 1.0 / 4000);
+                hi = v;
+            }
+        }
+        prev = g;
+    }
+    for (int it = 0; it < 200 && hi > 0; ++it) {
+        const double mid = 0.5 * (lo + hi);
+        m->friction(mid, p, mu);
+        if (mu[0] < need)
+            lo = mid;
+        else
+            hi = mid;
+    }
+    return 0.5 * (lo + hi);
+}
+
+static void check_nonmonotone(void)
+{
+    const usm_model *m = usm_model_variant("4dof", "friction_stribeck");
+    if (!m) {
+        /* the variant is added to derive/variants.py by its own change (issue 11) */
+        printf("non-monotone friction: variant friction_stribeck not generated, skipped\n");
+        return;
+    }
+    usm_params p;
+    usm_params_default(&p);
+    p.kappa = 1000;
+    for (int dir = 0; dir < 2; ++dir) {
+        usm_sweep_options o;
+        usm_sweep *sw = usm_sweep_alloc(m);
+        usm_sweep_options_default(&o);
+        o.over = "T";
+        o.from = dir ? 0.0008 : 0.0;
+        o.to = dir ? 0.0 : 0.0012;
+        o.points = 25;
+        o.floquet = 0;
+        CHECK(usm_sweep_run(sw, &p, &o) == USM_OK, "stribeck sweep: %s", usm_sweep_message(sw));
+        int two = 0, pts = 0, low = -1;
+        for (size_t i = 0; i < usm_sweep_count(sw); ++i) {
+            const usm_sweep_point *pt = usm_sweep_point_at(sw, i);
+            if (!pt->converged)
+                continue;
+            int roots = 1;
+            const double need = fabs(pt->sol.F_t / pt->sol.F_n);
+            const double v = need > 1e-12 ? low_slip(m, &p, need, &roots) : 0.0;
+            const int on_low = fabs(fabs(pt->sol.v_rel) - v) <= 1e-8 * v + 1e-12;
+            if (low < 0)
+                low = on_low;
+            CHECK(on_low == low && (dir || on_low),
+                  "T = %g: the sweep's slip velocity %.12g, the low-slip root %.12g (%d roots): "
+                  "a jump between roots",
+                  pt->value, pt->sol.v_rel, v, roots);
+            CHECK(pt->roots >= 1, "T = %g: roots %d", pt->value, pt->roots);
+            two += roots == 2;
+            ++pts;
+        }
+        const usm_sweep_event *fold = dir ? NULL : find_event(sw, USM_EVENT_FOLD);
+        printf("friction_stribeck T sweep %s: %d points, all on the %s-slip root, %d of them "
+               "with a second root on the other branch%s%s\n",
+               dir ? "down" : "up", pts, low ? "low" : "high", two, fold ? "; " : "",
+               fold ? fold->what : "");
+        CHECK(dir || two > 0, "the sweep should cross the two-root range");
+        usm_sweep_free(sw);
+    }
+}
+
+/* ---- 14. user monitors ------------------------------------------------------------------ */
+
+static double mon_speed(const usm_steady_solution *sol, const usm_params *p, void *ctx)
+{
+    (void)p;
+    (void)ctx;
+    return -sol->rotor_speed;
+}
+
+static double mon_theta(const usm_steady_solution *sol, const usm_params *p, void *ctx)
+{
+    (void)p;
+    (void)ctx;
+    return sol->theta;
+}
+
+static void check_monitors(void)
+{
+    usm_params p;
+    usm_sweep_options o;
+    usm_params_default(&p);
+    usm_sweep_monitor mon[2] = {{"speed", mon_speed, NULL, 1, 0, {0}},
+                                {"theta", mon_theta, NULL, 0, 2, {8.5e-5, 7.5e-5}}};
+    usm_sweep *sw = usm_sweep_alloc(usm_model_find("3dof"));
+    usm_sweep_options_default(&o);
+    o.over = "f";
+    o.from = 36000;
+    o.to = 39000;
+    o.points = 31;
+    o.floquet = 0;
+    o.monitors = mon;
+    o.nmonitors = 2;
+    CHECK(usm_sweep_run(sw, &p, &o) == USM_OK, "monitor sweep: %s", usm_sweep_message(sw));
+    const usm_sweep_event *mx = find_event(sw, USM_EVENT_MAXIMUM);
+    usm_steady *s = usm_steady_alloc(usm_model_find("3dof"));
+    if (mx) {
+        double lo = 37000, hi = 38000;
+        double x1 = hi - GOLDEN * (hi - lo), x2 = lo + GOLDEN * (hi - lo);
+        double y1 = speed_at(s, &p, x1), y2 = speed_at(s, &p, x2);
+        while (hi - lo > 1e-7) {
+            if (y1 > y2) {
+                hi = x2;
+                x2 = x1;
+                y2 = y1;
+                x1 = hi - GOLDEN * (hi - lo);
+                y1 = speed_at(s, &p, x1);
+            } else {
+                lo = x1;
+                x1 = x2;
+                y1 = y2;
+                x2 = lo + GOLDEN * (hi - lo);
+                y2 = speed_at(s, &p, x2);
+            }
+        }
+        const double fg = 0.5 * (lo + hi);
+        printf("monitor maximum of the speed: event f = %.6f Hz (%.9f 1/s), golden section "
+               "%.6f Hz, difference %.2g Hz; %s\n",
+               mx->value, mx->monitor_value, fg, mx->value - fg, mx->what);
+        CHECK(fabs(mx->value - fg) < 1e-3 && strcmp(mx->monitor, "speed") == 0,
+              "monitor maximum: event %.6f Hz, golden section %.6f Hz", mx->value, fg);
+    }
+    int crossings = 0;
+    for (size_t i = 0; i < usm_sweep_event_count(sw); ++i) {
+        const usm_sweep_event *e = usm_sweep_event_at(sw, i);
+        if (e->type != USM_EVENT_CROSSING)
+            continue;
+        ++crossings;
+        usm_params q = p;
+        q.f = e->value;
+        CHECK(usm_steady_solve(s, &q, NULL) == USM_OK, "crossing at f = %g: no solution", e->value);
+        const double th = usm_steady_root(s, 0)->theta;
+        const double level = fabs(th - 8.5e-5) < fabs(th - 7.5e-5) ? 8.5e-5 : 7.5e-5;
+        printf("monitor crossing: theta = %.3g at f = %.9f Hz; usm_steady_solve there theta = "
+               "%.15g (relative %.1e)\n",
+               level, e->value, th, fabs(th - level) / level);
+        CHECK(fabs(th - level) <= 1e-10 * level, "crossing: theta %.15g, level %g", th, level);
+    }
+    CHECK(crossings == 4, "theta crosses 8.5e-5 and 7.5e-5 twice each over f, found %d", crossings);
+    usm_steady_free(s);
+    usm_sweep_free(sw);
+}
+
 int main(void)
 {
     gsl_set_error_handler_off();
@@ -439,6 +718,11 @@ int main(void)
     check_downwards();
     check_threads();
     check_bad_options();
+    check_stall();
+    check_wide();
+    check_floquet_failure();
+    check_nonmonotone();
+    check_monitors();
     if (failures) {
         printf("%d check(s) failed\n", failures);
         return 1;

@@ -1,7 +1,8 @@
 /* Everything `usm report` shows, computed through libusm: stationary
  * solutions and multipliers at the paper's parameters, the t0 study, the
  * checks of the values the paper leaves out, the characteristic curves
- * (usm_sweep), their key numbers (bisection, golden section) and the maps. */
+ * (usm_sweep), their key numbers (the sweeps' events: extrema and crossings of
+ * monitors, ends of the branch, stick limit, stability change) and the maps. */
 #define _POSIX_C_SOURCE 200809L
 
 #include <math.h>
@@ -10,6 +11,7 @@
 #include <time.h>
 
 #include "report.h"
+#include "usm_map.h"
 
 #define TWO_PI 6.283185307179586476925286766559
 #define PI 3.14159265358979323846264338327950
@@ -53,16 +55,22 @@ static void solver_free(solver *s)
 static int solve_point(solver *s, const usm_params *p, double t0, usm_steady_solution *sol,
                        usm_floquet_result *fl, char msg[CLI_MSG_LEN])
 {
-    int st = usm_steady_solve(s->steady, p, NULL);
-    if (st != USM_OK || usm_steady_count(s->steady) == 0) {
-        cli_msg(msg, "%s: no stationary solution: %s", s->m->name, usm_steady_message(s->steady));
-        return st == USM_EINPUT ? USM_EINPUT : USM_ENOSOLUTION;
+    usm_point pt;
+    if (usm_point_evaluate(s->steady, s->floquet, p, NULL, NULL, fl != NULL, t0, &pt) != USM_OK) {
+        cli_msg(msg, "%s: no stationary solution: %s", s->m->name, pt.error);
+        return USM_EINPUT;
     }
-    *sol = *usm_steady_root(s->steady, 0);
-    if (fl && usm_floquet_compute(s->floquet, p, sol, t0, NULL, fl) != USM_OK) {
-        cli_msg(msg, "%s: floquet: %s", s->m->name, usm_floquet_message(s->floquet));
+    if (!pt.exists) {
+        cli_msg(msg, "%s: no stationary solution: %s", s->m->name, pt.error);
+        return USM_ENOSOLUTION;
+    }
+    *sol = pt.sol;
+    if (fl && !pt.has_floquet) {
+        cli_msg(msg, "%s: %s", s->m->name, pt.error);
         return USM_EFAILED;
     }
+    if (fl)
+        *fl = pt.floquet;
     return USM_OK;
 }
 
@@ -100,214 +108,81 @@ static double table3_deviation(const usm_floquet_result *r)
     return dev;
 }
 
-/* ---- locating a change along one parameter ----------------------------------- */
+/* ---- key numbers: the sweeps' events ------------------------------------------ */
 
-enum { PRED_EXISTS, PRED_MU_BELOW, PRED_STABLE };
-
-/* 1/0, or -1 when undefined (no solution for the stability/stick tests). */
-static int predicate(int kind, double mu_limit, const report_map_cell *c)
+/* Monitors of the curves: the quantities whose extrema and crossings the
+ * report quotes, located by the sweep along the branch. */
+static double mon_speed(const usm_steady_solution *sol, const usm_params *p, void *ctx)
 {
-    switch (kind) {
-    case PRED_EXISTS: return c->exists;
-    case PRED_MU_BELOW: return c->exists ? c->mu_used <= mu_limit : -1;
-    case PRED_STABLE: return c->floquet_ok ? c->max_modulus < 1.0 : -1;
-    default: return -1;
-    }
+    (void)p;
+    (void)ctx;
+    return -sol->rotor_speed; /* w_R, positive when driving */
 }
 
-typedef struct locate_job {
-    solver *s;
-    usm_params p;
-    const usm_param_info *info;
-    int kind;
-    double mu_limit;
-    double t0;
-} locate_job;
-
-static int eval_at(locate_job *j, double v, report_map_cell *c, usm_steady_solution *sol)
+static double mon_tilt(const usm_steady_solution *sol, const usm_params *p, void *ctx)
 {
-    char lib[USM_MSG_LEN];
-    *usm_params_field(&j->p, j->info) = v;
-    if (report_map_eval(j->s->steady, j->s->floquet, &j->p, j->t0, j->kind == PRED_STABLE, c,
-                        lib) != USM_OK)
-        return -1;
-    if (c->exists && sol)
-        *sol = *usm_steady_root(j->s->steady, 0);
-    return predicate(j->kind, j->mu_limit, c);
+    (void)p;
+    (void)ctx;
+    return sol->theta;
 }
 
-/* The value between a and b where the predicate changes, by bisection to a
- * relative tolerance 1e-10 of |b - a|. */
-static void locate(locate_job *j, double a, double b, report_located *out)
+static double mon_mu(const usm_steady_solution *sol, const usm_params *p, void *ctx)
 {
-    report_map_cell c;
-    usm_steady_solution sol_a, sol_b;
-    int ia = eval_at(j, a, &c, &sol_a), ib = eval_at(j, b, &c, &sol_b);
-    const double tol = 1e-10 * fabs(b - a);
+    (void)p;
+    (void)ctx;
+    return sol->mu_used;
+}
+
+static void from_event(const usm_sweep_event *e, report_located *out)
+{
     memset(out, 0, sizeof *out);
-    if (ia < 0 || ib < 0 || ia == ib) {
-        snprintf(out->note, USM_MSG_LEN, "no change of the condition between %s = %g and %g",
-                 j->info->name, a, b);
-        return;
-    }
-    /* the solution nearest to the change seen so far (where one exists) */
-    if (j->kind == PRED_EXISTS)
-        out->sol = ia ? sol_a : sol_b;
-    else
-        out->sol = sol_a;
-    for (int it = 0; it < 200 && fabs(b - a) > tol; ++it) {
-        double m = 0.5 * (a + b);
-        usm_steady_solution sm;
-        int im = eval_at(j, m, &c, &sm);
-        if (im < 0) {
-            snprintf(out->note, USM_MSG_LEN, "the condition is undefined at %s = %g",
-                     j->info->name, m);
-            return;
-        }
-        if (im == ia)
-            a = m;
-        else
-            b = m;
-        if (c.exists)
-            out->sol = sm;
-    }
     out->ok = 1;
-    out->value = 0.5 * (a + b);
+    out->value = e->value;
+    if (e->has_sol)
+        out->sol = e->sol;
 }
 
-/* Bracket the change of the predicate on the points of a curve, then locate
- * it.  The first change met in sweep order. */
-static void locate_on_curve(solver *s, const usm_params *p, const report_curve *cv, int kind,
-                            double mu_limit, report_located *out)
+/* The event of `type` on a curve (for maxima: of monitor `monitor`, the
+ * largest); ok = 0 with a note when the sweep reports none. */
+static void curve_event(const report_curve *cv, usm_event_type type, const char *monitor,
+                        report_located *out)
 {
-    locate_job j = {s, *p, usm_params_find(cv->over), kind, mu_limit, 0.0};
-    const size_t n = cv->sweep ? usm_sweep_count(cv->sweep) : 0;
-    int prev = -2;
-    double prev_v = 0;
+    const size_t n = cv->sweep ? usm_sweep_event_count(cv->sweep) : 0;
+    const usm_sweep_event *best = NULL;
     memset(out, 0, sizeof *out);
     for (size_t i = 0; i < n; ++i) {
-        const usm_sweep_point *pt = usm_sweep_point_at(cv->sweep, i);
-        report_map_cell c;
-        int ind;
-        memset(&c, 0, sizeof c);
-        c.exists = pt->converged;
-        if (pt->converged) {
-            c.mu_used = pt->sol.mu_used;
-            c.floquet_ok = pt->has_floquet;
-            c.max_modulus = pt->has_floquet ? pt->floquet.max_modulus : NAN;
-        }
-        ind = predicate(kind, mu_limit, &c);
-        if (ind >= 0 && prev >= 0 && ind != prev) {
-            locate(&j, prev_v, pt->value, out);
+        const usm_sweep_event *e = usm_sweep_event_at(cv->sweep, i);
+        if (e->type != type || (monitor && strcmp(e->monitor, monitor) != 0))
+            continue;
+        if (!best || (type == USM_EVENT_MAXIMUM && e->monitor_value > best->monitor_value))
+            best = e;
+        if (type != USM_EVENT_MAXIMUM)
+            break;
+    }
+    if (best)
+        from_event(best, out);
+    else
+        snprintf(out->note, USM_MSG_LEN, "the sweep of %s from %g to %g reports no %s%s%s",
+                 cv->over, cv->from, cv->to, usm_event_name(type), monitor ? " of " : "",
+                 monitor ? monitor : "");
+}
+
+/* Where the branch of a curve ends (its solution stops existing): the first
+ * end event in sweep order. */
+static void curve_end(const report_curve *cv, report_located *out)
+{
+    const size_t n = cv->sweep ? usm_sweep_event_count(cv->sweep) : 0;
+    memset(out, 0, sizeof *out);
+    for (size_t i = 0; i < n; ++i) {
+        const usm_sweep_event *e = usm_sweep_event_at(cv->sweep, i);
+        if (e->type == USM_EVENT_FOLD || e->type == USM_EVENT_TILT_ZERO ||
+            e->type == USM_EVENT_RANGE_END || e->type == USM_EVENT_FRICTION_SATURATION) {
+            from_event(e, out);
             return;
         }
-        if (ind >= 0) {
-            prev = ind;
-            prev_v = pt->value;
-        }
     }
-    snprintf(out->note, USM_MSG_LEN, "no change along %s from %g to %g", cv->over, cv->from,
-             cv->to);
-}
-
-/* The maximum of the speed w_R = -phidot_R over the curve's parameter: the
- * best grid point, then golden section on its two neighbouring intervals. */
-static double quantity(const usm_steady_solution *sol, int tilt)
-{
-    return tilt ? sol->theta : -sol->rotor_speed;
-}
-
-static double speed_at(solver *s, usm_params *p, const usm_param_info *info, double v,
-                       usm_steady_solution *sol, int tilt)
-{
-    *usm_params_field(p, info) = v;
-    if (usm_steady_solve(s->steady, p, NULL) != USM_OK || usm_steady_count(s->steady) == 0)
-        return -INFINITY;
-    *sol = *usm_steady_root(s->steady, 0);
-    return quantity(sol, tilt);
-}
-
-/* tilt = 0: the maximum of the speed; 1: of the tilt. */
-/* Golden section for the maximum of the speed (tilt = 0) or tilt (1) over
- * [a, b] of parameter `info`. */
-static void golden_max(solver *s, const usm_params *p0, const usm_param_info *info, double a,
-                       double b, int tilt, report_located *out)
-{
-    const double g = 0.5 * (sqrt(5.0) - 1.0);
-    usm_params p = *p0;
-    usm_steady_solution sol;
-    double c = b - g * (b - a), d = a + g * (b - a);
-    double fc = speed_at(s, &p, info, c, &sol, tilt), fd = speed_at(s, &p, info, d, &sol, tilt);
-    for (int it = 0; it < 200 && fabs(b - a) > 1e-9 * fabs(a) + 1e-12; ++it) {
-        if (fc > fd) {
-            b = d;
-            d = c;
-            fd = fc;
-            c = b - g * (b - a);
-            fc = speed_at(s, &p, info, c, &sol, tilt);
-        } else {
-            a = c;
-            c = d;
-            fc = fd;
-            d = a + g * (b - a);
-            fd = speed_at(s, &p, info, d, &sol, tilt);
-        }
-    }
-    out->value = 0.5 * (a + b);
-    if (isfinite(speed_at(s, &p, info, out->value, &out->sol, tilt)))
-        out->ok = 1;
-    else
-        snprintf(out->note, USM_MSG_LEN, "no solution at the located maximum");
-}
-
-/* The maximum over a curve: its best grid point, then golden section on the
- * two neighbouring intervals. */
-static void speed_maximum(solver *s, const usm_params *p0, const report_curve *cv, int tilt,
-                          report_located *out)
-{
-    const size_t n = cv->sweep ? usm_sweep_count(cv->sweep) : 0;
-    size_t best = n;
-    memset(out, 0, sizeof *out);
-    for (size_t i = 0; i < n; ++i) {
-        const usm_sweep_point *pt = usm_sweep_point_at(cv->sweep, i);
-        if (pt->converged &&
-            (best == n || quantity(&pt->sol, tilt) >
-                              quantity(&usm_sweep_point_at(cv->sweep, best)->sol, tilt)))
-            best = i;
-    }
-    if (best == n || best == 0 || best + 1 == n) {
-        snprintf(out->note, USM_MSG_LEN, "no interior maximum on %s from %g to %g", cv->over,
-                 cv->from, cv->to);
-        return;
-    }
-    golden_max(s, p0, usm_params_find(cv->over), usm_sweep_point_at(cv->sweep, best - 1)->value,
-               usm_sweep_point_at(cv->sweep, best + 1)->value, tilt, out);
-}
-
-/* The same from a scan of n full solves over [from, to] (no sweep). */
-static void scan_maximum(solver *s, const usm_params *p0, const char *name, double from,
-                         double to, int n, int tilt, report_located *out)
-{
-    const usm_param_info *info = usm_params_find(name);
-    usm_params p = *p0;
-    usm_steady_solution sol;
-    int best = -1;
-    double vbest = -INFINITY;
-    memset(out, 0, sizeof *out);
-    for (int i = 0; i < n; ++i) {
-        double v = speed_at(s, &p, info, from + (to - from) * i / (n - 1), &sol, tilt);
-        if (v > vbest) {
-            vbest = v;
-            best = i;
-        }
-    }
-    if (best <= 0 || best >= n - 1) {
-        snprintf(out->note, USM_MSG_LEN, "no interior maximum on %s from %g to %g", name, from,
-                 to);
-        return;
-    }
-    golden_max(s, p0, info, from + (to - from) * (best - 1) / (n - 1),
-               from + (to - from) * (best + 1) / (n - 1), tilt, out);
+    snprintf(out->note, USM_MSG_LEN, "the branch does not end along %s from %g to %g", cv->over,
+             cv->from, cv->to);
 }
 
 /* ---- the characteristic curves ------------------------------------------------- */
@@ -321,17 +196,26 @@ static void curve_setup(report_curve *cv, const char *over, double from, double 
 }
 
 static int run_curve(report_curve *cv, const usm_model *m, const usm_params *p, int threads,
-                     char msg[CLI_MSG_LEN])
+                     int floquet, char msg[CLI_MSG_LEN])
 {
+    /* every curve watches the speed and tilt extrema and the friction
+     * coefficient the stick model needs reaching the atan law's maximum */
+    usm_sweep_monitor mon[3] = {
+        {"speed", mon_speed, NULL, 1, 0, {0}},
+        {"theta", mon_tilt, NULL, 1, 0, {0}},
+        {"mu_used", mon_mu, NULL, 0, 1, {p->mu0 * 0.5 * PI}},
+    };
     usm_sweep_options opt;
     usm_sweep_options_default(&opt);
     opt.over = cv->over;
     opt.from = cv->from;
     opt.to = cv->to;
     opt.points = cv->points;
-    opt.floquet = 1;
+    opt.floquet = floquet;
     opt.t0 = 0.0;
     opt.threads = threads;
+    opt.monitors = mon;
+    opt.nmonitors = 3;
     if (!(cv->sweep = usm_sweep_alloc(m))) {
         cli_msg(msg, "out of memory");
         return USM_EFAILED;
@@ -466,32 +350,39 @@ int report_compute(report_data *d, char msg[CLI_MSG_LEN])
     for (int c = 0; c < REPORT_NCURVES; ++c)
         for (int k = 0; k < REPORT_NMODELS; ++k)
             if ((st = run_curve(&d->curve[c][k], d->model[k].model, &d->params, d->opt.threads,
-                                msg)) != USM_OK)
+                                1, msg)) != USM_OK)
                 goto done;
 
-    /* key numbers */
+    /* key numbers: the sweeps' events */
     for (int k = 0; k < REPORT_NMODELS; ++k) {
-        speed_maximum(&s[k], &d->params, &d->curve[REPORT_CURVE_F][k], 0, &d->f_max[k]);
-        locate_on_curve(&s[k], &d->params, &d->curve[REPORT_CURVE_T][k], PRED_EXISTS, 0,
-                        &d->existence_T[k]);
-        locate_on_curve(&s[k], &d->params, &d->curve[REPORT_CURVE_M0][k], PRED_EXISTS, 0,
-                        &d->existence_m0[k]);
+        curve_event(&d->curve[REPORT_CURVE_F][k], USM_EVENT_MAXIMUM, "speed", &d->f_max[k]);
+        curve_end(&d->curve[REPORT_CURVE_T][k], &d->existence_T[k]);
+        curve_end(&d->curve[REPORT_CURVE_M0][k], &d->existence_m0[k]);
     }
-    speed_maximum(&s[REPORT_3DOF], &d->params, &d->curve[REPORT_CURVE_F][REPORT_3DOF], 1,
-                  &d->f_theta_max);
+    curve_event(&d->curve[REPORT_CURVE_F][REPORT_3DOF], USM_EVENT_MAXIMUM, "theta",
+                &d->f_theta_max);
     {
         /* the tilt peak with a nearly vanishing preload: without the contact
          * moment F_n R* it sits at the stator's damped eigenfrequency */
         usm_params q = d->params;
+        report_curve small;
+        memset(&small, 0, sizeof small);
         q.F0 = REPORT_SMALL_F0;
-        scan_maximum(&s[REPORT_3DOF], &q, "f", 30000, 46000, 161, 1, &d->f_theta_max_small_F0);
+        curve_setup(&small, "f", 30000, 46000, 161);
+        if ((st = run_curve(&small, d->model[REPORT_3DOF].model, &q, d->opt.threads, 0, msg)) !=
+            USM_OK) {
+            usm_sweep_free(small.sweep);
+            goto done;
+        }
+        curve_event(&small, USM_EVENT_MAXIMUM, "theta", &d->f_theta_max_small_F0);
+        usm_sweep_free(small.sweep);
     }
-    locate_on_curve(&s[REPORT_3DOF], &d->params, &d->curve[REPORT_CURVE_T][REPORT_3DOF],
-                    PRED_MU_BELOW, d->params.mu0, &d->stick_limit);
-    locate_on_curve(&s[REPORT_3DOF], &d->params, &d->curve[REPORT_CURVE_T][REPORT_3DOF],
-                    PRED_MU_BELOW, d->params.mu0 * 0.5 * PI, &d->stick_limit_sat);
-    locate_on_curve(&s[REPORT_3DOF], &d->params, &d->curve[REPORT_CURVE_T][REPORT_3DOF],
-                    PRED_STABLE, 0, &d->stability_T);
+    curve_event(&d->curve[REPORT_CURVE_T][REPORT_3DOF], USM_EVENT_STICK_LIMIT, NULL,
+                &d->stick_limit);
+    curve_event(&d->curve[REPORT_CURVE_T][REPORT_3DOF], USM_EVENT_CROSSING, "mu_used",
+                &d->stick_limit_sat);
+    curve_event(&d->curve[REPORT_CURVE_T][REPORT_3DOF], USM_EVENT_STABILITY_CHANGE, NULL,
+                &d->stability_T);
     d->seconds[1] = report_now() - t;
 done:
     for (int k = 0; k < REPORT_NMODELS; ++k)
@@ -509,11 +400,11 @@ int report_compute_maps(report_data *d, char msg[CLI_MSG_LEN])
         memset(m, 0, sizeof *m);
         m->model = d->model[k].model;
         m->params = d->params;
-        m->x.param = usm_params_find("f");
+        m->x.name = "f";
         m->x.from = 30000;
         m->x.to = 46000;
         m->x.points = quick ? 17 : 41;
-        m->y.param = usm_params_find("T");
+        m->y.name = "T";
         m->y.from = 0;
         m->y.to = k == REPORT_3DOF ? 8e-3 : 1.2e-3;
         m->y.points = quick ? 13 : 33;

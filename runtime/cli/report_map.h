@@ -1,19 +1,7 @@
-/* report_map.h: stability map, the largest Floquet multiplier over a 2-D grid
- * of two parameters (used by `usm map` and `usm report`).
- *
- * Every grid point is solved from scratch (usm_steady_solve, then
- * usm_floquet_compute on the primary root), so the points are independent and
- * the result does not depend on the order or on the number of threads.  The
- * grid's columns (one x value, every y value) are shared out among worker
- * threads; each thread owns its solver objects.
- *
- * Boundaries: in every column, where an indicator changes between two
- * neighbouring grid points, the change is located by bisection in y:
- *   existence   a stationary solution exists
- *   stability   the largest non-cyclic multiplier is < 1 (solution exists on
- *               both sides)
- *   stick       F_t <= mu0 F_n (the stick condition of section 2; solution
- *               exists on both sides)
+/* report_map.h: the stability map of `usm map` and `usm report` as the
+ * command keeps it: the library computes it (usm_map.h: every point from
+ * scratch, the boundaries by bisection, the worker pool); this file copies
+ * the result into plain arrays for the writers (CSV, JSON, report, plots).
  */
 #ifndef USM_CLI_REPORT_MAP_H
 #define USM_CLI_REPORT_MAP_H
@@ -26,7 +14,8 @@
 #include "usm.h"
 
 typedef struct report_axis {
-    const usm_param_info *param;
+    const char *name;
+    const usm_param_info *param; /* set by report_map_run */
     double from, to;
     int points; /* >= 2 */
 } report_axis;
@@ -40,6 +29,7 @@ typedef struct report_map_cell {
     int stable;
     double theta, rotor_speed, mu_used; /* primary root (NaN unless exists) */
     int stick_admissible;
+    char error[USM_MSG_LEN]; /* why no solution, or why the multipliers failed */
 } report_map_cell;
 
 enum {
@@ -73,25 +63,10 @@ typedef struct report_map {
     size_t floquet_failures;
 } report_map;
 
-/* Solve at parameters p: the primary root and, with want_floquet, its
- * multipliers over [t0, t0 + T].  Fills c (not c->x, c->y); c->exists = 0
- * when there is no solution.  USM_OK, or USM_EINPUT with the library's
- * message in msg (bad parameters). */
-int report_map_eval(usm_steady *s, usm_floquet *f, const usm_params *p, double t0,
-                    int want_floquet, report_map_cell *c, char msg[USM_MSG_LEN]);
-
-/* Indicator of boundary `kind` at a cell: 1 or 0, or -1 where undefined. */
-int report_map_indicator(int kind, const report_map_cell *c);
-
-/* Value i of an axis (exact end points). */
-double report_axis_value(const report_axis *a, int i);
-
-/* Check an axis: "FIELD: reason" in msg and USM_EINPUT when bad (field is the
- * option's name, e.g. "--x"). */
-int report_axis_check(const report_axis *a, const char *field, char msg[CLI_MSG_LEN]);
-
-/* Compute the map.  USM_OK, USM_EINPUT (bad axis or parameters along the
- * grid: msg), USM_EFAILED (out of memory, thread failure: msg). */
+/* Compute the map with usm_map_run (axes by name: x.name, y.name; x.param
+ * and y.param are set from them).  USM_OK, USM_EINPUT (bad axis or
+ * parameters along the grid: the library's message, its field as the
+ * command's option "--x..."), USM_EFAILED (out of memory, threads). */
 int report_map_run(report_map *map, char msg[CLI_MSG_LEN]);
 void report_map_free(report_map *map);
 

@@ -3,6 +3,7 @@
  * friction saturation, stability change). */
 #define _POSIX_C_SOURCE 200809L
 
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -23,29 +24,40 @@ static void usage(FILE *out)
             "usage: usm sweep --over NAME --from A --to B [--points N]\n"
             "                 [--model 3dof|4dof] [--params FILE.json] [--set NAME=VALUE]...\n"
             "                 [--t0 S] [--threads N] [--no-floquet] [--json]\n"
+            "                 [--extremum Q]... [--crossing Q=V]...\n"
             "\n"
             "Follow the stationary solution of smallest tilt at A through the parameter\n"
             "range A..B by pseudo-arclength continuation and report it at N equally spaced\n"
-            "values, with its Floquet multipliers and the events on the way: fold (the\n"
-            "solution stops existing), stick_limit (F_t = mu0 F_n), friction_saturation\n"
-            "(slip model: the friction needed reaches the law's supremum) and\n"
-            "stability_change (the largest multiplier crosses 1), each located to tolerance.\n"
+            "values, with its Floquet multipliers and the events on the way, each located\n"
+            "to tolerance: fold (a turning point of the branch), tilt_zero (the tilt\n"
+            "vanishes), range_end (the tilt leaves the searched range), stick_limit (stick\n"
+            "models: F_t = mu0 F_n), stall (slip models: the rotor speed passes 0),\n"
+            "friction_saturation (slip models: the friction needed reaches the law's\n"
+            "supremum), stability_change (the largest multiplier crosses 1), and the\n"
+            "maximum, minimum and crossing events of --extremum and --crossing.\n"
             "\n"
             "options:\n");
     cli_common_usage(out);
     fprintf(out,
             "  --over NAME         the parameter to sweep (any of usm steady --help)\n"
             "  --from A, --to B    the range, in the parameter's unit (A != B; B < A sweeps down)\n"
-            "  --points N          grid values, at least 2 (default 101)\n"
+            "  --points N          grid values, 2 to 1000000 (default 101)\n"
             "  --t0 S              start of the Floquet period [s] (default 0, the paper's)\n"
             "  --threads N         worker threads for the multipliers (default 2)\n"
             "  --no-floquet        skip the multipliers (and the stability events)\n"
+            "  --extremum Q        events at the maxima and minima of quantity Q along the\n"
+            "                      branch (repeatable); Q is one of theta, alpha,\n"
+            "                      rotor_speed, speed (= -rotor_speed), F_n, F_t, mu_used, v_rel\n"
+            "  --crossing Q=V      an event where quantity Q crosses V (repeatable)\n"
             "  -h, --help          print this help\n"
             "\n"
             "Output: CSV (default), header\n"
             "  NAME [unit],theta [rad],alpha [rad],rotor_speed [1/s],F_n [N],F_t [N],\n"
-            "  mu_needed [1],max_modulus [1],stable,converged\n"
-            "one row per grid value (empty fields where no solution exists), then one\n"
+            "  mu_needed [1],max_modulus [1],stable,converged,roots,error\n"
+            "one row per grid value (empty fields where no solution exists; roots counts\n"
+            "the stationary solutions there, the others lie on other branches, which the\n"
+            "sweep never jumps to; error says why a point has no solution or why its\n"
+            "multipliers failed), then one\n"
             "comment line per event: \"# TYPE at NAME = VALUE: what happens\".\n"
             "With --json one object {over, model, parameters, points[], events[]}; a point\n"
             "has the keys of usm steady --json plus NAME.\n"
@@ -55,22 +67,90 @@ static void usage(FILE *out)
             "             failure or write error, 2 bad input\n");
 }
 
+/* Quantities of a stationary solution a monitor can watch (--extremum, --crossing). */
+static double q_theta(const usm_steady_solution *s, const usm_params *p, void *c) { (void)p; (void)c; return s->theta; }
+static double q_alpha(const usm_steady_solution *s, const usm_params *p, void *c) { (void)p; (void)c; return s->alpha; }
+static double q_rotor(const usm_steady_solution *s, const usm_params *p, void *c) { (void)p; (void)c; return s->rotor_speed; }
+static double q_speed(const usm_steady_solution *s, const usm_params *p, void *c) { (void)p; (void)c; return -s->rotor_speed; }
+static double q_Fn(const usm_steady_solution *s, const usm_params *p, void *c) { (void)p; (void)c; return s->F_n; }
+static double q_Ft(const usm_steady_solution *s, const usm_params *p, void *c) { (void)p; (void)c; return s->F_t; }
+static double q_mu(const usm_steady_solution *s, const usm_params *p, void *c) { (void)p; (void)c; return s->mu_used; }
+static double q_vrel(const usm_steady_solution *s, const usm_params *p, void *c) { (void)p; (void)c; return s->v_rel; }
+
+static const struct {
+    const char *name;
+    usm_monitor_fn fn;
+} quantities[] = {{"theta", q_theta}, {"alpha", q_alpha}, {"rotor_speed", q_rotor},
+                  {"speed", q_speed}, {"F_n", q_Fn},       {"F_t", q_Ft},
+                  {"mu_used", q_mu},  {"v_rel", q_vrel}};
+#define NQUANTITIES (sizeof quantities / sizeof quantities[0])
+
 typedef struct sweep_args {
     cli_common common;
     const char *over;
     double from, to, t0;
     int have_from, have_to;
     int points, threads, floquet, help;
+    usm_sweep_monitor monitors[NQUANTITIES]; /* one per quantity named */
+    int nmonitors;
 } sweep_args;
 
-static int parse_int(const char *field, const char *text, int lo, int hi, int *out,
-                     char msg[CLI_MSG_LEN])
+/* The monitor of quantity `name` (added on first use), or NULL with msg. */
+static usm_sweep_monitor *monitor_of(sweep_args *a, const char *field, const char *name,
+                                     size_t len, char msg[CLI_MSG_LEN])
+{
+    for (int k = 0; k < a->nmonitors; ++k)
+        if (strlen(a->monitors[k].name) == len && strncmp(a->monitors[k].name, name, len) == 0)
+            return &a->monitors[k];
+    for (size_t q = 0; q < NQUANTITIES; ++q)
+        if (strlen(quantities[q].name) == len && strncmp(quantities[q].name, name, len) == 0) {
+            usm_sweep_monitor *m = &a->monitors[a->nmonitors++];
+            memset(m, 0, sizeof *m);
+            m->name = quantities[q].name;
+            m->fn = quantities[q].fn;
+            return m;
+        }
+    cli_msg(msg,
+            "%s: unknown quantity \"%.*s\" (theta, alpha, rotor_speed, speed, F_n, F_t, mu_used, "
+            "v_rel)",
+            field, (int)len, name);
+    return NULL;
+}
+
+static int monitor_option(sweep_args *a, int crossing, const char *value, char msg[CLI_MSG_LEN])
+{
+    const char *field = crossing ? "--crossing" : "--extremum";
+    const char *eq = crossing ? strchr(value, '=') : NULL;
+    if (crossing && !eq) {
+        cli_msg(msg, "--crossing: \"%s\" must be QUANTITY=VALUE", value);
+        return CLI_OPT_ERROR;
+    }
+    usm_sweep_monitor *m = monitor_of(a, field, value, eq ? (size_t)(eq - value) : strlen(value), msg);
+    if (!m)
+        return CLI_OPT_ERROR;
+    if (!crossing) {
+        m->extrema = 1;
+        return CLI_OPT_TAKEN;
+    }
+    double level;
+    if (cli_parse_double(field, eq + 1, &level, msg) != USM_OK)
+        return CLI_OPT_ERROR;
+    if (m->nlevels == USM_SWEEP_MAX_LEVELS) {
+        cli_msg(msg, "--crossing: at most %d levels per quantity", USM_SWEEP_MAX_LEVELS);
+        return CLI_OPT_ERROR;
+    }
+    m->levels[m->nlevels++] = level;
+    return CLI_OPT_TAKEN;
+}
+
+/* An integer; its range is checked once, by the library (usm_sweep_run). */
+static int parse_int(const char *field, const char *text, int *out, char msg[CLI_MSG_LEN])
 {
     double v;
     if (cli_parse_double(field, text, &v, msg) != USM_OK)
         return USM_EINPUT;
-    if (v != floor(v) || v < lo || v > hi) {
-        cli_msg(msg, "%s: \"%s\" must be an integer from %d to %d", field, text, lo, hi);
+    if (v != floor(v) || v < INT_MIN || v > INT_MAX) {
+        cli_msg(msg, "%s: \"%s\" must be an integer", field, text);
         return USM_EINPUT;
     }
     *out = (int)v;
@@ -87,10 +167,6 @@ static int own_option(sweep_args *a, int argc, char **argv, int *i, char msg[CLI
         return CLI_OPT_TAKEN;
     }
     if ((r = cli_option_value(argc, argv, i, "--over", &value, msg)) != CLI_OPT_NOT_MINE) {
-        if (r == CLI_OPT_TAKEN && !usm_params_find(value)) {
-            cli_msg(msg, "--over: unknown parameter \"%s\" (see usm steady --help)", value);
-            return CLI_OPT_ERROR;
-        }
         if (r == CLI_OPT_TAKEN)
             a->over = value;
         return r;
@@ -103,14 +179,18 @@ static int own_option(sweep_args *a, int argc, char **argv, int *i, char msg[CLI
         a->have_to = 1;
         return r == CLI_OPT_TAKEN && cli_parse_double("--to", value, &a->to, msg) ? CLI_OPT_ERROR : r;
     }
+    if ((r = cli_option_value(argc, argv, i, "--extremum", &value, msg)) != CLI_OPT_NOT_MINE)
+        return r == CLI_OPT_TAKEN ? monitor_option(a, 0, value, msg) : r;
+    if ((r = cli_option_value(argc, argv, i, "--crossing", &value, msg)) != CLI_OPT_NOT_MINE)
+        return r == CLI_OPT_TAKEN ? monitor_option(a, 1, value, msg) : r;
     if ((r = cli_option_value(argc, argv, i, "--t0", &value, msg)) != CLI_OPT_NOT_MINE)
         return r == CLI_OPT_TAKEN && cli_parse_double("--t0", value, &a->t0, msg) ? CLI_OPT_ERROR : r;
     if ((r = cli_option_value(argc, argv, i, "--points", &value, msg)) != CLI_OPT_NOT_MINE)
-        return r == CLI_OPT_TAKEN && parse_int("--points", value, 2, 1000000, &a->points, msg)
+        return r == CLI_OPT_TAKEN && parse_int("--points", value, &a->points, msg)
                    ? CLI_OPT_ERROR
                    : r;
     if ((r = cli_option_value(argc, argv, i, "--threads", &value, msg)) != CLI_OPT_NOT_MINE)
-        return r == CLI_OPT_TAKEN && parse_int("--threads", value, 1, 64, &a->threads, msg)
+        return r == CLI_OPT_TAKEN && parse_int("--threads", value, &a->threads, msg)
                    ? CLI_OPT_ERROR
                    : r;
     return CLI_OPT_NOT_MINE;
@@ -146,10 +226,6 @@ static int parse(sweep_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
     if (!a->over || !a->have_from || !a->have_to) {
         cli_msg(msg, "%s: required (see usm sweep --help)",
                 !a->over ? "--over" : !a->have_from ? "--from" : "--to");
-        return USM_EINPUT;
-    }
-    if (a->from == a->to) {
-        cli_msg(msg, "--to: must differ from --from (%g)", a->from);
         return USM_EINPUT;
     }
     return cli_common_finish(&a->common, msg);
@@ -220,6 +296,8 @@ static int run(const sweep_args *a)
     opt.floquet = a->floquet;
     opt.t0 = a->t0;
     opt.threads = a->threads;
+    opt.monitors = a->monitors;
+    opt.nmonitors = a->nmonitors;
     if (isatty(STDERR_FILENO)) {
         opt.progress = draw;
         opt.progress_ctx = &progress;

@@ -16,6 +16,7 @@ static json_t *point_json(const usm_sweep_point *pt, const usm_model *m, const c
     cli_json_put(obj, over, cli_json_real(pt->value), &ok);
     cli_json_put(obj, "model", json_string(m->name), &ok);
     cli_json_put(obj, "converged", json_boolean(pt->converged), &ok);
+    cli_json_put(obj, "roots", json_integer(pt->roots), &ok);
     if (!pt->converged)
         cli_json_put(obj, "error", json_string(pt->error), &ok);
     else {
@@ -26,6 +27,8 @@ static json_t *point_json(const usm_sweep_point *pt, const usm_model *m, const c
     }
     if (pt->has_floquet)
         cli_json_put(obj, "floquet", cli_json_floquet(&pt->floquet), &ok);
+    else if (pt->floquet_error[0])
+        cli_json_put(obj, "floquet_error", json_string(pt->floquet_error), &ok);
     if (!ok) {
         json_decref(obj);
         return NULL;
@@ -40,6 +43,10 @@ static json_t *event_json(const usm_sweep_event *e, const char *over)
     cli_json_put(obj, "type", json_string(usm_event_name(e->type)), &ok);
     cli_json_put(obj, over, cli_json_real(e->value), &ok);
     cli_json_put(obj, "what", json_string(e->what), &ok);
+    if (e->monitor[0]) {
+        cli_json_put(obj, "monitor", json_string(e->monitor), &ok);
+        cli_json_put(obj, "monitor_value", cli_json_real(e->monitor_value), &ok);
+    }
     if (e->has_sol)
         cli_json_put(obj, "solution", cli_json_root(&e->sol), &ok);
     if (!ok) {
@@ -82,11 +89,27 @@ static void field(FILE *out, double v, const char *fmt)
         fprintf(out, fmt, v);
 }
 
+/* A text field, quoted (RFC 4180) when it holds a separator or a quote. */
+static void csv_text(FILE *out, const char *text)
+{
+    if (!strpbrk(text, ",\"\n")) {
+        fputs(text, out);
+        return;
+    }
+    fputc('"', out);
+    for (const char *c = text; *c; ++c) {
+        if (*c == '"')
+            fputc('"', out);
+        fputc(*c == '\n' ? ' ' : *c, out);
+    }
+    fputc('"', out);
+}
+
 int cli_sweep_csv(const usm_sweep *s, const char *over, int floquet, FILE *out)
 {
     const usm_param_info *info = usm_params_find(over);
     fprintf(out, "%s [%s],theta [rad],alpha [rad],rotor_speed [1/s],F_n [N],F_t [N],"
-                 "mu_needed [1],max_modulus [1],stable,converged\n",
+                 "mu_needed [1],max_modulus [1],stable,converged,roots,error\n",
             over, info ? info->unit : "");
     for (size_t i = 0; i < usm_sweep_count(s); ++i) {
         const usm_sweep_point *pt = usm_sweep_point_at(s, i);
@@ -94,7 +117,9 @@ int cli_sweep_csv(const usm_sweep *s, const char *over, int floquet, FILE *out)
         /* every bit of the swept value: `usm steady --set` reproduces the row */
         fputs(cli_shortest(buf, pt->value), out);
         if (!pt->converged) {
-            fputs(",,,,,,,,,false\n", out);
+            fprintf(out, ",,,,,,,,,false,%d,", pt->roots);
+            csv_text(out, pt->error);
+            fputc('\n', out);
             continue;
         }
         const usm_steady_solution *r = &pt->sol;
@@ -109,7 +134,9 @@ int cli_sweep_csv(const usm_sweep *s, const char *over, int floquet, FILE *out)
             fprintf(out, ",%s", pt->floquet.stable ? "true" : "false");
         } else
             fputs(",,", out);
-        fputs(",true\n", out);
+        fprintf(out, ",true,%d,", pt->roots);
+        csv_text(out, pt->floquet_error);
+        fputc('\n', out);
     }
     for (size_t i = 0; i < usm_sweep_event_count(s); ++i) {
         const usm_sweep_event *e = usm_sweep_event_at(s, i);

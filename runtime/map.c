@@ -1,0 +1,416 @@
+/* Stability maps over two parameters, and the point evaluator (usm_map.h). */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "pool_internal.h"
+#include "usm_map.h"
+
+/* Bisection stops when the bracket is this fraction of the y range. */
+#define BISECT_RTOL 1e-7
+#define BISECT_MAXIT 60
+#define MAX_AXIS_POINTS 100000
+
+/* ---- one point ------------------------------------------------------------------- */
+
+int usm_point_evaluate(usm_steady *s, usm_floquet *f, const usm_params *p,
+                       const usm_steady_options *steady_opt, const usm_steady_solution *root,
+                       int floquet, double t0, usm_point *out)
+{
+    memset(out, 0, sizeof *out);
+    out->floquet.max_modulus = NAN;
+    if (root) {
+        out->sol = *root;
+        out->roots = 1;
+    } else {
+        const int st = usm_steady_solve(s, p, steady_opt);
+        if (st == USM_EINPUT) {
+            snprintf(out->error, USM_MSG_LEN, "%s", usm_steady_message(s));
+            return USM_EINPUT;
+        }
+        if (st != USM_OK || usm_steady_count(s) == 0) {
+            snprintf(out->error, USM_MSG_LEN, "%s", usm_steady_message(s));
+            return USM_OK;
+        }
+        out->sol = *usm_steady_root(s, 0);
+        out->roots = (int)usm_steady_count(s);
+    }
+    out->exists = 1;
+    if (!floquet)
+        return USM_OK;
+    if (usm_floquet_compute(f, p, &out->sol, t0, NULL, &out->floquet) != USM_OK)
+        snprintf(out->error, USM_MSG_LEN, "floquet: %.240s", usm_floquet_message(f));
+    else if (!isfinite(out->floquet.max_modulus))
+        snprintf(out->error, USM_MSG_LEN, "floquet: the multipliers are not finite");
+    else
+        out->has_floquet = 1;
+    return USM_OK;
+}
+
+/* ---- options ----------------------------------------------------------------------- */
+
+double usm_map_axis_value(const usm_map_axis *a, int i)
+{
+    if (i <= 0)
+        return a->from;
+    if (i >= a->points - 1)
+        return a->to;
+    return a->from + (a->to - a->from) * (double)i / (double)(a->points - 1);
+}
+
+void usm_map_options_default(usm_map_options *opt)
+{
+    memset(opt, 0, sizeof *opt);
+    opt->x = (usm_map_axis){"f", 30000.0, 46000.0, 33};
+    opt->y = (usm_map_axis){"T", 0.0, 0.008, 33};
+    opt->t0 = 0.0;
+    opt->threads = 2;
+    opt->boundaries = 1;
+}
+
+const char *usm_map_boundary_name(usm_map_boundary_kind kind)
+{
+    switch (kind) {
+    case USM_MAP_BOUNDARY_EXISTENCE:
+        return "existence";
+    case USM_MAP_BOUNDARY_STABILITY:
+        return "stability";
+    case USM_MAP_BOUNDARY_STICK:
+        return "stick";
+    }
+    return "unknown";
+}
+
+int usm_map_indicator(usm_map_boundary_kind kind, const usm_point *pt)
+{
+    switch (kind) {
+    case USM_MAP_BOUNDARY_EXISTENCE:
+        return pt->exists;
+    case USM_MAP_BOUNDARY_STABILITY:
+        return pt->has_floquet ? pt->floquet.max_modulus < 1.0 : -1;
+    case USM_MAP_BOUNDARY_STICK:
+        return pt->exists ? pt->sol.stick_admissible : -1;
+    }
+    return -1;
+}
+
+struct usm_map {
+    const usm_model *m;
+    usm_params p;
+    usm_map_options opt;
+    const usm_param_info *xi, *yi;
+    usm_map_cell *cells;       /* cells[j * nx + i] */
+    usm_map_boundary_point *bnd[USM_MAP_NBOUNDARY];
+    size_t nbnd[USM_MAP_NBOUNDARY];
+    size_t floquet_failures;
+    char msg[USM_MSG_LEN];
+    /* during a run: per column and kind, the changes found there */
+    usm_map_boundary_point *col_bnd[USM_MAP_NBOUNDARY];
+    int *col_count[USM_MAP_NBOUNDARY];
+    int *col_failures;
+    char *col_msg;             /* per column: why it stopped (USM_EINPUT) */
+};
+
+usm_map *usm_map_alloc(const usm_model *m)
+{
+    usm_map *map = calloc(1, sizeof *map);
+    if (map)
+        map->m = m;
+    return map;
+}
+
+static void clear(usm_map *map)
+{
+    free(map->cells);
+    map->cells = NULL;
+    for (int k = 0; k < USM_MAP_NBOUNDARY; ++k) {
+        free(map->bnd[k]);
+        free(map->col_bnd[k]);
+        free(map->col_count[k]);
+        map->bnd[k] = NULL;
+        map->col_bnd[k] = NULL;
+        map->col_count[k] = NULL;
+        map->nbnd[k] = 0;
+    }
+    free(map->col_failures);
+    free(map->col_msg);
+    map->col_failures = NULL;
+    map->col_msg = NULL;
+    map->floquet_failures = 0;
+}
+
+void usm_map_free(usm_map *map)
+{
+    if (!map)
+        return;
+    clear(map);
+    free(map);
+}
+
+static int check_axis(usm_map *map, const usm_map_axis *a, const char *field,
+                      const usm_param_info **info)
+{
+    if (!a->name || !(*info = usm_params_find(a->name))) {
+        snprintf(map->msg, USM_MSG_LEN, "%s: unknown parameter \"%s\"", field,
+                 a->name ? a->name : "(null)");
+        return USM_EINPUT;
+    }
+    if (!(isfinite(a->from) && isfinite(a->to))) {
+        snprintf(map->msg, USM_MSG_LEN, "%s-from/%s-to: the range must be finite", field, field);
+        return USM_EINPUT;
+    }
+    if (!(a->to != a->from)) {
+        snprintf(map->msg, USM_MSG_LEN, "%s-to: must differ from %s-from (%g)", field, field,
+                 a->from);
+        return USM_EINPUT;
+    }
+    if (a->points < 2 || a->points > MAX_AXIS_POINTS) {
+        snprintf(map->msg, USM_MSG_LEN, "%s-points: need 2 ... %d points, got %d", field,
+                 MAX_AXIS_POINTS, a->points);
+        return USM_EINPUT;
+    }
+    return USM_OK;
+}
+
+/* The constraints are signs and I_yy == I_xx, so checking the corners of the
+ * grid checks every point of it. */
+static int check_options(usm_map *map, const usm_params *p, const usm_map_options *opt)
+{
+    char lib[USM_MSG_LEN];
+    if (!p || !opt) {
+        snprintf(map->msg, USM_MSG_LEN, "%s: must not be NULL", !p ? "params" : "options");
+        return USM_EINPUT;
+    }
+    if (check_axis(map, &opt->x, "x", &map->xi) != USM_OK ||
+        check_axis(map, &opt->y, "y", &map->yi) != USM_OK)
+        return USM_EINPUT;
+    if (map->xi == map->yi) {
+        snprintf(map->msg, USM_MSG_LEN, "y: %s must differ from x", map->yi->name);
+        return USM_EINPUT;
+    }
+    if (opt->threads < 1 || opt->threads > POOL_MAX_THREADS) {
+        snprintf(map->msg, USM_MSG_LEN, "threads: must be between 1 and %d, got %d",
+                 POOL_MAX_THREADS, opt->threads);
+        return USM_EINPUT;
+    }
+    if (!isfinite(opt->t0)) {
+        snprintf(map->msg, USM_MSG_LEN, "t0: must be a finite number");
+        return USM_EINPUT;
+    }
+    for (int c = 0; c < 4; ++c) {
+        usm_params q = *p;
+        const double x = c & 1 ? opt->x.to : opt->x.from, y = c & 2 ? opt->y.to : opt->y.from;
+        *usm_params_field(&q, map->xi) = x;
+        *usm_params_field(&q, map->yi) = y;
+        if (usm_params_check(&q, map->m, lib) != USM_OK) {
+            snprintf(map->msg, USM_MSG_LEN, "at %s = %g, %s = %g: %.180s", map->xi->name, x,
+                     map->yi->name, y, lib);
+            return USM_EINPUT;
+        }
+    }
+    return USM_OK;
+}
+
+/* ---- one column (a task of the pool) ---------------------------------------------- */
+
+typedef struct worker {
+    usm_steady *steady;
+    usm_floquet *floquet;
+} worker;
+
+static void *worker_alloc(void *ctx)
+{
+    usm_map *map = ctx;
+    worker *w = calloc(1, sizeof *w);
+    if (!w)
+        return NULL;
+    w->steady = usm_steady_alloc(map->m);
+    w->floquet = usm_floquet_alloc(map->m);
+    if (!w->steady || !w->floquet) {
+        usm_steady_free(w->steady);
+        usm_floquet_free(w->floquet);
+        free(w);
+        return NULL;
+    }
+    return w;
+}
+
+static void worker_free(void *state)
+{
+    worker *w = state;
+    usm_steady_free(w->steady);
+    usm_floquet_free(w->floquet);
+    free(w);
+}
+
+static int eval_at(usm_map *map, worker *w, size_t column, double x, double y, int floquet,
+                   usm_point *pt)
+{
+    usm_params q = map->p;
+    *usm_params_field(&q, map->xi) = x;
+    *usm_params_field(&q, map->yi) = y;
+    if (usm_point_evaluate(w->steady, w->floquet, &q, NULL, NULL, floquet, map->opt.t0, pt) !=
+        USM_OK) {
+        snprintf(map->col_msg + column * USM_MSG_LEN, USM_MSG_LEN, "at %s = %g, %s = %g: %.180s",
+                 map->xi->name, x, map->yi->name, y, pt->error);
+        return USM_EINPUT;
+    }
+    return USM_OK;
+}
+
+/* The change of `kind` between y = a (indicator ia) and y = b.  1 and *y_out,
+ * 0 when the indicator became undefined, -1 on bad input. */
+static int bisect(usm_map *map, worker *w, size_t column, usm_map_boundary_kind kind, double x,
+                  double a, int ia, double b, double *y_out)
+{
+    const double tol = BISECT_RTOL * fabs(map->opt.y.to - map->opt.y.from);
+    usm_point pt;
+    for (int it = 0; it < BISECT_MAXIT && fabs(b - a) > tol; ++it) {
+        const double m = 0.5 * (a + b);
+        if (eval_at(map, w, column, x, m, kind == USM_MAP_BOUNDARY_STABILITY, &pt) != USM_OK)
+            return -1;
+        const int im = usm_map_indicator(kind, &pt);
+        if (im < 0)
+            return 0;
+        if (im == ia)
+            a = m;
+        else
+            b = m;
+    }
+    *y_out = 0.5 * (a + b);
+    return 1;
+}
+
+static int column_task(void *ctx, void *state, size_t i)
+{
+    usm_map *map = ctx;
+    worker *w = state;
+    const size_t nx = (size_t)map->opt.x.points, ny = (size_t)map->opt.y.points;
+    const double x = usm_map_axis_value(&map->opt.x, (int)i);
+    for (size_t j = 0; j < ny; ++j) {
+        usm_map_cell *c = &map->cells[j * nx + i];
+        c->x = x;
+        c->y = usm_map_axis_value(&map->opt.y, (int)j);
+        if (eval_at(map, w, i, x, c->y, 1, &c->point) != USM_OK)
+            return USM_EINPUT;
+        map->col_failures[i] += c->point.exists && !c->point.has_floquet;
+    }
+    if (!map->opt.boundaries)
+        return USM_OK;
+    for (int kind = 0; kind < USM_MAP_NBOUNDARY; ++kind) {
+        usm_map_boundary_point *out = map->col_bnd[kind] + i * (ny - 1);
+        int n = 0;
+        for (size_t j = 0; j + 1 < ny; ++j) {
+            const usm_map_cell *c0 = &map->cells[j * nx + i], *c1 = &map->cells[(j + 1) * nx + i];
+            const int i0 = usm_map_indicator((usm_map_boundary_kind)kind, &c0->point);
+            const int i1 = usm_map_indicator((usm_map_boundary_kind)kind, &c1->point);
+            double y;
+            if (i0 < 0 || i1 < 0 || i0 == i1)
+                continue;
+            const int rc = bisect(map, w, i, (usm_map_boundary_kind)kind, x, c0->y, i0, c1->y, &y);
+            if (rc < 0)
+                return USM_EINPUT;
+            if (rc > 0) {
+                out[n] = (usm_map_boundary_point){x, y, (int)i, n};
+                ++n;
+            }
+        }
+        map->col_count[kind][i] = n;
+    }
+    return USM_OK;
+}
+
+/* ---- the run ------------------------------------------------------------------------ */
+
+static int cmp_boundary(const void *pa, const void *pb)
+{
+    const usm_map_boundary_point *a = pa, *b = pb;
+    if (a->k != b->k)
+        return a->k - b->k;
+    return a->column - b->column;
+}
+
+static int collect_boundaries(usm_map *map)
+{
+    const size_t nx = (size_t)map->opt.x.points, ny = (size_t)map->opt.y.points;
+    for (int k = 0; k < USM_MAP_NBOUNDARY; ++k) {
+        size_t n = 0;
+        for (size_t i = 0; i < nx; ++i)
+            n += (size_t)map->col_count[k][i];
+        if (!(map->bnd[k] = malloc((n ? n : 1) * sizeof *map->bnd[k])))
+            return -1;
+        n = 0;
+        for (size_t i = 0; i < nx; ++i)
+            for (int c = 0; c < map->col_count[k][i]; ++c)
+                map->bnd[k][n++] = map->col_bnd[k][i * (ny - 1) + (size_t)c];
+        qsort(map->bnd[k], n, sizeof *map->bnd[k], cmp_boundary);
+        map->nbnd[k] = n;
+    }
+    return 0;
+}
+
+int usm_map_run(usm_map *map, const usm_params *p, const usm_map_options *opt)
+{
+    clear(map);
+    map->msg[0] = '\0';
+    if (check_options(map, p, opt) != USM_OK)
+        return USM_EINPUT;
+    map->p = *p;
+    map->opt = *opt;
+    const size_t nx = (size_t)opt->x.points, ny = (size_t)opt->y.points;
+    int ok = (map->cells = calloc(nx * ny, sizeof *map->cells)) != NULL &&
+             (map->col_failures = calloc(nx, sizeof *map->col_failures)) != NULL &&
+             (map->col_msg = calloc(nx, USM_MSG_LEN)) != NULL;
+    for (int k = 0; k < USM_MAP_NBOUNDARY && ok; ++k)
+        ok = (map->col_bnd[k] = calloc(nx * (ny - 1), sizeof *map->col_bnd[k])) != NULL &&
+             (map->col_count[k] = calloc(nx, sizeof *map->col_count[k])) != NULL;
+    if (!ok) {
+        clear(map);
+        snprintf(map->msg, USM_MSG_LEN, "out of memory for a %zu x %zu map", nx, ny);
+        return USM_EFAILED;
+    }
+    pool_job job = {nx, opt->threads, map, worker_alloc, worker_free, column_task, NULL};
+    int status = pool_run(&job, map->msg);
+    if (status == USM_EINPUT)
+        for (size_t i = 0; i < nx; ++i)
+            if (map->col_msg[i * USM_MSG_LEN]) {
+                snprintf(map->msg, USM_MSG_LEN, "%s", map->col_msg + i * USM_MSG_LEN);
+                break;
+            }
+    if (status == USM_OK && opt->boundaries && collect_boundaries(map) != 0) {
+        snprintf(map->msg, USM_MSG_LEN, "out of memory for the boundaries");
+        status = USM_EFAILED;
+    }
+    for (size_t i = 0; status == USM_OK && i < nx; ++i)
+        map->floquet_failures += (size_t)map->col_failures[i];
+    if (status != USM_OK) {
+        char keep[USM_MSG_LEN];
+        memcpy(keep, map->msg, USM_MSG_LEN);
+        clear(map);
+        memcpy(map->msg, keep, USM_MSG_LEN);
+    }
+    return status;
+}
+
+const usm_map_cell *usm_map_cell_at(const usm_map *map, int i, int j)
+{
+    if (!map->cells || i < 0 || j < 0 || i >= map->opt.x.points || j >= map->opt.y.points)
+        return NULL;
+    return &map->cells[(size_t)j * (size_t)map->opt.x.points + (size_t)i];
+}
+
+size_t usm_map_boundary_count(const usm_map *map, usm_map_boundary_kind kind)
+{
+    return (int)kind >= 0 && kind < USM_MAP_NBOUNDARY ? map->nbnd[kind] : 0;
+}
+
+const usm_map_boundary_point *usm_map_boundary_at(const usm_map *map,
+                                                  usm_map_boundary_kind kind, size_t q)
+{
+    return usm_map_boundary_count(map, kind) > q ? &map->bnd[kind][q] : NULL;
+}
+
+size_t usm_map_floquet_failures(const usm_map *map) { return map->floquet_failures; }
+
+const char *usm_map_message(const usm_map *map) { return map->msg; }
