@@ -42,6 +42,7 @@
 #include <nvector/nvector_serial.h>
 #include <sunnonlinsol/sunnonlinsol_fixedpoint.h>
 
+#include "cvode_msg.h"
 #include "usm.h"
 
 #define TWO_PI 6.283185307179586476925286766559
@@ -70,6 +71,7 @@ struct usm_floquet {
     gsl_matrix *R;
     gsl_eigen_nonsymm_workspace *eig;
     gsl_vector_complex *eval;
+    char cvmsg[USM_MSG_LEN]; /* CVODES' last message (see cv_errors) */
     char msg[USM_MSG_LEN];
 };
 
@@ -234,9 +236,21 @@ static int variational_rhs(sunrealtype tau, N_Vector y, N_Vector ydot, void *dat
     return 0;
 }
 
+/* CVODES' error handler: the message goes into f->cvmsg instead of stderr
+ * (the library never prints; the command's errors are one line). */
+static void cv_errors(int code, const char *module, const char *function, char *text, void *data)
+{
+    usm_floquet *f = data;
+    (void)code;
+    (void)module;
+    snprintf(f->cvmsg, sizeof f->cvmsg, "%s: %s", function, text);
+}
+
 static int cvode_fail(usm_floquet *f, const char *call, int flag)
 {
-    snprintf(f->msg, USM_MSG_LEN, "CVODES %s failed: %s", call, CVodeGetReturnFlagName(flag));
+    char name[32];
+    snprintf(f->msg, USM_MSG_LEN, "CVODES %s failed: %s%s%.150s", call,
+             usm_cvode_flag_name(flag, name, sizeof name), f->cvmsg[0] ? " -- " : "", f->cvmsg);
     return USM_EFAILED;
 }
 
@@ -252,6 +266,8 @@ static int setup_cvode(usm_floquet *f, double t0, const usm_floquet_options *opt
             return USM_EFAILED;
         }
         N_VConst(0.0, f->y);
+        if ((flag = CVodeSetErrHandlerFn(f->cvode, cv_errors, f)) != CV_SUCCESS)
+            return cvode_fail(f, "CVodeSetErrHandlerFn", flag);
         if ((flag = CVodeInit(f->cvode, variational_rhs, 0.0, f->y)) != CV_SUCCESS)
             return cvode_fail(f, "CVodeInit", flag);
         f->NLS = SUNNonlinSol_FixedPoint(f->y, 0, f->ctx);
@@ -292,10 +308,23 @@ static int monodromy_variational(usm_floquet *f, double t0, double period,
     if ((flag = CVodeSetStopTime(f->cvode, period)) != CV_SUCCESS)
         return cvode_fail(f, "CVodeSetStopTime", flag);
     double s = 0;
+    char name[32];
+    f->cvmsg[0] = '\0';
     flag = CVode(f->cvode, period, f->y, &s, CV_NORMAL);
     if (flag < 0) {
-        snprintf(f->msg, USM_MSG_LEN, "CVODES failed at t = %.6g s of [%.6g, %.6g]: %s", t0 + s,
-                 t0, t0 + period, CVodeGetReturnFlagName(flag));
+        /* CV_TOO_MUCH_WORK: Adams with fixed-point iteration is meant for a
+         * non-stiff linearisation; CVODES' own text adds nothing then */
+        char where[96];
+        snprintf(where, sizeof where, "CVODES failed at t = %.6g s of [%.6g, %.6g]", t0 + s, t0,
+                 t0 + period);
+        usm_cvode_flag_name(flag, name, sizeof name);
+        if (flag == CV_TOO_MUCH_WORK)
+            snprintf(f->msg, USM_MSG_LEN,
+                     "%s: %s (stiff linearisation: use an exponential method)",
+                     where, name);
+        else
+            snprintf(f->msg, USM_MSG_LEN, "%s: %s%s%.100s", where, name, f->cvmsg[0] ? " -- " : "",
+                     f->cvmsg);
         return USM_EFAILED;
     }
     /* B = S^{-1} Psi S, with Psi stored column by column */

@@ -20,6 +20,7 @@
 #include <sunlinsol/sunlinsol_dense.h>
 #include <sunmatrix/sunmatrix_dense.h>
 
+#include "cvode_msg.h"
 #include "usm_simulate.h"
 
 #define TWO_PI 6.283185307179586476925286766559
@@ -443,7 +444,9 @@ static int check_params(usm_sim *s, const usm_params *p)
 
 static int cv_setup_fail(usm_sim *s, const char *call, int flag)
 {
-    snprintf(s->msg, USM_MSG_LEN, "CVODES %s failed: %s", call, CVodeGetReturnFlagName(flag));
+    char name[32];
+    snprintf(s->msg, USM_MSG_LEN, "CVODES %s failed: %s%s%.150s", call,
+             usm_cvode_flag_name(flag, name, sizeof name), s->cvmsg[0] ? " -- " : "", s->cvmsg);
     return USM_EFAILED;
 }
 
@@ -807,9 +810,11 @@ static int integrate(usm_sim *s, run_state *r)
         int flag = CVode(s->cv, tout, s->y, &t, CV_NORMAL);
         sum->t_reached = t;
         if (flag < 0) {
+            char name[32];
             sum->stop = USM_SIM_INTEGRATOR;
-            snprintf(sum->reason, USM_MSG_LEN, "CVODES failed at t = %.9g s: %s%s%.150s", t,
-                     CVodeGetReturnFlagName(flag), s->cvmsg[0] ? " -- " : "", s->cvmsg);
+            snprintf(sum->reason, USM_MSG_LEN, "CVODES failed at t = %.9g s: %s%s%.140s", t,
+                     usm_cvode_flag_name(flag, name, sizeof name), s->cvmsg[0] ? " -- " : "",
+                     s->cvmsg);
             return USM_EFAILED;
         }
         if (CVodeGetQuad(s->cv, &t, s->q) == CV_SUCCESS)
