@@ -2,8 +2,11 @@
 # Floquet failures from the command line (issue 11, "Messages"):
 #  - where the variational integration (CVODES) fails, `usm` exits 1 with
 #    exactly one stderr line "usm: floquet: ..." naming CVODES' reason, and
-#    nothing of CVODES' own printing;
-#  - a sweep through such parameters says so in at most one stderr line;
+#    nothing of CVODES' own printing; so does the Magnus method where its
+#    series diverges;
+#  - the default method (auto) answers there (falling back to the product of
+#    exponentials), and a sweep through such parameters prints at most one
+#    stderr line;
 #  - run in the sanitizer build (ctest with ASAN_OPTIONS=detect_leaks=1, see
 #    tests/run-all), LeakSanitizer makes any leak on these paths (CVODES'
 #    malloc'ed flag names) an abort, which fails the checks below.
@@ -31,8 +34,14 @@ expect_fail() {
 # Stiff linearisations: Adams with fixed-point iteration gives up (CV_TOO_MUCH_WORK).
 cvodes="floquet: CVODES failed at t = .*CV_TOO_MUCH_WORK"
 # (each takes CVODES' 200000 steps to give up: a few, to keep the test short)
-expect_fail "$cvodes" steady --set d_R=1e12
-expect_fail "$cvodes" steady --model 4dof --set d_R=1e8 --json
+expect_fail "$cvodes" steady --set d_R=1e12 --floquet-method variational
+expect_fail "$cvodes" steady --model 4dof --set d_R=1e8 --json --floquet-method=variational
+expect_fail "floquet: Magnus step 1 of 1 failed: not finite" steady --set d_R=1e12 --floquet-method magnus
+
+# the default answers: the multiplier of the axial rotor mode tends to 1 from below
+if expect_rc 0 steady --set d_R=1e12 --json; then
+    py "f = o['floquet']; assert 0.999 < f['max_modulus'] < 1 and f['stable'], f"
+fi
 
 # A sweep into the stiff range: exit 0 with the failed points marked, or exit 1;
 # either way at most one stderr line and none of CVODES' printing.

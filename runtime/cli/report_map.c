@@ -89,6 +89,13 @@ static void fail(map_shared *sh, int status, const char *text)
 int report_map_eval(usm_steady *s, usm_floquet *f, const usm_params *p, double t0,
                     int want_floquet, report_map_cell *c, char msg[USM_MSG_LEN])
 {
+    return report_map_eval_opt(s, f, p, t0, NULL, want_floquet, c, msg);
+}
+
+int report_map_eval_opt(usm_steady *s, usm_floquet *f, const usm_params *p, double t0,
+                        const usm_floquet_options *fopt, int want_floquet, report_map_cell *c,
+                        char msg[USM_MSG_LEN])
+{
     const usm_steady_solution *sol;
     usm_floquet_result res;
     int st;
@@ -108,7 +115,7 @@ int report_map_eval(usm_steady *s, usm_floquet *f, const usm_params *p, double t
     c->rotor_speed = sol->rotor_speed;
     c->mu_used = sol->mu_used;
     c->stick_admissible = sol->stick_admissible;
-    if (want_floquet && usm_floquet_compute(f, p, sol, t0, NULL, &res) == USM_OK &&
+    if (want_floquet && usm_floquet_compute(f, p, sol, t0, fopt, &res) == USM_OK &&
         isfinite(res.max_modulus)) {
         c->floquet_ok = 1;
         c->max_modulus = res.max_modulus;
@@ -138,7 +145,8 @@ static int eval_point(map_worker *w, double x, double y, int want_floquet, repor
     *usm_params_field(&w->p, map->y.param) = y;
     c->x = x;
     c->y = y;
-    if (report_map_eval(w->steady, w->floquet, &w->p, map->t0, want_floquet, c, lib) != USM_OK) {
+    if (report_map_eval_opt(w->steady, w->floquet, &w->p, map->t0, map->floquet, want_floquet, c,
+                            lib) != USM_OK) {
         char text[CLI_MSG_LEN];
         cli_msg(text, "at %s = %g, %s = %g: %s", map->x.param->name, x, map->y.param->name, y,
                 lib);

@@ -64,6 +64,7 @@ typedef struct report_map {
     usm_params params;
     report_axis x, y;
     double t0;       /* Floquet start time [s] */
+    const usm_floquet_options *floquet; /* Floquet method and tolerances; NULL: defaults */
     int threads;     /* >= 1 */
     int boundaries;  /* locate the boundaries (1) or not (0) */
     /* output: cells[j * x.points + i] is (x_i, y_j) */
@@ -79,6 +80,11 @@ typedef struct report_map {
  * message in msg (bad parameters). */
 int report_map_eval(usm_steady *s, usm_floquet *f, const usm_params *p, double t0,
                     int want_floquet, report_map_cell *c, char msg[USM_MSG_LEN]);
+
+/* report_map_eval with the Floquet options fopt (NULL: the defaults). */
+int report_map_eval_opt(usm_steady *s, usm_floquet *f, const usm_params *p, double t0,
+                        const usm_floquet_options *fopt, int want_floquet, report_map_cell *c,
+                        char msg[USM_MSG_LEN]);
 
 /* Indicator of boundary `kind` at a cell: 1 or 0, or -1 where undefined. */
 int report_map_indicator(int kind, const report_map_cell *c);
