@@ -3,29 +3,38 @@
  * Math: about the stationary orbit xbar(t) the first approximation (4.9) is
  *     M(xbar) dx' = A(t) dx,   A = df/dx - d(M v)/dx |_{v = xbar'}      (1)
  * with both Jacobians generated from the derivation.  The monodromy matrix
- * B = Phi(t0 + T) with Phi' = M^{-1} A Phi, Phi(t0) = I, T = 2 pi / Omega, and
- * the multipliers are the eigenvalues of B (GSL, balanced Hessenberg-QR).
+ * B = Phi(t0 + T) with Phi' = G Phi, G = M^{-1} A, Phi(t0) = I, T = 2 pi / Omega,
+ * and the multipliers are the eigenvalues of B.
  *
- * Two independent ways to compute B:
- *  - variational: CVODES integrates the n x n system (1) with Adams and
+ * Coordinates.  Near theta = 1e-4 the Euler-angle linearisation spans about
+ * 17 orders of magnitude.  Every method works on Psi = S Phi S^{-1} with
+ * S = D^{-1} T, where T is the generated tangent map (Euler-angle
+ * perturbations to the small-rotation vector in frame A, constant on the
+ * orbit) and D balances T G(t0) T^{-1}; B = S^{-1} Psi(t0 + T) S.  The
+ * multipliers are computed from Psi, not from B: S is as ill-conditioned as
+ * the Euler angles (cond ~ 1/theta^2), and the rounding errors of forming B
+ * moved them by up to 5e-7 (see multipliers).
+ *
+ * Three ways to compute Psi:
+ *  - variational: CVODES integrates the n x n system with Adams and
  *    fixed-point iteration (over one period |lambda| T < ~20: not stiff, so
- *    no n^2 x n^2 linear algebra is needed) in
- *    well-conditioned coordinates: near theta = 1e-4 the Euler-angle
- *    linearisation spans about 17 orders of magnitude and the error control
- *    of CVODES cannot resolve the physically small combinations of dphi and
- *    dpsi.  With S = D^{-1} T, where T is the generated tangent map (Euler-angle
- *    perturbations to the small-rotation vector in frame A, constant on the
- *    orbit) and D balances T G(t0) T^{-1} (GSL), Psi = S Phi S^{-1} is
- *    integrated, and B = S^{-1} Psi(t0 + T) S;
- *  - exponential: in frame A the coefficients of (1) are constant except the
- *    paper's twist term; B is the product of balanced matrix exponentials of
- *    S G S^{-1} over N sub-intervals (exponential midpoint rule, GSL's
- *    scaling-and-squaring exponential), Richardson-extrapolated from N and 2N
- *    (the rule is of second order in 1/N).
+ *    no n^2 x n^2 linear algebra is needed).  The independent check.
+ *  - exponential: the product of balanced matrix exponentials of S G S^{-1}
+ *    over N sub-intervals (exponential midpoint rule, GSL's exponential),
+ *    Richardson-extrapolated from N and 2N (second order in 1/N).
+ *  - magnus (the default): in frame A the coefficients are constant except
+ *    the paper's twist term -c_t psi(t) sin(theta), so G(t) is affine in t
+ *    (constant under the integrated twist law).  Constant: Psi = exp(T G), one
+ *    exponential.  Affine: the sixth-order Magnus integrator, with error
+ *    control on the multipliers (see magnus_adaptive).  Both facts are
+ *    checked at t0 + T/2, not assumed; otherwise G is evaluated at the Gauss
+ *    nodes.  The exponentials: scaling and squaring with Pade approximants
+ *    (dense.c).  Where the Magnus series diverges (a stiff linearisation,
+ *    |G| T >> pi) the default falls back to the exponential method.
  *
  * A cyclic coordinate x_i (appearing in neither M nor f) leaves column i of B
- * equal to e_i; its multiplier is exactly 1 and it is removed from B before
- * the eigenvalue problem, then reported as such.
+ * equal to e_i; its multiplier is exactly 1 and it is removed from the
+ * eigenvalue problem, then reported as such.
  */
 #include <math.h>
 #include <stdio.h>
