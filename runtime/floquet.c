@@ -693,12 +693,15 @@ static int reduced_eigenvalues(usm_floquet *f, const double *Psi)
     if (nc == 0)
         memcpy(f->R->data, Psi, sizeof(double) * (size_t)(n * n));
     else {
-        gsl_matrix_const_view psi = gsl_matrix_const_view_array(Psi, (size_t)n, (size_t)n);
-        gsl_blas_dgemm(CblasTrans, CblasNoTrans, 1.0, f->Qc, &psi.matrix, 0.0, f->W);
-        gsl_blas_dgemm(CblasNoTrans, CblasNoTrans, 1.0, f->W, f->Qc, 0.0, f->E);
-        gsl_matrix_view r = gsl_matrix_submatrix(f->E, (size_t)nc, (size_t)nc, (size_t)nk,
-                                                 (size_t)nk);
-        gsl_matrix_memcpy(f->R, &r.matrix);
+        double Qt[NN], W[NN];
+        for (int i = 0; i < n; ++i)
+            for (int j = 0; j < n; ++j)
+                Qt[i * n + j] = f->Qc->data[j * n + i];
+        usm_matmul_dense(n, Qt, Psi, W);
+        usm_matmul_dense(n, W, f->Qc->data, f->E->data);
+        for (int i = 0; i < nk; ++i)
+            memcpy(f->R->data + i * nk, f->E->data + (nc + i) * n + nc,
+                   sizeof(double) * (size_t)nk);
     }
     gsl_eigen_nonsymm_params(0, 1, f->eig); /* balance before QR */
     if (gsl_eigen_nonsymm(f->R, f->eval, f->eig) != GSL_SUCCESS) {
