@@ -562,8 +562,9 @@ static int magnus_product(usm_floquet *f, double t0, double period, int steps, d
 /* Psi by the Magnus integrator with error control on the multipliers.
  * Starting from 1 and 2 steps, the error of the finer of two results is
  * estimated from the distance between their multipliers, as for a method of
- * sixth order: e(N2) = d / ((N2 / N1)^6 - 1), and the step count for the
- * tolerance is predicted from it, until e <= tol or MAGNUS_MAX_STEPS.
+ * sixth order: e(N2) = d / ((N2 / N1)^6 - 1) (relative to the largest
+ * modulus where it exceeds 1), and the step count for the tolerance is
+ * predicted from it, until e <= tol; beyond MAGNUS_MAX_STEPS it fails.
  *
  * Why the multipliers and not Psi: every error term of the Magnus series for
  * A = a + t b is a commutator with the constant part a, to first order a
@@ -588,13 +589,23 @@ static int magnus_adaptive(usm_floquet *f, double t0, double period, double tol,
             re1[i] = GSL_REAL(gsl_vector_complex_get(f->eval, (size_t)i));
             im1[i] = GSL_IMAG(gsl_vector_complex_get(f->eval, (size_t)i));
         }
+        double scale = 1.0; /* relative to the largest multiplier when that exceeds 1 */
+        for (int i = 0; i < nk; ++i)
+            scale = fmax(scale, hypot(re1[i], im1[i]));
         const double est =
-            eigen_distance(nk, re0, im0, re1, im1) / (pow((double)n2 / n1, 6) - 1.0);
+            eigen_distance(nk, re0, im0, re1, im1) / (pow((double)n2 / n1, 6) - 1.0) / scale;
         f->magnus_steps = n2;
         f->magnus_error = est;
-        if (est <= tol || n2 >= MAGNUS_MAX_STEPS) {
+        if (est <= tol) {
             f->eval_valid = 1; /* f->eval holds the multipliers of Psi */
             return 0;
+        }
+        if (n2 >= MAGNUS_MAX_STEPS) {
+            snprintf(f->msg, USM_MSG_LEN,
+                     "Magnus: estimated error %.2g of the multipliers after %d steps, above "
+                     "the tolerance %.2g",
+                     est, n2, tol);
+            return -1;
         }
         const double want = ceil(n2 * pow(est / tol, 1.0 / 6.0) * 1.1);
         const int next = want > MAGNUS_MAX_STEPS ? MAGNUS_MAX_STEPS : (int)want;
@@ -650,8 +661,8 @@ static int monodromy_magnus(usm_floquet *f, double t0, double period,
         }
     } else {
         /* multipliers to 1e-2 rtol (1e-10 by default: ten correct digits,
-         * bench/usm_bench) */
-        if (magnus_adaptive(f, t0, period, 1e-2 * opt->rtol, Psi) != 0)
+         * bench/usm_bench), not below the rounding errors' 1e-13 */
+        if (magnus_adaptive(f, t0, period, fmax(1e-2 * opt->rtol, 1e-13), Psi) != 0)
             return USM_EFAILED;
     }
     /* B = S^{-1} Psi S */
