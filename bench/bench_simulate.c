@@ -127,7 +127,7 @@ int main(int argc, char **argv)
             o.duration = 3e-3;
             o.rate = p.f; /* one sample per period end */
             o.rtol = 1e-10;
-            usm_sim_callbacks cb = {record, NULL, d};
+            usm_sim_callbacks cb = {record, NULL, d, NULL};
             usm_sim_run(s, &p, &o, NULL, &sum);
             d->theta_bar = sum.steady.theta;
             d->speed_bar = sum.steady.rotor_speed;

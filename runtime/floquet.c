@@ -3,29 +3,38 @@
  * Math: about the stationary orbit xbar(t) the first approximation (4.9) is
  *     M(xbar) dx' = A(t) dx,   A = df/dx - d(M v)/dx |_{v = xbar'}      (1)
  * with both Jacobians generated from the derivation.  The monodromy matrix
- * B = Phi(t0 + T) with Phi' = M^{-1} A Phi, Phi(t0) = I, T = 2 pi / Omega, and
- * the multipliers are the eigenvalues of B (GSL, balanced Hessenberg-QR).
+ * B = Phi(t0 + T) with Phi' = G Phi, G = M^{-1} A, Phi(t0) = I, T = 2 pi / Omega,
+ * and the multipliers are the eigenvalues of B.
  *
- * Two independent ways to compute B:
- *  - variational: CVODES integrates the n x n system (1) with Adams and
+ * Coordinates.  Near theta = 1e-4 the Euler-angle linearisation spans about
+ * 17 orders of magnitude.  Every method works on Psi = S Phi S^{-1} with
+ * S = D^{-1} T, where T is the generated tangent map (Euler-angle
+ * perturbations to the small-rotation vector in frame A, constant on the
+ * orbit) and D balances T G(t0) T^{-1}; B = S^{-1} Psi(t0 + T) S.  The
+ * multipliers are computed from Psi, not from B: S is as ill-conditioned as
+ * the Euler angles (cond ~ 1/theta^2), and the rounding errors of forming B
+ * moved them by up to 5e-7 (see multipliers).
+ *
+ * Three ways to compute Psi:
+ *  - variational: CVODES integrates the n x n system with Adams and
  *    fixed-point iteration (over one period |lambda| T < ~20: not stiff, so
- *    no n^2 x n^2 linear algebra is needed) in
- *    well-conditioned coordinates: near theta = 1e-4 the Euler-angle
- *    linearisation spans about 17 orders of magnitude and the error control
- *    of CVODES cannot resolve the physically small combinations of dphi and
- *    dpsi.  With S = D^{-1} T, where T is the generated tangent map (Euler-angle
- *    perturbations to the small-rotation vector in frame A, constant on the
- *    orbit) and D balances T G(t0) T^{-1} (GSL), Psi = S Phi S^{-1} is
- *    integrated, and B = S^{-1} Psi(t0 + T) S;
- *  - exponential: in frame A the coefficients of (1) are constant except the
- *    paper's twist term; B is the product of balanced matrix exponentials of
- *    S G S^{-1} over N sub-intervals (exponential midpoint rule, GSL's
- *    scaling-and-squaring exponential), Richardson-extrapolated from N and 2N
- *    (the rule is of second order in 1/N).
+ *    no n^2 x n^2 linear algebra is needed).  The independent check.
+ *  - exponential: the product of balanced matrix exponentials of S G S^{-1}
+ *    over N sub-intervals (exponential midpoint rule, GSL's exponential),
+ *    Richardson-extrapolated from N and 2N (second order in 1/N).
+ *  - magnus (the default): in frame A the coefficients are constant except
+ *    the paper's twist term -c_t psi(t) sin(theta), so G(t) is affine in t
+ *    (constant under the integrated twist law).  Constant: Psi = exp(T G), one
+ *    exponential.  Affine: the sixth-order Magnus integrator, with error
+ *    control on the multipliers (see magnus_adaptive).  Both facts are
+ *    checked at t0 + T/2, not assumed; otherwise G is evaluated at the Gauss
+ *    nodes.  The exponentials: scaling and squaring with Pade approximants
+ *    (dense.c).  Where the Magnus series diverges (a stiff linearisation,
+ *    |G| T >> pi) the default falls back to the exponential method.
  *
  * A cyclic coordinate x_i (appearing in neither M nor f) leaves column i of B
- * equal to e_i; its multiplier is exactly 1 and it is removed from B before
- * the eigenvalue problem, then reported as such.
+ * equal to e_i; its multiplier is exactly 1 and it is removed from the
+ * eigenvalue problem, then reported as such.
  */
 #include <math.h>
 #include <stdio.h>
@@ -42,9 +51,12 @@
 #include <nvector/nvector_serial.h>
 #include <sunnonlinsol/sunnonlinsol_fixedpoint.h>
 
+#include "cvode_msg.h"
+#include "dense.h"
 #include "usm.h"
 
 #define TWO_PI 6.283185307179586476925286766559
+#define NN (USM_MAX_NX * USM_MAX_NX)
 
 struct usm_floquet {
     const usm_model *m;
@@ -61,27 +73,60 @@ struct usm_floquet {
     int cvode_ready;
     double t0; /* start of the period being integrated */
     /* work space */
-    gsl_matrix *G, *Mx, *E, *P, *Q, *W;
-    gsl_permutation *perm;
+    gsl_matrix *G, *E, *P, *Q, *W;
     gsl_vector *dscale;
     gsl_matrix *S, *Sinv;   /* coordinates of the variational integration */
-    /* eigenproblem of B without its cyclic rows and columns */
+    /* the monodromy in the integration's coordinates, Psi = S B S^{-1} */
+    double Psi[NN];
+    /* eigenproblem of B without its cyclic rows and columns: in the
+     * coordinates of Psi, after an orthogonal change of basis that puts the
+     * fixed vectors S e_i (i cyclic) first (see multipliers) */
     int nk, keep[USM_MAX_NX];
+    gsl_matrix *Vc, *Qc, *Rc;
+    gsl_vector *qr_tau;
     gsl_matrix *R;
     gsl_eigen_nonsymm_workspace *eig;
     gsl_vector_complex *eval;
+    /* Magnus: S G S^{-1} at t0 and t0 + T, and whether G is affine in t */
+    double Ga[USM_MAX_NX * USM_MAX_NX], Gb[USM_MAX_NX * USM_MAX_NX];
+    int affine;
+    int magnus_steps;    /* steps of the last Magnus result (0: one exponential) */
+    int eval_valid;      /* eval already holds the eigenvalues of Psi */
+    double magnus_error; /* its estimated relative error */
+    char cvmsg[USM_MSG_LEN]; /* CVODES' last message (see cv_errors) */
     char msg[USM_MSG_LEN];
 };
 
 void usm_floquet_options_default(usm_floquet_options *opt)
 {
-    opt->method = USM_FLOQUET_VARIATIONAL;
+    opt->method = USM_FLOQUET_AUTO;
     opt->rtol = 1e-8;
     opt->atol = 1e-12;
     opt->steps = 64;
 }
 
 const char *usm_floquet_message(const usm_floquet *f) { return f->msg; }
+
+static const char *const method_names[] = {"variational", "exponential", "magnus", "auto"};
+#define NMETHODS (int)(sizeof method_names / sizeof method_names[0])
+
+const char *usm_floquet_method_name(usm_floquet_method method)
+{
+    return (int)method >= 0 && (int)method < NMETHODS ? method_names[method] : NULL;
+}
+
+int usm_floquet_method_from_name(const char *name, usm_floquet_method *method,
+                                 char msg[USM_MSG_LEN])
+{
+    for (int k = 0; k < NMETHODS; ++k)
+        if (strcmp(name, method_names[k]) == 0) {
+            *method = (usm_floquet_method)k;
+            return USM_OK;
+        }
+    snprintf(msg, USM_MSG_LEN,
+             "%.64s: unknown Floquet method (known: variational, exponential, magnus, auto)", name);
+    return USM_EINPUT;
+}
 
 usm_floquet *usm_floquet_alloc(const usm_model *m)
 {
@@ -92,22 +137,31 @@ usm_floquet *usm_floquet_alloc(const usm_model *m)
     f->m = m;
     f->n = m->nx;
     f->G = gsl_matrix_alloc(n, n);
-    f->Mx = gsl_matrix_alloc(n, n);
     f->E = gsl_matrix_alloc(n, n);
     f->P = gsl_matrix_alloc(n, n);
     f->Q = gsl_matrix_alloc(n, n);
     f->W = gsl_matrix_alloc(n, n);
     f->S = gsl_matrix_alloc(n, n);
     f->Sinv = gsl_matrix_alloc(n, n);
-    f->perm = gsl_permutation_alloc(n);
     f->dscale = gsl_vector_alloc(n);
     for (int i = 0; i < m->nx; ++i)
         if (!m->cyclic[i])
             f->keep[f->nk++] = i;
     f->R = gsl_matrix_alloc((size_t)f->nk, (size_t)f->nk);
+    const size_t nc = (size_t)(f->n - f->nk);
+    if (nc > 0) {
+        f->Vc = gsl_matrix_alloc(n, nc);
+        f->Rc = gsl_matrix_alloc(n, nc);
+        f->Qc = gsl_matrix_alloc(n, n);
+        f->qr_tau = gsl_vector_alloc(nc);
+        if (!f->Vc || !f->Rc || !f->Qc || !f->qr_tau) {
+            usm_floquet_free(f);
+            return NULL;
+        }
+    }
     f->eig = gsl_eigen_nonsymm_alloc((size_t)f->nk);
     f->eval = gsl_vector_complex_alloc((size_t)f->nk);
-    if (!f->G || !f->Mx || !f->E || !f->P || !f->Q || !f->W || !f->S || !f->Sinv || !f->perm || !f->dscale ||
+    if (!f->G || !f->E || !f->P || !f->Q || !f->W || !f->S || !f->Sinv || !f->dscale ||
         !f->R || !f->eig || !f->eval || SUNContext_Create(NULL, &f->ctx) != 0) {
         usm_floquet_free(f);
         return NULL;
@@ -128,7 +182,6 @@ void usm_floquet_free(usm_floquet *f)
     if (f->ctx)
         SUNContext_Free(&f->ctx);
     gsl_matrix_free(f->G);
-    gsl_matrix_free(f->Mx);
     gsl_matrix_free(f->E);
     gsl_matrix_free(f->P);
     gsl_matrix_free(f->Q);
@@ -136,7 +189,14 @@ void usm_floquet_free(usm_floquet *f)
     gsl_matrix_free(f->S);
     gsl_matrix_free(f->Sinv);
     gsl_matrix_free(f->R);
-    gsl_permutation_free(f->perm);
+    if (f->Vc)
+        gsl_matrix_free(f->Vc);
+    if (f->Rc)
+        gsl_matrix_free(f->Rc);
+    if (f->Qc)
+        gsl_matrix_free(f->Qc);
+    if (f->qr_tau)
+        gsl_vector_free(f->qr_tau);
     gsl_vector_free(f->dscale);
     if (f->eig)
         gsl_eigen_nonsymm_free(f->eig);
@@ -148,26 +208,16 @@ void usm_floquet_free(usm_floquet *f)
 static int coefficient_matrix(usm_floquet *f, double t, gsl_matrix *G)
 {
     const int n = f->n;
-    double orbit[2 * USM_MAX_NX], Mbuf[USM_MAX_NX * USM_MAX_NX];
-    double Jf[USM_MAX_NX * USM_MAX_NX], Jm[USM_MAX_NX * USM_MAX_NX];
+    double orbit[2 * USM_MAX_NX], Mbuf[NN], Jf[NN], Jm[NN];
     f->m->steady_state(f->u, f->beta, t, &f->p, orbit);
     const double *x = orbit, *xdot = orbit + n;
     f->m->mass(x, &f->p, Mbuf);
     f->m->jac_rhs(x, t, &f->p, Jf);
     f->m->jac_mass(x, xdot, &f->p, Jm);
-    for (int i = 0; i < n; ++i)
-        for (int j = 0; j < n; ++j) {
-            gsl_matrix_set(f->Mx, (size_t)i, (size_t)j, Mbuf[i * n + j]);
-            gsl_matrix_set(G, (size_t)i, (size_t)j, Jf[i * n + j] - Jm[i * n + j]);
-        }
-    int sign;
-    if (gsl_linalg_LU_decomp(f->Mx, f->perm, &sign) != GSL_SUCCESS)
+    for (int k = 0; k < n * n; ++k)
+        G->data[k] = Jf[k] - Jm[k]; /* G is n x n with tda n (gsl_matrix_alloc) */
+    if (usm_solve_dense(n, Mbuf, G->data) != 0)
         return -1;
-    for (int j = 0; j < n; ++j) {
-        gsl_vector_view col = gsl_matrix_column(G, (size_t)j);
-        if (gsl_linalg_LU_svx(f->Mx, f->perm, &col.vector) != GSL_SUCCESS)
-            return -1;
-    }
     for (int i = 0; i < n * n; ++i)
         if (!isfinite(G->data[i]))
             return -1;
@@ -181,8 +231,8 @@ static int balanced_coefficient_matrix(usm_floquet *f, double t)
 {
     if (coefficient_matrix(f, t, f->W) != 0)
         return -1;
-    gsl_blas_dgemm(CblasNoTrans, CblasNoTrans, 1.0, f->S, f->W, 0.0, f->E);
-    gsl_blas_dgemm(CblasNoTrans, CblasNoTrans, 1.0, f->E, f->Sinv, 0.0, f->G);
+    usm_matmul_dense(f->n, f->S->data, f->W->data, f->E->data);
+    usm_matmul_dense(f->n, f->E->data, f->Sinv->data, f->G->data);
     return 0;
 }
 
@@ -190,27 +240,34 @@ static int balanced_coefficient_matrix(usm_floquet *f, double t)
 static int variational_coordinates(usm_floquet *f, double t0)
 {
     const int n = f->n;
-    double orbit[2 * USM_MAX_NX], T[USM_MAX_NX * USM_MAX_NX];
-    int sign;
+    double orbit[2 * USM_MAX_NX], T[NN];
     f->m->steady_state(f->u, f->beta, t0, &f->p, orbit);
     f->m->tangent_map(orbit, &f->p, T);
-    for (int i = 0; i < n * n; ++i)
-        f->S->data[i] = T[i];
-    gsl_matrix_memcpy(f->Mx, f->S);
-    if (gsl_linalg_LU_decomp(f->Mx, f->perm, &sign) != GSL_SUCCESS ||
-        gsl_linalg_LU_invert(f->Mx, f->perm, f->Sinv) != GSL_SUCCESS)
+    memcpy(f->S->data, T, sizeof(double) * (size_t)(n * n));
+    gsl_matrix_set_identity(f->Sinv);
+    if (usm_solve_dense(n, T, f->Sinv->data) != 0)
         return -1;
     /* balance T G(t0) T^{-1}: D^{-1} (T G T^{-1}) D */
-    if (balanced_coefficient_matrix(f, t0) != 0 ||
-        gsl_linalg_balance_matrix(f->G, f->dscale) != GSL_SUCCESS)
+    if (balanced_coefficient_matrix(f, t0) != 0)
         return -1;
+    usm_balance_dense(n, f->G->data, f->dscale->data);
     for (int i = 0; i < n; ++i)
         for (int j = 0; j < n; ++j) {
-            const double di = gsl_vector_get(f->dscale, (size_t)i);
-            const double dj = gsl_vector_get(f->dscale, (size_t)j);
-            f->S->data[i * n + j] /= di;
-            f->Sinv->data[i * n + j] *= dj;
+            f->S->data[i * n + j] /= f->dscale->data[i];
+            f->Sinv->data[i * n + j] *= f->dscale->data[j];
         }
+    /* the orthogonal basis Qc whose first columns span S e_i, i cyclic (see
+     * reduced_eigenvalues) */
+    if (f->Vc) {
+        for (int k = 0, c = 0; k < n; ++k)
+            if (f->m->cyclic[k]) {
+                gsl_vector_view col = gsl_matrix_column(f->S, (size_t)k);
+                gsl_matrix_set_col(f->Vc, (size_t)c++, &col.vector);
+            }
+        if (gsl_linalg_QR_decomp(f->Vc, f->qr_tau) != GSL_SUCCESS ||
+            gsl_linalg_QR_unpack(f->Vc, f->qr_tau, f->Qc, f->Rc) != GSL_SUCCESS)
+            return -1;
+    }
     return 0;
 }
 
@@ -234,9 +291,21 @@ static int variational_rhs(sunrealtype tau, N_Vector y, N_Vector ydot, void *dat
     return 0;
 }
 
+/* CVODES' error handler: the message goes into f->cvmsg instead of stderr
+ * (the library never prints; the command's errors are one line). */
+static void cv_errors(int code, const char *module, const char *function, char *text, void *data)
+{
+    usm_floquet *f = data;
+    (void)code;
+    (void)module;
+    snprintf(f->cvmsg, sizeof f->cvmsg, "%s: %s", function, text);
+}
+
 static int cvode_fail(usm_floquet *f, const char *call, int flag)
 {
-    snprintf(f->msg, USM_MSG_LEN, "CVODES %s failed: %s", call, CVodeGetReturnFlagName(flag));
+    char name[32];
+    snprintf(f->msg, USM_MSG_LEN, "CVODES %s failed: %s%s%.150s", call,
+             usm_cvode_flag_name(flag, name, sizeof name), f->cvmsg[0] ? " -- " : "", f->cvmsg);
     return USM_EFAILED;
 }
 
@@ -252,6 +321,8 @@ static int setup_cvode(usm_floquet *f, double t0, const usm_floquet_options *opt
             return USM_EFAILED;
         }
         N_VConst(0.0, f->y);
+        if ((flag = CVodeSetErrHandlerFn(f->cvode, cv_errors, f)) != CV_SUCCESS)
+            return cvode_fail(f, "CVodeSetErrHandlerFn", flag);
         if ((flag = CVodeInit(f->cvode, variational_rhs, 0.0, f->y)) != CV_SUCCESS)
             return cvode_fail(f, "CVodeInit", flag);
         f->NLS = SUNNonlinSol_FixedPoint(f->y, 0, f->ctx);
@@ -292,10 +363,23 @@ static int monodromy_variational(usm_floquet *f, double t0, double period,
     if ((flag = CVodeSetStopTime(f->cvode, period)) != CV_SUCCESS)
         return cvode_fail(f, "CVodeSetStopTime", flag);
     double s = 0;
+    char name[32];
+    f->cvmsg[0] = '\0';
     flag = CVode(f->cvode, period, f->y, &s, CV_NORMAL);
     if (flag < 0) {
-        snprintf(f->msg, USM_MSG_LEN, "CVODES failed at t = %.6g s of [%.6g, %.6g]: %s", t0 + s,
-                 t0, t0 + period, CVodeGetReturnFlagName(flag));
+        /* CV_TOO_MUCH_WORK: Adams with fixed-point iteration is meant for a
+         * non-stiff linearisation; CVODES' own text adds nothing then */
+        char where[96];
+        snprintf(where, sizeof where, "CVODES failed at t = %.6g s of [%.6g, %.6g]", t0 + s, t0,
+                 t0 + period);
+        usm_cvode_flag_name(flag, name, sizeof name);
+        if (flag == CV_TOO_MUCH_WORK)
+            snprintf(f->msg, USM_MSG_LEN,
+                     "%s: %s (stiff linearisation: use an exponential method)",
+                     where, name);
+        else
+            snprintf(f->msg, USM_MSG_LEN, "%s: %s%s%.100s", where, name, f->cvmsg[0] ? " -- " : "",
+                     f->cvmsg);
         return USM_EFAILED;
     }
     /* B = S^{-1} Psi S, with Psi stored column by column */
@@ -304,6 +388,7 @@ static int monodromy_variational(usm_floquet *f, double t0, double period,
     for (int i = 0; i < n; ++i)
         for (int j = 0; j < n; ++j)
             gsl_matrix_set(f->P, (size_t)i, (size_t)j, Y[j * n + i]);
+    memcpy(f->Psi, f->P->data, sizeof(double) * (size_t)(n * n));
     gsl_blas_dgemm(CblasNoTrans, CblasNoTrans, 1.0, f->Sinv, f->P, 0.0, f->W);
     gsl_blas_dgemm(CblasNoTrans, CblasNoTrans, 1.0, f->W, f->S, 0.0, f->Q);
     memcpy(B, f->Q->data, sizeof(double) * (size_t)(n * n));
@@ -355,9 +440,235 @@ static int monodromy_exponential(usm_floquet *f, double t0, double period, int s
     gsl_matrix_scale(f->Q, 4.0 / 3.0);
     gsl_matrix_scale(f->P, -1.0 / 3.0);
     gsl_matrix_add(f->P, f->Q);
+    memcpy(f->Psi, f->P->data, sizeof(double) * (size_t)(n * n));
     gsl_blas_dgemm(CblasNoTrans, CblasNoTrans, 1.0, f->Sinv, f->P, 0.0, f->W);
     gsl_blas_dgemm(CblasNoTrans, CblasNoTrans, 1.0, f->W, f->S, 0.0, f->Q);
     memcpy(B, f->Q->data, sizeof(double) * (size_t)(n * n));
+    return USM_OK;
+}
+
+/* ---- Magnus integrator ----------------------------------------------------------- */
+
+/* C = X Y - Y X */
+static void commutator(int n, const double *X, const double *Y, double *C)
+{
+    double YX[NN];
+    usm_matmul_dense(n, X, Y, C);
+    usm_matmul_dense(n, Y, X, YX);
+    for (int k = 0; k < n * n; ++k)
+        C[k] -= YX[k];
+}
+
+static double max_abs(int nn, const double *A)
+{
+    double m = 0;
+    for (int k = 0; k < nn; ++k)
+        m = fmax(m, fabs(A[k]));
+    return m;
+}
+
+/* The balanced coefficient matrix S G(t0 + tau) S^{-1} into A: interpolated
+ * between G0 = f->Ga (tau = 0) and G1 = f->Gb (tau = period) when G is affine
+ * in t, evaluated otherwise. */
+static int magnus_coefficients(usm_floquet *f, double t0, double tau, double period, double *A)
+{
+    const int nn = f->n * f->n;
+    if (f->affine) {
+        const double w = tau / period;
+        for (int k = 0; k < nn; ++k)
+            A[k] = f->Ga[k] + w * (f->Gb[k] - f->Ga[k]);
+        return 0;
+    }
+    if (balanced_coefficient_matrix(f, t0 + tau) != 0)
+        return -1;
+    memcpy(A, f->G->data, sizeof(double) * (size_t)nn);
+    return 0;
+}
+
+/* Psi <- exp(Omega) Psi over [t0 + a, t0 + a + h], Omega the sixth-order
+ * Magnus approximation from the three Gauss-Legendre nodes (S. Blanes,
+ * F. Casas, J. A. Oteo, J. Ros, Phys. Rep. 470 (2009) 151-238, eq. (253)). */
+static int magnus_step(usm_floquet *f, double t0, double a, double h, double period, double *Psi)
+{
+    const int n = f->n, nn = n * n;
+    const double r = sqrt(15.0) / 10.0;
+    double A1[NN], A2[NN], A3[NN], a1[NN], a2[NN], a3[NN], C1[NN], C2[NN], X[NN], Y[NN];
+    if (magnus_coefficients(f, t0, a + (0.5 - r) * h, period, A1) != 0 ||
+        magnus_coefficients(f, t0, a + 0.5 * h, period, A2) != 0 ||
+        magnus_coefficients(f, t0, a + (0.5 + r) * h, period, A3) != 0)
+        return -1;
+    for (int k = 0; k < nn; ++k) {
+        a1[k] = h * A2[k];
+        a2[k] = sqrt(15.0) * h / 3.0 * (A3[k] - A1[k]);
+        a3[k] = 10.0 * h / 3.0 * (A3[k] - 2.0 * A2[k] + A1[k]);
+    }
+    commutator(n, a1, a2, C1);             /* C1 = [a1, a2] */
+    for (int k = 0; k < nn; ++k)
+        X[k] = 2.0 * a3[k] + C1[k];
+    commutator(n, a1, X, C2);              /* C2 = -[a1, 2 a3 + C1] / 60 */
+    for (int k = 0; k < nn; ++k) {
+        C2[k] /= -60.0;
+        X[k] = -20.0 * a1[k] - a3[k] + C1[k];
+        Y[k] = a2[k] + C2[k];
+    }
+    commutator(n, X, Y, A1);               /* Omega = a1 + a3 / 12 + [X, Y] / 240 */
+    for (int k = 0; k < nn; ++k)
+        A1[k] = a1[k] + a3[k] / 12.0 + A1[k] / 240.0;
+    if (usm_expm_dense(n, A1, A2) != 0)
+        return -1;
+    usm_matmul_dense(n, A2, Psi, A3);
+    memcpy(Psi, A3, sizeof(double) * (size_t)nn);
+    return 0;
+}
+
+static int reduced_eigenvalues(usm_floquet *f, const double *Psi);
+
+/* Largest distance from an eigenvalue in (re1, im1) to the nearest in
+ * (re0, im0), both of length k. */
+static double eigen_distance(int k, const double *re0, const double *im0, const double *re1,
+                             const double *im1)
+{
+    double worst = 0;
+    for (int i = 0; i < k; ++i) {
+        double best = INFINITY;
+        for (int j = 0; j < k; ++j)
+            best = fmin(best, hypot(re1[i] - re0[j], im1[i] - im0[j]));
+        worst = fmax(worst, best);
+    }
+    return worst;
+}
+
+/* Psi over [t0, t0 + period] in `steps` Magnus steps. */
+static int magnus_product(usm_floquet *f, double t0, double period, int steps, double *Psi)
+{
+    const int n = f->n;
+    const double h = period / steps;
+    memset(Psi, 0, sizeof(double) * (size_t)(n * n));
+    for (int i = 0; i < n; ++i)
+        Psi[i * n + i] = 1.0;
+    for (int k = 0; k < steps; ++k)
+        if (magnus_step(f, t0, k * h, h, period, Psi) != 0) {
+            snprintf(f->msg, USM_MSG_LEN,
+                     "Magnus step %d of %d failed: not finite (a stiff linearisation: the Magnus "
+                     "series diverges; the exponential method copes)",
+                     k + 1, steps);
+            return -1;
+        }
+    return 0;
+}
+
+#define MAGNUS_MAX_STEPS 128
+
+/* Psi by the Magnus integrator with error control on the multipliers.
+ * Starting from 1 and 2 steps, the error of the finer of two results is
+ * estimated from the distance between their multipliers, as for a method of
+ * sixth order: e(N2) = d / ((N2 / N1)^6 - 1) (relative to the largest
+ * modulus where it exceeds 1), and the step count for the tolerance is
+ * predicted from it, until e <= tol; beyond MAGNUS_MAX_STEPS it fails.
+ *
+ * Why the multipliers and not Psi: every error term of the Magnus series for
+ * A = a + t b is a commutator with the constant part a, to first order a
+ * similarity transformation, which leaves the multipliers alone.  They
+ * converge much faster than the entries of Psi (3-DOF, paper's point: with 8
+ * steps the multipliers to 2e-12, Psi to 1e-6; bench/usm_bench). */
+static int magnus_adaptive(usm_floquet *f, double t0, double period, double tol, double *Psi)
+{
+    const int nk = f->nk;
+    double re0[USM_MAX_NX], im0[USM_MAX_NX], re1[USM_MAX_NX], im1[USM_MAX_NX];
+    int n1 = 1, n2 = 2;
+    if (magnus_product(f, t0, period, n1, Psi) != 0 || reduced_eigenvalues(f, Psi) != 0)
+        return -1;
+    for (int i = 0; i < nk; ++i) {
+        re0[i] = GSL_REAL(gsl_vector_complex_get(f->eval, (size_t)i));
+        im0[i] = GSL_IMAG(gsl_vector_complex_get(f->eval, (size_t)i));
+    }
+    for (;;) {
+        if (magnus_product(f, t0, period, n2, Psi) != 0 || reduced_eigenvalues(f, Psi) != 0)
+            return -1;
+        for (int i = 0; i < nk; ++i) {
+            re1[i] = GSL_REAL(gsl_vector_complex_get(f->eval, (size_t)i));
+            im1[i] = GSL_IMAG(gsl_vector_complex_get(f->eval, (size_t)i));
+        }
+        double scale = 1.0; /* relative to the largest multiplier when that exceeds 1 */
+        for (int i = 0; i < nk; ++i)
+            scale = fmax(scale, hypot(re1[i], im1[i]));
+        const double est =
+            eigen_distance(nk, re0, im0, re1, im1) / (pow((double)n2 / n1, 6) - 1.0) / scale;
+        f->magnus_steps = n2;
+        f->magnus_error = est;
+        if (est <= tol) {
+            f->eval_valid = 1; /* f->eval holds the multipliers of Psi */
+            return 0;
+        }
+        if (n2 >= MAGNUS_MAX_STEPS) {
+            snprintf(f->msg, USM_MSG_LEN,
+                     "Magnus: estimated error %.2g of the multipliers after %d steps, above "
+                     "the tolerance %.2g",
+                     est, n2, tol);
+            return -1;
+        }
+        const double want = ceil(n2 * pow(est / tol, 1.0 / 6.0) * 1.1);
+        const int next = want > MAGNUS_MAX_STEPS ? MAGNUS_MAX_STEPS : (int)want;
+        memcpy(re0, re1, sizeof re0);
+        memcpy(im0, im1, sizeof im0);
+        n1 = n2;
+        n2 = next > n2 ? next : n2 + 1;
+    }
+}
+
+static int monodromy_magnus(usm_floquet *f, double t0, double period,
+                            const usm_floquet_options *opt, double *B)
+{
+    const int n = f->n, nn = n * n;
+    double Psi[NN], W[NN];
+    if (variational_coordinates(f, t0) != 0) {
+        snprintf(f->msg, USM_MSG_LEN, "linearisation at t0 is singular or not finite");
+        return USM_EFAILED;
+    }
+    /* after variational_coordinates, f->G = S G(t0) S^{-1} */
+    memcpy(f->Ga, f->G->data, sizeof(double) * (size_t)nn);
+    /* constant (twist_integrated) or affine in t (the paper's twist law)?
+     * Checked at the middle of the period rather than trusted. */
+    if (balanced_coefficient_matrix(f, t0 + 0.5 * period) != 0) {
+        snprintf(f->msg, USM_MSG_LEN, "linearisation at t0 + T/2 is singular or not finite");
+        return USM_EFAILED;
+    }
+    memcpy(W, f->G->data, sizeof(double) * (size_t)nn);
+    int constant = 0;
+    f->affine = 0;
+    if (f->m->t0_independent) {
+        for (int k = 0; k < nn; ++k)
+            Psi[k] = W[k] - f->Ga[k];
+        constant = max_abs(nn, Psi) <= 1e-12 * max_abs(nn, f->Ga);
+    }
+    if (!constant) {
+        if (balanced_coefficient_matrix(f, t0 + period) != 0) {
+            snprintf(f->msg, USM_MSG_LEN, "linearisation at t0 + T is singular or not finite");
+            return USM_EFAILED;
+        }
+        memcpy(f->Gb, f->G->data, sizeof(double) * (size_t)nn);
+        for (int k = 0; k < nn; ++k)
+            Psi[k] = W[k] - 0.5 * (f->Ga[k] + f->Gb[k]);
+        f->affine = max_abs(nn, Psi) <= 1e-12 * fmax(max_abs(nn, f->Ga), max_abs(nn, f->Gb));
+    }
+    f->magnus_steps = 0;
+    if (constant) {
+        for (int k = 0; k < nn; ++k)
+            W[k] = period * f->Ga[k];
+        if (usm_expm_dense(n, W, Psi) != 0) {
+            snprintf(f->msg, USM_MSG_LEN, "matrix exponential of the linearisation failed");
+            return USM_EFAILED;
+        }
+    } else {
+        /* multipliers to 1e-2 rtol (1e-10 by default: ten correct digits,
+         * bench/usm_bench), not below the rounding errors' 1e-13 */
+        if (magnus_adaptive(f, t0, period, fmax(1e-2 * opt->rtol, 1e-13), Psi) != 0)
+            return USM_EFAILED;
+    }
+    /* B = S^{-1} Psi S */
+    memcpy(f->Psi, Psi, sizeof(double) * (size_t)nn);
+    usm_matmul_dense(n, f->Sinv->data, Psi, W);
+    usm_matmul_dense(n, W, f->S->data, B);
     return USM_OK;
 }
 
@@ -366,12 +677,13 @@ static int monodromy_exponential(usm_floquet *f, double t0, double period, int s
 typedef struct {
     double re, im;
     int cyclic;
+    double modulus;
 } multiplier;
 
 static int by_modulus_desc(const void *a, const void *b)
 {
     const multiplier *x = a, *y = b;
-    double mx = hypot(x->re, x->im), my = hypot(y->re, y->im);
+    const double mx = x->modulus, my = y->modulus;
     if (mx != my)
         return (mx < my) - (mx > my);
     if (x->re != y->re)
@@ -379,25 +691,50 @@ static int by_modulus_desc(const void *a, const void *b)
     return (x->im < y->im) - (x->im > y->im);
 }
 
-static int multipliers(usm_floquet *f, const double *B, usm_floquet_result *out)
+/* The eigenvalues of B are computed from Psi = S B S^{-1}: S is as
+ * ill-conditioned as the Euler angles (about 1/theta^2), so B itself carries
+ * rounding errors of cond(S) eps relative to Psi, and so would its
+ * eigenvalues.  A cyclic coordinate i gives B e_i = e_i, so Psi fixes S e_i:
+ * with the orthogonal Qc whose first columns span these vectors (QR of them,
+ * variational_coordinates), Qc^T Psi Qc = [I *; 0 R], and the other
+ * multipliers are the eigenvalues of R: into f->eval. */
+static int reduced_eigenvalues(usm_floquet *f, const double *Psi)
+{
+    const int n = f->n, nk = f->nk, nc = n - nk;
+    if (nc == 0)
+        memcpy(f->R->data, Psi, sizeof(double) * (size_t)(n * n));
+    else {
+        double Qt[NN], W[NN];
+        for (int i = 0; i < n; ++i)
+            for (int j = 0; j < n; ++j)
+                Qt[i * n + j] = f->Qc->data[j * n + i];
+        usm_matmul_dense(n, Qt, Psi, W);
+        usm_matmul_dense(n, W, f->Qc->data, f->E->data);
+        for (int i = 0; i < nk; ++i)
+            memcpy(f->R->data + i * nk, f->E->data + (nc + i) * n + nc,
+                   sizeof(double) * (size_t)nk);
+    }
+    gsl_eigen_nonsymm_params(0, 1, f->eig); /* balance before QR */
+    if (gsl_eigen_nonsymm(f->R, f->eval, f->eig) != GSL_SUCCESS) {
+        snprintf(f->msg, USM_MSG_LEN, "eigenvalues of the monodromy matrix did not converge");
+        return -1;
+    }
+    return 0;
+}
+
+static int multipliers(usm_floquet *f, usm_floquet_result *out)
 {
     const int n = f->n, nk = f->nk;
     multiplier mult[USM_MAX_NX];
     int nm = 0;
     for (int i = 0; i < n; ++i)
         if (f->m->cyclic[i])
-            mult[nm++] = (multiplier){1.0, 0.0, 1};
-    for (int i = 0; i < nk; ++i)
-        for (int j = 0; j < nk; ++j)
-            gsl_matrix_set(f->R, (size_t)i, (size_t)j, B[f->keep[i] * n + f->keep[j]]);
-    gsl_eigen_nonsymm_params(0, 1, f->eig); /* balance before QR */
-    if (gsl_eigen_nonsymm(f->R, f->eval, f->eig) != GSL_SUCCESS) {
-        snprintf(f->msg, USM_MSG_LEN, "eigenvalues of the monodromy matrix did not converge");
+            mult[nm++] = (multiplier){1.0, 0.0, 1, 1.0};
+    if (!f->eval_valid && reduced_eigenvalues(f, f->Psi) != 0)
         return USM_EFAILED;
-    }
     for (int i = 0; i < nk; ++i) {
         gsl_complex z = gsl_vector_complex_get(f->eval, (size_t)i);
-        mult[nm++] = (multiplier){GSL_REAL(z), GSL_IMAG(z), 0};
+        mult[nm++] = (multiplier){GSL_REAL(z), GSL_IMAG(z), 0, hypot(GSL_REAL(z), GSL_IMAG(z))};
     }
     qsort(mult, (size_t)n, sizeof mult[0], by_modulus_desc);
     out->n = n;
@@ -407,7 +744,7 @@ static int multipliers(usm_floquet *f, const double *B, usm_floquet_result *out)
         out->im[i] = mult[i].im;
         out->cyclic[i] = mult[i].cyclic;
         if (!mult[i].cyclic)
-            out->max_modulus = fmax(out->max_modulus, hypot(mult[i].re, mult[i].im));
+            out->max_modulus = fmax(out->max_modulus, mult[i].modulus);
     }
     out->stable = out->max_modulus < 1.0;
     return USM_OK;
@@ -426,16 +763,48 @@ int usm_floquet_compute(usm_floquet *f, const usm_params *p, const usm_steady_so
         snprintf(f->msg, USM_MSG_LEN, "t0: must be a finite number");
         return USM_EINPUT;
     }
+    if (!(opt->rtol >= 1e-14 && opt->rtol <= 1e-3)) {
+        snprintf(f->msg, USM_MSG_LEN, "rtol: must be in [1e-14, 1e-3], got %g", opt->rtol);
+        return USM_EINPUT;
+    }
+    if (!(opt->atol >= 0 && opt->atol < 1)) {
+        snprintf(f->msg, USM_MSG_LEN, "atol: must be in [0, 1), got %g", opt->atol);
+        return USM_EINPUT;
+    }
     f->p = *p;
+    f->eval_valid = 0;
     memcpy(f->u, sol->u, sizeof f->u);
     f->beta = sol->beta;
     const double period = 1.0 / p->f;
     memset(out, 0, sizeof *out);
     out->t0 = t0;
     out->t0_dependent = !f->m->t0_independent;
-    int rc = opt->method == USM_FLOQUET_EXPONENTIAL
-                 ? monodromy_exponential(f, t0, period, opt->steps, out->monodromy)
-                 : monodromy_variational(f, t0, period, opt, out->monodromy);
+    const usm_floquet_method method = opt->method == USM_FLOQUET_AUTO ? USM_FLOQUET_MAGNUS
+                                                                        : opt->method;
+    int rc;
+    out->method = method;
+    switch (method) {
+    case USM_FLOQUET_VARIATIONAL:
+        rc = monodromy_variational(f, t0, period, opt, out->monodromy);
+        break;
+    case USM_FLOQUET_EXPONENTIAL:
+        rc = monodromy_exponential(f, t0, period, opt->steps, out->monodromy);
+        break;
+    case USM_FLOQUET_MAGNUS:
+        rc = monodromy_magnus(f, t0, period, opt, out->monodromy);
+        /* AUTO: where the Magnus series diverges (a stiff linearisation,
+         * |A| T far above pi: d_R = 1e10 N s/m), the product of exponentials
+         * copes; it is slower, not less safe */
+        if (rc != USM_OK && opt->method == USM_FLOQUET_AUTO) {
+            out->method = USM_FLOQUET_EXPONENTIAL;
+            f->msg[0] = '\0';
+            rc = monodromy_exponential(f, t0, period, opt->steps, out->monodromy);
+        }
+        break;
+    default:
+        snprintf(f->msg, USM_MSG_LEN, "method: unknown Floquet method %d", (int)opt->method);
+        return USM_EINPUT;
+    }
     if (rc != USM_OK)
         return rc;
     for (int i = 0; i < f->n * f->n; ++i)
@@ -443,5 +812,5 @@ int usm_floquet_compute(usm_floquet *f, const usm_params *p, const usm_steady_so
             snprintf(f->msg, USM_MSG_LEN, "monodromy matrix is not finite");
             return USM_EFAILED;
         }
-    return multipliers(f, out->monodromy, out);
+    return multipliers(f, out);
 }

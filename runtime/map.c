@@ -16,7 +16,8 @@
 
 int usm_point_evaluate(usm_steady *s, usm_floquet *f, const usm_params *p,
                        const usm_steady_options *steady_opt, const usm_steady_solution *root,
-                       int floquet, double t0, usm_point *out)
+                       int floquet, double t0, const usm_floquet_options *floquet_opt,
+                       usm_point *out)
 {
     memset(out, 0, sizeof *out);
     out->floquet.max_modulus = NAN;
@@ -39,7 +40,7 @@ int usm_point_evaluate(usm_steady *s, usm_floquet *f, const usm_params *p,
     out->exists = 1;
     if (!floquet)
         return USM_OK;
-    if (usm_floquet_compute(f, p, &out->sol, t0, NULL, &out->floquet) != USM_OK)
+    if (usm_floquet_compute(f, p, &out->sol, t0, floquet_opt, &out->floquet) != USM_OK)
         snprintf(out->error, USM_MSG_LEN, "floquet: %.240s", usm_floquet_message(f));
     else if (!isfinite(out->floquet.max_modulus))
         snprintf(out->error, USM_MSG_LEN, "floquet: the multipliers are not finite");
@@ -65,6 +66,7 @@ void usm_map_options_default(usm_map_options *opt)
     opt->x = (usm_map_axis){"f", 30000.0, 46000.0, 33};
     opt->y = (usm_map_axis){"T", 0.0, 0.008, 33};
     opt->t0 = 0.0;
+    usm_floquet_options_default(&opt->floquet);
     opt->threads = 2;
     opt->boundaries = 1;
 }
@@ -250,7 +252,7 @@ static int eval_at(usm_map *map, worker *w, size_t column, double x, double y, i
     usm_params q = map->p;
     *usm_params_field(&q, map->xi) = x;
     *usm_params_field(&q, map->yi) = y;
-    if (usm_point_evaluate(w->steady, w->floquet, &q, NULL, NULL, floquet, map->opt.t0, pt) !=
+    if (usm_point_evaluate(w->steady, w->floquet, &q, NULL, NULL, floquet, map->opt.t0, &map->opt.floquet, pt) !=
         USM_OK) {
         snprintf(map->col_msg + column * USM_MSG_LEN, USM_MSG_LEN, "at %s = %g, %s = %g: %.180s",
                  map->xi->name, x, map->yi->name, y, pt->error);

@@ -20,6 +20,7 @@
 #include <sunlinsol/sunlinsol_dense.h>
 #include <sunmatrix/sunmatrix_dense.h>
 
+#include "cvode_msg.h"
 #include "usm_simulate.h"
 
 #define TWO_PI 6.283185307179586476925286766559
@@ -81,6 +82,7 @@ void usm_sim_options_default(usm_sim_options *opt)
     opt->speed_limit = 1e4;
     opt->max_steps = 0;
     opt->max_step = 0.0;
+    opt->max_twist_growth = 400.0;
 }
 
 const char *usm_sim_stop_name(usm_sim_stop stop)
@@ -397,6 +399,8 @@ static int check_options(usm_sim *s, const usm_sim_options *o)
         return input_error(s, "max_steps: must be >= 0");
     if (!(o->max_step >= 0) || !isfinite(o->max_step))
         return input_error(s, "max_step: must be >= 0 seconds");
+    if (!(o->max_twist_growth >= 0) || !isfinite(o->max_twist_growth))
+        return input_error(s, "max_twist_growth: must be >= 0 (0: no limit)");
     if (o->start == USM_SIM_FROM_REST && !(o->tilt0 > 0 && o->tilt0 < o->theta_limit))
         return input_error(s, "tilt0: must be > 0 and below theta_limit");
     if (!isfinite(o->rotor_angle0))
@@ -435,7 +439,9 @@ static int check_params(usm_sim *s, const usm_params *p)
 
 static int cv_setup_fail(usm_sim *s, const char *call, int flag)
 {
-    snprintf(s->msg, USM_MSG_LEN, "CVODES %s failed: %s", call, CVodeGetReturnFlagName(flag));
+    char name[32];
+    snprintf(s->msg, USM_MSG_LEN, "CVODES %s failed: %s%s%.150s", call,
+             usm_cvode_flag_name(flag, name, sizeof name), s->cvmsg[0] ? " -- " : "", s->cvmsg);
     return USM_EFAILED;
 }
 
@@ -799,9 +805,11 @@ static int integrate(usm_sim *s, run_state *r)
         int flag = CVode(s->cv, tout, s->y, &t, CV_NORMAL);
         sum->t_reached = t;
         if (flag < 0) {
+            char name[32];
             sum->stop = USM_SIM_INTEGRATOR;
-            snprintf(sum->reason, USM_MSG_LEN, "CVODES failed at t = %.9g s: %s%s%.150s", t,
-                     CVodeGetReturnFlagName(flag), s->cvmsg[0] ? " -- " : "", s->cvmsg);
+            snprintf(sum->reason, USM_MSG_LEN, "CVODES failed at t = %.9g s: %s%s%.140s", t,
+                     usm_cvode_flag_name(flag, name, sizeof name), s->cvmsg[0] ? " -- " : "",
+                     s->cvmsg);
             return USM_EFAILED;
         }
         if (CVodeGetQuad(s->cv, &t, s->q) == CV_SUCCESS)
@@ -836,6 +844,43 @@ static int integrate(usm_sim *s, run_state *r)
             return USM_EFAILED;
         }
     }
+}
+
+/* The paper's twist law (usm_simulate.h): the twist growth g of the run from
+ * x0, on the stationary orbit, and what to say about it.  USM_OK, or
+ * USM_EINPUT when g exceeds max_twist_growth. */
+static int check_twist_growth(usm_sim *s, const double *x0, const usm_sim_callbacks *cb)
+{
+    usm_sim_summary *sum = s->sum;
+    if (s->m->t0_independent || !sum->have_steady)
+        return USM_OK;
+    const double th = sum->steady.theta, d = s->t1 - s->t0;
+    /* psi runs at -Omega / cos(theta) on the orbit */
+    const double psi0 = x0[s->ipsi], psi1 = psi0 - s->Omega * d / cos(th);
+    const double stiffness = s->p.I_xx * s->Omega * s->Omega;
+    const double g = s->p.c_t * fmax(fabs(psi0), fabs(psi1)) * sin(th) / stiffness;
+    sum->twist_growth = g;
+    if (s->o.max_twist_growth > 0 && g > s->o.max_twist_growth) {
+        /* the duration after which |psi| reaches the limit's value */
+        const double psi_max = s->o.max_twist_growth * stiffness / (s->p.c_t * sin(th));
+        const double d_max = fmax(0.0, (psi_max - fabs(psi0)) * cos(th) / s->Omega);
+        snprintf(s->msg, USM_MSG_LEN,
+                 "duration: the paper's twist law would slow this run down superlinearly (its "
+                 "linearisation grows with psi(t): twist growth %.3g by the end, above "
+                 "max_twist_growth = %g after %.3g s); use the variant twist_integrated",
+                 g, s->o.max_twist_growth, d_max);
+        return USM_EINPUT;
+    }
+    if (g > USM_SIM_TWIST_GROWTH_WARN) {
+        snprintf(sum->warning, USM_MSG_LEN,
+                 "the paper's twist law slows this run down superlinearly (its linearisation "
+                 "grows with psi(t): twist growth %.3g by the end); the variant "
+                 "twist_integrated scales linearly",
+                 g);
+        if (cb && cb->warning)
+            cb->warning(sum->warning, cb->data);
+    }
+    return USM_OK;
 }
 
 int usm_sim_run(usm_sim *s, const usm_params *p, const usm_sim_options *opt,
@@ -879,7 +924,8 @@ int usm_sim_run(usm_sim *s, const usm_params *p, const usm_sim_options *opt,
     } else
         snprintf(sum->steady_message, USM_MSG_LEN, "%s", usm_steady_message(s->steady));
 
-    if ((rc = initial_state(s, x0, &rotor_angle0)) != USM_OK)
+    if ((rc = initial_state(s, x0, &rotor_angle0)) != USM_OK ||
+        (rc = check_twist_growth(s, x0, cb)) != USM_OK)
         return rc;
     set_scales(s, x0);
     memcpy(sum->final_x, x0, sizeof(double) * (size_t)s->n);

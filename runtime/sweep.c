@@ -64,6 +64,7 @@ void usm_sweep_options_default(usm_sweep_options *opt)
     opt->points = 31;
     opt->floquet = 1;
     opt->t0 = 0.0;
+    usm_floquet_options_default(&opt->floquet_options);
     opt->threads = 2;
     opt->progress = NULL;
     opt->progress_ctx = NULL;

@@ -55,7 +55,7 @@ static int point_task(void *ctx, void *state, size_t i)
     *usm_params_field(&q, fp->info) = pt->value;
     /* one point whose multipliers fail is marked and the others go on: the
      * stationary solution there is still valid */
-    if (usm_point_evaluate(NULL, state, &q, NULL, &pt->sol, 1, fp->opt->t0, &res) == USM_OK &&
+    if (usm_point_evaluate(NULL, state, &q, NULL, &pt->sol, 1, fp->opt->t0, &fp->opt->floquet_options, &res) == USM_OK &&
         res.has_floquet) {
         pt->floquet = res.floquet;
         pt->has_floquet = 1;
@@ -133,7 +133,7 @@ static double margin(double value, void *ctx)
     }
     *usm_params_field(&q, c->info) = value;
     usm_point pt;
-    if (usm_point_evaluate(NULL, c->f, &q, NULL, &c->sol, 1, c->opt->t0, &pt) != USM_OK ||
+    if (usm_point_evaluate(NULL, c->f, &q, NULL, &c->sol, 1, c->opt->t0, &c->opt->floquet_options, &pt) != USM_OK ||
         !pt.has_floquet) {
         c->failed = 1;
         return 0.0;

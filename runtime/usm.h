@@ -182,14 +182,29 @@ void usm_steady_evaluate(const usm_model *m, const usm_params *p, usm_steady_sol
 
 /* How the monodromy matrix is computed. */
 typedef enum {
-    USM_FLOQUET_VARIATIONAL = 0, /* CVODE on the variational equations (default) */
-    USM_FLOQUET_EXPONENTIAL = 1  /* product of balanced matrix exponentials, frame A */
+    USM_FLOQUET_VARIATIONAL = 0, /* CVODES on the variational equations (the independent check) */
+    USM_FLOQUET_EXPONENTIAL = 1, /* product of balanced matrix exponentials, frame A, midpoint
+                                    rule with Richardson extrapolation (`steps`) */
+    USM_FLOQUET_MAGNUS = 2,      /* sixth-order Magnus integrator on the coefficients, which are
+                                    affine in t (the paper's twist law) or constant (one
+                                    exponential); balanced Pade exponentials */
+    USM_FLOQUET_AUTO = 3         /* the default: the fastest method with 10 correct digits
+                                    (MAGNUS; bench/usm_bench measures it against CVODES) */
 } usm_floquet_method;
+
+/* Name of a method: "variational", "exponential", "magnus", "auto" (NULL if unknown). */
+const char *usm_floquet_method_name(usm_floquet_method method);
+
+/* The method called `name` (as usm_floquet_method_name).  USM_OK, or
+ * USM_EINPUT with "NAME: unknown Floquet method (known: ...)" in msg. */
+int usm_floquet_method_from_name(const char *name, usm_floquet_method *method,
+                                 char msg[USM_MSG_LEN]);
 
 /* Method and tolerances of usm_floquet_compute (usm_floquet_options_default). */
 typedef struct usm_floquet_options {
-    usm_floquet_method method;
-    double rtol, atol;   /* CVODES tolerances in the scaled coordinates (default 1e-8, 1e-12) */
+    usm_floquet_method method; /* default USM_FLOQUET_AUTO */
+    double rtol, atol;   /* CVODES tolerances in the scaled coordinates (default 1e-8, 1e-12);
+                            the Magnus method takes its number of steps from rtol */
     int steps;           /* exponential method: sub-intervals per period (default 64) */
 } usm_floquet_options;
 
@@ -207,6 +222,7 @@ typedef struct usm_floquet_result {
     int t0_dependent;                   /* 1: this model's multipliers depend on t0
                                            (the paper's twist law; see README) */
     double monodromy[USM_MAX_NX * USM_MAX_NX]; /* row-major n x n */
+    usm_floquet_method method;          /* the method used (never USM_FLOQUET_AUTO) */
 } usm_floquet_result;
 
 /* Floquet solver of one model: integrator and eigen-solver workspace (opaque). */

@@ -45,12 +45,14 @@ typedef struct usm_point {
 
 /* Evaluate at parameters p: with root == NULL the full search (s, steady_opt;
  * steady_opt may be NULL) and its primary root, else the given root (s may
- * then be NULL); with floquet != 0 the multipliers over [t0, t0 + T] (f).
+ * then be NULL); with floquet != 0 the multipliers over [t0, t0 + T] (f)
+ * computed with floquet_opt (NULL: usm_floquet_options_default).
  * USM_OK (out filled; exists or has_floquet may be 0, error says why) or
  * USM_EINPUT (bad parameters: out->error holds the library's message). */
 int usm_point_evaluate(usm_steady *s, usm_floquet *f, const usm_params *p,
                        const usm_steady_options *steady_opt, const usm_steady_solution *root,
-                       int floquet, double t0, usm_point *out);
+                       int floquet, double t0, const usm_floquet_options *floquet_opt,
+                       usm_point *out);
 
 /* ---- maps ---------------------------------------------------------------------- */
 
@@ -69,6 +71,7 @@ double usm_map_axis_value(const usm_map_axis *a, int i);
 typedef struct usm_map_options {
     usm_map_axis x, y;     /* default f 30000 .. 46000 Hz x T 0 .. 0.008 N m, 33 x 33 */
     double t0;             /* Floquet start time [s] (default 0) */
+    usm_floquet_options floquet; /* method and tolerances (usm_floquet_options_default) */
     int threads;           /* worker threads (default 2; 1 .. 64) */
     int boundaries;        /* locate the boundaries (default 1) */
 } usm_map_options;

@@ -28,6 +28,20 @@
  *    at t_settle when every period from t_settle to the end is within
  *    settle_tol (relative) in both, and that stretch lasts at least
  *    settle_periods periods.
+ *  - The paper's twist law.  Its linearisation grows with psi(t) (the twist
+ *    torque's theta-derivative c_t psi sin(theta), psi ~ -Omega t): the fastest
+ *    linearised mode gets faster as the run goes on, the steps shorter, and the
+ *    cost of a run grows superlinearly with its length (4-DOF, paper's
+ *    parameters: 0.1 s simulated in 0.5 s, 2 s in a minute).  The run measures
+ *    it by the twist growth
+ *        g = c_t max|psi| sin(theta_c) / (I_xx Omega^2)
+ *    (max|psi| over the run on the stationary orbit of tilt theta_c; the
+ *    stator's stiffness at the excitation frequency in the denominator), 0 for
+ *    models whose linearisation does not depend on t (usm_model.t0_independent)
+ *    and when no stationary solution exists.  Above USM_SIM_TWIST_GROWTH_WARN
+ *    the run warns (usm_sim_summary.warning and the warning callback, before
+ *    integrating); above max_twist_growth it is refused (USM_EINPUT).  The
+ *    variant twist_integrated has a constant linearisation and scales linearly.
  *  - Diagnostics.  Root functions locate, to the integrator's accuracy, where
  *    F_n changes sign (contact would open) and, in the stick model, where
  *    |F_t| crosses mu0 F_n; and stop the run at runaway: theta >= theta_limit,
@@ -69,7 +83,14 @@ typedef struct usm_sim_options {
     double speed_limit;    /* runaway: |phidot_R| [1/s] (default 1e4) */
     long max_steps;        /* cap on internal steps; 0: 2000 per period + 10^5 (default) */
     double max_step;       /* largest internal step [s]; 0: T / 4 (default), see README */
+    double max_twist_growth; /* refuse runs whose twist growth exceeds this (see the
+                              * header comment); 0: no limit (default 400: about 2 s
+                              * of the paper's motor, a minute of computing) */
 } usm_sim_options;
+
+/* Twist growth above which a run warns that it will slow down (about 0.2 s
+ * of the paper's motor under its twist law). */
+#define USM_SIM_TWIST_GROWTH_WARN 40.0
 
 /* Defaults: start from rest at t0 = 0, tilt0 = 1e-6 rad, duration 0 (must be
  * set), no samples, the tolerances and limits stated above. */
@@ -97,6 +118,10 @@ typedef struct usm_sim_callbacks {
     /* Called at the end of every excitation period (for progress bars). */
     void (*progress)(double t, double t0, double t1, void *data);
     void *data;
+    /* Called before integrating with a warning about the run (the text of
+     * usm_sim_summary.warning); NULL: none.  Last, so that positional
+     * initialisers of the members above stay valid. */
+    void (*warning)(const char *msg, void *data);
 } usm_sim_callbacks;
 
 /* Time intervals where a contact condition is violated. */
@@ -148,6 +173,9 @@ typedef struct usm_sim_summary {
     usm_sim_episodes contact_open;   /* F_n < 0 */
     int stick_checked;               /* stick model: |F_t| > mu0 F_n is checked */
     usm_sim_episodes stick_exceeded; /* |F_t| > mu0 F_n */
+    /* the paper's twist law (see the header comment) */
+    double twist_growth;        /* g of this run; 0 when it does not apply */
+    char warning[USM_MSG_LEN];  /* "" or why the run will slow down, with the remedy */
 } usm_sim_summary;
 
 /* A transient simulation of one model: integrator workspace and the
@@ -162,7 +190,8 @@ void usm_sim_free(usm_sim *s);
 /* Integrate over [t0, t0 + duration].  Returns USM_OK when the interval was
  * completed (settled or not), USM_EFAILED when the run stopped early
  * (integrator failure, runaway, step cap, callback), USM_EINPUT for bad
- * parameters or options, USM_ENOSOLUTION for FROM_STATIONARY without a
+ * parameters or options and for a run beyond max_twist_growth (message
+ * "duration: ..."), USM_ENOSOLUTION for FROM_STATIONARY without a
  * stationary solution.  The summary is filled in every case but USM_EINPUT;
  * usm_sim_message repeats its reason.  cb and opt may be NULL. */
 int usm_sim_run(usm_sim *s, const usm_params *p, const usm_sim_options *opt,

@@ -113,6 +113,8 @@ typedef struct usm_sweep_options {
     int points;         /* >= 2 */
     int floquet;        /* compute multipliers at every point (1, default) */
     double t0;          /* Floquet start time [s] (default 0) */
+    usm_floquet_options floquet_options; /* method and tolerances of the multipliers
+                        * (usm_floquet_options_default) */
     int threads;        /* worker threads for the Floquet part (default 2; 1 = serial) */
     void (*progress)(double fraction, void *ctx); /* NULL: silent.  Called with
                         * fractions in [0, 1], from the calling thread or a

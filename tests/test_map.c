@@ -87,7 +87,7 @@ static void check_cells(void)
                 usm_point pt;
                 r.f = b->x;
                 r.T = b->y + (side ? dy : -dy);
-                usm_point_evaluate(s, f, &r, NULL, NULL, 1, 0.0, &pt);
+                usm_point_evaluate(s, f, &r, NULL, NULL, 1, 0.0, NULL, &pt);
                 ind[side] = usm_map_indicator((usm_map_boundary_kind)k, &pt);
             }
             CHECK(ind[0] >= 0 && ind[1] >= 0 && ind[0] != ind[1],

@@ -123,7 +123,7 @@ static void check_stays(const usm_model *m)
     CHECK(usm_steady_solve(st, &p, NULL) == USM_OK, "%s: steady", m->name);
     orbit_watch w = {m, &p, *usm_steady_root(st, 0), 0, 0, 0, 0};
     usm_steady_free(st);
-    usm_sim_callbacks cb = {watch_orbit, NULL, &w};
+    usm_sim_callbacks cb = {watch_orbit, NULL, &w, NULL};
     o.start = USM_SIM_FROM_STATIONARY;
     o.duration = 200.0 / p.f;
     o.rate = 7.3 * p.f; /* not a multiple of f: samples at every phase */
@@ -222,7 +222,7 @@ static void check_energy(const usm_model *m)
     o.duration = 200.0 / p.f;
     o.rate = 4 * p.f;
     energy_watch w = {m, &p, 0, 0, 0, 0};
-    usm_sim_callbacks cb = {watch_energy, NULL, &w};
+    usm_sim_callbacks cb = {watch_energy, NULL, &w, NULL};
     double drift[2];
     for (int k = 0; k < 2; ++k) {
         o.rtol = k == 0 ? 1e-8 : 1e-10;
@@ -321,7 +321,7 @@ static void check_samples(const usm_model *m)
     usm_sim_options o;
     usm_sim_summary sum;
     times tm = {{0}, 0};
-    usm_sim_callbacks cb = {record, NULL, &tm};
+    usm_sim_callbacks cb = {record, NULL, &tm, NULL};
     usm_params_default(&p);
     usm_sim_options_default(&o);
     o.t0 = 1e-4;

@@ -95,6 +95,7 @@ static void check_floquet_methods(const usm_model *m, const usm_params *p,
     usm_floquet_options o;
     usm_floquet_result r2;
     usm_floquet_options_default(&o);
+    o.method = USM_FLOQUET_VARIATIONAL;
     int rc = usm_floquet_compute(f, p, sol, 0.0, &o, res);
     CHECK(rc == USM_OK, "%s: variational Floquet failed: %s", m->name, usm_floquet_message(f));
     o.method = USM_FLOQUET_EXPONENTIAL;

@@ -26,7 +26,8 @@ static void usage(FILE *out)
             "usage: usm map [--x NAME --x-from A --x-to B] [--x-points N]\n"
             "               [--y NAME --y-from A --y-to B] [--y-points N]\n"
             "               [--model 3dof|4dof] [--params FILE.json] [--set NAME=VALUE]...\n"
-            "               [--t0 S] [--threads N] [--json] [--out FILE [--force]]\n"
+            "               [--t0 S] [--floquet-method NAME] [--rtol R] [--threads N] [--json]\n"
+            "               [--out FILE [--force]]\n"
             "\n"
             "Stability map: at every point of a grid over two parameters, the stationary\n"
             "solution (full search) and the largest modulus of its Floquet multipliers.\n"
@@ -39,7 +40,9 @@ static void usage(FILE *out)
             "  --x NAME, --y NAME  the parameters of the two axes (see usm steady --help)\n"
             "  --x-from A, --x-to B, --y-from A, --y-to B   axis ranges\n"
             "  --x-points N, --y-points N   grid points per axis (default 33, at least 2)\n"
-            "  --t0 S              start of the Floquet period [s] (default 0, the paper's)\n"
+            "  --t0 S              start of the Floquet period [s] (default 0, the paper's)\n");
+    cli_floquet_usage(out);
+    fprintf(out,
             "  --threads N         worker threads (default 2)\n"
             "  --out FILE          write to FILE instead of stdout; an existing FILE is\n"
             "                      kept unless --force is given\n"
@@ -60,6 +63,7 @@ static void usage(FILE *out)
 
 typedef struct map_args {
     cli_common common;
+    usm_floquet_options floquet;
     const char *xname, *yname;
     double xfrom, xto, yfrom, yto;
     int have_xfrom, have_xto, have_yfrom, have_yto;
@@ -90,6 +94,7 @@ static int parse(map_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
     int *dbl_flag[] = {&a->have_xfrom, &a->have_xto, &a->have_yfrom, &a->have_yto, NULL};
     memset(a, 0, sizeof *a);
     cli_common_init(&a->common);
+    usm_floquet_options_default(&a->floquet);
     a->xpoints = a->ypoints = 33;
     a->threads = 2;
     for (int i = 1; i < argc; ++i) {
@@ -104,6 +109,10 @@ static int parse(map_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
             continue;
         }
         if ((r = cli_common_option(&a->common, argc, argv, &i, msg)) == CLI_OPT_TAKEN)
+            continue;
+        if (r == CLI_OPT_ERROR)
+            return USM_EINPUT;
+        if ((r = cli_floquet_option(&a->floquet, argc, argv, &i, msg)) == CLI_OPT_TAKEN)
             continue;
         if (r == CLI_OPT_ERROR)
             return USM_EINPUT;
@@ -232,6 +241,7 @@ int cli_map_main(int argc, char **argv)
     map.model = a.common.model;
     map.params = a.common.params;
     map.t0 = a.t0;
+    map.floquet = &a.floquet;
     map.threads = a.threads;
     map.boundaries = a.common.json;
     /* Refuse an existing --out before the (long) computation. */

@@ -189,3 +189,43 @@ void cli_common_usage(FILE *out)
             "  --json              print one JSON object instead of a table\n",
             known);
 }
+
+int cli_floquet_option(usm_floquet_options *o, int argc, char **argv, int *i,
+                       char msg[CLI_MSG_LEN])
+{
+    const char *value;
+    char lib[USM_MSG_LEN];
+    int r;
+    if ((r = cli_option_value(argc, argv, i, "--floquet-method", &value, msg)) != CLI_OPT_NOT_MINE) {
+        if (r == CLI_OPT_TAKEN && usm_floquet_method_from_name(value, &o->method, lib) != USM_OK) {
+            cli_msg(msg, "--floquet-method: %s", lib);
+            return CLI_OPT_ERROR;
+        }
+        return r;
+    }
+    if ((r = cli_option_value(argc, argv, i, "--rtol", &value, msg)) != CLI_OPT_NOT_MINE) {
+        double v;
+        if (r != CLI_OPT_TAKEN)
+            return r;
+        if (cli_parse_double("--rtol", value, &v, msg) != USM_OK)
+            return CLI_OPT_ERROR;
+        if (!(v >= 1e-14 && v <= 1e-3)) {
+            cli_msg(msg, "--rtol: must be in [1e-14, 1e-3], got %g", v);
+            return CLI_OPT_ERROR;
+        }
+        o->rtol = v;
+        o->atol = 1e-4 * v; /* the defaults' ratio (1e-8, 1e-12) */
+        return CLI_OPT_TAKEN;
+    }
+    return CLI_OPT_NOT_MINE;
+}
+
+void cli_floquet_usage(FILE *out)
+{
+    fprintf(out,
+            "  --floquet-method NAME  monodromy matrix by: auto (default: the fastest with ten\n"
+            "                      correct digits, magnus), magnus, exponential, variational\n"
+            "                      (CVODES, the independent check)\n"
+            "  --rtol R            relative tolerance of the Floquet integration (default 1e-8;\n"
+            "                      magnus: multipliers to 1e-2 R)\n");
+}

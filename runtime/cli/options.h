@@ -58,4 +58,13 @@ int cli_option_value(int argc, char **argv, int *i, const char *name, const char
  * with "FIELD: \"text\" reason" in msg. */
 int cli_parse_double(const char *field, const char *text, double *out, char msg[CLI_MSG_LEN]);
 
+/* The Floquet options of steady, sweep and map: --floquet-method NAME
+ * (usm_floquet_method_name) and --rtol R (the integrators' relative
+ * tolerance; atol = 1e-4 R).  Offer argv[*i] as to cli_common_option. */
+int cli_floquet_option(usm_floquet_options *o, int argc, char **argv, int *i,
+                       char msg[CLI_MSG_LEN]);
+
+/* Print the Floquet options' lines of a usage text. */
+void cli_floquet_usage(FILE *out);
+
 #endif /* USM_CLI_OPTIONS_H */

@@ -56,7 +56,7 @@ static int solve_point(solver *s, const usm_params *p, double t0, usm_steady_sol
                        usm_floquet_result *fl, char msg[CLI_MSG_LEN])
 {
     usm_point pt;
-    if (usm_point_evaluate(s->steady, s->floquet, p, NULL, NULL, fl != NULL, t0, &pt) != USM_OK) {
+    if (usm_point_evaluate(s->steady, s->floquet, p, NULL, NULL, fl != NULL, t0, NULL, &pt) != USM_OK) {
         cli_msg(msg, "%s: no stationary solution: %s", s->m->name, pt.error);
         return USM_EINPUT;
     }

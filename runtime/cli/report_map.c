@@ -60,6 +60,8 @@ int report_map_run(report_map *map, char msg[CLI_MSG_LEN])
     opt.x = (usm_map_axis){map->x.name, map->x.from, map->x.to, map->x.points};
     opt.y = (usm_map_axis){map->y.name, map->y.from, map->y.to, map->y.points};
     opt.t0 = map->t0;
+    if (map->floquet)
+        opt.floquet = *map->floquet;
     opt.threads = map->threads;
     opt.boundaries = map->boundaries;
     if ((status = usm_map_run(lib, &map->params, &opt)) != USM_OK) {

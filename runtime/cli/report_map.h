@@ -54,6 +54,7 @@ typedef struct report_map {
     usm_params params;
     report_axis x, y;
     double t0;       /* Floquet start time [s] */
+    const usm_floquet_options *floquet; /* NULL: the library's defaults */
     int threads;     /* >= 1 */
     int boundaries;  /* locate the boundaries (1) or not (0) */
     /* output: cells[j * x.points + i] is (x_i, y_j) */

@@ -60,6 +60,9 @@ static void usage(FILE *out)
             "  --theta-limit RAD   stop as runaway when the tilt reaches it (default 0.5)\n"
             "  --speed-limit W     stop as runaway when |phidot_R| reaches it [1/s] (default 1e4)\n"
             "  --max-steps N       cap on internal integrator steps (default 2000 per period)\n"
+            "  --max-twist-growth G  refuse runs the paper's twist law would slow down beyond\n"
+            "                      twist growth G (default 400, about 2 s of the paper's motor;\n"
+            "                      0: no limit; see docs/simulate.md)\n"
             "  --plot PREFIX       write PREFIX.gp and run gnuplot: PREFIX.png, PREFIX.svg\n"
             "                      (needs --out)\n"
             "  -h, --help          print this help\n"
@@ -230,6 +233,17 @@ static int parse(sim_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
                 return USM_EINPUT;
             continue;
         }
+        if (take_double(argc, argv, &i, "--max-twist-growth", &a->opt.max_twist_growth, &taken,
+                        msg) != USM_OK)
+            return USM_EINPUT;
+        if (taken) {
+            if (!(a->opt.max_twist_growth >= 0)) {
+                cli_msg(msg, "--max-twist-growth: must be >= 0 (0: no limit), got %g",
+                        a->opt.max_twist_growth);
+                return USM_EINPUT;
+            }
+            continue;
+        }
         if (take_string(argc, argv, &i, "--from", &sv, &taken, msg) != USM_OK)
             return USM_EINPUT;
         if (taken) {
@@ -315,6 +329,13 @@ static int on_sample(const usm_sim_sample *s, void *data)
         cli_csv_num(f, k == 0, v[k]);
     fputc('\n', f);
     return ferror(f) ? 1 : 0;
+}
+
+/* Said before the run starts, so that a slow run is not a silent one. */
+static void on_warning(const char *msg, void *data)
+{
+    (void)data;
+    cli_error("warning: %s", msg);
 }
 
 static void on_progress(double t, double t0, double t1, void *data)
@@ -452,6 +473,9 @@ static json_t *summary_json(const sim_args *a, const usm_sim_summary *s, double 
     cli_json_put(o, "jac_evals", json_integer(s->jac_evals), &ok);
     cli_json_put(o, "error_test_fails", json_integer(s->error_test_fails), &ok);
     cli_json_put(o, "newton_fails", json_integer(s->newton_fails), &ok);
+    cli_json_put(o, "twist_growth", cli_json_real(s->twist_growth), &ok);
+    if (s->warning[0])
+        cli_json_put(o, "warning", json_string(s->warning), &ok);
     cli_json_put(o, "samples", json_integer(s->samples), &ok);
     cli_json_put(o, "wall_time", cli_json_real(wall), &ok);
     cli_json_put(o, "periods", json_integer(s->periods), &ok);
@@ -579,6 +603,7 @@ static int run(sim_args *a)
     cb.sample = io.csv ? on_sample : NULL;
     cb.progress = on_progress;
     cb.data = &io;
+    cb.warning = on_warning;
 
     if (!(s = usm_sim_alloc(a->common.model))) {
         cli_error("out of memory");

@@ -17,7 +17,7 @@ static void usage(FILE *out)
 {
     fprintf(out,
             "usage: usm steady [--model 3dof|4dof] [--params FILE.json] [--set NAME=VALUE]...\n"
-            "                  [--t0 S] [--json]\n"
+            "                  [--t0 S] [--floquet-method NAME] [--rtol R] [--json]\n"
             "\n"
             "Find every stationary solution (paper, eq. 3.1) and the Floquet multipliers of\n"
             "the one with the smallest tilt.\n"
@@ -25,7 +25,9 @@ static void usage(FILE *out)
             "options:\n");
     cli_common_usage(out);
     fprintf(out,
-            "  --t0 S              start of the Floquet period [s] (default 0, the paper's)\n"
+            "  --t0 S              start of the Floquet period [s] (default 0, the paper's)\n");
+    cli_floquet_usage(out);
+    fprintf(out,
             "  -h, --help          print this help\n"
             "\n"
             "parameters (SI units; defaults from the paper, Appendix A):\n");
@@ -46,6 +48,7 @@ static void usage(FILE *out)
 
 typedef struct steady_args {
     cli_common common;
+    usm_floquet_options floquet;
     double t0;
     int help;
 } steady_args;
@@ -53,6 +56,7 @@ typedef struct steady_args {
 static int parse(steady_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
 {
     cli_common_init(&a->common);
+    usm_floquet_options_default(&a->floquet);
     a->t0 = 0.0;
     a->help = 0;
     for (int i = 1; i < argc; ++i) {
@@ -63,6 +67,10 @@ static int parse(steady_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
             return USM_OK;
         }
         if ((r = cli_common_option(&a->common, argc, argv, &i, msg)) == CLI_OPT_TAKEN)
+            continue;
+        if (r == CLI_OPT_ERROR)
+            return USM_EINPUT;
+        if ((r = cli_floquet_option(&a->floquet, argc, argv, &i, msg)) == CLI_OPT_TAKEN)
             continue;
         if (r == CLI_OPT_ERROR)
             return USM_EINPUT;
@@ -157,7 +165,8 @@ static int run(const steady_args *a)
         status = USM_EFAILED;
         goto done;
     }
-    status = usm_floquet_compute(fl, &c->params, usm_steady_root(s, 0), a->t0, NULL, &res);
+    status = usm_floquet_compute(fl, &c->params, usm_steady_root(s, 0), a->t0, &a->floquet,
+                                 &res);
     if (status != USM_OK) {
         cli_error("floquet: %s", usm_floquet_message(fl));
         status = status == USM_EINPUT ? USM_EINPUT : USM_EFAILED;

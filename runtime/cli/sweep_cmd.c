@@ -23,7 +23,8 @@ static void usage(FILE *out)
     fprintf(out,
             "usage: usm sweep --over NAME --from A --to B [--points N]\n"
             "                 [--model 3dof|4dof] [--params FILE.json] [--set NAME=VALUE]...\n"
-            "                 [--t0 S] [--threads N] [--no-floquet] [--json]\n"
+            "                 [--t0 S] [--floquet-method NAME] [--rtol R] [--threads N]\n"
+            "                 [--no-floquet] [--json]\n"
             "                 [--extremum Q]... [--crossing Q=V]...\n"
             "\n"
             "Follow the stationary solution of smallest tilt at A through the parameter\n"
@@ -44,7 +45,9 @@ static void usage(FILE *out)
             "  --points N          grid values, 2 to 1000000 (default 101)\n"
             "  --t0 S              start of the Floquet period [s] (default 0, the paper's)\n"
             "  --threads N         worker threads for the multipliers (default 2)\n"
-            "  --no-floquet        skip the multipliers (and the stability events)\n"
+            "  --no-floquet        skip the multipliers (and the stability events)\n");
+    cli_floquet_usage(out);
+    fprintf(out,
             "  --extremum Q        events at the maxima and minima of quantity Q along the\n"
             "                      branch (repeatable); Q is one of theta, alpha,\n"
             "                      rotor_speed, speed (= -rotor_speed), F_n, F_t, mu_used, v_rel\n"
@@ -91,6 +94,7 @@ typedef struct sweep_args {
     double from, to, t0;
     int have_from, have_to;
     int points, threads, floquet, help;
+    usm_floquet_options floquet_opt;
     usm_sweep_monitor monitors[NQUANTITIES]; /* one per quantity named */
     int nmonitors;
 } sweep_args;
@@ -203,6 +207,7 @@ static int parse(sweep_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
     a->points = 101;
     a->threads = 2;
     a->floquet = 1;
+    usm_floquet_options_default(&a->floquet_opt);
     for (int i = 1; i < argc; ++i) {
         int r;
         if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
@@ -210,6 +215,10 @@ static int parse(sweep_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
             return USM_OK;
         }
         if ((r = cli_common_option(&a->common, argc, argv, &i, msg)) == CLI_OPT_TAKEN)
+            continue;
+        if (r == CLI_OPT_ERROR)
+            return USM_EINPUT;
+        if ((r = cli_floquet_option(&a->floquet_opt, argc, argv, &i, msg)) == CLI_OPT_TAKEN)
             continue;
         if (r == CLI_OPT_ERROR)
             return USM_EINPUT;
@@ -294,6 +303,7 @@ static int run(const sweep_args *a)
     opt.to = a->to;
     opt.points = a->points;
     opt.floquet = a->floquet;
+    opt.floquet_options = a->floquet_opt;
     opt.t0 = a->t0;
     opt.threads = a->threads;
     opt.monitors = a->monitors;

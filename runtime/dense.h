@@ -1,0 +1,35 @@
+/* dense.h: small dense matrix kernels of the Floquet analysis (internal to
+ * libusm): product, solve, balancing and the exponential of row-major n x n
+ * matrices, n <= USM_EXPM_MAX_N.  Plain loops on arrays: at these sizes
+ * they are several times faster than GSL's general routines.
+ *
+ * The exponential: scaling and squaring with the diagonal Pade approximant of degree 3, 5, 7,
+ * 9 or 13 chosen from the 1-norm (N. J. Higham, "The scaling and squaring
+ * method for the matrix exponential revisited", SIAM J. Matrix Anal. Appl. 26
+ * (2005) 1179-1193): backward error below the unit roundoff in exact
+ * arithmetic.  For the at most 9 x 9 matrices of the Floquet analysis it costs
+ * a few microseconds; the caller balances the matrix first.
+ */
+#ifndef USM_DENSE_H
+#define USM_DENSE_H
+
+/* Largest order handled. */
+#define USM_EXPM_MAX_N 9
+
+/* E = exp(A), both n x n row-major (E may not alias A), 1 <= n <= USM_EXPM_MAX_N.
+ * 0, or -1 when A is not finite or the Pade denominator is singular. */
+int usm_expm_dense(int n, const double *A, double *E);
+
+/* C = A B, n x n row-major (C may not alias A or B). */
+void usm_matmul_dense(int n, const double *A, const double *B, double *C);
+
+/* X <- Q^{-1} X, both n x n row-major, by Gaussian elimination with partial
+ * pivoting (Q is overwritten).  0, or -1 when a pivot is exactly zero. */
+int usm_solve_dense(int n, double *Q, double *X);
+
+/* A <- D^{-1} A D with D = diag(d) powers of 2 that make the off-diagonal
+ * row and column norms of A nearly equal (Parlett and Reinsch; the
+ * algorithm of GSL's gsl_linalg_balance_matrix). */
+void usm_balance_dense(int n, double *A, double *d);
+
+#endif /* USM_DENSE_H */

@@ -1,0 +1,30 @@
+#!/bin/bash
+# `usm simulate` and the paper's twist law (issue 11): a run it would slow down
+# for minutes is refused at once with one line naming the remedy; a shorter
+# run that slows down warns before it starts; twist_integrated runs silently.
+#
+# usage: simulate_twist_cli.sh PATH/TO/usm
+set -u
+
+USM=${1:?usage: simulate_twist_cli.sh PATH/TO/usm}
+. "$(dirname "$0")/cli_common.sh"
+
+# refused: exit 2, one line naming --duration's field and twist_integrated
+expect_bad "duration" "twist_integrated" simulate --model 4dof --duration 10 --rate 0
+expect_bad "--max-twist-growth" "must be >= 0" simulate --model 4dof --duration 1 --max-twist-growth -1
+
+# warned: the first stderr line, before the run (stopped early by the step cap)
+if expect_rc 1 simulate --model 4dof --duration 0.3 --rate 0 --max-steps 10; then
+    head -n 1 "$err" | grep -q '^usm: warning: .*twist_integrated' || fail "no warning first"
+fi
+# the limit lifted: runs (stopped by the step cap), with the warning in the JSON
+if expect_rc 1 simulate --model 4dof --duration 10 --rate 0 --max-steps 10 --max-twist-growth 0 --json; then
+    py "assert o['twist_growth'] > 400 and 'twist_integrated' in o['warning'], o.get('warning')"
+fi
+# twist_integrated: neither
+if expect_rc 1 simulate --model 4dof --variant twist_integrated --duration 10 --rate 0 --max-steps 10 --json; then
+    grep -q 'warning' "$err" && fail "twist_integrated warned"
+    py "assert o['twist_growth'] == 0 and 'warning' not in o"
+fi
+
+finish simulate_twist_cli
