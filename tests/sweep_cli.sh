@@ -113,7 +113,7 @@ for args in "--over c_r --from 924.7 --to 924668" "--over mu0 --from 0.3 --to 30
 done
 # a point whose multipliers fail is marked; the others keep theirs
 checks=$((checks + 1))
-if "$USM" sweep --over d_R --from 0.1632 --to 1e12 --points 3 >"$out" 2>"$err"; then
+if "$USM" sweep --over d_R --from 0.1632 --to 1e12 --points 3 --floquet-method variational >"$out" 2>"$err"; then
     grep -q '^0.1632,.*,true,true,1,$' "$out" || fail "d_R sweep: the first point lost its multipliers"
     grep -q '^1e+12,.*,,,true,1,"floquet: ' "$out" || fail "d_R sweep: no marked Floquet failure at 1e12"
 else
