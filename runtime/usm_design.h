@@ -22,6 +22,10 @@
  *
  * Axisymmetric models (I_yy taken equal to I_xx): the derivative in I_xx moves
  * I_yy with it; the one in I_yy is 0.
+ *
+ * Thread safety: no global mutable state; distinct usm_sensitivity objects may
+ * be used from distinct threads at the same time, one object must not be
+ * shared without a lock.
  */
 #ifndef USM_DESIGN_H
 #define USM_DESIGN_H

@@ -64,7 +64,11 @@ static void solution(FILE *out, const usm_steady_solution *s)
     row(out, "power_out", s->power_out, "W", "load torque x rotor speed (driving: > 0)");
     row(out, "power_damping", s->power_damping, "W", "dissipated by d_r, d_t, d_R");
     row(out, "power_slip", s->power_slip, "W", "F_t v_rel, lost in the contact");
-    row(out, "efficiency", s->efficiency, "1", "power_out / power_in (nan: power_in <= 0)");
+    if (isfinite(s->efficiency))
+        row(out, "efficiency", s->efficiency, "1", "power_out / power_in");
+    else
+        fprintf(out, "  %-17s %-24s %-7s %s\n", "efficiency", "undefined", "1",
+                "power_in <= 0: no power taken in");
 }
 
 static void multipliers(FILE *out, const usm_floquet_result *f)
