@@ -18,5 +18,6 @@ int cli_report_main(int argc, char **argv);
 int cli_map_main(int argc, char **argv);
 int cli_simulate_main(int argc, char **argv);
 int cli_sensitivity_main(int argc, char **argv);
+int cli_optimize_main(int argc, char **argv);
 
 #endif /* USM_CLI_COMMANDS_H */
