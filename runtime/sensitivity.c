@@ -511,6 +511,17 @@ static int pick_multiplier(usm_sensitivity *s, const double *Bh, double complex 
                      creal(ev[r]), cimag(ev[r]), creal(ev[i]), cimag(ev[i]));
             return 1;
         }
+    /* another multiplier (not the conjugate) of the same modulus: the largest
+     * modulus is the maximum of two smooth functions and has a kink here */
+    for (int i = 0; i < n; ++i)
+        if (i != r && !cyc[i] && cabs(ev[i] - conj(ev[r])) > REPEATED_TOL * cabs(ev[r]) &&
+            fabs(cabs(ev[i]) - cabs(ev[r])) <= REPEATED_TOL * cabs(ev[r])) {
+            snprintf(out->why[USM_SENS_MAX_MODULUS], USM_MSG_LEN,
+                     "two multipliers of equal modulus (%.10g%+.10gi and %.10g%+.10gi): the "
+                     "largest modulus has a kink here, no derivative",
+                     creal(ev[r]), cimag(ev[r]), creal(ev[i]), cimag(ev[i]));
+            return 1;
+        }
     /* left eigenvector: eigenvector of Bh^T for the same eigenvalue */
     int l = 0;
     for (int i = 1; i < n; ++i) {

@@ -20,6 +20,8 @@
  * of 1e-6, the differences' own rounding) for the stationary outputs and
  * 1e-7 |y| / |p_j| for max_modulus.  The run prints the worst ratio
  * |d - fd| / bound (0.45 when written).
+ * Also: at a crossing of two multipliers' moduli (check_kink) the derivative of
+ * max_modulus is reported undefined.
  * Points: the paper's and 20 random parameter sets (every parameter scaled by
  * a factor in [0.85, 1.18], I_yy = I_xx) for 3dof and 4dof; the paper's point
  * for both twist_integrated models (the one-exponential path).
@@ -170,9 +172,60 @@ static int check_point(const usm_model *m, usm_steady *st, usm_sensitivity *sens
     return 1;
 }
 
+/* Where two distinct multipliers exchange the largest modulus, max_modulus has
+ * a kink and no derivative: the 4dof model near f = 36917.5 Hz, where a real
+ * multiplier overtakes a complex pair (found by a scan of f).  Bisect on which
+ * one is largest (the sign of its imaginary part) to 1e-6 Hz, then the
+ * derivative there must be reported undefined, and 1 Hz away defined. */
+static void check_kink(void)
+{
+    const usm_model *m = usm_model_find("4dof");
+    usm_steady *st = usm_steady_alloc(m);
+    usm_sensitivity *sens = usm_sensitivity_alloc(m);
+    usm_sensitivity_result r;
+    usm_params p;
+    usm_params_default(&p);
+    double lo = 36917.0, hi = 36918.0; /* complex pair largest at lo, real at hi */
+    int side[2];
+    for (int k = 0; k < 2; ++k) {
+        p.f = k ? hi : lo;
+        CHECK(usm_steady_solve(st, &p, NULL) == USM_OK &&
+                  usm_sensitivity_compute(sens, &p, usm_steady_root(st, 0), 1, &r) == USM_OK,
+              "kink: solve at f = %g", p.f);
+        side[k] = r.multiplier_im != 0;
+        CHECK(r.defined[USM_SENS_MAX_MODULUS], "kink: undefined 0.5 Hz away at f = %g: %s", p.f,
+              r.why[USM_SENS_MAX_MODULUS]);
+    }
+    CHECK(side[0] && !side[1], "kink: no exchange of the largest multiplier in [%g, %g]", lo, hi);
+    while (hi - lo > 1e-6) {
+        p.f = 0.5 * (lo + hi);
+        if (usm_steady_solve(st, &p, NULL) != USM_OK)
+            break;
+        usm_sensitivity_compute(sens, &p, usm_steady_root(st, 0), 1, &r);
+        if ((r.multiplier_im != 0) == side[0])
+            lo = p.f;
+        else
+            hi = p.f;
+    }
+    p.f = 0.5 * (lo + hi);
+    CHECK(usm_steady_solve(st, &p, NULL) == USM_OK &&
+              usm_sensitivity_compute(sens, &p, usm_steady_root(st, 0), 1, &r) == USM_OK,
+          "kink: solve at the crossing");
+    CHECK(!r.defined[USM_SENS_MAX_MODULUS] &&
+              strstr(r.why[USM_SENS_MAX_MODULUS], "equal modulus") != NULL,
+          "kink: at f = %.7f the derivative is not reported undefined (%s)", p.f,
+          r.why[USM_SENS_MAX_MODULUS]);
+    CHECK(r.defined[USM_SENS_ROTOR_SPEED], "kink: the stationary outputs stay defined");
+    printf("4dof: max_modulus kink at f = %.7f Hz reported: %s\n", p.f,
+           r.why[USM_SENS_MAX_MODULUS]);
+    usm_sensitivity_free(sens);
+    usm_steady_free(st);
+}
+
 int main(void)
 {
     gsl_set_error_handler_off();
+    check_kink();
     const char *names[] = {"3dof", "4dof", "3dof_twist_integrated", "4dof_twist_integrated"};
     for (size_t k = 0; k < sizeof names / sizeof names[0]; ++k) {
         const usm_model *m = usm_model_find(names[k]);

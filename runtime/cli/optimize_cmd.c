@@ -307,12 +307,13 @@ static void evaluate(problem *pb, const double *x)
     pb->solved = 1;
 }
 
-/* y and dy/dz of output k at the current point; -1 when not defined there. */
+/* y and dy/dz of output k at the current point; -1 when not defined there
+ * (the value can exist without the derivative: a kink of max_modulus). */
 static int output(const problem *pb, int k, double *y, double *grad)
 {
     const opt_args *a = pb->a;
     const usm_sensitivity_result *r = pb->r;
-    if (!pb->solved || !r->defined[k] || !isfinite(r->value[k]))
+    if (!pb->solved || (grad && !r->defined[k]) || !isfinite(r->value[k]))
         return -1;
     /* rotor_speed is optimised in magnitude */
     const double s = k == USM_SENS_ROTOR_SPEED && r->value[k] < 0 ? -1.0 : 1.0;
