@@ -531,6 +531,13 @@ void usm_steady_evaluate(const usm_model *m, const usm_params *p, usm_steady_sol
     sol->residual_norm = 0;
     for (int i = 0; i < m->nu; ++i)
         sol->residual_norm = fmax(sol->residual_norm, fabs(r[i]));
+    double pw[USM_POWER_COUNT];
+    m->steady_power(sol->u, p, pw);
+    sol->power_in = pw[USM_POWER_POWER_IN];
+    sol->power_out = pw[USM_POWER_POWER_OUT];
+    sol->power_damping = pw[USM_POWER_POWER_DAMPING];
+    sol->power_slip = pw[USM_POWER_POWER_SLIP];
+    sol->efficiency = sol->power_in > 0 ? sol->power_out / sol->power_in : NAN;
 }
 
 /* Same root: the same tilt and the same rotor speed (the slip model's third

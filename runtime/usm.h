@@ -121,6 +121,15 @@ typedef struct usm_steady_solution {
     double mu_stick;       /* friction coefficient of the stick check */
     int stick_admissible;  /* F_t <= mu_stick * F_n */
     double residual_norm;  /* max |r_i(u)| [N m] at the returned root */
+    /* Power on the stationary solution [W] (generated <model>_steady_power;
+     * constant along the orbit, so also the mean over a period): */
+    double power_in;       /* excitation torque times the stator's angular velocity */
+    double power_out;      /* load torque times rotor speed in the driving direction,
+                              -T * rotor_speed; positive when the motor drives the load */
+    double power_damping;  /* dissipated by d_r, d_t (and d_R, zero on the orbit) */
+    double power_slip;     /* F_t * v_rel (slip models; 0 in the stick model) */
+    double efficiency;     /* power_out / power_in; NaN when power_in <= 0 (no power
+                              taken in: the ratio means nothing) */
 } usm_steady_solution;
 
 /* Where and how usm_steady_solve searches (usm_steady_options_default). */

@@ -7,6 +7,9 @@ from .model import PARAMETERS, P, t
 OUTPUT_NAMES = ["R_star", "Z", "v_c", "F_n", "F_t", "v_rel", "rotor_speed"]
 STEADY_NAMES = ["beta", "rotor_speed", "F_n", "F_t", "v_c", "v_rel", "R_star", "Z", "twist"]
 SEED_NAMES = ["amplitude_mismatch", "cos_alpha", "sin_alpha", "F_t", "F_n"]
+POWER_NAMES = ["power_in", "power_out", "power_damping", "power_slip"]
+# Stationary quantities whose derivatives the sensitivities need (issue 13).
+DESIGN_NAMES = ["rotor_speed", "F_n", "F_t"] + POWER_NAMES
 PARAMS = ("const usm_params *USM_RESTRICT p", list(P.values()))
 
 
@@ -129,6 +132,43 @@ def build_kernels(m):
                       "(d(omega_A)/d(qdot)); well conditioned near theta = 0.", xdoc],
                      [x_arg, PARAMS, ("double *USM_RESTRICT out", None)], xb,
                      list(m.tangent_map), f"out: {n}x{n}, row-major.", [("x", n)]))
+    ks.append(Kernel(f"{pre}_steady_power",
+                     ["Power on the stationary solution u [W]: excitation torque times the",
+                      "stator's angular velocity (power_in), load torque times the rotor's",
+                      "speed in its driving direction (power_out), dissipated by d_r, d_t,",
+                      "d_R (power_damping), friction force times slip velocity (power_slip).",
+                      "Constant on the orbit, so each is also its mean over a period.", udoc],
+                     [u_arg, PARAMS, ("double *USM_RESTRICT out", None)], ub,
+                     [m.steady_power[k] for k in POWER_NAMES], _index_doc("out", POWER_NAMES),
+                     [("u", nu)]))
+    design = sp.Matrix([m.steady_outputs[k] if k in m.steady_outputs else m.steady_power[k]
+                        for k in DESIGN_NAMES])
+    ks.append(Kernel(f"{pre}_steady_design_jacobian",
+                     ["Partial derivatives of the design quantities y = ["
+                      + ", ".join(DESIGN_NAMES) + "]",
+                      "on the stationary solution in the unknowns and in the parameters",
+                      "(the implicit function theorem adds du/dp).", udoc],
+                     [u_arg, PARAMS, ("double *USM_RESTRICT out", None)], ub,
+                     list(design.jacobian(m.unknowns))
+                     + list(design.jacobian([P[k] for k in pnames])),
+                     f"out: [dy/du ({len(DESIGN_NAMES)}x{nu}), dy/dp ({len(DESIGN_NAMES)}x"
+                     f"{len(pnames)})], each row-major.", [("u", nu)]))
+    dsyms = m.direction_symbols
+    du_b = [(ds, f"du[{i}]", f"d{m.unknown_names[i]}") for i, (_, ds) in enumerate(dsyms[:nu])]
+    dt_b = [(dsyms[nu][1], "dt", "dt")]
+    dp_b = [(ds, f"dp->{s.name}", f"d{s.name}") for s, ds in dsyms[nu + 1:]]
+    ks.append(Kernel(f"{pre}_floquet_direction",
+                     ["Directional derivative of the linearisation about the stationary orbit:",
+                      "M(xbar(t)) and A = df/dx - d(M v)/dx |_{v = xbar'} as functions of",
+                      "(u, t, p), beta from the twisting balance, differentiated along",
+                      "(du, dt, dp) (second derivatives of the equations of motion).", udoc],
+                     [u_arg, t_arg, ("const double *USM_RESTRICT du", [d for d, *_ in du_b]),
+                      ("double dt", [dsyms[nu][1]]), PARAMS,
+                      ("const usm_params *USM_RESTRICT dp", [d for d, *_ in dp_b]),
+                      ("double *USM_RESTRICT out", None)], ub + du_b + dt_b + dp_b,
+                     list(m.floquet_direction),
+                     f"out: [dM ({n}x{n}), dA ({n}x{n})], each row-major.",
+                     [("u", nu), ("du", nu)]))
     if m.friction is not None:
         ks.append(Kernel(f"{pre}_friction",
                          ["Friction law mu(v_rel) and its slope (5.2)."],
@@ -215,7 +255,10 @@ def model_files(m, description, stamp, base, variant):
                ("u_theta", index(m.unknown_names, "theta")),
                ("u_alpha", index(m.unknown_names, "alpha")),
                ("u_phidot_R", index(m.unknown_names, "phidot_R")),
-               ("linearisation", f"{pre}_linearisation")]
+               ("linearisation", f"{pre}_linearisation"),
+               ("steady_power", f"{pre}_steady_power"),
+               ("steady_design_jacobian", f"{pre}_steady_design_jacobian"),
+               ("floquet_direction", f"{pre}_floquet_direction")]
     c += (f"const usm_model {pre.replace('usm_', 'usm_model_')} = {{\n"
           + "".join(f"    .{k} = {v},\n" for k, v in fields) + "};\n")
     return {f"{pre}.h": h, f"{pre}.c": c}
@@ -264,6 +307,10 @@ def common_files(models, variant_list, stamp):
     h += _enum("USM_STEADY", STEADY_NAMES) + "\n"
     h += "/* Indices of the outputs of <model>_steady_seed. */\n"
     h += _enum("USM_SEED", SEED_NAMES) + "\n"
+    h += "/* Indices of the outputs of <model>_steady_power. */\n"
+    h += _enum("USM_POWER", POWER_NAMES) + "\n"
+    h += "/* Rows y of <model>_steady_design_jacobian. */\n"
+    h += _enum("USM_DESIGN", DESIGN_NAMES) + "\n"
     h += ("#define USM_MAX_NX 9\n#define USM_MAX_NU 3\n\n"
           "/* A generated model: sizes, names and kernels (see usm_<name>.h). */\n"
           "typedef struct usm_model {\n"
@@ -302,6 +349,12 @@ def common_files(models, variant_list, stamp):
           "    int u_phidot_R;            /* stationary rotor speed (slip models) */\n"
           "    /* M(x), df/dx and d(M v)/dx at once: out = [M, df/dx, d(Mv)/dx], nx*nx each. */\n"
           "    void (*linearisation)(const double *USM_RESTRICT x, const double *USM_RESTRICT v, double t, const usm_params *USM_RESTRICT p, double *USM_RESTRICT out);\n"
+          "    /* Design kernels (issue 13): power on the stationary solution, the partial\n"
+          "       derivatives of the design quantities, and the directional derivative\n"
+          "       of the linearisation about the orbit (for Floquet sensitivities). */\n"
+          "    void (*steady_power)(const double *USM_RESTRICT u, const usm_params *USM_RESTRICT p, double *USM_RESTRICT out);\n"
+          "    void (*steady_design_jacobian)(const double *USM_RESTRICT u, const usm_params *USM_RESTRICT p, double *USM_RESTRICT out);\n"
+          "    void (*floquet_direction)(const double *USM_RESTRICT u, double t, const double *USM_RESTRICT du, double dt, const usm_params *USM_RESTRICT p, const usm_params *USM_RESTRICT dp, double *USM_RESTRICT out);\n"
           "} usm_model;\n\n")
     for name, _, _ in models:
         h += f"extern const usm_model usm_model_{name};\n"

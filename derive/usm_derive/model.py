@@ -92,6 +92,9 @@ class Model:
     jac_rhs: sp.Matrix = None      # df/dx
     jac_mass: sp.Matrix = None     # d(M v)/dx
     t0_independent: bool = False   # linearisation about xbar(t) free of t
+    steady_power: dict = None      # name -> power on the stationary solution, of u
+    floquet_direction: list = None  # [dM, dA] along (du, dt, dp), see derive_model
+    direction_symbols: list = None  # (symbol, direction symbol) pairs of that derivative
     cyclic: list = field(default_factory=list)
     equations: dict = field(default_factory=dict)  # for the readable export
 
@@ -286,6 +289,30 @@ def derive_model(name, assumptions):
         "twist": twist_bar,
     }
 
+    # Power on the stationary solution (issue 13), from the same torques and
+    # forces as the equations of motion: the excitation torque (2.8) and the
+    # damping torque (2.10) times the stator's angular velocity, the rotor's
+    # axial damping force times Z', the load times the rotor's speed in its
+    # driving direction, and the friction force times the slip velocity.  In
+    # frame A every one of them is constant on the orbit (checked below), so
+    # the mean over a period is the value itself.  Their balance
+    # power_in = power_out + power_damping + power_slip is not built in: it
+    # holds only where the residuals vanish (tests/test_power.c).
+    power_exprs = {
+        "power_in": (M_E_A.T * kin.omega_A)[0],
+        "power_out": p["T"] * w_R,
+        "power_damping": (M_D_A.T * kin.omega_A)[0] + p["d_R"] * Z.diff(t) ** 2,
+        # F_t stays a symbol through trigsimp (a friction law with exp() makes
+        # it take many minutes otherwise); it is constant on the orbit.
+        "power_slip": Ft_s * v_rel,
+    }
+    steady_power = {}
+    for key, e in power_exprs.items():
+        e = sp.trigsimp(steady(e)).subs(Ft_s, steady(F_t))
+        if t in e.free_symbols:
+            raise RuntimeError(f"{key} depends on time on the stationary solution")
+        steady_power[key] = e
+
     # State on the stationary orbit and its rate, for any t (used by Floquet).
     xbar = [ansatz[c] for c in coords] + [rate_bar[c] for c in coords]
     xbar_rate = [sp.diff(e, t) for e in xbar]
@@ -337,6 +364,24 @@ def derive_model(name, assumptions):
     A_bar = (jac_rhs - jac_mass.subs(dict(zip(v, steady_rate)))).subs(on_orbit)
     t0_independent = t not in A_bar.free_symbols and t not in mass.subs(on_orbit).free_symbols
 
+    # Directional derivative of the linearisation about the orbit, for the
+    # sensitivity of the Floquet multipliers (issue 13): M(xbar) and
+    # A = df/dx - d(M v)/dx |_{v = xbar'} as functions of (u, t, p) with beta
+    # from the twisting balance, differentiated along (du, dt, dp).  One
+    # direction per call keeps this a sum of first derivatives of the
+    # linearisation (second derivatives of the equations of motion).
+    orbit_beta = {**on_orbit, **dict(zip(v, steady_rate))}
+    orbit_beta = {k: sp.sympify(e).subs(beta, beta_expr) for k, e in orbit_beta.items()}
+    A_full = (jac_rhs - jac_mass).subs(orbit_beta, simultaneous=True)
+    M_full = mass.subs(orbit_beta, simultaneous=True)
+    dir_vars = list(unknowns) + [t] + [P[k] for k, *_ in PARAMETERS]
+    dir_syms = [sp.Symbol("dir_" + s.name, real=True) for s in dir_vars]
+
+    def along(e):
+        return sum((sp.diff(e, s) * ds for s, ds in zip(dir_vars, dir_syms)
+                    if s in e.free_symbols), sp.Integer(0))
+    floquet_direction = [along(e) for e in M_full] + [along(e) for e in A_full]
+
     cyclic = []
     for i, s in enumerate(states):
         if s not in rhs.free_symbols and s not in mass.free_symbols:
@@ -371,4 +416,6 @@ def derive_model(name, assumptions):
                  steady_outputs=steady_outputs, steady_state=steady_state,
                  steady_rate=steady_rate, seed=seed, friction=mu_expr,
                  v_rel=v_sym, tangent_map=tangent_map, jac_rhs=jac_rhs,
-                 jac_mass=jac_mass, t0_independent=t0_independent, cyclic=cyclic, equations=equations)
+                 jac_mass=jac_mass, t0_independent=t0_independent, cyclic=cyclic, equations=equations,
+                 steady_power=steady_power, floquet_direction=floquet_direction,
+                 direction_symbols=list(zip(dir_vars, dir_syms)))

@@ -17,5 +17,7 @@ int cli_equations_main(int argc, char **argv);
 int cli_report_main(int argc, char **argv);
 int cli_map_main(int argc, char **argv);
 int cli_simulate_main(int argc, char **argv);
+int cli_sensitivity_main(int argc, char **argv);
+int cli_optimize_main(int argc, char **argv);
 
 #endif /* USM_CLI_COMMANDS_H */

@@ -58,6 +58,11 @@ json_t *cli_json_root(const usm_steady_solution *s)
     cli_json_put(obj, "R_star", cli_json_real(s->R_star), &ok);
     cli_json_put(obj, "Z", cli_json_real(s->Z), &ok);
     cli_json_put(obj, "residual_norm", cli_json_real(s->residual_norm), &ok);
+    cli_json_put(obj, "power_in", cli_json_real(s->power_in), &ok);
+    cli_json_put(obj, "power_out", cli_json_real(s->power_out), &ok);
+    cli_json_put(obj, "power_damping", cli_json_real(s->power_damping), &ok);
+    cli_json_put(obj, "power_slip", cli_json_real(s->power_slip), &ok);
+    cli_json_put(obj, "efficiency", cli_json_real(s->efficiency), &ok); /* null: power_in <= 0 */
     return finish(obj, ok);
 }
 

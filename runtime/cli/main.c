@@ -27,6 +27,8 @@ static const cli_command commands[] = {
     {"report", "reproduce the paper: report.md with tables and figures", cli_report_main},
     {"map", "stability map: largest Floquet multiplier over a 2-D parameter grid", cli_map_main},
     {"simulate", "start-up transient of the full model: CSV time history, settling, contact checks", cli_simulate_main},
+    {"sensitivity", "derivatives and elasticities of the stationary outputs in every parameter", cli_sensitivity_main},
+    {"optimize", "best design over parameter bounds under stability, stick and user constraints", cli_optimize_main},
 };
 #define NCOMMANDS (sizeof commands / sizeof commands[0])
 

@@ -60,6 +60,15 @@ static void solution(FILE *out, const usm_steady_solution *s)
     fprintf(out, "  %-17s %-24s %-7s F_t <= %.6g F_n\n", "stick_admissible",
             s->stick_admissible ? "yes" : "no", "", s->mu_stick);
     row(out, "residual_norm", s->residual_norm, "N m", "max |r_i| of eq. (3.5)");
+    row(out, "power_in", s->power_in, "W", "excitation torque x stator angular velocity");
+    row(out, "power_out", s->power_out, "W", "load torque x rotor speed (driving: > 0)");
+    row(out, "power_damping", s->power_damping, "W", "dissipated by d_r, d_t, d_R");
+    row(out, "power_slip", s->power_slip, "W", "F_t v_rel, lost in the contact");
+    if (isfinite(s->efficiency))
+        row(out, "efficiency", s->efficiency, "1", "power_out / power_in");
+    else
+        fprintf(out, "  %-17s %-24s %-7s %s\n", "efficiency", "undefined", "1",
+                "power_in <= 0: no power taken in");
 }
 
 static void multipliers(FILE *out, const usm_floquet_result *f)

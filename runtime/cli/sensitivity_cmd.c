@@ -1,0 +1,268 @@
+#define _POSIX_C_SOURCE 200809L /* strtok_r */
+/* usm sensitivity: derivatives and elasticities of the primary stationary
+ * solution's outputs with respect to every parameter (usm_design.h). */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <jansson.h>
+
+#include "commands.h"
+#include "diag.h"
+#include "json_out.h"
+#include "options.h"
+#include "usm_design.h"
+
+/* The outputs of the list, the default of --of. */
+#define DEFAULT_OUTPUTS 7
+
+static void usage(FILE *out)
+{
+    fprintf(out,
+            "usage: usm sensitivity [--model 3dof|4dof] [--variant V] [--params FILE.json]\n"
+            "                       [--set NAME=VALUE]... [--of NAME,...] [--json]\n"
+            "\n"
+            "Derivatives dy/dp and elasticities (p/y) dy/dp of the primary stationary\n"
+            "solution's outputs y with respect to every parameter p: implicit function\n"
+            "theorem on the generated Jacobians; max_modulus by eigenvalue perturbation of\n"
+            "the monodromy matrix (exponential method, t0 = 0) with its exact derivative.\n"
+            "\n"
+            "options:\n");
+    cli_common_usage(out);
+    fprintf(out, "  --of NAME,...       outputs (default all of the first seven):");
+    for (int k = 0; k < USM_SENS_COUNT; ++k)
+        fprintf(out, "%s%s", k % 5 == 0 ? "\n                        " : " ",
+                usm_sensitivity_output_name(k));
+    fprintf(out,
+            "\n  -h, --help          print this help\n"
+            "\n"
+            "The table lists, per output, the parameters by decreasing |elasticity|.\n"
+            "Axisymmetric models: the derivative in I_xx moves I_yy with it (I_yy: 0).\n"
+            "A derivative that does not exist (a repeated multiplier pair, efficiency at\n"
+            "power_in <= 0) is reported as such: \"undefined\" with the reason, null in JSON.\n"
+            "\n"
+            "exit status: 0 solved, 1 numerical failure, 2 bad input,\n"
+            "             3 no stationary solution\n");
+}
+
+typedef struct sens_args {
+    cli_common common;
+    int want[USM_SENS_COUNT];
+    int help;
+} sens_args;
+
+static int parse_of(sens_args *a, const char *text, char msg[CLI_MSG_LEN])
+{
+    char buf[512];
+    if (strlen(text) >= sizeof buf || text[0] == '\0') {
+        cli_msg(msg, "--of: expected a comma-separated list of outputs");
+        return USM_EINPUT;
+    }
+    memset(a->want, 0, sizeof a->want);
+    strcpy(buf, text);
+    for (char *save = NULL, *tok = strtok_r(buf, ",", &save); tok;
+         tok = strtok_r(NULL, ",", &save)) {
+        int k = usm_sensitivity_output_find(tok);
+        if (k < 0) {
+            cli_msg(msg, "--of: unknown output \"%s\" (see usm sensitivity --help)", tok);
+            return USM_EINPUT;
+        }
+        a->want[k] = 1;
+    }
+    return USM_OK;
+}
+
+static int parse(sens_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
+{
+    cli_common_init(&a->common);
+    a->help = 0;
+    for (int k = 0; k < USM_SENS_COUNT; ++k)
+        a->want[k] = k < DEFAULT_OUTPUTS;
+    for (int i = 1; i < argc; ++i) {
+        const char *value;
+        int r;
+        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
+            a->help = 1;
+            return USM_OK;
+        }
+        if ((r = cli_common_option(&a->common, argc, argv, &i, msg)) == CLI_OPT_TAKEN)
+            continue;
+        if (r == CLI_OPT_ERROR)
+            return USM_EINPUT;
+        if ((r = cli_option_value(argc, argv, &i, "--of", &value, msg)) == CLI_OPT_ERROR)
+            return USM_EINPUT;
+        if (r == CLI_OPT_TAKEN) {
+            if (parse_of(a, value, msg) != USM_OK)
+                return USM_EINPUT;
+            continue;
+        }
+        if (argv[i][0] == '-')
+            cli_msg(msg, "%s: unknown option (see usm sensitivity --help)", argv[i]);
+        else
+            cli_msg(msg, "%s: unexpected argument (see usm sensitivity --help)", argv[i]);
+        return USM_EINPUT;
+    }
+    return cli_common_finish(&a->common, msg);
+}
+
+/* (p/y) dy/dp, NaN where y = 0 or the derivative is undefined */
+static double elasticity(const usm_params *p, const usm_sensitivity_result *r, int k, int j)
+{
+    const double y = r->value[k], pj = usm_params_get(p, &usm_param_table[j]);
+    if (!r->defined[k] || y == 0)
+        return NAN;
+    if (r->d[k][j] == 0)
+        return 0.0; /* not -0 */
+    return pj / y * r->d[k][j];
+}
+
+static json_t *output_json(const usm_params *p, const usm_sensitivity_result *r, int k)
+{
+    json_t *obj = json_object(), *d = json_object(), *e = json_object();
+    int ok = obj && d && e;
+    cli_json_put(obj, "value", cli_json_real(r->value[k]), &ok);
+    for (int j = 0; j < USM_NPARAMS; ++j) {
+        const char *name = usm_param_table[j].name;
+        cli_json_put(d, name, r->defined[k] ? cli_json_real(r->d[k][j]) : json_null(), &ok);
+        cli_json_put(e, name, cli_json_real(elasticity(p, r, k, j)), &ok);
+    }
+    cli_json_put(obj, "d", d, &ok);
+    cli_json_put(obj, "elasticity", e, &ok);
+    if (!r->defined[k])
+        cli_json_put(obj, "undefined", json_string(r->why[k]), &ok);
+    if (!ok) {
+        json_decref(obj);
+        return NULL;
+    }
+    return obj;
+}
+
+static int print_json(const sens_args *a, const usm_sensitivity_result *r)
+{
+    const cli_common *c = &a->common;
+    json_t *obj = json_object(), *outs = json_object();
+    int ok = obj && outs;
+    cli_json_put(obj, "model", json_string(c->model->name), &ok);
+    cli_json_put(obj, "parameters", cli_json_params(&c->params), &ok);
+    for (int k = 0; k < USM_SENS_COUNT; ++k)
+        if (a->want[k]) {
+            json_t *o = output_json(&c->params, r, k);
+            if (!o)
+                ok = 0;
+            cli_json_put(outs, usm_sensitivity_output_name(k), o, &ok);
+        }
+    cli_json_put(obj, "outputs", outs, &ok);
+    int rc = ok ? cli_json_print(obj, stdout) : -1;
+    json_decref(obj);
+    if (!ok) {
+        cli_error("out of memory");
+        return USM_EFAILED;
+    }
+    if (rc != 0 || fflush(stdout) != 0 || ferror(stdout)) {
+        clearerr(stdout);
+        cli_error("stdout: write error");
+        return USM_EFAILED;
+    }
+    return USM_OK;
+}
+
+typedef struct ranked {
+    int j;
+    double e;
+} ranked;
+
+static int by_abs_desc(const void *x, const void *y)
+{
+    const ranked *a = x, *b = y;
+    double ea = isnan(a->e) ? -1 : fabs(a->e), eb = isnan(b->e) ? -1 : fabs(b->e);
+    if (ea != eb)
+        return (ea < eb) - (ea > eb);
+    return a->j - b->j;
+}
+
+static void print_table(const sens_args *a, const usm_sensitivity_result *r)
+{
+    const cli_common *c = &a->common;
+    printf("model %s: %s\n", c->model->name, c->model->description);
+    printf("sensitivities of the primary stationary solution (elasticity = (p/y) dy/dp)\n");
+    for (int k = 0; k < USM_SENS_COUNT; ++k) {
+        if (!a->want[k])
+            continue;
+        printf("\n%s = %.10g\n", usm_sensitivity_output_name(k), r->value[k]);
+        if (!r->defined[k]) {
+            printf("  undefined: %s\n", r->why[k]);
+            continue;
+        }
+        ranked rk[USM_NPARAMS];
+        for (int j = 0; j < USM_NPARAMS; ++j)
+            rk[j] = (ranked){j, elasticity(&c->params, r, k, j)};
+        qsort(rk, USM_NPARAMS, sizeof rk[0], by_abs_desc);
+        printf("  %-6s %-20s %-20s\n", "param", "elasticity", "dy/dp");
+        for (int j = 0; j < USM_NPARAMS; ++j)
+            printf("  %-6s %-20.10g %-20.10g\n", usm_param_table[rk[j].j].name, rk[j].e,
+                   r->d[k][rk[j].j]);
+    }
+}
+
+static int run(const sens_args *a)
+{
+    const cli_common *c = &a->common;
+    usm_sensitivity_result res;
+    usm_sensitivity *sens = NULL;
+    int status;
+    usm_steady *s = usm_steady_alloc(c->model);
+    if (!s) {
+        cli_error("out of memory");
+        return USM_EFAILED;
+    }
+    status = usm_steady_solve(s, &c->params, NULL);
+    if (status == USM_ENOSOLUTION) {
+        cli_error("no stationary solution: %s", usm_steady_message(s));
+        goto done;
+    }
+    if (status == USM_EINPUT) {
+        cli_error("%s", usm_steady_message(s));
+        goto done;
+    }
+    if (status != USM_OK || usm_steady_count(s) == 0) {
+        cli_error("steady: %s", usm_steady_message(s));
+        status = USM_EFAILED;
+        goto done;
+    }
+    if (!(sens = usm_sensitivity_alloc(c->model))) {
+        cli_error("out of memory");
+        status = USM_EFAILED;
+        goto done;
+    }
+    status = usm_sensitivity_compute(sens, &c->params, usm_steady_root(s, 0),
+                                     a->want[USM_SENS_MAX_MODULUS], &res);
+    if (status != USM_OK) {
+        cli_error("sensitivity: %s", usm_sensitivity_message(sens));
+        status = USM_EFAILED;
+        goto done;
+    }
+    if (c->json)
+        status = print_json(a, &res);
+    else
+        print_table(a, &res);
+done:
+    usm_sensitivity_free(sens);
+    usm_steady_free(s);
+    return status;
+}
+
+int cli_sensitivity_main(int argc, char **argv)
+{
+    sens_args a;
+    char msg[CLI_MSG_LEN];
+    if (parse(&a, argc, argv, msg) != USM_OK) {
+        cli_error("%s", msg);
+        return USM_EINPUT;
+    }
+    if (a.help) {
+        usage(stdout);
+        return USM_OK;
+    }
+    return run(&a);
+}
