@@ -57,12 +57,14 @@ for model in 3dof 4dof; do
         grep -q 'runaway' "$out" || fail "$model T=1: summary does not say runaway"
         grep -q '^usm: stopped at t = .*runaway' "$err" || fail "$model T=1: no report on stderr"
         grep -q 'none (' "$out" || fail "$model T=1: no word about the missing stationary solution"
+        [ "$(wc -l <"$err")" -eq 1 ] || fail "$model T=1: exit 1 printed $(wc -l <"$err") stderr lines, want 1"
     fi
     [ $(($(date +%s) - start)) -le 10 ] || fail "$model T=1: took more than 10 s"
 done
 # the step cap ends a run with a report too
 if expect 1 simulate --duration 1e-3 --rate 0 --max-steps 50 --json; then
     py_file "$out" "assert o['stop'] == 'max_steps' and 'step cap' in o['reason'] and not o['completed']"
+    [ "$(wc -l <"$err")" -eq 1 ] || fail "step cap: exit 1 printed $(wc -l <"$err") stderr lines, want 1"
 fi
 
 # ---- --out never overwrites without --force -------------------------------------

@@ -1,7 +1,7 @@
 #!/bin/bash
 # `usm simulate` and the paper's twist law (issue 11): a run it would slow down
-# for minutes is refused at once with one line naming the remedy; a shorter
-# run that slows down warns before it starts; twist_integrated runs silently.
+# for minutes is refused at once with one line naming the remedy; a shorter run
+# that slows down warns (before it starts on a terminal, else in its one stop line or after it); twist_integrated runs silently.
 #
 # usage: simulate_twist_cli.sh PATH/TO/usm
 set -u
@@ -13,9 +13,11 @@ USM=${1:?usage: simulate_twist_cli.sh PATH/TO/usm}
 expect_bad "duration" "twist_integrated" simulate --model 4dof --duration 10 --rate 0
 expect_bad "--max-twist-growth" "must be >= 0" simulate --model 4dof --duration 1 --max-twist-growth -1
 
-# warned: the first stderr line, before the run (stopped early by the step cap)
+# warned: before the run on a terminal; here (no terminal) in the one line of
+# a run stopped early by the step cap
 if expect_rc 1 simulate --model 4dof --duration 0.3 --rate 0 --max-steps 10; then
-    head -n 1 "$err" | grep -q '^usm: warning: .*twist_integrated' || fail "no warning first"
+    [ "$(wc -l <"$err")" -eq 1 ] || fail "exit 1 printed $(wc -l <"$err") stderr lines, want 1"
+    grep -q '^usm: stopped at .*warning: .*twist_integrated' "$err" || fail "no warning in the stop line"
 fi
 # the limit lifted: runs (stopped by the step cap), with the warning in the JSON
 if expect_rc 1 simulate --model 4dof --duration 10 --rate 0 --max-steps 10 --max-twist-growth 0 --json; then

@@ -295,6 +295,7 @@ typedef struct run_io {
     double last_draw;      /* wall time of the last redraw */
     int drawn;
     double wall0;
+    char early_warning[CLI_MSG_LEN]; /* a warning held back until the run ends */
 } run_io;
 
 static double now(void)
@@ -331,11 +332,16 @@ static int on_sample(const usm_sim_sample *s, void *data)
     return ferror(f) ? 1 : 0;
 }
 
-/* Said before the run starts, so that a slow run is not a silent one. */
+/* Said before the run starts on a terminal, so that a slow run is not a
+ * silent one.  Otherwise held back: a run that stops early says so in exactly
+ * one stderr line, and the warning is in the summary either way. */
 static void on_warning(const char *msg, void *data)
 {
-    (void)data;
-    cli_error("warning: %s", msg);
+    run_io *io = data;
+    if (io->progress)
+        cli_error("warning: %s", msg);
+    else
+        snprintf(io->early_warning, sizeof io->early_warning, "%s", msg);
 }
 
 static void on_progress(double t, double t0, double t1, void *data)
@@ -644,9 +650,16 @@ static int run(sim_args *a)
     } else
         table(summary_out, a, &sum, wall);
     fflush(summary_out);
-    warnings(&sum, p->mu0);
-    if (rc != USM_OK)
-        cli_error("stopped at t = %.9g s: %s", sum.t_reached, sum.reason);
+    if (rc == USM_OK) {
+        if (io.early_warning[0])
+            cli_error("warning: %s", io.early_warning);
+        warnings(&sum, p->mu0);
+    } else /* one line; the warnings are in the summary too */
+        cli_error("stopped at t = %.9g s: %s%s%s%s", sum.t_reached, sum.reason,
+                  sum.contact_open.count || (sum.stick_checked && sum.stick_exceeded.count)
+                      ? " (contact warnings: see the summary)"
+                      : "",
+                  io.early_warning[0] ? "; warning: " : "", io.early_warning);
     if (a->plot && sum.samples > 0) {
         char title[256], num[7][32];
         static const char *const names[] = {"csv",         "title",     "stick",   "mu0",
