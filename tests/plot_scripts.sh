@@ -29,13 +29,55 @@ if expect_rc 0 sweep --model 4dof --over f --from 35000 --to 39000 --points 9; t
     cp "$out" "$tmp/freq.csv"
     draw freq sweep.gp "prefix='freq'; xcol='f [Hz]'"
 fi
-# (the map's CSV may still hold "nan" for missing values: not checked here)
 checks=$((checks + 1))
 if run map --x-points 5 --y-points 4; then
     cp "$out" "$tmp/grid.csv"
-    draw grid map.gp "prefix='grid'; xcol='f'; ycol='T'"
+    draw grid map.gp "prefix='grid'; xcol='f [Hz]'; ycol='T [N m]'"
 else
     fail "usm map exited $?"
 fi
+
+# ---- --plot PREFIX: the commands write PREFIX.csv/.gp and run gnuplot ---------
+plotted() { # PREFIX: a non-empty PNG (by its signature) and SVG, the CSV and the script
+    checks=$((checks + 1))
+    [ -s "$tmp/$1.png" ] && [ "$(head -c 8 "$tmp/$1.png" | od -An -c | tr -d ' ')" = '211PNG\r\n032\n' ] ||
+        { fail "--plot $1: no PNG"; return; }
+    grep -q '<svg' "$tmp/$1.svg" 2>/dev/null || fail "--plot $1: no SVG"
+    [ -s "$tmp/$1.csv" ] && [ -s "$tmp/$1.gp" ] || fail "--plot $1: no CSV or script"
+    ! grep -qiE 'warning|error' "$tmp/$1.log" || fail "--plot $1: $(head -c 300 "$tmp/$1.log")"
+}
+sweep_plot=(sweep --over T --from 0 --to 0.008 --points 21 --no-floquet)
+map_plot=(map --x-points 4 --y-points 3)
+(cd "$tmp" && "$USM" "${sweep_plot[@]}" --plot tq >/dev/null 2>"$tmp/tq.err") ||
+    fail "usm sweep --plot: exit $?: $(head -c 300 "$tmp/tq.err")"
+plotted tq
+# the CSV beside the plot is the one on stdout
+checks=$((checks + 1))
+(cd "$tmp" && "$USM" "${sweep_plot[@]}" >"$tmp/tq_stdout.csv") && cmp -s "$tmp/tq.csv" "$tmp/tq_stdout.csv" ||
+    fail "usm sweep --plot: PREFIX.csv differs from the CSV on stdout"
+(cd "$tmp" && "$USM" "${map_plot[@]}" --plot mp >/dev/null 2>"$tmp/mp.err") ||
+    fail "usm map --plot: exit $?: $(head -c 300 "$tmp/mp.err")"
+plotted mp
+# a file of the user's is never overwritten without --force (exit 2, one line,
+# checked before the computation), and is with --force
+for cmd in sweep map; do
+    for ext in csv png; do
+        checks=$((checks + 1))
+        echo "user's file" >"$tmp/own_$cmd.$ext"
+        if [ $cmd = sweep ]; then args=("${sweep_plot[@]}"); else args=("${map_plot[@]}"); fi
+        (cd "$tmp" && "$USM" "${args[@]}" --plot "own_$cmd" >/dev/null 2>"$tmp/own.err")
+        rc=$?
+        [ $rc = 2 ] && [ "$(wc -l <"$tmp/own.err")" = 1 ] && grep -q "^usm: --plot own_$cmd.*exists" "$tmp/own.err" ||
+            fail "usm $cmd --plot over own_$cmd.$ext: exit $rc, $(cat "$tmp/own.err")"
+        [ "$(cat "$tmp/own_$cmd.$ext")" = "user's file" ] || fail "usm $cmd --plot overwrote own_$cmd.$ext"
+        [ ! -e "$tmp/own_$cmd.gp" ] || fail "usm $cmd --plot wrote own_$cmd.gp though it refused"
+        rm -f "$tmp/own_$cmd.$ext"
+    done
+    checks=$((checks + 1))
+    echo "user's file" >"$tmp/own_$cmd.svg"
+    (cd "$tmp" && "$USM" "${args[@]}" --plot "own_$cmd" --force >/dev/null 2>"$tmp/own.err") ||
+        fail "usm $cmd --plot --force: exit $?: $(cat "$tmp/own.err")"
+    plotted "own_$cmd"
+done
 
 finish plot_scripts

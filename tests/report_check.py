@@ -263,7 +263,7 @@ def main():
         # usm map
         r = run("map", "--x-points", "3", "--y-points", "2", "--threads", "2")
         rows = r.stdout.splitlines()
-        if r.returncode == 0 and rows[0].startswith("f,T,exists,roots,max_modulus") and \
+        if r.returncode == 0 and rows[0].startswith("f [Hz],T [N m],exists,roots,max_modulus [1],") and \
                 len(rows) == 7:
             ok("usm map: CSV with header and 6 rows")
         else:

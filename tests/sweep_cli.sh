@@ -75,17 +75,27 @@ import sys
 with open(sys.argv[1]) as f:
     lines = f.read().splitlines()
 assert lines[0] == ("T [N m],theta [rad],alpha [rad],rotor_speed [1/s],F_n [N],F_t [N],"
-                    "mu_needed [1],max_modulus [1],stable,converged,roots,error"), lines[0]
+                    "mu_needed [1],max_modulus [1],stable,converged,roots,error,"
+                    "power_in [W],power_out [W],power_damping [W],power_slip [W],"
+                    "efficiency [1]"), lines[0]
 rows = [l for l in lines[1:] if not l.startswith("#")]
 assert len(rows) == 11, len(rows)
 assert lines[1:12] == rows, "event lines must follow the rows"
 for f in csv.reader(rows):
-    assert len(f) == 12, f
+    assert len(f) == 17, f
     if f[9] == "true":
         assert all(f[:8]) and f[8] in ("true", "false") and f[10] == "1" and not f[11], f
+        # the power balance of a stick solution (independent of how the
+        # columns are written): in = out + damping, slip 0; efficiency = out / in
+        pin, pout, pdamp, pslip, eff = (float(v) for v in f[12:17])
+        assert pslip == 0 and abs(pin - pout - pdamp) <= 1e-9 * pin, f
+        assert abs(eff - pout / pin) <= 1e-12 * abs(eff) + 1e-15, f
+        # T * |rotor speed| is the output power (the load is driven)
+        assert abs(pout - float(f[0]) * -float(f[3])) <= 1e-9 * (abs(pout) + 1e-12), f
     else:
         # beyond the tilt's end: no root at all, and the reason
         assert f[9] == "false" and not any(f[1:9]) and f[10] == "0" and "tilt_zero" in f[11], f
+        assert not any(f[12:]), f
 events = lines[12:]
 assert [e.split()[1] for e in events] == ["stick_limit", "stability_change", "tilt_zero"], events
 assert all(e.startswith("# ") and " at T = " in e for e in events), events
@@ -105,7 +115,7 @@ for args in "--over c_r --from 924.7 --to 924668" "--over mu0 --from 0.3 --to 30
     checks=$((checks + 1))
     # shellcheck disable=SC2086
     if "$USM" sweep $args --points 11 --no-floquet >"$out" 2>"$err"; then
-        n=$(grep -c ',true,1,$' "$out" || true)
+        n=$(grep -c ',true,1,,' "$out" || true)
         [ "$n" = 11 ] || fail "usm sweep $args: $n of 11 points solved"
     else
         fail "usm sweep $args: exit $?, want 0: $(cat "$err")"
@@ -114,7 +124,7 @@ done
 # a point whose multipliers fail is marked; the others keep theirs
 checks=$((checks + 1))
 if "$USM" sweep --over d_R --from 0.1632 --to 1e12 --points 3 --floquet-method variational >"$out" 2>"$err"; then
-    grep -q '^0.1632,.*,true,true,1,$' "$out" || fail "d_R sweep: the first point lost its multipliers"
+    grep -q '^0.1632,.*,true,true,1,,' "$out" || fail "d_R sweep: the first point lost its multipliers"
     grep -q '^1e+12,.*,,,true,1,"floquet: ' "$out" || fail "d_R sweep: no marked Floquet failure at 1e12"
 else
     fail "usm sweep --over d_R --to 1e12: exit $?, want 0 (one failed Floquet point is marked)"

@@ -2,13 +2,13 @@
 # (share/usm/plots/map.gp).  usm writes PREFIX.gp: the values below, then
 # this text; `gnuplot PREFIX.gp` re-plots.
 #   prefix       output prefix: reads PREFIX.csv, writes PREFIX.png and .svg
-#   xcol, ycol   the grid's columns, e.g. 'f' and 'T' (as in the CSV header)
-#   mcol         the modulus column (default 'max_modulus'; 'max_modulus [1]'
-#                in the common CSV dialect)
+#   xcol, ycol   the grid's columns, e.g. 'f [Hz]' and 'T [N m]' (as in the
+#                CSV header, docs/cli.md "CSV files")
+#   mcol         the modulus column (default 'max_modulus [1]')
 # The largest non-cyclic |lambda| of each grid point, grey where no
 # stationary solution exists; the axes span the grid's cells (from the data).
 if (!exists("csv")) csv = prefix.'.csv'
-if (!exists("mcol")) mcol = 'max_modulus'
+if (!exists("mcol")) mcol = 'max_modulus [1]'
 set datafile separator ','
 # the first line names the columns (columns are read by name, through variables)
 set datafile columnheaders
@@ -29,7 +29,7 @@ set cbrange [0.8:1.25]
 set cbtics (0.8, 0.9, 1, 1.1, 1.25)
 set palette defined (0 '#313695', 0.25 '#74add1', 0.5 '#ffffbf', 0.75 '#f46d43', 1 '#a50026')
 set object 1 rectangle from graph 0,0 to graph 1,1 behind fillcolor rgb '#bdbdbd' fillstyle solid 1.0 noborder
-present(c) = strcol('exists') eq 'true' || strcol('exists') eq '1'
+present(c) = strcol('exists') eq 'true'
 do for [fmt in 'png svg'] {
   if (fmt eq 'png') {
     set terminal pngcairo size 900,720 noenhanced font 'DejaVu Sans,11'

@@ -12,10 +12,10 @@ f0 = NaN; T0 = NaN; nb1 = 0; nb2 = 0; nb3 = 0
 stats "report_values.csv" using (f0 = column("f [Hz]") / 1000, T0 = column("T [N m]") * 1e3, \
     nb1 = column("map_3dof_existence [1]"), nb2 = column("map_3dof_stability [1]"), \
     nb3 = column("map_3dof_stick [1]"), 0) nooutput
-stats "map_3dof.csv" using (column("f") / 1000):(column("T") * 1e3) nooutput
+stats "map_3dof.csv" using (column("f [Hz]") / 1000):(column("T [N m]") * 1e3) nooutput
 xmin = STATS_min_x; xmax = STATS_max_x; ymin = STATS_min_y; ymax = STATS_max_y
 nx = 0
-stats "map_3dof.csv" using (nx = nx + (column("T") * 1e3 == ymin), 0) nooutput
+stats "map_3dof.csv" using (nx = nx + (column("T [N m]") * 1e3 == ymin), 0) nooutput
 ny = STATS_records / nx
 dx = (xmax - xmin) / (nx - 1); dy = (ymax - ymin) / (ny - 1)
 set xlabel "excitation frequency f [kHz]"
@@ -32,8 +32,8 @@ set object 1 rectangle from graph 0,0 to graph 1,1 behind fillcolor rgb "#bdbdbd
 set key at screen 0.5, screen 0.01 center bottom horizontal box opaque maxrows 2 width 1
 set bmargin 7
 unset grid
-bx(c) = column("f") / 1000
-by(c) = column("T") * 1e3
+bx(c) = column("f [Hz]") / 1000
+by(c) = column("T [N m]") * 1e3
 do for [fmt in "png svg"] {
   if (fmt eq "png") {
     set terminal pngcairo size 900,720 enhanced font "DejaVu Sans,11"
@@ -42,7 +42,7 @@ do for [fmt in "png svg"] {
   }
   set output "map_3dof.".fmt
   plot \
-    "map_3dof.csv" using (bx(0)):(by(0)):(column("exists") > 0 ? column("max_modulus") : NaN) with image notitle, \
+    "map_3dof.csv" using (bx(0)):(by(0)):(strcol("exists") eq "true" ? column("max_modulus [1]") : NaN) with image notitle, \
     "map_3dof_existence.csv" using (bx(0)):(by(0)) with lines lw 3 lc rgb "black" title (nb1 > 0 ? "solution stops existing" : ""), \
     "map_3dof_stability.csv" using (bx(0)):(by(0)) with lines lw 2.5 dt 2 lc rgb "white" title (nb2 > 0 ? "|λ| = 1" : ""), \
     "map_3dof_stick.csv" using (bx(0)):(by(0)) with lines lw 2.5 dt 4 lc rgb "#1e8449" title (nb3 > 0 ? "F_t = μ_0 F_n" : ""), \

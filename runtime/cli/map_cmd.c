@@ -17,6 +17,8 @@
 #include "diag.h"
 #include "json_out.h"
 #include "options.h"
+#include "plot_run.h"
+#include "sweep_out.h" /* cli_plot_csv_open */
 #include "report_map.h"
 #include "usm.h"
 
@@ -27,7 +29,7 @@ static void usage(FILE *out)
             "               [--y NAME --y-from A --y-to B] [--y-points N]\n"
             "               [--model 3dof|4dof] [--params FILE.json] [--set NAME=VALUE]...\n"
             "               [--t0 S] [--floquet-method NAME] [--rtol R] [--threads N] [--json]\n"
-            "               [--out FILE [--force]]\n"
+            "               [--out FILE] [--plot PREFIX] [--force]\n"
             "\n"
             "Stability map: at every point of a grid over two parameters, the stationary\n"
             "solution (full search) and the largest modulus of its Floquet multipliers.\n"
@@ -46,12 +48,18 @@ static void usage(FILE *out)
             "  --threads N         worker threads (default 2)\n"
             "  --out FILE          write to FILE instead of stdout; an existing FILE is\n"
             "                      kept unless --force is given\n"
-            "  --force             overwrite FILE\n"
+            "  --plot PREFIX       also write the CSV to PREFIX.csv and draw the map with\n"
+            "                      gnuplot: PREFIX.gp, PREFIX.png, PREFIX.svg; existing\n"
+            "                      files are kept unless --force is given\n"
+            "  --force             overwrite FILE and the --plot files\n"
             "  -h, --help          print this help\n"
             "\n"
             "Output: CSV (default), header\n"
-            "  X,Y,exists,roots,max_modulus,stable,theta,rotor_speed,mu_used,stick_admissible\n"
-            "one row per grid point, x fastest, \"nan\" where a value does not exist.  With\n"
+            "  X [unit],Y [unit],exists,roots,max_modulus [1],stable,theta [rad],\n"
+            "  rotor_speed [1/s],mu_used [1],stick_admissible,power_in [W],power_out [W],\n"
+            "  power_damping [W],power_slip [W],efficiency [1]\n"
+            "one row per grid point, x fastest, an empty field where a value does not\n"
+            "exist, true/false for yes/no.  With\n"
             "--json one object: model, parameters, t0, x, y, points[] and boundaries\n"
             "{existence, stability, stick}: [x, y] pairs where, along y, a solution starts\n"
             "or stops existing, |lambda| crosses 1, F_t = mu0 F_n (located by bisection).\n"
@@ -70,6 +78,7 @@ typedef struct map_args {
     int xpoints, ypoints, threads;
     double t0;
     const char *out;
+    const char *plot; /* --plot PREFIX, or NULL */
     int force, help;
 } map_args;
 
@@ -156,6 +165,11 @@ static int parse(map_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
             a->yname = value;
             continue;
         }
+        if ((r = cli_plot_option(argc, argv, &i, &a->plot, msg)) != CLI_OPT_NOT_MINE) {
+            if (r == CLI_OPT_ERROR)
+                return USM_EINPUT;
+            continue;
+        }
         if ((r = cli_option_value(argc, argv, &i, "--out", &value, msg)) != CLI_OPT_NOT_MINE) {
             if (r == CLI_OPT_ERROR)
                 return USM_EINPUT;
@@ -214,6 +228,37 @@ static FILE *open_out(const map_args *a, char msg[CLI_MSG_LEN])
     return f;
 }
 
+/* --plot: PREFIX.csv, then gnuplot on data/plots/map.gp.  A missing gnuplot
+ * is a warning (the CSV and PREFIX.gp are there to plot later). */
+static int plot(const map_args *a, const report_map *map)
+{
+    char msg[CLI_MSG_LEN], xcol[128], ycol[128];
+    FILE *f = cli_plot_csv_open(a->plot, a->force, msg);
+    if (!f) {
+        cli_error("%s", msg);
+        return USM_EINPUT;
+    }
+    int bad = report_map_write_csv(map, f) != 0;
+    if ((fclose(f) != 0) | bad) {
+        cli_error("--plot %s.csv: write error", a->plot);
+        return USM_EFAILED;
+    }
+    /* the header's first two columns (report_map.c) */
+    snprintf(xcol, sizeof xcol, "%s [%s]", map->x.param->name, map->x.param->unit);
+    snprintf(ycol, sizeof ycol, "%s [%s]", map->y.param->name, map->y.param->unit);
+    const char *names[] = {"xcol", "ycol", "mcol"}, *values[] = {xcol, ycol, "max_modulus [1]"};
+    int rc = cli_plot_render("map", a->plot, names, values, 3, msg);
+    if (rc == USM_ENOSOLUTION) {
+        cli_error("warning: %s", msg);
+        return USM_OK;
+    }
+    if (rc != USM_OK) {
+        cli_error("%s", msg);
+        return rc == USM_EINPUT ? USM_EINPUT : USM_EFAILED;
+    }
+    return USM_OK;
+}
+
 int cli_map_main(int argc, char **argv)
 {
     map_args a;
@@ -249,6 +294,10 @@ int cli_map_main(int argc, char **argv)
         cli_error("--out %s: file exists (use --force to overwrite it)", a.out);
         return USM_EINPUT;
     }
+    if (a.plot && cli_plot_csv_check(a.plot, a.force, msg) != USM_OK) {
+        cli_error("%s", msg);
+        return USM_EINPUT;
+    }
     status = report_map_run(&map, msg);
     if (status != USM_OK) {
         cli_error("%s", msg);
@@ -281,6 +330,8 @@ int cli_map_main(int argc, char **argv)
         cli_error("stdout: write error");
         status = USM_EFAILED;
     }
+    if (status == USM_OK && a.plot)
+        status = plot(&a, &map);
     if (map.floquet_failures > 0 && status == USM_OK)
         fprintf(stderr, "usm: map: the Floquet computation failed at %zu point(s) (max_modulus nan)\n",
                 map.floquet_failures);

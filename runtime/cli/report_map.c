@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "csv_out.h"
 #include "json_out.h"
 #include "usm_map.h"
 
@@ -38,6 +39,11 @@ static void copy_cell(const usm_map_cell *in, report_map_cell *c)
     c->rotor_speed = pt->exists ? pt->sol.rotor_speed : NAN;
     c->mu_used = pt->exists ? pt->sol.mu_used : NAN;
     c->stick_admissible = pt->exists && pt->sol.stick_admissible;
+    c->power_in = pt->exists ? pt->sol.power_in : NAN;
+    c->power_out = pt->exists ? pt->sol.power_out : NAN;
+    c->power_damping = pt->exists ? pt->sol.power_damping : NAN;
+    c->power_slip = pt->exists ? pt->sol.power_slip : NAN;
+    c->efficiency = pt->exists ? pt->sol.efficiency : NAN;
     snprintf(c->error, sizeof c->error, "%s", pt->error);
 }
 
@@ -114,34 +120,53 @@ void report_map_free(report_map *map)
 
 /* ---- output ------------------------------------------------------------------ */
 
-static void put_num(FILE *out, double v)
+/* The two axis columns of a header, "f [Hz],T [N m]". */
+static void axis_header(const report_map *map, cli_csv_column cols[2])
 {
-    if (isfinite(v))
-        fprintf(out, "%.10g", v);
-    else
-        fputs("nan", out);
+    cols[0] = (cli_csv_column){map->x.param->name, map->x.param->unit};
+    cols[1] = (cli_csv_column){map->y.param->name, map->y.param->unit};
 }
 
 int report_map_write_csv(const report_map *map, FILE *out)
 {
     const int nx = map->x.points, ny = map->y.points;
-    fprintf(out, "%s,%s,exists,roots,max_modulus,stable,theta,rotor_speed,mu_used,stick_admissible\n",
-            map->x.param->name, map->y.param->name);
+    cli_csv_column cols[] = {{NULL, NULL},          {NULL, NULL},
+                             {"exists", NULL},      {"roots", NULL},
+                             {"max_modulus", "1"},  {"stable", NULL},
+                             {"theta", "rad"},      {"rotor_speed", "1/s"},
+                             {"mu_used", "1"},      {"stick_admissible", NULL},
+                             {"power_in", "W"},     {"power_out", "W"},
+                             {"power_damping", "W"}, {"power_slip", "W"},
+                             {"efficiency", "1"}};
+    axis_header(map, cols);
+    cli_csv_header(out, cols, (int)(sizeof cols / sizeof cols[0]));
     for (int j = 0; j < ny; ++j)
         for (int i = 0; i < nx; ++i) {
             const report_map_cell *c = &map->cells[(size_t)j * nx + i];
-            put_num(out, c->x);
-            fputc(',', out);
-            put_num(out, c->y);
-            fprintf(out, ",%d,%d,", c->exists, c->roots);
-            put_num(out, c->max_modulus);
-            fprintf(out, ",%d,", c->floquet_ok ? c->stable : 0);
-            put_num(out, c->theta);
-            fputc(',', out);
-            put_num(out, c->rotor_speed);
-            fputc(',', out);
-            put_num(out, c->mu_used);
-            fprintf(out, ",%d\n", c->exists ? c->stick_admissible : 0);
+            char buf[32];
+            cli_csv_num(out, 1, c->x);
+            cli_csv_num(out, 0, c->y);
+            cli_csv_bool(out, 0, c->exists);
+            snprintf(buf, sizeof buf, "%d", c->roots);
+            cli_csv_text(out, 0, buf);
+            cli_csv_num(out, 0, c->max_modulus);
+            if (c->floquet_ok)
+                cli_csv_bool(out, 0, c->stable);
+            else
+                fputc(',', out); /* not known */
+            cli_csv_num(out, 0, c->theta);
+            cli_csv_num(out, 0, c->rotor_speed);
+            cli_csv_num(out, 0, c->mu_used);
+            if (c->exists)
+                cli_csv_bool(out, 0, c->stick_admissible);
+            else
+                fputc(',', out);
+            cli_csv_num(out, 0, c->power_in);
+            cli_csv_num(out, 0, c->power_out);
+            cli_csv_num(out, 0, c->power_damping);
+            cli_csv_num(out, 0, c->power_slip);
+            cli_csv_num(out, 0, c->efficiency);
+            fputc('\n', out);
         }
     return ferror(out) ? -1 : 0;
 }
@@ -150,15 +175,16 @@ int report_map_write_boundary_csv(const report_map *map, int kind, FILE *out)
 {
     const report_boundary_point *b = map->bnd[kind];
     const size_t n = map->nbnd[kind];
-    fprintf(out, "%s,%s\n", map->x.param->name, map->y.param->name);
+    cli_csv_column cols[2];
+    axis_header(map, cols);
+    cli_csv_header(out, cols, 2);
     for (size_t q = 0; q < n; ++q) {
         if (q > 0 && b[q].k != b[q - 1].k)
             fputs("\n\n", out); /* next block (gnuplot index) */
         else if (q > 0 && b[q].column != b[q - 1].column + 1)
             fputc('\n', out); /* a gap: columns without this change */
-        put_num(out, b[q].x);
-        fputc(',', out);
-        put_num(out, b[q].y);
+        cli_csv_num(out, 1, b[q].x);
+        cli_csv_num(out, 0, b[q].y);
         fputc('\n', out);
     }
     return ferror(out) ? -1 : 0;
@@ -202,6 +228,11 @@ json_t *report_map_json(const report_map *map)
             cli_json_put(pt, "rotor_speed", cli_json_real(c->rotor_speed), &ok);
             cli_json_put(pt, "mu_used", cli_json_real(c->mu_used), &ok);
             cli_json_put(pt, "stick_admissible", json_boolean(c->stick_admissible), &ok);
+            cli_json_put(pt, "power_in", cli_json_real(c->power_in), &ok);
+            cli_json_put(pt, "power_out", cli_json_real(c->power_out), &ok);
+            cli_json_put(pt, "power_damping", cli_json_real(c->power_damping), &ok);
+            cli_json_put(pt, "power_slip", cli_json_real(c->power_slip), &ok);
+            cli_json_put(pt, "efficiency", cli_json_real(c->efficiency), &ok); /* null: power_in <= 0 */
         }
         if (c->floquet_ok) {
             cli_json_put(pt, "max_modulus", cli_json_real(c->max_modulus), &ok);

@@ -29,6 +29,9 @@ typedef struct report_map_cell {
     int stable;
     double theta, rotor_speed, mu_used; /* primary root (NaN unless exists) */
     int stick_admissible;
+    /* power of the primary root [W] and power_out / power_in (NaN unless
+     * exists; efficiency NaN also when power_in <= 0) */
+    double power_in, power_out, power_damping, power_slip, efficiency;
     char error[USM_MSG_LEN]; /* why no solution, or why the multipliers failed */
 } report_map_cell;
 
@@ -71,13 +74,15 @@ typedef struct report_map {
 int report_map_run(report_map *map, char msg[CLI_MSG_LEN]);
 void report_map_free(report_map *map);
 
-/* CSV: header "x_NAME,y_NAME,exists,roots,max_modulus,stable,theta,rotor_speed,
- * mu_used,stick_admissible" then one row per point, x fastest.  Values that
- * do not exist (no solution, no multipliers) are written "nan".
+/* CSV in the command's dialect (csv_out.h): header "X [UNIT],Y [UNIT],exists,
+ * roots,max_modulus [1],stable,theta [rad],rotor_speed [1/s],mu_used [1],
+ * stick_admissible,power_in [W],power_out [W],power_damping [W],
+ * power_slip [W],efficiency [1]" then one row per point, x fastest.  Values
+ * that do not exist (no solution, no multipliers) are empty fields.
  * 0, or -1 on a write error. */
 int report_map_write_csv(const report_map *map, FILE *out);
 
-/* CSV of one boundary: "x,y"; points of the k-th change of each column form
+/* CSV of one boundary: "X [UNIT],Y [UNIT]"; points of the k-th change of each column form
  * a block, blocks separated by two blank lines (gnuplot "index"), a single
  * blank line where a column has no k-th change (breaks the line). */
 int report_map_write_boundary_csv(const report_map *map, int kind, FILE *out);

@@ -15,6 +15,7 @@
 #include "diag.h"
 #include "json_out.h"
 #include "options.h"
+#include "plot_run.h"
 #include "sweep_out.h"
 #include "usm_sweep.h"
 
@@ -24,7 +25,7 @@ static void usage(FILE *out)
             "usage: usm sweep --over NAME --from A --to B [--points N]\n"
             "                 [--model 3dof|4dof] [--params FILE.json] [--set NAME=VALUE]...\n"
             "                 [--t0 S] [--floquet-method NAME] [--rtol R] [--threads N]\n"
-            "                 [--no-floquet] [--json]\n"
+            "                 [--no-floquet] [--json] [--plot PREFIX [--force]]\n"
             "                 [--extremum Q]... [--crossing Q=V]...\n"
             "\n"
             "Follow the stationary solution of smallest tilt at A through the parameter\n"
@@ -52,11 +53,17 @@ static void usage(FILE *out)
             "                      branch (repeatable); Q is one of theta, alpha,\n"
             "                      rotor_speed, speed (= -rotor_speed), F_n, F_t, mu_used, v_rel\n"
             "  --crossing Q=V      an event where quantity Q crosses V (repeatable)\n"
+            "  --plot PREFIX       also write the CSV to PREFIX.csv and draw it with gnuplot\n"
+            "                      (rotor speed and tilt against NAME): PREFIX.gp,\n"
+            "                      PREFIX.png, PREFIX.svg; existing files are kept unless\n"
+            "                      --force is given\n"
+            "  --force             overwrite the --plot files\n"
             "  -h, --help          print this help\n"
             "\n"
             "Output: CSV (default), header\n"
             "  NAME [unit],theta [rad],alpha [rad],rotor_speed [1/s],F_n [N],F_t [N],\n"
-            "  mu_needed [1],max_modulus [1],stable,converged,roots,error\n"
+            "  mu_needed [1],max_modulus [1],stable,converged,roots,error,power_in [W],\n"
+            "  power_out [W],power_damping [W],power_slip [W],efficiency [1]\n"
             "one row per grid value (empty fields where no solution exists; roots counts\n"
             "the stationary solutions there, the others lie on other branches, which the\n"
             "sweep never jumps to; error says why a point has no solution or why its\n"
@@ -93,7 +100,8 @@ typedef struct sweep_args {
     const char *over;
     double from, to, t0;
     int have_from, have_to;
-    int points, threads, floquet, help;
+    int points, threads, floquet, help, force;
+    const char *plot; /* --plot PREFIX, or NULL */
     usm_floquet_options floquet_opt;
     usm_sweep_monitor monitors[NQUANTITIES]; /* one per quantity named */
     int nmonitors;
@@ -170,6 +178,12 @@ static int own_option(sweep_args *a, int argc, char **argv, int *i, char msg[CLI
         a->floquet = 0;
         return CLI_OPT_TAKEN;
     }
+    if (strcmp(argv[*i], "--force") == 0) {
+        a->force = 1;
+        return CLI_OPT_TAKEN;
+    }
+    if ((r = cli_plot_option(argc, argv, i, &a->plot, msg)) != CLI_OPT_NOT_MINE)
+        return r;
     if ((r = cli_option_value(argc, argv, i, "--over", &value, msg)) != CLI_OPT_NOT_MINE) {
         if (r == CLI_OPT_TAKEN)
             a->over = value;
@@ -237,7 +251,14 @@ static int parse(sweep_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
                 !a->over ? "--over" : !a->have_from ? "--from" : "--to");
         return USM_EINPUT;
     }
-    return cli_common_finish(&a->common, msg);
+    if (a->force && !a->plot) {
+        cli_msg(msg, "--force: only with --plot (it overwrites the --plot files)");
+        return USM_EINPUT;
+    }
+    if (cli_common_finish(&a->common, msg) != USM_OK)
+        return USM_EINPUT;
+    /* refused before the (long) sweep, not after it */
+    return a->plot ? cli_plot_csv_check(a->plot, a->force, msg) : USM_OK;
 }
 
 /* ---- progress bar ------------------------------------------------------------ */
@@ -286,6 +307,37 @@ static int emit(const sweep_args *a, const usm_sweep *s)
     return USM_OK;
 }
 
+/* --plot: PREFIX.csv, then gnuplot on data/plots/sweep.gp.  A missing
+ * gnuplot is a warning (the CSV and PREFIX.gp are there to plot later). */
+static int plot(const sweep_args *a, const usm_sweep *s)
+{
+    char msg[CLI_MSG_LEN], xcol[128];
+    const usm_param_info *info = usm_params_find(a->over);
+    FILE *f = cli_plot_csv_open(a->plot, a->force, msg);
+    if (!f) {
+        cli_error("%s", msg);
+        return USM_EINPUT;
+    }
+    int bad = cli_sweep_csv(s, a->over, a->floquet, f) != 0;
+    if ((fclose(f) != 0) | bad) {
+        cli_error("--plot %s.csv: write error", a->plot);
+        return USM_EFAILED;
+    }
+    /* the header's first column (sweep_out.c) */
+    snprintf(xcol, sizeof xcol, "%s [%s]", a->over, info ? info->unit : "");
+    const char *names[] = {"xcol"}, *values[] = {xcol};
+    int rc = cli_plot_render("sweep", a->plot, names, values, 1, msg);
+    if (rc == USM_ENOSOLUTION) {
+        cli_error("warning: %s", msg);
+        return USM_OK;
+    }
+    if (rc != USM_OK) {
+        cli_error("%s", msg);
+        return rc == USM_EINPUT ? USM_EINPUT : USM_EFAILED;
+    }
+    return USM_OK;
+}
+
 static int run(const sweep_args *a)
 {
     const cli_common *c = &a->common;
@@ -320,8 +372,11 @@ static int run(const sweep_args *a)
     else if (status != USM_OK) {
         cli_error("sweep: %s", usm_sweep_message(s));
         status = USM_EFAILED;
-    } else
+    } else {
         status = emit(a, s);
+        if (status == USM_OK && a->plot)
+            status = plot(a, s);
+    }
     usm_sweep_free(s);
     return status;
 }

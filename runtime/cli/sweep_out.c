@@ -1,10 +1,18 @@
 /* Output of a sweep: CSV rows or one JSON object. */
+#define _POSIX_C_SOURCE 200809L
+
 #include "sweep_out.h"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <unistd.h>
 
 #include <math.h>
 #include <string.h>
 
+#include "csv_out.h"
 #include "json_out.h"
+#include "plot_run.h"
 #include "steady_out.h"
 
 /* A point carries the keys of `usm steady --json` for one root, so that a
@@ -109,7 +117,8 @@ int cli_sweep_csv(const usm_sweep *s, const char *over, int floquet, FILE *out)
 {
     const usm_param_info *info = usm_params_find(over);
     fprintf(out, "%s [%s],theta [rad],alpha [rad],rotor_speed [1/s],F_n [N],F_t [N],"
-                 "mu_needed [1],max_modulus [1],stable,converged,roots,error\n",
+                 "mu_needed [1],max_modulus [1],stable,converged,roots,error,"
+                 "power_in [W],power_out [W],power_damping [W],power_slip [W],efficiency [1]\n",
             over, info ? info->unit : "");
     for (size_t i = 0; i < usm_sweep_count(s); ++i) {
         const usm_sweep_point *pt = usm_sweep_point_at(s, i);
@@ -119,7 +128,7 @@ int cli_sweep_csv(const usm_sweep *s, const char *over, int floquet, FILE *out)
         if (!pt->converged) {
             fprintf(out, ",,,,,,,,,false,%d,", pt->roots);
             csv_text(out, pt->error);
-            fputc('\n', out);
+            fputs(",,,,,\n", out);
             continue;
         }
         const usm_steady_solution *r = &pt->sol;
@@ -136,6 +145,12 @@ int cli_sweep_csv(const usm_sweep *s, const char *over, int floquet, FILE *out)
             fputs(",,", out);
         fprintf(out, ",true,%d,", pt->roots);
         csv_text(out, pt->floquet_error);
+        /* appended last: scripts reading the columns above by position keep working */
+        cli_csv_num(out, 0, r->power_in);
+        cli_csv_num(out, 0, r->power_out);
+        cli_csv_num(out, 0, r->power_damping);
+        cli_csv_num(out, 0, r->power_slip);
+        cli_csv_num(out, 0, r->efficiency); /* empty: power_in <= 0 */
         fputc('\n', out);
     }
     for (size_t i = 0; i < usm_sweep_event_count(s); ++i) {
@@ -145,4 +160,37 @@ int cli_sweep_csv(const usm_sweep *s, const char *over, int floquet, FILE *out)
                 cli_shortest(buf, e->value), e->what);
     }
     return ferror(out) ? -1 : 0;
+}
+
+int cli_plot_csv_check(const char *prefix, int force, char msg[CLI_MSG_LEN])
+{
+    char path[4096];
+    if (cli_plot_check(prefix, force, msg) != USM_OK)
+        return USM_EINPUT;
+    snprintf(path, sizeof path, "%s.csv", prefix);
+    if (!force && access(path, F_OK) == 0) {
+        cli_msg(msg, "--plot %s: exists; refusing to overwrite it (use --force)", path);
+        return USM_EINPUT;
+    }
+    return USM_OK;
+}
+
+FILE *cli_plot_csv_open(const char *prefix, int force, char msg[CLI_MSG_LEN])
+{
+    char path[4096];
+    FILE *f;
+    snprintf(path, sizeof path, "%s.csv", prefix);
+    int fd = open(path, O_WRONLY | O_CREAT | (force ? O_TRUNC : O_EXCL), 0666);
+    if (fd < 0) {
+        if (errno == EEXIST)
+            cli_msg(msg, "--plot %s: exists; refusing to overwrite it (use --force)", path);
+        else
+            cli_msg(msg, "--plot %s: %s", path, strerror(errno));
+        return NULL;
+    }
+    if (!(f = fdopen(fd, "w"))) {
+        cli_msg(msg, "--plot %s: %s", path, strerror(errno));
+        close(fd);
+    }
+    return f;
 }
