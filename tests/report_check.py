@@ -12,7 +12,13 @@ Builds the report (--quick) into a temporary directory and checks that
    publishes, and no value is missing ("n/a", "not found");
  - a report usm wrote is overwritten, anything else only with --force;
  - `usm map` writes its CSV/JSON, the same for 1 and 2 threads, and rejects
-   bad options (exit 2, one line).
+   bad options (exit 2, one line);
+ - the design figures (issue 13): the datasheet (speed, power, efficiency vs
+   T) and the elasticity chart are linked and valid; report.json's power
+   numbers equal an independent `usm steady --json`, its sensitivities an
+   independent `usm sensitivity --json`; the datasheet CSV obeys
+   P_out = T w_R, eta = P_out / P_in and the power balance; the chart's CSV
+   holds the nonzero elasticities sorted by magnitude; section 8 quotes them.
 Exit 77 (ctest: skipped) when gnuplot is not installed.
 """
 import json
@@ -110,6 +116,7 @@ def check_report(out):
             ok("report.json holds the paper's values as loaded")
         else:
             fail("report.json: the paper's values differ from data/paper_values.json")
+        check_design(out, md, data)
 
     images = re.findall(r"!\[[^\]]*\]\(([^)\s]+)\)", md)
     links = [t for t in re.findall(r"(?<!!)\[[^\]]*\]\(([^)\s]+)\)", md)
@@ -196,6 +203,139 @@ def check_report(out):
             ok(f"report states {key!r}")
         else:
             fail(f"report does not state {key!r}")
+
+
+def close(a, b, rel=1e-9, absolute=1e-300):
+    return a is not None and b is not None and abs(a - b) <= max(rel * max(abs(a), abs(b)),
+                                                                 absolute)
+
+
+def read_csv(path):
+    import csv
+    with open(path, encoding="utf-8") as f:
+        return list(csv.DictReader(f))
+
+
+def num_or_none(x):
+    return float(x) if x not in ("", None) else None
+
+
+def check_design(out, md, data):
+    """The datasheet and the elasticity chart (issue 13 parts 1 and 2)."""
+    images = set(re.findall(r"!\[[^\]]*\]\(([^)\s]+)\)", md))
+    for fig in ("datasheet", "elasticity"):
+        if f"{fig}.png" in images and f"{fig}.svg" in md:
+            ok(f"report.md shows the {fig} figure")
+        else:
+            fail(f"report.md lacks the {fig} figure")
+    m = re.search(r"^## 8\. Design.*?(?=^## 9\.)", md, re.S | re.M)
+    sec = m.group(0) if m else ""
+    if not sec:
+        fail("no section 8 (design: power, efficiency and sensitivities)")
+    for model in ("3dof", "4dof"):
+        # power on the operating point against an independent `usm steady`
+        r = run("steady", "--model", model, "--json")
+        try:
+            st = json.loads(r.stdout)
+        except ValueError:
+            fail(f"usm steady --model {model} --json: exit {r.returncode} {r.stderr}")
+            continue
+        rep = data["model"][model]
+        keys = ("power_in", "power_out", "power_damping", "power_slip", "efficiency",
+                "rotor_speed")
+        bad = [k for k in keys if not close(rep.get(k), st.get(k), 1e-9, 1e-15)]
+        if bad:
+            fail(f"{model}: report.json's {bad} differ from usm steady --json")
+        else:
+            ok(f"{model}: report.json's power and efficiency equal usm steady --json")
+
+        # sensitivities against an independent `usm sensitivity`
+        r = run("sensitivity", "--model", model, "--of", "rotor_speed,max_modulus", "--json")
+        try:
+            sj = json.loads(r.stdout)["outputs"]
+        except (ValueError, KeyError):
+            fail(f"usm sensitivity --model {model} --json: exit {r.returncode} {r.stderr}")
+            continue
+        for out_name in ("rotor_speed", "max_modulus"):
+            rs = data["sensitivity"][model][out_name]
+            cmd = sj[out_name]
+            bad = [p for p, e in cmd["elasticity"].items()
+                   if not (e is None and rs["elasticity"][p] is None)
+                   and not close(e, rs["elasticity"][p], 1e-8, 1e-12)]
+            if close(rs["value"], cmd["value"], 1e-9) and not bad:
+                ok(f"{model} {out_name}: value and 19 elasticities equal usm sensitivity --json")
+            else:
+                fail(f"{model} {out_name}: differs from usm sensitivity --json "
+                     f"({rs['value']} vs {cmd['value']}; {bad})")
+            # ranked: the nonzero ones, by decreasing magnitude
+            want = sorted((p for p, e in cmd["elasticity"].items() if e),
+                          key=lambda p: -abs(cmd["elasticity"][p]))
+            got = [x["parameter"] for x in rs["ranked"]]
+            mags = [abs(cmd["elasticity"][p]) for p in got]
+            if sorted(got) == sorted(want) and mags == sorted(mags, reverse=True):
+                ok(f"{model} {out_name}: {len(got)} nonzero elasticities ranked by magnitude")
+            else:
+                fail(f"{model} {out_name}: ranking {got} is not {want}")
+            rows = read_csv(os.path.join(out, f"elasticity_{out_name}_{model}.csv"))
+            if [r_["parameter"] for r_ in rows] == got and all(
+                    close(float(r_["elasticity [1]"]), x["elasticity"], 1e-12)
+                    for r_, x in zip(rows, rs["ranked"])):
+                ok(f"elasticity_{out_name}_{model}.csv holds the ranking")
+            else:
+                fail(f"elasticity_{out_name}_{model}.csv differs from report.json's ranking")
+            top = rs["ranked"][0] if rs["ranked"] else None
+            if top and (f"{top['parameter']} ({top['elasticity']:+.3g})" in sec or
+                        f"{top['parameter']} {top['elasticity']:+.3g})" in sec):
+                ok(f"section 8 quotes the largest {model} {out_name} elasticity")
+            else:
+                fail(f"section 8 does not quote the largest {model} {out_name} elasticity")
+
+        # the datasheet's data: closed-form identities at every point
+        rows = read_csv(os.path.join(out, f"datasheet_{model}.csv"))
+        worst = 0.0
+        n = 0
+        for r_ in rows:
+            if r_["converged"] != "true":
+                continue
+            T = float(r_["T [N m]"])
+            w = float(r_["speed [1/s]"])
+            pin, pout = float(r_["power_in [W]"]), float(r_["power_out [W]"])
+            pd, ps = float(r_["power_damping [W]"]), float(r_["power_slip [W]"])
+            eta = num_or_none(r_["efficiency [1]"])
+            worst = max(worst, abs(pout - T * w) / max(abs(pin), 1e-300),
+                        abs(pin - pout - pd - ps) / abs(pin),
+                        abs(eta - pout / pin) if eta is not None else 0.0)
+            n += 1
+        if n >= 10 and worst < 1e-9:
+            ok(f"datasheet_{model}.csv: {n} points, P_out = T w_R, balance and eta = P_out/P_in "
+               f"to {worst:.1e}")
+        else:
+            fail(f"datasheet_{model}.csv: {n} points, worst relative {worst:.2e}")
+        # its first point (T = 0) against an independent `usm steady --set T=0`
+        r = run("steady", "--model", model, "--set", "T=0", "--json")
+        try:
+            st0 = json.loads(r.stdout)
+            first = rows[0]
+            good = float(first["T [N m]"]) == 0 and close(float(first["speed [1/s]"]),
+                                                          -st0["rotor_speed"], 1e-7) \
+                and close(float(first["power_in [W]"]), st0["power_in"], 1e-7)
+        except (ValueError, KeyError, IndexError):
+            good = False
+        if good:
+            ok(f"datasheet_{model}.csv at T = 0 equals usm steady --set T=0")
+        else:
+            fail(f"datasheet_{model}.csv at T = 0 differs from usm steady --set T=0")
+        # the key numbers: the grid maximum of the efficiency
+        ds = data["datasheet"][model]
+        cands = [float(r_["efficiency [1]"]) for r_ in rows if r_["converged"] == "true"
+                 and r_["efficiency [1]"] and (model == "4dof" or
+                                               r_["stick_admissible"] == "true")]
+        if cands and close(max(cands), ds["efficiency_max"], 1e-12) and \
+                f"{ds['efficiency_max']:.3g} at T = {ds['efficiency_max_T_Nmm']:.3g} N mm" in sec:
+            ok(f"{model}: largest efficiency {ds['efficiency_max']:.3g} from the CSV, quoted")
+        else:
+            fail(f"{model}: datasheet efficiency_max {ds.get('efficiency_max')} vs CSV "
+                 f"{max(cands) if cands else None}")
 
 
 def expect_bad(args, field):

@@ -133,6 +133,14 @@ def main():
             figures = len(set(re.findall(r"!\[[^\]]*\]\(([^)\s]+\.png)\)", f.read())))
         with open(os.path.join(out, "report.html"), encoding="utf-8") as f:
             html = f.read()
+        # the design figures of issue 13 are inlined like the others
+        for cap in ("Motor datasheet: rotor speed, output power and efficiency",
+                    "Elasticities of rotor speed and of the largest Floquet modulus"):
+            if re.search(r"<figure><svg(?:(?!</figure>).)*</svg>\s*<figcaption>" + re.escape(cap),
+                         html, re.S):
+                ok(f"report.html inlines the figure {cap!r}")
+            else:
+                fail(f"report.html lacks the figure {cap!r}")
         fetching = re.findall(r"<(?:img|link|script)\b[^>]*>", html)
         if fetching:
             fail(f"report.html fetches other files: {fetching[:3]}")
@@ -153,7 +161,7 @@ def main():
                            ".map(e => { const r = e.getBoundingClientRect();"
                            " return [r.width, r.height, e.querySelectorAll('path').length]; }))"
             )["result"]["value"])
-            if len(sizes) != figures or figures < 7:
+            if len(sizes) != figures or figures < 9:
                 fail(f"{len(sizes)} inline SVG figures, report.md has {figures}")
             else:
                 ok(f"{len(sizes)} figures inline, as in report.md")

@@ -19,6 +19,7 @@
 #include "diag.h"
 #include "report_map.h"
 #include "usm.h"
+#include "usm_design.h"
 #include "usm_sweep.h"
 
 /* ---- the paper's published values (report_paper.c) ------------------------ */
@@ -147,6 +148,12 @@ typedef struct report_data {
     report_map map[REPORT_NMODELS];
     int have_map[REPORT_NMODELS];
 
+    /* sensitivities of the primary solution at the paper's point (issue 13):
+     * have_sens[k] = 0 when usm_sensitivity_compute failed (sens_note says why) */
+    usm_sensitivity_result sens[REPORT_NMODELS];
+    int have_sens[REPORT_NMODELS];
+    char sens_note[REPORT_NMODELS][USM_MSG_LEN];
+
     double seconds[4]; /* timing: tables, curves, maps, plots */
 } report_data;
 
@@ -175,6 +182,8 @@ enum {
     REPORT_FIG_MULT_4DOF,
     REPORT_FIG_MAP_3DOF,
     REPORT_FIG_MAP_4DOF,
+    REPORT_FIG_DATASHEET,  /* speed, power_out, efficiency vs T (the T curves) */
+    REPORT_FIG_ELASTICITY, /* elasticities of rotor_speed and max_modulus */
     REPORT_NFIGURES
 };
 extern const report_figure report_figures[REPORT_NFIGURES];
@@ -185,6 +194,20 @@ extern const report_figure report_figures[REPORT_NFIGURES];
  * interrupted before report.md still leaves it), so the next run replaces them. */
 #define REPORT_MANIFEST ".usm-report"
 #define REPORT_MANIFEST_MARKER "usm report: files written by `usm report` (the next run replaces them)"
+
+/* The outputs whose elasticities the report charts (usm_design.h indices). */
+#define REPORT_NSENS_OUT 2
+extern const int report_sens_outputs[REPORT_NSENS_OUT];
+
+/* Elasticity (p_j / y) dy/dp_j of output k (as `usm sensitivity`): NaN where
+ * the derivative is undefined or y = 0. */
+double report_elasticity(const usm_params *p, const usm_sensitivity_result *r, int k, int j);
+/* Parameter indices j of output k with a nonzero elasticity, sorted by
+ * decreasing |elasticity| (ties in usm_params order); returns their count
+ * (0 when the derivative is undefined).  The parameters the output does not
+ * depend on (elasticity exactly 0) are left out. */
+int report_elasticity_order(const usm_params *p, const usm_sensitivity_result *r, int k,
+                            int idx[USM_NPARAMS]);
 
 /* Every file name `usm report` writes into its directory (NULL-terminated). */
 extern const char *const report_files[];

@@ -228,6 +228,60 @@ static int run_curve(report_curve *cv, const usm_model *m, const usm_params *p, 
     return USM_OK;
 }
 
+/* ---- sensitivities (usm_design.h) ----------------------------------------------- */
+
+const int report_sens_outputs[REPORT_NSENS_OUT] = {USM_SENS_ROTOR_SPEED, USM_SENS_MAX_MODULUS};
+
+double report_elasticity(const usm_params *p, const usm_sensitivity_result *r, int k, int j)
+{
+    const double y = r->value[k], pj = usm_params_get(p, &usm_param_table[j]);
+    if (!r->defined[k] || y == 0)
+        return NAN;
+    if (r->d[k][j] == 0)
+        return 0.0;
+    return pj / y * r->d[k][j];
+}
+
+int report_elasticity_order(const usm_params *p, const usm_sensitivity_result *r, int k,
+                            int idx[USM_NPARAMS])
+{
+    double e[USM_NPARAMS];
+    int n = 0;
+    for (int j = 0; j < USM_NPARAMS; ++j) {
+        e[j] = report_elasticity(p, r, k, j);
+        if (isfinite(e[j]) && e[j] != 0)
+            idx[n++] = j;
+    }
+    /* insertion sort: 19 entries, stable, so ties keep usm_params order */
+    for (int a = 1; a < n; ++a)
+        for (int b = a; b > 0 && fabs(e[idx[b]]) > fabs(e[idx[b - 1]]); --b) {
+            int t = idx[b];
+            idx[b] = idx[b - 1];
+            idx[b - 1] = t;
+        }
+    return n;
+}
+
+/* Sensitivities of each model's primary solution at the report's parameters.
+ * A failure (a fold, a failed exponential) is shown in the report, not an
+ * error of the report: have_sens = 0 and sens_note says why. */
+static int sensitivities(report_data *d, char msg[CLI_MSG_LEN])
+{
+    for (int k = 0; k < REPORT_NMODELS; ++k) {
+        usm_sensitivity *s = usm_sensitivity_alloc(d->model[k].model);
+        if (!s) {
+            cli_msg(msg, "out of memory");
+            return USM_EFAILED;
+        }
+        d->have_sens[k] = usm_sensitivity_compute(s, &d->params, &d->model[k].sol, 1,
+                                                  &d->sens[k]) == USM_OK;
+        snprintf(d->sens_note[k], USM_MSG_LEN, "%s",
+                 d->have_sens[k] ? "" : usm_sensitivity_message(s));
+        usm_sensitivity_free(s);
+    }
+    return USM_OK;
+}
+
 /* ---- the whole computation ------------------------------------------------------- */
 
 static int model_tables(report_data *d, int k, solver *s, char msg[CLI_MSG_LEN])
@@ -335,6 +389,8 @@ int report_compute(report_data *d, char msg[CLI_MSG_LEN])
     if ((st = parameter_checks(d, &s[REPORT_3DOF], msg)) != USM_OK)
         goto done;
     if ((st = variants_side_by_side(d, msg)) != USM_OK)
+        goto done;
+    if ((st = sensitivities(d, msg)) != USM_OK)
         goto done;
     d->seconds[0] = report_now() - t;
     t = report_now();

@@ -104,6 +104,11 @@ static json_t *solution(const usm_steady_solution *s, double f)
     flag(o, "stick_admissible", s->stick_admissible);
     num(o, "contact_moment_mNm", s->F_n * s->R_star * 1e3);
     num(o, "speed_ratio", TWO_PI * f / fabs(s->rotor_speed));
+    num(o, "power_in", s->power_in);
+    num(o, "power_out", s->power_out);
+    num(o, "power_damping", s->power_damping);
+    num(o, "power_slip", s->power_slip);
+    num(o, "efficiency", s->efficiency);
     return o;
 }
 
@@ -423,6 +428,115 @@ static json_t *variants(const report_data *d)
     return a;
 }
 
+/* The datasheet's key numbers on the grid of the load curve (sweep over T):
+ * maxima of efficiency and output power, where they lie, the no-load speed.
+ * stick_only: the maxima only where stick is admissible (the stick model
+ * continued beyond its stick limit no longer describes the motor). */
+static json_t *datasheet_model(const report_curve *cv, int stick_only)
+{
+    json_t *o = json_object();
+    const size_t n = cv->sweep ? usm_sweep_count(cv->sweep) : 0;
+    const usm_sweep_point *best_eta = NULL, *best_p = NULL, *first = NULL;
+    int converged = 0;
+    for (size_t i = 0; i < n; ++i) {
+        const usm_sweep_point *pt = usm_sweep_point_at(cv->sweep, i);
+        if (!pt->converged)
+            continue;
+        ++converged;
+        if (!first)
+            first = pt;
+        if (stick_only && !pt->sol.stick_admissible)
+            continue;
+        if (isfinite(pt->sol.efficiency) &&
+            (!best_eta || pt->sol.efficiency > best_eta->sol.efficiency))
+            best_eta = pt;
+        if (!best_p || pt->sol.power_out > best_p->sol.power_out)
+            best_p = pt;
+    }
+    integer(o, "points", (long long)n);
+    integer(o, "converged", converged);
+    num(o, "T_from_Nmm", cv->from * 1e3);
+    num(o, "T_to_Nmm", cv->to * 1e3);
+    num(o, "speed_first", first ? -first->sol.rotor_speed : NAN);
+    num(o, "T_first_Nmm", first ? first->value * 1e3 : NAN);
+    num(o, "efficiency_max", best_eta ? best_eta->sol.efficiency : NAN);
+    num(o, "efficiency_max_T", best_eta ? best_eta->value : NAN);
+    num(o, "efficiency_max_T_Nmm", best_eta ? best_eta->value * 1e3 : NAN);
+    num(o, "efficiency_max_speed", best_eta ? -best_eta->sol.rotor_speed : NAN);
+    num(o, "efficiency_max_power_out", best_eta ? best_eta->sol.power_out : NAN);
+    num(o, "power_out_max", best_p ? best_p->sol.power_out : NAN);
+    num(o, "power_out_max_mW", best_p ? best_p->sol.power_out * 1e3 : NAN);
+    num(o, "power_out_max_T", best_p ? best_p->value : NAN);
+    num(o, "power_out_max_T_Nmm", best_p ? best_p->value * 1e3 : NAN);
+    num(o, "power_out_max_efficiency", best_p ? best_p->sol.efficiency : NAN);
+    return o;
+}
+
+static json_t *datasheet(const report_data *d)
+{
+    json_t *o = json_object();
+    for (int k = 0; k < REPORT_NMODELS; ++k)
+        json_object_set_new(o, tag[k], datasheet_model(&d->curve[REPORT_CURVE_T][k], k == REPORT_3DOF));
+    return o;
+}
+
+/* One output's sensitivities: value, every elasticity and derivative by
+ * parameter name, and the nonzero ones ranked by magnitude. */
+static json_t *sens_output(const report_data *d, int k, int out)
+{
+    const usm_sensitivity_result *r = &d->sens[k];
+    json_t *o = json_object(), *e = json_object(), *dd = json_object(), *ranked = json_array();
+    int idx[USM_NPARAMS];
+    const int n = d->have_sens[k] ? report_elasticity_order(&d->params, r, out, idx) : 0;
+    const int defined = d->have_sens[k] && r->defined[out];
+    num(o, "value", d->have_sens[k] ? r->value[out] : NAN);
+    flag(o, "defined", defined);
+    str(o, "why", !d->have_sens[k] ? d->sens_note[k] : defined ? "" : r->why[out]);
+    for (int j = 0; j < USM_NPARAMS; ++j) {
+        num(e, usm_param_table[j].name, report_elasticity(&d->params, r, out, j));
+        num(dd, usm_param_table[j].name, defined ? r->d[out][j] : NAN);
+    }
+    for (int i = 0; i < n; ++i) {
+        json_t *x = json_object();
+        const double el = report_elasticity(&d->params, r, out, idx[i]);
+        integer(x, "rank", i + 1);
+        str(x, "parameter", usm_param_table[idx[i]].name);
+        num(x, "elasticity", el);
+        num(x, "abs_elasticity", fabs(el));
+        num(x, "d", r->d[out][idx[i]]);
+        json_array_append_new(ranked, x);
+    }
+    integer(o, "nonzero", n);
+    integer(o, "zero", defined ? USM_NPARAMS - n : 0);
+    json_object_set_new(o, "elasticity", e);
+    json_object_set_new(o, "d", dd);
+    json_object_set_new(o, "ranked", ranked);
+    if (out == USM_SENS_MAX_MODULUS && n > 0) {
+        /* relative change of the dominant parameter that brings the largest
+         * modulus to 1, to first order: (1 - y) / (y e) */
+        const double y = r->value[out], el = report_elasticity(&d->params, r, out, idx[0]);
+        num(o, "margin", 1.0 - y);
+        num(o, "to_unstable_percent", 100.0 * (1.0 - y) / (y * el));
+        num(o, "to_unstable_abs_percent", fabs(100.0 * (1.0 - y) / (y * el)));
+    }
+    return o;
+}
+
+static json_t *sensitivity(const report_data *d)
+{
+    json_t *o = json_object();
+    for (int k = 0; k < REPORT_NMODELS; ++k) {
+        json_t *m = json_object();
+        flag(m, "ok", d->have_sens[k]);
+        str(m, "note", d->sens_note[k]);
+        for (int i = 0; i < REPORT_NSENS_OUT; ++i)
+            json_object_set_new(m, usm_sensitivity_output_name(report_sens_outputs[i]),
+                                sens_output(d, k, report_sens_outputs[i]));
+        json_object_set_new(o, tag[k], m);
+    }
+    return o;
+}
+
 json_t *report_json(const report_data *d, int plots_ok, const char *plot_note)
 {
     json_t *o = json_object(), *maps = json_array(), *sec = json_object(), *models = json_object();
@@ -457,6 +571,12 @@ json_t *report_json(const report_data *d, int plots_ok, const char *plot_note)
     json_object_set_new(o, "figures_floquet", figures(REPORT_FIG_MULT_3DOF, REPORT_FIG_MAP_3DOF));
     json_object_set_new(o, "figures_curves", figures(REPORT_FIG_SPEED_F, REPORT_FIG_MULT_3DOF));
     json_object_set_new(o, "figures", figures(0, REPORT_NFIGURES));
+    json_object_set_new(o, "figures_datasheet",
+                        figures(REPORT_FIG_DATASHEET, REPORT_FIG_DATASHEET + 1));
+    json_object_set_new(o, "figures_elasticity",
+                        figures(REPORT_FIG_ELASTICITY, REPORT_FIG_ELASTICITY + 1));
+    json_object_set_new(o, "datasheet", datasheet(d));
+    json_object_set_new(o, "sensitivity", sensitivity(d));
     for (int k = 0; k < REPORT_NMODELS; ++k)
         if (d->have_map[k])
             json_array_append_new(maps, map_summary(&d->map[k], k == REPORT_3DOF

@@ -30,6 +30,8 @@ const report_figure report_figures[REPORT_NFIGURES] = {
     {"fig14_multipliers_4dof", "Floquet multipliers, 4-DOF slip model (paper Fig. 14, Table 4)"},
     {"map_3dof", "Stability map f x T, 3-DOF stick model"},
     {"map_4dof", "Stability map f x T, 4-DOF slip model"},
+    {"datasheet", "Motor datasheet: rotor speed, output power and efficiency vs load torque"},
+    {"elasticity", "Elasticities of rotor speed and of the largest Floquet modulus at the paper's point"},
 };
 
 const char *const report_files[] = {
@@ -49,6 +51,10 @@ const char *const report_files[] = {
     "map_3dof_existence.csv", "map_3dof_stability.csv", "map_3dof_stick.csv",
     "map_4dof.gp", "map_4dof.png", "map_4dof.svg", "map_4dof.csv",
     "map_4dof_existence.csv", "map_4dof_stability.csv", "map_4dof_stick.csv",
+    "datasheet.gp", "datasheet.png", "datasheet.svg", "datasheet_3dof.csv", "datasheet_4dof.csv",
+    "elasticity.gp", "elasticity.png", "elasticity.svg",
+    "elasticity_rotor_speed_3dof.csv", "elasticity_rotor_speed_4dof.csv",
+    "elasticity_max_modulus_3dof.csv", "elasticity_max_modulus_4dof.csv",
     NULL,
 };
 
@@ -115,6 +121,52 @@ static void write_curve_csv(FILE *f, const report_curve *cv)
         cli_csv_num(f, 0, ok ? s->v_rel : NAN);
         cli_csv_num(f, 0, fl ? pt->floquet.max_modulus : NAN);
         cli_csv_bool(f, 0, fl && pt->floquet.stable);
+        fputc('\n', f);
+    }
+}
+
+/* The datasheet: the load curve (sweep over T) with power and efficiency. */
+static void write_datasheet_csv(FILE *f, const report_curve *cv)
+{
+    const size_t n = cv->sweep ? usm_sweep_count(cv->sweep) : 0;
+    static const cli_csv_column cols[] = {
+        {"T", "N m"},          {"converged", NULL},    {"speed", "1/s"},
+        {"power_in", "W"},     {"power_out", "W"},     {"power_damping", "W"},
+        {"power_slip", "W"},   {"efficiency", "1"},    {"stick_admissible", NULL},
+        {"stable", NULL}};
+    cli_csv_header(f, cols, (int)(sizeof cols / sizeof cols[0]));
+    for (size_t i = 0; i < n; ++i) {
+        const usm_sweep_point *pt = usm_sweep_point_at(cv->sweep, i);
+        const usm_steady_solution *s = &pt->sol;
+        const int ok = pt->converged;
+        cli_csv_num(f, 1, pt->value);
+        cli_csv_bool(f, 0, ok);
+        cli_csv_num(f, 0, ok ? -s->rotor_speed : NAN);
+        cli_csv_num(f, 0, ok ? s->power_in : NAN);
+        cli_csv_num(f, 0, ok ? s->power_out : NAN);
+        cli_csv_num(f, 0, ok ? s->power_damping : NAN);
+        cli_csv_num(f, 0, ok ? s->power_slip : NAN);
+        cli_csv_num(f, 0, ok ? s->efficiency : NAN);
+        cli_csv_bool(f, 0, ok && s->stick_admissible);
+        cli_csv_bool(f, 0, ok && pt->has_floquet && pt->floquet.stable);
+        fputc('\n', f);
+    }
+}
+
+/* The nonzero elasticities of one output, by decreasing magnitude. */
+static void write_elasticity_csv(FILE *f, const report_data *d, int k, int out)
+{
+    static const cli_csv_column cols[] = {
+        {"rank", NULL}, {"parameter", NULL}, {"elasticity", "1"}, {"abs_elasticity", "1"}};
+    int idx[USM_NPARAMS];
+    const int n = d->have_sens[k] ? report_elasticity_order(&d->params, &d->sens[k], out, idx) : 0;
+    cli_csv_header(f, cols, 4);
+    for (int i = 0; i < n; ++i) {
+        const double e = report_elasticity(&d->params, &d->sens[k], out, idx[i]);
+        cli_csv_num(f, 1, i + 1);
+        cli_csv_text(f, 0, usm_param_table[idx[i]].name);
+        cli_csv_num(f, 0, e);
+        cli_csv_num(f, 0, fabs(e));
         fputc('\n', f);
     }
 }
@@ -214,7 +266,10 @@ static int copy_script(const char *dir, const char *name, char msg[CLI_MSG_LEN])
     return report_close(f, dir, file, msg);
 }
 
-typedef enum { DATA_CURVE, DATA_MULTIPLIERS, DATA_VALUES, DATA_MAP, DATA_BOUNDARY } data_kind;
+typedef enum {
+    DATA_CURVE, DATA_MULTIPLIERS, DATA_VALUES, DATA_MAP, DATA_BOUNDARY, DATA_DATASHEET,
+    DATA_ELASTICITY
+} data_kind;
 
 static int write_data_file(const report_data *d, const char *dir, const char *name,
                            data_kind kind, int k, int c, char msg[CLI_MSG_LEN])
@@ -232,6 +287,8 @@ static int write_data_file(const report_data *d, const char *dir, const char *na
     case DATA_VALUES: write_values_csv(f, d); break;
     case DATA_MAP: report_map_write_csv(&d->map[k], f); break;
     case DATA_BOUNDARY: report_map_write_boundary_csv(&d->map[k], c, f); break;
+    case DATA_DATASHEET: write_datasheet_csv(f, &d->curve[REPORT_CURVE_T][k]); break;
+    case DATA_ELASTICITY: write_elasticity_csv(f, d, k, c); break;
     }
     return report_close(f, dir, name, msg);
 }
@@ -253,6 +310,16 @@ int report_write_data(const report_data *d, const char *dir, char msg[CLI_MSG_LE
         snprintf(name, sizeof name, "%s.csv", report_figures[mult].name);
         if (st == USM_OK)
             st = write_data_file(d, dir, name, DATA_MULTIPLIERS, k, 0, msg);
+        snprintf(name, sizeof name, "%s_%s.csv", report_figures[REPORT_FIG_DATASHEET].name,
+                 model_tag[k]);
+        if (st == USM_OK)
+            st = write_data_file(d, dir, name, DATA_DATASHEET, k, 0, msg);
+        for (int o = 0; o < REPORT_NSENS_OUT && st == USM_OK; ++o) {
+            const int out = report_sens_outputs[o];
+            snprintf(name, sizeof name, "%s_%s_%s.csv", report_figures[REPORT_FIG_ELASTICITY].name,
+                     usm_sensitivity_output_name(out), model_tag[k]);
+            st = write_data_file(d, dir, name, DATA_ELASTICITY, k, out, msg);
+        }
         if (!d->have_map[k])
             continue;
         snprintf(name, sizeof name, "%s.csv", report_figures[map].name);
