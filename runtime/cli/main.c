@@ -29,6 +29,7 @@ static const cli_command commands[] = {
     {"simulate", "start-up transient of the full model: CSV time history, settling, contact checks", cli_simulate_main},
     {"sensitivity", "derivatives and elasticities of the stationary outputs in every parameter", cli_sensitivity_main},
     {"optimize", "best design over parameter bounds under stability, stick and user constraints", cli_optimize_main},
+    {"tolerance", "Monte Carlo yield: stability and specs under parameter scatter", cli_tolerance_main},
 };
 #define NCOMMANDS (sizeof commands / sizeof commands[0])
 

@@ -1,0 +1,681 @@
+/* Monte Carlo tolerance studies (usm_tolerance.h): parsing, sampling, the
+ * blocks of samples on the worker pool, the serial run. */
+#define _POSIX_C_SOURCE 200809L
+#include <errno.h>
+#include <stdarg.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include <gsl/gsl_randist.h>
+#include <gsl/gsl_rng.h>
+
+#include "pool_internal.h"
+#include "tolerance_internal.h"
+#include "usm_map.h"
+
+/* A sample whose draw is refused this often is a distribution that is almost
+ * never physical: an input error, not a rare event. */
+#define MAX_REDRAWS 10000
+
+static const char *const output_names[USM_TOL_NOUTPUTS] = {
+    "theta", "rotor_speed", "F_n", "F_t", "max_modulus", "efficiency",
+    "stable", "stick_admissible", "exists"};
+static const char *const output_units[USM_TOL_NOUTPUTS] = {
+    "rad", "1/s", "N", "N", "1", "1", NULL, NULL, NULL};
+
+const double USM_TOLERANCE_QUANTILES[5] = {0.01, 0.05, 0.5, 0.95, 0.99};
+
+const char *usm_tolerance_output_name(int k)
+{
+    return k >= 0 && k < USM_TOL_NOUTPUTS ? output_names[k] : NULL;
+}
+
+const char *usm_tolerance_output_unit(int k)
+{
+    return k >= 0 && k < USM_TOL_NOUTPUTS ? output_units[k] : NULL;
+}
+
+int usm_tolerance_output_find(const char *name)
+{
+    for (int k = 0; name && k < USM_TOL_NOUTPUTS; ++k)
+        if (strcmp(output_names[k], name) == 0)
+            return k;
+    return -1;
+}
+
+/* ---- parsing ---------------------------------------------------------------------- */
+
+/* A finite number that uses all of [s, end). */
+static int number(const char *s, const char *end, double *v)
+{
+    char buf[64], *stop;
+    const size_t n = (size_t)(end - s);
+    if (n == 0 || n >= sizeof buf || s[0] == ' ' || s[0] == '\t')
+        return -1;
+    memcpy(buf, s, n);
+    buf[n] = '\0';
+    errno = 0;
+    *v = strtod(buf, &stop);
+    return *stop == '\0' && errno == 0 && isfinite(*v) ? 0 : -1;
+}
+
+int usm_tolerance_vary_parse(const char *text, usm_tolerance_vary *v, char msg[USM_MSG_LEN])
+{
+    static const char known[] = "normal:P%, normal:SIGMA, uniform:P%, uniform:LO:HI";
+    const char *eq = text ? strchr(text, '=') : NULL;
+    char name[64];
+    memset(v, 0, sizeof *v);
+    if (!eq || eq == text || (size_t)(eq - text) >= sizeof name) {
+        snprintf(msg, USM_MSG_LEN, "\"%.64s\": expected NAME=DIST (DIST: %s)", text ? text : "",
+                 known);
+        return USM_EINPUT;
+    }
+    memcpy(name, text, (size_t)(eq - text));
+    name[eq - text] = '\0';
+    if (!(v->param = usm_params_find(name))) {
+        snprintf(msg, USM_MSG_LEN, "%s: unknown parameter", name);
+        return USM_EINPUT;
+    }
+    const char *d = eq + 1, *arg, *end = d + strlen(d);
+    if (strncmp(d, "normal:", 7) == 0) {
+        v->kind = USM_DIST_NORMAL;
+        arg = d + 7;
+    } else if (strncmp(d, "uniform:", 8) == 0) {
+        v->kind = USM_DIST_UNIFORM;
+        arg = d + 8;
+    } else {
+        snprintf(msg, USM_MSG_LEN, "%s: unknown distribution \"%.64s\" (known: %s)", name, d,
+                 known);
+        return USM_EINPUT;
+    }
+    const char *colon = strchr(arg, ':');
+    if (colon) {
+        if (v->kind != USM_DIST_UNIFORM || number(arg, colon, &v->lo) != 0 ||
+            number(colon + 1, end, &v->hi) != 0) {
+            snprintf(msg, USM_MSG_LEN, "%s: \"%.64s\" is not a distribution (known: %s)", name,
+                     d, known);
+            return USM_EINPUT;
+        }
+        if (!(v->lo < v->hi)) {
+            snprintf(msg, USM_MSG_LEN, "%s: uniform:LO:HI needs LO < HI, got %g and %g", name,
+                     v->lo, v->hi);
+            return USM_EINPUT;
+        }
+        return USM_OK;
+    }
+    v->relative = end > arg && end[-1] == '%';
+    if (number(arg, v->relative ? end - 1 : end, &v->width) != 0) {
+        snprintf(msg, USM_MSG_LEN, "%s: \"%.64s\" is not a distribution (known: %s)", name, d,
+                 known);
+        return USM_EINPUT;
+    }
+    if (v->kind == USM_DIST_UNIFORM && !v->relative) {
+        snprintf(msg, USM_MSG_LEN, "%s: uniform needs a relative half-width P%% or LO:HI, got "
+                 "\"%.64s\"", name, d);
+        return USM_EINPUT;
+    }
+    if (!(v->width > 0.0)) {
+        snprintf(msg, USM_MSG_LEN, "%s: the %s of %s must be positive, got %g", name,
+                 v->kind == USM_DIST_NORMAL ? "standard deviation" : "half-width", d, v->width);
+        return USM_EINPUT;
+    }
+    if (v->relative)
+        v->width /= 100.0;
+    return USM_OK;
+}
+
+int usm_tolerance_spec_parse(const char *text, usm_tolerance_spec *s, char msg[USM_MSG_LEN])
+{
+    const char *op = text ? strpbrk(text, "<>") : NULL;
+    char name[64];
+    memset(s, 0, sizeof *s);
+    if (!op || op[1] != '=' || op == text || (size_t)(op - text) >= sizeof name) {
+        snprintf(msg, USM_MSG_LEN, "\"%.64s\": expected OUTPUT>=X or OUTPUT<=X", text ? text : "");
+        return USM_EINPUT;
+    }
+    memcpy(name, text, (size_t)(op - text));
+    name[op - text] = '\0';
+    s->output = usm_tolerance_output_find(name);
+    if (s->output < 0 || s->output >= USM_TOL_NNUMERIC) {
+        snprintf(msg, USM_MSG_LEN, "%s: %s (outputs with a spec: theta, rotor_speed, F_n, F_t, "
+                 "max_modulus, efficiency)", name, s->output < 0 ? "unknown output" :
+                 "a yes/no output takes no bound");
+        return USM_EINPUT;
+    }
+    s->upper = op[0] == '<';
+    if (number(op + 2, op + strlen(op), &s->bound) != 0) {
+        snprintf(msg, USM_MSG_LEN, "%s: bound \"%.64s\" is not a finite number", name, op + 2);
+        return USM_EINPUT;
+    }
+    return USM_OK;
+}
+
+/* ---- the study object ------------------------------------------------------------ */
+
+void usm_tolerance_options_default(usm_tolerance_options *opt)
+{
+    memset(opt, 0, sizeof *opt);
+    opt->samples = 1000;
+    opt->seed = 1;
+    opt->threads = 2;
+    usm_floquet_options_default(&opt->floquet);
+    opt->checkpoint_interval = 10.0;
+}
+
+usm_tolerance *usm_tolerance_alloc(const usm_model *m)
+{
+    usm_tolerance *t = calloc(1, sizeof *t);
+    if (t)
+        t->m = m;
+    return t;
+}
+
+static void clear(usm_tolerance *t)
+{
+    free(t->done);
+    free(t->rows);
+    free(t->config);
+    t->done = NULL;
+    t->rows = NULL;
+    t->config = NULL;
+    t->have_result = 0;
+}
+
+void usm_tolerance_free(usm_tolerance *t)
+{
+    if (!t)
+        return;
+    clear(t);
+    free(t);
+}
+
+int usm_tolerance_vary_add(usm_tolerance *t, const usm_tolerance_vary *v)
+{
+    if (!v || !v->param) {
+        snprintf(t->msg, USM_MSG_LEN, "vary: no parameter");
+        return USM_EINPUT;
+    }
+    for (int j = 0; j < t->nvary; ++j)
+        if (t->vary[j].param == v->param) {
+            snprintf(t->msg, USM_MSG_LEN, "%s: varied twice", v->param->name);
+            return USM_EINPUT;
+        }
+    if (t->m->axisymmetric_stator && strcmp(v->param->name, "I_yy") == 0) {
+        snprintf(t->msg, USM_MSG_LEN, "I_yy: equals I_xx in model %s (axisymmetric stator); "
+                 "vary I_xx, which moves I_yy with it", t->m->name);
+        return USM_EINPUT;
+    }
+    t->vary[t->nvary++] = *v;
+    return USM_OK;
+}
+
+int usm_tolerance_spec_add(usm_tolerance *t, const usm_tolerance_spec *s)
+{
+    if (t->nspec >= TOL_MAX_SPECS) {
+        snprintf(t->msg, USM_MSG_LEN, "spec: at most %d specs", TOL_MAX_SPECS);
+        return USM_EINPUT;
+    }
+    if (!s || s->output < 0 || s->output >= USM_TOL_NNUMERIC || !isfinite(s->bound)) {
+        snprintf(t->msg, USM_MSG_LEN, "spec: not a bound on a numeric output");
+        return USM_EINPUT;
+    }
+    t->spec[t->nspec++] = *s;
+    return USM_OK;
+}
+
+const char *usm_tolerance_message(const usm_tolerance *t) { return t->msg; }
+
+int usm_tolerance_vary_count(const usm_tolerance *t) { return t->nvary; }
+
+const usm_tolerance_vary *usm_tolerance_vary_at(const usm_tolerance *t, int j)
+{
+    return j >= 0 && j < t->nvary ? &t->vary[j] : NULL;
+}
+
+const usm_tolerance_summary *usm_tolerance_result(const usm_tolerance *t)
+{
+    return t->have_result ? &t->sum : NULL;
+}
+
+double usm_tolerance_influence(const usm_tolerance *t, int k, int j)
+{
+    if (!t->have_result || k < 0 || k >= USM_TOL_NNUMERIC || j < 0 || j >= t->nvary)
+        return NAN;
+    return t->influence[k][j];
+}
+
+int usm_tolerance_sample(const usm_tolerance *t, uint64_t i, double *values, double *out,
+                         int *good, int *redraws)
+{
+    if (!t->have_result || i >= t->sum.samples)
+        return USM_EINPUT;
+    const double *row = t->rows + i * (uint64_t)t->width;
+    if (values)
+        memcpy(values, row, (size_t)t->nvary * sizeof *values);
+    if (out)
+        memcpy(out, row + t->nvary, USM_TOL_NOUTPUTS * sizeof *out);
+    if (good)
+        *good = row[TOL_ROW_GOOD(t)] != 0.0;
+    if (redraws)
+        *redraws = (int)row[TOL_ROW_REDRAWS(t)];
+    return USM_OK;
+}
+
+/* ---- the random stream of a sample --------------------------------------------------- */
+
+/* splitmix64 (Steele, Lea, Flood 2014): a 64-bit state advanced by a constant
+ * and a bijective mix; passes BigCrush.  GSL's own generators take 32-bit
+ * seeds, too few for 10^8 distinct sample streams. */
+static uint64_t mix64(uint64_t z)
+{
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+    return z ^ (z >> 31);
+}
+
+static void sm_set(void *state, unsigned long seed) { *(uint64_t *)state = (uint64_t)seed; }
+
+static uint64_t sm_next(void *state)
+{
+    uint64_t *s = state;
+    *s += 0x9e3779b97f4a7c15ULL;
+    return mix64(*s);
+}
+
+static unsigned long sm_get(void *state) { return (unsigned long)(sm_next(state) >> 32); }
+
+static double sm_get_double(void *state)
+{
+    /* 53 random bits; never 1, may be 0 as gsl_rng_uniform allows */
+    return (double)(sm_next(state) >> 11) * 0x1.0p-53;
+}
+
+static const gsl_rng_type splitmix64_type = {"splitmix64", 0xffffffffUL, 0, sizeof(uint64_t),
+                                             sm_set, sm_get, sm_get_double};
+
+/* The start of sample i's stream: distinct (seed, i) give unrelated states. */
+static uint64_t sample_seed(uint64_t seed, uint64_t i)
+{
+    return mix64(mix64(seed ^ 0x5851f42d4c957f2dULL) + i);
+}
+
+static double draw(const usm_tolerance_vary *v, double nominal, gsl_rng *r)
+{
+    if (v->kind == USM_DIST_NORMAL)
+        return nominal + gsl_ran_gaussian(r, v->relative ? v->width * fabs(nominal) : v->width);
+    if (v->relative)
+        return nominal * (1.0 + v->width * (2.0 * gsl_rng_uniform(r) - 1.0));
+    return v->lo + (v->hi - v->lo) * gsl_rng_uniform(r);
+}
+
+/* ---- one block (a task of the pool) --------------------------------------------------- */
+
+typedef struct worker {
+    usm_steady *steady;
+    usm_floquet *floquet;
+    gsl_rng *rng;
+} worker;
+
+typedef struct run_ctx {
+    usm_tolerance *t;
+    const uint64_t *blocks;
+    double *pack;               /* the blocks' rows, one after the other */
+    uint64_t *offset;           /* first sample of block k in pack */
+    char *msg;                  /* per task: why it stopped */
+} run_ctx;
+
+static void worker_free(void *state)
+{
+    worker *w = state;
+    usm_steady_free(w->steady);
+    usm_floquet_free(w->floquet);
+    gsl_rng_free(w->rng);
+    free(w);
+}
+
+static void *worker_alloc(void *ctx)
+{
+    const usm_tolerance *t = ((run_ctx *)ctx)->t;
+    worker *w = calloc(1, sizeof *w);
+    if (!w)
+        return NULL;
+    w->steady = usm_steady_alloc(t->m);
+    w->floquet = usm_floquet_alloc(t->m);
+    w->rng = gsl_rng_alloc(&splitmix64_type);
+    if (!w->steady || !w->floquet || !w->rng) {
+        worker_free(w);
+        return NULL;
+    }
+    return w;
+}
+
+static int meets_specs(const usm_tolerance *t, const double *out)
+{
+    for (int s = 0; s < t->nspec; ++s) {
+        const double v = out[t->spec[s].output];
+        if (!(t->spec[s].upper ? v <= t->spec[s].bound : v >= t->spec[s].bound))
+            return 0; /* NaN (the output does not exist) fails every spec */
+    }
+    return 1;
+}
+
+static int sample(usm_tolerance *t, worker *w, uint64_t i, double *row, char msg[USM_MSG_LEN])
+{
+    usm_params q;
+    usm_point pt;
+    char why[USM_MSG_LEN];
+    double *out = row + t->nvary;
+    int redraws = 0;
+    gsl_rng_set(w->rng, (unsigned long)sample_seed(t->opt.seed, i));
+    for (;;) {
+        q = t->p;
+        for (int j = 0; j < t->nvary; ++j) {
+            const usm_tolerance_vary *v = &t->vary[j];
+            row[j] = draw(v, usm_params_get(&t->p, v->param), w->rng);
+            *usm_params_field(&q, v->param) = row[j];
+            if (t->m->axisymmetric_stator && strcmp(v->param->name, "I_xx") == 0)
+                q.I_yy = row[j];
+        }
+        if (usm_params_check(&q, t->m, why) == USM_OK)
+            break;
+        if (++redraws >= MAX_REDRAWS) {
+            snprintf(msg, USM_MSG_LEN, "sample %llu: %d draws in a row left the physical range "
+                     "(last: %.120s); narrow the distributions", (unsigned long long)i, redraws,
+                     why);
+            return USM_EINPUT;
+        }
+    }
+    if (usm_point_evaluate(w->steady, w->floquet, &q, NULL, NULL, 1, t->opt.t0, &t->opt.floquet,
+                           &pt) != USM_OK) {
+        snprintf(msg, USM_MSG_LEN, "sample %llu: %.200s", (unsigned long long)i, pt.error);
+        return USM_EINPUT;
+    }
+    for (int k = 0; k < USM_TOL_NOUTPUTS; ++k)
+        out[k] = NAN;
+    out[USM_TOL_EXISTS] = pt.exists;
+    if (pt.exists) {
+        out[USM_TOL_THETA] = pt.sol.theta;
+        out[USM_TOL_ROTOR_SPEED] = pt.sol.rotor_speed;
+        out[USM_TOL_F_N] = pt.sol.F_n;
+        out[USM_TOL_F_T] = pt.sol.F_t;
+        out[USM_TOL_EFFICIENCY] = pt.sol.efficiency;
+        out[USM_TOL_STICK_ADMISSIBLE] = pt.sol.stick_admissible;
+    }
+    if (pt.has_floquet) {
+        out[USM_TOL_MAX_MODULUS] = pt.floquet.max_modulus;
+        out[USM_TOL_STABLE] = pt.floquet.max_modulus < 1.0;
+    }
+    row[TOL_ROW_GOOD(t)] = pt.exists && pt.has_floquet && pt.floquet.max_modulus < 1.0 &&
+                           meets_specs(t, out);
+    row[TOL_ROW_REDRAWS(t)] = redraws;
+    return USM_OK;
+}
+
+uint64_t tol_block_size(const usm_tolerance *t, uint64_t b)
+{
+    const uint64_t first = b * USM_TOLERANCE_BLOCK, n = t->opt.samples - first;
+    return n < USM_TOLERANCE_BLOCK ? n : USM_TOLERANCE_BLOCK;
+}
+
+static int block_task(void *ctx, void *state, size_t k)
+{
+    run_ctx *c = ctx;
+    usm_tolerance *t = c->t;
+    const uint64_t b = c->blocks[k], first = b * USM_TOLERANCE_BLOCK, n = tol_block_size(t, b);
+    double *rows = c->pack + c->offset[k] * (uint64_t)t->width;
+    for (uint64_t i = 0; i < n; ++i) {
+        const int rc = sample(t, state, first + i, rows + i * (uint64_t)t->width,
+                              c->msg + k * USM_MSG_LEN);
+        if (rc != USM_OK)
+            return rc;
+    }
+    return USM_OK;
+}
+
+uint64_t tol_pack_size(const usm_tolerance *t, const uint64_t *blocks, size_t n)
+{
+    uint64_t samples = 0;
+    for (size_t k = 0; k < n; ++k)
+        samples += tol_block_size(t, blocks[k]);
+    return samples * (uint64_t)t->width;
+}
+
+int tol_compute(usm_tolerance *t, const uint64_t *blocks, size_t n, double *pack)
+{
+    run_ctx c = {t, blocks, pack, calloc(n ? n : 1, sizeof *c.offset),
+                 calloc(n ? n : 1, USM_MSG_LEN)};
+    int status;
+    if (!c.msg || !c.offset) {
+        free(c.msg);
+        free(c.offset);
+        snprintf(t->msg, USM_MSG_LEN, "out of memory");
+        return USM_EFAILED;
+    }
+    for (size_t k = 1; k < n; ++k)
+        c.offset[k] = c.offset[k - 1] + tol_block_size(t, blocks[k - 1]);
+    pool_job job = {n, t->opt.threads, &c, worker_alloc, worker_free, block_task, NULL};
+    status = pool_run(&job, t->msg);
+    /* the first failing block in list order names the sample: independent of threads */
+    for (size_t k = 0; status != USM_OK && k < n; ++k)
+        if (c.msg[k * USM_MSG_LEN]) {
+            snprintf(t->msg, USM_MSG_LEN, "%s", c.msg + k * USM_MSG_LEN);
+            break;
+        }
+    free(c.msg);
+    free(c.offset);
+    return status;
+}
+
+void tol_unpack(usm_tolerance *t, const uint64_t *blocks, size_t n, const double *pack)
+{
+    for (size_t k = 0; k < n; ++k) {
+        const uint64_t cnt = tol_block_size(t, blocks[k]) * (uint64_t)t->width;
+        memcpy(t->rows + blocks[k] * USM_TOLERANCE_BLOCK * (uint64_t)t->width, pack,
+               cnt * sizeof *pack);
+        pack += cnt;
+        t->done[blocks[k]] = 1;
+    }
+}
+
+size_t tol_pending(const usm_tolerance *t, uint64_t *list)
+{
+    size_t n = 0;
+    for (uint64_t b = 0; b < t->nblocks; ++b)
+        if (!t->done[b])
+            list[n++] = b;
+    return n;
+}
+
+double tol_now(void)
+{
+    struct timespec ts;
+    if (clock_gettime(CLOCK_MONOTONIC, &ts) != 0)
+        return 0.0;
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+int tol_checkpoint_due(const usm_tolerance *t, int last, int stop)
+{
+    return t->opt.checkpoint &&
+           (last || stop || tol_now() - t->last_write >= t->opt.checkpoint_interval);
+}
+
+/* ---- checks and the configuration --------------------------------------------------- */
+
+/* Append to a growing text; -1 when out of memory. */
+static int append(char **text, size_t *len, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
+
+static int append(char **text, size_t *len, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    const int n = vsnprintf(NULL, 0, fmt, ap);
+    va_end(ap);
+    if (n < 0)
+        return -1;
+    char *grown = realloc(*text, *len + (size_t)n + 1);
+    if (!grown)
+        return -1;
+    *text = grown;
+    va_start(ap, fmt);
+    vsnprintf(*text + *len, (size_t)n + 1, fmt, ap);
+    va_end(ap);
+    *len += (size_t)n;
+    return 0;
+}
+
+/* The study as text, one "key value" per line, numbers in %a (exact): the
+ * checkpoint's header; a resume must match it line for line. */
+static int build_config(usm_tolerance *t)
+{
+    const usm_tolerance_options *o = &t->opt;
+    size_t len = 0;
+    int bad = append(&t->config, &len, "model %s\nsamples %llu\nseed %llu\nblock %d\nt0 %a\n",
+                     t->m->name, (unsigned long long)o->samples, (unsigned long long)o->seed,
+                     USM_TOLERANCE_BLOCK, o->t0);
+    bad |= append(&t->config, &len, "floquet %s rtol %a atol %a steps %d\n",
+                  usm_floquet_method_name(o->floquet.method), o->floquet.rtol, o->floquet.atol,
+                  o->floquet.steps);
+    for (int k = 0; k < USM_NPARAMS; ++k)
+        bad |= append(&t->config, &len, "param %s %a\n", usm_param_table[k].name,
+                      usm_params_get(&t->p, &usm_param_table[k]));
+    for (int j = 0; j < t->nvary; ++j) {
+        const usm_tolerance_vary *v = &t->vary[j];
+        bad |= append(&t->config, &len, "vary %s %s %s %a %a %a\n", v->param->name,
+                      v->kind == USM_DIST_NORMAL ? "normal" : "uniform",
+                      v->relative ? "relative" : "absolute", v->width, v->lo, v->hi);
+    }
+    for (int s = 0; s < t->nspec; ++s)
+        bad |= append(&t->config, &len, "spec %s %s %a\n", output_names[t->spec[s].output],
+                      t->spec[s].upper ? "<=" : ">=", t->spec[s].bound);
+    return bad ? -1 : 0;
+}
+
+static int check(usm_tolerance *t, const usm_params *p, const usm_tolerance_options *opt)
+{
+    char why[USM_MSG_LEN];
+    if (!p || !opt) {
+        snprintf(t->msg, USM_MSG_LEN, "%s: must not be NULL", p ? "options" : "params");
+        return USM_EINPUT;
+    }
+    if (opt->samples < 1 || opt->samples > USM_TOLERANCE_MAX_SAMPLES) {
+        snprintf(t->msg, USM_MSG_LEN, "samples: need 1 ... %llu, got %llu",
+                 (unsigned long long)USM_TOLERANCE_MAX_SAMPLES, (unsigned long long)opt->samples);
+        return USM_EINPUT;
+    }
+    if (opt->threads < 1 || opt->threads > POOL_MAX_THREADS) {
+        snprintf(t->msg, USM_MSG_LEN, "threads: must be between 1 and %d, got %d",
+                 POOL_MAX_THREADS, opt->threads);
+        return USM_EINPUT;
+    }
+    if (!isfinite(opt->t0) || !(opt->checkpoint_interval >= 0.0)) {
+        snprintf(t->msg, USM_MSG_LEN, "%s: must be a finite number%s",
+                 isfinite(opt->t0) ? "checkpoint_interval" : "t0",
+                 isfinite(opt->t0) ? " >= 0" : "");
+        return USM_EINPUT;
+    }
+    if (t->nvary == 0) {
+        snprintf(t->msg, USM_MSG_LEN, "vary: no parameter is varied");
+        return USM_EINPUT;
+    }
+    if (usm_params_check(p, t->m, why) != USM_OK) {
+        snprintf(t->msg, USM_MSG_LEN, "%s", why);
+        return USM_EINPUT;
+    }
+    for (int j = 0; j < t->nvary; ++j) {
+        const usm_tolerance_vary *v = &t->vary[j];
+        const double nominal = usm_params_get(p, v->param);
+        const char *c = v->param->constraint;
+        if (v->relative && nominal == 0.0) {
+            snprintf(t->msg, USM_MSG_LEN, "%s: a relative (%%) width of a parameter whose "
+                     "nominal value is 0; give it in %s", v->param->name, v->param->unit);
+            return USM_EINPUT;
+        }
+        /* a range wholly outside the physical one would only redraw forever */
+        if (v->kind == USM_DIST_UNIFORM && !v->relative &&
+            ((strcmp(c, "positive") == 0 && !(v->hi > 0.0)) ||
+             (strcmp(c, "nonnegative") == 0 && !(v->hi >= 0.0)))) {
+            snprintf(t->msg, USM_MSG_LEN, "%s: uniform:%g:%g lies outside the physical range "
+                     "(%s)", v->param->name, v->lo, v->hi, c);
+            return USM_EINPUT;
+        }
+    }
+    return USM_OK;
+}
+
+int tol_prepare(usm_tolerance *t, const usm_params *p, const usm_tolerance_options *opt, int root)
+{
+    clear(t);
+    t->msg[0] = '\0';
+    if (check(t, p, opt) != USM_OK)
+        return USM_EINPUT;
+    t->p = *p;
+    t->opt = *opt;
+    t->width = t->nvary + USM_TOL_NOUTPUTS + 2;
+    t->nblocks = (opt->samples + USM_TOLERANCE_BLOCK - 1) / USM_TOLERANCE_BLOCK;
+    memset(&t->sum, 0, sizeof t->sum);
+    t->last_write = tol_now();
+    if ((uint64_t)t->width > SIZE_MAX / sizeof(double) / opt->samples ||
+        !(t->done = calloc(t->nblocks, 1)) ||
+        (root && !(t->rows = malloc(opt->samples * (uint64_t)t->width * sizeof(double)))) ||
+        build_config(t) != 0) {
+        clear(t);
+        snprintf(t->msg, USM_MSG_LEN, "out of memory for %llu samples",
+                 (unsigned long long)opt->samples);
+        return USM_EFAILED;
+    }
+    if (root && opt->checkpoint)
+        return tol_checkpoint_load(t);
+    return USM_OK;
+}
+
+/* ---- the serial run --------------------------------------------------------------------- */
+
+int usm_tolerance_run(usm_tolerance *t, const usm_params *p, const usm_tolerance_options *opt)
+{
+    int status = tol_prepare(t, p, opt, 1);
+    uint64_t *list = NULL, computed = 0;
+    double *pack = NULL;
+    if (status != USM_OK)
+        return status;
+    /* rounds of a few blocks per thread: a checkpoint between rounds */
+    const size_t round = 8 * (size_t)opt->threads;
+    if (!(list = malloc(t->nblocks * sizeof *list)) ||
+        !(pack = malloc(round * USM_TOLERANCE_BLOCK * (size_t)t->width * sizeof *pack))) {
+        free(list);
+        snprintf(t->msg, USM_MSG_LEN, "out of memory");
+        return USM_EFAILED;
+    }
+    const size_t pending = tol_pending(t, list);
+    for (size_t at = 0; at < pending && status == USM_OK;) {
+        size_t n = pending - at < round ? pending - at : round;
+        if (opt->stop_after_blocks && n > opt->stop_after_blocks - computed)
+            n = (size_t)(opt->stop_after_blocks - computed);
+        if ((status = tol_compute(t, list + at, n, pack)) != USM_OK)
+            break;
+        tol_unpack(t, list + at, n, pack);
+        at += n;
+        computed += n;
+        const int stop = opt->stop_after_blocks && computed >= opt->stop_after_blocks &&
+                         at < pending;
+        if (tol_checkpoint_due(t, at == pending, stop))
+            status = tol_checkpoint_write(t);
+        if (status == USM_OK && stop)
+            status = tol_stopped(t, computed);
+    }
+    free(list);
+    free(pack);
+    return status == USM_OK ? tol_finish(t) : status;
+}
+
+int tol_stopped(usm_tolerance *t, uint64_t computed)
+{
+    snprintf(t->msg, USM_MSG_LEN, "stopped after %llu block(s) as asked; the checkpoint "
+             "%.120s holds them", (unsigned long long)computed,
+             t->opt.checkpoint ? t->opt.checkpoint : "(none)");
+    return USM_EFAILED;
+}

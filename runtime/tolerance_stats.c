@@ -1,0 +1,228 @@
+/* The statistics of a tolerance study and its writers (usm_tolerance.h). */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <gsl/gsl_sort.h>
+#include <gsl/gsl_statistics_double.h>
+
+#include "tolerance_internal.h"
+
+/* Two-sided 95 % normal quantile, z = Phi^-1(0.975). */
+#define Z95 1.959963984540054
+
+/* The Wilson score interval: unlike the normal (Wald) interval it stays in
+ * [0, 1] and keeps its coverage near yields of 0 and 1, where a design
+ * study's answers usually are. */
+static void wilson(uint64_t k, uint64_t n, double *lo, double *hi)
+{
+    const double nn = (double)n, ph = (double)k / nn, z2 = Z95 * Z95;
+    const double denom = 1.0 + z2 / nn;
+    const double center = (ph + z2 / (2.0 * nn)) / denom;
+    const double half = Z95 * sqrt(ph * (1.0 - ph) / nn + z2 / (4.0 * nn * nn)) / denom;
+    *lo = k == 0 ? 0.0 : fmax(0.0, center - half);
+    *hi = k == n ? 1.0 : fmin(1.0, center + half);
+}
+
+int tol_finish(usm_tolerance *t)
+{
+    usm_tolerance_summary *s = &t->sum;
+    const uint64_t n = t->opt.samples;
+    const int w = t->width;
+    double *x = malloc(n * sizeof *x), *y = malloc(n * sizeof *y),
+           *work = malloc(2 * n * sizeof *work);
+    if (!x || !y || !work) {
+        free(x);
+        free(y);
+        free(work);
+        snprintf(t->msg, USM_MSG_LEN, "out of memory for the statistics");
+        return USM_EFAILED;
+    }
+    s->samples = n;
+    s->seed = t->opt.seed;
+    s->good = s->exists = s->stable = s->failed = s->redrawn = 0;
+    for (uint64_t i = 0; i < n; ++i) {
+        const double *row = t->rows + i * (uint64_t)w, *out = row + t->nvary;
+        s->good += row[TOL_ROW_GOOD(t)] != 0.0;
+        s->redrawn += (uint64_t)row[TOL_ROW_REDRAWS(t)];
+        s->exists += out[USM_TOL_EXISTS] != 0.0;
+        s->stable += out[USM_TOL_STABLE] == 1.0;
+        s->failed += out[USM_TOL_EXISTS] != 0.0 && isnan(out[USM_TOL_MAX_MODULUS]);
+    }
+    s->yield = (double)s->good / (double)n;
+    wilson(s->good, n, &s->yield_lo, &s->yield_hi);
+    for (int k = 0; k < USM_TOL_NNUMERIC; ++k) {
+        size_t m = 0;
+        for (uint64_t i = 0; i < n; ++i) {
+            const double v = t->rows[i * (uint64_t)w + (uint64_t)(t->nvary + k)];
+            if (isfinite(v))
+                x[m++] = v;
+        }
+        s->count[k] = m;
+        gsl_sort(x, 1, m);
+        for (int q = 0; q < 5; ++q)
+            s->quantile[k][q] =
+                m ? gsl_stats_quantile_from_sorted_data(x, 1, m, USM_TOLERANCE_QUANTILES[q]) : NAN;
+        for (int j = 0; j < t->nvary; ++j) {
+            m = 0;
+            for (uint64_t i = 0; i < n; ++i) {
+                const double *row = t->rows + i * (uint64_t)w;
+                if (isfinite(row[t->nvary + k])) {
+                    x[m] = row[j];
+                    y[m++] = row[t->nvary + k];
+                }
+            }
+            /* a constant column has no ranks to correlate: GSL divides by 0 */
+            double r = m >= 3 ? gsl_stats_spearman(x, 1, y, 1, m, work) : NAN;
+            t->influence[k][j] = isfinite(r) ? r : NAN;
+        }
+    }
+    free(x);
+    free(y);
+    free(work);
+    t->have_result = 1;
+    return USM_OK;
+}
+
+/* ---- writers ------------------------------------------------------------------------- */
+
+/* The shortest %g text (at least 6 digits) that reads back as exactly v (the
+ * command's CSV dialect, runtime/cli/csv_out.c). */
+static const char *shortest(char buf[32], double v)
+{
+    for (int prec = 6; prec <= 17; ++prec) {
+        snprintf(buf, 32, "%.*g", prec, v);
+        if (strtod(buf, NULL) == v)
+            break;
+    }
+    return buf;
+}
+
+static void num(FILE *f, double v)
+{
+    char buf[32];
+    fputc(',', f);
+    if (isfinite(v))
+        fputs(shortest(buf, v), f);
+}
+
+static void yesno(FILE *f, double v)
+{
+    fputc(',', f);
+    if (!isnan(v))
+        fputs(v != 0.0 ? "true" : "false", f);
+}
+
+int usm_tolerance_write_csv(const usm_tolerance *t, FILE *out)
+{
+    static const int order[] = {USM_TOL_EXISTS, USM_TOL_STABLE, USM_TOL_STICK_ADMISSIBLE,
+                                USM_TOL_THETA, USM_TOL_ROTOR_SPEED, USM_TOL_F_N, USM_TOL_F_T,
+                                USM_TOL_MAX_MODULUS, USM_TOL_EFFICIENCY};
+    if (!t->have_result)
+        return -1;
+    fputs("sample", out);
+    for (int j = 0; j < t->nvary; ++j)
+        fprintf(out, ",%s [%s]", t->vary[j].param->name, t->vary[j].param->unit);
+    for (size_t c = 0; c < sizeof order / sizeof order[0]; ++c) {
+        const char *unit = usm_tolerance_output_unit(order[c]);
+        fprintf(out, ",%s", usm_tolerance_output_name(order[c]));
+        if (unit)
+            fprintf(out, " [%s]", unit);
+    }
+    fputs(",good,redraws\n", out);
+    for (uint64_t i = 0; i < t->sum.samples; ++i) {
+        const double *row = t->rows + i * (uint64_t)t->width;
+        fprintf(out, "%llu", (unsigned long long)i);
+        for (int j = 0; j < t->nvary; ++j)
+            num(out, row[j]);
+        for (size_t c = 0; c < sizeof order / sizeof order[0]; ++c) {
+            if (order[c] >= USM_TOL_NNUMERIC)
+                yesno(out, row[t->nvary + order[c]]);
+            else
+                num(out, row[t->nvary + order[c]]);
+        }
+        yesno(out, row[TOL_ROW_GOOD(t)]);
+        fprintf(out, ",%d\n", (int)row[TOL_ROW_REDRAWS(t)]);
+    }
+    return ferror(out) ? -1 : 0;
+}
+
+static void dist_text(const usm_tolerance_vary *v, char buf[96])
+{
+    if (v->kind == USM_DIST_UNIFORM && !v->relative)
+        snprintf(buf, 96, "uniform on [%.6g, %.6g]", v->lo, v->hi);
+    else
+        snprintf(buf, 96, "%s, %s %.6g%s", v->kind == USM_DIST_NORMAL ? "normal" : "uniform",
+                 v->kind == USM_DIST_NORMAL ? "sigma" : "half-width",
+                 v->relative ? 100.0 * v->width : v->width, v->relative ? " %" : "");
+}
+
+static void cell(FILE *f, double v)
+{
+    if (isfinite(v))
+        fprintf(f, " %.6g |", v);
+    else
+        fputs(" - |", f);
+}
+
+int usm_tolerance_write_summary(const usm_tolerance *t, FILE *out, const char *histograms)
+{
+    const usm_tolerance_summary *s = &t->sum;
+    char buf[96];
+    if (!t->have_result)
+        return -1;
+    fprintf(out, "# Tolerance study\n\nModel %s; %llu samples, seed %llu; every sample is the "
+            "stationary solution (full search, primary root) and its Floquet multipliers "
+            "(method %s, t0 = %g s).\n\n", t->m->name, (unsigned long long)s->samples,
+            (unsigned long long)s->seed, usm_floquet_method_name(t->opt.floquet.method),
+            t->opt.t0);
+    fputs("| parameter | nominal | distribution |\n|---|---|---|\n", out);
+    for (int j = 0; j < t->nvary; ++j) {
+        dist_text(&t->vary[j], buf);
+        fprintf(out, "| %s [%s] | %.6g | %s |\n", t->vary[j].param->name,
+                t->vary[j].param->unit, usm_params_get(&t->p, t->vary[j].param), buf);
+    }
+    fprintf(out, "\nDraws outside a parameter's physical range, drawn again: %llu.\n",
+            (unsigned long long)s->redrawn);
+    fputs("\n## Yield\n\nA sample counts when a stationary solution exists, it is stable "
+          "(largest non-cyclic |multiplier| < 1)", out);
+    for (int k = 0; k < t->nspec; ++k)
+        fprintf(out, "%s %s %s %.6g", k ? "," : " and", usm_tolerance_output_name(t->spec[k].output),
+                t->spec[k].upper ? "<=" : ">=", t->spec[k].bound);
+    fprintf(out, ".\n\n**Yield %.4f %%** (%llu of %llu), 95 %% confidence interval [%.4f %%, "
+            "%.4f %%] (Wilson score interval).\n\n", 100.0 * s->yield,
+            (unsigned long long)s->good, (unsigned long long)s->samples, 100.0 * s->yield_lo,
+            100.0 * s->yield_hi);
+    fprintf(out, "Samples with a stationary solution: %llu; stable: %llu; with a solution but "
+            "failed multipliers: %llu.\n", (unsigned long long)s->exists,
+            (unsigned long long)s->stable, (unsigned long long)s->failed);
+    fputs("\n## Quantiles\n\n| output | samples | 1 % | 5 % | 50 % | 95 % | 99 % |\n"
+          "|---|---|---|---|---|---|---|\n", out);
+    for (int k = 0; k < USM_TOL_NNUMERIC; ++k) {
+        fprintf(out, "| %s [%s] | %llu |", usm_tolerance_output_name(k),
+                usm_tolerance_output_unit(k), (unsigned long long)s->count[k]);
+        for (int q = 0; q < 5; ++q)
+            cell(out, s->quantile[k][q]);
+        fputc('\n', out);
+    }
+    fputs("\n## Influence\n\nSpearman rank correlation of each output with each varied "
+          "parameter (over the samples where the output exists; - where undefined).\n\n"
+          "| output |", out);
+    for (int j = 0; j < t->nvary; ++j)
+        fprintf(out, " %s |", t->vary[j].param->name);
+    fputs("\n|---|", out);
+    for (int j = 0; j < t->nvary; ++j)
+        fputs("---|", out);
+    fputc('\n', out);
+    for (int k = 0; k < USM_TOL_NNUMERIC; ++k) {
+        fprintf(out, "| %s |", usm_tolerance_output_name(k));
+        for (int j = 0; j < t->nvary; ++j)
+            cell(out, t->influence[k][j]);
+        fputc('\n', out);
+    }
+    if (histograms)
+        fprintf(out, "\n## Histograms\n\n![rotor speed and max_modulus](%s.svg)\n\nData: "
+                "samples.csv.\n", histograms);
+    return ferror(out) ? -1 : 0;
+}

@@ -1,0 +1,209 @@
+/* usm_tolerance.h: Monte Carlo tolerance (yield) studies (issue 12).
+ *
+ * Every manufactured motor scatters around the nominal design: each varied
+ * parameter is drawn from its distribution, and at that parameter point the
+ * stationary solution (full search, primary root) and its Floquet multipliers
+ * are computed by usm_point_evaluate (usm_map.h).  The study reports
+ *   - the yield: the fraction of samples that have a stationary solution, are
+ *     stable (largest non-cyclic multiplier < 1) and meet every spec, with
+ *     its 95 % Wilson score interval;
+ *   - the 1, 5, 50, 95, 99 % quantiles of every numeric output (over the
+ *     samples where it exists; gsl_stats_quantile_from_sorted_data);
+ *   - the influence of each varied parameter on each numeric output: the
+ *     Spearman rank correlation over the samples where the output exists
+ *     (gsl_stats_spearman).
+ *
+ * Determinism: sample i is a pure function of (seed, i): its random stream
+ * is a splitmix64 generator started at a hash of (seed, i), so the result is
+ * bit-identical for any number of threads, MPI ranks or checkpoint resumes.
+ *
+ * Redraws: a draw that leaves a parameter's physical range (usm_params_check
+ * refuses the point) is drawn again from the same stream and counted.
+ *
+ * Checkpoints: the samples are computed in blocks of USM_TOLERANCE_BLOCK; the
+ * completed blocks are written to the checkpoint file atomically (temporary
+ * file, then rename) at most every `checkpoint_interval` seconds and at the
+ * end; a run with the same checkpoint file loads them and computes only the
+ * rest.  The file records the study's configuration; a file of another
+ * configuration is refused (USM_EINPUT, the message says what differs).
+ *
+ * Life cycle (GSL style): usm_tolerance_alloc, usm_tolerance_vary_add,
+ * usm_tolerance_spec_add, usm_tolerance_run, accessors and writers,
+ * usm_tolerance_free.  Thread safety: as usm.h.
+ */
+#ifndef USM_TOLERANCE_H
+#define USM_TOLERANCE_H
+
+#include <stdint.h>
+#include <stdio.h>
+
+#include "usm.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Samples per block: the unit of work handed to a thread or rank, and of the
+ * checkpoint. */
+#define USM_TOLERANCE_BLOCK 64
+
+/* Most samples of one study. */
+#define USM_TOLERANCE_MAX_SAMPLES 1000000000ULL
+
+/* ---- distributions ------------------------------------------------------------ */
+
+typedef enum {
+    USM_DIST_NORMAL = 0,   /* nominal + sigma N(0, 1) */
+    USM_DIST_UNIFORM = 1   /* uniform on [lo, hi] */
+} usm_dist_kind;
+
+/* One varied parameter: `NAME=DIST` with DIST one of
+ *   normal:5%     standard deviation 5 % of the nominal value
+ *   normal:0.01   standard deviation 0.01 (the parameter's unit)
+ *   uniform:2%    nominal +- 2 % of the nominal value
+ *   uniform:LO:HI uniform on [LO, HI] */
+typedef struct usm_tolerance_vary {
+    const usm_param_info *param;
+    usm_dist_kind kind;
+    int relative;          /* width given in % of the nominal value */
+    double width;          /* sigma, or half-width (relative: a fraction, 0.05 for 5%) */
+    double lo, hi;         /* uniform:LO:HI (relative == 0 and width == 0) */
+} usm_tolerance_vary;
+
+/* Parse "NAME=DIST" into v.  USM_OK or USM_EINPUT with "NAME: reason" (or
+ * "DIST: reason") in msg. */
+int usm_tolerance_vary_parse(const char *text, usm_tolerance_vary *v, char msg[USM_MSG_LEN]);
+
+/* ---- outputs and specs ---------------------------------------------------------- */
+
+/* The recorded outputs of a sample: the numeric ones first. */
+enum {
+    USM_TOL_THETA = 0,       /* tilt [rad] */
+    USM_TOL_ROTOR_SPEED = 1, /* phidot_R [1/s] (the paper's sign: negative when driving) */
+    USM_TOL_F_N = 2,         /* [N] */
+    USM_TOL_F_T = 3,         /* [N] */
+    USM_TOL_MAX_MODULUS = 4, /* largest non-cyclic |multiplier| */
+    USM_TOL_EFFICIENCY = 5,  /* power_out / power_in */
+    USM_TOL_NNUMERIC = 6,
+    USM_TOL_STABLE = 6,           /* max_modulus < 1 */
+    USM_TOL_STICK_ADMISSIBLE = 7, /* F_t <= mu0 F_n */
+    USM_TOL_EXISTS = 8,           /* a stationary solution exists */
+    USM_TOL_NOUTPUTS = 9
+};
+
+/* Name of output k ("theta", ...), NULL when out of range; its SI unit ("rad",
+ * "1/s", "N", "1"; NULL for the yes/no outputs). */
+const char *usm_tolerance_output_name(int k);
+const char *usm_tolerance_output_unit(int k);
+/* Index of the output called `name`, or -1. */
+int usm_tolerance_output_find(const char *name);
+
+/* A spec `OUTPUT>=X` or `OUTPUT<=X` on a numeric output. */
+typedef struct usm_tolerance_spec {
+    int output;    /* USM_TOL_THETA .. USM_TOL_EFFICIENCY */
+    int upper;     /* 1: OUTPUT <= bound, 0: OUTPUT >= bound */
+    double bound;
+} usm_tolerance_spec;
+
+/* Parse "OUTPUT>=X" or "OUTPUT<=X".  USM_OK or USM_EINPUT with a reason. */
+int usm_tolerance_spec_parse(const char *text, usm_tolerance_spec *s, char msg[USM_MSG_LEN]);
+
+/* ---- the study ------------------------------------------------------------------ */
+
+typedef struct usm_tolerance_options {
+    uint64_t samples;        /* 1 .. USM_TOLERANCE_MAX_SAMPLES (default 1000) */
+    uint64_t seed;           /* default 1 */
+    int threads;             /* 1 .. 64 (default 2) */
+    double t0;               /* Floquet start time [s] (default 0) */
+    usm_floquet_options floquet; /* usm_floquet_options_default */
+    const char *checkpoint;  /* checkpoint file, or NULL (default) */
+    double checkpoint_interval; /* seconds between checkpoint writes (default 10) */
+    uint64_t stop_after_blocks; /* stop (USM_EFAILED) once this many blocks were
+                                   computed by this run and checkpointed; 0: never
+                                   (default; a test hook for resuming) */
+} usm_tolerance_options;
+
+/* Fill `opt` with the defaults listed above. */
+void usm_tolerance_options_default(usm_tolerance_options *opt);
+
+/* A study of one model (opaque). */
+typedef struct usm_tolerance usm_tolerance;
+
+/* A study for model m (not NULL), or NULL when out of memory. */
+usm_tolerance *usm_tolerance_alloc(const usm_model *m);
+/* Free t; NULL is allowed. */
+void usm_tolerance_free(usm_tolerance *t);
+
+/* Add a varied parameter / a spec.  USM_OK, or USM_EINPUT (a parameter
+ * varied twice, I_yy of an axisymmetric model: vary I_xx, which moves I_yy
+ * with it) with the reason in usm_tolerance_message. */
+int usm_tolerance_vary_add(usm_tolerance *t, const usm_tolerance_vary *v);
+int usm_tolerance_spec_add(usm_tolerance *t, const usm_tolerance_spec *s);
+
+/* Run the study around the nominal parameters p.  USM_OK; USM_EINPUT (bad
+ * options or parameters, a relative distribution of a parameter whose nominal
+ * value is 0, a distribution that almost never stays physical, a checkpoint of
+ * another study); USM_EFAILED (out of memory, a checkpoint that cannot be
+ * written, stopped by stop_after_blocks).  Message in usm_tolerance_message. */
+int usm_tolerance_run(usm_tolerance *t, const usm_params *p, const usm_tolerance_options *opt);
+
+/* ---- the result of the last run -------------------------------------------------- */
+
+typedef struct usm_tolerance_summary {
+    uint64_t samples;
+    uint64_t seed;
+    uint64_t good;          /* samples that exist, are stable and meet every spec */
+    double yield;           /* good / samples */
+    double yield_lo, yield_hi; /* 95 % Wilson score interval */
+    uint64_t exists, stable; /* samples with a solution; with stable multipliers */
+    uint64_t failed;        /* samples with a solution whose multipliers failed */
+    uint64_t redrawn;       /* draws refused as unphysical and drawn again */
+    uint64_t resumed_blocks; /* blocks read from the checkpoint */
+    /* quantiles[k][q] of numeric output k at USM_TOLERANCE_QUANTILES[q] (NaN
+     * when no sample has the output); count[k] samples have it */
+    double quantile[USM_TOL_NNUMERIC][5];
+    uint64_t count[USM_TOL_NNUMERIC];
+} usm_tolerance_summary;
+
+/* The quantile levels: 0.01, 0.05, 0.5, 0.95, 0.99. */
+extern const double USM_TOLERANCE_QUANTILES[5];
+
+/* Summary of the last run (NULL before a successful run). */
+const usm_tolerance_summary *usm_tolerance_result(const usm_tolerance *t);
+
+/* Number of varied parameters and parameter j of them. */
+int usm_tolerance_vary_count(const usm_tolerance *t);
+const usm_tolerance_vary *usm_tolerance_vary_at(const usm_tolerance *t, int j);
+
+/* Spearman rank correlation of numeric output k with varied parameter j over
+ * the samples where output k exists; NaN when it is undefined (fewer than 3
+ * such samples, or a constant column). */
+double usm_tolerance_influence(const usm_tolerance *t, int k, int j);
+
+/* Sample i of the last run: the varied parameters' values (vary_count of
+ * them) into `values` (may be NULL), the outputs into `out`
+ * (USM_TOL_NOUTPUTS; NaN where an output does not exist, 0/1 for yes/no), and
+ * whether it counts for the yield.  USM_OK or USM_EINPUT (i out of range). */
+int usm_tolerance_sample(const usm_tolerance *t, uint64_t i, double *values, double *out,
+                         int *good, int *redraws);
+
+/* Why the last run failed, or "". */
+const char *usm_tolerance_message(const usm_tolerance *t);
+
+/* ---- writers ---------------------------------------------------------------------- */
+
+/* The samples as CSV in the usm command's dialect (docs/cli.md, "CSV
+ * files"): sample, the varied parameters "NAME [UNIT]", exists, stable,
+ * stick_admissible, theta [rad], rotor_speed [1/s], F_n [N], F_t [N],
+ * max_modulus [1], efficiency [1], good, redraws.  0, or -1 on a write error. */
+int usm_tolerance_write_csv(const usm_tolerance *t, FILE *out);
+
+/* summary.md: the study, the yield, quantiles and influence tables.
+ * `histograms` names the figure file to link (NULL: none).  0 or -1. */
+int usm_tolerance_write_summary(const usm_tolerance *t, FILE *out, const char *histograms);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* USM_TOLERANCE_H */
