@@ -1,0 +1,84 @@
+#!/bin/bash
+# usm tolerance (issue 12): bad input exits 2 with one stderr line naming the
+# field; the --json object's keys and ranges; the result is byte-identical
+# for any number of threads; a run stopped after one block
+# (USM_TOLERANCE_STOP_AFTER_BLOCKS) and resumed from its --checkpoint prints
+# and writes exactly what an uninterrupted run does; a checkpoint of another
+# study is refused; --out files and the refusal to overwrite.
+#
+# usage: tolerance_cli.sh PATH/TO/usm
+set -u
+USM=${1:?usage: tolerance_cli.sh PATH/TO/usm}
+. "$(dirname "$0")/cli_common.sh"
+
+T="tolerance --samples 300 --vary F0=normal:10% --vary T=uniform:0:0.009 --spec rotor_speed<=-5"
+
+# ---- bad input ------------------------------------------------------------------
+expect_bad '--vary nosuch' 'unknown parameter' tolerance --samples 10 --vary nosuch=normal:5%
+expect_bad '--vary c_t' 'unknown distribution' tolerance --samples 10 --vary c_t=gauss:5%
+expect_bad '--vary c_t' 'not a distribution' tolerance --samples 10 --vary c_t=normal:5%%
+expect_bad '--vary c_t' 'LO < HI' tolerance --samples 10 --vary c_t=uniform:2:1
+expect_bad '--vary c_t' 'positive' tolerance --samples 10 --vary c_t=normal:-1
+expect_bad '--vary' 'expected NAME=DIST' tolerance --samples 10 --vary c_t
+expect_bad '--vary c_t' 'varied twice' tolerance --samples 10 --vary c_t=normal:1% --vary c_t=normal:2%
+expect_bad '--spec speed' 'unknown output' tolerance --samples 10 --vary c_t=normal:1% --spec 'speed<=1'
+expect_bad '--spec' 'expected OUTPUT>=X' tolerance --samples 10 --vary c_t=normal:1% --spec 'theta=1'
+expect_bad '--spec theta' 'not a finite number' tolerance --samples 10 --vary c_t=normal:1% --spec 'theta<=x'
+expect_bad '--samples' 'required' tolerance --vary c_t=normal:1%
+expect_bad '--vary' 'required' tolerance --samples 10
+expect_bad '--samples' 'whole number' tolerance --samples 0 --vary c_t=normal:1%
+expect_bad '--samples' 'whole number' tolerance --samples 1.5 --vary c_t=normal:1%
+expect_bad '--threads' 'whole number' tolerance --samples 10 --threads 0 --vary c_t=normal:1%
+expect_bad '--seed' 'whole number' tolerance --samples 10 --seed -1 --vary c_t=normal:1%
+expect_bad 'T' 'nominal value is 0' tolerance --samples 10 --set T=0 --vary T=normal:5%
+expect_bad 'c_t' 'outside the physical range' tolerance --samples 10 --vary c_t=uniform:-2:-1
+expect_bad '--bogus' 'unknown option' tolerance --samples 10 --vary c_t=normal:1% --bogus
+mkdir "$tmp/exists"
+expect_bad '--out' 'exists' tolerance --samples 10 --vary c_t=normal:1% --out "$tmp/exists"
+
+# ---- the result -------------------------------------------------------------------
+if expect_rc 0 $T --json --threads 1; then
+    cp "$out" "$tmp/t1.json"
+    py 'assert set(o) >= {"samples", "seed", "yield", "yield_ci", "quantiles", "influence", "failed"}, o.keys()
+assert o["samples"] == 300 and o["seed"] == 1
+lo, hi = o["yield_ci"]
+assert 0 <= lo <= o["yield"] <= hi <= 1, (lo, o["yield"], hi)
+assert 0 < o["yield"] < 1, o["yield"]
+q = o["quantiles"]["rotor_speed"]
+assert q["p1"] <= q["p5"] <= q["p50"] <= q["p95"] <= q["p99"], q
+assert set(o["influence"]["theta"]) == {"F0", "T"}
+# the load slows the motor down: rotor_speed (negative when driving) rises with T
+assert o["influence"]["rotor_speed"]["T"] > 0.5, o["influence"]'
+fi
+expect_rc 0 $T --json --threads 2 && { cmp -s "$out" "$tmp/t1.json" || fail "threads 2 differs from threads 1"; }
+
+# ---- --out --------------------------------------------------------------------------
+if expect_rc 0 $T --out "$tmp/full"; then
+    for f in samples.csv summary.md; do [ -s "$tmp/full/$f" ] || fail "--out: no $f"; done
+    head -n 1 "$tmp/full/samples.csv" | grep -qx 'sample,F0 \[N\],T \[N m\],exists,stable,stick_admissible,theta \[rad\],rotor_speed \[1/s\],F_n \[N\],F_t \[N\],max_modulus \[1\],efficiency \[1\],good,redraws' ||
+        fail "samples.csv header: $(head -n 1 "$tmp/full/samples.csv")"
+    [ "$(wc -l <"$tmp/full/samples.csv")" -eq 301 ] || fail "samples.csv rows"
+    grep -qi 'nan\|inf' "$tmp/full/samples.csv" && fail "samples.csv has nan/inf"
+    if command -v gnuplot >/dev/null; then
+        [ -s "$tmp/full/histograms.png" ] && [ -s "$tmp/full/histograms.svg" ] || fail "no histograms"
+    fi
+    cp "$out" "$tmp/full.stdout"
+fi
+
+# ---- checkpoint: stop after one block, resume, compare byte for byte -----------------------
+checks=$((checks + 1))
+USM_TOLERANCE_STOP_AFTER_BLOCKS=1 timeout 60 "$USM" $T --checkpoint "$tmp/ck" --out "$tmp/resumed" >"$out" 2>"$err"
+rc=$?
+if [ $rc -ne 1 ] || ! grep -q 'stopped after 1 block' "$err" || [ "$(wc -l <"$err")" -ne 1 ] || [ ! -s "$tmp/ck" ]; then
+    fail "stop after one block: exit $rc"
+fi
+if expect_rc 0 $T --checkpoint "$tmp/ck" --out "$tmp/resumed" --force; then
+    cmp -s "$out" "$tmp/full.stdout" || fail "resumed summary differs"
+    cmp -s "$tmp/resumed/samples.csv" "$tmp/full/samples.csv" || fail "resumed samples.csv differs"
+fi
+expect_bad 'checkpoint' 'another study.*seed' $T --seed 2 --checkpoint "$tmp/ck"
+printf 'my notes\n' >"$tmp/notes"
+expect_bad 'checkpoint' 'not a usm tolerance checkpoint' $T --checkpoint "$tmp/notes"
+grep -qx 'my notes' "$tmp/notes" || fail "a foreign file was overwritten"
+
+finish tolerance_cli
