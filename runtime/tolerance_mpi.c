@@ -36,6 +36,9 @@ int usm_mpi_start(int *rank, int *size, char msg[USM_MSG_LEN])
             return USM_EFAILED;
         }
         started_here = 1;
+        /* every way out of the command (an early error too) finalizes, as
+         * mpirun requires of a rank that ends */
+        atexit(usm_mpi_stop);
     }
     if (MPI_Comm_rank(MPI_COMM_WORLD, rank) != MPI_SUCCESS ||
         MPI_Comm_size(MPI_COMM_WORLD, size) != MPI_SUCCESS) {

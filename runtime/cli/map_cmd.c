@@ -21,6 +21,9 @@
 #include "sweep_out.h" /* cli_plot_csv_open */
 #include "report_map.h"
 #include "usm.h"
+#ifdef USM_HAVE_MPI
+#include "mpi_run.h"
+#endif
 
 static void usage(FILE *out)
 {
@@ -265,8 +268,17 @@ int cli_map_main(int argc, char **argv)
     report_map map;
     char msg[CLI_MSG_LEN];
     FILE *out = stdout;
-    int status;
+    int status, rank = 0, size = 1;
 
+#ifdef USM_HAVE_MPI
+    /* under mpirun: the columns are shared out; only rank 0 reports and writes */
+    if (usm_mpi_launched() && usm_mpi_start(&rank, &size, msg) != USM_OK) {
+        cli_error("mpi: %s", msg);
+        return USM_EFAILED;
+    }
+    if (rank != 0 && (!freopen("/dev/null", "w", stdout) || !freopen("/dev/null", "w", stderr)))
+        return USM_EFAILED;
+#endif
     if (parse(&a, argc, argv, msg) != USM_OK) {
         cli_error("%s", msg);
         return USM_EINPUT;
@@ -289,6 +301,7 @@ int cli_map_main(int argc, char **argv)
     map.floquet = &a.floquet;
     map.threads = a.threads;
     map.boundaries = a.common.json;
+    map.mpi = size > 1;
     /* Refuse an existing --out before the (long) computation. */
     if (a.out && !a.force && access(a.out, F_OK) == 0) {
         cli_error("--out %s: file exists (use --force to overwrite it)", a.out);
@@ -299,6 +312,8 @@ int cli_map_main(int argc, char **argv)
         return USM_EINPUT;
     }
     status = report_map_run(&map, msg);
+    if (rank != 0) /* rank 0 has the map */
+        return status;
     if (status != USM_OK) {
         cli_error("%s", msg);
         return status;

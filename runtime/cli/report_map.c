@@ -9,6 +9,9 @@
 #include "csv_out.h"
 #include "json_out.h"
 #include "usm_map.h"
+#ifdef USM_HAVE_MPI
+#include "mpi_run.h"
+#endif
 
 const char *report_boundary_name(int kind)
 {
@@ -47,6 +50,39 @@ static void copy_cell(const usm_map_cell *in, report_map_cell *c)
     snprintf(c->error, sizeof c->error, "%s", pt->error);
 }
 
+#ifdef USM_HAVE_MPI
+/* The map over the MPI ranks: rank 0 copies the gathered result. */
+static int run_mpi(report_map *map, const usm_map_options *opt, char msg[CLI_MSG_LEN])
+{
+    usm_map_gathered g;
+    int status = usm_map_run_mpi(map->model, &map->params, opt, &g);
+    if (status != USM_OK)
+        option_message(g.msg, msg);
+    const size_t n = (size_t)map->x.points * (size_t)map->y.points;
+    if (status == USM_OK && g.cells && !(map->cells = calloc(n, sizeof *map->cells)))
+        status = USM_EFAILED;
+    for (size_t i = 0; status == USM_OK && g.cells && i < n; ++i)
+        copy_cell(&g.cells[i], &map->cells[i]);
+    for (int k = 0; status == USM_OK && g.cells && k < REPORT_NBOUNDARY; ++k) {
+        if (!(map->bnd[k] = malloc((g.nbnd[k] ? g.nbnd[k] : 1) * sizeof *map->bnd[k]))) {
+            status = USM_EFAILED;
+            break;
+        }
+        for (size_t q = 0; q < g.nbnd[k]; ++q)
+            map->bnd[k][q] = (report_boundary_point){g.bnd[k][q].x, g.bnd[k][q].y,
+                                                     g.bnd[k][q].column, g.bnd[k][q].k};
+        map->nbnd[k] = g.nbnd[k];
+    }
+    map->floquet_failures = g.floquet_failures;
+    usm_map_gathered_free(&g);
+    if (status == USM_EFAILED && !msg[0])
+        cli_msg(msg, "map: out of memory");
+    if (status != USM_OK)
+        report_map_free(map);
+    return status;
+}
+#endif
+
 int report_map_run(report_map *map, char msg[CLI_MSG_LEN])
 {
     usm_map_options opt;
@@ -70,6 +106,15 @@ int report_map_run(report_map *map, char msg[CLI_MSG_LEN])
         opt.floquet = *map->floquet;
     opt.threads = map->threads;
     opt.boundaries = map->boundaries;
+    map->x.param = usm_params_find(map->x.name);
+    map->y.param = usm_params_find(map->y.name);
+#ifdef USM_HAVE_MPI
+    if (map->mpi) {
+        usm_map_free(lib);
+        msg[0] = '\0';
+        return run_mpi(map, &opt, msg);
+    }
+#endif
     if ((status = usm_map_run(lib, &map->params, &opt)) != USM_OK) {
         if (status == USM_EINPUT)
             option_message(usm_map_message(lib), msg);

@@ -60,6 +60,8 @@ typedef struct report_map {
     const usm_floquet_options *floquet; /* NULL: the library's defaults */
     int threads;     /* >= 1 */
     int boundaries;  /* locate the boundaries (1) or not (0) */
+    int mpi;         /* share the columns out over the MPI ranks (mpi_run.h);
+                        only rank 0 gets the result */
     /* output: cells[j * x.points + i] is (x_i, y_j) */
     report_map_cell *cells;
     report_boundary_point *bnd[REPORT_NBOUNDARY];

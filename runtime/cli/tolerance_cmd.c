@@ -278,8 +278,5 @@ int cli_tolerance_main(int argc, char **argv)
     if (status != USM_OK && rank == 0)
         cli_error("%s", msg);
     usm_tolerance_free(t);
-#ifdef USM_HAVE_MPI
-    usm_mpi_stop();
-#endif
     return status;
 }

@@ -1,0 +1,51 @@
+#!/bin/bash
+# MPI (issue 12, part 3): `mpirun -np 2 --oversubscribe usm tolerance|map`
+# prints and writes exactly what the serial run does (rank 0 gathers the
+# samples / columns the ranks computed), also when a checkpointed study is
+# stopped under MPI and resumed serially.
+#
+# usage: mpi_check.sh PATH/TO/usm PATH/TO/mpiexec
+set -u
+USM=${1:?usage: mpi_check.sh PATH/TO/usm PATH/TO/mpiexec}
+MPIEXEC=${2:?usage: mpi_check.sh PATH/TO/usm PATH/TO/mpiexec}
+. "$(dirname "$0")/cli_common.sh"
+# mpirun refuses root unless told (containers, CI)
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+# one machine: no network interfaces to probe, no warnings about them
+export OMPI_MCA_btl=self,vader OMPI_MCA_btl_vader_single_copy_mechanism=none
+
+mpi() {
+    timeout 120 "$MPIEXEC" -np 2 --oversubscribe "$USM" "$@" >"$out" 2>"$err"
+}
+
+same() { # NAME FILE_A FILE_B
+    checks=$((checks + 1))
+    cmp -s "$2" "$3" || fail "$1: the MPI output differs from the serial one"
+}
+
+T="tolerance --samples 1500 --vary F0=normal:10% --vary T=uniform:0:0.009 --vary c_t=normal:5% --spec rotor_speed<=-5 --threads 1"
+expect_rc 0 $T --json && cp "$out" "$tmp/serial.json"
+expect_rc 0 $T --out "$tmp/serial" && cp "$out" "$tmp/serial.md"
+mpi $T --json || fail "mpirun tolerance --json: exit $?"
+same "tolerance --json" "$out" "$tmp/serial.json"
+mpi $T --out "$tmp/mpi" || fail "mpirun tolerance --out: exit $?"
+same "tolerance summary" "$out" "$tmp/serial.md"
+same "tolerance samples.csv" "$tmp/mpi/samples.csv" "$tmp/serial/samples.csv"
+
+# stopped under MPI after 3 blocks, resumed by a serial run
+checks=$((checks + 1))
+USM_TOLERANCE_STOP_AFTER_BLOCKS=3 timeout 120 "$MPIEXEC" -np 2 --oversubscribe -x USM_TOLERANCE_STOP_AFTER_BLOCKS \
+    "$USM" $T --json --checkpoint "$tmp/ck" >"$out" 2>"$err"
+[ -s "$tmp/ck" ] && grep -q 'stopped after 3 block' "$err" || fail "mpirun stop after 3 blocks"
+expect_rc 0 $T --json --checkpoint "$tmp/ck" && same "tolerance resumed" "$out" "$tmp/serial.json"
+
+# maps: an odd number of columns (the last pair overlaps), with boundaries
+M="map --x-points 7 --y-points 6 --threads 1"
+expect_rc 0 $M --json && cp "$out" "$tmp/map.json"
+mpi $M --json || fail "mpirun map --json: exit $?"
+same "map --json" "$out" "$tmp/map.json"
+expect_rc 0 $M && cp "$out" "$tmp/map.csv"
+mpi $M || fail "mpirun map: exit $?"
+same "map csv" "$out" "$tmp/map.csv"
+
+finish mpi_check
