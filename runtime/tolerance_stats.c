@@ -226,3 +226,58 @@ int usm_tolerance_write_summary(const usm_tolerance *t, FILE *out, const char *h
                 "samples.csv.\n", histograms);
     return ferror(out) ? -1 : 0;
 }
+
+/* A JSON number with 17 significant digits (reads back bit for bit), null
+ * where the value does not exist (JSON has no NaN). */
+static void jreal(FILE *f, double v)
+{
+    char buf[40];
+    if (!isfinite(v)) {
+        fputs("null", f);
+        return;
+    }
+    snprintf(buf, sizeof buf, "%.17g", v);
+    fputs(buf, f);
+    if (!strpbrk(buf, ".e"))
+        fputs(".0", f);
+}
+
+int usm_tolerance_write_json(const usm_tolerance *t, FILE *out)
+{
+    static const char *const qk[5] = {"p1", "p5", "p50", "p95", "p99"};
+    const usm_tolerance_summary *s = &t->sum;
+    if (!t->have_result)
+        return -1;
+    fprintf(out, "{\n  \"samples\": %llu,\n  \"seed\": %llu,\n  \"yield\": ",
+            (unsigned long long)s->samples, (unsigned long long)s->seed);
+    jreal(out, s->yield);
+    fputs(",\n  \"yield_ci\": [\n    ", out);
+    jreal(out, s->yield_lo);
+    fputs(",\n    ", out);
+    jreal(out, s->yield_hi);
+    fputs("\n  ],\n  \"quantiles\": {", out);
+    for (int k = 0; k < USM_TOL_NNUMERIC; ++k) {
+        fprintf(out, "%s\n    \"%s\": {\n      \"count\": %llu", k ? "," : "",
+                usm_tolerance_output_name(k), (unsigned long long)s->count[k]);
+        for (int q = 0; q < 5; ++q) {
+            fprintf(out, ",\n      \"%s\": ", qk[q]);
+            jreal(out, s->quantile[k][q]);
+        }
+        fputs("\n    }", out);
+    }
+    fputs("\n  },\n  \"influence\": {", out);
+    for (int k = 0; k < USM_TOL_NNUMERIC; ++k) {
+        fprintf(out, "%s\n    \"%s\": {", k ? "," : "", usm_tolerance_output_name(k));
+        for (int j = 0; j < t->nvary; ++j) {
+            fprintf(out, "%s\n      \"%s\": ", j ? "," : "", t->vary[j].param->name);
+            jreal(out, t->influence[k][j]);
+        }
+        fputs("\n    }", out);
+    }
+    fprintf(out, "\n  },\n  \"failed\": %llu,\n  \"redrawn\": %llu,\n  \"exists\": %llu,\n"
+            "  \"stable\": %llu,\n  \"good\": %llu,\n  \"resumed_blocks\": %llu\n}\n",
+            (unsigned long long)s->failed, (unsigned long long)s->redrawn,
+            (unsigned long long)s->exists, (unsigned long long)s->stable,
+            (unsigned long long)s->good, (unsigned long long)s->resumed_blocks);
+    return ferror(out) ? -1 : 0;
+}

@@ -6,11 +6,9 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
-
-#include <jansson.h>
+#include <unistd.h>
 
 #include "commands.h"
-#include "json_out.h"
 #include "options.h"
 #include "plot_run.h"
 #include "usm_tolerance.h"
@@ -20,34 +18,31 @@
 
 static void usage(FILE *out)
 {
-    fprintf(out,
-            "usage: usm tolerance --samples N --vary NAME=DIST [--vary ...]\n"
-            "                     [--spec OUTPUT>=X | --spec OUTPUT<=X]... [--seed S] [--threads N]\n"
-            "                     [--model M] [--variant V] [--params F] [--set N=V]...\n"
-            "                     [--out DIR [--force]] [--checkpoint FILE] [--json]\n\n"
-            "Monte Carlo tolerance study: N parameter points drawn around the nominal design,\n"
-            "at each the stationary solution and its Floquet multipliers; the yield (exists,\n"
-            "stable, every spec met) with its 95 %% Wilson interval, quantiles and the Spearman\n"
-            "rank correlation of each output with each varied parameter.\n\noptions:\n");
+    fputs("usage: usm tolerance --samples N --vary NAME=DIST [--vary ...]\n"
+          "         [--spec OUTPUT>=X | --spec OUTPUT<=X]... [--seed S] [--threads N]\n"
+          "         [--model M] [--variant V] [--params F] [--set N=V]...\n"
+          "         [--out DIR [--force]] [--checkpoint FILE] [--json]\n\n"
+          "Monte Carlo tolerance study: at N parameter points drawn around the nominal\n"
+          "design, the stationary solution and its Floquet multipliers; the yield (exists,\n"
+          "stable, every spec met) with its 95 % Wilson interval, quantiles, and the\n"
+          "Spearman rank correlation of each output with each varied parameter.\n\noptions:\n",
+          out);
     cli_common_usage(out);
     cli_floquet_usage(out);
-    fprintf(out,
-            "  --samples N         number of samples (1 ... 1e9)\n"
-            "  --vary NAME=DIST    DIST: normal:5%% (sigma relative to the nominal value),\n"
-            "                      normal:0.01 (absolute sigma), uniform:2%% (relative\n"
-            "                      half-width), uniform:LO:HI; repeatable\n"
-            "  --spec OUT>=X, OUT<=X  a bound on theta, rotor_speed, F_n, F_t, max_modulus or\n"
-            "                      efficiency (repeatable; rotor_speed < 0 when driving)\n"
-            "  --seed S            random seed (default 1); sample i depends only on (S, i)\n"
-            "  --threads N         worker threads (default 2)\n"
-            "  --out DIR           write DIR/samples.csv, DIR/summary.md, DIR/histograms.png/svg\n"
-            "  --force             write into an existing DIR\n"
-            "  --checkpoint FILE   keep completed blocks in FILE; rerun to resume\n"
-            "  -h, --help          print this help\n\n"
-            "Output: summary (Markdown) on stdout; --json: {samples, seed, yield, yield_ci,\n"
-            "quantiles, influence, failed, redrawn, exists, stable}.  Under mpirun the samples\n"
-            "are shared out over the ranks; the output is the same.\n\n"
-            "exit status: 0 done, 1 numerical failure or write error, 2 bad input\n");
+    fputs("  --samples N         number of samples (1 ... 1e9)\n"
+          "  --vary NAME=DIST    normal:5% (sigma relative to the nominal value), normal:0.01\n"
+          "                      (absolute), uniform:2% (relative half-width), uniform:LO:HI\n"
+          "  --spec OUT>=X, OUT<=X  a bound on theta, rotor_speed (< 0 when driving), F_n,\n"
+          "                      F_t, max_modulus or efficiency (repeatable)\n"
+          "  --seed S            random seed (default 1); sample i depends only on (S, i)\n"
+          "  --threads N         worker threads (default 2)\n"
+          "  --out DIR           DIR/samples.csv, summary.md, histograms.png/svg (--force:\n"
+          "                      write into an existing DIR)\n"
+          "  --checkpoint FILE   keep completed blocks in FILE; the same command resumes\n\n"
+          "Output: a Markdown summary; --json: {samples, seed, yield, yield_ci, quantiles,\n"
+          "influence, failed, redrawn, exists, stable}.  Under mpirun the samples are shared\n"
+          "out over the ranks, with the same output.\n"
+          "exit status: 0 done, 1 numerical failure or write error, 2 bad input\n", out);
 }
 
 typedef struct tol_args {
@@ -77,48 +72,38 @@ static int parse_count(const char *field, const char *text, uint64_t lo, uint64_
 
 static int option(tol_args *a, int argc, char **argv, int *i, char msg[CLI_MSG_LEN])
 {
-    const char *v;
+    const char *v = NULL;
     char lib[USM_MSG_LEN];
-    uint64_t n;
-    int r;
-#define OPT(name) ((r = cli_option_value(argc, argv, i, name, &v, msg)) == CLI_OPT_TAKEN)
-    if (OPT("--samples")) {
-        a->have_samples = 1;
-        return parse_count("--samples", v, 1, USM_TOLERANCE_MAX_SAMPLES, &a->opt.samples, msg);
-    } else if (r == CLI_OPT_NOT_MINE && OPT("--seed")) {
-        return parse_count("--seed", v, 0, UINT64_MAX, &a->opt.seed, msg);
-    } else if (r == CLI_OPT_NOT_MINE && OPT("--threads")) {
-        r = parse_count("--threads", v, 1, 64, &n, msg);
+    uint64_t n = 0;
+    int r = CLI_OPT_NOT_MINE, rc = USM_OK;
+    /* each OPT is tried only while no earlier one took or refused the argument */
+#define OPT(name) \
+    (r == CLI_OPT_NOT_MINE && (r = cli_option_value(argc, argv, i, name, &v, msg)) == CLI_OPT_TAKEN)
+    if (OPT("--samples") && (a->have_samples = 1))
+        rc = parse_count("--samples", v, 1, USM_TOLERANCE_MAX_SAMPLES, &a->opt.samples, msg);
+    else if (OPT("--seed"))
+        rc = parse_count("--seed", v, 0, UINT64_MAX, &a->opt.seed, msg);
+    else if (OPT("--threads") && (rc = parse_count("--threads", v, 1, 64, &n, msg)) == USM_OK)
         a->opt.threads = (int)n;
-        return r;
-    } else if (r == CLI_OPT_NOT_MINE && OPT("--vary")) {
-        if (a->nvary > USM_NPARAMS || usm_tolerance_vary_parse(v, &a->vary[a->nvary++], lib)) {
-            cli_msg(msg, "--vary %s", a->nvary > USM_NPARAMS ? "too many" : lib);
-            return USM_EINPUT;
-        }
-    } else if (r == CLI_OPT_NOT_MINE && OPT("--spec")) {
-        if (a->nspec >= 64 || usm_tolerance_spec_parse(v, &a->spec[a->nspec++], lib)) {
-            cli_msg(msg, "--spec %s", a->nspec >= 64 ? "at most 64" : lib);
-            return USM_EINPUT;
-        }
-    } else if (r == CLI_OPT_NOT_MINE && OPT("--out")) {
+    else if (OPT("--vary") && (a->nvary > USM_NPARAMS ||
+                               usm_tolerance_vary_parse(v, &a->vary[a->nvary++], lib) != USM_OK))
+        rc = USM_EINPUT, cli_msg(msg, "--vary %s", a->nvary > USM_NPARAMS ? "too many" : lib);
+    else if (OPT("--spec") && (a->nspec >= 64 ||
+                               usm_tolerance_spec_parse(v, &a->spec[a->nspec++], lib) != USM_OK))
+        rc = USM_EINPUT, cli_msg(msg, "--spec %s", a->nspec >= 64 ? "at most 64" : lib);
+    else if (OPT("--out"))
         a->out = v;
-    } else if (r == CLI_OPT_NOT_MINE && OPT("--checkpoint")) {
+    else if (OPT("--checkpoint"))
         a->opt.checkpoint = v;
-    }
 #undef OPT
-    if (r == CLI_OPT_ERROR)
-        return USM_EINPUT;
-    if (r == CLI_OPT_NOT_MINE) {
+    if (r == CLI_OPT_NOT_MINE)
         cli_msg(msg, "%s: %s (see usm tolerance --help)", argv[*i],
                 argv[*i][0] == '-' ? "unknown option" : "unexpected argument");
-        return USM_EINPUT;
-    }
-    if ((a->out && !a->out[0]) || (a->opt.checkpoint && !a->opt.checkpoint[0])) {
-        cli_msg(msg, "%s: empty file name", a->out && !a->out[0] ? "--out" : "--checkpoint");
-        return USM_EINPUT;
-    }
-    return USM_OK;
+    else if (r == CLI_OPT_TAKEN && rc == USM_OK && !v[0] && (v == a->out || v == a->opt.checkpoint))
+        cli_msg(msg, "%s: empty file name", v == a->out ? "--out" : "--checkpoint");
+    else
+        return r == CLI_OPT_ERROR ? USM_EINPUT : rc;
+    return USM_EINPUT;
 }
 
 static int parse(tol_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
@@ -155,38 +140,6 @@ static int parse(tol_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
     return cli_common_finish(&a->common, msg);
 }
 
-static json_t *result_json(const usm_tolerance *t)
-{
-    const usm_tolerance_summary *s = usm_tolerance_result(t);
-    static const char *const qk[5] = {"p1", "p5", "p50", "p95", "p99"};
-    json_t *o = json_object(), *q = json_object(), *inf = json_object();
-    int ok = o && q && inf;
-    cli_json_put(o, "samples", json_integer((json_int_t)s->samples), &ok);
-    cli_json_put(o, "seed", json_integer((json_int_t)s->seed), &ok);
-    cli_json_put(o, "yield", cli_json_real(s->yield), &ok);
-    cli_json_put(o, "yield_ci", json_pack("[ff]", s->yield_lo, s->yield_hi), &ok);
-    for (int k = 0; k < USM_TOL_NNUMERIC; ++k) {
-        json_t *qo = json_object(), *io = json_object();
-        cli_json_put(qo, "count", json_integer((json_int_t)s->count[k]), &ok);
-        for (int l = 0; l < 5; ++l)
-            cli_json_put(qo, qk[l], cli_json_real(s->quantile[k][l]), &ok);
-        for (int j = 0; j < usm_tolerance_vary_count(t); ++j)
-            cli_json_put(io, usm_tolerance_vary_at(t, j)->param->name,
-                         cli_json_real(usm_tolerance_influence(t, k, j)), &ok);
-        cli_json_put(q, usm_tolerance_output_name(k), qo, &ok);
-        cli_json_put(inf, usm_tolerance_output_name(k), io, &ok);
-    }
-    cli_json_put(o, "quantiles", q, &ok);
-    cli_json_put(o, "influence", inf, &ok);
-    cli_json_put(o, "failed", json_integer((json_int_t)s->failed), &ok);
-    cli_json_put(o, "redrawn", json_integer((json_int_t)s->redrawn), &ok);
-    cli_json_put(o, "exists", json_integer((json_int_t)s->exists), &ok);
-    cli_json_put(o, "stable", json_integer((json_int_t)s->stable), &ok);
-    if (!ok)
-        json_decref(o);
-    return ok ? o : NULL;
-}
-
 /* DIR/NAME written by `write`; USM_OK or USM_EFAILED with msg. */
 static int write_file(const char *dir, const char *name, const usm_tolerance *t, int summary,
                       char msg[CLI_MSG_LEN])
@@ -206,6 +159,10 @@ static int write_file(const char *dir, const char *name, const usm_tolerance *t,
 static int write_out(const tol_args *a, const usm_tolerance *t, char msg[CLI_MSG_LEN])
 {
     char prefix[4096], csv[4096];
+    if (mkdir(a->out, 0777) != 0 && !(errno == EEXIST && a->force)) {
+        cli_msg(msg, "--out %s: %s", a->out, strerror(errno));
+        return USM_EFAILED;
+    }
     int rc = write_file(a->out, "samples.csv", t, 0, msg);
     if (rc == USM_OK)
         rc = write_file(a->out, "summary.md", t, 1, msg);
@@ -220,13 +177,30 @@ static int write_out(const tol_args *a, const usm_tolerance *t, char msg[CLI_MSG
     return rc == USM_ENOSOLUTION ? USM_OK : rc;
 }
 
+/* Before the computation, alike on every rank: DIR new (or --force), its
+ * parent writable. */
+static int check_out(const tol_args *a, char msg[CLI_MSG_LEN])
+{
+    char parent[4096];
+    snprintf(parent, sizeof parent, "%s", a->out);
+    char *slash = strrchr(parent, '/');
+    if (slash)
+        slash[slash == parent] = '\0';
+    if (access(a->out, F_OK) == 0 && !a->force)
+        cli_msg(msg, "--out %s: exists (use --force to write into it)", a->out);
+    else if (access(a->out, F_OK) != 0 && access(slash ? parent : ".", W_OK) != 0)
+        cli_msg(msg, "--out %s: %s", a->out, strerror(errno));
+    else
+        return USM_OK;
+    return USM_EINPUT;
+}
+
 int cli_tolerance_main(int argc, char **argv)
 {
     tol_args a;
     char msg[CLI_MSG_LEN];
     int rank = 0, size = 1, status;
     usm_tolerance *t = NULL;
-    (void)size;
 #ifdef USM_HAVE_MPI
     if (usm_mpi_launched() && usm_mpi_start(&rank, &size, msg) != USM_OK) {
         cli_error("mpi: %s", msg);
@@ -238,12 +212,8 @@ int cli_tolerance_main(int argc, char **argv)
             usage(stdout);
         return USM_OK;
     }
-    if (status == USM_OK && a.out && rank == 0 && mkdir(a.out, 0777) != 0 &&
-        !(errno == EEXIST && a.force)) {
-        cli_msg(msg, "--out %s: %s", a.out, errno == EEXIST ? "exists (use --force to write "
-                "into it)" : strerror(errno));
-        status = USM_EINPUT;
-    }
+    if (status == USM_OK && a.out)
+        status = check_out(&a, msg);
     if (status == USM_OK && !(t = usm_tolerance_alloc(a.common.model))) {
         cli_msg(msg, "out of memory");
         status = USM_EFAILED;
@@ -261,22 +231,20 @@ int cli_tolerance_main(int argc, char **argv)
         else
 #endif
             status = usm_tolerance_run(t, &a.common.params, &a.opt);
-        if (status != USM_OK)
-            cli_msg(msg, "%s", usm_tolerance_message(t));
+        cli_msg(msg, "%s", usm_tolerance_message(t));
     }
     if (status == USM_OK && rank == 0) {
-        json_t *o = a.common.json ? result_json(t) : NULL;
-        if (a.common.json ? !o || cli_json_print(o, stdout) != 0
-                          : usm_tolerance_write_summary(t, stdout, NULL) != 0) {
+        if ((a.common.json ? usm_tolerance_write_json(t, stdout)
+                           : usm_tolerance_write_summary(t, stdout, NULL)) != 0) {
             cli_msg(msg, "stdout: write error");
             status = USM_EFAILED;
         }
-        json_decref(o);
         if (status == USM_OK && a.out)
             status = write_out(&a, t, msg);
     }
     if (status != USM_OK && rank == 0)
         cli_error("%s", msg);
     usm_tolerance_free(t);
+    (void)size; /* used under MPI only */
     return status;
 }
