@@ -275,9 +275,9 @@ int usm_tolerance_write_json(const usm_tolerance *t, FILE *out)
         fputs("\n    }", out);
     }
     fprintf(out, "\n  },\n  \"failed\": %llu,\n  \"redrawn\": %llu,\n  \"exists\": %llu,\n"
-            "  \"stable\": %llu,\n  \"good\": %llu,\n  \"resumed_blocks\": %llu\n}\n",
+            "  \"stable\": %llu,\n  \"good\": %llu\n}\n",
             (unsigned long long)s->failed, (unsigned long long)s->redrawn,
             (unsigned long long)s->exists, (unsigned long long)s->stable,
-            (unsigned long long)s->good, (unsigned long long)s->resumed_blocks);
+            (unsigned long long)s->good);
     return ferror(out) ? -1 : 0;
 }

@@ -201,8 +201,8 @@ int usm_tolerance_write_csv(const usm_tolerance *t, FILE *out);
 /* The result as one JSON object (2-space indent, numbers with 17 digits,
  * null where a value does not exist): samples, seed, yield, yield_ci [lo,
  * hi], quantiles {OUTPUT: {count, p1, p5, p50, p95, p99}}, influence
- * {OUTPUT: {PARAM: Spearman}}, failed, redrawn, exists, stable, good,
- * resumed_blocks.  0 or -1 on a write error. */
+ * {OUTPUT: {PARAM: Spearman}}, failed, redrawn, exists, stable, good (the
+ * same bytes after a checkpoint resume).  0 or -1 on a write error. */
 int usm_tolerance_write_json(const usm_tolerance *t, FILE *out);
 
 /* summary.md: the study, the yield, quantiles and influence tables.
