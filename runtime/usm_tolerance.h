@@ -91,9 +91,9 @@ enum {
     USM_TOL_NOUTPUTS = 9
 };
 
-/* Name of output k ("theta", ...), NULL when out of range; its SI unit ("rad",
- * "1/s", "N", "1"; NULL for the yes/no outputs). */
+/* Name of output k ("theta", ...), NULL when out of range. */
 const char *usm_tolerance_output_name(int k);
+/* SI unit of output k ("rad", "1/s", "N", "1"); NULL for the yes/no outputs. */
 const char *usm_tolerance_output_unit(int k);
 /* Index of the output called `name`, or -1. */
 int usm_tolerance_output_find(const char *name);
@@ -134,10 +134,11 @@ usm_tolerance *usm_tolerance_alloc(const usm_model *m);
 /* Free t; NULL is allowed. */
 void usm_tolerance_free(usm_tolerance *t);
 
-/* Add a varied parameter / a spec.  USM_OK, or USM_EINPUT (a parameter
+/* Add a varied parameter.  USM_OK, or USM_EINPUT (a parameter
  * varied twice, I_yy of an axisymmetric model: vary I_xx, which moves I_yy
  * with it) with the reason in usm_tolerance_message. */
 int usm_tolerance_vary_add(usm_tolerance *t, const usm_tolerance_vary *v);
+/* Add a spec (at most 64).  USM_OK or USM_EINPUT. */
 int usm_tolerance_spec_add(usm_tolerance *t, const usm_tolerance_spec *s);
 
 /* Run the study around the nominal parameters p.  USM_OK; USM_EINPUT (bad
@@ -171,8 +172,9 @@ extern const double USM_TOLERANCE_QUANTILES[5];
 /* Summary of the last run (NULL before a successful run). */
 const usm_tolerance_summary *usm_tolerance_result(const usm_tolerance *t);
 
-/* Number of varied parameters and parameter j of them. */
+/* Number of varied parameters. */
 int usm_tolerance_vary_count(const usm_tolerance *t);
+/* Varied parameter j (in the order added), NULL when out of range. */
 const usm_tolerance_vary *usm_tolerance_vary_at(const usm_tolerance *t, int j);
 
 /* Spearman rank correlation of numeric output k with varied parameter j over
