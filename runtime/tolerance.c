@@ -499,8 +499,9 @@ double tol_now(void)
 
 int tol_checkpoint_due(const usm_tolerance *t, int last, int stop)
 {
-    return t->opt.checkpoint &&
-           (last || stop || tol_now() - t->last_write >= t->opt.checkpoint_interval);
+    /* a large study's file takes long to rewrite: at most 1/20 of the time writing */
+    const double wait = fmax(t->opt.checkpoint_interval, 20.0 * t->write_seconds);
+    return t->opt.checkpoint && (last || stop || tol_now() - t->last_write >= wait);
 }
 
 /* ---- checks and the configuration --------------------------------------------------- */
@@ -618,6 +619,7 @@ int tol_prepare(usm_tolerance *t, const usm_params *p, const usm_tolerance_optio
     t->width = t->nvary + USM_TOL_NOUTPUTS + 2;
     t->nblocks = (opt->samples + USM_TOLERANCE_BLOCK - 1) / USM_TOLERANCE_BLOCK;
     memset(&t->sum, 0, sizeof t->sum);
+    t->write_seconds = 0.0;
     t->last_write = tol_now();
     if ((uint64_t)t->width > SIZE_MAX / sizeof(double) / opt->samples ||
         !(t->done = calloc(t->nblocks, 1)) ||

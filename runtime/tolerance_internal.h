@@ -33,6 +33,7 @@ struct usm_tolerance {
     double *rows;           /* samples x width */
     char *config;           /* the study's configuration text (checkpoint header) */
     double last_write;      /* monotonic time of the last checkpoint write [s] */
+    double write_seconds;   /* how long that write took */
     /* the result */
     int have_result;
     usm_tolerance_summary sum;

@@ -125,6 +125,7 @@ int tol_checkpoint_write(usm_tolerance *t)
     uint64_t n = 0;
     FILE *f;
     int bad;
+    const double start = tol_now();
     if (snprintf(tmp, sizeof tmp, "%s.tmp", path) >= (int)sizeof tmp) {
         snprintf(t->msg, USM_MSG_LEN, "checkpoint %.120s: path too long", path);
         return USM_EINPUT;
@@ -154,5 +155,6 @@ int tol_checkpoint_write(usm_tolerance *t)
         return USM_EFAILED;
     }
     t->last_write = tol_now();
+    t->write_seconds = t->last_write - start;
     return USM_OK;
 }

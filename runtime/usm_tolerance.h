@@ -22,7 +22,8 @@
  *
  * Checkpoints: the samples are computed in blocks of USM_TOLERANCE_BLOCK; the
  * completed blocks are written to the checkpoint file atomically (temporary
- * file, then rename) at most every `checkpoint_interval` seconds and at the
+ * file, then rename) at most every `checkpoint_interval` seconds (and at
+ * most 1/20 of the time: a write taking w seconds waits 20 w) and at the
  * end; a run with the same checkpoint file loads them and computes only the
  * rest.  The file records the study's configuration; a file of another
  * configuration is refused (USM_EINPUT, the message says what differs).
