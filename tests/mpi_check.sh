@@ -11,11 +11,15 @@ MPIEXEC=${2:?usage: mpi_check.sh PATH/TO/usm PATH/TO/mpiexec}
 . "$(dirname "$0")/cli_common.sh"
 # mpirun refuses root unless told (containers, CI)
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+# the sanitizer build: OpenMPI keeps allocations until exit in plugins it has
+# unloaded by then (LeakSanitizer cannot even name them), so leaks are not
+# checked under mpirun; the serial runs here and in tolerance_cli.sh are
+mpi_env="ASAN_OPTIONS=detect_leaks=0${ASAN_OPTIONS:+:$ASAN_OPTIONS}"
 # one machine: no network interfaces to probe, no warnings about them
 export OMPI_MCA_btl=self,vader OMPI_MCA_btl_vader_single_copy_mechanism=none
 
 mpi() {
-    timeout 120 "$MPIEXEC" -np 2 --oversubscribe "$USM" "$@" >"$out" 2>"$err"
+    env "$mpi_env" timeout 120 "$MPIEXEC" -np 2 --oversubscribe "$USM" "$@" >"$out" 2>"$err"
 }
 
 same() { # NAME FILE_A FILE_B
@@ -34,7 +38,7 @@ same "tolerance samples.csv" "$tmp/mpi/samples.csv" "$tmp/serial/samples.csv"
 
 # stopped under MPI after 3 blocks, resumed by a serial run
 checks=$((checks + 1))
-USM_TOLERANCE_STOP_AFTER_BLOCKS=3 timeout 120 "$MPIEXEC" -np 2 --oversubscribe -x USM_TOLERANCE_STOP_AFTER_BLOCKS \
+env "$mpi_env" USM_TOLERANCE_STOP_AFTER_BLOCKS=3 timeout 120 "$MPIEXEC" -np 2 --oversubscribe -x USM_TOLERANCE_STOP_AFTER_BLOCKS \
     "$USM" $T --json --checkpoint "$tmp/ck" >"$out" 2>"$err"
 [ -s "$tmp/ck" ] && grep -q 'stopped after 3 block' "$err" || fail "mpirun stop after 3 blocks"
 expect_rc 0 $T --json --checkpoint "$tmp/ck" && same "tolerance resumed" "$out" "$tmp/serial.json"
