@@ -29,7 +29,7 @@ static void usage(FILE *out)
           out);
     cli_common_usage(out);
     cli_floquet_usage(out);
-    fputs("  --samples N         number of samples (1 ... 1e9)\n"
+    fputs("  --samples N         number of samples, a whole number 1 ... 1000000000\n"
           "  --vary NAME=DIST    normal:5% (sigma relative to the nominal value), normal:0.01\n"
           "                      (absolute), uniform:2% (relative half-width), uniform:LO:HI\n"
           "  --spec OUT>=X, OUT<=X  a bound on theta, rotor_speed (< 0 when driving), F_n,\n"
