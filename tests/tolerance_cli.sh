@@ -65,6 +65,18 @@ if expect_rc 0 $T --out "$tmp/full"; then
     cp "$out" "$tmp/full.stdout"
 fi
 
+# no sample has a solution: yield 0 with the interval [0, hi], histograms all the same
+if expect_rc 0 tolerance --samples 20 --vary T=uniform:0.01:0.02 --json --out "$tmp/none"; then
+    py 'assert o["yield"] == 0 and o["yield_ci"][0] == 0 and 0 < o["yield_ci"][1] < 0.2, o
+assert o["exists"] == 0 and o["quantiles"]["theta"]["p50"] is None and o["quantiles"]["theta"]["count"] == 0'
+fi
+if command -v gnuplot >/dev/null; then
+    for d in full none; do
+        [ -s "$tmp/$d/histograms.png" ] && ! grep -qiE 'warning|error' "$tmp/$d/histograms.log" ||
+            fail "$d: tolerance.gp: $(head -c 300 "$tmp/$d/histograms.log")"
+    done
+fi
+
 # ---- checkpoint: stop after one block, resume, compare byte for byte -----------------------
 checks=$((checks + 1))
 USM_TOLERANCE_STOP_AFTER_BLOCKS=1 timeout 60 "$USM" $T --checkpoint "$tmp/ck" --out "$tmp/resumed" >"$out" 2>"$err"
