@@ -18,7 +18,7 @@
 #include "json_out.h"
 #include "options.h"
 #include "plot_run.h"
-#include "sweep_out.h" /* cli_plot_csv_open */
+#include "sweep_out.h" /* usm_plot_csv_open */
 #include "report_map.h"
 #include "usm.h"
 
@@ -191,7 +191,7 @@ static int parse(map_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
 
 /* An axis from the options: the default parameter has a default range,
  * another one needs --?-from and --?-to.  The library checks the values. */
-static int make_axis(report_axis *ax, const char *field, const char *name, const char *def,
+static int make_axis(usm_report_axis *ax, const char *field, const char *name, const char *def,
                      double def_from, double def_to, int have_from, double from, int have_to,
                      double to, int points, char msg[CLI_MSG_LEN])
 {
@@ -230,15 +230,15 @@ static FILE *open_out(const map_args *a, char msg[CLI_MSG_LEN])
 
 /* --plot: PREFIX.csv, then gnuplot on data/plots/map.gp.  A missing gnuplot
  * is a warning (the CSV and PREFIX.gp are there to plot later). */
-static int plot(const map_args *a, const report_map *map)
+static int plot(const map_args *a, const usm_report_map *map)
 {
     char msg[CLI_MSG_LEN], xcol[128], ycol[128];
-    FILE *f = cli_plot_csv_open(a->plot, a->force, msg);
+    FILE *f = usm_plot_csv_open(a->plot, a->force, msg);
     if (!f) {
         cli_error("%s", msg);
         return USM_EINPUT;
     }
-    int bad = report_map_write_csv(map, f) != 0;
+    int bad = usm_report_map_write_csv(map, f) != 0;
     if ((fclose(f) != 0) | bad) {
         cli_error("--plot %s.csv: write error", a->plot);
         return USM_EFAILED;
@@ -247,7 +247,7 @@ static int plot(const map_args *a, const report_map *map)
     snprintf(xcol, sizeof xcol, "%s [%s]", map->x.param->name, map->x.param->unit);
     snprintf(ycol, sizeof ycol, "%s [%s]", map->y.param->name, map->y.param->unit);
     const char *names[] = {"xcol", "ycol", "mcol"}, *values[] = {xcol, ycol, "max_modulus [1]"};
-    int rc = cli_plot_render("map", a->plot, names, values, 3, msg);
+    int rc = usm_plot_render("map", a->plot, names, values, 3, msg);
     if (rc == USM_ENOSOLUTION) {
         cli_error("warning: %s", msg);
         return USM_OK;
@@ -262,7 +262,7 @@ static int plot(const map_args *a, const report_map *map)
 int cli_map_main(int argc, char **argv)
 {
     map_args a;
-    report_map map;
+    usm_report_map map;
     char msg[CLI_MSG_LEN];
     FILE *out = stdout;
     int status;
@@ -294,31 +294,31 @@ int cli_map_main(int argc, char **argv)
         cli_error("--out %s: file exists (use --force to overwrite it)", a.out);
         return USM_EINPUT;
     }
-    if (a.plot && cli_plot_csv_check(a.plot, a.force, msg) != USM_OK) {
+    if (a.plot && usm_plot_csv_check(a.plot, a.force, msg) != USM_OK) {
         cli_error("%s", msg);
         return USM_EINPUT;
     }
-    status = report_map_run(&map, msg);
+    status = usm_report_map_run(&map, msg);
     if (status != USM_OK) {
         cli_error("%s", msg);
         return status;
     }
     if (a.out && !(out = open_out(&a, msg))) {
         cli_error("%s", msg);
-        report_map_free(&map);
+        usm_report_map_free(&map);
         return USM_EINPUT;
     }
     if (a.common.json) {
-        json_t *obj = report_map_json(&map);
+        json_t *obj = usm_report_map_json(&map);
         if (!obj) {
             cli_error("out of memory");
             status = USM_EFAILED;
         } else {
-            if (cli_json_print(obj, out) != 0)
+            if (usm_json_print(obj, out) != 0)
                 status = USM_EFAILED;
             json_decref(obj);
         }
-    } else if (report_map_write_csv(&map, out) != 0)
+    } else if (usm_report_map_write_csv(&map, out) != 0)
         status = USM_EFAILED;
     if (out != stdout) {
         if (fclose(out) != 0 || status != USM_OK) {
@@ -335,6 +335,6 @@ int cli_map_main(int argc, char **argv)
     if (map.floquet_failures > 0 && status == USM_OK)
         fprintf(stderr, "usm: map: the Floquet computation failed at %zu point(s) (max_modulus nan)\n",
                 map.floquet_failures);
-    report_map_free(&map);
+    usm_report_map_free(&map);
     return status;
 }

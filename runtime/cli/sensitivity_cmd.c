@@ -121,16 +121,16 @@ static json_t *output_json(const usm_params *p, const usm_sensitivity_result *r,
 {
     json_t *obj = json_object(), *d = json_object(), *e = json_object();
     int ok = obj && d && e;
-    cli_json_put(obj, "value", cli_json_real(r->value[k]), &ok);
+    usm_json_put(obj, "value", usm_json_real(r->value[k]), &ok);
     for (int j = 0; j < USM_NPARAMS; ++j) {
         const char *name = usm_param_table[j].name;
-        cli_json_put(d, name, r->defined[k] ? cli_json_real(r->d[k][j]) : json_null(), &ok);
-        cli_json_put(e, name, cli_json_real(elasticity(p, r, k, j)), &ok);
+        usm_json_put(d, name, r->defined[k] ? usm_json_real(r->d[k][j]) : json_null(), &ok);
+        usm_json_put(e, name, usm_json_real(elasticity(p, r, k, j)), &ok);
     }
-    cli_json_put(obj, "d", d, &ok);
-    cli_json_put(obj, "elasticity", e, &ok);
+    usm_json_put(obj, "d", d, &ok);
+    usm_json_put(obj, "elasticity", e, &ok);
     if (!r->defined[k])
-        cli_json_put(obj, "undefined", json_string(r->why[k]), &ok);
+        usm_json_put(obj, "undefined", json_string(r->why[k]), &ok);
     if (!ok) {
         json_decref(obj);
         return NULL;
@@ -143,17 +143,17 @@ static int print_json(const sens_args *a, const usm_sensitivity_result *r)
     const cli_common *c = &a->common;
     json_t *obj = json_object(), *outs = json_object();
     int ok = obj && outs;
-    cli_json_put(obj, "model", json_string(c->model->name), &ok);
-    cli_json_put(obj, "parameters", cli_json_params(&c->params), &ok);
+    usm_json_put(obj, "model", json_string(c->model->name), &ok);
+    usm_json_put(obj, "parameters", usm_json_params(&c->params), &ok);
     for (int k = 0; k < USM_SENS_COUNT; ++k)
         if (a->want[k]) {
             json_t *o = output_json(&c->params, r, k);
             if (!o)
                 ok = 0;
-            cli_json_put(outs, usm_sensitivity_output_name(k), o, &ok);
+            usm_json_put(outs, usm_sensitivity_output_name(k), o, &ok);
         }
-    cli_json_put(obj, "outputs", outs, &ok);
-    int rc = ok ? cli_json_print(obj, stdout) : -1;
+    usm_json_put(obj, "outputs", outs, &ok);
+    int rc = ok ? usm_json_print(obj, stdout) : -1;
     json_decref(obj);
     if (!ok) {
         cli_error("out of memory");

@@ -21,7 +21,7 @@
 #include "options.h"
 #include "csv_out.h"
 #include "plot_run.h"
-#include "simulate_start.h"
+#include "usm_io.h"
 #include "usm.h"
 #include "usm_simulate.h"
 
@@ -306,7 +306,7 @@ static double now(void)
 }
 
 /* The time history's columns (csv_out.h), read back by --from FILE. */
-static const cli_csv_column columns[] = {
+static const usm_csv_column columns[] = {
     {"t", "s"},           {"phi", "rad"},         {"theta", "rad"},    {"psi", "rad"},
     {"phidot", "rad/s"},  {"thetadot", "rad/s"},  {"psidot", "rad/s"}, {"phi_R", "rad"},
     {"phi_Rdot", "rad/s"}, {"F_n", "N"},          {"F_t", "N"},        {"v_rel", "m/s"},
@@ -314,7 +314,7 @@ static const cli_csv_column columns[] = {
 
 static void csv_header(FILE *f)
 {
-    cli_csv_header(f, columns, (int)(sizeof columns / sizeof columns[0]));
+    usm_csv_header(f, columns, (int)(sizeof columns / sizeof columns[0]));
 }
 
 static int on_sample(const usm_sim_sample *s, void *data)
@@ -327,7 +327,7 @@ static int on_sample(const usm_sim_sample *s, void *data)
                         s->out[USM_OUT_F_T], s->out[USM_OUT_V_REL],
                         s->have_avg ? s->theta_avg : NAN, s->have_avg ? s->rotor_speed_avg : NAN};
     for (size_t k = 0; k < sizeof v / sizeof v[0]; ++k)
-        cli_csv_num(f, k == 0, v[k]);
+        usm_csv_num(f, k == 0, v[k]);
     fputc('\n', f);
     return ferror(f) ? 1 : 0;
 }
@@ -437,12 +437,12 @@ static json_t *episodes_json(const usm_sim_episodes *e, const char *worst_key)
 {
     json_t *o = json_object();
     int ok = o != NULL;
-    cli_json_put(o, "count", json_integer(e->count), &ok);
+    usm_json_put(o, "count", json_integer(e->count), &ok);
     if (e->count) {
-        cli_json_put(o, "first", cli_json_real(e->first), &ok);
-        cli_json_put(o, "last", cli_json_real(e->last), &ok);
-        cli_json_put(o, "total", cli_json_real(e->total), &ok);
-        cli_json_put(o, worst_key, cli_json_real(e->worst), &ok);
+        usm_json_put(o, "first", usm_json_real(e->first), &ok);
+        usm_json_put(o, "last", usm_json_real(e->last), &ok);
+        usm_json_put(o, "total", usm_json_real(e->total), &ok);
+        usm_json_put(o, worst_key, usm_json_real(e->worst), &ok);
     }
     if (!ok) {
         json_decref(o);
@@ -457,66 +457,66 @@ static json_t *summary_json(const sim_args *a, const usm_sim_summary *s, double 
     json_t *o = json_object(), *fs = json_object(), *x = json_array(), *names = json_array();
     int ok = o && fs && x && names;
     const char *start[] = {"rest", "stationary", "file"};
-    cli_json_put(o, "model", json_string(m->name), &ok);
-    cli_json_put(o, "parameters", cli_json_params(&a->common.params), &ok);
-    cli_json_put(o, "start", json_string(start[a->opt.start]), &ok);
+    usm_json_put(o, "model", json_string(m->name), &ok);
+    usm_json_put(o, "parameters", usm_json_params(&a->common.params), &ok);
+    usm_json_put(o, "start", json_string(start[a->opt.start]), &ok);
     if (a->opt.start == USM_SIM_FROM_REST)
-        cli_json_put(o, "tilt0", cli_json_real(a->opt.tilt0), &ok);
+        usm_json_put(o, "tilt0", usm_json_real(a->opt.tilt0), &ok);
     if (a->from_file)
-        cli_json_put(o, "from", json_string(a->from_file), &ok);
-    cli_json_put(o, "out", a->out ? json_string(a->out) : json_null(), &ok);
-    cli_json_put(o, "rate", cli_json_real(a->opt.rate), &ok);
-    cli_json_put(o, "rtol", cli_json_real(a->opt.rtol), &ok);
-    cli_json_put(o, "t0", cli_json_real(s->t0), &ok);
-    cli_json_put(o, "t1", cli_json_real(s->t1), &ok);
-    cli_json_put(o, "t_reached", cli_json_real(s->t_reached), &ok);
-    cli_json_put(o, "completed", json_boolean(s->stop == USM_SIM_COMPLETED), &ok);
-    cli_json_put(o, "stop", json_string(usm_sim_stop_name(s->stop)), &ok);
+        usm_json_put(o, "from", json_string(a->from_file), &ok);
+    usm_json_put(o, "out", a->out ? json_string(a->out) : json_null(), &ok);
+    usm_json_put(o, "rate", usm_json_real(a->opt.rate), &ok);
+    usm_json_put(o, "rtol", usm_json_real(a->opt.rtol), &ok);
+    usm_json_put(o, "t0", usm_json_real(s->t0), &ok);
+    usm_json_put(o, "t1", usm_json_real(s->t1), &ok);
+    usm_json_put(o, "t_reached", usm_json_real(s->t_reached), &ok);
+    usm_json_put(o, "completed", json_boolean(s->stop == USM_SIM_COMPLETED), &ok);
+    usm_json_put(o, "stop", json_string(usm_sim_stop_name(s->stop)), &ok);
     if (s->reason[0])
-        cli_json_put(o, "reason", json_string(s->reason), &ok);
-    cli_json_put(o, "steps", json_integer(s->steps), &ok);
-    cli_json_put(o, "rhs_evals", json_integer(s->rhs_evals), &ok);
-    cli_json_put(o, "jac_evals", json_integer(s->jac_evals), &ok);
-    cli_json_put(o, "error_test_fails", json_integer(s->error_test_fails), &ok);
-    cli_json_put(o, "newton_fails", json_integer(s->newton_fails), &ok);
-    cli_json_put(o, "twist_growth", cli_json_real(s->twist_growth), &ok);
+        usm_json_put(o, "reason", json_string(s->reason), &ok);
+    usm_json_put(o, "steps", json_integer(s->steps), &ok);
+    usm_json_put(o, "rhs_evals", json_integer(s->rhs_evals), &ok);
+    usm_json_put(o, "jac_evals", json_integer(s->jac_evals), &ok);
+    usm_json_put(o, "error_test_fails", json_integer(s->error_test_fails), &ok);
+    usm_json_put(o, "newton_fails", json_integer(s->newton_fails), &ok);
+    usm_json_put(o, "twist_growth", usm_json_real(s->twist_growth), &ok);
     if (s->warning[0])
-        cli_json_put(o, "warning", json_string(s->warning), &ok);
-    cli_json_put(o, "samples", json_integer(s->samples), &ok);
-    cli_json_put(o, "wall_time", cli_json_real(wall), &ok);
-    cli_json_put(o, "periods", json_integer(s->periods), &ok);
-    cli_json_put(o, "theta_min", cli_json_real(s->theta_min), &ok);
-    cli_json_put(o, "theta_max", cli_json_real(s->theta_max), &ok);
+        usm_json_put(o, "warning", json_string(s->warning), &ok);
+    usm_json_put(o, "samples", json_integer(s->samples), &ok);
+    usm_json_put(o, "wall_time", usm_json_real(wall), &ok);
+    usm_json_put(o, "periods", json_integer(s->periods), &ok);
+    usm_json_put(o, "theta_min", usm_json_real(s->theta_min), &ok);
+    usm_json_put(o, "theta_max", usm_json_real(s->theta_max), &ok);
     if (s->have_steady)
-        cli_json_put(o, "stationary", cli_json_root(&s->steady), &ok);
+        usm_json_put(o, "stationary", usm_json_root(&s->steady), &ok);
     else {
-        cli_json_put(o, "stationary", json_null(), &ok);
-        cli_json_put(o, "stationary_error", json_string(s->steady_message), &ok);
+        usm_json_put(o, "stationary", json_null(), &ok);
+        usm_json_put(o, "stationary_error", json_string(s->steady_message), &ok);
     }
-    cli_json_put(o, "settle_tol", cli_json_real(s->settle_tol), &ok);
-    cli_json_put(o, "settle_periods", json_integer(s->settle_periods), &ok);
-    cli_json_put(o, "settled", json_boolean(s->settled), &ok);
-    cli_json_put(o, "t_settle", s->settled ? cli_json_real(s->t_settle) : json_null(), &ok);
+    usm_json_put(o, "settle_tol", usm_json_real(s->settle_tol), &ok);
+    usm_json_put(o, "settle_periods", json_integer(s->settle_periods), &ok);
+    usm_json_put(o, "settled", json_boolean(s->settled), &ok);
+    usm_json_put(o, "t_settle", s->settled ? usm_json_real(s->t_settle) : json_null(), &ok);
     if (s->periods > 0) {
-        cli_json_put(o, "theta_avg_end", cli_json_real(s->theta_avg_end), &ok);
-        cli_json_put(o, "rotor_speed_avg_end", cli_json_real(s->rotor_speed_avg_end), &ok);
+        usm_json_put(o, "theta_avg_end", usm_json_real(s->theta_avg_end), &ok);
+        usm_json_put(o, "rotor_speed_avg_end", usm_json_real(s->rotor_speed_avg_end), &ok);
         if (s->have_steady) {
-            cli_json_put(o, "theta_rel_end", cli_json_real(s->theta_rel_end), &ok);
-            cli_json_put(o, "rotor_speed_rel_end", cli_json_real(s->rotor_speed_rel_end), &ok);
+            usm_json_put(o, "theta_rel_end", usm_json_real(s->theta_rel_end), &ok);
+            usm_json_put(o, "rotor_speed_rel_end", usm_json_real(s->rotor_speed_rel_end), &ok);
         }
     }
-    cli_json_put(o, "contact_open", episodes_json(&s->contact_open, "min_F_n"), &ok);
+    usm_json_put(o, "contact_open", episodes_json(&s->contact_open, "min_F_n"), &ok);
     if (s->stick_checked)
-        cli_json_put(o, "stick_exceeded", episodes_json(&s->stick_exceeded, "max_excess"), &ok);
+        usm_json_put(o, "stick_exceeded", episodes_json(&s->stick_exceeded, "max_excess"), &ok);
     for (int i = 0; i < m->nx && ok; ++i) {
-        ok = ok && json_array_append_new(x, cli_json_real(s->final_x[i])) == 0;
+        ok = ok && json_array_append_new(x, usm_json_real(s->final_x[i])) == 0;
         ok = ok && json_array_append_new(names, json_string(m->state_names[i])) == 0;
     }
-    cli_json_put(fs, "t", cli_json_real(s->t_reached), &ok);
-    cli_json_put(fs, "x", x, &ok);
-    cli_json_put(fs, "names", names, &ok);
-    cli_json_put(fs, "phi_R", cli_json_real(s->final_rotor_angle), &ok);
-    cli_json_put(o, "final_state", fs, &ok);
+    usm_json_put(fs, "t", usm_json_real(s->t_reached), &ok);
+    usm_json_put(fs, "x", x, &ok);
+    usm_json_put(fs, "names", names, &ok);
+    usm_json_put(fs, "phi_R", usm_json_real(s->final_rotor_angle), &ok);
+    usm_json_put(o, "final_state", fs, &ok);
     if (!ok) {
         json_decref(o);
         return NULL;
@@ -584,11 +584,11 @@ static int run(sim_args *a)
                   a->opt.rate, a->opt.duration, a->opt.rate * a->opt.duration, MAX_ROWS);
         return USM_EINPUT;
     }
-    if (a->opt.start == USM_SIM_FROM_STATE && (rc = cli_sim_read_start(a->from_file, a->common.model, &a->opt, msg)) != USM_OK) {
-        cli_error("%s", msg);
+    if (a->opt.start == USM_SIM_FROM_STATE && (rc = usm_sim_read_start(a->from_file, a->common.model, &a->opt, msg)) != USM_OK) {
+        cli_error("--from %s", msg);
         return rc;
     }
-    if (a->plot && cli_plot_check(a->plot, a->force, msg) != USM_OK) {
+    if (a->plot && usm_plot_check(a->plot, a->force, msg) != USM_OK) {
         cli_error("%s", msg);
         return USM_EINPUT;
     }
@@ -642,7 +642,7 @@ static int run(sim_args *a)
                  sum.t_reached);
     if (a->common.json) {
         json_t *obj = summary_json(a, &sum, wall);
-        if (!obj || cli_json_print(obj, summary_out) != 0) {
+        if (!obj || usm_json_print(obj, summary_out) != 0) {
             cli_error("cannot write the JSON summary");
             rc = USM_EFAILED;
         }
@@ -682,7 +682,7 @@ static int run(sim_args *a)
                      "usm simulate, model %s: not settled (period means within %g of the "
                      "stationary solution for %d periods)",
                      a->common.model->name, sum.settle_tol, sum.settle_periods);
-        int prc = cli_plot_render("simulate", a->plot, names, values, 9, msg);
+        int prc = usm_plot_render("simulate", a->plot, names, values, 9, msg);
         if (prc == USM_ENOSOLUTION)
             cli_error("warning: %s", msg);
         else if (prc != USM_OK) {

@@ -10,22 +10,22 @@
 #include "json_out.h"
 #include "usm_map.h"
 
-const char *report_boundary_name(int kind)
+const char *usm_report_boundary_name(int kind)
 {
     return usm_map_boundary_name((usm_map_boundary_kind)kind);
 }
 
 /* The library's message with its field named as the command's option:
  * "x-points: ..." becomes "--x-points: ...". */
-static void option_message(const char *lib, char msg[CLI_MSG_LEN])
+static void option_message(const char *lib, char msg[USM_IO_MSG_LEN])
 {
     if ((lib[0] == 'x' || lib[0] == 'y') && (lib[1] == '-' || lib[1] == ':'))
-        cli_msg(msg, "--%s", lib);
+        usm_io_msg(msg, "--%s", lib);
     else
-        cli_msg(msg, "%s", lib);
+        usm_io_msg(msg, "%s", lib);
 }
 
-static void copy_cell(const usm_map_cell *in, report_map_cell *c)
+static void copy_cell(const usm_map_cell *in, usm_report_map_cell *c)
 {
     const usm_point *pt = &in->point;
     c->x = in->x;
@@ -47,7 +47,7 @@ static void copy_cell(const usm_map_cell *in, report_map_cell *c)
     snprintf(c->error, sizeof c->error, "%s", pt->error);
 }
 
-int report_map_run(report_map *map, char msg[CLI_MSG_LEN])
+int usm_report_map_run(usm_report_map *map, char msg[USM_IO_MSG_LEN])
 {
     usm_map_options opt;
     int status = USM_OK;
@@ -59,7 +59,7 @@ int report_map_run(report_map *map, char msg[CLI_MSG_LEN])
     }
     map->floquet_failures = 0;
     if (!lib) {
-        cli_msg(msg, "map: out of memory");
+        usm_io_msg(msg, "map: out of memory");
         return USM_EFAILED;
     }
     usm_map_options_default(&opt);
@@ -74,7 +74,7 @@ int report_map_run(report_map *map, char msg[CLI_MSG_LEN])
         if (status == USM_EINPUT)
             option_message(usm_map_message(lib), msg);
         else
-            cli_msg(msg, "map: %s", usm_map_message(lib));
+            usm_io_msg(msg, "map: %s", usm_map_message(lib));
         usm_map_free(lib);
         return status;
     }
@@ -88,12 +88,12 @@ int report_map_run(report_map *map, char msg[CLI_MSG_LEN])
             break;
         for (size_t q = 0; q < n; ++q) {
             const usm_map_boundary_point *b = usm_map_boundary_at(lib, (usm_map_boundary_kind)k, q);
-            map->bnd[k][q] = (report_boundary_point){b->x, b->y, b->column, b->k};
+            map->bnd[k][q] = (usm_report_boundary_point){b->x, b->y, b->column, b->k};
         }
         map->nbnd[k] = n;
     }
     if (!map->cells || !map->bnd[REPORT_NBOUNDARY - 1]) {
-        cli_msg(msg, "map: out of memory");
+        usm_io_msg(msg, "map: out of memory");
         status = USM_EFAILED;
     } else {
         for (size_t j = 0; j < ny; ++j)
@@ -103,11 +103,11 @@ int report_map_run(report_map *map, char msg[CLI_MSG_LEN])
     }
     usm_map_free(lib);
     if (status != USM_OK)
-        report_map_free(map);
+        usm_report_map_free(map);
     return status;
 }
 
-void report_map_free(report_map *map)
+void usm_report_map_free(usm_report_map *map)
 {
     free(map->cells);
     map->cells = NULL;
@@ -121,16 +121,16 @@ void report_map_free(report_map *map)
 /* ---- output ------------------------------------------------------------------ */
 
 /* The two axis columns of a header, "f [Hz],T [N m]". */
-static void axis_header(const report_map *map, cli_csv_column cols[2])
+static void axis_header(const usm_report_map *map, usm_csv_column cols[2])
 {
-    cols[0] = (cli_csv_column){map->x.param->name, map->x.param->unit};
-    cols[1] = (cli_csv_column){map->y.param->name, map->y.param->unit};
+    cols[0] = (usm_csv_column){map->x.param->name, map->x.param->unit};
+    cols[1] = (usm_csv_column){map->y.param->name, map->y.param->unit};
 }
 
-int report_map_write_csv(const report_map *map, FILE *out)
+int usm_report_map_write_csv(const usm_report_map *map, FILE *out)
 {
     const int nx = map->x.points, ny = map->y.points;
-    cli_csv_column cols[] = {{NULL, NULL},          {NULL, NULL},
+    usm_csv_column cols[] = {{NULL, NULL},          {NULL, NULL},
                              {"exists", NULL},      {"roots", NULL},
                              {"max_modulus", "1"},  {"stable", NULL},
                              {"theta", "rad"},      {"rotor_speed", "1/s"},
@@ -139,65 +139,65 @@ int report_map_write_csv(const report_map *map, FILE *out)
                              {"power_damping", "W"}, {"power_slip", "W"},
                              {"efficiency", "1"}};
     axis_header(map, cols);
-    cli_csv_header(out, cols, (int)(sizeof cols / sizeof cols[0]));
+    usm_csv_header(out, cols, (int)(sizeof cols / sizeof cols[0]));
     for (int j = 0; j < ny; ++j)
         for (int i = 0; i < nx; ++i) {
-            const report_map_cell *c = &map->cells[(size_t)j * nx + i];
+            const usm_report_map_cell *c = &map->cells[(size_t)j * nx + i];
             char buf[32];
-            cli_csv_num(out, 1, c->x);
-            cli_csv_num(out, 0, c->y);
-            cli_csv_bool(out, 0, c->exists);
+            usm_csv_num(out, 1, c->x);
+            usm_csv_num(out, 0, c->y);
+            usm_csv_bool(out, 0, c->exists);
             snprintf(buf, sizeof buf, "%d", c->roots);
-            cli_csv_text(out, 0, buf);
-            cli_csv_num(out, 0, c->max_modulus);
+            usm_csv_text(out, 0, buf);
+            usm_csv_num(out, 0, c->max_modulus);
             if (c->floquet_ok)
-                cli_csv_bool(out, 0, c->stable);
+                usm_csv_bool(out, 0, c->stable);
             else
                 fputc(',', out); /* not known */
-            cli_csv_num(out, 0, c->theta);
-            cli_csv_num(out, 0, c->rotor_speed);
-            cli_csv_num(out, 0, c->mu_used);
+            usm_csv_num(out, 0, c->theta);
+            usm_csv_num(out, 0, c->rotor_speed);
+            usm_csv_num(out, 0, c->mu_used);
             if (c->exists)
-                cli_csv_bool(out, 0, c->stick_admissible);
+                usm_csv_bool(out, 0, c->stick_admissible);
             else
                 fputc(',', out);
-            cli_csv_num(out, 0, c->power_in);
-            cli_csv_num(out, 0, c->power_out);
-            cli_csv_num(out, 0, c->power_damping);
-            cli_csv_num(out, 0, c->power_slip);
-            cli_csv_num(out, 0, c->efficiency);
+            usm_csv_num(out, 0, c->power_in);
+            usm_csv_num(out, 0, c->power_out);
+            usm_csv_num(out, 0, c->power_damping);
+            usm_csv_num(out, 0, c->power_slip);
+            usm_csv_num(out, 0, c->efficiency);
             fputc('\n', out);
         }
     return ferror(out) ? -1 : 0;
 }
 
-int report_map_write_boundary_csv(const report_map *map, int kind, FILE *out)
+int usm_report_map_write_boundary_csv(const usm_report_map *map, int kind, FILE *out)
 {
-    const report_boundary_point *b = map->bnd[kind];
+    const usm_report_boundary_point *b = map->bnd[kind];
     const size_t n = map->nbnd[kind];
-    cli_csv_column cols[2];
+    usm_csv_column cols[2];
     axis_header(map, cols);
-    cli_csv_header(out, cols, 2);
+    usm_csv_header(out, cols, 2);
     for (size_t q = 0; q < n; ++q) {
         if (q > 0 && b[q].k != b[q - 1].k)
             fputs("\n\n", out); /* next block (gnuplot index) */
         else if (q > 0 && b[q].column != b[q - 1].column + 1)
             fputc('\n', out); /* a gap: columns without this change */
-        cli_csv_num(out, 1, b[q].x);
-        cli_csv_num(out, 0, b[q].y);
+        usm_csv_num(out, 1, b[q].x);
+        usm_csv_num(out, 0, b[q].y);
         fputc('\n', out);
     }
     return ferror(out) ? -1 : 0;
 }
 
-static json_t *axis_json(const report_axis *a)
+static json_t *axis_json(const usm_report_axis *a)
 {
     json_t *obj = json_object();
     int ok = obj != NULL;
-    cli_json_put(obj, "name", json_string(a->param->name), &ok);
-    cli_json_put(obj, "from", cli_json_real(a->from), &ok);
-    cli_json_put(obj, "to", cli_json_real(a->to), &ok);
-    cli_json_put(obj, "points", json_integer(a->points), &ok);
+    usm_json_put(obj, "name", json_string(a->param->name), &ok);
+    usm_json_put(obj, "from", usm_json_real(a->from), &ok);
+    usm_json_put(obj, "to", usm_json_real(a->to), &ok);
+    usm_json_put(obj, "points", json_integer(a->points), &ok);
     if (!ok) {
         json_decref(obj);
         return NULL;
@@ -205,41 +205,41 @@ static json_t *axis_json(const report_axis *a)
     return obj;
 }
 
-json_t *report_map_json(const report_map *map)
+json_t *usm_report_map_json(const usm_report_map *map)
 {
     const size_t n = (size_t)map->x.points * (size_t)map->y.points;
     json_t *obj = json_object(), *pts = json_array(), *bnds = json_object();
     int ok = obj && pts && bnds;
-    cli_json_put(obj, "model", json_string(map->model->name), &ok);
-    cli_json_put(obj, "parameters", cli_json_params(&map->params), &ok);
-    cli_json_put(obj, "t0", cli_json_real(map->t0), &ok);
-    cli_json_put(obj, "x", axis_json(&map->x), &ok);
-    cli_json_put(obj, "y", axis_json(&map->y), &ok);
+    usm_json_put(obj, "model", json_string(map->model->name), &ok);
+    usm_json_put(obj, "parameters", usm_json_params(&map->params), &ok);
+    usm_json_put(obj, "t0", usm_json_real(map->t0), &ok);
+    usm_json_put(obj, "x", axis_json(&map->x), &ok);
+    usm_json_put(obj, "y", axis_json(&map->y), &ok);
     for (size_t q = 0; q < n && ok; ++q) {
-        const report_map_cell *c = &map->cells[q];
+        const usm_report_map_cell *c = &map->cells[q];
         json_t *pt = json_object();
         ok = pt != NULL;
-        cli_json_put(pt, "x", cli_json_real(c->x), &ok);
-        cli_json_put(pt, "y", cli_json_real(c->y), &ok);
-        cli_json_put(pt, "exists", json_boolean(c->exists), &ok);
-        cli_json_put(pt, "roots", json_integer(c->roots), &ok);
+        usm_json_put(pt, "x", usm_json_real(c->x), &ok);
+        usm_json_put(pt, "y", usm_json_real(c->y), &ok);
+        usm_json_put(pt, "exists", json_boolean(c->exists), &ok);
+        usm_json_put(pt, "roots", json_integer(c->roots), &ok);
         if (c->exists) {
-            cli_json_put(pt, "theta", cli_json_real(c->theta), &ok);
-            cli_json_put(pt, "rotor_speed", cli_json_real(c->rotor_speed), &ok);
-            cli_json_put(pt, "mu_used", cli_json_real(c->mu_used), &ok);
-            cli_json_put(pt, "stick_admissible", json_boolean(c->stick_admissible), &ok);
-            cli_json_put(pt, "power_in", cli_json_real(c->power_in), &ok);
-            cli_json_put(pt, "power_out", cli_json_real(c->power_out), &ok);
-            cli_json_put(pt, "power_damping", cli_json_real(c->power_damping), &ok);
-            cli_json_put(pt, "power_slip", cli_json_real(c->power_slip), &ok);
-            cli_json_put(pt, "efficiency", cli_json_real(c->efficiency), &ok); /* null: power_in <= 0 */
+            usm_json_put(pt, "theta", usm_json_real(c->theta), &ok);
+            usm_json_put(pt, "rotor_speed", usm_json_real(c->rotor_speed), &ok);
+            usm_json_put(pt, "mu_used", usm_json_real(c->mu_used), &ok);
+            usm_json_put(pt, "stick_admissible", json_boolean(c->stick_admissible), &ok);
+            usm_json_put(pt, "power_in", usm_json_real(c->power_in), &ok);
+            usm_json_put(pt, "power_out", usm_json_real(c->power_out), &ok);
+            usm_json_put(pt, "power_damping", usm_json_real(c->power_damping), &ok);
+            usm_json_put(pt, "power_slip", usm_json_real(c->power_slip), &ok);
+            usm_json_put(pt, "efficiency", usm_json_real(c->efficiency), &ok); /* null: power_in <= 0 */
         }
         if (c->floquet_ok) {
-            cli_json_put(pt, "max_modulus", cli_json_real(c->max_modulus), &ok);
-            cli_json_put(pt, "stable", json_boolean(c->stable), &ok);
+            usm_json_put(pt, "max_modulus", usm_json_real(c->max_modulus), &ok);
+            usm_json_put(pt, "stable", json_boolean(c->stable), &ok);
         }
         if (c->error[0])
-            cli_json_put(pt, "error", json_string(c->error), &ok);
+            usm_json_put(pt, "error", json_string(c->error), &ok);
         if (json_array_append_new(pts, pt) != 0)
             ok = 0;
     }
@@ -251,11 +251,11 @@ json_t *report_map_json(const report_map *map)
             if (!pair || json_array_append_new(arr, pair) != 0)
                 ok = 0;
         }
-        cli_json_put(bnds, report_boundary_name(k), arr, &ok);
+        usm_json_put(bnds, usm_report_boundary_name(k), arr, &ok);
     }
-    cli_json_put(obj, "points", pts, &ok);
+    usm_json_put(obj, "points", pts, &ok);
     pts = NULL;
-    cli_json_put(obj, "boundaries", bnds, &ok);
+    usm_json_put(obj, "boundaries", bnds, &ok);
     bnds = NULL;
     if (!ok) {
         json_decref(obj);
