@@ -64,6 +64,35 @@ int usm_params_parse_text(const char *path, const char *text, size_t len, usm_pa
 int usm_sim_read_start(const char *path, const usm_model *m, usm_sim_options *opt,
                        char msg[USM_IO_MSG_LEN]);
 
+/* The time history's CSV header: t [s], phi theta psi [rad], phidot thetadot
+ * psidot [rad/s], phi_R [rad], phi_Rdot [rad/s], F_n F_t [N], v_rel [m/s],
+ * theta_avg [rad], phi_Rdot_avg [rad/s] (the last two: means over the last
+ * complete excitation period, empty before the first). */
+void usm_sim_csv_header(FILE *out);
+
+/* One row of the time history (exact digits: usm_sim_read_start continues a
+ * run from its last row).  0, or -1 on a write error. */
+int usm_sim_csv_row(const usm_sim_sample *s, FILE *out);
+
+/* What `usm simulate` reports about a run. */
+typedef struct usm_sim_report {
+    const usm_model *model;
+    const usm_params *params;
+    const usm_sim_options *opt;
+    const char *from_file;          /* where a FROM_STATE start came from, or NULL */
+    const char *out;                /* the time history's file, or NULL */
+    const usm_sim_summary *summary; /* of usm_sim_run */
+    double wall;                    /* seconds the run took */
+} usm_sim_report;
+
+/* The summary as `usm simulate` prints it for people. */
+void usm_sim_write_table(const usm_sim_report *r, FILE *out);
+
+/* The summary as the `usm simulate --json` object and a newline (its
+ * "final_state" is what usm_sim_read_start reads).  0, or -1 on a write error
+ * or when out of memory. */
+int usm_sim_write_json(const usm_sim_report *r, FILE *out);
+
 /* ---- stationary solutions ----------------------------------------------------- */
 
 /* What `usm steady` writes. */
