@@ -24,4 +24,10 @@ static inline void usm_io_msg(char msg[USM_IO_MSG_LEN], const char *fmt, ...)
     va_end(ap);
 }
 
+/* Create the file at path for writing, never replacing one that exists
+ * unless force (the check and the creation are one step: O_EXCL).  NULL with
+ * "PATH: reason" in msg and *status USM_EINPUT (exists, cannot be created) or
+ * USM_EFAILED. */
+FILE *usm_io_create(const char *path, int force, char msg[USM_IO_MSG_LEN], int *status);
+
 #endif /* USM_IO_MSG_H */

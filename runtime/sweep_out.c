@@ -175,23 +175,34 @@ int usm_plot_csv_check(const char *prefix, int force, char msg[USM_IO_MSG_LEN])
     return USM_OK;
 }
 
-FILE *usm_plot_csv_open(const char *prefix, int force, char msg[USM_IO_MSG_LEN])
+FILE *usm_io_create(const char *path, int force, char msg[USM_IO_MSG_LEN], int *status)
 {
-    char path[4096];
-    FILE *f;
-    snprintf(path, sizeof path, "%s.csv", prefix);
     int fd = open(path, O_WRONLY | O_CREAT | (force ? O_TRUNC : O_EXCL), 0666);
+    FILE *f;
+    *status = USM_EINPUT;
     if (fd < 0) {
         if (errno == EEXIST)
-            usm_io_msg(msg, "--plot %s: exists; refusing to overwrite it (use --force)", path);
+            usm_io_msg(msg, "%s: exists; refusing to overwrite it (use --force)", path);
         else
-            usm_io_msg(msg, "--plot %s: %s", path, strerror(errno));
+            usm_io_msg(msg, "%s: %s", path, strerror(errno));
         return NULL;
     }
     if (!(f = fdopen(fd, "w"))) {
-        usm_io_msg(msg, "--plot %s: %s", path, strerror(errno));
+        usm_io_msg(msg, "%s: %s", path, strerror(errno));
         close(fd);
+        *status = USM_EFAILED;
     }
+    return f;
+}
+
+FILE *usm_plot_csv_open(const char *prefix, int force, char msg[USM_IO_MSG_LEN])
+{
+    char path[4096], why[USM_IO_MSG_LEN];
+    int status;
+    snprintf(path, sizeof path, "%s.csv", prefix);
+    FILE *f = usm_io_create(path, force, why, &status);
+    if (!f)
+        usm_io_msg(msg, "--plot %.1000s", why);
     return f;
 }
 

@@ -5,7 +5,6 @@
 #include <string.h>
 
 #include "usm_io.h"
-#include "usm_io.h"
 
 void cli_common_init(cli_common *c)
 {

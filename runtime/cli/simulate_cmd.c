@@ -4,8 +4,6 @@
  * a table, or one JSON object with --json, on stdout unless the CSV occupies
  * stdout (then on stderr).  Never overwrites a file unless --force. */
 #define _POSIX_C_SOURCE 200809L
-#include <errno.h>
-#include <fcntl.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -13,13 +11,10 @@
 #include <time.h>
 #include <unistd.h>
 
-#include <jansson.h>
-
 #include "commands.h"
 #include "diag.h"
-#include "json_out.h"
+#include "io_msg.h" /* usm_io_create */
 #include "options.h"
-#include "csv_out.h"
 #include "plot_run.h"
 #include "usm_io.h"
 #include "usm.h"
@@ -278,30 +273,6 @@ static void warnings(const usm_sim_summary *s, double mu0)
                   s->stick_exceeded.worst);
 }
 
-/* Open --out: refuse to replace an existing file unless --force (O_EXCL
- * makes the check and the creation one step). */
-static FILE *open_out(const char *path, int force, char msg[CLI_MSG_LEN], int *status)
-{
-    int fd = open(path, O_WRONLY | O_CREAT | (force ? O_TRUNC : O_EXCL), 0666);
-    FILE *f;
-    if (fd < 0) {
-        if (errno == EEXIST) {
-            cli_msg(msg, "--out %s: exists; refusing to overwrite it (use --force)", path);
-            *status = USM_EINPUT;
-        } else {
-            cli_msg(msg, "--out %s: %s", path, strerror(errno));
-            *status = USM_EINPUT;
-        }
-        return NULL;
-    }
-    if (!(f = fdopen(fd, "w"))) {
-        cli_msg(msg, "--out %s: %s", path, strerror(errno));
-        close(fd);
-        *status = USM_EFAILED;
-    }
-    return f;
-}
-
 static int run(sim_args *a, usm_sim *s)
 {
     char msg[CLI_MSG_LEN];
@@ -336,8 +307,8 @@ static int run(sim_args *a, usm_sim *s)
     memset(&io, 0, sizeof io);
     if (a->opt.rate > 0) {
         if (a->out) {
-            if (!(io.csv = open_out(a->out, a->force, msg, &status))) {
-                cli_error("%s", msg);
+            if (!(io.csv = usm_io_create(a->out, a->force, msg, &status))) {
+                cli_error("--out %s", msg);
                 return status;
             }
         } else

@@ -4,13 +4,10 @@
 #include <stdio.h>
 #include <string.h>
 
-#include <jansson.h>
-
 #include "commands.h"
 #include "diag.h"
-#include "json_out.h"
 #include "options.h"
-#include "steady_out.h"
+#include "usm_io.h"
 #include "usm.h"
 
 static void usage(FILE *out)

@@ -9,11 +9,8 @@
 #include <string.h>
 #include <unistd.h>
 
-#include <jansson.h>
-
 #include "commands.h"
 #include "diag.h"
-#include "json_out.h"
 #include "options.h"
 #include "plot_run.h"
 #include "sweep_out.h"
