@@ -263,3 +263,11 @@ json_t *usm_report_map_json(const usm_report_map *map)
     }
     return obj;
 }
+
+int usm_report_map_write_json(const usm_report_map *map, FILE *out)
+{
+    json_t *obj = usm_report_map_json(map);
+    int rc = obj ? usm_json_print(obj, out) : -1;
+    json_decref(obj);
+    return rc;
+}

@@ -89,5 +89,8 @@ int usm_report_map_write_boundary_csv(const usm_report_map *map, int kind, FILE 
 
 /* The `usm map --json` object, or NULL when out of memory. */
 json_t *usm_report_map_json(const usm_report_map *map);
+/* That object and a newline to out: 0, or -1 on a write error or when out
+ * of memory. */
+int usm_report_map_write_json(const usm_report_map *map, FILE *out);
 
 #endif /* USM_REPORT_MAP_H */

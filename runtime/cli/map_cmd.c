@@ -2,8 +2,6 @@
  * (a stability map), with the existence, stability and stick boundaries. */
 #define _POSIX_C_SOURCE 200809L
 
-#include <errno.h>
-#include <fcntl.h>
 #include <limits.h>
 #include <math.h>
 #include <stdio.h>
@@ -11,11 +9,9 @@
 #include <string.h>
 #include <unistd.h>
 
-#include <jansson.h>
-
 #include "commands.h"
 #include "diag.h"
-#include "json_out.h"
+#include "io_msg.h" /* usm_io_create */
 #include "options.h"
 #include "plot_run.h"
 #include "sweep_out.h" /* usm_plot_csv_open */
@@ -208,26 +204,6 @@ static int make_axis(usm_report_axis *ax, const char *field, const char *name, c
     return USM_OK;
 }
 
-/* Open --out without overwriting an existing file unless --force. */
-static FILE *open_out(const map_args *a, char msg[CLI_MSG_LEN])
-{
-    int fd;
-    FILE *f;
-    fd = open(a->out, O_WRONLY | O_CREAT | (a->force ? O_TRUNC : O_EXCL), 0666);
-    if (fd < 0) {
-        if (errno == EEXIST)
-            cli_msg(msg, "--out %s: file exists (use --force to overwrite it)", a->out);
-        else
-            cli_msg(msg, "--out %s: %s", a->out, strerror(errno));
-        return NULL;
-    }
-    if (!(f = fdopen(fd, "w"))) {
-        cli_msg(msg, "--out %s: %s", a->out, strerror(errno));
-        close(fd);
-    }
-    return f;
-}
-
 /* --plot: PREFIX.csv, then gnuplot on data/plots/map.gp.  A missing gnuplot
  * is a warning (the CSV and PREFIX.gp are there to plot later). */
 static int plot(const map_args *a, const usm_report_map *map)
@@ -291,7 +267,7 @@ int cli_map_main(int argc, char **argv)
     map.boundaries = a.common.json;
     /* Refuse an existing --out before the (long) computation. */
     if (a.out && !a.force && access(a.out, F_OK) == 0) {
-        cli_error("--out %s: file exists (use --force to overwrite it)", a.out);
+        cli_error("--out %s: exists; refusing to overwrite it (use --force)", a.out);
         return USM_EINPUT;
     }
     if (a.plot && usm_plot_csv_check(a.plot, a.force, msg) != USM_OK) {
@@ -303,21 +279,14 @@ int cli_map_main(int argc, char **argv)
         cli_error("%s", msg);
         return status;
     }
-    if (a.out && !(out = open_out(&a, msg))) {
-        cli_error("%s", msg);
+    if (a.out && !(out = usm_io_create(a.out, a.force, msg, &status))) {
+        cli_error("--out %s", msg);
         usm_report_map_free(&map);
-        return USM_EINPUT;
+        return status;
     }
     if (a.common.json) {
-        json_t *obj = usm_report_map_json(&map);
-        if (!obj) {
-            cli_error("out of memory");
+        if (usm_report_map_write_json(&map, out) != 0)
             status = USM_EFAILED;
-        } else {
-            if (usm_json_print(obj, out) != 0)
-                status = USM_EFAILED;
-            json_decref(obj);
-        }
     } else if (usm_report_map_write_csv(&map, out) != 0)
         status = USM_EFAILED;
     if (out != stdout) {
