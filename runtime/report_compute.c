@@ -231,23 +231,13 @@ static int run_curve(usm_report_curve *cv, const usm_model *m, const usm_params 
 
 const int usm_report_sens_outputs[REPORT_NSENS_OUT] = {USM_SENS_ROTOR_SPEED, USM_SENS_MAX_MODULUS};
 
-double usm_report_elasticity(const usm_params *p, const usm_sensitivity_result *r, int k, int j)
-{
-    const double y = r->value[k], pj = usm_params_get(p, &usm_param_table[j]);
-    if (!r->defined[k] || y == 0)
-        return NAN;
-    if (r->d[k][j] == 0)
-        return 0.0;
-    return pj / y * r->d[k][j];
-}
-
 int usm_report_elasticity_order(const usm_params *p, const usm_sensitivity_result *r, int k,
                             int idx[USM_NPARAMS])
 {
     double e[USM_NPARAMS];
     int n = 0;
     for (int j = 0; j < USM_NPARAMS; ++j) {
-        e[j] = usm_report_elasticity(p, r, k, j);
+        e[j] = usm_sensitivity_elasticity(p, r, k, j);
         if (isfinite(e[j]) && e[j] != 0)
             idx[n++] = j;
     }

@@ -193,9 +193,6 @@ extern const usm_report_figure usm_report_figures[REPORT_NFIGURES];
 #define REPORT_NSENS_OUT 2
 extern const int usm_report_sens_outputs[REPORT_NSENS_OUT];
 
-/* Elasticity (p_j / y) dy/dp_j of output k (as `usm sensitivity`): NaN where
- * the derivative is undefined or y = 0. */
-double usm_report_elasticity(const usm_params *p, const usm_sensitivity_result *r, int k, int j);
 /* Parameter indices j of output k with a nonzero elasticity, sorted by
  * decreasing |elasticity| (ties in usm_params order); returns their count
  * (0 when the derivative is undefined).  The parameters the output does not

@@ -493,12 +493,12 @@ static json_t *sens_output(const usm_report_data *d, int k, int out)
     flag(o, "defined", defined);
     str(o, "why", !d->have_sens[k] ? d->sens_note[k] : defined ? "" : r->why[out]);
     for (int j = 0; j < USM_NPARAMS; ++j) {
-        num(e, usm_param_table[j].name, usm_report_elasticity(&d->params, r, out, j));
+        num(e, usm_param_table[j].name, usm_sensitivity_elasticity(&d->params, r, out, j));
         num(dd, usm_param_table[j].name, defined ? r->d[out][j] : NAN);
     }
     for (int i = 0; i < n; ++i) {
         json_t *x = json_object();
-        const double el = usm_report_elasticity(&d->params, r, out, idx[i]);
+        const double el = usm_sensitivity_elasticity(&d->params, r, out, idx[i]);
         integer(x, "rank", i + 1);
         str(x, "parameter", usm_param_table[idx[i]].name);
         num(x, "elasticity", el);
@@ -514,7 +514,7 @@ static json_t *sens_output(const usm_report_data *d, int k, int out)
     if (out == USM_SENS_MAX_MODULUS && n > 0) {
         /* relative change of the dominant parameter that brings the largest
          * modulus to 1, to first order: (1 - y) / (y e) */
-        const double y = r->value[out], el = usm_report_elasticity(&d->params, r, out, idx[0]);
+        const double y = r->value[out], el = usm_sensitivity_elasticity(&d->params, r, out, idx[0]);
         num(o, "margin", 1.0 - y);
         num(o, "to_unstable_percent", 100.0 * (1.0 - y) / (y * el));
         num(o, "to_unstable_abs_percent", fabs(100.0 * (1.0 - y) / (y * el)));

@@ -162,7 +162,7 @@ static void write_elasticity_csv(FILE *f, const usm_report_data *d, int k, int o
     const int n = d->have_sens[k] ? usm_report_elasticity_order(&d->params, &d->sens[k], out, idx) : 0;
     usm_csv_header(f, cols, 4);
     for (int i = 0; i < n; ++i) {
-        const double e = usm_report_elasticity(&d->params, &d->sens[k], out, idx[i]);
+        const double e = usm_sensitivity_elasticity(&d->params, &d->sens[k], out, idx[i]);
         usm_csv_num(f, 1, i + 1);
         usm_csv_text(f, 0, usm_param_table[idx[i]].name);
         usm_csv_num(f, 0, e);

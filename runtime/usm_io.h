@@ -21,6 +21,7 @@
 #include <stdio.h>
 
 #include "usm.h"
+#include "usm_design.h"
 #include "usm_simulate.h"
 #include "usm_sweep.h"
 
@@ -123,6 +124,21 @@ int usm_sweep_csv(const usm_sweep *s, const char *over, int floquet, FILE *out);
  * from the swept one.  0, or -1 on a write error or when out of memory. */
 int usm_sweep_write_json(const usm_sweep *s, const usm_model *m, const usm_params *p,
                          const char *over, FILE *out);
+
+/* ---- sensitivities -------------------------------------------------------------- */
+
+/* The `usm sensitivity --json` object and a newline to out: for each output k
+ * with want[k], its value, the derivatives "d" and the elasticities in every
+ * parameter.  0, or -1 on a write error or when out of memory. */
+int usm_sensitivity_write_json(const usm_model *m, const usm_params *p,
+                               const usm_sensitivity_result *r, const int want[USM_SENS_COUNT],
+                               FILE *out);
+
+/* The table of `usm sensitivity`: per output the parameters by decreasing
+ * |elasticity|. */
+void usm_sensitivity_write_table(const usm_model *m, const usm_params *p,
+                                 const usm_sensitivity_result *r, const int want[USM_SENS_COUNT],
+                                 FILE *out);
 
 #ifdef __cplusplus
 }
