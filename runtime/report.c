@@ -205,9 +205,20 @@ static int write_output(json_t *data, const char *md, const char *dir, const cha
     return USM_OK;
 }
 
+int usm_report_options_check(const usm_report_options *opt, char msg[USM_IO_MSG_LEN])
+{
+    if (!(opt->threads >= 1 && opt->threads <= 64)) {
+        usm_io_msg(msg, "threads: %d: must be an integer from 1 to 64", opt->threads);
+        return USM_EINPUT;
+    }
+    return USM_OK;
+}
+
 int usm_report_prepare_dir(const char *dir, const usm_report_options *opt,
                            char msg[USM_IO_MSG_LEN])
 {
+    if (usm_report_options_check(opt, msg) != USM_OK)
+        return USM_EINPUT;
     if (check_dir(dir, opt->force, msg) != USM_OK || make_dir(dir, msg) != USM_OK ||
         write_manifest(dir, msg) != USM_OK)
         return USM_EINPUT;
@@ -222,10 +233,8 @@ int usm_report_write(const char *dir, const usm_params *p, const usm_report_opti
     int status, plots_ok = 0;
     double t;
 
-    if (!(opt->threads >= 1 && opt->threads <= 64)) {
-        usm_io_msg(msg, "threads: %d must be an integer from 1 to 64", opt->threads);
+    if (usm_report_options_check(opt, msg) != USM_OK)
         return USM_EINPUT;
-    }
     if (!(d = calloc(1, sizeof *d))) {
         usm_io_msg(msg, "out of memory");
         return USM_EFAILED;

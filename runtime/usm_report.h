@@ -34,12 +34,16 @@ typedef struct usm_report_options {
 /* quick 0, threads 2, plots 1, force 0. */
 void usm_report_options_default(usm_report_options *opt);
 
+/* USM_OK when opt is usable, else USM_EINPUT with "FIELD: reason" in msg
+ * (threads outside 1 to 64). */
+int usm_report_options_check(const usm_report_options *opt, char msg[USM_IO_MSG_LEN]);
+
 /* Whether a report may be written into dir: it does not exist yet, or is a
  * writable directory holding no file of the report's names that an earlier
  * `usm report` did not write (unless opt->force).  Then dir is created (with
  * its parents) and marked as the report's (the file .usm-report, so that an
  * interrupted run is replaced by the next).  USM_OK, or USM_EINPUT with
- * "DIR: reason" in msg. */
+ * "DIR: reason" in msg (or as usm_report_options_check). */
 int usm_report_prepare_dir(const char *dir, const usm_report_options *opt,
                            char msg[USM_IO_MSG_LEN]);
 

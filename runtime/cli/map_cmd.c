@@ -78,20 +78,6 @@ typedef struct map_args {
     int force, help;
 } map_args;
 
-/* An integer; its range is checked once, by the library (usm_map_run). */
-static int parse_int(const char *field, const char *text, int *out, char msg[CLI_MSG_LEN])
-{
-    double v;
-    if (cli_parse_double(field, text, &v, msg) != USM_OK)
-        return USM_EINPUT;
-    if (v != floor(v) || v < INT_MIN || v > INT_MAX) {
-        cli_msg(msg, "%s: \"%s\" must be an integer", field, text);
-        return USM_EINPUT;
-    }
-    *out = (int)v;
-    return USM_OK;
-}
-
 static int parse(map_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
 {
     static const char *const dbl_names[] = {"--x-from", "--x-to", "--y-from", "--y-to", "--t0"};
@@ -135,17 +121,17 @@ static int parse(map_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
         if (done)
             continue;
         if ((r = cli_option_value(argc, argv, &i, "--x-points", &value, msg)) != CLI_OPT_NOT_MINE) {
-            if (r == CLI_OPT_ERROR || parse_int("--x-points", value, &a->xpoints, msg))
+            if (r == CLI_OPT_ERROR || cli_parse_int("--x-points", value, &a->xpoints, msg))
                 return USM_EINPUT;
             continue;
         }
         if ((r = cli_option_value(argc, argv, &i, "--y-points", &value, msg)) != CLI_OPT_NOT_MINE) {
-            if (r == CLI_OPT_ERROR || parse_int("--y-points", value, &a->ypoints, msg))
+            if (r == CLI_OPT_ERROR || cli_parse_int("--y-points", value, &a->ypoints, msg))
                 return USM_EINPUT;
             continue;
         }
         if ((r = cli_option_value(argc, argv, &i, "--threads", &value, msg)) != CLI_OPT_NOT_MINE) {
-            if (r == CLI_OPT_ERROR || parse_int("--threads", value, &a->threads, msg))
+            if (r == CLI_OPT_ERROR || cli_parse_int("--threads", value, &a->threads, msg))
                 return USM_EINPUT;
             continue;
         }

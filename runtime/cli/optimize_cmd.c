@@ -132,7 +132,6 @@ static int parse(opt_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
             if (r == CLI_OPT_TAKEN)
                 which = o;
         }
-        double d;
         if (which == 0) {
             a->pb.objective = usm_sensitivity_output_find(value);
             if (a->pb.objective < 0) {
@@ -142,13 +141,12 @@ static int parse(opt_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
         } else if (which == 1 || which == 2) {
             if ((which == 1 ? parse_vary : parse_constraint)(a, value, msg) != USM_OK)
                 return USM_EINPUT;
-        } else if (which == 3 || which == 4) {
-            if (cli_parse_double(opts[which], value, &d, msg) != USM_OK)
+        } else if (which == 3) {
+            if (cli_parse_double(opts[which], value, &a->pb.margin, msg) != USM_OK)
                 return USM_EINPUT;
-            if (which == 3)
-                a->pb.margin = d;
-            else /* a fraction is no count: -1 fails the library's range check */
-                a->pb.starts = d == floor(d) && fabs(d) < 1e6 ? (int)d : -1;
+        } else if (which == 4) {
+            if (cli_parse_int(opts[which], value, &a->pb.starts, msg) != USM_OK)
+                return USM_EINPUT;
         } else {
             cli_msg(msg, "%s: %s (see usm optimize --help)", argv[i],
                     argv[i][0] == '-' ? "unknown option" : "unexpected argument");

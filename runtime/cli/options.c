@@ -1,6 +1,8 @@
 /* Command-line options shared by the usm subcommands. */
 #include "options.h"
 
+#include <limits.h>
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -187,6 +189,19 @@ void cli_common_usage(FILE *out)
             "  --set NAME=VALUE    set one parameter (repeatable; applied after --params)\n"
             "  --json              print one JSON object instead of a table\n",
             known);
+}
+
+int cli_parse_int(const char *field, const char *text, int *out, char msg[CLI_MSG_LEN])
+{
+    double v;
+    if (cli_parse_double(field, text, &v, msg) != USM_OK)
+        return USM_EINPUT;
+    if (v != floor(v) || v < INT_MIN || v > INT_MAX) {
+        cli_msg(msg, "%s: \"%s\" must be an integer", field, text);
+        return USM_EINPUT;
+    }
+    *out = (int)v;
+    return USM_OK;
 }
 
 int cli_floquet_option(usm_floquet_options *o, int argc, char **argv, int *i,

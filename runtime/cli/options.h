@@ -58,6 +58,10 @@ int cli_option_value(int argc, char **argv, int *i, const char *name, const char
  * with "FIELD: \"text\" reason" in msg. */
 int cli_parse_double(const char *field, const char *text, double *out, char msg[CLI_MSG_LEN]);
 
+/* cli_parse_double() of a whole number that fits an int (its range is the
+ * library's to check).  USM_EINPUT with "FIELD: \"text\" reason" in msg. */
+int cli_parse_int(const char *field, const char *text, int *out, char msg[CLI_MSG_LEN]);
+
 /* The Floquet options of steady, sweep and map: --floquet-method NAME
  * (usm_floquet_method_name) and --rtol R (the integrators' relative
  * tolerance; atol = 1e-4 R).  Offer argv[*i] as to cli_common_option. */

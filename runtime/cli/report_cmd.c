@@ -100,14 +100,8 @@ static int parse(report_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
             continue;
         }
         if ((r = cli_option_value(argc, argv, &i, "--threads", &value, msg)) != CLI_OPT_NOT_MINE) {
-            double v;
-            if (r == CLI_OPT_ERROR || cli_parse_double("--threads", value, &v, msg) != USM_OK)
+            if (r == CLI_OPT_ERROR || cli_parse_int("--threads", value, &a->threads, msg) != USM_OK)
                 return USM_EINPUT;
-            if (v != (double)(int)v || v < 1 || v > 64) {
-                cli_msg(msg, "--threads: \"%s\" must be an integer from 1 to 64", value);
-                return USM_EINPUT;
-            }
-            a->threads = (int)v;
             continue;
         }
         if (argv[i][0] == '-')
@@ -143,6 +137,10 @@ int cli_report_main(int argc, char **argv)
     opt.threads = a.threads;
     opt.plots = a.plots;
     opt.force = a.force;
+    if (usm_report_options_check(&opt, msg) != USM_OK) {
+        cli_error("--%s", msg);
+        return USM_EINPUT;
+    }
     if (usm_report_prepare_dir(a.out, &opt, msg) != USM_OK) {
         cli_error("--out %s", msg);
         return USM_EINPUT;

@@ -152,20 +152,6 @@ static int monitor_option(sweep_args *a, int crossing, const char *value, char m
     return CLI_OPT_TAKEN;
 }
 
-/* An integer; its range is checked once, by the library (usm_sweep_run). */
-static int parse_int(const char *field, const char *text, int *out, char msg[CLI_MSG_LEN])
-{
-    double v;
-    if (cli_parse_double(field, text, &v, msg) != USM_OK)
-        return USM_EINPUT;
-    if (v != floor(v) || v < INT_MIN || v > INT_MAX) {
-        cli_msg(msg, "%s: \"%s\" must be an integer", field, text);
-        return USM_EINPUT;
-    }
-    *out = (int)v;
-    return USM_OK;
-}
-
 /* One of this command's own options, or CLI_OPT_NOT_MINE. */
 static int own_option(sweep_args *a, int argc, char **argv, int *i, char msg[CLI_MSG_LEN])
 {
@@ -201,11 +187,11 @@ static int own_option(sweep_args *a, int argc, char **argv, int *i, char msg[CLI
     if ((r = cli_option_value(argc, argv, i, "--t0", &value, msg)) != CLI_OPT_NOT_MINE)
         return r == CLI_OPT_TAKEN && cli_parse_double("--t0", value, &a->t0, msg) ? CLI_OPT_ERROR : r;
     if ((r = cli_option_value(argc, argv, i, "--points", &value, msg)) != CLI_OPT_NOT_MINE)
-        return r == CLI_OPT_TAKEN && parse_int("--points", value, &a->points, msg)
+        return r == CLI_OPT_TAKEN && cli_parse_int("--points", value, &a->points, msg)
                    ? CLI_OPT_ERROR
                    : r;
     if ((r = cli_option_value(argc, argv, i, "--threads", &value, msg)) != CLI_OPT_NOT_MINE)
-        return r == CLI_OPT_TAKEN && parse_int("--threads", value, &a->threads, msg)
+        return r == CLI_OPT_TAKEN && cli_parse_int("--threads", value, &a->threads, msg)
                    ? CLI_OPT_ERROR
                    : r;
     return CLI_OPT_NOT_MINE;
