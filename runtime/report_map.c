@@ -25,7 +25,7 @@ static void option_message(const char *lib, char msg[USM_IO_MSG_LEN])
         usm_io_msg(msg, "%s", lib);
 }
 
-static void copy_cell(const usm_map_cell *in, usm_report_map_cell *c)
+void usm_report_map_cell_copy(const usm_map_cell *in, usm_report_map_cell *c)
 {
     const usm_point *pt = &in->point;
     c->x = in->x;
@@ -98,7 +98,7 @@ int usm_report_map_run(usm_report_map *map, char msg[USM_IO_MSG_LEN])
     } else {
         for (size_t j = 0; j < ny; ++j)
             for (size_t i = 0; i < nx; ++i)
-                copy_cell(usm_map_cell_at(lib, (int)i, (int)j), &map->cells[j * nx + i]);
+                usm_report_map_cell_copy(usm_map_cell_at(lib, (int)i, (int)j), &map->cells[j * nx + i]);
         map->floquet_failures = usm_map_floquet_failures(lib);
     }
     usm_map_free(lib);

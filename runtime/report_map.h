@@ -12,6 +12,7 @@
 
 #include "io_msg.h"
 #include "usm.h"
+#include "usm_map.h"
 
 typedef struct usm_report_axis {
     const char *name;
@@ -66,6 +67,10 @@ typedef struct usm_report_map {
     size_t nbnd[REPORT_NBOUNDARY];
     size_t floquet_failures;
 } usm_report_map;
+
+/* One cell of a library map (usm_map.h) as the writers keep it (a map
+ * computed elsewhere, e.g. gathered from MPI ranks, is copied with it). */
+void usm_report_map_cell_copy(const usm_map_cell *in, usm_report_map_cell *c);
 
 /* Compute the map with usm_map_run (axes by name: x.name, y.name; x.param
  * and y.param are set from them).  USM_OK, USM_EINPUT (bad axis or
