@@ -47,10 +47,58 @@ void usm_report_map_cell_copy(const usm_map_cell *in, usm_report_map_cell *c)
     snprintf(c->error, sizeof c->error, "%s", pt->error);
 }
 
+void usm_report_map_options(const usm_report_map *map, usm_map_options *opt)
+{
+    usm_map_options_default(opt);
+    opt->x = (usm_map_axis){map->x.name, map->x.from, map->x.to, map->x.points};
+    opt->y = (usm_map_axis){map->y.name, map->y.from, map->y.to, map->y.points};
+    opt->t0 = map->t0;
+    if (map->floquet)
+        opt->floquet = *map->floquet;
+    opt->threads = map->threads;
+    opt->boundaries = map->boundaries;
+}
+
+int usm_report_map_fill(usm_report_map *map, const usm_map_cell *cells,
+                        usm_map_boundary_point *const bnd[USM_MAP_NBOUNDARY],
+                        const size_t nbnd[USM_MAP_NBOUNDARY], size_t floquet_failures,
+                        char msg[USM_IO_MSG_LEN])
+{
+    const size_t n = (size_t)map->x.points * (size_t)map->y.points;
+    map->x.param = usm_params_find(map->x.name);
+    map->y.param = usm_params_find(map->y.name);
+    for (int k = 0; k < REPORT_NBOUNDARY; ++k) {
+        map->bnd[k] = NULL;
+        map->nbnd[k] = 0;
+    }
+    if (!(map->cells = calloc(n, sizeof *map->cells))) {
+        usm_io_msg(msg, "map: out of memory");
+        return USM_EFAILED;
+    }
+    for (size_t c = 0; c < n; ++c)
+        usm_report_map_cell_copy(&cells[c], &map->cells[c]);
+    for (int k = 0; k < REPORT_NBOUNDARY; ++k) {
+        if (!(map->bnd[k] = malloc((nbnd[k] ? nbnd[k] : 1) * sizeof *map->bnd[k]))) {
+            usm_io_msg(msg, "map: out of memory");
+            usm_report_map_free(map);
+            return USM_EFAILED;
+        }
+        for (size_t q = 0; q < nbnd[k]; ++q)
+            map->bnd[k][q] = (usm_report_boundary_point){bnd[k][q].x, bnd[k][q].y,
+                                                         bnd[k][q].column, bnd[k][q].k};
+        map->nbnd[k] = nbnd[k];
+    }
+    map->floquet_failures = floquet_failures;
+    return USM_OK;
+}
+
 int usm_report_map_run(usm_report_map *map, char msg[USM_IO_MSG_LEN])
 {
     usm_map_options opt;
-    int status = USM_OK;
+    usm_map_cell *cells = NULL;
+    usm_map_boundary_point *bnd[USM_MAP_NBOUNDARY] = {NULL};
+    size_t nbnd[USM_MAP_NBOUNDARY] = {0};
+    int status;
     usm_map *lib = usm_map_alloc(map->model);
     map->cells = NULL;
     for (int k = 0; k < REPORT_NBOUNDARY; ++k) {
@@ -62,14 +110,7 @@ int usm_report_map_run(usm_report_map *map, char msg[USM_IO_MSG_LEN])
         usm_io_msg(msg, "map: out of memory");
         return USM_EFAILED;
     }
-    usm_map_options_default(&opt);
-    opt.x = (usm_map_axis){map->x.name, map->x.from, map->x.to, map->x.points};
-    opt.y = (usm_map_axis){map->y.name, map->y.from, map->y.to, map->y.points};
-    opt.t0 = map->t0;
-    if (map->floquet)
-        opt.floquet = *map->floquet;
-    opt.threads = map->threads;
-    opt.boundaries = map->boundaries;
+    usm_report_map_options(map, &opt);
     if ((status = usm_map_run(lib, &map->params, &opt)) != USM_OK) {
         if (status == USM_EINPUT)
             option_message(usm_map_message(lib), msg);
@@ -78,32 +119,27 @@ int usm_report_map_run(usm_report_map *map, char msg[USM_IO_MSG_LEN])
         usm_map_free(lib);
         return status;
     }
-    map->x.param = usm_params_find(map->x.name);
-    map->y.param = usm_params_find(map->y.name);
+    /* the library's result as arrays, the form a map gathered elsewhere has */
     const size_t nx = (size_t)map->x.points, ny = (size_t)map->y.points;
-    map->cells = calloc(nx * ny, sizeof *map->cells);
-    for (int k = 0; k < REPORT_NBOUNDARY && map->cells; ++k) {
-        const size_t n = usm_map_boundary_count(lib, (usm_map_boundary_kind)k);
-        if (!(map->bnd[k] = malloc((n ? n : 1) * sizeof *map->bnd[k])))
-            break;
-        for (size_t q = 0; q < n; ++q) {
-            const usm_map_boundary_point *b = usm_map_boundary_at(lib, (usm_map_boundary_kind)k, q);
-            map->bnd[k][q] = (usm_report_boundary_point){b->x, b->y, b->column, b->k};
-        }
-        map->nbnd[k] = n;
+    int ok = (cells = malloc(nx * ny * sizeof *cells)) != NULL;
+    for (size_t j = 0; ok && j < ny; ++j)
+        for (size_t i = 0; i < nx; ++i)
+            cells[j * nx + i] = *usm_map_cell_at(lib, (int)i, (int)j);
+    for (int k = 0; ok && k < USM_MAP_NBOUNDARY; ++k) {
+        nbnd[k] = usm_map_boundary_count(lib, (usm_map_boundary_kind)k);
+        ok = (bnd[k] = malloc((nbnd[k] ? nbnd[k] : 1) * sizeof *bnd[k])) != NULL;
+        for (size_t q = 0; ok && q < nbnd[k]; ++q)
+            bnd[k][q] = *usm_map_boundary_at(lib, (usm_map_boundary_kind)k, q);
     }
-    if (!map->cells || !map->bnd[REPORT_NBOUNDARY - 1]) {
+    if (!ok) {
         usm_io_msg(msg, "map: out of memory");
         status = USM_EFAILED;
-    } else {
-        for (size_t j = 0; j < ny; ++j)
-            for (size_t i = 0; i < nx; ++i)
-                usm_report_map_cell_copy(usm_map_cell_at(lib, (int)i, (int)j), &map->cells[j * nx + i]);
-        map->floquet_failures = usm_map_floquet_failures(lib);
-    }
+    } else
+        status = usm_report_map_fill(map, cells, bnd, nbnd, usm_map_floquet_failures(lib), msg);
+    free(cells);
+    for (int k = 0; k < USM_MAP_NBOUNDARY; ++k)
+        free(bnd[k]);
     usm_map_free(lib);
-    if (status != USM_OK)
-        usm_report_map_free(map);
     return status;
 }
 

@@ -72,6 +72,19 @@ typedef struct usm_report_map {
  * computed elsewhere, e.g. gathered from MPI ranks, is copied with it). */
 void usm_report_map_cell_copy(const usm_map_cell *in, usm_report_map_cell *c);
 
+/* The usm_map_options of map: its axes by name, t0, Floquet options,
+ * threads, boundaries. */
+void usm_report_map_options(const usm_report_map *map, usm_map_options *opt);
+
+/* Fill map's cells and boundaries from a map computed elsewhere, as arrays:
+ * cells[j * x.points + i], bnd[k][q] for q < nbnd[k] (e.g. gathered from MPI
+ * ranks; usm_report_map_run goes through it too).  USM_OK, or USM_EFAILED
+ * (out of memory) with msg and nothing kept. */
+int usm_report_map_fill(usm_report_map *map, const usm_map_cell *cells,
+                        usm_map_boundary_point *const bnd[USM_MAP_NBOUNDARY],
+                        const size_t nbnd[USM_MAP_NBOUNDARY], size_t floquet_failures,
+                        char msg[USM_IO_MSG_LEN]);
+
 /* Compute the map with usm_map_run (axes by name: x.name, y.name; x.param
  * and y.param are set from them).  USM_OK, USM_EINPUT (bad axis or
  * parameters along the grid: the library's message, its field as the
