@@ -209,3 +209,27 @@ int usm_plot_render(const char *script, const char *prefix, const char *const *n
         return usm_gnuplot_run(".", stems, 1, 1, log, msg);
     }
 }
+
+int usm_plot_csv_check(const char *prefix, int force, char msg[USM_IO_MSG_LEN])
+{
+    char path[4096];
+    if (usm_plot_check(prefix, force, msg) != USM_OK)
+        return USM_EINPUT;
+    snprintf(path, sizeof path, "%s.csv", prefix);
+    if (!force && access(path, F_OK) == 0) {
+        usm_io_msg(msg, "--plot %s: exists; refusing to overwrite it (use --force)", path);
+        return USM_EINPUT;
+    }
+    return USM_OK;
+}
+
+FILE *usm_plot_csv_open(const char *prefix, int force, char msg[USM_IO_MSG_LEN])
+{
+    char path[4096], why[USM_IO_MSG_LEN];
+    int status;
+    snprintf(path, sizeof path, "%s.csv", prefix);
+    FILE *f = usm_io_create(path, force, why, &status);
+    if (!f)
+        usm_io_msg(msg, "--plot %.1000s", why);
+    return f;
+}

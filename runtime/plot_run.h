@@ -7,6 +7,8 @@
 #ifndef USM_PLOT_RUN_H
 #define USM_PLOT_RUN_H
 
+#include <stdio.h>
+
 #include "io_msg.h"
 
 /* Run gnuplot on STEM.gp for each of the n stems (up to `jobs` at a time)
@@ -31,5 +33,14 @@ int usm_plot_check(const char *prefix, int force, char msg[USM_IO_MSG_LEN]);
  * USM_EINPUT for a PREFIX that is not usable, with a one-line msg. */
 int usm_plot_render(const char *script, const char *prefix, const char *const *names,
                     const char *const *values, int n, char msg[USM_IO_MSG_LEN]);
+
+/* `--plot PREFIX` of usm sweep and usm map: the data file PREFIX.csv beside
+ * the files usm_plot_check guards.  usm_plot_csv_check: USM_OK when none of
+ * PREFIX.csv/.gp/.png/.svg exists (or force), else USM_EINPUT with msg;
+ * called before the computation.  usm_plot_csv_open: PREFIX.csv opened for
+ * writing (never replacing a file that appeared meanwhile unless force), or
+ * NULL with msg. */
+int usm_plot_csv_check(const char *prefix, int force, char msg[USM_IO_MSG_LEN]);
+FILE *usm_plot_csv_open(const char *prefix, int force, char msg[USM_IO_MSG_LEN]);
 
 #endif /* USM_PLOT_RUN_H */

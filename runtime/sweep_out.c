@@ -1,18 +1,11 @@
 /* Output of a sweep: CSV rows or one JSON object. */
-#define _POSIX_C_SOURCE 200809L
-
 #include "sweep_out.h"
-
-#include <errno.h>
-#include <fcntl.h>
-#include <unistd.h>
 
 #include <math.h>
 #include <string.h>
 
 #include "csv_out.h"
 #include "json_out.h"
-#include "plot_run.h"
 #include "steady_out.h"
 
 /* A point carries the keys of `usm steady --json` for one root, so that a
@@ -160,50 +153,6 @@ int usm_sweep_csv(const usm_sweep *s, const char *over, int floquet, FILE *out)
                 usm_shortest(buf, e->value), e->what);
     }
     return ferror(out) ? -1 : 0;
-}
-
-int usm_plot_csv_check(const char *prefix, int force, char msg[USM_IO_MSG_LEN])
-{
-    char path[4096];
-    if (usm_plot_check(prefix, force, msg) != USM_OK)
-        return USM_EINPUT;
-    snprintf(path, sizeof path, "%s.csv", prefix);
-    if (!force && access(path, F_OK) == 0) {
-        usm_io_msg(msg, "--plot %s: exists; refusing to overwrite it (use --force)", path);
-        return USM_EINPUT;
-    }
-    return USM_OK;
-}
-
-FILE *usm_io_create(const char *path, int force, char msg[USM_IO_MSG_LEN], int *status)
-{
-    int fd = open(path, O_WRONLY | O_CREAT | (force ? O_TRUNC : O_EXCL), 0666);
-    FILE *f;
-    *status = USM_EINPUT;
-    if (fd < 0) {
-        if (errno == EEXIST)
-            usm_io_msg(msg, "%s: exists; refusing to overwrite it (use --force)", path);
-        else
-            usm_io_msg(msg, "%s: %s", path, strerror(errno));
-        return NULL;
-    }
-    if (!(f = fdopen(fd, "w"))) {
-        usm_io_msg(msg, "%s: %s", path, strerror(errno));
-        close(fd);
-        *status = USM_EFAILED;
-    }
-    return f;
-}
-
-FILE *usm_plot_csv_open(const char *prefix, int force, char msg[USM_IO_MSG_LEN])
-{
-    char path[4096], why[USM_IO_MSG_LEN];
-    int status;
-    snprintf(path, sizeof path, "%s.csv", prefix);
-    FILE *f = usm_io_create(path, force, why, &status);
-    if (!f)
-        usm_io_msg(msg, "--plot %.1000s", why);
-    return f;
 }
 
 int usm_sweep_write_json(const usm_sweep *s, const usm_model *m, const usm_params *p,

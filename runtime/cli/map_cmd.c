@@ -14,7 +14,6 @@
 #include "io_msg.h" /* usm_io_create */
 #include "options.h"
 #include "plot_run.h"
-#include "sweep_out.h" /* usm_plot_csv_open */
 #include "report_map.h"
 #include "usm.h"
 

@@ -13,7 +13,7 @@
 #include "diag.h"
 #include "options.h"
 #include "plot_run.h"
-#include "sweep_out.h"
+#include "usm_io.h"
 #include "usm_sweep.h"
 
 static void usage(FILE *out)
