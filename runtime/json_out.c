@@ -94,3 +94,10 @@ int usm_json_print(const json_t *value, FILE *out)
         return -1;
     return fputc('\n', out) == EOF ? -1 : 0;
 }
+
+int usm_json_write(json_t *value, FILE *out)
+{
+    int rc = value ? usm_json_print(value, out) : -1;
+    json_decref(value);
+    return rc;
+}

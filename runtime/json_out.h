@@ -30,6 +30,10 @@ json_t *usm_json_root(const usm_steady_solution *s);
  *  "max_modulus", "stable"}. */
 json_t *usm_json_floquet(const usm_floquet_result *r);
 
+/* Print `value` and a newline, then release it (NULL, a builder's "out of
+ * memory", gives -1).  0, or -1. */
+int usm_json_write(json_t *value, FILE *out);
+
 /* Print `value` and a newline.  0, or -1 on a write error. */
 int usm_json_print(const json_t *value, FILE *out);
 

@@ -302,8 +302,5 @@ json_t *usm_report_map_json(const usm_report_map *map)
 
 int usm_report_map_write_json(const usm_report_map *map, FILE *out)
 {
-    json_t *obj = usm_report_map_json(map);
-    int rc = obj ? usm_json_print(obj, out) : -1;
-    json_decref(obj);
-    return rc;
+    return usm_json_write(usm_report_map_json(map), out);
 }

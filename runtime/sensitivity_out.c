@@ -58,9 +58,11 @@ int usm_sensitivity_write_json(const usm_model *m, const usm_params *p,
             usm_json_put(outs, usm_sensitivity_output_name(k), o, &ok);
         }
     usm_json_put(obj, "outputs", outs, &ok);
-    int rc = ok ? usm_json_print(obj, out) : -1;
-    json_decref(obj);
-    return rc;
+    if (!ok) {
+        json_decref(obj);
+        return -1;
+    }
+    return usm_json_write(obj, out);
 }
 
 typedef struct ranked {

@@ -199,11 +199,7 @@ static json_t *summary_json(const usm_sim_report *a)
     return o;
 }
 
-
 int usm_sim_write_json(const usm_sim_report *r, FILE *out)
 {
-    json_t *obj = summary_json(r);
-    int rc = obj ? usm_json_print(obj, out) : -1;
-    json_decref(obj);
-    return rc;
+    return usm_json_write(summary_json(r), out);
 }

@@ -132,8 +132,5 @@ void usm_steady_table(const usm_steady_report *r, FILE *out)
 
 int usm_steady_write_json(const usm_steady_report *r, FILE *out)
 {
-    json_t *obj = usm_steady_json(r);
-    int rc = obj ? usm_json_print(obj, out) : -1;
-    json_decref(obj);
-    return rc;
+    return usm_json_write(usm_steady_json(r), out);
 }

@@ -158,8 +158,5 @@ int usm_sweep_csv(const usm_sweep *s, const char *over, int floquet, FILE *out)
 int usm_sweep_write_json(const usm_sweep *s, const usm_model *m, const usm_params *p,
                          const char *over, FILE *out)
 {
-    json_t *obj = usm_sweep_json(s, m, p, over);
-    int rc = obj ? usm_json_print(obj, out) : -1;
-    json_decref(obj);
-    return rc;
+    return usm_json_write(usm_sweep_json(s, m, p, over), out);
 }
