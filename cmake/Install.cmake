@@ -102,9 +102,10 @@ install(TARGETS usm_shared usm_lib EXPORT usmTargets
   ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
 if(TARGET usm_cli)
   install(TARGETS usm_cli RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
-  # share/usm: the command's data files (runtime/cli/data_dir.h)
-  install(DIRECTORY ${PROJECT_SOURCE_DIR}/data/ DESTINATION ${CMAKE_INSTALL_DATADIR}/usm)
 endif()
+# share/usm: the data files the library reads (the report's, the plots';
+# runtime/data_dir.h)
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/data/ DESTINATION ${CMAKE_INSTALL_DATADIR}/usm)
 
 # Public headers: runtime/usm*.h and the generated kernels' headers, from the
 # build tree when they are regenerated there.
