@@ -50,6 +50,8 @@ endif()
 # where they were found), and again in usmConfig.cmake (find_dependency).
 set(USM_CONFIG_FIND_THREADS "")
 set(USM_PC_THREADS "")
+set(USM_PC_REQUIRES_PRIVATE "")
+set(USM_CONFIG_FIND_PKGCONFIG "")
 foreach(_item IN LISTS _usm_links)
   string(REGEX REPLACE "^\\$<LINK_ONLY:(.*)>$" "\\1" _item "${_item}")
   if(_item MATCHES "^([A-Za-z0-9_]+)::")
@@ -59,12 +61,26 @@ foreach(_item IN LISTS _usm_links)
       if(CMAKE_THREAD_LIBS_INIT)   # empty where libc has the threads
         set(USM_PC_THREADS " ${CMAKE_THREAD_LIBS_INIT}")
       endif()
+    elseif(CMAKE_MATCH_1 STREQUAL "PkgConfig")
+      # pkg_check_modules(NAME ... IMPORTED_TARGET name): the module is NAME in lower case
+      string(REGEX REPLACE "^PkgConfig::" "" _mod "${_item}")
+      string(TOLOWER "${_mod}" _pcname)
+      if(NOT TARGET ${_item})
+        find_package(PkgConfig REQUIRED)
+        pkg_check_modules(${_mod} REQUIRED IMPORTED_TARGET ${_pcname})
+      endif()
+      string(APPEND USM_PC_REQUIRES_PRIVATE " ${_pcname}")
+      string(APPEND USM_CONFIG_FIND_PKGCONFIG
+             "pkg_check_modules(${_mod} REQUIRED QUIET IMPORTED_TARGET ${_pcname})\n")
     elseif(NOT CMAKE_MATCH_1 MATCHES "^(GSL|SUNDIALS)$")
       message(FATAL_ERROR "usm_lib links ${_item}: find its package in cmake/Install.cmake and "
                           "cmake/usmConfig.cmake.in, and add its library to cmake/usm.pc.in")
     endif()
   endif()
 endforeach()
+if(USM_CONFIG_FIND_PKGCONFIG)
+  set(USM_CONFIG_FIND_PKGCONFIG "find_dependency(PkgConfig)\n${USM_CONFIG_FIND_PKGCONFIG}")
+endif()
 foreach(_item IN LISTS _usm_links)
   if(_item MATCHES "^\\$<LINK_ONLY:(.*)>$")   # a PRIVATE dependency of usm_lib
     target_link_libraries(usm_shared PRIVATE ${CMAKE_MATCH_1})
@@ -86,9 +102,10 @@ install(TARGETS usm_shared usm_lib EXPORT usmTargets
   ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
 if(TARGET usm_cli)
   install(TARGETS usm_cli RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
-  # share/usm: the command's data files (runtime/cli/data_dir.h)
-  install(DIRECTORY ${PROJECT_SOURCE_DIR}/data/ DESTINATION ${CMAKE_INSTALL_DATADIR}/usm)
 endif()
+# share/usm: the data files the library reads (the report's, the plots';
+# runtime/data_dir.h)
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/data/ DESTINATION ${CMAKE_INSTALL_DATADIR}/usm)
 
 # Public headers: runtime/usm*.h and the generated kernels' headers, from the
 # build tree when they are regenerated there.

@@ -382,7 +382,7 @@ static int check_options(usm_sim *s, const usm_sim_options *o)
     if (!isfinite(o->t0))
         return input_error(s, "t0: must be a finite number");
     if (!(o->duration > 0) || !isfinite(o->duration))
-        return input_error(s, "duration: must be a positive number of seconds");
+        return input_error(s, "duration: must be positive (a number of seconds)");
     if (!(o->rate >= 0) || !isfinite(o->rate))
         return input_error(s, "rate: must be >= 0 samples per second");
     if (!(o->rtol >= 1e-14 && o->rtol <= 1e-3))
@@ -435,6 +435,15 @@ static int check_params(usm_sim *s, const usm_params *p)
         return USM_EINPUT;
     }
     return USM_OK;
+}
+
+int usm_sim_check(usm_sim *s, const usm_params *p, const usm_sim_options *opt)
+{
+    int rc;
+    s->msg[0] = '\0';
+    if ((rc = check_options(s, opt)) != USM_OK)
+        return rc;
+    return check_params(s, p);
 }
 
 static int cv_setup_fail(usm_sim *s, const char *call, int flag)

@@ -94,6 +94,12 @@ int usm_sensitivity_max_modulus(usm_sensitivity *s, const usm_params *p,
 /* Why the last compute failed, or "". */
 const char *usm_sensitivity_message(const usm_sensitivity *s);
 
+/* The elasticity (p_j / y) dy/dp_j of output k in parameter j (the relative
+ * change of y per relative change of p_j): NaN where the derivative is
+ * undefined or y = 0; exactly 0 (never -0) where dy/dp_j = 0. */
+double usm_sensitivity_elasticity(const usm_params *p, const usm_sensitivity_result *r, int k,
+                                  int j);
+
 #ifdef __cplusplus
 }
 #endif

@@ -187,6 +187,12 @@ usm_sim *usm_sim_alloc(const usm_model *m);
 /* Free s; NULL is allowed. */
 void usm_sim_free(usm_sim *s);
 
+/* Check parameters p and options opt for a run of s's model as usm_sim_run
+ * does before integrating: USM_OK, or USM_EINPUT with "FIELD: reason" in
+ * usm_sim_message, FIELD an option's member name (duration, rtol, ...) or a
+ * parameter's. */
+int usm_sim_check(usm_sim *s, const usm_params *p, const usm_sim_options *opt);
+
 /* Integrate over [t0, t0 + duration].  Returns USM_OK when the interval was
  * completed (settled or not), USM_EFAILED when the run stopped early
  * (integrator failure, runaway, step cap, callback), USM_EINPUT for bad

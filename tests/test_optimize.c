@@ -1,4 +1,5 @@
-/* test_optimize: `usm optimize` against a dense grid search (issue 13, part 3).
+/* test_optimize: the optimizer (usm_optimize.h, and `usm optimize` on top of
+ * it) against a dense grid search (issue 13, part 3).
  *
  * Problem (3dof, the paper's other parameters): maximize efficiency over the
  * load T in [1e-5, 1e-3] N m and the preload F0 in [0.2, 0.6] N, subject to the
@@ -13,7 +14,10 @@
  * independently (stick to 1e-9 relative, max_modulus by the variational method
  * <= 0.99 + 1e-6); its KKT residual is below 1e-6 (the gradients the
  * optimizer used are consistent with its optimum; they are the sensitivities
- * that tests/test_sensitivity.c checks against finite differences).
+ * that tests/test_sensitivity.c checks against finite differences).  The
+ * library also: an infeasible problem is USM_ENOSOLUTION naming the
+ * constraint; a box with an inadmissible corner, an unknown or repeated
+ * parameter, LO >= HI, an unknown output are USM_EINPUT.
  *
  * usage: test_optimize PATH/TO/usm
  */
@@ -28,6 +32,7 @@
 
 #include "check.h"
 #include "usm.h"
+#include "usm_optimize.h"
 
 #define NGRID 201
 #define T_LO 1e-5
@@ -44,6 +49,38 @@ static int by_eff_desc(const void *a, const void *b)
 {
     const cand *x = a, *y = b;
     return (x->eff < y->eff) - (x->eff > y->eff);
+}
+
+/* The optimum (value at T, F0, with its KKT residual) against the grid's best
+ * candidate g: within one grid spacing in each parameter, at least as good,
+ * feasible when re-solved independently, KKT residual below 1e-6. */
+static void check_optimum(usm_steady *st, usm_floquet *fl, cand g, const char *who, double value,
+                          double T, double F0, double kkt)
+{
+    const double dT = (T_HI - T_LO) / (NGRID - 1), dF = (F_HI - F_LO) / (NGRID - 1);
+    usm_params p;
+    usm_floquet_result r;
+    printf("%s: efficiency %.10g at T = %.8g, F0 = %.8g, KKT residual %.3g\n", who, value, T, F0,
+           kkt);
+    CHECK(fabs(T - g.T) <= dT, "%s: T %.8g not within %.3g of the grid's %.8g", who, T, dT, g.T);
+    CHECK(fabs(F0 - g.F0) <= dF, "%s: F0 %.8g not within %.3g of the grid's %.8g", who, F0, dF,
+          g.F0);
+    CHECK(value >= g.eff * (1 - 1e-9), "%s: efficiency %.12g below the grid's %.12g", who, value,
+          g.eff);
+    CHECK(kkt <= 1e-6, "%s: KKT residual %g", who, kkt);
+    /* feasible, re-solved independently */
+    usm_params_default(&p);
+    p.T = T;
+    p.F0 = F0;
+    CHECK(usm_steady_solve(st, &p, NULL) == USM_OK, "%s: no solution at the optimum", who);
+    const usm_steady_solution *s = usm_steady_root(st, 0);
+    CHECK(s->F_t <= p.mu0 * s->F_n * (1 + 1e-9), "%s: stick violated: F_t %.12g > mu0 F_n %.12g",
+          who, s->F_t, p.mu0 * s->F_n);
+    CHECK(fabs(s->efficiency - value) <= 1e-9 * value, "%s: efficiency re-solved %.12g", who,
+          s->efficiency);
+    CHECK(usm_floquet_compute(fl, &p, s, 0.0, NULL, &r) == USM_OK &&
+              r.max_modulus <= 1 - MARGIN + 1e-6,
+          "%s: max_modulus %.10g above 1 - margin", who, r.max_modulus);
 }
 
 int main(int argc, char **argv)
@@ -87,6 +124,51 @@ int main(int argc, char **argv)
     printf("grid best: efficiency %.10g at T = %.6g, F0 = %.6g\n", c[best].eff, c[best].T,
            c[best].F0);
 
+    /* the library (usm_optimize.h) */
+    {
+        usm_opt_problem pb;
+        usm_opt_result *res = malloc(sizeof *res);
+        usm_optimize *opt = usm_optimize_alloc(m);
+        char msg[USM_MSG_LEN];
+        usm_params_default(&p);
+        usm_opt_problem_init(&pb);
+        pb.objective = USM_SENS_EFFICIENCY;
+        CHECK(usm_opt_problem_add_vary(&pb, "T", T_LO, T_HI, msg) == USM_OK &&
+                  usm_opt_problem_add_vary(&pb, "F0", F_LO, F_HI, msg) == USM_OK,
+              "add_vary: %s", msg);
+        int rc = res && opt ? usm_optimize_run(opt, &p, &pb, res) : USM_EFAILED;
+        CHECK(rc == USM_OK, "usm_optimize_run: %d %s", rc, opt ? usm_optimize_message(opt) : "");
+        if (rc == USM_OK)
+            check_optimum(st, fl, c[best], "library", res->value, res->params.T, res->params.F0,
+                          res->kkt_residual);
+        /* the optimum's solution is the one re-solved at its parameters */
+        CHECK(rc != USM_OK || res->sol.efficiency == res->value, "library: value %.17g is not "
+              "the solution's efficiency %.17g", res->value, res->sol.efficiency);
+        /* infeasible: no design reaches 1 W out of this box; the message names it */
+        usm_opt_problem_init(&pb);
+        pb.objective = USM_SENS_EFFICIENCY;
+        pb.starts = 2;
+        usm_opt_problem_add_vary(&pb, "F0", 0.2, 0.8, msg);
+        usm_opt_problem_add_constraint(&pb, "power_out", 0, 1.0, msg);
+        rc = opt ? usm_optimize_run(opt, &p, &pb, res) : USM_EFAILED;
+        CHECK(rc == USM_ENOSOLUTION && strstr(usm_optimize_message(opt), "power_out >= 1"),
+              "infeasible: %d \"%s\"", rc, opt ? usm_optimize_message(opt) : "");
+        /* a box with an inadmissible corner is refused before anything is solved */
+        usm_opt_problem_init(&pb);
+        pb.objective = USM_SENS_EFFICIENCY;
+        usm_opt_problem_add_vary(&pb, "F0", -1.0, 0.5, msg);
+        rc = opt ? usm_optimize_run(opt, &p, &pb, res) : USM_EFAILED;
+        CHECK(rc == USM_EINPUT && strncmp(usm_optimize_message(opt), "vary: ", 6) == 0,
+              "bad box: %d \"%s\"", rc, opt ? usm_optimize_message(opt) : "");
+        CHECK(usm_opt_problem_add_vary(&pb, "F0", 0.3, 0.4, msg) == USM_EINPUT &&
+                  usm_opt_problem_add_vary(&pb, "Q", 0.3, 0.4, msg) == USM_EINPUT &&
+                  usm_opt_problem_add_vary(&pb, "T", 0.4, 0.3, msg) == USM_EINPUT &&
+                  usm_opt_problem_add_constraint(&pb, "nothing", 1, 0, msg) == USM_EINPUT,
+              "add_vary / add_constraint accepted a bad entry");
+        usm_optimize_free(opt);
+        free(res);
+    }
+
     char cmd[512];
     snprintf(cmd, sizeof cmd,
              "%s optimize --objective efficiency --vary T=%g:%g --vary F0=%g:%g --json", argv[1],
@@ -105,30 +187,10 @@ int main(int argc, char **argv)
     const double kkt = json_real_value(json_object_get(o, "kkt_residual"));
     printf("optimizer: efficiency %.10g at T = %.8g, F0 = %.8g, KKT residual %.3g, %lld evaluations\n",
            value, T, F0, kkt, (long long)json_integer_value(json_object_get(o, "evaluations")));
-    const double dT = (T_HI - T_LO) / (NGRID - 1), dF = (F_HI - F_LO) / (NGRID - 1);
     CHECK(strcmp(json_string_value(json_object_get(o, "objective")), "efficiency") == 0 &&
               strcmp(json_string_value(json_object_get(o, "sense")), "max") == 0,
           "objective / sense");
-    CHECK(fabs(T - c[best].T) <= dT, "T %.8g not within %.3g of the grid's %.8g", T, dT,
-          c[best].T);
-    CHECK(fabs(F0 - c[best].F0) <= dF, "F0 %.8g not within %.3g of the grid's %.8g", F0, dF,
-          c[best].F0);
-    CHECK(value >= c[best].eff * (1 - 1e-9), "efficiency %.12g below the grid's %.12g", value,
-          c[best].eff);
-    CHECK(kkt <= 1e-6, "KKT residual %g", kkt);
-    /* feasible, re-solved independently */
-    usm_params_default(&p);
-    p.T = T;
-    p.F0 = F0;
-    usm_floquet_result r;
-    CHECK(usm_steady_solve(st, &p, NULL) == USM_OK, "no solution at the optimum");
-    const usm_steady_solution *s = usm_steady_root(st, 0);
-    CHECK(s->F_t <= p.mu0 * s->F_n * (1 + 1e-9), "stick violated: F_t %.12g > mu0 F_n %.12g",
-          s->F_t, p.mu0 * s->F_n);
-    CHECK(fabs(s->efficiency - value) <= 1e-9 * value, "efficiency re-solved %.12g", s->efficiency);
-    CHECK(usm_floquet_compute(fl, &p, s, 0.0, NULL, &r) == USM_OK &&
-              r.max_modulus <= 1 - MARGIN + 1e-6,
-          "max_modulus %.10g above 1 - margin", r.max_modulus);
+    check_optimum(st, fl, c[best], "command", value, T, F0, kkt);
     json_decref(o);
     free(c);
     usm_floquet_free(fl);

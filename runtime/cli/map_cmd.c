@@ -2,8 +2,6 @@
  * (a stability map), with the existence, stability and stick boundaries. */
 #define _POSIX_C_SOURCE 200809L
 
-#include <errno.h>
-#include <fcntl.h>
 #include <limits.h>
 #include <math.h>
 #include <stdio.h>
@@ -11,14 +9,11 @@
 #include <string.h>
 #include <unistd.h>
 
-#include <jansson.h>
-
 #include "commands.h"
 #include "diag.h"
-#include "json_out.h"
+#include "io_msg.h" /* usm_io_create */
 #include "options.h"
 #include "plot_run.h"
-#include "sweep_out.h" /* cli_plot_csv_open */
 #include "report_map.h"
 #include "usm.h"
 #ifdef USM_HAVE_MPI
@@ -85,20 +80,6 @@ typedef struct map_args {
     int force, help;
 } map_args;
 
-/* An integer; its range is checked once, by the library (usm_map_run). */
-static int parse_int(const char *field, const char *text, int *out, char msg[CLI_MSG_LEN])
-{
-    double v;
-    if (cli_parse_double(field, text, &v, msg) != USM_OK)
-        return USM_EINPUT;
-    if (v != floor(v) || v < INT_MIN || v > INT_MAX) {
-        cli_msg(msg, "%s: \"%s\" must be an integer", field, text);
-        return USM_EINPUT;
-    }
-    *out = (int)v;
-    return USM_OK;
-}
-
 static int parse(map_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
 {
     static const char *const dbl_names[] = {"--x-from", "--x-to", "--y-from", "--y-to", "--t0"};
@@ -142,17 +123,17 @@ static int parse(map_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
         if (done)
             continue;
         if ((r = cli_option_value(argc, argv, &i, "--x-points", &value, msg)) != CLI_OPT_NOT_MINE) {
-            if (r == CLI_OPT_ERROR || parse_int("--x-points", value, &a->xpoints, msg))
+            if (r == CLI_OPT_ERROR || cli_parse_int("--x-points", value, &a->xpoints, msg))
                 return USM_EINPUT;
             continue;
         }
         if ((r = cli_option_value(argc, argv, &i, "--y-points", &value, msg)) != CLI_OPT_NOT_MINE) {
-            if (r == CLI_OPT_ERROR || parse_int("--y-points", value, &a->ypoints, msg))
+            if (r == CLI_OPT_ERROR || cli_parse_int("--y-points", value, &a->ypoints, msg))
                 return USM_EINPUT;
             continue;
         }
         if ((r = cli_option_value(argc, argv, &i, "--threads", &value, msg)) != CLI_OPT_NOT_MINE) {
-            if (r == CLI_OPT_ERROR || parse_int("--threads", value, &a->threads, msg))
+            if (r == CLI_OPT_ERROR || cli_parse_int("--threads", value, &a->threads, msg))
                 return USM_EINPUT;
             continue;
         }
@@ -194,7 +175,7 @@ static int parse(map_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
 
 /* An axis from the options: the default parameter has a default range,
  * another one needs --?-from and --?-to.  The library checks the values. */
-static int make_axis(report_axis *ax, const char *field, const char *name, const char *def,
+static int make_axis(usm_report_axis *ax, const char *field, const char *name, const char *def,
                      double def_from, double def_to, int have_from, double from, int have_to,
                      double to, int points, char msg[CLI_MSG_LEN])
 {
@@ -211,37 +192,17 @@ static int make_axis(report_axis *ax, const char *field, const char *name, const
     return USM_OK;
 }
 
-/* Open --out without overwriting an existing file unless --force. */
-static FILE *open_out(const map_args *a, char msg[CLI_MSG_LEN])
-{
-    int fd;
-    FILE *f;
-    fd = open(a->out, O_WRONLY | O_CREAT | (a->force ? O_TRUNC : O_EXCL), 0666);
-    if (fd < 0) {
-        if (errno == EEXIST)
-            cli_msg(msg, "--out %s: file exists (use --force to overwrite it)", a->out);
-        else
-            cli_msg(msg, "--out %s: %s", a->out, strerror(errno));
-        return NULL;
-    }
-    if (!(f = fdopen(fd, "w"))) {
-        cli_msg(msg, "--out %s: %s", a->out, strerror(errno));
-        close(fd);
-    }
-    return f;
-}
-
 /* --plot: PREFIX.csv, then gnuplot on data/plots/map.gp.  A missing gnuplot
  * is a warning (the CSV and PREFIX.gp are there to plot later). */
-static int plot(const map_args *a, const report_map *map)
+static int plot(const map_args *a, const usm_report_map *map)
 {
     char msg[CLI_MSG_LEN], xcol[128], ycol[128];
-    FILE *f = cli_plot_csv_open(a->plot, a->force, msg);
+    FILE *f = usm_plot_csv_open(a->plot, a->force, msg);
     if (!f) {
         cli_error("%s", msg);
         return USM_EINPUT;
     }
-    int bad = report_map_write_csv(map, f) != 0;
+    int bad = usm_report_map_write_csv(map, f) != 0;
     if ((fclose(f) != 0) | bad) {
         cli_error("--plot %s.csv: write error", a->plot);
         return USM_EFAILED;
@@ -250,7 +211,7 @@ static int plot(const map_args *a, const report_map *map)
     snprintf(xcol, sizeof xcol, "%s [%s]", map->x.param->name, map->x.param->unit);
     snprintf(ycol, sizeof ycol, "%s [%s]", map->y.param->name, map->y.param->unit);
     const char *names[] = {"xcol", "ycol", "mcol"}, *values[] = {xcol, ycol, "max_modulus [1]"};
-    int rc = cli_plot_render("map", a->plot, names, values, 3, msg);
+    int rc = usm_plot_render("map", a->plot, names, values, 3, msg);
     if (rc == USM_ENOSOLUTION) {
         cli_error("warning: %s", msg);
         return USM_OK;
@@ -265,10 +226,13 @@ static int plot(const map_args *a, const report_map *map)
 int cli_map_main(int argc, char **argv)
 {
     map_args a;
-    report_map map;
+    usm_report_map map;
     char msg[CLI_MSG_LEN];
     FILE *out = stdout;
-    int status, rank = 0, size = 1;
+    int status;
+#ifdef USM_HAVE_MPI
+    int rank = 0, size = 1;
+#endif
 
 #ifdef USM_HAVE_MPI
     /* under mpirun: the columns are shared out; only rank 0 reports and writes */
@@ -301,39 +265,44 @@ int cli_map_main(int argc, char **argv)
     map.floquet = &a.floquet;
     map.threads = a.threads;
     map.boundaries = a.common.json;
-    map.mpi = size > 1;
     /* Refuse an existing --out before the (long) computation. */
     if (a.out && !a.force && access(a.out, F_OK) == 0) {
-        cli_error("--out %s: file exists (use --force to overwrite it)", a.out);
+        cli_error("--out %s: exists; refusing to overwrite it (use --force)", a.out);
         return USM_EINPUT;
     }
-    if (a.plot && cli_plot_csv_check(a.plot, a.force, msg) != USM_OK) {
+    if (a.plot && usm_plot_csv_check(a.plot, a.force, msg) != USM_OK) {
         cli_error("%s", msg);
         return USM_EINPUT;
     }
-    status = report_map_run(&map, msg);
-    if (rank != 0) /* rank 0 has the map */
-        return status;
+#ifdef USM_HAVE_MPI
+    if (size > 1) { /* the ranks share the columns; rank 0 gathers the map */
+        usm_map_options opt;
+        usm_map_gathered g;
+        usm_report_map_options(&map, &opt);
+        status = usm_map_run_mpi(map.model, &map.params, &opt, &g);
+        if (rank != 0)
+            return status;
+        if (status != USM_OK)
+            cli_msg(msg, "%s%s", g.msg[0] == 'x' || g.msg[0] == 'y' ? "--" : "map: ", g.msg);
+        else
+            status = usm_report_map_fill(&map, g.cells, g.bnd, g.nbnd, g.floquet_failures, msg);
+        usm_map_gathered_free(&g);
+    } else
+#endif
+        status = usm_report_map_run(&map, msg);
     if (status != USM_OK) {
         cli_error("%s", msg);
         return status;
     }
-    if (a.out && !(out = open_out(&a, msg))) {
-        cli_error("%s", msg);
-        report_map_free(&map);
-        return USM_EINPUT;
+    if (a.out && !(out = usm_io_create(a.out, a.force, msg, &status))) {
+        cli_error("--out %s", msg);
+        usm_report_map_free(&map);
+        return status;
     }
     if (a.common.json) {
-        json_t *obj = report_map_json(&map);
-        if (!obj) {
-            cli_error("out of memory");
+        if (usm_report_map_write_json(&map, out) != 0)
             status = USM_EFAILED;
-        } else {
-            if (cli_json_print(obj, out) != 0)
-                status = USM_EFAILED;
-            json_decref(obj);
-        }
-    } else if (report_map_write_csv(&map, out) != 0)
+    } else if (usm_report_map_write_csv(&map, out) != 0)
         status = USM_EFAILED;
     if (out != stdout) {
         if (fclose(out) != 0 || status != USM_OK) {
@@ -350,6 +319,6 @@ int cli_map_main(int argc, char **argv)
     if (map.floquet_failures > 0 && status == USM_OK)
         fprintf(stderr, "usm: map: the Floquet computation failed at %zu point(s) (max_modulus nan)\n",
                 map.floquet_failures);
-    report_map_free(&map);
+    usm_report_map_free(&map);
     return status;
 }

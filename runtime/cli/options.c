@@ -1,11 +1,12 @@
 /* Command-line options shared by the usm subcommands. */
 #include "options.h"
 
+#include <limits.h>
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "number.h"
-#include "params_file.h"
+#include "usm_io.h"
 
 void cli_common_init(cli_common *c)
 {
@@ -39,7 +40,7 @@ int cli_option_value(int argc, char **argv, int *i, const char *name, const char
 
 int cli_parse_double(const char *field, const char *text, double *out, char msg[CLI_MSG_LEN])
 {
-    return cli_parse_number(field, text, strlen(text), out, msg);
+    return usm_parse_number(field, text, strlen(text), out, msg);
 }
 
 /* "--set NAME=VALUE": checked at once so that errors name the --set option. */
@@ -165,7 +166,7 @@ int cli_common_finish(cli_common *c, char msg[CLI_MSG_LEN])
         return USM_EINPUT;
     }
     usm_params_default(&c->params);
-    if (c->params_file && cli_params_file_read(c->params_file, &c->params, msg) != USM_OK)
+    if (c->params_file && usm_params_read_file(c->params_file, &c->params, msg) != USM_OK)
         return USM_EINPUT;
     for (int k = 0; k < USM_NPARAMS; ++k)
         if (c->is_set[k])
@@ -188,6 +189,19 @@ void cli_common_usage(FILE *out)
             "  --set NAME=VALUE    set one parameter (repeatable; applied after --params)\n"
             "  --json              print one JSON object instead of a table\n",
             known);
+}
+
+int cli_parse_int(const char *field, const char *text, int *out, char msg[CLI_MSG_LEN])
+{
+    double v;
+    if (cli_parse_double(field, text, &v, msg) != USM_OK)
+        return USM_EINPUT;
+    if (v != floor(v) || v < INT_MIN || v > INT_MAX) {
+        cli_msg(msg, "%s: \"%s\" must be an integer", field, text);
+        return USM_EINPUT;
+    }
+    *out = (int)v;
+    return USM_OK;
 }
 
 int cli_floquet_option(usm_floquet_options *o, int argc, char **argv, int *i,
@@ -228,4 +242,18 @@ void cli_floquet_usage(FILE *out)
             "                      (CVODES, the independent check)\n"
             "  --rtol R            relative tolerance of the Floquet integration (default 1e-8;\n"
             "                      magnus: multipliers to 1e-2 R)\n");
+}
+
+int cli_plot_option(int argc, char **argv, int *i, const char **prefix, char msg[CLI_MSG_LEN])
+{
+    const char *value;
+    int r = cli_option_value(argc, argv, i, "--plot", &value, msg);
+    if (r != CLI_OPT_TAKEN)
+        return r;
+    if (value[0] == '\0') {
+        cli_msg(msg, "--plot: empty file prefix");
+        return CLI_OPT_ERROR;
+    }
+    *prefix = value;
+    return CLI_OPT_TAKEN;
 }

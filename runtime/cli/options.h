@@ -53,10 +53,14 @@ void cli_common_usage(FILE *out);
 int cli_option_value(int argc, char **argv, int *i, const char *name, const char **value,
                      char msg[CLI_MSG_LEN]);
 
-/* cli_parse_number() on a NUL-terminated text (see number.h): a finite,
+/* usm_parse_number() on a NUL-terminated text (see number.h): a finite,
  * normal (or zero) double, the whole text used.  On failure returns USM_EINPUT
  * with "FIELD: \"text\" reason" in msg. */
 int cli_parse_double(const char *field, const char *text, double *out, char msg[CLI_MSG_LEN]);
+
+/* cli_parse_double() of a whole number that fits an int (its range is the
+ * library's to check).  USM_EINPUT with "FIELD: \"text\" reason" in msg. */
+int cli_parse_int(const char *field, const char *text, int *out, char msg[CLI_MSG_LEN]);
 
 /* The Floquet options of steady, sweep and map: --floquet-method NAME
  * (usm_floquet_method_name) and --rtol R (the integrators' relative
@@ -66,5 +70,9 @@ int cli_floquet_option(usm_floquet_options *o, int argc, char **argv, int *i,
 
 /* Print the Floquet options' lines of a usage text. */
 void cli_floquet_usage(FILE *out);
+
+/* If argv[*i] is "--plot PREFIX" (or --plot=PREFIX), store PREFIX: returns
+ * CLI_OPT_TAKEN, CLI_OPT_NOT_MINE or CLI_OPT_ERROR (missing, empty). */
+int cli_plot_option(int argc, char **argv, int *i, const char **prefix, char msg[CLI_MSG_LEN]);
 
 #endif /* USM_CLI_OPTIONS_H */

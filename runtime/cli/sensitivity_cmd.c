@@ -6,13 +6,11 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <jansson.h>
-
 #include "commands.h"
 #include "diag.h"
-#include "json_out.h"
 #include "options.h"
 #include "usm_design.h"
+#include "usm_io.h"
 
 /* The outputs of the list, the default of --of. */
 #define DEFAULT_OUTPUTS 7
@@ -106,105 +104,6 @@ static int parse(sens_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
     return cli_common_finish(&a->common, msg);
 }
 
-/* (p/y) dy/dp, NaN where y = 0 or the derivative is undefined */
-static double elasticity(const usm_params *p, const usm_sensitivity_result *r, int k, int j)
-{
-    const double y = r->value[k], pj = usm_params_get(p, &usm_param_table[j]);
-    if (!r->defined[k] || y == 0)
-        return NAN;
-    if (r->d[k][j] == 0)
-        return 0.0; /* not -0 */
-    return pj / y * r->d[k][j];
-}
-
-static json_t *output_json(const usm_params *p, const usm_sensitivity_result *r, int k)
-{
-    json_t *obj = json_object(), *d = json_object(), *e = json_object();
-    int ok = obj && d && e;
-    cli_json_put(obj, "value", cli_json_real(r->value[k]), &ok);
-    for (int j = 0; j < USM_NPARAMS; ++j) {
-        const char *name = usm_param_table[j].name;
-        cli_json_put(d, name, r->defined[k] ? cli_json_real(r->d[k][j]) : json_null(), &ok);
-        cli_json_put(e, name, cli_json_real(elasticity(p, r, k, j)), &ok);
-    }
-    cli_json_put(obj, "d", d, &ok);
-    cli_json_put(obj, "elasticity", e, &ok);
-    if (!r->defined[k])
-        cli_json_put(obj, "undefined", json_string(r->why[k]), &ok);
-    if (!ok) {
-        json_decref(obj);
-        return NULL;
-    }
-    return obj;
-}
-
-static int print_json(const sens_args *a, const usm_sensitivity_result *r)
-{
-    const cli_common *c = &a->common;
-    json_t *obj = json_object(), *outs = json_object();
-    int ok = obj && outs;
-    cli_json_put(obj, "model", json_string(c->model->name), &ok);
-    cli_json_put(obj, "parameters", cli_json_params(&c->params), &ok);
-    for (int k = 0; k < USM_SENS_COUNT; ++k)
-        if (a->want[k]) {
-            json_t *o = output_json(&c->params, r, k);
-            if (!o)
-                ok = 0;
-            cli_json_put(outs, usm_sensitivity_output_name(k), o, &ok);
-        }
-    cli_json_put(obj, "outputs", outs, &ok);
-    int rc = ok ? cli_json_print(obj, stdout) : -1;
-    json_decref(obj);
-    if (!ok) {
-        cli_error("out of memory");
-        return USM_EFAILED;
-    }
-    if (rc != 0 || fflush(stdout) != 0 || ferror(stdout)) {
-        clearerr(stdout);
-        cli_error("stdout: write error");
-        return USM_EFAILED;
-    }
-    return USM_OK;
-}
-
-typedef struct ranked {
-    int j;
-    double e;
-} ranked;
-
-static int by_abs_desc(const void *x, const void *y)
-{
-    const ranked *a = x, *b = y;
-    double ea = isnan(a->e) ? -1 : fabs(a->e), eb = isnan(b->e) ? -1 : fabs(b->e);
-    if (ea != eb)
-        return (ea < eb) - (ea > eb);
-    return a->j - b->j;
-}
-
-static void print_table(const sens_args *a, const usm_sensitivity_result *r)
-{
-    const cli_common *c = &a->common;
-    printf("model %s: %s\n", c->model->name, c->model->description);
-    printf("sensitivities of the primary stationary solution (elasticity = (p/y) dy/dp)\n");
-    for (int k = 0; k < USM_SENS_COUNT; ++k) {
-        if (!a->want[k])
-            continue;
-        printf("\n%s = %.10g\n", usm_sensitivity_output_name(k), r->value[k]);
-        if (!r->defined[k]) {
-            printf("  undefined: %s\n", r->why[k]);
-            continue;
-        }
-        ranked rk[USM_NPARAMS];
-        for (int j = 0; j < USM_NPARAMS; ++j)
-            rk[j] = (ranked){j, elasticity(&c->params, r, k, j)};
-        qsort(rk, USM_NPARAMS, sizeof rk[0], by_abs_desc);
-        printf("  %-6s %-20s %-20s\n", "param", "elasticity", "dy/dp");
-        for (int j = 0; j < USM_NPARAMS; ++j)
-            printf("  %-6s %-20.10g %-20.10g\n", usm_param_table[rk[j].j].name, rk[j].e,
-                   r->d[k][rk[j].j]);
-    }
-}
-
 static int run(const sens_args *a)
 {
     const cli_common *c = &a->common;
@@ -242,10 +141,14 @@ static int run(const sens_args *a)
         status = USM_EFAILED;
         goto done;
     }
-    if (c->json)
-        status = print_json(a, &res);
-    else
-        print_table(a, &res);
+    if (!c->json)
+        usm_sensitivity_write_table(c->model, &c->params, &res, a->want, stdout);
+    else if (usm_sensitivity_write_json(c->model, &c->params, &res, a->want, stdout) != 0 ||
+             fflush(stdout) != 0 || ferror(stdout)) {
+        clearerr(stdout);
+        cli_error("stdout: write error");
+        status = USM_EFAILED;
+    }
 done:
     usm_sensitivity_free(sens);
     usm_steady_free(s);

@@ -4,13 +4,10 @@
 #include <stdio.h>
 #include <string.h>
 
-#include <jansson.h>
-
 #include "commands.h"
 #include "diag.h"
-#include "json_out.h"
 #include "options.h"
-#include "steady_out.h"
+#include "usm_io.h"
 #include "usm.h"
 
 static void usage(FILE *out)
@@ -90,16 +87,9 @@ static int parse(steady_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
     return cli_common_finish(&a->common, msg);
 }
 
-static int emit_json(const cli_steady_report *rep)
+static int emit_json(const usm_steady_report *rep)
 {
-    json_t *obj = cli_steady_json(rep);
-    int rc;
-    if (!obj) {
-        cli_error("out of memory");
-        return USM_EFAILED;
-    }
-    rc = cli_json_print(obj, stdout);
-    json_decref(obj);
+    int rc = usm_steady_write_json(rep, stdout);
     /* Flush here so that a write error is reported once, by this function,
      * and main's final check (after clearerr) does not repeat it. */
     if (rc != 0 || fflush(stdout) != 0 || ferror(stdout)) {
@@ -130,7 +120,7 @@ static const char *non_finite(const usm_steady_solution *s, const usm_floquet_re
 static int run(const steady_args *a)
 {
     const cli_common *c = &a->common;
-    cli_steady_report rep = {c->model, &c->params, NULL, NULL, NULL};
+    usm_steady_report rep = {c->model, &c->params, NULL, NULL, NULL};
     usm_floquet_result res;
     usm_floquet *fl = NULL;
     const char *bad;
@@ -181,7 +171,7 @@ static int run(const steady_args *a)
     if (c->json)
         status = emit_json(&rep);
     else
-        cli_steady_table(&rep, stdout);
+        usm_steady_table(&rep, stdout);
 done:
     if (fl)
         usm_floquet_free(fl);

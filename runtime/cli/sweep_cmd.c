@@ -9,14 +9,11 @@
 #include <string.h>
 #include <unistd.h>
 
-#include <jansson.h>
-
 #include "commands.h"
 #include "diag.h"
-#include "json_out.h"
 #include "options.h"
 #include "plot_run.h"
-#include "sweep_out.h"
+#include "usm_io.h"
 #include "usm_sweep.h"
 
 static void usage(FILE *out)
@@ -155,20 +152,6 @@ static int monitor_option(sweep_args *a, int crossing, const char *value, char m
     return CLI_OPT_TAKEN;
 }
 
-/* An integer; its range is checked once, by the library (usm_sweep_run). */
-static int parse_int(const char *field, const char *text, int *out, char msg[CLI_MSG_LEN])
-{
-    double v;
-    if (cli_parse_double(field, text, &v, msg) != USM_OK)
-        return USM_EINPUT;
-    if (v != floor(v) || v < INT_MIN || v > INT_MAX) {
-        cli_msg(msg, "%s: \"%s\" must be an integer", field, text);
-        return USM_EINPUT;
-    }
-    *out = (int)v;
-    return USM_OK;
-}
-
 /* One of this command's own options, or CLI_OPT_NOT_MINE. */
 static int own_option(sweep_args *a, int argc, char **argv, int *i, char msg[CLI_MSG_LEN])
 {
@@ -204,11 +187,11 @@ static int own_option(sweep_args *a, int argc, char **argv, int *i, char msg[CLI
     if ((r = cli_option_value(argc, argv, i, "--t0", &value, msg)) != CLI_OPT_NOT_MINE)
         return r == CLI_OPT_TAKEN && cli_parse_double("--t0", value, &a->t0, msg) ? CLI_OPT_ERROR : r;
     if ((r = cli_option_value(argc, argv, i, "--points", &value, msg)) != CLI_OPT_NOT_MINE)
-        return r == CLI_OPT_TAKEN && parse_int("--points", value, &a->points, msg)
+        return r == CLI_OPT_TAKEN && cli_parse_int("--points", value, &a->points, msg)
                    ? CLI_OPT_ERROR
                    : r;
     if ((r = cli_option_value(argc, argv, i, "--threads", &value, msg)) != CLI_OPT_NOT_MINE)
-        return r == CLI_OPT_TAKEN && parse_int("--threads", value, &a->threads, msg)
+        return r == CLI_OPT_TAKEN && cli_parse_int("--threads", value, &a->threads, msg)
                    ? CLI_OPT_ERROR
                    : r;
     return CLI_OPT_NOT_MINE;
@@ -258,7 +241,7 @@ static int parse(sweep_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
     if (cli_common_finish(&a->common, msg) != USM_OK)
         return USM_EINPUT;
     /* refused before the (long) sweep, not after it */
-    return a->plot ? cli_plot_csv_check(a->plot, a->force, msg) : USM_OK;
+    return a->plot ? usm_plot_csv_check(a->plot, a->force, msg) : USM_OK;
 }
 
 /* ---- progress bar ------------------------------------------------------------ */
@@ -288,16 +271,10 @@ static int emit(const sweep_args *a, const usm_sweep *s)
 {
     const cli_common *c = &a->common;
     int rc;
-    if (c->json) {
-        json_t *obj = cli_sweep_json(s, c->model, &c->params, a->over);
-        if (!obj) {
-            cli_error("out of memory");
-            return USM_EFAILED;
-        }
-        rc = cli_json_print(obj, stdout);
-        json_decref(obj);
-    } else
-        rc = cli_sweep_csv(s, a->over, a->floquet, stdout);
+    if (c->json)
+        rc = usm_sweep_write_json(s, c->model, &c->params, a->over, stdout);
+    else
+        rc = usm_sweep_csv(s, a->over, a->floquet, stdout);
     /* reported here once; main's final check then sees a clean stream */
     if (rc != 0 || fflush(stdout) != 0 || ferror(stdout)) {
         clearerr(stdout);
@@ -313,12 +290,12 @@ static int plot(const sweep_args *a, const usm_sweep *s)
 {
     char msg[CLI_MSG_LEN], xcol[128];
     const usm_param_info *info = usm_params_find(a->over);
-    FILE *f = cli_plot_csv_open(a->plot, a->force, msg);
+    FILE *f = usm_plot_csv_open(a->plot, a->force, msg);
     if (!f) {
         cli_error("%s", msg);
         return USM_EINPUT;
     }
-    int bad = cli_sweep_csv(s, a->over, a->floquet, f) != 0;
+    int bad = usm_sweep_csv(s, a->over, a->floquet, f) != 0;
     if ((fclose(f) != 0) | bad) {
         cli_error("--plot %s.csv: write error", a->plot);
         return USM_EFAILED;
@@ -326,7 +303,7 @@ static int plot(const sweep_args *a, const usm_sweep *s)
     /* the header's first column (sweep_out.c) */
     snprintf(xcol, sizeof xcol, "%s [%s]", a->over, info ? info->unit : "");
     const char *names[] = {"xcol"}, *values[] = {xcol};
-    int rc = cli_plot_render("sweep", a->plot, names, values, 1, msg);
+    int rc = usm_plot_render("sweep", a->plot, names, values, 1, msg);
     if (rc == USM_ENOSOLUTION) {
         cli_error("warning: %s", msg);
         return USM_OK;

@@ -171,7 +171,7 @@ static int write_out(const tol_args *a, const usm_tolerance *t, char msg[CLI_MSG
     snprintf(prefix, sizeof prefix, "%s/histograms", a->out);
     snprintf(csv, sizeof csv, "%s/samples.csv", a->out);
     const char *names[] = {"csv"}, *values[] = {csv};
-    rc = cli_plot_render("tolerance", prefix, names, values, 1, msg);
+    rc = usm_plot_render("tolerance", prefix, names, values, 1, msg);
     if (rc == USM_ENOSOLUTION) /* no gnuplot: the data and script are there */
         cli_error("warning: %s", msg);
     return rc == USM_ENOSOLUTION ? USM_OK : rc;

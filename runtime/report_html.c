@@ -9,7 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "report.h"
+#include "report_internal.h"
 #include "template.h"
 
 static const char *const style =
@@ -40,12 +40,12 @@ static void escaped(FILE *out, const char *s, size_t n)
 static void inline_svg(FILE *out, const char *dir, const char *src, size_t n, const char *alt,
                        size_t alt_n)
 {
-    char name[512], path[4096], msg[CLI_MSG_LEN];
+    char name[512], path[4096], msg[USM_IO_MSG_LEN];
     char *svg = NULL, *start;
     if (n > 4 && n < sizeof name && memcmp(src + n - 4, ".png", 4) == 0) {
         snprintf(name, sizeof name, "%.*s.svg", (int)(n - 4), src);
-        if (report_path(path, sizeof path, dir, name) == 0)
-            svg = cli_template_read(path, msg);
+        if (usm_report_path(path, sizeof path, dir, name) == 0)
+            svg = usm_template_read(path, msg);
     }
     fputs("<figure>", out);
     if (svg && (start = strstr(svg, "<svg")) != NULL) {
@@ -174,7 +174,7 @@ static int line_kind(const char *line)
     return strncmp(line, "<!--", 4) == 0 || line[0] == '#' ? NONE : PARA;
 }
 
-int report_html_write(const char *md, const char *dir, FILE *out)
+int usm_report_html_write(const char *md, const char *dir, FILE *out)
 {
     static const char *const open_tag[] = {"", "<p>", "<ul>\n", "<ol>\n", "<blockquote>",
                                            "<table>\n"};

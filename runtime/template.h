@@ -14,22 +14,22 @@
  *   {{.}}               the element itself inside #each (an array of strings)
  * A path is keys and array indices joined by dots: "model.3dof.fl.0.max_modulus".
  * An unknown path or a malformed template is an error naming the line. */
-#ifndef USM_CLI_TEMPLATE_H
-#define USM_CLI_TEMPLATE_H
+#ifndef USM_TEMPLATE_H
+#define USM_TEMPLATE_H
 
 #include <stdio.h>
 
 #include <jansson.h>
 
-#include "diag.h"
+#include "io_msg.h"
 
 /* Render template text `tpl` (named `name` in messages) with the values of
  * `data` to out.  USM_OK, or USM_EFAILED with "NAME:LINE: reason" in msg. */
-int cli_template_render(const char *tpl, const char *name, json_t *data, FILE *out,
-                        char msg[CLI_MSG_LEN]);
+int usm_template_render(const char *tpl, const char *name, json_t *data, FILE *out,
+                        char msg[USM_IO_MSG_LEN]);
 
 /* Read the whole file at path into a NUL-terminated string (free() it);
  * NULL with msg on failure. */
-char *cli_template_read(const char *path, char msg[CLI_MSG_LEN]);
+char *usm_template_read(const char *path, char msg[USM_IO_MSG_LEN]);
 
-#endif /* USM_CLI_TEMPLATE_H */
+#endif /* USM_TEMPLATE_H */

@@ -1,4 +1,4 @@
-/* Where the command's data files are (see data_dir.h). */
+/* Where the library's data files are (see data_dir.h). */
 #define _POSIX_C_SOURCE 200809L
 
 #include "data_dir.h"
@@ -18,7 +18,7 @@ static int try_path(char *buf, size_t len, const char *dir, const char *sub, con
     return n >= 0 && (size_t)n < len && access(buf, R_OK) == 0 ? 0 : -1;
 }
 
-int cli_data_path(const char *name, char *buf, size_t len)
+int usm_data_path(const char *name, char *buf, size_t len)
 {
     const char *env = getenv("USM_DATA_DIR");
     char exe[4096];
@@ -35,5 +35,10 @@ int cli_data_path(const char *name, char *buf, size_t len)
                 return 0;
         }
     }
+#ifdef USM_INSTALL_DATA_DIR
+    /* a program linked with the installed library, wherever it lives */
+    if (try_path(buf, len, USM_INSTALL_DATA_DIR, "", name) == 0)
+        return 0;
+#endif
     return try_path(buf, len, USM_SOURCE_DATA_DIR, "", name);
 }

@@ -4,13 +4,14 @@
  * library so that each number reaches the same parser as --set NAME=VALUE
  * (number.h) as the text the user wrote: a library converts it first and
  * turns 1e-400 into 0 or an integer beyond 2^63 into an error of its own. */
-#include "params_file.h"
+#include "usm_io.h"
+#include "io_msg.h"
 
 #include <errno.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "number.h"
+#include "usm_io.h"
 
 /* A member's key is kept up to this length; longer keys are no parameter. */
 #define KEY_LEN 64
@@ -41,7 +42,7 @@ static int malformed(scan *sc, const char *reason)
             ++col;
         }
     }
-    cli_msg(sc->msg, "%s:%d:%d: malformed JSON: %s", sc->path, line, col, reason);
+    usm_io_msg(sc->msg, "%s:%d:%d: malformed JSON: %s", sc->path, line, col, reason);
     return USM_EINPUT;
 }
 
@@ -224,7 +225,7 @@ static int object(scan *sc, usm_params *p)
         size_t at = sc->i;
         if (value(sc, 0, &kind) != USM_OK)
             return USM_EINPUT;
-        cli_msg(sc->msg, "%s: malformed parameter file: expected a JSON object "
+        usm_io_msg(sc->msg, "%s: malformed parameter file: expected a JSON object "
                          "{\"NAME\": number}, got %s", sc->path, kind);
         sc->i = at;
         return USM_EINPUT;
@@ -252,24 +253,24 @@ static int object(scan *sc, usm_params *p)
                 double v;
                 info = long_key ? NULL : usm_params_find(key);
                 if (!info) {
-                    cli_msg(sc->msg, "%s: %s%s: unknown parameter (see usm steady --help)",
+                    usm_io_msg(sc->msg, "%s: %s%s: unknown parameter (see usm steady --help)",
                             sc->path, key, long_key ? "..." : "");
                     return USM_EINPUT;
                 }
                 if (seen[info - usm_param_table]++) {
-                    cli_msg(sc->msg, "%s: %s: duplicate name (a parameter may be given once)",
+                    usm_io_msg(sc->msg, "%s: %s: duplicate name (a parameter may be given once)",
                             sc->path, key);
                     return USM_EINPUT;
                 }
                 if (strcmp(kind, "a number") != 0) {
-                    cli_msg(sc->msg, "%s: %s: expected a number, got %s", sc->path, key, kind);
+                    usm_io_msg(sc->msg, "%s: %s: expected a number, got %s", sc->path, key, kind);
                     return USM_EINPUT;
                 }
                 snprintf(field, sizeof field, "%s", key);
                 {
-                    char inner[CLI_MSG_LEN];
-                    if (cli_parse_number(field, sc->s + from, sc->i - from, &v, inner) != USM_OK) {
-                        cli_msg(sc->msg, "%s: %.900s", sc->path, inner);
+                    char inner[USM_IO_MSG_LEN];
+                    if (usm_parse_number(field, sc->s + from, sc->i - from, &v, inner) != USM_OK) {
+                        usm_io_msg(sc->msg, "%s: %.900s", sc->path, inner);
                         return USM_EINPUT;
                     }
                 }
@@ -293,8 +294,8 @@ static int object(scan *sc, usm_params *p)
     return USM_OK;
 }
 
-int cli_params_parse(const char *path, const char *text, size_t len, usm_params *p,
-                     char msg[CLI_MSG_LEN])
+int usm_params_parse_text(const char *path, const char *text, size_t len, usm_params *p,
+                     char msg[USM_IO_MSG_LEN])
 {
     scan sc = {text, len, 0, path, msg};
     usm_params tmp = *p;
@@ -306,14 +307,14 @@ int cli_params_parse(const char *path, const char *text, size_t len, usm_params 
     return USM_OK;
 }
 
-int cli_params_file_read(const char *path, usm_params *p, char msg[CLI_MSG_LEN])
+int usm_params_read_file(const char *path, usm_params *p, char msg[USM_IO_MSG_LEN])
 {
     char *text = NULL;
     size_t len = 0, cap = 0;
     int status;
     FILE *fp = fopen(path, "rb");
     if (!fp) {
-        cli_msg(msg, "%s: cannot open parameter file: %s", path, strerror(errno));
+        usm_io_msg(msg, "%s: cannot open parameter file: %s", path, strerror(errno));
         return USM_EINPUT;
     }
     for (;;) {
@@ -321,7 +322,7 @@ int cli_params_file_read(const char *path, usm_params *p, char msg[CLI_MSG_LEN])
         if (len == cap) {
             char *more = cap < (1u << 24) ? realloc(text, cap ? 2 * cap : 4096) : NULL;
             if (!more) {
-                cli_msg(msg, "%s: parameter file too large", path);
+                usm_io_msg(msg, "%s: parameter file too large", path);
                 free(text);
                 fclose(fp);
                 return USM_EINPUT;
@@ -338,13 +339,13 @@ int cli_params_file_read(const char *path, usm_params *p, char msg[CLI_MSG_LEN])
     if (ferror(fp)) {
         /* e.g. a directory: fopen succeeds, reading fails. */
         int e = errno;
-        cli_msg(msg, "%s: cannot read parameter file: %s", path, e ? strerror(e) : "read error");
+        usm_io_msg(msg, "%s: cannot read parameter file: %s", path, e ? strerror(e) : "read error");
         free(text);
         fclose(fp);
         return USM_EINPUT;
     }
     fclose(fp);
-    status = cli_params_parse(path, text, len, p, msg);
+    status = usm_params_parse_text(path, text, len, p, msg);
     free(text);
     return status;
 }

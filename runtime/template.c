@@ -25,7 +25,7 @@ static int fail(render *r, const char *at, const char *what, const char *tag, si
     int line = 1;
     for (const char *p = r->tpl; p < at; ++p)
         line += *p == '\n';
-    cli_msg(r->msg, "%s:%d: %s {{%.*s}}", r->name, line, what, (int)(len > 80 ? 80 : len), tag);
+    usm_io_msg(r->msg, "%s:%d: %s {{%.*s}}", r->name, line, what, (int)(len > 80 ? 80 : len), tag);
     return USM_EFAILED;
 }
 
@@ -234,8 +234,8 @@ static int block(render *r, const char **p, const char *close, int *saw_else)
     }
 }
 
-int cli_template_render(const char *tpl, const char *name, json_t *data, FILE *out,
-                        char msg[CLI_MSG_LEN])
+int usm_template_render(const char *tpl, const char *name, json_t *data, FILE *out,
+                        char msg[USM_IO_MSG_LEN])
 {
     render r;
     const char *p = tpl;
@@ -249,13 +249,13 @@ int cli_template_render(const char *tpl, const char *name, json_t *data, FILE *o
     return block(&r, &p, NULL, NULL);
 }
 
-char *cli_template_read(const char *path, char msg[CLI_MSG_LEN])
+char *usm_template_read(const char *path, char msg[USM_IO_MSG_LEN])
 {
     FILE *f = fopen(path, "rb");
     char *text = NULL;
     long len;
     if (!f) {
-        cli_msg(msg, "%s: %s", path, strerror(errno));
+        usm_io_msg(msg, "%s: %s", path, strerror(errno));
         return NULL;
     }
     if (fseek(f, 0, SEEK_END) == 0 && (len = ftell(f)) >= 0 && fseek(f, 0, SEEK_SET) == 0 &&
@@ -264,7 +264,7 @@ char *cli_template_read(const char *path, char msg[CLI_MSG_LEN])
         fclose(f);
         return text;
     }
-    cli_msg(msg, "%s: cannot read", path);
+    usm_io_msg(msg, "%s: cannot read", path);
     free(text);
     fclose(f);
     return NULL;

@@ -1,6 +1,7 @@
 /* The start state of `usm simulate --from FILE` (see simulate_start.h). */
 #define _POSIX_C_SOURCE 200809L
-#include "simulate_start.h"
+#include "usm_io.h"
+#include "io_msg.h"
 
 #include <ctype.h>
 #include <errno.h>
@@ -11,7 +12,7 @@
 
 #include <jansson.h>
 
-#include "options.h"
+#include "usm_io.h"
 
 /* ---- --from FILE -------------------------------------------------------------- */
 
@@ -80,7 +81,7 @@ static int assign(const usm_model *m, start_state *st, const char *name, double 
 }
 
 static int read_csv_state(const char *path, FILE *f, const usm_model *m, start_state *st,
-                          char msg[CLI_MSG_LEN])
+                          char msg[USM_IO_MSG_LEN])
 {
     char *line = NULL, *last = NULL;
     size_t cap = 0;
@@ -91,7 +92,7 @@ static int read_csv_state(const char *path, FILE *f, const usm_model *m, start_s
     long lineno = 0, last_lineno = 0;
     if ((len = getline(&line, &cap, f)) < 0) {
         free(line);
-        cli_msg(msg, "--from %s: empty file", path);
+        usm_io_msg(msg, "%s: empty file", path);
         return USM_EINPUT;
     }
     ++lineno;
@@ -105,19 +106,19 @@ static int read_csv_state(const char *path, FILE *f, const usm_model *m, start_s
         last_lineno = lineno;
         if (!last) {
             free(line);
-            cli_msg(msg, "out of memory");
+            usm_io_msg(msg, "out of memory");
             return USM_EFAILED;
         }
     }
     free(line);
     if (!last) {
-        cli_msg(msg, "--from %s: no data row after the header", path);
+        usm_io_msg(msg, "%s: no data row after the header", path);
         return USM_EINPUT;
     }
     nnames = split(header, names, 64);
     nvalues = split(last, values, 64);
     if (nnames < 0 || nvalues != nnames) {
-        cli_msg(msg, "--from %s:%ld: %d fields, the header has %d", path, last_lineno, nvalues,
+        usm_io_msg(msg, "%s:%ld: %d fields, the header has %d", path, last_lineno, nvalues,
                 nnames);
         free(last);
         return USM_EINPUT;
@@ -130,8 +131,8 @@ static int read_csv_state(const char *path, FILE *f, const usm_model *m, start_s
             continue;
         if (values[k][0] == '\0')
             continue;
-        snprintf(field, sizeof field, "--from %s:%ld: %s", path, last_lineno, name);
-        if (cli_parse_double(field, values[k], &v, msg) != USM_OK) {
+        snprintf(field, sizeof field, "%s:%ld: %s", path, last_lineno, name);
+        if (usm_parse_number(field, values[k], strlen(values[k]), &v, msg) != USM_OK) {
             free(last);
             return USM_EINPUT;
         }
@@ -150,27 +151,27 @@ static int json_number(const json_t *v, double *out)
 }
 
 static int read_json_state(const char *path, const usm_model *m, start_state *st,
-                           char msg[CLI_MSG_LEN])
+                           char msg[USM_IO_MSG_LEN])
 {
     json_error_t err;
     json_t *root = json_load_file(path, JSON_REJECT_DUPLICATES, &err), *obj, *v;
     const char *key;
     int rc = USM_OK;
     if (!root) {
-        cli_msg(msg, "--from %s:%d:%d: malformed JSON: %s", path, err.line, err.column, err.text);
+        usm_io_msg(msg, "%s:%d:%d: malformed JSON: %s", path, err.line, err.column, err.text);
         return USM_EINPUT;
     }
     obj = root;
     if (json_is_object(root) && json_is_object(json_object_get(root, "final_state")))
         obj = json_object_get(root, "final_state"); /* a `usm simulate --json` summary */
     if (!json_is_object(obj)) {
-        cli_msg(msg, "--from %s: expected a JSON object", path);
+        usm_io_msg(msg, "%s: expected a JSON object", path);
         json_decref(root);
         return USM_EINPUT;
     }
     if ((v = json_object_get(root, "model")) && json_is_string(v) &&
         strcmp(json_string_value(v), m->name) != 0) {
-        cli_msg(msg, "--from %s: the state is of model %s, not %s", path, json_string_value(v),
+        usm_io_msg(msg, "%s: the state is of model %s, not %s", path, json_string_value(v),
                 m->name);
         json_decref(root);
         return USM_EINPUT;
@@ -179,14 +180,14 @@ static int read_json_state(const char *path, const usm_model *m, start_state *st
         double d;
         if (strcmp(key, "x") == 0) {
             if (!json_is_array(v) || (int)json_array_size(v) != m->nx) {
-                cli_msg(msg, "--from %s: \"x\" must be a list of %d numbers (model %s)", path,
+                usm_io_msg(msg, "%s: \"x\" must be a list of %d numbers (model %s)", path,
                         m->nx, m->name);
                 rc = USM_EINPUT;
                 break;
             }
             for (int i = 0; i < m->nx; ++i) {
                 if (json_number(json_array_get(v, (size_t)i), &d) != 0) {
-                    cli_msg(msg, "--from %s: \"x\"[%d] is not a finite number", path, i);
+                    usm_io_msg(msg, "%s: \"x\"[%d] is not a finite number", path, i);
                     rc = USM_EINPUT;
                     break;
                 }
@@ -200,7 +201,7 @@ static int read_json_state(const char *path, const usm_model *m, start_state *st
         if (!assign(m, st, key, 0.0))
             continue; /* other keys (names, model, ...) are allowed */
         if (json_number(v, &d) != 0) {
-            cli_msg(msg, "--from %s: \"%s\" is not a finite number", path, key);
+            usm_io_msg(msg, "%s: \"%s\" is not a finite number", path, key);
             rc = USM_EINPUT;
             break;
         }
@@ -210,15 +211,15 @@ static int read_json_state(const char *path, const usm_model *m, start_state *st
     return rc;
 }
 
-int cli_sim_read_start(const char *path, const usm_model *m, usm_sim_options *opt,
-                       char msg[CLI_MSG_LEN])
+int usm_sim_read_start(const char *path, const usm_model *m, usm_sim_options *opt,
+                       char msg[USM_IO_MSG_LEN])
 {
     start_state st;
     int c, rc;
     FILE *f = fopen(path, "r");
     memset(&st, 0, sizeof st);
     if (!f) {
-        cli_msg(msg, "--from %s: %s", path, strerror(errno));
+        usm_io_msg(msg, "%s: %s", path, strerror(errno));
         return USM_EINPUT;
     }
     do
@@ -236,7 +237,7 @@ int cli_sim_read_start(const char *path, const usm_model *m, usm_sim_options *op
         return rc;
     for (int i = 0; i < m->nx; ++i)
         if (!st.have[i]) {
-            cli_msg(msg, "--from %s: no value for %s (model %s needs %d state variables)",
+            usm_io_msg(msg, "%s: no value for %s (model %s needs %d state variables)",
                     path, m->state_names[i], m->name, m->nx);
             return USM_EINPUT;
         }

@@ -4,7 +4,7 @@
 #include <math.h>
 #include <string.h>
 
-#include "report.h"
+#include "report_internal.h"
 
 #ifndef USM_VERSION
 #define USM_VERSION "unknown"
@@ -37,14 +37,14 @@ static void integer(json_t *o, const char *key, long long v)
 }
 
 /* Largest distance between a published table and the multipliers r. */
-static double table_distance(const report_published_multiplier *t, int nt,
+static double table_distance(const usm_report_published_multiplier *t, int nt,
                              const usm_floquet_result *r, int skip_first)
 {
     int used[USM_MAX_NX] = {0};
     double dev = 0;
     for (int k = 0; k < nt; ++k)
         for (int sgn = 1; sgn >= (t[k].im > 0 ? -1 : 1); sgn -= 2) {
-            int j = report_match_multiplier(r, t[k].re, sgn * t[k].im, used);
+            int j = usm_report_match_multiplier(r, t[k].re, sgn * t[k].im, used);
             if (j < 0)
                 return INFINITY;
             if (!(skip_first && k == 0))
@@ -113,7 +113,7 @@ static json_t *solution(const usm_steady_solution *s, double f)
 }
 
 /* A located value: SI "value", the same in the report's unit, the solution there. */
-static json_t *located(const report_located *l, const char *unit, double scale)
+static json_t *located(const usm_report_located *l, const char *unit, double scale)
 {
     json_t *o = l->ok ? solution(&l->sol, NAN) : json_object();
     flag(o, "ok", l->ok);
@@ -123,16 +123,16 @@ static json_t *located(const report_located *l, const char *unit, double scale)
     return o;
 }
 
-static json_t *model(const report_data *d, int k)
+static json_t *model(const usm_report_data *d, int k)
 {
-    const report_model_result *r = &d->model[k];
-    const report_paper *pv = &report_paper_values;
-    const report_published_multiplier *t = k == REPORT_3DOF ? pv->table3 : pv->table4;
+    const usm_report_model_result *r = &d->model[k];
+    const usm_report_paper *pv = &d->paper;
+    const usm_report_published_multiplier *t = k == REPORT_3DOF ? pv->table3 : pv->table4;
     const int nt = k == REPORT_3DOF ? pv->n3 : pv->n4;
     json_t *o = solution(&r->sol, d->params.f), *t0 = json_array(), *in = json_array();
     str(o, "name", r->model->name);
     for (int i = 0; i < REPORT_NT0; ++i)
-        json_array_append_new(t0, floquet(&r->fl[i], report_t0_label[i],
+        json_array_append_new(t0, floquet(&r->fl[i], usm_report_t0_label[i],
                                           table_distance(t, nt, &r->fl[i], k == REPORT_4DOF)));
     for (int i = 0; r->integrated && i < 2; ++i)
         json_array_append_new(in, floquet(&r->fl_integrated[i], i ? "T/2" : "0",
@@ -144,19 +144,19 @@ static json_t *model(const report_data *d, int k)
 }
 
 /* Section 2's multiplier rows: each published value beside its nearest. */
-static json_t *table_rows(const report_published_multiplier *t, int nt,
+static json_t *table_rows(const usm_report_published_multiplier *t, int nt,
                           const usm_floquet_result *r, int table4)
 {
     json_t *a = json_array();
     int used[USM_MAX_NX] = {0};
     for (int k = 0; k < nt; ++k) {
-        int j = report_match_multiplier(r, t[k].re, t[k].im, used);
+        int j = usm_report_match_multiplier(r, t[k].re, t[k].im, used);
         json_t *o;
         double mod, dl;
         if (j < 0)
             continue;
         if (t[k].im > 0) /* its conjugate is taken too */
-            (void)report_match_multiplier(r, t[k].re, -t[k].im, used);
+            (void)usm_report_match_multiplier(r, t[k].re, -t[k].im, used);
         mod = hypot(r->re[j], r->im[j]);
         dl = hypot(r->re[j] - t[k].re, fabs(r->im[j]) - t[k].im);
         o = json_object();
@@ -176,14 +176,14 @@ static json_t *table_rows(const report_published_multiplier *t, int nt,
     return a;
 }
 
-static json_t *compare(const report_data *d)
+static json_t *compare(const usm_report_data *d)
 {
-    const report_paper *pv = &report_paper_values;
-    const report_model_result *r3 = &d->model[REPORT_3DOF], *r4 = &d->model[REPORT_4DOF];
+    const usm_report_paper *pv = &d->paper;
+    const usm_report_model_result *r3 = &d->model[REPORT_3DOF], *r4 = &d->model[REPORT_4DOF];
     const usm_steady_solution *s3 = &r3->sol, *s4 = &r4->sol;
     const usm_floquet_result *fl4 = &r4->fl[0];
     int used[USM_MAX_NX] = {0};
-    const int j = report_match_multiplier(fl4, pv->table4[0].re, pv->table4[0].im, used);
+    const int j = usm_report_match_multiplier(fl4, pv->table4[0].re, pv->table4[0].im, used);
     const double mod_c = j >= 0 ? hypot(fl4->re[j], fl4->im[j]) : NAN;
     json_t *o = json_object();
     num(o, "theta3_rel", s3->theta / pv->theta3.value - 1);
@@ -222,7 +222,7 @@ static json_t *compare(const report_data *d)
     return o;
 }
 
-static json_t *params(const report_data *d)
+static json_t *params(const usm_report_data *d)
 {
     json_t *a = json_array();
     usm_params def;
@@ -246,7 +246,7 @@ static json_t *params(const report_data *d)
     return a;
 }
 
-static json_t *choices(const report_data *d)
+static json_t *choices(const usm_report_data *d)
 {
     json_t *o = json_object(), *dev = json_array();
     num(o, "f_kHz", d->params.f / 1000);
@@ -269,14 +269,14 @@ static json_t *choices(const report_data *d)
 static json_t *figure(int fig)
 {
     json_t *o = json_object(), *files = json_array();
-    const char *name = report_figures[fig].name;
+    const char *name = usm_report_figures[fig].name;
     const size_t len = strlen(name);
     str(o, "name", name);
-    str(o, "title", report_figures[fig].title);
-    for (int k = 0; report_files[k]; ++k)
-        if (strncmp(report_files[k], name, len) == 0 &&
-            (report_files[k][len] == '.' || report_files[k][len] == '_'))
-            json_array_append_new(files, json_string(report_files[k]));
+    str(o, "title", usm_report_figures[fig].title);
+    for (int k = 0; usm_report_files[k]; ++k)
+        if (strncmp(usm_report_files[k], name, len) == 0 &&
+            (usm_report_files[k][len] == '.' || usm_report_files[k][len] == '_'))
+            json_array_append_new(files, json_string(usm_report_files[k]));
     json_object_set_new(o, "files", files);
     return o;
 }
@@ -290,7 +290,7 @@ static json_t *figures(int from, int to)
 }
 
 /* The first event of `type` on a curve, or NULL. */
-static const usm_sweep_event *find_event(const report_curve *cv, usm_event_type type)
+static const usm_sweep_event *find_event(const usm_report_curve *cv, usm_event_type type)
 {
     const size_t n = cv->sweep ? usm_sweep_event_count(cv->sweep) : 0;
     for (size_t i = 0; i < n; ++i)
@@ -299,11 +299,11 @@ static const usm_sweep_event *find_event(const report_curve *cv, usm_event_type 
     return NULL;
 }
 
-static json_t *characteristics(const report_data *d)
+static json_t *characteristics(const usm_report_data *d)
 {
     static const char *const cname[REPORT_NCURVES] = {"f [Hz]", "T [N m]", "m0 [N m]"};
     const struct {
-        const report_located *l;
+        const usm_report_located *l;
         int curve, model;
         usm_event_type type;
     } pairs[] = {
@@ -371,14 +371,14 @@ static json_t *characteristics(const report_data *d)
     return o;
 }
 
-static json_t *map_summary(const report_map *m, int fig)
+static json_t *map_summary(const usm_report_map *m, int fig)
 {
     const size_t n = (size_t)m->x.points * (size_t)m->y.points;
     size_t exist = 0, unstable = 0, unstable_stick = 0;
     double maxmod = 0, maxmod_stick = 0;
     json_t *o = figure(fig);
     for (size_t q = 0; q < n; ++q) {
-        const report_map_cell *c = &m->cells[q];
+        const usm_report_map_cell *c = &m->cells[q];
         if (!c->exists)
             continue;
         ++exist;
@@ -408,11 +408,11 @@ static json_t *map_summary(const report_map *m, int fig)
     return o;
 }
 
-static json_t *variants(const report_data *d)
+static json_t *variants(const usm_report_data *d)
 {
     json_t *a = json_array();
     for (int k = 0; k < USM_NMODELS; ++k) {
-        const report_variant_result *v = &d->variant[k];
+        const usm_report_variant_result *v = &d->variant[k];
         json_t *o = v->ok ? solution(&v->sol, d->params.f) : json_object(), *mm = json_array();
         str(o, "name", v->model->name);
         str(o, "assumptions", v->model->assumptions);
@@ -432,7 +432,7 @@ static json_t *variants(const report_data *d)
  * maxima of efficiency and output power, where they lie, the no-load speed.
  * stick_only: the maxima only where stick is admissible (the stick model
  * continued beyond its stick limit no longer describes the motor). */
-static json_t *datasheet_model(const report_curve *cv, int stick_only)
+static json_t *datasheet_model(const usm_report_curve *cv, int stick_only)
 {
     json_t *o = json_object();
     const size_t n = cv->sweep ? usm_sweep_count(cv->sweep) : 0;
@@ -472,7 +472,7 @@ static json_t *datasheet_model(const report_curve *cv, int stick_only)
     return o;
 }
 
-static json_t *datasheet(const report_data *d)
+static json_t *datasheet(const usm_report_data *d)
 {
     json_t *o = json_object();
     for (int k = 0; k < REPORT_NMODELS; ++k)
@@ -482,23 +482,23 @@ static json_t *datasheet(const report_data *d)
 
 /* One output's sensitivities: value, every elasticity and derivative by
  * parameter name, and the nonzero ones ranked by magnitude. */
-static json_t *sens_output(const report_data *d, int k, int out)
+static json_t *sens_output(const usm_report_data *d, int k, int out)
 {
     const usm_sensitivity_result *r = &d->sens[k];
     json_t *o = json_object(), *e = json_object(), *dd = json_object(), *ranked = json_array();
     int idx[USM_NPARAMS];
-    const int n = d->have_sens[k] ? report_elasticity_order(&d->params, r, out, idx) : 0;
+    const int n = d->have_sens[k] ? usm_report_elasticity_order(&d->params, r, out, idx) : 0;
     const int defined = d->have_sens[k] && r->defined[out];
     num(o, "value", d->have_sens[k] ? r->value[out] : NAN);
     flag(o, "defined", defined);
     str(o, "why", !d->have_sens[k] ? d->sens_note[k] : defined ? "" : r->why[out]);
     for (int j = 0; j < USM_NPARAMS; ++j) {
-        num(e, usm_param_table[j].name, report_elasticity(&d->params, r, out, j));
+        num(e, usm_param_table[j].name, usm_sensitivity_elasticity(&d->params, r, out, j));
         num(dd, usm_param_table[j].name, defined ? r->d[out][j] : NAN);
     }
     for (int i = 0; i < n; ++i) {
         json_t *x = json_object();
-        const double el = report_elasticity(&d->params, r, out, idx[i]);
+        const double el = usm_sensitivity_elasticity(&d->params, r, out, idx[i]);
         integer(x, "rank", i + 1);
         str(x, "parameter", usm_param_table[idx[i]].name);
         num(x, "elasticity", el);
@@ -514,7 +514,7 @@ static json_t *sens_output(const report_data *d, int k, int out)
     if (out == USM_SENS_MAX_MODULUS && n > 0) {
         /* relative change of the dominant parameter that brings the largest
          * modulus to 1, to first order: (1 - y) / (y e) */
-        const double y = r->value[out], el = report_elasticity(&d->params, r, out, idx[0]);
+        const double y = r->value[out], el = usm_sensitivity_elasticity(&d->params, r, out, idx[0]);
         num(o, "margin", 1.0 - y);
         num(o, "to_unstable_percent", 100.0 * (1.0 - y) / (y * el));
         num(o, "to_unstable_abs_percent", fabs(100.0 * (1.0 - y) / (y * el)));
@@ -522,7 +522,7 @@ static json_t *sens_output(const report_data *d, int k, int out)
     return o;
 }
 
-static json_t *sensitivity(const report_data *d)
+static json_t *sensitivity(const usm_report_data *d)
 {
     json_t *o = json_object();
     for (int k = 0; k < REPORT_NMODELS; ++k) {
@@ -530,14 +530,14 @@ static json_t *sensitivity(const report_data *d)
         flag(m, "ok", d->have_sens[k]);
         str(m, "note", d->sens_note[k]);
         for (int i = 0; i < REPORT_NSENS_OUT; ++i)
-            json_object_set_new(m, usm_sensitivity_output_name(report_sens_outputs[i]),
-                                sens_output(d, k, report_sens_outputs[i]));
+            json_object_set_new(m, usm_sensitivity_output_name(usm_report_sens_outputs[i]),
+                                sens_output(d, k, usm_report_sens_outputs[i]));
         json_object_set_new(o, tag[k], m);
     }
     return o;
 }
 
-json_t *report_json(const report_data *d, int plots_ok, const char *plot_note)
+json_t *usm_report_json(const usm_report_data *d, int plots_ok, const char *plot_note)
 {
     json_t *o = json_object(), *maps = json_array(), *sec = json_object(), *models = json_object();
     int unstable = 0, total = 0;
@@ -592,8 +592,8 @@ json_t *report_json(const report_data *d, int plots_ok, const char *plot_note)
     json_object_set_new(o, "seconds", sec);
     {
         /* the paper's values, as loaded */
-        const report_paper *pv = &report_paper_values;
-        const report_published *v[] = {&pv->theta3, &pv->alpha3, &pv->beta3, &pv->speed4,
+        const usm_report_paper *pv = &d->paper;
+        const usm_report_published *v[] = {&pv->theta3, &pv->alpha3, &pv->beta3, &pv->speed4,
                                        &pv->theta4, &pv->alpha4, &pv->beta4, &pv->f_max,
                                        &pv->slip_load, &pv->speed_ratio};
         static const char *const key[] = {"theta3", "alpha3", "beta3", "speed4", "theta4",

@@ -10,16 +10,16 @@
 #include <string.h>
 #include <time.h>
 
-#include "report.h"
+#include "report_internal.h"
 #include "usm_map.h"
 
 #define TWO_PI 6.283185307179586476925286766559
 #define PI 3.14159265358979323846264338327950
 
-const double report_t0_fraction[REPORT_NT0] = {0.0, 0.25, 0.5, 10.0, 100.0, 1000.0};
-const char *const report_t0_label[REPORT_NT0] = {"0", "T/4", "T/2", "10 T", "100 T", "1000 T"};
+const double usm_report_t0_fraction[REPORT_NT0] = {0.0, 0.25, 0.5, 10.0, 100.0, 1000.0};
+const char *const usm_report_t0_label[REPORT_NT0] = {"0", "T/4", "T/2", "10 T", "100 T", "1000 T"};
 
-double report_now(void)
+double usm_report_now(void)
 {
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
@@ -53,20 +53,20 @@ static void solver_free(solver *s)
 /* Primary root and multipliers at p.  USM_OK, USM_ENOSOLUTION or USM_EFAILED
  * with msg. */
 static int solve_point(solver *s, const usm_params *p, double t0, usm_steady_solution *sol,
-                       usm_floquet_result *fl, char msg[CLI_MSG_LEN])
+                       usm_floquet_result *fl, char msg[USM_IO_MSG_LEN])
 {
     usm_point pt;
     if (usm_point_evaluate(s->steady, s->floquet, p, NULL, NULL, fl != NULL, t0, NULL, &pt) != USM_OK) {
-        cli_msg(msg, "%s: no stationary solution: %s", s->m->name, pt.error);
+        usm_io_msg(msg, "%s: no stationary solution: %s", s->m->name, pt.error);
         return USM_EINPUT;
     }
     if (!pt.exists) {
-        cli_msg(msg, "%s: no stationary solution: %s", s->m->name, pt.error);
+        usm_io_msg(msg, "%s: no stationary solution: %s", s->m->name, pt.error);
         return USM_ENOSOLUTION;
     }
     *sol = pt.sol;
     if (fl && !pt.has_floquet) {
-        cli_msg(msg, "%s: %s", s->m->name, pt.error);
+        usm_io_msg(msg, "%s: %s", s->m->name, pt.error);
         return USM_EFAILED;
     }
     if (fl)
@@ -74,7 +74,7 @@ static int solve_point(solver *s, const usm_params *p, double t0, usm_steady_sol
     return USM_OK;
 }
 
-int report_match_multiplier(const usm_floquet_result *r, double re, double im, int *used)
+int usm_report_match_multiplier(const usm_floquet_result *r, double re, double im, int *used)
 {
     int best = -1;
     double dbest = INFINITY;
@@ -92,15 +92,14 @@ int report_match_multiplier(const usm_floquet_result *r, double re, double im, i
 
 /* Largest distance between Table 3 (both members of each pair) and the
  * nearest computed multipliers. */
-static double table3_deviation(const usm_floquet_result *r)
+static double table3_deviation(const usm_report_paper *pv, const usm_floquet_result *r)
 {
-    const report_paper *pv = &report_paper_values;
     int used[USM_MAX_NX] = {0};
     double dev = 0;
     for (int k = 0; k < pv->n3; ++k)
         for (int sgn = 1; sgn >= (pv->table3[k].im > 0 ? -1 : 1); sgn -= 2) {
             double im = sgn * pv->table3[k].im;
-            int j = report_match_multiplier(r, pv->table3[k].re, im, used);
+            int j = usm_report_match_multiplier(r, pv->table3[k].re, im, used);
             if (j < 0)
                 return INFINITY;
             dev = fmax(dev, hypot(r->re[j] - pv->table3[k].re, r->im[j] - im));
@@ -133,7 +132,7 @@ static double mon_mu(const usm_steady_solution *sol, const usm_params *p, void *
     return sol->mu_used;
 }
 
-static void from_event(const usm_sweep_event *e, report_located *out)
+static void from_event(const usm_sweep_event *e, usm_report_located *out)
 {
     memset(out, 0, sizeof *out);
     out->ok = 1;
@@ -144,8 +143,8 @@ static void from_event(const usm_sweep_event *e, report_located *out)
 
 /* The event of `type` on a curve (for maxima: of monitor `monitor`, the
  * largest); ok = 0 with a note when the sweep reports none. */
-static void curve_event(const report_curve *cv, usm_event_type type, const char *monitor,
-                        report_located *out)
+static void curve_event(const usm_report_curve *cv, usm_event_type type, const char *monitor,
+                        usm_report_located *out)
 {
     const size_t n = cv->sweep ? usm_sweep_event_count(cv->sweep) : 0;
     const usm_sweep_event *best = NULL;
@@ -169,7 +168,7 @@ static void curve_event(const report_curve *cv, usm_event_type type, const char 
 
 /* Where the branch of a curve ends (its solution stops existing): the first
  * end event in sweep order. */
-static void curve_end(const report_curve *cv, report_located *out)
+static void curve_end(const usm_report_curve *cv, usm_report_located *out)
 {
     const size_t n = cv->sweep ? usm_sweep_event_count(cv->sweep) : 0;
     memset(out, 0, sizeof *out);
@@ -187,7 +186,7 @@ static void curve_end(const report_curve *cv, report_located *out)
 
 /* ---- the characteristic curves ------------------------------------------------- */
 
-static void curve_setup(report_curve *cv, const char *over, double from, double to, int points)
+static void curve_setup(usm_report_curve *cv, const char *over, double from, double to, int points)
 {
     cv->over = over;
     cv->from = from;
@@ -195,8 +194,8 @@ static void curve_setup(report_curve *cv, const char *over, double from, double 
     cv->points = points;
 }
 
-static int run_curve(report_curve *cv, const usm_model *m, const usm_params *p, int threads,
-                     int floquet, char msg[CLI_MSG_LEN])
+static int run_curve(usm_report_curve *cv, const usm_model *m, const usm_params *p, int threads,
+                     int floquet, char msg[USM_IO_MSG_LEN])
 {
     /* every curve watches the speed and tilt extrema and the friction
      * coefficient the stick model needs reaching the atan law's maximum */
@@ -217,11 +216,11 @@ static int run_curve(report_curve *cv, const usm_model *m, const usm_params *p, 
     opt.monitors = mon;
     opt.nmonitors = 3;
     if (!(cv->sweep = usm_sweep_alloc(m))) {
-        cli_msg(msg, "out of memory");
+        usm_io_msg(msg, "out of memory");
         return USM_EFAILED;
     }
     if (usm_sweep_run(cv->sweep, p, &opt) != USM_OK) {
-        cli_msg(msg, "sweep %s of %s from %g to %g: %s", cv->over, m->name, cv->from, cv->to,
+        usm_io_msg(msg, "sweep %s of %s from %g to %g: %s", cv->over, m->name, cv->from, cv->to,
                 usm_sweep_message(cv->sweep));
         return USM_EFAILED;
     }
@@ -230,25 +229,15 @@ static int run_curve(report_curve *cv, const usm_model *m, const usm_params *p, 
 
 /* ---- sensitivities (usm_design.h) ----------------------------------------------- */
 
-const int report_sens_outputs[REPORT_NSENS_OUT] = {USM_SENS_ROTOR_SPEED, USM_SENS_MAX_MODULUS};
+const int usm_report_sens_outputs[REPORT_NSENS_OUT] = {USM_SENS_ROTOR_SPEED, USM_SENS_MAX_MODULUS};
 
-double report_elasticity(const usm_params *p, const usm_sensitivity_result *r, int k, int j)
-{
-    const double y = r->value[k], pj = usm_params_get(p, &usm_param_table[j]);
-    if (!r->defined[k] || y == 0)
-        return NAN;
-    if (r->d[k][j] == 0)
-        return 0.0;
-    return pj / y * r->d[k][j];
-}
-
-int report_elasticity_order(const usm_params *p, const usm_sensitivity_result *r, int k,
+int usm_report_elasticity_order(const usm_params *p, const usm_sensitivity_result *r, int k,
                             int idx[USM_NPARAMS])
 {
     double e[USM_NPARAMS];
     int n = 0;
     for (int j = 0; j < USM_NPARAMS; ++j) {
-        e[j] = report_elasticity(p, r, k, j);
+        e[j] = usm_sensitivity_elasticity(p, r, k, j);
         if (isfinite(e[j]) && e[j] != 0)
             idx[n++] = j;
     }
@@ -265,12 +254,12 @@ int report_elasticity_order(const usm_params *p, const usm_sensitivity_result *r
 /* Sensitivities of each model's primary solution at the report's parameters.
  * A failure (a fold, a failed exponential) is shown in the report, not an
  * error of the report: have_sens = 0 and sens_note says why. */
-static int sensitivities(report_data *d, char msg[CLI_MSG_LEN])
+static int sensitivities(usm_report_data *d, char msg[USM_IO_MSG_LEN])
 {
     for (int k = 0; k < REPORT_NMODELS; ++k) {
         usm_sensitivity *s = usm_sensitivity_alloc(d->model[k].model);
         if (!s) {
-            cli_msg(msg, "out of memory");
+            usm_io_msg(msg, "out of memory");
             return USM_EFAILED;
         }
         d->have_sens[k] = usm_sensitivity_compute(s, &d->params, &d->model[k].sol, 1,
@@ -284,13 +273,13 @@ static int sensitivities(report_data *d, char msg[CLI_MSG_LEN])
 
 /* ---- the whole computation ------------------------------------------------------- */
 
-static int model_tables(report_data *d, int k, solver *s, char msg[CLI_MSG_LEN])
+static int model_tables(usm_report_data *d, int k, solver *s, char msg[USM_IO_MSG_LEN])
 {
-    report_model_result *r = &d->model[k];
+    usm_report_model_result *r = &d->model[k];
     const double period = 1.0 / d->params.f;
     int st;
     for (int i = 0; i < REPORT_NT0; ++i) {
-        st = solve_point(s, &d->params, report_t0_fraction[i] * period, &r->sol, &r->fl[i], msg);
+        st = solve_point(s, &d->params, usm_report_t0_fraction[i] * period, &r->sol, &r->fl[i], msg);
         if (st != USM_OK)
             return st; /* USM_ENOSOLUTION: no operating point to report on */
     }
@@ -300,18 +289,18 @@ static int model_tables(report_data *d, int k, solver *s, char msg[CLI_MSG_LEN])
 /* Each variant's stationary solution and multipliers from three start times:
  * the comparison of the assumptions.  A variant without a solution is shown
  * as such, not an error of the report. */
-static int variants_side_by_side(report_data *d, char msg[CLI_MSG_LEN])
+static int variants_side_by_side(usm_report_data *d, char msg[USM_IO_MSG_LEN])
 {
     const double period = 1.0 / d->params.f;
     const double t0[REPORT_NVARIANT_T0] = {0.0, 0.5 * period, 100.0 * period};
     for (int k = 0; k < USM_NMODELS; ++k) {
-        report_variant_result *v = &d->variant[k];
+        usm_report_variant_result *v = &d->variant[k];
         solver s;
         int st = USM_OK;
         v->model = usm_models[k];
         if (solver_init(&s, v->model) != 0) {
             solver_free(&s);
-            cli_msg(msg, "out of memory");
+            usm_io_msg(msg, "out of memory");
             return USM_EFAILED;
         }
         for (int i = 0; i < REPORT_NVARIANT_T0 && st == USM_OK; ++i)
@@ -326,7 +315,7 @@ static int variants_side_by_side(report_data *d, char msg[CLI_MSG_LEN])
     /* the t0 study of section 4 shows the twist_integrated multipliers at
      * t0 = 0 and T/2: the first two start times computed here */
     for (int m = 0; m < REPORT_NMODELS; ++m) {
-        report_model_result *r = &d->model[m];
+        usm_report_model_result *r = &d->model[m];
         const usm_model *mi = usm_model_variant(r->model->base, "twist_integrated");
         r->integrated = NULL;
         for (int k = 0; mi && k < USM_NMODELS; ++k)
@@ -339,7 +328,7 @@ static int variants_side_by_side(report_data *d, char msg[CLI_MSG_LEN])
     return USM_OK;
 }
 
-static int parameter_checks(report_data *d, solver *s3, char msg[CLI_MSG_LEN])
+static int parameter_checks(usm_report_data *d, solver *s3, char msg[USM_IO_MSG_LEN])
 {
     const usm_params *p = &d->params;
     usm_params q;
@@ -351,7 +340,7 @@ static int parameter_checks(report_data *d, solver *s3, char msg[CLI_MSG_LEN])
     d->M_disk = 2 * p->I_R / (p->R * p->R);
     d->M_from_dR = (p->d_R / 0.06) * (p->d_R / 0.06) / p->c_R;
     q = *p;
-    q.f = report_paper_values.f_max.value;
+    q.f = d->paper.f_max.value;
     d->theta_at_fmax_paper = solve_point(s3, &q, 0, &sol, NULL, msg) == USM_OK ? sol.theta : NAN;
     d->M_trial[0] = 0.0;
     d->M_trial[1] = d->M_disk;
@@ -360,18 +349,18 @@ static int parameter_checks(report_data *d, solver *s3, char msg[CLI_MSG_LEN])
         q = *p;
         q.M = d->M_trial[i];
         d->M_trial_dev[i] =
-            solve_point(s3, &q, 0, &sol, &fl, msg) == USM_OK ? table3_deviation(&fl) : NAN;
+            solve_point(s3, &q, 0, &sol, &fl, msg) == USM_OK ? table3_deviation(&d->paper, &fl) : NAN;
     }
     return USM_OK;
 }
 
-int report_compute(report_data *d, char msg[CLI_MSG_LEN])
+int usm_report_compute(usm_report_data *d, char msg[USM_IO_MSG_LEN])
 {
     const int quick = d->opt.quick;
     const int nf = quick ? 41 : 161, nT = quick ? 41 : 161, nTs = quick ? 25 : 121,
               nm = quick ? 41 : 111;
     solver s[REPORT_NMODELS];
-    double t = report_now();
+    double t = usm_report_now();
     int st = USM_OK;
 
     memset(s, 0, sizeof s);
@@ -379,7 +368,7 @@ int report_compute(report_data *d, char msg[CLI_MSG_LEN])
     d->model[REPORT_4DOF].model = usm_model_find("4dof");
     for (int k = 0; k < REPORT_NMODELS; ++k)
         if (!d->model[k].model || solver_init(&s[k], d->model[k].model) != 0) {
-            cli_msg(msg, "%s", d->model[k].model ? "out of memory" : "model 3dof/4dof not built");
+            usm_io_msg(msg, "%s", d->model[k].model ? "out of memory" : "model 3dof/4dof not built");
             st = USM_EFAILED;
             goto done;
         }
@@ -392,8 +381,8 @@ int report_compute(report_data *d, char msg[CLI_MSG_LEN])
         goto done;
     if ((st = sensitivities(d, msg)) != USM_OK)
         goto done;
-    d->seconds[0] = report_now() - t;
-    t = report_now();
+    d->seconds[0] = usm_report_now() - t;
+    t = usm_report_now();
 
     /* Figs. 9-11.  The slip model's load curve ends near mu0 pi/2 F_n R*,
      * far below the stick model's, so it gets its own (shorter) range. */
@@ -421,7 +410,7 @@ int report_compute(report_data *d, char msg[CLI_MSG_LEN])
         /* the tilt peak with a nearly vanishing preload: without the contact
          * moment F_n R* it sits at the stator's damped eigenfrequency */
         usm_params q = d->params;
-        report_curve small;
+        usm_report_curve small;
         memset(&small, 0, sizeof small);
         q.F0 = REPORT_SMALL_F0;
         curve_setup(&small, "f", 30000, 46000, 161);
@@ -439,19 +428,19 @@ int report_compute(report_data *d, char msg[CLI_MSG_LEN])
                 &d->stick_limit_sat);
     curve_event(&d->curve[REPORT_CURVE_T][REPORT_3DOF], USM_EVENT_STABILITY_CHANGE, NULL,
                 &d->stability_T);
-    d->seconds[1] = report_now() - t;
+    d->seconds[1] = usm_report_now() - t;
 done:
     for (int k = 0; k < REPORT_NMODELS; ++k)
         solver_free(&s[k]);
     return st;
 }
 
-int report_compute_maps(report_data *d, char msg[CLI_MSG_LEN])
+int usm_report_compute_maps(usm_report_data *d, char msg[USM_IO_MSG_LEN])
 {
     const int quick = d->opt.quick;
-    const double t = report_now();
+    const double t = usm_report_now();
     for (int k = 0; k < REPORT_NMODELS; ++k) {
-        report_map *m = &d->map[k];
+        usm_report_map *m = &d->map[k];
         int st;
         memset(m, 0, sizeof *m);
         m->model = d->model[k].model;
@@ -467,15 +456,15 @@ int report_compute_maps(report_data *d, char msg[CLI_MSG_LEN])
         m->t0 = 0;
         m->threads = d->opt.threads;
         m->boundaries = 1;
-        if ((st = report_map_run(m, msg)) != USM_OK)
+        if ((st = usm_report_map_run(m, msg)) != USM_OK)
             return st;
         d->have_map[k] = 1;
     }
-    d->seconds[2] = report_now() - t;
+    d->seconds[2] = usm_report_now() - t;
     return USM_OK;
 }
 
-void report_data_free(report_data *d)
+void usm_report_data_free(usm_report_data *d)
 {
     for (int c = 0; c < REPORT_NCURVES; ++c)
         for (int k = 0; k < REPORT_NMODELS; ++k) {
@@ -484,7 +473,7 @@ void report_data_free(report_data *d)
         }
     for (int k = 0; k < REPORT_NMODELS; ++k)
         if (d->have_map[k]) {
-            report_map_free(&d->map[k]);
+            usm_report_map_free(&d->map[k]);
             d->have_map[k] = 0;
         }
 }

@@ -8,27 +8,27 @@
  *   - yes/no as true/false; text quoted when it holds a comma or a quote;
  *   - the names are the JSON keys of the same quantities, everywhere.
  * gnuplot addresses the columns by name: column("theta [rad]"). */
-#ifndef USM_CLI_CSV_OUT_H
-#define USM_CLI_CSV_OUT_H
+#ifndef USM_CSV_OUT_H
+#define USM_CSV_OUT_H
 
 #include <stdio.h>
 
 /* The shortest %g text (at least 6 digits) that reads back as exactly v, in
  * buf; returns buf. */
-const char *cli_shortest(char buf[32], double v);
+const char *usm_shortest(char buf[32], double v);
 
 /* One column of a header: unit NULL for a yes/no or text column. */
-typedef struct cli_csv_column {
+typedef struct usm_csv_column {
     const char *name;
     const char *unit;
-} cli_csv_column;
+} usm_csv_column;
 
 /* The header line of n columns. */
-void cli_csv_header(FILE *f, const cli_csv_column *cols, int n);
+void usm_csv_header(FILE *f, const usm_csv_column *cols, int n);
 
 /* One field; `first` is nonzero for a row's first field (no separator). */
-void cli_csv_num(FILE *f, int first, double v);
-void cli_csv_bool(FILE *f, int first, int b);
-void cli_csv_text(FILE *f, int first, const char *s);
+void usm_csv_num(FILE *f, int first, double v);
+void usm_csv_bool(FILE *f, int first, int b);
+void usm_csv_text(FILE *f, int first, const char *s);
 
-#endif /* USM_CLI_CSV_OUT_H */
+#endif /* USM_CSV_OUT_H */

@@ -16,7 +16,6 @@
 #include <unistd.h>
 
 #include "data_dir.h"
-#include "options.h"
 #include "template.h"
 #include "usm.h"
 
@@ -44,8 +43,8 @@ static pid_t spawn(const char *exe, const char *dir, const char *script, int log
     return pid;
 }
 
-int cli_gnuplot_run(const char *dir, const char *const *stems, int n, int jobs,
-                    const char *log_path, char msg[CLI_MSG_LEN])
+int usm_gnuplot_run(const char *dir, const char *const *stems, int n, int jobs,
+                    const char *log_path, char msg[USM_IO_MSG_LEN])
 {
     const char *exe = getenv("USM_GNUPLOT");
     char path[4096], script[256];
@@ -55,7 +54,7 @@ int cli_gnuplot_run(const char *dir, const char *const *stems, int n, int jobs,
     if (!exe || !exe[0])
         exe = "gnuplot";
     if (!pids || (log_fd = open(log_path, O_WRONLY | O_CREAT | O_TRUNC, 0666)) < 0) {
-        cli_msg(msg, "%s: %s", log_path, pids ? strerror(errno) : "out of memory");
+        usm_io_msg(msg, "%s: %s", log_path, pids ? strerror(errno) : "out of memory");
         free(pids);
         return USM_EFAILED;
     }
@@ -73,7 +72,7 @@ int cli_gnuplot_run(const char *dir, const char *const *stems, int n, int jobs,
         if (next < n && running < (jobs < 1 ? 1 : jobs)) {
             snprintf(script, sizeof script, "%s.gp", stems[next]);
             if ((pids[next] = spawn(exe, dir, script, log_fd)) < 0) {
-                cli_msg(msg, "gnuplot: cannot start a process: %s", strerror(errno));
+                usm_io_msg(msg, "gnuplot: cannot start a process: %s", strerror(errno));
                 failed = 1;
                 next = n;
                 continue;
@@ -99,12 +98,12 @@ int cli_gnuplot_run(const char *dir, const char *const *stems, int n, int jobs,
     }
     close(log_fd);
     if (missing) {
-        cli_msg(msg, "%s: not found, figures not rendered (install gnuplot-nox, or set "
+        usm_io_msg(msg, "%s: not found, figures not rendered (install gnuplot-nox, or set "
                      "USM_GNUPLOT; then run the *.gp scripts in %s)", exe, dir);
         free(pids);
         return USM_ENOSOLUTION;
     } else if (failed_at >= 0) {
-        cli_msg(msg, "gnuplot failed on %s/%s.gp (see %s)", dir, stems[failed_at], log_path);
+        usm_io_msg(msg, "gnuplot failed on %s/%s.gp (see %s)", dir, stems[failed_at], log_path);
     } else if (!failed) {
         /* gnuplot may exit 0 without writing (a terminal missing, an edited
          * script): only images that exist count */
@@ -113,7 +112,7 @@ int cli_gnuplot_run(const char *dir, const char *const *stems, int n, int jobs,
                 struct stat st;
                 if (path_in(path, sizeof path, dir, stems[i], e ? ".svg" : ".png") != 0 ||
                     stat(path, &st) != 0 || st.st_size == 0) {
-                    cli_msg(msg, "%s: gnuplot exited 0 but did not write %s (see %s)", exe,
+                    usm_io_msg(msg, "%s: gnuplot exited 0 but did not write %s (see %s)", exe,
                             path, log_path);
                     failed = 1;
                 }
@@ -125,19 +124,19 @@ int cli_gnuplot_run(const char *dir, const char *const *stems, int n, int jobs,
     return USM_EFAILED;
 }
 
-int cli_plot_check(const char *prefix, int force, char msg[CLI_MSG_LEN])
+int usm_plot_check(const char *prefix, int force, char msg[USM_IO_MSG_LEN])
 {
     static const char *const ext[] = {".gp", ".png", ".svg"};
     char path[4096];
     struct stat st;
     if (prefix[0] == '\0' || strchr(prefix, '\n') || strlen(prefix) + 5 > sizeof path) {
-        cli_msg(msg, "--plot: \"%.200s\" is not usable as a file prefix", prefix);
+        usm_io_msg(msg, "--plot: \"%.200s\" is not usable as a file prefix", prefix);
         return USM_EINPUT;
     }
     for (size_t k = 0; !force && k < sizeof ext / sizeof ext[0]; ++k) {
         snprintf(path, sizeof path, "%s%s", prefix, ext[k]);
         if (stat(path, &st) == 0) {
-            cli_msg(msg, "--plot %s: exists; refusing to overwrite it (use --force)", path);
+            usm_io_msg(msg, "--plot %s: exists; refusing to overwrite it (use --force)", path);
             return USM_EINPUT;
         }
     }
@@ -163,26 +162,26 @@ static void value(FILE *f, const char *s)
     fputc('\'', f);
 }
 
-int cli_plot_render(const char *script, const char *prefix, const char *const *names,
-                    const char *const *values, int n, char msg[CLI_MSG_LEN])
+int usm_plot_render(const char *script, const char *prefix, const char *const *names,
+                    const char *const *values, int n, char msg[USM_IO_MSG_LEN])
 {
     char src[4096], name[256], out[4096], log[4096];
     char *text;
     FILE *f;
     int bad;
-    if (cli_plot_check(prefix, 1, msg) != USM_OK)
+    if (usm_plot_check(prefix, 1, msg) != USM_OK)
         return USM_EINPUT;
     snprintf(name, sizeof name, "plots/%s.gp", script);
-    if (cli_data_path(name, src, sizeof src) != 0) {
-        cli_msg(msg, "--plot %s: %s: the gnuplot script is not installed (set USM_DATA_DIR)",
+    if (usm_data_path(name, src, sizeof src) != 0) {
+        usm_io_msg(msg, "--plot %s: %s: the gnuplot script is not installed (set USM_DATA_DIR)",
                 prefix, src);
         return USM_EFAILED;
     }
-    if (!(text = cli_template_read(src, msg)))
+    if (!(text = usm_template_read(src, msg)))
         return USM_EFAILED;
     snprintf(out, sizeof out, "%s.gp", prefix);
     if (!(f = fopen(out, "w"))) {
-        cli_msg(msg, "--plot %s: %s", out, strerror(errno));
+        usm_io_msg(msg, "--plot %s: %s", out, strerror(errno));
         free(text);
         return USM_EINPUT;
     }
@@ -201,26 +200,36 @@ int cli_plot_render(const char *script, const char *prefix, const char *const *n
     free(text);
     bad = ferror(f);
     if ((fclose(f) != 0) | bad) {
-        cli_msg(msg, "--plot %s: write error", out);
+        usm_io_msg(msg, "--plot %s: write error", out);
         return USM_EFAILED;
     }
     snprintf(log, sizeof log, "%s.log", prefix);
     {
         const char *stems[1] = {prefix};
-        return cli_gnuplot_run(".", stems, 1, 1, log, msg);
+        return usm_gnuplot_run(".", stems, 1, 1, log, msg);
     }
 }
 
-int cli_plot_option(int argc, char **argv, int *i, const char **prefix, char msg[CLI_MSG_LEN])
+int usm_plot_csv_check(const char *prefix, int force, char msg[USM_IO_MSG_LEN])
 {
-    const char *value;
-    int r = cli_option_value(argc, argv, i, "--plot", &value, msg);
-    if (r != CLI_OPT_TAKEN)
-        return r;
-    if (value[0] == '\0') {
-        cli_msg(msg, "--plot: empty file prefix");
-        return CLI_OPT_ERROR;
+    char path[4096];
+    if (usm_plot_check(prefix, force, msg) != USM_OK)
+        return USM_EINPUT;
+    snprintf(path, sizeof path, "%s.csv", prefix);
+    if (!force && access(path, F_OK) == 0) {
+        usm_io_msg(msg, "--plot %s: exists; refusing to overwrite it (use --force)", path);
+        return USM_EINPUT;
     }
-    *prefix = value;
-    return CLI_OPT_TAKEN;
+    return USM_OK;
+}
+
+FILE *usm_plot_csv_open(const char *prefix, int force, char msg[USM_IO_MSG_LEN])
+{
+    char path[4096], why[USM_IO_MSG_LEN];
+    int status;
+    snprintf(path, sizeof path, "%s.csv", prefix);
+    FILE *f = usm_io_create(path, force, why, &status);
+    if (!f)
+        usm_io_msg(msg, "--plot %.1000s", why);
+    return f;
 }

@@ -1,5 +1,6 @@
-/* The one parser for numbers the user types (see number.h). */
-#include "number.h"
+/* The one parser for numbers the user types (see usm_io.h). */
+#include "usm_io.h"
+#include "io_msg.h"
 
 #include <ctype.h>
 #include <errno.h>
@@ -10,8 +11,8 @@
 
 #include "usm.h"
 
-int cli_parse_number(const char *field, const char *text, size_t len, double *out,
-                     char msg[CLI_MSG_LEN])
+int usm_parse_number(const char *field, const char *text, size_t len, double *out,
+                     char msg[USM_IO_MSG_LEN])
 {
     char small[64];
     char *buf = len < sizeof small ? small : malloc(len + 1);
@@ -19,7 +20,7 @@ int cli_parse_number(const char *field, const char *text, size_t len, double *ou
     double v;
     int status = USM_EINPUT;
     if (!buf) {
-        cli_msg(msg, "%s: out of memory", field);
+        usm_io_msg(msg, "%s: out of memory", field);
         return USM_EFAILED;
     }
     memcpy(buf, text, len);
@@ -30,14 +31,14 @@ int cli_parse_number(const char *field, const char *text, size_t len, double *ou
     errno = 0;
     v = typed ? strtod(buf, &end) : 0.0;
     if (!typed || end == buf || *end != '\0')
-        cli_msg(msg, "%s: \"%.*s\" is not a number", field, len > 200 ? 200 : (int)len, text);
+        usm_io_msg(msg, "%s: \"%.*s\" is not a number", field, len > 200 ? 200 : (int)len, text);
     else if (isnan(v) || (isinf(v) && errno != ERANGE))
-        cli_msg(msg, "%s: \"%s\" is not a finite number", field, buf);
+        usm_io_msg(msg, "%s: \"%s\" is not a finite number", field, buf);
     else if (isinf(v) || fabs(v) > DBL_MAX)
-        cli_msg(msg, "%s: \"%.200s\" is out of range for a double (overflow: its magnitude "
+        usm_io_msg(msg, "%s: \"%.200s\" is out of range for a double (overflow: its magnitude "
                      "exceeds %.3g)", field, buf, DBL_MAX);
     else if ((v != 0.0 && fabs(v) < DBL_MIN) || (v == 0.0 && errno == ERANGE))
-        cli_msg(msg, "%s: \"%.200s\" is out of range for a double (underflow: its magnitude "
+        usm_io_msg(msg, "%s: \"%.200s\" is out of range for a double (underflow: its magnitude "
                      "is below %.3g, the smallest normal double)", field, buf, DBL_MIN);
     else {
         *out = v;

@@ -3,8 +3,8 @@
  * Builders return a new reference, or NULL when out of memory.  Doubles are
  * printed with 17 significant digits so that they read back bit for bit.
  */
-#ifndef USM_CLI_JSON_OUT_H
-#define USM_CLI_JSON_OUT_H
+#ifndef USM_JSON_OUT_H
+#define USM_JSON_OUT_H
 
 #include <stdio.h>
 
@@ -13,24 +13,28 @@
 #include "usm.h"
 
 /* A JSON number, or null for a non-finite value (JSON has no NaN/inf). */
-json_t *cli_json_real(double v);
+json_t *usm_json_real(double v);
 
 /* Add `value` to `obj` under `key`, taking the reference.  Once anything
  * failed *ok is 0 and stays 0, so a builder can check once at the end. */
-void cli_json_put(json_t *obj, const char *key, json_t *value, int *ok);
+void usm_json_put(json_t *obj, const char *key, json_t *value, int *ok);
 
 /* {"m0": ..., ...}: every parameter, in the table's order. */
-json_t *cli_json_params(const usm_params *p);
+json_t *usm_json_params(const usm_params *p);
 
 /* One stationary root: theta, alpha, beta, rotor_speed, F_n, F_t, v_rel,
  * stick_admissible, mu_used, v_c, R_star, Z, residual_norm. */
-json_t *cli_json_root(const usm_steady_solution *s);
+json_t *usm_json_root(const usm_steady_solution *s);
 
 /* {"t0", "multipliers": [[re, im], ...], "cyclic": [bool, ...],
  *  "max_modulus", "stable"}. */
-json_t *cli_json_floquet(const usm_floquet_result *r);
+json_t *usm_json_floquet(const usm_floquet_result *r);
+
+/* Print `value` and a newline, then release it (NULL, a builder's "out of
+ * memory", gives -1).  0, or -1. */
+int usm_json_write(json_t *value, FILE *out);
 
 /* Print `value` and a newline.  0, or -1 on a write error. */
-int cli_json_print(const json_t *value, FILE *out);
+int usm_json_print(const json_t *value, FILE *out);
 
-#endif /* USM_CLI_JSON_OUT_H */
+#endif /* USM_JSON_OUT_H */

@@ -6,32 +6,32 @@
 
 #include "json_out.h"
 
-json_t *cli_steady_json(const cli_steady_report *r)
+json_t *usm_steady_json(const usm_steady_report *r)
 {
     json_t *obj = json_object();
     json_t *roots = json_array();
     int ok = obj && roots;
     size_t n = r->error ? 0 : usm_steady_count(r->steady);
 
-    cli_json_put(obj, "model", json_string(r->model->name), &ok);
-    cli_json_put(obj, "parameters", cli_json_params(r->params), &ok);
-    cli_json_put(obj, "converged", json_boolean(r->error == NULL), &ok);
+    usm_json_put(obj, "model", json_string(r->model->name), &ok);
+    usm_json_put(obj, "parameters", usm_json_params(r->params), &ok);
+    usm_json_put(obj, "converged", json_boolean(r->error == NULL), &ok);
     if (r->error)
-        cli_json_put(obj, "error", json_string(r->error), &ok);
+        usm_json_put(obj, "error", json_string(r->error), &ok);
     else {
         /* The primary root's values at top level, so that the common case
          * needs no indexing. */
-        json_t *primary = cli_json_root(usm_steady_root(r->steady, 0));
+        json_t *primary = usm_json_root(usm_steady_root(r->steady, 0));
         if (!primary || json_object_update(obj, primary) != 0)
             ok = 0;
         json_decref(primary);
     }
     for (size_t k = 0; k < n; ++k)
-        if (json_array_append_new(roots, cli_json_root(usm_steady_root(r->steady, k))) != 0)
+        if (json_array_append_new(roots, usm_json_root(usm_steady_root(r->steady, k))) != 0)
             ok = 0;
-    cli_json_put(obj, "roots", roots, &ok);
+    usm_json_put(obj, "roots", roots, &ok);
     if (r->floquet)
-        cli_json_put(obj, "floquet", cli_json_floquet(r->floquet), &ok);
+        usm_json_put(obj, "floquet", usm_json_floquet(r->floquet), &ok);
     if (!ok) {
         json_decref(obj);
         return NULL;
@@ -114,12 +114,12 @@ static void parameters(FILE *out, const usm_params *p)
         const usm_param_info *info = &usm_param_table[k];
         double v = usm_params_get(p, info);
         fprintf(out, "  %-6s %c %-24s %-10s %s\n", info->name,
-                v != usm_params_get(&def, info) ? '*' : ' ', cli_shortest(buf, v), info->unit,
+                v != usm_params_get(&def, info) ? '*' : ' ', usm_shortest(buf, v), info->unit,
                 info->description);
     }
 }
 
-void cli_steady_table(const cli_steady_report *r, FILE *out)
+void usm_steady_table(const usm_steady_report *r, FILE *out)
 {
     fprintf(out, "model %s: %s\n", r->model->name, r->model->description);
     fprintf(out, "\nstationary solution #1 of %zu (smallest tilt)\n", usm_steady_count(r->steady));
@@ -128,4 +128,9 @@ void cli_steady_table(const cli_steady_report *r, FILE *out)
         multipliers(out, r->floquet);
     other_roots(out, r->steady);
     parameters(out, r->params);
+}
+
+int usm_steady_write_json(const usm_steady_report *r, FILE *out)
+{
+    return usm_json_write(usm_steady_json(r), out);
 }

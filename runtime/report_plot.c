@@ -5,7 +5,7 @@
  * NAME.gp` re-plots it.  The scripts are static files (data/plots/, installed
  * as share/usm/plots/) copied into DIR: they address columns by name and take
  * the values they mark (limits, the operating point) and their axis ranges
- * from the data (report_values.csv), so --set changes the axes too.
+ * from the data (usm_report_values.csv), so --set changes the axes too.
  */
 #define _POSIX_C_SOURCE 200809L
 
@@ -18,11 +18,11 @@
 #include "csv_out.h"
 #include "data_dir.h"
 #include "plot_run.h"
-#include "report.h"
+#include "report_internal.h"
 #include "template.h"
 
 
-const report_figure report_figures[REPORT_NFIGURES] = {
+const usm_report_figure usm_report_figures[REPORT_NFIGURES] = {
     {"fig09_speed_frequency", "Rotor speed vs excitation frequency (paper Fig. 9)"},
     {"fig10_speed_load", "Rotor speed vs load torque (paper Fig. 10)"},
     {"fig11_speed_amplitude", "Rotor speed vs excitation amplitude m0 (paper Fig. 11)"},
@@ -34,7 +34,7 @@ const report_figure report_figures[REPORT_NFIGURES] = {
     {"elasticity", "Elasticities of rotor speed and of the largest Floquet modulus at the paper's point"},
 };
 
-const char *const report_files[] = {
+const char *const usm_report_files[] = {
     "report.md", "report.json", "report.html", "report_values.csv",
     "gnuplot.log",
     "fig09_speed_frequency.gp", "fig09_speed_frequency.png", "fig09_speed_frequency.svg",
@@ -62,30 +62,30 @@ static const char *const model_tag[REPORT_NMODELS] = {"3dof", "4dof"};
 
 /* ---- helpers ------------------------------------------------------------------ */
 
-int report_path(char *buf, size_t len, const char *dir, const char *name)
+int usm_report_path(char *buf, size_t len, const char *dir, const char *name)
 {
     int n = snprintf(buf, len, "%s/%s", dir, name);
     return n < 0 || (size_t)n >= len ? -1 : 0;
 }
 
-FILE *report_open(const char *dir, const char *name, char msg[CLI_MSG_LEN])
+FILE *usm_report_open(const char *dir, const char *name, char msg[USM_IO_MSG_LEN])
 {
     char path[4096];
     FILE *f;
-    if (report_path(path, sizeof path, dir, name) != 0) {
-        cli_msg(msg, "--out %s: path too long", dir);
+    if (usm_report_path(path, sizeof path, dir, name) != 0) {
+        usm_io_msg(msg, "--out %s: path too long", dir);
         return NULL;
     }
     if (!(f = fopen(path, "w")))
-        cli_msg(msg, "%s: %s", path, strerror(errno));
+        usm_io_msg(msg, "%s: %s", path, strerror(errno));
     return f;
 }
 
-int report_close(FILE *f, const char *dir, const char *name, char msg[CLI_MSG_LEN])
+int usm_report_close(FILE *f, const char *dir, const char *name, char msg[USM_IO_MSG_LEN])
 {
     int bad = ferror(f);
     if (fclose(f) != 0 || bad) {
-        cli_msg(msg, "%s/%s: write error", dir, name);
+        usm_io_msg(msg, "%s/%s: write error", dir, name);
         return USM_EFAILED;
     }
     return USM_OK;
@@ -93,80 +93,80 @@ int report_close(FILE *f, const char *dir, const char *name, char msg[CLI_MSG_LE
 
 /* ---- CSV (csv_out.h) ------------------------------------------------------------- */
 
-static void write_curve_csv(FILE *f, const report_curve *cv)
+static void write_curve_csv(FILE *f, const usm_report_curve *cv)
 {
     const size_t n = cv->sweep ? usm_sweep_count(cv->sweep) : 0;
     const usm_param_info *over = usm_params_find(cv->over);
-    const cli_csv_column cols[] = {
+    const usm_csv_column cols[] = {
         {cv->over, over ? over->unit : "1"}, {"converged", NULL}, {"rotor_speed", "1/s"},
         {"speed", "1/s"}, {"theta", "rad"}, {"alpha", "rad"}, {"beta", "rad"}, {"F_n", "N"},
         {"F_t", "N"}, {"mu_used", "1"}, {"stick_admissible", NULL}, {"v_rel", "m/s"},
         {"max_modulus", "1"}, {"stable", NULL}};
-    cli_csv_header(f, cols, (int)(sizeof cols / sizeof cols[0]));
+    usm_csv_header(f, cols, (int)(sizeof cols / sizeof cols[0]));
     for (size_t i = 0; i < n; ++i) {
         const usm_sweep_point *pt = usm_sweep_point_at(cv->sweep, i);
         const usm_steady_solution *s = &pt->sol;
         const int ok = pt->converged, fl = ok && pt->has_floquet;
-        cli_csv_num(f, 1, pt->value);
-        cli_csv_bool(f, 0, ok);
-        cli_csv_num(f, 0, ok ? s->rotor_speed : NAN);
-        cli_csv_num(f, 0, ok ? -s->rotor_speed : NAN);
-        cli_csv_num(f, 0, ok ? s->theta : NAN);
-        cli_csv_num(f, 0, ok ? s->alpha : NAN);
-        cli_csv_num(f, 0, ok ? s->beta : NAN);
-        cli_csv_num(f, 0, ok ? s->F_n : NAN);
-        cli_csv_num(f, 0, ok ? s->F_t : NAN);
-        cli_csv_num(f, 0, ok ? s->mu_used : NAN);
-        cli_csv_bool(f, 0, ok && s->stick_admissible);
-        cli_csv_num(f, 0, ok ? s->v_rel : NAN);
-        cli_csv_num(f, 0, fl ? pt->floquet.max_modulus : NAN);
-        cli_csv_bool(f, 0, fl && pt->floquet.stable);
+        usm_csv_num(f, 1, pt->value);
+        usm_csv_bool(f, 0, ok);
+        usm_csv_num(f, 0, ok ? s->rotor_speed : NAN);
+        usm_csv_num(f, 0, ok ? -s->rotor_speed : NAN);
+        usm_csv_num(f, 0, ok ? s->theta : NAN);
+        usm_csv_num(f, 0, ok ? s->alpha : NAN);
+        usm_csv_num(f, 0, ok ? s->beta : NAN);
+        usm_csv_num(f, 0, ok ? s->F_n : NAN);
+        usm_csv_num(f, 0, ok ? s->F_t : NAN);
+        usm_csv_num(f, 0, ok ? s->mu_used : NAN);
+        usm_csv_bool(f, 0, ok && s->stick_admissible);
+        usm_csv_num(f, 0, ok ? s->v_rel : NAN);
+        usm_csv_num(f, 0, fl ? pt->floquet.max_modulus : NAN);
+        usm_csv_bool(f, 0, fl && pt->floquet.stable);
         fputc('\n', f);
     }
 }
 
 /* The datasheet: the load curve (sweep over T) with power and efficiency. */
-static void write_datasheet_csv(FILE *f, const report_curve *cv)
+static void write_datasheet_csv(FILE *f, const usm_report_curve *cv)
 {
     const size_t n = cv->sweep ? usm_sweep_count(cv->sweep) : 0;
-    static const cli_csv_column cols[] = {
+    static const usm_csv_column cols[] = {
         {"T", "N m"},          {"converged", NULL},    {"speed", "1/s"},
         {"power_in", "W"},     {"power_out", "W"},     {"power_damping", "W"},
         {"power_slip", "W"},   {"efficiency", "1"},    {"stick_admissible", NULL},
         {"stable", NULL}};
-    cli_csv_header(f, cols, (int)(sizeof cols / sizeof cols[0]));
+    usm_csv_header(f, cols, (int)(sizeof cols / sizeof cols[0]));
     for (size_t i = 0; i < n; ++i) {
         const usm_sweep_point *pt = usm_sweep_point_at(cv->sweep, i);
         const usm_steady_solution *s = &pt->sol;
         const int ok = pt->converged;
-        cli_csv_num(f, 1, pt->value);
-        cli_csv_bool(f, 0, ok);
-        cli_csv_num(f, 0, ok ? -s->rotor_speed : NAN);
-        cli_csv_num(f, 0, ok ? s->power_in : NAN);
-        cli_csv_num(f, 0, ok ? s->power_out : NAN);
-        cli_csv_num(f, 0, ok ? s->power_damping : NAN);
-        cli_csv_num(f, 0, ok ? s->power_slip : NAN);
-        cli_csv_num(f, 0, ok ? s->efficiency : NAN);
-        cli_csv_bool(f, 0, ok && s->stick_admissible);
-        cli_csv_bool(f, 0, ok && pt->has_floquet && pt->floquet.stable);
+        usm_csv_num(f, 1, pt->value);
+        usm_csv_bool(f, 0, ok);
+        usm_csv_num(f, 0, ok ? -s->rotor_speed : NAN);
+        usm_csv_num(f, 0, ok ? s->power_in : NAN);
+        usm_csv_num(f, 0, ok ? s->power_out : NAN);
+        usm_csv_num(f, 0, ok ? s->power_damping : NAN);
+        usm_csv_num(f, 0, ok ? s->power_slip : NAN);
+        usm_csv_num(f, 0, ok ? s->efficiency : NAN);
+        usm_csv_bool(f, 0, ok && s->stick_admissible);
+        usm_csv_bool(f, 0, ok && pt->has_floquet && pt->floquet.stable);
         fputc('\n', f);
     }
 }
 
 /* The nonzero elasticities of one output, by decreasing magnitude. */
-static void write_elasticity_csv(FILE *f, const report_data *d, int k, int out)
+static void write_elasticity_csv(FILE *f, const usm_report_data *d, int k, int out)
 {
-    static const cli_csv_column cols[] = {
+    static const usm_csv_column cols[] = {
         {"rank", NULL}, {"parameter", NULL}, {"elasticity", "1"}, {"abs_elasticity", "1"}};
     int idx[USM_NPARAMS];
-    const int n = d->have_sens[k] ? report_elasticity_order(&d->params, &d->sens[k], out, idx) : 0;
-    cli_csv_header(f, cols, 4);
+    const int n = d->have_sens[k] ? usm_report_elasticity_order(&d->params, &d->sens[k], out, idx) : 0;
+    usm_csv_header(f, cols, 4);
     for (int i = 0; i < n; ++i) {
-        const double e = report_elasticity(&d->params, &d->sens[k], out, idx[i]);
-        cli_csv_num(f, 1, i + 1);
-        cli_csv_text(f, 0, usm_param_table[idx[i]].name);
-        cli_csv_num(f, 0, e);
-        cli_csv_num(f, 0, fabs(e));
+        const double e = usm_sensitivity_elasticity(&d->params, &d->sens[k], out, idx[i]);
+        usm_csv_num(f, 1, i + 1);
+        usm_csv_text(f, 0, usm_param_table[idx[i]].name);
+        usm_csv_num(f, 0, e);
+        usm_csv_num(f, 0, fabs(e));
         fputc('\n', f);
     }
 }
@@ -174,30 +174,30 @@ static void write_elasticity_csv(FILE *f, const report_data *d, int k, int out)
 static void multiplier_row(FILE *f, int series, const char *label, double re, double im,
                            double modulus, int cyclic)
 {
-    cli_csv_num(f, 1, series);
-    cli_csv_text(f, 0, label);
-    cli_csv_num(f, 0, re);
-    cli_csv_num(f, 0, im);
-    cli_csv_num(f, 0, modulus);
-    cli_csv_bool(f, 0, cyclic);
+    usm_csv_num(f, 1, series);
+    usm_csv_text(f, 0, label);
+    usm_csv_num(f, 0, re);
+    usm_csv_num(f, 0, im);
+    usm_csv_num(f, 0, modulus);
+    usm_csv_bool(f, 0, cyclic);
     fputc('\n', f);
 }
 
-/* series: 0 .. REPORT_NT0 - 1 computed at the start times report_t0_label,
+/* series: 0 .. REPORT_NT0 - 1 computed at the start times usm_report_t0_label,
  * 8 the twist_integrated variant at t0 = 0 and T/2, 9 the paper's table. */
-static void write_multiplier_csv(FILE *f, const report_model_result *r,
-                                 const report_published_multiplier *table, int ntable)
+static void write_multiplier_csv(FILE *f, const usm_report_model_result *r,
+                                 const usm_report_published_multiplier *table, int ntable)
 {
-    static const cli_csv_column cols[] = {{"series", NULL}, {"label", NULL}, {"re", "1"},
+    static const usm_csv_column cols[] = {{"series", NULL}, {"label", NULL}, {"re", "1"},
                                           {"im", "1"},     {"modulus", "1"}, {"cyclic", NULL}};
     char label[96];
-    cli_csv_header(f, cols, 6);
+    usm_csv_header(f, cols, 6);
     for (int i = 0; i < REPORT_NT0 + 2; ++i) {
         const usm_floquet_result *fl = i < REPORT_NT0 ? &r->fl[i] : &r->fl_integrated[i - REPORT_NT0];
         if (i >= REPORT_NT0 && !r->integrated)
             break;
         if (i < REPORT_NT0)
-            snprintf(label, sizeof label, "computed t0 = %s", report_t0_label[i]);
+            snprintf(label, sizeof label, "computed t0 = %s", usm_report_t0_label[i]);
         else
             snprintf(label, sizeof label, "twist_integrated t0 = %s", i > REPORT_NT0 ? "T/2" : "0");
         for (int k = 0; k < fl->n; ++k)
@@ -212,12 +212,12 @@ static void write_multiplier_csv(FILE *f, const report_model_result *r,
 }
 
 /* The values the figures mark (limits, the operating point), one row. */
-static void write_values_csv(FILE *f, const report_data *d)
+static void write_values_csv(FILE *f, const usm_report_data *d)
 {
-    const report_located *loc[] = {&d->stick_limit, &d->stick_limit_sat, &d->existence_T[0],
+    const usm_report_located *loc[] = {&d->stick_limit, &d->stick_limit_sat, &d->existence_T[0],
                                    &d->existence_T[1], &d->stability_T, &d->f_max[0],
                                    &d->f_max[1], &d->existence_m0[0], &d->existence_m0[1]};
-    static const cli_csv_column cols[] = {
+    static const usm_csv_column cols[] = {
         {"stick_limit", "N m"}, {"stick_limit_sat", "N m"}, {"existence_T_3dof", "N m"},
         {"existence_T_4dof", "N m"}, {"stability_T", "N m"}, {"f_max_3dof", "Hz"},
         {"f_max_4dof", "Hz"}, {"existence_m0_3dof", "N m"}, {"existence_m0_4dof", "N m"},
@@ -226,44 +226,44 @@ static void write_values_csv(FILE *f, const report_data *d)
         {"map_3dof_stability", "1"}, {"map_3dof_stick", "1"}, {"map_4dof_existence", "1"},
         {"map_4dof_stability", "1"}, {"map_4dof_stick", "1"}};
     const int nloc = (int)(sizeof loc / sizeof loc[0]);
-    cli_csv_header(f, cols, (int)(sizeof cols / sizeof cols[0]));
+    usm_csv_header(f, cols, (int)(sizeof cols / sizeof cols[0]));
     for (int k = 0; k < nloc; ++k)
-        cli_csv_num(f, k == 0, loc[k]->ok ? loc[k]->value : NAN);
-    cli_csv_num(f, 0, report_paper_values.slip_load.value);
-    cli_csv_num(f, 0, report_paper_values.f_max.value);
-    cli_csv_num(f, 0, d->params.m0);
-    cli_csv_num(f, 0, d->params.f);
-    cli_csv_num(f, 0, d->params.T);
-    cli_csv_num(f, 0, -d->model[REPORT_3DOF].sol.rotor_speed);
+        usm_csv_num(f, k == 0, loc[k]->ok ? loc[k]->value : NAN);
+    usm_csv_num(f, 0, d->paper.slip_load.value);
+    usm_csv_num(f, 0, d->paper.f_max.value);
+    usm_csv_num(f, 0, d->params.m0);
+    usm_csv_num(f, 0, d->params.f);
+    usm_csv_num(f, 0, d->params.T);
+    usm_csv_num(f, 0, -d->model[REPORT_3DOF].sol.rotor_speed);
     for (int k = 0; k < REPORT_NMODELS; ++k)
         for (int b = 0; b < REPORT_NBOUNDARY; ++b)
-            cli_csv_num(f, 0, d->have_map[k] ? (double)d->map[k].nbnd[b] : 0);
+            usm_csv_num(f, 0, d->have_map[k] ? (double)d->map[k].nbnd[b] : 0);
     fputc('\n', f);
 }
 
 /* ---- writing everything ------------------------------------------------------- */
 
 /* Copy the static script data/plots/NAME.gp into dir. */
-static int copy_script(const char *dir, const char *name, char msg[CLI_MSG_LEN])
+static int copy_script(const char *dir, const char *name, char msg[USM_IO_MSG_LEN])
 {
     char src[4096], file[160];
     char *text;
     FILE *f;
     snprintf(file, sizeof file, "plots/%s.gp", name);
-    if (cli_data_path(file, src, sizeof src) != 0) {
-        cli_msg(msg, "%s: the report's gnuplot script is not installed (set USM_DATA_DIR)", src);
+    if (usm_data_path(file, src, sizeof src) != 0) {
+        usm_io_msg(msg, "%s: the report's gnuplot script is not installed (set USM_DATA_DIR)", src);
         return USM_EFAILED;
     }
-    if (!(text = cli_template_read(src, msg)))
+    if (!(text = usm_template_read(src, msg)))
         return USM_EFAILED;
     snprintf(file, sizeof file, "%s.gp", name);
-    if (!(f = report_open(dir, file, msg))) {
+    if (!(f = usm_report_open(dir, file, msg))) {
         free(text);
         return USM_EFAILED;
     }
     fputs(text, f);
     free(text);
-    return report_close(f, dir, file, msg);
+    return usm_report_close(f, dir, file, msg);
 }
 
 typedef enum {
@@ -271,11 +271,11 @@ typedef enum {
     DATA_ELASTICITY
 } data_kind;
 
-static int write_data_file(const report_data *d, const char *dir, const char *name,
-                           data_kind kind, int k, int c, char msg[CLI_MSG_LEN])
+static int write_data_file(const usm_report_data *d, const char *dir, const char *name,
+                           data_kind kind, int k, int c, char msg[USM_IO_MSG_LEN])
 {
-    const report_paper *pv = &report_paper_values;
-    FILE *f = report_open(dir, name, msg);
+    const usm_report_paper *pv = &d->paper;
+    FILE *f = usm_report_open(dir, name, msg);
     if (!f)
         return USM_EFAILED;
     switch (kind) {
@@ -285,15 +285,15 @@ static int write_data_file(const report_data *d, const char *dir, const char *na
                              k == REPORT_3DOF ? pv->n3 : pv->n4);
         break;
     case DATA_VALUES: write_values_csv(f, d); break;
-    case DATA_MAP: report_map_write_csv(&d->map[k], f); break;
-    case DATA_BOUNDARY: report_map_write_boundary_csv(&d->map[k], c, f); break;
+    case DATA_MAP: usm_report_map_write_csv(&d->map[k], f); break;
+    case DATA_BOUNDARY: usm_report_map_write_boundary_csv(&d->map[k], c, f); break;
     case DATA_DATASHEET: write_datasheet_csv(f, &d->curve[REPORT_CURVE_T][k]); break;
     case DATA_ELASTICITY: write_elasticity_csv(f, d, k, c); break;
     }
-    return report_close(f, dir, name, msg);
+    return usm_report_close(f, dir, name, msg);
 }
 
-int report_write_data(const report_data *d, const char *dir, char msg[CLI_MSG_LEN])
+int usm_report_write_data(const usm_report_data *d, const char *dir, char msg[USM_IO_MSG_LEN])
 {
     static const int curve_fig[REPORT_NCURVES] = {REPORT_FIG_SPEED_F, REPORT_FIG_SPEED_T,
                                                   REPORT_FIG_SPEED_M0};
@@ -303,50 +303,50 @@ int report_write_data(const report_data *d, const char *dir, char msg[CLI_MSG_LE
         const int mult = k == REPORT_3DOF ? REPORT_FIG_MULT_3DOF : REPORT_FIG_MULT_4DOF;
         const int map = k == REPORT_3DOF ? REPORT_FIG_MAP_3DOF : REPORT_FIG_MAP_4DOF;
         for (int c = 0; c < REPORT_NCURVES && st == USM_OK; ++c) {
-            snprintf(name, sizeof name, "%s_%s.csv", report_figures[curve_fig[c]].name,
+            snprintf(name, sizeof name, "%s_%s.csv", usm_report_figures[curve_fig[c]].name,
                      model_tag[k]);
             st = write_data_file(d, dir, name, DATA_CURVE, k, c, msg);
         }
-        snprintf(name, sizeof name, "%s.csv", report_figures[mult].name);
+        snprintf(name, sizeof name, "%s.csv", usm_report_figures[mult].name);
         if (st == USM_OK)
             st = write_data_file(d, dir, name, DATA_MULTIPLIERS, k, 0, msg);
-        snprintf(name, sizeof name, "%s_%s.csv", report_figures[REPORT_FIG_DATASHEET].name,
+        snprintf(name, sizeof name, "%s_%s.csv", usm_report_figures[REPORT_FIG_DATASHEET].name,
                  model_tag[k]);
         if (st == USM_OK)
             st = write_data_file(d, dir, name, DATA_DATASHEET, k, 0, msg);
         for (int o = 0; o < REPORT_NSENS_OUT && st == USM_OK; ++o) {
-            const int out = report_sens_outputs[o];
-            snprintf(name, sizeof name, "%s_%s_%s.csv", report_figures[REPORT_FIG_ELASTICITY].name,
+            const int out = usm_report_sens_outputs[o];
+            snprintf(name, sizeof name, "%s_%s_%s.csv", usm_report_figures[REPORT_FIG_ELASTICITY].name,
                      usm_sensitivity_output_name(out), model_tag[k]);
             st = write_data_file(d, dir, name, DATA_ELASTICITY, k, out, msg);
         }
         if (!d->have_map[k])
             continue;
-        snprintf(name, sizeof name, "%s.csv", report_figures[map].name);
+        snprintf(name, sizeof name, "%s.csv", usm_report_figures[map].name);
         if (st == USM_OK)
             st = write_data_file(d, dir, name, DATA_MAP, k, 0, msg);
         for (int b = 0; b < REPORT_NBOUNDARY && st == USM_OK; ++b) {
-            snprintf(name, sizeof name, "%s_%s.csv", report_figures[map].name,
-                     report_boundary_name(b));
+            snprintf(name, sizeof name, "%s_%s.csv", usm_report_figures[map].name,
+                     usm_report_boundary_name(b));
             st = write_data_file(d, dir, name, DATA_BOUNDARY, k, b, msg);
         }
     }
     for (int i = 0; i < REPORT_NFIGURES && st == USM_OK; ++i)
-        st = copy_script(dir, report_figures[i].name, msg);
+        st = copy_script(dir, usm_report_figures[i].name, msg);
     return st;
 }
 
 /* ---- running gnuplot ------------------------------------------------------------ */
 
-int report_run_gnuplot(const char *dir, int jobs, char msg[CLI_MSG_LEN])
+int usm_report_run_gnuplot(const char *dir, int jobs, char msg[USM_IO_MSG_LEN])
 {
     const char *stems[REPORT_NFIGURES];
     char path[4096];
     for (int i = 0; i < REPORT_NFIGURES; ++i)
-        stems[i] = report_figures[i].name;
-    if (report_path(path, sizeof path, dir, "gnuplot.log") != 0) {
-        cli_msg(msg, "--out %s: path too long", dir);
+        stems[i] = usm_report_figures[i].name;
+    if (usm_report_path(path, sizeof path, dir, "gnuplot.log") != 0) {
+        usm_io_msg(msg, "--out %s: path too long", dir);
         return USM_EFAILED;
     }
-    return cli_gnuplot_run(dir, stems, REPORT_NFIGURES, jobs, path, msg);
+    return usm_gnuplot_run(dir, stems, REPORT_NFIGURES, jobs, path, msg);
 }

@@ -5,7 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-const char *cli_shortest(char buf[32], double v)
+const char *usm_shortest(char buf[32], double v)
 {
     for (int prec = 6; prec <= 17; ++prec) {
         snprintf(buf, 32, "%.*g", prec, v);
@@ -15,7 +15,7 @@ const char *cli_shortest(char buf[32], double v)
     return buf;
 }
 
-void cli_csv_header(FILE *f, const cli_csv_column *cols, int n)
+void usm_csv_header(FILE *f, const usm_csv_column *cols, int n)
 {
     for (int k = 0; k < n; ++k) {
         fputs(k ? "," : "", f);
@@ -26,22 +26,22 @@ void cli_csv_header(FILE *f, const cli_csv_column *cols, int n)
     fputc('\n', f);
 }
 
-void cli_csv_num(FILE *f, int first, double v)
+void usm_csv_num(FILE *f, int first, double v)
 {
     char buf[32];
     if (!first)
         fputc(',', f);
     if (isfinite(v))
-        fputs(cli_shortest(buf, v), f);
+        fputs(usm_shortest(buf, v), f);
 }
 
-void cli_csv_bool(FILE *f, int first, int b)
+void usm_csv_bool(FILE *f, int first, int b)
 {
     fputs(first ? "" : ",", f);
     fputs(b ? "true" : "false", f);
 }
 
-void cli_csv_text(FILE *f, int first, const char *s)
+void usm_csv_text(FILE *f, int first, const char *s)
 {
     if (!first)
         fputc(',', f);

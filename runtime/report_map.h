@@ -1,26 +1,27 @@
-/* report_map.h: the stability map of `usm map` and `usm report` as the
+/* usm_report_map.h: the stability map of `usm map` and `usm report` as the
  * command keeps it: the library computes it (usm_map.h: every point from
  * scratch, the boundaries by bisection, the worker pool); this file copies
  * the result into plain arrays for the writers (CSV, JSON, report, plots).
  */
-#ifndef USM_CLI_REPORT_MAP_H
-#define USM_CLI_REPORT_MAP_H
+#ifndef USM_REPORT_MAP_H
+#define USM_REPORT_MAP_H
 
 #include <stdio.h>
 
 #include <jansson.h>
 
-#include "diag.h"
+#include "io_msg.h"
 #include "usm.h"
+#include "usm_map.h"
 
-typedef struct report_axis {
+typedef struct usm_report_axis {
     const char *name;
-    const usm_param_info *param; /* set by report_map_run */
+    const usm_param_info *param; /* set by usm_report_map_run */
     double from, to;
     int points; /* >= 2 */
-} report_axis;
+} usm_report_axis;
 
-typedef struct report_map_cell {
+typedef struct usm_report_map_cell {
     double x, y;
     int exists;        /* a stationary solution exists */
     int roots;         /* how many */
@@ -33,7 +34,7 @@ typedef struct report_map_cell {
      * exists; efficiency NaN also when power_in <= 0) */
     double power_in, power_out, power_damping, power_slip, efficiency;
     char error[USM_MSG_LEN]; /* why no solution, or why the multipliers failed */
-} report_map_cell;
+} usm_report_map_cell;
 
 enum {
     REPORT_BOUNDARY_EXISTENCE = 0,
@@ -43,38 +44,53 @@ enum {
 };
 
 /* "existence", "stability", "stick" */
-const char *report_boundary_name(int kind);
+const char *usm_report_boundary_name(int kind);
 
-typedef struct report_boundary_point {
+typedef struct usm_report_boundary_point {
     double x, y;
     int column; /* x index */
     int k;      /* 0 for the first change in this column (increasing y), 1, ... */
-} report_boundary_point;
+} usm_report_boundary_point;
 
-typedef struct report_map {
+typedef struct usm_report_map {
     /* input */
     const usm_model *model;
     usm_params params;
-    report_axis x, y;
+    usm_report_axis x, y;
     double t0;       /* Floquet start time [s] */
     const usm_floquet_options *floquet; /* NULL: the library's defaults */
     int threads;     /* >= 1 */
     int boundaries;  /* locate the boundaries (1) or not (0) */
-    int mpi;         /* share the columns out over the MPI ranks (mpi_run.h);
-                        only rank 0 gets the result */
     /* output: cells[j * x.points + i] is (x_i, y_j) */
-    report_map_cell *cells;
-    report_boundary_point *bnd[REPORT_NBOUNDARY];
+    usm_report_map_cell *cells;
+    usm_report_boundary_point *bnd[REPORT_NBOUNDARY];
     size_t nbnd[REPORT_NBOUNDARY];
     size_t floquet_failures;
-} report_map;
+} usm_report_map;
+
+/* One cell of a library map (usm_map.h) as the writers keep it (a map
+ * computed elsewhere, e.g. gathered from MPI ranks, is copied with it). */
+void usm_report_map_cell_copy(const usm_map_cell *in, usm_report_map_cell *c);
+
+/* The usm_map_options of map: its axes by name, t0, Floquet options,
+ * threads, boundaries. */
+void usm_report_map_options(const usm_report_map *map, usm_map_options *opt);
+
+/* Fill map's cells and boundaries from a map computed elsewhere, as arrays:
+ * cells[j * x.points + i], bnd[k][q] for q < nbnd[k] (e.g. gathered from MPI
+ * ranks; usm_report_map_run goes through it too).  USM_OK, or USM_EFAILED
+ * (out of memory) with msg and nothing kept. */
+int usm_report_map_fill(usm_report_map *map, const usm_map_cell *cells,
+                        usm_map_boundary_point *const bnd[USM_MAP_NBOUNDARY],
+                        const size_t nbnd[USM_MAP_NBOUNDARY], size_t floquet_failures,
+                        char msg[USM_IO_MSG_LEN]);
 
 /* Compute the map with usm_map_run (axes by name: x.name, y.name; x.param
  * and y.param are set from them).  USM_OK, USM_EINPUT (bad axis or
  * parameters along the grid: the library's message, its field as the
  * command's option "--x..."), USM_EFAILED (out of memory, threads). */
-int report_map_run(report_map *map, char msg[CLI_MSG_LEN]);
-void report_map_free(report_map *map);
+int usm_report_map_run(usm_report_map *map, char msg[USM_IO_MSG_LEN]);
+void usm_report_map_free(usm_report_map *map);
 
 /* CSV in the command's dialect (csv_out.h): header "X [UNIT],Y [UNIT],exists,
  * roots,max_modulus [1],stable,theta [rad],rotor_speed [1/s],mu_used [1],
@@ -82,14 +98,17 @@ void report_map_free(report_map *map);
  * power_slip [W],efficiency [1]" then one row per point, x fastest.  Values
  * that do not exist (no solution, no multipliers) are empty fields.
  * 0, or -1 on a write error. */
-int report_map_write_csv(const report_map *map, FILE *out);
+int usm_report_map_write_csv(const usm_report_map *map, FILE *out);
 
 /* CSV of one boundary: "X [UNIT],Y [UNIT]"; points of the k-th change of each column form
  * a block, blocks separated by two blank lines (gnuplot "index"), a single
  * blank line where a column has no k-th change (breaks the line). */
-int report_map_write_boundary_csv(const report_map *map, int kind, FILE *out);
+int usm_report_map_write_boundary_csv(const usm_report_map *map, int kind, FILE *out);
 
 /* The `usm map --json` object, or NULL when out of memory. */
-json_t *report_map_json(const report_map *map);
+json_t *usm_report_map_json(const usm_report_map *map);
+/* That object and a newline to out: 0, or -1 on a write error or when out
+ * of memory. */
+int usm_report_map_write_json(const usm_report_map *map, FILE *out);
 
-#endif /* USM_CLI_REPORT_MAP_H */
+#endif /* USM_REPORT_MAP_H */

@@ -7,23 +7,14 @@
 #include <jansson.h>
 
 #include "data_dir.h"
-#include "report.h"
-
-/* Loaded once, before anything is computed, and only read afterwards: the
- * published values are constants of the run. */
-static report_paper paper;
-
-const report_paper *report_paper_get(void)
-{
-    return &paper;
-}
+#include "report_internal.h"
 
 static int text(json_t *obj, const char *key, char *out, size_t len, const char *where,
-                char msg[CLI_MSG_LEN])
+                char msg[USM_IO_MSG_LEN])
 {
     const char *s = json_string_value(json_object_get(obj, key));
     if (!s || strlen(s) >= len) {
-        cli_msg(msg, "%s: \"%s\": missing, not a string or too long", where, key);
+        usm_io_msg(msg, "%s: \"%s\": missing, not a string or too long", where, key);
         return -1;
     }
     memcpy(out, s, strlen(s) + 1);
@@ -31,25 +22,25 @@ static int text(json_t *obj, const char *key, char *out, size_t len, const char 
 }
 
 static int number(json_t *obj, const char *key, double *out, const char *where,
-                  char msg[CLI_MSG_LEN])
+                  char msg[USM_IO_MSG_LEN])
 {
     json_t *v = json_object_get(obj, key);
     if (!json_is_number(v)) {
-        cli_msg(msg, "%s: \"%s\": missing or not a number", where, key);
+        usm_io_msg(msg, "%s: \"%s\": missing or not a number", where, key);
         return -1;
     }
     *out = json_number_value(v);
     return 0;
 }
 
-static int value(json_t *root, const char *key, report_published *p, const char *path,
-                 char msg[CLI_MSG_LEN])
+static int value(json_t *root, const char *key, usm_report_published *p, const char *path,
+                 char msg[USM_IO_MSG_LEN])
 {
     char where[4200];
     json_t *o = json_object_get(root, key);
     snprintf(where, sizeof where, "%s: %s", path, key);
     if (!json_is_object(o)) {
-        cli_msg(msg, "%s: missing or not an object", where);
+        usm_io_msg(msg, "%s: missing or not an object", where);
         return -1;
     }
     return text(o, "where", p->where, sizeof p->where, where, msg) ||
@@ -61,8 +52,8 @@ static int value(json_t *root, const char *key, report_published *p, const char 
                : 0;
 }
 
-static int table(json_t *root, const char *key, report_published_multiplier *t, int cap, int *n,
-                 const char *path, char msg[CLI_MSG_LEN])
+static int table(json_t *root, const char *key, usm_report_published_multiplier *t, int cap, int *n,
+                 const char *path, char msg[USM_IO_MSG_LEN])
 {
     char where[4200];
     json_t *a = json_object_get(root, key);
@@ -70,11 +61,11 @@ static int table(json_t *root, const char *key, report_published_multiplier *t, 
     json_t *o;
     snprintf(where, sizeof where, "%s: %s", path, key);
     if (!json_is_array(a) || json_array_size(a) == 0 || json_array_size(a) > (size_t)cap) {
-        cli_msg(msg, "%s: want an array of 1 to %d multipliers", where, cap);
+        usm_io_msg(msg, "%s: want an array of 1 to %d multipliers", where, cap);
         return -1;
     }
     json_array_foreach(a, i, o) {
-        report_published_multiplier *m = &t[i];
+        usm_report_published_multiplier *m = &t[i];
         if (text(o, "label", m->label, sizeof m->label, where, msg) ||
             text(o, "printed", m->printed, sizeof m->printed, where, msg) ||
             text(o, "modulus_printed", m->modulus_printed, sizeof m->modulus_printed, where, msg) ||
@@ -86,30 +77,30 @@ static int table(json_t *root, const char *key, report_published_multiplier *t, 
     return 0;
 }
 
-int report_paper_load(char msg[CLI_MSG_LEN])
+int usm_report_paper_load(usm_report_paper *paper, char msg[USM_IO_MSG_LEN])
 {
     static const char *const keys[] = {"theta3", "alpha3", "beta3", "speed4", "theta4", "alpha4",
                                        "beta4", "f_max", "slip_load", "speed_ratio"};
-    report_published *const slot[] = {&paper.theta3, &paper.alpha3, &paper.beta3, &paper.speed4,
-                                      &paper.theta4, &paper.alpha4, &paper.beta4, &paper.f_max,
-                                      &paper.slip_load, &paper.speed_ratio};
+    usm_report_published *const slot[] = {&paper->theta3, &paper->alpha3, &paper->beta3, &paper->speed4,
+                                      &paper->theta4, &paper->alpha4, &paper->beta4, &paper->f_max,
+                                      &paper->slip_load, &paper->speed_ratio};
     char path[4096];
     json_error_t err;
     json_t *root;
     int bad = 0;
-    if (cli_data_path("paper_values.json", path, sizeof path) != 0) {
-        cli_msg(msg, "%s: the paper's values are not installed (set USM_DATA_DIR to the "
+    if (usm_data_path("paper_values.json", path, sizeof path) != 0) {
+        usm_io_msg(msg, "%s: the paper's values are not installed (set USM_DATA_DIR to the "
                      "directory holding paper_values.json)", path);
         return USM_EFAILED;
     }
     if (!(root = json_load_file(path, JSON_REJECT_DUPLICATES, &err))) {
-        cli_msg(msg, "%s:%d: %s", path, err.line, err.text);
+        usm_io_msg(msg, "%s:%d: %s", path, err.line, err.text);
         return USM_EFAILED;
     }
     for (size_t k = 0; !bad && k < sizeof keys / sizeof keys[0]; ++k)
         bad = value(root, keys[k], slot[k], path, msg);
-    bad = bad || table(root, "table3", paper.table3, 4, &paper.n3, path, msg) ||
-          table(root, "table4", paper.table4, 6, &paper.n4, path, msg);
+    bad = bad || table(root, "table3", paper->table3, 4, &paper->n3, path, msg) ||
+          table(root, "table4", paper->table4, 6, &paper->n4, path, msg);
     json_decref(root);
     return bad ? USM_EFAILED : USM_OK;
 }

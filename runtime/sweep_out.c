@@ -1,18 +1,11 @@
 /* Output of a sweep: CSV rows or one JSON object. */
-#define _POSIX_C_SOURCE 200809L
-
 #include "sweep_out.h"
-
-#include <errno.h>
-#include <fcntl.h>
-#include <unistd.h>
 
 #include <math.h>
 #include <string.h>
 
 #include "csv_out.h"
 #include "json_out.h"
-#include "plot_run.h"
 #include "steady_out.h"
 
 /* A point carries the keys of `usm steady --json` for one root, so that a
@@ -21,22 +14,22 @@ static json_t *point_json(const usm_sweep_point *pt, const usm_model *m, const c
 {
     json_t *obj = json_object();
     int ok = obj != NULL;
-    cli_json_put(obj, over, cli_json_real(pt->value), &ok);
-    cli_json_put(obj, "model", json_string(m->name), &ok);
-    cli_json_put(obj, "converged", json_boolean(pt->converged), &ok);
-    cli_json_put(obj, "roots", json_integer(pt->roots), &ok);
+    usm_json_put(obj, over, usm_json_real(pt->value), &ok);
+    usm_json_put(obj, "model", json_string(m->name), &ok);
+    usm_json_put(obj, "converged", json_boolean(pt->converged), &ok);
+    usm_json_put(obj, "roots", json_integer(pt->roots), &ok);
     if (!pt->converged)
-        cli_json_put(obj, "error", json_string(pt->error), &ok);
+        usm_json_put(obj, "error", json_string(pt->error), &ok);
     else {
-        json_t *root = cli_json_root(&pt->sol);
+        json_t *root = usm_json_root(&pt->sol);
         if (!root || json_object_update(obj, root) != 0)
             ok = 0;
         json_decref(root);
     }
     if (pt->has_floquet)
-        cli_json_put(obj, "floquet", cli_json_floquet(&pt->floquet), &ok);
+        usm_json_put(obj, "floquet", usm_json_floquet(&pt->floquet), &ok);
     else if (pt->floquet_error[0])
-        cli_json_put(obj, "floquet_error", json_string(pt->floquet_error), &ok);
+        usm_json_put(obj, "floquet_error", json_string(pt->floquet_error), &ok);
     if (!ok) {
         json_decref(obj);
         return NULL;
@@ -48,15 +41,15 @@ static json_t *event_json(const usm_sweep_event *e, const char *over)
 {
     json_t *obj = json_object();
     int ok = obj != NULL;
-    cli_json_put(obj, "type", json_string(usm_event_name(e->type)), &ok);
-    cli_json_put(obj, over, cli_json_real(e->value), &ok);
-    cli_json_put(obj, "what", json_string(e->what), &ok);
+    usm_json_put(obj, "type", json_string(usm_event_name(e->type)), &ok);
+    usm_json_put(obj, over, usm_json_real(e->value), &ok);
+    usm_json_put(obj, "what", json_string(e->what), &ok);
     if (e->monitor[0]) {
-        cli_json_put(obj, "monitor", json_string(e->monitor), &ok);
-        cli_json_put(obj, "monitor_value", cli_json_real(e->monitor_value), &ok);
+        usm_json_put(obj, "monitor", json_string(e->monitor), &ok);
+        usm_json_put(obj, "monitor_value", usm_json_real(e->monitor_value), &ok);
     }
     if (e->has_sol)
-        cli_json_put(obj, "solution", cli_json_root(&e->sol), &ok);
+        usm_json_put(obj, "solution", usm_json_root(&e->sol), &ok);
     if (!ok) {
         json_decref(obj);
         return NULL;
@@ -64,24 +57,24 @@ static json_t *event_json(const usm_sweep_event *e, const char *over)
     return obj;
 }
 
-json_t *cli_sweep_json(const usm_sweep *s, const usm_model *m, const usm_params *p,
+json_t *usm_sweep_json(const usm_sweep *s, const usm_model *m, const usm_params *p,
                        const char *over)
 {
     json_t *obj = json_object();
     json_t *points = json_array();
     json_t *events = json_array();
     int ok = obj && points && events;
-    cli_json_put(obj, "over", json_string(over), &ok);
-    cli_json_put(obj, "model", json_string(m->name), &ok);
-    cli_json_put(obj, "parameters", cli_json_params(p), &ok);
+    usm_json_put(obj, "over", json_string(over), &ok);
+    usm_json_put(obj, "model", json_string(m->name), &ok);
+    usm_json_put(obj, "parameters", usm_json_params(p), &ok);
     for (size_t i = 0; i < usm_sweep_count(s); ++i)
         if (json_array_append_new(points, point_json(usm_sweep_point_at(s, i), m, over)) != 0)
             ok = 0;
     for (size_t i = 0; i < usm_sweep_event_count(s); ++i)
         if (json_array_append_new(events, event_json(usm_sweep_event_at(s, i), over)) != 0)
             ok = 0;
-    cli_json_put(obj, "points", points, &ok);
-    cli_json_put(obj, "events", events, &ok);
+    usm_json_put(obj, "points", points, &ok);
+    usm_json_put(obj, "events", events, &ok);
     if (!ok) {
         json_decref(obj);
         return NULL;
@@ -113,7 +106,7 @@ static void csv_text(FILE *out, const char *text)
     fputc('"', out);
 }
 
-int cli_sweep_csv(const usm_sweep *s, const char *over, int floquet, FILE *out)
+int usm_sweep_csv(const usm_sweep *s, const char *over, int floquet, FILE *out)
 {
     const usm_param_info *info = usm_params_find(over);
     fprintf(out, "%s [%s],theta [rad],alpha [rad],rotor_speed [1/s],F_n [N],F_t [N],"
@@ -124,7 +117,7 @@ int cli_sweep_csv(const usm_sweep *s, const char *over, int floquet, FILE *out)
         const usm_sweep_point *pt = usm_sweep_point_at(s, i);
         char buf[32];
         /* every bit of the swept value: `usm steady --set` reproduces the row */
-        fputs(cli_shortest(buf, pt->value), out);
+        fputs(usm_shortest(buf, pt->value), out);
         if (!pt->converged) {
             fprintf(out, ",,,,,,,,,false,%d,", pt->roots);
             csv_text(out, pt->error);
@@ -146,51 +139,24 @@ int cli_sweep_csv(const usm_sweep *s, const char *over, int floquet, FILE *out)
         fprintf(out, ",true,%d,", pt->roots);
         csv_text(out, pt->floquet_error);
         /* appended last: scripts reading the columns above by position keep working */
-        cli_csv_num(out, 0, r->power_in);
-        cli_csv_num(out, 0, r->power_out);
-        cli_csv_num(out, 0, r->power_damping);
-        cli_csv_num(out, 0, r->power_slip);
-        cli_csv_num(out, 0, r->efficiency); /* empty: power_in <= 0 */
+        usm_csv_num(out, 0, r->power_in);
+        usm_csv_num(out, 0, r->power_out);
+        usm_csv_num(out, 0, r->power_damping);
+        usm_csv_num(out, 0, r->power_slip);
+        usm_csv_num(out, 0, r->efficiency); /* empty: power_in <= 0 */
         fputc('\n', out);
     }
     for (size_t i = 0; i < usm_sweep_event_count(s); ++i) {
         const usm_sweep_event *e = usm_sweep_event_at(s, i);
         char buf[32];
         fprintf(out, "# %s at %s = %s: %s\n", usm_event_name(e->type), over,
-                cli_shortest(buf, e->value), e->what);
+                usm_shortest(buf, e->value), e->what);
     }
     return ferror(out) ? -1 : 0;
 }
 
-int cli_plot_csv_check(const char *prefix, int force, char msg[CLI_MSG_LEN])
+int usm_sweep_write_json(const usm_sweep *s, const usm_model *m, const usm_params *p,
+                         const char *over, FILE *out)
 {
-    char path[4096];
-    if (cli_plot_check(prefix, force, msg) != USM_OK)
-        return USM_EINPUT;
-    snprintf(path, sizeof path, "%s.csv", prefix);
-    if (!force && access(path, F_OK) == 0) {
-        cli_msg(msg, "--plot %s: exists; refusing to overwrite it (use --force)", path);
-        return USM_EINPUT;
-    }
-    return USM_OK;
-}
-
-FILE *cli_plot_csv_open(const char *prefix, int force, char msg[CLI_MSG_LEN])
-{
-    char path[4096];
-    FILE *f;
-    snprintf(path, sizeof path, "%s.csv", prefix);
-    int fd = open(path, O_WRONLY | O_CREAT | (force ? O_TRUNC : O_EXCL), 0666);
-    if (fd < 0) {
-        if (errno == EEXIST)
-            cli_msg(msg, "--plot %s: exists; refusing to overwrite it (use --force)", path);
-        else
-            cli_msg(msg, "--plot %s: %s", path, strerror(errno));
-        return NULL;
-    }
-    if (!(f = fdopen(fd, "w"))) {
-        cli_msg(msg, "--plot %s: %s", path, strerror(errno));
-        close(fd);
-    }
-    return f;
+    return usm_json_write(usm_sweep_json(s, m, p, over), out);
 }

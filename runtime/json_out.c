@@ -1,0 +1,103 @@
+/* JSON output of the usm command. */
+#include "json_out.h"
+
+#include <math.h>
+
+json_t *usm_json_real(double v)
+{
+    return isfinite(v) ? json_real(v) : json_null();
+}
+
+void usm_json_put(json_t *obj, const char *key, json_t *value, int *ok)
+{
+    /* json_object_set_new releases `value` even when it fails (also when obj
+     * is NULL), so nothing leaks on the way to the final check. */
+    if (json_object_set_new(obj, key, value) != 0)
+        *ok = 0;
+}
+
+static void push(json_t *arr, json_t *value, int *ok)
+{
+    if (json_array_append_new(arr, value) != 0)
+        *ok = 0;
+}
+
+static json_t *finish(json_t *obj, int ok)
+{
+    if (!ok) {
+        json_decref(obj);
+        return NULL;
+    }
+    return obj;
+}
+
+json_t *usm_json_params(const usm_params *p)
+{
+    json_t *obj = json_object();
+    int ok = obj != NULL;
+    for (int k = 0; k < USM_NPARAMS; ++k)
+        usm_json_put(obj, usm_param_table[k].name,
+                     usm_json_real(usm_params_get(p, &usm_param_table[k])), &ok);
+    return finish(obj, ok);
+}
+
+json_t *usm_json_root(const usm_steady_solution *s)
+{
+    json_t *obj = json_object();
+    int ok = obj != NULL;
+    usm_json_put(obj, "theta", usm_json_real(s->theta), &ok);
+    usm_json_put(obj, "alpha", usm_json_real(s->alpha), &ok);
+    usm_json_put(obj, "beta", usm_json_real(s->beta), &ok);
+    usm_json_put(obj, "rotor_speed", usm_json_real(s->rotor_speed), &ok);
+    usm_json_put(obj, "F_n", usm_json_real(s->F_n), &ok);
+    usm_json_put(obj, "F_t", usm_json_real(s->F_t), &ok);
+    usm_json_put(obj, "v_rel", usm_json_real(s->v_rel), &ok);
+    usm_json_put(obj, "stick_admissible", json_boolean(s->stick_admissible), &ok);
+    usm_json_put(obj, "mu_used", usm_json_real(s->mu_used), &ok);
+    usm_json_put(obj, "v_c", usm_json_real(s->v_c), &ok);
+    usm_json_put(obj, "R_star", usm_json_real(s->R_star), &ok);
+    usm_json_put(obj, "Z", usm_json_real(s->Z), &ok);
+    usm_json_put(obj, "residual_norm", usm_json_real(s->residual_norm), &ok);
+    usm_json_put(obj, "power_in", usm_json_real(s->power_in), &ok);
+    usm_json_put(obj, "power_out", usm_json_real(s->power_out), &ok);
+    usm_json_put(obj, "power_damping", usm_json_real(s->power_damping), &ok);
+    usm_json_put(obj, "power_slip", usm_json_real(s->power_slip), &ok);
+    usm_json_put(obj, "efficiency", usm_json_real(s->efficiency), &ok); /* null: power_in <= 0 */
+    return finish(obj, ok);
+}
+
+json_t *usm_json_floquet(const usm_floquet_result *r)
+{
+    json_t *obj = json_object();
+    json_t *mult = json_array();
+    json_t *cyclic = json_array();
+    int ok = obj && mult && cyclic;
+    for (int k = 0; k < r->n; ++k) {
+        json_t *pair = json_array();
+        push(pair, usm_json_real(r->re[k]), &ok);
+        push(pair, usm_json_real(r->im[k]), &ok);
+        push(mult, pair, &ok);
+        push(cyclic, json_boolean(r->cyclic[k]), &ok);
+    }
+    usm_json_put(obj, "t0", usm_json_real(r->t0), &ok);
+    usm_json_put(obj, "t0_dependent", json_boolean(r->t0_dependent), &ok);
+    usm_json_put(obj, "multipliers", mult, &ok);
+    usm_json_put(obj, "cyclic", cyclic, &ok);
+    usm_json_put(obj, "max_modulus", usm_json_real(r->max_modulus), &ok);
+    usm_json_put(obj, "stable", json_boolean(r->stable), &ok);
+    return finish(obj, ok);
+}
+
+int usm_json_print(const json_t *value, FILE *out)
+{
+    if (json_dumpf(value, out, JSON_INDENT(2) | JSON_PRESERVE_ORDER | JSON_REAL_PRECISION(17)) != 0)
+        return -1;
+    return fputc('\n', out) == EOF ? -1 : 0;
+}
+
+int usm_json_write(json_t *value, FILE *out)
+{
+    int rc = value ? usm_json_print(value, out) : -1;
+    json_decref(value);
+    return rc;
+}

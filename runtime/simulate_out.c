@@ -1,0 +1,205 @@
+/* The outputs of a simulation (usm_io.h): the time history as CSV, the
+ * summary as a table or one JSON object. */
+#include <math.h>
+#include <stdio.h>
+
+#include <jansson.h>
+
+#include "csv_out.h"
+#include "json_out.h"
+#include "usm_io.h"
+
+/* The time history's columns (csv_out.h), read back by usm_sim_read_start. */
+static const usm_csv_column columns[] = {
+    {"t", "s"},           {"phi", "rad"},         {"theta", "rad"},    {"psi", "rad"},
+    {"phidot", "rad/s"},  {"thetadot", "rad/s"},  {"psidot", "rad/s"}, {"phi_R", "rad"},
+    {"phi_Rdot", "rad/s"}, {"F_n", "N"},          {"F_t", "N"},        {"v_rel", "m/s"},
+    {"theta_avg", "rad"}, {"phi_Rdot_avg", "rad/s"}};
+
+void usm_sim_csv_header(FILE *f)
+{
+    usm_csv_header(f, columns, (int)(sizeof columns / sizeof columns[0]));
+}
+
+int usm_sim_csv_row(const usm_sim_sample *s, FILE *f)
+{
+    /* shortest exact text: a run started from this file continues exactly */
+    const double v[] = {s->t, s->phi, s->theta, s->psi, s->phidot, s->thetadot, s->psidot,
+                        s->rotor_angle, s->rotor_speed, s->out[USM_OUT_F_N],
+                        s->out[USM_OUT_F_T], s->out[USM_OUT_V_REL],
+                        s->have_avg ? s->theta_avg : NAN, s->have_avg ? s->rotor_speed_avg : NAN};
+    for (size_t k = 0; k < sizeof v / sizeof v[0]; ++k)
+        usm_csv_num(f, k == 0, v[k]);
+    fputc('\n', f);
+    return ferror(f) ? -1 : 0;
+}
+
+static const char *start_text(const usm_sim_report *a, char *buf, size_t len)
+{
+    switch (a->opt->start) {
+    case USM_SIM_FROM_REST:
+        snprintf(buf, len, "rest (tilt0 = %g rad about the excitation axis, zero rates)",
+                 a->opt->tilt0);
+        break;
+    case USM_SIM_FROM_STATIONARY:
+        snprintf(buf, len, "the stationary orbit");
+        break;
+    case USM_SIM_FROM_STATE:
+        snprintf(buf, len, "the state in %s", a->from_file);
+        break;
+    }
+    return buf;
+}
+
+static void episodes_line(FILE *out, const char *what, const usm_sim_episodes *e,
+                          const char *worst_what, const char *unit)
+{
+    fprintf(out, "  %-22s %ld interval%s, first from t = %.6g s, last until t = %.6g s, total "
+                 "%.6g s; %s %.4g %s\n",
+            what, e->count, e->count == 1 ? "" : "s", e->first, e->last, e->total, worst_what,
+            e->worst, unit);
+}
+
+void usm_sim_write_table(const usm_sim_report *a, FILE *out)
+{
+    const usm_sim_summary *s = a->summary;
+    const double wall = a->wall;
+    char buf[512];
+    const double T = 1.0 / a->params->f;
+    fprintf(out, "usm simulate: model %s from %s\n", a->model->name,
+            start_text(a, buf, sizeof buf));
+    fprintf(out, "  %-22s [%.9g, %.9g] s (%ld excitation periods of %.6g s)\n", "interval", s->t0,
+            s->t1, s->periods, T);
+    fprintf(out, "  %-22s %s%s%s\n", "stop", usm_sim_stop_name(s->stop), s->reason[0] ? ": " : "",
+            s->reason);
+    fprintf(out, "  %-22s %.9g s\n", "reached", s->t_reached);
+    fprintf(out, "  %-22s %ld steps, %ld f evaluations, %ld Jacobians, %.3g s wall, rtol %g\n",
+            "integrator", s->steps, s->rhs_evals, s->jac_evals, wall, a->opt->rtol);
+    fprintf(out, "  %-22s [%.6g, %.6g] rad\n", "tilt range", s->theta_min, s->theta_max);
+    if (s->have_steady)
+        fprintf(out, "  %-22s theta = %.10g rad, rotor speed = %.10g 1/s\n", "stationary solution",
+                s->steady.theta, s->steady.rotor_speed);
+    else
+        fprintf(out, "  %-22s none (%s): settling is not defined\n", "stationary solution",
+                s->steady_message);
+    if (s->periods > 0) {
+        fprintf(out, "  %-22s theta = %.10g rad, rotor speed = %.10g 1/s\n", "last period mean",
+                s->theta_avg_end, s->rotor_speed_avg_end);
+        if (s->have_steady)
+            fprintf(out, "  %-22s theta %+.3e, rotor speed %+.3e (relative to stationary)\n",
+                    "difference at the end", s->theta_rel_end, s->rotor_speed_rel_end);
+    }
+    if (s->settled)
+        fprintf(out,
+                "  %-22s yes, at t = %.6g s (%.0f periods after the start); period means of "
+                "theta and rotor speed within %g of stationary from then to the end (%ld "
+                "periods)\n",
+                "settled", s->t_settle, (s->t_settle - s->t0) / T, s->settle_tol,
+                s->periods - (long)floor((s->t_settle - s->t0) / T + 0.5));
+    else if (s->have_steady)
+        fprintf(out,
+                "  %-22s no (tolerance %g relative, held for %d periods to the end of the run)\n",
+                "settled", s->settle_tol, s->settle_periods);
+    if (s->contact_open.count)
+        episodes_line(out, "F_n < 0 (contact opens)", &s->contact_open, "most negative F_n", "N");
+    if (s->stick_checked && s->stick_exceeded.count)
+        episodes_line(out, "|F_t| > mu0 F_n", &s->stick_exceeded, "largest |F_t| - mu0 F_n", "N");
+}
+
+static json_t *episodes_json(const usm_sim_episodes *e, const char *worst_key)
+{
+    json_t *o = json_object();
+    int ok = o != NULL;
+    usm_json_put(o, "count", json_integer(e->count), &ok);
+    if (e->count) {
+        usm_json_put(o, "first", usm_json_real(e->first), &ok);
+        usm_json_put(o, "last", usm_json_real(e->last), &ok);
+        usm_json_put(o, "total", usm_json_real(e->total), &ok);
+        usm_json_put(o, worst_key, usm_json_real(e->worst), &ok);
+    }
+    if (!ok) {
+        json_decref(o);
+        return NULL;
+    }
+    return o;
+}
+
+static json_t *summary_json(const usm_sim_report *a)
+{
+    const usm_sim_summary *s = a->summary;
+    const double wall = a->wall;
+    const usm_model *m = a->model;
+    json_t *o = json_object(), *fs = json_object(), *x = json_array(), *names = json_array();
+    int ok = o && fs && x && names;
+    static const char *const start[] = {"rest", "stationary", "file"};
+    usm_json_put(o, "model", json_string(m->name), &ok);
+    usm_json_put(o, "parameters", usm_json_params(a->params), &ok);
+    usm_json_put(o, "start", json_string(start[a->opt->start]), &ok);
+    if (a->opt->start == USM_SIM_FROM_REST)
+        usm_json_put(o, "tilt0", usm_json_real(a->opt->tilt0), &ok);
+    if (a->from_file)
+        usm_json_put(o, "from", json_string(a->from_file), &ok);
+    usm_json_put(o, "out", a->out ? json_string(a->out) : json_null(), &ok);
+    usm_json_put(o, "rate", usm_json_real(a->opt->rate), &ok);
+    usm_json_put(o, "rtol", usm_json_real(a->opt->rtol), &ok);
+    usm_json_put(o, "t0", usm_json_real(s->t0), &ok);
+    usm_json_put(o, "t1", usm_json_real(s->t1), &ok);
+    usm_json_put(o, "t_reached", usm_json_real(s->t_reached), &ok);
+    usm_json_put(o, "completed", json_boolean(s->stop == USM_SIM_COMPLETED), &ok);
+    usm_json_put(o, "stop", json_string(usm_sim_stop_name(s->stop)), &ok);
+    if (s->reason[0])
+        usm_json_put(o, "reason", json_string(s->reason), &ok);
+    usm_json_put(o, "steps", json_integer(s->steps), &ok);
+    usm_json_put(o, "rhs_evals", json_integer(s->rhs_evals), &ok);
+    usm_json_put(o, "jac_evals", json_integer(s->jac_evals), &ok);
+    usm_json_put(o, "error_test_fails", json_integer(s->error_test_fails), &ok);
+    usm_json_put(o, "newton_fails", json_integer(s->newton_fails), &ok);
+    usm_json_put(o, "twist_growth", usm_json_real(s->twist_growth), &ok);
+    if (s->warning[0])
+        usm_json_put(o, "warning", json_string(s->warning), &ok);
+    usm_json_put(o, "samples", json_integer(s->samples), &ok);
+    usm_json_put(o, "wall_time", usm_json_real(wall), &ok);
+    usm_json_put(o, "periods", json_integer(s->periods), &ok);
+    usm_json_put(o, "theta_min", usm_json_real(s->theta_min), &ok);
+    usm_json_put(o, "theta_max", usm_json_real(s->theta_max), &ok);
+    if (s->have_steady)
+        usm_json_put(o, "stationary", usm_json_root(&s->steady), &ok);
+    else {
+        usm_json_put(o, "stationary", json_null(), &ok);
+        usm_json_put(o, "stationary_error", json_string(s->steady_message), &ok);
+    }
+    usm_json_put(o, "settle_tol", usm_json_real(s->settle_tol), &ok);
+    usm_json_put(o, "settle_periods", json_integer(s->settle_periods), &ok);
+    usm_json_put(o, "settled", json_boolean(s->settled), &ok);
+    usm_json_put(o, "t_settle", s->settled ? usm_json_real(s->t_settle) : json_null(), &ok);
+    if (s->periods > 0) {
+        usm_json_put(o, "theta_avg_end", usm_json_real(s->theta_avg_end), &ok);
+        usm_json_put(o, "rotor_speed_avg_end", usm_json_real(s->rotor_speed_avg_end), &ok);
+        if (s->have_steady) {
+            usm_json_put(o, "theta_rel_end", usm_json_real(s->theta_rel_end), &ok);
+            usm_json_put(o, "rotor_speed_rel_end", usm_json_real(s->rotor_speed_rel_end), &ok);
+        }
+    }
+    usm_json_put(o, "contact_open", episodes_json(&s->contact_open, "min_F_n"), &ok);
+    if (s->stick_checked)
+        usm_json_put(o, "stick_exceeded", episodes_json(&s->stick_exceeded, "max_excess"), &ok);
+    for (int i = 0; i < m->nx && ok; ++i) {
+        ok = ok && json_array_append_new(x, usm_json_real(s->final_x[i])) == 0;
+        ok = ok && json_array_append_new(names, json_string(m->state_names[i])) == 0;
+    }
+    usm_json_put(fs, "t", usm_json_real(s->t_reached), &ok);
+    usm_json_put(fs, "x", x, &ok);
+    usm_json_put(fs, "names", names, &ok);
+    usm_json_put(fs, "phi_R", usm_json_real(s->final_rotor_angle), &ok);
+    usm_json_put(o, "final_state", fs, &ok);
+    if (!ok) {
+        json_decref(o);
+        return NULL;
+    }
+    return o;
+}
+
+int usm_sim_write_json(const usm_sim_report *r, FILE *out)
+{
+    return usm_json_write(summary_json(r), out);
+}

@@ -1,0 +1,147 @@
+/* usm_io.h: reading and writing the files of the usm command, for any
+ * program: parameter files, numbers as users type them, a simulation's start
+ * state, and the outputs of `usm steady` and `usm sweep` (the same keys,
+ * columns and digits as the command; formats in docs/cli.md and docs/sweep.md).
+ *
+ * CSV dialect (sweep, map, simulate, report): one header line, a column with
+ * a unit named "NAME [UNIT]"; numbers as the shortest text that reads back
+ * exactly; an empty field where a value does not exist.  JSON numbers have 17
+ * significant digits (they read back bit for bit); a non-finite value is null.
+ *
+ * Messages name the file (or field) and the reason; they get USM_IO_MSG_LEN
+ * bytes, room for a path.
+ *
+ * Thread safety: no global mutable state; every function may be called from
+ * several threads at once on distinct arguments.
+ */
+#ifndef USM_IO_H
+#define USM_IO_H
+
+#include <stddef.h>
+#include <stdio.h>
+
+#include "usm.h"
+#include "usm_design.h"
+#include "usm_simulate.h"
+#include "usm_sweep.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Length of the message buffers of this header. */
+#define USM_IO_MSG_LEN 1024
+
+/* ---- numbers and parameter files ------------------------------------------- */
+
+/* Parse the `len` characters at `text` as a finite double (strtod syntax,
+ * the whole text used, no blanks).  Rejected, with "FIELD: \"text\" reason"
+ * in msg and USM_EINPUT: not a number, nan/inf, overflow (|x| > DBL_MAX) and
+ * underflow: a nonzero text whose value is below the smallest normal double
+ * (DBL_MIN, 2.2e-308), whether it would round to a subnormal or to 0 -- a
+ * value that small is a typing mistake, and silently using 0 instead is a
+ * wrong answer.  Integers of any size are read as doubles.  The command reads
+ * --set values and parameter files with it. */
+int usm_parse_number(const char *field, const char *text, size_t len, double *out,
+                     char msg[USM_IO_MSG_LEN]);
+
+/* Set the parameters named in the parameter file at `path`, a JSON object
+ * {"NAME": number, ...}, in *p (others keep their value).  USM_OK, or
+ * USM_EINPUT with "PATH[:LINE:COLUMN]: reason" in msg. */
+int usm_params_read_file(const char *path, usm_params *p, char msg[USM_IO_MSG_LEN]);
+
+/* The same on the `len` bytes at `text` (which need not end in NUL); `path`
+ * names them in messages.  *p is changed only when the whole text is good.
+ * Numbers go through usm_parse_number(). */
+int usm_params_parse_text(const char *path, const char *text, size_t len, usm_params *p,
+                          char msg[USM_IO_MSG_LEN]);
+
+/* ---- a simulation's start state --------------------------------------------- */
+
+/* Read the state of model m from the file at path into opt (x0, t0,
+ * rotor_angle0): a CSV time history written by `usm simulate` (its last row)
+ * or its JSON summary ("final_state").  USM_OK, or USM_EINPUT with
+ * "PATH[:LINE]: reason" in msg. */
+int usm_sim_read_start(const char *path, const usm_model *m, usm_sim_options *opt,
+                       char msg[USM_IO_MSG_LEN]);
+
+/* The time history's CSV header: t [s], phi theta psi [rad], phidot thetadot
+ * psidot [rad/s], phi_R [rad], phi_Rdot [rad/s], F_n F_t [N], v_rel [m/s],
+ * theta_avg [rad], phi_Rdot_avg [rad/s] (the last two: means over the last
+ * complete excitation period, empty before the first). */
+void usm_sim_csv_header(FILE *out);
+
+/* One row of the time history (exact digits: usm_sim_read_start continues a
+ * run from its last row).  0, or -1 on a write error. */
+int usm_sim_csv_row(const usm_sim_sample *s, FILE *out);
+
+/* What `usm simulate` reports about a run. */
+typedef struct usm_sim_report {
+    const usm_model *model;
+    const usm_params *params;
+    const usm_sim_options *opt;
+    const char *from_file;          /* where a FROM_STATE start came from, or NULL */
+    const char *out;                /* the time history's file, or NULL */
+    const usm_sim_summary *summary; /* of usm_sim_run */
+    double wall;                    /* seconds the run took */
+} usm_sim_report;
+
+/* The summary as `usm simulate` prints it for people. */
+void usm_sim_write_table(const usm_sim_report *r, FILE *out);
+
+/* The summary as the `usm simulate --json` object and a newline (its
+ * "final_state" is what usm_sim_read_start reads).  0, or -1 on a write error
+ * or when out of memory. */
+int usm_sim_write_json(const usm_sim_report *r, FILE *out);
+
+/* ---- stationary solutions ----------------------------------------------------- */
+
+/* What `usm steady` writes. */
+typedef struct usm_steady_report {
+    const usm_model *model;
+    const usm_params *params;
+    const usm_steady *steady;          /* its roots; 0 roots when error is set */
+    const char *error;                 /* NULL when a root was found */
+    const usm_floquet_result *floquet; /* of root 0, or NULL */
+} usm_steady_report;
+
+/* The `usm steady --json` object and a newline to out.  0, or -1 on a write
+ * error or when out of memory. */
+int usm_steady_write_json(const usm_steady_report *r, FILE *out);
+
+/* The human-readable table of `usm steady` (only for a report without error). */
+void usm_steady_table(const usm_steady_report *r, FILE *out);
+
+/* ---- sweeps -------------------------------------------------------------------- */
+
+/* The sweep's CSV table: a header with units, one row per grid point, then the
+ * events as comment lines starting with '#'.  `over` names the swept
+ * parameter; floquet != 0 adds the multiplier columns.  0, or -1 on a write
+ * error. */
+int usm_sweep_csv(const usm_sweep *s, const char *over, int floquet, FILE *out);
+
+/* The `usm sweep --json` object and a newline to out; p: the parameters apart
+ * from the swept one.  0, or -1 on a write error or when out of memory. */
+int usm_sweep_write_json(const usm_sweep *s, const usm_model *m, const usm_params *p,
+                         const char *over, FILE *out);
+
+/* ---- sensitivities -------------------------------------------------------------- */
+
+/* The `usm sensitivity --json` object and a newline to out: for each output k
+ * with want[k], its value, the derivatives "d" and the elasticities in every
+ * parameter.  0, or -1 on a write error or when out of memory. */
+int usm_sensitivity_write_json(const usm_model *m, const usm_params *p,
+                               const usm_sensitivity_result *r, const int want[USM_SENS_COUNT],
+                               FILE *out);
+
+/* The table of `usm sensitivity`: per output the parameters by decreasing
+ * |elasticity|. */
+void usm_sensitivity_write_table(const usm_model *m, const usm_params *p,
+                                 const usm_sensitivity_result *r, const int want[USM_SENS_COUNT],
+                                 FILE *out);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* USM_IO_H */
