@@ -208,12 +208,14 @@ void usm_floquet_free(usm_floquet *f)
 static int coefficient_matrix(usm_floquet *f, double t, gsl_matrix *G)
 {
     const int n = f->n;
-    double orbit[2 * USM_MAX_NX], Mbuf[NN], Jf[NN], Jm[NN];
+    double orbit[2 * USM_MAX_NX], lin[3 * NN];
     f->m->steady_state(f->u, f->beta, t, &f->p, orbit);
-    const double *x = orbit, *xdot = orbit + n;
-    f->m->mass(x, &f->p, Mbuf);
-    f->m->jac_rhs(x, t, &f->p, Jf);
-    f->m->jac_mass(x, xdot, &f->p, Jm);
+    /* M, df/dx and d(M v)/dx in one pass (the generated fused kernel shares
+     * their common subexpressions, which the three separate kernels
+     * recompute) */
+    f->m->linearisation(orbit, orbit + n, t, &f->p, lin);
+    double *Mbuf = lin;
+    const double *Jf = lin + n * n, *Jm = lin + 2 * n * n;
     for (int k = 0; k < n * n; ++k)
         G->data[k] = Jf[k] - Jm[k]; /* G is n x n with tda n (gsl_matrix_alloc) */
     if (usm_solve_dense(n, Mbuf, G->data) != 0)
