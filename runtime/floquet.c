@@ -90,6 +90,15 @@ struct usm_floquet {
     /* Magnus: S G S^{-1} at t0 and t0 + T, and whether G is affine in t */
     double Ga[USM_MAX_NX * USM_MAX_NX], Gb[USM_MAX_NX * USM_MAX_NX];
     int affine;
+    /* M, df/dx and d(M v)/dx from the fused kernel (one pass sharing their
+     * common subexpressions: 15-30 % faster than the three kernels) for the
+     * methods that evaluate them thousands of times per period (variational,
+     * exponential).  The Magnus method (the default) evaluates them three
+     * times per period, where the gain is nil, and keeps the three kernels:
+     * a change in the last bit of G moves a nearly repeated multiplier pair
+     * by up to ~1e-7, and the default's results stay those of earlier
+     * versions. */
+    int fused;
     int magnus_steps;    /* steps of the last Magnus result (0: one exponential) */
     int eval_valid;      /* eval already holds the eigenvalues of Psi */
     double magnus_error; /* its estimated relative error */
@@ -210,12 +219,15 @@ static int coefficient_matrix(usm_floquet *f, double t, gsl_matrix *G)
     const int n = f->n;
     double orbit[2 * USM_MAX_NX], lin[3 * NN];
     f->m->steady_state(f->u, f->beta, t, &f->p, orbit);
-    /* M, df/dx and d(M v)/dx in one pass (the generated fused kernel shares
-     * their common subexpressions, which the three separate kernels
-     * recompute) */
-    f->m->linearisation(orbit, orbit + n, t, &f->p, lin);
-    double *Mbuf = lin;
-    const double *Jf = lin + n * n, *Jm = lin + 2 * n * n;
+    const double *x = orbit, *xdot = orbit + n;
+    double *Mbuf = lin, *Jf = lin + n * n, *Jm = lin + 2 * n * n;
+    if (f->fused)
+        f->m->linearisation(x, xdot, t, &f->p, lin);
+    else {
+        f->m->mass(x, &f->p, Mbuf);
+        f->m->jac_rhs(x, t, &f->p, Jf);
+        f->m->jac_mass(x, xdot, &f->p, Jm);
+    }
     for (int k = 0; k < n * n; ++k)
         G->data[k] = Jf[k] - Jm[k]; /* G is n x n with tda n (gsl_matrix_alloc) */
     if (usm_solve_dense(n, Mbuf, G->data) != 0)
@@ -775,6 +787,7 @@ int usm_floquet_compute(usm_floquet *f, const usm_params *p, const usm_steady_so
     }
     f->p = *p;
     f->eval_valid = 0;
+    f->fused = opt->method == USM_FLOQUET_VARIATIONAL || opt->method == USM_FLOQUET_EXPONENTIAL;
     memcpy(f->u, sol->u, sizeof f->u);
     f->beta = sol->beta;
     const double period = 1.0 / p->f;
