@@ -112,8 +112,10 @@ struct usm_steady {
     root_entry *roots;
     /* tilt grid (kept while the options do not change) and its samples in
      * the current solve: the seed's torque components, g where computed */
-    double *th, *ca, *sa, *g;
+    double *th, *ca, *sa, *q, *g; /* q = |A|^2 (NaN outside [Q_MIN, Q_MAX]) */
     unsigned char *gdone;
+    signed char *qsign;           /* g's sign from q, 0 when undecided */
+    int m2_ok;                    /* m0^2 in [Q_MIN, Q_MAX] */
     size_t grid_cap, ngrid, nsampled;
     double grid_key[3];
     double m2; /* m0^2 */
@@ -174,6 +176,8 @@ void usm_steady_free(usm_steady *s)
     free(s->sa);
     free(s->g);
     free(s->gdone);
+    free(s->q);
+    free(s->qsign);
     free(s->brk);
     free(s);
 }
@@ -778,7 +782,13 @@ static int tilt_grid(usm_steady *s, const usm_steady_options *opt, size_t *n)
         unsigned char *gd = realloc(s->gdone, need * sizeof *gd);
         if (gd)
             s->gdone = gd;
-        if (!th || !ca || !sa || !g || !gd)
+        double *q = realloc(s->q, need * sizeof *q);
+        if (q)
+            s->q = q;
+        signed char *qs = realloc(s->qsign, need * sizeof *qs);
+        if (qs)
+            s->qsign = qs;
+        if (!th || !ca || !sa || !g || !gd || !q || !qs)
             return -1;
         s->grid_cap = need;
     }
@@ -813,9 +823,20 @@ static void sample_to(usm_steady *s, size_t k)
     double out[USM_SEED_COUNT];
     for (size_t i = s->nsampled; i <= k; ++i) {
         s->m->steady_seed(s->th[i], &s->p_unit, out);
-        s->ca[i] = out[USM_SEED_COS_ALPHA];
-        s->sa[i] = out[USM_SEED_SIN_ALPHA];
+        const double a = out[USM_SEED_COS_ALPHA], b = out[USM_SEED_SIN_ALPHA];
+        const double q = a * a + b * b;
+        s->ca[i] = a;
+        s->sa[i] = b;
+        s->q[i] = q >= Q_MIN && q <= Q_MAX ? q : NAN;
         s->gdone[i] = 0;
+        /* g's sign from |A|^2 alone where it is at least Q_MARGIN from
+         * m0^2: log and hypot are correct to a few ulps, so the sign cannot
+         * differ there (the margin is 5e-11 in g, beyond log's rounding at
+         * any |log m0| < 709); 0: undecided, see sample_sign */
+        s->qsign[i] = !s->m2_ok || isnan(s->q[i]) ? 0
+                      : s->q[i] < s->m2 * (1 - Q_MARGIN) ? -1
+                      : s->q[i] > s->m2 * (1 + Q_MARGIN) ? 1
+                                                          : 0;
     }
     if (k + 1 > s->nsampled)
         s->nsampled = k + 1;
@@ -833,25 +854,13 @@ static double sample_g(usm_steady *s, size_t i)
 }
 
 /* |A|^2 at sample i when it is a normal number far from overflow, else NaN. */
-static double sample_q(const usm_steady *s, size_t i)
-{
-    const double q = s->ca[i] * s->ca[i] + s->sa[i] * s->sa[i];
-    return q >= Q_MIN && q <= Q_MAX ? q : NAN;
-}
+static double sample_q(const usm_steady *s, size_t i) { return s->q[i]; }
 
-/* The sign of g at sample i: -1 (g < 0), +1 (g >= 0), 2 (not finite).  From
- * |A|^2 alone where it is at least Q_MARGIN from m0^2: log and hypot are
- * correct to a few ulps, so g's sign cannot differ there (the margin is
- * 5e-11 in g, beyond log's rounding at any |log m0| < 709). */
+/* The sign of g at sample i: -1 (g < 0), +1 (g >= 0), 2 (not finite). */
 static int sample_sign(usm_steady *s, size_t i)
 {
-    const double q = sample_q(s, i);
-    if (s->m2 >= Q_MIN && s->m2 <= Q_MAX && !isnan(q)) {
-        if (q < s->m2 * (1 - Q_MARGIN))
-            return -1;
-        if (q > s->m2 * (1 + Q_MARGIN))
-            return 1;
-    }
+    if (s->qsign[i])
+        return s->qsign[i];
     const double g = sample_g(s, i);
     return isnan(g) ? 2 : g < 0 ? -1 : 1;
 }
@@ -987,6 +996,7 @@ static int search_setup(usm_steady *s, const usm_params *p, const usm_steady_opt
     s->p_unit = *p;
     s->p_unit.m0 = 1.0;
     s->m2 = p->m0 * p->m0;
+    s->m2_ok = s->m2 >= Q_MIN && s->m2 <= Q_MAX;
     s->law_ready = law_still_holds(s);
     if (tilt_grid(s, opt, n) != 0) {
         snprintf(s->msg, USM_MSG_LEN, "out of memory");
