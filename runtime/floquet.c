@@ -90,15 +90,6 @@ struct usm_floquet {
     /* Magnus: S G S^{-1} at t0 and t0 + T, and whether G is affine in t */
     double Ga[USM_MAX_NX * USM_MAX_NX], Gb[USM_MAX_NX * USM_MAX_NX];
     int affine;
-    /* M, df/dx and d(M v)/dx from the fused kernel (one pass sharing their
-     * common subexpressions: 15-30 % faster than the three kernels) for the
-     * methods that evaluate them thousands of times per period (variational,
-     * exponential).  The Magnus method (the default) evaluates them three
-     * times per period, where the gain is nil, and keeps the three kernels:
-     * a change in the last bit of G moves a nearly repeated multiplier pair
-     * by up to ~1e-7, and the default's results stay those of earlier
-     * versions. */
-    int fused;
     int magnus_steps;    /* steps of the last Magnus result (0: one exponential) */
     int eval_valid;      /* eval already holds the eigenvalues of Psi */
     double magnus_error; /* its estimated relative error */
@@ -213,21 +204,25 @@ void usm_floquet_free(usm_floquet *f)
     free(f);
 }
 
-/* G(t) = M(xbar)^{-1} A(t), the coefficient matrix of the variational system. */
+/* G(t) = M(xbar)^{-1} A(t), the coefficient matrix of the variational system.
+ *
+ * From the three kernels, not the fused `linearisation` kernel: that one is
+ * 15-30 % faster per call and agrees with them to a last bit or two, but the
+ * multipliers are sensitive to such changes (measured: CVODES at rtol 1e-12
+ * moved by up to 4e-8 at the paper's point, the exponential method by 2e-7
+ * at d_R = 1e6, with the fused kernel), which broke the agreement between
+ * methods that tests/test_floquet_methods.c asserts, while the kernels take
+ * a few per cent of any method's time (Magnus: three calls per period; no
+ * change measurable in bench/usm_bench). */
 static int coefficient_matrix(usm_floquet *f, double t, gsl_matrix *G)
 {
     const int n = f->n;
-    double orbit[2 * USM_MAX_NX], lin[3 * NN];
+    double orbit[2 * USM_MAX_NX], Mbuf[NN], Jf[NN], Jm[NN];
     f->m->steady_state(f->u, f->beta, t, &f->p, orbit);
     const double *x = orbit, *xdot = orbit + n;
-    double *Mbuf = lin, *Jf = lin + n * n, *Jm = lin + 2 * n * n;
-    if (f->fused)
-        f->m->linearisation(x, xdot, t, &f->p, lin);
-    else {
-        f->m->mass(x, &f->p, Mbuf);
-        f->m->jac_rhs(x, t, &f->p, Jf);
-        f->m->jac_mass(x, xdot, &f->p, Jm);
-    }
+    f->m->mass(x, &f->p, Mbuf);
+    f->m->jac_rhs(x, t, &f->p, Jf);
+    f->m->jac_mass(x, xdot, &f->p, Jm);
     for (int k = 0; k < n * n; ++k)
         G->data[k] = Jf[k] - Jm[k]; /* G is n x n with tda n (gsl_matrix_alloc) */
     if (usm_solve_dense(n, Mbuf, G->data) != 0)
@@ -787,7 +782,6 @@ int usm_floquet_compute(usm_floquet *f, const usm_params *p, const usm_steady_so
     }
     f->p = *p;
     f->eval_valid = 0;
-    f->fused = opt->method == USM_FLOQUET_VARIATIONAL || opt->method == USM_FLOQUET_EXPONENTIAL;
     memcpy(f->u, sol->u, sizeof f->u);
     f->beta = sol->beta;
     const double period = 1.0 / p->f;
