@@ -444,7 +444,7 @@ static void friction_deps(usm_steady *s)
         v[2 * i + 1] = -v[2 * i] * 1.07;
     }
     usm_params base[2];
-    base[0] = s->p;
+    base[0] = base[1] = s->p;
     for (int k = 0; k < USM_NPARAMS; ++k)
         *usm_params_field(&base[1], &usm_param_table[k]) = 0.7317 + 0.1193 * k;
     memset(s->dep, 0, sizeof s->dep);
@@ -1006,7 +1006,7 @@ static int search_setup(usm_steady *s, const usm_params *p, const usm_steady_opt
 }
 
 /* The search over steps [0, n - 1), or, with primary_only, until the
- * primary root is settled: once a root is found with a key <= th[i] after
+ * primary root is settled: once a root is found with a key < th[i] after
  * step i, no later step can find one with a smaller key.  USM_OK, or a
  * status with the message of the search that found nothing. */
 static int search_run(usm_steady *s, const usm_params *p, const usm_steady_options *opt, size_t n,
@@ -1019,7 +1019,7 @@ static int search_run(usm_steady *s, const usm_params *p, const usm_steady_optio
         search_step(s, i, opt->xtol, &sc);
         for (size_t k = before; k < s->count; ++k)
             min_key = fmin(min_key, s->roots[k].key);
-        if (primary_only && s->count > 0 && min_key <= s->th[i])
+        if (primary_only && s->count > 0 && min_key < s->th[i])
             break;
     }
     if (sc.notes.oom) {
