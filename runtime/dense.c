@@ -243,3 +243,143 @@ int usm_expm_dense(int n, const double *A, double *E)
             return -1;
     return 0;
 }
+
+/* ---- the exponential with its Frechet derivative ------------------------------ */
+
+/* A block upper triangular matrix [[a, b], [0, a]]: products, sums and
+ * solves of such matrices stay in the form, at three n x n products per
+ * product instead of the eight of the 2n x 2n matrix. */
+typedef struct block_pair {
+    double a[NN], b[NN];
+} block_pair;
+
+static void pair_mul(int n, const block_pair *X, const block_pair *Y, block_pair *Z)
+{
+    double t[NN];
+    usm_matmul_dense(n, X->a, Y->a, Z->a);
+    usm_matmul_dense(n, X->a, Y->b, Z->b);
+    usm_matmul_dense(n, X->b, Y->a, t);
+    for (int e = 0; e < n * n; ++e)
+        Z->b[e] += t[e];
+}
+
+int usm_expm_frechet_dense(int n, const double *A, const double *C, double *E, double *L)
+{
+    block_pair As, P[5], U, V, W, X;
+    const int nn = n * n;
+    if (n < 1 || n > USM_EXPM_MAX_N)
+        return -1;
+    /* the 1-norm of [[A, C], [0, A]], as the 2n x 2n exponential would take it */
+    double a1 = 0;
+    for (int j = 0; j < n; ++j) {
+        double left = 0, right = 0;
+        for (int i = 0; i < n; ++i) {
+            left += fabs(A[i * n + j]);
+            right += fabs(A[i * n + j]) + fabs(C[i * n + j]);
+        }
+        if (!(left <= a1))
+            a1 = left;
+        if (!(right <= a1))
+            a1 = right;
+    }
+    if (!isfinite(a1))
+        return -1;
+    int s = 0;
+    if (a1 > theta[4])
+        s = (int)ceil(log2(a1 / theta[4]));
+    const double scale = ldexp(1.0, -s);
+    for (int k = 0; k < nn; ++k) {
+        As.a[k] = A[k] * scale;
+        As.b[k] = C[k] * scale;
+    }
+    memset(&P[0], 0, sizeof P[0]);
+    for (int i = 0; i < n; ++i)
+        P[0].a[i * n + i] = 1.0;
+    pair_mul(n, &As, &As, &P[1]);
+    const double *b;
+    int m;
+    if (s == 0 && a1 <= theta[0]) {
+        b = b3;
+        m = 3;
+    } else if (s == 0 && a1 <= theta[1]) {
+        b = b5;
+        m = 5;
+    } else if (s == 0 && a1 <= theta[2]) {
+        b = b7;
+        m = 7;
+    } else if (s == 0 && a1 <= theta[3]) {
+        b = b9;
+        m = 9;
+    } else {
+        b = b13;
+        m = 13;
+    }
+    if (m >= 5)
+        pair_mul(n, &P[1], &P[1], &P[2]);
+    if (m >= 7)
+        pair_mul(n, &P[2], &P[1], &P[3]);
+    if (m == 9)
+        pair_mul(n, &P[3], &P[1], &P[4]);
+    if (m < 13) {
+        memset(&W, 0, sizeof W);
+        memset(&V, 0, sizeof V);
+        for (int k = 0; 2 * k <= m; ++k)
+            for (int e = 0; e < nn; ++e) {
+                W.a[e] += b[2 * k + 1] * P[k].a[e];
+                W.b[e] += b[2 * k + 1] * P[k].b[e];
+                V.a[e] += b[2 * k] * P[k].a[e];
+                V.b[e] += b[2 * k] * P[k].b[e];
+            }
+        pair_mul(n, &As, &W, &U);
+    } else {
+        for (int e = 0; e < nn; ++e) {
+            X.a[e] = b[13] * P[3].a[e] + b[11] * P[2].a[e] + b[9] * P[1].a[e];
+            X.b[e] = b[13] * P[3].b[e] + b[11] * P[2].b[e] + b[9] * P[1].b[e];
+        }
+        pair_mul(n, &P[3], &X, &W);
+        for (int e = 0; e < nn; ++e) {
+            W.a[e] += b[7] * P[3].a[e] + b[5] * P[2].a[e] + b[3] * P[1].a[e] + b[1] * P[0].a[e];
+            W.b[e] += b[7] * P[3].b[e] + b[5] * P[2].b[e] + b[3] * P[1].b[e];
+        }
+        pair_mul(n, &As, &W, &U);
+        for (int e = 0; e < nn; ++e) {
+            X.a[e] = b[12] * P[3].a[e] + b[10] * P[2].a[e] + b[8] * P[1].a[e];
+            X.b[e] = b[12] * P[3].b[e] + b[10] * P[2].b[e] + b[8] * P[1].b[e];
+        }
+        pair_mul(n, &P[3], &X, &V);
+        for (int e = 0; e < nn; ++e) {
+            V.a[e] += b[6] * P[3].a[e] + b[4] * P[2].a[e] + b[2] * P[1].a[e] + b[0] * P[0].a[e];
+            V.b[e] += b[6] * P[3].b[e] + b[4] * P[2].b[e] + b[2] * P[1].b[e];
+        }
+    }
+    /* (V - U) R = V + U, block by block: Qa Ra = Pa, Qa Rb = Pb - Qb Ra */
+    double Q[NN], R[2][NN];
+    for (int e = 0; e < nn; ++e) {
+        Q[e] = V.a[e] - U.a[e];
+        R[0][e] = V.a[e] + U.a[e];
+    }
+    if (usm_solve_dense(n, Q, R[0]) != 0)
+        return -1;
+    usm_matmul_dense(n, V.b, R[0], X.a);
+    usm_matmul_dense(n, U.b, R[0], X.b);
+    for (int e = 0; e < nn; ++e) {
+        Q[e] = V.a[e] - U.a[e];
+        R[1][e] = V.b[e] + U.b[e] - (X.a[e] - X.b[e]);
+    }
+    if (usm_solve_dense(n, Q, R[1]) != 0)
+        return -1;
+    memcpy(W.a, R[0], sizeof(double) * (size_t)nn);
+    memcpy(W.b, R[1], sizeof(double) * (size_t)nn);
+    for (int k = 0; k < s; ++k) {
+        pair_mul(n, &W, &W, &X);
+        memcpy(W.a, X.a, sizeof(double) * (size_t)nn);
+        memcpy(W.b, X.b, sizeof(double) * (size_t)nn);
+    }
+    for (int e = 0; e < nn; ++e) {
+        if (!isfinite(W.a[e]) || !isfinite(W.b[e]))
+            return -1;
+        E[e] = W.a[e];
+        L[e] = W.b[e];
+    }
+    return 0;
+}

@@ -20,6 +20,15 @@
  * 0, or -1 when A is not finite or the Pade denominator is singular. */
 int usm_expm_dense(int n, const double *A, double *E);
 
+/* E = exp(A) and L = L(A, C), the Frechet derivative of exp at A in the
+ * direction C (the upper right block of exp([[A, C], [0, A]])), all n x n
+ * row-major, 1 <= n <= USM_EXPM_MAX_N: the scaling and squaring of
+ * usm_expm_dense carried out on the block triangular matrix, whose blocks
+ * stay in that form (Al-Mohy and Higham, SIAM J. Matrix Anal. Appl. 30 (2009)
+ * 1639-1657, use the same structure); the degree and scaling are chosen from
+ * the block matrix's 1-norm.  0, or -1 as usm_expm_dense. */
+int usm_expm_frechet_dense(int n, const double *A, const double *C, double *E, double *L);
+
 /* C = A B, n x n row-major (C may not alias A or B). */
 void usm_matmul_dense(int n, const double *A, const double *B, double *C);
 

@@ -204,7 +204,16 @@ void usm_floquet_free(usm_floquet *f)
     free(f);
 }
 
-/* G(t) = M(xbar)^{-1} A(t), the coefficient matrix of the variational system. */
+/* G(t) = M(xbar)^{-1} A(t), the coefficient matrix of the variational system.
+ *
+ * From the three kernels, not the fused `linearisation` kernel: that one is
+ * 15-30 % faster per call and agrees with them to a last bit or two, but the
+ * multipliers are sensitive to such changes (measured: CVODES at rtol 1e-12
+ * moved by up to 4e-8 at the paper's point, the exponential method by 2e-7
+ * at d_R = 1e6, with the fused kernel), which broke the agreement between
+ * methods that tests/test_floquet_methods.c asserts, while the kernels take
+ * a few per cent of any method's time (Magnus: three calls per period; no
+ * change measurable in bench/usm_bench). */
 static int coefficient_matrix(usm_floquet *f, double t, gsl_matrix *G)
 {
     const int n = f->n;

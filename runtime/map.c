@@ -14,18 +14,21 @@
 
 /* ---- one point ------------------------------------------------------------------- */
 
-int usm_point_evaluate(usm_steady *s, usm_floquet *f, const usm_params *p,
-                       const usm_steady_options *steady_opt, const usm_steady_solution *root,
-                       int floquet, double t0, const usm_floquet_options *floquet_opt,
-                       usm_point *out)
+/* The point, the stationary part by the full search (warm == 0), from the
+ * given root, or by the warm start from guess (warm == 1). */
+static int point_evaluate(usm_steady *s, usm_floquet *f, const usm_params *p,
+                          const usm_steady_options *steady_opt, const usm_steady_solution *root,
+                          int warm, int floquet, double t0, const usm_floquet_options *floquet_opt,
+                          usm_point *out)
 {
     memset(out, 0, sizeof *out);
     out->floquet.max_modulus = NAN;
-    if (root) {
+    if (root && !warm) {
         out->sol = *root;
         out->roots = 1;
     } else {
-        const int st = usm_steady_solve(s, p, steady_opt);
+        const int st = warm ? usm_steady_solve_warm(s, p, steady_opt, root)
+                            : usm_steady_solve(s, p, steady_opt);
         if (st == USM_EINPUT) {
             snprintf(out->error, USM_MSG_LEN, "%s", usm_steady_message(s));
             return USM_EINPUT;
@@ -35,7 +38,7 @@ int usm_point_evaluate(usm_steady *s, usm_floquet *f, const usm_params *p,
             return USM_OK;
         }
         out->sol = *usm_steady_root(s, 0);
-        out->roots = (int)usm_steady_count(s);
+        out->roots = warm ? 0 : (int)usm_steady_count(s);
     }
     out->exists = 1;
     if (!floquet)
@@ -47,6 +50,22 @@ int usm_point_evaluate(usm_steady *s, usm_floquet *f, const usm_params *p,
     else
         out->has_floquet = 1;
     return USM_OK;
+}
+
+int usm_point_evaluate(usm_steady *s, usm_floquet *f, const usm_params *p,
+                       const usm_steady_options *steady_opt, const usm_steady_solution *root,
+                       int floquet, double t0, const usm_floquet_options *floquet_opt,
+                       usm_point *out)
+{
+    return point_evaluate(s, f, p, steady_opt, root, 0, floquet, t0, floquet_opt, out);
+}
+
+int usm_point_evaluate_warm(usm_steady *s, usm_floquet *f, const usm_params *p,
+                            const usm_steady_options *steady_opt,
+                            const usm_steady_solution *guess, int floquet, double t0,
+                            const usm_floquet_options *floquet_opt, usm_point *out)
+{
+    return point_evaluate(s, f, p, steady_opt, guess, 1, floquet, t0, floquet_opt, out);
 }
 
 /* ---- options ----------------------------------------------------------------------- */
@@ -69,6 +88,7 @@ void usm_map_options_default(usm_map_options *opt)
     usm_floquet_options_default(&opt->floquet);
     opt->threads = 2;
     opt->boundaries = 1;
+    opt->warm_start = 0;
 }
 
 const char *usm_map_boundary_name(usm_map_boundary_kind kind)
@@ -246,14 +266,21 @@ static void worker_free(void *state)
     free(w);
 }
 
+/* Point (x, y); guess: a neighbouring point's primary root for the warm
+ * start (map->opt.warm_start), or NULL. */
 static int eval_at(usm_map *map, worker *w, size_t column, double x, double y, int floquet,
-                   usm_point *pt)
+                   const usm_steady_solution *guess, usm_point *pt)
 {
     usm_params q = map->p;
     *usm_params_field(&q, map->xi) = x;
     *usm_params_field(&q, map->yi) = y;
-    if (usm_point_evaluate(w->steady, w->floquet, &q, NULL, NULL, floquet, map->opt.t0, &map->opt.floquet, pt) !=
-        USM_OK) {
+    const int st =
+        map->opt.warm_start
+            ? usm_point_evaluate_warm(w->steady, w->floquet, &q, NULL, guess, floquet,
+                                      map->opt.t0, &map->opt.floquet, pt)
+            : usm_point_evaluate(w->steady, w->floquet, &q, NULL, NULL, floquet, map->opt.t0,
+                                 &map->opt.floquet, pt);
+    if (st != USM_OK) {
         snprintf(map->col_msg + column * USM_MSG_LEN, USM_MSG_LEN, "at %s = %g, %s = %g: %.180s",
                  map->xi->name, x, map->yi->name, y, pt->error);
         return USM_EINPUT;
@@ -270,7 +297,8 @@ static int bisect(usm_map *map, worker *w, size_t column, usm_map_boundary_kind 
     usm_point pt;
     for (int it = 0; it < BISECT_MAXIT && fabs(b - a) > tol; ++it) {
         const double m = 0.5 * (a + b);
-        if (eval_at(map, w, column, x, m, kind == USM_MAP_BOUNDARY_STABILITY, &pt) != USM_OK)
+        if (eval_at(map, w, column, x, m, kind == USM_MAP_BOUNDARY_STABILITY, NULL, &pt) !=
+            USM_OK)
             return -1;
         const int im = usm_map_indicator(kind, &pt);
         if (im < 0)
@@ -294,7 +322,9 @@ static int column_task(void *ctx, void *state, size_t i)
         usm_map_cell *c = &map->cells[j * nx + i];
         c->x = x;
         c->y = usm_map_axis_value(&map->opt.y, (int)j);
-        if (eval_at(map, w, i, x, c->y, 1, &c->point) != USM_OK)
+        const usm_map_cell *prev = j > 0 ? &map->cells[(j - 1) * nx + i] : NULL;
+        if (eval_at(map, w, i, x, c->y, 1, prev && prev->point.exists ? &prev->point.sol : NULL,
+                    &c->point) != USM_OK)
             return USM_EINPUT;
         map->col_failures[i] += c->point.exists && !c->point.has_floquet;
     }

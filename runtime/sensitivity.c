@@ -27,6 +27,7 @@
 #include <gsl/gsl_matrix.h>
 #include <gsl/gsl_permutation.h>
 
+#include "dense.h"
 #include "usm_design.h"
 
 #define NMAX USM_MAX_NX
@@ -71,7 +72,7 @@ struct usm_sensitivity {
     double complex *alpha, *beta;     /* MAX_STEPS x n */
     double T[NN], Tinv[NN]; /* tangent map on the orbit and its inverse */
     double d[NMAX];         /* balancing: Gh = D^-1 Gy D */
-    gsl_matrix *work, *Ework, *blk, *eblk, *inv;
+    gsl_matrix *work, *inv;
     gsl_permutation *perm, *perm2;
     gsl_vector *dscale;
     gsl_eigen_nonsymmv_workspace *eig;
@@ -94,10 +95,7 @@ usm_sensitivity *usm_sensitivity_alloc(const usm_model *m)
     s->alpha = malloc(sizeof *s->alpha * MAX_STEPS * NMAX);
     s->beta = malloc(sizeof *s->beta * MAX_STEPS * NMAX);
     s->work = gsl_matrix_alloc(n, n);
-    s->Ework = gsl_matrix_alloc(n, n);
     s->inv = gsl_matrix_alloc(n, n);
-    s->blk = gsl_matrix_alloc(2 * n, 2 * n);
-    s->eblk = gsl_matrix_alloc(2 * n, 2 * n);
     s->perm = gsl_permutation_alloc(n);
     s->perm2 = gsl_permutation_alloc(USM_MAX_NU);
     s->dscale = gsl_vector_alloc(n);
@@ -107,7 +105,7 @@ usm_sensitivity *usm_sensitivity_alloc(const usm_model *m)
     s->evecr = gsl_matrix_complex_alloc(n, n);
     s->evecl = gsl_matrix_complex_alloc(n, n);
     if (!s->steps || !s->WA || !s->WM || !s->wh || !s->alpha || !s->beta || !s->work ||
-        !s->Ework || !s->inv || !s->blk || !s->eblk || !s->perm || !s->perm2 || !s->dscale ||
+        !s->inv || !s->perm || !s->perm2 || !s->dscale ||
         !s->eig || !s->evalr || !s->evall || !s->evecr || !s->evecl) {
         usm_sensitivity_free(s);
         return NULL;
@@ -126,10 +124,7 @@ void usm_sensitivity_free(usm_sensitivity *s)
     free(s->alpha);
     free(s->beta);
     gsl_matrix_free(s->work);
-    gsl_matrix_free(s->Ework);
     gsl_matrix_free(s->inv);
-    gsl_matrix_free(s->blk);
-    gsl_matrix_free(s->eblk);
     gsl_permutation_free(s->perm);
     gsl_permutation_free(s->perm2);
     gsl_vector_free(s->dscale);
@@ -319,15 +314,16 @@ static int coordinates(usm_sensitivity *s, const usm_params *p, const usm_steady
 static int expm(usm_sensitivity *s, const double *Gh, double h, double *E)
 {
     const int n = s->n;
+    double X[NN], Eb[NN], d[NMAX];
     for (int i = 0; i < n * n; ++i)
-        s->work->data[i] = Gh[i] * h;
-    if (gsl_linalg_balance_matrix(s->work, s->dscale) != GSL_SUCCESS ||
-        gsl_linalg_exponential_ss(s->work, s->Ework, GSL_PREC_DOUBLE) != GSL_SUCCESS)
+        X[i] = Gh[i] * h;
+    /* dense.c's Pade exponential: several times faster than GSL's at n <= 9 */
+    usm_balance_dense(n, X, d);
+    if (usm_expm_dense(n, X, Eb) != 0)
         return -1;
     for (int i = 0; i < n; ++i)
         for (int j = 0; j < n; ++j)
-            E[i * n + j] = s->Ework->data[i * n + j] * gsl_vector_get(s->dscale, (size_t)i) /
-                           gsl_vector_get(s->dscale, (size_t)j);
+            E[i * n + j] = Eb[i * n + j] * d[i] / d[j];
     return 0;
 }
 
@@ -337,7 +333,6 @@ static int expm(usm_sensitivity *s, const double *Gh, double h, double *E)
 static int frechet_adjoint(usm_sensitivity *s, const double *X, const double *C, double *K)
 {
     const int n = s->n;
-    const size_t n2 = 2 * (size_t)n;
     double c = 0;
     for (int i = 0; i < n * n; ++i)
         c = fmax(c, fabs(C[i]));
@@ -345,22 +340,18 @@ static int frechet_adjoint(usm_sensitivity *s, const double *X, const double *C,
         memset(K, 0, sizeof(double) * (size_t)(n * n));
         return 0;
     }
-    gsl_matrix_set_zero(s->blk);
+    double XT[NN], Cs[NN], E[NN], L[NN];
     for (int i = 0; i < n; ++i)
         for (int j = 0; j < n; ++j) {
-            gsl_matrix_set(s->blk, (size_t)i, (size_t)j, X[j * n + i]);
-            gsl_matrix_set(s->blk, (size_t)(n + i), (size_t)(n + j), X[j * n + i]);
-            gsl_matrix_set(s->blk, (size_t)i, (size_t)(n + j), C[i * n + j] / c);
+            XT[i * n + j] = X[j * n + i];
+            Cs[i * n + j] = C[i * n + j] / c;
         }
-    (void)n2;
-    if (gsl_linalg_exponential_ss(s->blk, s->eblk, GSL_PREC_DOUBLE) != GSL_SUCCESS)
+    /* the block exponential in its block triangular form (dense.c): a third
+     * of the work of the 2n x 2n one */
+    if (usm_expm_frechet_dense(n, XT, Cs, E, L) != 0)
         return -1;
-    for (int i = 0; i < n; ++i)
-        for (int j = 0; j < n; ++j) {
-            K[i * n + j] = c * gsl_matrix_get(s->eblk, (size_t)i, (size_t)(n + j));
-            if (!isfinite(K[i * n + j]))
-                return -1;
-        }
+    for (int i = 0; i < n * n; ++i)
+        K[i] = c * L[i];
     return 0;
 }
 

@@ -87,6 +87,11 @@
 #define V_PER_DECADE 40         /* friction grid density */
 #define V_FAR 1e300             /* outermost slip speed searched [m/s] */
 #define MAX_BISECT_DEPTH 30     /* subdivision of a friction cell hiding extrema */
+/* |A|^2 decides g's sign alone between these (no underflow or overflow) and
+ * at least Q_MARGIN (relative) away from m0^2 */
+#define Q_MIN 1e-290
+#define Q_MAX 1e300
+#define Q_MARGIN 1e-10
 
 /* A root and its sort key: the refined tilt it was seeded from (shared by the
  * rotor speeds found at one tilt, unlike the polished tilts). */
@@ -105,14 +110,26 @@ struct usm_steady {
     gsl_vector *u0;
     size_t count, cap;
     root_entry *roots;
-    /* tilt grid of the current solve */
-    double *th, *na, *g;
-    size_t grid_cap;
+    /* tilt grid (kept while the options do not change) and its samples in
+     * the current solve: the seed's torque components, g where computed */
+    double *th, *ca, *sa, *q, *g; /* q = |A|^2 (NaN outside [Q_MIN, Q_MAX]) */
+    unsigned char *gdone;
+    signed char *qsign;           /* g's sign from q, 0 when undecided */
+    int m2_ok;                    /* m0^2 in [Q_MIN, Q_MAX] */
+    size_t grid_cap, ngrid, nsampled;
+    double grid_key[3];
+    double m2; /* m0^2 */
+    usm_steady_warm_outcome warm;
     /* friction law of the current solve (slip model): extrema and 0, ascending */
     double *brk;
     size_t nbrk, brk_cap;
     int law_ready;
     double mu_sup, mu_inf;
+    /* The analysis is kept between solves whose friction law is the same:
+     * dep[k] = 1 where parameter k enters the law (or the analysis' grid). */
+    unsigned char dep[USM_NPARAMS];
+    int dep_ready, law_kept;
+    usm_params law_p;  /* parameters of the kept analysis */
     char msg[USM_MSG_LEN];
 };
 
@@ -155,8 +172,12 @@ void usm_steady_free(usm_steady *s)
         gsl_vector_free(s->u0);
     free(s->roots);
     free(s->th);
-    free(s->na);
+    free(s->ca);
+    free(s->sa);
     free(s->g);
+    free(s->gdone);
+    free(s->q);
+    free(s->qsign);
     free(s->brk);
     free(s);
 }
@@ -401,7 +422,70 @@ static int friction_analyse(usm_steady *s)
         return -1;
     qsort(s->brk, s->nbrk, sizeof *s->brk, cmp_double);
     s->law_ready = 1;
+    s->law_kept = 1;
+    s->law_p = s->p;
     return 0;
+}
+
+/* Which parameters the friction law depends on, by probing the generated
+ * kernel: parameter k is a dependency when changing it changes a bit of the
+ * law's value or slope at any of 200 slip speeds from 1e-15 to 1e9 m/s of
+ * either sign, at the actual parameters or at a generic positive point (so
+ * that a factor that happens to vanish, mu0 = 0, does not hide kappa).  The
+ * law is a closed-form expression in the parameters, so one that enters it
+ * changes it at generic points.  A non-finite value anywhere makes every
+ * parameter a dependency (the analysis is then never reused).  kappa sets
+ * the analysis' grid and is always one. */
+static void friction_deps(usm_steady *s)
+{
+    double v[200];
+    for (int i = 0; i < 100; ++i) {
+        v[2 * i] = pow(10.0, -15.0 + 24.0 * i / 99.0) * (1.0 + 0.013 * i);
+        v[2 * i + 1] = -v[2 * i] * 1.07;
+    }
+    usm_params base[2];
+    base[0] = base[1] = s->p;
+    for (int k = 0; k < USM_NPARAMS; ++k)
+        *usm_params_field(&base[1], &usm_param_table[k]) = 0.7317 + 0.1193 * k;
+    memset(s->dep, 0, sizeof s->dep);
+    for (int b = 0; b < 2; ++b) {
+        double ref[200][2];
+        for (int i = 0; i < 200; ++i) {
+            s->m->friction(v[i], &base[b], ref[i]);
+            if (!isfinite(ref[i][0]) || !isfinite(ref[i][1])) {
+                memset(s->dep, 1, sizeof s->dep);
+                s->dep_ready = 1;
+                return;
+            }
+        }
+        for (int k = 0; k < USM_NPARAMS; ++k) {
+            usm_params q = base[b];
+            double *f = usm_params_field(&q, &usm_param_table[k]);
+            *f = *f * 1.371 + 0.0917;
+            for (int i = 0; i < 200 && !s->dep[k]; ++i) {
+                double out[2];
+                s->m->friction(v[i], &q, out);
+                s->dep[k] = memcmp(out, ref[i], sizeof out) != 0;
+            }
+        }
+    }
+    s->dep[usm_params_find("kappa") - usm_param_table] = 1;
+    s->dep_ready = 1;
+}
+
+/* Whether the kept friction analysis holds for the current parameters. */
+static int law_still_holds(usm_steady *s)
+{
+    if (!s->law_kept || !s->m->friction)
+        return 0;
+    if (!s->dep_ready)
+        friction_deps(s);
+    for (int k = 0; k < USM_NPARAMS; ++k) {
+        const usm_param_info *info = &usm_param_table[k];
+        if (s->dep[k] && usm_params_get(&s->p, info) != usm_params_get(&s->law_p, info))
+            return 0;
+    }
+    return 1;
 }
 
 /* Every slip speed v with mu(v) = mu_needed: at most one per monotone piece. */
@@ -671,21 +755,40 @@ static int roots_at(usm_steady *s, double theta, double xtol, search_notes *note
 
 /* ---- the tilt search -------------------------------------------------------- */
 
-/* The tilt grid: log-spaced, each end cell halved END_REFINEMENTS times. */
+/* The tilt grid: log-spaced, each end cell halved END_REFINEMENTS times.  It
+ * depends on the options alone and is kept between solves. */
 static int tilt_grid(usm_steady *s, const usm_steady_options *opt, size_t *n)
 {
+    if (s->ngrid > 0 && s->grid_key[0] == opt->theta_min && s->grid_key[1] == opt->theta_max &&
+        s->grid_key[2] == (double)opt->grid) {
+        *n = s->ngrid;
+        return 0;
+    }
+    s->ngrid = 0;
     const size_t need = (size_t)opt->grid + 2 * END_REFINEMENTS;
     if (need > s->grid_cap) {
         double *th = realloc(s->th, need * sizeof *th);
         if (th)
             s->th = th;
-        double *na = realloc(s->na, need * sizeof *na);
-        if (na)
-            s->na = na;
+        double *ca = realloc(s->ca, need * sizeof *ca);
+        if (ca)
+            s->ca = ca;
+        double *sa = realloc(s->sa, need * sizeof *sa);
+        if (sa)
+            s->sa = sa;
         double *g = realloc(s->g, need * sizeof *g);
         if (g)
             s->g = g;
-        if (!th || !na || !g)
+        unsigned char *gd = realloc(s->gdone, need * sizeof *gd);
+        if (gd)
+            s->gdone = gd;
+        double *q = realloc(s->q, need * sizeof *q);
+        if (q)
+            s->q = q;
+        signed char *qs = realloc(s->qsign, need * sizeof *qs);
+        if (qs)
+            s->qsign = qs;
+        if (!th || !ca || !sa || !g || !gd || !q || !qs)
             return -1;
         s->grid_cap = need;
     }
@@ -705,8 +808,91 @@ static int tilt_grid(usm_steady *s, const usm_steady_options *opt, size_t *n)
     for (size_t i = 1; i < k; ++i)
         if (s->th[i] > s->th[m - 1])
             s->th[m++] = s->th[i];
-    *n = m;
+    *n = s->ngrid = m;
+    s->grid_key[0] = opt->theta_min;
+    s->grid_key[1] = opt->theta_max;
+    s->grid_key[2] = (double)opt->grid;
     return 0;
+}
+
+/* Samples 0..k of the grid: the seed's torque components.  g itself (two
+ * logarithms and a hypot, most of a sample's cost) is computed only where a
+ * decision of the search needs more than its sign (sample_g). */
+static void sample_to(usm_steady *s, size_t k)
+{
+    double out[USM_SEED_COUNT];
+    for (size_t i = s->nsampled; i <= k; ++i) {
+        s->m->steady_seed(s->th[i], &s->p_unit, out);
+        const double a = out[USM_SEED_COS_ALPHA], b = out[USM_SEED_SIN_ALPHA];
+        const double q = a * a + b * b;
+        s->ca[i] = a;
+        s->sa[i] = b;
+        s->q[i] = q >= Q_MIN && q <= Q_MAX ? q : NAN;
+        s->gdone[i] = 0;
+        /* g's sign from |A|^2 alone where it is at least Q_MARGIN from
+         * m0^2: log and hypot are correct to a few ulps, so the sign cannot
+         * differ there (the margin is 5e-11 in g, beyond log's rounding at
+         * any |log m0| < 709); 0: undecided, see sample_sign */
+        s->qsign[i] = !s->m2_ok || isnan(s->q[i]) ? 0
+                      : s->q[i] < s->m2 * (1 - Q_MARGIN) ? -1
+                      : s->q[i] > s->m2 * (1 + Q_MARGIN) ? 1
+                                                          : 0;
+    }
+    if (k + 1 > s->nsampled)
+        s->nsampled = k + 1;
+}
+
+/* g at sample i exactly as tilt_g computes it; NaN where not finite. */
+static double sample_g(usm_steady *s, size_t i)
+{
+    if (!s->gdone[i]) {
+        const double g = log(hypot(s->ca[i], s->sa[i])) - log(s->p.m0);
+        s->g[i] = isfinite(g) ? g : NAN;
+        s->gdone[i] = 1;
+    }
+    return s->g[i];
+}
+
+/* |A|^2 at sample i when it is a normal number far from overflow, else NaN. */
+static double sample_q(const usm_steady *s, size_t i) { return s->q[i]; }
+
+/* The sign of g at sample i: -1 (g < 0), +1 (g >= 0), 2 (not finite). */
+static int sample_sign(usm_steady *s, size_t i)
+{
+    if (s->qsign[i])
+        return s->qsign[i];
+    const double g = sample_g(s, i);
+    return isnan(g) ? 2 : g < 0 ? -1 : 1;
+}
+
+/* Whether rule b can fire at sample i (1 < i + 1 < n), decided from |A|^2
+ * where that is certain: the rule needs g[i] strictly beyond both
+ * neighbours on the side away from zero, and log and hypot being monotone to
+ * within a few ulps, that needs |A|^2 at i within 1e-13 of the neighbours'
+ * or beyond them; only then are the exact g computed.  *sign: +1 for a
+ * minimum of positive g, -1 for a maximum of negative g. */
+static int rule_b(usm_steady *s, size_t i, double *sign)
+{
+    const int a = sample_sign(s, i - 1), b = sample_sign(s, i), c = sample_sign(s, i + 1);
+    if (a == 2 || b == 2 || c == 2 || a != b || b != c)
+        return 0; /* rule b needs three finite samples of one sign */
+    const double qa = sample_q(s, i - 1), qb = sample_q(s, i), qc = sample_q(s, i + 1);
+    if (!isnan(qa) && !isnan(qb) && !isnan(qc)) {
+        if (b > 0 && !(qb <= qa * (1 + 1e-13) && qb <= qc * (1 + 1e-13)))
+            return 0;
+        if (b < 0 && !(qb >= qa * (1 - 1e-13) && qb >= qc * (1 - 1e-13)))
+            return 0;
+    }
+    const double ga = sample_g(s, i - 1), gb = sample_g(s, i), gc = sample_g(s, i + 1);
+    if (isnan(ga) || isnan(gb) || isnan(gc))
+        return 0;
+    if (gb > 0 && gb < ga && gb < gc)
+        *sign = 1.0;
+    else if (gb < 0 && gb > ga && gb > gc)
+        *sign = -1.0;
+    else
+        return 0;
+    return 1;
 }
 
 /* The extremum of g in (th[j-1], th[j+1]) around the discrete one at th[j]:
@@ -716,8 +902,9 @@ static int locate_extremum(usm_steady *s, size_t j, double sign, double *theta, 
     extremum_ctx c = {s, sign};
     gsl_function F = {tilt_g_log, &c};
     double a = log(s->th[j - 1]), x = log(s->th[j]), b = log(s->th[j + 1]);
-    if (gsl_min_fminimizer_set_with_values(s->fmin, &F, x, sign * s->g[j], a, sign * s->g[j - 1],
-                                           b, sign * s->g[j + 1]) != GSL_SUCCESS)
+    if (gsl_min_fminimizer_set_with_values(s->fmin, &F, x, sign * sample_g(s, j), a,
+                                           sign * sample_g(s, j - 1), b,
+                                           sign * sample_g(s, j + 1)) != GSL_SUCCESS)
         return -1;
     for (int it = 0; it < 100; ++it) {
         if (gsl_min_fminimizer_iterate(s->fmin) != GSL_SUCCESS)
@@ -734,28 +921,70 @@ static int locate_extremum(usm_steady *s, size_t j, double sign, double *theta, 
     return 0;
 }
 
+/* What one pass of the search saw. */
+typedef struct scan_state {
+    search_notes notes;
+    int brackets;
+    /* the refined extrema of g, which bound the torque needed over the range */
+    double ext_min, ext_min_at, ext_max, ext_max_at;
+} scan_state;
+
 /* Refine the root of g in [lo, hi] (g changes sign) and solve there. */
 static void tilt_root(usm_steady *s, double lo, double hi, double glo, double ghi, double xtol,
-                      search_notes *notes, int *brackets)
+                      scan_state *sc)
 {
     gsl_function F = {tilt_g, s};
     double theta;
-    ++*brackets;
+    ++sc->brackets;
     if (refine_root(s, &F, lo, hi, glo, ghi, &theta) == 0)
-        roots_at(s, theta, xtol, notes);
+        roots_at(s, theta, xtol, &sc->notes);
 }
 
-int usm_steady_solve(usm_steady *s, const usm_params *p, const usm_steady_options *opt)
+/* Step i of the search (0 <= i < n - 1): rule a on the cell [th[i], th[i+1]],
+ * then rule b at sample i.  Roots found get keys in [th[i-1], th[i+1]]. */
+static void search_step(usm_steady *s, size_t i, double xtol, scan_state *sc)
 {
-    usm_steady_options def;
-    char b1[32], b2[32];
-    if (!opt) {
-        usm_steady_options_default(&def);
-        opt = &def;
+    sample_to(s, i + 1);
+    const double *th = s->th;
+    const int si = sample_sign(s, i), sj = sample_sign(s, i + 1);
+    /* rule a: a sign change in the cell */
+    if (si != 2 && sj != 2 && si != sj)
+        tilt_root(s, th[i], th[i + 1], sample_g(s, i), sample_g(s, i + 1), xtol, sc);
+    if (i == 0)
+        return;
+    /* rule b: a discrete extremum pointing towards zero */
+    double sign;
+    if (!rule_b(s, i, &sign))
+        return;
+    double te, ge;
+    if (locate_extremum(s, i, sign, &te, &ge) != 0)
+        return;
+    const double nt = needed_torque(s, te);
+    if (sign > 0 && nt < sc->ext_min) {
+        sc->ext_min = nt;
+        sc->ext_min_at = te;
     }
+    if (sign < 0 && nt > sc->ext_max) {
+        sc->ext_max = nt;
+        sc->ext_max_at = te;
+    }
+    if (sign * ge < 0) {
+        tilt_root(s, th[i - 1], te, sample_g(s, i - 1), ge, xtol, sc);
+        tilt_root(s, te, th[i + 1], ge, sample_g(s, i + 1), xtol, sc);
+    } else if (fabs(ge) <= TOUCH_TOL) {
+        ++sc->brackets;
+        roots_at(s, te, xtol, &sc->notes);
+    }
+}
+
+/* Check the options and parameters, keep them, and lay out the grid. */
+static int search_setup(usm_steady *s, const usm_params *p, const usm_steady_options *opt,
+                        size_t *n)
+{
     s->count = 0;
     s->msg[0] = '\0';
-    s->law_ready = 0;
+    s->nsampled = 0;
+    s->warm = USM_WARM_NONE;
     if (usm_params_check(p, s->m, s->msg) != USM_OK)
         return USM_EINPUT;
     if (!(opt->theta_min > 0 && opt->theta_max > opt->theta_min && isfinite(opt->theta_max) &&
@@ -766,70 +995,34 @@ int usm_steady_solve(usm_steady *s, const usm_params *p, const usm_steady_option
     s->p = *p;
     s->p_unit = *p;
     s->p_unit.m0 = 1.0;
-    size_t n;
-    if (tilt_grid(s, opt, &n) != 0) {
+    s->m2 = p->m0 * p->m0;
+    s->m2_ok = s->m2 >= Q_MIN && s->m2 <= Q_MAX;
+    s->law_ready = law_still_holds(s);
+    if (tilt_grid(s, opt, n) != 0) {
         snprintf(s->msg, USM_MSG_LEN, "out of memory");
         return USM_EFAILED;
     }
-    /* sample; the torque needed over the range, for the message */
-    double need_min = INFINITY, need_min_at = NAN, need_max = -INFINITY, need_max_at = NAN;
-    size_t finite = 0;
-    for (size_t i = 0; i < n; ++i) {
-        s->na[i] = needed_torque(s, s->th[i]);
-        s->g[i] = log(s->na[i]) - log(p->m0);
-        if (!isfinite(s->g[i])) {
-            s->g[i] = NAN;
-            continue;
-        }
-        ++finite;
-        if (s->na[i] < need_min) {
-            need_min = s->na[i];
-            need_min_at = s->th[i];
-        }
-        if (s->na[i] > need_max) {
-            need_max = s->na[i];
-            need_max_at = s->th[i];
-        }
-    }
-    search_notes notes = {0};
-    int brackets = 0;
-    const double *th = s->th, *g = s->g;
+    return USM_OK;
+}
+
+/* The search over steps [0, n - 1), or, with primary_only, until the
+ * primary root is settled: once a root is found with a key < th[i] after
+ * step i, no later step can find one with a smaller key.  USM_OK, or a
+ * status with the message of the search that found nothing. */
+static int search_run(usm_steady *s, const usm_params *p, const usm_steady_options *opt, size_t n,
+                      int primary_only)
+{
+    scan_state sc = {{0}, 0, INFINITY, NAN, -INFINITY, NAN};
+    double min_key = INFINITY;
     for (size_t i = 0; i + 1 < n; ++i) {
-        /* rule a: a sign change in the cell */
-        if (isfinite(g[i]) && isfinite(g[i + 1]) && (g[i] < 0) != (g[i + 1] < 0))
-            tilt_root(s, th[i], th[i + 1], g[i], g[i + 1], opt->xtol, &notes, &brackets);
-        if (i == 0 || !isfinite(g[i - 1]) || !isfinite(g[i]) || !isfinite(g[i + 1]))
-            continue;
-        /* rule b: a discrete extremum pointing towards zero */
-        double sign;
-        if (g[i] > 0 && g[i] < g[i - 1] && g[i] < g[i + 1])
-            sign = 1.0;
-        else if (g[i] < 0 && g[i] > g[i - 1] && g[i] > g[i + 1])
-            sign = -1.0;
-        else
-            continue;
-        double te, ge;
-        if (locate_extremum(s, i, sign, &te, &ge) != 0)
-            continue;
-        /* the refined extremum bounds the torque needed over the range */
-        const double nt = needed_torque(s, te);
-        if (sign > 0 && nt < need_min) {
-            need_min = nt;
-            need_min_at = te;
-        }
-        if (sign < 0 && nt > need_max) {
-            need_max = nt;
-            need_max_at = te;
-        }
-        if (sign * ge < 0) {
-            tilt_root(s, th[i - 1], te, g[i - 1], ge, opt->xtol, &notes, &brackets);
-            tilt_root(s, te, th[i + 1], ge, g[i + 1], opt->xtol, &notes, &brackets);
-        } else if (fabs(ge) <= TOUCH_TOL) {
-            ++brackets;
-            roots_at(s, te, opt->xtol, &notes);
-        }
+        const size_t before = s->count;
+        search_step(s, i, opt->xtol, &sc);
+        for (size_t k = before; k < s->count; ++k)
+            min_key = fmin(min_key, s->roots[k].key);
+        if (primary_only && s->count > 0 && min_key < s->th[i])
+            break;
     }
-    if (notes.oom) {
+    if (sc.notes.oom) {
         s->count = 0;
         snprintf(s->msg, USM_MSG_LEN, "out of memory");
         return USM_EFAILED;
@@ -838,6 +1031,29 @@ int usm_steady_solve(usm_steady *s, const usm_params *p, const usm_steady_option
         qsort(s->roots, s->count, sizeof s->roots[0], by_tilt);
         return USM_OK;
     }
+    /* nothing found: every step ran; the torque needed over the range, for
+     * the message */
+    char b1[32], b2[32];
+    double need_min = sc.ext_min, need_min_at = sc.ext_min_at;
+    double need_max = sc.ext_max, need_max_at = sc.ext_max_at;
+    size_t finite = 0;
+    sample_to(s, n - 1);
+    for (size_t i = 0; i < n; ++i) {
+        if (isnan(sample_g(s, i)))
+            continue;
+        const double na = hypot(s->ca[i], s->sa[i]);
+        ++finite;
+        if (na < need_min) {
+            need_min = na;
+            need_min_at = s->th[i];
+        }
+        if (na > need_max) {
+            need_max = na;
+            need_max_at = s->th[i];
+        }
+    }
+    const search_notes notes = sc.notes;
+    const int brackets = sc.brackets;
     if (brackets > 0 && notes.tilts > 0 && notes.saturated == notes.tilts) {
         char b3[32], b4[32];
         snprintf(s->msg, USM_MSG_LEN,
@@ -883,11 +1099,62 @@ int usm_steady_solve(usm_steady *s, const usm_params *p, const usm_steady_option
     return USM_ENOSOLUTION;
 }
 
+int usm_steady_solve(usm_steady *s, const usm_params *p, const usm_steady_options *opt)
+{
+    usm_steady_options def;
+    if (!opt) {
+        usm_steady_options_default(&def);
+        opt = &def;
+    }
+    size_t n;
+    const int st = search_setup(s, p, opt, &n);
+    return st != USM_OK ? st : search_run(s, p, opt, n, 0);
+}
+
+int usm_steady_solve_warm(usm_steady *s, const usm_params *p, const usm_steady_options *opt,
+                          const usm_steady_solution *guess)
+{
+    usm_steady_options def;
+    if (!opt) {
+        usm_steady_options_default(&def);
+        opt = &def;
+    }
+    size_t n;
+    int st = search_setup(s, p, opt, &n);
+    if (st != USM_OK)
+        return st;
+    /* Newton from the guess: which root the neighbouring point's continues */
+    double u[USM_MAX_NU];
+    int newton = 0;
+    if (guess) {
+        memcpy(u, guess->u, sizeof(double) * (size_t)s->m->nu);
+        newton = polish(s, u, opt->xtol) == 0 && u[0] >= opt->theta_min && u[0] <= opt->theta_max;
+    }
+    /* The search below and at its tilt decides whether it is the primary:
+     * Newton alone cannot tell which root it converged to. */
+    st = search_run(s, p, opt, n, 1);
+    if (st != USM_OK) {
+        s->warm = newton ? USM_WARM_OTHER_ROOT : USM_WARM_NEWTON_FAILED;
+        return st;
+    }
+    s->count = 1;
+    if (!newton)
+        s->warm = USM_WARM_NEWTON_FAILED;
+    else if (same_root(&s->roots[0].sol, u, s->m->nu))
+        s->warm = USM_WARM_CONFIRMED;
+    else
+        s->warm = USM_WARM_OTHER_ROOT;
+    return USM_OK;
+}
+
+usm_steady_warm_outcome usm_steady_warm(const usm_steady *s) { return s->warm; }
+
 int usm_steady_solve_from(usm_steady *s, const usm_params *p, const double *u0)
 {
     double u[USM_MAX_NU];
     s->count = 0;
     s->msg[0] = '\0';
+    s->warm = USM_WARM_NONE;
     if (usm_params_check(p, s->m, s->msg) != USM_OK)
         return USM_EINPUT;
     s->p = *p;

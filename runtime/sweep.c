@@ -300,11 +300,17 @@ int usm_sweep_run(usm_sweep *s, const usm_params *p, const usm_sweep_options *op
     s->progress_split = opt->floquet ? 0.05 : 1.0;
     progress(s, 0.0);
     const sweep_sink sink = {s, sink_point, sink_event, sink_progress};
+    /* the full search at each grid point (its root count, and the root bit
+     * for bit as usm_steady_solve gives it) does not steer the continuation:
+     * it runs afterwards, on the workers */
+    s->br.defer = 1;
     status = sweep_trace_grid(&s->br, p, opt, s->grid, s->npts, &sink, s->msg);
     if (status == USM_OK)
         for (size_t i = 0; i < s->npts; ++i)
             if (!s->settled[i]) /* beyond a trace's reach: a branch that was lost */
                 sink_point(s, i, NULL, 0, "not reached by the continuation");
+    if (status == USM_OK)
+        status = sweep_finish_points(s->m, p, opt, s->pts, s->npts, s->msg);
     if (status == USM_OK && opt->floquet) {
         status = sweep_floquet_points(s->m, p, opt, s->pts, s->npts, &sink, s->msg);
         if (status == USM_OK)

@@ -151,8 +151,14 @@ static void flush(sweep_branch *b)
     for (size_t k = 0; k < b->nppt; ++k) {
         const struct sweep_pending_point *pp = &b->ppt[k];
         b->sink->point(b->sink->ctx, pp->i, pp->has_sol ? &pp->sol : NULL, pp->roots, pp->error);
-        if (pp->has_sol)
+        if (pp->has_sol) {
             b->last = pp->sol;
+            if (pp->roots == SWEEP_ROOTS_PENDING) { /* only u is set: the rest, alpha wrapped */
+                usm_params q = b->p;
+                *usm_params_field(&q, b->info) = b->grid[pp->i];
+                usm_steady_evaluate(b->m, &q, &b->last);
+            }
+        }
     }
     for (size_t k = 0; k < b->npev; ++k)
         if (b->sink->event(b->sink->ctx, &b->pev[k]) != 0)
@@ -468,9 +474,9 @@ static const char *side(int dir) { return dir > 0 ? "above" : "below"; }
 /* Whether ua and ub are the same root: every unknown agrees, not the tilt
  * alone (the slip model's roots under a non-monotone friction law share
  * theta and alpha and differ only in the rotor speed). */
-static int same_unknowns(const sweep_branch *b, const double *ua, const double *ub)
+static int same_unknowns_nu(int nu, const double *ua, const double *ub)
 {
-    for (int i = 0; i < b->nu; ++i) {
+    for (int i = 0; i < nu; ++i) {
         double d = fabs(ua[i] - ub[i]);
         if (i == 1) /* alpha, stored in [0, 2 pi) */
             d = fmin(d, fabs(TWO_PI - d));
@@ -479,6 +485,11 @@ static int same_unknowns(const sweep_branch *b, const double *ua, const double *
             return 0;
     }
     return 1;
+}
+
+static int same_unknowns(const sweep_branch *b, const double *ua, const double *ub)
+{
+    return same_unknowns_nu(b->nu, ua, ub);
 }
 
 /* The root of the full search at q that is the branch's root u, or NULL;
@@ -512,6 +523,14 @@ static void finish_point(trace *tr, size_t i, double *z)
      * was, already on the branch near the value) */
     correct(b, z, e, value / b->scale[b->nu]);
     unscale(b, z, u);
+    if (b->defer) {
+        /* the full search below is independent of the continuation: done
+         * for every point at once by sweep_finish_points, on the workers */
+        memset(&sol, 0, sizeof sol);
+        memcpy(sol.u, u, sizeof u);
+        emit_point(b, i, &sol, SWEEP_ROOTS_PENDING, "");
+        return;
+    }
     usm_params q = b->p;
     *usm_params_field(&q, b->info) = value;
     /* The continuation says which root; the full search's polish of that root
@@ -1158,4 +1177,68 @@ int sweep_trace_grid(sweep_branch *b, const usm_params *p, const usm_sweep_optio
         return USM_EFAILED;
     }
     return USM_OK;
+}
+
+/* ---- the deferred part of finish_point ------------------------------------------ */
+
+typedef struct finish_pass {
+    const usm_model *m;
+    const usm_params *p;
+    const usm_sweep_options *opt;
+    const usm_param_info *info;
+    usm_sweep_point *pts;
+} finish_pass;
+
+static void *finish_alloc(void *ctx)
+{
+    const finish_pass *fp = ctx;
+    return usm_steady_alloc(fp->m);
+}
+
+static void finish_free(void *state) { usm_steady_free(state); }
+
+/* finish_point's full search and polish for grid point i (pts[i].sol.u holds
+ * the branch's root there), a task of the worker pool. */
+static int finish_task(void *ctx, void *state, size_t i)
+{
+    const finish_pass *fp = ctx;
+    usm_sweep_point *pt = &fp->pts[i];
+    usm_steady *st = state;
+    if (!pt->converged || pt->roots != SWEEP_ROOTS_PENDING)
+        return 0;
+    const int nu = fp->m->nu;
+    double u[USM_MAX_NU];
+    memcpy(u, pt->sol.u, sizeof u);
+    usm_params q = *fp->p;
+    *usm_params_field(&q, fp->info) = pt->value;
+    const usm_steady_solution *r = NULL;
+    int roots = 0;
+    if (usm_steady_solve(st, &q, &fp->opt->steady) == USM_OK) {
+        roots = (int)usm_steady_count(st);
+        for (size_t k = 0; k < usm_steady_count(st) && !r; ++k)
+            if (same_unknowns_nu(nu, u, usm_steady_root(st, k)->u))
+                r = usm_steady_root(st, k);
+    }
+    /* the branch's root missed by the search is one more root */
+    if (!r)
+        roots++;
+    if (!r && usm_steady_solve_from(st, &q, u) == USM_OK)
+        r = usm_steady_root(st, 0);
+    if (r && same_unknowns_nu(nu, u, r->u))
+        pt->sol = *r;
+    else {
+        memset(&pt->sol, 0, sizeof pt->sol);
+        memcpy(pt->sol.u, u, sizeof u);
+        usm_steady_evaluate(fp->m, &q, &pt->sol);
+    }
+    pt->roots = roots;
+    return 0;
+}
+
+int sweep_finish_points(const usm_model *m, const usm_params *p, const usm_sweep_options *opt,
+                        usm_sweep_point *pts, size_t n, char msg[USM_MSG_LEN])
+{
+    finish_pass fp = {m, p, opt, usm_params_find(opt->over), pts};
+    pool_job job = {n, opt->threads, &fp, finish_alloc, finish_free, finish_task, NULL};
+    return pool_run(&job, msg);
 }

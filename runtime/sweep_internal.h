@@ -79,7 +79,13 @@ typedef struct sweep_branch {
     size_t nppt, pptcap;
     int oom;                    /* a pending list could not grow */
     usm_steady_solution last;   /* the last grid point passed on with a solution */
+    int defer;                  /* 1: grid points are passed on with only the branch's
+                                 * u and roots = SWEEP_ROOTS_PENDING; sweep_finish_points
+                                 * completes them (the full search there) */
 } sweep_branch;
+
+/* `roots` of a grid point passed on before its full search (sweep_branch.defer). */
+#define SWEEP_ROOTS_PENDING (-1)
 
 /* sweep_branch.c: follow the branch of the primary root over the grid
  * values grid[0..n-1] of opt->over, reporting points and events to sink.
@@ -91,6 +97,14 @@ void sweep_branch_free(sweep_branch *b);
 int sweep_trace_grid(sweep_branch *b, const usm_params *p, const usm_sweep_options *opt,
                      const double *grid, size_t n, const sweep_sink *sink,
                      char msg[USM_MSG_LEN]);
+
+/* The deferred part of every grid point passed on with SWEEP_ROOTS_PENDING
+ * (sol.u the branch's root): the full search at its value, the root that
+ * is the branch's (or the polish from u where the search misses it) and the
+ * number of roots, on opt->threads workers; the points are independent, so
+ * the result is that of the serial finish.  USM_OK or USM_EFAILED with msg. */
+int sweep_finish_points(const usm_model *m, const usm_params *p, const usm_sweep_options *opt,
+                        usm_sweep_point *pts, size_t n, char msg[USM_MSG_LEN]);
 
 /* sweep_stability.c: the multipliers of every converged point of pts (into
  * pts[i].floquet / floquet_error, on opt->threads workers), then the

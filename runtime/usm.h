@@ -161,8 +161,40 @@ void usm_steady_free(usm_steady *s);
 int usm_steady_solve(usm_steady *s, const usm_params *p, const usm_steady_options *opt);
 
 /* Polish a single root from a starting guess (continuation): Newton/hybridsj
- * from u0 only, no search.  USM_OK or USM_ENOSOLUTION. */
+ * from u0 only, no search.  USM_OK or USM_ENOSOLUTION.  The root may be any
+ * root near u0, not necessarily the primary: use usm_steady_solve_warm for
+ * the primary. */
 int usm_steady_solve_from(usm_steady *s, const usm_params *p, const double *u0);
+
+/* What the warm start of the last usm_steady_solve_warm did. */
+typedef enum {
+    USM_WARM_NONE = 0,          /* the last solve was not a warm start */
+    USM_WARM_CONFIRMED = 1,     /* Newton from the guess converged to the primary root */
+    USM_WARM_OTHER_ROOT = 2,    /* Newton converged to another root (another branch): the
+                                   primary was returned all the same */
+    USM_WARM_NEWTON_FAILED = 3  /* Newton did not converge in the tilt range */
+} usm_steady_warm_outcome;
+
+/* The primary root only (root 0 of usm_steady_solve, bit for bit, or the
+ * same status and message when there is none), warm-started from `guess`
+ * (typically the primary root at a neighbouring parameter point: the
+ * previous point of a sweep or map column, or the nominal point of a Monte
+ * Carlo study; NULL: no Newton step).  Newton (hybridsj on the generated
+ * residual and Jacobian) from guess->u says which root the guess continues;
+ * the primary is then settled by the full search's own steps run in
+ * increasing tilt up to that root and stopped there: Newton alone cannot
+ * tell whether a root of lower tilt, the one the full search would return,
+ * exists.  The steps below it only sample the search function's sign from
+ * the squared torque (runtime/steady.c), so the cost is that of the search
+ * up to the root's tilt, without the roots above it.  usm_steady_count is 1
+ * after USM_OK; usm_steady_warm says whether Newton's root was the primary
+ * (a different branch, or no convergence, changes nothing in the result).
+ * opt may be NULL.  Thread safety: as usm_steady_solve. */
+int usm_steady_solve_warm(usm_steady *s, const usm_params *p, const usm_steady_options *opt,
+                          const usm_steady_solution *guess);
+
+/* The outcome of the last usm_steady_solve_warm (USM_WARM_NONE after any other solve). */
+usm_steady_warm_outcome usm_steady_warm(const usm_steady *s);
 
 /* Number of roots found by the last solve (0 before any). */
 size_t usm_steady_count(const usm_steady *s);

@@ -36,7 +36,8 @@ extern "C" {
 /* A stationary solution and its multipliers at one parameter point. */
 typedef struct usm_point {
     int exists;                 /* a stationary solution exists */
-    int roots;                  /* how many the full search found (1 when given) */
+    int roots;                  /* how many the full search found (1 when given, 0 when
+                                   not counted: usm_point_evaluate_warm) */
     usm_steady_solution sol;    /* the primary (or the given) root */
     int has_floquet;            /* multipliers computed */
     usm_floquet_result floquet;
@@ -53,6 +54,18 @@ int usm_point_evaluate(usm_steady *s, usm_floquet *f, const usm_params *p,
                        const usm_steady_options *steady_opt, const usm_steady_solution *root,
                        int floquet, double t0, const usm_floquet_options *floquet_opt,
                        usm_point *out);
+
+/* As usm_point_evaluate with root == NULL, but the stationary solution by
+ * usm_steady_solve_warm from `guess` (the primary root at a neighbouring
+ * parameter point, or NULL): the same primary root, bit for bit, found
+ * without searching above it, so out->roots is 0 (not counted) when a
+ * solution exists.  For samplers that need the primary root only (Monte
+ * Carlo studies); usm_steady_warm(s) says whether the guess's branch was
+ * the primary's.  Returns as usm_point_evaluate. */
+int usm_point_evaluate_warm(usm_steady *s, usm_floquet *f, const usm_params *p,
+                            const usm_steady_options *steady_opt,
+                            const usm_steady_solution *guess, int floquet, double t0,
+                            const usm_floquet_options *floquet_opt, usm_point *out);
 
 /* ---- maps ---------------------------------------------------------------------- */
 
@@ -74,6 +87,9 @@ typedef struct usm_map_options {
     usm_floquet_options floquet; /* method and tolerances (usm_floquet_options_default) */
     int threads;           /* worker threads (default 2; 1 .. 64) */
     int boundaries;        /* locate the boundaries (default 1) */
+    int warm_start;        /* 1: each grid point's primary root by usm_steady_solve_warm
+                              from the previous point of its column (the same roots;
+                              the cells' `roots` are then 0, not counted); default 0 */
 } usm_map_options;
 
 /* Fill `opt` with the defaults listed above. */
