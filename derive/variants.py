@@ -20,6 +20,12 @@ Assumptions and their choices:
                    "literal": F_R = F0 + c_R*Z as printed in (2.1)
   stator_inertia   "axisymmetric": I_yy is taken equal to I_xx
                    "general": I_xx, I_yy, I_zz independent
+  imperfection     "none" (default): the ideal motor of the paper
+                   "driver_stator": the parameters amp_imbalance, phase_error
+                   (driver) and mode_split (stator tilt stiffness fixed in the
+                   housing) enter the equations of motion; the stationary
+                   solution and its kernels are those of the ideal motor
+                   (imperfections 0), the only case where it exists
 """
 
 PAPER = {
@@ -56,6 +62,14 @@ VARIANTS = {
     "twist_integrated": ({"twist": "integrated"}, ["3dof", "4dof"],
                          "twist angle integrated from omega_Z (extra state tau): "
                          "the linearisation is periodic, multipliers independent of t0"),
+    # Built on the integrated twist law: the paper's twist angle
+    # phi + psi cos(theta) grows with psi = -Omega t / cos(theta), so under it
+    # no motion is periodic in (phi - Omega t, theta, rates) (see
+    # docs/periodic.md); the integrated twist angle tau is bounded.
+    "imperfect": ({"twist": "integrated", "imperfection": "driver_stator"}, ["3dof", "4dof"],
+                  "a real motor: driver amplitude imbalance and phase error, stator mode "
+                  "split (parameters amp_imbalance, phase_error, mode_split), integrated "
+                  "twist law; periodic steady states by `usm periodic`"),
     "friction_tanh": ({"friction": "tanh"}, ["4dof"],
                       "friction law mu = mu0 tanh(kappa v_rel) instead of (5.2)"),
     "friction_stribeck": ({"friction": "stribeck"}, ["4dof"],

@@ -756,7 +756,7 @@ int usm_steady_solve(usm_steady *s, const usm_params *p, const usm_steady_option
     s->count = 0;
     s->msg[0] = '\0';
     s->law_ready = 0;
-    if (usm_params_check(p, s->m, s->msg) != USM_OK)
+    if (usm_params_check(p, s->m, s->msg) != USM_OK || usm_params_check_ideal(p, s->msg) != USM_OK)
         return USM_EINPUT;
     if (!(opt->theta_min > 0 && opt->theta_max > opt->theta_min && isfinite(opt->theta_max) &&
           opt->grid >= 2)) {
@@ -888,7 +888,7 @@ int usm_steady_solve_from(usm_steady *s, const usm_params *p, const double *u0)
     double u[USM_MAX_NU];
     s->count = 0;
     s->msg[0] = '\0';
-    if (usm_params_check(p, s->m, s->msg) != USM_OK)
+    if (usm_params_check(p, s->m, s->msg) != USM_OK || usm_params_check_ideal(p, s->msg) != USM_OK)
         return USM_EINPUT;
     s->p = *p;
     s->p_unit = *p;
@@ -912,7 +912,7 @@ int usm_steady_friction_range(usm_steady *s, const usm_params *p, double *mu_inf
     s->count = 0;
     s->msg[0] = '\0';
     s->law_ready = 0;
-    if (usm_params_check(p, s->m, s->msg) != USM_OK)
+    if (usm_params_check(p, s->m, s->msg) != USM_OK || usm_params_check_ideal(p, s->msg) != USM_OK)
         return USM_EINPUT;
     if (!s->m->friction) {
         snprintf(s->msg, USM_MSG_LEN, "model: %s has no friction law (stick contact)", s->m->name);

@@ -105,6 +105,13 @@ int usm_params_set(usm_params *p, const char *name, double value, char msg[USM_M
  * contact radius is positive.  USM_OK or USM_EINPUT with "NAME: reason". */
 int usm_params_check(const usm_params *p, const usm_model *m, char msg[USM_MSG_LEN]);
 
+/* USM_OK when the motor is ideal (amp_imbalance, phase_error and mode_split
+ * all 0), the only case with a stationary solution; otherwise USM_EINPUT with
+ * "NAME: must be 0 here ..." in msg.  usm_params_check also demands this of
+ * every model whose m->imperfect is 0 (|amp_imbalance| <= 1, |mode_split| < 1
+ * always). */
+int usm_params_check_ideal(const usm_params *p, char msg[USM_MSG_LEN]);
+
 /* ---- stationary solution --------------------------------------------------- */
 
 /* One stationary solution: the unknowns and the quantities derived from them. */

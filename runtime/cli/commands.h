@@ -19,5 +19,6 @@ int cli_map_main(int argc, char **argv);
 int cli_simulate_main(int argc, char **argv);
 int cli_sensitivity_main(int argc, char **argv);
 int cli_optimize_main(int argc, char **argv);
+int cli_periodic_main(int argc, char **argv);
 
 #endif /* USM_CLI_COMMANDS_H */
