@@ -51,7 +51,6 @@
 #define TWO_PI 6.283185307179586476925286766559
 #define NN (USM_MAX_NX * USM_MAX_NX)
 #define NS USM_PERIODIC_SAMPLES
-#define NCOL (USM_MAX_NX + 4)
 
 struct usm_periodic {
     const usm_model *m;
@@ -72,7 +71,7 @@ struct usm_periodic {
     gsl_eigen_nonsymm_workspace *eig;
     gsl_vector_complex *eval;
     usm_steady *steady;
-    double samples[NS * NCOL];
+    double samples[NS * (USM_MAX_NX + 4)];
     int have_samples;
     char cvmsg[USM_MSG_LEN];
     char msg[USM_MSG_LEN];
@@ -373,7 +372,7 @@ static int period_map(usm_periodic *w, const double *x0, double rtol, double *x1
                      w->cvmsg[0] ? " -- " : "", w->cvmsg);
             return USM_EFAILED;
         }
-        if (k < NS && sample(w, w->t0 + tout, Y, w->samples + k * NCOL) != 0) {
+        if (k < NS && sample(w, w->t0 + tout, Y, w->samples + k * (n + 4)) != 0) {
             snprintf(w->msg, USM_MSG_LEN, "the motion became singular at t = %.6g s",
                      w->t0 + tout);
             return USM_EFAILED;
@@ -479,28 +478,28 @@ static double harmonic(const double *v, int stride, int h)
 
 static void orbit_outputs(const usm_periodic *w, usm_periodic_result *r)
 {
-    const int n = w->n;
+    const int n = w->n, nc = n + 4; /* samples: nc columns (usm_periodic_samples) */
     const double *s = w->samples;
     const double *th = s + 1 + w->m->x_theta, *Fn = s + n + 1, *Ft = s + n + 2, *wr = s + n + 3;
     double ratio[NS], sum_w = 0, sum_th = 0;
     int open = 0;
     for (int i = 0; i < NS; ++i) {
-        sum_w += wr[i * NCOL];
-        sum_th += th[i * NCOL];
-        ratio[i] = fabs(Ft[i * NCOL]) / Fn[i * NCOL];
-        open |= !(Fn[i * NCOL] > 0.0);
+        sum_w += wr[i * nc];
+        sum_th += th[i * nc];
+        ratio[i] = fabs(Ft[i * nc]) / Fn[i * nc];
+        open |= !(Fn[i * nc] > 0.0);
     }
     r->rotor_speed_mean = sum_w / NS; /* trapezoid rule: spectral on a periodic function */
-    r->rotor_speed_ripple = extreme(wr, NCOL, 1.0) - extreme(wr, NCOL, -1.0);
-    r->F_n_min = extreme(Fn, NCOL, -1.0);
-    r->F_n_max = extreme(Fn, NCOL, 1.0);
+    r->rotor_speed_ripple = extreme(wr, nc, 1.0) - extreme(wr, nc, -1.0);
+    r->F_n_min = extreme(Fn, nc, -1.0);
+    r->F_n_max = extreme(Fn, nc, 1.0);
     r->contact_open = r->F_n_min < 0.0;
     r->friction_needed_max = open || r->contact_open ? NAN : extreme(ratio, 1, 1.0);
     r->theta_mean = sum_th / NS;
-    r->theta_min = extreme(th, NCOL, -1.0);
-    r->theta_max = extreme(th, NCOL, 1.0);
-    r->theta_harmonic_2 = harmonic(th, NCOL, 2);
-    r->F_n_harmonic_2 = harmonic(Fn, NCOL, 2);
+    r->theta_min = extreme(th, nc, -1.0);
+    r->theta_max = extreme(th, nc, 1.0);
+    r->theta_harmonic_2 = harmonic(th, nc, 2);
+    r->F_n_harmonic_2 = harmonic(Fn, nc, 2);
 }
 
 /* ---- the solver ------------------------------------------------------------------ */
