@@ -167,7 +167,10 @@ static void table(const usm_periodic_result *r, const char *model)
     printf("  F_n                min %.10g N, max %.10g N, 2 Omega amplitude %.6g N%s\n",
            r->F_n_min, r->F_n_max, r->F_n_harmonic_2,
            r->contact_open ? "  CONTACT OPENS: the bilateral-contact model is not valid" : "");
-    printf("  friction needed    max |F_t|/F_n %.6g\n", r->friction_needed_max);
+    if (isfinite(r->friction_needed_max))
+        printf("  friction needed    max |F_t|/F_n %.6g\n", r->friction_needed_max);
+    else
+        printf("  friction needed    undefined (F_n <= 0 on the orbit)\n");
     printf("  Floquet multipliers (max |lambda| %.10g, %s):\n", r->floquet.max_modulus,
            r->floquet.stable ? "stable" : "UNSTABLE");
     for (int i = 0; i < r->floquet.n; ++i)
