@@ -79,7 +79,7 @@ struct usm_periodic {
 
 void usm_periodic_options_default(usm_periodic_options *opt)
 {
-    opt->rtol = 1e-12;
+    opt->rtol = 1e-11;
     opt->tol = 1e-9;
     opt->max_iter = 12;
     opt->t0 = 0.0;

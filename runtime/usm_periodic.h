@@ -29,7 +29,8 @@ extern "C" {
 
 /* Tolerances of usm_periodic_solve (usm_periodic_options_default). */
 typedef struct usm_periodic_options {
-    double rtol;     /* CVODES relative tolerance (default 1e-12) */
+    double rtol;     /* CVODES relative tolerance (default 1e-11: the multipliers to
+                        about 1e-9; 1e-10 moves them by 5e-8) */
     double tol;      /* Newton: converged when every component of y(t0 + T) - y(t0)
                         is below tol times its scale (default 1e-9; see periodic.c) */
     int max_iter;    /* Newton iterations (default 12) */
