@@ -21,6 +21,9 @@ expect_bad "model 4dof_friction_tanh" "twist" periodic --model 4dof --variant fr
 # imperfections only in the variant imperfect; the stationary solution only without them
 expect_bad "amp_imbalance" "variant imperfect" periodic --variant twist_integrated --set amp_imbalance=0.1
 expect_bad "phase_error" "ideal motor" steady --variant imperfect --set phase_error=0.1
+expect_bad "phase_error" "ideal motor" sweep --variant imperfect --over phase_error --from 0 --to 0.1 --points 3
+expect_bad "mode_split" "ideal motor" sweep --variant imperfect --set mode_split=0.01 --over T --from 0 --to 1e-4 --points 3
+expect_bad "amp_imbalance" "ideal motor" map --variant imperfect --x amp_imbalance --x-from 0 --x-to 0.1 --x-points 3 --y T --y-from 0 --y-to 1e-4 --y-points 3
 expect_bad "mode_split" "\(-1, 1\)" periodic --variant imperfect --set mode_split=1
 expect_bad "amp_imbalance" "\[-1, 1\]" periodic --variant imperfect --set amp_imbalance=-1.5
 expect_bad "--force" "only with --orbit" periodic --variant imperfect --force
