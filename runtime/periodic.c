@@ -9,6 +9,9 @@
  * (The imperfections force frame A at 2 Omega, so an orbit of period T/2 also
  * solves this; T is the period of the issue and of `usm steady`'s multipliers.)
  *
+ * Start: the ideal stationary solution plus its linear forced response
+ * (linear_predictor).
+ *
  * Newton.  dr/dx0 = B - I on the non-cyclic rows and columns, B the monodromy
  * matrix.  One CVODES integration (Adams, fixed-point iteration: over one
  * period the motion is not stiff, as in floquet.c) carries x and the
@@ -30,6 +33,7 @@
  * about 1e-16 rad of noise per period, 2e-10 of m0/c_t (the other components
  * reach 1e-12); tol = 1e-9 sits above it.
  */
+#include <complex.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -504,6 +508,103 @@ static void orbit_outputs(const usm_periodic *w, usm_periodic_result *r)
 
 /* ---- the solver ------------------------------------------------------------------ */
 
+/* b <- A^{-1} b, k x k complex, partial pivoting; -1 when singular. */
+static int complex_solve(int k, double complex *A, double complex *b)
+{
+    for (int c = 0; c < k; ++c) {
+        int piv = c;
+        for (int i = c + 1; i < k; ++i)
+            if (cabs(A[i * k + c]) > cabs(A[piv * k + c]))
+                piv = i;
+        if (!(cabs(A[piv * k + c]) > 0))
+            return -1;
+        for (int j = 0; j < k; ++j) {
+            const double complex t = A[c * k + j];
+            A[c * k + j] = A[piv * k + j];
+            A[piv * k + j] = t;
+        }
+        const double complex t = b[c];
+        b[c] = b[piv];
+        b[piv] = t;
+        for (int i = c + 1; i < k; ++i) {
+            const double complex l = A[i * k + c] / A[c * k + c];
+            for (int j = c; j < k; ++j)
+                A[i * k + j] -= l * A[c * k + j];
+            b[i] -= l * b[c];
+        }
+    }
+    for (int i = k - 1; i >= 0; --i) {
+        for (int j = i + 1; j < k; ++j)
+            b[i] -= A[i * k + j] * b[j];
+        b[i] /= A[i * k + i];
+    }
+    return 0;
+}
+
+/* Newton's start: the ideal orbit xbar plus the linear forced response at t0.
+ * About xbar the linearisation is constant in these coordinates (integrated
+ * twist law), dx' = G dx + F(t) with F = M^{-1} (f(p) - f(ideal)) along xbar;
+ * harmonic k of F (NPRED samples) gives dx_k = (i k Omega - G)^{-1} F_k on
+ * the non-cyclic components.  It leaves an error of second order in the
+ * imperfections, so Newton needs one or two steps fewer than from xbar. */
+#define NPRED 8
+static void linear_predictor(const usm_periodic *w, const usm_params *q,
+                             const usm_steady_solution *s, double *x0)
+{
+    const usm_model *m = w->m;
+    const int n = w->n;
+    double orbit[2 * USM_MAX_NX], G[NN], Jm[NN], M[NN], xdot[USM_MAX_NX];
+    double complex Fk[NPRED / 2][USM_MAX_NX];
+    int piv[USM_MAX_NX], idx[USM_MAX_NX], k = 0;
+    for (int i = 0; i < n; ++i)
+        if (!m->cyclic[i])
+            idx[k++] = i;
+    m->steady_state(s->u, s->beta, w->t0, q, orbit);
+    m->mass(orbit, q, M);
+    if (lu_factor(n, M, piv) != 0)
+        return;
+    m->jac_rhs(orbit, w->t0, q, G);
+    m->jac_mass(orbit, orbit + n, q, Jm);
+    for (int i = 0; i < n * n; ++i)
+        G[i] -= Jm[i];
+    lu_solve(n, M, piv, G, n);
+    memset(Fk, 0, sizeof Fk);
+    for (int j = 0; j < NPRED; ++j) {
+        const double t = w->t0 + w->T * j / NPRED;
+        double f0[USM_MAX_NX];
+        m->steady_state(s->u, s->beta, t, q, orbit);
+        m->mass(orbit, q, M);
+        if (lu_factor(n, M, piv) != 0)
+            return;
+        m->rhs(orbit, t, &w->p, xdot);
+        m->rhs(orbit, t, q, f0);
+        for (int i = 0; i < n; ++i)
+            xdot[i] -= f0[i];
+        lu_solve(n, M, piv, xdot, 1);
+        for (int h = 0; h < NPRED / 2; ++h)
+            for (int i = 0; i < n; ++i)
+                Fk[h][i] += xdot[i] * cexp(-I * TWO_PI * h * j / NPRED) / NPRED;
+    }
+    double dx[USM_MAX_NX] = {0};
+    for (int h = 0; h < NPRED / 2; ++h) {
+        double complex A[NN], b[USM_MAX_NX];
+        for (int a = 0; a < k; ++a) {
+            for (int c = 0; c < k; ++c)
+                A[a * k + c] = (a == c ? I * h * w->Omega : 0.0) - G[idx[a] * n + idx[c]];
+            b[a] = Fk[h][idx[a]];
+        }
+        if (complex_solve(k, A, b) != 0)
+            return;
+        for (int a = 0; a < k; ++a)
+            dx[idx[a]] += (h == 0 ? 1.0 : 2.0) * creal(b[a]);
+    }
+    for (int i = 0; i < n; ++i)
+        if (!isfinite(dx[i]))
+            return;
+    for (int i = 0; i < n; ++i)
+        x0[i] += dx[i];
+}
+
 static int ideal_start(usm_periodic *w, const usm_params *p, double *x0, double *theta,
                        double *speed)
 {
@@ -520,6 +621,10 @@ static int ideal_start(usm_periodic *w, const usm_params *p, double *x0, double 
     double orbit[2 * USM_MAX_NX];
     w->m->steady_state(s->u, s->beta, w->t0, &q, orbit);
     memcpy(x0, orbit, sizeof(double) * (size_t)w->n);
+    if (usm_params_check_ideal(p, w->msg) != USM_OK) {
+        w->msg[0] = '\0';
+        linear_predictor(w, &q, s, x0);
+    }
     *theta = s->theta;
     *speed = s->rotor_speed;
     return USM_OK;

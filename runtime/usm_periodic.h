@@ -6,7 +6,7 @@
  * the excitation period T = 1/f.  In the coordinates y = (phi - Omega t, the
  * other states) with the cyclic ones (psi, phi_R) dropped, the ideal
  * stationary solution is an equilibrium and the real motor's steady state a
- * fixed point of the period map, y(t0 + T) = y(t0).  Newton's method solves
+  * fixed point of the period map, y(t0 + T) = y(t0).  Newton's method solves
  * it, with the monodromy matrix from the variational equations (CVODES with
  * the generated Jacobians), starting from the ideal stationary solution.  The
  * multipliers of that monodromy are the orbit's Floquet multipliers.
