@@ -118,7 +118,8 @@ static void random_params(usm_params *p)
     usm_params_default(p);
     for (int i = 0; i < USM_NPARAMS; ++i) {
         double *v = usm_params_field(p, &usm_param_table[i]);
-        *v *= rng_log_range(0.5, 2.0);
+        if (*v != 0.0) /* the imperfections (0) draw nothing: see below */
+            *v *= rng_log_range(0.5, 2.0);
     }
     p->I_yy = p->I_xx;
     /* imperfections are 0 by default: give them values (imperfect models),
