@@ -20,6 +20,12 @@ Assumptions and their choices:
                    "literal": F_R = F0 + c_R*Z as printed in (2.1)
   stator_inertia   "axisymmetric": I_yy is taken equal to I_xx
                    "general": I_xx, I_yy, I_zz independent
+  imperfection     "none" (default): the ideal motor of the paper
+                   "driver_stator": the parameters amp_imbalance, phase_error
+                   (driver) and mode_split (stator tilt stiffness fixed in the
+                   housing) enter the equations of motion; the stationary
+                   solution and its kernels are those of the ideal motor
+                   (imperfections 0), the only case where it exists
 """
 
 PAPER = {
@@ -61,6 +67,16 @@ VARIANTS = {
     "friction_stribeck": ({"friction": "stribeck"}, ["4dof"],
                           "friction law mu = mu0 tanh(kappa v_rel) (1 + 0.5 exp(-(v_rel/0.01)^2)) "
                           "(Stribeck peak; not monotone for kappa above about 114 s/m)"),
+    # Last in the list: the kernel tests draw random samples model by model
+    # from one stream, and earlier models keep their samples this way.
+    # Built on the integrated twist law: the paper's twist angle
+    # phi + psi cos(theta) grows with psi = -Omega t / cos(theta), so under it
+    # no motion is periodic in (phi - Omega t, theta, rates) (see
+    # docs/periodic.md); the integrated twist angle tau is bounded.
+    "imperfect": ({"twist": "integrated", "imperfection": "driver_stator"}, ["3dof", "4dof"],
+                  "a real motor: driver amplitude imbalance and phase error, stator mode "
+                  "split (parameters amp_imbalance, phase_error, mode_split), integrated "
+                  "twist law; periodic steady states by `usm periodic`"),
 }
 
 

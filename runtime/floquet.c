@@ -780,6 +780,9 @@ int usm_floquet_compute(usm_floquet *f, const usm_params *p, const usm_steady_so
         snprintf(f->msg, USM_MSG_LEN, "atol: must be in [0, 1), got %g", opt->atol);
         return USM_EINPUT;
     }
+    /* the linearisation about the stationary orbit: the ideal motor only */
+    if (usm_params_check_ideal(p, f->msg) != USM_OK)
+        return USM_EINPUT;
     f->p = *p;
     f->eval_valid = 0;
     memcpy(f->u, sol->u, sizeof f->u);

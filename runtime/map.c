@@ -225,7 +225,7 @@ static int check_options(usm_map *map, const usm_params *p, const usm_map_option
         const double x = c & 1 ? opt->x.to : opt->x.from, y = c & 2 ? opt->y.to : opt->y.from;
         *usm_params_field(&q, map->xi) = x;
         *usm_params_field(&q, map->yi) = y;
-        if (usm_params_check(&q, map->m, lib) != USM_OK) {
+        if (usm_params_check(&q, map->m, lib) != USM_OK || usm_params_check_ideal(&q, lib) != USM_OK) {
             snprintf(map->msg, USM_MSG_LEN, "at %s = %g, %s = %g: %.180s", map->xi->name, x,
                      map->yi->name, y, lib);
             return USM_EINPUT;

@@ -30,6 +30,24 @@ void usm_params_default(usm_params *p)
     p->M = 2.0 * p->I_R / (p->R * p->R);
     p->mu0 = 0.3;
     p->kappa = 20.0;
+    /* The ideal motor (issue 14): imperfections enter only the imperfect variant. */
+    p->amp_imbalance = 0.0;
+    p->phase_error = 0.0;
+    p->mode_split = 0.0;
+}
+
+int usm_params_check_ideal(const usm_params *p, char msg[USM_MSG_LEN])
+{
+    const char *name = p->amp_imbalance != 0.0 ? "amp_imbalance"
+                       : p->phase_error != 0.0 ? "phase_error"
+                       : p->mode_split != 0.0  ? "mode_split"
+                                               : NULL;
+    if (!name)
+        return USM_OK;
+    snprintf(msg, USM_MSG_LEN,
+             "%s: must be 0 here: a stationary solution exists only for the ideal motor "
+             "(a real motor has a periodic steady state: usm_periodic_solve)", name);
+    return USM_EINPUT;
 }
 
 const usm_param_info *usm_params_find(const char *name)
@@ -86,6 +104,27 @@ int usm_params_check(const usm_params *p, const usm_model *m, char msg[USM_MSG_L
                      info->description, v);
             return USM_EINPUT;
         }
+    }
+    if (!(fabs(p->amp_imbalance) <= 1.0)) {
+        snprintf(msg, USM_MSG_LEN,
+                 "amp_imbalance: must lie in [-1, 1] (phase amplitudes m0 (1 +- e) are not "
+                 "negative), got %g", p->amp_imbalance);
+        return USM_EINPUT;
+    }
+    if (!(fabs(p->mode_split) < 1.0)) {
+        snprintf(msg, USM_MSG_LEN,
+                 "mode_split: must lie in (-1, 1) (tilt stiffnesses c_r (1 +- s) positive), got %g",
+                 p->mode_split);
+        return USM_EINPUT;
+    }
+    if (m && !m->imperfect && usm_params_check_ideal(p, msg) != USM_OK) {
+        const char *name = p->amp_imbalance != 0.0 ? "amp_imbalance"
+                           : p->phase_error != 0.0 ? "phase_error"
+                                                   : "mode_split";
+        snprintf(msg, USM_MSG_LEN,
+                 "%s: must be 0 in model %s, an ideal motor (the variant imperfect models it)",
+                 name, m->name);
+        return USM_EINPUT;
     }
     if (m && m->axisymmetric_stator && p->I_yy != p->I_xx) {
         snprintf(msg, USM_MSG_LEN,

@@ -648,6 +648,14 @@ int usm_sensitivity_compute(usm_sensitivity *s, const usm_params *p,
         snprintf(s->msg, USM_MSG_LEN, "parameter table: f and mu0 are not fields 16 and 17");
         return USM_EFAILED;
     }
+    if (s->m->imperfect) {
+        /* its stationary kernels are the ideal motor's: the derivatives in the
+         * imperfections would read 0, yet off 0 no stationary solution exists */
+        snprintf(s->msg, USM_MSG_LEN,
+                 "model %s: sensitivities of the stationary solution are defined for the ideal "
+                 "motor only; use the variant twist_integrated", s->m->name);
+        return USM_EINPUT;
+    }
     int rc = steady_part(s, p, sol, dudp, out);
     out->value[USM_SENS_MAX_MODULUS] = NAN;
     snprintf(out->why[USM_SENS_MAX_MODULUS], USM_MSG_LEN, "not computed");

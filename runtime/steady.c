@@ -985,7 +985,7 @@ static int search_setup(usm_steady *s, const usm_params *p, const usm_steady_opt
     s->msg[0] = '\0';
     s->nsampled = 0;
     s->warm = USM_WARM_NONE;
-    if (usm_params_check(p, s->m, s->msg) != USM_OK)
+    if (usm_params_check(p, s->m, s->msg) != USM_OK || usm_params_check_ideal(p, s->msg) != USM_OK)
         return USM_EINPUT;
     if (!(opt->theta_min > 0 && opt->theta_max > opt->theta_min && isfinite(opt->theta_max) &&
           opt->grid >= 2)) {
@@ -1155,7 +1155,7 @@ int usm_steady_solve_from(usm_steady *s, const usm_params *p, const double *u0)
     s->count = 0;
     s->msg[0] = '\0';
     s->warm = USM_WARM_NONE;
-    if (usm_params_check(p, s->m, s->msg) != USM_OK)
+    if (usm_params_check(p, s->m, s->msg) != USM_OK || usm_params_check_ideal(p, s->msg) != USM_OK)
         return USM_EINPUT;
     s->p = *p;
     s->p_unit = *p;
@@ -1179,7 +1179,7 @@ int usm_steady_friction_range(usm_steady *s, const usm_params *p, double *mu_inf
     s->count = 0;
     s->msg[0] = '\0';
     s->law_ready = 0;
-    if (usm_params_check(p, s->m, s->msg) != USM_OK)
+    if (usm_params_check(p, s->m, s->msg) != USM_OK || usm_params_check_ideal(p, s->msg) != USM_OK)
         return USM_EINPUT;
     if (!s->m->friction) {
         snprintf(s->msg, USM_MSG_LEN, "model: %s has no friction law (stick contact)", s->m->name);

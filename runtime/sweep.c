@@ -242,7 +242,7 @@ static int check_options(usm_sweep *s, const usm_params *p, const usm_sweep_opti
     usm_params q = *p;
     for (int i = 0; i < opt->points; ++i) {
         *usm_params_field(&q, info) = grid_value(opt, i);
-        if (usm_params_check(&q, s->m, lib) != USM_OK) {
+        if (usm_params_check(&q, s->m, lib) != USM_OK || usm_params_check_ideal(&q, lib) != USM_OK) {
             snprintf(s->msg, USM_MSG_LEN, "%.190s (sweep point %d of %d)", lib, i + 1,
                      opt->points);
             return USM_EINPUT;

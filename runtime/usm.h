@@ -105,6 +105,13 @@ int usm_params_set(usm_params *p, const char *name, double value, char msg[USM_M
  * contact radius is positive.  USM_OK or USM_EINPUT with "NAME: reason". */
 int usm_params_check(const usm_params *p, const usm_model *m, char msg[USM_MSG_LEN]);
 
+/* USM_OK when the motor is ideal (amp_imbalance, phase_error and mode_split
+ * all 0), the only case with a stationary solution; otherwise USM_EINPUT with
+ * "NAME: must be 0 here ..." in msg.  usm_params_check also demands this of
+ * every model whose m->imperfect is 0 (|amp_imbalance| <= 1, |mode_split| < 1
+ * always). */
+int usm_params_check_ideal(const usm_params *p, char msg[USM_MSG_LEN]);
+
 /* ---- stationary solution --------------------------------------------------- */
 
 /* One stationary solution: the unknowns and the quantities derived from them. */
@@ -277,7 +284,9 @@ void usm_floquet_free(usm_floquet *f);
 /* Multipliers of the stationary solution `sol` over [t0, t0 + T].  The paper's
  * Table 3 uses t0 = 0 with alpha in [0, 2 pi) (see README: the paper's twist law
  * makes the linearisation depend on t0).  opt may be NULL.  Sorted by
- * decreasing modulus.  USM_OK or USM_EFAILED (message in usm_floquet_message). */
+ * decreasing modulus.  USM_OK, USM_EFAILED (message in usm_floquet_message),
+ * or USM_EINPUT for bad options or a motor that is not ideal (an imperfection
+ * non-zero: see usm_params_check_ideal; its orbit is usm_periodic_solve's). */
 int usm_floquet_compute(usm_floquet *f, const usm_params *p, const usm_steady_solution *sol,
                         double t0, const usm_floquet_options *opt, usm_floquet_result *out);
 /* Why the last usm_floquet_compute failed, or "" after success.  Owned by f;

@@ -82,7 +82,9 @@ void usm_sensitivity_free(usm_sensitivity *s);
  * usm_sensitivity_message) when the residual Jacobian is singular (a fold:
  * du/dp does not exist) or an exponential or eigen problem fails.  An
  * undefined single derivative (efficiency at power_in <= 0, a repeated
- * multiplier) is not a failure: defined[k] = 0 and why[k] says so. */
+ * multiplier) is not a failure: defined[k] = 0 and why[k] says so.
+ * USM_EINPUT for a model with imperfections (m->imperfect: its stationary
+ * solution is the ideal motor's; use the variant twist_integrated). */
 int usm_sensitivity_compute(usm_sensitivity *s, const usm_params *p,
                             const usm_steady_solution *sol, int floquet,
                             usm_sensitivity_result *out);

@@ -20,7 +20,7 @@ py "
 assert list(o) == ['objective', 'sense', 'value', 'varied', 'parameters', 'active_constraints',
                    'kkt_residual', 'evaluations', 'solution'], list(o)
 assert o['objective'] == 'efficiency' and o['sense'] == 'max'
-assert list(o['varied']) == ['F0', 'f'] and len(o['parameters']) == 19
+assert list(o['varied']) == ['F0', 'f'] and len(o['parameters']) == 22
 assert 0.2 <= o['varied']['F0'] <= 0.8 and 36000 <= o['varied']['f'] <= 38000
 for k, v in o['varied'].items():
     assert o['parameters'][k] == v and o['solution']['parameters'][k] == v

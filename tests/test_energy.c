@@ -10,7 +10,9 @@
  *    (mu0 = 0, slip models), the mechanical energy
  *      E = 1/2 omega_K^T diag(I_xx, I_yy, I_zz) omega_K + 1/2 c_r theta^2
  *        + 1/2 M Zdot^2 + F0 Z + 1/2 c_R (Z - H)^2 + 1/2 I_R phidot_R^2
- *    is conserved (stick models: phidot_R = -v_c / R*).  Models that integrate
+ *    is conserved (stick models: phidot_R = -v_c / R*).  Imperfect models run
+ *    with mode_split s = 0.3: their tilt stiffness c_r (1 +- s) about the
+ *    housing's X, Y adds 1/2 c_r s theta^2 cos(2 phi) to E.  Models that integrate
  *    the twist angle (state tau, tau' = omega_Z) keep c_t: their twist torque
  *    -c_t tau e_Z has power -c_t tau omega_Z = -d/dt (c_t tau^2 / 2), and
  *    E gains 1/2 c_t tau^2.  The normal force does no net work (the rotor and
@@ -27,7 +29,8 @@
  *    with the paper's parameters: d/dt L_N = M_N in the inertial frame, with
  *      L_N = C_NK diag(I) omega_K,  C_NK = Rz(phi) Rx(theta) Rz(psi),
  *      M_N = M_E - M_R - M_D + r_c x F_c,
- *      M_E = m0 (cos Omega t, sin Omega t, 0),
+ *      M_E = m0 ((1 + e) cos Omega t, (1 - e) sin(Omega t + delta), 0)
+ *            (e = amp_imbalance, delta = phase_error: 0.2, 0.3 in imperfect models),
  *      M_R = c_r theta e_x1 + c_t (phi + psi cos theta) e_Z   (or c_t tau e_Z),
  *      M_D = d_r omega_X e_X + d_r omega_Y e_Y + d_t omega_Z e_Z,
  *      r_c = R e_y2 + H e_z2,  F_c = -F_t e_x1 - F_n e_z1,
@@ -284,7 +287,10 @@ static double energy(const layout *L, const double *x, const usm_params *p)
     return 0.5 * (p->I_xx * w.v[0] * w.v[0] + p->I_yy * w.v[1] * w.v[1] + p->I_zz * w.v[2] * w.v[2]) +
            0.5 * p->c_r * th * th + 0.5 * p->M * c.Zdot * c.Zdot + p->F0 * c.Z +
            0.5 * p->c_R * (c.Z - p->H) * (c.Z - p->H) + 0.5 * p->I_R * wR * wR +
-           (L->tau >= 0 ? 0.5 * p->c_t * x[L->tau] * x[L->tau] : 0.0);
+           (L->tau >= 0 ? 0.5 * p->c_t * x[L->tau] * x[L->tau] : 0.0) +
+           /* mode split (imperfect models): c_r (1 + s) about X, c_r (1 - s)
+            * about Y on the housing-frame tilt vector theta (cos phi, sin phi) */
+           0.5 * p->c_r * p->mode_split * th * th * cos(2.0 * x[L->phi]);
 }
 
 /* The friction law mu(v_rel) the model assumes, whatever it is: the model's
@@ -531,6 +537,8 @@ static int energy_run(const usm_model *m, int friction)
         p.c_t = 0.0; /* the paper's twist torque is not conservative */
     if (!friction)
         p.mu0 = 0.0;
+    if (m->imperfect)
+        p.mode_split = 0.3; /* conservative: E gains its potential (energy()) */
     ode d;
     integrator in;
     if (ode_init(&d, m, &p, friction))
@@ -623,7 +631,9 @@ static torques M_N(const usm_model *m, const usm_params *p, const layout *L, con
     mat3 C = C_NK(ph, th, ps), CA = rot_z(ph);
     vec3 wN = mvec(C, omega_K(th, ps, x[L->phidot], x[L->thetadot], x[L->psidot]));
     vec3 e_x1 = mvec(CA, v3(1.0, 0.0, 0.0)), e_Z = v3(0.0, 0.0, 1.0);
-    q.E = v3(p->m0 * cos(W * t), p->m0 * sin(W * t), 0.0);
+    /* a real driver (imperfect models; e = delta = 0 otherwise) */
+    q.E = v3(p->m0 * (1.0 + p->amp_imbalance) * cos(W * t),
+             p->m0 * (1.0 - p->amp_imbalance) * sin(W * t + p->phase_error), 0.0);
     double twist = L->tau >= 0 ? x[L->tau] : ph + ps * cos(th);
     q.R = vadd(vscale(p->c_r * th, e_x1), vscale(p->c_t * twist, e_Z));
     q.D = v3(p->d_r * wN.v[0], p->d_r * wN.v[1], p->d_t * wN.v[2]);
@@ -657,6 +667,10 @@ static int momentum_run(const usm_model *m)
 {
     usm_params p;
     usm_params_default(&p);
+    if (m->imperfect) {
+        p.amp_imbalance = 0.2;
+        p.phase_error = 0.3;
+    }
     ode d;
     integrator in;
     if (ode_init(&d, m, &p, 0))

@@ -118,9 +118,20 @@ static void random_params(usm_params *p)
     usm_params_default(p);
     for (int i = 0; i < USM_NPARAMS; ++i) {
         double *v = usm_params_field(p, &usm_param_table[i]);
-        *v *= rng_log_range(0.5, 2.0);
+        if (*v != 0.0) /* the imperfections (0) draw nothing: see below */
+            *v *= rng_log_range(0.5, 2.0);
     }
     p->I_yy = p->I_xx;
+    /* imperfections are 0 by default: give them values (imperfect models),
+     * from a stream of their own so that the other samples stay as they were */
+    static uint64_t imperfection_stream = 0x1d3a9e57ULL;
+    const uint64_t saved = rng_state;
+    rng_state = imperfection_stream;
+    p->amp_imbalance = rng_range(-0.3, 0.3);
+    p->phase_error = rng_range(-0.5, 0.5);
+    p->mode_split = rng_range(-0.2, 0.2);
+    imperfection_stream = rng_state;
+    rng_state = saved;
 }
 
 static double omega_of(const usm_params *p)
@@ -499,6 +510,8 @@ static int check_model(const usm_model *m)
     for (int k = 0; k < NSAMPLES; ++k) {
         usm_params p;
         random_params(&p);
+        if (!m->imperfect) /* an ideal model refuses imperfections */
+            p.amp_imbalance = p.phase_error = p.mode_split = 0.0;
         char msg[USM_MSG_LEN];
         if (usm_params_check(&p, m, msg) != USM_OK) {
             fprintf(stderr, "FAIL: random parameters rejected: %s\n", msg);

@@ -14,7 +14,8 @@ OMEGA_SYM = sp.Symbol("Omega", positive=True)
 GREEK = {"phi": r"\varphi", "theta": r"\theta", "psi": r"\psi", "phi_R": r"\varphi_R"}
 PARAM_TEX = {"m0": "m_0", "F0": "F_0", "I_xx": "I_{xx}", "I_yy": "I_{yy}", "I_zz": "I_{zz}",
              "mu0": r"\mu_0", "kappa": r"\kappa", "c_R": "c_R", "d_R": "d_R", "c_t": "c_t",
-             "c_r": "c_r", "d_t": "d_t", "d_r": "d_r", "I_R": "I_R"}
+             "c_r": "c_r", "d_t": "d_t", "d_r": "d_r", "I_R": "I_R",
+             "amp_imbalance": "e", "phase_error": r"\delta", "mode_split": "s"}
 
 
 def _dot(tex, n):

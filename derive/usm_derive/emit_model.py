@@ -258,7 +258,8 @@ def model_files(m, description, stamp, base, variant):
                ("linearisation", f"{pre}_linearisation"),
                ("steady_power", f"{pre}_steady_power"),
                ("steady_design_jacobian", f"{pre}_steady_design_jacobian"),
-               ("floquet_direction", f"{pre}_floquet_direction")]
+               ("floquet_direction", f"{pre}_floquet_direction"),
+               ("imperfect", 1 if m.assumptions.get("imperfection", "none") != "none" else 0)]
     c += (f"const usm_model {pre.replace('usm_', 'usm_model_')} = {{\n"
           + "".join(f"    .{k} = {v},\n" for k, v in fields) + "};\n")
     return {f"{pre}.h": h, f"{pre}.c": c}
@@ -355,6 +356,10 @@ def common_files(models, variant_list, stamp):
           "    void (*steady_power)(const double *USM_RESTRICT u, const usm_params *USM_RESTRICT p, double *USM_RESTRICT out);\n"
           "    void (*steady_design_jacobian)(const double *USM_RESTRICT u, const usm_params *USM_RESTRICT p, double *USM_RESTRICT out);\n"
           "    void (*floquet_direction)(const double *USM_RESTRICT u, double t, const double *USM_RESTRICT du, double dt, const usm_params *USM_RESTRICT p, const usm_params *USM_RESTRICT dp, double *USM_RESTRICT out);\n"
+          "    /* 1: amp_imbalance, phase_error and mode_split enter the equations of motion\n"
+          "       (the stationary-solution kernels are those of the ideal motor); 0: the\n"
+          "       model is ideal and those parameters must be 0. */\n"
+          "    int imperfect;\n"
           "} usm_model;\n\n")
     for name, _, _ in models:
         h += f"extern const usm_model usm_model_{name};\n"

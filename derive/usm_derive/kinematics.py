@@ -53,6 +53,21 @@ class Kinematics:
         # velocity of the stator's material point at the contact location
         self.v_c = self.omega_A.cross(self.r_c_A)[0]
 
+    def housing_tilt_vector(self):
+        """Tilt of the stator as a rotation vector in the housing frame N.
+
+        The axis e_z2 leaves e_Z by the rotation theta about the nodal line
+        e_Z x e_z2 / |e_Z x e_z2| (= e_x1): rho = theta * that unit vector, for
+        finite rotations (no small-angle step).  It comes out as
+        theta (cos phi, sin phi, 0): psi does not enter.
+        """
+        e_z2_N = self.C_NA * self.C_AB * sp.Matrix([0, 0, 1])
+        nodal = sp.Matrix([0, 0, 1]).cross(e_z2_N)
+        rho = nodal * self.theta / sp.sin(self.theta)
+        if any(sp.sin(self.theta) in e.atoms(sp.sin) for e in rho):
+            raise RuntimeError("housing tilt vector did not reduce")
+        return rho
+
     def tensor_in_A_from_K(self, diag):
         """A body-fixed diagonal tensor (principal axes of K) in frame A."""
         # simplified in B first: for an axisymmetric stator psi drops out there

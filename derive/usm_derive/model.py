@@ -40,7 +40,13 @@ PARAMETERS = [
     ("f", "Hz", "excitation frequency (Omega = 2 pi f)", "positive"),
     ("mu0", "1", "friction law scale", "nonnegative"),
     ("kappa", "s/m", "friction law slope", "positive"),
+    # Imperfections of a real motor (issue 14); they enter only the models
+    # whose assumption imperfection is "driver_stator" (variant imperfect).
+    ("amp_imbalance", "1", "amplitude imbalance e of the two excitation phases", "any"),
+    ("phase_error", "rad", "phase error delta of the second excitation phase", "any"),
+    ("mode_split", "1", "tilt stiffness split s: c_r (1 + s) about X, c_r (1 - s) about Y", "any"),
 ]
+IMPERFECTIONS = ["amp_imbalance", "phase_error", "mode_split"]
 
 P = {name: sp.Symbol(name, real=True) for name, *_ in PARAMETERS}
 t = sp.Symbol("t", real=True)
@@ -65,6 +71,52 @@ def friction_law(text, v):
     if unknown:
         raise ValueError(f"friction law {text!r} uses unknown symbols {unknown}")
     return expr
+
+
+def imperfect_excitation_A(kin, Om):
+    """Excitation (2.8) of a real driver minus the ideal one, in frame A:
+    M_E = m0 [(1 + e) cos(Omega t) e_X + (1 - e) sin(Omega t + delta) e_Y].
+    Kept apart from the ideal part so that at e = delta = 0 it is an exact
+    zero and the ideal terms keep their simplified form."""
+    e, delta, m0 = P["amp_imbalance"], P["phase_error"], P["m0"]
+    extra_N = sp.Matrix([m0 * e * sp.cos(Om * t),
+                         m0 * ((1 - e) * sp.sin(Om * t + delta) - sp.sin(Om * t)), 0])
+    return kin.C_NA.T * extra_N
+
+
+def mode_split_moment_A(kin, euler):
+    """Restoring moment of the split part of the tilt stiffness, in frame A.
+
+    The stiffness is fixed in the housing: c_r (1 + s) about X and c_r (1 - s)
+    about Y, acting on the housing-frame tilt vector rho (kinematics.py), so
+    its energy is V = c_r/2 [(1 + s) rho_X^2 + (1 - s) rho_Y^2]; the isotropic
+    part c_r theta e_x1 is (2.10) as before and this is the rest,
+    V_s = c_r s (rho_X^2 - rho_Y^2) / 2.  A restoring moment M_R belongs to a
+    potential when its power equals dV/dt for every motion: with
+    omega_A = L qdot that is L^T M_R = dV/dq.  L is singular at theta = 0
+    (the Euler angles are), so the e_y1 component cos(theta) dV/dphi /
+    sin(theta) is written with theta/sin(theta) = 1/sinc(theta), finite there.
+    """
+    phi_f, theta_f, psi_f = euler
+    q = sp.symbols("phi_q theta_q psi_q", real=True)
+    to_q = {phi_f: q[0], theta_f: q[1], psi_f: q[2]}
+    rho = kin.housing_tilt_vector().xreplace(to_q)
+    V = P["c_r"] * P["mode_split"] * (rho[0] ** 2 - rho[1] ** 2) / 2
+    g = sp.Matrix([sp.diff(V, c) for c in q])
+    rates = [c.diff(t) for c in euler]
+    L = kin.omega_A.jacobian(rates).xreplace(to_q)
+    M = L.T.LUsolve(g).applyfunc(sp.simplify)
+    th = q[1]
+
+    def regular(e):
+        if sp.sin(th) not in sp.denom(sp.together(e.rewrite(sp.sin))).atoms(sp.sin):
+            return e
+        return sp.simplify(e * sp.sin(th) / th) / sp.sinc(th)
+    M = M.applyfunc(regular)
+    check = (L.T * M - g).applyfunc(lambda e: sp.simplify(e.subs(sp.sinc(th), sp.sin(th) / th)))
+    if check != sp.zeros(3, 1) or any(sp.denom(e).subs(th, 0) == 0 for e in M):
+        raise RuntimeError(f"mode-split moment is not the potential's: {check.T}, {M.T}")
+    return M.xreplace({v: k for k, v in to_q.items()})
 
 
 @dataclass
@@ -185,12 +237,23 @@ def derive_model(name, assumptions):
     # problem can solve the twisting balance for its value whatever the law.
     Tw = sp.Symbol("twist", real=True)
     M_R_A = sp.Matrix([p["c_r"] * theta_f, 0, p["c_t"] * Tw])
+    imperfection = assumptions.get("imperfection", "none")
+    if imperfection == "driver_stator":
+        M_E_A = M_E_A + imperfect_excitation_A(kin, Om)
+        M_R_A = M_R_A + mode_split_moment_A(kin, coords[-3:])
+    elif imperfection != "none":
+        raise ValueError(f"unknown imperfection {imperfection!r}")
+    # The ideal motor: the stationary solution (3.1) exists only there, so
+    # every stationary quantity below is derived with the imperfections at 0.
+    ideal = {P[k]: sp.Integer(0) for k in IMPERFECTIONS}
     D_A = kin.tensor_in_A_from_N((p["d_r"], p["d_r"], p["d_t"]))
     M_D_A = D_A * kin.omega_A                                         # (2.10)
     F_c_A = sp.Matrix([-Ft_s, 0, -Fn_s])                              # (2.5)
     M_C_A = kin.r_c_A.cross(F_c_A)                                    # (2.11)
     stator_generic = dLdt_A - (M_E_A - M_R_A - M_D_A + M_C_A)         # (2.6), (2.7)
     stator_rows = list(stator_generic.subs({Ft_s: F_t, Fn_s: F_n, Tw: twist_angle}))
+    stator_generic = stator_generic.xreplace(ideal)
+    M_E_A_ideal = M_E_A.xreplace(ideal)
 
     rows = [plain(r) for r in rotor_rows + stator_rows]
     # rows are linear in the accelerations: M_q qdd = f_q
@@ -299,7 +362,7 @@ def derive_model(name, assumptions):
     # power_in = power_out + power_damping + power_slip is not built in: it
     # holds only where the residuals vanish (tests/test_power.c).
     power_exprs = {
-        "power_in": (M_E_A.T * kin.omega_A)[0],
+        "power_in": (M_E_A_ideal.T * kin.omega_A)[0],
         "power_out": p["T"] * w_R,
         "power_damping": (M_D_A.T * kin.omega_A)[0] + p["d_R"] * Z.diff(t) ** 2,
         # F_t stays a symbol through trigsimp (a friction law with exp() makes
@@ -361,7 +424,8 @@ def derive_model(name, assumptions):
     # frame A it is constant except where an angle enters other than through
     # phi - Omega t (the paper's twist angle phi + psi cos(theta) does).
     on_orbit = dict(zip(states, steady_state))
-    A_bar = (jac_rhs - jac_mass.subs(dict(zip(v, steady_rate)))).subs(on_orbit)
+    jac_rhs_ideal, jac_mass_ideal = jac_rhs.xreplace(ideal), jac_mass.xreplace(ideal)
+    A_bar = (jac_rhs_ideal - jac_mass_ideal.subs(dict(zip(v, steady_rate)))).subs(on_orbit)
     t0_independent = t not in A_bar.free_symbols and t not in mass.subs(on_orbit).free_symbols
 
     # Directional derivative of the linearisation about the orbit, for the
@@ -372,8 +436,9 @@ def derive_model(name, assumptions):
     # linearisation (second derivatives of the equations of motion).
     orbit_beta = {**on_orbit, **dict(zip(v, steady_rate))}
     orbit_beta = {k: sp.sympify(e).subs(beta, beta_expr) for k, e in orbit_beta.items()}
-    A_full = (jac_rhs - jac_mass).subs(orbit_beta, simultaneous=True)
+    A_full = (jac_rhs_ideal - jac_mass_ideal).subs(orbit_beta, simultaneous=True)
     M_full = mass.subs(orbit_beta, simultaneous=True)
+    # (the imperfections are 0 here: their directions have no stationary orbit)
     dir_vars = list(unknowns) + [t] + [P[k] for k, *_ in PARAMETERS]
     dir_syms = [sp.Symbol("dir_" + s.name, real=True) for s in dir_vars]
 

@@ -21,6 +21,7 @@ typedef struct cli_command {
 
 static const cli_command commands[] = {
     {"steady", "stationary solutions and their Floquet multipliers", cli_steady_main},
+    {"periodic", "periodic steady state of a real motor (phase error, imbalance, mode split)", cli_periodic_main},
     {"sweep", "motor characteristics: a parameter sweep by continuation, with events", cli_sweep_main},
     {"variants", "list the modelling variants (--variant NAME selects one)", cli_variants_main},
     {"equations", "the derived equations as Markdown or LaTeX", cli_equations_main},

@@ -138,7 +138,7 @@ static int run(const sens_args *a)
                                      a->want[USM_SENS_MAX_MODULUS], &res);
     if (status != USM_OK) {
         cli_error("sensitivity: %s", usm_sensitivity_message(sens));
-        status = USM_EFAILED;
+        status = status == USM_EINPUT ? USM_EINPUT : USM_EFAILED;
         goto done;
     }
     if (!c->json)

@@ -1,0 +1,219 @@
+/* usm periodic: the periodic steady state of a real motor by shooting
+ * (library: usm_periodic.h).  Never overwrites --orbit unless --force. */
+#define _POSIX_C_SOURCE 200809L
+#include <errno.h>
+#include <fcntl.h>
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+#include <unistd.h>
+
+#include <jansson.h>
+
+#include "commands.h"
+#include "csv_out.h"
+#include "diag.h"
+#include "json_out.h"
+#include "options.h"
+#include "usm_periodic.h"
+
+static void usage(FILE *out)
+{
+    fprintf(out,
+            "usage: usm periodic [--model M] [--variant V] [--params F] [--set N=V]...\n"
+            "                    [--orbit FILE.csv [--force]] [--json]\n"
+            "\n"
+            "The periodic steady state of a motor with driver amplitude imbalance\n"
+            "(amp_imbalance), phase error (phase_error [rad]) and stator mode split\n"
+            "(mode_split): shooting over one excitation period from the ideal stationary\n"
+            "solution, with its Floquet multipliers.  Use --variant imperfect (the\n"
+            "integrated twist law; the paper's twist law has no periodic orbit).\n"
+            "\n"
+            "options:\n");
+    cli_common_usage(out);
+    fprintf(out,
+            "  --orbit FILE.csv    write one period at %d points: t, state, F_n, F_t, rotor speed\n"
+            "  --force             overwrite --orbit if it exists\n"
+            "  -h, --help          print this help\n"
+            "\n"
+            "exit status: 0 solved, 1 numerical failure (Newton or integrator; --json still\n"
+            "             prints converged=false), 2 bad input or a twist law without\n"
+            "             periodic orbit\n",
+            USM_PERIODIC_SAMPLES);
+}
+
+typedef struct periodic_args {
+    cli_common common;
+    const char *orbit;
+    int force, help;
+} periodic_args;
+
+static int parse(periodic_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
+{
+    cli_common_init(&a->common);
+    a->orbit = NULL;
+    a->force = a->help = 0;
+    for (int i = 1; i < argc; ++i) {
+        int r;
+        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
+            a->help = 1;
+            return USM_OK;
+        }
+        if (strcmp(argv[i], "--force") == 0) {
+            a->force = 1;
+            continue;
+        }
+        if ((r = cli_common_option(&a->common, argc, argv, &i, msg)) == CLI_OPT_TAKEN)
+            continue;
+        if (r == CLI_OPT_ERROR)
+            return USM_EINPUT;
+        if ((r = cli_option_value(argc, argv, &i, "--orbit", &a->orbit, msg)) == CLI_OPT_TAKEN)
+            continue;
+        if (r == CLI_OPT_ERROR)
+            return USM_EINPUT;
+        cli_msg(msg, "%s: %s (see usm periodic --help)", argv[i],
+                argv[i][0] == '-' ? "unknown option" : "unexpected argument");
+        return USM_EINPUT;
+    }
+    if (a->force && !a->orbit) {
+        cli_msg(msg, "--force: only with --orbit");
+        return USM_EINPUT;
+    }
+    return cli_common_finish(&a->common, msg);
+}
+
+static json_t *result_json(const periodic_args *a, const usm_periodic_result *r, const char *err)
+{
+    json_t *o = json_object(), *h = json_object();
+    int ok = o && h;
+    usm_json_put(o, "model", json_string(a->common.model->name), &ok);
+    usm_json_put(o, "parameters", usm_json_params(&a->common.params), &ok);
+    usm_json_put(o, "converged", json_boolean(err == NULL), &ok);
+    if (err) {
+        usm_json_put(o, "error", json_string(err), &ok);
+        json_decref(h);
+    } else {
+        usm_json_put(o, "rotor_speed_mean", usm_json_real(r->rotor_speed_mean), &ok);
+        usm_json_put(o, "rotor_speed_ripple", usm_json_real(r->rotor_speed_ripple), &ok);
+        usm_json_put(o, "F_n_min", usm_json_real(r->F_n_min), &ok);
+        usm_json_put(o, "F_n_max", usm_json_real(r->F_n_max), &ok);
+        usm_json_put(o, "friction_needed_max", usm_json_real(r->friction_needed_max), &ok);
+        usm_json_put(o, "theta_mean", usm_json_real(r->theta_mean), &ok);
+        usm_json_put(o, "theta_min", usm_json_real(r->theta_min), &ok);
+        usm_json_put(o, "theta_max", usm_json_real(r->theta_max), &ok);
+        usm_json_put(h, "theta", usm_json_real(r->theta_harmonic_2), &ok);
+        usm_json_put(h, "F_n", usm_json_real(r->F_n_harmonic_2), &ok);
+        usm_json_put(o, "harmonic_2", h, &ok);
+        usm_json_put(o, "floquet", usm_json_floquet(&r->floquet), &ok);
+        usm_json_put(o, "contact_open", json_boolean(r->contact_open), &ok);
+        usm_json_put(o, "newton_iterations", json_integer(r->iterations), &ok);
+        usm_json_put(o, "residual", usm_json_real(r->residual), &ok);
+    }
+    if (!ok) {
+        json_decref(o);
+        return NULL;
+    }
+    return o;
+}
+
+static int write_orbit(const periodic_args *a, const usm_periodic *w, char msg[CLI_MSG_LEN])
+{
+    const usm_model *m = a->common.model;
+    const double *s = usm_periodic_samples(w);
+    const int n = m->nx, ncol = n + 4;
+    usm_csv_column cols[USM_MAX_NX + 4];
+    int fd = open(a->orbit, O_WRONLY | O_CREAT | (a->force ? O_TRUNC : O_EXCL), 0666);
+    FILE *f;
+    if (fd < 0) {
+        cli_msg(msg, "--orbit %s: %s", a->orbit,
+                errno == EEXIST ? "exists; refusing to overwrite it (use --force)" : strerror(errno));
+        return USM_EINPUT;
+    }
+    if (!(f = fdopen(fd, "w"))) {
+        close(fd);
+        cli_msg(msg, "--orbit %s: %s", a->orbit, strerror(errno));
+        return USM_EFAILED;
+    }
+    cols[0] = (usm_csv_column){"t", "s"};
+    for (int i = 0; i < n; ++i) {
+        const char *nm = m->state_names[i];
+        const size_t len = strlen(nm);
+        cols[i + 1] = (usm_csv_column){nm, len > 3 && strcmp(nm + len - 3, "dot") == 0 ? "rad/s" : "rad"};
+    }
+    cols[n + 1] = (usm_csv_column){"F_n", "N"};
+    cols[n + 2] = (usm_csv_column){"F_t", "N"};
+    cols[n + 3] = (usm_csv_column){"rotor_speed", "1/s"};
+    usm_csv_header(f, cols, ncol);
+    for (int k = 0; k < USM_PERIODIC_SAMPLES; ++k) {
+        for (int j = 0; j < ncol; ++j)
+            usm_csv_num(f, j == 0, s[k * ncol + j]);
+        fputc('\n', f);
+    }
+    if (fclose(f) != 0) {
+        cli_msg(msg, "--orbit %s: write error", a->orbit);
+        return USM_EFAILED;
+    }
+    return USM_OK;
+}
+
+static void table(const usm_periodic_result *r, const char *model)
+{
+    printf("model %s: periodic orbit (%d Newton iterations, residual %.3g)\n", model, r->iterations,
+           r->residual);
+    printf("  rotor speed        mean %.10g 1/s, ripple (peak to peak) %.6g 1/s\n",
+           r->rotor_speed_mean, r->rotor_speed_ripple);
+    printf("  theta              mean %.10g rad, min %.10g, max %.10g, 2 Omega amplitude %.6g\n",
+           r->theta_mean, r->theta_min, r->theta_max, r->theta_harmonic_2);
+    printf("  F_n                min %.10g N, max %.10g N, 2 Omega amplitude %.6g N%s\n",
+           r->F_n_min, r->F_n_max, r->F_n_harmonic_2,
+           r->contact_open ? "  CONTACT OPENS: the bilateral-contact model is not valid" : "");
+    if (isfinite(r->friction_needed_max))
+        printf("  friction needed    max |F_t|/F_n %.6g\n", r->friction_needed_max);
+    else
+        printf("  friction needed    undefined (F_n <= 0 on the orbit)\n");
+    printf("  Floquet multipliers (max |lambda| %.10g, %s):\n", r->floquet.max_modulus,
+           r->floquet.stable ? "stable" : "UNSTABLE");
+    for (int i = 0; i < r->floquet.n; ++i)
+        printf("    %+.10f %+.10fi%s\n", r->floquet.re[i], r->floquet.im[i],
+               r->floquet.cyclic[i] ? "  (cyclic coordinate)" : "");
+}
+
+int cli_periodic_main(int argc, char **argv)
+{
+    periodic_args a;
+    char msg[CLI_MSG_LEN];
+    usm_periodic_result r;
+    if (parse(&a, argc, argv, msg) != USM_OK) {
+        cli_error("%s", msg);
+        return USM_EINPUT;
+    }
+    if (a.help) {
+        usage(stdout);
+        return USM_OK;
+    }
+    usm_periodic *w = usm_periodic_alloc(a.common.model);
+    if (!w) {
+        cli_error("out of memory");
+        return USM_EFAILED;
+    }
+    int status = usm_periodic_solve(w, &a.common.params, NULL, NULL, &r);
+    if (status == USM_OK && a.orbit && (status = write_orbit(&a, w, msg)) != USM_OK)
+        cli_error("%s", msg);
+    else if (status == USM_EINPUT)
+        cli_error("%s", usm_periodic_message(w));
+    else if (status == USM_OK || a.common.json) {
+        json_t *o = a.common.json ? result_json(&a, &r, status ? usm_periodic_message(w) : NULL)
+                                  : NULL;
+        if (a.common.json && (!o || usm_json_print(o, stdout) != 0)) {
+            cli_error("out of memory or write error");
+            status = USM_EFAILED;
+        } else if (!a.common.json)
+            table(&r, a.common.model->name);
+        json_decref(o);
+        if (status != USM_OK && status != USM_EFAILED)
+            status = USM_EFAILED;
+    } else
+        cli_error("periodic: %s", usm_periodic_message(w));
+    usm_periodic_free(w);
+    return status;
+}

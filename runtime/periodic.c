@@ -1,0 +1,759 @@
+/* Periodic steady states by shooting (see usm_periodic.h; issue 14).
+ *
+ * Unknowns.  The state x0 at t0 without its cyclic components (psi, phi_R:
+ * they appear in neither M nor f, their start values are a free gauge and
+ * stay at those of the ideal solution).  In y = (phi - Omega t, the rest) the
+ * ideal stationary solution is an equilibrium; the period map takes y(t0) to
+ * y(t0 + T), so the equations are, for every non-cyclic i,
+ *     r_i = x_i(t0 + T) - x_i(t0) - 2 pi [i = phi] = 0.
+ * (The imperfections force frame A at 2 Omega, so an orbit of period T/2 also
+ * solves this; T is the period of the issue and of `usm steady`'s multipliers.)
+ *
+ * Start: the ideal stationary solution plus its linear forced response
+ * (linear_predictor).
+ *
+ * Newton.  dr/dx0 = B - I on the non-cyclic rows and columns, B the monodromy
+ * matrix.  One CVODES integration (Adams, fixed-point iteration: over one
+ * period the motion is not stiff, as in floquet.c) carries x and the
+ * variational matrix Psi = S Phi S^{-1} together, S = D^{-1} T as in
+ * floquet.c: T the generated tangent map at x0, D a balancing of T G T^{-1}.
+ * B = S^{-1} Psi S is formed for the Newton step only, in units of the state
+ * scales (scale_of); its rounding (cond S ~ 1/theta^2) slows Newton at worst,
+ * it does not move the converged orbit, which is fixed by r alone.  The
+ * multipliers come from Psi, with the cyclic directions S e_i split off
+ * exactly as in floquet.c.
+ *
+ * Convergence: max_i |r_i| / scale_i <= tol (default 1e-9).  The scales are
+ * physical sizes: 1 rad for phi, the ideal tilt for theta, Omega for the
+ * angle rates, Omega theta for the tilt rate, m0/c_t for the twist angle (the
+ * angle at which the twist spring's torque equals the excitation's), the
+ * ideal rotor speed for phidot_R.  The integration's absolute tolerances are
+ * rtol times the same scales.  The floor of r is the twist angle's: tau' =
+ * phidot + psidot cos(theta) cancels two rates of size Omega, which leaves
+ * about 1e-16 rad of noise per period, 2e-10 of m0/c_t (the other components
+ * reach 1e-12); tol = 1e-9 sits above it.
+ */
+#include <complex.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <gsl/gsl_eigen.h>
+#include <gsl/gsl_errno.h>
+#include <gsl/gsl_linalg.h>
+#include <gsl/gsl_matrix.h>
+
+#include <cvodes/cvodes.h>
+#include <nvector/nvector_serial.h>
+#include <sunnonlinsol/sunnonlinsol_fixedpoint.h>
+
+#include "cvode_msg.h"
+#include "dense.h"
+#include "usm_periodic.h"
+
+#define TWO_PI 6.283185307179586476925286766559
+#define NN (USM_MAX_NX * USM_MAX_NX)
+#define NS USM_PERIODIC_SAMPLES
+
+struct usm_periodic {
+    const usm_model *m;
+    int n;
+    usm_params p;
+    double Omega, t0, T;
+    double scale[USM_MAX_NX];
+    double S[NN], Sinv[NN];
+    /* CVODES */
+    SUNContext ctx;
+    void *cv;
+    N_Vector y, atol;
+    SUNNonlinearSolver NLS;
+    /* eigenproblem without the cyclic directions (see floquet.c) */
+    int nk;
+    gsl_matrix *Vc, *Qc, *Rc, *R;
+    gsl_vector *qr_tau;
+    gsl_eigen_nonsymm_workspace *eig;
+    gsl_vector_complex *eval;
+    usm_steady *steady;
+    double samples[NS * (USM_MAX_NX + 4)];
+    int have_samples;
+    char cvmsg[USM_MSG_LEN];
+    char msg[USM_MSG_LEN];
+};
+
+void usm_periodic_options_default(usm_periodic_options *opt)
+{
+    opt->rtol = 1e-11;
+    opt->tol = 1e-9;
+    opt->max_iter = 12;
+    opt->t0 = 0.0;
+}
+
+const char *usm_periodic_message(const usm_periodic *w) { return w->msg; }
+
+const double *usm_periodic_samples(const usm_periodic *w)
+{
+    return w->have_samples ? w->samples : NULL;
+}
+
+void usm_periodic_free(usm_periodic *w)
+{
+    if (!w)
+        return;
+    if (w->cv)
+        CVodeFree(&w->cv);
+    if (w->NLS)
+        SUNNonlinSolFree(w->NLS);
+    if (w->y)
+        N_VDestroy(w->y);
+    if (w->atol)
+        N_VDestroy(w->atol);
+    if (w->ctx)
+        SUNContext_Free(&w->ctx);
+    if (w->Vc)
+        gsl_matrix_free(w->Vc);
+    if (w->Qc)
+        gsl_matrix_free(w->Qc);
+    if (w->Rc)
+        gsl_matrix_free(w->Rc);
+    if (w->qr_tau)
+        gsl_vector_free(w->qr_tau);
+    if (w->R)
+        gsl_matrix_free(w->R);
+    if (w->eig)
+        gsl_eigen_nonsymm_free(w->eig);
+    if (w->eval)
+        gsl_vector_complex_free(w->eval);
+    usm_steady_free(w->steady);
+    free(w);
+}
+
+static void cv_errors(int code, const char *module, const char *function, char *text, void *data)
+{
+    usm_periodic *w = data;
+    (void)code;
+    (void)module;
+    snprintf(w->cvmsg, sizeof w->cvmsg, "%s: %s", function, text);
+}
+
+static int cv_rhs(sunrealtype tau, N_Vector yv, N_Vector ydot, void *data);
+
+usm_periodic *usm_periodic_alloc(const usm_model *m)
+{
+    usm_periodic *w = calloc(1, sizeof *w);
+    if (!w)
+        return NULL;
+    w->m = m;
+    w->n = m->nx;
+    for (int i = 0; i < w->n; ++i)
+        w->nk += !m->cyclic[i];
+    const size_t n = (size_t)w->n, nc = (size_t)(w->n - w->nk), N = n + n * n;
+    if (nc > 0) {
+        w->Vc = gsl_matrix_alloc(n, nc);
+        w->Rc = gsl_matrix_alloc(n, nc);
+        w->Qc = gsl_matrix_alloc(n, n);
+        w->qr_tau = gsl_vector_alloc(nc);
+    }
+    w->R = gsl_matrix_alloc((size_t)w->nk, (size_t)w->nk);
+    w->eig = gsl_eigen_nonsymm_alloc((size_t)w->nk);
+    w->eval = gsl_vector_complex_alloc((size_t)w->nk);
+    w->steady = usm_steady_alloc(m);
+    if ((nc > 0 && (!w->Vc || !w->Rc || !w->Qc || !w->qr_tau)) || !w->R || !w->eig || !w->eval ||
+        !w->steady || SUNContext_Create(NULL, &w->ctx) != 0) {
+        w->ctx = NULL;
+        usm_periodic_free(w);
+        return NULL;
+    }
+    w->y = N_VNew_Serial((sunindextype)N, w->ctx);
+    w->atol = N_VNew_Serial((sunindextype)N, w->ctx);
+    w->cv = CVodeCreate(CV_ADAMS, w->ctx);
+    if (w->y)
+        N_VConst(0.0, w->y);
+    if (!w->y || !w->atol || !w->cv || CVodeSetErrHandlerFn(w->cv, cv_errors, w) != CV_SUCCESS ||
+        CVodeInit(w->cv, cv_rhs, 0.0, w->y) != CV_SUCCESS ||
+        !(w->NLS = SUNNonlinSol_FixedPoint(w->y, 0, w->ctx)) ||
+        CVodeSetNonlinearSolver(w->cv, w->NLS) != CV_SUCCESS ||
+        CVodeSetUserData(w->cv, w) != CV_SUCCESS ||
+        CVodeSetMaxNumSteps(w->cv, 100000) != CV_SUCCESS) {
+        usm_periodic_free(w);
+        return NULL;
+    }
+    return w;
+}
+
+/* ---- the motion and its variational equations ------------------------------ */
+
+/* In-place LU with partial pivoting of the n x n row-major A; -1 when singular. */
+static int lu_factor(int n, double *A, int *piv)
+{
+    for (int k = 0; k < n; ++k) {
+        int p = k;
+        for (int i = k + 1; i < n; ++i)
+            if (fabs(A[i * n + k]) > fabs(A[p * n + k]))
+                p = i;
+        if (!(A[p * n + k] != 0.0) || !isfinite(A[p * n + k]))
+            return -1;
+        piv[k] = p;
+        if (p != k)
+            for (int j = 0; j < n; ++j) {
+                double t = A[k * n + j];
+                A[k * n + j] = A[p * n + j];
+                A[p * n + j] = t;
+            }
+        for (int i = k + 1; i < n; ++i) {
+            const double l = A[i * n + k] /= A[k * n + k];
+            for (int j = k + 1; j < n; ++j)
+                A[i * n + j] -= l * A[k * n + j];
+        }
+    }
+    return 0;
+}
+
+/* b <- A^{-1} b for the factors of lu_factor; b has `cols` columns (row-major). */
+static void lu_solve(int n, const double *A, const int *piv, double *b, int cols)
+{
+    for (int k = 0; k < n; ++k)
+        if (piv[k] != k)
+            for (int c = 0; c < cols; ++c) {
+                double t = b[k * cols + c];
+                b[k * cols + c] = b[piv[k] * cols + c];
+                b[piv[k] * cols + c] = t;
+            }
+    for (int c = 0; c < cols; ++c) {
+        for (int i = 1; i < n; ++i)
+            for (int k = 0; k < i; ++k)
+                b[i * cols + c] -= A[i * n + k] * b[k * cols + c];
+        for (int i = n - 1; i >= 0; --i) {
+            for (int k = i + 1; k < n; ++k)
+                b[i * cols + c] -= A[i * n + k] * b[k * cols + c];
+            b[i * cols + c] /= A[i * n + i];
+        }
+    }
+}
+
+/* x' = M^{-1} f and, when G is not NULL, G = M^{-1} (df/dx - d(M v)/dx |_{v = x'}). */
+static int motion(const usm_periodic *w, double t, const double *x, double *xdot, double *G)
+{
+    const int n = w->n;
+    double M[NN], Jm[NN];
+    int piv[USM_MAX_NX];
+    w->m->mass(x, &w->p, M);
+    if (lu_factor(n, M, piv) != 0)
+        return -1;
+    w->m->rhs(x, t, &w->p, xdot);
+    lu_solve(n, M, piv, xdot, 1);
+    if (G) {
+        w->m->jac_rhs(x, t, &w->p, G);
+        w->m->jac_mass(x, xdot, &w->p, Jm);
+        for (int i = 0; i < n * n; ++i)
+            G[i] -= Jm[i];
+        lu_solve(n, M, piv, G, n);
+        for (int i = 0; i < n * n; ++i)
+            if (!isfinite(G[i]))
+                return -1;
+    }
+    for (int i = 0; i < n; ++i)
+        if (!isfinite(xdot[i]))
+            return -1;
+    return 0;
+}
+
+/* y = [x (n), Psi column by column (n*n)]; tau = t - t0. */
+static int cv_rhs(sunrealtype tau, N_Vector yv, N_Vector ydot, void *data)
+{
+    usm_periodic *w = data;
+    const int n = w->n;
+    const double *Y = N_VGetArrayPointer(yv);
+    double *D = N_VGetArrayPointer(ydot);
+    double G[NN], W[NN], Gs[NN];
+    if (motion(w, w->t0 + tau, Y, D, G) != 0)
+        return 1; /* recoverable: CVODES retries with a smaller step */
+    usm_matmul_dense(n, w->S, G, W);
+    usm_matmul_dense(n, W, w->Sinv, Gs);
+    const double *Psi = Y + n;
+    double *dPsi = D + n;
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            double s = 0;
+            for (int k = 0; k < n; ++k)
+                s += Gs[i * n + k] * Psi[j * n + k];
+            dPsi[j * n + i] = s;
+        }
+    return 0;
+}
+
+/* S = D^{-1} T(x0), D balancing T G(x0) T^{-1} (as floquet.c), and the basis
+ * Qc whose first columns span S e_i for the cyclic i. */
+static int coordinates(usm_periodic *w, const double *x0)
+{
+    const int n = w->n;
+    double T[NN], G[NN], W[NN], xdot[USM_MAX_NX], d[USM_MAX_NX];
+    w->m->tangent_map(x0, &w->p, T);
+    memcpy(w->S, T, sizeof(double) * (size_t)(n * n));
+    for (int i = 0; i < n * n; ++i)
+        w->Sinv[i] = 0.0;
+    for (int i = 0; i < n; ++i)
+        w->Sinv[i * n + i] = 1.0;
+    if (usm_solve_dense(n, T, w->Sinv) != 0 || motion(w, w->t0, x0, xdot, G) != 0)
+        return -1;
+    usm_matmul_dense(n, w->S, G, W);
+    usm_matmul_dense(n, W, w->Sinv, G);
+    usm_balance_dense(n, G, d);
+    for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j) {
+            w->S[i * n + j] /= d[i];
+            w->Sinv[i * n + j] *= d[j];
+        }
+    if (w->Vc) {
+        for (int k = 0, c = 0; k < n; ++k)
+            if (w->m->cyclic[k]) {
+                for (int i = 0; i < n; ++i)
+                    gsl_matrix_set(w->Vc, (size_t)i, (size_t)c, w->S[i * n + k]);
+                ++c;
+            }
+        if (gsl_linalg_QR_decomp(w->Vc, w->qr_tau) != GSL_SUCCESS ||
+            gsl_linalg_QR_unpack(w->Vc, w->qr_tau, w->Qc, w->Rc) != GSL_SUCCESS)
+            return -1;
+    }
+    return 0;
+}
+
+/* One sample row: t, x, F_n, F_t, rotor speed. */
+static int sample(const usm_periodic *w, double t, const double *x, double *row)
+{
+    double xdot[USM_MAX_NX], out[USM_OUT_COUNT];
+    if (motion(w, t, x, xdot, NULL) != 0)
+        return -1;
+    w->m->outputs(x, xdot, t, &w->p, out);
+    row[0] = t;
+    memcpy(row + 1, x, sizeof(double) * (size_t)w->n);
+    row[w->n + 1] = out[USM_OUT_F_N];
+    row[w->n + 2] = out[USM_OUT_F_T];
+    row[w->n + 3] = out[USM_OUT_ROTOR_SPEED];
+    return 0;
+}
+
+/* Integrate one period from x0: x(t0 + T) into x1, Psi into Psi (row-major),
+ * the samples into w->samples. */
+static int period_map(usm_periodic *w, const double *x0, double rtol, double *x1, double *Psi)
+{
+    const int n = w->n;
+    int flag;
+    char name[32];
+    if (coordinates(w, x0) != 0) {
+        snprintf(w->msg, USM_MSG_LEN, "the linearisation at the start state is singular or "
+                                      "not finite (theta = %g)", x0[w->m->x_theta]);
+        return USM_EFAILED;
+    }
+    double *Y = N_VGetArrayPointer(w->y), *A = N_VGetArrayPointer(w->atol);
+    N_VConst(0.0, w->y);
+    memcpy(Y, x0, sizeof(double) * (size_t)n);
+    for (int i = 0; i < n; ++i) {
+        Y[n + i * n + i] = 1.0;
+        A[i] = rtol * w->scale[i];
+    }
+    for (int i = n; i < n + n * n; ++i)
+        A[i] = rtol;
+    w->cvmsg[0] = '\0';
+    if ((flag = CVodeReInit(w->cv, 0.0, w->y)) != CV_SUCCESS ||
+        (flag = CVodeSVtolerances(w->cv, rtol, w->atol)) != CV_SUCCESS ||
+        (flag = CVodeSetStopTime(w->cv, w->T)) != CV_SUCCESS) {
+        snprintf(w->msg, USM_MSG_LEN, "CVODES set-up failed: %s",
+                 usm_cvode_flag_name(flag, name, sizeof name));
+        return USM_EFAILED;
+    }
+    if (sample(w, w->t0, x0, w->samples) != 0) {
+        snprintf(w->msg, USM_MSG_LEN, "the start state is singular (mass matrix)");
+        return USM_EFAILED;
+    }
+    for (int k = 1; k <= NS; ++k) {
+        double reached = 0;
+        const double tout = k == NS ? w->T : w->T * k / NS;
+        flag = CVode(w->cv, tout, w->y, &reached, CV_NORMAL);
+        if (flag < 0) {
+            snprintf(w->msg, USM_MSG_LEN, "CVODES failed at t = %.6g s of the period: %s%s%.100s",
+                     w->t0 + reached, usm_cvode_flag_name(flag, name, sizeof name),
+                     w->cvmsg[0] ? " -- " : "", w->cvmsg);
+            return USM_EFAILED;
+        }
+        if (k < NS && sample(w, w->t0 + tout, Y, w->samples + k * (n + 4)) != 0) {
+            snprintf(w->msg, USM_MSG_LEN, "the motion became singular at t = %.6g s",
+                     w->t0 + tout);
+            return USM_EFAILED;
+        }
+    }
+    memcpy(x1, Y, sizeof(double) * (size_t)n);
+    for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j)
+            Psi[i * n + j] = Y[n + j * n + i];
+    return USM_OK;
+}
+
+/* ---- results -------------------------------------------------------------------- */
+
+typedef struct {
+    double re, im, modulus;
+    int cyclic;
+} mult;
+
+static int by_modulus_desc(const void *a, const void *b)
+{
+    const mult *x = a, *y = b;
+    if (x->modulus != y->modulus)
+        return (x->modulus < y->modulus) - (x->modulus > y->modulus);
+    if (x->re != y->re)
+        return (x->re < y->re) - (x->re > y->re);
+    return (x->im < y->im) - (x->im > y->im);
+}
+
+static int multipliers(usm_periodic *w, const double *Psi, usm_floquet_result *f)
+{
+    const int n = w->n, nk = w->nk, nc = n - nk;
+    double E[NN];
+    if (nc == 0)
+        memcpy(w->R->data, Psi, sizeof(double) * (size_t)(n * n));
+    else {
+        double Qt[NN], W[NN];
+        for (int i = 0; i < n; ++i)
+            for (int j = 0; j < n; ++j)
+                Qt[i * n + j] = w->Qc->data[j * n + i];
+        usm_matmul_dense(n, Qt, Psi, W);
+        usm_matmul_dense(n, W, w->Qc->data, E);
+        for (int i = 0; i < nk; ++i)
+            memcpy(w->R->data + i * nk, E + (nc + i) * n + nc, sizeof(double) * (size_t)nk);
+    }
+    gsl_eigen_nonsymm_params(0, 1, w->eig);
+    if (gsl_eigen_nonsymm(w->R, w->eval, w->eig) != GSL_SUCCESS) {
+        snprintf(w->msg, USM_MSG_LEN, "eigenvalues of the monodromy matrix did not converge");
+        return USM_EFAILED;
+    }
+    mult ms[USM_MAX_NX];
+    int k = 0;
+    for (int i = 0; i < n; ++i)
+        if (w->m->cyclic[i])
+            ms[k++] = (mult){1.0, 0.0, 1.0, 1};
+    for (int i = 0; i < nk; ++i) {
+        gsl_complex z = gsl_vector_complex_get(w->eval, (size_t)i);
+        ms[k++] = (mult){GSL_REAL(z), GSL_IMAG(z), hypot(GSL_REAL(z), GSL_IMAG(z)), 0};
+    }
+    qsort(ms, (size_t)n, sizeof ms[0], by_modulus_desc);
+    f->n = n;
+    f->max_modulus = 0;
+    for (int i = 0; i < n; ++i) {
+        f->re[i] = ms[i].re;
+        f->im[i] = ms[i].im;
+        f->cyclic[i] = ms[i].cyclic;
+        if (!ms[i].cyclic)
+            f->max_modulus = fmax(f->max_modulus, ms[i].modulus);
+    }
+    f->stable = f->max_modulus < 1.0;
+    f->t0 = w->t0;
+    f->t0_dependent = 0;
+    f->method = USM_FLOQUET_VARIATIONAL;
+    return USM_OK;
+}
+
+/* Extreme of the periodic samples v[0..NS) (sign +1: max, -1: min), refined
+ * by the parabola through the extreme sample and its neighbours. */
+static double extreme(const double *v, int stride, double sign)
+{
+    int k = 0;
+    for (int i = 1; i < NS; ++i)
+        if (sign * v[i * stride] > sign * v[k * stride])
+            k = i;
+    const double a = v[((k + NS - 1) % NS) * stride], b = v[k * stride],
+                 c = v[((k + 1) % NS) * stride];
+    const double curv = a - 2.0 * b + c;
+    if (!(sign * curv < 0.0))
+        return b;
+    return b - (c - a) * (c - a) / (8.0 * curv);
+}
+
+/* Amplitude of the harmonic `h` (of the excitation frequency) of periodic samples. */
+static double harmonic(const double *v, int stride, int h)
+{
+    double re = 0, im = 0;
+    for (int i = 0; i < NS; ++i) {
+        re += v[i * stride] * cos(TWO_PI * h * i / NS);
+        im -= v[i * stride] * sin(TWO_PI * h * i / NS);
+    }
+    return 2.0 * hypot(re, im) / NS;
+}
+
+static void orbit_outputs(const usm_periodic *w, usm_periodic_result *r)
+{
+    const int n = w->n, nc = n + 4; /* samples: nc columns (usm_periodic_samples) */
+    const double *s = w->samples;
+    const double *th = s + 1 + w->m->x_theta, *Fn = s + n + 1, *Ft = s + n + 2, *wr = s + n + 3;
+    double ratio[NS], sum_w = 0, sum_th = 0;
+    int open = 0;
+    for (int i = 0; i < NS; ++i) {
+        sum_w += wr[i * nc];
+        sum_th += th[i * nc];
+        ratio[i] = fabs(Ft[i * nc]) / Fn[i * nc];
+        open |= !(Fn[i * nc] > 0.0);
+    }
+    r->rotor_speed_mean = sum_w / NS; /* trapezoid rule: spectral on a periodic function */
+    r->rotor_speed_ripple = extreme(wr, nc, 1.0) - extreme(wr, nc, -1.0);
+    r->F_n_min = extreme(Fn, nc, -1.0);
+    r->F_n_max = extreme(Fn, nc, 1.0);
+    r->contact_open = r->F_n_min < 0.0;
+    r->friction_needed_max = open || r->contact_open ? NAN : extreme(ratio, 1, 1.0);
+    r->theta_mean = sum_th / NS;
+    r->theta_min = extreme(th, nc, -1.0);
+    r->theta_max = extreme(th, nc, 1.0);
+    r->theta_harmonic_2 = harmonic(th, nc, 2);
+    r->F_n_harmonic_2 = harmonic(Fn, nc, 2);
+}
+
+/* ---- the solver ------------------------------------------------------------------ */
+
+/* b <- A^{-1} b, k x k complex, partial pivoting; -1 when singular. */
+static int complex_solve(int k, double complex *A, double complex *b)
+{
+    for (int c = 0; c < k; ++c) {
+        int piv = c;
+        for (int i = c + 1; i < k; ++i)
+            if (cabs(A[i * k + c]) > cabs(A[piv * k + c]))
+                piv = i;
+        if (!(cabs(A[piv * k + c]) > 0))
+            return -1;
+        for (int j = 0; j < k; ++j) {
+            const double complex t = A[c * k + j];
+            A[c * k + j] = A[piv * k + j];
+            A[piv * k + j] = t;
+        }
+        const double complex t = b[c];
+        b[c] = b[piv];
+        b[piv] = t;
+        for (int i = c + 1; i < k; ++i) {
+            const double complex l = A[i * k + c] / A[c * k + c];
+            for (int j = c; j < k; ++j)
+                A[i * k + j] -= l * A[c * k + j];
+            b[i] -= l * b[c];
+        }
+    }
+    for (int i = k - 1; i >= 0; --i) {
+        for (int j = i + 1; j < k; ++j)
+            b[i] -= A[i * k + j] * b[j];
+        b[i] /= A[i * k + i];
+    }
+    return 0;
+}
+
+/* Newton's start: the ideal orbit xbar plus the linear forced response at t0.
+ * About xbar the linearisation is constant in these coordinates (integrated
+ * twist law), dx' = G dx + F(t) with F = M^{-1} (f(p) - f(ideal)) along xbar;
+ * harmonic k of F (NPRED samples) gives dx_k = (i k Omega - G)^{-1} F_k on
+ * the non-cyclic components.  It leaves an error of second order in the
+ * imperfections, so Newton needs one or two steps fewer than from xbar. */
+#define NPRED 8
+static void linear_predictor(const usm_periodic *w, const usm_params *q,
+                             const usm_steady_solution *s, double *x0)
+{
+    const usm_model *m = w->m;
+    const int n = w->n;
+    double orbit[2 * USM_MAX_NX], G[NN], Jm[NN], M[NN], xdot[USM_MAX_NX];
+    double complex Fk[NPRED / 2][USM_MAX_NX];
+    int piv[USM_MAX_NX], idx[USM_MAX_NX], k = 0;
+    for (int i = 0; i < n; ++i)
+        if (!m->cyclic[i])
+            idx[k++] = i;
+    m->steady_state(s->u, s->beta, w->t0, q, orbit);
+    m->mass(orbit, q, M);
+    if (lu_factor(n, M, piv) != 0)
+        return;
+    m->jac_rhs(orbit, w->t0, q, G);
+    m->jac_mass(orbit, orbit + n, q, Jm);
+    for (int i = 0; i < n * n; ++i)
+        G[i] -= Jm[i];
+    lu_solve(n, M, piv, G, n);
+    memset(Fk, 0, sizeof Fk);
+    for (int j = 0; j < NPRED; ++j) {
+        const double t = w->t0 + w->T * j / NPRED;
+        double f0[USM_MAX_NX];
+        m->steady_state(s->u, s->beta, t, q, orbit);
+        m->mass(orbit, q, M);
+        if (lu_factor(n, M, piv) != 0)
+            return;
+        m->rhs(orbit, t, &w->p, xdot);
+        m->rhs(orbit, t, q, f0);
+        for (int i = 0; i < n; ++i)
+            xdot[i] -= f0[i];
+        lu_solve(n, M, piv, xdot, 1);
+        for (int h = 0; h < NPRED / 2; ++h)
+            for (int i = 0; i < n; ++i)
+                Fk[h][i] += xdot[i] * cexp(-I * TWO_PI * h * j / NPRED) / NPRED;
+    }
+    double dx[USM_MAX_NX] = {0};
+    for (int h = 0; h < NPRED / 2; ++h) {
+        double complex A[NN], b[USM_MAX_NX];
+        for (int a = 0; a < k; ++a) {
+            for (int c = 0; c < k; ++c)
+                A[a * k + c] = (a == c ? I * h * w->Omega : 0.0) - G[idx[a] * n + idx[c]];
+            b[a] = Fk[h][idx[a]];
+        }
+        if (complex_solve(k, A, b) != 0)
+            return;
+        for (int a = 0; a < k; ++a)
+            dx[idx[a]] += (h == 0 ? 1.0 : 2.0) * creal(b[a]);
+    }
+    for (int i = 0; i < n; ++i)
+        if (!isfinite(dx[i]))
+            return;
+    for (int i = 0; i < n; ++i)
+        x0[i] += dx[i];
+}
+
+static int ideal_start(usm_periodic *w, const usm_params *p, double *x0, double *theta,
+                       double *speed)
+{
+    usm_params q = *p;
+    q.amp_imbalance = q.phase_error = q.mode_split = 0.0;
+    int rc = usm_steady_solve(w->steady, &q, NULL);
+    if (rc != USM_OK) {
+        snprintf(w->msg, USM_MSG_LEN,
+                 "no start: the ideal motor (imperfections 0) has no stationary solution (%.150s)",
+                 usm_steady_message(w->steady));
+        return rc == USM_EINPUT ? USM_EINPUT : USM_EFAILED;
+    }
+    const usm_steady_solution *s = usm_steady_root(w->steady, 0);
+    double orbit[2 * USM_MAX_NX];
+    w->m->steady_state(s->u, s->beta, w->t0, &q, orbit);
+    memcpy(x0, orbit, sizeof(double) * (size_t)w->n);
+    if (usm_params_check_ideal(p, w->msg) != USM_OK) {
+        w->msg[0] = '\0';
+        linear_predictor(w, &q, s, x0);
+    }
+    *theta = s->theta;
+    *speed = s->rotor_speed;
+    return USM_OK;
+}
+
+static void set_scales(usm_periodic *w, double theta, double speed)
+{
+    const usm_model *m = w->m;
+    for (int i = 0; i < w->n; ++i)
+        w->scale[i] = 1.0;
+    w->scale[m->x_theta] = theta;
+    w->scale[m->x_phidot] = w->scale[m->x_psidot] = w->Omega;
+    w->scale[m->x_thetadot] = w->Omega * theta;
+    w->scale[m->x_tau] = w->p.m0 / w->p.c_t;
+    if (!(w->scale[m->x_tau] > 0 && isfinite(w->scale[m->x_tau])))
+        w->scale[m->x_tau] = theta;
+    if (m->x_phi_Rdot >= 0)
+        w->scale[m->x_phi_Rdot] = fmax(fabs(speed), w->Omega * theta);
+}
+
+int usm_periodic_solve(usm_periodic *w, const usm_params *p, const double *x_start,
+                       const usm_periodic_options *opt, usm_periodic_result *out)
+{
+    usm_periodic_options def;
+    const usm_model *m = w->m;
+    const int n = w->n;
+    if (!opt) {
+        usm_periodic_options_default(&def);
+        opt = &def;
+    }
+    memset(out, 0, sizeof *out);
+    w->msg[0] = '\0';
+    w->have_samples = 0;
+    if (m->x_tau < 0) {
+        snprintf(w->msg, USM_MSG_LEN,
+                 "model %s: the paper's twist angle phi + psi cos(theta) grows without bound "
+                 "near the stationary motion, so no motion is periodic in (phi - Omega t, "
+                 "theta, rates); use the variant imperfect or twist_integrated", m->name);
+        return USM_EINPUT;
+    }
+    if (usm_params_check(p, m, w->msg) != USM_OK)
+        return USM_EINPUT;
+    if (!(opt->rtol >= 1e-14 && opt->rtol <= 1e-6) || !(opt->tol > 0 && opt->tol < 1) ||
+        opt->max_iter < 1 || !isfinite(opt->t0)) {
+        snprintf(w->msg, USM_MSG_LEN, "options: need rtol in [1e-14, 1e-6], tol in (0, 1), "
+                                      "max_iter >= 1 and a finite t0");
+        return USM_EINPUT;
+    }
+    w->p = *p;
+    w->Omega = TWO_PI * p->f;
+    w->T = 1.0 / p->f;
+    w->t0 = opt->t0;
+    double x0[USM_MAX_NX], x1[USM_MAX_NX], Psi[NN], theta = 0, speed = 0;
+    int rc = ideal_start(w, p, x0, &theta, &speed);
+    if (x_start) {
+        if (rc != USM_OK) { /* the scales only: take them from the given start */
+            theta = x_start[m->x_theta];
+            speed = m->x_phi_Rdot >= 0 ? x_start[m->x_phi_Rdot] : 0.0;
+        }
+        memcpy(x0, x_start, sizeof(double) * (size_t)n);
+        w->msg[0] = '\0';
+    } else if (rc != USM_OK)
+        return rc;
+    if (!(theta > 0 && isfinite(theta))) {
+        snprintf(w->msg, USM_MSG_LEN, "start: theta must be positive, got %g", theta);
+        return USM_EINPUT;
+    }
+    set_scales(w, theta, speed);
+    out->t0 = w->t0;
+    out->period = w->T;
+    out->nx = n;
+    for (int it = 0;; ++it) {
+        if ((rc = period_map(w, x0, opt->rtol, x1, Psi)) != USM_OK)
+            return rc;
+        /* residual and Newton matrix on the non-cyclic components, in units of the scales */
+        int idx[USM_MAX_NX], k = 0;
+        double r[USM_MAX_NX], J[NN], res = 0;
+        for (int i = 0; i < n; ++i)
+            if (!m->cyclic[i]) {
+                idx[k] = i;
+                r[k] = (x1[i] - x0[i] - (i == m->x_phi ? TWO_PI : 0.0)) / w->scale[i];
+                res = fmax(res, fabs(r[k]));
+                ++k;
+            }
+        out->iterations = it;
+        out->residual = res;
+        if (!isfinite(res)) {
+            snprintf(w->msg, USM_MSG_LEN, "the period map is not finite");
+            return USM_EFAILED;
+        }
+        if (res <= opt->tol) {
+            memcpy(out->x0, x0, sizeof(double) * (size_t)n);
+            /* B = S^{-1} Psi S for the record (multipliers from Psi) */
+            double W[NN];
+            usm_matmul_dense(n, w->Sinv, Psi, W);
+            usm_matmul_dense(n, W, w->S, out->floquet.monodromy);
+            if ((rc = multipliers(w, Psi, &out->floquet)) != USM_OK)
+                return rc;
+            out->converged = 1;
+            w->have_samples = 1;
+            orbit_outputs(w, out);
+            return USM_OK;
+        }
+        if (it >= opt->max_iter) {
+            snprintf(w->msg, USM_MSG_LEN,
+                     "Newton did not converge in %d iterations (residual %.3g of the state "
+                     "scales; tolerance %.3g)", opt->max_iter, res, opt->tol);
+            return USM_EFAILED;
+        }
+        double W[NN], B[NN];
+        usm_matmul_dense(n, w->Sinv, Psi, W);
+        usm_matmul_dense(n, W, w->S, B);
+        int piv[USM_MAX_NX];
+        for (int a = 0; a < k; ++a)
+            for (int b = 0; b < k; ++b)
+                J[a * k + b] = (B[idx[a] * n + idx[b]] - (a == b)) * w->scale[idx[b]] /
+                               w->scale[idx[a]];
+        if (lu_factor(k, J, piv) != 0) {
+            snprintf(w->msg, USM_MSG_LEN,
+                     "the Newton matrix B - I is singular: a multiplier is 1 (a fold of the "
+                     "orbit branch)");
+            return USM_EFAILED;
+        }
+        lu_solve(k, J, piv, r, 1);
+        for (int a = 0; a < k; ++a)
+            x0[idx[a]] -= r[a] * w->scale[idx[a]];
+        if (!(x0[m->x_theta] > 0)) {
+            snprintf(w->msg, USM_MSG_LEN, "Newton left the admissible states (theta <= 0)");
+            return USM_EFAILED;
+        }
+    }
+}

@@ -1,0 +1,100 @@
+/* usm_periodic.h: periodic steady states of a real motor by shooting (issue 14).
+ *
+ * A motor with driver amplitude imbalance, phase error or a stator mode split
+ * (parameters amp_imbalance, phase_error, mode_split of the variant
+ * "imperfect") has no stationary solution: its steady state is periodic with
+ * the excitation period T = 1/f.  In the coordinates y = (phi - Omega t, the
+ * other states) with the cyclic ones (psi, phi_R) dropped, the ideal
+ * stationary solution is an equilibrium and the real motor's steady state a
+  * fixed point of the period map, y(t0 + T) = y(t0).  Newton's method solves
+ * it, with the monodromy matrix from the variational equations (CVODES with
+ * the generated Jacobians), starting from the ideal stationary solution.  The
+ * multipliers of that monodromy are the orbit's Floquet multipliers.
+ *
+ * Only models with the integrated twist law (m->x_tau >= 0) have periodic
+ * orbits in these coordinates: the paper's twist angle phi + psi cos(theta)
+ * grows without bound on every motion near the stationary one
+ * (docs/periodic.md).
+ *
+ * Thread safety: one usm_periodic per thread; no global state.
+ */
+#ifndef USM_PERIODIC_H
+#define USM_PERIODIC_H
+
+#include "usm.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Tolerances of usm_periodic_solve (usm_periodic_options_default). */
+typedef struct usm_periodic_options {
+    double rtol;     /* CVODES relative tolerance (default 1e-11: the multipliers to
+                        about 1e-9; 1e-10 moves them by 5e-8) */
+    double tol;      /* Newton: converged when every component of y(t0 + T) - y(t0)
+                        is below tol times its scale (default 1e-9; see periodic.c) */
+    int max_iter;    /* Newton iterations (default 12) */
+    double t0;       /* start of the period [s] (default 0) */
+} usm_periodic_options;
+
+/* Fill `opt` with the defaults listed above. */
+void usm_periodic_options_default(usm_periodic_options *opt);
+
+/* Number of points at which the orbit is sampled (one period, t0 included,
+ * t0 + T excluded). */
+#define USM_PERIODIC_SAMPLES 200
+
+/* Columns of one orbit sample: t, the state x (nx), F_n, F_t, rotor speed. */
+typedef struct usm_periodic_result {
+    int converged;          /* 1 when Newton converged */
+    int iterations;         /* Newton iterations used */
+    double residual;        /* max_i |y_i(t0 + T) - y_i(t0)| / scale_i at the result */
+    double t0, period;      /* [s] */
+    int nx;
+    double x0[USM_MAX_NX];  /* state at t0 on the orbit */
+    usm_floquet_result floquet; /* multipliers of the orbit (cyclic ones flagged) */
+    /* over one period (sampled at USM_PERIODIC_SAMPLES points; extremes refined
+     * by a parabola through the three samples around them) */
+    double rotor_speed_mean;    /* [1/s], the paper's sign */
+    double rotor_speed_ripple;  /* peak to peak [1/s] */
+    double F_n_min, F_n_max;    /* [N] */
+    double friction_needed_max; /* max |F_t| / F_n (NaN when F_n <= 0 somewhere) */
+    double theta_mean, theta_min, theta_max; /* [rad] */
+    double theta_harmonic_2;    /* amplitude of the 2 Omega component of theta [rad] */
+    double F_n_harmonic_2;      /* amplitude of the 2 Omega component of F_n [N] */
+    int contact_open;           /* F_n_min < 0: the bilateral contact of the model is
+                                   then not valid (the rotor would lift off) */
+} usm_periodic_result;
+
+/* Shooting solver of one model (opaque). */
+typedef struct usm_periodic usm_periodic;
+
+/* A solver for model m (not NULL), or NULL when out of memory. */
+usm_periodic *usm_periodic_alloc(const usm_model *m);
+/* Free w; NULL is allowed. */
+void usm_periodic_free(usm_periodic *w);
+
+/* The periodic orbit for parameters p, started from x0 (the state at
+ * opt->t0; NULL: the ideal motor's primary stationary solution, imperfections
+ * set to 0).  opt may be NULL.  Returns USM_OK (out->converged = 1);
+ * USM_EINPUT for bad parameters or options, or for a model without the
+ * integrated twist law (no periodic orbit in these coordinates); USM_EFAILED
+ * when the integration fails, Newton does not converge, or the ideal motor
+ * has no stationary solution to start from (no claim that no orbit exists).
+ * The reason is in usm_periodic_message. */
+int usm_periodic_solve(usm_periodic *w, const usm_params *p, const double *x0,
+                       const usm_periodic_options *opt, usm_periodic_result *out);
+
+/* The samples of the last converged orbit: USM_PERIODIC_SAMPLES rows of
+ * (t, x[0..nx-1], F_n, F_t, rotor_speed), row-major with nx + 4 columns;
+ * NULL before a converged solve. */
+const double *usm_periodic_samples(const usm_periodic *w);
+
+/* Why the last solve failed, or "".  Owned by w. */
+const char *usm_periodic_message(const usm_periodic *w);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* USM_PERIODIC_H */

@@ -1,0 +1,71 @@
+#!/bin/bash
+# `usm periodic` (issue 14): the contract of its options, JSON keys, exit
+# codes and --orbit file; its numbers are tested against independent truths in
+# test_periodic.c.  Here: the --orbit samples against the JSON summary (the
+# extremes and means the command derives from them), the contact check
+# against the sign of F_n in the file, and the refusals.
+#
+# usage: periodic_cli.sh PATH/TO/usm
+set -u
+
+USM=${1:?usage: periodic_cli.sh PATH/TO/usm}
+. "$(dirname "$0")/cli_common.sh"
+
+KEYS="['model','parameters','converged','rotor_speed_mean','rotor_speed_ripple','F_n_min','F_n_max',
+'friction_needed_max','theta_mean','theta_min','theta_max','harmonic_2','floquet','contact_open',
+'newton_iterations','residual']"
+
+# the paper's twist law has no periodic orbit in these coordinates: exit 2, the reason
+expect_bad "model 3dof" "twist" periodic
+expect_bad "model 4dof_friction_tanh" "twist" periodic --model 4dof --variant friction_tanh
+# imperfections only in the variant imperfect; the stationary solution only without them
+expect_bad "amp_imbalance" "variant imperfect" periodic --variant twist_integrated --set amp_imbalance=0.1
+expect_bad "phase_error" "ideal motor" steady --variant imperfect --set phase_error=0.1
+expect_bad "phase_error" "ideal motor" sweep --variant imperfect --over phase_error --from 0 --to 0.1 --points 3
+expect_bad "mode_split" "ideal motor" sweep --variant imperfect --set mode_split=0.01 --over T --from 0 --to 1e-4 --points 3
+expect_bad "amp_imbalance" "ideal motor" map --variant imperfect --x amp_imbalance --x-from 0 --x-to 0.1 --x-points 3 --y T --y-from 0 --y-to 1e-4 --y-points 3
+expect_bad "mode_split" "\(-1, 1\)" periodic --variant imperfect --set mode_split=1
+expect_bad "amp_imbalance" "\[-1, 1\]" periodic --variant imperfect --set amp_imbalance=-1.5
+expect_bad "--force" "only with --orbit" periodic --variant imperfect --force
+expect_bad "--bogus" "unknown option" periodic --variant imperfect --bogus
+
+# a converged orbit, with the samples written
+csv=$tmp/orbit.csv
+if expect_rc 0 periodic --model 4dof --variant imperfect --set phase_error=0.2 --set mode_split=0.01 \
+        --orbit "$csv" --json; then
+    py "assert sorted(o) == sorted($KEYS), sorted(o)
+assert o['converged'] and o['model'] == '4dof_imperfect' and not o['contact_open']
+assert sorted(o['harmonic_2']) == ['F_n', 'theta']
+assert len(o['floquet']['multipliers']) == 9 and o['floquet']['t0_dependent'] is False
+import csv
+rows = list(csv.DictReader(open('$csv')))
+assert len(rows) == 200, len(rows)
+assert list(rows[0])[:3] == ['t [s]', 'phi_R [rad]', 'phi [rad]'], list(rows[0])[:3]
+Fn = [float(r['F_n [N]']) for r in rows]
+th = [float(r['theta [rad]']) for r in rows]
+w = [float(r['rotor_speed [1/s]']) for r in rows]
+# sampled extremes bracket the refined ones from inside, within the ripple's 1e-3
+for lo, hi, v in ((o['F_n_min'], o['F_n_max'], Fn), (o['theta_min'], o['theta_max'], th)):
+    span = hi - lo
+    assert lo <= min(v) + 1e-12 * abs(lo) and min(v) - lo <= 1e-3 * span, (lo, min(v))
+    assert hi >= max(v) - 1e-12 * abs(hi) and hi - max(v) <= 1e-3 * span, (hi, max(v))
+assert abs(sum(w) / len(w) - o['rotor_speed_mean']) <= 1e-12 * abs(o['rotor_speed_mean'])
+assert abs(sum(th) / len(th) - o['theta_mean']) <= 1e-12 * o['theta_mean']
+T = 1 / o['parameters']['f']
+assert abs(float(rows[-1]['t [s]']) - T * 199 / 200) <= 1e-15"
+    # never over an existing file without --force
+    expect_bad "--orbit" "exists" periodic --model 4dof --variant imperfect --orbit "$csv"
+    expect_rc 0 periodic --model 4dof --variant imperfect --orbit "$csv" --force
+fi
+
+# the contact opens at a large amplitude imbalance: said in the JSON and the table
+if expect_rc 0 periodic --variant imperfect --set amp_imbalance=0.3 --orbit "$tmp/open.csv" --json; then
+    py "import csv
+Fn = [float(r['F_n [N]']) for r in csv.DictReader(open('$tmp/open.csv'))]
+assert o['contact_open'] and o['F_n_min'] < 0 and min(Fn) < 0
+assert o['friction_needed_max'] is None"
+fi
+expect_rc 0 periodic --variant imperfect --set amp_imbalance=0.3 && \
+    { grep -q 'CONTACT OPENS' "$out" || fail "the table does not say that the contact opens"; }
+
+finish periodic_cli
