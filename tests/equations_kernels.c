@@ -3,7 +3,8 @@
  * usage: equations_kernels MODEL < points
  * Each input line: x (nx values), t, the parameters (usm_param_table order),
  * u (nu values).  Each output line: M (nx*nx, row-major), f (nx), the
- * stationary residuals (nu) and the stationary outputs (USM_STEADY_COUNT). */
+ * stationary residuals (nu), the stationary outputs (USM_STEADY_COUNT) and
+ * the state on the stationary orbit at t (nx, beta from those outputs). */
 #include <stdio.h>
 #include <string.h>
 
@@ -40,7 +41,7 @@ int main(int argc, char **argv)
     for (;;) {
         double x[USM_MAX_NX], u[USM_MAX_NU], t, pv[USM_NPARAMS];
         double mass[USM_MAX_NX * USM_MAX_NX], f[USM_MAX_NX], r[USM_MAX_NU];
-        double s[USM_STEADY_COUNT];
+        double s[USM_STEADY_COUNT], xbar[2 * USM_MAX_NX];
         usm_params p;
         if (!read_values(x, m->nx))
             break;
@@ -54,6 +55,7 @@ int main(int argc, char **argv)
         m->rhs(x, t, &p, f);
         m->steady_residual(u, &p, r);
         m->steady_outputs(u, &p, s);
+        m->steady_state(u, s[USM_STEADY_BETA], t, &p, xbar);
         print_values(mass, m->nx * m->nx);
         printf(" | ");
         print_values(f, m->nx);
@@ -61,6 +63,8 @@ int main(int argc, char **argv)
         print_values(r, m->nu);
         printf(" | ");
         print_values(s, USM_STEADY_COUNT);
+        printf(" | ");
+        print_values(xbar, m->nx);
         printf("\n");
     }
     return 0;

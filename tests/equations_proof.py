@@ -14,7 +14,8 @@ each typeset line, sympy srepr) this parses every line back and checks:
     that derive/ emitted and the compiler built), Euler's equations and the
     rotor law as printed equal the kernels' rows M x' - f, the residuals
     (3.5) equal `steady_residual`, and beta, the twist angle and the rotor
-    speed (3.7) equal `steady_outputs`; identities (3.3) hold.
+    speed (3.7) equal `steady_outputs`, the ansatz (3.1) equals `steady_state`;
+    identities (3.3) hold.
 --mutate: flips one sign in a copy of a document (once in the LaTeX, once in
 the srepr of a mass-matrix entry) and requires the check to fail each time.
 """
@@ -131,7 +132,7 @@ def check_numbers(data, kernels, rng, fail):
     for (x, tt, p, u, acc), row in zip(points, out):
         blocks = [[float(v) for v in b.split()] for b in row.split("|")]
         M = [blocks[0][i * nx:(i + 1) * nx] for i in range(nx)]
-        f, res, steady = blocks[1], blocks[2], blocks[3]
+        f, res, steady, xbar = blocks[1], blocks[2], blocks[3], blocks[4]
         env = dict(zip(data["states"], x))
         env.update(zip(data["accelerations"], acc))
         env.update(zip(data["parameters"], p))
@@ -188,6 +189,10 @@ def check_numbers(data, kernels, rng, fail):
             want = steady[STEADY.index(name)]
             if not close(env[sym], want, abs(want)):
                 fail(f"stationary {name}: document {env[sym]!r}, kernel {want!r}")
+        for state, sym in data.get("ansatz", {}).items():
+            want = xbar[data["states"].index(state)]
+            if not close(env[sym], want, abs(want)):
+                fail(f"ansatz (3.1) for {state}: document {env[sym]!r}, kernel {want!r}")
 
 
 def check_model(kernels, gen, model, rng):
@@ -218,7 +223,7 @@ def mutate(kernels, gen, rng):
             with open(tex_path, encoding="utf-8") as fh:
                 tex = fh.read()
             # the LaTeX of the first right-hand side row f_i with a ' - ' in it
-            m = re.search(r"(% line def:f_\d+\n\\begin\{equation\*\}[^\n]*?) - ", tex)
+            m = re.search(r"(% line def:f_\d+\n\\begin\{equation\*\}[^\n]*?[^=]) - ", tex)
             if not m:
                 print(f"FAIL {model}: no sign to flip in the LaTeX")
                 return False
@@ -268,7 +273,7 @@ def main():
             for e in errors[:15]:
                 print("     " + e)
         else:
-            print(f"ok   {model}: {n} lines parsed; M, f, Euler's rows, residuals, beta "
+            print(f"ok   {model}: {n} lines parsed; M, f, Euler's rows, residuals, beta, ansatz "
                   f"equal the kernels at {POINTS} random points")
     return 1 if bad else 0
 

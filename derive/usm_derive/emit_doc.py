@@ -451,7 +451,7 @@ def model_data(m):
     # ---- stationary solution ----
     d.section("Stationary solution (3.1)-(3.7)" + (", section 5" if slip else ""))
     mark = (len(d.lines), set(d.keys), dict(chain))
-    res_keys, steady, unknowns = [], {}, []
+    res_keys, steady, unknowns, ansatz = [], {}, [], {}
     try:
         thb = names.add("thetabar", r"\bar\theta")
         alpha, beta = names.add("alpha", r"\alpha"), names.add("beta", r"\beta")
@@ -475,6 +475,7 @@ def model_data(m):
                 best = min([best, alt], key=lambda c: (_ops(c), len(str(c))))
             return best
         d.define("phibar", Om * t + alpha, lhs_tex=r"\bar\varphi(t)", tag="3.1a")
+        ansatz.update(phi="phibar", theta="thetabar", psi="psibar")
         d.display("display:ansatz_theta", r"\bar\theta(t)", r"\bar\theta = \mathrm{const}",
                   tag="3.1b")
         d.define("psibar", on[q[cnames.index("psi")]], lhs_tex=r"\bar\psi(t)", tag="3.1c")
@@ -484,9 +485,11 @@ def model_data(m):
             on[q[cnames.index("phi_R")]] = wb * t
             on[qd[cnames.index("phi_R")]] = wb
             d.define("phibar_R", wb * t, lhs_tex=r"\bar\varphi_R(t)")
+            ansatz["phi_R"] = "phibar_R"
         if extra:
             on[extra[0]] = chi
             d.define("taubar", chi, lhs_tex=r"\bar\tau")
+            ansatz[extra[0].name] = "taubar"
         d.text(r"On the orbit $\dot\theta = \dot Z = \ddot Z = 0$ and $\omega_{z_1} = 0$; a bar "
                r"marks a quantity on it.  Frame $A$ turns with $\bar\varphi = \Omega t + \alpha$, "
                r"so the components in frame $A$ are the paper's $X + iY$ combination (3.3) times "
@@ -556,7 +559,7 @@ def model_data(m):
         # the ansatz (3.1) does not solve this model (e.g. an imperfect motor)
         del d.lines[mark[0]:]
         d.keys, chain = mark[1], mark[2]
-        res_keys, steady, unknowns = [], {}, []
+        res_keys, steady, unknowns, ansatz = [], {}, [], {}
         d.text(r"The ansatz (3.1) is not a solution of this model: on it the residuals "
                r"depend on $t$, so there is no stationary solution of the form (3.1).",
                "no_stationary")
@@ -592,6 +595,7 @@ def model_data(m):
         "unknowns": [s.name for s in unknowns],
         "parameters": [s.name for s in P.values()],
         "mass": "Mass", "rhs": "fvec", "residual": res_keys, "steady": steady,
+        "ansatz": ansatz,
     }
 
 
