@@ -106,7 +106,7 @@ def tidy(e, identities=()):
         return e.applyfunc(lambda x: tidy(x, identities))
     cands = [e]
     if _ops(e) <= SMALL and not e.has(sp.atan, sp.tanh, sp.exp):
-        cands.append(sp.trigsimp(e))
+        cands.append(_trigsimp(e))
     gens = sorted((g for g in e.free_symbols if g.name.endswith("dot")), key=lambda s: s.name)
     if gens and not e.has(sp.atan, sp.tanh, sp.exp):
         # a polynomial in the rates and accelerations: each coefficient is small
@@ -132,11 +132,18 @@ def tidy(e, identities=()):
     return min(cands, key=lambda c: (_ops(c), len(str(c))))
 
 
+def _trigsimp(c, memo={}):
+    """trigsimp, once per expression (the same pieces recur line after line)."""
+    if c not in memo:
+        memo[c] = sp.trigsimp(c)
+    return memo[c]
+
+
 def _small_trigsimp(c):
     if _ops(c) > SMALL or c.has(sp.atan, sp.tanh, sp.exp):
         return c
-    return min([c, sp.trigsimp(c), sp.factor_terms(sp.trigsimp(c))],
-               key=lambda x: (_ops(x), len(str(x))))
+    ts = _trigsimp(c)
+    return min([c, ts, sp.factor_terms(ts)], key=lambda x: (_ops(x), len(str(x))))
 
 
 # --------------------------------------------------------------------------
@@ -470,7 +477,7 @@ def model_data(m):
             best = tidy(x, ids)
             if _ops(x) <= SMALL and not x.has(sp.atan, sp.tanh, sp.exp) and Rb != Rs \
                     and Zb != Zs:
-                alt = sp.trigsimp(x.subs({R: Rb * sp.cos(thb) + Zb * sp.sin(thb),
+                alt = _trigsimp(x.subs({R: Rb * sp.cos(thb) + Zb * sp.sin(thb),
                                           H: Zb * sp.cos(thb) - Rb * sp.sin(thb)}))
                 best = min([best, alt], key=lambda c: (_ops(c), len(str(c))))
             return best
@@ -515,7 +522,7 @@ def model_data(m):
             d.define(sb, b)
             bar_of[s] = sb
         # K on the orbit: constant in frame A (trigsimp makes omega_Z = 0 exact)
-        Kbar = [sp.trigsimp(chain_vec(chain, torques["K"])[k].subs(on)) for k in range(3)]
+        Kbar = [_trigsimp(chain_vec(chain, torques["K"])[k].subs(on)) for k in range(3)]
         resid = []
         for k in range(3):
             r = Kbar[k] - (bar_of[torques["M_E"][k]] - bar_of[torques["M_R"][k]]
