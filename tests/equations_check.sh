@@ -24,6 +24,7 @@ for model in $models; do
     "$usm" equations --model "$base" --variant "$variant" > "$md"
     "$usm" equations --model "$base" --variant "$variant" --format latex > "$tex"
     "$usm" equations --model "$base" --variant "$variant" --diff > "$tmp/$model.diff.md"
+    "$usm" equations --model "$base" --variant "$variant" --diff --format latex > "$tmp/$model.diff.tex"
     if [ "$base" = 3dof ]; then tags="$common $stick"; else tags="$common $slip"; fi
     n=0
     for tag in $tags; do
@@ -46,14 +47,15 @@ for model in $models; do
         echo "FAIL $model: $nmark highlighted equations, --diff prints $ndiff"; fail=1
     fi
     if command -v pdflatex > /dev/null; then
-        if (cd "$tmp" && pdflatex -interaction=nonstopmode -halt-on-error "$model.tex" > "$model.out" 2>&1); then
-            if grep -q '^Overfull' "$tmp/$model.log"; then
-                echo "FAIL $model: overfull boxes:"; grep -A2 '^Overfull' "$tmp/$model.log" | head; fail=1
+        if (cd "$tmp" && pdflatex -interaction=nonstopmode -halt-on-error "$model.tex" > "$model.out" 2>&1 \
+                && pdflatex -interaction=nonstopmode -halt-on-error "$model.diff.tex" > "$model.diff.out" 2>&1); then
+            if grep -q '^Overfull' "$tmp/$model.log" "$tmp/$model.diff.log"; then
+                echo "FAIL $model: overfull boxes:"; grep -A2 '^Overfull' "$tmp/$model.log" "$tmp/$model.diff.log" | head; fail=1
             else
-                echo "ok   $model: $n paper equations, $nmark highlighted, LaTeX compiles, no overfull box"
+                echo "ok   $model: $n paper equations, $nmark highlighted, LaTeX (full and --diff) compiles, no overfull box"
             fi
         else
-            echo "FAIL $model: pdflatex failed"; grep -A3 '^!' "$tmp/$model.out" | head; fail=1
+            echo "FAIL $model: pdflatex failed"; grep -A3 '^!' "$tmp/$model.out" "$tmp/$model.diff.out" | head; fail=1
         fi
     else
         echo "ok   $model: $n paper equations, $nmark highlighted (pdflatex not installed: LaTeX not compiled)"
