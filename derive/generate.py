@@ -41,7 +41,8 @@ if sys.argv[1:] == ["--list"]:
     names = [m[0] for m in variants.generated_models()]
     files = ["usm_kernels.c", "usm_kernels.h", "usm_equations.c", "usm_equations.h"]
     for n in names:
-        files += [f"usm_{n}.c", f"usm_{n}.h", f"usm_{n}_equations.md", f"usm_{n}_equations.tex"]
+        files += [f"usm_{n}.c", f"usm_{n}.h", f"usm_{n}_equations.md", f"usm_{n}_equations.tex",
+                  f"usm_{n}_equations.json"]
     print(";".join(sorted(files)))
     sys.exit(0)
 
@@ -100,9 +101,34 @@ def _model_files(job):
     model = derive_model(name, spec)
     t1 = time.perf_counter()
     files = emit_model.model_files(model, description, stamp, base, variant)
-    docs, _ = emit_doc.model_docs(model, description)
-    files.update(docs)
+    # the document as data; rendered by render_docs() once every model is known
+    files[f"usm_{name}_equations.json"] = json.dumps(
+        emit_doc.model_data(model), indent=0, sort_keys=True) + "\n"
     return name, files, t1 - t0, time.perf_counter() - t1
+
+
+def render_docs(models, files, out_dir):
+    """usm_<name>_equations.{md,tex} of every model from its data, with the lines
+    that differ from the paper's model of the same base highlighted; and the
+    documents of those lines only (for `usm equations --diff`)."""
+    diffs = {}
+    for name, base, variant, spec, description in models:
+        data = json.loads(files[f"usm_{name}_equations.json"])
+        paper, changes = None, []
+        if variant != "paper":
+            key = f"usm_{base}_equations.json"
+            text = files.get(key)
+            if text is None and os.path.exists(os.path.join(out_dir, key)):
+                with open(os.path.join(out_dir, key), encoding="utf-8") as fh:
+                    text = fh.read()
+            paper = json.loads(text) if text is not None else None
+            changes = [(k, v, variants.PAPER.get(k))
+                       for k, v in sorted(variants.VARIANTS[variant][0].items())]
+        md, tex = emit_doc.render(data, description, paper, changes)
+        files[f"usm_{name}_equations.md"] = md
+        files[f"usm_{name}_equations.tex"] = tex
+        diffs[name] = emit_doc.render(data, description, paper, changes, diff=True)
+    return diffs
 
 
 def _cache_read(cache, key):
@@ -169,6 +195,7 @@ def write_all(out_dir, only=None, verbose=True, jobs=2, cache=None):
         if verbose:
             print(f"  {name}: derived in {t_derive:.1f} s, emitted in {t_emit:.1f} s",
                   file=sys.stderr)
+    diffs = render_docs(models, files, out_dir)
     if not only:
         # usm_kernels.h depends on the code and the list of models and
         # variants only; usm_kernels.c also holds the digest of all inputs.
@@ -180,6 +207,8 @@ def write_all(out_dir, only=None, verbose=True, jobs=2, cache=None):
             [(m[0], m[1], m[2]) for m in models], variant_list, stamp))
         docs = [(m[0], fmt, files[f"usm_{m[0]}_equations.{ext}"])
                 for m in models for fmt, ext in (("markdown", "md"), ("latex", "tex"))]
+        docs += [(m[0], fmt, diffs[m[0]][k]) for m in models
+                 for k, fmt in enumerate(("markdown-diff", "latex-diff"))]
         doc_stamp = dict(stamp, digest=_sha(code, *(d[2] for d in docs)))
         files["usm_equations.c"] = emit_doc.equations_c(docs, emit_model.banner(
             "usm_equations.c: the derived equations as documents, for `usm equations`.",

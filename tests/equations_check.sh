@@ -1,38 +1,64 @@
 #!/usr/bin/env bash
-# `usm equations`: every equation a document lists is in it, for every generated
-# model, in both formats; and the LaTeX compiles (pdflatex, when installed).
+# `usm equations`: for every generated model, in both formats, every equation
+# number of the paper's sections 2-5 that the model uses is in the document
+# (the lists below, from the paper), no ASCII names stand in for symbols in
+# the prose, the LaTeX compiles without overfull boxes (pdflatex log, when
+# pdflatex is installed), and --diff prints exactly the highlighted lines.
 # Usage: equations_check.sh PATH/TO/usm
 set -euo pipefail
 usm=$1
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 fail=0
+# the paper's numbered equations every model states (kinematics, forces,
+# torques, Euler's equations, stationary solution, linearisation) ...
+common="2.1 2.2 2.3 2.5 2.6 2.7 2.8 2.9 2.10 2.11 3.1a 3.1b 3.1c 3.2 3.3 3.4 3.5a 3.5b 3.6 4.9"
+# ... and those of the stick model (sections 2-4) and of the slip model (section 5)
+stick="2.4 3.7 4.6"
+slip="5.1 5.2 5.3"
 models=$("$usm" variants | awk '{split($2, b, ","); for (i in b) print b[i] ($1 == "paper" ? "" : "_" $1)}')
 for model in $models; do
     base=${model%%_*}
     variant=${model#"$base"}; variant=${variant#_}; variant=${variant:-paper}
-    "$usm" equations --model "$base" --variant "$variant" > "$tmp/$model.md"
-    "$usm" equations --model "$base" --variant "$variant" --format latex > "$tmp/$model.tex"
-    tags=$(sed -n 's/^Equations: //p' "$tmp/$model.md" | tr -d '()' | tr ',' '\n' | tr -d ' ')
-    [ -n "$tags" ] || { echo "FAIL $model: no equation list"; fail=1; continue; }
+    md="$tmp/$model.md"; tex="$tmp/$model.tex"
+    "$usm" equations --model "$base" --variant "$variant" > "$md"
+    "$usm" equations --model "$base" --variant "$variant" --format latex > "$tex"
+    "$usm" equations --model "$base" --variant "$variant" --diff > "$tmp/$model.diff.md"
+    "$usm" equations --model "$base" --variant "$variant" --diff --format latex > "$tmp/$model.diff.tex"
+    if [ "$base" = 3dof ]; then tags="$common $stick"; else tags="$common $slip"; fi
     n=0
     for tag in $tags; do
         n=$((n + 1))
-        grep -qF "\\tag{$tag}" "$tmp/$model.md" || { echo "FAIL $model.md lacks ($tag)"; fail=1; }
-        grep -qF "number={$tag}" "$tmp/$model.tex" || { echo "FAIL $model.tex lacks ($tag)"; fail=1; }
+        grep -qF "\\tag{$tag}" "$md" || { echo "FAIL $model.md lacks ($tag)"; fail=1; }
+        grep -qF "\\tag{$tag}" "$tex" || { echo "FAIL $model.tex lacks ($tag)"; fail=1; }
     done
-    # the paper's numbered equations that every model must state
-    for tag in 2.1 2.2 2.3 2.8 2.9 2.10 2.11 3.1a 3.1b 3.1c 3.5a 3.5b 3.6; do
-        grep -qx "$tag" <<< "$tags" || { echo "FAIL $model: equation ($tag) missing"; fail=1; }
-    done
+    # prose: outside $...$ no symbol is spelled in ASCII (phi_Rddot, omega_A x L)
+    bad=$(awk '/^\$\$$/ {m = !m; next} !m' "$md" | sed 's/\$[^$]*\$//g; s/`[^`]*`//g' \
+          | grep -nE 'dot|ddot|omega|theta|phi|psi|R_star| x L' || true)
+    [ -z "$bad" ] || { echo "FAIL $model.md: ASCII names in prose: $bad"; fail=1; }
+    # --diff: the highlighted equations, no others
+    nmark=$(grep -c '^> \*\*Changed by the variant\*\*' "$md" || true)
+    ndiff=$(grep -c '^\$\$$' "$tmp/$model.diff.md" || true)
+    ndiff=$((ndiff / 2))
+    if [ "$variant" = paper ]; then
+        grep -q "no differences" "$tmp/$model.diff.md" && [ "$nmark" = 0 ] && [ "$ndiff" = 0 ] \
+            || { echo "FAIL $model: the paper's model has differences"; fail=1; }
+    elif [ "$nmark" = 0 ] || [ "$nmark" != "$ndiff" ]; then
+        echo "FAIL $model: $nmark highlighted equations, --diff prints $ndiff"; fail=1
+    fi
     if command -v pdflatex > /dev/null; then
-        if (cd "$tmp" && pdflatex -interaction=nonstopmode -halt-on-error "$model.tex" > "$model.out" 2>&1); then
-            echo "ok   $model: $n equations, LaTeX compiles"
+        if (cd "$tmp" && pdflatex -interaction=nonstopmode -halt-on-error "$model.tex" > "$model.out" 2>&1 \
+                && pdflatex -interaction=nonstopmode -halt-on-error "$model.diff.tex" > "$model.diff.out" 2>&1); then
+            if grep -q '^Overfull' "$tmp/$model.log" "$tmp/$model.diff.log"; then
+                echo "FAIL $model: overfull boxes:"; grep -A2 '^Overfull' "$tmp/$model.log" "$tmp/$model.diff.log" | head; fail=1
+            else
+                echo "ok   $model: $n paper equations, $nmark highlighted, LaTeX (full and --diff) compiles, no overfull box"
+            fi
         else
-            echo "FAIL $model: pdflatex failed"; grep -A3 '^!' "$tmp/$model.out" | head; fail=1
+            echo "FAIL $model: pdflatex failed"; grep -A3 '^!' "$tmp/$model.out" "$tmp/$model.diff.out" | head; fail=1
         fi
     else
-        echo "ok   $model: $n equations (pdflatex not installed: LaTeX not compiled)"
+        echo "ok   $model: $n paper equations, $nmark highlighted (pdflatex not installed: LaTeX not compiled)"
     fi
 done
 exit $fail

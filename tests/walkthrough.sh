@@ -49,7 +49,9 @@ print("friction_rational: theta %.6e, rotor speed %.6f 1/s, max |lambda| %.6f"
       % (r["theta"], r["rotor_speed"], r["floquet"]["max_modulus"]))'
 # every kernel test, on every model including the new one (its friction law
 # taken from its generated friction kernel)
-ctest --test-dir build -R '^(kernel_jacobians|kernel_energy|kernel_momentum|steady_floquet|generated_in_sync)$' \
+ctest --test-dir build -R '^(kernel_jacobians|kernel_energy|kernel_momentum|steady_floquet|generated_in_sync|equations_proof)$' \
       --output-on-failure
 grep -q 'friction_rational' <<< "$(build/tests/test_energy energy)"
+# its equations: the changed friction law (5.2) is what differs from the paper's model
+grep -qF '\tag{5.2}' <<< "$(build/usm equations --model 4dof --variant friction_rational --diff)"
 echo "walkthrough: the documented steps build and solve the new variant"

@@ -1,220 +1,847 @@
-"""The derived equations in the paper's notation, as Markdown and LaTeX.
+"""The derived equations in the paper's notation: a list of lines, each held
+both as typeset LaTeX and as sympy (srepr), rendered as Markdown and LaTeX.
 
-Only small pieces are simplified (trigsimp of kinematic vectors, torques and
-mass-matrix entries); the right-hand side f is stated through its definition
-f = -E(q, qdot, 0, t) rather than expanded, so the document stays readable.
-Equation numbers are the paper's where one exists.
+The document is written the way a textbook states a model: contact geometry
+(R*, Z, v_c) defined once and used as symbols, the contact and rotor laws, each
+torque, Euler's equations in frame A, and then M(x) x' = f(x, t) row by row in
+those named quantities.  It is built from the generic pieces of the derivation
+(model.py, ``Model.equations``: the force laws with placeholders, the torques,
+the kinematics) with R* and Z as functions of theta whose derivatives are
+dR*/dtheta = -Z and dZ/dtheta = R*; no equation of motion is typed here.
+tests/equations_proof.py proves the lines equal to the compiled kernels.
+
+model_data(m) returns the lines as JSON-able data (one model, in the worker);
+render() turns the data into Markdown and LaTeX, marking the lines that differ
+from the paper's model of the same base (highlighting driven by the variant's
+assumptions in derive/variants.py), and diff documents with those lines only.
 """
+import re
+
 import sympy as sp
 
-from .model import P, t
+from .model import P, t, solve_linear
 
-OMEGA_SYM = sp.Symbol("Omega", positive=True)
+# --------------------------------------------------------------------------
+# symbols and their typeset names
 
-GREEK = {"phi": r"\varphi", "theta": r"\theta", "psi": r"\psi", "phi_R": r"\varphi_R"}
+GREEK = {"phi": r"\varphi", "theta": r"\theta", "psi": r"\psi", "phi_R": r"\varphi_R",
+         "tau": r"\tau"}
 PARAM_TEX = {"m0": "m_0", "F0": "F_0", "I_xx": "I_{xx}", "I_yy": "I_{yy}", "I_zz": "I_{zz}",
              "mu0": r"\mu_0", "kappa": r"\kappa", "c_R": "c_R", "d_R": "d_R", "c_t": "c_t",
              "c_r": "c_r", "d_t": "d_t", "d_r": "d_r", "I_R": "I_R",
              "amp_imbalance": "e", "phase_error": r"\delta", "mode_split": "s"}
+AXES = ["x_1", "y_1", "z_1"]
+SMALL = 120  # operations: trigsimp only below this, its cost grows steeply
 
 
-def _dot(tex, n):
+def _acc(tex, n):
     """\\dot{\\varphi}_R rather than \\dot{\\varphi_R}."""
-    acc = r"\dot" if n == 1 else r"\ddot"
+    mark = {1: r"\dot", 2: r"\ddot"}[n]
     if tex.endswith("_R"):
-        return acc + "{" + tex[:-2] + "}_R"
-    return acc + "{" + tex + "}"
+        return mark + "{" + tex[:-2] + "}_R"
+    return mark + "{" + tex + "}"
 
 
-def symbol_names():
-    names = {}
-    for base, tex in GREEK.items():
-        names[sp.Symbol(base, real=True)] = tex
-        names[sp.Symbol(base + "dot", real=True)] = _dot(tex, 1)
-        names[sp.Symbol(base + "ddot", real=True)] = _dot(tex, 2)
-    for name, sym in P.items():
-        names[sym] = PARAM_TEX.get(name, name)
-    names.update({sp.Symbol("tau", real=True): r"\tau", sp.Symbol("v_rel", real=True): r"v_{rel}",
-                  sp.Symbol("F_t", real=True): "F_t", sp.Symbol("F_n", real=True): "F_n",
-                  sp.Symbol("alpha", real=True): r"\alpha", sp.Symbol("beta", real=True): r"\beta",
-                  sp.Symbol("phidot_R", real=True): r"\dot{\varphi}_R", OMEGA_SYM: r"\Omega",
-                  sp.Symbol("wdot_R", real=True): r"\dot w_R", sp.Symbol("twist", real=True): r"\chi", sp.Symbol("R_star", real=True): "R^*"})
-    return names
+class RStar(sp.Function):
+    """R*(theta) = R cos(theta) - H sin(theta), the contact radius."""
+    nargs = 1
+
+    def fdiff(self, argindex=1):
+        return -ZC(self.args[0])
 
 
-def _functions_to_symbols(e):
-    """Euler-angle functions of t (used by the rotation matrices) as symbols."""
-    subs = {}
-    for name in GREEK:
-        subs[sp.Function(name, real=True)(t)] = sp.Symbol(name, real=True)
-    return e.subs(subs)
+class ZC(sp.Function):
+    """Z(theta) = R sin(theta) + H cos(theta), the height of the contact point (2.3)."""
+    nargs = 1
+
+    def fdiff(self, argindex=1):
+        return RStar(self.args[0])
 
 
-SMALL = 80  # operations: trigsimp only below this, its cost grows steeply
+class _NoStationary(Exception):
+    """The ansatz (3.1) leaves t in the residuals of this model."""
 
 
-def _simplify_small(e):
-    if e.has(sp.atan, sp.tanh) or sp.count_ops(e) > SMALL:
-        return e
-    return sp.trigsimp(e)
-
-
-def prepare(e, simplify=True):
-    e = _functions_to_symbols(sp.sympify(e)).subs(P["f"], OMEGA_SYM / (2 * sp.pi))
-    if simplify:
-        e = e.applyfunc(_simplify_small) if isinstance(e, sp.MatrixBase) else _simplify_small(e)
-    return e
-
-
-class Doc:
-    """Collects numbered equations and renders them as Markdown or LaTeX."""
+class Names:
+    """The document's symbols: sympy Symbol (real) and its LaTeX name."""
 
     def __init__(self):
-        self.items = []   # ("section", title) | ("text", s) | ("eq", tag, lhs, rhs)
-        self.names = symbol_names()
+        self.tex = {}
+        for base, tex in GREEK.items():
+            self.add(base, tex)
+            self.add(base + "dot", _acc(tex, 1))
+            self.add(base + "ddot", _acc(tex, 2))
+        for name, sym in P.items():
+            self.tex[sym] = PARAM_TEX.get(name) or (
+                name if re.fullmatch(r"[A-Za-z](_[A-Za-z]+)?", name)
+                else r"\mathrm{" + name.replace("_", r"\_") + "}")
 
-    def tex(self, e):
-        return sp.latex(e, symbol_names=self.names, mat_delim="(")
+    def add(self, name, tex):
+        s = sp.Symbol(name, real=True)
+        if s in self.tex and self.tex[s] != tex:
+            raise RuntimeError(f"symbol {name} named twice")
+        self.tex[s] = tex
+        return s
+
+    def table(self):
+        return {s.name: tex for s, tex in self.tex.items()}
+
+
+def latex(e, names):
+    return sp.latex(e, symbol_names=names, mat_delim="(", inv_trig_style="full")
+
+
+# --------------------------------------------------------------------------
+# simplification of small pieces
+
+def _ops(e):
+    return sp.count_ops(e)
+
+
+def tidy(e, identities=()):
+    """The shortest of a few equivalent forms of a small expression: as is,
+    trigsimp'ed, and with the geometric identities (R* cos + Z sin = R ...)
+    applied after collecting by the rates and accelerations."""
+    e = sp.sympify(e)
+    if isinstance(e, sp.MatrixBase):
+        return e.applyfunc(lambda x: tidy(x, identities))
+    cands = [e]
+    if _ops(e) <= SMALL and not e.has(sp.atan, sp.tanh, sp.exp):
+        cands.append(_trigsimp(e))
+    gens = sorted((g for g in e.free_symbols if g.name.endswith("dot")), key=lambda s: s.name)
+    if gens and not e.has(sp.atan, sp.tanh, sp.exp):
+        # a polynomial in the rates and accelerations: each coefficient is small
+        try:
+            poly = sp.Poly(sp.expand(e), *gens)
+        except sp.PolynomialError:
+            poly = None
+        if poly is not None:
+            terms = [_small_trigsimp(c) * sp.Mul(*(g**k for g, k in zip(gens, mono)))
+                     for mono, c in poly.terms()]
+            cands.append(sp.Add(*terms))
+            cands.append(sp.collect(sp.Add(*terms), gens))
+    for c in list(cands):
+        ex = sp.expand(c)
+        cands.append(ex)
+        for old, new in identities:
+            gens = sorted(ex.free_symbols, key=lambda s: s.name)
+            rates = [g for g in gens if g.name.endswith("dot") or g.name.endswith("ddot")
+                     or g.name.startswith("F_") or g.name.startswith("mu")]
+            col = sp.collect(ex, rates) if rates else ex
+            cands.append(col.subs(old, new))
+    cands += [sp.factor_terms(c) for c in list(cands)]
+    return min(cands, key=lambda c: (_ops(c), len(str(c))))
+
+
+def _trigsimp(c, memo={}):
+    """trigsimp, once per expression (the same pieces recur line after line)."""
+    if c not in memo:
+        memo[c] = sp.trigsimp(c)
+    return memo[c]
+
+
+def _small_trigsimp(c):
+    if _ops(c) > SMALL or c.has(sp.atan, sp.tanh, sp.exp):
+        return c
+    ts = _trigsimp(c)
+    return min([c, ts, sp.factor_terms(ts)], key=lambda x: (_ops(x), len(str(x))))
+
+
+# --------------------------------------------------------------------------
+# the document as lines
+
+class Doc:
+    """Lines of the document.  kind: section | text | def | eq | identity | display.
+
+    def: ``defines`` symbols (component-wise for a matrix) or one matrix name;
+    eq: ``row`` (first kernel row of M x' - f that lhs - rhs equals);
+    identity: lhs = rhs for any values; display: typeset only (not parsed)."""
+
+    def __init__(self, names):
+        self.names = names
+        self.lines = []
+        self.keys = set()
 
     def section(self, title):
-        self.items.append(("section", title))
+        self.lines.append({"kind": "section", "text": title, "key": "section:" + title})
 
-    def text(self, s):
-        self.items.append(("text", s))
+    def text(self, s, key):
+        self.lines.append({"kind": "text", "text": s, "key": "text:" + key})
 
-    def eq(self, tag, lhs, rhs, simplify=True):
-        rhs_tex = rhs if isinstance(rhs, str) else self.tex(prepare(rhs, simplify))
-        self.items.append(("eq", tag, lhs, rhs_tex))
+    def _add(self, kind, key, tag, lhs, rhs, lhs_tex=None, **extra):
+        if key in self.keys:
+            raise RuntimeError(f"document line {key} twice")
+        self.keys.add(key)
+        tex = self.names.tex
+        if kind != "display":
+            # as the proof reads it back: unevaluated forms such as -(a + b) print
+            # differently once parsed, and the typeset line must be the parsed one
+            lhs, rhs = (sp.sympify(sp.srepr(x)) for x in (lhs, rhs))
+        line = {"kind": kind, "key": key, "tag": tag,
+                "lhs_tex": lhs_tex if lhs_tex is not None else latex(lhs, tex),
+                "rhs_tex": rhs if isinstance(rhs, str) else latex(rhs, tex)}
+        if kind != "display":
+            line["lhs"] = sp.srepr(lhs)
+            line["rhs"] = sp.srepr(rhs)
+        line.update(extra)
+        self.lines.append(line)
 
-    def tags(self):
-        return [it[1] for it in self.items if it[0] == "eq"]
+    def define(self, sym, rhs, tag=None, lhs_tex=None, key=None):
+        """sym: a Symbol, a list of Symbols (components of the matrix rhs) or a
+        name (the whole matrix)."""
+        if isinstance(sym, str):
+            lhs, defines = sp.Symbol(sym), sym
+        elif isinstance(sym, (list, tuple)):
+            lhs, defines = sp.Matrix(sym), [s.name for s in sym]
+        else:
+            lhs, defines = sym, [sym.name]
+        self._add("def", key or ("def:" + (sym if isinstance(sym, str) else lhs_key(sym))),
+                  tag, lhs, rhs, lhs_tex, defines=defines)
 
-    def markdown(self, title, preamble):
-        out = [f"# {title}", ""] + preamble + ["", "Equations: " + ", ".join(
-            f"({tag})" for tag in self.tags()), ""]
-        for it in self.items:
-            if it[0] == "section":
-                out += [f"## {it[1]}", ""]
-            elif it[0] == "text":
-                out += [it[1], ""]
-            else:
-                out += ["$$", f"{it[2]} = {it[3]} \\tag{{{it[1]}}}", "$$", ""]
-        return "\n".join(out).rstrip() + "\n"
+    def equation(self, key, lhs, rhs, row, tag=None, lhs_tex=None):
+        self._add("eq", key, tag, lhs, rhs, lhs_tex, row=row)
 
-    def latex(self, title, preamble):
-        out = [r"\documentclass[10pt]{article}",
-               r"\usepackage[a4paper,margin=18mm]{geometry}",
-               r"\usepackage{amsmath}",
-               r"\usepackage{breqn}",
-               r"\allowdisplaybreaks",
-               r"\setcounter{MaxMatrixCols}{12}",
-               r"\begin{document}",
-               r"\section*{" + _tex_escape(title) + "}"]
-        out += [_tex_escape(p) for p in preamble]
-        out += ["", r"\noindent Equations: "
-                + _tex_escape(", ".join(f"({t})" for t in self.tags())) + "."]
-        for it in self.items:
-            if it[0] == "section":
-                out += [r"\subsection*{" + _tex_escape(it[1]) + "}"]
-            elif it[0] == "text":
-                out += [_tex_escape(it[1]), ""]
-            else:
-                # breqn breaks long right-hand sides across lines by itself
-                out += [f"\\begin{{dmath}}[number={{{it[1]}}}]", f"{it[2]} = {it[3]}",
-                        r"\end{dmath}"]
-        out += [r"\end{document}"]
-        return "\n".join(out) + "\n"
+    def identity(self, key, lhs, rhs, tag=None, lhs_tex=None):
+        self._add("identity", key, tag, lhs, rhs, lhs_tex)
+
+    def display(self, key, lhs_tex, rhs_tex, tag=None):
+        self._add("display", key, tag, None, rhs_tex, lhs_tex)
 
 
-def _tex_escape(s):
-    return (s.replace("\\", r"\textbackslash{}").replace("_", r"\_").replace("&", r"\&")
-            .replace("%", r"\%").replace("#", r"\#").replace("$", r"\$"))
+def lhs_key(sym):
+    if isinstance(sym, (list, tuple)):
+        return ",".join(s.name for s in sym)
+    return sym.name
 
 
-def build(m, description):
+# --------------------------------------------------------------------------
+# the model in named quantities
+
+def model_data(m):
+    """The document of one model as data (JSON-able): its lines, symbols and
+    the keys the proof needs (tests/equations_proof.py)."""
     e = m.equations
-    d = Doc()
+    names = Names()
+    d = Doc(names)
+    kin, coords, cnames = e["kin"], e["coords"], e["coord_names"]
+    cs = e["contact_symbols"]
     slip = m.assumptions["contact"] == "slip"
-    d.section("Kinematics (Fig. 5, Table 1): z-x-z Euler angles")
-    d.text("C_XY maps components in frame Y to components in frame X.")
-    d.eq("K1", r"C_{NA}", e["C_NA"], simplify=False)
-    d.eq("K2", r"C_{AB}", e["C_AB"], simplify=False)
-    d.eq("K3", r"C_{BK}", e["C_BK"], simplify=False)
-    d.eq("K4", r"\vec\omega^{K}", e["omega_K"])
-    d.eq("K5", r"\vec\omega^{A}", e["omega_A"])
-    d.eq("K6", r"\vec r_c^{\,A}", e["r_c_A"])
-    d.eq("2.2a", r"R^*", e["R_star"])
-    d.eq("2.3", r"Z", e["Z"])
-    d.eq("K7", r"v_c = (\vec\omega\times\vec r_c)\cdot\vec e_{x_1}", e["v_c"])
-    d.section("Rotor and contact (2.1)-(2.5)" + (", (5.1)-(5.2)" if slip else ""))
-    d.eq("2.1", r"F_n", e["F_n"])
-    if slip:
-        d.eq("5.1", r"v_{rel}", e["v_rel"])
-        d.eq("5.2", r"\mu(v_{rel})", e["friction"])
-        d.eq("5.1b", r"F_t", r"\mu(v_{rel})\,F_n")
-        d.eq("2.2", r"0", e["rotor_balance"])
-        d.text("with w_R = -phidot_R, the rotor's speed in its driving direction.")
-    else:
-        d.eq("2.4", r"w_R = -\dot\varphi_R", e["w_R"])
-        d.eq("2.2", r"F_t", e["F_t_generic"])
-    d.section("Torques on the stator in frame A (2.7)-(2.11)")
-    d.eq("2.8", r"\vec M_E^{A}", e["M_E_A"])
-    d.eq("2.9", r"\vec M_R^{A}", e["M_R_A"])
-    if e["extra_names"]:
-        d.eq("T1", r"\dot\tau", e["extra_rates"][0])
-    d.eq("2.10", r"\vec M_D^{A}", e["M_D_A"])
-    d.eq("2.11", r"\vec M_C^{A} = \vec r_c\times\vec F_c", e["M_C_A"])
-    d.eq("L1", r"\vec L^{A} = I^{A}\vec\omega^{A}", e["L_A"])
-    d.section("Euler's equations (2.6), projected on frame A")
-    d.text("E = dL/dt + omega_A x L - (M_E - M_R - M_D + M_C) = 0 in frame A (frame A turns "
-           "with phidot about Z); these rows are C_AK times (2.6). They are linear in the "
-           "accelerations: M_q qddot = f_q with M_q = dE/dqddot and f_q = -E at qddot = 0.")
-    M_q = e["M_q"]
-    if slip:
-        # written with v_rel (5.1) rather than its expansion
-        M_q = M_q.subs(e["v_rel"], e["v_sym"])
-    M_q = prepare(M_q)
-    n = M_q.shape[0]
-    names = [s.name for s in e["qdd"]]
-    for i in range(n):
-        for j in range(n):
-            if M_q[i, j] != 0:
-                d.eq(f"M{i + 1}{j + 1}", f"m_{{{i + 1}{j + 1}}}", M_q[i, j], simplify=False)
-    d.text("Acceleration order: " + ", ".join(names) + ". First-order form (4.6)/(5.3): "
-           "x = [q, qdot" + (", tau" if e["extra_names"] else "") + "], "
-           "M(x) = diag(1, M_q" + (", 1" if e["extra_names"] else "") + "), "
-           "f = [qdot, f_q" + (", omega_Z" if e["extra_names"] else "") + "].")
-    d.section("Stationary solution (3.1)-(3.6)")
-    d.text("chi is the twist angle on the stationary solution, from the twisting balance "
-           "(the Z row of Euler's equations); beta follows from phi + psi cos(theta) = chi.")
-    ansatz_tags = {"phi": "3.1a", "theta": "3.1b", "psi": "3.1c", "phi_R": "S1"}
-    for name, expr in e["ansatz"].items():
-        d.eq(ansatz_tags[name], GREEK[name], expr)
-    short = {}
-    if slip:
-        d.eq("S2", r"v_{rel}", e["v_rel_bar"])
-        short = {e["v_rel_bar"]: e["v_sym"]}
-    for i, r in enumerate(e["residual"]):
-        label = ["3.5a", "3.5b", "5.4"][i] if not slip else ["5.4", "3.5a", "3.5b"][i]
-        d.eq(label, "0", r.subs(short), simplify=False)
-    d.eq("3.6", r"\chi", e["twist_display"])
-    d.eq("3.6b", r"\beta", e["beta_generic"])
+    nq = len(coords)
+    R, H = P["R"], P["H"]
+    th_f = coords[cnames.index("theta")]
+    q = [sp.Symbol(n, real=True) for n in cnames]
+    qd = [sp.Symbol(n + "dot", real=True) for n in cnames]
+    qdd = [sp.Symbol(n + "ddot", real=True) for n in cnames]
+    theta = q[cnames.index("theta")]
+    to_plain = ([(c.diff(t, 2), qdd[i]) for i, c in enumerate(coords)]
+                + [(c.diff(t), qd[i]) for i, c in enumerate(coords)]
+                + [(c, q[i]) for i, c in enumerate(coords)])
+
+    Om = names.add("Omega", r"\Omega")
+    Rs = names.add("R_star", "R^*")
+    Zs = cs["Z"]
+    names.tex[Zs] = "Z"
+    Zd, Zdd = names.add("Zdot", r"\dot Z"), names.add("Zddot", r"\ddot Z")
+    short_f = {RStar(theta): Rs, ZC(theta): Zs}
+    identities = [(Rs * sp.cos(theta) + Zs * sp.sin(theta), R),
+                  (Zs * sp.cos(theta) - Rs * sp.sin(theta), H)]
+
+    def plain(x):
+        """Function-of-t expression (R*, Z as functions of theta) -> symbols."""
+        x = sp.sympify(x).subs({kin.R_star: RStar(th_f), kin.Z: ZC(th_f)})
+        x = x.subs(to_plain).subs(P["f"], Om / (2 * sp.pi))
+        return x.xreplace(short_f) if not isinstance(x, sp.MatrixBase) else \
+            x.applyfunc(lambda y: y.xreplace(short_f))
+
+    def nice(x):
+        return tidy(x, identities)
+
+    # every named quantity: symbol -> its definition in earlier names
+    chain = {}
+
+    def named(sym, expr, tag=None, lhs_tex=None, key=None):
+        if isinstance(sym, list):
+            sym = tuple(sym)
+        chain[sym] = expr
+        d.define(sym, expr, tag, lhs_tex, key)
+        return sym
+
+    # ---- kinematics ----
+    d.section("Kinematics: z-x-z Euler angles (Fig. 5, Table 1)")
+    d.text(r"Frames: $N$ inertial, $A$ turned by $\varphi$ about $Z$, $B$ by $\theta$ about "
+           r"$x_1$, $K$ (body) by $\psi$ about $z_2$; $C_{XY}$ maps components in frame $Y$ "
+           r"to components in frame $X$.  Vectors are given by their components in frame "
+           r"$A$, $\Omega = 2\pi f$.", "frames")
+    d.define(Om, 2 * sp.pi * P["f"])
+    for key, nm in (("C_NA", "C_{NA}"), ("C_AB", "C_{AB}"), ("C_BK", "C_{BK}")):
+        d.define(key, plain(e[key]), lhs_tex=nm)
+    d.define("omega_K", tidy(plain(e["omega_K"])), lhs_tex=r"\vec\omega^{\,K}")
+    om_syms = [names.add("omega_" + a.replace("_", ""), r"\omega_{" + a + "}") for a in AXES]
+    omega_A = tidy(plain(kin.omega_A))
+    named(om_syms, omega_A, lhs_tex=r"\vec\omega^{\,A}", key="def:omega_A")
+    r_c = plain(kin.r_c_A)
+    d.define("r_c", r_c, lhs_tex=r"\vec r_c^{\,A}")
+    named(Rs, R * sp.cos(theta) - H * sp.sin(theta))
+    named(Zs, R * sp.sin(theta) + H * sp.cos(theta), tag="2.3")
+    named(Zd, plain(ZC(th_f).diff(t)))
+    named(Zdd, nice(plain(ZC(th_f).diff(t, 2))))
+    vc_t = kin.v_c.subs({kin.R_star: RStar(th_f), kin.Z: ZC(th_f)})
+    v_c = names.add("v_c", "v_c")
+    named(v_c, nice(plain(vc_t)),
+          lhs_tex=r"v_c = (\vec\omega\times\vec r_c)\cdot\vec e_{x_1}")
+
+    # ---- rotor and contact ----
+    d.section("Rotor and contact (2.1)-(2.5)" + (", (5.1), (5.2)" if slip else ""))
+    F_n, F_t = cs["F_n"], cs["F_t"]
+    wR, wRd = names.add("w_R", "w_R"), names.add("wdot_R", r"\dot w_R")
+    names.add("F_n", "F_n"), names.add("F_t", "F_t")
+    named(F_n, e["F_n_generic"].subs({cs["Zddot"]: Zdd, cs["Zdot"]: Zd}), tag="2.1")
+    d.text(r"$w_R = -\dot\varphi_R$ is the rotor's speed in its driving direction; "
+           r"$F_R = F_0 + c_R(Z - Z_0)$ is measured from $Z_0 = Z(\theta = 0) = H$ "
+           r"when the spring reference is $\theta = 0$.", "w_R")
+    wR_gen = e["w_R_generic"]
     if not slip:
-        d.eq("3.7", r"\dot\varphi_R", e["rotor_speed_bar"])
-    preamble = [f"Model {m.name}: {description}.",
-                "Assumptions: " + ", ".join(f"{k}={v}" for k, v in m.assumptions.items()) + ".",
-                "Generated by derive/generate.py from the same derivation as the C kernels; "
-                "Omega = 2 pi f. Equation numbers in parentheses are the paper's where it has "
-                "one (K, L, M, S, T mark equations the paper does not number)."]
-    return d, preamble
+        named(wR, wR_gen.subs({cs["v_c"]: v_c, cs["R_star"]: Rs}), tag="2.4")
+        # the chain rule on the named quantities: dw_R/dt from dv_c/dt and dR*/dt
+        vcd = names.add("vdot_c", r"\dot v_c")
+        named(vcd, nice(plain(vc_t.diff(t))))
+        rates = {v_c: vcd, Rs: plain(RStar(th_f).diff(t))}
+        wrd = sum(sp.diff(chain[wR], s) * r for s, r in rates.items())
+        named(wRd, min([nice(wrd), nice(sp.expand(wrd).subs(chain[wR], wR))],
+                       key=lambda c: (_ops(c), len(str(c)))))
+        Ft_expr = sp.factor_terms(sp.together(
+            solve_linear(e["rotor_balance"], cs["F_t"]).subs(
+                {cs["wdot_R"]: wRd, cs["R_star"]: Rs})))
+        named(F_t, Ft_expr, tag="2.2")
+        rotor_eq = None
+    else:
+        named(wR, plain(wR_gen))
+        named(wRd, plain(wR_gen.diff(t)))
+        vr = names.add("v_rel", r"v_{\mathrm{rel}}")
+        named(vr, e["v_rel_generic"].subs({cs["v_c"]: v_c, cs["w_R"]: wR, cs["R_star"]: Rs}),
+              tag="5.1")
+        mu = names.add("mu", r"\mu")
+        named(mu, e["friction"].subs(e["v_sym"], vr), tag="5.2")
+        named(F_t, mu * F_n, tag="5.1", key="def:F_t")
+        rb = e["rotor_balance"].subs({cs["wdot_R"]: wRd, cs["R_star"]: Rs})
+        rotor_eq = (P["I_R"] * wRd, P["I_R"] * wRd - rb)
+        d.equation("eq:rotor", rotor_eq[0], rotor_eq[1], row=nq, tag="2.2")
+
+    # ---- torques ----
+    d.section("Torques on the stator, components in frame A (2.5), (2.7)-(2.11)")
+    d.display("display:F_c", r"\vec F_c^{\,A}", latex(e["F_c_A"].subs(
+        {cs["F_t"]: F_t, cs["F_n"]: F_n}), names.tex), tag="2.5")
+    torques = {}
+
+    def vec(key, tex_name, value, tag, lhs_tex):
+        if "_" in tex_name and "^" not in tex_name:
+            base, sub = tex_name.split("_", 1)
+            syms = [names.add(f"{key}_{a.replace('_', '')}", f"{base}_{{{sub},{a}}}")
+                    for a in AXES]
+        else:
+            syms = [names.add(f"{key}_{a.replace('_', '')}", tex_name + "_{" + a + "}")
+                    for a in AXES]
+        named(syms, value, tag=tag, lhs_tex=lhs_tex, key="def:" + key)
+        torques[key] = syms
+        return syms
+
+    tw = cs["twist"]
+    vec("M_E", "M_E", tidy(plain(e["M_E_A_t"])), "2.8", r"\vec M_E^{\,A}")
+    vec("M_R", "M_R", plain(e["M_R_A_t"].subs(tw, e["twist_angle"])), "2.9",
+        r"\vec M_R^{\,A}")
+    vec("M_D", "M_D", tidy(plain(e["M_D_A_t"])), "2.10", r"\vec M_D^{\,A}")
+    M_C = nice(plain(e["M_C_A_t"].subs({cs["F_t"]: F_t, cs["F_n"]: F_n})))
+    vec("M_C", "M_C", M_C, "2.11", r"\vec M_C^{\,A} = \vec r_c\times\vec F_c")
+    M0 = sp.Matrix(torques["M_E"]) - sp.Matrix(torques["M_R"]) - sp.Matrix(torques["M_D"]) \
+        + sp.Matrix(torques["M_C"])
+    vec("M0", r"M^{(0)}", M0, "2.7", r"\vec M^{(0)}")
+    extra = e["extra_states"]
+    if extra:
+        d.text(r"The twist angle $\tau$ is a state of its own, integrated from $\omega_{z_1}$.",
+               "tau")
+    # ---- Euler's equations ----
+    d.section("Euler's equations (2.6) in frame A")
+    d.text(r"Frame $A$ turns with $\dot\varphi$ about $Z$, so the rate of the angular "
+           r"momentum $\vec L = I\vec\omega$ is $\vec K = \dot{\vec L}^{A} + \dot\varphi\,"
+           r"\vec e_Z\times\vec L$; these rows are $C_{AK}$ times (2.6), the same solutions.",
+           "euler")
+    d.define("L_A", tidy(plain(e["L_A"])), lhs_tex=r"\vec L^{A}")
+    K = tidy(plain(e["dLdt_A"]))
+    vec("K", "K", K, None, r"\vec K = \dot{\vec L}^{A} + \dot\varphi\,\vec e_Z\times\vec L")
+    nrot = 1 if slip else 0
+    d.equation("eq:euler", sp.Matrix(torques["K"]), sp.Matrix(torques["M0"]), row=nq + nrot,
+               tag="2.6")
+
+    # ---- M(x) x' = f(x, t) ----
+    n = len(m.states)
+    paper_eq = "5.3" if slip else "4.6"
+    d.section(r"Equations of motion $M(\mathbf{x})\,\dot{\mathbf{x}} = \mathbf{f}(\mathbf{x}, t)$"
+              f" ({paper_eq})")
+    d.define("xvec", sp.Matrix(m.states).T, lhs_tex=r"\mathbf{x}^T")
+    d.text(r"A superscript ${}^{(0)}$ marks a quantity at zero accelerations "
+           r"($\ddot{\mathbf{q}} = 0$); the rest of it is in $M$.", "zero")
+    acc_set = set(qdd)
+
+    def depends_on_acc(x, memo={}):
+        return bool(sp.sympify(x).free_symbols & (acc_set | set(zero_of)))
+    zero_of = {}  # symbol -> its (0) symbol (or 0)
+
+    for s, expr in list(chain.items()):
+        if isinstance(s, (list, tuple)):
+            continue
+        if depends_on_acc(expr):
+            z = nice(expr.subs({a: 0 for a in qdd}).subs(zero_of))
+            if z == 0 or z.is_Atom:
+                zero_of[s] = z
+            else:
+                tex0 = names.tex[s]
+                s0 = names.add(s.name + "__0", "{" + tex0 + "}^{(0)}")
+                named(s0, z)
+                zero_of[s] = s0
+    # vectors: the contact torque inline, K^(0) named (component-wise)
+    for s, v in zip(torques["M_C"], chain_vec(chain, torques["M_C"])):
+        if depends_on_acc(v):
+            zero_of[s] = v.subs({a: 0 for a in qdd}).subs(zero_of)
+    for key in ("K",):
+        syms = torques[key]
+        vals = [sp.sympify(chain_vec(chain, syms)[k]) for k in range(3)]
+        if any(depends_on_acc(v) for v in vals):
+            z = [nice(v.subs({a: 0 for a in qdd}).subs(zero_of)) for v in vals]
+            s0 = [names.add(f"{s.name}__0", "{" + names.tex[s] + "}^{(0)}") for s in syms]
+            named(s0, sp.Matrix(z), key=f"def:{key}__0",
+                  lhs_tex=r"\vec " + key.replace("_", "_{") + ("}" if "_" in key else "")
+                  + "^{(0)}")
+            for s, z0 in zip(syms, s0):
+                zero_of[s] = z0
+
+    # the rows as the model states them, in named quantities
+    rows_named = []
+    if slip:
+        rows_named.append(rotor_eq[0] - rotor_eq[1])
+    rows_named += [k - m0 for k, m0 in zip(torques["K"], chain_vec(chain, torques["M0"]))]
+
+    def expand_acc(x):
+        """Substitute every definition that depends on the accelerations."""
+        for _ in range(12):
+            y = x.subs({s: v for s, v in flat_chain(chain).items() if depends_on_acc(v)})
+            if y == x:
+                return x
+            x = y
+        raise RuntimeError("definitions do not terminate")
+
+    msyms = sp.zeros(n, n)
+    for i in range(nq):
+        msyms[i, i] = 1
+    fsyms = sp.Matrix(qd + [0] * nq + [0] * len(extra))
+    for k, row in enumerate(rows_named):
+        i = nq + k
+        full = expand_acc(row)
+        for j, a in enumerate(qdd):
+            mij = nice(sp.diff(full, a))
+            if mij != 0:
+                sym = names.add(f"m_{i + 1}_{nq + j + 1}", f"m_{{{i + 1},{nq + j + 1}}}")
+                named(sym, mij)
+                msyms[i, nq + j] = sym
+        fi = nice(-row.subs(zero_of))
+        sym = names.add(f"f_{i + 1}", f"f_{{{i + 1}}}")
+        named(sym, fi)
+        fsyms[i] = sym
+    for k, rate in enumerate(e["extra_rates_t"]):
+        i = 2 * nq + k
+        msyms[i, i] = 1
+        fsyms[i] = nice(plain(rate)).subs({v: s for s, v in zip(om_syms, omega_A)
+                                           if v != 0 and not v.is_Atom})
+    d.define("Mass", msyms, lhs_tex=r"M(\mathbf{x})", key="def:M")
+    d.define("fvec", fsyms, lhs_tex=r"\mathbf{f}(\mathbf{x}, t)", key="def:f")
+    d.display("display:eom", r"M(\mathbf{x})\,\dot{\mathbf{x}}", r"\mathbf{f}(\mathbf{x}, t)",
+              tag=paper_eq)
+
+    # ---- stationary solution ----
+    d.section("Stationary solution (3.1)-(3.7)" + (", section 5" if slip else ""))
+    mark = (len(d.lines), set(d.keys), dict(chain))
+    res_keys, steady, unknowns, ansatz = [], {}, [], {}
+    try:
+        thb = names.add("thetabar", r"\bar\theta")
+        alpha, beta = names.add("alpha", r"\alpha"), names.add("beta", r"\beta")
+        chi = names.add("chi", r"\bar\chi")
+        unknowns = [thb, alpha]
+        on = {theta: thb, qd[cnames.index("theta")]: 0,
+              q[cnames.index("phi")]: Om * t + alpha, qd[cnames.index("phi")]: Om,
+              q[cnames.index("psi")]: -Om * t / sp.cos(thb) + beta,
+              qd[cnames.index("psi")]: -Om / sp.cos(thb)}
+        on.update({a: 0 for a in qdd})
+
+        def nice_bar(x):
+            """tidy() on the orbit: R and H written through R*, Z where shorter."""
+            Rb, Zb = bar_of.get(Rs, Rs), bar_of.get(Zs, Zs)
+            ids = [(Rb * sp.cos(thb) + Zb * sp.sin(thb), R), (Zb * sp.cos(thb) - Rb * sp.sin(thb), H)]
+            best = tidy(x, ids)
+            if _ops(x) <= SMALL and not x.has(sp.atan, sp.tanh, sp.exp) and Rb != Rs \
+                    and Zb != Zs:
+                alt = _trigsimp(x.subs({R: Rb * sp.cos(thb) + Zb * sp.sin(thb),
+                                          H: Zb * sp.cos(thb) - Rb * sp.sin(thb)}))
+                best = min([best, alt], key=lambda c: (_ops(c), len(str(c))))
+            return best
+        d.define("phibar", Om * t + alpha, lhs_tex=r"\bar\varphi(t)", tag="3.1a")
+        ansatz.update(phi="phibar", theta="thetabar", psi="psibar")
+        d.display("display:ansatz_theta", r"\bar\theta(t)", r"\bar\theta = \mathrm{const}",
+                  tag="3.1b")
+        d.define("psibar", on[q[cnames.index("psi")]], lhs_tex=r"\bar\psi(t)", tag="3.1c")
+        if slip:
+            wb = names.add("phidotbar_R", r"\bar{\dot\varphi}_R")
+            unknowns.append(wb)
+            on[q[cnames.index("phi_R")]] = wb * t
+            on[qd[cnames.index("phi_R")]] = wb
+            d.define("phibar_R", wb * t, lhs_tex=r"\bar\varphi_R(t)")
+            ansatz["phi_R"] = "phibar_R"
+        if extra:
+            on[extra[0]] = chi
+            d.define("taubar", chi, lhs_tex=r"\bar\tau")
+            ansatz[extra[0].name] = "taubar"
+        d.text(r"On the orbit $\dot\theta = \dot Z = \ddot Z = 0$ and $\omega_{z_1} = 0$; a bar "
+               r"marks a quantity on it.  Frame $A$ turns with $\bar\varphi = \Omega t + \alpha$, "
+               r"so the components in frame $A$ are the paper's $X + iY$ combination (3.3) times "
+               r"$e^{-i\bar\varphi}$: time drops out, and (3.4) splits into the real residuals "
+               r"(3.5a), (3.5b).", "orbit")
+        d.identity("identity:3.3", sp.cos(Om * t + alpha) + sp.I * sp.sin(Om * t + alpha),
+                   sp.exp(sp.I * Om * t) * (sp.cos(alpha) + sp.I * sp.sin(alpha)), tag="3.3")
+        bar_of = {}
+        bar_twist = {tw: chi}
+        for s, expr in flat_chain(chain).items():
+            if s.name.endswith("__0") or s.name.startswith(("m_", "f_", "M0_", "K_")) \
+                    or s in om_syms:
+                continue
+            if s in torques["M_R"]:
+                expr = plain(e["M_R_A_t"])[torques["M_R"].index(s)].subs(bar_twist)
+            b = nice_bar(expr.subs(on).subs(bar_of))
+            if any(s in torques[k] for k in ("M_E", "M_R", "M_D", "M_C")) or b.is_Atom or \
+                    (b.is_Mul and len(b.args) == 2 and b.args[0] == -1 and b.args[1].is_Atom):
+                bar_of[s] = b
+                continue
+            sb = names.add(s.name + "_bar", r"\bar{" + names.tex[s] + "}")
+            chain[sb] = b
+            d.define(sb, b)
+            bar_of[s] = sb
+        # K on the orbit: constant in frame A (trigsimp makes omega_Z = 0 exact)
+        Kbar = [_trigsimp(chain_vec(chain, torques["K"])[k].subs(on)) for k in range(3)]
+        resid = []
+        for k in range(3):
+            r = Kbar[k] - (bar_of[torques["M_E"][k]] - bar_of[torques["M_R"][k]]
+                           - bar_of[torques["M_D"][k]] + bar_of[torques["M_C"][k]])
+            resid.append(nice_bar(r))
+        if t in set().union(*(r.free_symbols for r in resid)):
+            raise _NoStationary()
+        d.display("display:3.2", r"\bar{\vec K}", r"\bar{\vec M}_E - \bar{\vec M}_R - "
+                  r"\bar{\vec M}_D + \bar{\vec M}_C", tag="3.2")
+        d.display("display:3.4", r"f_1(\alpha, \bar\theta) + i f_2(\alpha, \bar\theta)", "0",
+                  tag="3.4")
+        res_keys = []
+        if slip:
+            rr = names.add("f_R", "f_R")
+            rot = (rotor_eq[0] - rotor_eq[1]).subs({wRd: 0})
+            named(rr, nice_bar(rot.subs(bar_of)), lhs_tex=r"f_R(\alpha, \bar\theta, "
+                  r"\bar{\dot\varphi}_R)")
+            res_keys.append(rr.name)
+        for k, tag in ((0, "3.5a"), (1, "3.5b")):
+            fs = names.add(f"f_{k + 1}bar", f"f_{k + 1}")
+            named(fs, resid[k], tag=tag, lhs_tex=f"f_{k + 1}(\\alpha, \\bar\\theta)")
+            res_keys.append(fs.name)
+        d.text(r"The stationary solution: $f_1 = f_2 = 0$" + (r" and $f_R = 0$" if slip else "")
+               + r".  The $z_1$ row, the twisting balance, gives the twist angle "
+               r"$\bar\chi$ on the orbit, and $\beta$ follows from the twist angle "
+               r"$\varphi + \psi\cos\theta$ of (2.9) (the paper's (3.6) has the sign of "
+               r"$\alpha$ flipped).", "twist")
+        if chi not in resid[2].free_symbols:
+            raise RuntimeError(f"{m.name}: twisting balance free of the twist angle")
+        chi_expr = nice_bar(solve_linear(resid[2], chi))
+        named(chi, chi_expr, lhs_tex=r"\bar\chi")
+        beta_expr = e["beta_generic"].subs({cs["twist"]: chi, sp.Symbol("theta", real=True): thb})
+        named(beta, nice_bar(beta_expr), tag="3.6")
+        steady = {"beta": beta.name, "twist": chi.name}
+        if not slip:
+            rs = names.add("phidot_R_bar", r"\bar{\dot\varphi}_R")
+            named(rs, -bar_of[wR], tag="3.7")
+            steady["rotor_speed"] = rs.name
+
+    except _NoStationary:
+        # the ansatz (3.1) does not solve this model (e.g. an imperfect motor)
+        del d.lines[mark[0]:]
+        d.keys, chain = mark[1], mark[2]
+        res_keys, steady, unknowns, ansatz = [], {}, [], {}
+        d.text(r"The ansatz (3.1) is not a solution of this model: on it the residuals "
+               r"depend on $t$, so there is no stationary solution of the form (3.1).",
+               "no_stationary")
+    # ---- linearisation ----
+    d.section("Linearisation about the stationary orbit (4.9)")
+    d.display("display:4.9", r"M(t)\,\Delta\dot{\mathbf{x}}", r"A(t)\,\Delta\mathbf{x}, \quad "
+              r"M(t) = M(\bar{\mathbf{x}}(t)), \quad A(t) = \frac{\partial\mathbf{f}}"
+              r"{\partial\mathbf{x}} - \frac{\partial (M\mathbf{v})}{\partial\mathbf{x}}"
+              r"\Big|_{\mathbf{v} = \dot{\bar{\mathbf{x}}}}", tag="4.9")
+    d.display("display:blocks", r"M(t)", block_mass(nq, len(extra)))
+    d.display("display:A", r"A(t)", block_jacobian(m, nq, len(extra)))
+    if not all(x == 0 for x in list(e["steady_rate"])[nq:2 * nq]):
+        raise RuntimeError(f"{m.name}: accelerations on the orbit are not zero")
+    if m.t0_independent:
+        when = (r"In frame $A$ every entry of $A$ and $M$ is constant on the orbit: the "
+                r"multipliers do not depend on the start time $t_0$.")
+    else:
+        ent = ", ".join(r"$\partial f_{%d}/\partial %s$" % (i + 1, names.tex[m.states[j]])
+                        for i, j in e["A_bar_t_entries"])
+        when = (r"In frame $A$ the entries of $A$ are constant on the orbit except "
+                + (ent or "in $M$") + r" (changing with $t$ along $\bar{\mathbf{x}}(t)$): "
+                r"the multipliers depend on the start time $t_0$ (the paper's Table 3 is "
+                r"$t_0 = 0$).")
+    d.text(r"On the orbit $\ddot{\bar{\mathbf{q}}} = 0$, so the $\partial(M\mathbf{v})/"
+           r"\partial\mathbf{x}$ term vanishes.  " + when, "linear")
+    return {
+        "model": m.name,
+        "assumptions": m.assumptions,
+        "lines": d.lines,
+        "symbols": names.table(),
+        "states": [s.name for s in m.states],
+        "accelerations": [s.name for s in qdd],
+        "unknowns": [s.name for s in unknowns],
+        "parameters": [s.name for s in P.values()],
+        "mass": "Mass", "rhs": "fvec", "residual": res_keys, "steady": steady,
+        "ansatz": ansatz,
+    }
 
 
-def model_docs(m, description):
-    d, preamble = build(m, description)
-    title = f"Equations of the {m.name} model"
-    return ({f"usm_{m.name}_equations.md": d.markdown(title, preamble),
-             f"usm_{m.name}_equations.tex": d.latex(title, preamble)}, d.tags())
+def flat_chain(chain):
+    out = {}
+    for s, v in chain.items():
+        if isinstance(s, (list, tuple)):
+            for k, c in enumerate(s):
+                out[c] = v[k]
+        else:
+            out[s] = v
+    return out
 
+
+def chain_vec(chain, syms):
+    for s, v in chain.items():
+        if isinstance(s, (list, tuple)) and list(s) == list(syms):
+            return v
+    raise KeyError(syms)
+
+
+def block_mass(nq, nextra):
+    rows = [r"I_{%d}" % nq + r" & 0", r"0 & M_q(\bar{\mathbf{x}}(t))"]
+    if nextra:
+        rows = [r"I_{%d} & 0 & 0" % nq, r"0 & M_q(\bar{\mathbf{x}}(t)) & 0", r"0 & 0 & 1"]
+    return r"\begin{pmatrix}" + r" \\ ".join(rows) + r"\end{pmatrix}"
+
+
+def block_jacobian(m, nq, nextra):
+    """A = df/dx on the orbit in blocks: position rows (0, I), acceleration rows
+    and extra rows, each block named unless it is zero or the identity."""
+    groups = [(r"\mathbf{q}", 0, nq), (r"\dot{\mathbf{q}}", nq, 2 * nq)]
+    if nextra:
+        groups.append((r"\tau", 2 * nq, 2 * nq + nextra))
+    rowgroups = [(r"\dot{\mathbf{q}}", 0, nq), (r"\mathbf{f}_{q}", nq, 2 * nq)]
+    if nextra:
+        rowgroups.append((r"\omega_{z_1}", 2 * nq, 2 * nq + nextra))
+    jac = m.jac_rhs
+    rows = []
+    for rname, r0, r1 in rowgroups:
+        cells = []
+        for cname, c0, c1 in groups:
+            block = jac[r0:r1, c0:c1]
+            if all(x == 0 for x in block):
+                cells.append("0")
+            elif block == sp.eye(r1 - r0) and r1 - r0 == c1 - c0:
+                cells.append("I")
+            else:
+                cells.append(r"\frac{\partial %s}{\partial %s}" % (rname, cname))
+        rows.append(" & ".join(cells))
+    return r"\begin{pmatrix}" + r" \\ ".join(rows) + r"\end{pmatrix}_{\bar{\mathbf{x}}(t)}"
+
+
+# --------------------------------------------------------------------------
+# rendering
+
+WIDTH = 72  # estimated visible characters of a display line
+
+
+def _visible(tex):
+    s = re.sub(r"\\(left|right|mathrm|operatorname|vec|bar|quad|,)\b", "", tex)
+    s = re.sub(r"\\(cos|sin|tan|exp|atan|tanh|operatorname\{atan\})", "xxx", s)
+    s = re.sub(r"\\[A-Za-z]+", "x", s)
+    s = re.sub(r"\^\{([^{}]*)\}", lambda mm: "x" * max(1, len(mm.group(1)) // 2), s)
+    s = re.sub(r"\\frac\{([^{}]*)\}\{([^{}]*)\}",
+               lambda mm: "x" * max(len(mm.group(1)), len(mm.group(2))), s)
+    return len(re.sub(r"[{}_ ]", "", s))
+
+
+def _split_points(tex):
+    """Positions of top-level ' + ' and ' - ' in a LaTeX expression."""
+    depth, out, i = 0, [], 0
+    while i < len(tex):
+        c = tex[i]
+        if tex.startswith(r"\left", i):
+            depth += 1
+            i += 5
+            continue
+        if tex.startswith(r"\right", i):
+            depth -= 1
+            i += 6
+            continue
+        if c == "{":
+            depth += 1
+        elif c == "}":
+            depth -= 1
+        elif depth == 0 and tex[i:i + 3] in (" + ", " - ") and i > 0:
+            out.append(i)
+        i += 1
+    return out
+
+
+def broken(lhs_tex, rhs_tex):
+    """The display body: lhs = rhs, broken at top-level + and - when long."""
+    if _visible(lhs_tex) + _visible(rhs_tex) <= WIDTH or r"\begin{" in rhs_tex:
+        return f"{lhs_tex} = {rhs_tex}", False
+    points = _split_points(rhs_tex)
+    chunks, start = [], 0
+    limit = max(WIDTH - _visible(lhs_tex), 40)
+    last = 0
+    for p in points + [len(rhs_tex)]:
+        if _visible(rhs_tex[start:p]) > limit and last > start:
+            chunks.append(rhs_tex[start:last])
+            start = last
+            limit = WIDTH - 6
+        last = p
+    chunks.append(rhs_tex[start:])
+    if len(chunks) == 1:
+        return f"{lhs_tex} = {rhs_tex}", False
+    body = (r"\begin{aligned}" + f"{lhs_tex} &= {chunks[0]}" + "".join(
+        r"\\ &\quad " + c.lstrip() for c in chunks[1:]) + r"\end{aligned}")
+    return body, True
+
+
+def unbreak(body):
+    """Inverse of broken(): the plain 'lhs = rhs' text (tests/equations_proof.py)."""
+    if not body.startswith(r"\begin{aligned}"):
+        return body
+    body = body[len(r"\begin{aligned}"):-len(r"\end{aligned}")]
+    return body.replace(r"\\ &\quad ", " ").replace(" &= ", " = ", 1)
+
+
+def _escape_text(s):
+    """Prose: math between $...$ kept, the rest escaped for LaTeX."""
+    parts = s.split("$")
+    for i in range(0, len(parts), 2):
+        code = parts[i].split("`")
+        for k in range(len(code)):
+            code[k] = (code[k].replace("\\", r"\textbackslash{}").replace("_", r"\_")
+                       .replace("&", r"\&").replace("%", r"\%").replace("#", r"\#"))
+            if k % 2:
+                code[k] = r"\texttt{" + code[k] + "}"
+        parts[i] = "".join(code)
+    return "$".join(parts)
+
+
+def changed_lines(data, paper):
+    """Keys of the lines of ``data`` whose content differs from the paper's
+    model of the same base, and the keys of the paper's lines it lacks."""
+    if paper is None or paper is data:
+        return set(), []
+
+    def content(line):
+        return (line.get("lhs_tex"), line.get("rhs_tex"), line.get("text"), line.get("tag"))
+    ref = {ln["key"]: content(ln) for ln in paper["lines"]}
+    mine = {ln["key"] for ln in data["lines"]}
+    changed = {ln["key"] for ln in data["lines"]
+               if ln["kind"] != "section" and ref.get(ln["key"]) != content(ln)}
+    removed = [ln["key"] for ln in paper["lines"] if ln["key"] not in mine
+               and ln["kind"] not in ("section", "text")]
+    return changed, removed
+
+
+def _assumption_note(changes):
+    return ", ".join(f"`{k} = {v}` (paper: `{p}`)" for k, v, p in changes)
+
+
+def render(data, description, paper=None, changes=(), diff=False):
+    """(markdown, latex) of a model's document; with diff=True only the lines
+    that differ from ``paper`` (the paper's model of the same base)."""
+    changed, removed = changed_lines(data, paper)
+    note = _assumption_note(changes)
+    title = f"Equations of the {data['model']} model" + (
+        " (differences from the paper's model)" if diff else "")
+    pre = [f"Model {data['model']}: {description}.",
+           "Assumptions (derive/variants.py): " + ", ".join(
+               f"`{k} = {v}`" for k, v in data["assumptions"].items() if k != "friction_law")
+           + ".",
+           "Generated by derive/generate.py from the same derivation as the C kernels; "
+           "tests/equations_proof.py parses every line back and checks "
+           r"$M(\mathbf{x})$, $\mathbf{f}(\mathbf{x}, t)$, Euler's equations, the residuals "
+           r"and $\beta$ against the compiled kernels.  Equation numbers are the paper's."]
+    if changes:
+        pre.append(f"Highlighted: the lines that differ from the paper's model ({note}).")
+    tags = [ln["tag"] for ln in data["lines"] if ln.get("tag")]
+    pre.append("Paper equations: " + ", ".join(f"({tg})" for tg in dict.fromkeys(tags)) + ".")
+    md = [f"# {title}", ""] + [p + "  " for p in pre] + [""]
+    tex = [r"\documentclass[10pt]{article}",
+           r"\usepackage[a4paper,margin=18mm]{geometry}",
+           r"\usepackage{amsmath,amssymb}",
+           r"\usepackage[dvipsnames]{xcolor}",
+           r"\allowdisplaybreaks",
+           r"\setcounter{MaxMatrixCols}{12}",
+           r"\setlength{\parindent}{0pt}",
+           r"\sloppy",
+           r"\begin{document}",
+           r"\section*{" + _escape_text(title) + "}"]
+    tex += [_escape_text(p) + r"\\" for p in pre[:-1]] + [_escape_text(pre[-1]), ""]
+    pending = None
+    shown = 0
+    for ln in data["lines"]:
+        if ln["kind"] == "section":
+            pending = ln["text"]
+            if not diff:
+                md += [f"## {pending}", ""]
+                tex += [r"\subsection*{" + _escape_text(pending) + "}"]
+                pending = None
+            continue
+        hi = ln["key"] in changed
+        if diff and not hi:
+            continue
+        if pending is not None:
+            md += [f"## {pending}", ""]
+            tex += [r"\subsection*{" + _escape_text(pending) + "}"]
+            pending = None
+        shown += 1
+        if ln["kind"] == "text":
+            md += [("> " if hi and not diff else "") + ln["text"], ""]
+            tex += [(r"{\color{BrickRed}" + _escape_text(ln["text"]) + "}") if hi and not diff
+                    else _escape_text(ln["text"]), ""]
+            continue
+        body, _ = broken(ln["lhs_tex"], ln["rhs_tex"])
+        tag = ln.get("tag")
+        if hi and not diff:
+            md += [f"> **Changed by the variant** ({note}):", ""]
+            tex += [r"\noindent{\color{BrickRed}$\blacktriangleright$ changed by the variant ("
+                    + _escape_text(note) + r"):}", r"\begingroup\color{BrickRed}"]
+        md += ["$$", body + (f" \\tag{{{tag}}}" if tag else ""), "$$", ""]
+        tex += [f"% line {ln['key']}",
+                r"\begin{equation*}" + body + (f"\\tag{{{tag}}}" if tag else "")
+                + r"\end{equation*}"]
+        if hi and not diff:
+            tex += [r"\endgroup"]
+    if diff:
+        if not changes:
+            md += ["The paper's model: no differences.", ""]
+            tex += ["The paper's model: no differences.", ""]
+        elif removed:
+            gone = "Lines of the paper's model not in this one: " + ", ".join(
+                k.split(":", 1)[1] for k in removed) + "."
+            md += [gone, ""]
+            tex += [_escape_text(gone), ""]
+    tex += [r"\end{document}"]
+    return "\n".join(md).rstrip() + "\n", "\n".join(tex) + "\n"
+
+
+# --------------------------------------------------------------------------
+# the documents for `usm equations`
 
 def _c_lines(text):
     out = []
@@ -243,9 +870,12 @@ def equations_h(ndocs, banner):
     return (banner + "#ifndef USM_EQUATIONS_H\n#define USM_EQUATIONS_H\n\n"
             '#ifdef __cplusplus\nextern "C" {\n#endif\n\n'
             "/* The derived equations of every model as Markdown and LaTeX documents\n"
-            "   (also generated/usm_<model>_equations.{md,tex}); lines end at NULL. */\n"
+            "   (also generated/usm_<model>_equations.{md,tex}), and the same with only\n"
+            "   the lines that differ from the paper's model (formats \"markdown-diff\",\n"
+            "   \"latex-diff\"); lines end at NULL. */\n"
             "typedef struct usm_equation_doc {\n    const char *model;\n"
-            "    const char *format; /* \"markdown\" or \"latex\" */\n"
+            "    const char *format; /* \"markdown\", \"latex\", \"markdown-diff\", "
+            "\"latex-diff\" */\n"
             "    const char *const *lines;\n} usm_equation_doc;\n"
             f"#define USM_NEQUATION_DOCS {ndocs}\n"
             "extern const usm_equation_doc usm_equation_docs[USM_NEQUATION_DOCS];\n"

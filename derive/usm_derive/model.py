@@ -185,20 +185,23 @@ def derive_model(name, assumptions):
     # --- rotor, (2.1)-(2.5): contact forces in terms of the stator motion ----
     Z, R_star, v_c = kin.Z, kin.R_star, kin.v_c
     Z_ref = {"theta0": H, "literal": 0}[spring_reference]
-    F_n = (p["M"] * Z.diff(t, 2) + p["F0"] + p["c_R"] * (Z - Z_ref)
-           + p["d_R"] * Z.diff(t))                                   # (2.1), (2.3)
+    # (2.1), (2.3) through named symbols Z, Z', Z'' (the document shows this form)
+    Z_s, Zd_s, Zdd_s = sp.symbols("Z Zdot Zddot", real=True)
+    F_n_generic = p["M"] * Zdd_s + p["F0"] + p["c_R"] * (Z_s - Z_ref) + p["d_R"] * Zd_s
+    F_n = F_n_generic.subs({Zdd_s: Z.diff(t, 2), Zd_s: Z.diff(t), Z_s: Z}, simultaneous=True)
     # Newton's third law: the stator feels F_c = -F_t e_x1 - F_n e_z1 (2.5);
     # the rotor feels -F_c at r_c, whose moment about Z is -R* F_t, and the load
     # T opposes the driving direction w_R = -phidot_R.  Moment balance (2.2):
     #   I_R dw_R/dt = F_t R* - T.
     Ft_s, Fn_s = sp.symbols("F_t F_n", real=True)
+    wRdot_s, Rstar_s, vc_s, wR_s = sp.symbols("wdot_R R_star v_c w_R", real=True)
     if contact == "stick":
-        w_R = v_c / R_star                                            # (2.4)
+        w_R_generic = vc_s / Rstar_s                                  # (2.4)
     elif contact == "slip":
-        w_R = -phiR_f.diff(t)
+        w_R_generic = -phiR_f.diff(t)
     else:
         raise ValueError(f"unknown contact law {contact!r}")
-    wRdot_s, Rstar_s = sp.symbols("wdot_R R_star", real=True)
+    w_R = w_R_generic.subs({vc_s: v_c, Rstar_s: R_star}, simultaneous=True)
     rotor_balance_generic = p["I_R"] * wRdot_s - (Ft_s * Rstar_s - p["T"])  # (2.2)
     rotor_balance = rotor_balance_generic.subs({wRdot_s: w_R.diff(t), Rstar_s: R_star})
     phiR_rate = -w_R
@@ -208,7 +211,8 @@ def derive_model(name, assumptions):
         rotor_rows = []
         mu_expr, v_sym = None, None
     else:
-        v_rel = v_c - w_R * R_star                                    # (5.1)
+        v_rel_generic = vc_s - wR_s * Rstar_s                         # (5.1)
+        v_rel = v_rel_generic.subs({vc_s: v_c, wR_s: w_R, Rstar_s: R_star}, simultaneous=True)
         v_sym = sp.Symbol("v_rel", real=True)
         mu_expr = friction_law(assumptions["friction_law"], v_sym)    # (5.2)
         F_t = mu_expr.subs(v_sym, v_rel) * F_n
@@ -427,6 +431,7 @@ def derive_model(name, assumptions):
     jac_rhs_ideal, jac_mass_ideal = jac_rhs.xreplace(ideal), jac_mass.xreplace(ideal)
     A_bar = (jac_rhs_ideal - jac_mass_ideal.subs(dict(zip(v, steady_rate)))).subs(on_orbit)
     t0_independent = t not in A_bar.free_symbols and t not in mass.subs(on_orbit).free_symbols
+    A_bar_t_entries = [(i, j) for i in range(n) for j in range(n) if t in A_bar[i, j].free_symbols]
 
     # Directional derivative of the linearisation about the orbit, for the
     # sensitivity of the Floquet multipliers (issue 13): M(xbar) and
@@ -473,6 +478,18 @@ def derive_model(name, assumptions):
         "twist_display": sp.simplify(solve_linear(
             z_row.subs(steady_outputs["v_rel"], v_sym) if v_sym is not None else z_row, Tw)),
         "ansatz": {c_name: ansatz[c] for c_name, c in zip(coord_names, coords)},
+        # The generic pieces of the derivation, for the document's named form
+        # (derive/usm_derive/emit_doc.py): functions of t, placeholders kept.
+        "kin": kin, "coords": coords, "coord_names": coord_names, "F_n_generic": F_n_generic,
+        "w_R_generic": w_R_generic, "v_rel_generic": v_rel_generic if contact == "slip" else None,
+        "contact_symbols": {"F_t": Ft_s, "F_n": Fn_s, "Z": Z_s, "Zdot": Zd_s, "Zddot": Zdd_s,
+                            "wdot_R": wRdot_s, "R_star": Rstar_s, "v_c": vc_s, "w_R": wR_s,
+                            "twist": Tw},
+        "stator_generic": stator_generic, "dLdt_A": dLdt_A, "F_c_A": F_c_A,
+        "M_E_A_t": M_E_A, "M_R_A_t": M_R_A, "M_D_A_t": M_D_A, "M_C_A_t": M_C_A,
+        "twist_angle": twist_angle, "extra_states": extra_states, "extra_rates_t": extra_rates,
+        "steady_rate": steady_rate, "t0_independent": t0_independent,
+        "A_bar_t_entries": A_bar_t_entries,
     }
     return Model(name=name, assumptions=dict(assumptions), states=states,
                  state_names=state_names, mass=mass, rhs=rhs, v=v,

@@ -15,10 +15,13 @@ static void usage(FILE *out)
 {
     fprintf(out,
             "usage: usm equations [--model 3dof|4dof] [--variant NAME] [--format markdown|latex]\n"
+            "                     [--diff]\n"
             "\n"
             "Print the derived equations of a model in the paper's notation, with the\n"
-            "paper's equation numbers: kinematics, contact laws, torques, Euler's equations\n"
-            "in frame A, the mass matrix, the stationary residuals (3.5) and beta (3.6).\n"
+            "paper's equation numbers: kinematics, contact geometry, contact and rotor laws,\n"
+            "torques, Euler's equations in frame A, M(x) x' = f(x, t) row by row, the\n"
+            "stationary residuals (3.5), beta (3.6) and the linearisation (4.9).  Lines that\n"
+            "differ from the paper's model are highlighted.  --diff prints only those.\n"
             "The LaTeX output is a complete document (pdflatex builds it).\n");
 }
 
@@ -27,6 +30,8 @@ int cli_equations_main(int argc, char **argv)
     cli_common c;
     char msg[CLI_MSG_LEN];
     const char *format = "markdown";
+    char key[32];
+    int diff = 0;
     cli_common_init(&c);
     for (int i = 1; i < argc; ++i) {
         const char *value;
@@ -47,6 +52,10 @@ int cli_equations_main(int argc, char **argv)
             format = value;
             continue;
         }
+        if (strcmp(argv[i], "--diff") == 0) {
+            diff = 1;
+            continue;
+        }
         if (strncmp(argv[i], "--model", 7) == 0 || strncmp(argv[i], "--variant", 9) == 0) {
             if (cli_common_option(&c, argc, argv, &i, msg) != CLI_OPT_TAKEN) {
                 cli_error("%s", msg);
@@ -61,14 +70,15 @@ int cli_equations_main(int argc, char **argv)
         cli_error("%s", msg);
         return USM_EINPUT;
     }
+    snprintf(key, sizeof key, "%s%s", format, diff ? "-diff" : "");
     for (int k = 0; k < USM_NEQUATION_DOCS; ++k) {
         const usm_equation_doc *d = &usm_equation_docs[k];
-        if (strcmp(d->model, c.model->name) == 0 && strcmp(d->format, format) == 0) {
+        if (strcmp(d->model, c.model->name) == 0 && strcmp(d->format, key) == 0) {
             for (const char *const *line = d->lines; *line; ++line)
                 puts(*line);
             return USM_OK;
         }
     }
-    cli_error("--model: no %s equations generated for %s", format, c.model->name);
+    cli_error("--model: no %s equations generated for %s", key, c.model->name);
     return USM_EFAILED;
 }
