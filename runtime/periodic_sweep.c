@@ -227,11 +227,14 @@ static int locate(usm_periodic_sweep *s, int k, double va, const usm_periodic_re
 
 static void value_text(const usm_periodic_sweep *s, double v, char buf[96])
 {
-    snprintf(buf, 96, "%s = %.12g %s", s->over, v, s->unit);
+    /* no unit "1" after a ratio */
+    snprintf(buf, 96, "%s = %.12g%s%s", s->over, v, strcmp(s->unit, "1") ? " " : "",
+             strcmp(s->unit, "1") ? s->unit : "");
 }
 
+/* rising: g_k > 0 after the event (in sweep order). */
 static int emit_located(usm_periodic_sweep *s, int k, double v, const usm_periodic_result *r,
-                        int located, double dir_up)
+                        int located, int dir_up, int rising)
 {
     char vt[96];
     const char *how = located ? "" : " (not located to tolerance: a trial orbit failed)";
@@ -240,12 +243,14 @@ static int emit_located(usm_periodic_sweep *s, int k, double v, const usm_period
     if (k == G_CONTACT)
         return add_event(s, USM_PEVENT_CONTACT_LOSS, v, r,
                          "F_n_min = 0 at %s: the contact %s once a period as %s %s%s", vt,
-                         gfun(s, k, r) >= 0 ? "opens" : "closes", s->over, inc, how)
+                         rising ? "closes again" : "opens", s->over, inc, how)
                    ? 0 : -1;
     if (k == G_STICK)
         return add_event(s, USM_PEVENT_STICK_LOSS, v, r,
-                         "friction_needed_max = mu0 = %g at %s: stick %s somewhere on the orbit "
-                         "as %s %s%s", s->p.mu0, vt, "changes admissibility", s->over, inc, how)
+                         "friction_needed_max = mu0 = %g at %s: stick %s as %s %s%s", s->p.mu0,
+                         vt, rising ? "fails somewhere on the orbit (intermittent slip)"
+                                    : "holds again over the whole orbit",
+                         s->over, inc, how)
                    ? 0 : -1;
     const int c = critical(&r->floquet);
     const double re = c >= 0 ? r->floquet.re[c] : NAN, im = c >= 0 ? r->floquet.im[c] : NAN;
@@ -255,7 +260,7 @@ static int emit_located(usm_periodic_sweep *s, int k, double v, const usm_period
     usm_periodic_event *e = add_event(
         s, USM_PEVENT_STABILITY_CHANGE, v, r,
         "max |lambda| = 1 at %s (%s: critical multiplier %.8f %+.8fi): the orbit %s as %s %s%s",
-        vt, usm_crossing_name(kind), re, fabs(im), r->floquet.max_modulus >= 1 ? "loses stability" : "becomes stable",
+        vt, usm_crossing_name(kind), re, fabs(im), rising ? "loses stability" : "becomes stable",
         s->over, inc, how);
     if (!e)
         return -1;
@@ -271,7 +276,7 @@ static int step_events(usm_periodic_sweep *s, double va, const usm_periodic_resu
 {
     double vs[NG];
     usm_periodic_result rs[NG];
-    int ks[NG], located[NG], n = 0;
+    int ks[NG], located[NG], rising[NG], n = 0;
     for (int k = 0; k < NG; ++k) {
         if (k == G_STICK && s->m->friction)
             continue; /* slip built in: F_t = mu(v) F_n, stick has no meaning */
@@ -279,6 +284,7 @@ static int step_events(usm_periodic_sweep *s, double va, const usm_periodic_resu
         if (!isfinite(g0) || !isfinite(g1) || (g0 < 0) == (g1 < 0))
             continue;
         located[n] = locate(s, k, va, ra, vb, rb, &vs[n], &rs[n]) == 0;
+        rising[n] = g1 > 0;
         ks[n++] = k;
     }
     /* in sweep order: by distance from va */
@@ -287,9 +293,11 @@ static int step_events(usm_periodic_sweep *s, double va, const usm_periodic_resu
         for (int j = i + 1; j < n; ++j)
             if (fabs(vs[j] - va) < fabs(vs[best] - va))
                 best = j;
-        if (emit_located(s, ks[best], vs[best], &rs[best], located[best], vb > va) != 0)
+        if (emit_located(s, ks[best], vs[best], &rs[best], located[best], vb > va,
+                         rising[best]) != 0)
             return -1;
         vs[best] = vs[i], rs[best] = rs[i], ks[best] = ks[i], located[best] = located[i];
+        rising[best] = rising[i];
     }
     return 0;
 }
