@@ -24,7 +24,7 @@ struct usm_periodic_sweep {
     size_t npts;
     usm_periodic_event *ev;
     size_t nev, cap;
-    const usm_param_info *info; /* NULL: over is "T" */
+    const usm_param_info *info;
     const char *unit;
     char over[32];
     usm_params p;
@@ -105,10 +105,7 @@ const usm_periodic_event *usm_periodic_sweep_event_at(const usm_periodic_sweep *
 static int solve_at(usm_periodic_sweep *s, double v, const double *x0, usm_periodic_result *r)
 {
     usm_params q = s->p;
-    if (s->info)
-        *usm_params_field(&q, s->info) = v;
-    else
-        q.f = 1.0 / v;
+    *usm_params_field(&q, s->info) = v;
     return usm_periodic_solve(s->w, &q, x0, &s->popt, r);
 }
 
@@ -337,21 +334,14 @@ int usm_periodic_sweep_run(usm_periodic_sweep *s, const usm_params *p,
         snprintf(s->msg, sizeof s->msg, "over: the parameter to sweep is missing");
         return USM_EINPUT;
     }
-    if (strcmp(opt->over, "T") == 0) {
-        s->info = NULL;
-        s->unit = "s";
-    } else if (!(s->info = usm_params_find(opt->over))) {
+    if (!(s->info = usm_params_find(opt->over))) {
         snprintf(s->msg, sizeof s->msg, "over: unknown parameter \"%.60s\"", opt->over);
         return USM_EINPUT;
-    } else
-        s->unit = s->info->unit;
+    }
+    s->unit = s->info->unit;
     snprintf(s->over, sizeof s->over, "%s", opt->over);
     if (!isfinite(opt->from) || !isfinite(opt->to) || opt->from == opt->to) {
         snprintf(s->msg, sizeof s->msg, "from, to: must be finite and different");
-        return USM_EINPUT;
-    }
-    if (!s->info && (opt->from <= 0 || opt->to <= 0)) {
-        snprintf(s->msg, sizeof s->msg, "from, to: the period T must be positive");
         return USM_EINPUT;
     }
     if (opt->points < 2 || opt->points > 1000000) {
@@ -362,6 +352,11 @@ int usm_periodic_sweep_run(usm_periodic_sweep *s, const usm_params *p,
         snprintf(s->msg, sizeof s->msg, "event_tol: must be in (0, 0.01)");
         return USM_EINPUT;
     }
+    /* the far end's parameters refused now, not after a long continuation */
+    usm_params q = *p;
+    *usm_params_field(&q, s->info) = opt->to;
+    if (usm_params_check(&q, s->m, s->msg) != USM_OK)
+        return USM_EINPUT;
     s->p = *p;
     s->popt = opt->periodic;
     s->range = fabs(opt->to - opt->from);

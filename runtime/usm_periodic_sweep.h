@@ -2,7 +2,7 @@
  * (issue 14, item 3).
  *
  * The orbit of usm_periodic_solve is followed in one parameter lambda (any
- * field of usm_params, or "T" = 1/f) by natural-parameter continuation: each
+ * field of usm_params) by natural-parameter continuation: each
  * step starts Newton from the secant extrapolation of the last two orbits'
  * states at t0, and the step is halved when Newton fails or needs more than 4
  * iterations (down to 1e-7 of the range).  Natural-parameter continuation
@@ -79,7 +79,7 @@ typedef struct usm_periodic_point {
 
 /* What to sweep (usm_periodic_sweep_options_default, then over/from/to/points). */
 typedef struct usm_periodic_sweep_options {
-    const char *over;           /* a parameter name, or "T" (the period 1/f [s]) */
+    const char *over;           /* a parameter name (usm_params_find) */
     double from, to;            /* from != to; to < from sweeps down */
     int points;                 /* 2 .. 1000000 (default 101) */
     double event_tol;           /* events to event_tol times |to - from| (default 1e-11) */

@@ -58,7 +58,7 @@ static void usage(FILE *out)
             "                      --force is given\n"
             "  --force             overwrite the --plot files\n"
             "  --periodic          follow the periodic orbit (usm periodic) instead; implied\n"
-            "                      by the variant imperfect.  NAME may also be T (= 1/f [s]).\n"
+            "                      by the variant imperfect.\n"
             "                      Columns: NAME, converged, rotor_speed_mean, rotor_speed_ripple,\n"
             "                      F_n_min, F_n_max, friction_needed_max, theta_mean, theta_min,\n"
             "                      theta_max, theta_harmonic_2, F_n_harmonic_2, max_modulus,\n"
