@@ -21,8 +21,31 @@ expect_bad "model 4dof_friction_tanh" "twist" periodic --model 4dof --variant fr
 # imperfections only in the variant imperfect; the stationary solution only without them
 expect_bad "amp_imbalance" "variant imperfect" periodic --variant twist_integrated --set amp_imbalance=0.1
 expect_bad "phase_error" "ideal motor" steady --variant imperfect --set phase_error=0.1
-expect_bad "phase_error" "ideal motor" sweep --variant imperfect --over phase_error --from 0 --to 0.1 --points 3
-expect_bad "mode_split" "ideal motor" sweep --variant imperfect --set mode_split=0.01 --over T --from 0 --to 1e-4 --points 3
+# the sweep follows the periodic orbit instead (its events: test_periodic_sweep.c);
+# the stationary sweep's own options are refused with it
+expect_bad "--no-floquet" "stationary sweep only" sweep --variant imperfect --over phase_error --from 0 --to 0.1 --no-floquet
+expect_bad "--periodic" "stationary sweep only" sweep --periodic --variant twist_integrated --over T --from 0 --to 1e-4 --extremum theta
+expect_bad "mode_split" "\(-1, 1\)" sweep --variant imperfect --over mode_split --from 0 --to 1
+expect_bad "model 3dof" "twist" sweep --periodic --over T --from 0 --to 1e-4 --points 3
+if expect_rc 0 sweep --variant imperfect --over phase_error --from 0 --to 0.6 --points 7; then
+    checks=$((checks + 1))
+    head -1 "$out" | grep -q '^phase_error \[rad\],converged,rotor_speed_mean \[1/s\],rotor_speed_ripple \[1/s\],F_n_min \[N\],F_n_max \[N\],friction_needed_max \[1\],theta_mean \[rad\],theta_min \[rad\],theta_max \[rad\],theta_harmonic_2 \[rad\],F_n_harmonic_2 \[N\],max_modulus \[1\],stable,contact_open,error$' \
+        || fail "periodic sweep: CSV header"
+    checks=$((checks + 1))
+    [ "$(grep -c '^[0-9]' "$out")" -eq 7 ] && grep -q '^# stick_loss at phase_error = 0\.2724' "$out" \
+        && grep -q '^# contact_loss at phase_error = 0\.5013' "$out" \
+        && grep -q '^0\.6,true,.*,,.*,true,true,$' "$out" || fail "periodic sweep: rows and events"
+fi
+if expect_rc 0 sweep --model 4dof --variant imperfect --over mode_split --from 0.08 --to 0.09 --points 3 --json; then
+    py "assert sorted(o) == ['events', 'model', 'over', 'parameters', 'periodic', 'points'], sorted(o)
+assert o['over'] == 'mode_split' and o['periodic'] is True and len(o['points']) == 3
+pt = o['points'][0]
+assert pt['converged'] and pt['mode_split'] == 0.08 and 'floquet' in pt and 'F_n_min' in pt
+e = [e for e in o['events'] if e['type'] == 'stability_change']
+assert len(e) == 1 and e[0]['kind'] == 'neimark_sacker' and abs(e[0]['mode_split'] - 0.0862) < 1e-4, e
+assert abs(e[0]['orbit']['floquet']['max_modulus'] - 1) < 1e-8 and e[0]['multiplier'][1] > 0
+assert o['points'][0]['floquet']['stable'] and not o['points'][2]['floquet']['stable']"
+fi
 expect_bad "amp_imbalance" "ideal motor" map --variant imperfect --x amp_imbalance --x-from 0 --x-to 0.1 --x-points 3 --y T --y-from 0 --y-to 1e-4 --y-points 3
 expect_bad "mode_split" "\(-1, 1\)" periodic --variant imperfect --set mode_split=1
 expect_bad "amp_imbalance" "\[-1, 1\]" periodic --variant imperfect --set amp_imbalance=-1.5

@@ -14,6 +14,7 @@
 #include "options.h"
 #include "plot_run.h"
 #include "usm_io.h"
+#include "usm_periodic_sweep.h"
 #include "usm_sweep.h"
 
 static void usage(FILE *out)
@@ -24,6 +25,7 @@ static void usage(FILE *out)
             "                 [--t0 S] [--floquet-method NAME] [--rtol R] [--threads N]\n"
             "                 [--no-floquet] [--json] [--plot PREFIX [--force]]\n"
             "                 [--extremum Q]... [--crossing Q=V]...\n"
+            "       usm sweep --periodic --over NAME --from A --to B [--points N] [--json]\n"
             "\n"
             "Follow the stationary solution of smallest tilt at A through the parameter\n"
             "range A..B by pseudo-arclength continuation and report it at N equally spaced\n"
@@ -55,6 +57,14 @@ static void usage(FILE *out)
             "                      PREFIX.png, PREFIX.svg; existing files are kept unless\n"
             "                      --force is given\n"
             "  --force             overwrite the --plot files\n"
+            "  --periodic          follow the periodic orbit (usm periodic) instead; implied\n"
+            "                      by the variant imperfect.\n"
+            "                      Columns: NAME, converged, rotor_speed_mean, rotor_speed_ripple,\n"
+            "                      F_n_min, F_n_max, friction_needed_max, theta_mean, theta_min,\n"
+            "                      theta_max, theta_harmonic_2, F_n_harmonic_2, max_modulus,\n"
+            "                      stable, contact_open, error; events contact_loss, stick_loss,\n"
+            "                      fold, stability_change (kind fold, period_doubling,\n"
+            "                      neimark_sacker); see docs/periodic.md\n"
             "  -h, --help          print this help\n"
             "\n"
             "Output: CSV (default), header\n"
@@ -97,7 +107,8 @@ typedef struct sweep_args {
     const char *over;
     double from, to, t0;
     int have_from, have_to;
-    int points, threads, floquet, help, force;
+    int points, threads, floquet, help, force, periodic;
+    int others; /* options of the stationary sweep only, for --periodic's refusal */
     const char *plot; /* --plot PREFIX, or NULL */
     usm_floquet_options floquet_opt;
     usm_sweep_monitor monitors[NQUANTITIES]; /* one per quantity named */
@@ -157,8 +168,13 @@ static int own_option(sweep_args *a, int argc, char **argv, int *i, char msg[CLI
 {
     const char *value;
     int r;
+    if (strcmp(argv[*i], "--periodic") == 0) {
+        a->periodic = 1;
+        return CLI_OPT_TAKEN;
+    }
     if (strcmp(argv[*i], "--no-floquet") == 0) {
         a->floquet = 0;
+        a->others = 1;
         return CLI_OPT_TAKEN;
     }
     if (strcmp(argv[*i], "--force") == 0) {
@@ -191,7 +207,7 @@ static int own_option(sweep_args *a, int argc, char **argv, int *i, char msg[CLI
                    ? CLI_OPT_ERROR
                    : r;
     if ((r = cli_option_value(argc, argv, i, "--threads", &value, msg)) != CLI_OPT_NOT_MINE)
-        return r == CLI_OPT_TAKEN && cli_parse_int("--threads", value, &a->threads, msg)
+        return a->others = 1, r == CLI_OPT_TAKEN && cli_parse_int("--threads", value, &a->threads, msg)
                    ? CLI_OPT_ERROR
                    : r;
     return CLI_OPT_NOT_MINE;
@@ -215,8 +231,10 @@ static int parse(sweep_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
             continue;
         if (r == CLI_OPT_ERROR)
             return USM_EINPUT;
-        if ((r = cli_floquet_option(&a->floquet_opt, argc, argv, &i, msg)) == CLI_OPT_TAKEN)
+        if ((r = cli_floquet_option(&a->floquet_opt, argc, argv, &i, msg)) == CLI_OPT_TAKEN) {
+            a->others = 1;
             continue;
+        }
         if (r == CLI_OPT_ERROR)
             return USM_EINPUT;
         if ((r = own_option(a, argc, argv, &i, msg)) == CLI_OPT_TAKEN)
@@ -240,6 +258,13 @@ static int parse(sweep_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
     }
     if (cli_common_finish(&a->common, msg) != USM_OK)
         return USM_EINPUT;
+    a->periodic |= a->common.model->imperfect;
+    if (a->periodic && (a->others || a->plot || a->nmonitors > 0 || a->t0 != 0.0)) {
+        cli_msg(msg, "--periodic (or the variant imperfect): --no-floquet, --t0, --threads, "
+                     "--plot, --extremum, --crossing and the Floquet options are for the "
+                     "stationary sweep only");
+        return USM_EINPUT;
+    }
     /* refused before the (long) sweep, not after it */
     return a->plot ? usm_plot_csv_check(a->plot, a->force, msg) : USM_OK;
 }
@@ -315,12 +340,50 @@ static int plot(const sweep_args *a, const usm_sweep *s)
     return USM_OK;
 }
 
+/* --periodic: the orbit's continuation (usm_periodic_sweep.h). */
+static int run_periodic(const sweep_args *a, bar *progress)
+{
+    const cli_common *c = &a->common;
+    usm_periodic_sweep_options opt;
+    usm_periodic_sweep *s = usm_periodic_sweep_alloc(c->model);
+    if (!s) {
+        cli_error("out of memory");
+        return USM_EFAILED;
+    }
+    usm_periodic_sweep_options_default(&opt);
+    opt.over = a->over;
+    opt.from = a->from;
+    opt.to = a->to;
+    opt.points = a->points;
+    if (isatty(STDERR_FILENO)) {
+        opt.progress = draw;
+        opt.progress_ctx = progress;
+    }
+    int status = usm_periodic_sweep_run(s, &c->params, &opt);
+    if (progress->shown >= 0)
+        fputc('\n', stderr);
+    if (status != USM_OK) {
+        cli_error("sweep: %s", usm_periodic_sweep_message(s));
+        status = status == USM_EINPUT ? USM_EINPUT : USM_EFAILED;
+    } else if ((c->json ? usm_periodic_sweep_write_json(s, &c->params, stdout)
+                        : usm_periodic_sweep_csv(s, stdout)) != 0 ||
+               fflush(stdout) != 0 || ferror(stdout)) {
+        clearerr(stdout);
+        cli_error("stdout: write error");
+        status = USM_EFAILED;
+    }
+    usm_periodic_sweep_free(s);
+    return status;
+}
+
 static int run(const sweep_args *a)
 {
     const cli_common *c = &a->common;
     usm_sweep_options opt;
     bar progress = {-1};
     int status;
+    if (a->periodic)
+        return run_periodic(a, &progress);
     usm_sweep *s = usm_sweep_alloc(c->model);
     if (!s) {
         cli_error("out of memory");

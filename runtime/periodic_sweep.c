@@ -1,0 +1,560 @@
+/* Continuation of the periodic orbit in one parameter, with its events
+ * (usm_periodic_sweep.h). */
+#include "usm_periodic_sweep.h"
+
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "csv_out.h"
+#include "json_out.h"
+
+/* A trial step is accepted when Newton needed at most this many iterations;
+ * more means the prediction was poor, and the next step is halved. */
+#define SLOW_NEWTON 4
+#define MIN_STEP 1e-7 /* of the range: below it the branch is lost */
+#define MAX_LOCATE 60
+
+struct usm_periodic_sweep {
+    const usm_model *m;
+    usm_periodic *w;
+    usm_periodic_point *pts;
+    size_t npts;
+    usm_periodic_event *ev;
+    size_t nev, cap;
+    const usm_param_info *info;
+    const char *unit;
+    char over[32];
+    usm_params p;
+    usm_periodic_options popt;
+    double range, tol;
+    char msg[USM_MSG_LEN];
+};
+
+const char *usm_pevent_name(usm_pevent_type type)
+{
+    switch (type) {
+    case USM_PEVENT_CONTACT_LOSS: return "contact_loss";
+    case USM_PEVENT_STICK_LOSS: return "stick_loss";
+    case USM_PEVENT_FOLD: return "fold";
+    case USM_PEVENT_STABILITY_CHANGE: return "stability_change";
+    }
+    return "unknown";
+}
+
+const char *usm_crossing_name(usm_crossing_kind kind)
+{
+    switch (kind) {
+    case USM_CROSSING_FOLD: return "fold";
+    case USM_CROSSING_PERIOD_DOUBLING: return "period_doubling";
+    case USM_CROSSING_NEIMARK_SACKER: return "neimark_sacker";
+    case USM_CROSSING_NONE: break;
+    }
+    return "";
+}
+
+void usm_periodic_sweep_options_default(usm_periodic_sweep_options *opt)
+{
+    memset(opt, 0, sizeof *opt);
+    opt->points = 101;
+    opt->event_tol = 1e-11;
+    usm_periodic_options_default(&opt->periodic);
+}
+
+usm_periodic_sweep *usm_periodic_sweep_alloc(const usm_model *m)
+{
+    usm_periodic_sweep *s = calloc(1, sizeof *s);
+    if (!s)
+        return NULL;
+    s->m = m;
+    if (!(s->w = usm_periodic_alloc(m))) {
+        free(s);
+        return NULL;
+    }
+    return s;
+}
+
+void usm_periodic_sweep_free(usm_periodic_sweep *s)
+{
+    if (!s)
+        return;
+    usm_periodic_free(s->w);
+    free(s->pts);
+    free(s->ev);
+    free(s);
+}
+
+size_t usm_periodic_sweep_count(const usm_periodic_sweep *s) { return s->npts; }
+size_t usm_periodic_sweep_event_count(const usm_periodic_sweep *s) { return s->nev; }
+const char *usm_periodic_sweep_message(const usm_periodic_sweep *s) { return s->msg; }
+
+const usm_periodic_point *usm_periodic_sweep_point_at(const usm_periodic_sweep *s, size_t i)
+{
+    return i < s->npts ? &s->pts[i] : NULL;
+}
+
+const usm_periodic_event *usm_periodic_sweep_event_at(const usm_periodic_sweep *s, size_t i)
+{
+    return i < s->nev ? &s->ev[i] : NULL;
+}
+
+/* The orbit at parameter value v from the start state x0 (NULL: the ideal
+ * motor's). */
+static int solve_at(usm_periodic_sweep *s, double v, const double *x0, usm_periodic_result *r)
+{
+    usm_params q = s->p;
+    *usm_params_field(&q, s->info) = v;
+    return usm_periodic_solve(s->w, &q, x0, &s->popt, r);
+}
+
+/* Start state at v predicted linearly from the orbits (va, a) and (vb, b). */
+static void predict(const usm_periodic_result *a, double va, const usm_periodic_result *b,
+                    double vb, double v, double *x)
+{
+    const double t = (v - vb) / (vb - va);
+    for (int i = 0; i < b->nx; ++i)
+        x[i] = b->x0[i] + t * (b->x0[i] - a->x0[i]);
+}
+
+static usm_periodic_event *add_event(usm_periodic_sweep *s, usm_pevent_type type, double v,
+                                     const usm_periodic_result *orbit, const char *fmt, ...)
+{
+    if (s->nev == s->cap) {
+        size_t cap = s->cap ? 2 * s->cap : 8;
+        usm_periodic_event *e = realloc(s->ev, cap * sizeof *e);
+        if (!e)
+            return NULL;
+        s->ev = e;
+        s->cap = cap;
+    }
+    usm_periodic_event *e = &s->ev[s->nev++];
+    memset(e, 0, sizeof *e);
+    e->type = type;
+    e->value = v;
+    if (orbit) {
+        e->has_orbit = 1;
+        e->orbit = *orbit;
+    }
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(e->what, sizeof e->what, fmt, ap);
+    va_end(ap);
+    return e;
+}
+
+/* ---- events ------------------------------------------------------------------- */
+
+enum { G_CONTACT, G_STICK, G_STABILITY, NG };
+
+/* The event functions: their zeros are the events (NaN: undefined here). */
+static double gfun(const usm_periodic_sweep *s, int k, const usm_periodic_result *r)
+{
+    switch (k) {
+    case G_CONTACT: return r->F_n_min;
+    case G_STICK: return r->friction_needed_max - s->p.mu0;
+    default: return r->floquet.max_modulus - 1.0;
+    }
+}
+
+/* The non-cyclic multiplier of largest modulus. */
+static int critical(const usm_floquet_result *f)
+{
+    int c = -1;
+    for (int i = 0; i < f->n; ++i)
+        if (!f->cyclic[i] && (c < 0 || hypot(f->re[i], f->im[i]) > hypot(f->re[c], f->im[c])))
+            c = i;
+    return c;
+}
+
+/* The zero of g_k between (va, ra) and (vb, rb), where g_k changes sign, by
+ * the Illinois variant of regula falsi; every trial orbit starts from the
+ * linear interpolation of the bracket's states.  *v and *r: the bracket end
+ * of smaller |g|.  0, or -1 when a trial orbit fails (*v, *r then the best
+ * bracket end so far). */
+static int locate(usm_periodic_sweep *s, int k, double va, const usm_periodic_result *ra,
+                  double vb, const usm_periodic_result *rb, double *v, usm_periodic_result *r)
+{
+    usm_periodic_result A = *ra, B = *rb, C;
+    double a = va, b = vb, fa = gfun(s, k, ra), fb = gfun(s, k, rb);
+    double ga = fa, gb = fb; /* unscaled values, for the choice of the result */
+    int side = 0, rc = 0;
+    double x[USM_MAX_NX];
+    for (int it = 0; it < MAX_LOCATE && fabs(b - a) > s->tol; ++it) {
+        double c = (a * fb - b * fa) / (fb - fa);
+        /* regula falsi's point too close to an end (or not finite): bisect */
+        const double w = fabs(b - a);
+        if (!(fabs(c - a) > 1e-3 * w && fabs(c - b) > 1e-3 * w))
+            c = 0.5 * (a + b);
+        predict(&A, a, &B, b, c, x);
+        if (solve_at(s, c, x, &C) != USM_OK) {
+            rc = -1;
+            break;
+        }
+        const double fc = gfun(s, k, &C);
+        if (!isfinite(fc)) {
+            rc = -1;
+            break;
+        }
+        if (fc == 0.0) {
+            a = b = c;
+            A = B = C;
+            ga = gb = fa = fb = 0.0;
+            break;
+        }
+        if ((fc < 0) == (fb < 0)) {
+            b = c, fb = gb = fc, B = C;
+            if (side == -1)
+                fa *= 0.5;
+            side = -1;
+        } else {
+            a = c, fa = ga = fc, A = C;
+            if (side == 1)
+                fb *= 0.5;
+            side = 1;
+        }
+    }
+    if (fabs(ga) <= fabs(gb))
+        *v = a, *r = A;
+    else
+        *v = b, *r = B;
+    return rc;
+}
+
+static void value_text(const usm_periodic_sweep *s, double v, char buf[96])
+{
+    /* no unit "1" after a ratio */
+    snprintf(buf, 96, "%s = %.12g%s%s", s->over, v, strcmp(s->unit, "1") ? " " : "",
+             strcmp(s->unit, "1") ? s->unit : "");
+}
+
+/* rising: g_k > 0 after the event (in sweep order). */
+static int emit_located(usm_periodic_sweep *s, int k, double v, const usm_periodic_result *r,
+                        int located, int dir_up, int rising)
+{
+    char vt[96];
+    const char *how = located ? "" : " (not located to tolerance: a trial orbit failed)";
+    value_text(s, v, vt);
+    const char *inc = dir_up ? "increases" : "decreases";
+    if (k == G_CONTACT)
+        return add_event(s, USM_PEVENT_CONTACT_LOSS, v, r,
+                         "F_n_min = 0 at %s: the contact %s once a period as %s %s%s", vt,
+                         rising ? "closes again" : "opens", s->over, inc, how)
+                   ? 0 : -1;
+    if (k == G_STICK)
+        return add_event(s, USM_PEVENT_STICK_LOSS, v, r,
+                         "friction_needed_max = mu0 = %g at %s: stick %s as %s %s%s", s->p.mu0,
+                         vt, rising ? "fails somewhere on the orbit (intermittent slip)"
+                                    : "holds again over the whole orbit",
+                         s->over, inc, how)
+                   ? 0 : -1;
+    const int c = critical(&r->floquet);
+    const double re = c >= 0 ? r->floquet.re[c] : NAN, im = c >= 0 ? r->floquet.im[c] : NAN;
+    usm_crossing_kind kind = fabs(im) > 1e-6 * hypot(re, im) ? USM_CROSSING_NEIMARK_SACKER
+                             : re > 0                        ? USM_CROSSING_FOLD
+                                                             : USM_CROSSING_PERIOD_DOUBLING;
+    usm_periodic_event *e = add_event(
+        s, USM_PEVENT_STABILITY_CHANGE, v, r,
+        "max |lambda| = 1 at %s (%s: critical multiplier %.8f %+.8fi): the orbit %s as %s %s%s",
+        vt, usm_crossing_name(kind), re, fabs(im), rising ? "loses stability" : "becomes stable",
+        s->over, inc, how);
+    if (!e)
+        return -1;
+    e->kind = kind;
+    e->multiplier_re = re;
+    e->multiplier_im = fabs(im);
+    return 0;
+}
+
+/* Events between the accepted orbits (va, ra) and (vb, rb), in sweep order. */
+static int step_events(usm_periodic_sweep *s, double va, const usm_periodic_result *ra, double vb,
+                       const usm_periodic_result *rb)
+{
+    double vs[NG];
+    usm_periodic_result rs[NG];
+    int ks[NG], located[NG], rising[NG], n = 0;
+    for (int k = 0; k < NG; ++k) {
+        if (k == G_STICK && s->m->friction)
+            continue; /* slip built in: F_t = mu(v) F_n, stick has no meaning */
+        const double g0 = gfun(s, k, ra), g1 = gfun(s, k, rb);
+        if (!isfinite(g0) || !isfinite(g1) || (g0 < 0) == (g1 < 0))
+            continue;
+        located[n] = locate(s, k, va, ra, vb, rb, &vs[n], &rs[n]) == 0;
+        rising[n] = g1 > 0;
+        ks[n++] = k;
+    }
+    /* in sweep order: by distance from va */
+    for (int i = 0; i < n; ++i) {
+        int best = i;
+        for (int j = i + 1; j < n; ++j)
+            if (fabs(vs[j] - va) < fabs(vs[best] - va))
+                best = j;
+        if (emit_located(s, ks[best], vs[best], &rs[best], located[best], vb > va,
+                         rising[best]) != 0)
+            return -1;
+        vs[best] = vs[i], rs[best] = rs[i], ks[best] = ks[i], located[best] = located[i];
+        rising[best] = rising[i];
+    }
+    return 0;
+}
+
+/* The branch ends after (va, ra): a fold if a real multiplier was approaching
+ * +1 ((mu - 1)^2 is linear in the parameter near a turning point, so its
+ * zero is extrapolated from the last two orbits). */
+static int branch_end(usm_periodic_sweep *s, double vp, const usm_periodic_result *rp, int have_p,
+                      double va, const usm_periodic_result *ra)
+{
+    if (!have_p)
+        return 0;
+    double ga = INFINITY, gp = INFINITY;
+    for (int i = 0; i < ra->floquet.n; ++i)
+        if (!ra->floquet.cyclic[i] && ra->floquet.im[i] == 0.0 && ra->floquet.re[i] > 0)
+            ga = fmin(ga, (ra->floquet.re[i] - 1) * (ra->floquet.re[i] - 1));
+    for (int i = 0; i < rp->floquet.n; ++i)
+        if (!rp->floquet.cyclic[i] && rp->floquet.im[i] == 0.0 && rp->floquet.re[i] > 0)
+            gp = fmin(gp, (rp->floquet.re[i] - 1) * (rp->floquet.re[i] - 1));
+    if (!(ga < 0.01 && gp > ga))
+        return 0;
+    const double vf = va - ga * (va - vp) / (ga - gp);
+    char vt[96];
+    value_text(s, vf, vt);
+    return add_event(s, USM_PEVENT_FOLD, vf, NULL,
+                     "the branch turns back near %s: a real multiplier reaches +1 (extrapolated "
+                     "from the last two orbits; natural-parameter continuation stops here)", vt)
+               ? 0 : -1;
+}
+
+int usm_periodic_sweep_run(usm_periodic_sweep *s, const usm_params *p,
+                           const usm_periodic_sweep_options *opt)
+{
+    s->msg[0] = '\0';
+    s->npts = s->nev = 0;
+    if (!opt || !opt->over) {
+        snprintf(s->msg, sizeof s->msg, "over: the parameter to sweep is missing");
+        return USM_EINPUT;
+    }
+    if (!(s->info = usm_params_find(opt->over))) {
+        snprintf(s->msg, sizeof s->msg, "over: unknown parameter \"%.60s\"", opt->over);
+        return USM_EINPUT;
+    }
+    s->unit = s->info->unit;
+    snprintf(s->over, sizeof s->over, "%s", opt->over);
+    if (!isfinite(opt->from) || !isfinite(opt->to) || opt->from == opt->to) {
+        snprintf(s->msg, sizeof s->msg, "from, to: must be finite and different");
+        return USM_EINPUT;
+    }
+    if (opt->points < 2 || opt->points > 1000000) {
+        snprintf(s->msg, sizeof s->msg, "points: %d, must be 2 to 1000000", opt->points);
+        return USM_EINPUT;
+    }
+    if (!(opt->event_tol > 0 && opt->event_tol < 1e-2)) {
+        snprintf(s->msg, sizeof s->msg, "event_tol: must be in (0, 0.01)");
+        return USM_EINPUT;
+    }
+    /* the far end's parameters refused now, not after a long continuation */
+    usm_params q = *p;
+    *usm_params_field(&q, s->info) = opt->to;
+    if (usm_params_check(&q, s->m, s->msg) != USM_OK)
+        return USM_EINPUT;
+    s->p = *p;
+    s->popt = opt->periodic;
+    s->range = fabs(opt->to - opt->from);
+    s->tol = opt->event_tol * s->range;
+    usm_periodic_point *pts = realloc(s->pts, (size_t)opt->points * sizeof *pts);
+    if (!pts) {
+        snprintf(s->msg, sizeof s->msg, "out of memory");
+        return USM_EFAILED;
+    }
+    s->pts = pts;
+    const int n = opt->points;
+    const double hmax = (opt->to - opt->from) / (n - 1);
+    usm_periodic_result ra, rp, rb;
+    double x[USM_MAX_NX];
+    int rc = solve_at(s, opt->from, NULL, &ra);
+    if (rc != USM_OK) {
+        char why[USM_MSG_LEN];
+        snprintf(why, sizeof why, "%s", usm_periodic_message(s->w));
+        snprintf(s->msg, sizeof s->msg, "no orbit at %s = %.12g: %.180s", s->over, opt->from, why);
+        return rc == USM_EINPUT ? USM_EINPUT : USM_EFAILED;
+    }
+    double va = opt->from, vp = va, h = hmax;
+    int have_p = 0, lost = 0;
+    char lost_why[USM_MSG_LEN] = "";
+    memset(&s->pts[0], 0, sizeof s->pts[0]);
+    s->pts[0].value = va;
+    s->pts[0].converged = 1;
+    s->pts[0].orbit = ra;
+    s->npts = 1;
+    for (int i = 1; i < n; ++i) {
+        /* the last grid value exactly `to`, not from + (n-1) h rounded */
+        const double target = i == n - 1 ? opt->to : opt->from + i * hmax;
+        usm_periodic_point *pt = &s->pts[i];
+        memset(pt, 0, sizeof *pt);
+        pt->value = target;
+        while (!lost && va != target) {
+            const double vb = fabs(target - va) <= fabs(h) * (1 + 1e-12) ? target : va + h;
+            const double *x0 = ra.x0;
+            if (have_p) {
+                predict(&rp, vp, &ra, va, vb, x);
+                x0 = x;
+            }
+            rc = solve_at(s, vb, x0, &rb);
+            if (rc != USM_OK || rb.iterations > SLOW_NEWTON) {
+                if (rc != USM_OK)
+                    snprintf(lost_why, sizeof lost_why, "%s", usm_periodic_message(s->w));
+                else
+                    snprintf(lost_why, sizeof lost_why, "Newton needs %d iterations",
+                             rb.iterations);
+                h *= 0.5;
+                if (fabs(h) < MIN_STEP * s->range) {
+                    lost = 1;
+                    if (branch_end(s, vp, &rp, have_p, va, &ra) != 0)
+                        goto oom;
+                }
+                continue;
+            }
+            if (step_events(s, va, &ra, vb, &rb) != 0)
+                goto oom;
+            vp = va, rp = ra, have_p = 1;
+            va = vb, ra = rb;
+            if (rb.iterations <= 2 && fabs(2 * h) <= fabs(hmax))
+                h *= 2;
+        }
+        if (lost) {
+            char why[USM_MSG_LEN];
+            snprintf(why, sizeof why, "%s", lost_why);
+            snprintf(pt->error, sizeof pt->error,
+                     "no orbit: the continuation lost the branch after %s = %.12g (the step fell "
+                     "below %g of the range; last try: %.80s)",
+                     s->over, va, MIN_STEP, why);
+        } else {
+            pt->converged = 1;
+            pt->orbit = ra;
+        }
+        s->npts = (size_t)i + 1;
+        if (opt->progress)
+            opt->progress((double)i / (n - 1), opt->progress_ctx);
+    }
+    return USM_OK;
+oom:
+    snprintf(s->msg, sizeof s->msg, "out of memory");
+    return USM_EFAILED;
+}
+
+/* ---- output ------------------------------------------------------------------- */
+
+int usm_periodic_sweep_csv(const usm_periodic_sweep *s, FILE *out)
+{
+    fprintf(out, "%s [%s],converged,rotor_speed_mean [1/s],rotor_speed_ripple [1/s],F_n_min [N],"
+                 "F_n_max [N],friction_needed_max [1],theta_mean [rad],theta_min [rad],"
+                 "theta_max [rad],theta_harmonic_2 [rad],F_n_harmonic_2 [N],max_modulus [1],"
+                 "stable,contact_open,error\n",
+            s->over, s->unit);
+    for (size_t i = 0; i < s->npts; ++i) {
+        const usm_periodic_point *pt = &s->pts[i];
+        const usm_periodic_result *r = &pt->orbit;
+        char buf[32];
+        fputs(usm_shortest(buf, pt->value), out);
+        usm_csv_bool(out, 0, pt->converged);
+        if (!pt->converged) {
+            fputs(",,,,,,,,,,,,,,", out);
+            usm_csv_text(out, 0, pt->error);
+            fputc('\n', out);
+            continue;
+        }
+        const double v[] = {r->rotor_speed_mean, r->rotor_speed_ripple, r->F_n_min, r->F_n_max,
+                            r->friction_needed_max, r->theta_mean, r->theta_min, r->theta_max,
+                            r->theta_harmonic_2, r->F_n_harmonic_2, r->floquet.max_modulus};
+        for (size_t k = 0; k < sizeof v / sizeof v[0]; ++k)
+            usm_csv_num(out, 0, v[k]);
+        usm_csv_bool(out, 0, r->floquet.stable);
+        usm_csv_bool(out, 0, r->contact_open);
+        fputs(",\n", out);
+    }
+    for (size_t i = 0; i < s->nev; ++i) {
+        const usm_periodic_event *e = &s->ev[i];
+        char buf[32];
+        fprintf(out, "# %s%s%s%s at %s = %s: %s\n", usm_pevent_name(e->type),
+                e->kind ? " (" : "", usm_crossing_name(e->kind), e->kind ? ")" : "", s->over,
+                usm_shortest(buf, e->value), e->what);
+    }
+    return ferror(out) ? -1 : 0;
+}
+
+/* The keys of `usm periodic --json` for one orbit. */
+static json_t *orbit_json(const usm_periodic_result *r)
+{
+    json_t *o = json_object(), *h = json_object();
+    int ok = o && h;
+    usm_json_put(o, "rotor_speed_mean", usm_json_real(r->rotor_speed_mean), &ok);
+    usm_json_put(o, "rotor_speed_ripple", usm_json_real(r->rotor_speed_ripple), &ok);
+    usm_json_put(o, "F_n_min", usm_json_real(r->F_n_min), &ok);
+    usm_json_put(o, "F_n_max", usm_json_real(r->F_n_max), &ok);
+    usm_json_put(o, "friction_needed_max", usm_json_real(r->friction_needed_max), &ok);
+    usm_json_put(o, "theta_mean", usm_json_real(r->theta_mean), &ok);
+    usm_json_put(o, "theta_min", usm_json_real(r->theta_min), &ok);
+    usm_json_put(o, "theta_max", usm_json_real(r->theta_max), &ok);
+    usm_json_put(h, "theta", usm_json_real(r->theta_harmonic_2), &ok);
+    usm_json_put(h, "F_n", usm_json_real(r->F_n_harmonic_2), &ok);
+    usm_json_put(o, "harmonic_2", h, &ok);
+    usm_json_put(o, "floquet", usm_json_floquet(&r->floquet), &ok);
+    usm_json_put(o, "contact_open", json_boolean(r->contact_open), &ok);
+    usm_json_put(o, "newton_iterations", json_integer(r->iterations), &ok);
+    usm_json_put(o, "residual", usm_json_real(r->residual), &ok);
+    if (!ok) {
+        json_decref(o);
+        return NULL;
+    }
+    return o;
+}
+
+static json_t *sweep_json(const usm_periodic_sweep *s, const usm_params *p)
+{
+    json_t *obj = json_object(), *points = json_array(), *events = json_array();
+    int ok = obj && points && events;
+    usm_json_put(obj, "over", json_string(s->over), &ok);
+    usm_json_put(obj, "model", json_string(s->m->name), &ok);
+    usm_json_put(obj, "periodic", json_true(), &ok);
+    usm_json_put(obj, "parameters", usm_json_params(p), &ok);
+    for (size_t i = 0; ok && i < s->npts; ++i) {
+        const usm_periodic_point *pt = &s->pts[i];
+        json_t *o = pt->converged ? orbit_json(&pt->orbit) : json_object();
+        int pok = o != NULL;
+        usm_json_put(o, s->over, usm_json_real(pt->value), &pok);
+        usm_json_put(o, "converged", json_boolean(pt->converged), &pok);
+        if (!pt->converged)
+            usm_json_put(o, "error", json_string(pt->error), &pok);
+        if (!pok || json_array_append_new(points, o) != 0)
+            ok = 0;
+    }
+    for (size_t i = 0; ok && i < s->nev; ++i) {
+        const usm_periodic_event *e = &s->ev[i];
+        json_t *o = json_object();
+        int eok = o != NULL;
+        usm_json_put(o, "type", json_string(usm_pevent_name(e->type)), &eok);
+        if (e->kind) {
+            usm_json_put(o, "kind", json_string(usm_crossing_name(e->kind)), &eok);
+            json_t *mu = json_pack("[ff]", e->multiplier_re, e->multiplier_im);
+            usm_json_put(o, "multiplier", mu, &eok);
+        }
+        usm_json_put(o, s->over, usm_json_real(e->value), &eok);
+        usm_json_put(o, "what", json_string(e->what), &eok);
+        if (e->has_orbit)
+            usm_json_put(o, "orbit", orbit_json(&e->orbit), &eok);
+        if (!eok || json_array_append_new(events, o) != 0)
+            ok = 0;
+    }
+    usm_json_put(obj, "points", points, &ok);
+    usm_json_put(obj, "events", events, &ok);
+    if (!ok) {
+        json_decref(obj);
+        return NULL;
+    }
+    return obj;
+}
+
+int usm_periodic_sweep_write_json(const usm_periodic_sweep *s, const usm_params *p, FILE *out)
+{
+    return usm_json_write(sweep_json(s, p), out);
+}

@@ -1,0 +1,136 @@
+/* usm_periodic_sweep.h: continuation of the periodic orbit of a real motor
+ * (issue 14, item 3).
+ *
+ * The orbit of usm_periodic_solve is followed in one parameter lambda (any
+ * field of usm_params) by natural-parameter continuation: each
+ * step starts Newton from the secant extrapolation of the last two orbits'
+ * states at t0, and the step is halved when Newton fails or needs more than 4
+ * iterations (down to 1e-7 of the range).  Natural-parameter continuation
+ * cannot pass a turning point of the branch: there the step control gives up,
+ * the remaining grid points have no orbit, and a `fold` event is reported when
+ * a real multiplier was approaching +1 (below).
+ * Between consecutive accepted orbits the sweep locates, by the Illinois
+ * variant of regula falsi on lambda (each trial a warm-started shooting), to
+ * 1e-11 of the range:
+ *   contact_loss       F_n_min = 0: the contact opens once a period
+ *   stick_loss         stick models (3dof): friction_needed_max = mu0
+ *   stability_change   the largest non-cyclic multiplier modulus = 1; its kind
+ *                      from the critical multiplier there: +1 fold, -1
+ *                      period_doubling, a complex pair neimark_sacker
+ *   fold               the branch ends at a turning point; its value is the
+ *                      zero of (mu - 1)^2, mu the real multiplier nearest +1,
+ *                      extrapolated linearly in lambda from the last two
+ *                      orbits ((mu - 1)^2 is linear in lambda near a fold), so
+ *                      it is accurate to the last step only (no orbit there).
+ * The points are the requested grid values in sweep order.
+ *
+ * Thread safety: one usm_periodic_sweep per thread; no global state.
+ */
+#ifndef USM_PERIODIC_SWEEP_H
+#define USM_PERIODIC_SWEEP_H
+
+#include <stdio.h>
+
+#include "usm.h"
+#include "usm_periodic.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef enum {
+    USM_PEVENT_CONTACT_LOSS = 0,
+    USM_PEVENT_STICK_LOSS = 1,
+    USM_PEVENT_FOLD = 2,
+    USM_PEVENT_STABILITY_CHANGE = 3
+} usm_pevent_type;
+
+/* How the critical multiplier crosses the unit circle. */
+typedef enum {
+    USM_CROSSING_NONE = 0,          /* not a stability change */
+    USM_CROSSING_FOLD = 1,          /* a real multiplier through +1 */
+    USM_CROSSING_PERIOD_DOUBLING = 2, /* a real multiplier through -1 */
+    USM_CROSSING_NEIMARK_SACKER = 3 /* a complex pair */
+} usm_crossing_kind;
+
+/* "contact_loss", "stick_loss", "fold", "stability_change". */
+const char *usm_pevent_name(usm_pevent_type type);
+/* "", "fold", "period_doubling", "neimark_sacker". */
+const char *usm_crossing_name(usm_crossing_kind kind);
+
+/* One event located on the branch. */
+typedef struct usm_periodic_event {
+    usm_pevent_type type;
+    usm_crossing_kind kind;     /* stability_change only, else USM_CROSSING_NONE */
+    double value;               /* parameter value of the event */
+    int has_orbit;              /* 0 for fold (no orbit at the turning point) */
+    usm_periodic_result orbit;  /* the orbit at `value` when has_orbit */
+    double multiplier_re, multiplier_im; /* stability_change: the critical multiplier */
+    char what[USM_MSG_LEN];     /* one sentence */
+} usm_periodic_event;
+
+/* One requested grid value and the orbit there. */
+typedef struct usm_periodic_point {
+    double value;
+    int converged;              /* the branch's orbit exists here */
+    usm_periodic_result orbit;
+    char error[USM_MSG_LEN];    /* why not converged */
+} usm_periodic_point;
+
+/* What to sweep (usm_periodic_sweep_options_default, then over/from/to/points). */
+typedef struct usm_periodic_sweep_options {
+    const char *over;           /* a parameter name (usm_params_find) */
+    double from, to;            /* from != to; to < from sweeps down */
+    int points;                 /* 2 .. 1000000 (default 101) */
+    double event_tol;           /* events to event_tol times |to - from| (default 1e-11) */
+    usm_periodic_options periodic; /* the shooting's tolerances (usm_periodic_options_default) */
+    void (*progress)(double fraction, void *ctx); /* NULL: silent */
+    void *progress_ctx;
+} usm_periodic_sweep_options;
+
+/* Fill `opt` with the defaults listed above. */
+void usm_periodic_sweep_options_default(usm_periodic_sweep_options *opt);
+
+/* Continuation of one model's periodic orbit with the points and events of
+ * its last run (opaque). */
+typedef struct usm_periodic_sweep usm_periodic_sweep;
+
+/* A sweep for model m (not NULL), or NULL when out of memory. */
+usm_periodic_sweep *usm_periodic_sweep_alloc(const usm_model *m);
+/* Free s; NULL is allowed. */
+void usm_periodic_sweep_free(usm_periodic_sweep *s);
+
+/* Follow the orbit from opt->from (started there from the ideal motor, as
+ * usm_periodic_solve with x0 NULL) to opt->to.  USM_OK (grid points past the
+ * end of the branch have converged = 0 and an error); USM_EINPUT (bad option
+ * or parameter, a model without periodic orbit); USM_EFAILED (no orbit at
+ * opt->from, out of memory).  Reason in usm_periodic_sweep_message. */
+int usm_periodic_sweep_run(usm_periodic_sweep *s, const usm_params *p,
+                           const usm_periodic_sweep_options *opt);
+
+/* Number of grid points of the last run. */
+size_t usm_periodic_sweep_count(const usm_periodic_sweep *s);
+/* Point i of the last run in sweep order, NULL when out of range. */
+const usm_periodic_point *usm_periodic_sweep_point_at(const usm_periodic_sweep *s, size_t i);
+/* Number of events of the last run. */
+size_t usm_periodic_sweep_event_count(const usm_periodic_sweep *s);
+/* Event i of the last run (in sweep order), NULL when out of range. */
+const usm_periodic_event *usm_periodic_sweep_event_at(const usm_periodic_sweep *s, size_t i);
+/* Why the last run failed, or "".  Owned by s. */
+const char *usm_periodic_sweep_message(const usm_periodic_sweep *s);
+
+/* CSV of the last run: a header with units, one row per grid point (empty
+ * fields where no orbit), then one comment line per event.  0, or -1 on a
+ * write error. */
+int usm_periodic_sweep_csv(const usm_periodic_sweep *s, FILE *out);
+
+/* The JSON object {over, model, periodic: true, parameters, points[],
+ * events[]} and a newline; p: the parameters apart from the swept one.  0, or
+ * -1 on a write error or when out of memory. */
+int usm_periodic_sweep_write_json(const usm_periodic_sweep *s, const usm_params *p, FILE *out);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* USM_PERIODIC_SWEEP_H */
