@@ -249,6 +249,8 @@ int usm_report_write(const char *dir, const usm_params *p, const usm_report_opti
     if (status == USM_OK)
         status = usm_report_compute_maps(d, msg);
     if (status == USM_OK)
+        status = usm_report_compute_nonideal(d, msg);
+    if (status == USM_OK)
         status = usm_report_write_data(d, dir, msg);
     if (status != USM_OK) {
         usm_report_data_free(d);
