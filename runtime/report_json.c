@@ -593,8 +593,8 @@ static json_t *nonideal_curve(const usm_report_nonideal_curve *cv, int j)
     num(t, "display", cv->tolerable_found ? imp_display(j, cv->tolerable) : NAN);
     str(t, "by", cv->tolerable_by);
     str(t, "by_text", !cv->tolerable_found ? "" :
-        strcmp(cv->tolerable_by, "contact") == 0 ? "the contact opens (F_n_min = 0)"
-                                                : "stability is lost (max |λ| = 1)");
+        strcmp(cv->tolerable_by, "contact") == 0 ? "the contact opening (F_n_min = 0)"
+                                                : "the loss of stability (max |λ| = 1)");
     json_object_set_new(o, "tolerable", t);
     return o;
 }
