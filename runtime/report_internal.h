@@ -159,6 +159,9 @@ typedef struct usm_report_nonideal {
     int orbit_nx, orbit_x_phi, orbit_x_theta;
     double orbit[USM_PERIODIC_SAMPLES][USM_MAX_NX + 4]; /* usm_periodic_samples rows */
     double orbit_F_n_min;
+    usm_periodic_options opt; /* of the roots' and the orbit's periodic solves */
+    usm_periodic_options opt_curve; /* of the curves' points */
+    double root_xtol;         /* the roots to this fraction of the range */
     double seconds;
 } usm_report_nonideal;
 

@@ -18,9 +18,6 @@
 
 #define PI 3.14159265358979323846264338327950
 
-/* The roots to this fraction of the range: far below what the figures or the
- * printed digits show, and cheap (a few solves). */
-#define ROOT_XTOL 1e-9
 #define ROOT_MAXEVAL 40
 
 typedef struct per_state {
@@ -61,7 +58,8 @@ static void state_free(void *state)
  * (NULL: the library's start from the ideal motor); on failure with a warm
  * start, once more from the ideal start. */
 static int solve_at(usm_periodic *w, const usm_params *base, const char *param, double value,
-                    const double *x_start, usm_periodic_result *r, int *solves)
+                    const double *x_start, const usm_periodic_options *opt,
+                    usm_periodic_result *r, int *solves)
 {
     usm_params p = *base;
     char msg[USM_MSG_LEN];
@@ -69,10 +67,10 @@ static int solve_at(usm_periodic *w, const usm_params *base, const char *param, 
     if (usm_params_set(&p, param, value, msg) != USM_OK)
         return USM_EINPUT;
     ++*solves;
-    int rc = usm_periodic_solve(w, &p, x_start, NULL, r);
+    int rc = usm_periodic_solve(w, &p, x_start, opt, r);
     if (rc == USM_EFAILED && x_start) {
         ++*solves;
-        rc = usm_periodic_solve(w, &p, NULL, NULL, r);
+        rc = usm_periodic_solve(w, &p, NULL, opt, r);
     }
     return rc;
 }
@@ -85,8 +83,9 @@ static double root_function(const usm_periodic_result *r, int stability)
 /* The first root of g (F_n_min, or 1 - max_modulus) on the curve: the first
  * grid interval where g goes from positive to not positive between two
  * converged points, refined by Illinois regula falsi. */
-static void locate_root(usm_periodic *w, const usm_params *p, usm_report_nonideal_curve *cv,
-                        double (*xs)[USM_MAX_NX], int stability, usm_report_nonideal_root *out)
+static void locate_root(usm_periodic *w, const usm_params *p, const usm_report_nonideal *ni,
+                        usm_report_nonideal_curve *cv, double (*xs)[USM_MAX_NX], int stability,
+                        usm_report_nonideal_root *out)
 {
     const char *what = stability ? "max |lambda| reaches 1" : "F_n_min reaches 0";
     memset(out, 0, sizeof *out);
@@ -114,7 +113,7 @@ static void locate_root(usm_periodic *w, const usm_params *p, usm_report_nonidea
         int side = 0;
         memcpy(xa, xs[i - 1], sizeof xa);
         memcpy(xb, xs[i], sizeof xb);
-        for (int it = 0; it < ROOT_MAXEVAL && fabs(b - a) > ROOT_XTOL * (cv->to - cv->from);
+        for (int it = 0; it < ROOT_MAXEVAL && fabs(b - a) > ni->root_xtol * (cv->to - cv->from);
              ++it) {
             usm_periodic_result r;
             double c = (a * gb - b * ga) / (gb - ga);
@@ -122,7 +121,7 @@ static void locate_root(usm_periodic *w, const usm_params *p, usm_report_nonidea
                 c = 0.5 * (a + b);
             const double *start = c - a < b - c ? xa : xb;
             ++out->evaluations;
-            if (solve_at(w, p, cv->param, c, start, &r, &cv->solves) != USM_OK) {
+            if (solve_at(w, p, cv->param, c, start, &ni->opt, &r, &cv->solves) != USM_OK) {
                 snprintf(out->note, USM_MSG_LEN,
                          "%s between %s = %.6g and %.6g, not located: no periodic orbit at "
                          "%.6g (%.120s)", what, cv->param, a, b, c, usm_periodic_message(w));
@@ -149,7 +148,7 @@ static void locate_root(usm_periodic *w, const usm_params *p, usm_report_nonidea
         }
         out->found = 1;
         out->value = fabs(ga) < fabs(gb) ? a : b;
-        if (fabs(b - a) > ROOT_XTOL * (cv->to - cv->from) && gb != 0 && ga != 0) {
+        if (fabs(b - a) > ni->root_xtol * (cv->to - cv->from) && gb != 0 && ga != 0) {
             out->value = 0.5 * (a + b);
             snprintf(out->note, USM_MSG_LEN, "%s: bracket [%.9g, %.9g] after %d solves", what, a,
                      b, out->evaluations);
@@ -184,7 +183,8 @@ static int curve_task(void *ctx, void *state, size_t i)
         } else if (q >= 1 && cv->pt[q - 1].converged)
             x_start = xs[q - 1];
         pt->converged =
-            solve_at(w, &d->params, cv->param, pt->value, x_start, &r, &cv->solves) == USM_OK;
+            solve_at(w, &d->params, cv->param, pt->value, x_start, &d->nonideal.opt_curve, &r,
+                     &cv->solves) == USM_OK;
         if (!pt->converged) {
             pt->speed_mean = pt->ripple = pt->F_n_min = pt->F_n_max = NAN;
             pt->max_modulus = pt->theta_h2 = NAN;
@@ -198,8 +198,8 @@ static int curve_task(void *ctx, void *state, size_t i)
         pt->max_modulus = r.floquet.max_modulus;
         pt->theta_h2 = r.theta_harmonic_2;
     }
-    locate_root(w, &d->params, cv, xs, 0, &cv->contact);
-    locate_root(w, &d->params, cv, xs, 1, &cv->stability);
+    locate_root(w, &d->params, &d->nonideal, cv, xs, 0, &cv->contact);
+    locate_root(w, &d->params, &d->nonideal, cv, xs, 1, &cv->stability);
     cv->tolerable_found = cv->contact.found || cv->stability.found;
     if (cv->contact.found && (!cv->stability.found || cv->contact.value <= cv->stability.value)) {
         cv->tolerable = cv->contact.value;
@@ -218,7 +218,7 @@ static int curve_task(void *ctx, void *state, size_t i)
         usm_report_nonideal *ni = &d->nonideal;
         const double v = cv->tolerable_found ? cv->tolerable : cv->to;
         ni->orbit_value = v;
-        if (solve_at(w, &d->params, cv->param, v, NULL, &r, &cv->solves) == USM_OK) {
+        if (solve_at(w, &d->params, cv->param, v, NULL, &ni->opt, &r, &cv->solves) == USM_OK) {
             const double *smp = usm_periodic_samples(w);
             const int cols = r.nx + 4;
             ni->orbit_ok = 1;
@@ -238,14 +238,26 @@ int usm_report_compute_nonideal(usm_report_data *d, char msg[USM_IO_MSG_LEN])
 {
     usm_report_nonideal *ni = &d->nonideal;
     const double t = usm_report_now();
-    /* quick: 7 points (5 degrees, 1/3 %); full: 31 (1 degree, 1/15 %) */
-    const int points = d->opt.quick ? 7 : 31;
+    /* quick: 7 points (5 degrees, 1/3 %); full: 21 (1.5 degrees, 0.1 %) */
+    const int points = d->opt.quick ? 7 : 21;
     static const char *const param[REPORT_NIMP] = {"phase_error", "mode_split"};
     static const double to[REPORT_NIMP] = {30.0 * PI / 180.0, 0.02};
     per_ctx ctx = {d};
     char pmsg[USM_MSG_LEN];
     memset(ni, 0, sizeof *ni);
     ni->orbit_imp = REPORT_IMP_SPLIT;
+    /* The curves' points with looser tolerances than usm periodic's (the
+     * orbit's numbers to about 1e-7, the multipliers to about 1e-6: far below
+     * what the figures show) at half the cost per orbit; the roots and the
+     * orbit drawn with usm periodic's own, to 1e-9 of the range.  --quick:
+     * everything with the looser ones, the roots to 1e-6 of the range. */
+    usm_periodic_options_default(&ni->opt);
+    ni->opt_curve = ni->opt;
+    ni->opt_curve.rtol = 1e-9;
+    ni->opt_curve.tol = 1e-7;
+    ni->root_xtol = d->opt.quick ? 1e-6 : 1e-9;
+    if (d->opt.quick)
+        ni->opt = ni->opt_curve;
     for (int k = 0; k < REPORT_NMODELS; ++k) {
         const usm_model *m = d->model[k].model;
         ni->model[k] = m ? usm_model_variant(m->base, "imperfect") : NULL;
