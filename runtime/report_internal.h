@@ -159,6 +159,7 @@ typedef struct usm_report_nonideal {
     int orbit_nx, orbit_x_phi, orbit_x_theta;
     double orbit[USM_PERIODIC_SAMPLES][USM_MAX_NX + 4]; /* usm_periodic_samples rows */
     double orbit_F_n_min;
+    double orbit_period;      /* [s] */
     usm_periodic_options opt; /* of the roots' and the orbit's periodic solves */
     usm_periodic_options opt_curve; /* of the curves' points */
     double root_xtol;         /* the roots to this fraction of the range */
@@ -274,10 +275,14 @@ extern const char *const usm_report_files[];
 /* Write every CSV file and gnuplot script into dir.  USM_OK or USM_EFAILED. */
 int usm_report_write_data(const usm_report_data *d, const char *dir, char msg[USM_IO_MSG_LEN]);
 
-/* Run gnuplot on every script (up to `jobs` at a time), with dir as working
- * directory.  USM_OK, or USM_EFAILED with msg (gnuplot missing or failing;
- * its messages are in dir/gnuplot.log). */
-int usm_report_run_gnuplot(const char *dir, int jobs, char msg[USM_IO_MSG_LEN]);
+/* Run gnuplot on the scripts of the first nfigures figures (up to `jobs` at a
+ * time), with dir as working directory.  USM_OK, or USM_EFAILED with msg
+ * (gnuplot missing or failing; its messages are in dir/gnuplot.log). */
+int usm_report_run_gnuplot(const char *dir, int jobs, int nfigures, char msg[USM_IO_MSG_LEN]);
+
+/* The figures whose data exist: the non-ideal motor's (the last two) only
+ * when computed. */
+int usm_report_figure_count(const usm_report_data *d);
 
 /* ---- report.json, report.md, report.html (usm_report_json.c, data/report/) ----- */
 

@@ -607,7 +607,7 @@ static json_t *nonideal(const usm_report_data *d)
     flag(o, "ok", ni->ok);
     str(o, "note", ni->note);
     num(o, "seconds", ni->seconds);
-    json_object_set_new(o, "figures", figures(REPORT_FIG_NONIDEAL, REPORT_FIG_ORBIT + 1));
+    json_object_set_new(o, "figures", figures(REPORT_FIG_NONIDEAL, usm_report_figure_count(d)));
     if (!ni->ok)
         return o;
     integer(o, "points", ni->curve[0][0].points);
@@ -680,7 +680,7 @@ json_t *usm_report_json(const usm_report_data *d, int plots_ok, const char *plot
     json_object_set_new(o, "characteristics", characteristics(d));
     json_object_set_new(o, "figures_floquet", figures(REPORT_FIG_MULT_3DOF, REPORT_FIG_MAP_3DOF));
     json_object_set_new(o, "figures_curves", figures(REPORT_FIG_SPEED_F, REPORT_FIG_MULT_3DOF));
-    json_object_set_new(o, "figures", figures(0, REPORT_NFIGURES));
+    json_object_set_new(o, "figures", figures(0, usm_report_figure_count(d)));
     json_object_set_new(o, "figures_datasheet",
                         figures(REPORT_FIG_DATASHEET, REPORT_FIG_DATASHEET + 1));
     json_object_set_new(o, "figures_elasticity",

@@ -109,7 +109,7 @@ static void locate_root(usm_periodic *w, const usm_params *p, const usm_report_n
         /* bracket [a, b]: g(a) > 0, g(b) <= 0 */
         double a = cv->pt[i - 1].value, b = pt->value;
         double ga = stability ? 1.0 - cv->pt[i - 1].max_modulus : cv->pt[i - 1].F_n_min, gb = g;
-        double xa[USM_MAX_NX], xb[USM_MAX_NX];
+        double xa[USM_MAX_NX], xb[USM_MAX_NX], fa = ga, fb = gb; /* fa, fb: unscaled */
         int side = 0;
         memcpy(xa, xs[i - 1], sizeof xa);
         memcpy(xb, xs[i], sizeof xb);
@@ -130,14 +130,14 @@ static void locate_root(usm_periodic *w, const usm_params *p, const usm_report_n
             const double gc = root_function(&r, stability);
             if (gc > 0) {
                 a = c;
-                ga = gc;
+                ga = fa = gc;
                 memcpy(xa, r.x0, sizeof xa);
                 if (side == -1)
                     gb *= 0.5; /* Illinois: the stale end's value halved */
                 side = -1;
             } else {
                 b = c;
-                gb = gc;
+                gb = fb = gc;
                 memcpy(xb, r.x0, sizeof xb);
                 if (side == 1)
                     ga *= 0.5;
@@ -147,8 +147,8 @@ static void locate_root(usm_periodic *w, const usm_params *p, const usm_report_n
                 break;
         }
         out->found = 1;
-        out->value = fabs(ga) < fabs(gb) ? a : b;
-        if (fabs(b - a) > ni->root_xtol * (cv->to - cv->from) && gb != 0 && ga != 0) {
+        out->value = fabs(fa) < fabs(fb) ? a : b;
+        if (fabs(b - a) > ni->root_xtol * (cv->to - cv->from) && fb != 0) {
             out->value = 0.5 * (a + b);
             snprintf(out->note, USM_MSG_LEN, "%s: bracket [%.9g, %.9g] after %d solves", what, a,
                      b, out->evaluations);
@@ -224,6 +224,7 @@ static int curve_task(void *ctx, void *state, size_t i)
             ni->orbit_ok = 1;
             ni->orbit_nx = r.nx;
             ni->orbit_F_n_min = r.F_n_min;
+            ni->orbit_period = r.period;
             for (int q = 0; q < USM_PERIODIC_SAMPLES; ++q)
                 memcpy(ni->orbit[q], smp + (size_t)q * (size_t)cols, sizeof(double) * (size_t)cols);
         } else
@@ -290,4 +291,11 @@ int usm_report_compute_nonideal(usm_report_data *d, char msg[USM_IO_MSG_LEN])
     ni->ok = 1;
     ni->seconds = usm_report_now() - t;
     return USM_OK;
+}
+
+int usm_report_figure_count(const usm_report_data *d)
+{
+    if (!d->nonideal.ok)
+        return REPORT_FIG_NONIDEAL;
+    return d->nonideal.orbit_ok ? REPORT_NFIGURES : REPORT_FIG_ORBIT;
 }

@@ -329,17 +329,17 @@ static void write_orbit_csv(FILE *f, const usm_report_nonideal *ni)
     usm_csv_header(f, cols, (int)(sizeof cols / sizeof cols[0]));
     if (!ni->ok || !ni->orbit_ok)
         return;
-    const double period = ni->orbit[1][0] - ni->orbit[0][0];
+    const double period = ni->orbit_period;
     for (int q = 0; q <= USM_PERIODIC_SAMPLES; ++q) {
         const double *row = ni->orbit[q % USM_PERIODIC_SAMPLES];
-        const double t = q < USM_PERIODIC_SAMPLES ? row[0] : row[0] + period * USM_PERIODIC_SAMPLES;
+        const double t = q < USM_PERIODIC_SAMPLES ? row[0] : row[0] + period;
         const double phi = row[1 + ni->orbit_x_phi] + (q < USM_PERIODIC_SAMPLES ? 0.0 : 2 * PI_);
         const double th = row[1 + ni->orbit_x_theta];
         double ang = fmod(phi * 180.0 / PI_, 360.0);
         if (ang < 0)
             ang += 360.0;
         usm_csv_num(f, 1, t);
-        usm_csv_num(f, 0, (t - ni->orbit[0][0]) / (period * USM_PERIODIC_SAMPLES));
+        usm_csv_num(f, 0, (t - ni->orbit[0][0]) / period);
         usm_csv_num(f, 0, phi);
         usm_csv_num(f, 0, th);
         usm_csv_num(f, 0, th * cos(phi));
@@ -470,9 +470,9 @@ int usm_report_write_data(const usm_report_data *d, const char *dir, char msg[US
         }
     if (st == USM_OK && d->nonideal.ok)
         st = write_data_file(d, dir, "nonideal_curves_values.csv", DATA_NONIDEAL_VALUES, 0, 0, msg);
-    if (st == USM_OK && d->nonideal.ok)
+    if (st == USM_OK && d->nonideal.ok && d->nonideal.orbit_ok)
         st = write_data_file(d, dir, "nonideal_orbit.csv", DATA_ORBIT, 0, 0, msg);
-    if (st == USM_OK && d->nonideal.ok)
+    if (st == USM_OK && d->nonideal.ok && d->nonideal.orbit_ok)
         st = write_data_file(d, dir, "nonideal_orbit_circle.csv", DATA_CIRCLE, 0, 0, msg);
     for (int i = 0; i < REPORT_NFIGURES && st == USM_OK; ++i)
         st = copy_script(dir, usm_report_figures[i].name, msg);
@@ -481,15 +481,17 @@ int usm_report_write_data(const usm_report_data *d, const char *dir, char msg[US
 
 /* ---- running gnuplot ------------------------------------------------------------ */
 
-int usm_report_run_gnuplot(const char *dir, int jobs, char msg[USM_IO_MSG_LEN])
+int usm_report_run_gnuplot(const char *dir, int jobs, int nfigures, char msg[USM_IO_MSG_LEN])
 {
     const char *stems[REPORT_NFIGURES];
     char path[4096];
-    for (int i = 0; i < REPORT_NFIGURES; ++i)
+    if (nfigures < 1 || nfigures > REPORT_NFIGURES)
+        nfigures = REPORT_NFIGURES;
+    for (int i = 0; i < nfigures; ++i)
         stems[i] = usm_report_figures[i].name;
     if (usm_report_path(path, sizeof path, dir, "gnuplot.log") != 0) {
         usm_io_msg(msg, "--out %s: path too long", dir);
         return USM_EFAILED;
     }
-    return usm_gnuplot_run(dir, stems, REPORT_NFIGURES, jobs, path, msg);
+    return usm_gnuplot_run(dir, stems, nfigures, jobs, path, msg);
 }
