@@ -249,6 +249,8 @@ int usm_report_write(const char *dir, const usm_params *p, const usm_report_opti
     if (status == USM_OK)
         status = usm_report_compute_maps(d, msg);
     if (status == USM_OK)
+        status = usm_report_compute_nonideal(d, msg);
+    if (status == USM_OK)
         status = usm_report_write_data(d, dir, msg);
     if (status != USM_OK) {
         usm_report_data_free(d);
@@ -256,7 +258,8 @@ int usm_report_write(const char *dir, const usm_params *p, const usm_report_opti
         return status == USM_EINPUT || status == USM_ENOSOLUTION ? status : USM_EFAILED;
     }
     t = usm_report_now();
-    if (opt->plots && usm_report_run_gnuplot(dir, opt->threads, plot_note) == USM_OK)
+    if (opt->plots && usm_report_run_gnuplot(dir, opt->threads, usm_report_figure_count(d),
+                                          plot_note) == USM_OK)
         plots_ok = 1;
     d->seconds[3] = usm_report_now() - t;
     d->opt.plots = plots_ok; /* the report links figures only when they exist */

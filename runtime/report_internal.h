@@ -21,6 +21,7 @@
 #include "usm.h"
 #include "usm_design.h"
 #include "usm_report.h"
+#include "usm_periodic.h"
 #include "usm_sweep.h"
 
 /* ---- the paper's published values (usm_report_paper.c) ------------------------ */
@@ -106,6 +107,65 @@ enum { REPORT_3DOF = 0, REPORT_4DOF = 1, REPORT_NMODELS = 2 };
 /* A nearly vanishing preload [N], to show what the contact moment does. */
 #define REPORT_SMALL_F0 0.01
 
+/* ---- the non-ideal motor (report_nonideal.c, issue 14) -------------------------- */
+
+/* The imperfections swept, each alone from 0: phase_error 0 to 30 degrees,
+ * mode_split 0 to 2 %. */
+enum { REPORT_IMP_PHASE = 0, REPORT_IMP_SPLIT = 1, REPORT_NIMP = 2 };
+#define REPORT_NONIDEAL_MAXPTS 61
+
+typedef struct usm_report_nonideal_point {
+    double value;              /* the imperfection (SI: rad or 1) */
+    int converged;             /* the periodic orbit was found (else the fields are NaN) */
+    double speed_mean, ripple; /* rotor speed mean and peak to peak [1/s] */
+    double F_n_min, F_n_max;   /* [N] */
+    double max_modulus;        /* largest non-cyclic |lambda| */
+    double theta_h2;           /* 2 Omega amplitude of theta [rad] */
+} usm_report_nonideal_point;
+
+/* A root of F_n_min (contact opens) or of max_modulus - 1 (stability lost)
+ * along a curve: found = 0 with a note when not in the range. */
+typedef struct usm_report_nonideal_root {
+    int found;
+    double value;
+    int evaluations;          /* periodic solves of the secant iteration */
+    char note[USM_MSG_LEN];
+} usm_report_nonideal_root;
+
+typedef struct usm_report_nonideal_curve {
+    const char *param;        /* "phase_error", "mode_split" */
+    double from, to;          /* [rad] or [1] */
+    int points;
+    usm_report_nonideal_point pt[REPORT_NONIDEAL_MAXPTS];
+    usm_report_nonideal_root contact;   /* F_n_min = 0 */
+    usm_report_nonideal_root stability; /* max |lambda| = 1 */
+    int tolerable_found;      /* the smaller of the two roots found */
+    double tolerable;
+    const char *tolerable_by; /* "contact" or "stability" */
+    int solves;               /* periodic solves, curve and roots */
+} usm_report_nonideal_curve;
+
+typedef struct usm_report_nonideal {
+    int ok;                   /* computed (else note says why) */
+    char note[USM_MSG_LEN];
+    const usm_model *model[REPORT_NMODELS]; /* the variant "imperfect" */
+    double theta_ideal[REPORT_NMODELS];     /* stationary tilt of the ideal motor [rad] */
+    usm_report_nonideal_curve curve[REPORT_NMODELS][REPORT_NIMP];
+    /* the orbit drawn: 3-DOF at orbit_value of orbit_param */
+    int orbit_ok;
+    int orbit_imp;            /* REPORT_IMP_* */
+    double orbit_value;
+    char orbit_note[USM_MSG_LEN];
+    int orbit_nx, orbit_x_phi, orbit_x_theta;
+    double orbit[USM_PERIODIC_SAMPLES][USM_MAX_NX + 4]; /* usm_periodic_samples rows */
+    double orbit_F_n_min;
+    double orbit_period;      /* [s] */
+    usm_periodic_options opt; /* of the roots' and the orbit's periodic solves */
+    usm_periodic_options opt_curve; /* of the curves' points */
+    double root_xtol;         /* the roots to this fraction of the range */
+    double seconds;
+} usm_report_nonideal;
+
 typedef struct usm_report_data {
     usm_report_paper paper;     /* the published values (usm_report_paper_load) */
     usm_params params;
@@ -149,6 +209,8 @@ typedef struct usm_report_data {
     char sens_note[REPORT_NMODELS][USM_MSG_LEN];
 
     double seconds[4]; /* timing: tables, curves, maps, plots */
+
+    usm_report_nonideal nonideal; /* the non-ideal motor (report_nonideal.c) */
 } usm_report_data;
 
 /* Compute everything but the maps.  USM_OK or an error status with msg. */
@@ -156,6 +218,11 @@ int usm_report_compute(usm_report_data *d, char msg[USM_IO_MSG_LEN]);
 /* The stability maps.  USM_OK or an error status with msg. */
 int usm_report_compute_maps(usm_report_data *d, char msg[USM_IO_MSG_LEN]);
 void usm_report_data_free(usm_report_data *d);
+/* The non-ideal motor's curves, tolerable imperfections and orbit
+ * (d->nonideal).  A failure of the periodic orbits is reported in
+ * d->nonideal.note, not an error of the report; USM_EFAILED (out of memory)
+ * with msg. */
+int usm_report_compute_nonideal(usm_report_data *d, char msg[USM_IO_MSG_LEN]);
 
 /* Nearest computed multiplier to (re, im) among the non-cyclic and cyclic
  * ones of r (each computed one used once: `used` flags, n entries). */
@@ -178,6 +245,8 @@ enum {
     REPORT_FIG_MAP_4DOF,
     REPORT_FIG_DATASHEET,  /* speed, power_out, efficiency vs T (the T curves) */
     REPORT_FIG_ELASTICITY, /* elasticities of rotor_speed and max_modulus */
+    REPORT_FIG_NONIDEAL,   /* ripple, F_n_min, max |lambda| vs phase error and mode split */
+    REPORT_FIG_ORBIT,      /* one periodic orbit: the tilt vector in the housing plane */
     REPORT_NFIGURES
 };
 extern const usm_report_figure usm_report_figures[REPORT_NFIGURES];
@@ -206,10 +275,14 @@ extern const char *const usm_report_files[];
 /* Write every CSV file and gnuplot script into dir.  USM_OK or USM_EFAILED. */
 int usm_report_write_data(const usm_report_data *d, const char *dir, char msg[USM_IO_MSG_LEN]);
 
-/* Run gnuplot on every script (up to `jobs` at a time), with dir as working
- * directory.  USM_OK, or USM_EFAILED with msg (gnuplot missing or failing;
- * its messages are in dir/gnuplot.log). */
-int usm_report_run_gnuplot(const char *dir, int jobs, char msg[USM_IO_MSG_LEN]);
+/* Run gnuplot on the scripts of the first nfigures figures (up to `jobs` at a
+ * time), with dir as working directory.  USM_OK, or USM_EFAILED with msg
+ * (gnuplot missing or failing; its messages are in dir/gnuplot.log). */
+int usm_report_run_gnuplot(const char *dir, int jobs, int nfigures, char msg[USM_IO_MSG_LEN]);
+
+/* The figures whose data exist: the non-ideal motor's (the last two) only
+ * when computed. */
+int usm_report_figure_count(const usm_report_data *d);
 
 /* ---- report.json, report.md, report.html (usm_report_json.c, data/report/) ----- */
 

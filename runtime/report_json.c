@@ -537,6 +537,116 @@ static json_t *sensitivity(const usm_report_data *d)
     return o;
 }
 
+/* ---- the non-ideal motor (report_nonideal.c) ---- */
+
+/* A value of an imperfection in the unit the report prints: phase error in
+ * degrees, mode split in per cent. */
+static double imp_display(int j, double v)
+{
+    return j == REPORT_IMP_PHASE ? v * 180.0 / PI : v * 100.0;
+}
+
+static json_t *nonideal_root(const usm_report_nonideal_root *r, int j)
+{
+    json_t *o = json_object();
+    flag(o, "found", r->found);
+    num(o, "value", r->found ? r->value : NAN);
+    num(o, "display", r->found ? imp_display(j, r->value) : NAN);
+    integer(o, "evaluations", r->evaluations);
+    str(o, "note", r->note);
+    return o;
+}
+
+static json_t *nonideal_curve(const usm_report_nonideal_curve *cv, int j)
+{
+    json_t *o = json_object(), *t = json_object();
+    double ripple = -INFINITY, fnmin = INFINITY, lmax = -INFINITY, lmin = INFINITY;
+    int conv = 0;
+    for (int q = 0; q < cv->points; ++q) {
+        const usm_report_nonideal_point *pt = &cv->pt[q];
+        if (!pt->converged)
+            continue;
+        ++conv;
+        ripple = fmax(ripple, pt->ripple);
+        fnmin = fmin(fnmin, pt->F_n_min);
+        lmax = fmax(lmax, pt->max_modulus);
+        lmin = fmin(lmin, pt->max_modulus);
+    }
+    str(o, "parameter", cv->param);
+    str(o, "display_unit", j == REPORT_IMP_PHASE ? "deg" : "%");
+    num(o, "from", cv->from);
+    num(o, "to", cv->to);
+    num(o, "from_display", imp_display(j, cv->from));
+    num(o, "to_display", imp_display(j, cv->to));
+    integer(o, "points", cv->points);
+    integer(o, "converged", conv);
+    integer(o, "solves", cv->solves);
+    num(o, "ripple_max", ripple);
+    num(o, "F_n_min_min", fnmin);
+    num(o, "max_modulus_max", lmax);
+    num(o, "max_modulus_min", lmin);
+    num(o, "ripple_at_end", cv->pt[cv->points - 1].ripple);
+    json_object_set_new(o, "contact_open", nonideal_root(&cv->contact, j));
+    json_object_set_new(o, "stability_loss", nonideal_root(&cv->stability, j));
+    flag(t, "found", cv->tolerable_found);
+    num(t, "value", cv->tolerable_found ? cv->tolerable : NAN);
+    num(t, "display", cv->tolerable_found ? imp_display(j, cv->tolerable) : NAN);
+    str(t, "by", cv->tolerable_by);
+    str(t, "by_text", !cv->tolerable_found ? "" :
+        strcmp(cv->tolerable_by, "contact") == 0 ? "the contact opening (F_n_min = 0)"
+                                                : "the loss of stability (max |λ| = 1)");
+    json_object_set_new(o, "tolerable", t);
+    return o;
+}
+
+static json_t *nonideal(const usm_report_data *d)
+{
+    const usm_report_nonideal *ni = &d->nonideal;
+    static const char *const imp[REPORT_NIMP] = {"phase_error", "mode_split"};
+    json_t *o = json_object();
+    flag(o, "ok", ni->ok);
+    str(o, "note", ni->note);
+    num(o, "seconds", ni->seconds);
+    json_object_set_new(o, "figures", figures(REPORT_FIG_NONIDEAL, usm_report_figure_count(d)));
+    if (!ni->ok)
+        return o;
+    integer(o, "points", ni->curve[0][0].points);
+    for (int k = 0; k < REPORT_NMODELS; ++k) {
+        json_t *m = json_object();
+        str(m, "model", ni->model[k]->name);
+        num(m, "theta_ideal", ni->theta_ideal[k]);
+        for (int j = 0; j < REPORT_NIMP; ++j)
+            json_object_set_new(m, imp[j], nonideal_curve(&ni->curve[k][j], j));
+        json_object_set_new(o, tag[k], m);
+    }
+    {
+        json_t *b = json_object();
+        double tmin = INFINITY, tmax = -INFINITY;
+        const double th0 = ni->theta_ideal[REPORT_3DOF];
+        flag(b, "ok", ni->orbit_ok);
+        str(b, "note", ni->orbit_note);
+        str(b, "model", ni->model[REPORT_3DOF]->name);
+        str(b, "parameter", imp[ni->orbit_imp]);
+        str(b, "display_unit", ni->orbit_imp == REPORT_IMP_PHASE ? "deg" : "%");
+        num(b, "value", ni->orbit_value);
+        num(b, "display", imp_display(ni->orbit_imp, ni->orbit_value));
+        num(b, "theta_ideal", th0);
+        for (int q = 0; ni->orbit_ok && q < USM_PERIODIC_SAMPLES; ++q) {
+            const double th = ni->orbit[q][1 + ni->orbit_x_theta];
+            tmin = fmin(tmin, th);
+            tmax = fmax(tmax, th);
+        }
+        num(b, "theta_min", ni->orbit_ok ? tmin : NAN);
+        num(b, "theta_max", ni->orbit_ok ? tmax : NAN);
+        num(b, "radial_min_percent", ni->orbit_ok ? (tmin / th0 - 1) * 100 : NAN);
+        num(b, "radial_max_percent", ni->orbit_ok ? (tmax / th0 - 1) * 100 : NAN);
+        num(b, "F_n_min", ni->orbit_ok ? ni->orbit_F_n_min : NAN);
+        integer(b, "samples", USM_PERIODIC_SAMPLES + 1);
+        json_object_set_new(o, "orbit", b);
+    }
+    return o;
+}
+
 json_t *usm_report_json(const usm_report_data *d, int plots_ok, const char *plot_note)
 {
     json_t *o = json_object(), *maps = json_array(), *sec = json_object(), *models = json_object();
@@ -570,7 +680,7 @@ json_t *usm_report_json(const usm_report_data *d, int plots_ok, const char *plot
     json_object_set_new(o, "characteristics", characteristics(d));
     json_object_set_new(o, "figures_floquet", figures(REPORT_FIG_MULT_3DOF, REPORT_FIG_MAP_3DOF));
     json_object_set_new(o, "figures_curves", figures(REPORT_FIG_SPEED_F, REPORT_FIG_MULT_3DOF));
-    json_object_set_new(o, "figures", figures(0, REPORT_NFIGURES));
+    json_object_set_new(o, "figures", figures(0, usm_report_figure_count(d)));
     json_object_set_new(o, "figures_datasheet",
                         figures(REPORT_FIG_DATASHEET, REPORT_FIG_DATASHEET + 1));
     json_object_set_new(o, "figures_elasticity",
@@ -584,11 +694,14 @@ json_t *usm_report_json(const usm_report_data *d, int plots_ok, const char *plot
                                                                     : REPORT_FIG_MAP_4DOF));
     json_object_set_new(o, "maps", maps);
     json_object_set_new(o, "variants", variants(d));
+    json_object_set_new(o, "nonideal", nonideal(d));
     num(sec, "tables", d->seconds[0]);
     num(sec, "curves", d->seconds[1]);
     num(sec, "maps", d->seconds[2]);
     num(sec, "plots", d->seconds[3]);
-    num(sec, "total", d->seconds[0] + d->seconds[1] + d->seconds[2] + d->seconds[3]);
+    num(sec, "nonideal", d->nonideal.seconds);
+    num(sec, "total", d->seconds[0] + d->seconds[1] + d->seconds[2] + d->seconds[3] +
+                          d->nonideal.seconds);
     json_object_set_new(o, "seconds", sec);
     {
         /* the paper's values, as loaded */

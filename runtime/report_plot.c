@@ -32,6 +32,8 @@ const usm_report_figure usm_report_figures[REPORT_NFIGURES] = {
     {"map_4dof", "Stability map f x T, 4-DOF slip model"},
     {"datasheet", "Motor datasheet: rotor speed, output power and efficiency vs load torque"},
     {"elasticity", "Elasticities of rotor speed and of the largest Floquet modulus at the paper's point"},
+    {"nonideal_curves", "The non-ideal motor: rotor-speed ripple, smallest contact force and largest |λ| vs phase error and mode split"},
+    {"nonideal_orbit", "One periodic orbit of the non-ideal motor: the tilt vector in the housing plane over a period, the ideal circle beside it"},
 };
 
 const char *const usm_report_files[] = {
@@ -55,6 +57,12 @@ const char *const usm_report_files[] = {
     "elasticity.gp", "elasticity.png", "elasticity.svg",
     "elasticity_rotor_speed_3dof.csv", "elasticity_rotor_speed_4dof.csv",
     "elasticity_max_modulus_3dof.csv", "elasticity_max_modulus_4dof.csv",
+    "nonideal_curves.gp", "nonideal_curves.png", "nonideal_curves.svg",
+    "nonideal_curves_phase_error_3dof.csv", "nonideal_curves_phase_error_4dof.csv",
+    "nonideal_curves_mode_split_3dof.csv", "nonideal_curves_mode_split_4dof.csv",
+    "nonideal_curves_values.csv",
+    "nonideal_orbit.gp", "nonideal_orbit.png", "nonideal_orbit.svg", "nonideal_orbit.csv",
+    "nonideal_orbit_circle.csv",
     NULL,
 };
 
@@ -241,6 +249,125 @@ static void write_values_csv(FILE *f, const usm_report_data *d)
     fputc('\n', f);
 }
 
+/* ---- the non-ideal motor -------------------------------------------------------- */
+
+#define PI_ 3.14159265358979323846264338327950
+
+static double imp_display(int j, double v)
+{
+    return j == REPORT_IMP_PHASE ? v * 180.0 / PI_ : v * 100.0;
+}
+
+/* One curve: the imperfection (SI and as printed) and the orbit's numbers. */
+static void write_nonideal_curve_csv(FILE *f, const usm_report_nonideal_curve *cv, int j)
+{
+    const usm_csv_column cols[] = {
+        {cv->param, j == REPORT_IMP_PHASE ? "rad" : "1"},
+        {j == REPORT_IMP_PHASE ? "phase_error_deg" : "mode_split_percent",
+         j == REPORT_IMP_PHASE ? "deg" : "%"},
+        {"converged", NULL}, {"rotor_speed_mean", "1/s"}, {"rotor_speed_ripple", "1/s"},
+        {"F_n_min", "N"}, {"F_n_max", "N"}, {"max_modulus", "1"}, {"theta_harmonic_2", "rad"},
+        {"contact_open", NULL}};
+    usm_csv_header(f, cols, (int)(sizeof cols / sizeof cols[0]));
+    for (int q = 0; q < cv->points; ++q) {
+        const usm_report_nonideal_point *pt = &cv->pt[q];
+        usm_csv_num(f, 1, pt->value);
+        usm_csv_num(f, 0, imp_display(j, pt->value));
+        usm_csv_bool(f, 0, pt->converged);
+        usm_csv_num(f, 0, pt->speed_mean);
+        usm_csv_num(f, 0, pt->ripple);
+        usm_csv_num(f, 0, pt->F_n_min);
+        usm_csv_num(f, 0, pt->F_n_max);
+        usm_csv_num(f, 0, pt->max_modulus);
+        usm_csv_num(f, 0, pt->theta_h2);
+        usm_csv_bool(f, 0, pt->converged && pt->F_n_min < 0);
+        fputc('\n', f);
+    }
+}
+
+/* The located values the curves' figure marks, one row (empty: not in the
+ * range): {contact,stability,tolerable}_{phase_error,mode_split}_{3dof,4dof}. */
+static void write_nonideal_values_csv(FILE *f, const usm_report_nonideal *ni)
+{
+    static const char *const what[3] = {"contact", "stability", "tolerable"};
+    static const char *const imp[REPORT_NIMP] = {"phase_error", "mode_split"};
+    char names[3 * REPORT_NIMP * REPORT_NMODELS][48];
+    usm_csv_column cols[3 * REPORT_NIMP * REPORT_NMODELS];
+    int n = 0;
+    for (int w = 0; w < 3; ++w)
+        for (int j = 0; j < REPORT_NIMP; ++j)
+            for (int k = 0; k < REPORT_NMODELS; ++k, ++n) {
+                snprintf(names[n], sizeof names[n], "%s_%s_%s", what[w], imp[j], model_tag[k]);
+                cols[n] = (usm_csv_column){names[n], j == REPORT_IMP_PHASE ? "deg" : "%"};
+            }
+    usm_csv_header(f, cols, n);
+    n = 0;
+    for (int w = 0; w < 3; ++w)
+        for (int j = 0; j < REPORT_NIMP; ++j)
+            for (int k = 0; k < REPORT_NMODELS; ++k, ++n) {
+                const usm_report_nonideal_curve *cv = &ni->curve[k][j];
+                const int found = w == 0 ? cv->contact.found
+                                  : w == 1 ? cv->stability.found : cv->tolerable_found;
+                const double v = w == 0 ? cv->contact.value
+                                 : w == 1 ? cv->stability.value : cv->tolerable;
+                usm_csv_num(f, n == 0, ni->ok && found ? imp_display(j, v) : NAN);
+            }
+    fputc('\n', f);
+}
+
+/* The tilt vector rho = theta (cos phi, sin phi) in the housing plane over
+ * one period (the samples and, closing the curve, the state at t0 + T, which
+ * is the first sample's with phi advanced by 2 pi), its tilt relative to the
+ * ideal motor's. */
+static void write_orbit_csv(FILE *f, const usm_report_nonideal *ni)
+{
+    static const usm_csv_column cols[] = {
+        {"t", "s"}, {"t_over_T", "1"}, {"phi", "rad"}, {"theta", "rad"}, {"rho_X", "rad"},
+        {"rho_Y", "rad"}, {"angle", "deg"}, {"radial", "%"}, {"F_n", "N"}};
+    const int nx = ni->orbit_nx;
+    const double th0 = ni->theta_ideal[REPORT_3DOF];
+    usm_csv_header(f, cols, (int)(sizeof cols / sizeof cols[0]));
+    if (!ni->ok || !ni->orbit_ok)
+        return;
+    const double period = ni->orbit_period;
+    for (int q = 0; q <= USM_PERIODIC_SAMPLES; ++q) {
+        const double *row = ni->orbit[q % USM_PERIODIC_SAMPLES];
+        const double t = q < USM_PERIODIC_SAMPLES ? row[0] : row[0] + period;
+        const double phi = row[1 + ni->orbit_x_phi] + (q < USM_PERIODIC_SAMPLES ? 0.0 : 2 * PI_);
+        const double th = row[1 + ni->orbit_x_theta];
+        double ang = fmod(phi * 180.0 / PI_, 360.0);
+        if (ang < 0)
+            ang += 360.0;
+        usm_csv_num(f, 1, t);
+        usm_csv_num(f, 0, (t - ni->orbit[0][0]) / period);
+        usm_csv_num(f, 0, phi);
+        usm_csv_num(f, 0, th);
+        usm_csv_num(f, 0, th * cos(phi));
+        usm_csv_num(f, 0, th * sin(phi));
+        usm_csv_num(f, 0, ang);
+        usm_csv_num(f, 0, (th / th0 - 1) * 100);
+        usm_csv_num(f, 0, row[1 + nx]);
+        fputc('\n', f);
+    }
+}
+
+/* The ideal motor's path: the circle of radius theta (the stationary tilt). */
+static void write_circle_csv(FILE *f, const usm_report_nonideal *ni)
+{
+    static const usm_csv_column cols[] = {{"angle", "deg"}, {"rho_X", "rad"}, {"rho_Y", "rad"},
+                                          {"radius", "rad"}};
+    const double th0 = ni->theta_ideal[REPORT_3DOF];
+    usm_csv_header(f, cols, 4);
+    for (int q = 0; q <= 360; ++q) {
+        const double a = q * PI_ / 180.0;
+        usm_csv_num(f, 1, q);
+        usm_csv_num(f, 0, th0 * cos(a));
+        usm_csv_num(f, 0, th0 * sin(a));
+        usm_csv_num(f, 0, th0);
+        fputc('\n', f);
+    }
+}
+
 /* ---- writing everything ------------------------------------------------------- */
 
 /* Copy the static script data/plots/NAME.gp into dir. */
@@ -268,7 +395,7 @@ static int copy_script(const char *dir, const char *name, char msg[USM_IO_MSG_LE
 
 typedef enum {
     DATA_CURVE, DATA_MULTIPLIERS, DATA_VALUES, DATA_MAP, DATA_BOUNDARY, DATA_DATASHEET,
-    DATA_ELASTICITY
+    DATA_ELASTICITY, DATA_NONIDEAL, DATA_NONIDEAL_VALUES, DATA_ORBIT, DATA_CIRCLE
 } data_kind;
 
 static int write_data_file(const usm_report_data *d, const char *dir, const char *name,
@@ -289,6 +416,10 @@ static int write_data_file(const usm_report_data *d, const char *dir, const char
     case DATA_BOUNDARY: usm_report_map_write_boundary_csv(&d->map[k], c, f); break;
     case DATA_DATASHEET: write_datasheet_csv(f, &d->curve[REPORT_CURVE_T][k]); break;
     case DATA_ELASTICITY: write_elasticity_csv(f, d, k, c); break;
+    case DATA_NONIDEAL: write_nonideal_curve_csv(f, &d->nonideal.curve[k][c], c); break;
+    case DATA_NONIDEAL_VALUES: write_nonideal_values_csv(f, &d->nonideal); break;
+    case DATA_ORBIT: write_orbit_csv(f, &d->nonideal); break;
+    case DATA_CIRCLE: write_circle_csv(f, &d->nonideal); break;
     }
     return usm_report_close(f, dir, name, msg);
 }
@@ -331,6 +462,18 @@ int usm_report_write_data(const usm_report_data *d, const char *dir, char msg[US
             st = write_data_file(d, dir, name, DATA_BOUNDARY, k, b, msg);
         }
     }
+    for (int k = 0; k < REPORT_NMODELS && st == USM_OK; ++k)
+        for (int j = 0; j < REPORT_NIMP && st == USM_OK; ++j) {
+            snprintf(name, sizeof name, "nonideal_curves_%s_%s.csv",
+                     j == REPORT_IMP_PHASE ? "phase_error" : "mode_split", model_tag[k]);
+            st = d->nonideal.ok ? write_data_file(d, dir, name, DATA_NONIDEAL, k, j, msg) : st;
+        }
+    if (st == USM_OK && d->nonideal.ok)
+        st = write_data_file(d, dir, "nonideal_curves_values.csv", DATA_NONIDEAL_VALUES, 0, 0, msg);
+    if (st == USM_OK && d->nonideal.ok && d->nonideal.orbit_ok)
+        st = write_data_file(d, dir, "nonideal_orbit.csv", DATA_ORBIT, 0, 0, msg);
+    if (st == USM_OK && d->nonideal.ok && d->nonideal.orbit_ok)
+        st = write_data_file(d, dir, "nonideal_orbit_circle.csv", DATA_CIRCLE, 0, 0, msg);
     for (int i = 0; i < REPORT_NFIGURES && st == USM_OK; ++i)
         st = copy_script(dir, usm_report_figures[i].name, msg);
     return st;
@@ -338,15 +481,17 @@ int usm_report_write_data(const usm_report_data *d, const char *dir, char msg[US
 
 /* ---- running gnuplot ------------------------------------------------------------ */
 
-int usm_report_run_gnuplot(const char *dir, int jobs, char msg[USM_IO_MSG_LEN])
+int usm_report_run_gnuplot(const char *dir, int jobs, int nfigures, char msg[USM_IO_MSG_LEN])
 {
     const char *stems[REPORT_NFIGURES];
     char path[4096];
-    for (int i = 0; i < REPORT_NFIGURES; ++i)
+    if (nfigures < 1 || nfigures > REPORT_NFIGURES)
+        nfigures = REPORT_NFIGURES;
+    for (int i = 0; i < nfigures; ++i)
         stems[i] = usm_report_figures[i].name;
     if (usm_report_path(path, sizeof path, dir, "gnuplot.log") != 0) {
         usm_io_msg(msg, "--out %s: path too long", dir);
         return USM_EFAILED;
     }
-    return usm_gnuplot_run(dir, stems, REPORT_NFIGURES, jobs, path, msg);
+    return usm_gnuplot_run(dir, stems, nfigures, jobs, path, msg);
 }

@@ -19,6 +19,13 @@ Builds the report (--quick) into a temporary directory and checks that
    independent `usm sensitivity --json`; the datasheet CSV obeys
    P_out = T w_R, eta = P_out / P_in and the power balance; the chart's CSV
    holds the nonzero elasticities sorted by magnitude; section 8 quotes them.
+ - the non-ideal motor (issue 14, section 10): each tolerable phase error
+   and mode split of report.json is bracketed by independent `usm periodic
+   --variant imperfect --set NAME=X` runs (F_n_min > 0 and max |lambda| < 1
+   just below it, F_n_min < 0 or max |lambda| > 1 just above, whichever the
+   report names); a curve point equals an independent run; report.md states
+   each tolerable value with its model; the orbit figure's data close (first
+   point = last) and its ideal circle's radius is `usm steady`'s theta.
 Exit 77 (ctest: skipped) when gnuplot is not installed.
 """
 import json
@@ -117,6 +124,7 @@ def check_report(out):
         else:
             fail("report.json: the paper's values differ from data/paper_values.json")
         check_design(out, md, data)
+        check_nonideal(out, md, data)
 
     images = re.findall(r"!\[[^\]]*\]\(([^)\s]+)\)", md)
     links = [t for t in re.findall(r"(?<!!)\[[^\]]*\]\(([^)\s]+)\)", md)
@@ -336,6 +344,108 @@ def check_design(out, md, data):
         else:
             fail(f"{model}: datasheet efficiency_max {ds.get('efficiency_max')} vs CSV "
                  f"{max(cands) if cands else None}")
+
+
+def periodic(model, name, value):
+    """An independent `usm periodic` run: (F_n_min, max |lambda|, JSON)."""
+    r = run("periodic", "--model", model, "--variant", "imperfect", "--set",
+            f"{name}={value!r}", "--json")
+    try:
+        obj = json.loads(r.stdout)
+        return obj["F_n_min"], obj["floquet"]["max_modulus"], obj
+    except (ValueError, KeyError, TypeError):
+        fail(f"usm periodic --model {model} --set {name}={value}: exit {r.returncode}: "
+             f"{r.stderr.strip()}")
+        return None, None, None
+
+
+def check_nonideal(out, md, data):
+    """Section 10: the non-ideal motor (issue 14 part 4)."""
+    ni = data.get("nonideal", {})
+    if not ni.get("ok"):
+        fail(f"report.json: the non-ideal motor not computed: {ni.get('note')}")
+        return
+    m = re.search(r"^## 10\. The non-ideal motor.*", md, re.S | re.M)
+    sec = m.group(0) if m else ""
+    if not sec:
+        fail("no section 10 (the non-ideal motor)")
+    images = set(re.findall(r"!\[[^\]]*\]\(([^)\s]+)\)", sec))
+    for fig in ("nonideal_curves", "nonideal_orbit"):
+        if f"{fig}.png" in images and f"{fig}.svg" in sec:
+            ok(f"section 10 shows the {fig} figure")
+        else:
+            fail(f"section 10 lacks the {fig} figure")
+    # the tolerable values against independent runs on each side: the report
+    # locates them to 1e-9 of the range, the test brackets them at 1e-3
+    delta = 1e-3
+    for model in ("3dof", "4dof"):
+        for name, unit in (("phase_error", "degrees"), ("mode_split", "%")):
+            cv = ni[model][name]
+            tol = cv["tolerable"]
+            if not tol["found"]:
+                f_end, l_end, _ = periodic(model, name, cv["to"])
+                if f_end is not None and f_end > 0 and l_end < 1:
+                    ok(f"{model} {name}: no limit up to {cv['to']:g}, as usm periodic says")
+                else:
+                    fail(f"{model} {name}: the report finds no limit, but at {cv['to']:g} "
+                         f"F_n_min = {f_end}, max |lambda| = {l_end}")
+                continue
+            x = tol["value"]
+            f_lo, l_lo, _ = periodic(model, name, x * (1 - delta))
+            f_hi, l_hi, _ = periodic(model, name, x * (1 + delta))
+            if f_lo is None or f_hi is None:
+                continue
+            below = f_lo > 0 and l_lo < 1
+            above = f_hi < 0 if tol["by"] == "contact" else l_hi > 1
+            if below and above:
+                ok(f"{model} {name}: tolerable {x:.6g} ({tol['by']}) bracketed by usm periodic: "
+                   f"F_n_min {f_lo:.3g} / {f_hi:.3g}, max |lambda| {l_lo:.6g} / {l_hi:.6g}")
+            else:
+                fail(f"{model} {name}: tolerable {x:.6g} ({tol['by']}) not confirmed: "
+                     f"F_n_min {f_lo} / {f_hi}, max |lambda| {l_lo} / {l_hi}")
+            said = f"{tol['display']:.3g} {unit}"
+            if said in sec and data["nonideal"][model]["model"] in sec:
+                ok(f"section 10 states the {model} tolerable {name}: {said}")
+            else:
+                fail(f"section 10 does not state the {model} tolerable {name} {said!r}")
+    # a curve point (the warm-started last one) against an independent run
+    rows = read_csv(os.path.join(out, "nonideal_curves_phase_error_4dof.csv"))
+    last = rows[-1]
+    f_ind, l_ind, obj = periodic("4dof", "phase_error", float(last["phase_error [rad]"]))
+    if obj is not None and close(float(last["F_n_min [N]"]), f_ind, 1e-6) and \
+            close(float(last["max_modulus [1]"]), l_ind, 1e-6) and \
+            close(float(last["rotor_speed_ripple [1/s]"]), obj["rotor_speed_ripple"], 1e-5):
+        ok("the last 4-DOF phase-error point equals usm periodic's (F_n_min, |lambda|, ripple)")
+    else:
+        fail(f"the last 4-DOF phase-error point {last} differs from usm periodic's "
+             f"{f_ind}, {l_ind}")
+    # the orbit: one closed period; the ideal circle of radius usm steady's theta
+    orbit = read_csv(os.path.join(out, "nonideal_orbit.csv"))
+    circle = read_csv(os.path.join(out, "nonideal_orbit_circle.csv"))
+    xs = [float(r["rho_X [rad]"]) for r in orbit]
+    ys = [float(r["rho_Y [rad]"]) for r in orbit]
+    span = float(orbit[-1]["t [s]"]) - float(orbit[0]["t [s]"])
+    step = max(((xs[i + 1] - xs[i]) ** 2 + (ys[i + 1] - ys[i]) ** 2) ** 0.5
+               for i in range(len(xs) - 1))
+    radius = max(abs(x) for x in xs)
+    if len(orbit) == ni["orbit"]["samples"] and close(xs[0], xs[-1], 1e-9, 1e-9 * radius) and \
+            close(ys[0], ys[-1], 1e-9, 1e-9 * radius) and \
+            close(span, 1.0 / data["params"]["f"], 1e-9) and step < 0.1 * radius:
+        ok(f"the orbit closes after one period ({len(orbit)} points, largest step "
+           f"{step / radius:.3g} of the radius)")
+    else:
+        fail(f"the orbit does not close: first ({xs[0]}, {ys[0]}), last ({xs[-1]}, {ys[-1]}), "
+             f"span {span}, largest step {step}")
+    r = run("steady", "--json")
+    try:
+        theta = json.loads(r.stdout)["theta"]
+    except (ValueError, KeyError):
+        theta = None
+    radii = [(float(c["rho_X [rad]"]) ** 2 + float(c["rho_Y [rad]"]) ** 2) ** 0.5 for c in circle]
+    if theta is not None and all(close(q, theta, 1e-9) for q in radii):
+        ok(f"the ideal circle's radius is usm steady's theta {theta:.6g} rad")
+    else:
+        fail(f"the ideal circle's radius {radii[:2]} is not usm steady's theta {theta}")
 
 
 def expect_bad(args, field):

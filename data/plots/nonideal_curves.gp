@@ -1,0 +1,70 @@
+# nonideal_curves.gp: a static script of usm report (share/usm/plots/).
+# Re-plot: cd into the report's directory and run  gnuplot nonideal_curves.gp
+# Reads nonideal_curves_{phase_error,mode_split}_{3dof,4dof}.csv (periodic
+# orbits of the variant imperfect, one imperfection at a time) and
+# nonideal_curves_values.csv (the located values: the contact opens,
+# stability is lost, the tolerable value), columns by name (docs/cli.md, "CSV
+# files"); writes nonideal_curves.png and .svg.  Rows: rotor-speed ripple,
+# smallest normal force over the period, largest non-cyclic |lambda|;
+# columns: phase error, mode split.  Every axis range comes from the data.
+reset session
+set datafile separator ","
+set encoding utf8
+set grid lc rgb "#dddddd"
+set key top left Left reverse nobox spacing 1.05 font ",9"
+vals = "nonideal_curves_values.csv"
+# the located values (NaN where not found in the range)
+val(name) = 0
+array tol[4]; array con[4]; array sta[4]
+do for [i = 1:4] { tol[i] = NaN; con[i] = NaN; sta[i] = NaN }
+imps = "phase_error mode_split"; units = "deg %"; mods = "3dof 4dof"
+do for [j = 1:2] {
+  do for [k = 1:2] {
+    suf = word(imps, j)."_".word(mods, k)." [".word(units, j)."]"
+    i = 2 * (j - 1) + k
+    stats vals using (tol[i] = column("tolerable_".suf), con[i] = column("contact_".suf), sta[i] = column("stability_".suf), 0) nooutput
+  }
+}
+xcol(j) = j == 1 ? "phase_error_deg [deg]" : "mode_split_percent [%]"
+xlab(j) = j == 1 ? "phase error δ [deg]" : "mode split s [%]"
+ycol(r) = r == 1 ? "rotor_speed_ripple [1/s]" : (r == 2 ? "F_n_min [N]" : "max_modulus [1]")
+ylab(r) = r == 1 ? "rotor-speed ripple (peak to peak) [1/s]" : (r == 2 ? "smallest normal force F_{n,min} [N]" : "largest |λ| (non-cyclic)")
+color(k) = k == 1 ? "#1f5fa8" : "#c0392b"
+file(j, k) = "nonideal_curves_".word(imps, j)."_".word(mods, k).".csv"
+do for [fmt in "png svg"] {
+  if (fmt eq "png") {
+    set terminal pngcairo size 1200,1100 enhanced font "DejaVu Sans,10"
+  } else {
+    set terminal svg size 1200,1100 dynamic enhanced font "DejaVu Sans,10"
+  }
+  set output "nonideal_curves.".fmt
+  set multiplot layout 3,2 title "The non-ideal motor: each imperfection alone (periodic orbits by shooting, variant imperfect)"
+  do for [r = 1:3] {
+    do for [j = 1:2] {
+      set autoscale
+      stats file(j, 1) using (column(xcol(j))):(column(ycol(r))) nooutput
+      x0 = STATS_min_x; x1 = STATS_max_x; y0 = STATS_min_y; y1 = STATS_max_y
+      stats file(j, 2) using (column(xcol(j))):(column(ycol(r))) nooutput
+      x0 = STATS_min_x < x0 ? STATS_min_x : x0; x1 = STATS_max_x > x1 ? STATS_max_x : x1
+      y0 = STATS_min_y < y0 ? STATS_min_y : y0; y1 = STATS_max_y > y1 ? STATS_max_y : y1
+      if (r == 2) { y0 = y0 > 0 ? 0 : y0 }
+      pad = (y1 - y0) > 0 ? 0.08 * (y1 - y0) : (abs(y1) > 0 ? 1e-3 * abs(y1) : 1)
+      set xrange [x0:x1]
+      set yrange [y0 - pad:y1 + pad]
+      set xlabel xlab(j)
+      set ylabel ylab(r)
+      unset arrow
+      if (r == 2) { set arrow 10 from x0, 0 to x1, 0 nohead lc rgb "#555555" dt 3 }
+      do for [k = 1:2] {
+        t = tol[2 * (j - 1) + k]
+        if (t == t) { set arrow k from t, graph 0 to t, graph 1 nohead lc rgb color(k) dt 2 lw 1.5 }
+      }
+      plot for [k = 1:2] file(j, k) using (column(xcol(j))):(column(ycol(r))) \
+             with linespoints lw 2 pt 7 ps 0.5 lc rgb color(k) \
+             title (word(mods, k) eq "3dof" ? "3-DOF (stick)" : "4-DOF (slip)") . \
+               (tol[2 * (j - 1) + k] == tol[2 * (j - 1) + k] ? sprintf(": tolerable %.3g %s", tol[2 * (j - 1) + k], word(units, j)) : ": tolerable beyond the range")
+    }
+  }
+  unset multiplot
+  unset output
+}
