@@ -122,7 +122,7 @@ def render_docs(models, files, out_dir):
                 with open(os.path.join(out_dir, key), encoding="utf-8") as fh:
                     text = fh.read()
             paper = json.loads(text) if text is not None else None
-            changes = [(k, v, variants.PAPER.get(k))
+            changes = [(k, v, variants.PAPER.get(k, variants.UNSTATED.get(k)))
                        for k, v in sorted(variants.VARIANTS[variant][0].items())]
         md, tex = emit_doc.render(data, description, paper, changes)
         files[f"usm_{name}_equations.md"] = md

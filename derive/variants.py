@@ -35,6 +35,10 @@ PAPER = {
     "friction": "atan",
 }
 
+# Assumptions PAPER leaves unstated (so the paper's models keep their lists):
+# their value in the paper's models, e.g. for the documents' "(paper: none)".
+UNSTATED = {"imperfection": "none"}
+
 # Friction laws mu(v_rel) of the slip model, as formulas in v_rel, mu0, kappa.
 # The runtime needs mu continuous in v_rel; it may be non-monotone (then
 # several rotor speeds can balance one load, and the stationary solver reports

@@ -32,6 +32,11 @@ for model in $models; do
         grep -qF "\\tag{$tag}" "$md" || { echo "FAIL $model.md lacks ($tag)"; fail=1; }
         grep -qF "\\tag{$tag}" "$tex" || { echo "FAIL $model.tex lacks ($tag)"; fail=1; }
     done
+    # an imperfect motor: the stationary section (checked above) holds at zero imperfection
+    # only, and says so (tests/equations_proof.py checks its lines against the kernels)
+    if grep -q '^Assumptions.*`imperfection = ' "$md"; then
+        grep -qxF 'e = \delta = s = 0' "$md" || { echo "FAIL $model.md: no condition e = delta = s = 0 on the stationary solution"; fail=1; }
+    fi
     # prose: outside $...$ no symbol is spelled in ASCII (phi_Rddot, omega_A x L)
     bad=$(awk '/^\$\$$/ {m = !m; next} !m' "$md" | sed 's/\$[^$]*\$//g; s/`[^`]*`//g' \
           | grep -nE 'dot|ddot|omega|theta|phi|psi|R_star| x L' || true)

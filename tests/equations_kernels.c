@@ -1,6 +1,9 @@
 /* The compiled kernels of one generated model at given points, for
  * tests/equations_proof.py (the document's equations against the C).
  * usage: equations_kernels MODEL < points
+ *        equations_kernels MODEL --sizes
+ * --sizes prints the model's lengths: nx, nu, USM_NPARAMS, USM_STEADY_COUNT
+ * (the input and output lines below are made of them).
  * Each input line: x (nx values), t, the parameters (usm_param_table order),
  * u (nu values).  Each output line: M (nx*nx, row-major), f (nx), the
  * stationary residuals (nu), the stationary outputs (USM_STEADY_COUNT) and
@@ -27,8 +30,8 @@ static void print_values(const double *v, int n)
 int main(int argc, char **argv)
 {
     const usm_model *m = NULL;
-    if (argc != 2) {
-        fprintf(stderr, "usage: equations_kernels MODEL < points\n");
+    if (argc != 2 && !(argc == 3 && strcmp(argv[2], "--sizes") == 0)) {
+        fprintf(stderr, "usage: equations_kernels MODEL [--sizes] < points\n");
         return 2;
     }
     for (int k = 0; k < USM_NMODELS; ++k)
@@ -38,10 +41,14 @@ int main(int argc, char **argv)
         fprintf(stderr, "equations_kernels: no model %s\n", argv[1]);
         return 2;
     }
+    if (argc == 3) {
+        printf("%d %d %d %d\n", m->nx, m->nu, USM_NPARAMS, (int)USM_STEADY_COUNT);
+        return 0;
+    }
     for (;;) {
         double x[USM_MAX_NX], u[USM_MAX_NU], t, pv[USM_NPARAMS];
         double mass[USM_MAX_NX * USM_MAX_NX], f[USM_MAX_NX], r[USM_MAX_NU];
-        double s[USM_STEADY_COUNT], xbar[2 * USM_MAX_NX];
+        double s[USM_STEADY_COUNT], xbar[2 * USM_MAX_NX]; /* steady_state: x and x' */
         usm_params p;
         if (!read_values(x, m->nx))
             break;

@@ -15,7 +15,12 @@ each typeset line, sympy srepr) this parses every line back and checks:
     rotor law as printed equal the kernels' rows M x' - f, the residuals
     (3.5) equal `steady_residual`, and beta, the twist angle and the rotor
     speed (3.7) equal `steady_outputs`, the ansatz (3.1) equals `steady_state`;
-    identities (3.3) hold.
+    identities (3.3) hold.  The parameters include the imperfections (e, delta,
+    s, nonzero at the points): the stationary lines of an imperfect model are
+    stated at e = delta = s = 0 and so must equal kernels that ignore them.
+    The lengths come from the compiled model (KERNELS MODEL --sizes), and the
+    document must state as many states, parameters, stationary unknowns and
+    residuals as the kernels have.
 --mutate: flips one sign in a copy of a document (once in the LaTeX, once in
 the srepr of a mass-matrix entry) and requires the check to fail each time.
 """
@@ -110,10 +115,29 @@ def close(a, b, scale):
     return abs(a - b) <= 1e-9 * (1.0 + scale)
 
 
+def kernel_sizes(kernels, model):
+    """nx, nu, the number of parameters and of stationary outputs of the
+    compiled model (its usm_model fields and the generated constants)."""
+    out = subprocess.run([kernels, model, "--sizes"], text=True, capture_output=True, check=True)
+    return [int(v) for v in out.stdout.split()]
+
+
 def check_numbers(data, kernels, rng, fail):
     model = data["model"]
-    nx, nq = len(data["states"]), len(data["accelerations"])
-    nu = len(data["unknowns"])
+    nx, nu, npar, nsteady = kernel_sizes(kernels, model)
+    nq = len(data["accelerations"])
+    # the document states every quantity the kernels compute: the same state,
+    # parameters, stationary unknowns and residuals (none may be left out)
+    for what, doc, want in (("states", len(data["states"]), nx),
+                            ("parameters", len(data["parameters"]), npar),
+                            ("stationary unknowns", len(data["unknowns"]), nu),
+                            ("stationary residuals", len(data["residual"]), nu)):
+        if doc != want:
+            fail(f"the document has {doc} {what}, the kernels {want}")
+            return
+    if nsteady != len(STEADY):
+        fail(f"the kernels have {nsteady} stationary outputs, the proof knows {len(STEADY)}")
+        return
     lines = [ln for ln in data["lines"] if ln["kind"] in ("def", "eq", "identity")]
     parsed = [(ln, parse(ln["lhs"]), parse(ln["rhs"])) for ln in lines]
     points, inputs = [], []
@@ -131,6 +155,9 @@ def check_numbers(data, kernels, rng, fail):
                          capture_output=True, check=True).stdout.strip().split("\n")
     for (x, tt, p, u, acc), row in zip(points, out):
         blocks = [[float(v) for v in b.split()] for b in row.split("|")]
+        if [len(b) for b in blocks] != [nx * nx, nx, nu, nsteady, nx]:
+            fail(f"kernel output of lengths {[len(b) for b in blocks]}")
+            return
         M = [blocks[0][i * nx:(i + 1) * nx] for i in range(nx)]
         f, res, steady, xbar = blocks[1], blocks[2], blocks[3], blocks[4]
         env = dict(zip(data["states"], x))

@@ -19,7 +19,7 @@ import re
 
 import sympy as sp
 
-from .model import P, t, solve_linear
+from .model import IMPERFECTIONS, P, t, solve_linear
 
 # --------------------------------------------------------------------------
 # symbols and their typeset names
@@ -56,10 +56,6 @@ class ZC(sp.Function):
 
     def fdiff(self, argindex=1):
         return RStar(self.args[0])
-
-
-class _NoStationary(Exception):
-    """The ansatz (3.1) leaves t in the residuals of this model."""
 
 
 class Names:
@@ -458,119 +454,126 @@ def model_data(m):
 
     # ---- stationary solution ----
     d.section("Stationary solution (3.1)-(3.7)" + (", section 5" if slip else ""))
-    mark = (len(d.lines), set(d.keys), dict(chain))
+    # The imperfections make the residuals depend on t on the ansatz (3.1): the
+    # stationary solution exists only for the ideal motor, and the kernels
+    # (steady_residual, steady_outputs, steady_state) are derived at that point.
+    imperfect = m.assumptions.get("imperfection", "none") != "none"
+    ideal = {P[k]: sp.Integer(0) for k in IMPERFECTIONS} if imperfect else {}
+    if imperfect:
+        imp = [names.tex[P[k]] for k in IMPERFECTIONS]
+        d.text(r"The imperfections make the excitation and the restoring moment depend on "
+               r"$t$ on the ansatz (3.1) in frame $A$: a stationary solution exists only for "
+               r"the ideal motor, $" + " = ".join(imp) + r" = 0$.  Everything in this "
+               r"section, and the orbit of the linearisation below, is at that point; the "
+               r"stationary kernels compute it whatever the values of $"
+               + "$, $".join(imp) + "$.", "ideal")
+        d.display("display:ideal", " = ".join(imp), "0")
     res_keys, steady, unknowns, ansatz = [], {}, [], {}
-    try:
-        thb = names.add("thetabar", r"\bar\theta")
-        alpha, beta = names.add("alpha", r"\alpha"), names.add("beta", r"\beta")
-        chi = names.add("chi", r"\bar\chi")
-        unknowns = [thb, alpha]
-        on = {theta: thb, qd[cnames.index("theta")]: 0,
-              q[cnames.index("phi")]: Om * t + alpha, qd[cnames.index("phi")]: Om,
-              q[cnames.index("psi")]: -Om * t / sp.cos(thb) + beta,
-              qd[cnames.index("psi")]: -Om / sp.cos(thb)}
-        on.update({a: 0 for a in qdd})
+    thb = names.add("thetabar", r"\bar\theta")
+    alpha, beta = names.add("alpha", r"\alpha"), names.add("beta", r"\beta")
+    chi = names.add("chi", r"\bar\chi")
+    unknowns = [thb, alpha]
+    on = {theta: thb, qd[cnames.index("theta")]: 0,
+          q[cnames.index("phi")]: Om * t + alpha, qd[cnames.index("phi")]: Om,
+          q[cnames.index("psi")]: -Om * t / sp.cos(thb) + beta,
+          qd[cnames.index("psi")]: -Om / sp.cos(thb)}
+    on.update({a: 0 for a in qdd})
 
-        def nice_bar(x):
-            """tidy() on the orbit: R and H written through R*, Z where shorter."""
-            Rb, Zb = bar_of.get(Rs, Rs), bar_of.get(Zs, Zs)
-            ids = [(Rb * sp.cos(thb) + Zb * sp.sin(thb), R), (Zb * sp.cos(thb) - Rb * sp.sin(thb), H)]
-            best = tidy(x, ids)
-            if _ops(x) <= SMALL and not x.has(sp.atan, sp.tanh, sp.exp) and Rb != Rs \
-                    and Zb != Zs:
-                alt = _trigsimp(x.subs({R: Rb * sp.cos(thb) + Zb * sp.sin(thb),
-                                          H: Zb * sp.cos(thb) - Rb * sp.sin(thb)}))
-                best = min([best, alt], key=lambda c: (_ops(c), len(str(c))))
-            return best
-        d.define("phibar", Om * t + alpha, lhs_tex=r"\bar\varphi(t)", tag="3.1a")
-        ansatz.update(phi="phibar", theta="thetabar", psi="psibar")
-        d.display("display:ansatz_theta", r"\bar\theta(t)", r"\bar\theta = \mathrm{const}",
-                  tag="3.1b")
-        d.define("psibar", on[q[cnames.index("psi")]], lhs_tex=r"\bar\psi(t)", tag="3.1c")
-        if slip:
-            wb = names.add("phidotbar_R", r"\bar{\dot\varphi}_R")
-            unknowns.append(wb)
-            on[q[cnames.index("phi_R")]] = wb * t
-            on[qd[cnames.index("phi_R")]] = wb
-            d.define("phibar_R", wb * t, lhs_tex=r"\bar\varphi_R(t)")
-            ansatz["phi_R"] = "phibar_R"
-        if extra:
-            on[extra[0]] = chi
-            d.define("taubar", chi, lhs_tex=r"\bar\tau")
-            ansatz[extra[0].name] = "taubar"
-        d.text(r"On the orbit $\dot\theta = \dot Z = \ddot Z = 0$ and $\omega_{z_1} = 0$; a bar "
-               r"marks a quantity on it.  Frame $A$ turns with $\bar\varphi = \Omega t + \alpha$, "
-               r"so the components in frame $A$ are the paper's $X + iY$ combination (3.3) times "
-               r"$e^{-i\bar\varphi}$: time drops out, and (3.4) splits into the real residuals "
-               r"(3.5a), (3.5b).", "orbit")
-        d.identity("identity:3.3", sp.cos(Om * t + alpha) + sp.I * sp.sin(Om * t + alpha),
-                   sp.exp(sp.I * Om * t) * (sp.cos(alpha) + sp.I * sp.sin(alpha)), tag="3.3")
-        bar_of = {}
-        bar_twist = {tw: chi}
-        for s, expr in flat_chain(chain).items():
-            if s.name.endswith("__0") or s.name.startswith(("m_", "f_", "M0_", "K_")) \
-                    or s in om_syms:
-                continue
-            if s in torques["M_R"]:
-                expr = plain(e["M_R_A_t"])[torques["M_R"].index(s)].subs(bar_twist)
-            b = nice_bar(expr.subs(on).subs(bar_of))
-            if any(s in torques[k] for k in ("M_E", "M_R", "M_D", "M_C")) or b.is_Atom or \
-                    (b.is_Mul and len(b.args) == 2 and b.args[0] == -1 and b.args[1].is_Atom):
-                bar_of[s] = b
-                continue
-            sb = names.add(s.name + "_bar", r"\bar{" + names.tex[s] + "}")
-            chain[sb] = b
-            d.define(sb, b)
-            bar_of[s] = sb
-        # K on the orbit: constant in frame A (trigsimp makes omega_Z = 0 exact)
-        Kbar = [_trigsimp(chain_vec(chain, torques["K"])[k].subs(on)) for k in range(3)]
-        resid = []
-        for k in range(3):
-            r = Kbar[k] - (bar_of[torques["M_E"][k]] - bar_of[torques["M_R"][k]]
-                           - bar_of[torques["M_D"][k]] + bar_of[torques["M_C"][k]])
-            resid.append(nice_bar(r))
-        if t in set().union(*(r.free_symbols for r in resid)):
-            raise _NoStationary()
-        d.display("display:3.2", r"\bar{\vec K}", r"\bar{\vec M}_E - \bar{\vec M}_R - "
-                  r"\bar{\vec M}_D + \bar{\vec M}_C", tag="3.2")
-        d.display("display:3.4", r"f_1(\alpha, \bar\theta) + i f_2(\alpha, \bar\theta)", "0",
-                  tag="3.4")
-        res_keys = []
-        if slip:
-            rr = names.add("f_R", "f_R")
-            rot = (rotor_eq[0] - rotor_eq[1]).subs({wRd: 0})
-            named(rr, nice_bar(rot.subs(bar_of)), lhs_tex=r"f_R(\alpha, \bar\theta, "
-                  r"\bar{\dot\varphi}_R)")
-            res_keys.append(rr.name)
-        for k, tag in ((0, "3.5a"), (1, "3.5b")):
-            fs = names.add(f"f_{k + 1}bar", f"f_{k + 1}")
-            named(fs, resid[k], tag=tag, lhs_tex=f"f_{k + 1}(\\alpha, \\bar\\theta)")
-            res_keys.append(fs.name)
-        d.text(r"The stationary solution: $f_1 = f_2 = 0$" + (r" and $f_R = 0$" if slip else "")
-               + r".  The $z_1$ row, the twisting balance, gives the twist angle "
-               r"$\bar\chi$ on the orbit, and $\beta$ follows from the twist angle "
-               r"$\varphi + \psi\cos\theta$ of (2.9) (the paper's (3.6) has the sign of "
-               r"$\alpha$ flipped).", "twist")
-        if chi not in resid[2].free_symbols:
-            raise RuntimeError(f"{m.name}: twisting balance free of the twist angle")
-        chi_expr = nice_bar(solve_linear(resid[2], chi))
-        named(chi, chi_expr, lhs_tex=r"\bar\chi")
-        beta_expr = e["beta_generic"].subs({cs["twist"]: chi, sp.Symbol("theta", real=True): thb})
-        named(beta, nice_bar(beta_expr), tag="3.6")
-        steady = {"beta": beta.name, "twist": chi.name}
-        if not slip:
-            rs = names.add("phidot_R_bar", r"\bar{\dot\varphi}_R")
-            named(rs, -bar_of[wR], tag="3.7")
-            steady["rotor_speed"] = rs.name
+    def nice_bar(x):
+        """tidy() on the orbit: R and H written through R*, Z where shorter."""
+        Rb, Zb = bar_of.get(Rs, Rs), bar_of.get(Zs, Zs)
+        ids = [(Rb * sp.cos(thb) + Zb * sp.sin(thb), R), (Zb * sp.cos(thb) - Rb * sp.sin(thb), H)]
+        best = tidy(x, ids)
+        if _ops(x) <= SMALL and not x.has(sp.atan, sp.tanh, sp.exp) and Rb != Rs \
+                and Zb != Zs:
+            alt = _trigsimp(x.subs({R: Rb * sp.cos(thb) + Zb * sp.sin(thb),
+                                      H: Zb * sp.cos(thb) - Rb * sp.sin(thb)}))
+            best = min([best, alt], key=lambda c: (_ops(c), len(str(c))))
+        return best
+    d.define("phibar", Om * t + alpha, lhs_tex=r"\bar\varphi(t)", tag="3.1a")
+    ansatz.update(phi="phibar", theta="thetabar", psi="psibar")
+    d.display("display:ansatz_theta", r"\bar\theta(t)", r"\bar\theta = \mathrm{const}",
+              tag="3.1b")
+    d.define("psibar", on[q[cnames.index("psi")]], lhs_tex=r"\bar\psi(t)", tag="3.1c")
+    if slip:
+        wb = names.add("phidotbar_R", r"\bar{\dot\varphi}_R")
+        unknowns.append(wb)
+        on[q[cnames.index("phi_R")]] = wb * t
+        on[qd[cnames.index("phi_R")]] = wb
+        d.define("phibar_R", wb * t, lhs_tex=r"\bar\varphi_R(t)")
+        ansatz["phi_R"] = "phibar_R"
+    if extra:
+        on[extra[0]] = chi
+        d.define("taubar", chi, lhs_tex=r"\bar\tau")
+        ansatz[extra[0].name] = "taubar"
+    d.text(r"On the orbit $\dot\theta = \dot Z = \ddot Z = 0$ and $\omega_{z_1} = 0$; a bar "
+           r"marks a quantity on it.  Frame $A$ turns with $\bar\varphi = \Omega t + \alpha$, "
+           r"so the components in frame $A$ are the paper's $X + iY$ combination (3.3) times "
+           r"$e^{-i\bar\varphi}$: time drops out, and (3.4) splits into the real residuals "
+           r"(3.5a), (3.5b).", "orbit")
+    d.identity("identity:3.3", sp.cos(Om * t + alpha) + sp.I * sp.sin(Om * t + alpha),
+               sp.exp(sp.I * Om * t) * (sp.cos(alpha) + sp.I * sp.sin(alpha)), tag="3.3")
+    bar_of = {}
+    bar_twist = {tw: chi}
+    for s, expr in flat_chain(chain).items():
+        if s.name.endswith("__0") or s.name.startswith(("m_", "f_", "M0_", "K_")) \
+                or s in om_syms:
+            continue
+        if s in torques["M_R"]:
+            expr = plain(e["M_R_A_t"])[torques["M_R"].index(s)].subs(bar_twist)
+        b = nice_bar(expr.xreplace(ideal).subs(on).subs(bar_of))
+        if any(s in torques[k] for k in ("M_E", "M_R", "M_D", "M_C")) or b.is_Atom or \
+                (b.is_Mul and len(b.args) == 2 and b.args[0] == -1 and b.args[1].is_Atom):
+            bar_of[s] = b
+            continue
+        sb = names.add(s.name + "_bar", r"\bar{" + names.tex[s] + "}")
+        chain[sb] = b
+        d.define(sb, b)
+        bar_of[s] = sb
+    # K on the orbit: constant in frame A (trigsimp makes omega_Z = 0 exact)
+    Kbar = [_trigsimp(chain_vec(chain, torques["K"])[k].xreplace(ideal).subs(on))
+            for k in range(3)]
+    resid = []
+    for k in range(3):
+        r = Kbar[k] - (bar_of[torques["M_E"][k]] - bar_of[torques["M_R"][k]]
+                       - bar_of[torques["M_D"][k]] + bar_of[torques["M_C"][k]])
+        resid.append(nice_bar(r))
+    if t in set().union(*(r.free_symbols for r in resid)):
+        # the derivation (model.py) refuses such assumptions: a document without
+        # the stationary solution would not be the kernels' model
+        raise RuntimeError(f"{m.name}: the residuals on the ansatz (3.1) depend on t")
+    d.display("display:3.2", r"\bar{\vec K}", r"\bar{\vec M}_E - \bar{\vec M}_R - "
+              r"\bar{\vec M}_D + \bar{\vec M}_C", tag="3.2")
+    d.display("display:3.4", r"f_1(\alpha, \bar\theta) + i f_2(\alpha, \bar\theta)", "0",
+              tag="3.4")
+    res_keys = []
+    if slip:
+        rr = names.add("f_R", "f_R")
+        rot = (rotor_eq[0] - rotor_eq[1]).xreplace(ideal).subs({wRd: 0})
+        named(rr, nice_bar(rot.subs(bar_of)), lhs_tex=r"f_R(\alpha, \bar\theta, "
+              r"\bar{\dot\varphi}_R)")
+        res_keys.append(rr.name)
+    for k, tag in ((0, "3.5a"), (1, "3.5b")):
+        fs = names.add(f"f_{k + 1}bar", f"f_{k + 1}")
+        named(fs, resid[k], tag=tag, lhs_tex=f"f_{k + 1}(\\alpha, \\bar\\theta)")
+        res_keys.append(fs.name)
+    d.text(r"The stationary solution: $f_1 = f_2 = 0$" + (r" and $f_R = 0$" if slip else "")
+           + r".  The $z_1$ row, the twisting balance, gives the twist angle "
+           r"$\bar\chi$ on the orbit, and $\beta$ follows from the twist angle "
+           r"$\varphi + \psi\cos\theta$ of (2.9) (the paper's (3.6) has the sign of "
+           r"$\alpha$ flipped).", "twist")
+    if chi not in resid[2].free_symbols:
+        raise RuntimeError(f"{m.name}: twisting balance free of the twist angle")
+    chi_expr = nice_bar(solve_linear(resid[2], chi))
+    named(chi, chi_expr, lhs_tex=r"\bar\chi")
+    beta_expr = e["beta_generic"].subs({cs["twist"]: chi, sp.Symbol("theta", real=True): thb})
+    named(beta, nice_bar(beta_expr), tag="3.6")
+    steady = {"beta": beta.name, "twist": chi.name}
+    if not slip:
+        rs = names.add("phidot_R_bar", r"\bar{\dot\varphi}_R")
+        named(rs, -bar_of[wR], tag="3.7")
+        steady["rotor_speed"] = rs.name
 
-    except _NoStationary:
-        # the ansatz (3.1) does not solve this model (e.g. an imperfect motor)
-        del d.lines[mark[0]:]
-        d.keys, chain = mark[1], mark[2]
-        res_keys, steady, unknowns, ansatz = [], {}, [], {}
-        d.text(r"The ansatz (3.1) is not a solution of this model: on it the residuals "
-               r"depend on $t$, so there is no stationary solution of the form (3.1).",
-               "no_stationary")
     # ---- linearisation ----
     d.section("Linearisation about the stationary orbit (4.9)")
     d.display("display:4.9", r"M(t)\,\Delta\dot{\mathbf{x}}", r"A(t)\,\Delta\mathbf{x}, \quad "
