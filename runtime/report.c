@@ -267,11 +267,15 @@ int usm_report_write(const char *dir, const usm_params *p, const usm_report_opti
         /* report.md last: its marker says a complete report is there */
         static const char *const outputs[] = {"report.json", "report.html", "report.md"};
         json_t *data = usm_report_json(d, plots_ok || !opt->plots, plot_note);
-        char *md = data ? render_md(data, msg) : NULL;
-        status = md ? USM_OK : USM_EFAILED;
+        char *md = NULL;
+        /* report.json before the rendering: when the template fails, the
+         * values it was given are there to see */
+        status = data ? write_output(data, NULL, dir, outputs[0], msg) : USM_EFAILED;
         if (!data)
             usm_io_msg(msg, "out of memory");
-        for (size_t k = 0; status == USM_OK && k < sizeof outputs / sizeof outputs[0]; ++k)
+        if (status == USM_OK && !(md = render_md(data, msg)))
+            status = USM_EFAILED;
+        for (size_t k = 1; status == USM_OK && k < sizeof outputs / sizeof outputs[0]; ++k)
             status = write_output(data, md, dir, outputs[k], msg);
         free(md);
         json_decref(data);

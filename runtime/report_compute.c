@@ -134,9 +134,10 @@ static double mon_mu(const usm_steady_solution *sol, const usm_params *p, void *
 
 static void from_event(const usm_sweep_event *e, usm_report_located *out)
 {
-    memset(out, 0, sizeof *out);
     out->ok = 1;
     out->value = e->value;
+    out->type = e->type;
+    out->has_sol = e->has_sol;
     if (e->has_sol)
         out->sol = e->sol;
 }
@@ -149,6 +150,8 @@ static void curve_event(const usm_report_curve *cv, usm_event_type type, const c
     const size_t n = cv->sweep ? usm_sweep_event_count(cv->sweep) : 0;
     const usm_sweep_event *best = NULL;
     memset(out, 0, sizeof *out);
+    out->from = cv->from;
+    out->to = cv->to;
     for (size_t i = 0; i < n; ++i) {
         const usm_sweep_event *e = usm_sweep_event_at(cv->sweep, i);
         if (e->type != type || (monitor && strcmp(e->monitor, monitor) != 0))
@@ -172,6 +175,8 @@ static void curve_end(const usm_report_curve *cv, usm_report_located *out)
 {
     const size_t n = cv->sweep ? usm_sweep_event_count(cv->sweep) : 0;
     memset(out, 0, sizeof *out);
+    out->from = cv->from;
+    out->to = cv->to;
     for (size_t i = 0; i < n; ++i) {
         const usm_sweep_event *e = usm_sweep_event_at(cv->sweep, i);
         if (e->type == USM_EVENT_FOLD || e->type == USM_EVENT_TILT_ZERO ||
@@ -180,8 +185,8 @@ static void curve_end(const usm_report_curve *cv, usm_report_located *out)
             return;
         }
     }
-    snprintf(out->note, USM_MSG_LEN, "the branch does not end along %s from %g to %g", cv->over,
-             cv->from, cv->to);
+    snprintf(out->note, USM_MSG_LEN, "the branch does not end along %s from %g to %g (the range swept)",
+             cv->over, cv->from, cv->to);
 }
 
 /* ---- the characteristic curves ------------------------------------------------- */

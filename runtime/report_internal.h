@@ -88,7 +88,14 @@ typedef struct usm_report_variant_result {
 typedef struct usm_report_located {
     int ok;
     double value;
-    usm_steady_solution sol; /* there (last point with a solution) */
+    double from, to;         /* the range searched (the curve's) */
+    usm_event_type type;     /* the sweep event it was taken from (when ok):
+                              * a branch can end at a fold, where the tilt
+                              * falls to zero, where it leaves the searched
+                              * range or where friction saturates */
+    int has_sol;             /* sol holds the solution there (0: none exists
+                              * at value, e.g. at friction saturation) */
+    usm_steady_solution sol;
     char note[USM_MSG_LEN];
 } usm_report_located;
 

@@ -113,12 +113,24 @@ static json_t *solution(const usm_steady_solution *s, double f)
 }
 
 /* A located value: SI "value", the same in the report's unit, the solution there. */
+/* A located value: SI "value", the same in the report's unit, the solution
+ * there (only when one exists there: has_solution), the event it is
+ * ("event", and "by.NAME" true for that event's name only, so the template
+ * can say what ends a branch), or ok = false and a note saying what was
+ * searched. */
 static json_t *located(const usm_report_located *l, const char *unit, double scale)
 {
-    json_t *o = l->ok ? solution(&l->sol, NAN) : json_object();
+    json_t *o = l->ok && l->has_sol ? solution(&l->sol, NAN) : json_object(), *by = json_object();
     flag(o, "ok", l->ok);
+    flag(o, "has_solution", l->ok && l->has_sol);
     num(o, "value", l->ok ? l->value : NAN);
     num(o, unit, l->ok ? l->value * scale : NAN);
+    num(o, "range_from", l->from * scale);
+    num(o, "range_to", l->to * scale);
+    str(o, "event", l->ok ? usm_event_name(l->type) : "");
+    for (int t = USM_EVENT_FOLD; t <= USM_EVENT_CROSSING; ++t)
+        flag(by, usm_event_name((usm_event_type)t), l->ok && l->type == (usm_event_type)t);
+    json_object_set_new(o, "by", by);
     str(o, "note", l->note);
     return o;
 }
@@ -340,8 +352,10 @@ static json_t *characteristics(const usm_report_data *d)
         }
     json_object_set_new(o, "curves", curves);
     for (size_t k = 0; k < sizeof pairs / sizeof pairs[0]; ++k) {
+        /* an end of a branch is whichever event ends it: compare with that kind */
         const usm_sweep_event *e =
-            find_event(&d->curve[pairs[k].curve][pairs[k].model], pairs[k].type);
+            find_event(&d->curve[pairs[k].curve][pairs[k].model],
+                       pairs[k].l->ok ? pairs[k].l->type : pairs[k].type);
         if (!pairs[k].l->ok || !e) {
             ++missing;
             continue;
