@@ -301,34 +301,10 @@ static json_t *figures(int from, int to)
     return a;
 }
 
-/* The first event of `type` on a curve, or NULL. */
-static const usm_sweep_event *find_event(const usm_report_curve *cv, usm_event_type type)
-{
-    const size_t n = cv->sweep ? usm_sweep_event_count(cv->sweep) : 0;
-    for (size_t i = 0; i < n; ++i)
-        if (usm_sweep_event_at(cv->sweep, i)->type == type)
-            return usm_sweep_event_at(cv->sweep, i);
-    return NULL;
-}
-
 static json_t *characteristics(const usm_report_data *d)
 {
     static const char *const cname[REPORT_NCURVES] = {"f [Hz]", "T [N m]", "m0 [N m]"};
-    const struct {
-        const usm_report_located *l;
-        int curve, model;
-        usm_event_type type;
-    } pairs[] = {
-        {&d->stick_limit, REPORT_CURVE_T, REPORT_3DOF, USM_EVENT_STICK_LIMIT},
-        {&d->stability_T, REPORT_CURVE_T, REPORT_3DOF, USM_EVENT_STABILITY_CHANGE},
-        {&d->existence_T[REPORT_3DOF], REPORT_CURVE_T, REPORT_3DOF, USM_EVENT_FOLD},
-        {&d->existence_T[REPORT_4DOF], REPORT_CURVE_T, REPORT_4DOF, USM_EVENT_FRICTION_SATURATION},
-        {&d->existence_m0[REPORT_3DOF], REPORT_CURVE_M0, REPORT_3DOF, USM_EVENT_FOLD},
-        {&d->existence_m0[REPORT_4DOF], REPORT_CURVE_M0, REPORT_4DOF, USM_EVENT_FOLD},
-    };
     json_t *o = json_object(), *curves = json_array(), *loc = json_object();
-    double worst = 0;
-    int compared = 0, missing = 0;
     integer(o, "points_min", d->curve[REPORT_CURVE_T][REPORT_4DOF].points);
     integer(o, "points_max", d->curve[REPORT_CURVE_F][0].points);
     for (int c = 0; c < REPORT_NCURVES; ++c)
@@ -351,21 +327,6 @@ static json_t *characteristics(const usm_report_data *d)
             json_array_append_new(curves, cv);
         }
     json_object_set_new(o, "curves", curves);
-    for (size_t k = 0; k < sizeof pairs / sizeof pairs[0]; ++k) {
-        /* an end of a branch is whichever event ends it: compare with that kind */
-        const usm_sweep_event *e =
-            find_event(&d->curve[pairs[k].curve][pairs[k].model],
-                       pairs[k].l->ok ? pairs[k].l->type : pairs[k].type);
-        if (!pairs[k].l->ok || !e) {
-            ++missing;
-            continue;
-        }
-        ++compared;
-        worst = fmax(worst, fabs(e->value - pairs[k].l->value) / fabs(pairs[k].l->value));
-    }
-    integer(o, "cross_check_compared", compared);
-    num(o, "cross_check_worst", worst);
-    flag(o, "cross_check_missing", missing);
     for (int k = 0; k < REPORT_NMODELS; ++k) {
         char key[64];
         snprintf(key, sizeof key, "f_max_%s", tag[k]);
