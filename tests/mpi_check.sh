@@ -13,8 +13,10 @@ MPIEXEC=${2:?usage: mpi_check.sh PATH/TO/usm PATH/TO/mpiexec}
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 # the sanitizer build: OpenMPI keeps allocations until exit in plugins it has
 # unloaded by then (LeakSanitizer cannot even name them), so leaks are not
-# checked under mpirun; the serial runs here and in tolerance_cli.sh are
-mpi_env="ASAN_OPTIONS=detect_leaks=0${ASAN_OPTIONS:+:$ASAN_OPTIONS}"
+# checked under mpirun; the serial runs here and in tolerance_cli.sh are.
+# The last of repeated ASan options wins, so detect_leaks=0 goes last (run-all
+# sets detect_leaks=1).
+mpi_env="ASAN_OPTIONS=${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0"
 # one machine: no network interfaces to probe, no warnings about them
 export OMPI_MCA_btl=self,vader OMPI_MCA_btl_vader_single_copy_mechanism=none
 
