@@ -87,6 +87,7 @@
 #define V_PER_DECADE 40         /* friction grid density */
 #define V_FAR 1e300             /* outermost slip speed searched [m/s] */
 #define MAX_BISECT_DEPTH 30     /* subdivision of a friction cell hiding extrema */
+#define FAR_CAP 1100            /* kept law values on an outer piece (2^1037 spans V_FAR) */
 /* |A|^2 decides g's sign alone between these (no underflow or overflow) and
  * at least Q_MARGIN (relative) away from m0^2 */
 #define Q_MIN 1e-290
@@ -130,6 +131,12 @@ struct usm_steady {
     unsigned char dep[USM_NPARAMS];
     int dep_ready, law_kept;
     usm_params law_p;  /* parameters of the kept analysis */
+    /* mu at the doubling points of the two outer pieces (slip_speeds), in
+     * order, as far as a solve needed them: they depend on the law alone, and
+     * the scan out to V_FAR (~1000 points on a side without a root) was most
+     * of a slip model's solve */
+    double far_mu[2][FAR_CAP];
+    int far_n[2];
     char msg[USM_MSG_LEN];
 };
 
@@ -389,6 +396,7 @@ static int cmp_double(const void *a, const void *b)
 static int friction_analyse(usm_steady *s)
 {
     s->nbrk = 0;
+    s->far_n[0] = s->far_n[1] = 0;
     s->mu_sup = -INFINITY;
     s->mu_inf = INFINITY;
     const double kappa = s->p.kappa;
@@ -512,8 +520,20 @@ static int slip_speeds(usm_steady *s, double mu_needed, double *v, int vmax)
             continue;
         }
         double d = fmax(fabs(b), 1e-12), prev = b, fprev = fb;
-        while (fabs(b) + d <= V_FAR) {
-            const double x = b + side * d, fx = mu_gap(x, &c);
+        const int si = side > 0;
+        for (int k = 0; fabs(b) + d <= V_FAR; ++k) {
+            const double x = b + side * d;
+            double mx;
+            if (k < s->far_n[si])
+                mx = s->far_mu[si][k];
+            else {
+                mx = law_mu(s, x);
+                if (k == s->far_n[si] && k < FAR_CAP) {
+                    s->far_mu[si][k] = mx;
+                    s->far_n[si] = k + 1;
+                }
+            }
+            const double fx = mx - mu_needed; /* = mu_gap(x, &c), bit for bit */
             if (!isfinite(fx))
                 break;
             if (sgn(fx) != sgn(fb)) {
