@@ -521,7 +521,23 @@ static int slip_speeds(usm_steady *s, double mu_needed, double *v, int vmax)
         }
         double d = fmax(fabs(b), 1e-12), prev = b, fprev = fb;
         const int si = side > 0;
-        for (int k = 0; fabs(b) + d <= V_FAR; ++k) {
+        /* the kept values first, in a tight loop: skip those the loop below
+         * would pass over (finite, of fb's sign); doubling is exact, so d
+         * and x are those of the loop */
+        const double *mk = s->far_mu[si];
+        int k = 0;
+        if (fb > 0)
+            while (k < s->far_n[si] && mk[k] - mu_needed > 0 && isfinite(mk[k] - mu_needed))
+                ++k;
+        else
+            while (k < s->far_n[si] && mk[k] - mu_needed < 0 && isfinite(mk[k] - mu_needed))
+                ++k;
+        if (k > 0) {
+            prev = b + side * ldexp(d, k - 1);
+            fprev = mk[k - 1] - mu_needed;
+            d = ldexp(d, k);
+        }
+        for (; fabs(b) + d <= V_FAR; ++k) {
             const double x = b + side * d;
             double mx;
             if (k < s->far_n[si])
