@@ -114,6 +114,7 @@ struct usm_steady {
     /* tilt grid (kept while the options do not change) and its samples in
      * the current solve: the seed's torque components, g where computed */
     double *th, *ca, *sa, *q, *g; /* q = |A|^2 (NaN outside [Q_MIN, Q_MAX]) */
+    double *trig;                 /* sin, cos, tan of each th (kept with the grid) */
     unsigned char *gdone;
     signed char *qsign;           /* g's sign from q, 0 when undecided */
     int m2_ok;                    /* m0^2 in [Q_MIN, Q_MAX] */
@@ -179,6 +180,7 @@ void usm_steady_free(usm_steady *s)
         gsl_vector_free(s->u0);
     free(s->roots);
     free(s->th);
+    free(s->trig);
     free(s->ca);
     free(s->sa);
     free(s->g);
@@ -824,7 +826,10 @@ static int tilt_grid(usm_steady *s, const usm_steady_options *opt, size_t *n)
         signed char *qs = realloc(s->qsign, need * sizeof *qs);
         if (qs)
             s->qsign = qs;
-        if (!th || !ca || !sa || !g || !gd || !q || !qs)
+        double *tr = realloc(s->trig, 3 * need * sizeof *tr);
+        if (tr)
+            s->trig = tr;
+        if (!th || !ca || !sa || !g || !gd || !q || !qs || !tr)
             return -1;
         s->grid_cap = need;
     }
@@ -844,6 +849,13 @@ static int tilt_grid(usm_steady *s, const usm_steady_options *opt, size_t *n)
     for (size_t i = 1; i < k; ++i)
         if (s->th[i] > s->th[m - 1])
             s->th[m++] = s->th[i];
+    /* the seed's sin, cos and tan of each tilt, computed as its kernel does
+     * (steady_seed_trig then equals steady_seed bit for bit; tested) */
+    for (size_t i = 0; i < m; ++i) {
+        s->trig[3 * i] = sin(s->th[i]);
+        s->trig[3 * i + 1] = cos(s->th[i]);
+        s->trig[3 * i + 2] = tan(s->th[i]);
+    }
     *n = s->ngrid = m;
     s->grid_key[0] = opt->theta_min;
     s->grid_key[1] = opt->theta_max;
@@ -858,7 +870,7 @@ static void sample_to(usm_steady *s, size_t k)
 {
     double out[USM_SEED_COUNT];
     for (size_t i = s->nsampled; i <= k; ++i) {
-        s->m->steady_seed(s->th[i], &s->p_unit, out);
+        s->m->steady_seed_trig(s->th[i], s->trig + 3 * i, &s->p_unit, out);
         const double a = out[USM_SEED_COS_ALPHA], b = out[USM_SEED_SIN_ALPHA];
         const double q = a * a + b * b;
         s->ca[i] = a;
