@@ -868,23 +868,31 @@ static int tilt_grid(usm_steady *s, const usm_steady_options *opt, size_t *n)
  * decision of the search needs more than its sign (sample_g). */
 static void sample_to(usm_steady *s, size_t k)
 {
+    /* locals: the stores below could alias the fields for the compiler */
+    void (*const seed)(double, const double *USM_RESTRICT, const usm_params *USM_RESTRICT,
+                       double *USM_RESTRICT) = s->m->steady_seed_trig;
+    const usm_params *const pu = &s->p_unit;
+    const double *const th = s->th, *const trig = s->trig;
+    double *const ca = s->ca, *const sa = s->sa, *const qv = s->q;
+    unsigned char *const gdone = s->gdone;
+    signed char *const qsign = s->qsign;
+    const double m2_lo = s->m2 * (1 - Q_MARGIN), m2_hi = s->m2 * (1 + Q_MARGIN);
+    const int m2_ok = s->m2_ok;
     double out[USM_SEED_COUNT];
     for (size_t i = s->nsampled; i <= k; ++i) {
-        s->m->steady_seed_trig(s->th[i], s->trig + 3 * i, &s->p_unit, out);
+        seed(th[i], trig + 3 * i, pu, out);
         const double a = out[USM_SEED_COS_ALPHA], b = out[USM_SEED_SIN_ALPHA];
         const double q = a * a + b * b;
-        s->ca[i] = a;
-        s->sa[i] = b;
-        s->q[i] = q >= Q_MIN && q <= Q_MAX ? q : NAN;
-        s->gdone[i] = 0;
+        const int q_ok = (q >= Q_MIN) & (q <= Q_MAX);
+        ca[i] = a;
+        sa[i] = b;
+        qv[i] = q_ok ? q : NAN;
+        gdone[i] = 0;
         /* g's sign from |A|^2 alone where it is at least Q_MARGIN from
          * m0^2: log and hypot are correct to a few ulps, so the sign cannot
          * differ there (the margin is 5e-11 in g, beyond log's rounding at
          * any |log m0| < 709); 0: undecided, see sample_sign */
-        s->qsign[i] = !s->m2_ok || isnan(s->q[i]) ? 0
-                      : s->q[i] < s->m2 * (1 - Q_MARGIN) ? -1
-                      : s->q[i] > s->m2 * (1 + Q_MARGIN) ? 1
-                                                          : 0;
+        qsign[i] = !m2_ok || !q_ok ? 0 : q < m2_lo ? -1 : q > m2_hi ? 1 : 0;
     }
     if (k + 1 > s->nsampled)
         s->nsampled = k + 1;
@@ -1062,6 +1070,8 @@ static int search_run(usm_steady *s, const usm_params *p, const usm_steady_optio
 {
     scan_state sc = {{0}, 0, INFINITY, NAN, -INFINITY, NAN};
     double min_key = INFINITY;
+    if (!primary_only)
+        sample_to(s, n - 1); /* every sample is needed: in one pass */
     for (size_t i = 0; i + 1 < n; ++i) {
         const size_t before = s->count;
         search_step(s, i, opt->xtol, &sc);
