@@ -1033,6 +1033,25 @@ static void search_step(usm_steady *s, size_t i, double xtol, scan_state *sc)
     }
 }
 
+/* Whether step i (0 < i, samples up to i + 1 taken) certainly does nothing,
+ * decided from the signs of |A|^2 - m0^2 alone, as search_step and rule_b
+ * decide it: samples i and i + 1 of one sign (no rule a), and sample i - 1 of
+ * the other sign or |A|^2 at i not a discrete extremum towards zero (no rule
+ * b).  Most steps; search_step runs the others. */
+static int quiet_step(const usm_steady *s, size_t i)
+{
+    const signed char *qs = s->qsign;
+    const int b = qs[i];
+    if (i == 0 || b == 0 || qs[i + 1] != b || qs[i - 1] == 0)
+        return 0;
+    if (qs[i - 1] != b)
+        return 1;
+    const double qa = s->q[i - 1], qb = s->q[i], qc = s->q[i + 1];
+    if (b > 0)
+        return !(qb <= qa * (1 + 1e-13) && qb <= qc * (1 + 1e-13));
+    return !(qb >= qa * (1 - 1e-13) && qb >= qc * (1 - 1e-13));
+}
+
 /* Check the options and parameters, keep them, and lay out the grid. */
 static int search_setup(usm_steady *s, const usm_params *p, const usm_steady_options *opt,
                         size_t *n)
@@ -1074,7 +1093,10 @@ static int search_run(usm_steady *s, const usm_params *p, const usm_steady_optio
         sample_to(s, n - 1); /* every sample is needed: in one pass */
     for (size_t i = 0; i + 1 < n; ++i) {
         const size_t before = s->count;
-        search_step(s, i, opt->xtol, &sc);
+        if (primary_only)
+            sample_to(s, i + 1);
+        if (!quiet_step(s, i))
+            search_step(s, i, opt->xtol, &sc);
         for (size_t k = before; k < s->count; ++k)
             min_key = fmin(min_key, s->roots[k].key);
         if (primary_only && s->count > 0 && min_key < s->th[i])
