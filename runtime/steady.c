@@ -138,6 +138,11 @@ struct usm_steady {
      * of a slip model's solve */
     double far_mu[2][FAR_CAP];
     int far_n[2];
+    /* running maximum and minimum of far_mu over its first far_tame entries,
+     * all finite and at most 1e300 in size (there mu - mu_needed is finite
+     * and has the sign of the comparison) */
+    double far_max[2][FAR_CAP], far_min[2][FAR_CAP];
+    int far_tame[2];
     char msg[USM_MSG_LEN];
 };
 
@@ -399,6 +404,7 @@ static int friction_analyse(usm_steady *s)
 {
     s->nbrk = 0;
     s->far_n[0] = s->far_n[1] = 0;
+    s->far_tame[0] = s->far_tame[1] = 0;
     s->mu_sup = -INFINITY;
     s->mu_inf = INFINITY;
     const double kappa = s->p.kappa;
@@ -528,6 +534,21 @@ static int slip_speeds(usm_steady *s, double mu_needed, double *v, int vmax)
          * and x are those of the loop */
         const double *mk = s->far_mu[si];
         int k = 0;
+        if (fabs(mu_needed) <= 1e300) {
+            /* among the tame entries: the first with mk >= mu_needed (fb < 0)
+             * or mk <= mu_needed (fb > 0), by bisection on the running
+             * extremum; the loops below go on from there */
+            const double *ext = fb > 0 ? s->far_min[si] : s->far_max[si];
+            int lo = 0, hi = s->far_tame[si]; /* the answer lies in [lo, hi] */
+            while (lo < hi) {
+                const int mid = lo + (hi - lo) / 2;
+                if (fb > 0 ? ext[mid] <= mu_needed : ext[mid] >= mu_needed)
+                    hi = mid;
+                else
+                    lo = mid + 1;
+            }
+            k = lo;
+        }
         if (fb > 0)
             while (k < s->far_n[si] && mk[k] - mu_needed > 0 && isfinite(mk[k] - mu_needed))
                 ++k;
@@ -549,6 +570,11 @@ static int slip_speeds(usm_steady *s, double mu_needed, double *v, int vmax)
                 if (k == s->far_n[si] && k < FAR_CAP) {
                     s->far_mu[si][k] = mx;
                     s->far_n[si] = k + 1;
+                    if (k == s->far_tame[si] && fabs(mx) <= 1e300) {
+                        s->far_max[si][k] = k > 0 ? fmax(s->far_max[si][k - 1], mx) : mx;
+                        s->far_min[si][k] = k > 0 ? fmin(s->far_min[si][k - 1], mx) : mx;
+                        s->far_tame[si] = k + 1;
+                    }
                 }
             }
             const double fx = mx - mu_needed; /* = mu_gap(x, &c), bit for bit */
