@@ -87,6 +87,7 @@
 #define V_PER_DECADE 40         /* friction grid density */
 #define V_FAR 1e300             /* outermost slip speed searched [m/s] */
 #define MAX_BISECT_DEPTH 30     /* subdivision of a friction cell hiding extrema */
+#define FAR_CAP 1100            /* kept law values on an outer piece (2^1037 spans V_FAR) */
 /* |A|^2 decides g's sign alone between these (no underflow or overflow) and
  * at least Q_MARGIN (relative) away from m0^2 */
 #define Q_MIN 1e-290
@@ -113,6 +114,7 @@ struct usm_steady {
     /* tilt grid (kept while the options do not change) and its samples in
      * the current solve: the seed's torque components, g where computed */
     double *th, *ca, *sa, *q, *g; /* q = |A|^2 (NaN outside [Q_MIN, Q_MAX]) */
+    double *trig;                 /* sin, cos, tan of each th (kept with the grid) */
     unsigned char *gdone;
     signed char *qsign;           /* g's sign from q, 0 when undecided */
     int m2_ok;                    /* m0^2 in [Q_MIN, Q_MAX] */
@@ -130,6 +132,17 @@ struct usm_steady {
     unsigned char dep[USM_NPARAMS];
     int dep_ready, law_kept;
     usm_params law_p;  /* parameters of the kept analysis */
+    /* mu at the doubling points of the two outer pieces (slip_speeds), in
+     * order, as far as a solve needed them: they depend on the law alone, and
+     * the scan out to V_FAR (~1000 points on a side without a root) was most
+     * of a slip model's solve */
+    double far_mu[2][FAR_CAP];
+    int far_n[2];
+    /* running maximum and minimum of far_mu over its first far_tame entries,
+     * all finite and at most 1e300 in size (there mu - mu_needed is finite
+     * and has the sign of the comparison) */
+    double far_max[2][FAR_CAP], far_min[2][FAR_CAP];
+    int far_tame[2];
     char msg[USM_MSG_LEN];
 };
 
@@ -172,6 +185,7 @@ void usm_steady_free(usm_steady *s)
         gsl_vector_free(s->u0);
     free(s->roots);
     free(s->th);
+    free(s->trig);
     free(s->ca);
     free(s->sa);
     free(s->g);
@@ -389,6 +403,8 @@ static int cmp_double(const void *a, const void *b)
 static int friction_analyse(usm_steady *s)
 {
     s->nbrk = 0;
+    s->far_n[0] = s->far_n[1] = 0;
+    s->far_tame[0] = s->far_tame[1] = 0;
     s->mu_sup = -INFINITY;
     s->mu_inf = INFINITY;
     const double kappa = s->p.kappa;
@@ -512,8 +528,56 @@ static int slip_speeds(usm_steady *s, double mu_needed, double *v, int vmax)
             continue;
         }
         double d = fmax(fabs(b), 1e-12), prev = b, fprev = fb;
-        while (fabs(b) + d <= V_FAR) {
-            const double x = b + side * d, fx = mu_gap(x, &c);
+        const int si = side > 0;
+        /* the kept values first, in a tight loop: skip those the loop below
+         * would pass over (finite, of fb's sign); doubling is exact, so d
+         * and x are those of the loop */
+        const double *mk = s->far_mu[si];
+        int k = 0;
+        if (fabs(mu_needed) <= 1e300) {
+            /* among the tame entries: the first with mk >= mu_needed (fb < 0)
+             * or mk <= mu_needed (fb > 0), by bisection on the running
+             * extremum; the loops below go on from there */
+            const double *ext = fb > 0 ? s->far_min[si] : s->far_max[si];
+            int lo = 0, hi = s->far_tame[si]; /* the answer lies in [lo, hi] */
+            while (lo < hi) {
+                const int mid = lo + (hi - lo) / 2;
+                if (fb > 0 ? ext[mid] <= mu_needed : ext[mid] >= mu_needed)
+                    hi = mid;
+                else
+                    lo = mid + 1;
+            }
+            k = lo;
+        }
+        if (fb > 0)
+            while (k < s->far_n[si] && mk[k] - mu_needed > 0 && isfinite(mk[k] - mu_needed))
+                ++k;
+        else
+            while (k < s->far_n[si] && mk[k] - mu_needed < 0 && isfinite(mk[k] - mu_needed))
+                ++k;
+        if (k > 0) {
+            prev = b + side * ldexp(d, k - 1);
+            fprev = mk[k - 1] - mu_needed;
+            d = ldexp(d, k);
+        }
+        for (; fabs(b) + d <= V_FAR; ++k) {
+            const double x = b + side * d;
+            double mx;
+            if (k < s->far_n[si])
+                mx = s->far_mu[si][k];
+            else {
+                mx = law_mu(s, x);
+                if (k == s->far_n[si] && k < FAR_CAP) {
+                    s->far_mu[si][k] = mx;
+                    s->far_n[si] = k + 1;
+                    if (k == s->far_tame[si] && fabs(mx) <= 1e300) {
+                        s->far_max[si][k] = k > 0 ? fmax(s->far_max[si][k - 1], mx) : mx;
+                        s->far_min[si][k] = k > 0 ? fmin(s->far_min[si][k - 1], mx) : mx;
+                        s->far_tame[si] = k + 1;
+                    }
+                }
+            }
+            const double fx = mx - mu_needed; /* = mu_gap(x, &c), bit for bit */
             if (!isfinite(fx))
                 break;
             if (sgn(fx) != sgn(fb)) {
@@ -788,7 +852,10 @@ static int tilt_grid(usm_steady *s, const usm_steady_options *opt, size_t *n)
         signed char *qs = realloc(s->qsign, need * sizeof *qs);
         if (qs)
             s->qsign = qs;
-        if (!th || !ca || !sa || !g || !gd || !q || !qs)
+        double *tr = realloc(s->trig, 3 * need * sizeof *tr);
+        if (tr)
+            s->trig = tr;
+        if (!th || !ca || !sa || !g || !gd || !q || !qs || !tr)
             return -1;
         s->grid_cap = need;
     }
@@ -808,6 +875,13 @@ static int tilt_grid(usm_steady *s, const usm_steady_options *opt, size_t *n)
     for (size_t i = 1; i < k; ++i)
         if (s->th[i] > s->th[m - 1])
             s->th[m++] = s->th[i];
+    /* the seed's sin, cos and tan of each tilt, computed as its kernel does
+     * (steady_seed_trig then equals steady_seed bit for bit; tested) */
+    for (size_t i = 0; i < m; ++i) {
+        s->trig[3 * i] = sin(s->th[i]);
+        s->trig[3 * i + 1] = cos(s->th[i]);
+        s->trig[3 * i + 2] = tan(s->th[i]);
+    }
     *n = s->ngrid = m;
     s->grid_key[0] = opt->theta_min;
     s->grid_key[1] = opt->theta_max;
@@ -820,23 +894,31 @@ static int tilt_grid(usm_steady *s, const usm_steady_options *opt, size_t *n)
  * decision of the search needs more than its sign (sample_g). */
 static void sample_to(usm_steady *s, size_t k)
 {
+    /* locals: the stores below could alias the fields for the compiler */
+    void (*const seed)(double, const double *USM_RESTRICT, const usm_params *USM_RESTRICT,
+                       double *USM_RESTRICT) = s->m->steady_seed_trig;
+    const usm_params *const pu = &s->p_unit;
+    const double *const th = s->th, *const trig = s->trig;
+    double *const ca = s->ca, *const sa = s->sa, *const qv = s->q;
+    unsigned char *const gdone = s->gdone;
+    signed char *const qsign = s->qsign;
+    const double m2_lo = s->m2 * (1 - Q_MARGIN), m2_hi = s->m2 * (1 + Q_MARGIN);
+    const int m2_ok = s->m2_ok;
     double out[USM_SEED_COUNT];
     for (size_t i = s->nsampled; i <= k; ++i) {
-        s->m->steady_seed(s->th[i], &s->p_unit, out);
+        seed(th[i], trig + 3 * i, pu, out);
         const double a = out[USM_SEED_COS_ALPHA], b = out[USM_SEED_SIN_ALPHA];
         const double q = a * a + b * b;
-        s->ca[i] = a;
-        s->sa[i] = b;
-        s->q[i] = q >= Q_MIN && q <= Q_MAX ? q : NAN;
-        s->gdone[i] = 0;
+        const int q_ok = (q >= Q_MIN) & (q <= Q_MAX);
+        ca[i] = a;
+        sa[i] = b;
+        qv[i] = q_ok ? q : NAN;
+        gdone[i] = 0;
         /* g's sign from |A|^2 alone where it is at least Q_MARGIN from
          * m0^2: log and hypot are correct to a few ulps, so the sign cannot
          * differ there (the margin is 5e-11 in g, beyond log's rounding at
          * any |log m0| < 709); 0: undecided, see sample_sign */
-        s->qsign[i] = !s->m2_ok || isnan(s->q[i]) ? 0
-                      : s->q[i] < s->m2 * (1 - Q_MARGIN) ? -1
-                      : s->q[i] > s->m2 * (1 + Q_MARGIN) ? 1
-                                                          : 0;
+        qsign[i] = !m2_ok || !q_ok ? 0 : q < m2_lo ? -1 : q > m2_hi ? 1 : 0;
     }
     if (k + 1 > s->nsampled)
         s->nsampled = k + 1;
@@ -977,6 +1059,25 @@ static void search_step(usm_steady *s, size_t i, double xtol, scan_state *sc)
     }
 }
 
+/* Whether step i (0 < i, samples up to i + 1 taken) certainly does nothing,
+ * decided from the signs of |A|^2 - m0^2 alone, as search_step and rule_b
+ * decide it: samples i and i + 1 of one sign (no rule a), and sample i - 1 of
+ * the other sign or |A|^2 at i not a discrete extremum towards zero (no rule
+ * b).  Most steps; search_step runs the others. */
+static int quiet_step(const usm_steady *s, size_t i)
+{
+    const signed char *qs = s->qsign;
+    const int b = qs[i];
+    if (i == 0 || b == 0 || qs[i + 1] != b || qs[i - 1] == 0)
+        return 0;
+    if (qs[i - 1] != b)
+        return 1;
+    const double qa = s->q[i - 1], qb = s->q[i], qc = s->q[i + 1];
+    if (b > 0)
+        return !(qb <= qa * (1 + 1e-13) && qb <= qc * (1 + 1e-13));
+    return !(qb >= qa * (1 - 1e-13) && qb >= qc * (1 - 1e-13));
+}
+
 /* Check the options and parameters, keep them, and lay out the grid. */
 static int search_setup(usm_steady *s, const usm_params *p, const usm_steady_options *opt,
                         size_t *n)
@@ -1014,9 +1115,14 @@ static int search_run(usm_steady *s, const usm_params *p, const usm_steady_optio
 {
     scan_state sc = {{0}, 0, INFINITY, NAN, -INFINITY, NAN};
     double min_key = INFINITY;
+    if (!primary_only)
+        sample_to(s, n - 1); /* every sample is needed: in one pass */
     for (size_t i = 0; i + 1 < n; ++i) {
         const size_t before = s->count;
-        search_step(s, i, opt->xtol, &sc);
+        if (primary_only)
+            sample_to(s, i + 1);
+        if (!quiet_step(s, i))
+            search_step(s, i, opt->xtol, &sc);
         for (size_t k = before; k < s->count; ++k)
             min_key = fmin(min_key, s->roots[k].key);
         if (primary_only && s->count > 0 && min_key < s->th[i])

@@ -340,6 +340,11 @@ typedef struct arc_fn {
     double arg;
     int failed;
     const usm_sweep_monitor *mo;
+    /* FN_LAMBDA: the values at the ends of the bracket, known to the caller
+     * (GSL's Brent evaluates both ends again: two corrections per grid
+     * value, a third of landing on it) */
+    int ends_known;
+    double lo, hi, flo, fhi;
 } arc_fn;
 
 /* ---- user monitors ---------------------------------------------------------------- */
@@ -382,6 +387,8 @@ static double arc_value(double s, void *ctx)
     arc_fn *f = ctx;
     sweep_branch *b = f->b;
     double z[SWEEP_MAX_N], t[SWEEP_MAX_N];
+    if (f->ends_known && (s == f->lo || s == f->hi))
+        return s == f->lo ? f->flo : f->fhi;
     if (f->failed || arc_point(b, f->a, s, z) != 0) {
         f->failed = 1;
         return 0.0;
@@ -420,7 +427,7 @@ static int arc_root_fn(sweep_branch *b, const arc *a, int kind, const usm_sweep_
                        double arg, double lo, double hi, double flo, double fhi, double epsabs,
                        double *s)
 {
-    arc_fn f = {b, a, kind, arg, 0, mo};
+    arc_fn f = {b, a, kind, arg, 0, mo, kind == FN_LAMBDA, lo, hi, flo, fhi};
     gsl_function F = {arc_value, &f};
     if (flo == 0.0 || fhi == 0.0) {
         *s = flo == 0.0 ? lo : hi;

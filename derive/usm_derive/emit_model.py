@@ -178,6 +178,33 @@ def build_kernels(m):
     return ks
 
 
+SEED_TRIG = (("sin", 0), ("cos", 1), ("tan", 2))
+
+
+def _seed_trig(pre, seed_text):
+    """The seed kernel with sin, cos and tan of theta read from trig[0..2]: its
+    C text with those calls replaced, so every other operation is the same and
+    the outputs equal the seed's bit for bit when trig holds the libm values."""
+    import re
+    sig = (f"void {pre}_steady_seed_trig(double theta, const double *USM_RESTRICT trig, "
+           "const usm_params *USM_RESTRICT p, double *USM_RESTRICT out)")
+    head, sep, body = seed_text.partition(f"void {pre}_steady_seed(")
+    if not sep:
+        raise RuntimeError(f"{pre}: steady_seed text not recognised")
+    body = body[body.index("{"):]
+    for fn, i in SEED_TRIG:
+        body = re.sub(rf"\b{fn}\(theta\)", f"trig[{i}]", body)
+    if re.search(r"\b[a-z_]\w*\(theta\)", body):
+        raise RuntimeError(f"{pre}: steady_seed calls a function of theta other than sin, cos, tan")
+    if not re.search(r"\btheta\b", body):
+        body = body.replace("{\n", "{\n    (void)theta;\n", 1)
+    if not re.search(r"\btrig\b", body):
+        body = body.replace("{\n", "{\n    (void)trig;\n", 1)
+    doc = ("/* steady_seed with trig = {sin theta, cos theta, tan theta} supplied by the\n"
+           " * caller: the same operations otherwise, so the same outputs bit for bit. */\n")
+    return doc + sig + "\n" + body, sig
+
+
 def _names_array(cname, names):
     items = ", ".join(f'"{nm}"' for nm in names)
     return f"static const char *const {cname}[] = {{{items}}};\n"
@@ -193,6 +220,9 @@ def model_files(m, description, stamp, base, variant):
     guard = f"USM_{m.name.upper().replace('-', '_')}_H"
     emitted = [k.emit() for k in kernels]
     ops = "; ".join(f"{k.name[len(pre) + 1:]} {o}" for k, (_, o) in zip(kernels, emitted))
+    seed_text = next(text for k, (text, _) in zip(kernels, emitted)
+                     if k.name == f"{pre}_steady_seed")
+    trig_text, trig_sig = _seed_trig(pre, seed_text)
     extra = [f"Model {m.name}: {description}.", f"Assumptions: {assumptions}.",
              _index_doc("State x", m.state_names),
              _index_doc("Stationary unknowns u", m.unknown_names),
@@ -218,11 +248,13 @@ def model_files(m, description, stamp, base, variant):
     h += "\n"
     for k in kernels:
         h += k.signature() + ";\n"
+    h += trig_sig + ";\n"
     h += f"\n/* Descriptor used by the runtime. */\nextern const usm_model {pre.replace('usm_', 'usm_model_')};\n"
     h += '\n#ifdef __cplusplus\n}\n#endif\n\n' + f"#endif /* {guard} */\n"
     c = banner(f"{pre}.c: kernels of the {m.name} model.", stamp, extra)
     c += f'#include <math.h>\n\n#include "{pre}.h"\n\n'
     c += "\n".join(text for text, _ in emitted) + "\n"
+    c += trig_text + "\n"
     c += _names_array("state_names", m.state_names)
     c += _names_array("unknown_names", m.unknown_names)
     cyc = ", ".join("1" if i in m.cyclic else "0" for i in range(n))
@@ -238,8 +270,8 @@ def model_files(m, description, stamp, base, variant):
               ("cyclic", "cyclic")]
     fields += [(k, f"{pre}_{k}") for k in (
         "mass", "rhs", "jac_rhs", "jac_mass", "outputs", "steady_residual", "steady_jacobian",
-        "steady_jacobian_params", "steady_outputs", "steady_seed", "steady_state",
-        "tangent_map")]
+        "steady_jacobian_params", "steady_outputs", "steady_seed", "steady_seed_trig",
+        "steady_state", "tangent_map")]
     fields += [("friction", friction),
                ("slip", 1 if m.assumptions["contact"] == "slip" else 0),
                ("axisymmetric_stator", 1 if m.assumptions["stator_inertia"] == "axisymmetric" else 0),
@@ -335,6 +367,10 @@ def common_files(models, variant_list, stamp):
           "    void (*steady_jacobian_params)(const double *USM_RESTRICT u, const usm_params *USM_RESTRICT p, double *USM_RESTRICT out); /* nu x USM_NPARAMS */\n"
           "    void (*steady_outputs)(const double *USM_RESTRICT u, const usm_params *USM_RESTRICT p, double *USM_RESTRICT out);\n"
           "    void (*steady_seed)(double theta, const usm_params *USM_RESTRICT p, double *USM_RESTRICT out);\n"
+          "    /* steady_seed with trig = {sin theta, cos theta, tan theta} given: the\n"
+          "       same operations, so bit for bit the same outputs (the tilt search\n"
+          "       samples a fixed grid of theta, whose trig values it keeps) */\n"
+          "    void (*steady_seed_trig)(double theta, const double *USM_RESTRICT trig, const usm_params *USM_RESTRICT p, double *USM_RESTRICT out);\n"
           "    void (*steady_state)(const double *USM_RESTRICT u, double beta, double t, const usm_params *USM_RESTRICT p, double *USM_RESTRICT out);\n"
           "    void (*tangent_map)(const double *USM_RESTRICT x, const usm_params *USM_RESTRICT p, double *USM_RESTRICT out);\n"
           "    void (*friction)(double v_rel, const usm_params *USM_RESTRICT p, double *USM_RESTRICT out); /* NULL for stick */\n"
