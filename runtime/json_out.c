@@ -101,3 +101,30 @@ int usm_json_write(json_t *value, FILE *out)
     json_decref(value);
     return rc;
 }
+
+/* The keys of `usm periodic --json` for one orbit. */
+json_t *usm_json_periodic_result(const usm_periodic_result *r)
+{
+    json_t *o = json_object(), *h = json_object();
+    int ok = o && h;
+    usm_json_put(o, "rotor_speed_mean", usm_json_real(r->rotor_speed_mean), &ok);
+    usm_json_put(o, "rotor_speed_ripple", usm_json_real(r->rotor_speed_ripple), &ok);
+    usm_json_put(o, "F_n_min", usm_json_real(r->F_n_min), &ok);
+    usm_json_put(o, "F_n_max", usm_json_real(r->F_n_max), &ok);
+    usm_json_put(o, "friction_needed_max", usm_json_real(r->friction_needed_max), &ok);
+    usm_json_put(o, "theta_mean", usm_json_real(r->theta_mean), &ok);
+    usm_json_put(o, "theta_min", usm_json_real(r->theta_min), &ok);
+    usm_json_put(o, "theta_max", usm_json_real(r->theta_max), &ok);
+    usm_json_put(h, "theta", usm_json_real(r->theta_harmonic_2), &ok);
+    usm_json_put(h, "F_n", usm_json_real(r->F_n_harmonic_2), &ok);
+    usm_json_put(o, "harmonic_2", h, &ok);
+    usm_json_put(o, "floquet", usm_json_floquet(&r->floquet), &ok);
+    usm_json_put(o, "contact_open", json_boolean(r->contact_open), &ok);
+    usm_json_put(o, "newton_iterations", json_integer(r->iterations), &ok);
+    usm_json_put(o, "residual", usm_json_real(r->residual), &ok);
+    if (!ok) {
+        json_decref(o);
+        return NULL;
+    }
+    return o;
+}

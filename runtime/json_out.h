@@ -11,6 +11,7 @@
 #include <jansson.h>
 
 #include "usm.h"
+#include "usm_periodic.h"
 
 /* A JSON number, or null for a non-finite value (JSON has no NaN/inf). */
 json_t *usm_json_real(double v);
@@ -29,6 +30,10 @@ json_t *usm_json_root(const usm_steady_solution *s);
 /* {"t0", "multipliers": [[re, im], ...], "cyclic": [bool, ...],
  *  "max_modulus", "stable"}. */
 json_t *usm_json_floquet(const usm_floquet_result *r);
+
+/* The keys of `usm periodic --json` for one orbit (all but model, parameters,
+   converged): shared by `usm periodic` and the periodic sweep's points. */
+json_t *usm_json_periodic_result(const usm_periodic_result *r);
 
 /* Print `value` and a newline, then release it (NULL, a builder's "out of
  * memory", gives -1).  0, or -1. */

@@ -482,33 +482,6 @@ int usm_periodic_sweep_csv(const usm_periodic_sweep *s, FILE *out)
     return ferror(out) ? -1 : 0;
 }
 
-/* The keys of `usm periodic --json` for one orbit. */
-static json_t *orbit_json(const usm_periodic_result *r)
-{
-    json_t *o = json_object(), *h = json_object();
-    int ok = o && h;
-    usm_json_put(o, "rotor_speed_mean", usm_json_real(r->rotor_speed_mean), &ok);
-    usm_json_put(o, "rotor_speed_ripple", usm_json_real(r->rotor_speed_ripple), &ok);
-    usm_json_put(o, "F_n_min", usm_json_real(r->F_n_min), &ok);
-    usm_json_put(o, "F_n_max", usm_json_real(r->F_n_max), &ok);
-    usm_json_put(o, "friction_needed_max", usm_json_real(r->friction_needed_max), &ok);
-    usm_json_put(o, "theta_mean", usm_json_real(r->theta_mean), &ok);
-    usm_json_put(o, "theta_min", usm_json_real(r->theta_min), &ok);
-    usm_json_put(o, "theta_max", usm_json_real(r->theta_max), &ok);
-    usm_json_put(h, "theta", usm_json_real(r->theta_harmonic_2), &ok);
-    usm_json_put(h, "F_n", usm_json_real(r->F_n_harmonic_2), &ok);
-    usm_json_put(o, "harmonic_2", h, &ok);
-    usm_json_put(o, "floquet", usm_json_floquet(&r->floquet), &ok);
-    usm_json_put(o, "contact_open", json_boolean(r->contact_open), &ok);
-    usm_json_put(o, "newton_iterations", json_integer(r->iterations), &ok);
-    usm_json_put(o, "residual", usm_json_real(r->residual), &ok);
-    if (!ok) {
-        json_decref(o);
-        return NULL;
-    }
-    return o;
-}
-
 static json_t *sweep_json(const usm_periodic_sweep *s, const usm_params *p)
 {
     json_t *obj = json_object(), *points = json_array(), *events = json_array();
@@ -519,7 +492,7 @@ static json_t *sweep_json(const usm_periodic_sweep *s, const usm_params *p)
     usm_json_put(obj, "parameters", usm_json_params(p), &ok);
     for (size_t i = 0; ok && i < s->npts; ++i) {
         const usm_periodic_point *pt = &s->pts[i];
-        json_t *o = pt->converged ? orbit_json(&pt->orbit) : json_object();
+        json_t *o = pt->converged ? usm_json_periodic_result(&pt->orbit) : json_object();
         int pok = o != NULL;
         usm_json_put(o, s->over, usm_json_real(pt->value), &pok);
         usm_json_put(o, "converged", json_boolean(pt->converged), &pok);
@@ -541,7 +514,7 @@ static json_t *sweep_json(const usm_periodic_sweep *s, const usm_params *p)
         usm_json_put(o, s->over, usm_json_real(e->value), &eok);
         usm_json_put(o, "what", json_string(e->what), &eok);
         if (e->has_orbit)
-            usm_json_put(o, "orbit", orbit_json(&e->orbit), &eok);
+            usm_json_put(o, "orbit", usm_json_periodic_result(&e->orbit), &eok);
         if (!eok || json_array_append_new(events, o) != 0)
             ok = 0;
     }

@@ -84,30 +84,17 @@ static int parse(periodic_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
 
 static json_t *result_json(const periodic_args *a, const usm_periodic_result *r, const char *err)
 {
-    json_t *o = json_object(), *h = json_object();
-    int ok = o && h;
+    json_t *o = json_object();
+    int ok = o != NULL;
     usm_json_put(o, "model", json_string(a->common.model->name), &ok);
     usm_json_put(o, "parameters", usm_json_params(&a->common.params), &ok);
     usm_json_put(o, "converged", json_boolean(err == NULL), &ok);
     if (err) {
         usm_json_put(o, "error", json_string(err), &ok);
-        json_decref(h);
     } else {
-        usm_json_put(o, "rotor_speed_mean", usm_json_real(r->rotor_speed_mean), &ok);
-        usm_json_put(o, "rotor_speed_ripple", usm_json_real(r->rotor_speed_ripple), &ok);
-        usm_json_put(o, "F_n_min", usm_json_real(r->F_n_min), &ok);
-        usm_json_put(o, "F_n_max", usm_json_real(r->F_n_max), &ok);
-        usm_json_put(o, "friction_needed_max", usm_json_real(r->friction_needed_max), &ok);
-        usm_json_put(o, "theta_mean", usm_json_real(r->theta_mean), &ok);
-        usm_json_put(o, "theta_min", usm_json_real(r->theta_min), &ok);
-        usm_json_put(o, "theta_max", usm_json_real(r->theta_max), &ok);
-        usm_json_put(h, "theta", usm_json_real(r->theta_harmonic_2), &ok);
-        usm_json_put(h, "F_n", usm_json_real(r->F_n_harmonic_2), &ok);
-        usm_json_put(o, "harmonic_2", h, &ok);
-        usm_json_put(o, "floquet", usm_json_floquet(&r->floquet), &ok);
-        usm_json_put(o, "contact_open", json_boolean(r->contact_open), &ok);
-        usm_json_put(o, "newton_iterations", json_integer(r->iterations), &ok);
-        usm_json_put(o, "residual", usm_json_real(r->residual), &ok);
+        json_t *orbit = usm_json_periodic_result(r);
+        ok = ok && orbit && json_object_update(o, orbit) == 0;
+        json_decref(orbit);
     }
     if (!ok) {
         json_decref(o);
