@@ -39,6 +39,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <gsl/gsl_complex_math.h>
 #include <gsl/gsl_eigen.h>
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_linalg.h>
@@ -508,37 +509,26 @@ static void orbit_outputs(const usm_periodic *w, usm_periodic_result *r)
 
 /* ---- the solver ------------------------------------------------------------------ */
 
-/* b <- A^{-1} b, k x k complex, partial pivoting; -1 when singular. */
+/* b <- A^{-1} b, k x k complex (row-major; a C99 double complex has the layout
+ * of a gsl_complex), GSL's LU with partial pivoting; -1 when singular. */
 static int complex_solve(int k, double complex *A, double complex *b)
 {
-    for (int c = 0; c < k; ++c) {
-        int piv = c;
-        for (int i = c + 1; i < k; ++i)
-            if (cabs(A[i * k + c]) > cabs(A[piv * k + c]))
-                piv = i;
-        if (!(cabs(A[piv * k + c]) > 0))
-            return -1;
-        for (int j = 0; j < k; ++j) {
-            const double complex t = A[c * k + j];
-            A[c * k + j] = A[piv * k + j];
-            A[piv * k + j] = t;
-        }
-        const double complex t = b[c];
-        b[c] = b[piv];
-        b[piv] = t;
-        for (int i = c + 1; i < k; ++i) {
-            const double complex l = A[i * k + c] / A[c * k + c];
-            for (int j = c; j < k; ++j)
-                A[i * k + j] -= l * A[c * k + j];
-            b[i] -= l * b[c];
-        }
+    gsl_matrix_complex_view Av = gsl_matrix_complex_view_array((double *)A, (size_t)k, (size_t)k);
+    gsl_vector_complex_view bv = gsl_vector_complex_view_array((double *)b, (size_t)k);
+    gsl_permutation *perm = gsl_permutation_alloc((size_t)k);
+    int sign, status = -1;
+    if (!perm)
+        return -1;
+    if (gsl_linalg_complex_LU_decomp(&Av.matrix, perm, &sign) == GSL_SUCCESS) {
+        status = 0;
+        for (int c = 0; c < k; ++c)
+            if (!(gsl_complex_abs(gsl_matrix_complex_get(&Av.matrix, (size_t)c, (size_t)c)) > 0))
+                status = -1;
+        if (status == 0 && gsl_linalg_complex_LU_svx(&Av.matrix, perm, &bv.vector) != GSL_SUCCESS)
+            status = -1;
     }
-    for (int i = k - 1; i >= 0; --i) {
-        for (int j = i + 1; j < k; ++j)
-            b[i] -= A[i * k + j] * b[j];
-        b[i] /= A[i * k + i];
-    }
-    return 0;
+    gsl_permutation_free(perm);
+    return status;
 }
 
 /* Newton's start: the ideal orbit xbar plus the linear forced response at t0.

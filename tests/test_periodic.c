@@ -30,6 +30,9 @@
 #include <stdio.h>
 #include <string.h>
 
+#include <gsl/gsl_errno.h>
+#include <gsl/gsl_linalg.h>
+
 #include "usm.h"
 #include "usm_periodic.h"
 #include "usm_simulate.h"
@@ -135,34 +138,17 @@ static int solve_with(usm_periodic *w, const ideal *id, const char *name, double
     return rc;
 }
 
-/* x <- A^{-1} b, k x k complex, partial pivoting. */
+/* b <- A^{-1} b, k x k complex, row-major (GSL's LU with partial pivoting). */
 static void csolve(int k, double complex *A, double complex *b)
 {
-    for (int c = 0; c < k; ++c) {
-        int piv = c;
-        for (int i = c + 1; i < k; ++i)
-            if (cabs(A[i * k + c]) > cabs(A[piv * k + c]))
-                piv = i;
-        for (int j = 0; j < k; ++j) {
-            double complex t = A[c * k + j];
-            A[c * k + j] = A[piv * k + j];
-            A[piv * k + j] = t;
-        }
-        double complex t = b[c];
-        b[c] = b[piv];
-        b[piv] = t;
-        for (int i = c + 1; i < k; ++i) {
-            double complex l = A[i * k + c] / A[c * k + c];
-            for (int j = c; j < k; ++j)
-                A[i * k + j] -= l * A[c * k + j];
-            b[i] -= l * b[c];
-        }
-    }
-    for (int i = k - 1; i >= 0; --i) {
-        for (int j = i + 1; j < k; ++j)
-            b[i] -= A[i * k + j] * b[j];
-        b[i] /= A[i * k + i];
-    }
+    gsl_matrix_complex_view Av = gsl_matrix_complex_view_array((double *)A, (size_t)k, (size_t)k);
+    gsl_vector_complex_view bv = gsl_vector_complex_view_array((double *)b, (size_t)k);
+    gsl_permutation *perm = gsl_permutation_alloc((size_t)k);
+    int sign;
+    CHECK(perm && gsl_linalg_complex_LU_decomp(&Av.matrix, perm, &sign) == GSL_SUCCESS &&
+              gsl_linalg_complex_LU_svx(&Av.matrix, perm, &bv.vector) == GSL_SUCCESS,
+          "complex LU solve failed");
+    gsl_permutation_free(perm);
 }
 
 /* M^{-1} v in place (M n x n, copied). */
