@@ -70,6 +70,7 @@
  */
 #include <float.h>
 #include <math.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -206,6 +207,21 @@ const usm_steady_solution *usm_steady_root(const usm_steady *s, size_t i)
 const char *usm_steady_message(const usm_steady *s) { return s->msg; }
 
 /* A number for a message: never "inf" or "nan". */
+/* A message of the solver; one that does not fit in USM_MSG_LEN ends in "..."
+ * so that a cut is visible rather than silent. */
+#if defined(__GNUC__)
+__attribute__((format(printf, 2, 3)))
+#endif
+static void steady_msg(usm_steady *s, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    const int n = vsnprintf(s->msg, USM_MSG_LEN, fmt, ap);
+    va_end(ap);
+    if (n >= USM_MSG_LEN)
+        memcpy(s->msg + USM_MSG_LEN - 4, "...", 4);
+}
+
 static const char *fmt_num(char buf[32], double x, const char *fmt)
 {
     if (isfinite(x))
@@ -1162,7 +1178,7 @@ static int search_run(usm_steady *s, const usm_params *p, const usm_steady_optio
     const int brackets = sc.brackets;
     if (brackets > 0 && notes.tilts > 0 && notes.saturated == notes.tilts) {
         char b3[32], b4[32];
-        snprintf(s->msg, USM_MSG_LEN,
+        steady_msg(s,
                  "the load T = %g N m exceeds what the friction law can transmit "
                  "(mu0 = %g, kappa = %g): at the stationary tilt %.6g rad it needs "
                  "F_t/F_n = %s, outside the law's range [%s, %s]: no rotor speed "
@@ -1191,7 +1207,7 @@ static int search_run(usm_steady *s, const usm_params *p, const usm_steady_optio
                  opt->theta_min, opt->theta_max, p->m0, fmt_num(b1, need_min, "%.4g"),
                  need_min_at);
     else if (need_max < p->m0)
-        snprintf(s->msg, USM_MSG_LEN,
+        steady_msg(s,
                  "no tilt theta in [%g, %g] rad balances the excitation: m0 = %g N m "
                  "exceeds the at most %s N m that any tilt in the range holds (at theta = "
                  "%.3g rad); a stationary tilt, if any, lies outside the range",
