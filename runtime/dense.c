@@ -157,6 +157,26 @@ static const double b13[] = {64764752532480000., 32382376266240000., 77717703038
                              40840800.,          960960.,            16380.,
                              182.,               1.};
 
+/* The squarings s and the Pade degree m (with its coefficients b) for a
+ * matrix of 1-norm a1: the lowest degree good to double precision unscaled,
+ * else degree 13 after s squarings. */
+static int pade_squarings(double a1)
+{
+    return a1 > theta[4] ? (int)ceil(log2(a1 / theta[4])) : 0;
+}
+
+static int pade_degree(double a1, int s, const double **b)
+{
+    static const double *const coef[] = {b3, b5, b7, b9};
+    for (int k = 0; s == 0 && k < 4; ++k)
+        if (a1 <= theta[k]) {
+            *b = coef[k];
+            return 2 * k + 3;
+        }
+    *b = b13;
+    return 13;
+}
+
 int usm_expm_dense(int n, const double *A, double *E)
 {
     double As[NN], P[5][NN], U[NN], V[NN], W[NN];
@@ -166,9 +186,7 @@ int usm_expm_dense(int n, const double *A, double *E)
     const double a1 = norm1(n, A);
     if (!isfinite(a1))
         return -1;
-    int s = 0;
-    if (a1 > theta[4])
-        s = (int)ceil(log2(a1 / theta[4]));
+    const int s = pade_squarings(a1);
     const double scale = ldexp(1.0, -s);
     for (int k = 0; k < nn; ++k)
         As[k] = A[k] * scale;
@@ -178,23 +196,7 @@ int usm_expm_dense(int n, const double *A, double *E)
         P[0][i * n + i] = 1.0;
     usm_matmul_dense(n, As, As, P[1]);
     const double *b;
-    int m;
-    if (s == 0 && a1 <= theta[0]) {
-        b = b3;
-        m = 3;
-    } else if (s == 0 && a1 <= theta[1]) {
-        b = b5;
-        m = 5;
-    } else if (s == 0 && a1 <= theta[2]) {
-        b = b7;
-        m = 7;
-    } else if (s == 0 && a1 <= theta[3]) {
-        b = b9;
-        m = 9;
-    } else {
-        b = b13;
-        m = 13;
-    }
+    const int m = pade_degree(a1, s, &b);
     if (m >= 5)
         usm_matmul_dense(n, P[1], P[1], P[2]);
     if (m >= 7)
@@ -284,9 +286,7 @@ int usm_expm_frechet_dense(int n, const double *A, const double *C, double *E, d
     }
     if (!isfinite(a1))
         return -1;
-    int s = 0;
-    if (a1 > theta[4])
-        s = (int)ceil(log2(a1 / theta[4]));
+    const int s = pade_squarings(a1);
     const double scale = ldexp(1.0, -s);
     for (int k = 0; k < nn; ++k) {
         As.a[k] = A[k] * scale;
@@ -297,23 +297,7 @@ int usm_expm_frechet_dense(int n, const double *A, const double *C, double *E, d
         P[0].a[i * n + i] = 1.0;
     pair_mul(n, &As, &As, &P[1]);
     const double *b;
-    int m;
-    if (s == 0 && a1 <= theta[0]) {
-        b = b3;
-        m = 3;
-    } else if (s == 0 && a1 <= theta[1]) {
-        b = b5;
-        m = 5;
-    } else if (s == 0 && a1 <= theta[2]) {
-        b = b7;
-        m = 7;
-    } else if (s == 0 && a1 <= theta[3]) {
-        b = b9;
-        m = 9;
-    } else {
-        b = b13;
-        m = 13;
-    }
+    const int m = pade_degree(a1, s, &b);
     if (m >= 5)
         pair_mul(n, &P[1], &P[1], &P[2]);
     if (m >= 7)

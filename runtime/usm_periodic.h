@@ -21,6 +21,8 @@
 #ifndef USM_PERIODIC_H
 #define USM_PERIODIC_H
 
+#include <stdio.h>
+
 #include "usm.h"
 
 #ifdef __cplusplus
@@ -89,6 +91,11 @@ int usm_periodic_solve(usm_periodic *w, const usm_params *p, const double *x0,
  * (t, x[0..nx-1], F_n, F_t, rotor_speed), row-major with nx + 4 columns;
  * NULL before a converged solve. */
 const double *usm_periodic_samples(const usm_periodic *w);
+
+/* The samples of the last converged orbit as CSV in the project's dialect
+ * (header with units: t [s], the states, F_n [N], F_t [N], rotor_speed [1/s]);
+ * -1 before a converged solve or on a write error. */
+int usm_periodic_write_orbit_csv(const usm_periodic *w, FILE *out);
 
 /* Why the last solve failed, or "".  Owned by w. */
 const char *usm_periodic_message(const usm_periodic *w);

@@ -1,18 +1,15 @@
 /* usm periodic: the periodic steady state of a real motor by shooting
  * (library: usm_periodic.h).  Never overwrites --orbit unless --force. */
 #define _POSIX_C_SOURCE 200809L
-#include <errno.h>
-#include <fcntl.h>
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
-#include <unistd.h>
 
 #include <jansson.h>
 
 #include "commands.h"
-#include "csv_out.h"
 #include "diag.h"
+#include "io_msg.h" /* usm_io_create */
 #include "json_out.h"
 #include "options.h"
 #include "usm_periodic.h"
@@ -105,39 +102,12 @@ static json_t *result_json(const periodic_args *a, const usm_periodic_result *r,
 
 static int write_orbit(const periodic_args *a, const usm_periodic *w, char msg[CLI_MSG_LEN])
 {
-    const usm_model *m = a->common.model;
-    const double *s = usm_periodic_samples(w);
-    const int n = m->nx, ncol = n + 4;
-    usm_csv_column cols[USM_MAX_NX + 4];
-    int fd = open(a->orbit, O_WRONLY | O_CREAT | (a->force ? O_TRUNC : O_EXCL), 0666);
-    FILE *f;
-    if (fd < 0) {
-        cli_msg(msg, "--orbit %s: %s", a->orbit,
-                errno == EEXIST ? "exists; refusing to overwrite it (use --force)" : strerror(errno));
-        return USM_EINPUT;
-    }
-    if (!(f = fdopen(fd, "w"))) {
-        close(fd);
-        cli_msg(msg, "--orbit %s: %s", a->orbit, strerror(errno));
-        return USM_EFAILED;
-    }
-    cols[0] = (usm_csv_column){"t", "s"};
-    for (int i = 0; i < n; ++i) {
-        const char *nm = m->state_names[i];
-        const size_t len = strlen(nm);
-        cols[i + 1] = (usm_csv_column){nm, len > 3 && strcmp(nm + len - 3, "dot") == 0 ? "rad/s" : "rad"};
-    }
-    cols[n + 1] = (usm_csv_column){"F_n", "N"};
-    cols[n + 2] = (usm_csv_column){"F_t", "N"};
-    cols[n + 3] = (usm_csv_column){"rotor_speed", "1/s"};
-    usm_csv_header(f, cols, ncol);
-    for (int k = 0; k < USM_PERIODIC_SAMPLES; ++k) {
-        for (int j = 0; j < ncol; ++j)
-            usm_csv_num(f, j == 0, s[k * ncol + j]);
-        fputc('\n', f);
-    }
-    if (fclose(f) != 0) {
-        cli_msg(msg, "--orbit %s: write error", a->orbit);
+    int status;
+    FILE *f = usm_io_create(a->orbit, a->force, msg, &status);
+    if (!f)
+        return status;
+    if ((usm_periodic_write_orbit_csv(w, f) != 0) | (fclose(f) != 0)) {
+        cli_msg(msg, "%s: write error", a->orbit);
         return USM_EFAILED;
     }
     return USM_OK;
@@ -185,7 +155,7 @@ int cli_periodic_main(int argc, char **argv)
     }
     int status = usm_periodic_solve(w, &a.common.params, NULL, NULL, &r);
     if (status == USM_OK && a.orbit && (status = write_orbit(&a, w, msg)) != USM_OK)
-        cli_error("%s", msg);
+        cli_error("--orbit %s", msg);
     else if (status == USM_EINPUT)
         cli_error("%s", usm_periodic_message(w));
     else if (status == USM_OK || a.common.json) {
