@@ -104,12 +104,12 @@ if(TARGET usm_cli)
   install(TARGETS usm_cli RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 endif()
 # share/usm: the data files the library reads (the report's, the plots';
-# runtime/data_dir.h)
+# runtime/io/data_dir.h)
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/data/ DESTINATION ${CMAKE_INSTALL_DATADIR}/usm)
 
-# Public headers: runtime/usm*.h and the generated kernels' headers, from the
+# Public headers: runtime/include/usm/*.h and the generated kernels' headers, from the
 # build tree when they are regenerated there.
-file(GLOB USM_PUBLIC_RUNTIME_HEADERS CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/runtime/usm*.h)
+file(GLOB USM_PUBLIC_RUNTIME_HEADERS CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/runtime/include/usm/*.h)
 list(SORT USM_PUBLIC_RUNTIME_HEADERS)
 set(USM_PUBLIC_GENERATED_HEADERS "")
 foreach(f IN LISTS USM_GENERATED_NAMES)

@@ -42,7 +42,7 @@ UNSTATED = {"imperfection": "none"}
 # Friction laws mu(v_rel) of the slip model, as formulas in v_rel, mu0, kappa.
 # The runtime needs mu continuous in v_rel; it may be non-monotone (then
 # several rotor speeds can balance one load, and the stationary solver reports
-# each of them; see runtime/steady.c).
+# each of them; see runtime/solve/steady.c).
 FRICTION_LAWS = {
     "atan": "mu0*atan(kappa*v_rel)",
     "tanh": "mu0*tanh(kappa*v_rel)",

@@ -9,7 +9,7 @@
 
 #include "usm_kernels.h"
 
-const char usm_input_digest[] = "40843a4893bbc6b0278134c70a0944be13b68f5a6a41a918a4dcc2c517cf5f10";
+const char usm_input_digest[] = "f8613f847cf69db5623277203635ef165739009e511396ad0230e9bf77f00980";
 
 const usm_param_info usm_param_table[USM_NPARAMS] = {
     {"m0", "N m", "excitation torque amplitude", "positive", offsetof(usm_params, m0)},

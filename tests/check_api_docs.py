@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Check that the runtime's public headers are documented.
 
-For every header given (runtime/usm*.h):
+For every header given (runtime/include/usm/*.h):
   - its opening comment says what it offers and states its thread safety
     (a line containing "thread", any case);
   - every function declaration has a comment of its own: a comment ends on

@@ -42,7 +42,7 @@ for f in usmConfig.cmake usmConfigVersion.cmake usmTargets.cmake; do
     [ -e "$libdir/cmake/usm/$f" ] || fail "$libdir/cmake/usm/$f not installed"
 done
 # Every public header of the source and build trees is installed.
-for h in "$src"/runtime/usm*.h; do
+for h in "$src"/runtime/include/usm/*.h; do
     [ -e "$prefix/include/usm/$(basename "$h")" ] || fail "$(basename "$h") not installed"
 done
 

@@ -6,7 +6,7 @@
  *    non-cyclic state at t0 within 1e-10 of its scale (theta: the tilt,
  *    rates: Omega, the tilt rate: Omega theta, the twist angle: m0/c_t, the
  *    rotor speed: itself, phi: 1 rad; 1e-9 for the twist angle and the rotor
- *    speed, whose noise floor is 2e-10: see runtime/periodic.c).  The stationary solution comes from
+ *    speed, whose noise floor is 2e-10: see runtime/solve/periodic.c).  The stationary solution comes from
  *    usm_steady on the separately derived twist_integrated model, and the
  *    orbit's multipliers must equal usm_floquet's on it (the default method,
  *    a matrix exponential: not an integration) to 1e-8.
@@ -102,7 +102,7 @@ static void zero_imperfection(const char *base, usm_periodic *w, const ideal *id
     for (int i = 0; i < m->nx; ++i)
         if (!m->cyclic[i]) {
             /* the twist angle's floor: tau' = phidot + psidot cos(theta) cancels two
-             * rates of size Omega, about 2e-10 of m0/c_t per period (runtime/periodic.c);
+             * rates of size Omega, about 2e-10 of m0/c_t per period (runtime/solve/periodic.c);
              * the rotor speed of the slip model follows tau through the load balance */
             const double tol = i == m->x_tau || i == m->x_phi_Rdot ? 1e-9 : 1e-10;
             const double d = fabs(r.x0[i] - id->xbar[i]) / id->scale[i];

@@ -1,5 +1,5 @@
 /* test_seed_trig: steady_seed_trig, given sin, cos and tan of the tilt as the
- * tilt search computes them (runtime/steady.c keeps them with its grid), gives
+ * tilt search computes them (runtime/solve/steady.c keeps them with its grid), gives
  * the outputs of steady_seed bit for bit, for every model.
  *
  * The tilt search samples the trig variant but refines roots with steady_seed

@@ -11,13 +11,13 @@
 
 #include "commands.h"
 #include "diag.h"
-#include "io_msg.h" /* usm_io_create */
+#include "io/io_msg.h" /* usm_io_create */
 #include "options.h"
-#include "plot_run.h"
-#include "report_map.h"
+#include "io/plot_run.h"
+#include "report/report_map.h"
 #include "usm.h"
 #ifdef USM_HAVE_MPI
-#include "mpi_run.h"
+#include "mpi/mpi_run.h"
 #endif
 
 static void usage(FILE *out)

@@ -9,9 +9,9 @@
 
 #include "commands.h"
 #include "diag.h"
-#include "json_out.h"
+#include "io/json_out.h"
 #include "options.h"
-#include "steady_out.h"
+#include "io/steady_out.h"
 #include "usm_optimize.h"
 
 typedef struct opt_args {

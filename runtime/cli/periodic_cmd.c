@@ -9,8 +9,8 @@
 
 #include "commands.h"
 #include "diag.h"
-#include "io_msg.h" /* usm_io_create */
-#include "json_out.h"
+#include "io/io_msg.h" /* usm_io_create */
+#include "io/json_out.h"
 #include "options.h"
 #include "usm_periodic.h"
 

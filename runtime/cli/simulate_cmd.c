@@ -13,9 +13,9 @@
 
 #include "commands.h"
 #include "diag.h"
-#include "io_msg.h" /* usm_io_create */
+#include "io/io_msg.h" /* usm_io_create */
 #include "options.h"
-#include "plot_run.h"
+#include "io/plot_run.h"
 #include "usm_io.h"
 #include "usm.h"
 #include "usm_simulate.h"

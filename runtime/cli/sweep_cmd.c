@@ -12,7 +12,7 @@
 #include "commands.h"
 #include "diag.h"
 #include "options.h"
-#include "plot_run.h"
+#include "io/plot_run.h"
 #include "usm_io.h"
 #include "usm_periodic_sweep.h"
 #include "usm_sweep.h"

@@ -10,10 +10,10 @@
 
 #include "commands.h"
 #include "options.h"
-#include "plot_run.h"
+#include "io/plot_run.h"
 #include "usm_tolerance.h"
 #ifdef USM_HAVE_MPI
-#include "mpi_run.h"
+#include "mpi/mpi_run.h"
 #endif
 
 static void usage(FILE *out)

@@ -1,4 +1,4 @@
-/* libFuzzer target: the parameter-file parser (runtime/params_file.c).
+/* libFuzzer target: the parameter-file parser (runtime/io/params_file.c).
  *
  * Any bytes must give either USM_OK with every parameter finite and zero or
  * normal (the number parser's promise), or USM_EINPUT with a message; never a

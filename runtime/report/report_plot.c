@@ -15,11 +15,11 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "csv_out.h"
-#include "data_dir.h"
-#include "plot_run.h"
+#include "io/csv_out.h"
+#include "io/data_dir.h"
+#include "io/plot_run.h"
 #include "report_internal.h"
-#include "template.h"
+#include "io/template.h"
 
 
 const usm_report_figure usm_report_figures[REPORT_NFIGURES] = {

@@ -14,10 +14,10 @@
 #include <sys/types.h>
 #include <unistd.h>
 
-#include "data_dir.h"
-#include "io_msg.h"
+#include "io/data_dir.h"
+#include "io/io_msg.h"
 #include "report_internal.h"
-#include "template.h"
+#include "io/template.h"
 
 void usm_report_options_default(usm_report_options *opt)
 {

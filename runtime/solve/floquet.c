@@ -51,8 +51,8 @@
 #include <nvector/nvector_serial.h>
 #include <sunnonlinsol/sunnonlinsol_fixedpoint.h>
 
-#include "cvode_msg.h"
-#include "dense.h"
+#include "core/cvode_msg.h"
+#include "core/dense.h"
 #include "usm.h"
 
 #define TWO_PI 6.283185307179586476925286766559

@@ -4,7 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "pool_internal.h"
+#include "core/pool_internal.h"
 #include "usm_map.h"
 
 /* Bisection stops when the bracket is this fraction of the y range. */

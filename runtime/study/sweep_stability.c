@@ -17,7 +17,7 @@
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_roots.h>
 
-#include "pool_internal.h"
+#include "core/pool_internal.h"
 #include "sweep_internal.h"
 #include "usm_map.h"
 

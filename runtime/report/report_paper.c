@@ -6,7 +6,7 @@
 
 #include <jansson.h>
 
-#include "data_dir.h"
+#include "io/data_dir.h"
 #include "report_internal.h"
 
 static int text(json_t *obj, const char *key, char *out, size_t len, const char *where,

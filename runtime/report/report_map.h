@@ -10,7 +10,7 @@
 
 #include <jansson.h>
 
-#include "io_msg.h"
+#include "io/io_msg.h"
 #include "usm.h"
 #include "usm_map.h"
 

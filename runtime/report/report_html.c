@@ -10,7 +10,7 @@
 #include <string.h>
 
 #include "report_internal.h"
-#include "template.h"
+#include "io/template.h"
 
 static const char *const style =
     "body{font-family:'DejaVu Sans',sans-serif;max-width:1100px;margin:2em auto;padding:0 1em;"

@@ -27,7 +27,7 @@
 #include <gsl/gsl_matrix.h>
 #include <gsl/gsl_permutation.h>
 
-#include "dense.h"
+#include "core/dense.h"
 #include "usm_design.h"
 
 #define NMAX USM_MAX_NX

@@ -15,7 +15,7 @@
 #include <gsl/gsl_linalg.h>
 #include <gsl/gsl_roots.h>
 
-#include "pool_internal.h"
+#include "core/pool_internal.h"
 #include "usm_sweep.h"
 
 /* More grid points than this are a typing error, not a request. */

@@ -12,7 +12,7 @@
 #include <gsl/gsl_randist.h>
 #include <gsl/gsl_rng.h>
 
-#include "pool_internal.h"
+#include "core/pool_internal.h"
 #include "tolerance_internal.h"
 #include "usm_map.h"
 

@@ -43,7 +43,7 @@ typedef struct usm_map_gathered {
     char msg[USM_MSG_LEN];      /* why the run failed */
 } usm_map_gathered;
 
-/* usm_map_run distributed over MPI_COMM_WORLD (runtime/map_mpi.c: pairs of
+/* usm_map_run distributed over MPI_COMM_WORLD (runtime/mpi/map_mpi.c: pairs of
  * columns round-robin over the ranks, each rank using opt->threads threads).
  * Every rank returns the same status; on rank 0, g holds the map, identical
  * bit for bit to a serial run's (free it with usm_map_gathered_free); on the

@@ -160,7 +160,7 @@ void usm_steady_free(usm_steady *s);
 
 /* Find every stationary solution in the tilt range: every tilt, and for the
  * slip model every rotor speed that balances the rotor there (a non-monotone
- * friction law can have several); runtime/steady.c states the search's
+ * friction law can have several); runtime/solve/steady.c states the search's
  * argument and its resolution limit.  USM_OK when at least one root
  * converged; USM_ENOSOLUTION (with a reason in usm_steady_message) when none
  * exists; USM_EINPUT for bad parameters; USM_EFAILED when out of memory.
@@ -192,7 +192,7 @@ typedef enum {
  * increasing tilt up to that root and stopped there: Newton alone cannot
  * tell whether a root of lower tilt, the one the full search would return,
  * exists.  The steps below it only sample the search function's sign from
- * the squared torque (runtime/steady.c), so the cost is that of the search
+ * the squared torque (runtime/solve/steady.c), so the cost is that of the search
  * up to the root's tilt, without the roots above it.  usm_steady_count is 1
  * after USM_OK; usm_steady_warm says whether Newton's root was the primary
  * (a different branch, or no convergence, changes nothing in the result).
@@ -214,7 +214,7 @@ const usm_steady_solution *usm_steady_root(const usm_steady *s, size_t i);
 const char *usm_steady_message(const usm_steady *s);
 
 /* Range of the slip model's friction law mu(v_rel) over all slip speeds, as
- * the solver sees it (its grid, extrema and far ends; runtime/steady.c): no
+ * the solver sees it (its grid, extrema and far ends; runtime/solve/steady.c): no
  * rotor speed balances a load needing F_t/F_n outside [*mu_inf, *mu_sup].
  * The supremum of a non-monotone law can be an interior peak, not the value
  * at large slip.  USM_OK, USM_EINPUT (bad parameters, or a stick model: no

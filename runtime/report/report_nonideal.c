@@ -13,7 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "pool_internal.h"
+#include "core/pool_internal.h"
 #include "report_internal.h"
 
 #define PI 3.14159265358979323846264338327950

@@ -12,7 +12,7 @@
 #include <string.h>
 
 #include "mpi_run.h"
-#include "tolerance_internal.h"
+#include "study/tolerance_internal.h"
 
 int usm_mpi_launched(void)
 {

@@ -20,7 +20,7 @@
 #include <sunlinsol/sunlinsol_dense.h>
 #include <sunmatrix/sunmatrix_dense.h>
 
-#include "cvode_msg.h"
+#include "core/cvode_msg.h"
 #include "usm_simulate.h"
 
 #define TWO_PI 6.283185307179586476925286766559

@@ -6,8 +6,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "csv_out.h"
-#include "json_out.h"
+#include "io/csv_out.h"
+#include "io/json_out.h"
 #include "usm_map.h"
 
 const char *usm_report_boundary_name(int kind)

@@ -16,7 +16,7 @@
 
 #include <jansson.h>
 
-#include "io_msg.h"
+#include "io/io_msg.h"
 #include "report_map.h"
 #include "usm.h"
 #include "usm_design.h"

@@ -49,9 +49,9 @@
 #include <nvector/nvector_serial.h>
 #include <sunnonlinsol/sunnonlinsol_fixedpoint.h>
 
-#include "csv_out.h"
-#include "cvode_msg.h"
-#include "dense.h"
+#include "io/csv_out.h"
+#include "core/cvode_msg.h"
+#include "core/dense.h"
 #include "usm_periodic.h"
 
 #define TWO_PI 6.283185307179586476925286766559

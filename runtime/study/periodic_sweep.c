@@ -8,8 +8,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "csv_out.h"
-#include "json_out.h"
+#include "io/csv_out.h"
+#include "io/json_out.h"
 
 /* A trial step is accepted when Newton needed at most this many iterations;
  * more means the prediction was poor, and the next step is halved. */
