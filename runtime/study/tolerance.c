@@ -20,32 +20,6 @@
  * never physical: an input error, not a rare event. */
 #define MAX_REDRAWS 10000
 
-static const char *const output_names[USM_TOL_NOUTPUTS] = {
-    "theta", "rotor_speed", "F_n", "F_t", "max_modulus", "efficiency",
-    "stable", "stick_admissible", "exists"};
-static const char *const output_units[USM_TOL_NOUTPUTS] = {
-    "rad", "1/s", "N", "N", "1", "1", NULL, NULL, NULL};
-
-const double USM_TOLERANCE_QUANTILES[5] = {0.01, 0.05, 0.5, 0.95, 0.99};
-
-const char *usm_tolerance_output_name(int k)
-{
-    return k >= 0 && k < USM_TOL_NOUTPUTS ? output_names[k] : NULL;
-}
-
-const char *usm_tolerance_output_unit(int k)
-{
-    return k >= 0 && k < USM_TOL_NOUTPUTS ? output_units[k] : NULL;
-}
-
-int usm_tolerance_output_find(const char *name)
-{
-    for (int k = 0; name && k < USM_TOL_NOUTPUTS; ++k)
-        if (strcmp(output_names[k], name) == 0)
-            return k;
-    return -1;
-}
-
 /* ---- parsing ---------------------------------------------------------------------- */
 
 /* A finite number that uses all of [s, end). */
@@ -414,12 +388,6 @@ static int sample(usm_tolerance *t, worker *w, uint64_t i, double *row, char msg
     return USM_OK;
 }
 
-uint64_t tol_block_size(const usm_tolerance *t, uint64_t b)
-{
-    const uint64_t first = b * USM_TOLERANCE_BLOCK, n = t->opt.samples - first;
-    return n < USM_TOLERANCE_BLOCK ? n : USM_TOLERANCE_BLOCK;
-}
-
 static int block_task(void *ctx, void *state, size_t k)
 {
     run_ctx *c = ctx;
@@ -433,14 +401,6 @@ static int block_task(void *ctx, void *state, size_t k)
             return rc;
     }
     return USM_OK;
-}
-
-uint64_t tol_pack_size(const usm_tolerance *t, const uint64_t *blocks, size_t n)
-{
-    uint64_t samples = 0;
-    for (size_t k = 0; k < n; ++k)
-        samples += tol_block_size(t, blocks[k]);
-    return samples * (uint64_t)t->width;
 }
 
 int tol_compute(usm_tolerance *t, const uint64_t *blocks, size_t n, double *pack)
@@ -467,34 +427,6 @@ int tol_compute(usm_tolerance *t, const uint64_t *blocks, size_t n, double *pack
     free(c.msg);
     free(c.offset);
     return status;
-}
-
-void tol_unpack(usm_tolerance *t, const uint64_t *blocks, size_t n, const double *pack)
-{
-    for (size_t k = 0; k < n; ++k) {
-        const uint64_t cnt = tol_block_size(t, blocks[k]) * (uint64_t)t->width;
-        memcpy(t->rows + blocks[k] * USM_TOLERANCE_BLOCK * (uint64_t)t->width, pack,
-               cnt * sizeof *pack);
-        pack += cnt;
-        t->done[blocks[k]] = 1;
-    }
-}
-
-size_t tol_pending(const usm_tolerance *t, uint64_t *list)
-{
-    size_t n = 0;
-    for (uint64_t b = 0; b < t->nblocks; ++b)
-        if (!t->done[b])
-            list[n++] = b;
-    return n;
-}
-
-double tol_now(void)
-{
-    struct timespec ts;
-    if (clock_gettime(CLOCK_MONOTONIC, &ts) != 0)
-        return 0.0;
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
 int tol_checkpoint_due(const usm_tolerance *t, int last, int stop)
@@ -551,7 +483,7 @@ static int build_config(usm_tolerance *t)
                       v->relative ? "relative" : "absolute", v->width, v->lo, v->hi);
     }
     for (int s = 0; s < t->nspec; ++s)
-        bad |= append(&t->config, &len, "spec %s %s %a\n", output_names[t->spec[s].output],
+        bad |= append(&t->config, &len, "spec %s %s %a\n", usm_tolerance_output_name(t->spec[s].output),
                       t->spec[s].upper ? "<=" : ">=", t->spec[s].bound);
     return bad ? -1 : 0;
 }

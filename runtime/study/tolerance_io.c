@@ -14,7 +14,7 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "tolerance_internal.h"
+#include "tolerance_io.h"
 
 static const char MAGIC[] = "usm tolerance checkpoint 1\n";
 static const uint64_t ORDER = 0x0102030405060708ULL;

@@ -7,7 +7,7 @@
 #include <gsl/gsl_sort.h>
 #include <gsl/gsl_statistics_double.h>
 
-#include "tolerance_internal.h"
+#include "tolerance_stats.h"
 
 /* Two-sided 95 % normal quantile, z = Phi^-1(0.975). */
 #define Z95 1.959963984540054

@@ -1,0 +1,63 @@
+/* tolerance_rows.h: the state of a tolerance study and its rows of samples,
+ * the floor that the other parts of the study (tolerance.c, tolerance_io.c,
+ * tolerance_stats.c, ../mpi/tolerance_mpi.c) stand on.  Not installed; not
+ * part of the API.
+ *
+ * The samples are kept as rows of doubles, one per sample, in sample order:
+ *   [0, nvary)            the varied parameters' values
+ *   nvary + k             output k (USM_TOL_NOUTPUTS; NaN where it does not exist)
+ *   nvary + NOUTPUTS      good (1: counts for the yield)
+ *   nvary + NOUTPUTS + 1  redraws of this sample
+ * A row of plain doubles is what the checkpoint and MPI move, bit for bit. */
+#ifndef USM_TOLERANCE_ROWS_H
+#define USM_TOLERANCE_ROWS_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "usm_tolerance.h"
+
+#define TOL_MAX_SPECS 64
+#define TOL_ROW_GOOD(t) ((t)->nvary + USM_TOL_NOUTPUTS)
+#define TOL_ROW_REDRAWS(t) ((t)->nvary + USM_TOL_NOUTPUTS + 1)
+
+struct usm_tolerance {
+    const usm_model *m;
+    usm_tolerance_vary vary[USM_NPARAMS];
+    int nvary;
+    usm_tolerance_spec spec[TOL_MAX_SPECS];
+    int nspec;
+    /* the run */
+    usm_params p;
+    usm_tolerance_options opt;
+    int width;              /* doubles per row: nvary + USM_TOL_NOUTPUTS + 2 */
+    uint64_t nblocks;
+    unsigned char *done;    /* per block: computed (or read from the checkpoint) */
+    double *rows;           /* samples x width */
+    char *config;           /* the study's configuration text (checkpoint header) */
+    double last_write;      /* monotonic time of the last checkpoint write [s] */
+    double write_seconds;   /* how long that write took */
+    /* the result */
+    int have_result;
+    usm_tolerance_summary sum;
+    double influence[USM_TOL_NNUMERIC][USM_NPARAMS];
+    char msg[USM_MSG_LEN];
+};
+
+/* Samples in block b. */
+uint64_t tol_block_size(const usm_tolerance *t, uint64_t b);
+
+/* Doubles that the rows of the n blocks listed take. */
+uint64_t tol_pack_size(const usm_tolerance *t, const uint64_t *blocks, size_t n);
+
+/* Copy the packed rows of the n blocks listed into t->rows; mark them done. */
+void tol_unpack(usm_tolerance *t, const uint64_t *blocks, size_t n, const double *pack);
+
+/* The blocks not done yet, in increasing order, into list (nblocks room);
+ * returns how many. */
+size_t tol_pending(const usm_tolerance *t, uint64_t *list);
+
+/* Seconds on a monotonic clock. */
+double tol_now(void);
+
+#endif /* USM_TOLERANCE_ROWS_H */
