@@ -10,7 +10,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "sweep_internal.h"
+#include "sweep_branch.h"
+#include "sweep_stability.h"
 
 struct usm_sweep {
     const usm_model *m;
@@ -27,33 +28,6 @@ struct usm_sweep {
     double progress_split;
     size_t done;          /* grid points settled by the continuation phase */
 };
-
-const char *usm_event_name(usm_event_type type)
-{
-    switch (type) {
-    case USM_EVENT_FOLD:
-        return "fold";
-    case USM_EVENT_STICK_LIMIT:
-        return "stick_limit";
-    case USM_EVENT_FRICTION_SATURATION:
-        return "friction_saturation";
-    case USM_EVENT_STABILITY_CHANGE:
-        return "stability_change";
-    case USM_EVENT_TILT_ZERO:
-        return "tilt_zero";
-    case USM_EVENT_RANGE_END:
-        return "range_end";
-    case USM_EVENT_STALL:
-        return "stall";
-    case USM_EVENT_MAXIMUM:
-        return "maximum";
-    case USM_EVENT_MINIMUM:
-        return "minimum";
-    case USM_EVENT_CROSSING:
-        return "crossing";
-    }
-    return "unknown";
-}
 
 void usm_sweep_options_default(usm_sweep_options *opt)
 {

@@ -30,7 +30,7 @@
 
 #include <gsl/gsl_errno.h>
 
-#include "sweep_internal.h"
+#include "sweep_branch.h"
 
 #define NEWTON_MAX 12
 #define NEWTON_TOL 1e-10      /* max |dz| of the last Newton step (scaled units) */

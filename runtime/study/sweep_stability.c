@@ -18,7 +18,7 @@
 #include <gsl/gsl_roots.h>
 
 #include "core/pool_internal.h"
-#include "sweep_internal.h"
+#include "sweep_stability.h"
 #include "usm_map.h"
 
 #define TWO_PI 6.283185307179586476925286766559

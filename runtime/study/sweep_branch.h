@@ -1,53 +1,12 @@
-/* sweep_internal.h: the parts of the sweep.  Not installed; not part of the API.
- *
- * The calls go one way: sweep.c (API, options, grid, results, order of the
- * work) calls sweep_branch.c (pseudo-arclength continuation and the events on
- * the branch) and sweep_stability.c (Floquet multipliers on the worker pool,
- * stability changes); those two know nothing of usm_sweep and report what they
- * find through a sink (a struct of callbacks) that sweep.c provides.
- */
-#ifndef USM_SWEEP_INTERNAL_H
-#define USM_SWEEP_INTERNAL_H
-
-#include <stdio.h>
-#include <string.h>
+/* sweep_branch.h: the continuation of a sweep's branch (sweep_branch.c).  Not
+ * installed; not part of the API. */
+#ifndef USM_SWEEP_BRANCH_H
+#define USM_SWEEP_BRANCH_H
 
 #include <gsl/gsl_linalg.h>
 #include <gsl/gsl_roots.h>
 
-#include "core/pool_internal.h"
-#include "usm_sweep.h"
-
-/* More grid points than this are a typing error, not a request. */
-#define SWEEP_MAX_POINTS 1000000
-
-/* More worker threads than this would only contend for the cores. */
-#define SWEEP_MAX_THREADS POOL_MAX_THREADS
-
-/* Unknowns of the continuation: u (nu of them) and the parameter. */
-#define SWEEP_MAX_N (USM_MAX_NU + 1)
-
-/* Where the parts report what they find. */
-typedef struct sweep_sink {
-    void *ctx;
-    /* Grid point i settled: sol the branch's root there (NULL: none, error
-     * says why), roots the number of stationary solutions at its value.  May
-     * be called again for the same i with a better result. */
-    void (*point)(void *ctx, size_t i, const usm_steady_solution *sol, int roots,
-                  const char *error);
-    /* One event (copied by the callee).  0, or -1 when out of memory. */
-    int (*event)(void *ctx, const usm_sweep_event *e);
-    /* Fraction [0, 1] of the Floquet phase done. */
-    void (*progress)(void *ctx, double fraction);
-} sweep_sink;
-
-/* "T = 0.0076 N m" style text of a parameter value, for messages. */
-static inline const char *sweep_value_text(const usm_param_info *info, double value, char buf[64])
-{
-    const int unit = strcmp(info->unit, "1") != 0; /* a dimensionless value reads better bare */
-    snprintf(buf, 64, "%s = %.10g%s%s", info->name, value, unit ? " " : "", unit ? info->unit : "");
-    return buf;
-}
+#include "sweep_sink.h"
 
 /* The branch r(u; lambda) = 0 in scaled coordinates z = (u / su, lambda / Lambda):
  * the components differ by ten orders of magnitude (theta ~ 1e-4 rad, f ~ 4e4 Hz),
@@ -106,15 +65,4 @@ int sweep_trace_grid(sweep_branch *b, const usm_params *p, const usm_sweep_optio
 int sweep_finish_points(const usm_model *m, const usm_params *p, const usm_sweep_options *opt,
                         usm_sweep_point *pts, size_t n, char msg[USM_MSG_LEN]);
 
-/* sweep_stability.c: the multipliers of every converged point of pts (into
- * pts[i].floquet / floquet_error, on opt->threads workers), then the
- * stability changes between neighbouring points as events.  USM_OK or
- * USM_EFAILED with msg. */
-int sweep_floquet_points(const usm_model *m, const usm_params *p, const usm_sweep_options *opt,
-                         usm_sweep_point *pts, size_t n, const sweep_sink *sink,
-                         char msg[USM_MSG_LEN]);
-int sweep_stability_events(const usm_model *m, const usm_params *p,
-                           const usm_sweep_options *opt, const usm_sweep_point *pts, size_t n,
-                           const sweep_sink *sink, char msg[USM_MSG_LEN]);
-
-#endif /* USM_SWEEP_INTERNAL_H */
+#endif /* USM_SWEEP_BRANCH_H */
