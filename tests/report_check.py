@@ -537,6 +537,19 @@ def main():
             ok("usm map --json: 9 points, boundaries")
         else:
             fail(f"usm map --json: exit {r.returncode}: {r.stdout[:200]} {r.stderr}")
+        # --out writes what stdout shows, and says nothing (issue 22: it exited 1
+        # with "write error" although the file was complete)
+        grid = ["map", "--x-points", "2", "--y-points", "2"]
+        shown = run(*grid)
+        new_out = os.path.join(tmp, "map_new.csv")
+        written = run(*grid, "--out", new_out)
+        text = open(new_out).read() if os.path.exists(new_out) else None
+        if (shown.returncode == 0 and written.returncode == 0 and written.stderr == ""
+                and text == shown.stdout and len(text.splitlines()) == 5):
+            ok("usm map --out: exit 0, silent, the file equal to stdout's table")
+        else:
+            fail(f"usm map --out: exit {written.returncode}, stderr {written.stderr!r}, "
+                 f"file {'equal' if text == shown.stdout else 'different'}")
         csv_out = os.path.join(tmp, "map.csv")
         with open(csv_out, "w") as f:
             f.write("keep\n")

@@ -25,6 +25,8 @@ FILE *usm_io_create(const char *path, int force, char msg[USM_IO_MSG_LEN], int *
         usm_io_msg(msg, "%s: %s", path, strerror(errno));
         close(fd);
         *status = USM_EFAILED;
+        return NULL;
     }
+    *status = USM_OK;
     return f;
 }
