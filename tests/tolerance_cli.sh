@@ -19,6 +19,8 @@ expect_bad '--vary c_t' 'unknown distribution' tolerance --samples 10 --vary c_t
 expect_bad '--vary c_t' 'not a distribution' tolerance --samples 10 --vary c_t=normal:5%%
 expect_bad '--vary c_t' 'LO < HI' tolerance --samples 10 --vary c_t=uniform:2:1
 expect_bad '--vary c_t' 'positive' tolerance --samples 10 --vary c_t=normal:-1
+expect_bad '--vary F0' 'smallest normal' tolerance --samples 10 --vary 'F0=normal:0x1p-1074%'
+expect_bad '--vary F0' 'smallest normal' tolerance --samples 10 --vary 'F0=uniform:1e-307%'
 expect_bad '--vary' 'expected NAME=DIST' tolerance --samples 10 --vary c_t
 expect_bad '--vary c_t' 'varied twice' tolerance --samples 10 --vary c_t=normal:1% --vary c_t=normal:2%
 expect_bad '--spec speed' 'unknown output' tolerance --samples 10 --vary c_t=normal:1% --spec 'speed<=1'

@@ -98,6 +98,13 @@ int usm_tolerance_vary_parse(const char *text, usm_tolerance_vary *v, char msg[U
     }
     if (v->relative)
         v->width /= 100.0;
+    /* a subnormal width draws every sample at the nominal value, or rounds to 0 */
+    if (!isnormal(v->width)) {
+        snprintf(msg, USM_MSG_LEN, "%s: the %s of %s is %g, below the smallest normal double; "
+                 "a scatter that small is none", name,
+                 v->kind == USM_DIST_NORMAL ? "standard deviation" : "half-width", d, v->width);
+        return USM_EINPUT;
+    }
     return USM_OK;
 }
 
