@@ -1,8 +1,10 @@
-/* The orbit of a periodic steady state as CSV (usm_periodic.h). */
+/* A periodic steady state: its orbit as CSV, the `usm periodic --json`
+ * object (usm_periodic.h). */
 #include <stdio.h>
 #include <string.h>
 
 #include "io/csv_out.h"
+#include "io/json_out.h"
 #include "solve/periodic_internal.h"
 
 int usm_periodic_write_orbit_csv(const usm_periodic *w, FILE *out)
@@ -29,4 +31,26 @@ int usm_periodic_write_orbit_csv(const usm_periodic *w, FILE *out)
         fputc('\n', out);
     }
     return ferror(out) ? -1 : 0;
+}
+
+int usm_periodic_write_json(const usm_periodic *w, const usm_params *p,
+                            const usm_periodic_result *r, FILE *out)
+{
+    json_t *o = json_object();
+    int ok = o != NULL;
+    usm_json_put(o, "model", json_string(usm_periodic_model_of(w)->name), &ok);
+    usm_json_put(o, "parameters", usm_json_params(p), &ok);
+    usm_json_put(o, "converged", json_boolean(r != NULL), &ok);
+    if (!r) {
+        usm_json_put(o, "error", json_string(usm_periodic_message(w)), &ok);
+    } else {
+        json_t *orbit = usm_json_periodic_result(r);
+        ok = ok && orbit && json_object_update(o, orbit) == 0;
+        json_decref(orbit);
+    }
+    if (!ok) {
+        json_decref(o);
+        o = NULL;
+    }
+    return usm_json_write(o, out);
 }
