@@ -12,8 +12,8 @@
  * value is a number has the k-th such token.
  *
  * Rejected, with USM_EINPUT and the file's name in the message:
- *   - malformed JSON (jansson's reason, at LINE:COLUMN), comments and text
- *     after the object included;
+ *   - malformed JSON (jansson's reason, at LINE:COLUMN), comments, a NUL
+ *     byte and text after the object included;
  *   - a name given twice ("duplicate name");
  *   - a top level that is not an object ("expected a JSON object");
  *   - an unknown name, a value that is not a number, a number that
@@ -242,6 +242,20 @@ int usm_params_parse_text(const char *path, const char *text, size_t len, usm_pa
     /* Syntax first: a file with a typo anywhere is reported as malformed
      * before any of its names; and nothing is set unless everything is good. */
     status = USM_EINPUT;
+    const char *nul = len > 0 ? memchr(text, '\0', len) : NULL;
+    if (nul) { /* jansson reads past a NUL byte as if it were not there */
+        int line = 1, col = 1;
+        for (const char *c = text; c < nul; ++c) {
+            if (*c == '\n') {
+                ++line;
+                col = 1;
+            } else {
+                ++col;
+            }
+        }
+        usm_io_msg(msg, "%s:%d:%d: malformed JSON: a NUL byte", path, line, col);
+        goto done;
+    }
     if (!(root = json_loadb(masked, len, JSON_REJECT_DUPLICATES | JSON_DECODE_ANY, &err))) {
         malformed(path, &err, msg);
         goto done;
