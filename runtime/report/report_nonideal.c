@@ -55,8 +55,8 @@ static void *state_alloc(void *ctx)
     return s;
 }
 
-/* The parameters of a curve: the report's, every imperfection 0 but the
- * one swept. */
+/* The parameters of a curve: the report's with every imperfection 0 (the
+ * sweep sets the one it follows). */
 static usm_params curve_params(const usm_params *base)
 {
     usm_params p = *base;
