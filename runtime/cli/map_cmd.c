@@ -11,13 +11,13 @@
 
 #include "commands.h"
 #include "diag.h"
-#include "io/io_msg.h" /* usm_io_create */
 #include "options.h"
-#include "io/plot_run.h"
-#include "report/report_map.h"
 #include "usm.h"
+#include "usm_io.h"
+#include "usm_plot.h"
+#include "usm_report_map.h"
 #ifdef USM_HAVE_MPI
-#include "mpi/mpi_run.h"
+#include "usm_mpi.h"
 #endif
 
 static void usage(FILE *out)

@@ -5,13 +5,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <jansson.h>
-
 #include "commands.h"
 #include "diag.h"
-#include "io/json_out.h"
 #include "options.h"
-#include "io/steady_out.h"
 #include "usm_optimize.h"
 
 typedef struct opt_args {
@@ -166,32 +162,8 @@ static int parse(opt_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
 
 static int write_json(const opt_args *a, const usm_optimize *o, const usm_opt_result *res)
 {
-    const cli_common *c = &a->common;
-    const usm_opt_problem *pb = &a->pb;
-    json_t *obj = json_object(), *varied = json_object(), *act = json_array();
-    int ok = obj && varied && act;
-    usm_json_put(obj, "objective", json_string(usm_sensitivity_output_name(pb->objective)), &ok);
-    usm_json_put(obj, "sense", json_string(pb->minimize ? "min" : "max"), &ok);
-    usm_json_put(obj, "value", usm_json_real(res->value), &ok);
-    for (int j = 0; j < pb->nvary; ++j) {
-        const usm_param_info *info = &usm_param_table[pb->vary[j]];
-        usm_json_put(varied, info->name, usm_json_real(usm_params_get(&res->params, info)), &ok);
-    }
-    usm_json_put(obj, "varied", varied, &ok);
-    usm_json_put(obj, "parameters", usm_json_params(&res->params), &ok);
-    for (int i = 0; i < res->nactive; ++i)
-        if (json_array_append_new(act, json_string(res->active[i])) != 0)
-            ok = 0;
-    usm_json_put(obj, "active_constraints", act, &ok);
-    usm_json_put(obj, "kkt_residual", usm_json_real(res->kkt_residual), &ok);
-    usm_json_put(obj, "evaluations", json_integer(res->evaluations), &ok);
-    usm_json_put(obj, "solution", usm_steady_json(&(usm_steady_report){c->model, &res->params,
-                                                    usm_optimize_steady(o), NULL,
-                                                    &res->floquet}),
-                 &ok);
-    int rc = ok ? usm_json_print(obj, stdout) : -1;
-    json_decref(obj);
-    if (rc != 0 || fflush(stdout) != 0 || ferror(stdout)) {
+    if (usm_optimize_write_json(o, a->common.model, &a->pb, res, stdout) != 0 ||
+        fflush(stdout) != 0 || ferror(stdout)) {
         clearerr(stdout);
         cli_error("stdout: write error");
         return USM_EFAILED;

@@ -5,13 +5,10 @@
 #include <stdio.h>
 #include <string.h>
 
-#include <jansson.h>
-
 #include "commands.h"
 #include "diag.h"
-#include "io/io_msg.h" /* usm_io_create */
-#include "io/json_out.h"
 #include "options.h"
+#include "usm_io.h"
 #include "usm_periodic.h"
 
 static void usage(FILE *out)
@@ -79,27 +76,6 @@ static int parse(periodic_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
     return cli_common_finish(&a->common, msg);
 }
 
-static json_t *result_json(const periodic_args *a, const usm_periodic_result *r, const char *err)
-{
-    json_t *o = json_object();
-    int ok = o != NULL;
-    usm_json_put(o, "model", json_string(a->common.model->name), &ok);
-    usm_json_put(o, "parameters", usm_json_params(&a->common.params), &ok);
-    usm_json_put(o, "converged", json_boolean(err == NULL), &ok);
-    if (err) {
-        usm_json_put(o, "error", json_string(err), &ok);
-    } else {
-        json_t *orbit = usm_json_periodic_result(r);
-        ok = ok && orbit && json_object_update(o, orbit) == 0;
-        json_decref(orbit);
-    }
-    if (!ok) {
-        json_decref(o);
-        return NULL;
-    }
-    return o;
-}
-
 static int write_orbit(const periodic_args *a, const usm_periodic *w, char msg[CLI_MSG_LEN])
 {
     int status;
@@ -159,14 +135,12 @@ int cli_periodic_main(int argc, char **argv)
     else if (status == USM_EINPUT)
         cli_error("%s", usm_periodic_message(w));
     else if (status == USM_OK || a.common.json) {
-        json_t *o = a.common.json ? result_json(&a, &r, status ? usm_periodic_message(w) : NULL)
-                                  : NULL;
-        if (a.common.json && (!o || usm_json_print(o, stdout) != 0)) {
+        if (a.common.json &&
+            usm_periodic_write_json(w, &a.common.params, status ? NULL : &r, stdout) != 0) {
             cli_error("out of memory or write error");
             status = USM_EFAILED;
         } else if (!a.common.json)
             table(&r, a.common.model->name);
-        json_decref(o);
         if (status != USM_OK && status != USM_EFAILED)
             status = USM_EFAILED;
     } else

@@ -13,11 +13,10 @@
 
 #include "commands.h"
 #include "diag.h"
-#include "io/io_msg.h" /* usm_io_create */
 #include "options.h"
-#include "io/plot_run.h"
-#include "usm_io.h"
 #include "usm.h"
+#include "usm_io.h"
+#include "usm_plot.h"
 #include "usm_simulate.h"
 
 /* More rows than anyone can look at; a typo in --rate or --duration. */

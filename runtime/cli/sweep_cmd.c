@@ -12,9 +12,9 @@
 #include "commands.h"
 #include "diag.h"
 #include "options.h"
-#include "io/plot_run.h"
 #include "usm_io.h"
 #include "usm_periodic_sweep.h"
+#include "usm_plot.h"
 #include "usm_sweep.h"
 
 static void usage(FILE *out)

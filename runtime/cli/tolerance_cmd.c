@@ -10,10 +10,10 @@
 
 #include "commands.h"
 #include "options.h"
-#include "io/plot_run.h"
+#include "usm_plot.h"
 #include "usm_tolerance.h"
 #ifdef USM_HAVE_MPI
-#include "mpi/mpi_run.h"
+#include "usm_mpi.h"
 #endif
 
 static void usage(FILE *out)

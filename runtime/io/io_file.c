@@ -1,4 +1,4 @@
-/* Output files (io_msg.h). */
+/* Output files (usm_io_create, usm_io.h). */
 #define _POSIX_C_SOURCE 200809L
 
 #include <errno.h>

@@ -6,7 +6,7 @@
 #include <stdarg.h>
 #include <stdio.h>
 
-#include "usm_io.h" /* USM_IO_MSG_LEN */
+#include "usm_io.h" /* USM_IO_MSG_LEN, usm_io_create */
 
 #if defined(__GNUC__)
 #define USM_IO_PRINTF(fmt, args) __attribute__((format(printf, fmt, args)))
@@ -23,11 +23,5 @@ static inline void usm_io_msg(char msg[USM_IO_MSG_LEN], const char *fmt, ...)
     vsnprintf(msg, USM_IO_MSG_LEN, fmt, ap);
     va_end(ap);
 }
-
-/* Create the file at path for writing, never replacing one that exists
- * unless force (the check and the creation are one step: O_EXCL).  NULL with
- * "PATH: reason" in msg and *status USM_EINPUT (exists, cannot be created) or
- * USM_EFAILED. */
-FILE *usm_io_create(const char *path, int force, char msg[USM_IO_MSG_LEN], int *status);
 
 #endif /* USM_IO_MSG_H */

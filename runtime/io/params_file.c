@@ -1,9 +1,23 @@
-/* Parameter files: a JSON object {"NAME": number, ...}.
+/* Parameter files: a JSON object {"NAME": number, ...}, read with jansson
+ * (as the start state of io/simulate_start.c).
  *
- * The file is read by a small parser of its own rather than a general JSON
- * library so that each number reaches the same parser as --set NAME=VALUE
- * (number.h) as the text the user wrote: a library converts it first and
- * turns 1e-400 into 0 or an integer beyond 2^63 into an error of its own. */
+ * Each number reaches the same parser as --set NAME=VALUE (usm_parse_number)
+ * as the text the user wrote: converted by a JSON library first, 1e-400
+ * would become 0 and 1e999 an error without the field's name.  So before
+ * jansson reads the text, every number token (RFC 8259 grammar, outside
+ * strings) is replaced by "0" and blanks of the same length (lines and
+ * columns of jansson's messages stay those of the file), and the tokens that
+ * are the top-level object's member values are kept, in order: jansson keeps
+ * an object's members in the order of the text, so the k-th member whose
+ * value is a number has the k-th such token.
+ *
+ * Rejected, with USM_EINPUT and the file's name in the message:
+ *   - malformed JSON (jansson's reason, at LINE:COLUMN), comments, a NUL
+ *     byte and text after the object included;
+ *   - a name given twice ("duplicate name");
+ *   - a top level that is not an object ("expected a JSON object");
+ *   - an unknown name, a value that is not a number, a number that
+ *     usm_parse_number refuses (not finite, overflow, underflow). */
 #include "usm_io.h"
 #include "io_msg.h"
 
@@ -11,300 +25,254 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "usm_io.h"
+#include <jansson.h>
 
-/* A member's key is kept up to this length; longer keys are no parameter. */
+/* A member's key is shown up to this length in messages. */
 #define KEY_LEN 64
-/* Nesting allowed inside a (wrong) array or object value. */
-#define MAX_DEPTH 64
 
-typedef struct scan {
-    const char *s;
-    size_t n, i;
-    const char *path;
-    char *msg;
-} scan;
+/* The number tokens that are member values of the top-level object. */
+typedef struct numbers {
+    size_t n, cap;
+    size_t *at, *len; /* offset and length in the text */
+} numbers;
 
-static void ws(scan *sc)
+static int is_digit(char c) { return c >= '0' && c <= '9'; }
+
+static size_t digits(const char *s, size_t n, size_t i)
 {
-    while (sc->i < sc->n && strchr(" \t\r\n", sc->s[sc->i]) && sc->s[sc->i] != '\0')
-        ++sc->i;
+    while (i < n && is_digit(s[i]))
+        ++i;
+    return i;
 }
 
-static int malformed(scan *sc, const char *reason)
+/* The length of the JSON number (RFC 8259 grammar) at s[0..n), or 0 when
+ * the text there is no such number. */
+static size_t number_len(const char *s, size_t n)
 {
-    int line = 1, col = 1;
-    for (size_t k = 0; k < sc->i && k < sc->n; ++k) {
-        if (sc->s[k] == '\n') {
-            ++line;
-            col = 1;
-        } else {
-            ++col;
-        }
+    size_t i = 0, j;
+    if (i < n && s[i] == '-')
+        ++i;
+    if (i < n && s[i] == '0')
+        ++i;
+    else if ((j = digits(s, n, i)) == i)
+        return 0;
+    else
+        i = j;
+    if (i < n && s[i] == '.') {
+        if ((j = digits(s, n, i + 1)) == i + 1)
+            return 0;
+        i = j;
     }
-    usm_io_msg(sc->msg, "%s:%d:%d: malformed JSON: %s", sc->path, line, col, reason);
-    return USM_EINPUT;
+    if (i < n && (s[i] == 'e' || s[i] == 'E')) {
+        ++i;
+        if (i < n && (s[i] == '+' || s[i] == '-'))
+            ++i;
+        if ((j = digits(s, n, i)) == i)
+            return 0;
+        i = j;
+    }
+    return i;
 }
 
-static int hex4(const char *p)
+/* The characters of a number: a run of them that is not one number ("01",
+ * "1.", "1-2") is left to jansson, which rejects it. */
+static int in_number(char c) { return c != '\0' && (is_digit(c) || strchr(".eE+-", c)); }
+
+static int keep(numbers *nums, size_t at, size_t len)
 {
-    int v = 0;
-    for (int k = 0; k < 4; ++k) {
-        char c = p[k];
-        int d = c >= '0' && c <= '9' ? c - '0'
-              : c >= 'a' && c <= 'f' ? c - 'a' + 10
-              : c >= 'A' && c <= 'F' ? c - 'A' + 10 : -1;
-        if (d < 0)
+    if (nums->n == nums->cap) {
+        const size_t cap = nums->cap ? 2 * nums->cap : 32;
+        size_t *a = realloc(nums->at, cap * sizeof *a);
+        if (!a)
             return -1;
-        v = 16 * v + d;
+        nums->at = a;
+        size_t *l = realloc(nums->len, cap * sizeof *l);
+        if (!l)
+            return -1;
+        nums->len = l;
+        nums->cap = cap;
     }
-    return v;
+    nums->at[nums->n] = at;
+    nums->len[nums->n++] = len;
+    return 0;
 }
 
-/* A string at sc->i (the opening quote).  Its first KEY_LEN-1 characters go to
- * key (non-ASCII as '?': no parameter name has any); *long_key when longer. */
-static int string(scan *sc, char key[KEY_LEN], int *long_key)
+/* Replace the number tokens of text (len bytes, a copy) by "0" and blanks;
+ * those at depth 1 (the member values when the top level is an object) go
+ * to nums.  0, or -1 when out of memory. */
+static int mask_numbers(char *text, size_t len, numbers *nums)
 {
-    size_t used = 0;
-    *long_key = 0;
-    ++sc->i;
-    for (;;) {
-        char c;
-        if (sc->i >= sc->n)
-            return malformed(sc, "unterminated string");
-        c = sc->s[sc->i];
-        if (c == '"')
-            break;
-        if ((unsigned char)c < 0x20)
-            return malformed(sc, "control character in a string");
-        if (c == '\\') {
-            if (sc->i + 1 >= sc->n)
-                return malformed(sc, "unterminated string");
-            c = sc->s[sc->i + 1];
-            if (c == 'u') {
-                int v = sc->i + 6 <= sc->n ? hex4(sc->s + sc->i + 2) : -1;
-                if (v < 0)
-                    return malformed(sc, "invalid \\u escape");
-                if (v == 0)
-                    return malformed(sc, "\\u0000 is not allowed");
-                c = v < 0x80 ? (char)v : '?';
-                sc->i += 6;
-            } else {
-                const char *from = strchr("\"\\/bfnrt", c);
-                if (!from || c == '\0')
-                    return malformed(sc, "invalid escape");
-                c = "\"\\/\b\f\n\r\t"[from - "\"\\/bfnrt"];
-                sc->i += 2;
+    int depth = 0;
+    for (size_t i = 0; i < len;) {
+        const char c = text[i];
+        if (c == '"') { /* a string: to its closing quote (jansson checks it) */
+            for (++i; i < len && text[i] != '"'; ++i)
+                if (text[i] == '\\')
+                    ++i;
+            ++i;
+        } else if (c == '{' || c == '[') {
+            ++depth, ++i;
+        } else if (c == '}' || c == ']') {
+            --depth, ++i;
+        } else if (c == '-' || is_digit(c)) {
+            size_t run = i + 1;
+            while (run < len && in_number(text[run]))
+                ++run;
+            run -= i;
+            if (number_len(text + i, run) == run) {
+                if (depth == 1 && keep(nums, i, run) != 0)
+                    return -1;
+                text[i] = '0';
+                memset(text + i + 1, ' ', run - 1);
             }
+            i += run;
         } else {
-            ++sc->i;
-        }
-        if (used + 1 < KEY_LEN)
-            key[used++] = c;
-        else
-            *long_key = 1;
-    }
-    ++sc->i;
-    key[used] = '\0';
-    return USM_OK;
-}
-
-static size_t digits(scan *sc)
-{
-    size_t from = sc->i;
-    while (sc->i < sc->n && sc->s[sc->i] >= '0' && sc->s[sc->i] <= '9')
-        ++sc->i;
-    return sc->i - from;
-}
-
-/* A JSON number (RFC 8259 grammar) at sc->i. */
-static int number(scan *sc)
-{
-    if (sc->s[sc->i] == '-')
-        ++sc->i;
-    if (sc->i < sc->n && sc->s[sc->i] == '0')
-        ++sc->i;
-    else if (digits(sc) == 0)
-        return malformed(sc, "invalid number");
-    if (sc->i < sc->n && sc->s[sc->i] == '.') {
-        ++sc->i;
-        if (digits(sc) == 0)
-            return malformed(sc, "invalid number");
-    }
-    if (sc->i < sc->n && (sc->s[sc->i] == 'e' || sc->s[sc->i] == 'E')) {
-        ++sc->i;
-        if (sc->i < sc->n && (sc->s[sc->i] == '+' || sc->s[sc->i] == '-'))
-            ++sc->i;
-        if (digits(sc) == 0)
-            return malformed(sc, "invalid number");
-    }
-    return USM_OK;
-}
-
-/* An object member's `"key" :` at sc->i (after blanks). */
-static int member_key(scan *sc, char key[KEY_LEN], int *long_key)
-{
-    ws(sc);
-    if (sc->i >= sc->n || sc->s[sc->i] != '"')
-        return malformed(sc, "expected a string as the key");
-    if (string(sc, key, long_key) != USM_OK)
-        return USM_EINPUT;
-    ws(sc);
-    if (sc->i >= sc->n || sc->s[sc->i] != ':')
-        return malformed(sc, "expected ':'");
-    ++sc->i;
-    return USM_OK;
-}
-
-/* Any JSON value at sc->i; *kind names it for messages ("a number", ...). */
-static int value(scan *sc, int depth, const char **kind)
-{
-    static const char *const lit[] = {"true", "false", "null"};
-    char skip[KEY_LEN];
-    int long_key;
-    char c;
-    ws(sc);
-    if (sc->i >= sc->n)
-        return malformed(sc, "expected a value, found the end of the file");
-    c = sc->s[sc->i];
-    if (c == '-' || (c >= '0' && c <= '9')) {
-        *kind = "a number";
-        return number(sc);
-    }
-    if (c == '"') {
-        *kind = "a string";
-        return string(sc, skip, &long_key);
-    }
-    for (int k = 0; k < 3; ++k) {
-        size_t len = strlen(lit[k]);
-        if (sc->n - sc->i >= len && memcmp(sc->s + sc->i, lit[k], len) == 0) {
-            *kind = k < 2 ? "a boolean" : "null";
-            sc->i += len;
-            return USM_OK;
+            ++i;
         }
     }
-    if (c != '[' && c != '{')
-        return malformed(sc, "expected a value");
-    if (depth >= MAX_DEPTH)
-        return malformed(sc, "nested too deeply");
-    *kind = c == '[' ? "an array" : "an object";
-    ++sc->i;
-    ws(sc);
-    if (sc->i < sc->n && sc->s[sc->i] == (c == '[' ? ']' : '}')) {
-        ++sc->i;
-        return USM_OK;
+    return 0;
+}
+
+static const char *kind_of(const json_t *v)
+{
+    switch (json_typeof(v)) {
+    case JSON_OBJECT: return "an object";
+    case JSON_ARRAY: return "an array";
+    case JSON_STRING: return "a string";
+    case JSON_INTEGER:
+    case JSON_REAL: return "a number";
+    case JSON_TRUE:
+    case JSON_FALSE: return "a boolean";
+    case JSON_NULL: break;
     }
-    for (;;) {
-        const char *inner;
-        if (c == '{' && member_key(sc, skip, &long_key) != USM_OK)
+    return "null";
+}
+
+/* A key as messages show it: at most KEY_LEN - 1 bytes ("..." after a longer
+ * one, not cutting a UTF-8 sequence), control characters as '?'. */
+static void key_text(const char *key, char out[KEY_LEN + 4])
+{
+    size_t n = strlen(key);
+    const int cut = n >= KEY_LEN;
+    if (cut) {
+        n = KEY_LEN - 1;
+        while (n > 0 && ((unsigned char)key[n] & 0xC0) == 0x80)
+            --n;
+    }
+    for (size_t k = 0; k < n; ++k)
+        out[k] = (unsigned char)key[k] < 0x20 || key[k] == 0x7f ? '?' : key[k];
+    strcpy(out + n, cut ? "..." : "");
+}
+
+/* jansson's message on malformed text.  A duplicate name is named. */
+static void malformed(const char *path, const json_error_t *err, char msg[USM_IO_MSG_LEN])
+{
+    const int col = err->column < 1 ? 1 : err->column;
+    if (err->line < 1) { /* not about a place in the text: out of memory */
+        usm_io_msg(msg, "%s: %s", path, err->text);
+        return;
+    }
+    if (json_error_code(err) == json_error_duplicate_key) {
+        /* "duplicate object key near '"NAME"'" */
+        const char *near = strstr(err->text, "near '\"");
+        const size_t n = near ? strlen(near + 7) : 0;
+        if (n >= 2 && strcmp(near + 7 + n - 2, "\"'") == 0) {
+            usm_io_msg(msg, "%s:%d:%d: %.*s: duplicate name (a parameter may be given once)",
+                       path, err->line, col, (int)(n - 2), near + 7);
+            return;
+        }
+        usm_io_msg(msg, "%s:%d:%d: duplicate name (a parameter may be given once): %s", path,
+                   err->line, col, err->text);
+        return;
+    }
+    usm_io_msg(msg, "%s:%d:%d: malformed JSON: %s", path, err->line, col, err->text);
+}
+
+/* The members of obj, in order, into *p; the k-th numeric value's text is
+ * text[nums->at[k]] (nums->len[k] bytes). */
+static int apply(const char *path, const char *text, json_t *obj, const numbers *nums,
+                 usm_params *p, char msg[USM_IO_MSG_LEN])
+{
+    const char *key;
+    json_t *v;
+    size_t k = 0;
+    json_object_foreach(obj, key, v) {
+        char shown[KEY_LEN + 4];
+        const usm_param_info *info = usm_params_find(key);
+        key_text(key, shown);
+        if (!info) {
+            usm_io_msg(msg, "%s: %s: unknown parameter (see usm steady --help)", path, shown);
             return USM_EINPUT;
-        if (value(sc, depth + 1, &inner) != USM_OK)
+        }
+        if (!json_is_number(v)) {
+            usm_io_msg(msg, "%s: %s: expected a number, got %s", path, shown, kind_of(v));
             return USM_EINPUT;
-        ws(sc);
-        if (sc->i < sc->n && sc->s[sc->i] == ',') {
-            ++sc->i;
-            continue;
         }
-        if (sc->i < sc->n && sc->s[sc->i] == (c == '[' ? ']' : '}')) {
-            ++sc->i;
-            return USM_OK;
+        if (k >= nums->n) { /* cannot happen: every number value was masked */
+            usm_io_msg(msg, "%s: %s: number not found in the text", path, shown);
+            return USM_EFAILED;
         }
-        return malformed(sc, c == '[' ? "expected ',' or ']'" : "expected ',' or '}'");
-    }
-}
-
-/* The top-level object.  With p == NULL only the syntax is checked; with p
- * the members are checked and applied in order (the syntax known good). */
-static int object(scan *sc, usm_params *p)
-{
-    unsigned char seen[USM_NPARAMS] = {0};
-    const char *kind;
-    sc->i = 0;
-    ws(sc);
-    if (sc->i < sc->n && sc->s[sc->i] != '{') {
-        size_t at = sc->i;
-        if (value(sc, 0, &kind) != USM_OK)
+        char inner[USM_IO_MSG_LEN];
+        double x;
+        if (usm_parse_number(shown, text + nums->at[k], nums->len[k], &x, inner) != USM_OK) {
+            usm_io_msg(msg, "%s: %.900s", path, inner);
             return USM_EINPUT;
-        usm_io_msg(sc->msg, "%s: malformed parameter file: expected a JSON object "
-                         "{\"NAME\": number}, got %s", sc->path, kind);
-        sc->i = at;
-        return USM_EINPUT;
-    }
-    if (sc->i >= sc->n)
-        return malformed(sc, "expected a JSON object, found the end of the file");
-    ++sc->i;
-    ws(sc);
-    if (sc->i < sc->n && sc->s[sc->i] == '}')
-        ++sc->i;
-    else {
-        for (;;) {
-            char key[KEY_LEN];
-            int long_key;
-            size_t from;
-            const usm_param_info *info;
-            if (member_key(sc, key, &long_key) != USM_OK)
-                return USM_EINPUT;
-            ws(sc);
-            from = sc->i;
-            if (value(sc, 1, &kind) != USM_OK)
-                return USM_EINPUT;
-            if (p) {
-                char field[KEY_LEN + 16];
-                double v;
-                info = long_key ? NULL : usm_params_find(key);
-                if (!info) {
-                    usm_io_msg(sc->msg, "%s: %s%s: unknown parameter (see usm steady --help)",
-                            sc->path, key, long_key ? "..." : "");
-                    return USM_EINPUT;
-                }
-                if (seen[info - usm_param_table]++) {
-                    usm_io_msg(sc->msg, "%s: %s: duplicate name (a parameter may be given once)",
-                            sc->path, key);
-                    return USM_EINPUT;
-                }
-                if (strcmp(kind, "a number") != 0) {
-                    usm_io_msg(sc->msg, "%s: %s: expected a number, got %s", sc->path, key, kind);
-                    return USM_EINPUT;
-                }
-                snprintf(field, sizeof field, "%s", key);
-                {
-                    char inner[USM_IO_MSG_LEN];
-                    if (usm_parse_number(field, sc->s + from, sc->i - from, &v, inner) != USM_OK) {
-                        usm_io_msg(sc->msg, "%s: %.900s", sc->path, inner);
-                        return USM_EINPUT;
-                    }
-                }
-                *usm_params_field(p, info) = v;
-            }
-            ws(sc);
-            if (sc->i < sc->n && sc->s[sc->i] == ',') {
-                ++sc->i;
-                continue;
-            }
-            if (sc->i < sc->n && sc->s[sc->i] == '}') {
-                ++sc->i;
-                break;
-            }
-            return malformed(sc, "expected ',' or '}'");
         }
+        ++k;
+        *usm_params_field(p, info) = x;
     }
-    ws(sc);
-    if (sc->i < sc->n)
-        return malformed(sc, "text after the object");
     return USM_OK;
 }
 
 int usm_params_parse_text(const char *path, const char *text, size_t len, usm_params *p,
-                     char msg[USM_IO_MSG_LEN])
+                          char msg[USM_IO_MSG_LEN])
 {
-    scan sc = {text, len, 0, path, msg};
+    numbers nums = {0, 0, NULL, NULL};
+    char *masked = malloc(len + 1);
+    json_t *root = NULL;
+    json_error_t err;
     usm_params tmp = *p;
+    int status = USM_EFAILED;
+    if (masked && len > 0)
+        memcpy(masked, text, len);
+    if (!masked || mask_numbers(masked, len, &nums) != 0) {
+        usm_io_msg(msg, "%s: out of memory", path);
+        goto done;
+    }
     /* Syntax first: a file with a typo anywhere is reported as malformed
      * before any of its names; and nothing is set unless everything is good. */
-    if (object(&sc, NULL) != USM_OK || object(&sc, &tmp) != USM_OK)
-        return USM_EINPUT;
-    *p = tmp;
-    return USM_OK;
+    status = USM_EINPUT;
+    const char *nul = len > 0 ? memchr(text, '\0', len) : NULL;
+    if (nul) { /* jansson reads past a NUL byte as if it were not there */
+        int line = 1, col = 1;
+        for (const char *c = text; c < nul; ++c) {
+            if (*c == '\n') {
+                ++line;
+                col = 1;
+            } else {
+                ++col;
+            }
+        }
+        usm_io_msg(msg, "%s:%d:%d: malformed JSON: a NUL byte", path, line, col);
+        goto done;
+    }
+    if (!(root = json_loadb(masked, len, JSON_REJECT_DUPLICATES | JSON_DECODE_ANY, &err))) {
+        malformed(path, &err, msg);
+        goto done;
+    }
+    if (!json_is_object(root)) {
+        usm_io_msg(msg, "%s: malformed parameter file: expected a JSON object "
+                        "{\"NAME\": number}, got %s", path, kind_of(root));
+        goto done;
+    }
+    if ((status = apply(path, text, root, &nums, &tmp, msg)) == USM_OK)
+        *p = tmp;
+done:
+    json_decref(root);
+    free(masked);
+    free(nums.at);
+    free(nums.len);
+    return status;
 }
 
 int usm_params_read_file(const char *path, usm_params *p, char msg[USM_IO_MSG_LEN])

@@ -1,4 +1,4 @@
-/* Stability maps over MPI ranks (mpi_run.h).
+/* Stability maps over MPI ranks (usm_mpi.h).
  *
  * A map's columns (one x value each: its grid points and its bisections) are
  * independent, so the ranks share them out without touching map.c: the
@@ -14,7 +14,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "mpi_run.h"
+#include "mpi/usm_mpi.h"
 
 static int cmp_boundary(const void *pa, const void *pb)
 {

@@ -1,4 +1,4 @@
-/* Tolerance studies over MPI ranks (mpi_run.h).
+/* Tolerance studies over MPI ranks (usm_mpi.h).
  *
  * Every rank knows the whole study (the same command line), so the block
  * lists are computed alike everywhere and only the rows travel: round r's
@@ -11,7 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "mpi_run.h"
+#include "mpi/usm_mpi.h"
 #include "study/tolerance_internal.h"
 
 int usm_mpi_launched(void)

@@ -131,11 +131,11 @@ typedef struct usm_report_nonideal_point {
 } usm_report_nonideal_point;
 
 /* A root of F_n_min (contact opens) or of max_modulus - 1 (stability lost)
- * along a curve: found = 0 with a note when not in the range. */
+ * along a curve, an event of the periodic sweep: found = 0 with a note when
+ * not in the range. */
 typedef struct usm_report_nonideal_root {
     int found;
     double value;
-    int evaluations;          /* periodic solves of the secant iteration */
     char note[USM_MSG_LEN];
 } usm_report_nonideal_root;
 
@@ -149,7 +149,6 @@ typedef struct usm_report_nonideal_curve {
     int tolerable_found;      /* the smaller of the two roots found */
     double tolerable;
     const char *tolerable_by; /* "contact" or "stability" */
-    int solves;               /* periodic solves, curve and roots */
 } usm_report_nonideal_curve;
 
 typedef struct usm_report_nonideal {
@@ -167,8 +166,7 @@ typedef struct usm_report_nonideal {
     double orbit[USM_PERIODIC_SAMPLES][USM_MAX_NX + 4]; /* usm_periodic_samples rows */
     double orbit_F_n_min;
     double orbit_period;      /* [s] */
-    usm_periodic_options opt; /* of the roots' and the orbit's periodic solves */
-    usm_periodic_options opt_curve; /* of the curves' points */
+    usm_periodic_options opt; /* of the sweeps' and the orbit's periodic solves */
     double root_xtol;         /* the roots to this fraction of the range */
     double seconds;
 } usm_report_nonideal;

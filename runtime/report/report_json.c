@@ -527,7 +527,6 @@ static json_t *nonideal_root(const usm_report_nonideal_root *r, int j)
     flag(o, "found", r->found);
     num(o, "value", r->found ? r->value : NAN);
     num(o, "display", r->found ? imp_display(j, r->value) : NAN);
-    integer(o, "evaluations", r->evaluations);
     str(o, "note", r->note);
     return o;
 }
@@ -555,7 +554,6 @@ static json_t *nonideal_curve(const usm_report_nonideal_curve *cv, int j)
     num(o, "to_display", imp_display(j, cv->to));
     integer(o, "points", cv->points);
     integer(o, "converged", conv);
-    integer(o, "solves", cv->solves);
     num(o, "ripple_max", ripple);
     num(o, "F_n_min_min", fnmin);
     num(o, "max_modulus_max", lmax);

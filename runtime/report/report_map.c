@@ -1,5 +1,5 @@
-/* The stability map of the command: computed by the library (usm_map.h),
- * written as CSV and JSON. */
+/* The stability map of the command (usm_report_map.h): computed by the
+ * library (usm_map.h), written as CSV and JSON. */
 #include "report_map.h"
 
 #include <math.h>
@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "io/csv_out.h"
+#include "io/io_msg.h"
 #include "io/json_out.h"
 #include "usm_map.h"
 
@@ -67,7 +68,7 @@ int usm_report_map_fill(usm_report_map *map, const usm_map_cell *cells,
     const size_t n = (size_t)map->x.points * (size_t)map->y.points;
     map->x.param = usm_params_find(map->x.name);
     map->y.param = usm_params_find(map->y.name);
-    for (int k = 0; k < REPORT_NBOUNDARY; ++k) {
+    for (int k = 0; k < USM_REPORT_NBOUNDARY; ++k) {
         map->bnd[k] = NULL;
         map->nbnd[k] = 0;
     }
@@ -77,7 +78,7 @@ int usm_report_map_fill(usm_report_map *map, const usm_map_cell *cells,
     }
     for (size_t c = 0; c < n; ++c)
         usm_report_map_cell_copy(&cells[c], &map->cells[c]);
-    for (int k = 0; k < REPORT_NBOUNDARY; ++k) {
+    for (int k = 0; k < USM_REPORT_NBOUNDARY; ++k) {
         if (!(map->bnd[k] = malloc((nbnd[k] ? nbnd[k] : 1) * sizeof *map->bnd[k]))) {
             usm_io_msg(msg, "map: out of memory");
             usm_report_map_free(map);
@@ -101,7 +102,7 @@ int usm_report_map_run(usm_report_map *map, char msg[USM_IO_MSG_LEN])
     int status;
     usm_map *lib = usm_map_alloc(map->model);
     map->cells = NULL;
-    for (int k = 0; k < REPORT_NBOUNDARY; ++k) {
+    for (int k = 0; k < USM_REPORT_NBOUNDARY; ++k) {
         map->bnd[k] = NULL;
         map->nbnd[k] = 0;
     }
@@ -147,7 +148,7 @@ void usm_report_map_free(usm_report_map *map)
 {
     free(map->cells);
     map->cells = NULL;
-    for (int k = 0; k < REPORT_NBOUNDARY; ++k) {
+    for (int k = 0; k < USM_REPORT_NBOUNDARY; ++k) {
         free(map->bnd[k]);
         map->bnd[k] = NULL;
         map->nbnd[k] = 0;
@@ -279,7 +280,7 @@ json_t *usm_report_map_json(const usm_report_map *map)
         if (json_array_append_new(pts, pt) != 0)
             ok = 0;
     }
-    for (int k = 0; k < REPORT_NBOUNDARY && ok; ++k) {
+    for (int k = 0; k < USM_REPORT_NBOUNDARY && ok; ++k) {
         json_t *arr = json_array();
         ok = arr != NULL;
         for (size_t q = 0; q < map->nbnd[k] && ok; ++q) {

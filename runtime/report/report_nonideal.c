@@ -1,32 +1,44 @@
 /* The non-ideal motor in the report (issue 14, item 4): periodic orbits of
- * the variant "imperfect" (usm_periodic.h) along the phase error (0 to 30
- * degrees) and the mode split (0 to 2 %), each alone; the tolerable value,
- * where the contact opens (F_n_min = 0) or stability is lost (max |lambda| =
- * 1), whichever comes first, located by the Illinois variant of regula falsi
- * on periodic solves; and one orbit for the figure.
+ * the variant "imperfect" along the phase error (0 to 30 degrees) and the
+ * mode split (0 to 2 %), each alone, followed by the library's periodic
+ * sweep (usm_periodic_sweep.h, the computation of `usm sweep --periodic`);
+ * the tolerable value, where the contact opens (F_n_min = 0) or stability is
+ * lost (max |lambda| = 1), whichever comes first: the sweep's contact_loss or
+ * stability_change event on the first grid interval where the quantity
+ * changes sign; and one orbit for the figure (usm_periodic.h).
  *
  * Each (model, imperfection) curve is one task of the library's pool
- * (pool_internal.h); a curve warm-starts every point from the previous
- * orbits (linear extrapolation of the start state from the last two), and
- * each root's iterates from the orbit at the nearer end of its bracket. */
+ * (pool_internal.h). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "core/pool_internal.h"
 #include "report_internal.h"
+#include "usm_periodic_sweep.h"
 
 #define PI 3.14159265358979323846264338327950
 
-#define ROOT_MAXEVAL 40
-
 typedef struct per_state {
-    usm_periodic *w[REPORT_NMODELS];
+    usm_periodic_sweep *sweep[REPORT_NMODELS];
+    usm_periodic *w[REPORT_NMODELS]; /* the orbit drawn */
 } per_state;
 
 typedef struct per_ctx {
     usm_report_data *d;
 } per_ctx;
+
+static void state_free(void *state)
+{
+    per_state *s = state;
+    if (!s)
+        return;
+    for (int k = 0; k < REPORT_NMODELS; ++k) {
+        usm_periodic_sweep_free(s->sweep[k]);
+        usm_periodic_free(s->w[k]);
+    }
+    free(s);
+}
 
 static void *state_alloc(void *ctx)
 {
@@ -35,59 +47,32 @@ static void *state_alloc(void *ctx)
     if (!s)
         return NULL;
     for (int k = 0; k < REPORT_NMODELS; ++k)
-        if (!(s->w[k] = usm_periodic_alloc(c->d->nonideal.model[k]))) {
-            for (int j = 0; j < k; ++j)
-                usm_periodic_free(s->w[j]);
-            free(s);
+        if (!(s->sweep[k] = usm_periodic_sweep_alloc(c->d->nonideal.model[k])) ||
+            !(s->w[k] = usm_periodic_alloc(c->d->nonideal.model[k]))) {
+            state_free(s);
             return NULL;
         }
     return s;
 }
 
-static void state_free(void *state)
-{
-    per_state *s = state;
-    if (!s)
-        return;
-    for (int k = 0; k < REPORT_NMODELS; ++k)
-        usm_periodic_free(s->w[k]);
-    free(s);
-}
-
-/* One orbit at imperfection `value` (the others 0), started from x_start
- * (NULL: the library's start from the ideal motor); on failure with a warm
- * start, once more from the ideal start. */
-static int solve_at(usm_periodic *w, const usm_params *base, const char *param, double value,
-                    const double *x_start, const usm_periodic_options *opt,
-                    usm_periodic_result *r, int *solves)
+/* The parameters of a curve: the report's with every imperfection 0 (the
+ * sweep sets the one it follows). */
+static usm_params curve_params(const usm_params *base)
 {
     usm_params p = *base;
-    char msg[USM_MSG_LEN];
     p.amp_imbalance = p.phase_error = p.mode_split = 0.0;
-    if (usm_params_set(&p, param, value, msg) != USM_OK)
-        return USM_EINPUT;
-    ++*solves;
-    int rc = usm_periodic_solve(w, &p, x_start, opt, r);
-    if (rc == USM_EFAILED && x_start) {
-        ++*solves;
-        rc = usm_periodic_solve(w, &p, NULL, opt, r);
-    }
-    return rc;
-}
-
-static double root_function(const usm_periodic_result *r, int stability)
-{
-    return stability ? 1.0 - r->floquet.max_modulus : r->F_n_min;
+    return p;
 }
 
 /* The first root of g (F_n_min, or 1 - max_modulus) on the curve: the first
  * grid interval where g goes from positive to not positive between two
- * converged points, refined by Illinois regula falsi. */
-static void locate_root(usm_periodic *w, const usm_params *p, const usm_report_nonideal *ni,
-                        usm_report_nonideal_curve *cv, double (*xs)[USM_MAX_NX], int stability,
-                        usm_report_nonideal_root *out)
+ * converged points; there the sweep's event of that kind (the first in the
+ * interval: g > 0 at its start, so it is the crossing downwards). */
+static void root_from_sweep(const usm_periodic_sweep *sw, const usm_report_nonideal_curve *cv,
+                            int stability, usm_report_nonideal_root *out)
 {
     const char *what = stability ? "max |lambda| reaches 1" : "F_n_min reaches 0";
+    const usm_pevent_type type = stability ? USM_PEVENT_STABILITY_CHANGE : USM_PEVENT_CONTACT_LOSS;
     memset(out, 0, sizeof *out);
     for (int i = 0; i < cv->points; ++i) {
         const usm_report_nonideal_point *pt = &cv->pt[i];
@@ -106,53 +91,26 @@ static void locate_root(usm_periodic *w, const usm_params *p, const usm_report_n
             snprintf(out->note, USM_MSG_LEN, "%s already without imperfection", what);
             return;
         }
-        /* bracket [a, b]: g(a) > 0, g(b) <= 0 */
-        double a = cv->pt[i - 1].value, b = pt->value;
-        double ga = stability ? 1.0 - cv->pt[i - 1].max_modulus : cv->pt[i - 1].F_n_min, gb = g;
-        double xa[USM_MAX_NX], xb[USM_MAX_NX], fa = ga, fb = gb; /* fa, fb: unscaled */
-        int side = 0;
-        memcpy(xa, xs[i - 1], sizeof xa);
-        memcpy(xb, xs[i], sizeof xb);
-        for (int it = 0; it < ROOT_MAXEVAL && fabs(b - a) > ni->root_xtol * (cv->to - cv->from);
-             ++it) {
-            usm_periodic_result r;
-            double c = (a * gb - b * ga) / (gb - ga);
-            if (!(c > a && c < b))
-                c = 0.5 * (a + b);
-            const double *start = c - a < b - c ? xa : xb;
-            ++out->evaluations;
-            if (solve_at(w, p, cv->param, c, start, &ni->opt, &r, &cv->solves) != USM_OK) {
+        const double a = cv->pt[i - 1].value, b = pt->value;
+        for (size_t q = 0; q < usm_periodic_sweep_event_count(sw); ++q) {
+            const usm_periodic_event *e = usm_periodic_sweep_event_at(sw, q);
+            if (e->type != type || !(e->value >= a && e->value <= b))
+                continue;
+            out->found = 1;
+            out->value = e->value;
+            if (strstr(e->what, "not located to tolerance"))
                 snprintf(out->note, USM_MSG_LEN,
-                         "%s between %s = %.6g and %.6g, not located: no periodic orbit at "
-                         "%.6g (%.120s)", what, cv->param, a, b, c, usm_periodic_message(w));
-                return;
-            }
-            const double gc = root_function(&r, stability);
-            if (gc > 0) {
-                a = c;
-                ga = fa = gc;
-                memcpy(xa, r.x0, sizeof xa);
-                if (side == -1)
-                    gb *= 0.5; /* Illinois: the stale end's value halved */
-                side = -1;
-            } else {
-                b = c;
-                gb = fb = gc;
-                memcpy(xb, r.x0, sizeof xb);
-                if (side == 1)
-                    ga *= 0.5;
-                side = 1;
-            }
-            if (gc == 0)
-                break;
+                         "%s between %s = %.6g and %.6g: not located to tolerance (a trial "
+                         "orbit failed)", what, cv->param, a, b);
+            return;
         }
-        out->found = 1;
-        out->value = fabs(fa) < fabs(fb) ? a : b;
-        if (fabs(b - a) > ni->root_xtol * (cv->to - cv->from) && fb != 0) {
-            out->value = 0.5 * (a + b);
-            snprintf(out->note, USM_MSG_LEN, "%s: bracket [%.9g, %.9g] after %d solves", what, a,
-                     b, out->evaluations);
+        if (g == 0) { /* on the grid point: no sign change for the sweep */
+            out->found = 1;
+            out->value = b;
+            return;
         }
+        snprintf(out->note, USM_MSG_LEN, "%s between %s = %.6g and %.6g, not located by the sweep",
+                 what, cv->param, a, b);
         return;
     }
     snprintf(out->note, USM_MSG_LEN, "%s: not reached for %s from %g to %g", what, cv->param,
@@ -166,40 +124,40 @@ static int curve_task(void *ctx, void *state, size_t i)
     per_state *s = state;
     const int k = (int)i / REPORT_NIMP, j = (int)i % REPORT_NIMP;
     usm_report_nonideal_curve *cv = &d->nonideal.curve[k][j];
+    usm_periodic_sweep *sw = s->sweep[k];
     usm_periodic *w = s->w[k];
-    double(*xs)[USM_MAX_NX] = calloc((size_t)cv->points, sizeof *xs);
+    const usm_params base = curve_params(&d->params);
+    usm_periodic_sweep_options opt;
     usm_periodic_result r;
-    if (!xs)
-        return USM_EFAILED;
+    usm_periodic_sweep_options_default(&opt);
+    opt.over = cv->param;
+    opt.from = cv->from;
+    opt.to = cv->to;
+    opt.points = cv->points;
+    opt.event_tol = d->nonideal.root_xtol;
+    opt.periodic = d->nonideal.opt;
+    /* no orbit at the start (or bad input): every point without an orbit,
+     * which the roots' notes say */
+    const int swept = usm_periodic_sweep_run(sw, &base, &opt) == USM_OK;
     for (int q = 0; q < cv->points; ++q) {
         usm_report_nonideal_point *pt = &cv->pt[q];
-        double start[USM_MAX_NX];
-        const double *x_start = NULL;
-        pt->value = cv->from + (cv->to - cv->from) * q / (cv->points - 1);
-        if (q >= 2 && cv->pt[q - 1].converged && cv->pt[q - 2].converged) {
-            for (int c = 0; c < USM_MAX_NX; ++c)
-                start[c] = 2.0 * xs[q - 1][c] - xs[q - 2][c];
-            x_start = start;
-        } else if (q >= 1 && cv->pt[q - 1].converged)
-            x_start = xs[q - 1];
-        pt->converged =
-            solve_at(w, &d->params, cv->param, pt->value, x_start, &d->nonideal.opt_curve, &r,
-                     &cv->solves) == USM_OK;
+        const usm_periodic_point *sp = swept ? usm_periodic_sweep_point_at(sw, (size_t)q) : NULL;
+        pt->value = sp ? sp->value : cv->from + (cv->to - cv->from) * q / (cv->points - 1);
+        pt->converged = sp && sp->converged;
         if (!pt->converged) {
             pt->speed_mean = pt->ripple = pt->F_n_min = pt->F_n_max = NAN;
             pt->max_modulus = pt->theta_h2 = NAN;
             continue;
         }
-        memcpy(xs[q], r.x0, sizeof xs[q]);
-        pt->speed_mean = r.rotor_speed_mean;
-        pt->ripple = r.rotor_speed_ripple;
-        pt->F_n_min = r.F_n_min;
-        pt->F_n_max = r.F_n_max;
-        pt->max_modulus = r.floquet.max_modulus;
-        pt->theta_h2 = r.theta_harmonic_2;
+        pt->speed_mean = sp->orbit.rotor_speed_mean;
+        pt->ripple = sp->orbit.rotor_speed_ripple;
+        pt->F_n_min = sp->orbit.F_n_min;
+        pt->F_n_max = sp->orbit.F_n_max;
+        pt->max_modulus = sp->orbit.floquet.max_modulus;
+        pt->theta_h2 = sp->orbit.theta_harmonic_2;
     }
-    locate_root(w, &d->params, &d->nonideal, cv, xs, 0, &cv->contact);
-    locate_root(w, &d->params, &d->nonideal, cv, xs, 1, &cv->stability);
+    root_from_sweep(sw, cv, 0, &cv->contact);
+    root_from_sweep(sw, cv, 1, &cv->stability);
     cv->tolerable_found = cv->contact.found || cv->stability.found;
     if (cv->contact.found && (!cv->stability.found || cv->contact.value <= cv->stability.value)) {
         cv->tolerable = cv->contact.value;
@@ -218,7 +176,10 @@ static int curve_task(void *ctx, void *state, size_t i)
         usm_report_nonideal *ni = &d->nonideal;
         const double v = cv->tolerable_found ? cv->tolerable : cv->to;
         ni->orbit_value = v;
-        if (solve_at(w, &d->params, cv->param, v, NULL, &ni->opt, &r, &cv->solves) == USM_OK) {
+        usm_params p = base;
+        char pmsg[USM_MSG_LEN];
+        if (usm_params_set(&p, cv->param, v, pmsg) == USM_OK &&
+            usm_periodic_solve(w, &p, NULL, &ni->opt, &r) == USM_OK) {
             const double *smp = usm_periodic_samples(w);
             const int cols = r.nx + 4;
             ni->orbit_ok = 1;
@@ -231,7 +192,6 @@ static int curve_task(void *ctx, void *state, size_t i)
             snprintf(ni->orbit_note, USM_MSG_LEN, "no periodic orbit at %s = %g: %.150s",
                      cv->param, v, usm_periodic_message(w));
     }
-    free(xs);
     return USM_OK;
 }
 
@@ -247,18 +207,17 @@ int usm_report_compute_nonideal(usm_report_data *d, char msg[USM_IO_MSG_LEN])
     char pmsg[USM_MSG_LEN];
     memset(ni, 0, sizeof *ni);
     ni->orbit_imp = REPORT_IMP_SPLIT;
-    /* The curves' points with looser tolerances than usm periodic's (the
-     * orbit's numbers to about 1e-7, the multipliers to about 1e-6: far below
-     * what the figures show) at half the cost per orbit; the roots and the
-     * orbit drawn with usm periodic's own, to 1e-9 of the range.  --quick:
-     * everything with the looser ones, the roots to 1e-6 of the range. */
+    /* The orbits with usm periodic's tolerances, the roots to 1e-9 of the
+     * range.  --quick: looser tolerances (CVODES rtol 1e-9, Newton 1e-7: the
+     * orbit's numbers to about 1e-7, the multipliers to about 1e-6, far below
+     * what the figures show) at half the cost per orbit, the roots to 1e-6
+     * of the range. */
     usm_periodic_options_default(&ni->opt);
-    ni->opt_curve = ni->opt;
-    ni->opt_curve.rtol = 1e-9;
-    ni->opt_curve.tol = 1e-7;
     ni->root_xtol = d->opt.quick ? 1e-6 : 1e-9;
-    if (d->opt.quick)
-        ni->opt = ni->opt_curve;
+    if (d->opt.quick) {
+        ni->opt.rtol = 1e-9;
+        ni->opt.tol = 1e-7;
+    }
     for (int k = 0; k < REPORT_NMODELS; ++k) {
         const usm_model *m = d->model[k].model;
         ni->model[k] = m ? usm_model_variant(m->base, "imperfect") : NULL;

@@ -244,7 +244,7 @@ static void write_values_csv(FILE *f, const usm_report_data *d)
     usm_csv_num(f, 0, d->params.T);
     usm_csv_num(f, 0, -d->model[REPORT_3DOF].sol.rotor_speed);
     for (int k = 0; k < REPORT_NMODELS; ++k)
-        for (int b = 0; b < REPORT_NBOUNDARY; ++b)
+        for (int b = 0; b < USM_REPORT_NBOUNDARY; ++b)
             usm_csv_num(f, 0, d->have_map[k] ? (double)d->map[k].nbnd[b] : 0);
     fputc('\n', f);
 }
@@ -456,7 +456,7 @@ int usm_report_write_data(const usm_report_data *d, const char *dir, char msg[US
         snprintf(name, sizeof name, "%s.csv", usm_report_figures[map].name);
         if (st == USM_OK)
             st = write_data_file(d, dir, name, DATA_MAP, k, 0, msg);
-        for (int b = 0; b < REPORT_NBOUNDARY && st == USM_OK; ++b) {
+        for (int b = 0; b < USM_REPORT_NBOUNDARY && st == USM_OK; ++b) {
             snprintf(name, sizeof name, "%s_%s.csv", usm_report_figures[map].name,
                      usm_report_boundary_name(b));
             st = write_data_file(d, dir, name, DATA_BOUNDARY, k, b, msg);

@@ -49,10 +49,9 @@
 #include <nvector/nvector_serial.h>
 #include <sunnonlinsol/sunnonlinsol_fixedpoint.h>
 
-#include "io/csv_out.h"
 #include "core/cvode_msg.h"
 #include "core/dense.h"
-#include "usm_periodic.h"
+#include "solve/periodic_internal.h"
 
 #define TWO_PI 6.283185307179586476925286766559
 #define NN (USM_MAX_NX * USM_MAX_NX)
@@ -98,30 +97,7 @@ const double *usm_periodic_samples(const usm_periodic *w)
     return w->have_samples ? w->samples : NULL;
 }
 
-int usm_periodic_write_orbit_csv(const usm_periodic *w, FILE *out)
-{
-    const usm_model *m = w->m;
-    const int n = m->nx, ncol = n + 4;
-    usm_csv_column cols[USM_MAX_NX + 4];
-    if (!w->have_samples)
-        return -1;
-    cols[0] = (usm_csv_column){"t", "s"};
-    for (int i = 0; i < n; ++i) { /* angles and their rates */
-        const char *nm = m->state_names[i];
-        const size_t len = strlen(nm);
-        cols[i + 1] = (usm_csv_column){nm, len > 3 && strcmp(nm + len - 3, "dot") == 0 ? "rad/s" : "rad"};
-    }
-    cols[n + 1] = (usm_csv_column){"F_n", "N"};
-    cols[n + 2] = (usm_csv_column){"F_t", "N"};
-    cols[n + 3] = (usm_csv_column){"rotor_speed", "1/s"};
-    usm_csv_header(out, cols, ncol);
-    for (int k = 0; k < USM_PERIODIC_SAMPLES; ++k) {
-        for (int j = 0; j < ncol; ++j)
-            usm_csv_num(out, j == 0, w->samples[k * ncol + j]);
-        fputc('\n', out);
-    }
-    return ferror(out) ? -1 : 0;
-}
+const usm_model *usm_periodic_model_of(const usm_periodic *w) { return w->m; }
 
 void usm_periodic_free(usm_periodic *w)
 {

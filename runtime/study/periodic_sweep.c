@@ -1,15 +1,12 @@
 /* Continuation of the periodic orbit in one parameter, with its events
  * (usm_periodic_sweep.h). */
-#include "usm_periodic_sweep.h"
+#include "study/periodic_sweep_internal.h"
 
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-
-#include "io/csv_out.h"
-#include "io/json_out.h"
 
 /* A trial step is accepted when Newton needed at most this many iterations;
  * more means the prediction was poor, and the next step is halved. */
@@ -89,6 +86,9 @@ void usm_periodic_sweep_free(usm_periodic_sweep *s)
 size_t usm_periodic_sweep_count(const usm_periodic_sweep *s) { return s->npts; }
 size_t usm_periodic_sweep_event_count(const usm_periodic_sweep *s) { return s->nev; }
 const char *usm_periodic_sweep_message(const usm_periodic_sweep *s) { return s->msg; }
+const usm_model *usm_periodic_sweep_model(const usm_periodic_sweep *s) { return s->m; }
+const char *usm_periodic_sweep_over(const usm_periodic_sweep *s) { return s->over; }
+const char *usm_periodic_sweep_unit(const usm_periodic_sweep *s) { return s->unit; }
 
 const usm_periodic_point *usm_periodic_sweep_point_at(const usm_periodic_sweep *s, size_t i)
 {
@@ -440,94 +440,4 @@ int usm_periodic_sweep_run(usm_periodic_sweep *s, const usm_params *p,
 oom:
     snprintf(s->msg, sizeof s->msg, "out of memory");
     return USM_EFAILED;
-}
-
-/* ---- output ------------------------------------------------------------------- */
-
-int usm_periodic_sweep_csv(const usm_periodic_sweep *s, FILE *out)
-{
-    fprintf(out, "%s [%s],converged,rotor_speed_mean [1/s],rotor_speed_ripple [1/s],F_n_min [N],"
-                 "F_n_max [N],friction_needed_max [1],theta_mean [rad],theta_min [rad],"
-                 "theta_max [rad],theta_harmonic_2 [rad],F_n_harmonic_2 [N],max_modulus [1],"
-                 "stable,contact_open,error\n",
-            s->over, s->unit);
-    for (size_t i = 0; i < s->npts; ++i) {
-        const usm_periodic_point *pt = &s->pts[i];
-        const usm_periodic_result *r = &pt->orbit;
-        char buf[32];
-        fputs(usm_shortest(buf, pt->value), out);
-        usm_csv_bool(out, 0, pt->converged);
-        if (!pt->converged) {
-            fputs(",,,,,,,,,,,,,,", out);
-            usm_csv_text(out, 0, pt->error);
-            fputc('\n', out);
-            continue;
-        }
-        const double v[] = {r->rotor_speed_mean, r->rotor_speed_ripple, r->F_n_min, r->F_n_max,
-                            r->friction_needed_max, r->theta_mean, r->theta_min, r->theta_max,
-                            r->theta_harmonic_2, r->F_n_harmonic_2, r->floquet.max_modulus};
-        for (size_t k = 0; k < sizeof v / sizeof v[0]; ++k)
-            usm_csv_num(out, 0, v[k]);
-        usm_csv_bool(out, 0, r->floquet.stable);
-        usm_csv_bool(out, 0, r->contact_open);
-        fputs(",\n", out);
-    }
-    for (size_t i = 0; i < s->nev; ++i) {
-        const usm_periodic_event *e = &s->ev[i];
-        char buf[32];
-        fprintf(out, "# %s%s%s%s at %s = %s: %s\n", usm_pevent_name(e->type),
-                e->kind ? " (" : "", usm_crossing_name(e->kind), e->kind ? ")" : "", s->over,
-                usm_shortest(buf, e->value), e->what);
-    }
-    return ferror(out) ? -1 : 0;
-}
-
-static json_t *sweep_json(const usm_periodic_sweep *s, const usm_params *p)
-{
-    json_t *obj = json_object(), *points = json_array(), *events = json_array();
-    int ok = obj && points && events;
-    usm_json_put(obj, "over", json_string(s->over), &ok);
-    usm_json_put(obj, "model", json_string(s->m->name), &ok);
-    usm_json_put(obj, "periodic", json_true(), &ok);
-    usm_json_put(obj, "parameters", usm_json_params(p), &ok);
-    for (size_t i = 0; ok && i < s->npts; ++i) {
-        const usm_periodic_point *pt = &s->pts[i];
-        json_t *o = pt->converged ? usm_json_periodic_result(&pt->orbit) : json_object();
-        int pok = o != NULL;
-        usm_json_put(o, s->over, usm_json_real(pt->value), &pok);
-        usm_json_put(o, "converged", json_boolean(pt->converged), &pok);
-        if (!pt->converged)
-            usm_json_put(o, "error", json_string(pt->error), &pok);
-        if (!pok || json_array_append_new(points, o) != 0)
-            ok = 0;
-    }
-    for (size_t i = 0; ok && i < s->nev; ++i) {
-        const usm_periodic_event *e = &s->ev[i];
-        json_t *o = json_object();
-        int eok = o != NULL;
-        usm_json_put(o, "type", json_string(usm_pevent_name(e->type)), &eok);
-        if (e->kind) {
-            usm_json_put(o, "kind", json_string(usm_crossing_name(e->kind)), &eok);
-            json_t *mu = json_pack("[ff]", e->multiplier_re, e->multiplier_im);
-            usm_json_put(o, "multiplier", mu, &eok);
-        }
-        usm_json_put(o, s->over, usm_json_real(e->value), &eok);
-        usm_json_put(o, "what", json_string(e->what), &eok);
-        if (e->has_orbit)
-            usm_json_put(o, "orbit", usm_json_periodic_result(&e->orbit), &eok);
-        if (!eok || json_array_append_new(events, o) != 0)
-            ok = 0;
-    }
-    usm_json_put(obj, "points", points, &ok);
-    usm_json_put(obj, "events", events, &ok);
-    if (!ok) {
-        json_decref(obj);
-        return NULL;
-    }
-    return obj;
-}
-
-int usm_periodic_sweep_write_json(const usm_periodic_sweep *s, const usm_params *p, FILE *out)
-{
-    return usm_json_write(sweep_json(s, p), out);
 }

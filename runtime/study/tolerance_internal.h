@@ -1,7 +1,8 @@
 /* tolerance_internal.h: the parts of a tolerance study shared by its files
  * (tolerance.c: parsing, sampling, the serial run; tolerance_io.c:
- * checkpoint; tolerance_stats.c: statistics and writers; tolerance_mpi.c:
- * the MPI run).  Not installed; not part of the API.
+ * checkpoint; tolerance_stats.c: statistics; io/tolerance_out.c: the
+ * writers; mpi/tolerance_mpi.c: the MPI run).  Not installed; not part of
+ * the API.
  */
 #ifndef USM_TOLERANCE_INTERNAL_H
 #define USM_TOLERANCE_INTERNAL_H

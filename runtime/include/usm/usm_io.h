@@ -32,6 +32,14 @@ extern "C" {
 /* Length of the message buffers of this header. */
 #define USM_IO_MSG_LEN 1024
 
+/* ---- files ------------------------------------------------------------------ */
+
+/* Create the file at path for writing, never replacing one that exists
+ * unless force (the check and the creation are one step: O_EXCL).  NULL with
+ * "PATH: reason" in msg and *status USM_EINPUT (exists, cannot be created) or
+ * USM_EFAILED. */
+FILE *usm_io_create(const char *path, int force, char msg[USM_IO_MSG_LEN], int *status);
+
 /* ---- numbers and parameter files ------------------------------------------- */
 
 /* Parse the `len` characters at `text` as a finite double (strtod syntax,

@@ -21,6 +21,8 @@
 #ifndef USM_OPTIMIZE_H
 #define USM_OPTIMIZE_H
 
+#include <stdio.h>
+
 #include "usm.h"
 #include "usm_design.h"
 
@@ -105,6 +107,14 @@ int usm_optimize_run(usm_optimize *o, const usm_params *p, const usm_opt_problem
 const usm_steady *usm_optimize_steady(const usm_optimize *o);
 /* Why the last run did not succeed, or "". */
 const char *usm_optimize_message(const usm_optimize *o);
+
+/* The `usm optimize --json` object of the last successful run of o (model m,
+ * problem pb, result res) and a newline to out: objective, sense, value,
+ * varied, parameters, active_constraints, kkt_residual, evaluations and the
+ * stationary solution at the optimum as `usm steady --json` writes it
+ * ("solution").  0, or -1 on a write error or when out of memory. */
+int usm_optimize_write_json(const usm_optimize *o, const usm_model *m, const usm_opt_problem *pb,
+                            const usm_opt_result *res, FILE *out);
 
 #ifdef __cplusplus
 }

@@ -97,6 +97,13 @@ const double *usm_periodic_samples(const usm_periodic *w);
  * -1 before a converged solve or on a write error. */
 int usm_periodic_write_orbit_csv(const usm_periodic *w, FILE *out);
 
+/* The `usm periodic --json` object and a newline to out: model, parameters
+ * p, converged, and either the orbit's keys (r: the result of the last
+ * solve of w) or, with r NULL, "error": usm_periodic_message(w) (keys:
+ * docs/periodic.md).  0, or -1 on a write error or when out of memory. */
+int usm_periodic_write_json(const usm_periodic *w, const usm_params *p,
+                            const usm_periodic_result *r, FILE *out);
+
 /* Why the last solve failed, or "".  Owned by w. */
 const char *usm_periodic_message(const usm_periodic *w);
 

@@ -1,6 +1,7 @@
-/* mpi_run.h: tolerance studies and maps over MPI ranks (issue 12, part 3).
- * Built into the usm command when CMake finds MPI (USM_HAVE_MPI); not part of
- * libusm and not installed.
+/* usm_mpi.h: tolerance studies and maps over MPI ranks (issue 12, part 3):
+ * the API of the usm_mpi library, which the usm command links when CMake
+ * finds MPI (USM_HAVE_MPI); not part of libusm (which has no MPI) and not
+ * installed.
  *
  * The command initialises MPI only when an MPI launcher started it (mpirun,
  * srun: usm_mpi_launched), so a plain `usm ...` never touches MPI.  The ranks
@@ -8,8 +9,8 @@
  * rank 0's output is byte-identical to a serial run's; only rank 0 prints
  * and writes files.
  */
-#ifndef USM_MPI_RUN_H
-#define USM_MPI_RUN_H
+#ifndef USM_MPI_H
+#define USM_MPI_H
 
 #include "usm_map.h"
 #include "usm_tolerance.h"
@@ -52,4 +53,4 @@ int usm_map_run_mpi(const usm_model *m, const usm_params *p, const usm_map_optio
                     usm_map_gathered *g);
 void usm_map_gathered_free(usm_map_gathered *g);
 
-#endif /* USM_MPI_RUN_H */
+#endif /* USM_MPI_H */

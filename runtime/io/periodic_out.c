@@ -1,0 +1,56 @@
+/* A periodic steady state: its orbit as CSV, the `usm periodic --json`
+ * object (usm_periodic.h). */
+#include <stdio.h>
+#include <string.h>
+
+#include "io/csv_out.h"
+#include "io/json_out.h"
+#include "solve/periodic_internal.h"
+
+int usm_periodic_write_orbit_csv(const usm_periodic *w, FILE *out)
+{
+    const usm_model *m = usm_periodic_model_of(w);
+    const int n = m->nx, ncol = n + 4;
+    const double *samples = usm_periodic_samples(w);
+    usm_csv_column cols[USM_MAX_NX + 4];
+    if (!samples)
+        return -1;
+    cols[0] = (usm_csv_column){"t", "s"};
+    for (int i = 0; i < n; ++i) { /* angles and their rates */
+        const char *nm = m->state_names[i];
+        const size_t len = strlen(nm);
+        cols[i + 1] = (usm_csv_column){nm, len > 3 && strcmp(nm + len - 3, "dot") == 0 ? "rad/s" : "rad"};
+    }
+    cols[n + 1] = (usm_csv_column){"F_n", "N"};
+    cols[n + 2] = (usm_csv_column){"F_t", "N"};
+    cols[n + 3] = (usm_csv_column){"rotor_speed", "1/s"};
+    usm_csv_header(out, cols, ncol);
+    for (int k = 0; k < USM_PERIODIC_SAMPLES; ++k) {
+        for (int j = 0; j < ncol; ++j)
+            usm_csv_num(out, j == 0, samples[k * ncol + j]);
+        fputc('\n', out);
+    }
+    return ferror(out) ? -1 : 0;
+}
+
+int usm_periodic_write_json(const usm_periodic *w, const usm_params *p,
+                            const usm_periodic_result *r, FILE *out)
+{
+    json_t *o = json_object();
+    int ok = o != NULL;
+    usm_json_put(o, "model", json_string(usm_periodic_model_of(w)->name), &ok);
+    usm_json_put(o, "parameters", usm_json_params(p), &ok);
+    usm_json_put(o, "converged", json_boolean(r != NULL), &ok);
+    if (!r) {
+        usm_json_put(o, "error", json_string(usm_periodic_message(w)), &ok);
+    } else {
+        json_t *orbit = usm_json_periodic_result(r);
+        ok = ok && orbit && json_object_update(o, orbit) == 0;
+        json_decref(orbit);
+    }
+    if (!ok) {
+        json_decref(o);
+        o = NULL;
+    }
+    return usm_json_write(o, out);
+}
