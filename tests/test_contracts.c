@@ -6,7 +6,7 @@
  *   table row of that name and unit, whose offset is the field's; docs/cli.md
  *   (read at run time, argv[1]) must state the same unit and constraint; the
  *   column USM_P_<name> of steady_jacobian_params must be the derivative in the
- *   field <name> (central differences through the struct member itself).
+ *   field <name> (central differences in the field offsetof finds).
  * - Outputs: names and units as docs/cli.md's JSON keys state them; R* and Z
  *   (README, "The derivation": R* = R cos(theta) - H sin(theta),
  *   Z = R sin(theta) + H cos(theta)) at the indices USM_OUT_R_STAR, USM_OUT_Z,
@@ -148,8 +148,11 @@ static void check_params(void)
           "constraint names");
 }
 
+/* The field an entry names, found by the compiler's offsetof (not the table's). */
+static double *field(usm_params *p, const expected *e) { return (double *)((char *)p + e->offset); }
+
 /* Column USM_P_<field> of steady_jacobian_params vs central differences in
- * the struct member <field> itself. */
+ * the field <field> itself (the 19 parameters of the ideal motor). */
 static void check_columns(const usm_model *m)
 {
     usm_params p;
@@ -161,30 +164,29 @@ static void check_columns(const usm_model *m)
     if (m->u_phidot_R >= 0)
         u[m->u_phidot_R] = -200.0;
     m->steady_jacobian_params(u, &p, J);
-#define COL(field)                                                                                 \
-    do {                                                                                           \
-        usm_params a = p, b = p;                                                                   \
-        const double h = 1e-6 * (fabs(p.field) > 0 ? fabs(p.field) : 1.0);                         \
-        double ra[USM_MAX_NU], rb[USM_MAX_NU];                                                     \
-        a.field += h;                                                                              \
-        b.field -= h;                                                                              \
-        m->steady_residual(u, &a, ra);                                                             \
-        m->steady_residual(u, &b, rb);                                                             \
-        for (int i = 0; i < m->nu; ++i) {                                                          \
-            const double fd = (ra[i] - rb[i]) / (2 * h), an = J[i * USM_NPARAMS + USM_P_##field]; \
-            double scale = 0;                                                                      \
-            for (int k = 0; k < USM_NPARAMS; ++k)                                                  \
-                scale = fmax(scale, fabs(J[i * USM_NPARAMS + k] * usm_params_get(&p,               \
-                                                          &usm_param_table[k])));                 \
-            CHECK(fabs(fd - an) * fabs(p.field != 0 ? p.field : 1.0) <= 1e-6 * scale + 1e-300,     \
-                  "%s row %d column USM_P_" #field ": %.9g, differences %.9g", m->name, i, an,    \
-                  fd);                                                                             \
-        }                                                                                          \
-    } while (0)
-    COL(m0); COL(T); COL(F0); COL(c_R); COL(d_R); COL(c_t); COL(c_r); COL(d_t); COL(d_r);
-    COL(R); COL(H); COL(I_R); COL(I_xx); COL(I_yy); COL(I_zz); COL(M); COL(f); COL(mu0);
-    COL(kappa);
-#undef COL
+    for (int e = 0; e < NEXP; ++e) {
+        const expected *x = &params[e];
+        if (x->index >= USM_P_amp_imbalance) /* the stationary kernels are the ideal motor's */
+            continue;
+        usm_params a = p, b = p;
+        const double v = *field(&p, x), h = 1e-6 * (v != 0 ? fabs(v) : 1.0);
+        double ra[USM_MAX_NU], rb[USM_MAX_NU];
+        *field(&a, x) += h;
+        *field(&b, x) -= h;
+        m->steady_residual(u, &a, ra);
+        m->steady_residual(u, &b, rb);
+        for (int i = 0; i < m->nu; ++i) {
+            /* the size of the row's terms J_ik p_k sets the scale of the error */
+            double scale = 0;
+            for (int k = 0; k < NEXP; ++k)
+                scale = fmax(scale, fabs(J[i * USM_NPARAMS + params[k].index] *
+                                         *field(&p, &params[k])));
+            const double fd = (ra[i] - rb[i]) / (2 * h), an = J[i * USM_NPARAMS + x->index];
+            CHECK(fabs(fd - an) * (v != 0 ? fabs(v) : 1.0) <= 1e-6 * scale,
+                  "%s row %d column USM_P_%s: %.9g, differences %.9g", m->name, i, x->name, an,
+                  fd);
+        }
+    }
 }
 
 static void check_outputs(void)
@@ -194,7 +196,8 @@ static void check_outputs(void)
         int index;
         const char *name, *unit;
     } want[] = {
-        /* docs/cli.md, JSON output: rotor_speed [1/s], F_n, F_t [N], v_c, v_rel [m/s], beta [rad] */
+        /* docs/cli.md, JSON output: rotor_speed [1/s], F_n, F_t [N], v_c, v_rel [m/s],
+           beta [rad]; R*, Z lengths, powers in W, the seed's cos/sin and mismatch pure numbers */
         {usm_out_outputs, USM_OUT_R_STAR, "R_star", "m"},
         {usm_out_outputs, USM_OUT_Z, "Z", "m"},
         {usm_out_outputs, USM_OUT_V_C, "v_c", "m/s"},

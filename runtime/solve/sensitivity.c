@@ -248,8 +248,8 @@ static int steady_part(usm_sensitivity *s, const usm_params *p, const usm_steady
         out->d[USM_SENS_POWER_OUT][k] = dy[USM_DESIGN_POWER_OUT][k];
         out->d[USM_SENS_EFFICIENCY][k] =
             (dy[USM_DESIGN_POWER_OUT][k] - eff * dy[USM_DESIGN_POWER_IN][k]) / Pin;
-        out->d[USM_SENS_STICK_MARGIN][k] = p->mu0 * dy[USM_DESIGN_F_N][k] -
-                                           dy[USM_DESIGN_F_T][k] + (k == USM_P_mu0 ? sol->F_n : 0.0);
+        out->d[USM_SENS_STICK_MARGIN][k] = p->mu0 * dy[USM_DESIGN_F_N][k] - dy[USM_DESIGN_F_T][k] +
+                                           (k == USM_P_mu0 ? sol->F_n : 0.0);
     }
     for (int k = 0; k < USM_SENS_COUNT; ++k)
         out->defined[k] = k != USM_SENS_MAX_MODULUS;
