@@ -39,7 +39,8 @@ if sys.argv[1:] == ["--list"]:
     # The files a regeneration writes, for the build system; needs no sympy.
     import variants
     names = [m[0] for m in variants.generated_models()]
-    files = ["usm_kernels.c", "usm_kernels.h", "usm_equations.c", "usm_equations.h"]
+    files = ["usm_kernels.c", "usm_kernels.h", "usm_equations.c", "usm_equations.h",
+             "usm_contracts.c", "usm_contracts.h"]
     for n in names:
         files += [f"usm_{n}.c", f"usm_{n}.h", f"usm_{n}_equations.md", f"usm_{n}_equations.tex",
                   f"usm_{n}_equations.json"]
@@ -50,7 +51,7 @@ import sympy as sp  # noqa: E402
 
 from usm_derive import GENERATOR_VERSION  # noqa: E402
 from usm_derive.model import derive_model  # noqa: E402
-from usm_derive import emit_doc, emit_model  # noqa: E402
+from usm_derive import emit_contracts, emit_doc, emit_model  # noqa: E402
 import variants  # noqa: E402
 
 
@@ -92,7 +93,8 @@ def code_digest():
 def model_digest(model, code):
     """The cache key of one model: exactly the inputs its files depend on."""
     name, base, variant, spec, description = model
-    return _sha(code, json.dumps([name, base, variant, spec, description], sort_keys=True))
+    return _sha(code, json.dumps([name, base, variant, spec, description,
+                                  emit_contracts.model_couplings(spec)], sort_keys=True))
 
 
 def _model_files(job):
@@ -205,6 +207,11 @@ def write_all(out_dir, only=None, verbose=True, jobs=2, cache=None):
                  "digest": _sha(code, listing), "input_digest": input_digest()}
         files.update(emit_model.common_files(
             [(m[0], m[1], m[2]) for m in models], variant_list, stamp))
+        contracts_stamp = dict(stamp, digest=_sha(code, listing,
+                                                  json.dumps(emit_contracts.couplings())))
+        files.update(emit_contracts.common_files(
+            [(m[0], m[3]) for m in models], files,
+            lambda title, extra: emit_model.banner(title, contracts_stamp, extra)))
         docs = [(m[0], fmt, files[f"usm_{m[0]}_equations.{ext}"])
                 for m in models for fmt, ext in (("markdown", "md"), ("latex", "tex"))]
         docs += [(m[0], fmt, diffs[m[0]][k]) for m in models

@@ -35,6 +35,16 @@ PAPER = {
     "friction": "atan",
 }
 
+# Parameters an assumption ties to another: (assumption, choice) ->
+# [(parameter, the parameter it equals, the assumption in words)].  Stated here
+# only: derive/ emits it for the runtime (usm_param_couplings, each model's
+# param_coupling, usm_param_coupled and usm_params_couple in
+# generated/usm_contracts.{h,c}) and refuses kernels of such a model that read
+# the tied parameter.
+COUPLINGS = {
+    ("stator_inertia", "axisymmetric"): [("I_yy", "I_xx", "an axisymmetric stator")],
+}
+
 # Assumptions PAPER leaves unstated (so the paper's models keep their lists):
 # their value in the paper's models, e.g. for the documents' "(paper: none)".
 UNSTATED = {"imperfection": "none"}

@@ -1,6 +1,7 @@
 """Turn a derived Model into C source text (one header and one source per model)."""
 import sympy as sp
 
+from . import emit_contracts
 from .emit_c import Kernel
 from .model import PARAMETERS, P, t
 
@@ -258,7 +259,8 @@ def model_files(m, description, stamp, base, variant):
     c += _names_array("state_names", m.state_names)
     c += _names_array("unknown_names", m.unknown_names)
     cyc = ", ".join("1" if i in m.cyclic else "0" for i in range(n))
-    c += f"static const unsigned char cyclic[] = {{{cyc}}};\n\n"
+    c += f"static const unsigned char cyclic[] = {{{cyc}}};\n"
+    c += emit_contracts.model_coupling_array(m.assumptions) + "\n"
     friction = f"{pre}_friction" if m.friction is not None else "0"
 
     def index(names, name):
@@ -291,7 +293,8 @@ def model_files(m, description, stamp, base, variant):
                ("steady_power", f"{pre}_steady_power"),
                ("steady_design_jacobian", f"{pre}_steady_design_jacobian"),
                ("floquet_direction", f"{pre}_floquet_direction"),
-               ("imperfect", 1 if m.assumptions.get("imperfection", "none") != "none" else 0)]
+               ("imperfect", 1 if m.assumptions.get("imperfection", "none") != "none" else 0),
+               ("param_coupling", "param_coupling")]
     c += (f"const usm_model {pre.replace('usm_', 'usm_model_')} = {{\n"
           + "".join(f"    .{k} = {v},\n" for k, v in fields) + "};\n")
     return {f"{pre}.h": h, f"{pre}.c": c}
@@ -396,6 +399,7 @@ def common_files(models, variant_list, stamp):
           "       (the stationary-solution kernels are those of the ideal motor); 0: the\n"
           "       model is ideal and those parameters must be 0. */\n"
           "    int imperfect;\n"
+          + emit_contracts.DESCRIPTOR_MEMBER +
           "} usm_model;\n\n")
     for name, _, _ in models:
         h += f"extern const usm_model usm_model_{name};\n"

@@ -252,10 +252,10 @@ int cli_map_main(int argc, char **argv)
         return USM_OK;
     }
     memset(&map, 0, sizeof map);
-    if (make_axis(&map.x, "--x", a.xname, "f", 30000, 46000, a.have_xfrom, a.xfrom, a.have_xto,
-                  a.xto, a.xpoints, msg) != USM_OK ||
-        make_axis(&map.y, "--y", a.yname, "T", 0, 0.008, a.have_yfrom, a.yfrom, a.have_yto,
-                  a.yto, a.ypoints, msg) != USM_OK) {
+    if (make_axis(&map.x, "--x", a.xname, usm_param_table[USM_P_f].name, 30000, 46000,
+                  a.have_xfrom, a.xfrom, a.have_xto, a.xto, a.xpoints, msg) != USM_OK ||
+        make_axis(&map.y, "--y", a.yname, usm_param_table[USM_P_T].name, 0, 0.008,
+                  a.have_yfrom, a.yfrom, a.have_yto, a.yto, a.ypoints, msg) != USM_OK) {
         cli_error("%s", msg);
         return USM_EINPUT;
     }

@@ -36,12 +36,20 @@ void usm_params_default(usm_params *p)
     p->mode_split = 0.0;
 }
 
+/* The name of the first imperfection (in table order) that is not 0, NULL when none is. */
+static const char *imperfection_set(const usm_params *p)
+{
+    for (int j = 0; j < USM_NIMPERFECTIONS; ++j) {
+        const usm_param_info *info = &usm_param_table[usm_param_imperfections[j]];
+        if (usm_params_get(p, info) != 0.0)
+            return info->name;
+    }
+    return NULL;
+}
+
 int usm_params_check_ideal(const usm_params *p, char msg[USM_MSG_LEN])
 {
-    const char *name = p->amp_imbalance != 0.0 ? "amp_imbalance"
-                       : p->phase_error != 0.0 ? "phase_error"
-                       : p->mode_split != 0.0  ? "mode_split"
-                                               : NULL;
+    const char *name = imperfection_set(p);
     if (!name)
         return USM_OK;
     snprintf(msg, USM_MSG_LEN,
@@ -94,12 +102,12 @@ int usm_params_check(const usm_params *p, const usm_model *m, char msg[USM_MSG_L
             snprintf(msg, USM_MSG_LEN, "%s: value must be a finite number", info->name);
             return USM_EINPUT;
         }
-        if (strcmp(info->constraint, "positive") == 0 && !(v > 0.0)) {
+        if (usm_param_constraints[i] == USM_CONSTRAINT_POSITIVE && !(v > 0.0)) {
             snprintf(msg, USM_MSG_LEN, "%s: must be positive (%s), got %g", info->name,
                      info->description, v);
             return USM_EINPUT;
         }
-        if (strcmp(info->constraint, "nonnegative") == 0 && !(v >= 0.0)) {
+        if (usm_param_constraints[i] == USM_CONSTRAINT_NONNEGATIVE && !(v >= 0.0)) {
             snprintf(msg, USM_MSG_LEN, "%s: must not be negative (%s), got %g", info->name,
                      info->description, v);
             return USM_EINPUT;
@@ -118,19 +126,20 @@ int usm_params_check(const usm_params *p, const usm_model *m, char msg[USM_MSG_L
         return USM_EINPUT;
     }
     if (m && !m->imperfect && usm_params_check_ideal(p, msg) != USM_OK) {
-        const char *name = p->amp_imbalance != 0.0 ? "amp_imbalance"
-                           : p->phase_error != 0.0 ? "phase_error"
-                                                   : "mode_split";
         snprintf(msg, USM_MSG_LEN,
                  "%s: must be 0 in model %s, an ideal motor (the variant imperfect models it)",
-                 name, m->name);
+                 imperfection_set(p), m->name);
         return USM_EINPUT;
     }
-    if (m && m->axisymmetric_stator && p->I_yy != p->I_xx) {
-        snprintf(msg, USM_MSG_LEN,
-                 "I_yy: must equal I_xx (%g) in model %s, which assumes an axisymmetric stator",
-                 p->I_xx, m->name);
-        return USM_EINPUT;
+    for (int i = 0; m && i < USM_NPARAMS; ++i) {
+        const usm_param_coupling *c = usm_param_coupled(m, i);
+        const usm_param_info *to = c ? &usm_param_table[c->equals] : NULL;
+        if (c && usm_params_get(p, &usm_param_table[i]) != usm_params_get(p, to)) {
+            snprintf(msg, USM_MSG_LEN, "%s: must equal %s (%g) in model %s, which assumes %s",
+                     usm_param_table[i].name, to->name, usm_params_get(p, to), m->name,
+                     c->because);
+            return USM_EINPUT;
+        }
     }
     return USM_OK;
 }

@@ -243,9 +243,9 @@ static json_t *params(const usm_report_data *d)
         const usm_param_info *info = &usm_param_table[k];
         const double v = usm_params_get(&d->params, info);
         json_t *o = json_object();
-        const char *source = strcmp(info->name, "f") == 0 ? "**not in the paper**: chosen, see below"
-            : strcmp(info->name, "M") == 0 ? "**not in the paper**: 2 I_R / R^2, see below"
-            : strcmp(info->name, "mu0") == 0 || strcmp(info->name, "kappa") == 0 ? "Sec. 5 text"
+        const char *source = k == USM_P_f ? "**not in the paper**: chosen, see below"
+            : k == USM_P_M ? "**not in the paper**: 2 I_R / R^2, see below"
+            : k == USM_P_mu0 || k == USM_P_kappa ? "Sec. 5 text"
             : "Appendix A, Table 5";
         str(o, "name", info->name);
         num(o, "value", v);

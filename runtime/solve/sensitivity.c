@@ -230,7 +230,6 @@ static int steady_part(usm_sensitivity *s, const usm_params *p, const usm_steady
                 acc += Du[r * nu + i] * dudp[i][k];
             dy[r][k] = acc;
         }
-    const int mu0 = 17; /* usm_params field index of mu0, checked below */
     const double Pin = sol->power_in, eff = sol->efficiency;
     out->value[USM_SENS_THETA] = sol->theta;
     out->value[USM_SENS_ROTOR_SPEED] = sol->rotor_speed;
@@ -249,8 +248,8 @@ static int steady_part(usm_sensitivity *s, const usm_params *p, const usm_steady
         out->d[USM_SENS_POWER_OUT][k] = dy[USM_DESIGN_POWER_OUT][k];
         out->d[USM_SENS_EFFICIENCY][k] =
             (dy[USM_DESIGN_POWER_OUT][k] - eff * dy[USM_DESIGN_POWER_IN][k]) / Pin;
-        out->d[USM_SENS_STICK_MARGIN][k] = p->mu0 * dy[USM_DESIGN_F_N][k] -
-                                           dy[USM_DESIGN_F_T][k] + (k == mu0 ? sol->F_n : 0.0);
+        out->d[USM_SENS_STICK_MARGIN][k] = p->mu0 * dy[USM_DESIGN_F_N][k] - dy[USM_DESIGN_F_T][k] +
+                                           (k == USM_P_mu0 ? sol->F_n : 0.0);
     }
     for (int k = 0; k < USM_SENS_COUNT; ++k)
         out->defined[k] = k != USM_SENS_MAX_MODULUS;
@@ -577,7 +576,6 @@ static int modulus_part(usm_sensitivity *s, const usm_params *p, const usm_stead
         return USM_EFAILED;
     }
     const int nsteps = single ? N1 : N1 + N2;
-    const int f_index = 16; /* usm_params field index of f */
     for (int j = 0; j < USM_NPARAMS; ++j) {
         usm_params dp;
         double du[USM_MAX_NU];
@@ -585,7 +583,7 @@ static int modulus_part(usm_sensitivity *s, const usm_params *p, const usm_stead
         *usm_params_field(&dp, &usm_param_table[j]) = 1.0;
         for (int i = 0; i < s->m->nu; ++i)
             du[i] = dudp[i][j];
-        const double dT = j == f_index ? -T / p->f : 0.0;
+        const double dT = j == USM_P_f ? -T / p->f : 0.0;
         double complex dl = 0;
         for (int k = 0; k < nsteps; ++k) {
             const int N = k < N1 ? N1 : N2;
@@ -644,10 +642,6 @@ int usm_sensitivity_compute(usm_sensitivity *s, const usm_params *p,
     double dudp[USM_MAX_NU][USM_NPARAMS];
     s->msg[0] = '\0';
     memset(out, 0, sizeof *out);
-    if (strcmp(usm_param_table[17].name, "mu0") != 0 || strcmp(usm_param_table[16].name, "f") != 0) {
-        snprintf(s->msg, USM_MSG_LEN, "parameter table: f and mu0 are not fields 16 and 17");
-        return USM_EFAILED;
-    }
     if (s->m->imperfect) {
         /* its stationary kernels are the ideal motor's: the derivatives in the
          * imperfections would read 0, yet off 0 no stationary solution exists */

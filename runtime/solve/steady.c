@@ -501,7 +501,7 @@ static void friction_deps(usm_steady *s)
             }
         }
     }
-    s->dep[usm_params_find("kappa") - usm_param_table] = 1;
+    s->dep[USM_P_kappa] = 1;
     s->dep_ready = 1;
 }
 

@@ -82,8 +82,8 @@ double usm_map_axis_value(const usm_map_axis *a, int i)
 void usm_map_options_default(usm_map_options *opt)
 {
     memset(opt, 0, sizeof *opt);
-    opt->x = (usm_map_axis){"f", 30000.0, 46000.0, 33};
-    opt->y = (usm_map_axis){"T", 0.0, 0.008, 33};
+    opt->x = (usm_map_axis){usm_param_table[USM_P_f].name, 30000.0, 46000.0, 33};
+    opt->y = (usm_map_axis){usm_param_table[USM_P_T].name, 0.0, 0.008, 33};
     opt->t0 = 0.0;
     usm_floquet_options_default(&opt->floquet);
     opt->threads = 2;

@@ -133,16 +133,16 @@ int usm_opt_problem_check(const usm_opt_problem *pb, const usm_model *m, const u
             usm_params q = *p;
             char m2[USM_MSG_LEN];
             *usm_params_field(&q, info) = side ? pb->hi[k] : pb->lo[k];
-            if (m->axisymmetric_stator && strcmp(info->name, "I_xx") == 0)
-                q.I_yy = q.I_xx;
+            usm_params_couple(m, &q, pb->vary[k]);
             if (usm_params_check(&q, m, m2) != USM_OK) {
                 snprintf(msg, USM_MSG_LEN, "vary: %.240s", m2);
                 return USM_EINPUT;
             }
         }
-        if (m->axisymmetric_stator && strcmp(info->name, "I_yy") == 0) {
-            snprintf(msg, USM_MSG_LEN, "vary: I_yy equals I_xx in model %s (vary I_xx)",
-                     m->name);
+        const usm_param_coupling *c = usm_param_coupled(m, pb->vary[k]);
+        if (c) {
+            snprintf(msg, USM_MSG_LEN, "vary: %s equals %s in model %s (vary %s)", info->name,
+                     usm_param_table[c->equals].name, m->name, usm_param_table[c->equals].name);
             return USM_EINPUT;
         }
     }
@@ -150,11 +150,6 @@ int usm_opt_problem_check(const usm_opt_problem *pb, const usm_model *m, const u
 }
 
 /* ---- evaluation ------------------------------------------------------------------ */
-
-static int is_axisymmetric_ixx(const usm_optimize *o, int param)
-{
-    return o->model->axisymmetric_stator && strcmp(usm_param_table[param].name, "I_xx") == 0;
-}
 
 /* Evaluate the design at normalised x (z in [0, 1] per varied parameter). */
 static void evaluate(usm_optimize *o, const double *x)
@@ -170,8 +165,7 @@ static void evaluate(usm_optimize *o, const double *x)
     for (int k = 0; k < pb->nvary; ++k) {
         *usm_params_field(&o->p, &usm_param_table[pb->vary[k]]) =
             pb->lo[k] + x[k] * (pb->hi[k] - pb->lo[k]);
-        if (is_axisymmetric_ixx(o, pb->vary[k]))
-            o->p.I_yy = o->p.I_xx;
+        usm_params_couple(o->model, &o->p, pb->vary[k]);
     }
     if (usm_steady_solve(o->steady, &o->p, NULL) != USM_OK)
         return;
@@ -199,8 +193,11 @@ static int output(const usm_optimize *o, int k, double *y, double *grad)
     if (grad)
         for (int i = 0; i < pb->nvary; ++i) {
             double d = r->d[k][pb->vary[i]];
-            if (is_axisymmetric_ixx(o, pb->vary[i])) /* I_yy moves with I_xx */
-                d += r->d[k][usm_params_find("I_yy") - usm_param_table];
+            for (int j = 0; j < USM_NPARAMS; ++j) { /* the parameters tied to it move too */
+                const usm_param_coupling *c = usm_param_coupled(o->model, j);
+                if (c && c->equals == pb->vary[i])
+                    d += r->d[k][j];
+            }
             grad[i] = s * d * (pb->hi[i] - pb->lo[i]);
         }
     return 0;

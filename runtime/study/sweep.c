@@ -32,7 +32,7 @@ struct usm_sweep {
 void usm_sweep_options_default(usm_sweep_options *opt)
 {
     memset(opt, 0, sizeof *opt);
-    opt->over = "f";
+    opt->over = usm_param_table[USM_P_f].name;
     opt->from = 36000.0;
     opt->to = 39000.0;
     opt->points = 31;

@@ -192,9 +192,10 @@ static void set_lambda(sweep_branch *b, double lambda) { *usm_params_field(&b->p
  * Newton must not land on the mirror image of the branch at kappa < 0. */
 static int admissible(const sweep_branch *b, double lambda)
 {
-    if (strcmp(b->info->constraint, "positive") == 0)
+    const usm_constraint c = usm_param_constraints[usm_param_index(b->info)];
+    if (c == USM_CONSTRAINT_POSITIVE)
         return lambda > 0.0;
-    if (strcmp(b->info->constraint, "nonnegative") == 0)
+    if (c == USM_CONSTRAINT_NONNEGATIVE)
         return lambda >= 0.0;
     return isfinite(lambda);
 }

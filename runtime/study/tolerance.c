@@ -184,9 +184,11 @@ int usm_tolerance_vary_add(usm_tolerance *t, const usm_tolerance_vary *v)
             snprintf(t->msg, USM_MSG_LEN, "%s: varied twice", v->param->name);
             return USM_EINPUT;
         }
-    if (t->m->axisymmetric_stator && strcmp(v->param->name, "I_yy") == 0) {
-        snprintf(t->msg, USM_MSG_LEN, "I_yy: equals I_xx in model %s (axisymmetric stator); "
-                 "vary I_xx, which moves I_yy with it", t->m->name);
+    const usm_param_coupling *c = usm_param_coupled(t->m, usm_param_index(v->param));
+    if (c) {
+        const char *to = usm_param_table[c->equals].name;
+        snprintf(t->msg, USM_MSG_LEN, "%s: equals %s in model %s (%s); vary %s, which moves %s "
+                 "with it", v->param->name, to, t->m->name, c->because, to, v->param->name);
         return USM_EINPUT;
     }
     t->vary[t->nvary++] = *v;
@@ -357,8 +359,7 @@ static int sample(usm_tolerance *t, worker *w, uint64_t i, double *row, char msg
             const usm_tolerance_vary *v = &t->vary[j];
             row[j] = draw(v, usm_params_get(&t->p, v->param), w->rng);
             *usm_params_field(&q, v->param) = row[j];
-            if (t->m->axisymmetric_stator && strcmp(v->param->name, "I_xx") == 0)
-                q.I_yy = row[j];
+            usm_params_couple(t->m, &q, usm_param_index(v->param));
         }
         if (usm_params_check(&q, t->m, why) == USM_OK)
             break;
@@ -530,6 +531,7 @@ static int check(usm_tolerance *t, const usm_params *p, const usm_tolerance_opti
         const usm_tolerance_vary *v = &t->vary[j];
         const double nominal = usm_params_get(p, v->param);
         const char *c = v->param->constraint;
+        const usm_constraint sign = usm_param_constraints[usm_param_index(v->param)];
         if (v->relative && nominal == 0.0) {
             snprintf(t->msg, USM_MSG_LEN, "%s: a relative (%%) width of a parameter whose "
                      "nominal value is 0; give it in %s", v->param->name, v->param->unit);
@@ -537,8 +539,8 @@ static int check(usm_tolerance *t, const usm_params *p, const usm_tolerance_opti
         }
         /* a range wholly outside the physical one would only redraw forever */
         if (v->kind == USM_DIST_UNIFORM && !v->relative &&
-            ((strcmp(c, "positive") == 0 && !(v->hi > 0.0)) ||
-             (strcmp(c, "nonnegative") == 0 && !(v->hi >= 0.0)))) {
+            ((sign == USM_CONSTRAINT_POSITIVE && !(v->hi > 0.0)) ||
+             (sign == USM_CONSTRAINT_NONNEGATIVE && !(v->hi >= 0.0)))) {
             snprintf(t->msg, USM_MSG_LEN, "%s: uniform:%g:%g lies outside the physical range "
                      "(%s)", v->param->name, v->lo, v->hi, c);
             return USM_EINPUT;

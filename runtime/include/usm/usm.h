@@ -35,13 +35,17 @@
  * this runtime is written for: the layout of usm_model and usm_params may
  * change with it.  Mixing the runtime with kernels of another major version
  * is refused at build time; regenerate the kernels. */
-#define USM_EXPECTED_GENERATOR_MAJOR 1
+#define USM_EXPECTED_GENERATOR_MAJOR 2
 
 #if !defined(USM_GENERATOR_VERSION_MAJOR)
 #error "usm_kernels.h has no USM_GENERATOR_VERSION_MAJOR: the generated kernels are older than this runtime; regenerate them (python3 derive/generate.py)"
 #elif USM_GENERATOR_VERSION_MAJOR != USM_EXPECTED_GENERATOR_MAJOR
 #error "the generated kernels come from another generator major version (USM_GENERATOR_VERSION_MAJOR in usm_kernels.h) than this runtime expects (USM_EXPECTED_GENERATOR_MAJOR in usm.h); regenerate them (python3 derive/generate.py)"
 #endif
+
+/* Parameters, outputs and constraints by index, the couplings (USM_P_f,
+ * usm_param_coupled, ...): generated, so the runtime spells no name. */
+#include "usm_contracts.h"
 
 #ifdef __cplusplus
 extern "C" {
