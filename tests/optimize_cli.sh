@@ -33,6 +33,13 @@ assert 'rotor_speed >= 8' in o['active_constraints'], o['active_constraints']
 assert isinstance(o['evaluations'], int) and o['evaluations'] > 0
 assert o['kkt_residual'] <= 1e-6"
 
+# the speed grows with m0, so the optimum is the upper bound, exactly: 0.001 + (0.01 - 0.001)
+# rounds to 0.010000000000000002 (issue 22)
+expect_rc 0 optimize --objective rotor_speed --vary m0=0.001:0.01 --starts 2 --json
+py "
+assert o['varied']['m0'] == 0.01, repr(o['varied']['m0'])
+assert o['parameters']['m0'] == 0.01 and o['solution']['parameters']['m0'] == 0.01"
+
 expect_rc 0 optimize --objective rotor_speed --minimize --vary m0=0.004:0.006 --starts 2
 grep -q '^minimum of rotor_speed' "$out" || fail "table lacks the minimum line"
 

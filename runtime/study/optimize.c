@@ -163,8 +163,9 @@ static void evaluate(usm_optimize *o, const double *x)
     o->evaluations++;
     o->p = o->base;
     for (int k = 0; k < pb->nvary; ++k) {
+        /* lo + 1 * (hi - lo) can round one step past hi: the bounds are the user's */
         *usm_params_field(&o->p, &usm_param_table[pb->vary[k]]) =
-            pb->lo[k] + x[k] * (pb->hi[k] - pb->lo[k]);
+            fmin(pb->hi[k], fmax(pb->lo[k], pb->lo[k] + x[k] * (pb->hi[k] - pb->lo[k])));
         usm_params_couple(o->model, &o->p, pb->vary[k]);
     }
     if (usm_steady_solve(o->steady, &o->p, NULL) != USM_OK)
