@@ -13,9 +13,9 @@
 #include <string.h>
 
 #include <gsl/gsl_linalg.h>
-#include <gsl/gsl_roots.h>
 
 #include "core/pool_internal.h"
+#include "core/root.h"
 #include "usm_sweep.h"
 
 /* More grid points than this are a typing error, not a request. */
@@ -65,7 +65,7 @@ typedef struct sweep_branch {
     gsl_matrix *A;
     gsl_permutation *perm;
     gsl_vector *b, *x;
-    gsl_root_fsolver *brent;    /* events located along a step's arclength */
+    usm_root *root;             /* events located along a step's arclength */
     /* the run */
     usm_steady *steady;         /* full searches and polishing at grid values */
     const usm_sweep_options *opt;
