@@ -12,7 +12,7 @@ struct usm_root {
     usm_root_fn f;
     void *ctx;
     int failed;           /* an evaluation returned NaN or infinity */
-    int ends_known;       /* flo, fhi given: GSL's evaluations at the ends are answered */
+    int ends_known;       /* flo, fhi known: GSL's evaluations at the ends are answered */
     double lo, hi, flo, fhi;
     double blo, bhi;      /* the bracket while f is evaluated */
 };
@@ -69,22 +69,29 @@ static int brent(usm_root *r, usm_root_fn f, void *ctx, double lo, double hi, do
         lo = hi, flo = fhi;
         hi = t, fhi = ft;
     }
-    r->blo = lo;
-    r->bhi = hi;
-    if (ends_known) {
-        if (flo == 0.0 || fhi == 0.0) {
-            *x = flo == 0.0 ? lo : hi;
-            return 0;
-        }
-        if (!isfinite(flo) || !isfinite(fhi) || (flo < 0) == (fhi < 0))
-            return -1;
-    }
     r->f = f;
     r->ctx = ctx;
     r->failed = 0;
-    r->ends_known = ends_known;
-    r->lo = lo;
-    r->hi = hi;
+    r->ends_known = 0;
+    r->lo = r->blo = lo;
+    r->hi = r->bhi = hi;
+    if (!ends_known) {
+        /* in GSL's order (lower, then upper); from here on they are known, so
+         * that a bracket without a sign change never reaches GSL's error
+         * handler */
+        flo = evaluate(lo, r);
+        if (!r->failed)
+            fhi = evaluate(hi, r);
+        if (r->failed)
+            return -1;
+    }
+    if (flo == 0.0 || fhi == 0.0) {
+        *x = flo == 0.0 ? lo : hi;
+        return 0;
+    }
+    if (!isfinite(flo) || !isfinite(fhi) || (flo < 0) == (fhi < 0))
+        return -1;
+    r->ends_known = 1;
     r->flo = flo;
     r->fhi = fhi;
     gsl_function F = {evaluate, r};

@@ -1,6 +1,7 @@
 /* root.h: the one bracketing root locator of libusm (internal; not
  * installed).  Every sign change the runtime locates goes through it: the
- * slip speeds of the friction law (solve/steady.c), the events on a sweep's
+ * tilt angles, the friction law's extrema and the slip speeds of the
+ * stationary solutions (solve/steady.c), the events on a sweep's
  * branch (study/sweep_branch.c), the stability changes along a sweep
  * (study/sweep_stability.c), the events of the periodic-orbit sweep
  * (study/periodic_sweep.c); a boundary of a map (study/map.c), where only a
@@ -42,8 +43,8 @@ void usm_root_free(usm_root *r);
 int usm_root_brent(usm_root *r, usm_root_fn f, void *ctx, double lo, double hi, double flo,
                    double fhi, const usm_root_stop *stop, double *x);
 
-/* The same where the values at the ends are not known: Brent evaluates f
- * there first. */
+/* The same where the values at the ends are not known: f is evaluated
+ * there first (at lo, then at hi, as GSL's Brent would). */
 int usm_root_brent_eval(usm_root *r, usm_root_fn f, void *ctx, double lo, double hi,
                         const usm_root_stop *stop, double *x);
 
