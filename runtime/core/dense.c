@@ -105,41 +105,68 @@ static double norm1(int n, const double *A)
     return best;
 }
 
-int usm_solve_dense(int n, double *Q, double *X)
+int usm_lu_factor_dense(int n, double *A, int *piv)
 {
     for (int k = 0; k < n; ++k) {
         int p = k;
         for (int i = k + 1; i < n; ++i)
-            if (fabs(Q[i * n + k]) > fabs(Q[p * n + k]))
+            if (fabs(A[i * n + k]) > fabs(A[p * n + k]))
                 p = i;
-        if (Q[p * n + k] == 0.0)
+        if (!(A[p * n + k] != 0.0) || !isfinite(A[p * n + k]))
             return -1;
+        piv[k] = p;
         if (p != k)
             for (int j = 0; j < n; ++j) {
-                double t = Q[k * n + j];
-                Q[k * n + j] = Q[p * n + j];
-                Q[p * n + j] = t;
-                t = X[k * n + j];
-                X[k * n + j] = X[p * n + j];
-                X[p * n + j] = t;
+                const double t = A[k * n + j];
+                A[k * n + j] = A[p * n + j];
+                A[p * n + j] = t;
             }
         for (int i = k + 1; i < n; ++i) {
-            const double l = Q[i * n + k] / Q[k * n + k];
+            const double l = A[i * n + k] /= A[k * n + k];
             if (l == 0.0)
                 continue;
             for (int j = k + 1; j < n; ++j)
-                Q[i * n + j] -= l * Q[k * n + j];
-            for (int j = 0; j < n; ++j)
-                X[i * n + j] -= l * X[k * n + j];
+                A[i * n + j] -= l * A[k * n + j];
         }
     }
-    for (int k = n - 1; k >= 0; --k)
-        for (int j = 0; j < n; ++j) {
-            double s = X[k * n + j];
-            for (int i = k + 1; i < n; ++i)
-                s -= Q[k * n + i] * X[i * n + j];
-            X[k * n + j] = s / Q[k * n + k];
+    return 0;
+}
+
+/* Row by row (the inner loops run along a row of B, vectorised at -O3);
+ * every entry of B sees the same operations in the same order as in the
+ * column-by-column substitutions. */
+void usm_lu_solve_dense(int n, const double *LU, const int *piv, double *B, int cols)
+{
+    for (int k = 0; k < n; ++k)
+        if (piv[k] != k)
+            for (int c = 0; c < cols; ++c) {
+                const double t = B[k * cols + c];
+                B[k * cols + c] = B[piv[k] * cols + c];
+                B[piv[k] * cols + c] = t;
+            }
+    for (int k = 0; k < n; ++k)
+        for (int i = k + 1; i < n; ++i) {
+            const double l = LU[i * n + k];
+            if (l == 0.0)
+                continue;
+            for (int c = 0; c < cols; ++c)
+                B[i * cols + c] -= l * B[k * cols + c];
         }
+    for (int k = n - 1; k >= 0; --k)
+        for (int c = 0; c < cols; ++c) {
+            double s = B[k * cols + c];
+            for (int i = k + 1; i < n; ++i)
+                s -= LU[k * n + i] * B[i * cols + c];
+            B[k * cols + c] = s / LU[k * n + k];
+        }
+}
+
+int usm_solve_dense(int n, double *Q, double *X)
+{
+    int piv[USM_EXPM_MAX_N];
+    if (usm_lu_factor_dense(n, Q, piv) != 0)
+        return -1;
+    usm_lu_solve_dense(n, Q, piv, X, n);
     return 0;
 }
 
@@ -336,22 +363,22 @@ int usm_expm_frechet_dense(int n, const double *A, const double *C, double *E, d
             V.b[e] += b[6] * P[3].b[e] + b[4] * P[2].b[e] + b[2] * P[1].b[e];
         }
     }
-    /* (V - U) R = V + U, block by block: Qa Ra = Pa, Qa Rb = Pb - Qb Ra */
+    /* (V - U) R = V + U, block by block: Qa Ra = Pa, Qa Rb = Pb - Qb Ra
+     * (one factorisation of Qa for both) */
     double Q[NN], R[2][NN];
+    int piv[USM_EXPM_MAX_N];
     for (int e = 0; e < nn; ++e) {
         Q[e] = V.a[e] - U.a[e];
         R[0][e] = V.a[e] + U.a[e];
     }
-    if (usm_solve_dense(n, Q, R[0]) != 0)
+    if (usm_lu_factor_dense(n, Q, piv) != 0)
         return -1;
+    usm_lu_solve_dense(n, Q, piv, R[0], n);
     usm_matmul_dense(n, V.b, R[0], X.a);
     usm_matmul_dense(n, U.b, R[0], X.b);
-    for (int e = 0; e < nn; ++e) {
-        Q[e] = V.a[e] - U.a[e];
+    for (int e = 0; e < nn; ++e)
         R[1][e] = V.b[e] + U.b[e] - (X.a[e] - X.b[e]);
-    }
-    if (usm_solve_dense(n, Q, R[1]) != 0)
-        return -1;
+    usm_lu_solve_dense(n, Q, piv, R[1], n);
     memcpy(W.a, R[0], sizeof(double) * (size_t)nn);
     memcpy(W.b, R[1], sizeof(double) * (size_t)nn);
     for (int k = 0; k < s; ++k) {

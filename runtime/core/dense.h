@@ -1,7 +1,8 @@
 /* dense.h: small dense matrix kernels of the Floquet analysis (internal to
- * libusm): product, solve, balancing and the exponential of row-major n x n
- * matrices, n <= USM_EXPM_MAX_N.  Plain loops on arrays: at these sizes
- * they are several times faster than GSL's general routines.
+ * libusm): product, LU factorisation and solve, balancing and the
+ * exponential of row-major n x n matrices, n <= USM_EXPM_MAX_N.  Plain loops
+ * on arrays: at these sizes they are several times faster than GSL's general
+ * routines.
  *
  * The exponential: scaling and squaring with the diagonal Pade approximant of degree 3, 5, 7,
  * 9 or 13 chosen from the 1-norm (N. J. Higham, "The scaling and squaring
@@ -32,8 +33,19 @@ int usm_expm_frechet_dense(int n, const double *A, const double *C, double *E, d
 /* C = A B, n x n row-major (C may not alias A or B). */
 void usm_matmul_dense(int n, const double *A, const double *B, double *C);
 
-/* X <- Q^{-1} X, both n x n row-major, by Gaussian elimination with partial
- * pivoting (Q is overwritten).  0, or -1 when a pivot is exactly zero. */
+/* The one dense LU of libusm.  A = P^T L U with partial pivoting, in place
+ * (n x n row-major, n <= USM_EXPM_MAX_N): L (unit diagonal) below the
+ * diagonal, U on and above it, the row exchanged with row k at step k in
+ * piv[k].  0, or -1 when a pivot is zero or not finite. */
+int usm_lu_factor_dense(int n, double *A, int *piv);
+
+/* B <- A^{-1} B from the factors of usm_lu_factor_dense; B is n x cols
+ * row-major (cols = 1: a vector). */
+void usm_lu_solve_dense(int n, const double *LU, const int *piv, double *B, int cols);
+
+/* X <- Q^{-1} X, both n x n row-major: usm_lu_factor_dense (Q is
+ * overwritten by its factors) and usm_lu_solve_dense.  0, or -1 as the
+ * factorisation. */
 int usm_solve_dense(int n, double *Q, double *X);
 
 /* A <- D^{-1} A D with D = diag(d) powers of 2 that make the off-diagonal

@@ -1,8 +1,8 @@
 /* The `usm optimize --json` object (usm_optimize.h). */
 #include <stdio.h>
 
-#include "io/json_out.h"
-#include "io/steady_out.h"
+#include "json_out.h"
+#include "steady_out.h"
 #include "usm_optimize.h"
 
 int usm_optimize_write_json(const usm_optimize *o, const usm_model *m, const usm_opt_problem *pb,

@@ -3,8 +3,8 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "io/csv_out.h"
-#include "io/json_out.h"
+#include "csv_out.h"
+#include "json_out.h"
 #include "solve/periodic_internal.h"
 
 int usm_periodic_write_orbit_csv(const usm_periodic *w, FILE *out)

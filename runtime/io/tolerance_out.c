@@ -4,7 +4,7 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "io/csv_out.h"
+#include "csv_out.h"
 #include "study/tolerance_rows.h"
 
 /* A field of the CSV dialect (csv_out.h): the shortest text that reads back

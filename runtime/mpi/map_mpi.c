@@ -14,7 +14,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "mpi/usm_mpi.h"
+#include "usm_mpi.h"
 
 static int cmp_boundary(const void *pa, const void *pb)
 {

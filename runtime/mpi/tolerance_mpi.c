@@ -11,7 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "mpi/usm_mpi.h"
+#include "usm_mpi.h"
 #include "study/tolerance_internal.h"
 
 int usm_mpi_launched(void)

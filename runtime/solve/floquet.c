@@ -42,7 +42,6 @@
 #include <string.h>
 
 #include <gsl/gsl_blas.h>
-#include <gsl/gsl_eigen.h>
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_linalg.h>
 #include <gsl/gsl_matrix.h>
@@ -53,6 +52,7 @@
 
 #include "core/cvode_msg.h"
 #include "core/dense.h"
+#include "multipliers.h"
 #include "usm.h"
 
 #define TWO_PI 6.283185307179586476925286766559
@@ -78,20 +78,14 @@ struct usm_floquet {
     gsl_matrix *S, *Sinv;   /* coordinates of the variational integration */
     /* the monodromy in the integration's coordinates, Psi = S B S^{-1} */
     double Psi[NN];
-    /* eigenproblem of B without its cyclic rows and columns: in the
-     * coordinates of Psi, after an orthogonal change of basis that puts the
-     * fixed vectors S e_i (i cyclic) first (see multipliers) */
-    int nk, keep[USM_MAX_NX];
-    gsl_matrix *Vc, *Qc, *Rc;
-    gsl_vector *qr_tau;
-    gsl_matrix *R;
-    gsl_eigen_nonsymm_workspace *eig;
-    gsl_vector_complex *eval;
+    /* eigenproblem of B without its cyclic rows and columns, from Psi
+     * (solve/multipliers.h) */
+    usm_multipliers *mult;
     /* Magnus: S G S^{-1} at t0 and t0 + T, and whether G is affine in t */
     double Ga[USM_MAX_NX * USM_MAX_NX], Gb[USM_MAX_NX * USM_MAX_NX];
     int affine;
     int magnus_steps;    /* steps of the last Magnus result (0: one exponential) */
-    int eval_valid;      /* eval already holds the eigenvalues of Psi */
+    int eval_valid;      /* mult already holds the eigenvalues of Psi */
     double magnus_error; /* its estimated relative error */
     char cvmsg[USM_MSG_LEN]; /* CVODES' last message (see cv_errors) */
     char msg[USM_MSG_LEN];
@@ -144,25 +138,9 @@ usm_floquet *usm_floquet_alloc(const usm_model *m)
     f->S = gsl_matrix_alloc(n, n);
     f->Sinv = gsl_matrix_alloc(n, n);
     f->dscale = gsl_vector_alloc(n);
-    for (int i = 0; i < m->nx; ++i)
-        if (!m->cyclic[i])
-            f->keep[f->nk++] = i;
-    f->R = gsl_matrix_alloc((size_t)f->nk, (size_t)f->nk);
-    const size_t nc = (size_t)(f->n - f->nk);
-    if (nc > 0) {
-        f->Vc = gsl_matrix_alloc(n, nc);
-        f->Rc = gsl_matrix_alloc(n, nc);
-        f->Qc = gsl_matrix_alloc(n, n);
-        f->qr_tau = gsl_vector_alloc(nc);
-        if (!f->Vc || !f->Rc || !f->Qc || !f->qr_tau) {
-            usm_floquet_free(f);
-            return NULL;
-        }
-    }
-    f->eig = gsl_eigen_nonsymm_alloc((size_t)f->nk);
-    f->eval = gsl_vector_complex_alloc((size_t)f->nk);
+    f->mult = usm_multipliers_alloc(m);
     if (!f->G || !f->E || !f->P || !f->Q || !f->W || !f->S || !f->Sinv || !f->dscale ||
-        !f->R || !f->eig || !f->eval || SUNContext_Create(NULL, &f->ctx) != 0) {
+        !f->mult || SUNContext_Create(NULL, &f->ctx) != 0) {
         usm_floquet_free(f);
         return NULL;
     }
@@ -188,19 +166,8 @@ void usm_floquet_free(usm_floquet *f)
     gsl_matrix_free(f->W);
     gsl_matrix_free(f->S);
     gsl_matrix_free(f->Sinv);
-    gsl_matrix_free(f->R);
-    if (f->Vc)
-        gsl_matrix_free(f->Vc);
-    if (f->Rc)
-        gsl_matrix_free(f->Rc);
-    if (f->Qc)
-        gsl_matrix_free(f->Qc);
-    if (f->qr_tau)
-        gsl_vector_free(f->qr_tau);
     gsl_vector_free(f->dscale);
-    if (f->eig)
-        gsl_eigen_nonsymm_free(f->eig);
-    gsl_vector_complex_free(f->eval);
+    usm_multipliers_free(f->mult);
     free(f);
 }
 
@@ -265,19 +232,9 @@ static int variational_coordinates(usm_floquet *f, double t0)
             f->S->data[i * n + j] /= f->dscale->data[i];
             f->Sinv->data[i * n + j] *= f->dscale->data[j];
         }
-    /* the orthogonal basis Qc whose first columns span S e_i, i cyclic (see
-     * reduced_eigenvalues) */
-    if (f->Vc) {
-        for (int k = 0, c = 0; k < n; ++k)
-            if (f->m->cyclic[k]) {
-                gsl_vector_view col = gsl_matrix_column(f->S, (size_t)k);
-                gsl_matrix_set_col(f->Vc, (size_t)c++, &col.vector);
-            }
-        if (gsl_linalg_QR_decomp(f->Vc, f->qr_tau) != GSL_SUCCESS ||
-            gsl_linalg_QR_unpack(f->Vc, f->qr_tau, f->Qc, f->Rc) != GSL_SUCCESS)
-            return -1;
-    }
-    return 0;
+    /* the orthogonal basis whose first columns span S e_i, i cyclic
+     * (solve/multipliers.h) */
+    return usm_multipliers_basis(f->mult, f->S->data);
 }
 
 /* y holds Psi column by column: y[j*n + i] = Psi_ij.  CVODES integrates in
@@ -530,8 +487,6 @@ static int magnus_step(usm_floquet *f, double t0, double a, double h, double per
     return 0;
 }
 
-static int reduced_eigenvalues(usm_floquet *f, const double *Psi);
-
 /* Largest distance from an eigenvalue in (re1, im1) to the nearest in
  * (re0, im0), both of length k. */
 static double eigen_distance(int k, const double *re0, const double *im0, const double *re1,
@@ -582,22 +537,18 @@ static int magnus_product(usm_floquet *f, double t0, double period, int steps, d
  * steps the multipliers to 2e-12, Psi to 1e-6; bench/usm_bench). */
 static int magnus_adaptive(usm_floquet *f, double t0, double period, double tol, double *Psi)
 {
-    const int nk = f->nk;
+    const int nk = usm_multipliers_count(f->mult);
     double re0[USM_MAX_NX], im0[USM_MAX_NX], re1[USM_MAX_NX], im1[USM_MAX_NX];
     int n1 = 1, n2 = 2;
-    if (magnus_product(f, t0, period, n1, Psi) != 0 || reduced_eigenvalues(f, Psi) != 0)
+    if (magnus_product(f, t0, period, n1, Psi) != 0 ||
+        usm_multipliers_eigen(f->mult, Psi, f->msg) != 0)
         return -1;
-    for (int i = 0; i < nk; ++i) {
-        re0[i] = GSL_REAL(gsl_vector_complex_get(f->eval, (size_t)i));
-        im0[i] = GSL_IMAG(gsl_vector_complex_get(f->eval, (size_t)i));
-    }
+    usm_multipliers_values(f->mult, re0, im0);
     for (;;) {
-        if (magnus_product(f, t0, period, n2, Psi) != 0 || reduced_eigenvalues(f, Psi) != 0)
+        if (magnus_product(f, t0, period, n2, Psi) != 0 ||
+            usm_multipliers_eigen(f->mult, Psi, f->msg) != 0)
             return -1;
-        for (int i = 0; i < nk; ++i) {
-            re1[i] = GSL_REAL(gsl_vector_complex_get(f->eval, (size_t)i));
-            im1[i] = GSL_IMAG(gsl_vector_complex_get(f->eval, (size_t)i));
-        }
+        usm_multipliers_values(f->mult, re1, im1);
         double scale = 1.0; /* relative to the largest multiplier when that exceeds 1 */
         for (int i = 0; i < nk; ++i)
             scale = fmax(scale, hypot(re1[i], im1[i]));
@@ -606,7 +557,7 @@ static int magnus_adaptive(usm_floquet *f, double t0, double period, double tol,
         f->magnus_steps = n2;
         f->magnus_error = est;
         if (est <= tol) {
-            f->eval_valid = 1; /* f->eval holds the multipliers of Psi */
+            f->eval_valid = 1; /* f->mult holds the multipliers of Psi */
             return 0;
         }
         if (n2 >= MAGNUS_MAX_STEPS) {
@@ -683,79 +634,13 @@ static int monodromy_magnus(usm_floquet *f, double t0, double period,
 
 /* ---- eigenvalues -------------------------------------------------------------- */
 
-typedef struct {
-    double re, im;
-    int cyclic;
-    double modulus;
-} multiplier;
-
-static int by_modulus_desc(const void *a, const void *b)
-{
-    const multiplier *x = a, *y = b;
-    const double mx = x->modulus, my = y->modulus;
-    if (mx != my)
-        return (mx < my) - (mx > my);
-    if (x->re != y->re)
-        return (x->re < y->re) - (x->re > y->re);
-    return (x->im < y->im) - (x->im > y->im);
-}
-
-/* The eigenvalues of B are computed from Psi = S B S^{-1}: S is as
- * ill-conditioned as the Euler angles (about 1/theta^2), so B itself carries
- * rounding errors of cond(S) eps relative to Psi, and so would its
- * eigenvalues.  A cyclic coordinate i gives B e_i = e_i, so Psi fixes S e_i:
- * with the orthogonal Qc whose first columns span these vectors (QR of them,
- * variational_coordinates), Qc^T Psi Qc = [I *; 0 R], and the other
- * multipliers are the eigenvalues of R: into f->eval. */
-static int reduced_eigenvalues(usm_floquet *f, const double *Psi)
-{
-    const int n = f->n, nk = f->nk, nc = n - nk;
-    if (nc == 0)
-        memcpy(f->R->data, Psi, sizeof(double) * (size_t)(n * n));
-    else {
-        double Qt[NN], W[NN];
-        for (int i = 0; i < n; ++i)
-            for (int j = 0; j < n; ++j)
-                Qt[i * n + j] = f->Qc->data[j * n + i];
-        usm_matmul_dense(n, Qt, Psi, W);
-        usm_matmul_dense(n, W, f->Qc->data, f->E->data);
-        for (int i = 0; i < nk; ++i)
-            memcpy(f->R->data + i * nk, f->E->data + (nc + i) * n + nc,
-                   sizeof(double) * (size_t)nk);
-    }
-    gsl_eigen_nonsymm_params(0, 1, f->eig); /* balance before QR */
-    if (gsl_eigen_nonsymm(f->R, f->eval, f->eig) != GSL_SUCCESS) {
-        snprintf(f->msg, USM_MSG_LEN, "eigenvalues of the monodromy matrix did not converge");
-        return -1;
-    }
-    return 0;
-}
-
+/* The multipliers from Psi (solve/multipliers.h: the eigenvalues of B are
+ * computed from Psi = S B S^{-1}, the cyclic directions S e_i split off). */
 static int multipliers(usm_floquet *f, usm_floquet_result *out)
 {
-    const int n = f->n, nk = f->nk;
-    multiplier mult[USM_MAX_NX];
-    int nm = 0;
-    for (int i = 0; i < n; ++i)
-        if (f->m->cyclic[i])
-            mult[nm++] = (multiplier){1.0, 0.0, 1, 1.0};
-    if (!f->eval_valid && reduced_eigenvalues(f, f->Psi) != 0)
+    if (!f->eval_valid && usm_multipliers_eigen(f->mult, f->Psi, f->msg) != 0)
         return USM_EFAILED;
-    for (int i = 0; i < nk; ++i) {
-        gsl_complex z = gsl_vector_complex_get(f->eval, (size_t)i);
-        mult[nm++] = (multiplier){GSL_REAL(z), GSL_IMAG(z), 0, hypot(GSL_REAL(z), GSL_IMAG(z))};
-    }
-    qsort(mult, (size_t)n, sizeof mult[0], by_modulus_desc);
-    out->n = n;
-    out->max_modulus = 0;
-    for (int i = 0; i < n; ++i) {
-        out->re[i] = mult[i].re;
-        out->im[i] = mult[i].im;
-        out->cyclic[i] = mult[i].cyclic;
-        if (!mult[i].cyclic)
-            out->max_modulus = fmax(out->max_modulus, mult[i].modulus);
-    }
-    out->stable = out->max_modulus < 1.0;
+    usm_multipliers_result(f->mult, out);
     return USM_OK;
 }
 

@@ -20,8 +20,8 @@
  * B = S^{-1} Psi S is formed for the Newton step only, in units of the state
  * scales (scale_of); its rounding (cond S ~ 1/theta^2) slows Newton at worst,
  * it does not move the converged orbit, which is fixed by r alone.  The
- * multipliers come from Psi, with the cyclic directions S e_i split off
- * exactly as in floquet.c.
+ * multipliers come from Psi, with the cyclic directions S e_i split off,
+ * by floquet.c's code (solve/multipliers.h).
  *
  * Convergence: max_i |r_i| / scale_i <= tol (default 1e-9).  The scales are
  * physical sizes: 1 rad for phi, the ideal tilt for theta, Omega for the
@@ -40,7 +40,6 @@
 #include <string.h>
 
 #include <gsl/gsl_complex_math.h>
-#include <gsl/gsl_eigen.h>
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_linalg.h>
 #include <gsl/gsl_matrix.h>
@@ -51,7 +50,8 @@
 
 #include "core/cvode_msg.h"
 #include "core/dense.h"
-#include "solve/periodic_internal.h"
+#include "multipliers.h"
+#include "periodic_internal.h"
 
 #define TWO_PI 6.283185307179586476925286766559
 #define NN (USM_MAX_NX * USM_MAX_NX)
@@ -69,12 +69,8 @@ struct usm_periodic {
     void *cv;
     N_Vector y, atol;
     SUNNonlinearSolver NLS;
-    /* eigenproblem without the cyclic directions (see floquet.c) */
-    int nk;
-    gsl_matrix *Vc, *Qc, *Rc, *R;
-    gsl_vector *qr_tau;
-    gsl_eigen_nonsymm_workspace *eig;
-    gsl_vector_complex *eval;
+    /* eigenproblem without the cyclic directions (solve/multipliers.h) */
+    usm_multipliers *mult;
     usm_steady *steady;
     double samples[NS * (USM_MAX_NX + 4)];
     int have_samples;
@@ -113,20 +109,7 @@ void usm_periodic_free(usm_periodic *w)
         N_VDestroy(w->atol);
     if (w->ctx)
         SUNContext_Free(&w->ctx);
-    if (w->Vc)
-        gsl_matrix_free(w->Vc);
-    if (w->Qc)
-        gsl_matrix_free(w->Qc);
-    if (w->Rc)
-        gsl_matrix_free(w->Rc);
-    if (w->qr_tau)
-        gsl_vector_free(w->qr_tau);
-    if (w->R)
-        gsl_matrix_free(w->R);
-    if (w->eig)
-        gsl_eigen_nonsymm_free(w->eig);
-    if (w->eval)
-        gsl_vector_complex_free(w->eval);
+    usm_multipliers_free(w->mult);
     usm_steady_free(w->steady);
     free(w);
 }
@@ -148,21 +131,10 @@ usm_periodic *usm_periodic_alloc(const usm_model *m)
         return NULL;
     w->m = m;
     w->n = m->nx;
-    for (int i = 0; i < w->n; ++i)
-        w->nk += !m->cyclic[i];
-    const size_t n = (size_t)w->n, nc = (size_t)(w->n - w->nk), N = n + n * n;
-    if (nc > 0) {
-        w->Vc = gsl_matrix_alloc(n, nc);
-        w->Rc = gsl_matrix_alloc(n, nc);
-        w->Qc = gsl_matrix_alloc(n, n);
-        w->qr_tau = gsl_vector_alloc(nc);
-    }
-    w->R = gsl_matrix_alloc((size_t)w->nk, (size_t)w->nk);
-    w->eig = gsl_eigen_nonsymm_alloc((size_t)w->nk);
-    w->eval = gsl_vector_complex_alloc((size_t)w->nk);
+    const size_t n = (size_t)w->n, N = n + n * n;
+    w->mult = usm_multipliers_alloc(m);
     w->steady = usm_steady_alloc(m);
-    if ((nc > 0 && (!w->Vc || !w->Rc || !w->Qc || !w->qr_tau)) || !w->R || !w->eig || !w->eval ||
-        !w->steady || SUNContext_Create(NULL, &w->ctx) != 0) {
+    if (!w->mult || !w->steady || SUNContext_Create(NULL, &w->ctx) != 0) {
         w->ctx = NULL;
         usm_periodic_free(w);
         return NULL;
@@ -186,54 +158,6 @@ usm_periodic *usm_periodic_alloc(const usm_model *m)
 
 /* ---- the motion and its variational equations ------------------------------ */
 
-/* In-place LU with partial pivoting of the n x n row-major A; -1 when singular. */
-static int lu_factor(int n, double *A, int *piv)
-{
-    for (int k = 0; k < n; ++k) {
-        int p = k;
-        for (int i = k + 1; i < n; ++i)
-            if (fabs(A[i * n + k]) > fabs(A[p * n + k]))
-                p = i;
-        if (!(A[p * n + k] != 0.0) || !isfinite(A[p * n + k]))
-            return -1;
-        piv[k] = p;
-        if (p != k)
-            for (int j = 0; j < n; ++j) {
-                double t = A[k * n + j];
-                A[k * n + j] = A[p * n + j];
-                A[p * n + j] = t;
-            }
-        for (int i = k + 1; i < n; ++i) {
-            const double l = A[i * n + k] /= A[k * n + k];
-            for (int j = k + 1; j < n; ++j)
-                A[i * n + j] -= l * A[k * n + j];
-        }
-    }
-    return 0;
-}
-
-/* b <- A^{-1} b for the factors of lu_factor; b has `cols` columns (row-major). */
-static void lu_solve(int n, const double *A, const int *piv, double *b, int cols)
-{
-    for (int k = 0; k < n; ++k)
-        if (piv[k] != k)
-            for (int c = 0; c < cols; ++c) {
-                double t = b[k * cols + c];
-                b[k * cols + c] = b[piv[k] * cols + c];
-                b[piv[k] * cols + c] = t;
-            }
-    for (int c = 0; c < cols; ++c) {
-        for (int i = 1; i < n; ++i)
-            for (int k = 0; k < i; ++k)
-                b[i * cols + c] -= A[i * n + k] * b[k * cols + c];
-        for (int i = n - 1; i >= 0; --i) {
-            for (int k = i + 1; k < n; ++k)
-                b[i * cols + c] -= A[i * n + k] * b[k * cols + c];
-            b[i * cols + c] /= A[i * n + i];
-        }
-    }
-}
-
 /* x' = M^{-1} f and, when G is not NULL, G = M^{-1} (df/dx - d(M v)/dx |_{v = x'}). */
 static int motion(const usm_periodic *w, double t, const double *x, double *xdot, double *G)
 {
@@ -241,16 +165,16 @@ static int motion(const usm_periodic *w, double t, const double *x, double *xdot
     double M[NN], Jm[NN];
     int piv[USM_MAX_NX];
     w->m->mass(x, &w->p, M);
-    if (lu_factor(n, M, piv) != 0)
+    if (usm_lu_factor_dense(n, M, piv) != 0)
         return -1;
     w->m->rhs(x, t, &w->p, xdot);
-    lu_solve(n, M, piv, xdot, 1);
+    usm_lu_solve_dense(n, M, piv, xdot, 1);
     if (G) {
         w->m->jac_rhs(x, t, &w->p, G);
         w->m->jac_mass(x, xdot, &w->p, Jm);
         for (int i = 0; i < n * n; ++i)
             G[i] -= Jm[i];
-        lu_solve(n, M, piv, G, n);
+        usm_lu_solve_dense(n, M, piv, G, n);
         for (int i = 0; i < n * n; ++i)
             if (!isfinite(G[i]))
                 return -1;
@@ -307,18 +231,7 @@ static int coordinates(usm_periodic *w, const double *x0)
             w->S[i * n + j] /= d[i];
             w->Sinv[i * n + j] *= d[j];
         }
-    if (w->Vc) {
-        for (int k = 0, c = 0; k < n; ++k)
-            if (w->m->cyclic[k]) {
-                for (int i = 0; i < n; ++i)
-                    gsl_matrix_set(w->Vc, (size_t)i, (size_t)c, w->S[i * n + k]);
-                ++c;
-            }
-        if (gsl_linalg_QR_decomp(w->Vc, w->qr_tau) != GSL_SUCCESS ||
-            gsl_linalg_QR_unpack(w->Vc, w->qr_tau, w->Qc, w->Rc) != GSL_SUCCESS)
-            return -1;
-    }
-    return 0;
+    return usm_multipliers_basis(w->mult, w->S);
 }
 
 /* One sample row: t, x, F_n, F_t, rotor speed. */
@@ -394,62 +307,12 @@ static int period_map(usm_periodic *w, const double *x0, double rtol, double *x1
 
 /* ---- results -------------------------------------------------------------------- */
 
-typedef struct {
-    double re, im, modulus;
-    int cyclic;
-} mult;
-
-static int by_modulus_desc(const void *a, const void *b)
-{
-    const mult *x = a, *y = b;
-    if (x->modulus != y->modulus)
-        return (x->modulus < y->modulus) - (x->modulus > y->modulus);
-    if (x->re != y->re)
-        return (x->re < y->re) - (x->re > y->re);
-    return (x->im < y->im) - (x->im > y->im);
-}
-
+/* The multipliers from Psi, as floquet.c's (solve/multipliers.h). */
 static int multipliers(usm_periodic *w, const double *Psi, usm_floquet_result *f)
 {
-    const int n = w->n, nk = w->nk, nc = n - nk;
-    double E[NN];
-    if (nc == 0)
-        memcpy(w->R->data, Psi, sizeof(double) * (size_t)(n * n));
-    else {
-        double Qt[NN], W[NN];
-        for (int i = 0; i < n; ++i)
-            for (int j = 0; j < n; ++j)
-                Qt[i * n + j] = w->Qc->data[j * n + i];
-        usm_matmul_dense(n, Qt, Psi, W);
-        usm_matmul_dense(n, W, w->Qc->data, E);
-        for (int i = 0; i < nk; ++i)
-            memcpy(w->R->data + i * nk, E + (nc + i) * n + nc, sizeof(double) * (size_t)nk);
-    }
-    gsl_eigen_nonsymm_params(0, 1, w->eig);
-    if (gsl_eigen_nonsymm(w->R, w->eval, w->eig) != GSL_SUCCESS) {
-        snprintf(w->msg, USM_MSG_LEN, "eigenvalues of the monodromy matrix did not converge");
+    if (usm_multipliers_eigen(w->mult, Psi, w->msg) != 0)
         return USM_EFAILED;
-    }
-    mult ms[USM_MAX_NX];
-    int k = 0;
-    for (int i = 0; i < n; ++i)
-        if (w->m->cyclic[i])
-            ms[k++] = (mult){1.0, 0.0, 1.0, 1};
-    for (int i = 0; i < nk; ++i) {
-        gsl_complex z = gsl_vector_complex_get(w->eval, (size_t)i);
-        ms[k++] = (mult){GSL_REAL(z), GSL_IMAG(z), hypot(GSL_REAL(z), GSL_IMAG(z)), 0};
-    }
-    qsort(ms, (size_t)n, sizeof ms[0], by_modulus_desc);
-    f->n = n;
-    f->max_modulus = 0;
-    for (int i = 0; i < n; ++i) {
-        f->re[i] = ms[i].re;
-        f->im[i] = ms[i].im;
-        f->cyclic[i] = ms[i].cyclic;
-        if (!ms[i].cyclic)
-            f->max_modulus = fmax(f->max_modulus, ms[i].modulus);
-    }
-    f->stable = f->max_modulus < 1.0;
+    usm_multipliers_result(w->mult, f);
     f->t0 = w->t0;
     f->t0_dependent = 0;
     f->method = USM_FLOQUET_VARIATIONAL;
@@ -553,26 +416,26 @@ static void linear_predictor(const usm_periodic *w, const usm_params *q,
             idx[k++] = i;
     m->steady_state(s->u, s->beta, w->t0, q, orbit);
     m->mass(orbit, q, M);
-    if (lu_factor(n, M, piv) != 0)
+    if (usm_lu_factor_dense(n, M, piv) != 0)
         return;
     m->jac_rhs(orbit, w->t0, q, G);
     m->jac_mass(orbit, orbit + n, q, Jm);
     for (int i = 0; i < n * n; ++i)
         G[i] -= Jm[i];
-    lu_solve(n, M, piv, G, n);
+    usm_lu_solve_dense(n, M, piv, G, n);
     memset(Fk, 0, sizeof Fk);
     for (int j = 0; j < NPRED; ++j) {
         const double t = w->t0 + w->T * j / NPRED;
         double f0[USM_MAX_NX];
         m->steady_state(s->u, s->beta, t, q, orbit);
         m->mass(orbit, q, M);
-        if (lu_factor(n, M, piv) != 0)
+        if (usm_lu_factor_dense(n, M, piv) != 0)
             return;
         m->rhs(orbit, t, &w->p, xdot);
         m->rhs(orbit, t, q, f0);
         for (int i = 0; i < n; ++i)
             xdot[i] -= f0[i];
-        lu_solve(n, M, piv, xdot, 1);
+        usm_lu_solve_dense(n, M, piv, xdot, 1);
         for (int h = 0; h < NPRED / 2; ++h)
             for (int i = 0; i < n; ++i)
                 Fk[h][i] += xdot[i] * cexp(-I * TWO_PI * h * j / NPRED) / NPRED;
@@ -734,13 +597,13 @@ int usm_periodic_solve(usm_periodic *w, const usm_params *p, const double *x_sta
             for (int b = 0; b < k; ++b)
                 J[a * k + b] = (B[idx[a] * n + idx[b]] - (a == b)) * w->scale[idx[b]] /
                                w->scale[idx[a]];
-        if (lu_factor(k, J, piv) != 0) {
+        if (usm_lu_factor_dense(k, J, piv) != 0) {
             snprintf(w->msg, USM_MSG_LEN,
                      "the Newton matrix B - I is singular: a multiplier is 1 (a fold of the "
                      "orbit branch)");
             return USM_EFAILED;
         }
-        lu_solve(k, J, piv, r, 1);
+        usm_lu_solve_dense(k, J, piv, r, 1);
         for (int a = 0; a < k; ++a)
             x0[idx[a]] -= r[a] * w->scale[idx[a]];
         if (!(x0[m->x_theta] > 0)) {

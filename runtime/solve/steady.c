@@ -78,8 +78,8 @@
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_min.h>
 #include <gsl/gsl_multiroots.h>
-#include <gsl/gsl_roots.h>
 
+#include "core/root.h"
 #include "usm.h"
 
 #define TWO_PI 6.283185307179586476925286766559
@@ -107,7 +107,7 @@ struct usm_steady {
     usm_params p;      /* parameters of the current solve */
     usm_params p_unit; /* the same with m0 = 1: the seed returns the torque A(theta) */
     gsl_multiroot_fdfsolver *solver;
-    gsl_root_fsolver *brent;
+    usm_root *root;
     gsl_min_fminimizer *fmin;
     gsl_vector *u0;
     size_t count, cap;
@@ -162,10 +162,10 @@ usm_steady *usm_steady_alloc(const usm_model *m)
         return NULL;
     s->m = m;
     s->solver = gsl_multiroot_fdfsolver_alloc(gsl_multiroot_fdfsolver_hybridsj, (size_t)m->nu);
-    s->brent = gsl_root_fsolver_alloc(gsl_root_fsolver_brent);
+    s->root = usm_root_alloc();
     s->fmin = gsl_min_fminimizer_alloc(gsl_min_fminimizer_brent);
     s->u0 = gsl_vector_alloc((size_t)m->nu);
-    if (!s->solver || !s->brent || !s->fmin || !s->u0) {
+    if (!s->solver || !s->root || !s->fmin || !s->u0) {
         usm_steady_free(s);
         return NULL;
     }
@@ -178,8 +178,7 @@ void usm_steady_free(usm_steady *s)
         return;
     if (s->solver)
         gsl_multiroot_fdfsolver_free(s->solver);
-    if (s->brent)
-        gsl_root_fsolver_free(s->brent);
+    usm_root_free(s->root);
     if (s->fmin)
         gsl_min_fminimizer_free(s->fmin);
     if (s->u0)
@@ -304,10 +303,14 @@ static double residual_scale(const usm_params *p)
 
 /* ---- one-dimensional root refinement ---------------------------------------- */
 
-/* Root of f in [lo, hi] where f changes sign (a zero end is the root). */
-static int refine_root(usm_steady *s, gsl_function *F, double lo, double hi, double flo,
-                       double fhi, double *root)
+/* Root of f in [lo, hi] where f changes sign (a zero end is the root), by
+ * the shared locator (core/root.h).  exact: flo and fhi are f's own values
+ * at the ends, bit for bit, and are not evaluated again; else (values from
+ * another computation of the same quantity) f is evaluated there afresh. */
+static int refine_root(usm_steady *s, usm_root_fn f, void *ctx, double lo, double hi,
+                       double flo, double fhi, int exact, double *root)
 {
+    static const usm_root_stop stop = {DBL_MIN, 1e-15, 200};
     if (flo == 0) {
         *root = lo;
         return 0;
@@ -316,18 +319,8 @@ static int refine_root(usm_steady *s, gsl_function *F, double lo, double hi, dou
         *root = hi;
         return 0;
     }
-    if (gsl_root_fsolver_set(s->brent, F, lo, hi) != GSL_SUCCESS)
-        return -1;
-    for (int it = 0; it < 200; ++it) {
-        if (gsl_root_fsolver_iterate(s->brent) != GSL_SUCCESS)
-            return -1;
-        lo = gsl_root_fsolver_x_lower(s->brent);
-        hi = gsl_root_fsolver_x_upper(s->brent);
-        if (gsl_root_test_interval(lo, hi, DBL_MIN, 1e-15) == GSL_SUCCESS)
-            break;
-    }
-    *root = gsl_root_fsolver_root(s->brent);
-    return 0;
+    return exact ? usm_root_brent(s->root, f, ctx, lo, hi, flo, fhi, &stop, root)
+                 : usm_root_brent_eval(s->root, f, ctx, lo, hi, &stop, root);
 }
 
 /* ---- friction law (slip model) --------------------------------------------- */
@@ -386,10 +379,9 @@ static void note_mu(usm_steady *s, double mu)
 static int scan_cell(usm_steady *s, double a, double b, double ma, double mb, int da, int db,
                      int depth)
 {
-    gsl_function F = {law_slope, s};
     if (da != 0 && db != 0 && da != db) {
         double e;
-        if (refine_root(s, &F, a, b, law_slope(a, s), law_slope(b, s), &e) == 0) {
+        if (refine_root(s, law_slope, s, a, b, law_slope(a, s), law_slope(b, s), 1, &e) == 0) {
             note_mu(s, law_mu(s, e));
             return add_break(s, e);
         }
@@ -524,13 +516,12 @@ static int law_still_holds(usm_steady *s)
 static int slip_speeds(usm_steady *s, double mu_needed, double *v, int vmax)
 {
     gap_ctx c = {s, mu_needed};
-    gsl_function F = {mu_gap, &c};
     int nv = 0;
     for (size_t j = 0; j + 1 < s->nbrk && nv < vmax; ++j) {
         double lo = s->brk[j], hi = s->brk[j + 1], flo = mu_gap(lo, &c), fhi = mu_gap(hi, &c);
         if (!isfinite(flo) || !isfinite(fhi) || sgn(flo) * sgn(fhi) > 0)
             continue;
-        if (refine_root(s, &F, lo, hi, flo, fhi, &v[nv]) == 0)
+        if (refine_root(s, mu_gap, &c, lo, hi, flo, fhi, 1, &v[nv]) == 0)
             ++nv;
     }
     /* the outer pieces, monotone out to +-V_FAR */
@@ -599,7 +590,7 @@ static int slip_speeds(usm_steady *s, double mu_needed, double *v, int vmax)
             if (sgn(fx) != sgn(fb)) {
                 double lo = side < 0 ? x : prev, hi = side < 0 ? prev : x;
                 double flo = side < 0 ? fx : fprev, fhi = side < 0 ? fprev : fx;
-                if (refine_root(s, &F, lo, hi, flo, fhi, &v[nv]) == 0)
+                if (refine_root(s, mu_gap, &c, lo, hi, flo, fhi, 1, &v[nv]) == 0)
                     ++nv;
                 break;
             }
@@ -1031,10 +1022,10 @@ typedef struct scan_state {
 static void tilt_root(usm_steady *s, double lo, double hi, double glo, double ghi, double xtol,
                       scan_state *sc)
 {
-    gsl_function F = {tilt_g, s};
     double theta;
     ++sc->brackets;
-    if (refine_root(s, &F, lo, hi, glo, ghi, &theta) == 0)
+    /* glo, ghi from the grid's samples: tilt_g evaluates the ends again */
+    if (refine_root(s, tilt_g, s, lo, hi, glo, ghi, 0, &theta) == 0)
         roots_at(s, theta, xtol, &sc->notes);
 }
 

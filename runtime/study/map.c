@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "core/pool_internal.h"
+#include "core/root.h"
 #include "usm_map.h"
 
 /* Bisection stops when the bracket is this fraction of the y range. */
@@ -288,28 +289,37 @@ static int eval_at(usm_map *map, worker *w, size_t column, double x, double y, i
     return USM_OK;
 }
 
-/* The change of `kind` between y = a (indicator ia) and y = b.  1 and *y_out,
- * 0 when the indicator became undefined, -1 on bad input. */
+/* The indicator of one boundary kind at y on the column x. */
+typedef struct boundary_fn {
+    usm_map *map;
+    worker *w;
+    size_t column;
+    usm_map_boundary_kind kind;
+    double x;
+} boundary_fn;
+
+static int boundary_indicator(double y, void *ctx)
+{
+    const boundary_fn *c = ctx;
+    usm_point pt;
+    if (eval_at(c->map, c->w, c->column, c->x, y, c->kind == USM_MAP_BOUNDARY_STABILITY, NULL,
+                &pt) != USM_OK)
+        return USM_ROOT_FAILED;
+    const int im = usm_map_indicator(c->kind, &pt);
+    return im < 0 ? USM_ROOT_UNDEFINED : im;
+}
+
+/* The change of `kind` between y = a (indicator ia) and y = b, by the shared
+ * locator's bisection (core/root.h: the indicators are yes/no, nothing to
+ * interpolate).  1 and *y_out, 0 when the indicator became undefined, -1 on
+ * bad input. */
 static int bisect(usm_map *map, worker *w, size_t column, usm_map_boundary_kind kind, double x,
                   double a, int ia, double b, double *y_out)
 {
-    const double tol = BISECT_RTOL * fabs(map->opt.y.to - map->opt.y.from);
-    usm_point pt;
-    for (int it = 0; it < BISECT_MAXIT && fabs(b - a) > tol; ++it) {
-        const double m = 0.5 * (a + b);
-        if (eval_at(map, w, column, x, m, kind == USM_MAP_BOUNDARY_STABILITY, NULL, &pt) !=
-            USM_OK)
-            return -1;
-        const int im = usm_map_indicator(kind, &pt);
-        if (im < 0)
-            return 0;
-        if (im == ia)
-            a = m;
-        else
-            b = m;
-    }
-    *y_out = 0.5 * (a + b);
-    return 1;
+    boundary_fn c = {map, w, column, kind, x};
+    return usm_root_bisect(boundary_indicator, &c, a, ia, b,
+                           BISECT_RTOL * fabs(map->opt.y.to - map->opt.y.from), BISECT_MAXIT,
+                           y_out);
 }
 
 static int column_task(void *ctx, void *state, size_t i)

@@ -1,12 +1,14 @@
 /* Continuation of the periodic orbit in one parameter, with its events
  * (usm_periodic_sweep.h). */
-#include "study/periodic_sweep_internal.h"
+#include "periodic_sweep_internal.h"
 
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+
+#include "core/root.h"
 
 /* A trial step is accepted when Newton needed at most this many iterations;
  * more means the prediction was poor, and the next step is halved. */
@@ -168,57 +170,79 @@ static int critical(const usm_floquet_result *f)
     return c;
 }
 
+/* One trial orbit of the locator: the parameter value, the orbit, g_k there. */
+typedef struct trial {
+    double v, g;
+    usm_periodic_result r;
+} trial;
+
+typedef struct locate_ctx {
+    usm_periodic_sweep *s;
+    int k;
+    usm_root *root;
+    trial t[3]; /* the bracket's two ends and the trial being evaluated */
+} locate_ctx;
+
+/* The slot of the trial at v, or -1. */
+static int trial_at(const locate_ctx *c, double v)
+{
+    for (int i = 0; i < 3; ++i)
+        if (c->t[i].v == v)
+            return i;
+    return -1;
+}
+
+/* g_k at v, the locator's function: the orbit started from the linear
+ * interpolation of the states at the ends of the current bracket (NaN when
+ * it fails). */
+static double trial_g(double v, void *ctx)
+{
+    locate_ctx *c = ctx;
+    double lo, hi, x[USM_MAX_NX];
+    usm_root_bracket(c->root, &lo, &hi);
+    const int a = trial_at(c, lo), b = trial_at(c, hi);
+    if (a < 0 || b < 0 || a == b)
+        return NAN;
+    trial *t = &c->t[3 - a - b]; /* the slot that is neither end */
+    predict(&c->t[a].r, lo, &c->t[b].r, hi, v, x);
+    t->v = NAN;
+    if (solve_at(c->s, v, x, &t->r) != USM_OK)
+        return NAN;
+    t->v = v;
+    t->g = gfun(c->s, c->k, &t->r);
+    return t->g;
+}
+
 /* The zero of g_k between (va, ra) and (vb, rb), where g_k changes sign, by
- * the Illinois variant of regula falsi; every trial orbit starts from the
- * linear interpolation of the bracket's states.  *v and *r: the bracket end
- * of smaller |g|.  0, or -1 when a trial orbit fails (*v, *r then the best
- * bracket end so far). */
+ * Brent's method (the shared locator, core/root.h) to s->tol; every trial
+ * orbit starts from the linear interpolation of the bracket's states.  *v
+ * and *r: the end of the last bracket of smaller |g|.  0, or -1 when a
+ * trial orbit fails (*v, *r then the end of smaller |g| of the last
+ * bracket). */
 static int locate(usm_periodic_sweep *s, int k, double va, const usm_periodic_result *ra,
                   double vb, const usm_periodic_result *rb, double *v, usm_periodic_result *r)
 {
-    usm_periodic_result A = *ra, B = *rb, C;
-    double a = va, b = vb, fa = gfun(s, k, ra), fb = gfun(s, k, rb);
-    double ga = fa, gb = fb; /* unscaled values, for the choice of the result */
-    int side = 0, rc = 0;
-    double x[USM_MAX_NX];
-    for (int it = 0; it < MAX_LOCATE && fabs(b - a) > s->tol; ++it) {
-        double c = (a * fb - b * fa) / (fb - fa);
-        /* regula falsi's point too close to an end (or not finite): bisect */
-        const double w = fabs(b - a);
-        if (!(fabs(c - a) > 1e-3 * w && fabs(c - b) > 1e-3 * w))
-            c = 0.5 * (a + b);
-        predict(&A, a, &B, b, c, x);
-        if (solve_at(s, c, x, &C) != USM_OK) {
-            rc = -1;
-            break;
-        }
-        const double fc = gfun(s, k, &C);
-        if (!isfinite(fc)) {
-            rc = -1;
-            break;
-        }
-        if (fc == 0.0) {
-            a = b = c;
-            A = B = C;
-            ga = gb = fa = fb = 0.0;
-            break;
-        }
-        if ((fc < 0) == (fb < 0)) {
-            b = c, fb = gb = fc, B = C;
-            if (side == -1)
-                fa *= 0.5;
-            side = -1;
-        } else {
-            a = c, fa = ga = fc, A = C;
-            if (side == 1)
-                fb *= 0.5;
-            side = 1;
-        }
+    locate_ctx c;
+    c.s = s;
+    c.k = k;
+    c.root = usm_root_alloc();
+    c.t[0].v = va, c.t[0].g = gfun(s, k, ra), c.t[0].r = *ra;
+    c.t[1].v = vb, c.t[1].g = gfun(s, k, rb), c.t[1].r = *rb;
+    c.t[2].v = NAN;
+    const usm_root_stop stop = {s->tol, 0.0, MAX_LOCATE};
+    double x, lo = va, hi = vb;
+    int rc = -1;
+    if (c.root) {
+        rc = usm_root_brent(c.root, trial_g, &c, va, vb, c.t[0].g, c.t[1].g, &stop, &x);
+        usm_root_bracket(c.root, &lo, &hi);
+        usm_root_free(c.root);
     }
-    if (fabs(ga) <= fabs(gb))
-        *v = a, *r = A;
-    else
-        *v = b, *r = B;
+    int a = trial_at(&c, lo), b = trial_at(&c, hi);
+    if (a < 0 || b < 0) /* not reached: the bracket's ends are trials */
+        a = 0, b = 1, rc = -1;
+    const trial *best = fabs(c.t[a].g) <= fabs(c.t[b].g) ? &c.t[a] : &c.t[b];
+    *v = best->v;
+    *r = best->r;
     return rc;
 }
 

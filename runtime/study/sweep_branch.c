@@ -56,9 +56,9 @@ int sweep_branch_alloc(sweep_branch *b, const usm_model *m)
     b->perm = gsl_permutation_alloc(n);
     b->b = gsl_vector_alloc(n);
     b->x = gsl_vector_alloc(n);
-    b->brent = gsl_root_fsolver_alloc(gsl_root_fsolver_brent);
+    b->root = usm_root_alloc();
     b->steady = usm_steady_alloc(m);
-    return b->A && b->perm && b->b && b->x && b->brent && b->steady ? 0 : -1;
+    return b->A && b->perm && b->b && b->x && b->root && b->steady ? 0 : -1;
 }
 
 void sweep_branch_free(sweep_branch *b)
@@ -71,8 +71,7 @@ void sweep_branch_free(sweep_branch *b)
         gsl_vector_free(b->b);
     if (b->x)
         gsl_vector_free(b->x);
-    if (b->brent)
-        gsl_root_fsolver_free(b->brent);
+    usm_root_free(b->root);
     usm_steady_free(b->steady);
     free(b->pev);
     free(b->ppt);
@@ -339,13 +338,7 @@ typedef struct arc_fn {
     const arc *a;
     int kind;
     double arg;
-    int failed;
     const usm_sweep_monitor *mo;
-    /* FN_LAMBDA: the values at the ends of the bracket, known to the caller
-     * (GSL's Brent evaluates both ends again: two corrections per grid
-     * value, a third of landing on it) */
-    int ends_known;
-    double lo, hi, flo, fhi;
 } arc_fn;
 
 /* ---- user monitors ---------------------------------------------------------------- */
@@ -388,20 +381,14 @@ static double arc_value(double s, void *ctx)
     arc_fn *f = ctx;
     sweep_branch *b = f->b;
     double z[SWEEP_MAX_N], t[SWEEP_MAX_N];
-    if (f->ends_known && (s == f->lo || s == f->hi))
-        return s == f->lo ? f->flo : f->fhi;
-    if (f->failed || arc_point(b, f->a, s, z) != 0) {
-        f->failed = 1;
-        return 0.0;
-    }
+    if (arc_point(b, f->a, s, z) != 0)
+        return NAN; /* failed: the locator stops */
     switch (f->kind) {
     case FN_LAMBDA:
         return z[b->nu] - f->arg;
     case FN_TANGENT:
-        if (tangent(b, z, f->a->ta, t) != 0) {
-            f->failed = 1;
-            return 0.0;
-        }
+        if (tangent(b, z, f->a->ta, t) != 0)
+            return NAN;
         return t[b->nu] * b->dir;
     case FN_THETA_LOW:
         return z[0] * b->scale[0] - f->arg;
@@ -412,10 +399,8 @@ static double arc_value(double s, void *ctx)
     case FN_MONITOR:
         return monitor_at(b, f->mo, z) - f->arg;
     case FN_SLOPE:
-        if (tangent(b, z, f->a->ta, t) != 0) {
-            f->failed = 1;
-            return 0.0;
-        }
+        if (tangent(b, z, f->a->ta, t) != 0)
+            return NAN;
         return monitor_slope(b, f->mo, z, t);
     default:
         return stick_gap(b, z);
@@ -428,24 +413,19 @@ static int arc_root_fn(sweep_branch *b, const arc *a, int kind, const usm_sweep_
                        double arg, double lo, double hi, double flo, double fhi, double epsabs,
                        double *s)
 {
-    arc_fn f = {b, a, kind, arg, 0, mo, kind == FN_LAMBDA, lo, hi, flo, fhi};
-    gsl_function F = {arc_value, &f};
+    arc_fn f = {b, a, kind, arg, mo};
+    const usm_root_stop stop = {epsabs, 0.0, 200};
     if (flo == 0.0 || fhi == 0.0) {
         *s = flo == 0.0 ? lo : hi;
         return 0;
     }
-    if ((flo < 0) == (fhi < 0) || gsl_root_fsolver_set(b->brent, &F, lo, hi) != GSL_SUCCESS)
+    if ((flo < 0) == (fhi < 0))
         return -1;
-    for (int it = 0; it < 200; ++it) {
-        if (gsl_root_fsolver_iterate(b->brent) != GSL_SUCCESS || f.failed)
-            return -1;
-        lo = gsl_root_fsolver_x_lower(b->brent);
-        hi = gsl_root_fsolver_x_upper(b->brent);
-        if (gsl_root_test_interval(lo, hi, epsabs, 0.0) == GSL_SUCCESS)
-            break;
-    }
-    *s = gsl_root_fsolver_root(b->brent);
-    return 0;
+    /* FN_LAMBDA: the values at the ends are not evaluated again (that would
+     * be two corrections per grid value, a third of landing on it); the
+     * other functions are evaluated at the ends afresh */
+    return kind == FN_LAMBDA ? usm_root_brent(b->root, arc_value, &f, lo, hi, flo, fhi, &stop, s)
+                             : usm_root_brent_eval(b->root, arc_value, &f, lo, hi, &stop, s);
 }
 
 static int arc_root(sweep_branch *b, const arc *a, int kind, double arg, double lo, double hi,

@@ -4,8 +4,8 @@
 #define USM_SWEEP_BRANCH_H
 
 #include <gsl/gsl_linalg.h>
-#include <gsl/gsl_roots.h>
 
+#include "core/root.h"
 #include "sweep_sink.h"
 
 /* The branch r(u; lambda) = 0 in scaled coordinates z = (u / su, lambda / Lambda):
@@ -24,7 +24,7 @@ typedef struct sweep_branch {
     gsl_matrix *A;
     gsl_permutation *perm;
     gsl_vector *b, *x;
-    gsl_root_fsolver *brent;    /* events located along a step's arclength */
+    usm_root *root;             /* events located along a step's arclength */
     /* the run */
     usm_steady *steady;         /* full searches and polishing at grid values */
     const usm_sweep_options *opt;

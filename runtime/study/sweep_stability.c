@@ -14,10 +14,8 @@
 #include <stdio.h>
 #include <string.h>
 
-#include <gsl/gsl_errno.h>
-#include <gsl/gsl_roots.h>
-
 #include "core/pool_internal.h"
+#include "core/root.h"
 #include "sweep_stability.h"
 #include "usm_map.h"
 
@@ -123,41 +121,36 @@ static int solve_between(crossing *c, double value)
     return 0;
 }
 
+/* max |multiplier| - 1 at value; NaN when the solution or its multipliers
+ * fail (c->failed). */
 static double margin(double value, void *ctx)
 {
     crossing *c = ctx;
     usm_params q = *c->p;
     if (c->failed || solve_between(c, value) != 0) {
         c->failed = 1;
-        return 0.0;
+        return NAN;
     }
     *usm_params_field(&q, c->info) = value;
     usm_point pt;
     if (usm_point_evaluate(NULL, c->f, &q, NULL, &c->sol, 1, c->opt->t0, &c->opt->floquet_options, &pt) != USM_OK ||
         !pt.has_floquet) {
         c->failed = 1;
-        return 0.0;
+        return NAN;
     }
     c->res = pt.floquet;
     return c->res.max_modulus - 1.0;
 }
 
-static int locate(crossing *c, gsl_root_fsolver *brent, double *value)
+/* The stability change between c->pa and c->pb by the shared locator
+ * (core/root.h); the margin at the grid points is evaluated again (the
+ * polished solution there need not be the stored one to the last bit). */
+static int locate(crossing *c, usm_root *root, double *value)
 {
     const double va = c->pa->value, vb = c->pb->value;
-    double lo = fmin(va, vb), hi = fmax(va, vb);
-    gsl_function F = {margin, c};
-    if (gsl_root_fsolver_set(brent, &F, lo, hi) != GSL_SUCCESS || c->failed)
+    const usm_root_stop stop = {1e-12 * fabs(vb - va), 1e-10, 100};
+    if (usm_root_brent_eval(root, margin, c, fmin(va, vb), fmax(va, vb), &stop, value) != 0)
         return -1;
-    for (int it = 0; it < 100; ++it) {
-        if (gsl_root_fsolver_iterate(brent) != GSL_SUCCESS || c->failed)
-            return -1;
-        lo = gsl_root_fsolver_x_lower(brent);
-        hi = gsl_root_fsolver_x_upper(brent);
-        if (gsl_root_test_interval(lo, hi, 1e-12 * fabs(vb - va), 1e-10) == GSL_SUCCESS)
-            break;
-    }
-    *value = gsl_root_fsolver_root(brent);
     /* the solution stored with the event is the one at the reported value */
     margin(*value, c);
     return c->failed ? -1 : 0;
@@ -174,10 +167,10 @@ int sweep_stability_events(const usm_model *m, const usm_params *p,
     c.info = usm_params_find(opt->over);
     c.steady = usm_steady_alloc(m);
     c.f = usm_floquet_alloc(m);
-    gsl_root_fsolver *brent = gsl_root_fsolver_alloc(gsl_root_fsolver_brent);
+    usm_root *root = usm_root_alloc();
     int status = USM_OK;
     char v[64];
-    if (!c.steady || !c.f || !brent) {
+    if (!c.steady || !c.f || !root) {
         snprintf(msg, USM_MSG_LEN, "out of memory");
         status = USM_EFAILED;
         goto done;
@@ -190,7 +183,7 @@ int sweep_stability_events(const usm_model *m, const usm_params *p,
         c.pa = pa;
         c.pb = pb;
         c.failed = 0;
-        const int located = locate(&c, brent, &value) == 0;
+        const int located = locate(&c, root, &value) == 0;
         if (!located) /* still worth reporting: between two grid points */
             value = pa->value + (1.0 - pa->floquet.max_modulus) /
                                     (pb->floquet.max_modulus - pa->floquet.max_modulus) *
@@ -219,7 +212,6 @@ int sweep_stability_events(const usm_model *m, const usm_params *p,
 done:
     usm_steady_free(c.steady);
     usm_floquet_free(c.f);
-    if (brent)
-        gsl_root_fsolver_free(brent);
+    usm_root_free(root);
     return status;
 }

@@ -9,9 +9,8 @@
  * cannot pass a turning point of the branch: there the step control gives up,
  * the remaining grid points have no orbit, and a `fold` event is reported when
  * a real multiplier was approaching +1 (below).
- * Between consecutive accepted orbits the sweep locates, by the Illinois
- * variant of regula falsi on lambda (each trial a warm-started shooting), to
- * 1e-11 of the range:
+ * Between consecutive accepted orbits the sweep locates, by Brent's method
+ * on lambda (each trial a warm-started shooting), to 1e-11 of the range:
  *   contact_loss       F_n_min = 0: the contact opens once a period
  *   stick_loss         stick models (3dof): friction_needed_max = mu0
  *   stability_change   the largest non-cyclic multiplier modulus = 1; its kind
