@@ -35,19 +35,6 @@
 #define NQUAD 32
 #define TOL_BALANCE 1e-9
 
-static uint64_t rng_next(uint64_t *state)
-{
-    uint64_t z = (*state += 0x9e3779b97f4a7c15ULL);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-    return z ^ (z >> 31);
-}
-
-static double rng_range(uint64_t *state, double a, double b)
-{
-    return a + (b - a) * (double)(rng_next(state) >> 11) * 0x1.0p-53;
-}
-
 static void random_params(uint64_t *state, usm_params *p)
 {
     usm_params_default(p);
