@@ -37,19 +37,11 @@
 #include "usm_periodic.h"
 #include "usm_simulate.h"
 
+#include "check.h"
+
 #define TWO_PI 6.283185307179586476925286766559
 #define NF 16 /* forcing samples per period (harmonics 0 .. 7) */
 
-static int failures;
-
-#define CHECK(cond, ...)                                                                         \
-    do {                                                                                         \
-        if (!(cond)) {                                                                           \
-            fprintf(stderr, "FAIL: " __VA_ARGS__);                                               \
-            fputc('\n', stderr);                                                                 \
-            ++failures;                                                                          \
-        }                                                                                        \
-    } while (0)
 
 typedef struct {
     const usm_model *m;
@@ -118,14 +110,18 @@ static void zero_imperfection(const char *base, usm_periodic *w, const ideal *id
     }
     usm_floquet_free(f);
     CHECK(fr.n == r.floquet.n, "%s: multiplier counts differ", base);
-    for (int i = 0; i < fr.n && i < r.floquet.n; ++i) {
-        const double d = hypot(fr.re[i] - r.floquet.re[i], fr.im[i] - r.floquet.im[i]);
-        CHECK(d <= 1e-8 && fr.cyclic[i] == r.floquet.cyclic[i],
-              "%s: multiplier %d: orbit %.12g%+.12gi, stationary %.12g%+.12gi (|d| %.3g)", base, i,
-              r.floquet.re[i], r.floquet.im[i], fr.re[i], fr.im[i], d);
-    }
-    printf("%s: zero imperfection: orbit = stationary solution, multipliers agree (%d Newton "
-           "iterations)\n", base, r.iterations);
+    int cyc_orbit = 0, cyc_steady = 0;
+    for (int i = 0; i < fr.n; ++i)
+        cyc_steady += fr.cyclic[i];
+    for (int i = 0; i < r.floquet.n; ++i)
+        cyc_orbit += r.floquet.cyclic[i];
+    const double d = MULTIPLIERS_DISTANCE(r.floquet, fr);
+    CHECK(d <= 1e-8 && cyc_orbit == cyc_steady,
+          "%s: multipliers of the orbit and of the stationary solution differ by %.3g (nearest "
+          "pairs); cyclic ones %d and %d",
+          base, d, cyc_orbit, cyc_steady);
+    printf("%s: zero imperfection: orbit = stationary solution, multipliers agree to %.1e (%d "
+           "Newton iterations)\n", base, d, r.iterations);
 }
 
 static int solve_with(usm_periodic *w, const ideal *id, const char *name, double v,

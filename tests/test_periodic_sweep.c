@@ -24,18 +24,10 @@
 #include "usm_periodic_sweep.h"
 #include "usm_simulate.h"
 
+#include "check.h"
+
 #define TWO_PI 6.283185307179586476925286766559
 
-static int failures;
-
-#define CHECK(cond, ...)                                                                         \
-    do {                                                                                         \
-        if (!(cond)) {                                                                           \
-            fprintf(stderr, "FAIL: " __VA_ARGS__);                                               \
-            fputc('\n', stderr);                                                                 \
-            ++failures;                                                                          \
-        }                                                                                        \
-    } while (0)
 
 /* g at parameter value v from a fresh shooting (ideal start). */
 static double fresh_g(usm_periodic *w, const usm_params *p0, const char *name, double v, int stick)
@@ -98,8 +90,7 @@ static void thresholds(const char *name, double to, double doc_contact, double d
         const double doc[2] = {doc_contact, doc_stick};
         for (int k = 0; k < 2; ++k) {
             const usm_periodic_event *e = find_event(s, types[k]);
-            CHECK(e != NULL, "%s: no %s event", name, usm_pevent_name(types[k]));
-            if (!e)
+            if (!CHECK(e != NULL, "%s: no %s event", name, usm_pevent_name(types[k])))
                 continue;
             const double lo = o.from + floor(e->value / (to / 6)) * (to / 6);
             const double truth = bisect(w, &p, name, lo, lo + to / 6, k);
@@ -165,8 +156,7 @@ static void growth_rate(void)
     int rc = usm_periodic_sweep_run(s, &p, &o);
     CHECK(rc == USM_OK, "4dof: sweep: %s", usm_periodic_sweep_message(s));
     const usm_periodic_event *e = rc == USM_OK ? find_event(s, USM_PEVENT_STABILITY_CHANGE) : NULL;
-    CHECK(e != NULL, "4dof: no stability change for mode split 0.07 .. 0.1 (docs: 0.086)");
-    if (!e) {
+    if (!CHECK(e != NULL, "4dof: no stability change for mode split 0.07 .. 0.1 (docs: 0.086)")) {
         usm_periodic_sweep_free(s);
         return;
     }
