@@ -34,8 +34,8 @@
 #define NRANDOM 50
 #define NQUAD 32
 /* The balance power_in = out + damping + slip from two independent routes
- * (the state's forces over the orbit by NQUAD-point quadrature, exact for
- * these trigonometric polynomials; the library's torques): measured 8.5e-15
+ * (the state's forces over the orbit by NQUAD-point quadrature over the
+ * period; the library's torques): measured 8.5e-15
  * (printed at the end): 1e-9.  The other tolerances below: what each pair of
  * expressions delivers, measured (printed at the end as "agreement"). */
 #define TOL_BALANCE 1e-9
