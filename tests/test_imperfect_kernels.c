@@ -23,11 +23,16 @@
 #include "check.h"
 
 #define NSAMPLES 100
+/* The two models are derived from the same equations (the imperfection terms
+ * vanish at zero), but their expressions are simplified and common
+ * subexpressions taken separately: measured (printed) up to 1.3e-14 of a row's
+ * size, so 1e-12 */
 #define TOL 1e-12
 #define NMAX (3 * USM_MAX_NX * USM_MAX_NX + USM_MAX_NX * USM_NPARAMS)
 
 static uint64_t rng = 0x1a2b3c4d5eULL;
 static int reported; /* failures printed (the first 10) */
+static double worst;  /* largest difference seen, relative to its row's size */
 
 /* rows x cols arrays a, b: equal to TOL of each row's size. */
 static void compare(const char *model, const char *kernel, int rows, int cols, const double *a,
@@ -39,6 +44,8 @@ static void compare(const char *model, const char *kernel, int rows, int cols, c
             size = fmax(size, fmax(fabs(a[i * cols + j]), fabs(b[i * cols + j])));
         for (int j = 0; j < cols; ++j) {
             const double d = fabs(a[i * cols + j] - b[i * cols + j]);
+            if (size > 0)
+                worst = fmax(worst, d / size);
             if (d <= TOL * size)
                 continue;
             if (reported++ < 10)
@@ -143,6 +150,6 @@ int main(void)
         return 1;
     }
     printf("test_imperfect_kernels: imperfect == twist_integrated at zero imperfection "
-           "(%d samples per model)\n", NSAMPLES);
+           "(%d samples per model; largest difference %.2g of a row)\n", NSAMPLES, worst);
     return 0;
 }
