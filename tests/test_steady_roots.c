@@ -61,8 +61,8 @@ static int mismatch_sign_changes(const usm_model *m, const usm_params *p, double
 
 /* Residual of every root checked, relative to m0 + |T| (printed at the end).
  * The roots are polished by Newton to xtol 1e-13 in theta, the residual then
- * carries the rounding of torques of size c_r theta ~ 1 N m against m0 = 5e-3
- * N m: measured up to 2.5e-11; the tolerance below is 1e-10. */
+ * carries the rounding of the balance's larger torques: measured up to
+ * 2.5e-11; the tolerance below is 1e-10. */
 static double worst_residual;
 
 static int close_to(double a, double b, double rel)
