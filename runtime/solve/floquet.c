@@ -214,8 +214,9 @@ void usm_floquet_free(usm_floquet *f)
  * of any method's time: Magnus per point, min of 8 interleaved runs, three
  * calls -> fused: 3dof 20.75 -> 21.19 us, 4dof 16.47 -> 15.94,
  * 3dof_twist_integrated 5.86 -> 5.71, 4dof_twist_integrated 9.90 -> 9.53
- * (noise of the layout and of the eigen-solver, either sign); CVODES changes
- * its step count by +-10 % under the last-bit change.  The change is not
+ * (bench/usm_bench, auto: 22.1 -> 23.2, 17.6 -> 17.5, 6.5 -> 6.2, 10.0 ->
+ * 10.0 us): noise of the layout and of the eigen-solver, either sign; CVODES
+ * changes its step count by +-10 % under the last-bit change.  The change is not
  * free: M(xbar) is ill-conditioned near theta = 1e-4 (2-norm condition 9e11
  * at the paper's point), so the last bits move every method's multipliers
  * together by up to 4.1e-8 (3dof; 4dof 3e-11; the methods still agree with
