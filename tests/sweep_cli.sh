@@ -81,10 +81,17 @@ assert lines[0] == ("T [N m],theta [rad],alpha [rad],rotor_speed [1/s],F_n [N],F
 rows = [l for l in lines[1:] if not l.startswith("#")]
 assert len(rows) == 11, len(rows)
 assert lines[1:12] == rows, "event lines must follow the rows"
+# the stability change (tests/test_sweep.c checks it against Floquet on either
+# side): stable below it, unstable above, and stable means max |lambda| < 1
+t_stab = [float(l.split(" at T = ")[1].split(":")[0]) for l in lines[12:]
+          if l.startswith("# stability_change ")]
+assert len(t_stab) == 1, lines[12:]
 for f in csv.reader(rows):
     assert len(f) == 17, f
     if f[9] == "true":
-        assert all(f[:8]) and f[8] in ("true", "false") and f[10] == "1" and not f[11], f
+        assert all(f[:8]) and f[10] == "1" and not f[11], f
+        assert f[8] == ("true" if float(f[0]) < t_stab[0] else "false"), (f, t_stab)
+        assert (f[8] == "true") == (float(f[7]) < 1), f
         # the power balance of a stick solution (independent of how the
         # columns are written): in = out + damping, slip 0; efficiency = out / in
         pin, pout, pdamp, pslip, eff = (float(v) for v in f[12:17])

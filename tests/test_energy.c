@@ -61,6 +61,8 @@
 
 #include "usm.h"
 
+#include "check.h"
+
 static const double PI = 3.141592653589793238462643383279502884;
 
 /* Integrator: relative tolerance for every run; absolute tolerances are
@@ -795,16 +797,15 @@ int main(int argc, char **argv)
         }
     }
     gsl_set_error_handler_off();
-    int failures = 0;
     for (int i = 0; i < USM_NMODELS; ++i) {
         const usm_model *m = usm_models[i];
         if (do_energy) {
-            failures += energy_run(m, 0);
+            CHECK(energy_run(m, 0) == 0, "%s: energy balance", m->name);
             if (m->x_phi_Rdot >= 0)
-                failures += energy_run(m, 1);
+                CHECK(energy_run(m, 1) == 0, "%s: energy and friction work", m->name);
         }
         if (do_momentum)
-            failures += momentum_run(m);
+            CHECK(momentum_run(m) == 0, "%s: angular momentum balance", m->name);
     }
     if (failures) {
         printf("test_energy: FAILED (%d checks)\n", failures);

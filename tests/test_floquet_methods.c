@@ -2,7 +2,8 @@
  *
  * The default (USM_FLOQUET_AUTO: the Magnus integrator, one matrix exponential
  * under the integrated twist law) must give the multipliers of CVODES on the
- * variational equations at rtol 1e-12 (the independent check) to 1e-9, for
+ * variational equations at rtol 1e-12 (the independent check) to 1e-9 (see
+ * TOL_MULTIPLIERS: what the reference delivers), for
  * the paper's models and the twist_integrated ones, at the paper's point and
  * at other frequencies, loads and start times.  Also: the method names, the
  * fall-back where the Magnus series diverges (a stiff linearisation), and the
@@ -20,17 +21,27 @@
 
 #include "check.h"
 
-/* Largest distance from a multiplier of a to the nearest of b. */
+/* Tolerances, from what the reference delivers (measured at the points of
+ * check_model; issue 19).  The reference is CVODES on the variational
+ * equations at rtol 1e-12: it is within 3.7e-11 of CVODES at rtol 1e-13 (the
+ * multipliers, matched by nearest pairs) and 2.9e-13 in max |lambda|; the
+ * default method is within 3.9e-11 and 9e-13 of it.  A last-bit change of
+ * the input (f or the tilt one ulp away) moves the reference by up to 2.4e-10
+ * (4dof at 30 kHz, T = 0) and 6.9e-12 in max |lambda|, and the default with
+ * it; a last-bit change of the kernels (the fused `linearisation` kernel in
+ * place of mass, jac_rhs, jac_mass) moves every method by up to 4.1e-8
+ * (3dof: M(xbar) is ill-conditioned near theta = 1e-4), all of them alike:
+ * the two still agree to 4e-11.  Both compute the same coefficient matrix
+ * G(t), so what is compared is the integration of one linear system:
+ * TOL_MULTIPLIERS 1e-9 is 25 times the reference's own error, TOL_MODULUS
+ * 1e-10 over 10 times its last-bit motion. */
+#define TOL_MULTIPLIERS 1e-9
+#define TOL_MODULUS 1e-10
+
+/* Multipliers of a and b matched by nearest pairs (check.h). */
 static double distance(const usm_floquet_result *a, const usm_floquet_result *b)
 {
-    double worst = 0;
-    for (int i = 0; i < a->n; ++i) {
-        double best = INFINITY;
-        for (int j = 0; j < b->n; ++j)
-            best = fmin(best, hypot(a->re[i] - b->re[j], a->im[i] - b->im[j]));
-        worst = fmax(worst, best);
-    }
-    return worst;
+    return MULTIPLIERS_DISTANCE(*a, *b);
 }
 
 typedef struct {
@@ -53,7 +64,11 @@ static void check_model(const char *name)
         p.f = pts[k].f;
         p.T = pts[k].T;
         if (usm_steady_solve(s, &p, NULL) != USM_OK) {
-            printf("%s f = %g T = %g: no stationary solution, skipped\n", name, p.f, p.T);
+            /* only the slip models' friction saturates, at T = mu0 pi/2 F0 R (0.95 mN m) */
+            CHECK(m->slip && p.T > 0.95e-3, "%s f = %g T = %g: no stationary solution: %s", name,
+                  p.f, p.T, usm_steady_message(s));
+            printf("%s f = %g T = %g: no stationary solution (friction saturated), as expected\n",
+                   name, p.f, p.T);
             continue;
         }
         const usm_steady_solution *sol = usm_steady_root(s, 0);
@@ -69,15 +84,15 @@ static void check_model(const char *name)
         CHECK(rc == USM_OK, "%s: default method: %s", name, usm_floquet_message(f));
         if (rc != USM_OK)
             continue;
-        const double d = fmax(distance(&res, &ref), distance(&ref, &res));
+        const double d = distance(&res, &ref);
         printf("%-22s f = %5.0f Hz T = %8.2e N m t0 = %5.3f s: |lambda|max %.10f, default (%s) "
                "vs CVODES rtol 1e-12: %.1e\n",
                name, p.f, p.T, pts[k].t0, res.max_modulus, usm_floquet_method_name(res.method), d);
-        CHECK(d <= 1e-9, "%s f = %g T = %g t0 = %g: default and CVODES differ by %.2e", name, p.f,
-              p.T, pts[k].t0, d);
+        CHECK(d <= TOL_MULTIPLIERS, "%s f = %g T = %g t0 = %g: default and CVODES differ by %.2e",
+              name, p.f, p.T, pts[k].t0, d);
         CHECK(res.method == USM_FLOQUET_MAGNUS, "%s: the default used %s", name,
               usm_floquet_method_name(res.method));
-        CHECK(fabs(res.max_modulus - ref.max_modulus) <= 1e-9 && res.stable == ref.stable,
+        CHECK(fabs(res.max_modulus - ref.max_modulus) <= TOL_MODULUS && res.stable == ref.stable,
               "%s: max_modulus %.12f vs %.12f", name, res.max_modulus, ref.max_modulus);
         int ca = 0, cb = 0;
         for (int i = 0; i < res.n; ++i) {
@@ -116,7 +131,11 @@ static void check_names(void)
 
 /* d_R = 1e10 N s/m: |A| T ~ 1e9, the Magnus series diverges and says so; the
  * default falls back to the product of exponentials, which agrees with the
- * Magnus method where both work (d_R = 1e6, 1e8) to 1e-8. */
+ * Magnus method where both work (d_R = 1e6, 1e8) to 1e-8.  What the reference
+ * (the exponential method, 64 steps) delivers: within 1.1e-10 of 256 steps at
+ * d_R = 1e6, 2e-14 at 1e8; the Magnus method's own error there is 1.7e-9
+ * (d_R = 1e8; it agrees with 256 exponential steps to 2e-11 at 1e6, with
+ * CVODES at rtol 1e-12 to 4e-12): so 1e-8, 6 times the larger. */
 static void check_stiff(void)
 {
     const usm_model *m = usm_model_find("3dof");
@@ -161,7 +180,10 @@ static void check_stiff(void)
 
 /* A model whose df/dx carries a parametric modulation 0.2 c_r cos(Omega t)
  * in one entry: the linear system of both Floquet methods changes alike, and
- * its coefficients are no longer affine in t. */
+ * its coefficients are no longer affine in t.  The reference (CVODES, rtol
+ * 1e-12) is within 2.1e-11 of rtol 1e-13 and moves by up to 1.1e-11 under a
+ * last-bit change of the tilt; the default differs from it by up to 6.9e-11:
+ * TOL_MULTIPLIERS (1e-9) holds. */
 static usm_model modulated;
 static const usm_model *modulated_base;
 
@@ -195,11 +217,11 @@ static void check_general_coefficients(const char *name)
               "%s modulated: CVODES: %s", name, usm_floquet_message(f));
         CHECK(usm_floquet_compute(f, &p, usm_steady_root(s, 0), t0, NULL, &res) == USM_OK,
               "%s modulated: default: %s", name, usm_floquet_message(f));
-        const double d = fmax(distance(&res, &ref), distance(&ref, &res));
+        const double d = distance(&res, &ref);
         printf("%s with a modulated Jacobian, t0 = %g s: |lambda|max %.10f, default (%s) vs "
                "CVODES rtol 1e-12: %.1e\n",
                name, t0, res.max_modulus, usm_floquet_method_name(res.method), d);
-        CHECK(d <= 1e-9 && res.method == USM_FLOQUET_MAGNUS,
+        CHECK(d <= TOL_MULTIPLIERS && res.method == USM_FLOQUET_MAGNUS,
               "%s modulated: default (%s) and CVODES differ by %.2e", name,
               usm_floquet_method_name(res.method), d);
     }

@@ -39,9 +39,12 @@
  *                 rates, 1/kappa in v_rel for the friction law),
  *     rounding    ~ eps * xhat_j / h_j = 2.2e-16 / 1e-6 = 2.2e-10, times the
  *                 cancellation inside g_i and a factor 3 from Richardson,
- * so a correct kernel is expected at 1e-10 ... 1e-8 (measured: worst 5e-8).
- * TOL = 1e-6 keeps a factor 20 over the worst measured case and 100 or more
- * over the typical one; a wrong or missing term is of relative size 1e-3 ... 1
+ * so a correct kernel is expected at 1e-10 ... 1e-8 (measured, issue 19:
+ * 1.0e-7 worst for the paper's models (4dof steady_jac_params), 3.2e-7 for
+ * friction_stribeck, whose Stribeck peak varies on 0.01 m/s, below the 1/kappa
+ * on which the slip caps place the steps).  TOL = 1e-6 keeps a factor 10 over
+ * the paper's models, 3 over friction_stribeck and 100 or more over the
+ * typical entry; a wrong or missing term is of relative size 1e-3 ... 1
  * of the entry's row and fails clearly (a misparenthesised 1/R*^4 in jac_mass
  * of an earlier generator gave 0.37).
  */
@@ -51,6 +54,8 @@
 #include <string.h>
 
 #include "usm.h"
+
+#include "check.h"
 
 #define NSAMPLES 200
 #define TOL 1e-6
@@ -83,33 +88,9 @@
 
 static const double PI = 3.141592653589793238462643383279502884;
 
-/* ---- deterministic PRNG (splitmix64) --------------------------------------- */
+/* ---- deterministic PRNG (check.h: splitmix64) ----------------------------- */
 
-static uint64_t rng_state = 0x5eed0f05a1e5ULL;
-
-static uint64_t rng_next(void)
-{
-    uint64_t z = (rng_state += 0x9e3779b97f4a7c15ULL);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-    return z ^ (z >> 31);
-}
-
-/* Uniform in [0, 1). */
-static double rng_uniform(void)
-{
-    return (double)(rng_next() >> 11) * 0x1.0p-53;
-}
-
-static double rng_range(double a, double b)
-{
-    return a + (b - a) * rng_uniform();
-}
-
-static double rng_log_range(double a, double b)
-{
-    return exp(rng_range(log(a), log(b)));
-}
+static uint64_t rng = 0x5eed0f05a1e5ULL;
 
 /* ---- random parameters and states ------------------------------------------- */
 
@@ -119,19 +100,15 @@ static void random_params(usm_params *p)
     for (int i = 0; i < USM_NPARAMS; ++i) {
         double *v = usm_params_field(p, &usm_param_table[i]);
         if (*v != 0.0) /* the imperfections (0) draw nothing: see below */
-            *v *= rng_log_range(0.5, 2.0);
+            *v *= rng_log_range(&rng, 0.5, 2.0);
     }
     p->I_yy = p->I_xx;
     /* imperfections are 0 by default: give them values (imperfect models),
      * from a stream of their own so that the other samples stay as they were */
     static uint64_t imperfection_stream = 0x1d3a9e57ULL;
-    const uint64_t saved = rng_state;
-    rng_state = imperfection_stream;
-    p->amp_imbalance = rng_range(-0.3, 0.3);
-    p->phase_error = rng_range(-0.5, 0.5);
-    p->mode_split = rng_range(-0.2, 0.2);
-    imperfection_stream = rng_state;
-    rng_state = saved;
+    p->amp_imbalance = rng_range(&imperfection_stream, -0.3, 0.3);
+    p->phase_error = rng_range(&imperfection_stream, -0.5, 0.5);
+    p->mode_split = rng_range(&imperfection_stream, -0.2, 0.2);
 }
 
 static double omega_of(const usm_params *p)
@@ -170,37 +147,36 @@ static int random_state(const usm_model *m, const usm_params *p, double *x, doub
     for (int i = 0; i < m->nx; ++i) {
         const char *nm = m->state_names[i];
         if (strcmp(nm, "theta") == 0) {
-            x[i] = rng_log_range(1e-5, 0.3);
+            x[i] = rng_log_range(&rng, 1e-5, 0.3);
             s[i] = THETA_SCALE;
         } else if (strcmp(nm, "phi") == 0 || strcmp(nm, "psi") == 0 || strcmp(nm, "phi_R") == 0) {
-            x[i] = rng_range(-10.0 * PI, 10.0 * PI);
+            x[i] = rng_range(&rng, -10.0 * PI, 10.0 * PI);
             s[i] = 1.0;
         } else if (strcmp(nm, "phidot") == 0 || strcmp(nm, "psidot") == 0) {
-            x[i] = W * rng_range(-2.0, 2.0);
+            x[i] = W * rng_range(&rng, -2.0, 2.0);
             s[i] = W;
         } else if (strcmp(nm, "thetadot") == 0) {
-            x[i] = 0.05 * W * rng_range(-1.0, 1.0);
+            x[i] = 0.05 * W * rng_range(&rng, -1.0, 1.0);
             s[i] = 0.05 * W;
         } else if (strcmp(nm, "phi_Rdot") == 0) {
-            x[i] = rng_range(-1000.0, 1000.0);
+            x[i] = rng_range(&rng, -1000.0, 1000.0);
             s[i] = 100.0;
         } else if (strcmp(nm, "tau") == 0) { /* integrated twist angle */
-            x[i] = rng_range(-0.1, 0.1);
+            x[i] = rng_range(&rng, -0.1, 0.1);
             s[i] = 0.01;
         } else {
-            fprintf(stderr, "FAIL: model %s: state %s has no sampling rule in this test\n",
-                    m->name, nm);
+            CHECK(0, "model %s: state %s has no sampling rule in this test", m->name, nm);
             return 1;
         }
     }
     /* Slip models: half of the samples near v_rel = v_c + phidot_R R* = 0. */
     int iR = index_of(m->state_names, m->nx, "phi_Rdot");
-    if (iR >= 0 && rng_uniform() < 0.5) {
+    if (iR >= 0 && rng_uniform(&rng) < 0.5) {
         int ith = index_of(m->state_names, m->nx, "theta");
         int iph = index_of(m->state_names, m->nx, "phidot");
         int ips = index_of(m->state_names, m->nx, "psidot");
         double vc = contact_speed(x[ith], x[iph], x[ips], p);
-        double vrel = rng_range(-3.0, 3.0) / p->kappa;
+        double vrel = rng_range(&rng, -3.0, 3.0) / p->kappa;
         x[iR] = (vrel - vc) / contact_radius(x[ith], p);
     }
     return 0;
@@ -213,17 +189,16 @@ static int random_unknowns(const usm_model *m, const usm_params *p, double *u, d
     for (int i = 0; i < m->nu; ++i) {
         const char *nm = m->unknown_names[i];
         if (strcmp(nm, "theta") == 0) {
-            u[i] = rng_log_range(1e-5, 0.3);
+            u[i] = rng_log_range(&rng, 1e-5, 0.3);
             s[i] = THETA_SCALE;
         } else if (strcmp(nm, "alpha") == 0) {
-            u[i] = rng_range(0.0, 2.0 * PI);
+            u[i] = rng_range(&rng, 0.0, 2.0 * PI);
             s[i] = 1.0;
         } else if (strcmp(nm, "phidot_R") == 0) {
             s[i] = 10.0;
             u[i] = 0.0; /* set below, needs theta */
         } else {
-            fprintf(stderr, "FAIL: model %s: unknown %s has no sampling rule in this test\n",
-                    m->name, nm);
+            CHECK(0, "model %s: unknown %s has no sampling rule in this test", m->name, nm);
             return 1;
         }
     }
@@ -233,7 +208,7 @@ static int random_unknowns(const usm_model *m, const usm_params *p, double *u, d
          * 1/kappa of zero or anywhere in +-10 m/s. */
         double th = u[ith], W = omega_of(p);
         double vc = contact_speed(th, W, -W / cos(th), p);
-        double vrel = rng_uniform() < 0.5 ? rng_range(-3.0, 3.0) / p->kappa : rng_range(-10.0, 10.0);
+        double vrel = rng_uniform(&rng) < 0.5 ? rng_range(&rng, -3.0, 3.0) / p->kappa : rng_range(&rng, -10.0, 10.0);
         u[iR] = (vrel - vc) / contact_radius(th, p);
     }
     return 0;
@@ -478,6 +453,9 @@ static int report(const char *model, const char *kernel, const stats *st)
         printf("  at (%d,%d) sample %d (analytic %.6g, fd %.6g)", st->worst_i, st->worst_j,
                st->worst_sample, st->worst_ad, st->worst_fd);
     printf("  %s\n", st->failures ? "FAILED" : "ok");
+    CHECK(st->entries > 0, "model %s, kernel %s: no entry compared", model, kernel);
+    CHECK(st->failures == 0, "model %s, kernel %s: %d entries out of tolerance", model, kernel,
+          st->failures);
     return st->failures;
 }
 
@@ -513,10 +491,9 @@ static int check_model(const usm_model *m)
         if (!m->imperfect) /* an ideal model refuses imperfections */
             p.amp_imbalance = p.phase_error = p.mode_split = 0.0;
         char msg[USM_MSG_LEN];
-        if (usm_params_check(&p, m, msg) != USM_OK) {
-            fprintf(stderr, "FAIL: random parameters rejected: %s\n", msg);
+        if (!CHECK(usm_params_check(&p, m, msg) == USM_OK, "random parameters rejected: %s",
+                   msg))
             return 1;
-        }
         double x[USM_MAX_NX], s[USM_MAX_NX], v[USM_MAX_NX], J[USM_MAX_NX * NCOL];
         if (random_state(m, &p, x, s))
             return 1;
@@ -530,9 +507,9 @@ static int check_model(const usm_model *m)
                 sc *= 0.05;
             if (strncmp(nm, "phi_R", 5) == 0)
                 sc = strstr(nm, "dot") ? 1e5 : 1e3;
-            v[i] = sc * rng_range(-1.0, 1.0);
+            v[i] = sc * rng_range(&rng, -1.0, 1.0);
         }
-        eval_ctx c = {m, &p, rng_range(0.0, 100.0 / p.f), v, NULL, x};
+        eval_ctx c = {m, &p, rng_range(&rng, 0.0, 100.0 / p.f), v, NULL, x};
         double hx[USM_MAX_NX], hu[USM_MAX_NU];
         const int slip = index_of(m->state_names, n, "phi_Rdot") >= 0;
         if (slip)
@@ -585,7 +562,7 @@ static int check_model(const usm_model *m)
 
         if (m->friction) {
             /* d mu / d v_rel, v_rel within +-10/kappa */
-            double vr = rng_range(-10.0, 10.0) / p.kappa, out[2], op[2], om[2];
+            double vr = rng_range(&rng, -10.0, 10.0) / p.kappa, out[2], op[2], om[2];
             double h = REL_STEP * fmax(fabs(vr), 1.0 / p.kappa);
             m->friction(vr, &p, out);
             m->friction(vr + h, &p, op);
@@ -628,16 +605,17 @@ static int check_model(const usm_model *m)
 
 int main(void)
 {
-    int failures = 0;
+    int entries_failed = 0;
     printf("Jacobian kernels vs central differences: %d samples per model, tolerance %.0e "
            "(scaled error, see the comment at the top)\n",
            NSAMPLES, TOL);
     for (int q = 0; q < USM_NPARAMS; ++q)
         param_names[q] = usm_param_table[q].name;
     for (int i = 0; i < USM_NMODELS; ++i)
-        failures += check_model(usm_models[i]);
-    if (failures) {
-        printf("test_jacobians: FAILED (%d entries out of tolerance)\n", failures);
+        entries_failed += check_model(usm_models[i]);
+    if (failures || entries_failed) {
+        printf("test_jacobians: FAILED (%d checks, %d entries out of tolerance)\n", failures,
+               entries_failed);
         return 1;
     }
     printf("test_jacobians: ok\n");

@@ -65,8 +65,12 @@ static void check_optimum(usm_steady *st, usm_floquet *fl, cand g, const char *w
     CHECK(fabs(T - g.T) <= dT, "%s: T %.8g not within %.3g of the grid's %.8g", who, T, dT, g.T);
     CHECK(fabs(F0 - g.F0) <= dF, "%s: F0 %.8g not within %.3g of the grid's %.8g", who, F0, dF,
           g.F0);
+    /* the optimum must be at least the grid's best (measured 9e-4 above it);
+     * 1e-9 forgives the rounding of a re-solve at the grid's point */
     CHECK(value >= g.eff * (1 - 1e-9), "%s: efficiency %.12g below the grid's %.12g", who, value,
           g.eff);
+    /* measured 0 (the optimum is on the constraint F0 = 0.6, its gradient
+     * there points out of the box) */
     CHECK(kkt <= 1e-6, "%s: KKT residual %g", who, kkt);
     /* feasible, re-solved independently */
     usm_params_default(&p);
@@ -74,6 +78,11 @@ static void check_optimum(usm_steady *st, usm_floquet *fl, cand g, const char *w
     p.F0 = F0;
     CHECK(usm_steady_solve(st, &p, NULL) == USM_OK, "%s: no solution at the optimum", who);
     const usm_steady_solution *s = usm_steady_root(st, 0);
+    printf("%s re-solved: F_t / (mu0 F_n) - 1 = %.2g, efficiency differs by %.2g (relative)\n",
+           who, s->F_t / (p.mu0 * s->F_n) - 1, fabs(s->efficiency - value) / value);
+    /* the optimizer holds its constraints to 1e-10 of F_n (runtime/study/
+     * optimize.c), 3.3e-10 in F_t / (mu0 F_n) at mu0 = 0.3; measured (printed
+     * above) 1.5e-10 above the limit: 1e-9.  The efficiency re-solved: 0 */
     CHECK(s->F_t <= p.mu0 * s->F_n * (1 + 1e-9), "%s: stick violated: F_t %.12g > mu0 F_n %.12g",
           who, s->F_t, p.mu0 * s->F_n);
     CHECK(fabs(s->efficiency - value) <= 1e-9 * value, "%s: efficiency re-solved %.12g", who,

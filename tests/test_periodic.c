@@ -37,19 +37,11 @@
 #include "usm_periodic.h"
 #include "usm_simulate.h"
 
+#include "check.h"
+
 #define TWO_PI 6.283185307179586476925286766559
 #define NF 16 /* forcing samples per period (harmonics 0 .. 7) */
 
-static int failures;
-
-#define CHECK(cond, ...)                                                                         \
-    do {                                                                                         \
-        if (!(cond)) {                                                                           \
-            fprintf(stderr, "FAIL: " __VA_ARGS__);                                               \
-            fputc('\n', stderr);                                                                 \
-            ++failures;                                                                          \
-        }                                                                                        \
-    } while (0)
 
 typedef struct {
     const usm_model *m;
@@ -118,14 +110,23 @@ static void zero_imperfection(const char *base, usm_periodic *w, const ideal *id
     }
     usm_floquet_free(f);
     CHECK(fr.n == r.floquet.n, "%s: multiplier counts differ", base);
-    for (int i = 0; i < fr.n && i < r.floquet.n; ++i) {
-        const double d = hypot(fr.re[i] - r.floquet.re[i], fr.im[i] - r.floquet.im[i]);
-        CHECK(d <= 1e-8 && fr.cyclic[i] == r.floquet.cyclic[i],
-              "%s: multiplier %d: orbit %.12g%+.12gi, stationary %.12g%+.12gi (|d| %.3g)", base, i,
-              r.floquet.re[i], r.floquet.im[i], fr.re[i], fr.im[i], d);
-    }
-    printf("%s: zero imperfection: orbit = stationary solution, multipliers agree (%d Newton "
-           "iterations)\n", base, r.iterations);
+    int cyc_orbit = 0, cyc_steady = 0;
+    for (int i = 0; i < fr.n; ++i)
+        cyc_steady += fr.cyclic[i];
+    for (int i = 0; i < r.floquet.n; ++i)
+        cyc_orbit += r.floquet.cyclic[i];
+    /* What the two sides deliver (issue 19): usm_floquet here is within 7e-11
+     * of the orbit's multipliers at rtol 1e-13 (2e-11 at 1e-12); the orbit's
+     * at its default rtol 1e-11 differ from those by 3e-9 .. 5e-9 depending on
+     * the start (1e-9 .. 2e-9 for 4dof), by 4e-8 at rtol 1e-10.  So 2e-8 (was
+     * 1e-8: 2 times the worst start), 4 times what the default delivers. */
+    const double d = MULTIPLIERS_DISTANCE(r.floquet, fr);
+    CHECK(d <= 2e-8 && cyc_orbit == cyc_steady,
+          "%s: multipliers of the orbit and of the stationary solution differ by %.3g (nearest "
+          "pairs); cyclic ones %d and %d",
+          base, d, cyc_orbit, cyc_steady);
+    printf("%s: zero imperfection: orbit = stationary solution, multipliers agree to %.1e (%d "
+           "Newton iterations)\n", base, d, r.iterations);
 }
 
 static int solve_with(usm_periodic *w, const ideal *id, const char *name, double v,
@@ -234,6 +235,9 @@ static void small_imperfection(const char *base, usm_periodic *w, const ideal *i
                             {r1.F_n_harmonic_2, r2.F_n_harmonic_2},
                             {r1.rotor_speed_ripple, r2.rotor_speed_ripple}};
     const char *what[3] = {"theta 2 Omega amplitude", "F_n 2 Omega amplitude", "rotor speed ripple"};
+    /* linear to second order in the imperfection: ratios measured within 9e-5
+     * of 2 (4dof phase_error), amplitudes within 4e-6 of the linear response
+     * (its own truncation: second order, ~v); so 1e-3 */
     for (int i = 0; i < 3; ++i)
         CHECK(fabs(q[i][0] / q[i][1] - 2.0) <= 1e-3, "%s %s = %g: %s ratio %.6f, not 2", base,
               name, v, what[i], q[i][0] / q[i][1]);
@@ -310,6 +314,8 @@ static void simulate_settles(const char *base, usm_periodic *w, const ideal *id)
     CHECK(rc == USM_OK, "%s: simulate: %s", base, s ? usm_sim_message(s) : "out of memory");
     usm_sim_free(s);
     CHECK(d.seen >= USM_PERIODIC_SAMPLES, "%s: only %d samples in the last period", base, d.seen);
+    /* the simulation at rtol 1e-10 after 300 periods: measured 7.1e-8 (3dof),
+     * 1.5e-8 (4dof) of a scale; the orbit's Newton tolerance is 1e-9: 1e-6 */
     CHECK(d.worst <= 1e-6, "%s: simulation differs from the orbit by %.3g of the scale of %s", base,
           d.worst, id->m->state_names[d.worst_state]);
     printf("%s: simulation settles on the orbit (worst %.3g of a scale over the last period; "

@@ -24,18 +24,10 @@
 #include "usm_periodic_sweep.h"
 #include "usm_simulate.h"
 
+#include "check.h"
+
 #define TWO_PI 6.283185307179586476925286766559
 
-static int failures;
-
-#define CHECK(cond, ...)                                                                         \
-    do {                                                                                         \
-        if (!(cond)) {                                                                           \
-            fprintf(stderr, "FAIL: " __VA_ARGS__);                                               \
-            fputc('\n', stderr);                                                                 \
-            ++failures;                                                                          \
-        }                                                                                        \
-    } while (0)
 
 /* g at parameter value v from a fresh shooting (ideal start). */
 static double fresh_g(usm_periodic *w, const usm_params *p0, const char *name, double v, int stick)
@@ -98,19 +90,27 @@ static void thresholds(const char *name, double to, double doc_contact, double d
         const double doc[2] = {doc_contact, doc_stick};
         for (int k = 0; k < 2; ++k) {
             const usm_periodic_event *e = find_event(s, types[k]);
-            CHECK(e != NULL, "%s: no %s event", name, usm_pevent_name(types[k]));
-            if (!e)
+            if (!CHECK(e != NULL, "%s: no %s event", name, usm_pevent_name(types[k])))
                 continue;
             const double lo = o.from + floor(e->value / (to / 6)) * (to / 6);
             const double truth = bisect(w, &p, name, lo, lo + to / 6, k);
             const double rel = fabs(e->value - truth) / truth;
             printf("3dof %s: %s at %.12g, bisection %.12g (relative %.2g), docs %.4g\n", name,
                    usm_pevent_name(types[k]), e->value, truth, rel, doc[k]);
-            CHECK(rel <= 1e-6, "%s: %s at %.12g, bisection says %.12g", name,
+            /* the locator brackets the event to 1e-11 of the range; g itself comes
+             * from orbits converged to Newton's tol 1e-9, fresh ones in the bisection:
+             * measured 2e-10 .. 8e-10: 1e-8 (was 1e-6) */
+            CHECK(rel <= 1e-8, "%s: %s at %.12g, bisection says %.12g", name,
                   usm_pevent_name(types[k]), e->value, truth);
+            /* the docs give 4 decimals */
             CHECK(fabs(e->value - doc[k]) <= 1e-4,
                   "%s: %s at %.6g, docs/periodic.md says %.4g", name, usm_pevent_name(types[k]),
                   e->value, doc[k]);
+            /* g (N, or a friction coefficient, both of order 0.1 .. 1 here) on
+             * an orbit converged to Newton's tol 1e-9: measured (printed) up to
+             * 2.2e-10: 1e-9 */
+            printf("3dof %s: %s: the event orbit's function %.2g\n", name,
+                   usm_pevent_name(types[k]), e->has_orbit ? gfun_of(e, k, p.mu0) : NAN);
             CHECK(e->has_orbit && fabs(gfun_of(e, k, p.mu0)) <= 1e-9,
                   "%s: event orbit's function %.3g", name, gfun_of(e, k, p.mu0));
         }
@@ -165,8 +165,7 @@ static void growth_rate(void)
     int rc = usm_periodic_sweep_run(s, &p, &o);
     CHECK(rc == USM_OK, "4dof: sweep: %s", usm_periodic_sweep_message(s));
     const usm_periodic_event *e = rc == USM_OK ? find_event(s, USM_PEVENT_STABILITY_CHANGE) : NULL;
-    CHECK(e != NULL, "4dof: no stability change for mode split 0.07 .. 0.1 (docs: 0.086)");
-    if (!e) {
+    if (!CHECK(e != NULL, "4dof: no stability change for mode split 0.07 .. 0.1 (docs: 0.086)")) {
         usm_periodic_sweep_free(s);
         return;
     }
@@ -176,6 +175,7 @@ static void growth_rate(void)
     CHECK(e->kind == USM_CROSSING_NEIMARK_SACKER && e->multiplier_im > 1e-3,
           "4dof: crossing kind %s (docs: a complex pair)", usm_crossing_name(e->kind));
     CHECK(fabs(e->value - 0.086) < 1e-3, "4dof: stability lost at %.6g (docs: 0.086)", e->value);
+    /* measured 6e-12; the orbit's multipliers are good to 5e-9 (tests/test_periodic.c) */
     CHECK(fabs(e->orbit.floquet.max_modulus - 1) < 1e-8, "4dof: max |lambda| %.12g at the event",
           e->orbit.floquet.max_modulus);
 
@@ -230,7 +230,9 @@ static void growth_rate(void)
                r.floquet.max_modulus, sigma, sigma_sim, mod, fabs(sigma_sim - sigma) / sigma);
         CHECK(r.floquet.max_modulus > 1.005, "4dof: max |lambda| %.8f past the change",
               r.floquet.max_modulus);
-        CHECK(b < 0 && fabs(sigma_sim - sigma) <= 0.05 * sigma,
+        /* the fit leaves the other multipliers' share, 0.86^50 = 5e-4, and the
+         * simulation's rtol 1e-11: measured 9.8e-4 relative: 1 % (was 5 %) */
+        CHECK(b < 0 && fabs(sigma_sim - sigma) <= 0.01 * sigma,
               "4dof: simulated growth rate %.6g 1/s, Floquet %.6g 1/s", sigma_sim, sigma);
     }
     usm_periodic_free(w);

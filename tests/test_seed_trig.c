@@ -19,19 +19,12 @@
 
 #include "usm.h"
 
+#include "check.h"
+
 #define NTILT 4000
 #define NSETS 21
 
-static uint64_t rng_state = 0x5eed7716ULL;
-
-static double rng_uniform(void)
-{
-    uint64_t z = (rng_state += 0x9e3779b97f4a7c15ULL);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-    z ^= z >> 31;
-    return (double)(z >> 11) * 0x1.0p-53;
-}
+static uint64_t rng = 0x5eed7716ULL;
 
 /* Samples where the two kernels differ (a NaN equal in bits counts as equal). */
 static long differences(const usm_model *m, const usm_params *p, int perturb)
@@ -53,7 +46,6 @@ static long differences(const usm_model *m, const usm_params *p, int perturb)
 
 int main(void)
 {
-    int failures = 0;
     for (int k = 0; k < USM_NMODELS; ++k) {
         const usm_model *m = usm_models[k];
         usm_params base, p;
@@ -63,22 +55,16 @@ int main(void)
             if (set > 0)
                 for (int j = 0; j < USM_NPARAMS; ++j) {
                     double *f = usm_params_field(&p, &usm_param_table[j]);
-                    *f *= exp(log(2.0) * (2.0 * rng_uniform() - 1.0));
+                    *f *= exp(log(2.0) * (2.0 * rng_uniform(&rng) - 1.0));
                 }
             const long d = differences(m, &p, 0);
-            if (d != 0) {
-                fprintf(stderr, "FAIL %s, parameter set %d: steady_seed_trig differs from "
-                                "steady_seed at %ld of %d tilts\n",
-                        m->name, set, d, NTILT);
-                ++failures;
-            }
+            CHECK(d == 0, "%s, parameter set %d: steady_seed_trig differs from steady_seed at %ld "
+                          "of %d tilts",
+                  m->name, set, d, NTILT);
         }
         const long d = differences(m, &base, 1);
-        if (d == 0) {
-            fprintf(stderr, "FAIL %s: sin theta one ulp off changes no output: the "
-                            "comparison cannot fail\n", m->name);
-            ++failures;
-        }
+        CHECK(d != 0, "%s: sin theta one ulp off changes no output: the comparison cannot fail",
+              m->name);
         printf("%s: bit for bit at %d tilts x %d parameter sets; one ulp of sin theta "
                "changes %ld of %d\n", m->name, NTILT, NSETS, d, NTILT);
     }

@@ -43,22 +43,16 @@
 #define FLOOR 1e-6     /* elasticity resolved by the differences, stationary outputs */
 #define FLOOR_MOD 1e-7 /* and max_modulus */
 /* |max_modulus - usm_floquet_compute's| (its eigenvalues are taken in the
-   ill-conditioned Euler-angle coordinates) */
+   ill-conditioned Euler-angle coordinates).  What the reference delivers
+   (issue 19): usm_floquet_compute at its default rtol 1e-8 (CVODES) is within
+   1.3e-7 of CVODES at rtol 1e-12 and moves by up to 2.1e-7 under a last-bit
+   change of the tilt (tests/test_steady_floquet.c); the exponential method is
+   within 2e-11; measured here (printed at the end): up to 1.1e-7 */
 #define MODULUS_AGREE 1e-6
+/* The fourth-order differences at REL_STEP: their truncation and rounding
+   (FLOOR, FLOOR_MOD) measured up to 0.45 of the bound TOL |fd| + floor
+   (printed at the end) */
 #define TOL 1e-5
-
-static uint64_t rng_next(uint64_t *state)
-{
-    uint64_t z = (*state += 0x9e3779b97f4a7c15ULL);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-    return z ^ (z >> 31);
-}
-
-static double rng_range(uint64_t *state, double a, double b)
-{
-    return a + (b - a) * (double)(rng_next(state) >> 11) * 0x1.0p-53;
-}
 
 static void random_params(uint64_t *state, usm_params *p)
 {
@@ -97,6 +91,7 @@ static int outputs_at(usm_sensitivity *sens, usm_steady *st, const usm_params *p
 }
 
 static double worst; /* largest |d - fd| / (TOL |fd| + floor) seen */
+static double worst_modulus; /* largest |max_modulus - usm_floquet_compute's| */
 
 static int check_point(const usm_model *m, usm_steady *st, usm_sensitivity *sens,
                        usm_floquet *fl, const usm_params *p, const char *what)
@@ -122,6 +117,7 @@ static int check_point(const usm_model *m, usm_steady *st, usm_sensitivity *sens
         opt.method = method ? USM_FLOQUET_EXPONENTIAL : USM_FLOQUET_VARIATIONAL;
         CHECK(usm_floquet_compute(fl, p, &sol, 0.0, &opt, &fr) == USM_OK, "%s %s: floquet failed",
               m->name, what);
+        worst_modulus = fmax(worst_modulus, fabs(fr.max_modulus - r.value[USM_SENS_MAX_MODULUS]));
         CHECK(fabs(fr.max_modulus - r.value[USM_SENS_MAX_MODULUS]) <= MODULUS_AGREE,
               "%s %s: max_modulus %.15g, floquet (%s) %.15g", m->name, what,
               r.value[USM_SENS_MAX_MODULUS], method ? "exponential" : "variational",
@@ -265,7 +261,8 @@ int main(void)
         usm_sensitivity_free(sens);
         usm_steady_free(st);
     }
-    printf("worst |d - fd| / (1e-5 |fd| + floor) = %.3g\n", worst);
+    printf("worst |d - fd| / (1e-5 |fd| + floor) = %.3g; max_modulus against usm_floquet_compute "
+           "%.2g\n", worst, worst_modulus);
     if (failures)
         printf("%d failures\n", failures);
     return failures != 0;

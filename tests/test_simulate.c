@@ -69,6 +69,8 @@ static void check_startup(const usm_model *m)
            m->name, a.settled, a.t_settle * 1e3, b.settled, b.t_settle * 1e3, a.theta_rel_end,
            a.rotor_speed_rel_end, a.steps);
     CHECK(a.settled && b.settled, "%s: did not settle within 5 ms", m->name);
+    /* the run at the default rtol 1e-8 against usm_steady_solve (xtol 1e-13):
+     * measured 2.9e-9 (theta) and 6.2e-8 (rotor speed, 3dof), 1e-10 (4dof): 1e-6 */
     CHECK(fabs(a.theta_rel_end) < 1e-6 && fabs(a.rotor_speed_rel_end) < 1e-6,
           "%s: settled state differs from usm_steady_solve (%.3e, %.3e)", m->name,
           a.theta_rel_end, a.rotor_speed_rel_end);
@@ -80,6 +82,7 @@ static void check_startup(const usm_model *m)
     printf("%s: tilt0 1e-6 vs 1e-8: settled theta differs by %.2e, rotor speed by %.2e "
            "(relative), settling time by %.3g periods\n",
            m->name, dth, dw, fabs(a.t_settle - b.t_settle) * p.f);
+    /* two runs at rtol 1e-8: measured 1.5e-9 and 3.4e-8 (3dof): 1e-6 */
     CHECK(dth < 1e-6 && dw < 1e-6, "%s: the settled state depends on tilt0", m->name);
     CHECK(fabs(a.t_settle - b.t_settle) * p.f <= 3.5, "%s: settling time depends on tilt0",
           m->name);
@@ -133,6 +136,8 @@ static void check_stays(const usm_model *m)
            "(relative), phi %.2e rad; settled %d at t = %g\n",
            m->name, w.n, w.worst_theta, w.worst_speed, w.worst_phase, sum.settled, sum.t_settle);
     CHECK(w.n >= 1460, "%s: too few samples (%ld)", m->name, w.n);
+    /* rtol 1e-8 over 200 periods against the closed-form orbit: measured 2e-10
+     * (theta), 3.1e-9 (rotor speed), 1.7e-10 rad (phi), 3dof: 1e-6 */
     CHECK(w.worst_theta < 1e-6 && w.worst_speed < 1e-6 && w.worst_phase < 1e-6,
           "%s: the motion leaves the stationary orbit", m->name);
     CHECK(sum.settled && sum.t_settle == 0.0, "%s: on the orbit but not settled from t0",
@@ -373,10 +378,8 @@ static void check_long_run(void)
            usm_sim_stop_name(sum.stop), sum.t_reached * 1e3, sum.steps);
     CHECK(rc == USM_EFAILED && sum.t_reached > 0.02 && sum.contact_open.count > 0,
           "3dof: the orbit's instability after 20 ms is not seen");
-    if (!mi) {
-        printf("no model 3dof_twist_integrated: its half of the check is skipped\n");
+    if (!CHECK(mi != NULL, "no model 3dof_twist_integrated: its half of the check cannot run"))
         return;
-    }
     rc = run(mi, &p, &o, NULL, &sum);
     printf("%s: from the orbit for 50 ms: stop %s, settled %d, %ld steps\n", mi->name,
            usm_sim_stop_name(sum.stop), sum.settled, sum.steps);

@@ -101,9 +101,13 @@ static void check_floquet_methods(const usm_model *m, const usm_params *p,
     o.method = USM_FLOQUET_EXPONENTIAL;
     rc = usm_floquet_compute(f, p, sol, 0.0, &o, &r2);
     CHECK(rc == USM_OK, "%s: exponential Floquet failed: %s", m->name, usm_floquet_message(f));
-    double worst = 0;
-    for (int i = 0; i < res->n; ++i)
-        worst = fmax(worst, hypot(res->re[i] - r2.re[i], res->im[i] - r2.im[i]));
+    /* Both at their default accuracy (CVODES rtol 1e-8, 64 exponentials),
+     * multipliers matched by nearest pairs.  Measured against CVODES at rtol
+     * 1e-12 (issue 19): the exponential method is within 1.8e-11, CVODES at
+     * rtol 1e-8 within 1.3e-7 (4dof_twist_integrated) and it moves by up to
+     * 2.1e-7 under a last-bit change of the tilt (its step sequence changes):
+     * so 1e-6, 5 times that. */
+    const double worst = MULTIPLIERS_DISTANCE(*res, r2);
     printf("%s: Floquet methods differ by at most %.2e\n", m->name, worst);
     CHECK(worst < 1e-6, "%s: Floquet methods disagree by %.3e", m->name, worst);
     /* (the cyclic multipliers themselves are set to 1 by construction; the
@@ -112,7 +116,8 @@ static void check_floquet_methods(const usm_model *m, const usm_params *p,
         if (m->cyclic[j])
             for (int i = 0; i < m->nx; ++i)
                 /* exact in theory; the well-conditioned coordinates round
-                 * it at ~1e-11 in the rate rows, whose entries are ~Omega */
+                 * it at ~1e-11 in the rate rows, whose entries are ~Omega
+                 * (measured: up to 2.4e-11, 3dof_twist_integrated): 1e-9 */
                 CHECK(fabs(res->monodromy[i * m->nx + j] - (i == j)) < 1e-9,
                       "%s: monodromy column %d is not e_%d", m->name, j, j);
     usm_floquet_free(f);
@@ -181,8 +186,12 @@ static void check_stays_on_orbit(const usm_model *m, const usm_params *p,
     CHECK(checked == 20, "%s: integration stopped after %d periods", m->name, checked);
     printf("%s: 20 periods from xbar(0): theta drift %.2e, rotor speed drift %.2e (relative)\n",
            m->name, worst_theta, worst_speed);
-    CHECK(worst_theta < 1e-5, "%s: tilt leaves the stationary orbit (%.3e)", m->name, worst_theta);
-    CHECK(worst_speed < 1e-5, "%s: rotor speed leaves the orbit (%.3e)", m->name, worst_speed);
+    /* CVODES at rtol 1e-11 from xbar(0) delivers (issue 19): theta 1.7e-9
+     * (3dof: the paper's twist torque is a difference of terms that grow with
+     * t), 2e-11 elsewhere, the rotor speed 1.5e-10; so 1e-7, 60 times the
+     * largest (it was 1e-5). */
+    CHECK(worst_theta < 1e-7, "%s: tilt leaves the stationary orbit (%.3e)", m->name, worst_theta);
+    CHECK(worst_speed < 1e-7, "%s: rotor speed leaves the orbit (%.3e)", m->name, worst_speed);
     CVodeFree(&cv);
     SUNLinSolFree(LS);
     SUNMatDestroy(A);
@@ -216,7 +225,7 @@ static void check_no_solution(const usm_model *m, const char *field, double valu
  * what half a unit in their last digits can change it by. */
 static void check_paper_point(const usm_model *m, const usm_params *p)
 {
-    if (m->nu != 2)
+    if (!CHECK(m->nu == 2, "%s: %d stationary unknowns, the paper's point gives 2", m->name, m->nu))
         return;
     const double u[2] = {0.81836e-4, 5.126}, du[2] = {0.5e-9, 0.5e-3};
     double r[2], J[4];
@@ -278,27 +287,34 @@ static void check_t0(const usm_model *m, const usm_params *p, const usm_steady_s
     CHECK(usm_floquet_compute(f, p, sol, 0.0, &o, &r0) == USM_OK, "%s: t0 = 0", m->name);
     CHECK(usm_floquet_compute(f, p, sol, 100 * T, &o, &r100) == USM_OK, "%s: t0 = 100 T", m->name);
     /* entry-wise in the monodromy's own scale (its entries span many decades) */
-    double scale = max_abs(r0.monodromy, n * n), dB = 0, dl = 0;
+    double scale = max_abs(r0.monodromy, n * n), dB = 0;
     for (int i = 0; i < n * n; ++i)
         dB = fmax(dB, fabs(r0.monodromy[i] - r100.monodromy[i]) / scale);
-    for (int i = 0; i < n; ++i)
-        dl = fmax(dl, hypot(r0.re[i] - r100.re[i], r0.im[i] - r100.im[i]));
+    const double dl = MULTIPLIERS_DISTANCE(r0, r100);
     printf("%s: t0 = 0 vs 100 T: monodromy differs by %.2e (relative), multipliers by %.2e\n",
            m->name, dB, dl);
     if (m->t0_independent) {
-        CHECK(dB < 1e-8, "%s: monodromy depends on t0 (%.3e)", m->name, dB);
-        CHECK(dl < 1e-8, "%s: multipliers depend on t0 (%.3e)", m->name, dl);
+        /* What the two runs deliver (issue 19): the same method on the same
+         * M(theta) (it does not depend on the angles), only the angles' rounding
+         * at t0 = 100 T differs: monodromy 9.7e-14 of its scale, multipliers
+         * 4.3e-14 (matched by nearest pairs), so 1e-10 (a last-bit change of
+         * the kernels moves both runs alike, by up to 1.8e-8). */
+        CHECK(dB < 1e-10, "%s: monodromy depends on t0 (%.3e)", m->name, dB);
+        CHECK(dl < 1e-10, "%s: multipliers depend on t0 (%.3e)", m->name, dl);
         /* constant coefficients: a single exponential is exact */
         o.method = USM_FLOQUET_EXPONENTIAL;
         o.steps = 1;
         CHECK(usm_floquet_compute(f, p, sol, 0.0, &o, &rexp) == USM_OK, "%s: expm", m->name);
-        double de = 0;
-        for (int i = 0; i < n; ++i)
-            de = fmax(de, hypot(r0.re[i] - rexp.re[i], r0.im[i] - rexp.im[i]));
+        const double de = MULTIPLIERS_DISTANCE(r0, rexp);
         printf("%s: constant-coefficient exp(T A) vs variational: %.2e\n", m->name, de);
-        CHECK(de < 1e-8, "%s: constant-coefficient multipliers differ (%.3e)", m->name, de);
+        /* measured 1.8e-13 (4dof_twist_integrated): one exponential is exact
+         * here, the default method at rtol 1e-12 is within 4e-11 of CVODES at
+         * rtol 1e-12 (tests/test_floquet_methods.c): 1e-10 */
+        CHECK(de < 1e-10, "%s: constant-coefficient multipliers differ (%.3e)", m->name, de);
     } else {
-        /* the paper's law: a real, visible dependence (psi(t) in the twist term) */
+        /* the paper's law: a real, visible dependence (psi(t) in the twist
+         * term); measured 1.2e-3 (4dof) to 5.2e-2 (3dof), against the 1e-13
+         * of the integrated law above */
         CHECK(dl > 1e-4, "%s: expected a t0 dependence, got %.3e", m->name, dl);
     }
     usm_floquet_free(f);

@@ -59,6 +59,12 @@ static int mismatch_sign_changes(const usm_model *m, const usm_params *p, double
     return changes;
 }
 
+/* Residual of every root checked, relative to m0 + |T| (printed at the end).
+ * The roots are polished by Newton to xtol 1e-13 in theta, the residual then
+ * carries the rounding of the balance's larger torques: measured up to
+ * 2.5e-11; the tolerance below is 1e-10. */
+static double worst_residual;
+
 static int close_to(double a, double b, double rel)
 {
     return fabs(a - b) <= rel * fmax(fabs(a), fabs(b));
@@ -105,6 +111,8 @@ static int sweep_points_found(const usm_model *m, const usm_params *p, const usm
         usm_params q = *p;
         *usm_params_field(&q, usm_params_find(over)) = pt->value;
         const int rc = usm_steady_solve(s, &q, NULL);
+        /* the sweep polishes its points with the same solver (tests/test_sweep.c
+         * measures 0 difference): 1e-9 only tells roots apart */
         CHECK(rc == USM_OK && find_root(s, &pt->sol, 1e-9) >= 0,
               "%s, %s = %.12g: the sweep's root theta = %.15g, rotor speed %.15g is not among "
               "steady's %zu roots (status %d: %s)",
@@ -171,6 +179,7 @@ static void check_fold(const fold_case *c)
                 if (!(r->theta == last))
                     ++distinct_tilts;
                 last = r->theta;
+                worst_residual = fmax(worst_residual, r->residual_norm / (q.m0 + fabs(q.T)));
                 CHECK(r->residual_norm <= 1e-10 * (q.m0 + fabs(q.T)),
                       "%s %s = %.15g: residual %.3g", c->model, c->over, *field,
                       r->residual_norm);
@@ -315,6 +324,7 @@ static void check_stribeck(void)
             if (!close_to(r->theta, theta, 1e-9))
                 continue;
             ++at_theta;
+            worst_residual = fmax(worst_residual, r->residual_norm / (p.m0 + fabs(p.T)));
             CHECK(r->residual_norm <= 1e-10 * (p.m0 + fabs(p.T)),
                   "stribeck T = %g root %zu: residual %.3g", p.T, k, r->residual_norm);
             if (k > 0 && close_to(usm_steady_root(s, k - 1)->theta, r->theta, 1e-9))
@@ -336,6 +346,10 @@ static void check_stribeck(void)
     double lo_mu, hi_mu;
     CHECK(usm_steady_friction_range(s, &p, &lo_mu, &hi_mu) == USM_OK, "friction range: %s",
           usm_steady_message(s));
+    printf("stribeck law range: the solver's %.17g, the golden section's %.17g (relative %.2g)\n",
+           hi_mu, mu_max, fabs(hi_mu - mu_max) / mu_max);
+    /* both maximise the same kernel; a maximum is flat, so either is good to
+     * rounding of mu (measured above): 1e-12 */
     CHECK(close_to(hi_mu, mu_max, 1e-12) && close_to(lo_mu, -mu_max, 1e-12),
           "stribeck law range [%.15g, %.15g], golden section max %.15g", lo_mu, hi_mu, mu_max);
     printf("4dof_friction_stribeck (kappa = 1000 s/m, law max %.6g): %d of 61 loads have "
@@ -429,10 +443,13 @@ static void check_messages(void)
               cases[i].model, cases[i].name, cases[i].value, why);
         CHECK(rc == USM_OK || why[0] != '\0', "%s %s = %g: status %d without a message",
               cases[i].model, cases[i].name, cases[i].value, rc);
-        for (size_t k = 0; k < usm_steady_count(s); ++k)
+        for (size_t k = 0; k < usm_steady_count(s); ++k) {
+            worst_residual =
+                fmax(worst_residual, usm_steady_root(s, k)->residual_norm / (p.m0 + fabs(p.T)));
             CHECK(usm_steady_root(s, k)->residual_norm <= 1e-10 * (p.m0 + fabs(p.T)),
                   "%s %s = %g: root %zu has residual %.3g", cases[i].model, cases[i].name,
                   cases[i].value, k, usm_steady_root(s, k)->residual_norm);
+        }
         usm_steady_free(s);
     }
 }
@@ -455,6 +472,7 @@ int main(void)
     check_stribeck();
     check_friction_range();
     check_messages();
+    printf("largest residual of a root %.2g of m0 + |T| (tolerance 1e-10)\n", worst_residual);
     if (failures)
         printf("%d check(s) failed\n", failures);
     return failures != 0;

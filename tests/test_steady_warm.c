@@ -37,16 +37,8 @@
 static int outcomes[4];
 static int compared, multi;
 
-/* Deterministic uniform numbers in [0, 1) (no global state in the library;
- * this test's own generator). */
-static unsigned long long rng_state = 0x9E3779B97F4A7C15ull;
-static double uniform(void)
-{
-    rng_state ^= rng_state << 13;
-    rng_state ^= rng_state >> 7;
-    rng_state ^= rng_state << 17;
-    return (double)(rng_state >> 11) * 0x1.0p-53;
-}
+/* Deterministic random numbers (check.h); no global state in the library. */
+static uint64_t rng = 0x9E3779B97F4A7C15ull;
 
 /* The warm start on `warm` (kept between calls) from guess agrees with a
  * fresh full search at p. */
@@ -84,14 +76,14 @@ static void compare(usm_steady *warm, const usm_model *m, const usm_params *p,
 static void random_params(const usm_model *m, usm_params *p)
 {
     usm_params_default(p);
-    p->f = 30000 + 16000 * uniform();
-    p->T = (uniform() < 0.2 ? -0.5 : 0.01) * uniform();
-    p->m0 *= exp(2 * (uniform() - 0.5));
-    p->F0 *= exp(uniform() - 0.5);
-    p->c_r *= exp(uniform() - 0.5);
+    p->f = 30000 + 16000 * rng_uniform(&rng);
+    p->T = (rng_uniform(&rng) < 0.2 ? -0.5 : 0.01) * rng_uniform(&rng);
+    p->m0 *= exp(2 * (rng_uniform(&rng) - 0.5));
+    p->F0 *= exp(rng_uniform(&rng) - 0.5);
+    p->c_r *= exp(rng_uniform(&rng) - 0.5);
     if (m->friction) {
-        p->mu0 = uniform() < 0.2 ? 1e4 : 0.1 + 0.5 * uniform();
-        p->kappa *= exp(4 * (uniform() - 0.5));
+        p->mu0 = rng_uniform(&rng) < 0.2 ? 1e4 : 0.1 + 0.5 * rng_uniform(&rng);
+        p->kappa *= exp(4 * (rng_uniform(&rng) - 0.5));
     }
 }
 
@@ -103,9 +95,9 @@ static void check_random(const usm_model *m, int n)
         usm_params p, q;
         random_params(m, &p);
         q = p;
-        q.f *= 1 + 0.02 * (uniform() - 0.5);
-        q.T += 0.01 * (uniform() - 0.5) * fabs(q.T);
-        q.m0 *= 1 + 0.02 * (uniform() - 0.5);
+        q.f *= 1 + 0.02 * (rng_uniform(&rng) - 0.5);
+        q.T += 0.01 * (rng_uniform(&rng) - 0.5) * fabs(q.T);
+        q.m0 *= 1 + 0.02 * (rng_uniform(&rng) - 0.5);
         if (usm_steady_solve(near, &q, NULL) == USM_OK)
             compare(warm, m, &p, usm_steady_root(near, 0), "neighbour");
         else
@@ -149,7 +141,7 @@ static void check_folds(const char *model, const char *over, double from, double
             continue;
         ++folds;
         for (int k = 0; k < 40; ++k) {
-            const double rel = pow(10.0, -8.0 + 6.5 * uniform()) * (uniform() < 0.5 ? -1 : 1);
+            const double rel = pow(10.0, -8.0 + 6.5 * rng_uniform(&rng)) * (rng_uniform(&rng) < 0.5 ? -1 : 1);
             usm_params q = p;
             *usm_params_field(&q, info) = ev->value * (1 + rel);
             if (usm_steady_solve(full, &q, NULL) != USM_OK) {

@@ -73,17 +73,18 @@ static usm_sweep *run(const char *model, const usm_params *p, const char *over, 
     return run_with(model, p, over, from, to, points, floquet, def.method);
 }
 
-static const usm_sweep_event *find_event(const usm_sweep *s, usm_event_type type)
+/* The one event of this type, or NULL (none or several: *n of them).  The
+ * caller asserts it: if (CHECK(e != NULL, ...)) { checks of e }. */
+static const usm_sweep_event *find_event(const usm_sweep *s, usm_event_type type, int *n)
 {
     const usm_sweep_event *found = NULL;
-    int n = 0;
+    *n = 0;
     for (size_t i = 0; i < usm_sweep_event_count(s); ++i)
         if (usm_sweep_event_at(s, i)->type == type) {
             found = usm_sweep_event_at(s, i);
-            ++n;
+            ++*n;
         }
-    CHECK(n == 1, "expected one %s event, found %d", usm_event_name(type), n);
-    return found;
+    return *n == 1 ? found : NULL;
 }
 
 /* The full search with xtol 1e-10: with the default 1e-13 the polish asks
@@ -139,9 +140,10 @@ static void check_speed_maximum(void)
         if (fabs(pt->sol.rotor_speed) > fabs(usm_sweep_point_at(sw, best)->sol.rotor_speed))
             best = i;
     }
-    CHECK(best > 0 && best + 1 < usm_sweep_count(sw), "f sweep: the maximum is at an end");
-    if (best == 0 || best + 1 >= usm_sweep_count(sw))
+    if (!CHECK(best > 0 && best + 1 < usm_sweep_count(sw), "f sweep: the maximum is at an end")) {
+        usm_sweep_free(sw);
         return;
+    }
     /* vertex of the parabola through the three grid points around the maximum */
     const usm_sweep_point *a = usm_sweep_point_at(sw, best - 1), *b = usm_sweep_point_at(sw, best),
                           *c = usm_sweep_point_at(sw, best + 1);
@@ -173,7 +175,9 @@ static void check_speed_maximum(void)
     printf("speed maximum: sweep + parabola f = %.4f Hz (|rotor_speed| %.6f 1/s), golden section "
            "f = %.4f Hz, difference %.3g Hz\n",
            f_sweep, yb, f_golden, f_sweep - f_golden);
-    CHECK(fabs(f_sweep - f_golden) < 1.0, "speed maximum: sweep %.4f Hz, golden section %.4f Hz",
+    /* the golden section brackets the maximum to 1e-3 Hz; the parabola through
+     * grid points 10 Hz apart delivers 0.018 Hz (issue 19): 0.1 Hz (was 1 Hz) */
+    CHECK(fabs(f_sweep - f_golden) < 0.1, "speed maximum: sweep %.4f Hz, golden section %.4f Hz",
           f_sweep, f_golden);
     usm_steady_free(s);
     usm_sweep_free(sw);
@@ -192,14 +196,17 @@ static void check_load_sweep(void)
         CHECK(usm_sweep_event_at(sw, i)->type != USM_EVENT_FOLD,
               "a fold reported on a branch without a turning point: %s",
               usm_sweep_event_at(sw, i)->what);
-    const usm_sweep_event *fold = find_event(sw, USM_EVENT_TILT_ZERO);
-    if (fold) {
+    int n;
+    const usm_sweep_event *fold = find_event(sw, USM_EVENT_TILT_ZERO, &n);
+    if (CHECK(fold != NULL, "3dof T sweep: %d tilt_zero events, want one", n)) {
         const double ref = existence_end("3dof", p, 7.0e-3, 8.0e-3);
         /* the search stops at theta = 1e-9, a step of ~1e-9 / |dtheta/dT| before */
         const double rel = (fold->value - ref) / ref;
         printf("tilt_zero (3dof, T): sweep T = %.12g N m, bisection on usm_steady_solve "
                "(theta >= 1e-9) %.12g N m, relative difference %.2e; %s\n",
                fold->value, ref, rel, fold->what);
+        /* the bisection is good to 1e-15 of T; the difference is where the
+         * sweep stops (theta = 1e-9): measured 1.21e-5 */
         CHECK(rel > 0 && rel < 2e-5, "tilt_zero: sweep %.12g, bisection %.12g", fold->value, ref);
         CHECK(fold->has_sol && fabs(fold->sol.theta) < 1e-18,
               "tilt_zero: theta there %.6g, want 0", fold->sol.theta);
@@ -211,8 +218,8 @@ static void check_load_sweep(void)
     }
 
     /* 3. stick limit */
-    const usm_sweep_event *stick = find_event(sw, USM_EVENT_STICK_LIMIT);
-    if (stick) {
+    const usm_sweep_event *stick = find_event(sw, USM_EVENT_STICK_LIMIT, &n);
+    if (CHECK(stick != NULL, "3dof T sweep: %d stick_limit events, want one", n)) {
         usm_steady *s = usm_steady_alloc(usm_model_find("3dof"));
         usm_params q = p;
         q.T = stick->value;
@@ -223,13 +230,15 @@ static void check_load_sweep(void)
         printf("stick limit: T = %.12g N m; usm_steady_solve there: F_t = %.12g N, "
                "mu0 F_n = %.12g N, relative difference %.2e\n",
                stick->value, r->F_t, q.mu0 * r->F_n, rel);
-        CHECK(rel < 1e-9, "stick limit: F_t - mu0 F_n relative %.3g", rel);
+        /* usm_steady_solve there converges theta to xtol 1e-13; measured 3.9e-15:
+         * 1e-11 (was 1e-9) */
+        CHECK(rel < 1e-11, "stick limit: F_t - mu0 F_n relative %.3g", rel);
         usm_steady_free(s);
     }
 
     /* 4. stability change: the sign of max|lambda| - 1 on either side */
-    const usm_sweep_event *stab = find_event(sw, USM_EVENT_STABILITY_CHANGE);
-    if (stab) {
+    const usm_sweep_event *stab = find_event(sw, USM_EVENT_STABILITY_CHANGE, &n);
+    if (CHECK(stab != NULL, "3dof T sweep: %d stability_change events, want one", n)) {
         usm_steady *s = usm_steady_alloc(usm_model_find("3dof"));
         usm_floquet *f = usm_floquet_alloc(usm_model_find("3dof"));
         double mod[2];
@@ -244,6 +253,8 @@ static void check_load_sweep(void)
         }
         printf("stability change: T = %.10g N m; max|lambda| at T(1 -+ 1e-5): %.9f, %.9f\n",
                stab->value, mod[0], mod[1]);
+        /* measured 1 -+ 1.5e-6 there, far above the multipliers' 4e-8 (a
+         * last-bit change of the kernels, tests/test_floquet_methods.c) */
         CHECK(mod[0] < 1 && mod[1] > 1, "stability change: max|lambda| %.9f below, %.9f above",
               mod[0], mod[1]);
         usm_floquet_free(f);
@@ -301,8 +312,9 @@ static void check_true_fold(void)
     o.steady.theta_max = 1.0;
     usm_sweep *sw = usm_sweep_alloc(m);
     CHECK(usm_sweep_run(sw, &p, &o) == USM_OK, "m0 = 50: %s", usm_sweep_message(sw));
-    const usm_sweep_event *fold = find_event(sw, USM_EVENT_FOLD);
-    if (fold) {
+    int n;
+    const usm_sweep_event *fold = find_event(sw, USM_EVENT_FOLD, &n);
+    if (CHECK(fold != NULL, "3dof f sweep, m0 = 50: %d fold events, want one", n)) {
         double lo = 32000, hi = 33500;
         usm_params q = p;
         q.f = lo;
@@ -321,7 +333,9 @@ static void check_true_fold(void)
                "double root of the amplitude mismatch at f = %.10f Hz, relative difference "
                "%.2e\n",
                fold->value, fold->sol.theta, ref, rel);
-        CHECK(rel < 1e-9, "true fold: sweep %.10f, reference %.10f", fold->value, ref);
+        /* the bisection brackets the double root to 1e-9 Hz (3e-14 of f);
+         * measured 5.3e-15: 1e-11 (was 1e-9) */
+        CHECK(rel < 1e-11, "true fold: sweep %.10f, reference %.10f", fold->value, ref);
         CHECK(strstr(fold->what, "turns back") != NULL, "true fold: what = %s", fold->what);
     }
     usm_sweep_free(sw);
@@ -334,14 +348,17 @@ static void check_saturation(void)
     usm_params p;
     usm_params_default(&p);
     usm_sweep *sw = run("4dof", &p, "T", 0, 0.0012, 25, 0);
-    const usm_sweep_event *sat = find_event(sw, USM_EVENT_FRICTION_SATURATION);
-    if (sat) {
+    int n;
+    const usm_sweep_event *sat = find_event(sw, USM_EVENT_FRICTION_SATURATION, &n);
+    if (CHECK(sat != NULL, "4dof T sweep: %d friction_saturation events, want one", n)) {
         const double ref = existence_end("4dof", p, 9.0e-4, 1.0e-3);
         const double rel = fabs(sat->value - ref) / ref;
         printf("friction saturation (4dof, T): sweep T = %.12g N m, bisection on "
                "usm_steady_solve %.12g N m, relative difference %.2e\n",
                sat->value, ref, rel);
-        CHECK(rel < 1e-6, "saturation: sweep %.12g, bisection %.12g", sat->value, ref);
+        /* the bisection on usm_steady_solve is good to 1e-15 of T; measured
+         * 1.3e-15: 1e-9 (was 1e-6) */
+        CHECK(rel < 1e-9, "saturation: sweep %.12g, bisection %.12g", sat->value, ref);
         CHECK(!sat->has_sol, "saturation: has_sol should be 0 (the rotor speed diverges)");
         for (size_t i = 0; i < usm_sweep_count(sw); ++i) {
             const usm_sweep_point *pt = usm_sweep_point_at(sw, i);
@@ -362,9 +379,14 @@ static void check_downwards(void)
     usm_sweep *down = run("3dof", &p, "T", 0.01, 0, 41, 0);
     CHECK(usm_sweep_event_count(up) == usm_sweep_event_count(down), "events: %zu up, %zu down",
           usm_sweep_event_count(up), usm_sweep_event_count(down));
+    double worst_event = 0;
     for (size_t i = 0; i < usm_sweep_event_count(up) && i < usm_sweep_event_count(down); ++i) {
         const usm_sweep_event *a = usm_sweep_event_at(up, i);
         const usm_sweep_event *b = usm_sweep_event_at(down, usm_sweep_event_count(down) - 1 - i);
+        worst_event = fmax(worst_event, fabs(a->value - b->value) / fabs(a->value));
+        /* each side's locator brackets the event to 1e-15 of the arc; measured
+         * (printed below) 4.1e-15: 1e-10 leaves room for the two directions'
+         * different continuation steps */
         CHECK(a->type == b->type && fabs(a->value - b->value) <= 1e-10 * fabs(a->value),
               "event %zu: %s at %.15g up, %s at %.15g down", i, usm_event_name(a->type), a->value,
               usm_event_name(b->type), b->value);
@@ -376,7 +398,9 @@ static void check_downwards(void)
                   (!a->converged || a->sol.theta == b->sol.theta),
               "T = %g: up and down differ", a->value);
     }
-    printf("downwards: %zu events, the same as upwards\n", usm_sweep_event_count(down));
+    CHECK(usm_sweep_event_count(up) > 0, "3dof T sweep: no events to compare");
+    printf("downwards: %zu events, the same as upwards (relative difference %.2g)\n",
+           usm_sweep_event_count(down), worst_event);
     usm_sweep_free(up);
     usm_sweep_free(down);
 }
@@ -472,8 +496,9 @@ static void check_stall(void)
     for (size_t i = 0; i < usm_sweep_event_count(sw); ++i)
         CHECK(usm_sweep_event_at(sw, i)->type != USM_EVENT_STICK_LIMIT,
               "stick_limit reported by a slip model");
-    const usm_sweep_event *st = find_event(sw, USM_EVENT_STALL);
-    if (st) {
+    int n;
+    const usm_sweep_event *st = find_event(sw, USM_EVENT_STALL, &n);
+    if (CHECK(st != NULL, "4dof T sweep: %d stall events, want one", n)) {
         usm_steady *s = usm_steady_alloc(usm_model_find("4dof"));
         double lo = 0.0, hi = 0.0009;
         for (int it = 0; it < 200 && hi - lo > 1e-16; ++it) {
@@ -488,7 +513,11 @@ static void check_stall(void)
         printf("stall (4dof, T): sweep T = %.15g N m, bisection on usm_steady_solve's rotor "
                "speed %.15g N m, relative difference %.2e\n",
                st->value, ref, rel);
-        CHECK(rel <= 1e-9, "stall: sweep %.15g, bisection %.15g", st->value, ref);
+        /* the bisection brackets the sign change to 1e-16 N m (2e-13 of T);
+         * measured 4.1e-14: 1e-11 (was 1e-9) */
+        CHECK(rel <= 1e-11, "stall: sweep %.15g, bisection %.15g", st->value, ref);
+        printf("stall: rotor speed at the event %.3g 1/s\n", st->sol.rotor_speed);
+        /* measured (above): 0, against |rotor_speed| ~ 10 1/s on the branch */
         CHECK(st->has_sol && fabs(st->sol.rotor_speed) < 1e-9, "stall: rotor speed %g there",
               st->sol.rotor_speed);
         usm_steady_free(s);
@@ -513,6 +542,7 @@ static void check_wide(void)
             usm_params_default(&p);
             usm_sweep *sw = run(models[m], &p, cases[c].over, cases[c].from, cases[c].to, 21, 0);
             int solved = 0;
+            double worst = 0;
             for (size_t i = 0; i < usm_sweep_count(sw); ++i) {
                 const usm_sweep_point *pt = usm_sweep_point_at(sw, i);
                 usm_params q = p;
@@ -522,6 +552,12 @@ static void check_wide(void)
                       models[m], cases[c].over, pt->value, pt->converged, has);
                 if (has && pt->converged) {
                     const usm_steady_solution *r = usm_steady_root(s, 0);
+                    worst = fmax(worst, fmax(fabs(r->theta - pt->sol.theta) / r->theta,
+                                             fabs(r->rotor_speed - pt->sol.rotor_speed) /
+                                                 fabs(r->rotor_speed)));
+                    /* usm_steady_solve converges theta to xtol 1e-13, the sweep's
+                     * corrector to 1e-10 (scaled) before its polish; measured
+                     * (printed): 0, the points are polished by the same solver */
                     CHECK(fabs(r->theta - pt->sol.theta) <= 1e-9 * r->theta &&
                               fabs(r->rotor_speed - pt->sol.rotor_speed) <=
                                   1e-9 * fabs(r->rotor_speed),
@@ -530,9 +566,11 @@ static void check_wide(void)
                     ++solved;
                 }
             }
-            printf("wide sweep %s %s %g -> %g: %d of %zu points solved, as usm_steady_solve\n",
+            CHECK(solved > 0, "wide sweep %s %s: no point to compare", models[m], cases[c].over);
+            printf("wide sweep %s %s %g -> %g: %d of %zu points solved, as usm_steady_solve "
+                   "(relative difference %.2g)\n",
                    models[m], cases[c].over, cases[c].from, cases[c].to, solved,
-                   usm_sweep_count(sw));
+                   usm_sweep_count(sw), worst);
             usm_sweep_free(sw);
         }
         usm_steady_free(s);
@@ -591,11 +629,8 @@ static double low_slip(const usm_model *m, const usm_params *p, double need, int
 static void check_nonmonotone(void)
 {
     const usm_model *m = usm_model_variant("4dof", "friction_stribeck");
-    if (!m) {
-        /* the variant is added to derive/variants.py by its own change (issue 11) */
-        printf("non-monotone friction: variant friction_stribeck not generated, skipped\n");
+    if (!CHECK(m != NULL, "variant friction_stribeck of 4dof not generated (derive/variants.py)"))
         return;
-    }
     usm_params p;
     usm_params_default(&p);
     p.kappa = 1000;
@@ -628,7 +663,9 @@ static void check_nonmonotone(void)
             two += roots == 2;
             ++pts;
         }
-        const usm_sweep_event *fold = dir ? NULL : find_event(sw, USM_EVENT_FOLD);
+        int n = 0;
+        const usm_sweep_event *fold = dir ? NULL : find_event(sw, USM_EVENT_FOLD, &n);
+        CHECK(dir || fold != NULL, "friction_stribeck T sweep up: %d fold events, want one", n);
         printf("friction_stribeck T sweep %s: %d points, all on the %s-slip root, %d of them "
                "with a second root on the other branch%s%s\n",
                dir ? "down" : "up", pts, low ? "low" : "high", two, fold ? "; " : "",
@@ -671,9 +708,10 @@ static void check_monitors(void)
     o.monitors = mon;
     o.nmonitors = 2;
     CHECK(usm_sweep_run(sw, &p, &o) == USM_OK, "monitor sweep: %s", usm_sweep_message(sw));
-    const usm_sweep_event *mx = find_event(sw, USM_EVENT_MAXIMUM);
+    int n;
+    const usm_sweep_event *mx = find_event(sw, USM_EVENT_MAXIMUM, &n);
     usm_steady *s = usm_steady_alloc(usm_model_find("3dof"));
-    if (mx) {
+    if (CHECK(mx != NULL, "monitor sweep: %d maximum events, want one", n)) {
         double lo = 37000, hi = 38000;
         double x1 = hi - GOLDEN * (hi - lo), x2 = lo + GOLDEN * (hi - lo);
         double y1 = speed_at(s, &p, x1), y2 = speed_at(s, &p, x2);
@@ -696,6 +734,9 @@ static void check_monitors(void)
         printf("monitor maximum of the speed: event f = %.6f Hz (%.9f 1/s), golden section "
                "%.6f Hz, difference %.2g Hz; %s\n",
                mx->value, mx->monitor_value, fg, mx->value - fg, mx->what);
+        /* a maximum is flat: f located to ~sqrt(eps) of f (4e-4 Hz) from a
+         * speed good to rounding; the golden section's bracket is 1e-7 Hz;
+         * measured 5.3e-5 Hz: 1e-3 Hz */
         CHECK(fabs(mx->value - fg) < 1e-3 && strcmp(mx->monitor, "speed") == 0,
               "monitor maximum: event %.6f Hz, golden section %.6f Hz", mx->value, fg);
     }
@@ -713,7 +754,9 @@ static void check_monitors(void)
         printf("monitor crossing: theta = %.3g at f = %.9f Hz; usm_steady_solve there theta = "
                "%.15g (relative %.1e)\n",
                level, e->value, th, fabs(th - level) / level);
-        CHECK(fabs(th - level) <= 1e-10 * level, "crossing: theta %.15g, level %g", th, level);
+        /* usm_steady_solve converges theta to xtol 1e-13; measured 2.2e-15:
+         * 1e-12 (was 1e-10) */
+        CHECK(fabs(th - level) <= 1e-12 * level, "crossing: theta %.15g, level %g", th, level);
     }
     CHECK(crossings == 4, "theta crosses 8.5e-5 and 7.5e-5 twice each over f, found %d", crossings);
     usm_steady_free(s);

@@ -122,6 +122,8 @@ static void test_linear_spread(const usm_model *m)
     const double z = 1.959963984540054, ph = (double)r->good / N;
     for (int b = 0; b < 2; ++b) {
         const double x = b ? r->yield_hi : r->yield_lo;
+        /* the bounds in closed form: the equation's terms are ~5e-4 (z^2 / 4N),
+         * so rounding leaves ~1e-19; 1e-12 */
         CHECK(fabs((ph - x) * (ph - x) - z * z * x * (1 - x) / N) < 1e-12,
               "Wilson equation at %g", x);
     }
@@ -129,6 +131,8 @@ static void test_linear_spread(const usm_model *m)
     const double k = (double)r->good;
     const double cp_lo = gsl_cdf_beta_Pinv(0.025, k, N - k + 1),
                  cp_hi = gsl_cdf_beta_Pinv(0.975, k + 1, N - k);
+    /* the reference (GSL's beta quantiles) is exact to rounding; the two
+     * intervals differ by O(1/N) = 5e-4 at N = 2000: 2e-3 */
     CHECK(fabs(cp_lo - r->yield_lo) < 2e-3 && fabs(cp_hi - r->yield_hi) < 2e-3,
           "CI [%g, %g], Clopper-Pearson [%g, %g]", r->yield_lo, r->yield_hi, cp_lo, cp_hi);
     /* the normal draws */
@@ -249,7 +253,7 @@ static void test_parse(void)
     for (size_t k = 0; k < sizeof good / sizeof good[0]; ++k)
         CHECK(usm_tolerance_vary_parse(good[k], &v, msg) == USM_OK, "%s: %s", good[k], msg);
     CHECK(usm_tolerance_vary_parse("c_t=normal:5%", &v, msg) == USM_OK && v.relative &&
-              fabs(v.width - 0.05) < 1e-16, "5%% is 0.05 relative");
+              fabs(v.width - 0.05) < 1e-16, "5%% is 0.05 relative"); /* 5 / 100: rounding */
     for (size_t k = 0; k < sizeof bad / sizeof bad[0]; ++k)
         CHECK(usm_tolerance_vary_parse(bad[k], &v, msg) == USM_EINPUT && msg[0],
               "%s accepted", bad[k]);

@@ -173,14 +173,21 @@ void usm_floquet_free(usm_floquet *f)
 
 /* G(t) = M(xbar)^{-1} A(t), the coefficient matrix of the variational system.
  *
- * From the three kernels, not the fused `linearisation` kernel: that one is
- * 15-30 % faster per call and agrees with them to a last bit or two, but the
- * multipliers are sensitive to such changes (measured: CVODES at rtol 1e-12
- * moved by up to 4e-8 at the paper's point, the exponential method by 2e-7
- * at d_R = 1e6, with the fused kernel), which broke the agreement between
- * methods that tests/test_floquet_methods.c asserts, while the kernels take
- * a few per cent of any method's time (Magnus: three calls per period; no
- * change measurable in bench/usm_bench). */
+ * From the three kernels, not the fused `linearisation` kernel [M, df/dx,
+ * d(Mv)/dx], measured again (issue 19): the fused kernel agrees with the three
+ * to 7e-16 of a row and takes 16-24 % less time per evaluation (20-28 ns of
+ * 83-135 ns with steady_state), but a method makes few evaluations (Magnus 2-3
+ * per period, the exponential method 193, CVODES ~350), so it saves under 1 %
+ * of any method's time: Magnus per point, min of 8 interleaved runs, three
+ * calls -> fused: 3dof 20.75 -> 21.19 us, 4dof 16.47 -> 15.94,
+ * 3dof_twist_integrated 5.86 -> 5.71, 4dof_twist_integrated 9.90 -> 9.53
+ * (bench/usm_bench, auto: 22.1 -> 23.2, 17.6 -> 17.5, 6.5 -> 6.2, 10.0 ->
+ * 10.0 us): noise of the layout and of the eigen-solver, either sign; CVODES
+ * changes its step count by +-10 % under the last-bit change.  The change is not
+ * free: M(xbar) is ill-conditioned near theta = 1e-4 (2-norm condition 9e11
+ * at the paper's point), so the last bits move every method's multipliers
+ * together by up to 4.1e-8 (3dof; 4dof 3e-11; the methods still agree with
+ * each other to 4e-11).  Not faster: not used. */
 static int coefficient_matrix(usm_floquet *f, double t, gsl_matrix *G)
 {
     const int n = f->n;
