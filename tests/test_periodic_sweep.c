@@ -1,7 +1,7 @@
 /* The continuation of periodic orbits (usm_periodic_sweep.h) against
  * independent truth:
  * 1. contact_loss and stick_loss: the values the sweep locates (warm-started
- *    continuation, regula falsi) equal those of a plain bisection on
+ *    continuation, Brent on the event function) equal those of a plain bisection on
  *    usm_periodic_solve started afresh from the ideal motor at every trial
  *    (F_n_min = 0, friction_needed_max = mu0) to 1e-6 relative, and the
  *    thresholds of docs/periodic.md (3dof: phase error 0.5014 rad, mode split
