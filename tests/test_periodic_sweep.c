@@ -3,7 +3,7 @@
  * 1. contact_loss and stick_loss: the values the sweep locates (warm-started
  *    continuation, Brent on the event function) equal those of a plain bisection on
  *    usm_periodic_solve started afresh from the ideal motor at every trial
- *    (F_n_min = 0, friction_needed_max = mu0) to 1e-6 relative, and the
+ *    (F_n_min = 0, friction_needed_max = mu0) to 1e-8 relative, and the
  *    thresholds of docs/periodic.md (3dof: phase error 0.5014 rad, mode split
  *    0.0164; stick at 0.2725 rad).
  * 2. The 4dof orbit loses stability near mode split 0.086 through a complex
