@@ -152,6 +152,22 @@ def _cache_write(cache, key, files):
     os.replace(tmp, os.path.join(cache, key + ".json"))
 
 
+def _other_kernels(models, code, cache):
+    """The kernels of the models not being written (--only), from the cache:
+    a kernel is emitted once, by the first model that has it, so the files of
+    one model depend on the others' kernels (emit_model.share_kernels)."""
+    out = []
+    for m in variants.generated_models():
+        if m not in models:
+            cached = _cache_read(cache, model_digest(m, code))
+            if cached is None:
+                print(f"  {m[0]}: not in the cache; its kernels are not shared (run "
+                      "without --only for the files of a full regeneration)", file=sys.stderr)
+            else:
+                out.append((m, cached[f"usm_{m[0]}.c"]))
+    return out
+
+
 def _write_if_changed(path, text):
     """Unchanged files keep their time stamp, so the build recompiles only
     the kernels of the models that changed."""
@@ -195,6 +211,7 @@ def write_all(out_dir, only=None, verbose=True, jobs=2, cache=None):
         if verbose:
             print(f"  {name}: derived in {t_derive:.1f} s, emitted in {t_emit:.1f} s",
                   file=sys.stderr)
+    emit_model.share_kernels(models, files, _other_kernels(models, code, cache))
     diffs = render_docs(models, files, out_dir)
     if not only:
         # usm_kernels.h depends on the code and the list of models and
