@@ -312,7 +312,8 @@ def _forwarder(pre, kind, text, owner, why):
     """The kernel's public function, calling the owner's identical kernel: the
     kernel's comment without the operation count, and the call."""
     doc, _, rest = text.partition(" */\n")
-    doc_lines = [line for line in doc.split("\n") if not line.startswith(" * Operations:")]
+    doc_lines = [line for line in doc.rstrip("\n").split("\n")
+                 if not line.startswith(" * Operations:")]
     sig = rest[:rest.index("\n")]
     args = sig[sig.index("(") + 1:sig.rindex(")")].split(", ")
     call = ", ".join(a.split()[-1].lstrip("*") for a in args)
