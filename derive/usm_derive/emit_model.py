@@ -331,37 +331,34 @@ def _differences(spec, other):
     return "independent of " + ", ".join(keys)
 
 
-def share_kernels(models, files, others=()):
-    """Assemble every model's source (usm_<name>.c in ``files``, in parts from
-    model_files) with each kernel emitted once: a kernel whose C text equals
-    one of another model's (its name aside) is, in the later model, a function
-    that calls the earlier one; the paper's models come first, then the others
-    in derive/variants.py order.  The arithmetic is the same code, so the
-    numbers are the same bit for bit.  models: (name, base, variant, spec,
-    description) of the models in ``files``; others: the same with their parts,
-    (model, parts), of models not being written (generate.py --only)."""
-    entries = [(m, files[f"usm_{m[0]}.c"]) for m in models] + list(others)
+def share_kernels(entries, files):
+    """Assemble every model's source (usm_<name>.c, in parts from model_files)
+    with each kernel emitted once: a kernel whose C text equals one of another
+    model's (its name aside) is, in the later model, a function that calls the
+    earlier one; the paper's models come first, then the others in the order
+    of ``entries``.  The arithmetic is the same code, so the numbers are the
+    same bit for bit.  entries: (model, parts, written) in derive/variants.py
+    order, model = (name, base, variant, spec, description); the sources of
+    the written ones go to ``files``."""
     order = sorted(range(len(entries)), key=lambda i: (entries[i][0][2] != "paper", i))
     owner_of = {}   # (kind, normalised text) -> model of the first such kernel
-    written = {m[0] for m in models}
     for i in order:
-        (name, _, _, spec, _), parts = entries[i]
+        model, parts, written = entries[i]
+        name, spec = model[0], model[3]
         pre = f"usm_{name}"
         owners, texts = [], []
         for kind, text in parts["kernels"]:
-            key = (kind, _normalised(pre, kind, text))
-            owner = owner_of.setdefault(key, entries[i][0])
+            owner = owner_of.setdefault((kind, _normalised(pre, kind, text)), model)
             if owner[0] == name:
                 texts.append(text)
                 continue
             texts.append(_forwarder(pre, kind, text, owner[0], _differences(spec, owner[3])))
             if owner[0] not in owners:
                 owners.append(owner[0])
-        if name not in written:
-            continue
-        includes = "".join(f'#include "usm_{o}.h"\n' for o in owners)
-        files[f"{pre}.c"] = (parts["banner"] + f'#include <math.h>\n\n#include "{pre}.h"\n'
-                             + includes + "\n" + "\n".join(texts) + "\n" + parts["tail"])
+        if written:
+            includes = "".join(f'#include "usm_{o}.h"\n' for o in owners)
+            files[f"{pre}.c"] = (parts["banner"] + f'#include <math.h>\n\n#include "{pre}.h"\n'
+                                 + includes + "\n" + "\n".join(texts) + "\n" + parts["tail"])
 
 
 def _enum(prefix, names):
