@@ -252,7 +252,7 @@ def _rotor_balance(d, w_R_generic):
     d.phiR_rate = -d.w_R
 
 
-def stick_contact(d):
+def stick_rotor_coupling(d):
     """No slip (2.4): the rotor turns with the stator's contact point,
     w_R = v_c / R*, and its moment balance (2.2) gives the friction force F_t."""
     _rotor_balance(d, lambda d: d.vc_s / d.Rstar_s)
@@ -263,7 +263,7 @@ def stick_contact(d):
     d.mu_expr, d.v_sym = None, None
 
 
-def slip_contact(d):
+def slip_rotor_coupling(d):
     """Slip (5.1): the rotor angle phi_R is free, w_R = -phidot_R; the friction
     force is F_t = mu(v_rel) F_n (friction law) at the slip velocity
     v_rel = v_c - w_R R*, and the rotor's moment balance (2.2) is a row of the
@@ -285,7 +285,7 @@ def friction(d, law):
 
 
 # Assumption contact: its step, and whether the rotor angle is a coordinate.
-CONTACT = {"stick": (stick_contact, False), "slip": (slip_contact, True)}
+CONTACT = {"stick": (stick_rotor_coupling, False), "slip": (slip_rotor_coupling, True)}
 
 
 # --- the stator: inertia, excitation, twist law, imperfections ----------------------
@@ -647,14 +647,14 @@ def derive_model(name, assumptions):
     """The Model of one variant: assumptions as in derive/variants.py, each
     choice a step of the tables above, applied in the order of the paper."""
     d = Derivation(name, assumptions)
-    contact, rotor_angle = _choose(CONTACT, "contact law", assumptions["contact"])
+    rotor_coupling, rotor_angle = _choose(CONTACT, "contact law", assumptions["contact"])
     twist = _choose(TWIST, "twist law", assumptions["twist"])
     imperfection = _choose(IMPERFECTION, "imperfection",
                            assumptions.get("imperfection", "none"))
     # the equations of motion, assumption by assumption
     kinematics(d, rotor_angle)
     normal_force(d, assumptions["spring_reference"])
-    contact(d)                   # rotor coupling; the slip contact's friction law
+    rotor_coupling(d)            # stick, or slip with its friction law
     stator_momentum(d, assumptions["stator_inertia"])
     excitation(d)
     twist(d)
