@@ -411,25 +411,30 @@ def motion_outputs(d):
     }
 
 
-def stationary_solution(d):
-    """The stationary solution, (3.1)-(3.7) and section 5: the ansatz, the
-    residuals of the x1, y1 rows (and the rotor's row), the twist angle from
-    the twisting balance (the z1 row) and beta from it."""
-    Om, kin = OMEGA, d.kin
-    phi_f, theta_f, psi_f = d.phi_f, d.theta_f, d.psi_f
+def stationary_ansatz(d):
+    """The stationary ansatz (3.1): phi = Omega t + alpha, theta constant,
+    psi = -Omega t / cos(theta) + beta, and phi_R = phidot_R t when the rotor
+    angle is a coordinate; the unknowns u of the stationary problem."""
+    Om = OMEGA
     theta_b, alpha, d.beta = sp.symbols("theta alpha beta", real=True)
     d.unknowns = [theta_b, alpha]
     d.unknown_names = ["theta", "alpha"]
     psi_rate = -Om / sp.cos(theta_b)
-    d.ansatz = {phi_f: Om * t + alpha, theta_f: theta_b,
-                psi_f: psi_rate * t + d.beta}                        # (3.1)
-    d.rate_bar = {phi_f: Om, theta_f: 0, psi_f: psi_rate}
+    d.ansatz = {d.phi_f: Om * t + alpha, d.theta_f: theta_b,
+                d.psi_f: psi_rate * t + d.beta}                      # (3.1)
+    d.rate_bar = {d.phi_f: Om, d.theta_f: 0, d.psi_f: psi_rate}
     if d.phiR_f is not None:
         wR = sp.Symbol("phidot_R", real=True)
         d.unknowns.append(wR)
         d.unknown_names.append("phidot_R")
         d.ansatz[d.phiR_f] = wR * t
         d.rate_bar[d.phiR_f] = wR
+
+
+def stationary_residual(d):
+    """The residuals (3.3)-(3.5): the x1, y1 rows of Euler's equations on the
+    ansatz (and the rotor's row); free of t, or the variant has no stationary
+    solution."""
     on_ansatz = d.on_ansatz
     # The stator rows on the ansatz, with the contact forces still symbols:
     # small expressions, so trigsimp turns the cos^2 + sin^2 - 1 terms
@@ -437,21 +442,26 @@ def stationary_solution(d):
     # size eps*Omega, and halves the operation count.  The contact law is
     # substituted afterwards, so the cost does not depend on it.
     d.stator_steady = [sp.trigsimp(on_ansatz(r)) for r in list(d.stator_generic)[:2]]
-    contact_bar = {d.Ft_s: on_ansatz(d.F_t), d.Fn_s: on_ansatz(d.F_n)}
+    d.contact_bar = {d.Ft_s: on_ansatz(d.F_t), d.Fn_s: on_ansatz(d.F_n)}
     residual_rows = ([on_ansatz(r) for r in d.rotor_rows]
-                     + [r.subs(contact_bar) for r in d.stator_steady])
+                     + [r.subs(d.contact_bar) for r in d.stator_steady])
     for r in residual_rows:
         if t in r.free_symbols or d.Tw in r.free_symbols:
             raise RuntimeError("stationary residual depends on time: "
                                "the ansatz (3.1) is not a solution of this variant")
     d.residual = sp.Matrix(residual_rows)
-    d.z_row = on_ansatz(list(d.stator_generic)[2].subs(contact_bar))
-    # Twisting balance (Z row): the twist angle on the stationary solution.
+
+
+def twisting_balance(d):
+    """The z1 row on the ansatz: the twist angle on the stationary solution,
+    and beta from it (3.6)."""
+    on_ansatz, phi_f, psi_f, theta_f = d.on_ansatz, d.phi_f, d.psi_f, d.theta_f
+    d.z_row = on_ansatz(list(d.stator_generic)[2].subs(d.contact_bar))
     # small expression: simplification makes omega_Z = 0 on the orbit exact.
     # The contact law is substituted afterwards, as for the stator rows: a
     # friction law with exp() makes simplify() take many minutes otherwise.
     d.twist_bar = sp.simplify(solve_linear(on_ansatz(list(d.stator_generic)[2]), d.Tw)
-                              ).subs(contact_bar)
+                              ).subs(d.contact_bar)
     if t in d.twist_bar.free_symbols:
         raise RuntimeError("twisting balance depends on time")
     # beta from the paper's twist angle phi + psi cos(theta) = twist_bar at any
@@ -461,7 +471,11 @@ def stationary_solution(d):
                                - d.twist_bar, d.beta)
     if t in d.beta_expr.free_symbols:
         raise RuntimeError("beta depends on time")
-    steady = d.steady
+
+
+def stationary_outputs(d):
+    """Quantities on the stationary solution, (3.7) and section 5."""
+    steady, kin, theta_b = d.steady, d.kin, d.unknowns[0]
     d.steady_outputs = {
         "beta": d.beta_expr,
         "rotor_speed": steady(d.phiR_rate),
@@ -469,8 +483,8 @@ def stationary_solution(d):
         "F_t": steady(d.F_t),
         "v_c": steady(kin.v_c),
         "v_rel": steady(d.v_rel),
-        "R_star": kin.R_star.subs(theta_f, theta_b),
-        "Z": kin.Z.subs(theta_f, theta_b),
+        "R_star": kin.R_star.subs(d.theta_f, theta_b),
+        "Z": kin.Z.subs(d.theta_f, theta_b),
         "twist": d.twist_bar,
     }
 
@@ -664,7 +678,10 @@ def derive_model(name, assumptions):
     equations_of_motion(d)
     # what every variant derives from them
     motion_outputs(d)
-    stationary_solution(d)
+    stationary_ansatz(d)
+    stationary_residual(d)
+    twisting_balance(d)
+    stationary_outputs(d)
     stationary_power(d)
     stationary_orbit(d)
     stationary_seed(d)
