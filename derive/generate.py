@@ -10,7 +10,9 @@ Debian's /usr/bin/python3 with python3-sympy) unless --allow-other-sympy.
 Each model is derived only when one of its inputs changed: its outputs are
 cached (derive/.cache) under a digest of its assumptions, the generator's code
 (derive/generate.py, derive/usm_derive/*.py) and the sympy and Python versions.
-Files whose content is unchanged are not rewritten.
+A kernel identical in several models is emitted once (emit_model.share_kernels,
+after every model is known; with --only, the other models' kernels come from
+the cache).  Files whose content is unchanged are not rewritten.
 
 --check regenerates into a temporary directory and exits 1 (listing the files)
 when the committed generated/ differs, 0 when it is up to date.
@@ -154,6 +156,26 @@ def _cache_write(cache, key, files):
     os.replace(tmp, os.path.join(cache, key + ".json"))
 
 
+def _kernel_parts(models, files, code, cache):
+    """(model, its source in parts, whether it is written) of every model in
+    derive/variants.py order: a kernel is emitted once, by the first model
+    that has it (emit_model.share_kernels), so the files of one model depend
+    on the others' kernels; with --only, those of the models not written come
+    from the cache."""
+    out = []
+    for m in variants.generated_models():
+        if m in models:
+            out.append((m, files[f"usm_{m[0]}.c"], True))
+            continue
+        cached = _cache_read(cache, model_digest(m, code))
+        if cached is None:
+            print(f"  {m[0]}: not in the cache; its kernels are not shared (run "
+                  "without --only for the files of a full regeneration)", file=sys.stderr)
+        else:
+            out.append((m, cached[f"usm_{m[0]}.c"], False))
+    return out
+
+
 def _write_if_changed(path, text):
     """Unchanged files keep their time stamp, so the build recompiles only
     the kernels of the models that changed."""
@@ -197,6 +219,7 @@ def write_all(out_dir, only=None, verbose=True, jobs=2, cache=None):
         if verbose:
             print(f"  {name}: derived in {t_derive:.1f} s, emitted in {t_emit:.1f} s",
                   file=sys.stderr)
+    emit_model.share_kernels(_kernel_parts(models, files, code, cache), files)
     diffs = render_docs(models, files, out_dir)
     if not only:
         # usm_kernels.h depends on the code and the list of models and

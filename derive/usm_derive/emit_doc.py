@@ -215,121 +215,84 @@ def lhs_key(sym):
 
 def model_data(m):
     """The document of one model as data (JSON-able): its lines, symbols and
-    the keys the proof needs (tests/equations_proof.py)."""
-    e = m.equations
-    names = Names()
-    d = Doc(names)
-    kin, coords, cnames = e["kin"], e["coords"], e["coord_names"]
-    cs = e["contact_symbols"]
-    slip = m.assumptions["contact"] == "slip"
-    nq = len(coords)
-    R, H = P["R"], P["H"]
-    th_f = coords[cnames.index("theta")]
-    q = [sp.Symbol(n, real=True) for n in cnames]
-    qd = [sp.Symbol(n + "dot", real=True) for n in cnames]
-    qdd = [sp.Symbol(n + "ddot", real=True) for n in cnames]
-    theta = q[cnames.index("theta")]
-    to_plain = ([(c.diff(t, 2), qdd[i]) for i, c in enumerate(coords)]
-                + [(c.diff(t), qd[i]) for i, c in enumerate(coords)]
-                + [(c, q[i]) for i, c in enumerate(coords)])
+    the keys the proof needs (tests/equations_proof.py), section by section."""
+    doc = ModelDocument(m)
+    doc.kinematics()
+    doc.rotor_and_contact()
+    doc.torques_on_stator()
+    doc.euler_equations()
+    doc.equations_of_motion()
+    doc.stationary_solution()
+    doc.linearisation()
+    return doc.data()
 
-    Om = names.add("Omega", r"\Omega")
-    Rs = names.add("R_star", "R^*")
-    Zs = cs["Z"]
-    names.tex[Zs] = "Z"
-    Zd, Zdd = names.add("Zdot", r"\dot Z"), names.add("Zddot", r"\ddot Z")
-    short_f = {RStar(theta): Rs, ZC(theta): Zs}
-    identities = [(Rs * sp.cos(theta) + Zs * sp.sin(theta), R),
-                  (Zs * sp.cos(theta) - Rs * sp.sin(theta), H)]
 
-    def plain(x):
+def _shortest(cands):
+    return min(cands, key=lambda c: (_ops(c), len(str(c))))
+
+
+class ModelDocument:
+    """The document of one model, built section by section: each method adds
+    the lines of one section to ``d`` and the quantities it names to
+    ``chain`` (symbol -> its definition in earlier names)."""
+
+    def __init__(self, m):
+        self.m = m
+        e = self.e = m.equations
+        names = self.names = Names()
+        self.d = Doc(names)
+        self.kin, self.coords, cnames = e["kin"], e["coords"], e["coord_names"]
+        self.cnames = cnames
+        self.cs = e["contact_symbols"]
+        self.slip = m.assumptions["contact"] == "slip"
+        self.nq = len(self.coords)
+        self.th_f = self.coords[cnames.index("theta")]
+        self.q = [sp.Symbol(n, real=True) for n in cnames]
+        self.qd = [sp.Symbol(n + "dot", real=True) for n in cnames]
+        self.qdd = [sp.Symbol(n + "ddot", real=True) for n in cnames]
+        self.theta = self.q[cnames.index("theta")]
+        self.to_plain = ([(c.diff(t, 2), self.qdd[i]) for i, c in enumerate(self.coords)]
+                         + [(c.diff(t), self.qd[i]) for i, c in enumerate(self.coords)]
+                         + [(c, self.q[i]) for i, c in enumerate(self.coords)])
+        self.Om = names.add("Omega", r"\Omega")
+        self.Rs = names.add("R_star", "R^*")
+        self.Zs = self.cs["Z"]
+        names.tex[self.Zs] = "Z"
+        self.Zd, self.Zdd = names.add("Zdot", r"\dot Z"), names.add("Zddot", r"\ddot Z")
+        theta, R, H = self.theta, P["R"], P["H"]
+        self.short_f = {RStar(theta): self.Rs, ZC(theta): self.Zs}
+        self.identities = [(self.Rs * sp.cos(theta) + self.Zs * sp.sin(theta), R),
+                           (self.Zs * sp.cos(theta) - self.Rs * sp.sin(theta), H)]
+        self.chain = {}     # every named quantity: symbol -> its definition
+        self.torques = {}   # torque name -> its component symbols
+        self.zero_of = {}   # symbol -> its value at zero accelerations (a (0) symbol or 0)
+        self.bar_of = {}    # symbol -> its value on the stationary orbit
+        self.rotor_eq = None
+        self.extra = e["extra_states"]
+
+    # --- helpers -------------------------------------------------------------
+
+    def plain(self, x):
         """Function-of-t expression (R*, Z as functions of theta) -> symbols."""
+        kin, th_f = self.kin, self.th_f
         x = sp.sympify(x).subs({kin.R_star: RStar(th_f), kin.Z: ZC(th_f)})
-        x = x.subs(to_plain).subs(P["f"], Om / (2 * sp.pi))
-        return x.xreplace(short_f) if not isinstance(x, sp.MatrixBase) else \
-            x.applyfunc(lambda y: y.xreplace(short_f))
+        x = x.subs(self.to_plain).subs(P["f"], self.Om / (2 * sp.pi))
+        return x.xreplace(self.short_f) if not isinstance(x, sp.MatrixBase) else \
+            x.applyfunc(lambda y: y.xreplace(self.short_f))
 
-    def nice(x):
-        return tidy(x, identities)
+    def nice(self, x):
+        return tidy(x, self.identities)
 
-    # every named quantity: symbol -> its definition in earlier names
-    chain = {}
-
-    def named(sym, expr, tag=None, lhs_tex=None, key=None):
+    def named(self, sym, expr, tag=None, lhs_tex=None, key=None):
         if isinstance(sym, list):
             sym = tuple(sym)
-        chain[sym] = expr
-        d.define(sym, expr, tag, lhs_tex, key)
+        self.chain[sym] = expr
+        self.d.define(sym, expr, tag, lhs_tex, key)
         return sym
 
-    # ---- kinematics ----
-    d.section("Kinematics: z-x-z Euler angles (Fig. 5, Table 1)")
-    d.text(r"Frames: $N$ inertial, $A$ turned by $\varphi$ about $Z$, $B$ by $\theta$ about "
-           r"$x_1$, $K$ (body) by $\psi$ about $z_2$; $C_{XY}$ maps components in frame $Y$ "
-           r"to components in frame $X$.  Vectors are given by their components in frame "
-           r"$A$, $\Omega = 2\pi f$.", "frames")
-    d.define(Om, 2 * sp.pi * P["f"])
-    for key, nm in (("C_NA", "C_{NA}"), ("C_AB", "C_{AB}"), ("C_BK", "C_{BK}")):
-        d.define(key, plain(e[key]), lhs_tex=nm)
-    d.define("omega_K", tidy(plain(e["omega_K"])), lhs_tex=r"\vec\omega^{\,K}")
-    om_syms = [names.add("omega_" + a.replace("_", ""), r"\omega_{" + a + "}") for a in AXES]
-    omega_A = tidy(plain(kin.omega_A))
-    named(om_syms, omega_A, lhs_tex=r"\vec\omega^{\,A}", key="def:omega_A")
-    r_c = plain(kin.r_c_A)
-    d.define("r_c", r_c, lhs_tex=r"\vec r_c^{\,A}")
-    named(Rs, R * sp.cos(theta) - H * sp.sin(theta))
-    named(Zs, R * sp.sin(theta) + H * sp.cos(theta), tag="2.3")
-    named(Zd, plain(ZC(th_f).diff(t)))
-    named(Zdd, nice(plain(ZC(th_f).diff(t, 2))))
-    vc_t = kin.v_c.subs({kin.R_star: RStar(th_f), kin.Z: ZC(th_f)})
-    v_c = names.add("v_c", "v_c")
-    named(v_c, nice(plain(vc_t)),
-          lhs_tex=r"v_c = (\vec\omega\times\vec r_c)\cdot\vec e_{x_1}")
-
-    # ---- rotor and contact ----
-    d.section("Rotor and contact (2.1)-(2.5)" + (", (5.1), (5.2)" if slip else ""))
-    F_n, F_t = cs["F_n"], cs["F_t"]
-    wR, wRd = names.add("w_R", "w_R"), names.add("wdot_R", r"\dot w_R")
-    names.add("F_n", "F_n"), names.add("F_t", "F_t")
-    named(F_n, e["F_n_generic"].subs({cs["Zddot"]: Zdd, cs["Zdot"]: Zd}), tag="2.1")
-    d.text(r"$w_R = -\dot\varphi_R$ is the rotor's speed in its driving direction; "
-           r"$F_R = F_0 + c_R(Z - Z_0)$ is measured from $Z_0 = Z(\theta = 0) = H$ "
-           r"when the spring reference is $\theta = 0$.", "w_R")
-    wR_gen = e["w_R_generic"]
-    if not slip:
-        named(wR, wR_gen.subs({cs["v_c"]: v_c, cs["R_star"]: Rs}), tag="2.4")
-        # the chain rule on the named quantities: dw_R/dt from dv_c/dt and dR*/dt
-        vcd = names.add("vdot_c", r"\dot v_c")
-        named(vcd, nice(plain(vc_t.diff(t))))
-        rates = {v_c: vcd, Rs: plain(RStar(th_f).diff(t))}
-        wrd = sum(sp.diff(chain[wR], s) * r for s, r in rates.items())
-        named(wRd, min([nice(wrd), nice(sp.expand(wrd).subs(chain[wR], wR))],
-                       key=lambda c: (_ops(c), len(str(c)))))
-        Ft_expr = sp.factor_terms(sp.together(
-            solve_linear(e["rotor_balance"], cs["F_t"]).subs(
-                {cs["wdot_R"]: wRd, cs["R_star"]: Rs})))
-        named(F_t, Ft_expr, tag="2.2")
-        rotor_eq = None
-    else:
-        named(wR, plain(wR_gen))
-        named(wRd, plain(wR_gen.diff(t)))
-        vr = names.add("v_rel", r"v_{\mathrm{rel}}")
-        named(vr, e["v_rel_generic"].subs({cs["v_c"]: v_c, cs["w_R"]: wR, cs["R_star"]: Rs}),
-              tag="5.1")
-        mu = names.add("mu", r"\mu")
-        named(mu, e["friction"].subs(e["v_sym"], vr), tag="5.2")
-        named(F_t, mu * F_n, tag="5.1", key="def:F_t")
-        rb = e["rotor_balance"].subs({cs["wdot_R"]: wRd, cs["R_star"]: Rs})
-        rotor_eq = (P["I_R"] * wRd, P["I_R"] * wRd - rb)
-        d.equation("eq:rotor", rotor_eq[0], rotor_eq[1], row=nq, tag="2.2")
-
-    # ---- torques ----
-    d.section("Torques on the stator, components in frame A (2.5), (2.7)-(2.11)")
-    d.display("display:F_c", r"\vec F_c^{\,A}", latex(e["F_c_A"].subs(
-        {cs["F_t"]: F_t, cs["F_n"]: F_n}), names.tex), tag="2.5")
-    torques = {}
-
-    def vec(key, tex_name, value, tag, lhs_tex):
+    def vec(self, key, tex_name, value, tag, lhs_tex):
+        """A named vector (component symbols along x_1, y_1, z_1)."""
+        names = self.names
         if "_" in tex_name and "^" not in tex_name:
             base, sub = tex_name.split("_", 1)
             syms = [names.add(f"{key}_{a.replace('_', '')}", f"{base}_{{{sub},{a}}}")
@@ -337,277 +300,410 @@ def model_data(m):
         else:
             syms = [names.add(f"{key}_{a.replace('_', '')}", tex_name + "_{" + a + "}")
                     for a in AXES]
-        named(syms, value, tag=tag, lhs_tex=lhs_tex, key="def:" + key)
-        torques[key] = syms
+        self.named(syms, value, tag=tag, lhs_tex=lhs_tex, key="def:" + key)
+        self.torques[key] = syms
         return syms
 
-    tw = cs["twist"]
-    vec("M_E", "M_E", tidy(plain(e["M_E_A_t"])), "2.8", r"\vec M_E^{\,A}")
-    vec("M_R", "M_R", plain(e["M_R_A_t"].subs(tw, e["twist_angle"])), "2.9",
-        r"\vec M_R^{\,A}")
-    vec("M_D", "M_D", tidy(plain(e["M_D_A_t"])), "2.10", r"\vec M_D^{\,A}")
-    M_C = nice(plain(e["M_C_A_t"].subs({cs["F_t"]: F_t, cs["F_n"]: F_n})))
-    vec("M_C", "M_C", M_C, "2.11", r"\vec M_C^{\,A} = \vec r_c\times\vec F_c")
-    M0 = sp.Matrix(torques["M_E"]) - sp.Matrix(torques["M_R"]) - sp.Matrix(torques["M_D"]) \
-        + sp.Matrix(torques["M_C"])
-    vec("M0", r"M^{(0)}", M0, "2.7", r"\vec M^{(0)}")
-    extra = e["extra_states"]
-    if extra:
-        d.text(r"The twist angle $\tau$ is a state of its own, integrated from $\omega_{z_1}$.",
-               "tau")
-    # ---- Euler's equations ----
-    d.section("Euler's equations (2.6) in frame A")
-    d.text(r"Frame $A$ turns with $\dot\varphi$ about $Z$, so the rate of the angular "
-           r"momentum $\vec L = I\vec\omega$ is $\vec K = \dot{\vec L}^{A} + \dot\varphi\,"
-           r"\vec e_Z\times\vec L$; these rows are $C_{AK}$ times (2.6), the same solutions.",
-           "euler")
-    d.define("L_A", tidy(plain(e["L_A"])), lhs_tex=r"\vec L^{A}")
-    K = tidy(plain(e["dLdt_A"]))
-    vec("K", "K", K, None, r"\vec K = \dot{\vec L}^{A} + \dot\varphi\,\vec e_Z\times\vec L")
-    nrot = 1 if slip else 0
-    d.equation("eq:euler", sp.Matrix(torques["K"]), sp.Matrix(torques["M0"]), row=nq + nrot,
-               tag="2.6")
+    def depends_on_acc(self, x):
+        return bool(sp.sympify(x).free_symbols & (set(self.qdd) | set(self.zero_of)))
 
-    # ---- M(x) x' = f(x, t) ----
-    n = len(m.states)
-    paper_eq = "5.3" if slip else "4.6"
-    d.section(r"Equations of motion $M(\mathbf{x})\,\dot{\mathbf{x}} = \mathbf{f}(\mathbf{x}, t)$"
-              f" ({paper_eq})")
-    d.define("xvec", sp.Matrix(m.states).T, lhs_tex=r"\mathbf{x}^T")
-    d.text(r"A superscript ${}^{(0)}$ marks a quantity at zero accelerations "
-           r"($\ddot{\mathbf{q}} = 0$); the rest of it is in $M$.", "zero")
-    acc_set = set(qdd)
+    # --- sections --------------------------------------------------------------
 
-    def depends_on_acc(x, memo={}):
-        return bool(sp.sympify(x).free_symbols & (acc_set | set(zero_of)))
-    zero_of = {}  # symbol -> its (0) symbol (or 0)
+    def kinematics(self):
+        d, e, names, plain = self.d, self.e, self.names, self.plain
+        theta, th_f, R, H = self.theta, self.th_f, P["R"], P["H"]
+        d.section("Kinematics: z-x-z Euler angles (Fig. 5, Table 1)")
+        d.text(r"Frames: $N$ inertial, $A$ turned by $\varphi$ about $Z$, $B$ by $\theta$ about "
+               r"$x_1$, $K$ (body) by $\psi$ about $z_2$; $C_{XY}$ maps components in frame $Y$ "
+               r"to components in frame $X$.  Vectors are given by their components in frame "
+               r"$A$, $\Omega = 2\pi f$.", "frames")
+        d.define(self.Om, 2 * sp.pi * P["f"])
+        for key, nm in (("C_NA", "C_{NA}"), ("C_AB", "C_{AB}"), ("C_BK", "C_{BK}")):
+            d.define(key, plain(e[key]), lhs_tex=nm)
+        d.define("omega_K", tidy(plain(e["omega_K"])), lhs_tex=r"\vec\omega^{\,K}")
+        self.om_syms = [names.add("omega_" + a.replace("_", ""), r"\omega_{" + a + "}")
+                        for a in AXES]
+        self.omega_A = tidy(plain(self.kin.omega_A))
+        self.named(self.om_syms, self.omega_A, lhs_tex=r"\vec\omega^{\,A}", key="def:omega_A")
+        d.define("r_c", plain(self.kin.r_c_A), lhs_tex=r"\vec r_c^{\,A}")
+        self.named(self.Rs, R * sp.cos(theta) - H * sp.sin(theta))
+        self.named(self.Zs, R * sp.sin(theta) + H * sp.cos(theta), tag="2.3")
+        self.named(self.Zd, plain(ZC(th_f).diff(t)))
+        self.named(self.Zdd, self.nice(plain(ZC(th_f).diff(t, 2))))
+        kin = self.kin
+        self.vc_t = kin.v_c.subs({kin.R_star: RStar(th_f), kin.Z: ZC(th_f)})
+        self.v_c = names.add("v_c", "v_c")
+        self.named(self.v_c, self.nice(plain(self.vc_t)),
+                   lhs_tex=r"v_c = (\vec\omega\times\vec r_c)\cdot\vec e_{x_1}")
 
-    for s, expr in list(chain.items()):
-        if isinstance(s, (list, tuple)):
-            continue
-        if depends_on_acc(expr):
-            z = nice(expr.subs({a: 0 for a in qdd}).subs(zero_of))
-            if z == 0 or z.is_Atom:
-                zero_of[s] = z
-            else:
-                tex0 = names.tex[s]
-                s0 = names.add(s.name + "__0", "{" + tex0 + "}^{(0)}")
-                named(s0, z)
-                zero_of[s] = s0
-    # vectors: the contact torque inline, K^(0) named (component-wise)
-    for s, v in zip(torques["M_C"], chain_vec(chain, torques["M_C"])):
-        if depends_on_acc(v):
-            zero_of[s] = v.subs({a: 0 for a in qdd}).subs(zero_of)
-    for key in ("K",):
-        syms = torques[key]
-        vals = [sp.sympify(chain_vec(chain, syms)[k]) for k in range(3)]
-        if any(depends_on_acc(v) for v in vals):
-            z = [nice(v.subs({a: 0 for a in qdd}).subs(zero_of)) for v in vals]
-            s0 = [names.add(f"{s.name}__0", "{" + names.tex[s] + "}^{(0)}") for s in syms]
-            named(s0, sp.Matrix(z), key=f"def:{key}__0",
-                  lhs_tex=r"\vec " + key.replace("_", "_{") + ("}" if "_" in key else "")
-                  + "^{(0)}")
-            for s, z0 in zip(syms, s0):
-                zero_of[s] = z0
+    def rotor_and_contact(self):
+        d, e, names, cs = self.d, self.e, self.names, self.cs
+        d.section("Rotor and contact (2.1)-(2.5)" + (", (5.1), (5.2)" if self.slip else ""))
+        self.F_n, self.F_t = cs["F_n"], cs["F_t"]
+        self.wR, self.wRd = names.add("w_R", "w_R"), names.add("wdot_R", r"\dot w_R")
+        names.add("F_n", "F_n"), names.add("F_t", "F_t")
+        self.named(self.F_n, e["F_n_generic"].subs({cs["Zddot"]: self.Zdd, cs["Zdot"]: self.Zd}),
+                   tag="2.1")
+        d.text(r"$w_R = -\dot\varphi_R$ is the rotor's speed in its driving direction; "
+               r"$F_R = F_0 + c_R(Z - Z_0)$ is measured from $Z_0 = Z(\theta = 0) = H$ "
+               r"when the spring reference is $\theta = 0$.", "w_R")
+        if self.slip:
+            self.slip_rotor()
+        else:
+            self.stick_rotor()
 
-    # the rows as the model states them, in named quantities
-    rows_named = []
-    if slip:
-        rows_named.append(rotor_eq[0] - rotor_eq[1])
-    rows_named += [k - m0 for k, m0 in zip(torques["K"], chain_vec(chain, torques["M0"]))]
+    def stick_rotor(self):
+        """(2.4): w_R from v_c and R*, dw_R/dt by the chain rule, F_t from (2.2)."""
+        e, cs, names, plain, chain = self.e, self.cs, self.names, self.plain, self.chain
+        wR, wRd, v_c = self.wR, self.wRd, self.v_c
+        self.named(wR, e["w_R_generic"].subs({cs["v_c"]: v_c, cs["R_star"]: self.Rs}), tag="2.4")
+        # the chain rule on the named quantities: dw_R/dt from dv_c/dt and dR*/dt
+        vcd = names.add("vdot_c", r"\dot v_c")
+        self.named(vcd, self.nice(plain(self.vc_t.diff(t))))
+        rates = {v_c: vcd, self.Rs: plain(RStar(self.th_f).diff(t))}
+        wrd = sum(sp.diff(chain[wR], s) * r for s, r in rates.items())
+        self.named(wRd, _shortest([self.nice(wrd),
+                                   self.nice(sp.expand(wrd).subs(chain[wR], wR))]))
+        Ft_expr = sp.factor_terms(sp.together(
+            solve_linear(e["rotor_balance"], cs["F_t"]).subs(
+                {cs["wdot_R"]: wRd, cs["R_star"]: self.Rs})))
+        self.named(self.F_t, Ft_expr, tag="2.2")
+        self.rotor_eq = None
 
-    def expand_acc(x):
+    def slip_rotor(self):
+        """w_R = -phidot_R, the slip velocity (5.1), the friction law (5.2) and
+        the rotor's moment balance (2.2) as an equation."""
+        e, cs, names, plain = self.e, self.cs, self.names, self.plain
+        wR, wRd = self.wR, self.wRd
+        wR_gen = e["w_R_generic"]
+        self.named(wR, plain(wR_gen))
+        self.named(wRd, plain(wR_gen.diff(t)))
+        vr = names.add("v_rel", r"v_{\mathrm{rel}}")
+        self.named(vr, e["v_rel_generic"].subs({cs["v_c"]: self.v_c, cs["w_R"]: wR,
+                                                cs["R_star"]: self.Rs}), tag="5.1")
+        mu = names.add("mu", r"\mu")
+        self.named(mu, e["friction"].subs(e["v_sym"], vr), tag="5.2")
+        self.named(self.F_t, mu * self.F_n, tag="5.1", key="def:F_t")
+        rb = e["rotor_balance"].subs({cs["wdot_R"]: wRd, cs["R_star"]: self.Rs})
+        self.rotor_eq = (P["I_R"] * wRd, P["I_R"] * wRd - rb)
+        self.d.equation("eq:rotor", self.rotor_eq[0], self.rotor_eq[1], row=self.nq, tag="2.2")
+
+    def torques_on_stator(self):
+        d, e, cs, plain = self.d, self.e, self.cs, self.plain
+        F_t, F_n = self.F_t, self.F_n
+        d.section("Torques on the stator, components in frame A (2.5), (2.7)-(2.11)")
+        d.display("display:F_c", r"\vec F_c^{\,A}", latex(e["F_c_A"].subs(
+            {cs["F_t"]: F_t, cs["F_n"]: F_n}), self.names.tex), tag="2.5")
+        tw = cs["twist"]
+        self.vec("M_E", "M_E", tidy(plain(e["M_E_A_t"])), "2.8", r"\vec M_E^{\,A}")
+        self.vec("M_R", "M_R", plain(e["M_R_A_t"].subs(tw, e["twist_angle"])), "2.9",
+                 r"\vec M_R^{\,A}")
+        self.vec("M_D", "M_D", tidy(plain(e["M_D_A_t"])), "2.10", r"\vec M_D^{\,A}")
+        M_C = self.nice(plain(e["M_C_A_t"].subs({cs["F_t"]: F_t, cs["F_n"]: F_n})))
+        self.vec("M_C", "M_C", M_C, "2.11", r"\vec M_C^{\,A} = \vec r_c\times\vec F_c")
+        torques = self.torques
+        M0 = sp.Matrix(torques["M_E"]) - sp.Matrix(torques["M_R"]) \
+            - sp.Matrix(torques["M_D"]) + sp.Matrix(torques["M_C"])
+        self.vec("M0", r"M^{(0)}", M0, "2.7", r"\vec M^{(0)}")
+        if self.extra:
+            d.text(r"The twist angle $\tau$ is a state of its own, integrated from "
+                   r"$\omega_{z_1}$.", "tau")
+
+    def euler_equations(self):
+        d, e, plain = self.d, self.e, self.plain
+        d.section("Euler's equations (2.6) in frame A")
+        d.text(r"Frame $A$ turns with $\dot\varphi$ about $Z$, so the rate of the angular "
+               r"momentum $\vec L = I\vec\omega$ is $\vec K = \dot{\vec L}^{A} + \dot\varphi\,"
+               r"\vec e_Z\times\vec L$; these rows are $C_{AK}$ times (2.6), the same solutions.",
+               "euler")
+        d.define("L_A", tidy(plain(e["L_A"])), lhs_tex=r"\vec L^{A}")
+        K = tidy(plain(e["dLdt_A"]))
+        self.vec("K", "K", K, None,
+                 r"\vec K = \dot{\vec L}^{A} + \dot\varphi\,\vec e_Z\times\vec L")
+        nrot = 1 if self.slip else 0
+        d.equation("eq:euler", sp.Matrix(self.torques["K"]), sp.Matrix(self.torques["M0"]),
+                   row=self.nq + nrot, tag="2.6")
+
+    def equations_of_motion(self):
+        d = self.d
+        self.paper_eq = "5.3" if self.slip else "4.6"
+        d.section(r"Equations of motion $M(\mathbf{x})\,\dot{\mathbf{x}} = "
+                  r"\mathbf{f}(\mathbf{x}, t)$" f" ({self.paper_eq})")
+        d.define("xvec", sp.Matrix(self.m.states).T, lhs_tex=r"\mathbf{x}^T")
+        d.text(r"A superscript ${}^{(0)}$ marks a quantity at zero accelerations "
+               r"($\ddot{\mathbf{q}} = 0$); the rest of it is in $M$.", "zero")
+        self.zero_acceleration_names()
+        self.mass_and_rhs()
+
+    def zero_acceleration_names(self):
+        """Each named quantity that depends on the accelerations gets a (0)
+        name for its value at zero accelerations; the contact torque inline,
+        K^(0) named component-wise."""
+        names, chain, qdd, zero_of = self.names, self.chain, self.qdd, self.zero_of
+        for s, expr in list(chain.items()):
+            if isinstance(s, (list, tuple)):
+                continue
+            if self.depends_on_acc(expr):
+                z = self.nice(expr.subs({a: 0 for a in qdd}).subs(zero_of))
+                if z == 0 or z.is_Atom:
+                    zero_of[s] = z
+                else:
+                    tex0 = names.tex[s]
+                    s0 = names.add(s.name + "__0", "{" + tex0 + "}^{(0)}")
+                    self.named(s0, z)
+                    zero_of[s] = s0
+        for s, v in zip(self.torques["M_C"], chain_vec(chain, self.torques["M_C"])):
+            if self.depends_on_acc(v):
+                zero_of[s] = v.subs({a: 0 for a in qdd}).subs(zero_of)
+        for key in ("K",):
+            syms = self.torques[key]
+            vals = [sp.sympify(chain_vec(chain, syms)[k]) for k in range(3)]
+            if any(self.depends_on_acc(v) for v in vals):
+                z = [self.nice(v.subs({a: 0 for a in qdd}).subs(zero_of)) for v in vals]
+                s0 = [names.add(f"{s.name}__0", "{" + names.tex[s] + "}^{(0)}") for s in syms]
+                self.named(s0, sp.Matrix(z), key=f"def:{key}__0",
+                           lhs_tex=r"\vec " + key.replace("_", "_{") + ("}" if "_" in key else "")
+                           + "^{(0)}")
+                for s, z0 in zip(syms, s0):
+                    zero_of[s] = z0
+
+    def expand_acc(self, x):
         """Substitute every definition that depends on the accelerations."""
         for _ in range(12):
-            y = x.subs({s: v for s, v in flat_chain(chain).items() if depends_on_acc(v)})
+            y = x.subs({s: v for s, v in flat_chain(self.chain).items()
+                        if self.depends_on_acc(v)})
             if y == x:
                 return x
             x = y
         raise RuntimeError("definitions do not terminate")
 
-    msyms = sp.zeros(n, n)
-    for i in range(nq):
-        msyms[i, i] = 1
-    fsyms = sp.Matrix(qd + [0] * nq + [0] * len(extra))
-    for k, row in enumerate(rows_named):
-        i = nq + k
-        full = expand_acc(row)
-        for j, a in enumerate(qdd):
-            mij = nice(sp.diff(full, a))
-            if mij != 0:
-                sym = names.add(f"m_{i + 1}_{nq + j + 1}", f"m_{{{i + 1},{nq + j + 1}}}")
-                named(sym, mij)
-                msyms[i, nq + j] = sym
-        fi = nice(-row.subs(zero_of))
-        sym = names.add(f"f_{i + 1}", f"f_{{{i + 1}}}")
-        named(sym, fi)
-        fsyms[i] = sym
-    for k, rate in enumerate(e["extra_rates_t"]):
-        i = 2 * nq + k
-        msyms[i, i] = 1
-        fsyms[i] = nice(plain(rate)).subs({v: s for s, v in zip(om_syms, omega_A)
-                                           if v != 0 and not v.is_Atom})
-    d.define("Mass", msyms, lhs_tex=r"M(\mathbf{x})", key="def:M")
-    d.define("fvec", fsyms, lhs_tex=r"\mathbf{f}(\mathbf{x}, t)", key="def:f")
-    d.display("display:eom", r"M(\mathbf{x})\,\dot{\mathbf{x}}", r"\mathbf{f}(\mathbf{x}, t)",
-              tag=paper_eq)
+    def mass_and_rhs(self):
+        """The rows as the model states them, in named quantities: M(x) entry
+        by entry (derivatives in the accelerations), f at zero accelerations."""
+        d, names, chain, nq, qd, qdd = self.d, self.names, self.chain, self.nq, self.qd, self.qdd
+        n = len(self.m.states)
+        rows_named = []
+        if self.slip:
+            rows_named.append(self.rotor_eq[0] - self.rotor_eq[1])
+        rows_named += [k - m0 for k, m0 in zip(self.torques["K"],
+                                               chain_vec(chain, self.torques["M0"]))]
+        msyms = sp.zeros(n, n)
+        for i in range(nq):
+            msyms[i, i] = 1
+        fsyms = sp.Matrix(qd + [0] * nq + [0] * len(self.extra))
+        for k, row in enumerate(rows_named):
+            i = nq + k
+            full = self.expand_acc(row)
+            for j, a in enumerate(qdd):
+                mij = self.nice(sp.diff(full, a))
+                if mij != 0:
+                    sym = names.add(f"m_{i + 1}_{nq + j + 1}", f"m_{{{i + 1},{nq + j + 1}}}")
+                    self.named(sym, mij)
+                    msyms[i, nq + j] = sym
+            fi = self.nice(-row.subs(self.zero_of))
+            sym = names.add(f"f_{i + 1}", f"f_{{{i + 1}}}")
+            self.named(sym, fi)
+            fsyms[i] = sym
+        for k, rate in enumerate(self.e["extra_rates_t"]):
+            i = 2 * nq + k
+            msyms[i, i] = 1
+            fsyms[i] = self.nice(self.plain(rate)).subs(
+                {v: s for s, v in zip(self.om_syms, self.omega_A) if v != 0 and not v.is_Atom})
+        d.define("Mass", msyms, lhs_tex=r"M(\mathbf{x})", key="def:M")
+        d.define("fvec", fsyms, lhs_tex=r"\mathbf{f}(\mathbf{x}, t)", key="def:f")
+        d.display("display:eom", r"M(\mathbf{x})\,\dot{\mathbf{x}}",
+                  r"\mathbf{f}(\mathbf{x}, t)", tag=self.paper_eq)
 
-    # ---- stationary solution ----
-    d.section("Stationary solution (3.1)-(3.7)" + (", section 5" if slip else ""))
-    # The imperfections make the residuals depend on t on the ansatz (3.1): the
-    # stationary solution exists only for the ideal motor, and the kernels
-    # (steady_residual, steady_outputs, steady_state) are derived at that point.
-    imperfect = m.assumptions.get("imperfection", "none") != "none"
-    ideal = {P[k]: sp.Integer(0) for k in IMPERFECTIONS} if imperfect else {}
-    if imperfect:
-        imp = [names.tex[P[k]] for k in IMPERFECTIONS]
-        d.text(r"The imperfections make the excitation and the restoring moment depend on "
-               r"$t$ on the ansatz (3.1) in frame $A$: a stationary solution exists only for "
-               r"the ideal motor, $" + " = ".join(imp) + r" = 0$.  Everything in this "
-               r"section, and the orbit of the linearisation below, is at that point; the "
-               r"stationary kernels compute it whatever the values of $"
-               + "$, $".join(imp) + "$.", "ideal")
-        d.display("display:ideal", " = ".join(imp), "0")
-    res_keys, steady, unknowns, ansatz = [], {}, [], {}
-    thb = names.add("thetabar", r"\bar\theta")
-    alpha, beta = names.add("alpha", r"\alpha"), names.add("beta", r"\beta")
-    chi = names.add("chi", r"\bar\chi")
-    unknowns = [thb, alpha]
-    on = {theta: thb, qd[cnames.index("theta")]: 0,
-          q[cnames.index("phi")]: Om * t + alpha, qd[cnames.index("phi")]: Om,
-          q[cnames.index("psi")]: -Om * t / sp.cos(thb) + beta,
-          qd[cnames.index("psi")]: -Om / sp.cos(thb)}
-    on.update({a: 0 for a in qdd})
+    def stationary_solution(self):
+        self.d.section("Stationary solution (3.1)-(3.7)" + (", section 5" if self.slip else ""))
+        self.ideal_motor()
+        self.ansatz_lines()
+        self.orbit_quantities()
+        self.residual_lines()
+        self.twist_lines()
 
-    def nice_bar(x):
+    def ideal_motor(self):
+        """The imperfections make the residuals depend on t on the ansatz (3.1):
+        the stationary solution exists only for the ideal motor, and the kernels
+        (steady_residual, steady_outputs, steady_state) are derived at that point."""
+        imperfect = self.m.assumptions.get("imperfection", "none") != "none"
+        self.ideal = {P[k]: sp.Integer(0) for k in IMPERFECTIONS} if imperfect else {}
+        if imperfect:
+            imp = [self.names.tex[P[k]] for k in IMPERFECTIONS]
+            self.d.text(r"The imperfections make the excitation and the restoring moment depend "
+                        r"on $t$ on the ansatz (3.1) in frame $A$: a stationary solution exists "
+                        r"only for the ideal motor, $" + " = ".join(imp) + r" = 0$.  Everything "
+                        r"in this section, and the orbit of the linearisation below, is at that "
+                        r"point; the stationary kernels compute it whatever the values of $"
+                        + "$, $".join(imp) + "$.", "ideal")
+            self.d.display("display:ideal", " = ".join(imp), "0")
+
+    def nice_bar(self, x):
         """tidy() on the orbit: R and H written through R*, Z where shorter."""
-        Rb, Zb = bar_of.get(Rs, Rs), bar_of.get(Zs, Zs)
+        R, H, thb = P["R"], P["H"], self.thb
+        Rb, Zb = self.bar_of.get(self.Rs, self.Rs), self.bar_of.get(self.Zs, self.Zs)
         ids = [(Rb * sp.cos(thb) + Zb * sp.sin(thb), R), (Zb * sp.cos(thb) - Rb * sp.sin(thb), H)]
         best = tidy(x, ids)
-        if _ops(x) <= SMALL and not x.has(sp.atan, sp.tanh, sp.exp) and Rb != Rs \
-                and Zb != Zs:
+        if _ops(x) <= SMALL and not x.has(sp.atan, sp.tanh, sp.exp) and Rb != self.Rs \
+                and Zb != self.Zs:
             alt = _trigsimp(x.subs({R: Rb * sp.cos(thb) + Zb * sp.sin(thb),
-                                      H: Zb * sp.cos(thb) - Rb * sp.sin(thb)}))
-            best = min([best, alt], key=lambda c: (_ops(c), len(str(c))))
+                                    H: Zb * sp.cos(thb) - Rb * sp.sin(thb)}))
+            best = _shortest([best, alt])
         return best
-    d.define("phibar", Om * t + alpha, lhs_tex=r"\bar\varphi(t)", tag="3.1a")
-    ansatz.update(phi="phibar", theta="thetabar", psi="psibar")
-    d.display("display:ansatz_theta", r"\bar\theta(t)", r"\bar\theta = \mathrm{const}",
-              tag="3.1b")
-    d.define("psibar", on[q[cnames.index("psi")]], lhs_tex=r"\bar\psi(t)", tag="3.1c")
-    if slip:
-        wb = names.add("phidotbar_R", r"\bar{\dot\varphi}_R")
-        unknowns.append(wb)
-        on[q[cnames.index("phi_R")]] = wb * t
-        on[qd[cnames.index("phi_R")]] = wb
-        d.define("phibar_R", wb * t, lhs_tex=r"\bar\varphi_R(t)")
-        ansatz["phi_R"] = "phibar_R"
-    if extra:
-        on[extra[0]] = chi
-        d.define("taubar", chi, lhs_tex=r"\bar\tau")
-        ansatz[extra[0].name] = "taubar"
-    d.text(r"On the orbit $\dot\theta = \dot Z = \ddot Z = 0$ and $\omega_{z_1} = 0$; a bar "
-           r"marks a quantity on it.  Frame $A$ turns with $\bar\varphi = \Omega t + \alpha$, "
-           r"so the components in frame $A$ are the paper's $X + iY$ combination (3.3) times "
-           r"$e^{-i\bar\varphi}$: time drops out, and (3.4) splits into the real residuals "
-           r"(3.5a), (3.5b).", "orbit")
-    d.identity("identity:3.3", sp.cos(Om * t + alpha) + sp.I * sp.sin(Om * t + alpha),
-               sp.exp(sp.I * Om * t) * (sp.cos(alpha) + sp.I * sp.sin(alpha)), tag="3.3")
-    bar_of = {}
-    bar_twist = {tw: chi}
-    for s, expr in flat_chain(chain).items():
-        if s.name.endswith("__0") or s.name.startswith(("m_", "f_", "M0_", "K_")) \
-                or s in om_syms:
-            continue
-        if s in torques["M_R"]:
-            expr = plain(e["M_R_A_t"])[torques["M_R"].index(s)].subs(bar_twist)
-        b = nice_bar(expr.xreplace(ideal).subs(on).subs(bar_of))
-        if any(s in torques[k] for k in ("M_E", "M_R", "M_D", "M_C")) or b.is_Atom or \
-                (b.is_Mul and len(b.args) == 2 and b.args[0] == -1 and b.args[1].is_Atom):
-            bar_of[s] = b
-            continue
-        sb = names.add(s.name + "_bar", r"\bar{" + names.tex[s] + "}")
-        chain[sb] = b
-        d.define(sb, b)
-        bar_of[s] = sb
-    # K on the orbit: constant in frame A (trigsimp makes omega_Z = 0 exact)
-    Kbar = [_trigsimp(chain_vec(chain, torques["K"])[k].xreplace(ideal).subs(on))
-            for k in range(3)]
-    resid = []
-    for k in range(3):
-        r = Kbar[k] - (bar_of[torques["M_E"][k]] - bar_of[torques["M_R"][k]]
-                       - bar_of[torques["M_D"][k]] + bar_of[torques["M_C"][k]])
-        resid.append(nice_bar(r))
-    if t in set().union(*(r.free_symbols for r in resid)):
-        # the derivation (model.py) refuses such assumptions: a document without
-        # the stationary solution would not be the kernels' model
-        raise RuntimeError(f"{m.name}: the residuals on the ansatz (3.1) depend on t")
-    d.display("display:3.2", r"\bar{\vec K}", r"\bar{\vec M}_E - \bar{\vec M}_R - "
-              r"\bar{\vec M}_D + \bar{\vec M}_C", tag="3.2")
-    d.display("display:3.4", r"f_1(\alpha, \bar\theta) + i f_2(\alpha, \bar\theta)", "0",
-              tag="3.4")
-    res_keys = []
-    if slip:
-        rr = names.add("f_R", "f_R")
-        rot = (rotor_eq[0] - rotor_eq[1]).xreplace(ideal).subs({wRd: 0})
-        named(rr, nice_bar(rot.subs(bar_of)), lhs_tex=r"f_R(\alpha, \bar\theta, "
-              r"\bar{\dot\varphi}_R)")
-        res_keys.append(rr.name)
-    for k, tag in ((0, "3.5a"), (1, "3.5b")):
-        fs = names.add(f"f_{k + 1}bar", f"f_{k + 1}")
-        named(fs, resid[k], tag=tag, lhs_tex=f"f_{k + 1}(\\alpha, \\bar\\theta)")
-        res_keys.append(fs.name)
-    d.text(r"The stationary solution: $f_1 = f_2 = 0$" + (r" and $f_R = 0$" if slip else "")
-           + r".  The $z_1$ row, the twisting balance, gives the twist angle "
-           r"$\bar\chi$ on the orbit, and $\beta$ follows from the twist angle "
-           r"$\varphi + \psi\cos\theta$ of (2.9) (the paper's (3.6) has the sign of "
-           r"$\alpha$ flipped).", "twist")
-    if chi not in resid[2].free_symbols:
-        raise RuntimeError(f"{m.name}: twisting balance free of the twist angle")
-    chi_expr = nice_bar(solve_linear(resid[2], chi))
-    named(chi, chi_expr, lhs_tex=r"\bar\chi")
-    beta_expr = e["beta_generic"].subs({cs["twist"]: chi, sp.Symbol("theta", real=True): thb})
-    named(beta, nice_bar(beta_expr), tag="3.6")
-    steady = {"beta": beta.name, "twist": chi.name}
-    if not slip:
-        rs = names.add("phidot_R_bar", r"\bar{\dot\varphi}_R")
-        named(rs, -bar_of[wR], tag="3.7")
-        steady["rotor_speed"] = rs.name
 
-    # ---- linearisation ----
-    d.section("Linearisation about the stationary orbit (4.9)")
-    d.display("display:4.9", r"M(t)\,\Delta\dot{\mathbf{x}}", r"A(t)\,\Delta\mathbf{x}, \quad "
-              r"M(t) = M(\bar{\mathbf{x}}(t)), \quad A(t) = \frac{\partial\mathbf{f}}"
-              r"{\partial\mathbf{x}} - \frac{\partial (M\mathbf{v})}{\partial\mathbf{x}}"
-              r"\Big|_{\mathbf{v} = \dot{\bar{\mathbf{x}}}}", tag="4.9")
-    d.display("display:blocks", r"M(t)", block_mass(nq, len(extra)))
-    d.display("display:A", r"A(t)", block_jacobian(m, nq, len(extra)))
-    if not all(x == 0 for x in list(e["steady_rate"])[nq:2 * nq]):
-        raise RuntimeError(f"{m.name}: accelerations on the orbit are not zero")
-    if m.t0_independent:
-        when = (r"In frame $A$ every entry of $A$ and $M$ is constant on the orbit: the "
-                r"multipliers do not depend on the start time $t_0$.")
-    else:
-        ent = ", ".join(r"$\partial f_{%d}/\partial %s$" % (i + 1, names.tex[m.states[j]])
-                        for i, j in e["A_bar_t_entries"])
-        when = (r"In frame $A$ the entries of $A$ are constant on the orbit except "
-                + (ent or "in $M$") + r" (changing with $t$ along $\bar{\mathbf{x}}(t)$): "
-                r"the multipliers depend on the start time $t_0$ (the paper's Table 3 is "
-                r"$t_0 = 0$).")
-    d.text(r"On the orbit $\ddot{\bar{\mathbf{q}}} = 0$, so the $\partial(M\mathbf{v})/"
-           r"\partial\mathbf{x}$ term vanishes.  " + when, "linear")
-    return {
-        "model": m.name,
-        "assumptions": m.assumptions,
-        "lines": d.lines,
-        "symbols": names.table(),
-        "states": [s.name for s in m.states],
-        "accelerations": [s.name for s in qdd],
-        "unknowns": [s.name for s in unknowns],
-        "parameters": [s.name for s in P.values()],
-        "mass": "Mass", "rhs": "fvec", "residual": res_keys, "steady": steady,
-        "ansatz": ansatz,
-    }
+    def ansatz_lines(self):
+        """The ansatz (3.1) and its substitution ``on`` (coordinates, rates,
+        accelerations on the orbit)."""
+        d, names, q, qd, cnames, Om = self.d, self.names, self.q, self.qd, self.cnames, self.Om
+        self.thb = thb = names.add("thetabar", r"\bar\theta")
+        self.alpha = alpha = names.add("alpha", r"\alpha")
+        self.beta = names.add("beta", r"\beta")
+        self.chi = chi = names.add("chi", r"\bar\chi")
+        self.unknowns = [thb, alpha]
+        on = self.on = {self.theta: thb, qd[cnames.index("theta")]: 0,
+                        q[cnames.index("phi")]: Om * t + alpha, qd[cnames.index("phi")]: Om,
+                        q[cnames.index("psi")]: -Om * t / sp.cos(thb) + self.beta,
+                        qd[cnames.index("psi")]: -Om / sp.cos(thb)}
+        on.update({a: 0 for a in self.qdd})
+        d.define("phibar", Om * t + alpha, lhs_tex=r"\bar\varphi(t)", tag="3.1a")
+        self.ansatz = {"phi": "phibar", "theta": "thetabar", "psi": "psibar"}
+        d.display("display:ansatz_theta", r"\bar\theta(t)", r"\bar\theta = \mathrm{const}",
+                  tag="3.1b")
+        d.define("psibar", on[q[cnames.index("psi")]], lhs_tex=r"\bar\psi(t)", tag="3.1c")
+        if self.slip:
+            wb = names.add("phidotbar_R", r"\bar{\dot\varphi}_R")
+            self.unknowns.append(wb)
+            on[q[cnames.index("phi_R")]] = wb * t
+            on[qd[cnames.index("phi_R")]] = wb
+            d.define("phibar_R", wb * t, lhs_tex=r"\bar\varphi_R(t)")
+            self.ansatz["phi_R"] = "phibar_R"
+        if self.extra:
+            on[self.extra[0]] = chi
+            d.define("taubar", chi, lhs_tex=r"\bar\tau")
+            self.ansatz[self.extra[0].name] = "taubar"
+        d.text(r"On the orbit $\dot\theta = \dot Z = \ddot Z = 0$ and $\omega_{z_1} = 0$; a bar "
+               r"marks a quantity on it.  Frame $A$ turns with $\bar\varphi = \Omega t + \alpha$, "
+               r"so the components in frame $A$ are the paper's $X + iY$ combination (3.3) times "
+               r"$e^{-i\bar\varphi}$: time drops out, and (3.4) splits into the real residuals "
+               r"(3.5a), (3.5b).", "orbit")
+        d.identity("identity:3.3", sp.cos(Om * t + alpha) + sp.I * sp.sin(Om * t + alpha),
+                   sp.exp(sp.I * Om * t) * (sp.cos(alpha) + sp.I * sp.sin(alpha)), tag="3.3")
+
+    def orbit_quantities(self):
+        """Every named quantity on the orbit: a barred name, or inline when it
+        is a torque component or short."""
+        names, chain, torques, bar_of = self.names, self.chain, self.torques, self.bar_of
+        bar_twist = {self.cs["twist"]: self.chi}
+        for s, expr in flat_chain(chain).items():
+            if s.name.endswith("__0") or s.name.startswith(("m_", "f_", "M0_", "K_")) \
+                    or s in self.om_syms:
+                continue
+            if s in torques["M_R"]:
+                expr = self.plain(self.e["M_R_A_t"])[torques["M_R"].index(s)].subs(bar_twist)
+            b = self.nice_bar(expr.xreplace(self.ideal).subs(self.on).subs(bar_of))
+            if any(s in torques[k] for k in ("M_E", "M_R", "M_D", "M_C")) or b.is_Atom or \
+                    (b.is_Mul and len(b.args) == 2 and b.args[0] == -1 and b.args[1].is_Atom):
+                bar_of[s] = b
+                continue
+            sb = names.add(s.name + "_bar", r"\bar{" + names.tex[s] + "}")
+            chain[sb] = b
+            self.d.define(sb, b)
+            bar_of[s] = sb
+
+    def residual_lines(self):
+        """Euler's equations on the orbit: the residuals (3.5a), (3.5b) (and
+        the rotor's f_R); the z_1 row is kept for the twisting balance."""
+        d, names, torques, bar_of = self.d, self.names, self.torques, self.bar_of
+        # K on the orbit: constant in frame A (trigsimp makes omega_Z = 0 exact)
+        Kbar = [_trigsimp(chain_vec(self.chain, torques["K"])[k].xreplace(self.ideal)
+                          .subs(self.on)) for k in range(3)]
+        resid = self.resid = []
+        for k in range(3):
+            r = Kbar[k] - (bar_of[torques["M_E"][k]] - bar_of[torques["M_R"][k]]
+                           - bar_of[torques["M_D"][k]] + bar_of[torques["M_C"][k]])
+            resid.append(self.nice_bar(r))
+        if t in set().union(*(r.free_symbols for r in resid)):
+            # the derivation (model.py) refuses such assumptions: a document without
+            # the stationary solution would not be the kernels' model
+            raise RuntimeError(f"{self.m.name}: the residuals on the ansatz (3.1) depend on t")
+        d.display("display:3.2", r"\bar{\vec K}", r"\bar{\vec M}_E - \bar{\vec M}_R - "
+                  r"\bar{\vec M}_D + \bar{\vec M}_C", tag="3.2")
+        d.display("display:3.4", r"f_1(\alpha, \bar\theta) + i f_2(\alpha, \bar\theta)", "0",
+                  tag="3.4")
+        self.res_keys = []
+        if self.slip:
+            rr = names.add("f_R", "f_R")
+            rot = (self.rotor_eq[0] - self.rotor_eq[1]).xreplace(self.ideal).subs({self.wRd: 0})
+            self.named(rr, self.nice_bar(rot.subs(bar_of)), lhs_tex=r"f_R(\alpha, \bar\theta, "
+                       r"\bar{\dot\varphi}_R)")
+            self.res_keys.append(rr.name)
+        for k, tag in ((0, "3.5a"), (1, "3.5b")):
+            fs = names.add(f"f_{k + 1}bar", f"f_{k + 1}")
+            self.named(fs, resid[k], tag=tag, lhs_tex=f"f_{k + 1}(\\alpha, \\bar\\theta)")
+            self.res_keys.append(fs.name)
+
+    def twist_lines(self):
+        """The twisting balance (the z_1 row) gives the twist angle on the
+        orbit, beta follows (3.6); the stick model's rotor speed (3.7)."""
+        d, chi, beta, thb = self.d, self.chi, self.beta, self.thb
+        d.text(r"The stationary solution: $f_1 = f_2 = 0$" + (r" and $f_R = 0$" if self.slip
+                                                               else "")
+               + r".  The $z_1$ row, the twisting balance, gives the twist angle "
+               r"$\bar\chi$ on the orbit, and $\beta$ follows from the twist angle "
+               r"$\varphi + \psi\cos\theta$ of (2.9) (the paper's (3.6) has the sign of "
+               r"$\alpha$ flipped).", "twist")
+        if chi not in self.resid[2].free_symbols:
+            raise RuntimeError(f"{self.m.name}: twisting balance free of the twist angle")
+        chi_expr = self.nice_bar(solve_linear(self.resid[2], chi))
+        self.named(chi, chi_expr, lhs_tex=r"\bar\chi")
+        beta_expr = self.e["beta_generic"].subs({self.cs["twist"]: chi,
+                                                 sp.Symbol("theta", real=True): thb})
+        self.named(beta, self.nice_bar(beta_expr), tag="3.6")
+        self.steady = {"beta": beta.name, "twist": chi.name}
+        if not self.slip:
+            rs = self.names.add("phidot_R_bar", r"\bar{\dot\varphi}_R")
+            self.named(rs, -self.bar_of[self.wR], tag="3.7")
+            self.steady["rotor_speed"] = rs.name
+
+    def linearisation(self):
+        d, m, e, nq, nextra = self.d, self.m, self.e, self.nq, len(self.extra)
+        d.section("Linearisation about the stationary orbit (4.9)")
+        d.display("display:4.9", r"M(t)\,\Delta\dot{\mathbf{x}}",
+                  r"A(t)\,\Delta\mathbf{x}, \quad "
+                  r"M(t) = M(\bar{\mathbf{x}}(t)), \quad A(t) = \frac{\partial\mathbf{f}}"
+                  r"{\partial\mathbf{x}} - \frac{\partial (M\mathbf{v})}{\partial\mathbf{x}}"
+                  r"\Big|_{\mathbf{v} = \dot{\bar{\mathbf{x}}}}", tag="4.9")
+        d.display("display:blocks", r"M(t)", block_mass(nq, nextra))
+        d.display("display:A", r"A(t)", block_jacobian(m, nq, nextra))
+        if not all(x == 0 for x in list(e["steady_rate"])[nq:2 * nq]):
+            raise RuntimeError(f"{m.name}: accelerations on the orbit are not zero")
+        if m.t0_independent:
+            when = (r"In frame $A$ every entry of $A$ and $M$ is constant on the orbit: the "
+                    r"multipliers do not depend on the start time $t_0$.")
+        else:
+            ent = ", ".join(r"$\partial f_{%d}/\partial %s$" % (i + 1, self.names.tex[m.states[j]])
+                            for i, j in e["A_bar_t_entries"])
+            when = (r"In frame $A$ the entries of $A$ are constant on the orbit except "
+                    + (ent or "in $M$") + r" (changing with $t$ along $\bar{\mathbf{x}}(t)$): "
+                    r"the multipliers depend on the start time $t_0$ (the paper's Table 3 is "
+                    r"$t_0 = 0$).")
+        d.text(r"On the orbit $\ddot{\bar{\mathbf{q}}} = 0$, so the $\partial(M\mathbf{v})/"
+               r"\partial\mathbf{x}$ term vanishes.  " + when, "linear")
+
+    def data(self):
+        m = self.m
+        return {
+            "model": m.name,
+            "assumptions": m.assumptions,
+            "lines": self.d.lines,
+            "symbols": self.names.table(),
+            "states": [s.name for s in m.states],
+            "accelerations": [s.name for s in self.qdd],
+            "unknowns": [s.name for s in self.unknowns],
+            "parameters": [s.name for s in P.values()],
+            "mass": "Mass", "rhs": "fvec", "residual": self.res_keys, "steady": self.steady,
+            "ansatz": self.ansatz,
+        }
 
 
 def flat_chain(chain):

@@ -252,11 +252,11 @@ def model_files(m, description, stamp, base, variant):
     h += trig_sig + ";\n"
     h += f"\n/* Descriptor used by the runtime. */\nextern const usm_model {pre.replace('usm_', 'usm_model_')};\n"
     h += '\n#ifdef __cplusplus\n}\n#endif\n\n' + f"#endif /* {guard} */\n"
-    c = banner(f"{pre}.c: kernels of the {m.name} model.", stamp, extra)
-    c += f'#include <math.h>\n\n#include "{pre}.h"\n\n'
-    c += "\n".join(text for text, _ in emitted) + "\n"
-    c += trig_text + "\n"
-    c += _names_array("state_names", m.state_names)
+    # the source in parts: share_kernels() assembles it once every model's
+    # kernels are known (a kernel identical to another model's is emitted once)
+    kernel_texts = [[k.name[len(pre) + 1:], text] for k, (text, _) in zip(kernels, emitted)]
+    kernel_texts.append(["steady_seed_trig", trig_text])
+    c = _names_array("state_names", m.state_names)
     c += _names_array("unknown_names", m.unknown_names)
     cyc = ", ".join("1" if i in m.cyclic else "0" for i in range(n))
     c += f"static const unsigned char cyclic[] = {{{cyc}}};\n"
@@ -297,7 +297,71 @@ def model_files(m, description, stamp, base, variant):
                ("param_coupling", "param_coupling")]
     c += (f"const usm_model {pre.replace('usm_', 'usm_model_')} = {{\n"
           + "".join(f"    .{k} = {v},\n" for k, v in fields) + "};\n")
-    return {f"{pre}.h": h, f"{pre}.c": c}
+    return {f"{pre}.h": h,
+            f"{pre}.c": {"banner": banner(f"{pre}.c: kernels of the {m.name} model.", stamp, extra),
+                         "kernels": kernel_texts, "tail": c}}
+
+
+# --------------------------------------------------------------------------
+# kernels shared between models
+
+def _normalised(pre, kind, text):
+    """A kernel's text with its own name replaced: equal for two models when
+    their kernels are the same C code."""
+    return text.replace(f"{pre}_{kind}(", "@(", 1)
+
+
+def _forwarder(pre, kind, text, owner, why):
+    """The kernel's public function, calling the owner's identical kernel: the
+    kernel's comment without the operation count, and the call."""
+    doc, _, rest = text.partition(" */\n")
+    doc_lines = [line for line in doc.rstrip("\n").split("\n")
+                 if not line.startswith(" * Operations:")]
+    sig = rest[:rest.index("\n")]
+    args = sig[sig.index("(") + 1:sig.rindex(")")].split(", ")
+    call = ", ".join(a.split()[-1].lstrip("*") for a in args)
+    note = [f" * The same kernel as usm_{owner}_{kind} ({why}): emitted once,",
+            f" * in usm_{owner}.c."]
+    return ("\n".join(doc_lines + note) + "\n */\n" + sig + "\n{\n"
+            + f"    usm_{owner}_{kind}({call});\n}}\n")
+
+
+def _differences(spec, other):
+    keys = [k for k in sorted(set(spec) | set(other))
+            if k != "friction_law" and spec.get(k) != other.get(k)]
+    if not keys:
+        return "the same assumptions"
+    return "independent of " + ", ".join(keys)
+
+
+def share_kernels(entries, files):
+    """Assemble every model's source (usm_<name>.c, in parts from model_files)
+    with each kernel emitted once: a kernel whose C text equals one of another
+    model's (its name aside) is, in the later model, a function that calls the
+    earlier one; the paper's models come first, then the others in the order
+    of ``entries``.  The arithmetic is the same code, so the numbers are the
+    same bit for bit.  entries: (model, parts, written) in derive/variants.py
+    order, model = (name, base, variant, spec, description); the sources of
+    the written ones go to ``files``."""
+    order = sorted(range(len(entries)), key=lambda i: (entries[i][0][2] != "paper", i))
+    owner_of = {}   # (kind, normalised text) -> model of the first such kernel
+    for i in order:
+        model, parts, written = entries[i]
+        name, spec = model[0], model[3]
+        pre = f"usm_{name}"
+        owners, texts = [], []
+        for kind, text in parts["kernels"]:
+            owner = owner_of.setdefault((kind, _normalised(pre, kind, text)), model)
+            if owner[0] == name:
+                texts.append(text)
+                continue
+            texts.append(_forwarder(pre, kind, text, owner[0], _differences(spec, owner[3])))
+            if owner[0] not in owners:
+                owners.append(owner[0])
+        if written:
+            includes = "".join(f'#include "usm_{o}.h"\n' for o in owners)
+            files[f"{pre}.c"] = (parts["banner"] + f'#include <math.h>\n\n#include "{pre}.h"\n'
+                                 + includes + "\n" + "\n".join(texts) + "\n" + parts["tail"])
 
 
 def _enum(prefix, names):

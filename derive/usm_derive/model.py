@@ -151,253 +151,395 @@ class Model:
     equations: dict = field(default_factory=dict)  # for the readable export
 
 
-def derive_model(name, assumptions):
-    """The Model of one variant: assumptions as in derive/variants.py."""
-    contact = assumptions["contact"]
-    twist = assumptions["twist"]
-    spring_reference = assumptions["spring_reference"]
-    inertia = assumptions["stator_inertia"]
-    p = P
-    R, H = p["R"], p["H"]
+# --------------------------------------------------------------------------
+# The derivation in steps.  A variant (derive/variants.py) is a choice for
+# each assumption; each choice is a step below, and derive_model composes the
+# steps its variant's choices name (the tables CONTACT, TWIST, IMPERFECTION,
+# SPRING_REFERENCE, STATOR_INERTIA).  A step reads what the earlier steps put
+# in the derivation ``d`` and adds its own quantities; the steps after the
+# equations of motion (stationary solution, power, seed, linearisation) hold
+# for every variant.
 
-    phi_f, theta_f, psi_f = (sp.Function(n, real=True)(t)
-                             for n in ("phi", "theta", "psi"))
-    kin = Kinematics(t, phi_f, theta_f, psi_f, R, H)
-    coords = [phi_f, theta_f, psi_f]
-    coord_names = ["phi", "theta", "psi"]
-    if contact == "slip":
-        phiR_f = sp.Function("phi_R", real=True)(t)
-        coords = [phiR_f] + coords
-        coord_names = ["phi_R"] + coord_names
-    nq = len(coords)
+class Derivation:
+    """The quantities of one derivation, filled in step by step."""
 
-    q = [sp.Symbol(n, real=True) for n in coord_names]
-    qd = [sp.Symbol(n + "dot", real=True) for n in coord_names]
-    qdd = [sp.Symbol(n + "ddot", real=True) for n in coord_names]
+    def __init__(self, name, assumptions):
+        self.name = name
+        self.assumptions = dict(assumptions)
+
+    def plain(self, e):
+        """q''(t), q'(t), q(t) -> the plain symbols qddot, qdot, q."""
+        return e.subs(self.subs_lists)
+
+    def on_ansatz(self, e):
+        """An expression of the motion on the stationary ansatz (3.1)."""
+        e = e.subs({c.diff(t, 2): 0 for c in self.coords})
+        e = e.subs({c.diff(t): self.rate_bar[c] for c in self.coords})
+        return e.subs(self.ansatz)
+
+    def steady(self, e):
+        """On the stationary solution: the ansatz with beta from the twisting balance."""
+        return self.on_ansatz(e).subs(self.beta, self.beta_expr)
+
+
+def _choose(table, what, value):
+    if value not in table:
+        raise ValueError(f"unknown {what} {value!r}")
+    return table[value]
+
+
+# --- kinematics ----------------------------------------------------------------
+
+def kinematics(d, rotor_angle):
+    """The generalised coordinates: the stator's z-x-z Euler angles
+    (kinematics.py), preceded by the rotor angle phi_R when the rotor turns
+    freely (slip contact)."""
+    d.phi_f, d.theta_f, d.psi_f = (sp.Function(n, real=True)(t)
+                                   for n in ("phi", "theta", "psi"))
+    d.kin = Kinematics(t, d.phi_f, d.theta_f, d.psi_f, P["R"], P["H"])
+    d.coords = [d.phi_f, d.theta_f, d.psi_f]
+    d.coord_names = ["phi", "theta", "psi"]
+    d.phiR_f = None
+    if rotor_angle:
+        d.phiR_f = sp.Function("phi_R", real=True)(t)
+        d.coords = [d.phiR_f] + d.coords
+        d.coord_names = ["phi_R"] + d.coord_names
+    d.nq = len(d.coords)
+    d.q = [sp.Symbol(n, real=True) for n in d.coord_names]
+    d.qd = [sp.Symbol(n + "dot", real=True) for n in d.coord_names]
+    d.qdd = [sp.Symbol(n + "ddot", real=True) for n in d.coord_names]
     # q''(t), q'(t), q(t) -> plain symbols, highest order first
-    subs_lists = ([(c.diff(t, 2), qdd[i]) for i, c in enumerate(coords)]
-                  + [(c.diff(t), qd[i]) for i, c in enumerate(coords)]
-                  + [(c, q[i]) for i, c in enumerate(coords)])
+    d.subs_lists = ([(c.diff(t, 2), d.qdd[i]) for i, c in enumerate(d.coords)]
+                    + [(c.diff(t), d.qd[i]) for i, c in enumerate(d.coords)]
+                    + [(c, d.q[i]) for i, c in enumerate(d.coords)])
 
-    def plain(e):
-        return e.subs(subs_lists)
 
-    # --- rotor, (2.1)-(2.5): contact forces in terms of the stator motion ----
-    Z, R_star, v_c = kin.Z, kin.R_star, kin.v_c
-    Z_ref = {"theta0": H, "literal": 0}[spring_reference]
-    # (2.1), (2.3) through named symbols Z, Z', Z'' (the document shows this form)
-    Z_s, Zd_s, Zdd_s = sp.symbols("Z Zdot Zddot", real=True)
-    F_n_generic = p["M"] * Zdd_s + p["F0"] + p["c_R"] * (Z_s - Z_ref) + p["d_R"] * Zd_s
-    F_n = F_n_generic.subs({Zdd_s: Z.diff(t, 2), Zd_s: Z.diff(t), Z_s: Z}, simultaneous=True)
-    # Newton's third law: the stator feels F_c = -F_t e_x1 - F_n e_z1 (2.5);
-    # the rotor feels -F_c at r_c, whose moment about Z is -R* F_t, and the load
-    # T opposes the driving direction w_R = -phidot_R.  Moment balance (2.2):
-    #   I_R dw_R/dt = F_t R* - T.
-    Ft_s, Fn_s = sp.symbols("F_t F_n", real=True)
-    wRdot_s, Rstar_s, vc_s, wR_s = sp.symbols("wdot_R R_star v_c w_R", real=True)
-    if contact == "stick":
-        w_R_generic = vc_s / Rstar_s                                  # (2.4)
-    elif contact == "slip":
-        w_R_generic = -phiR_f.diff(t)
-    else:
-        raise ValueError(f"unknown contact law {contact!r}")
-    w_R = w_R_generic.subs({vc_s: v_c, Rstar_s: R_star}, simultaneous=True)
-    rotor_balance_generic = p["I_R"] * wRdot_s - (Ft_s * Rstar_s - p["T"])  # (2.2)
-    rotor_balance = rotor_balance_generic.subs({wRdot_s: w_R.diff(t), Rstar_s: R_star})
-    phiR_rate = -w_R
-    if contact == "stick":
-        F_t = solve_linear(rotor_balance, Ft_s)
-        v_rel = sp.Integer(0)
-        rotor_rows = []
-        mu_expr, v_sym = None, None
-    else:
-        v_rel_generic = vc_s - wR_s * Rstar_s                         # (5.1)
-        v_rel = v_rel_generic.subs({vc_s: v_c, wR_s: w_R, Rstar_s: R_star}, simultaneous=True)
-        v_sym = sp.Symbol("v_rel", real=True)
-        mu_expr = friction_law(assumptions["friction_law"], v_sym)    # (5.2)
-        F_t = mu_expr.subs(v_sym, v_rel) * F_n
-        rotor_rows = [rotor_balance.subs(Ft_s, F_t)]
+# --- contact: the normal force -------------------------------------------------
 
-    # --- stator, (2.6)-(2.11) in frame A ------------------------------------
-    Iyy = p["I_xx"] if inertia == "axisymmetric" else p["I_yy"]
-    I_A = kin.tensor_in_A_from_K((p["I_xx"], Iyy, p["I_zz"]))
-    L_A = I_A * kin.omega_A
-    dLdt_A = L_A.diff(t) + kin.frame_A_rate.cross(L_A)
+# Assumption spring_reference: the spring length is measured from Z(theta = 0)
+# = H, or from Z = 0 as printed in (2.1).
+SPRING_REFERENCE = {"theta0": P["H"], "literal": 0}
+
+
+def normal_force(d, spring_reference):
+    """(2.1) with the contact constraint (2.3): the rotor rides on the contact
+    point at height Z, F_n = M Z'' + F0 + c_R (Z - Z_ref) + d_R Z'; through the
+    named symbols Z, Z', Z'' (the document shows this form)."""
+    Z_ref = _choose(SPRING_REFERENCE, "spring reference", spring_reference)
+    Z = d.kin.Z
+    d.Z_s, d.Zd_s, d.Zdd_s = sp.symbols("Z Zdot Zddot", real=True)
+    d.F_n_generic = (P["M"] * d.Zdd_s + P["F0"] + P["c_R"] * (d.Z_s - Z_ref)
+                     + P["d_R"] * d.Zd_s)
+    d.F_n = d.F_n_generic.subs({d.Zdd_s: Z.diff(t, 2), d.Zd_s: Z.diff(t), d.Z_s: Z},
+                               simultaneous=True)
+
+
+# --- rotor coupling: stick or slip -----------------------------------------------
+
+def _rotor_balance(d, w_R_generic):
+    """The rotor's moment balance (2.2) for its speed w_R in the driving
+    direction.  Newton's third law: the stator feels F_c = -F_t e_x1 - F_n e_z1
+    (2.5); the rotor feels -F_c at r_c, whose moment about Z is -R* F_t, and the
+    load T opposes the driving direction w_R = -phidot_R:
+    I_R dw_R/dt = F_t R* - T."""
+    d.Ft_s, d.Fn_s = sp.symbols("F_t F_n", real=True)
+    d.wRdot_s, d.Rstar_s, d.vc_s, d.wR_s = sp.symbols("wdot_R R_star v_c w_R", real=True)
+    d.w_R_generic = w_R_generic(d)
+    d.w_R = d.w_R_generic.subs({d.vc_s: d.kin.v_c, d.Rstar_s: d.kin.R_star}, simultaneous=True)
+    d.rotor_balance_generic = P["I_R"] * d.wRdot_s - (d.Ft_s * d.Rstar_s - P["T"])  # (2.2)
+    d.rotor_balance = d.rotor_balance_generic.subs({d.wRdot_s: d.w_R.diff(t),
+                                                    d.Rstar_s: d.kin.R_star})
+    d.phiR_rate = -d.w_R
+
+
+def stick_rotor_coupling(d):
+    """No slip (2.4): the rotor turns with the stator's contact point,
+    w_R = v_c / R*, and its moment balance (2.2) gives the friction force F_t."""
+    _rotor_balance(d, lambda d: d.vc_s / d.Rstar_s)
+    d.F_t = solve_linear(d.rotor_balance, d.Ft_s)
+    d.v_rel = sp.Integer(0)
+    d.v_rel_generic = None
+    d.rotor_rows = []
+    d.mu_expr, d.v_sym = None, None
+
+
+def slip_rotor_coupling(d):
+    """Slip (5.1): the rotor angle phi_R is free, w_R = -phidot_R; the friction
+    force is F_t = mu(v_rel) F_n (friction law) at the slip velocity
+    v_rel = v_c - w_R R*, and the rotor's moment balance (2.2) is a row of the
+    equations of motion."""
+    _rotor_balance(d, lambda d: -d.phiR_f.diff(t))
+    d.v_rel_generic = d.vc_s - d.wR_s * d.Rstar_s                   # (5.1)
+    d.v_rel = d.v_rel_generic.subs({d.vc_s: d.kin.v_c, d.wR_s: d.w_R, d.Rstar_s: d.kin.R_star},
+                                   simultaneous=True)
+    d.v_sym = sp.Symbol("v_rel", real=True)
+    friction(d, d.assumptions["friction_law"])                       # (5.2)
+    d.F_t = d.mu_expr.subs(d.v_sym, d.v_rel) * d.F_n
+    d.rotor_rows = [d.rotor_balance.subs(d.Ft_s, d.F_t)]
+
+
+def friction(d, law):
+    """The friction law mu(v_rel) of the slip contact (5.2), from its formula
+    (derive/variants.py, FRICTION_LAWS)."""
+    d.mu_expr = friction_law(law, d.v_sym)
+
+
+# Assumption contact: its step, and whether the rotor angle is a coordinate.
+CONTACT = {"stick": (stick_rotor_coupling, False), "slip": (slip_rotor_coupling, True)}
+
+
+# --- the stator: inertia, excitation, twist law, imperfections ----------------------
+
+# Assumption stator_inertia: the moment of inertia I_yy.
+STATOR_INERTIA = {"axisymmetric": P["I_xx"], "general": P["I_yy"]}
+
+
+def stator_momentum(d, stator_inertia):
+    """The stator's angular momentum L = I omega in frame A and its rate in
+    the rotating frame A, dL/dt + phidot e_Z x L (left side of (2.6))."""
+    Iyy = _choose(STATOR_INERTIA, "stator inertia", stator_inertia)
+    kin = d.kin
+    d.I_A = kin.tensor_in_A_from_K((P["I_xx"], Iyy, P["I_zz"]))
+    d.L_A = d.I_A * kin.omega_A
+    d.dLdt_A = d.L_A.diff(t) + kin.frame_A_rate.cross(d.L_A)
+
+
+def excitation(d):
+    """The excitation torque (2.8) of the ideal driver, in frame A."""
     Om = OMEGA
-    M_E_A = (kin.C_NA.T * sp.Matrix([p["m0"] * sp.cos(Om * t),
-                                     p["m0"] * sp.sin(Om * t), 0])
-             ).applyfunc(sp.trigsimp)                                 # (2.8)
-    extra_states, extra_names, extra_rates = [], [], []
-    if twist == "paper":
-        twist_angle = phi_f + psi_f * sp.cos(theta_f)                # (2.9)
-    elif twist == "integrated":
-        tau = sp.Symbol("tau", real=True)
-        twist_angle = tau
-        extra_states, extra_names = [tau], ["tau"]
-        extra_rates = [kin.omega_A[2]]                    # tau' = omega_Z
-    else:
-        raise ValueError(f"unknown twist law {twist!r}")
-    # The twist angle enters through a placeholder, so that the stationary
-    # problem can solve the twisting balance for its value whatever the law.
-    Tw = sp.Symbol("twist", real=True)
-    M_R_A = sp.Matrix([p["c_r"] * theta_f, 0, p["c_t"] * Tw])
-    imperfection = assumptions.get("imperfection", "none")
-    if imperfection == "driver_stator":
-        M_E_A = M_E_A + imperfect_excitation_A(kin, Om)
-        M_R_A = M_R_A + mode_split_moment_A(kin, coords[-3:])
-    elif imperfection != "none":
-        raise ValueError(f"unknown imperfection {imperfection!r}")
-    # The ideal motor: the stationary solution (3.1) exists only there, so
-    # every stationary quantity below is derived with the imperfections at 0.
-    ideal = {P[k]: sp.Integer(0) for k in IMPERFECTIONS}
-    D_A = kin.tensor_in_A_from_N((p["d_r"], p["d_r"], p["d_t"]))
-    M_D_A = D_A * kin.omega_A                                         # (2.10)
-    F_c_A = sp.Matrix([-Ft_s, 0, -Fn_s])                              # (2.5)
-    M_C_A = kin.r_c_A.cross(F_c_A)                                    # (2.11)
-    stator_generic = dLdt_A - (M_E_A - M_R_A - M_D_A + M_C_A)         # (2.6), (2.7)
-    stator_rows = list(stator_generic.subs({Ft_s: F_t, Fn_s: F_n, Tw: twist_angle}))
-    stator_generic = stator_generic.xreplace(ideal)
-    M_E_A_ideal = M_E_A.xreplace(ideal)
+    d.M_E_A = (d.kin.C_NA.T * sp.Matrix([P["m0"] * sp.cos(Om * t),
+                                         P["m0"] * sp.sin(Om * t), 0])
+               ).applyfunc(sp.trigsimp)
 
-    rows = [plain(r) for r in rotor_rows + stator_rows]
-    # rows are linear in the accelerations: M_q qdd = f_q
-    M_q = sp.Matrix(rows).jacobian(qdd)
-    f_q = -sp.Matrix(rows).subs({a: 0 for a in qdd})
 
-    n = 2 * nq + len(extra_states)
-    states = q + qd + extra_states
-    state_names = coord_names + [c + "dot" for c in coord_names] + extra_names
+def paper_twist(d):
+    """The paper's twist angle phi + psi cos(theta) (2.9)."""
+    d.twist_angle = d.phi_f + d.psi_f * sp.cos(d.theta_f)
+    d.extra_states, d.extra_names, d.extra_rates = [], [], []
+
+
+def integrated_twist(d):
+    """The twist angle as a state of its own, tau' = omega_Z."""
+    tau = sp.Symbol("tau", real=True)
+    d.twist_angle = tau
+    d.extra_states, d.extra_names = [tau], ["tau"]
+    d.extra_rates = [d.kin.omega_A[2]]
+
+
+# Assumption twist.
+TWIST = {"paper": paper_twist, "integrated": integrated_twist}
+
+
+def restoring_moment(d):
+    """The restoring moment (2.9) of tilt and twist stiffness.  The twist angle
+    enters through a placeholder, so that the stationary problem can solve the
+    twisting balance for its value whatever the twist law."""
+    d.Tw = sp.Symbol("twist", real=True)
+    d.M_R_A = sp.Matrix([P["c_r"] * d.theta_f, 0, P["c_t"] * d.Tw])
+
+
+def no_imperfection(d):
+    """The ideal motor of the paper."""
+
+
+def driver_stator_imperfection(d):
+    """A real driver (amplitude imbalance, phase error) and a stator tilt
+    stiffness split fixed in the housing, added to the ideal excitation and
+    restoring moment."""
+    d.M_E_A = d.M_E_A + imperfect_excitation_A(d.kin, OMEGA)
+    d.M_R_A = d.M_R_A + mode_split_moment_A(d.kin, d.coords[-3:])
+
+
+# Assumption imperfection.
+IMPERFECTION = {"none": no_imperfection, "driver_stator": driver_stator_imperfection}
+
+
+def euler_equations(d):
+    """Euler's equations (2.6) in frame A with the torques (2.7)-(2.11): the
+    stator's rows, with the contact forces and the twist law substituted.
+    The stationary quantities use the ideal motor's rows (``stator_generic``):
+    the stationary solution (3.1) exists only there."""
+    kin = d.kin
+    d.ideal = {P[k]: sp.Integer(0) for k in IMPERFECTIONS}
+    d.D_A = kin.tensor_in_A_from_N((P["d_r"], P["d_r"], P["d_t"]))
+    d.M_D_A = d.D_A * kin.omega_A                                     # (2.10)
+    d.F_c_A = sp.Matrix([-d.Ft_s, 0, -d.Fn_s])                        # (2.5)
+    d.M_C_A = kin.r_c_A.cross(d.F_c_A)                                # (2.11)
+    stator = d.dLdt_A - (d.M_E_A - d.M_R_A - d.M_D_A + d.M_C_A)       # (2.6), (2.7)
+    d.stator_rows = list(stator.subs({d.Ft_s: d.F_t, d.Fn_s: d.F_n, d.Tw: d.twist_angle}))
+    d.stator_generic = stator.xreplace(d.ideal)
+    d.M_E_A_ideal = d.M_E_A.xreplace(d.ideal)
+
+
+# --- the same for every variant ------------------------------------------------------
+
+def equations_of_motion(d):
+    """The first-order form M(x) x' = f(x, t): the rows are linear in the
+    accelerations, M_q qdd = f_q; positions and the extra states have rate
+    rows of their own."""
+    rows = [d.plain(r) for r in d.rotor_rows + d.stator_rows]
+    d.M_q = sp.Matrix(rows).jacobian(d.qdd)
+    d.f_q = -sp.Matrix(rows).subs({a: 0 for a in d.qdd})
+    nq = d.nq
+    n = d.n = 2 * nq + len(d.extra_states)
+    d.states = d.q + d.qd + d.extra_states
+    d.state_names = d.coord_names + [c + "dot" for c in d.coord_names] + d.extra_names
     mass = sp.zeros(n, n)
     for i in range(nq):
         mass[i, i] = 1
-    mass[nq:2 * nq, nq:2 * nq] = M_q
-    for i in range(len(extra_states)):
+    mass[nq:2 * nq, nq:2 * nq] = d.M_q
+    for i in range(len(d.extra_states)):
         mass[2 * nq + i, 2 * nq + i] = 1
-    rhs = sp.Matrix(qd + list(f_q) + [plain(r) for r in extra_rates])
-    v = [sp.Symbol(f"v{i}", real=True) for i in range(n)]
+    d.mass = mass
+    d.rhs = sp.Matrix(d.qd + list(d.f_q) + [d.plain(r) for r in d.extra_rates])
+    d.v = [sp.Symbol(f"v{i}", real=True) for i in range(n)]
 
-    # --- derived output quantities along any motion ---------------------------
-    xdot = [sp.Symbol(nm + "_rate", real=True) for nm in state_names]
-    xdot_subs = {}
-    for i in range(nq):
-        xdot_subs[qdd[i]] = xdot[nq + i]
-    outputs = {
-        "R_star": plain(R_star),
-        "Z": plain(Z),
-        "v_c": plain(v_c),
-        "F_n": plain(F_n).subs(xdot_subs),
-        "F_t": plain(F_t).subs(xdot_subs),
-        "v_rel": plain(v_rel),
-        "rotor_speed": plain(phiR_rate),
+
+def motion_outputs(d):
+    """Derived quantities along any motion (x, x')."""
+    plain, kin = d.plain, d.kin
+    d.xdot = [sp.Symbol(nm + "_rate", real=True) for nm in d.state_names]
+    xdot_subs = {d.qdd[i]: d.xdot[d.nq + i] for i in range(d.nq)}
+    d.outputs = {
+        "R_star": plain(kin.R_star),
+        "Z": plain(kin.Z),
+        "v_c": plain(kin.v_c),
+        "F_n": plain(d.F_n).subs(xdot_subs),
+        "F_t": plain(d.F_t).subs(xdot_subs),
+        "v_rel": plain(d.v_rel),
+        "rotor_speed": plain(d.phiR_rate),
     }
 
-    # --- stationary solution, (3.1)-(3.7) and section 5 ------------------------
-    theta_b, alpha, beta = sp.symbols("theta alpha beta", real=True)
-    unknowns = [theta_b, alpha]
-    unknown_names = ["theta", "alpha"]
+
+def stationary_ansatz(d):
+    """The stationary ansatz (3.1): phi = Omega t + alpha, theta constant,
+    psi = -Omega t / cos(theta) + beta, and phi_R = phidot_R t when the rotor
+    angle is a coordinate; the unknowns u of the stationary problem."""
+    Om = OMEGA
+    theta_b, alpha, d.beta = sp.symbols("theta alpha beta", real=True)
+    d.unknowns = [theta_b, alpha]
+    d.unknown_names = ["theta", "alpha"]
     psi_rate = -Om / sp.cos(theta_b)
-    ansatz = {phi_f: Om * t + alpha, theta_f: theta_b,
-              psi_f: psi_rate * t + beta}                              # (3.1)
-    rate_bar = {phi_f: Om, theta_f: 0, psi_f: psi_rate}
-    if contact == "slip":
+    d.ansatz = {d.phi_f: Om * t + alpha, d.theta_f: theta_b,
+                d.psi_f: psi_rate * t + d.beta}                      # (3.1)
+    d.rate_bar = {d.phi_f: Om, d.theta_f: 0, d.psi_f: psi_rate}
+    if d.phiR_f is not None:
         wR = sp.Symbol("phidot_R", real=True)
-        unknowns.append(wR)
-        unknown_names.append("phidot_R")
-        ansatz[phiR_f] = wR * t
-        rate_bar[phiR_f] = wR
+        d.unknowns.append(wR)
+        d.unknown_names.append("phidot_R")
+        d.ansatz[d.phiR_f] = wR * t
+        d.rate_bar[d.phiR_f] = wR
 
-    def on_ansatz(e):
-        e = e.subs({c.diff(t, 2): 0 for c in coords})
-        e = e.subs({c.diff(t): rate_bar[c] for c in coords})
-        return e.subs(ansatz)
 
+def stationary_residual(d):
+    """The residuals (3.3)-(3.5): the x1, y1 rows of Euler's equations on the
+    ansatz (and the rotor's row); free of t, or the variant has no stationary
+    solution."""
+    on_ansatz = d.on_ansatz
     # The stator rows on the ansatz, with the contact forces still symbols:
     # small expressions, so trigsimp turns the cos^2 + sin^2 - 1 terms
     # (omega_Z = 0 on the orbit) into exact zeros instead of rounding noise of
     # size eps*Omega, and halves the operation count.  The contact law is
     # substituted afterwards, so the cost does not depend on it.
-    stator_steady = [sp.trigsimp(on_ansatz(r)) for r in list(stator_generic)[:2]]
-    contact_bar = {Ft_s: on_ansatz(F_t), Fn_s: on_ansatz(F_n)}
-    residual_rows = ([on_ansatz(r) for r in rotor_rows]
-                     + [r.subs(contact_bar) for r in stator_steady])
+    d.stator_steady = [sp.trigsimp(on_ansatz(r)) for r in list(d.stator_generic)[:2]]
+    d.contact_bar = {d.Ft_s: on_ansatz(d.F_t), d.Fn_s: on_ansatz(d.F_n)}
+    residual_rows = ([on_ansatz(r) for r in d.rotor_rows]
+                     + [r.subs(d.contact_bar) for r in d.stator_steady])
     for r in residual_rows:
-        if t in r.free_symbols or Tw in r.free_symbols:
+        if t in r.free_symbols or d.Tw in r.free_symbols:
             raise RuntimeError("stationary residual depends on time: "
                                "the ansatz (3.1) is not a solution of this variant")
-    residual = sp.Matrix(residual_rows)
-    z_row = on_ansatz(list(stator_generic)[2].subs(contact_bar))
-    # Twisting balance (Z row): the twist angle on the stationary solution.
+    d.residual = sp.Matrix(residual_rows)
+
+
+def twisting_balance(d):
+    """The z1 row on the ansatz: the twist angle on the stationary solution,
+    and beta from it (3.6)."""
+    on_ansatz, phi_f, psi_f, theta_f = d.on_ansatz, d.phi_f, d.psi_f, d.theta_f
+    d.z_row = on_ansatz(list(d.stator_generic)[2].subs(d.contact_bar))
     # small expression: simplification makes omega_Z = 0 on the orbit exact.
     # The contact law is substituted afterwards, as for the stator rows: a
     # friction law with exp() makes simplify() take many minutes otherwise.
-    twist_bar = sp.simplify(solve_linear(on_ansatz(list(stator_generic)[2]), Tw)).subs(contact_bar)
-    if t in twist_bar.free_symbols:
+    d.twist_bar = sp.simplify(solve_linear(on_ansatz(list(d.stator_generic)[2]), d.Tw)
+                              ).subs(d.contact_bar)
+    if t in d.twist_bar.free_symbols:
         raise RuntimeError("twisting balance depends on time")
     # beta from the paper's twist angle phi + psi cos(theta) = twist_bar at any
     # t (3.6); under the integrated law tau = twist_bar and psi's phase is free
     # (psi is cyclic), and the same beta is used by convention.
-    beta_expr = solve_linear(sp.expand(on_ansatz(phi_f + psi_f * sp.cos(theta_f)))
-                             - twist_bar, beta)
-    if t in beta_expr.free_symbols:
+    d.beta_expr = solve_linear(sp.expand(on_ansatz(phi_f + psi_f * sp.cos(theta_f)))
+                               - d.twist_bar, d.beta)
+    if t in d.beta_expr.free_symbols:
         raise RuntimeError("beta depends on time")
 
-    def steady(e):
-        return on_ansatz(e).subs(beta, beta_expr)
 
-    steady_outputs = {
-        "beta": beta_expr,
-        "rotor_speed": steady(phiR_rate),
-        "F_n": steady(F_n),
-        "F_t": steady(F_t),
-        "v_c": steady(v_c),
-        "v_rel": steady(v_rel),
-        "R_star": R_star.subs(theta_f, theta_b),
-        "Z": Z.subs(theta_f, theta_b),
-        "twist": twist_bar,
+def stationary_outputs(d):
+    """Quantities on the stationary solution, (3.7) and section 5."""
+    steady, kin, theta_b = d.steady, d.kin, d.unknowns[0]
+    d.steady_outputs = {
+        "beta": d.beta_expr,
+        "rotor_speed": steady(d.phiR_rate),
+        "F_n": steady(d.F_n),
+        "F_t": steady(d.F_t),
+        "v_c": steady(kin.v_c),
+        "v_rel": steady(d.v_rel),
+        "R_star": kin.R_star.subs(d.theta_f, theta_b),
+        "Z": kin.Z.subs(d.theta_f, theta_b),
+        "twist": d.twist_bar,
     }
 
-    # Power on the stationary solution (issue 13), from the same torques and
-    # forces as the equations of motion: the excitation torque (2.8) and the
-    # damping torque (2.10) times the stator's angular velocity, the rotor's
-    # axial damping force times Z', the load times the rotor's speed in its
-    # driving direction, and the friction force times the slip velocity.  In
-    # frame A every one of them is constant on the orbit (checked below), so
-    # the mean over a period is the value itself.  Their balance
-    # power_in = power_out + power_damping + power_slip is not built in: it
-    # holds only where the residuals vanish (tests/test_power.c).
+
+def stationary_power(d):
+    """Power on the stationary solution (issue 13), from the same torques and
+    forces as the equations of motion: the excitation torque (2.8) and the
+    damping torque (2.10) times the stator's angular velocity, the rotor's
+    axial damping force times Z', the load times the rotor's speed in its
+    driving direction, and the friction force times the slip velocity.  In
+    frame A every one of them is constant on the orbit (checked below), so
+    the mean over a period is the value itself.  Their balance
+    power_in = power_out + power_damping + power_slip is not built in: it
+    holds only where the residuals vanish (tests/test_power.c)."""
+    kin = d.kin
     power_exprs = {
-        "power_in": (M_E_A_ideal.T * kin.omega_A)[0],
-        "power_out": p["T"] * w_R,
-        "power_damping": (M_D_A.T * kin.omega_A)[0] + p["d_R"] * Z.diff(t) ** 2,
+        "power_in": (d.M_E_A_ideal.T * kin.omega_A)[0],
+        "power_out": P["T"] * d.w_R,
+        "power_damping": (d.M_D_A.T * kin.omega_A)[0] + P["d_R"] * kin.Z.diff(t) ** 2,
         # F_t stays a symbol through trigsimp (a friction law with exp() makes
         # it take many minutes otherwise); it is constant on the orbit.
-        "power_slip": Ft_s * v_rel,
+        "power_slip": d.Ft_s * d.v_rel,
     }
-    steady_power = {}
+    d.steady_power = {}
     for key, e in power_exprs.items():
-        e = sp.trigsimp(steady(e)).subs(Ft_s, steady(F_t))
+        e = sp.trigsimp(d.steady(e)).subs(d.Ft_s, d.steady(d.F_t))
         if t in e.free_symbols:
             raise RuntimeError(f"{key} depends on time on the stationary solution")
-        steady_power[key] = e
+        d.steady_power[key] = e
 
-    # State on the stationary orbit and its rate, for any t (used by Floquet).
-    xbar = [ansatz[c] for c in coords] + [rate_bar[c] for c in coords]
+
+def stationary_orbit(d):
+    """The state on the stationary orbit and its rate, for any t (used by
+    Floquet); the extra state (the integrated twist angle) is the twisting
+    balance's value."""
+    xbar = [d.ansatz[c] for c in d.coords] + [d.rate_bar[c] for c in d.coords]
     xbar_rate = [sp.diff(e, t) for e in xbar]
-    if twist == "integrated":
-        xbar.append(twist_bar)
+    for _ in d.extra_states:
+        xbar.append(d.twist_bar)
         xbar_rate.append(sp.Integer(0))
-    steady_state = sp.Matrix(xbar)
-    steady_rate = sp.Matrix(xbar_rate)
+    d.steady_state = sp.Matrix(xbar)
+    d.steady_rate = sp.Matrix(xbar_rate)
 
-    # Seed for the root search: at given theta the stator rows are linear in
-    # (cos alpha, sin alpha) once the steady contact forces are known; solving
-    # that 2x2 system gives alpha, and |(cos, sin)| = 1 is a scalar equation in
-    # theta alone whose sign changes bracket every stationary solution.
+
+def stationary_seed(d):
+    """Seed for the root search: at given theta the stator rows are linear in
+    (cos alpha, sin alpha) once the steady contact forces are known; solving
+    that 2x2 system gives alpha, and |(cos, sin)| = 1 is a scalar equation in
+    theta alone whose sign changes bracket every stationary solution."""
+    alpha = d.unknowns[1]
     C, S = sp.symbols("C S", real=True)
-    Ft_steady = solve_linear(on_ansatz(rotor_balance), Ft_s)
-    Fn_steady = on_ansatz(F_n)
-    lin = [sp.expand(r.subs({Ft_s: Ft_steady, Fn_s: Fn_steady}))
-           .subs({sp.cos(alpha): C, sp.sin(alpha): S}) for r in stator_steady]
+    Ft_steady = solve_linear(d.on_ansatz(d.rotor_balance), d.Ft_s)
+    Fn_steady = d.on_ansatz(d.F_n)
+    lin = [sp.expand(r.subs({d.Ft_s: Ft_steady, d.Fn_s: Fn_steady}))
+           .subs({sp.cos(alpha): C, sp.sin(alpha): S}) for r in d.stator_steady]
     for r in lin:
         if alpha in r.free_symbols:
             raise RuntimeError("stator rows are not linear in cos/sin alpha")
@@ -405,99 +547,155 @@ def derive_model(name, assumptions):
     det = A[0, 0] * A[1, 1] - A[0, 1] * A[1, 0]
     Cs = (bvec[0] * A[1, 1] - A[0, 1] * bvec[1]) / det
     Ss = (A[0, 0] * bvec[1] - bvec[0] * A[1, 0]) / det
-    seed = {"amplitude_mismatch": Cs**2 + Ss**2 - 1, "cos_alpha": Cs, "sin_alpha": Ss,
-            "F_t": Ft_steady, "F_n": Fn_steady}
+    d.seed = {"amplitude_mismatch": Cs**2 + Ss**2 - 1, "cos_alpha": Cs, "sin_alpha": Ss,
+              "F_t": Ft_steady, "F_n": Fn_steady}
 
-    # Well-conditioned perturbation coordinates.  Near theta = 0 a z-x-z
-    # perturbation (dphi, dtheta, dpsi) is dominated by dphi + dpsi ~ 0 pairs,
-    # and the linearisation spans ~17 orders of magnitude.  The small-rotation
-    # vector in frame A, d(rot) = L(theta) dq with L = d(omega_A)/d(qdot), maps
-    # angles and rates alike to physically comparable components.
-    L = kin.omega_A.applyfunc(plain).jacobian([qd[coord_names.index(c)]
-                                              for c in ("phi", "theta", "psi")])
-    tangent_map = sp.eye(n)
-    e_idx = [coord_names.index(c) for c in ("phi", "theta", "psi")]
-    for block in (0, nq):
+
+def tangent_map(d):
+    """Well-conditioned perturbation coordinates.  Near theta = 0 a z-x-z
+    perturbation (dphi, dtheta, dpsi) is dominated by dphi + dpsi ~ 0 pairs,
+    and the linearisation spans ~17 orders of magnitude.  The small-rotation
+    vector in frame A, d(rot) = L(theta) dq with L = d(omega_A)/d(qdot), maps
+    angles and rates alike to physically comparable components."""
+    names = d.coord_names
+    L = d.kin.omega_A.applyfunc(d.plain).jacobian([d.qd[names.index(c)]
+                                                  for c in ("phi", "theta", "psi")])
+    d.tangent_map = sp.eye(d.n)
+    e_idx = [names.index(c) for c in ("phi", "theta", "psi")]
+    for block in (0, d.nq):
         for a in range(3):
             for b in range(3):
-                tangent_map[block + e_idx[a], block + e_idx[b]] = L[a, b]
+                d.tangent_map[block + e_idx[a], block + e_idx[b]] = L[a, b]
 
-    jac_rhs = rhs.jacobian(states)
-    jac_mass = (mass * sp.Matrix(v)).jacobian(states)
+
+def linearisation(d):
+    """Jacobians df/dx and d(M v)/dx; whether the linearisation about the
+    stationary orbit depends on time; and its directional derivative along
+    (du, dt, dp) for the sensitivity of the Floquet multipliers (issue 13)."""
+    states, n = d.states, d.n
+    d.jac_rhs = d.rhs.jacobian(states)
+    d.jac_mass = (d.mass * sp.Matrix(d.v)).jacobian(states)
     # Does the linearisation about the stationary orbit depend on time?  In
     # frame A it is constant except where an angle enters other than through
     # phi - Omega t (the paper's twist angle phi + psi cos(theta) does).
-    on_orbit = dict(zip(states, steady_state))
-    jac_rhs_ideal, jac_mass_ideal = jac_rhs.xreplace(ideal), jac_mass.xreplace(ideal)
-    A_bar = (jac_rhs_ideal - jac_mass_ideal.subs(dict(zip(v, steady_rate)))).subs(on_orbit)
-    t0_independent = t not in A_bar.free_symbols and t not in mass.subs(on_orbit).free_symbols
-    A_bar_t_entries = [(i, j) for i in range(n) for j in range(n) if t in A_bar[i, j].free_symbols]
-
-    # Directional derivative of the linearisation about the orbit, for the
-    # sensitivity of the Floquet multipliers (issue 13): M(xbar) and
-    # A = df/dx - d(M v)/dx |_{v = xbar'} as functions of (u, t, p) with beta
-    # from the twisting balance, differentiated along (du, dt, dp).  One
+    on_orbit = dict(zip(states, d.steady_state))
+    jac_rhs_ideal, jac_mass_ideal = d.jac_rhs.xreplace(d.ideal), d.jac_mass.xreplace(d.ideal)
+    A_bar = (jac_rhs_ideal - jac_mass_ideal.subs(dict(zip(d.v, d.steady_rate)))).subs(on_orbit)
+    d.t0_independent = (t not in A_bar.free_symbols
+                        and t not in d.mass.subs(on_orbit).free_symbols)
+    d.A_bar_t_entries = [(i, j) for i in range(n) for j in range(n)
+                         if t in A_bar[i, j].free_symbols]
+    # Directional derivative of the linearisation about the orbit: M(xbar)
+    # and A = df/dx - d(M v)/dx |_{v = xbar'} as functions of (u, t, p) with
+    # beta from the twisting balance, differentiated along (du, dt, dp).  One
     # direction per call keeps this a sum of first derivatives of the
     # linearisation (second derivatives of the equations of motion).
-    orbit_beta = {**on_orbit, **dict(zip(v, steady_rate))}
-    orbit_beta = {k: sp.sympify(e).subs(beta, beta_expr) for k, e in orbit_beta.items()}
+    orbit_beta = {**on_orbit, **dict(zip(d.v, d.steady_rate))}
+    orbit_beta = {k: sp.sympify(e).subs(d.beta, d.beta_expr) for k, e in orbit_beta.items()}
     A_full = (jac_rhs_ideal - jac_mass_ideal).subs(orbit_beta, simultaneous=True)
-    M_full = mass.subs(orbit_beta, simultaneous=True)
+    M_full = d.mass.subs(orbit_beta, simultaneous=True)
     # (the imperfections are 0 here: their directions have no stationary orbit)
-    dir_vars = list(unknowns) + [t] + [P[k] for k, *_ in PARAMETERS]
-    dir_syms = [sp.Symbol("dir_" + s.name, real=True) for s in dir_vars]
+    d.dir_vars = list(d.unknowns) + [t] + [P[k] for k, *_ in PARAMETERS]
+    d.dir_syms = [sp.Symbol("dir_" + s.name, real=True) for s in d.dir_vars]
 
     def along(e):
-        return sum((sp.diff(e, s) * ds for s, ds in zip(dir_vars, dir_syms)
+        return sum((sp.diff(e, s) * ds for s, ds in zip(d.dir_vars, d.dir_syms)
                     if s in e.free_symbols), sp.Integer(0))
-    floquet_direction = [along(e) for e in M_full] + [along(e) for e in A_full]
+    d.floquet_direction = [along(e) for e in M_full] + [along(e) for e in A_full]
 
-    cyclic = []
-    for i, s in enumerate(states):
-        if s not in rhs.free_symbols and s not in mass.free_symbols:
-            cyclic.append(i)
 
-    # Pieces for the readable export (derive/usm_derive/emit_doc.py).
-    equations = {
+def cyclic_states(d):
+    """The states in neither M nor f (their value does not matter)."""
+    d.cyclic = [i for i, s in enumerate(d.states)
+                if s not in d.rhs.free_symbols and s not in d.mass.free_symbols]
+
+
+def document_pieces(d):
+    """Pieces for the readable export (derive/usm_derive/emit_doc.py)."""
+    kin, plain = d.kin, d.plain
+    phi_f, theta_f, psi_f = d.phi_f, d.theta_f, d.psi_f
+    z_row = d.z_row
+    return {
         "C_NA": kin.C_NA, "C_AB": kin.C_AB, "C_BK": kin.C_BK,
         "omega_K": kin.omega_K.applyfunc(plain), "omega_A": kin.omega_A.applyfunc(plain),
-        "r_c_A": kin.r_c_A.applyfunc(plain), "R_star": plain(R_star), "Z": plain(Z),
-        "v_c": plain(v_c), "F_n": plain(F_n), "F_t": plain(F_t), "v_rel": plain(v_rel),
-        "w_R": plain(w_R), "rotor_rows": [plain(r) for r in rotor_rows],
-        "rotor_balance": rotor_balance_generic, "F_t_generic": solve_linear(rotor_balance_generic, Ft_s),
-        "friction": mu_expr, "v_sym": v_sym,
-        "I_A": I_A.applyfunc(plain), "L_A": L_A.applyfunc(plain),
-        "M_E_A": M_E_A.applyfunc(plain), "M_R_A": M_R_A.applyfunc(plain).subs(Tw, plain(twist_angle)),
-        "M_D_A": M_D_A.applyfunc(plain), "M_C_A": M_C_A,
-        "extra_rates": [plain(r) for r in extra_rates], "extra_names": extra_names,
-        "M_q": M_q, "f_q": f_q, "residual": residual, "beta": beta_expr,
-        "twist": twist_bar, "qdd": qdd, "qd": qd, "q": q,
-        "rotor_speed_bar": steady_outputs["rotor_speed"], "v_rel_bar": steady_outputs["v_rel"],
-        "beta_generic": solve_linear(sp.expand(on_ansatz(phi_f + psi_f * sp.cos(theta_f))) - Tw,
-                                     beta),
+        "r_c_A": kin.r_c_A.applyfunc(plain), "R_star": plain(kin.R_star), "Z": plain(kin.Z),
+        "v_c": plain(kin.v_c), "F_n": plain(d.F_n), "F_t": plain(d.F_t),
+        "v_rel": plain(d.v_rel),
+        "w_R": plain(d.w_R), "rotor_rows": [plain(r) for r in d.rotor_rows],
+        "rotor_balance": d.rotor_balance_generic,
+        "F_t_generic": solve_linear(d.rotor_balance_generic, d.Ft_s),
+        "friction": d.mu_expr, "v_sym": d.v_sym,
+        "I_A": d.I_A.applyfunc(plain), "L_A": d.L_A.applyfunc(plain),
+        "M_E_A": d.M_E_A.applyfunc(plain),
+        "M_R_A": d.M_R_A.applyfunc(plain).subs(d.Tw, plain(d.twist_angle)),
+        "M_D_A": d.M_D_A.applyfunc(plain), "M_C_A": d.M_C_A,
+        "extra_rates": [plain(r) for r in d.extra_rates], "extra_names": d.extra_names,
+        "M_q": d.M_q, "f_q": d.f_q, "residual": d.residual, "beta": d.beta_expr,
+        "twist": d.twist_bar, "qdd": d.qdd, "qd": d.qd, "q": d.q,
+        "rotor_speed_bar": d.steady_outputs["rotor_speed"],
+        "v_rel_bar": d.steady_outputs["v_rel"],
+        "beta_generic": solve_linear(sp.expand(d.on_ansatz(phi_f + psi_f * sp.cos(theta_f)))
+                                     - d.Tw, d.beta),
         "twist_display": sp.simplify(solve_linear(
-            z_row.subs(steady_outputs["v_rel"], v_sym) if v_sym is not None else z_row, Tw)),
-        "ansatz": {c_name: ansatz[c] for c_name, c in zip(coord_names, coords)},
+            z_row.subs(d.steady_outputs["v_rel"], d.v_sym) if d.v_sym is not None else z_row,
+            d.Tw)),
+        "ansatz": {c_name: d.ansatz[c] for c_name, c in zip(d.coord_names, d.coords)},
         # The generic pieces of the derivation, for the document's named form
         # (derive/usm_derive/emit_doc.py): functions of t, placeholders kept.
-        "kin": kin, "coords": coords, "coord_names": coord_names, "F_n_generic": F_n_generic,
-        "w_R_generic": w_R_generic, "v_rel_generic": v_rel_generic if contact == "slip" else None,
-        "contact_symbols": {"F_t": Ft_s, "F_n": Fn_s, "Z": Z_s, "Zdot": Zd_s, "Zddot": Zdd_s,
-                            "wdot_R": wRdot_s, "R_star": Rstar_s, "v_c": vc_s, "w_R": wR_s,
-                            "twist": Tw},
-        "stator_generic": stator_generic, "dLdt_A": dLdt_A, "F_c_A": F_c_A,
-        "M_E_A_t": M_E_A, "M_R_A_t": M_R_A, "M_D_A_t": M_D_A, "M_C_A_t": M_C_A,
-        "twist_angle": twist_angle, "extra_states": extra_states, "extra_rates_t": extra_rates,
-        "steady_rate": steady_rate, "t0_independent": t0_independent,
-        "A_bar_t_entries": A_bar_t_entries,
+        "kin": kin, "coords": d.coords, "coord_names": d.coord_names,
+        "F_n_generic": d.F_n_generic,
+        "w_R_generic": d.w_R_generic, "v_rel_generic": d.v_rel_generic,
+        "contact_symbols": {"F_t": d.Ft_s, "F_n": d.Fn_s, "Z": d.Z_s, "Zdot": d.Zd_s,
+                            "Zddot": d.Zdd_s, "wdot_R": d.wRdot_s, "R_star": d.Rstar_s,
+                            "v_c": d.vc_s, "w_R": d.wR_s, "twist": d.Tw},
+        "stator_generic": d.stator_generic, "dLdt_A": d.dLdt_A, "F_c_A": d.F_c_A,
+        "M_E_A_t": d.M_E_A, "M_R_A_t": d.M_R_A, "M_D_A_t": d.M_D_A, "M_C_A_t": d.M_C_A,
+        "twist_angle": d.twist_angle, "extra_states": d.extra_states,
+        "extra_rates_t": d.extra_rates,
+        "steady_rate": d.steady_rate, "t0_independent": d.t0_independent,
+        "A_bar_t_entries": d.A_bar_t_entries,
     }
-    return Model(name=name, assumptions=dict(assumptions), states=states,
-                 state_names=state_names, mass=mass, rhs=rhs, v=v,
-                 outputs=outputs, xdot=xdot, unknowns=unknowns,
-                 unknown_names=unknown_names, residual=residual,
-                 steady_outputs=steady_outputs, steady_state=steady_state,
-                 steady_rate=steady_rate, seed=seed, friction=mu_expr,
-                 v_rel=v_sym, tangent_map=tangent_map, jac_rhs=jac_rhs,
-                 jac_mass=jac_mass, t0_independent=t0_independent, cyclic=cyclic, equations=equations,
-                 steady_power=steady_power, floquet_direction=floquet_direction,
-                 direction_symbols=list(zip(dir_vars, dir_syms)))
+
+
+def derive_model(name, assumptions):
+    """The Model of one variant: assumptions as in derive/variants.py, each
+    choice a step of the tables above, applied in the order of the paper."""
+    d = Derivation(name, assumptions)
+    rotor_coupling, rotor_angle = _choose(CONTACT, "contact law", assumptions["contact"])
+    twist = _choose(TWIST, "twist law", assumptions["twist"])
+    imperfection = _choose(IMPERFECTION, "imperfection",
+                           assumptions.get("imperfection", "none"))
+    # the equations of motion, assumption by assumption
+    kinematics(d, rotor_angle)
+    normal_force(d, assumptions["spring_reference"])
+    rotor_coupling(d)            # stick, or slip with its friction law
+    stator_momentum(d, assumptions["stator_inertia"])
+    excitation(d)
+    twist(d)
+    restoring_moment(d)
+    imperfection(d)
+    euler_equations(d)
+    equations_of_motion(d)
+    # what every variant derives from them
+    motion_outputs(d)
+    stationary_ansatz(d)
+    stationary_residual(d)
+    twisting_balance(d)
+    stationary_outputs(d)
+    stationary_power(d)
+    stationary_orbit(d)
+    stationary_seed(d)
+    tangent_map(d)
+    linearisation(d)
+    cyclic_states(d)
+    return Model(name=name, assumptions=dict(assumptions), states=d.states,
+                 state_names=d.state_names, mass=d.mass, rhs=d.rhs, v=d.v,
+                 outputs=d.outputs, xdot=d.xdot, unknowns=d.unknowns,
+                 unknown_names=d.unknown_names, residual=d.residual,
+                 steady_outputs=d.steady_outputs, steady_state=d.steady_state,
+                 steady_rate=d.steady_rate, seed=d.seed, friction=d.mu_expr,
+                 v_rel=d.v_sym, tangent_map=d.tangent_map, jac_rhs=d.jac_rhs,
+                 jac_mass=d.jac_mass, t0_independent=d.t0_independent, cyclic=d.cyclic,
+                 equations=document_pieces(d), steady_power=d.steady_power,
+                 floquet_direction=d.floquet_direction,
+                 direction_symbols=list(zip(d.dir_vars, d.dir_syms)))
