@@ -21,6 +21,8 @@ Naming (also in the header's comment):
 import re
 
 from .model import IMPERFECTIONS, PARAMETERS
+from .outputs import (DESIGN_NAMES, OUTPUT_NAMES, OUTPUT_UNITS, POWER_NAMES, SEED_NAMES,
+                      STEADY_NAMES)
 
 PARAM_NAMES = [name for name, *_ in PARAMETERS]
 
@@ -32,23 +34,14 @@ CONSTRAINTS = [
     ("nonnegative", ">= 0"),
 ]
 
-# Units of the outputs of the kernels, by name (the enums of usm_kernels.h).
-OUTPUT_UNITS = {
-    "R_star": "m", "Z": "m", "v_c": "m/s", "F_n": "N", "F_t": "N", "v_rel": "m/s",
-    "rotor_speed": "1/s", "beta": "rad", "twist": "rad",
-    "amplitude_mismatch": "1", "cos_alpha": "1", "sin_alpha": "1",
-    "power_in": "W", "power_out": "W", "power_damping": "W", "power_slip": "W",
-}
 
 
 def _output_lists():
-    # emit_model imports this module: its name lists are read when needed
-    from . import emit_model as em
-    return [("out", "USM_OUT", "the outputs of <model>_outputs (along a motion)", em.OUTPUT_NAMES),
-            ("steady", "USM_STEADY", "the outputs of <model>_steady_outputs", em.STEADY_NAMES),
-            ("seed", "USM_SEED", "the outputs of <model>_steady_seed", em.SEED_NAMES),
-            ("power", "USM_POWER", "the outputs of <model>_steady_power", em.POWER_NAMES),
-            ("design", "USM_DESIGN", "the rows of <model>_steady_design_jacobian", em.DESIGN_NAMES)]
+    return [("out", "USM_OUT", "the outputs of <model>_outputs (along a motion)", OUTPUT_NAMES),
+            ("steady", "USM_STEADY", "the outputs of <model>_steady_outputs", STEADY_NAMES),
+            ("seed", "USM_SEED", "the outputs of <model>_steady_seed", SEED_NAMES),
+            ("power", "USM_POWER", "the outputs of <model>_steady_power", POWER_NAMES),
+            ("design", "USM_DESIGN", "the rows of <model>_steady_design_jacobian", DESIGN_NAMES)]
 
 
 def couplings():
@@ -114,7 +107,7 @@ def _check_names():
     for _, _, _, names in _output_lists():
         for nm in names:
             if nm not in OUTPUT_UNITS:
-                raise ValueError(f"output {nm}: no unit in emit_contracts.OUTPUT_UNITS")
+                raise ValueError(f"output {nm}: no unit in outputs.OUTPUT_UNITS")
 
 
 def _lines(items):

@@ -4,13 +4,8 @@ import sympy as sp
 from . import emit_contracts
 from .emit_c import Kernel
 from .model import PARAMETERS, P, t
+from .outputs import DESIGN_NAMES, OUTPUT_NAMES, POWER_NAMES, SEED_NAMES, STEADY_NAMES
 
-OUTPUT_NAMES = ["R_star", "Z", "v_c", "F_n", "F_t", "v_rel", "rotor_speed"]
-STEADY_NAMES = ["beta", "rotor_speed", "F_n", "F_t", "v_c", "v_rel", "R_star", "Z", "twist"]
-SEED_NAMES = ["amplitude_mismatch", "cos_alpha", "sin_alpha", "F_t", "F_n"]
-POWER_NAMES = ["power_in", "power_out", "power_damping", "power_slip"]
-# Stationary quantities whose derivatives the sensitivities need (issue 13).
-DESIGN_NAMES = ["rotor_speed", "F_n", "F_t"] + POWER_NAMES
 PARAMS = ("const usm_params *USM_RESTRICT p", list(P.values()))
 
 
