@@ -50,6 +50,7 @@
 
 #include "core/cvode_msg.h"
 #include "core/dense.h"
+#include "core/root.h"
 #include "multipliers.h"
 #include "periodic_internal.h"
 
@@ -69,6 +70,12 @@ struct usm_periodic {
     void *cv;
     N_Vector y, atol;
     SUNNonlinearSolver NLS;
+    /* the state alone, re-integrated from a sample (the extremes) */
+    void *cv2;
+    N_Vector y2, atol2;
+    SUNNonlinearSolver NLS2;
+    usm_root *root;
+    double rtol;
     /* eigenproblem without the cyclic directions (solve/multipliers.h) */
     usm_multipliers *mult;
     usm_steady *steady;
@@ -107,6 +114,15 @@ void usm_periodic_free(usm_periodic *w)
         N_VDestroy(w->y);
     if (w->atol)
         N_VDestroy(w->atol);
+    if (w->cv2)
+        CVodeFree(&w->cv2);
+    if (w->NLS2)
+        SUNNonlinSolFree(w->NLS2);
+    if (w->y2)
+        N_VDestroy(w->y2);
+    if (w->atol2)
+        N_VDestroy(w->atol2);
+    usm_root_free(w->root);
     if (w->ctx)
         SUNContext_Free(&w->ctx);
     usm_multipliers_free(w->mult);
@@ -123,6 +139,7 @@ static void cv_errors(int code, const char *module, const char *function, char *
 }
 
 static int cv_rhs(sunrealtype tau, N_Vector yv, N_Vector ydot, void *data);
+static int cv_rhs_state(sunrealtype tau, N_Vector yv, N_Vector ydot, void *data);
 
 usm_periodic *usm_periodic_alloc(const usm_model *m)
 {
@@ -150,6 +167,22 @@ usm_periodic *usm_periodic_alloc(const usm_model *m)
         CVodeSetNonlinearSolver(w->cv, w->NLS) != CV_SUCCESS ||
         CVodeSetUserData(w->cv, w) != CV_SUCCESS ||
         CVodeSetMaxNumSteps(w->cv, 100000) != CV_SUCCESS) {
+        usm_periodic_free(w);
+        return NULL;
+    }
+    w->y2 = N_VNew_Serial((sunindextype)n, w->ctx);
+    w->atol2 = N_VNew_Serial((sunindextype)n, w->ctx);
+    w->cv2 = CVodeCreate(CV_ADAMS, w->ctx);
+    w->root = usm_root_alloc();
+    if (w->y2)
+        N_VConst(0.0, w->y2);
+    if (!w->y2 || !w->atol2 || !w->cv2 || !w->root ||
+        CVodeSetErrHandlerFn(w->cv2, cv_errors, w) != CV_SUCCESS ||
+        CVodeInit(w->cv2, cv_rhs_state, 0.0, w->y2) != CV_SUCCESS ||
+        !(w->NLS2 = SUNNonlinSol_FixedPoint(w->y2, 0, w->ctx)) ||
+        CVodeSetNonlinearSolver(w->cv2, w->NLS2) != CV_SUCCESS ||
+        CVodeSetUserData(w->cv2, w) != CV_SUCCESS ||
+        CVodeSetMaxNumSteps(w->cv2, 100000) != CV_SUCCESS) {
         usm_periodic_free(w);
         return NULL;
     }
@@ -212,6 +245,13 @@ static int cv_rhs(sunrealtype tau, N_Vector yv, N_Vector ydot, void *data)
             dPsi[j * n + i] = s;
         }
     return 0;
+}
+
+/* The state alone (the extremes' re-integration from a sample). */
+static int cv_rhs_state(sunrealtype tau, N_Vector yv, N_Vector ydot, void *data)
+{
+    usm_periodic *w = data;
+    return motion(w, w->t0 + tau, N_VGetArrayPointer(yv), N_VGetArrayPointer(ydot), NULL) ? 1 : 0;
 }
 
 /* S = D^{-1} T(x0), D balancing T G(x0) T^{-1} (as floquet.c), and the basis
@@ -324,20 +364,134 @@ static int multipliers(usm_periodic *w, const double *Psi, usm_floquet_result *f
     return USM_OK;
 }
 
-/* Extreme of the periodic samples v[0..NS) (sign +1: max, -1: min), refined
- * by the parabola through the extreme sample and its neighbours. */
-static double extreme(const double *v, int stride, double sign)
+/* ---- the extremes over the orbit ------------------------------------------------ */
+
+/* The quantities whose extremes are reported. */
+enum { Q_THETA, Q_F_N, Q_RATIO, Q_SPEED };
+
+/* Quantity q at the sample row (t, x, F_n, F_t, rotor speed). */
+static double sample_quantity(const usm_periodic *w, int q, const double *row)
 {
+    const int n = w->n;
+    switch (q) {
+    case Q_THETA: return row[1 + w->m->x_theta];
+    case Q_F_N: return row[n + 1];
+    case Q_RATIO: return fabs(row[n + 2]) / row[n + 1];
+    default: return row[n + 3];
+    }
+}
+
+/* Quantity q at (t, x), as a sample row would hold it; NaN when the motion
+ * is singular there. */
+static double quantity(const usm_periodic *w, int q, double t, const double *x)
+{
+    double row[USM_MAX_NX + 4];
+    if (q == Q_THETA)
+        return x[w->m->x_theta];
+    if (sample(w, t, x, row) != 0)
+        return NAN;
+    return sample_quantity(w, q, row);
+}
+
+/* The step of the central difference along the motion, in radians of
+ * Omega t: truncation (eps Omega)^2 ~ 1e-10 and rounding 1e-16 / (eps
+ * Omega) ~ 1e-11 of the rate, which moves the located time by far less than
+ * the 1e-5 of T/(4 pi) at which the extreme's value would change by 1e-10. */
+#define RATE_STEP 1e-5
+
+/* dq/dt along the motion at (t, x): theta' from the equations of motion;
+ * the others by the central difference of q along the tangent (x', 1) of
+ * the motion, exact to O(eps^2) (no integration). */
+static double rate(const usm_periodic *w, int q, double t, const double *x)
+{
+    const int n = w->n;
+    double xdot[USM_MAX_NX], xp[USM_MAX_NX], xm[USM_MAX_NX];
+    if (motion(w, t, x, xdot, NULL) != 0)
+        return NAN;
+    if (q == Q_THETA)
+        return xdot[w->m->x_theta];
+    const double e = RATE_STEP / w->Omega;
+    for (int i = 0; i < n; ++i) {
+        xp[i] = x[i] + e * xdot[i];
+        xm[i] = x[i] - e * xdot[i];
+    }
+    return (quantity(w, q, t + e, xp) - quantity(w, q, t - e, xm)) / (2.0 * e);
+}
+
+/* The state on the orbit at time t (taken modulo the period into [t0, t0 +
+ * T)): re-integrated (the state alone, rtol as the period map) from the
+ * last sample at or before it.  0, or -1 when the integration fails. */
+static int state_at(usm_periodic *w, double t, double *x)
+{
+    const int n = w->n, nc = n + 4;
+    const double h = w->T / NS;
+    double tau = fmod(t - w->t0, w->T), reached = 0;
+    if (tau < 0)
+        tau += w->T;
+    int j = (int)floor(tau / h);
+    j = j < 0 ? 0 : j >= NS ? NS - 1 : j;
+    while (j > 0 && w->T * j / NS > tau)
+        --j;
+    const double tj = w->T * j / NS; /* the sample's tout (period_map) */
+    const double *row = w->samples + j * nc;
+    if (tau == tj) {
+        memcpy(x, row + 1, sizeof(double) * (size_t)n);
+        return 0;
+    }
+    double *Y = N_VGetArrayPointer(w->y2), *A = N_VGetArrayPointer(w->atol2);
+    memcpy(Y, row + 1, sizeof(double) * (size_t)n);
+    for (int i = 0; i < n; ++i)
+        A[i] = w->rtol * w->scale[i];
+    if (CVodeReInit(w->cv2, tj, w->y2) != CV_SUCCESS ||
+        CVodeSVtolerances(w->cv2, w->rtol, w->atol2) != CV_SUCCESS ||
+        CVodeSetStopTime(w->cv2, tau) != CV_SUCCESS ||
+        CVode(w->cv2, tau, w->y2, &reached, CV_NORMAL) < 0)
+        return -1;
+    memcpy(x, Y, sizeof(double) * (size_t)n);
+    return 0;
+}
+
+typedef struct extreme_ctx {
+    usm_periodic *w;
+    int q;
+    double tk; /* the extreme sample's time */
+} extreme_ctx;
+
+/* The locator's function: dq/dt at tk + s (NaN when the re-integration
+ * fails). */
+static double extreme_rate(double s, void *data)
+{
+    extreme_ctx *c = data;
+    double x[USM_MAX_NX];
+    if (state_at(c->w, c->tk + s, x) != 0)
+        return NAN;
+    return rate(c->w, c->q, c->tk + s, x);
+}
+
+/* The maximum (sign +1) or minimum (-1) of quantity q over the orbit: the
+ * extreme sample k, then the zero of dq/dt between the samples k - 1 and k +
+ * 1 by Brent's method (core/root.h) to 1e-9 of the sample spacing, and q
+ * there on the re-integrated state.  The sample's value where the rate does
+ * not change sign there (an extreme at a kink) or the location fails. */
+static double exact_extreme(usm_periodic *w, int q, double sign)
+{
+    const int nc = w->n + 4;
     int k = 0;
     for (int i = 1; i < NS; ++i)
-        if (sign * v[i * stride] > sign * v[k * stride])
+        if (sign * sample_quantity(w, q, w->samples + i * nc) >
+            sign * sample_quantity(w, q, w->samples + k * nc))
             k = i;
-    const double a = v[((k + NS - 1) % NS) * stride], b = v[k * stride],
-                 c = v[((k + 1) % NS) * stride];
-    const double curv = a - 2.0 * b + c;
-    if (!(sign * curv < 0.0))
-        return b;
-    return b - (c - a) * (c - a) / (8.0 * curv);
+    double best = sample_quantity(w, q, w->samples + k * nc), s, x[USM_MAX_NX];
+    const double h = w->T / NS;
+    extreme_ctx c = {w, q, w->t0 + w->T * k / NS};
+    const usm_root_stop stop = {1e-9 * h, 0.0, 100};
+    if (usm_root_brent_eval(w->root, extreme_rate, &c, -h, h, &stop, &s) == 0 &&
+        state_at(w, c.tk + s, x) == 0) {
+        const double v = quantity(w, q, c.tk + s, x);
+        if (sign * v > sign * best)
+            best = v;
+    }
+    return best;
 }
 
 /* Amplitude of the harmonic `h` (of the excitation frequency) of periodic samples. */
@@ -351,28 +505,27 @@ static double harmonic(const double *v, int stride, int h)
     return 2.0 * hypot(re, im) / NS;
 }
 
-static void orbit_outputs(const usm_periodic *w, usm_periodic_result *r)
+static void orbit_outputs(usm_periodic *w, usm_periodic_result *r)
 {
     const int n = w->n, nc = n + 4; /* samples: nc columns (usm_periodic_samples) */
     const double *s = w->samples;
-    const double *th = s + 1 + w->m->x_theta, *Fn = s + n + 1, *Ft = s + n + 2, *wr = s + n + 3;
-    double ratio[NS], sum_w = 0, sum_th = 0;
+    const double *th = s + 1 + w->m->x_theta, *Fn = s + n + 1, *wr = s + n + 3;
+    double sum_w = 0, sum_th = 0;
     int open = 0;
     for (int i = 0; i < NS; ++i) {
         sum_w += wr[i * nc];
         sum_th += th[i * nc];
-        ratio[i] = fabs(Ft[i * nc]) / Fn[i * nc];
         open |= !(Fn[i * nc] > 0.0);
     }
     r->rotor_speed_mean = sum_w / NS; /* trapezoid rule: spectral on a periodic function */
-    r->rotor_speed_ripple = extreme(wr, nc, 1.0) - extreme(wr, nc, -1.0);
-    r->F_n_min = extreme(Fn, nc, -1.0);
-    r->F_n_max = extreme(Fn, nc, 1.0);
+    r->rotor_speed_ripple = exact_extreme(w, Q_SPEED, 1.0) - exact_extreme(w, Q_SPEED, -1.0);
+    r->F_n_min = exact_extreme(w, Q_F_N, -1.0);
+    r->F_n_max = exact_extreme(w, Q_F_N, 1.0);
     r->contact_open = r->F_n_min < 0.0;
-    r->friction_needed_max = open || r->contact_open ? NAN : extreme(ratio, 1, 1.0);
+    r->friction_needed_max = open || r->contact_open ? NAN : exact_extreme(w, Q_RATIO, 1.0);
     r->theta_mean = sum_th / NS;
-    r->theta_min = extreme(th, nc, -1.0);
-    r->theta_max = extreme(th, nc, 1.0);
+    r->theta_min = exact_extreme(w, Q_THETA, -1.0);
+    r->theta_max = exact_extreme(w, Q_THETA, 1.0);
     r->theta_harmonic_2 = harmonic(th, nc, 2);
     r->F_n_harmonic_2 = harmonic(Fn, nc, 2);
 }
@@ -537,6 +690,7 @@ int usm_periodic_solve(usm_periodic *w, const usm_params *p, const double *x_sta
     w->Omega = TWO_PI * p->f;
     w->T = 1.0 / p->f;
     w->t0 = opt->t0;
+    w->rtol = opt->rtol;
     double x0[USM_MAX_NX], x1[USM_MAX_NX], Psi[NN], theta = 0, speed = 0;
     int rc = ideal_start(w, p, x0, &theta, &speed);
     if (x_start) {
