@@ -220,7 +220,8 @@ static double trial_g(double v, void *ctx)
  * trial orbit fails (*v, *r then the end of smaller |g| of the last
  * bracket). */
 static int locate(usm_periodic_sweep *s, int k, double va, const usm_periodic_result *ra,
-                  double vb, const usm_periodic_result *rb, double *v, usm_periodic_result *r)
+                  double vb, const usm_periodic_result *rb, double *v, usm_periodic_result *r,
+                  trial *pos)
 {
     locate_ctx c;
     c.s = s;
@@ -243,6 +244,8 @@ static int locate(usm_periodic_sweep *s, int k, double va, const usm_periodic_re
     const trial *best = fabs(c.t[a].g) <= fabs(c.t[b].g) ? &c.t[a] : &c.t[b];
     *v = best->v;
     *r = best->r;
+    if (pos)
+        *pos = c.t[a].g > 0 ? c.t[a] : c.t[b];
     return rc;
 }
 
@@ -291,20 +294,40 @@ static int emit_located(usm_periodic_sweep *s, int k, double v, const usm_period
     return 0;
 }
 
-/* Events between the accepted orbits (va, ra) and (vb, rb), in sweep order. */
+/* Events between the accepted orbits (va, ra) and (vb, rb), in sweep order.
+ * The contact first: where it opens within the step, friction_needed_max is
+ * undefined at that end (it divides by F_n), and stick_loss is looked for
+ * between the other end and the located contact loss's closed side (where
+ * F_n_min > 0 is tiny and the friction needed large), so that stick loss
+ * before a contact loss in the same step is reported, and in its order. */
 static int step_events(usm_periodic_sweep *s, double va, const usm_periodic_result *ra, double vb,
                        const usm_periodic_result *rb)
 {
+    static const int order[NG] = {G_CONTACT, G_STABILITY, G_STICK};
     double vs[NG];
     usm_periodic_result rs[NG];
-    int ks[NG], located[NG], rising[NG], n = 0;
-    for (int k = 0; k < NG; ++k) {
+    int ks[NG], located[NG], rising[NG], n = 0, have_closed = 0;
+    trial closed; /* the contact loss's last bracket end with F_n_min > 0 */
+    for (int o = 0; o < NG; ++o) {
+        const int k = order[o];
         if (k == G_STICK && s->m->friction)
             continue; /* slip built in: F_t = mu(v) F_n, stick has no meaning */
-        const double g0 = gfun(s, k, ra), g1 = gfun(s, k, rb);
+        double v0 = va, v1 = vb;
+        const usm_periodic_result *r0 = ra, *r1 = rb;
+        double g0 = gfun(s, k, r0), g1 = gfun(s, k, r1);
+        if (k == G_STICK && have_closed && isfinite(g0) != isfinite(g1)) {
+            if (!isfinite(g0))
+                v0 = closed.v, r0 = &closed.r, g0 = closed.g;
+            else
+                v1 = closed.v, r1 = &closed.r, g1 = closed.g;
+            g0 = gfun(s, k, r0), g1 = gfun(s, k, r1);
+        }
         if (!isfinite(g0) || !isfinite(g1) || (g0 < 0) == (g1 < 0))
             continue;
-        located[n] = locate(s, k, va, ra, vb, rb, &vs[n], &rs[n]) == 0;
+        located[n] = locate(s, k, v0, r0, v1, r1, &vs[n], &rs[n],
+                            k == G_CONTACT ? &closed : NULL) == 0;
+        if (k == G_CONTACT)
+            have_closed = isfinite(closed.v);
         rising[n] = g1 > 0;
         ks[n++] = k;
     }
