@@ -777,3 +777,156 @@ int usm_periodic_solve(usm_periodic *w, const usm_params *p, const double *x_sta
         }
     }
 }
+
+/* ---- friction saturation ----------------------------------------------------------- */
+
+/* The slip velocity [m/s] that stands for infinity (as the stationary sweep's,
+ * study/sweep_branch.c): the friction law equals its supremum there to
+ * rounding. */
+#define V_HUGE 1e15
+
+double usm_periodic_friction_supremum(const usm_model *m, const usm_params *p)
+{
+    double mp[2], mm[2];
+    if (!m->friction)
+        return NAN;
+    m->friction(V_HUGE, p, mp);
+    m->friction(-V_HUGE, p, mm);
+    return fmax(fabs(mp[0]), fabs(mm[0]));
+}
+
+/* The residuals of the saturated orbit (see usm_periodic_saturation) after a
+ * period map from x0 with the samples in w: the stator's periodicity in
+ * units of the scales, and for the rotor speed the change the mean rotor
+ * acceleration makes over the period (the trapezoid rule on the samples:
+ * spectral once the stator is periodic), in units of sw.  0 or -1. */
+static int saturation_residual(usm_periodic *w, const double *x0, const double *x1, double sw,
+                               double *r)
+{
+    const usm_model *m = w->m;
+    const int n = w->n, nc = n + 4, iw = m->x_phi_Rdot;
+    int k = 0;
+    for (int i = 0; i < n; ++i) {
+        if (m->cyclic[i])
+            continue;
+        if (i != iw) {
+            r[k++] = (x1[i] - x0[i] - (i == m->x_phi ? TWO_PI : 0.0)) / w->scale[i];
+            continue;
+        }
+        double sum = 0, xdot[USM_MAX_NX];
+        for (int j = 0; j < NS; ++j) {
+            const double *row = w->samples + j * nc;
+            if (motion(w, row[0], row + 1, xdot, NULL) != 0)
+                return -1;
+            sum += xdot[iw];
+        }
+        r[k++] = sum * (w->T / NS) / sw;
+    }
+    return 0;
+}
+
+int usm_periodic_saturation(usm_periodic *w, const usm_params *p, const usm_param_info *info,
+                            const double *x_start, double lambda_scale, double lambda_tol,
+                            const usm_periodic_options *opt, double *lambda)
+{
+    const usm_model *m = w->m;
+    const int n = w->n, iw = m->x_phi_Rdot;
+    usm_periodic_options def;
+    if (!opt) {
+        usm_periodic_options_default(&def);
+        opt = &def;
+    }
+    w->msg[0] = '\0';
+    w->have_samples = 0;
+    if (!m->friction || iw < 0 || m->x_tau < 0) {
+        snprintf(w->msg, USM_MSG_LEN, "model %s: no friction law to saturate", m->name);
+        return USM_EINPUT;
+    }
+    w->p = *p;
+    double *field = usm_params_field(&w->p, info);
+    double lam = *field;
+    w->Omega = TWO_PI * p->f;
+    w->T = 1.0 / p->f;
+    w->t0 = opt->t0;
+    w->rtol = opt->rtol;
+    double x0[USM_MAX_NX], x1[USM_MAX_NX], xdot[USM_MAX_NX], out[USM_OUT_COUNT], Psi[NN];
+    memcpy(x0, x_start, sizeof(double) * (size_t)n);
+    if (motion(w, w->t0, x0, xdot, NULL) != 0)
+        return USM_EFAILED;
+    m->outputs(x0, xdot, w->t0, &w->p, out);
+    const double v = out[USM_OUT_V_REL], theta = x0[m->x_theta];
+    if (!(fabs(v) > 0) || !(fabs(x0[iw]) > 0) || !(theta > 0)) {
+        snprintf(w->msg, USM_MSG_LEN, "saturation: no slip to start from");
+        return USM_EFAILED;
+    }
+    /* the rotor speed at which the slip velocity is V_HUGE (the slip is
+     * dominated by the rotor's speed there), held fixed: the stator's motion
+     * no longer depends on it */
+    const double W = x0[iw] * (V_HUGE / fabs(v));
+    x0[iw] = W;
+    set_scales(w, theta, fabs(W));
+    const double sw = w->Omega * theta; /* the rotor speed's change over a period */
+    int idx[USM_MAX_NX], k = 0;
+    for (int i = 0; i < n; ++i)
+        if (!m->cyclic[i])
+            idx[k++] = i;
+    for (int it = 0; it <= 2 * opt->max_iter; ++it) {
+        double r[USM_MAX_NX], r2[USM_MAX_NX], J[NN], B[NN], Wm[NN], res = 0;
+        *field = lam;
+        int rc = period_map(w, x0, opt->rtol, x1, Psi);
+        if (rc != USM_OK)
+            return rc;
+        if (saturation_residual(w, x0, x1, sw, r) != 0)
+            return USM_EFAILED;
+        for (int a = 0; a < k; ++a)
+            res = fmax(res, fabs(r[a]));
+        usm_matmul_dense(n, w->Sinv, Psi, Wm);
+        usm_matmul_dense(n, Wm, w->S, B);
+        /* the parameter's column by a forward difference */
+        const double dl = 1e-7 * lambda_scale;
+        *field = lam + dl;
+        if ((rc = period_map(w, x0, opt->rtol, x1, Psi)) != USM_OK)
+            return rc;
+        if (saturation_residual(w, x0, x1, sw, r2) != 0)
+            return USM_EFAILED;
+        *field = lam;
+        /* columns: the non-cyclic states but the rotor speed (held), then lambda;
+         * the rotor speed's row: d(omega(T))/dx_j = d(int omega' dt)/dx_j */
+        for (int a = 0; a < k; ++a) {
+            const int i = idx[a];
+            const double si = i == iw ? sw : w->scale[i];
+            int c = 0;
+            for (int b = 0; b < k; ++b) {
+                const int j = idx[b];
+                if (j == iw)
+                    continue;
+                J[a * k + c++] = (B[i * n + j] - (i == j)) * w->scale[j] / si;
+            }
+            J[a * k + c] = (r2[a] - r[a]) / dl * lambda_scale;
+        }
+        int piv[USM_MAX_NX];
+        if (!isfinite(res) || usm_lu_factor_dense(k, J, piv) != 0) {
+            snprintf(w->msg, USM_MSG_LEN, "saturation: the bordered Newton matrix is singular or "
+                                          "not finite");
+            return USM_EFAILED;
+        }
+        usm_lu_solve_dense(k, J, piv, r, 1);
+        int c = 0;
+        for (int b = 0; b < k; ++b)
+            if (idx[b] != iw)
+                x0[idx[b]] -= r[c++] * w->scale[idx[b]];
+        const double dlam = r[c] * lambda_scale;
+        lam -= dlam;
+        if (!(x0[m->x_theta] > 0) || !isfinite(lam)) {
+            snprintf(w->msg, USM_MSG_LEN, "saturation: Newton left the admissible states");
+            return USM_EFAILED;
+        }
+        if (res <= opt->tol && fabs(dlam) <= lambda_tol) {
+            *lambda = lam;
+            *field = lam;
+            return USM_OK;
+        }
+    }
+    snprintf(w->msg, USM_MSG_LEN, "saturation: Newton did not converge");
+    return USM_EFAILED;
+}

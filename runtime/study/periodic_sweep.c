@@ -9,12 +9,17 @@
 #include <string.h>
 
 #include "core/root.h"
+#include "solve/periodic_internal.h"
 
 /* A trial step is accepted when Newton needed at most this many iterations;
  * more means the prediction was poor, and the next step is halved. */
 #define SLOW_NEWTON 4
 #define MIN_STEP 1e-7 /* of the range: below it the branch is lost */
 #define MAX_LOCATE 60
+/* Slip models: once friction_needed_max reaches this fraction of the
+ * friction law's supremum, the saturation point is computed directly (as the
+ * stationary sweep, study/sweep_branch.c). */
+#define SAT_TRIGGER 0.999
 
 struct usm_periodic_sweep {
     const usm_model *m;
@@ -29,6 +34,8 @@ struct usm_periodic_sweep {
     usm_params p;
     usm_periodic_options popt;
     double range, tol;
+    int sat;            /* friction saturation: 0 not looked for, 1 located ahead, -1 not found */
+    double sat_value;   /* its parameter value when sat = 1 */
     char msg[USM_MSG_LEN];
 };
 
@@ -39,6 +46,7 @@ const char *usm_pevent_name(usm_pevent_type type)
     case USM_PEVENT_STICK_LOSS: return "stick_loss";
     case USM_PEVENT_FOLD: return "fold";
     case USM_PEVENT_STABILITY_CHANGE: return "stability_change";
+    case USM_PEVENT_FRICTION_SATURATION: return "friction_saturation";
     }
     return "unknown";
 }
@@ -372,6 +380,37 @@ static int branch_end(usm_periodic_sweep *s, double vp, const usm_periodic_resul
                ? 0 : -1;
 }
 
+/* Friction saturation ahead of the orbit (v, r) of a slip model, between v
+ * and `to`: s->sat 1 and s->sat_value when located there, else -1. */
+static void find_saturation(usm_periodic_sweep *s, double v, const usm_periodic_result *r,
+                            double to)
+{
+    usm_params q = s->p;
+    double ls = NAN;
+    *usm_params_field(&q, s->info) = v;
+    const double dir = to > v ? 1.0 : -1.0;
+    s->sat = -1;
+    if (usm_periodic_saturation(s->w, &q, s->info, r->x0, s->range, s->tol, &s->popt, &ls) ==
+            USM_OK &&
+        (ls - v) * dir > 0 && (ls - to) * dir <= 0) {
+        s->sat = 1;
+        s->sat_value = ls;
+    }
+}
+
+/* The friction_saturation event at s->sat_value. */
+static int emit_saturation(usm_periodic_sweep *s, int dir_up)
+{
+    char vt[96];
+    value_text(s, s->sat_value, vt);
+    return add_event(s, USM_PEVENT_FRICTION_SATURATION, s->sat_value, NULL,
+                     "F_t / F_n reaches the friction law's supremum %.6g over the whole orbit at "
+                     "%s: the rotor speed diverges and no periodic orbit exists %s it",
+                     usm_periodic_friction_supremum(s->m, &s->p), vt,
+                     dir_up ? "above" : "below")
+               ? 0 : -1;
+}
+
 int usm_periodic_sweep_run(usm_periodic_sweep *s, const usm_params *p,
                            const usm_periodic_sweep_options *opt)
 {
@@ -408,6 +447,9 @@ int usm_periodic_sweep_run(usm_periodic_sweep *s, const usm_params *p,
     s->popt = opt->periodic;
     s->range = fabs(opt->to - opt->from);
     s->tol = opt->event_tol * s->range;
+    s->sat = 0;
+    const int slip = s->m->friction != NULL && s->m->x_phi_Rdot >= 0;
+    const double mu_sup = slip ? usm_periodic_friction_supremum(s->m, p) : NAN;
     usm_periodic_point *pts = realloc(s->pts, (size_t)opt->points * sizeof *pts);
     if (!pts) {
         snprintf(s->msg, sizeof s->msg, "out of memory");
@@ -425,6 +467,7 @@ int usm_periodic_sweep_run(usm_periodic_sweep *s, const usm_params *p,
         snprintf(s->msg, sizeof s->msg, "no orbit at %s = %.12g: %.180s", s->over, opt->from, why);
         return rc == USM_EINPUT ? USM_EINPUT : USM_EFAILED;
     }
+    rp = ra; /* unused before a second orbit (have_p) */
     double va = opt->from, vp = va, h = hmax;
     int have_p = 0, lost = 0;
     char lost_why[USM_MSG_LEN] = "";
@@ -439,6 +482,11 @@ int usm_periodic_sweep_run(usm_periodic_sweep *s, const usm_params *p,
         usm_periodic_point *pt = &s->pts[i];
         memset(pt, 0, sizeof *pt);
         pt->value = target;
+        if (!lost && s->sat == 1 && (target - s->sat_value) * (opt->to - opt->from) >= 0) {
+            lost = 1; /* the branch ends at the saturation located ahead */
+            if (emit_saturation(s, opt->to > opt->from) != 0)
+                goto oom;
+        }
         while (!lost && va != target) {
             const double vb = fabs(target - va) <= fabs(h) * (1 + 1e-12) ? target : va + h;
             const double *x0 = ra.x0;
@@ -456,7 +504,10 @@ int usm_periodic_sweep_run(usm_periodic_sweep *s, const usm_params *p,
                 h *= 0.5;
                 if (fabs(h) < MIN_STEP * s->range) {
                     lost = 1;
-                    if (branch_end(s, vp, &rp, have_p, va, &ra) != 0)
+                    if (slip && s->sat != 1)
+                        find_saturation(s, va, &ra, opt->to);
+                    if (s->sat == 1 ? emit_saturation(s, opt->to > opt->from) != 0
+                                    : branch_end(s, vp, &rp, have_p, va, &ra) != 0)
                         goto oom;
                 }
                 continue;
@@ -465,10 +516,17 @@ int usm_periodic_sweep_run(usm_periodic_sweep *s, const usm_params *p,
                 goto oom;
             vp = va, rp = ra, have_p = 1;
             va = vb, ra = rb;
+            if (slip && s->sat == 0 && rb.friction_needed_max >= SAT_TRIGGER * mu_sup)
+                find_saturation(s, va, &ra, opt->to);
             if (rb.iterations <= 2 && fabs(2 * h) <= fabs(hmax))
                 h *= 2;
         }
-        if (lost) {
+        if (lost && s->sat == 1 && (target - s->sat_value) * (opt->to - opt->from) >= 0) {
+            char vt[96];
+            value_text(s, s->sat_value, vt);
+            snprintf(pt->error, sizeof pt->error,
+                     "no orbit beyond friction_saturation at %s: the rotor speed diverges", vt);
+        } else if (lost) {
             char why[USM_MSG_LEN];
             snprintf(why, sizeof why, "%s", lost_why);
             snprintf(pt->error, sizeof pt->error,
