@@ -32,6 +32,15 @@
  * phidot + psidot cos(theta) cancels two rates of size Omega, which leaves
  * about 1e-16 rad of noise per period, 2e-10 of m0/c_t (the other components
  * reach 1e-12); tol = 1e-9 sits above it.
+ *
+ * Extremes over the orbit (exact_extreme): the extreme sample, then the zero
+ * of the quantity's time derivative between its neighbours by Brent's method
+ * (core/root.h), the state at each trial time re-integrated from the sample
+ * before it (a second CVODES instance, the state alone).
+ *
+ * Friction saturation of slip models (usm_periodic_saturation, for the
+ * periodic sweep): the limit orbit at infinite rotor speed, by a bordered
+ * Newton in (the stator's state, the parameter); see periodic_internal.h.
  */
 #include <complex.h>
 #include <math.h>
