@@ -20,6 +20,7 @@
  * friction law's supremum, the saturation point is computed directly (as the
  * stationary sweep, study/sweep_branch.c). */
 #define SAT_TRIGGER 0.999
+#define SAT_NEAR 0.99 /* where a lost branch is checked for saturation */
 
 struct usm_periodic_sweep {
     const usm_model *m;
@@ -504,8 +505,13 @@ int usm_periodic_sweep_run(usm_periodic_sweep *s, const usm_params *p,
                 h *= 0.5;
                 if (fabs(h) < MIN_STEP * s->range) {
                     lost = 1;
-                    if (slip && s->sat != 1)
+                    /* a branch lost near the friction law's supremum: the
+                     * saturation, if it lies within a grid spacing ahead */
+                    if (slip && s->sat != 1 && ra.friction_needed_max >= SAT_NEAR * mu_sup) {
                         find_saturation(s, va, &ra, opt->to);
+                        if (s->sat == 1 && fabs(s->sat_value - va) > fabs(hmax))
+                            s->sat = -1;
+                    }
                     if (s->sat == 1 ? emit_saturation(s, opt->to > opt->from) != 0
                                     : branch_end(s, vp, &rp, have_p, va, &ra) != 0)
                         goto oom;
