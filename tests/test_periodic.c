@@ -35,7 +35,7 @@
  *    extreme refined by the parabola through the extreme sample and its
  *    neighbours (error ~ (4 pi / 10^5)^3: below 1e-14): equal to 1e-9
  *    relative (F_n_min: of F_n_max, the contact force's size; the ripple:
- *    of the mean rotor speed); measured 5.1e-10 (3dof), 1.8e-10 (4dof).
+ *    of the mean rotor speed); measured 5.0e-10 (3dof), 1.8e-10 (4dof).
  *    3dof's friction_needed_max 0.80985558 also equals an independent
  *    shooting code's 0.8098557 within 2e-7 (its last digit; the 200-sample
  *    parabola of before gave 0.8099526, 1.2e-4 off).
