@@ -46,6 +46,29 @@ assert len(e) == 1 and e[0]['kind'] == 'neimark_sacker' and abs(e[0]['mode_split
 assert abs(e[0]['orbit']['floquet']['max_modulus'] - 1) < 1e-8 and e[0]['multiplier'][1] > 0
 assert o['points'][0]['floquet']['stable'] and not o['points'][2]['floquet']['stable']"
 fi
+# every event within a step, in order (issue 20): one step of 0.02 holds the
+# stick loss and the contact loss
+if expect_rc 0 sweep --periodic --variant imperfect --over mode_split --from 0 --to 0.5 --points 26; then
+    checks=$((checks + 1))
+    grep '^#' "$out" | "$PY" -c "import sys, re
+ev = [re.match(r'# (\w+) at mode_split = ([0-9.e+-]+):', l).groups() for l in sys.stdin]
+assert [e[0] for e in ev] == ['stick_loss', 'contact_loss'], ev
+assert abs(float(ev[0][1]) - 0.0089799) < 1e-7 and abs(float(ev[1][1]) - 0.0164256) < 1e-7, ev" \
+        || fail "mode-split sweep: want stick_loss, then contact_loss: $(grep '^#' "$out")"
+fi
+# friction saturation is its own event, at the stationary sweep's load (1e-9), not a fold
+if expect_rc 0 sweep --model 4dof --variant twist_integrated --over T --from 0 --to 0.002 --points 5; then
+    cp "$out" "$tmp/stationary.csv"
+    if expect_rc 0 sweep --periodic --model 4dof --variant twist_integrated --over T --from 0 --to 0.002 --points 5; then
+        checks=$((checks + 1))
+        a=$(sed -n 's/^# friction_saturation at T = \([0-9.e+-]*\):.*/\1/p' "$out")
+        b=$(sed -n 's/^# friction_saturation at T = \([0-9.e+-]*\):.*/\1/p' "$tmp/stationary.csv")
+        { [ -n "$a" ] && [ -n "$b" ] && ! grep -q '^# fold' "$out" && \
+          "$PY" -c "import sys; a, b = float(sys.argv[1]), float(sys.argv[2]); assert abs(a / b - 1) <= 1e-9" "$a" "$b" && \
+          grep -q '^0\.001,false,.*beyond friction_saturation' "$out"; } \
+            || fail "4dof periodic load sweep: friction_saturation '$a', stationary '$b'; events: $(grep '^#' "$out")"
+    fi
+fi
 expect_bad "amp_imbalance" "ideal motor" map --variant imperfect --x amp_imbalance --x-from 0 --x-to 0.1 --x-points 3 --y T --y-from 0 --y-to 1e-4 --y-points 3
 expect_bad "mode_split" "\(-1, 1\)" periodic --variant imperfect --set mode_split=1
 expect_bad "amp_imbalance" "\[-1, 1\]" periodic --variant imperfect --set amp_imbalance=-1.5

@@ -32,6 +32,15 @@
  * phidot + psidot cos(theta) cancels two rates of size Omega, which leaves
  * about 1e-16 rad of noise per period, 2e-10 of m0/c_t (the other components
  * reach 1e-12); tol = 1e-9 sits above it.
+ *
+ * Extremes over the orbit (exact_extreme): the extreme sample, then the zero
+ * of the quantity's time derivative between its neighbours by Brent's method
+ * (core/root.h), the state at each trial time re-integrated from the sample
+ * before it (a second CVODES instance, the state alone).
+ *
+ * Friction saturation of slip models (usm_periodic_saturation, for the
+ * periodic sweep): the limit orbit at infinite rotor speed, by a bordered
+ * Newton in (the stator's state, the parameter); see periodic_internal.h.
  */
 #include <complex.h>
 #include <math.h>
@@ -50,6 +59,7 @@
 
 #include "core/cvode_msg.h"
 #include "core/dense.h"
+#include "core/root.h"
 #include "multipliers.h"
 #include "periodic_internal.h"
 
@@ -69,6 +79,12 @@ struct usm_periodic {
     void *cv;
     N_Vector y, atol;
     SUNNonlinearSolver NLS;
+    /* the state alone, re-integrated from a sample (the extremes) */
+    void *cv2;
+    N_Vector y2, atol2;
+    SUNNonlinearSolver NLS2;
+    usm_root *root;
+    double rtol;
     /* eigenproblem without the cyclic directions (solve/multipliers.h) */
     usm_multipliers *mult;
     usm_steady *steady;
@@ -107,6 +123,15 @@ void usm_periodic_free(usm_periodic *w)
         N_VDestroy(w->y);
     if (w->atol)
         N_VDestroy(w->atol);
+    if (w->cv2)
+        CVodeFree(&w->cv2);
+    if (w->NLS2)
+        SUNNonlinSolFree(w->NLS2);
+    if (w->y2)
+        N_VDestroy(w->y2);
+    if (w->atol2)
+        N_VDestroy(w->atol2);
+    usm_root_free(w->root);
     if (w->ctx)
         SUNContext_Free(&w->ctx);
     usm_multipliers_free(w->mult);
@@ -123,6 +148,7 @@ static void cv_errors(int code, const char *module, const char *function, char *
 }
 
 static int cv_rhs(sunrealtype tau, N_Vector yv, N_Vector ydot, void *data);
+static int cv_rhs_state(sunrealtype tau, N_Vector yv, N_Vector ydot, void *data);
 
 usm_periodic *usm_periodic_alloc(const usm_model *m)
 {
@@ -150,6 +176,22 @@ usm_periodic *usm_periodic_alloc(const usm_model *m)
         CVodeSetNonlinearSolver(w->cv, w->NLS) != CV_SUCCESS ||
         CVodeSetUserData(w->cv, w) != CV_SUCCESS ||
         CVodeSetMaxNumSteps(w->cv, 100000) != CV_SUCCESS) {
+        usm_periodic_free(w);
+        return NULL;
+    }
+    w->y2 = N_VNew_Serial((sunindextype)n, w->ctx);
+    w->atol2 = N_VNew_Serial((sunindextype)n, w->ctx);
+    w->cv2 = CVodeCreate(CV_ADAMS, w->ctx);
+    w->root = usm_root_alloc();
+    if (w->y2)
+        N_VConst(0.0, w->y2);
+    if (!w->y2 || !w->atol2 || !w->cv2 || !w->root ||
+        CVodeSetErrHandlerFn(w->cv2, cv_errors, w) != CV_SUCCESS ||
+        CVodeInit(w->cv2, cv_rhs_state, 0.0, w->y2) != CV_SUCCESS ||
+        !(w->NLS2 = SUNNonlinSol_FixedPoint(w->y2, 0, w->ctx)) ||
+        CVodeSetNonlinearSolver(w->cv2, w->NLS2) != CV_SUCCESS ||
+        CVodeSetUserData(w->cv2, w) != CV_SUCCESS ||
+        CVodeSetMaxNumSteps(w->cv2, 100000) != CV_SUCCESS) {
         usm_periodic_free(w);
         return NULL;
     }
@@ -212,6 +254,13 @@ static int cv_rhs(sunrealtype tau, N_Vector yv, N_Vector ydot, void *data)
             dPsi[j * n + i] = s;
         }
     return 0;
+}
+
+/* The state alone (the extremes' re-integration from a sample). */
+static int cv_rhs_state(sunrealtype tau, N_Vector yv, N_Vector ydot, void *data)
+{
+    usm_periodic *w = data;
+    return motion(w, w->t0 + tau, N_VGetArrayPointer(yv), N_VGetArrayPointer(ydot), NULL) ? 1 : 0;
 }
 
 /* S = D^{-1} T(x0), D balancing T G(x0) T^{-1} (as floquet.c), and the basis
@@ -324,20 +373,143 @@ static int multipliers(usm_periodic *w, const double *Psi, usm_floquet_result *f
     return USM_OK;
 }
 
-/* Extreme of the periodic samples v[0..NS) (sign +1: max, -1: min), refined
- * by the parabola through the extreme sample and its neighbours. */
-static double extreme(const double *v, int stride, double sign)
+/* ---- the extremes over the orbit ------------------------------------------------ */
+
+/* The quantities whose extremes are reported. */
+enum { Q_THETA, Q_F_N, Q_RATIO, Q_SPEED };
+
+/* Quantity q at the sample row (t, x, F_n, F_t, rotor speed). */
+static double sample_quantity(const usm_periodic *w, int q, const double *row)
 {
+    const int n = w->n;
+    switch (q) {
+    case Q_THETA: return row[1 + w->m->x_theta];
+    case Q_F_N: return row[n + 1];
+    case Q_RATIO: return fabs(row[n + 2]) / row[n + 1];
+    default: return row[n + 3];
+    }
+}
+
+/* Quantity q at (t, x), as a sample row would hold it; NaN when the motion
+ * is singular there. */
+static double quantity(const usm_periodic *w, int q, double t, const double *x)
+{
+    double row[USM_MAX_NX + 4];
+    if (q == Q_THETA)
+        return x[w->m->x_theta];
+    if (sample(w, t, x, row) != 0)
+        return NAN;
+    return sample_quantity(w, q, row);
+}
+
+/* The step of the central difference along the motion, in radians of
+ * Omega t: truncation (eps Omega)^2 ~ 1e-10 and rounding 1e-16 / (eps
+ * Omega) ~ 1e-11 of the rate, which moves the located time by far less than
+ * the 1e-5 of T/(4 pi) at which the extreme's value would change by 1e-10. */
+#define RATE_STEP 1e-5
+
+/* dq/dt along the motion at (t, x): theta' from the equations of motion;
+ * the others by the central difference of q along the tangent (x', 1) of
+ * the motion, exact to O(eps^2) (no integration). */
+static double rate(const usm_periodic *w, int q, double t, const double *x)
+{
+    const int n = w->n;
+    double xdot[USM_MAX_NX], xp[USM_MAX_NX], xm[USM_MAX_NX];
+    if (motion(w, t, x, xdot, NULL) != 0)
+        return NAN;
+    if (q == Q_THETA)
+        return xdot[w->m->x_theta];
+    const double e = RATE_STEP / w->Omega;
+    for (int i = 0; i < n; ++i) {
+        xp[i] = x[i] + e * xdot[i];
+        xm[i] = x[i] - e * xdot[i];
+    }
+    return (quantity(w, q, t + e, xp) - quantity(w, q, t - e, xm)) / (2.0 * e);
+}
+
+/* The state on the orbit at time t (taken modulo the period into [t0, t0 +
+ * T)): re-integrated (the state alone, rtol as the period map) from the
+ * last sample at or before it.  0, or -1 when the integration fails. */
+static int state_at(usm_periodic *w, double t, double *x)
+{
+    const int n = w->n, nc = n + 4;
+    const double h = w->T / NS;
+    double tau = fmod(t - w->t0, w->T), reached = 0;
+    if (tau < 0)
+        tau += w->T;
+    int j = (int)floor(tau / h);
+    j = j < 0 ? 0 : j >= NS ? NS - 1 : j;
+    while (j > 0 && w->T * j / NS > tau)
+        --j;
+    const double tj = w->T * j / NS; /* the sample's tout (period_map) */
+    const double *row = w->samples + j * nc;
+    if (tau - tj <= 1e-6 * h) {
+        /* too close for CVODES to start: the first-order Taylor step, whose
+         * error (1e-6 h)^2 x''/2 is ~1e-15 of x */
+        double xdot[USM_MAX_NX];
+        if (motion(w, w->t0 + tj, row + 1, xdot, NULL) != 0)
+            return -1;
+        for (int i = 0; i < n; ++i)
+            x[i] = row[1 + i] + (tau - tj) * xdot[i];
+        return 0;
+    }
+    double *Y = N_VGetArrayPointer(w->y2), *A = N_VGetArrayPointer(w->atol2);
+    memcpy(Y, row + 1, sizeof(double) * (size_t)n);
+    for (int i = 0; i < n; ++i)
+        A[i] = w->rtol * w->scale[i];
+    if (CVodeReInit(w->cv2, tj, w->y2) != CV_SUCCESS ||
+        CVodeSVtolerances(w->cv2, w->rtol, w->atol2) != CV_SUCCESS ||
+        CVodeSetStopTime(w->cv2, tau) != CV_SUCCESS ||
+        CVode(w->cv2, tau, w->y2, &reached, CV_NORMAL) < 0)
+        return -1;
+    memcpy(x, Y, sizeof(double) * (size_t)n);
+    return 0;
+}
+
+typedef struct extreme_ctx {
+    usm_periodic *w;
+    int q;
+    double tk; /* the extreme sample's time */
+} extreme_ctx;
+
+/* The locator's function: dq/dt at tk + s (NaN when the re-integration
+ * fails). */
+static double extreme_rate(double s, void *data)
+{
+    extreme_ctx *c = data;
+    double x[USM_MAX_NX];
+    if (state_at(c->w, c->tk + s, x) != 0)
+        return NAN;
+    return rate(c->w, c->q, c->tk + s, x);
+}
+
+/* The maximum (sign +1) or minimum (-1) of quantity q over the orbit: the
+ * extreme sample k, then the zero of dq/dt between the samples k - 1 and k +
+ * 1 by Brent's method (core/root.h) to 1e-6 of the sample spacing (the
+ * value's error is quadratic in the time's: (4 pi 1e-6 / 200)^2 ~ 1e-14 of
+ * its size; 1e-9 moved the values by 5e-11 at most, the re-integration's
+ * noise, and cost 10 % more in a sweep), and q there on the re-integrated
+ * state.  The sample's value where the rate does
+ * not change sign there (an extreme at a kink) or the location fails. */
+static double exact_extreme(usm_periodic *w, int q, double sign)
+{
+    const int nc = w->n + 4;
     int k = 0;
     for (int i = 1; i < NS; ++i)
-        if (sign * v[i * stride] > sign * v[k * stride])
+        if (sign * sample_quantity(w, q, w->samples + i * nc) >
+            sign * sample_quantity(w, q, w->samples + k * nc))
             k = i;
-    const double a = v[((k + NS - 1) % NS) * stride], b = v[k * stride],
-                 c = v[((k + 1) % NS) * stride];
-    const double curv = a - 2.0 * b + c;
-    if (!(sign * curv < 0.0))
-        return b;
-    return b - (c - a) * (c - a) / (8.0 * curv);
+    double best = sample_quantity(w, q, w->samples + k * nc), s, x[USM_MAX_NX];
+    const double h = w->T / NS;
+    extreme_ctx c = {w, q, w->t0 + w->T * k / NS};
+    const usm_root_stop stop = {1e-6 * h, 0.0, 100};
+    if (usm_root_brent_eval(w->root, extreme_rate, &c, -h, h, &stop, &s) == 0 &&
+        state_at(w, c.tk + s, x) == 0) {
+        const double v = quantity(w, q, c.tk + s, x);
+        if (sign * v > sign * best)
+            best = v;
+    }
+    return best;
 }
 
 /* Amplitude of the harmonic `h` (of the excitation frequency) of periodic samples. */
@@ -351,28 +523,27 @@ static double harmonic(const double *v, int stride, int h)
     return 2.0 * hypot(re, im) / NS;
 }
 
-static void orbit_outputs(const usm_periodic *w, usm_periodic_result *r)
+static void orbit_outputs(usm_periodic *w, usm_periodic_result *r)
 {
     const int n = w->n, nc = n + 4; /* samples: nc columns (usm_periodic_samples) */
     const double *s = w->samples;
-    const double *th = s + 1 + w->m->x_theta, *Fn = s + n + 1, *Ft = s + n + 2, *wr = s + n + 3;
-    double ratio[NS], sum_w = 0, sum_th = 0;
+    const double *th = s + 1 + w->m->x_theta, *Fn = s + n + 1, *wr = s + n + 3;
+    double sum_w = 0, sum_th = 0;
     int open = 0;
     for (int i = 0; i < NS; ++i) {
         sum_w += wr[i * nc];
         sum_th += th[i * nc];
-        ratio[i] = fabs(Ft[i * nc]) / Fn[i * nc];
         open |= !(Fn[i * nc] > 0.0);
     }
     r->rotor_speed_mean = sum_w / NS; /* trapezoid rule: spectral on a periodic function */
-    r->rotor_speed_ripple = extreme(wr, nc, 1.0) - extreme(wr, nc, -1.0);
-    r->F_n_min = extreme(Fn, nc, -1.0);
-    r->F_n_max = extreme(Fn, nc, 1.0);
+    r->rotor_speed_ripple = exact_extreme(w, Q_SPEED, 1.0) - exact_extreme(w, Q_SPEED, -1.0);
+    r->F_n_min = exact_extreme(w, Q_F_N, -1.0);
+    r->F_n_max = exact_extreme(w, Q_F_N, 1.0);
     r->contact_open = r->F_n_min < 0.0;
-    r->friction_needed_max = open || r->contact_open ? NAN : extreme(ratio, 1, 1.0);
+    r->friction_needed_max = open || r->contact_open ? NAN : exact_extreme(w, Q_RATIO, 1.0);
     r->theta_mean = sum_th / NS;
-    r->theta_min = extreme(th, nc, -1.0);
-    r->theta_max = extreme(th, nc, 1.0);
+    r->theta_min = exact_extreme(w, Q_THETA, -1.0);
+    r->theta_max = exact_extreme(w, Q_THETA, 1.0);
     r->theta_harmonic_2 = harmonic(th, nc, 2);
     r->F_n_harmonic_2 = harmonic(Fn, nc, 2);
 }
@@ -537,6 +708,7 @@ int usm_periodic_solve(usm_periodic *w, const usm_params *p, const double *x_sta
     w->Omega = TWO_PI * p->f;
     w->T = 1.0 / p->f;
     w->t0 = opt->t0;
+    w->rtol = opt->rtol;
     double x0[USM_MAX_NX], x1[USM_MAX_NX], Psi[NN], theta = 0, speed = 0;
     int rc = ideal_start(w, p, x0, &theta, &speed);
     if (x_start) {
@@ -616,4 +788,157 @@ int usm_periodic_solve(usm_periodic *w, const usm_params *p, const double *x_sta
             return USM_EFAILED;
         }
     }
+}
+
+/* ---- friction saturation ----------------------------------------------------------- */
+
+/* The slip velocity [m/s] that stands for infinity (as the stationary sweep's,
+ * study/sweep_branch.c): the friction law equals its supremum there to
+ * rounding. */
+#define V_HUGE 1e15
+
+double usm_periodic_friction_supremum(const usm_model *m, const usm_params *p)
+{
+    double mp[2], mm[2];
+    if (!m->friction)
+        return NAN;
+    m->friction(V_HUGE, p, mp);
+    m->friction(-V_HUGE, p, mm);
+    return fmax(fabs(mp[0]), fabs(mm[0]));
+}
+
+/* The residuals of the saturated orbit (see usm_periodic_saturation) after a
+ * period map from x0 with the samples in w: the stator's periodicity in
+ * units of the scales, and for the rotor speed the change the mean rotor
+ * acceleration makes over the period (the trapezoid rule on the samples:
+ * spectral once the stator is periodic), in units of sw.  0 or -1. */
+static int saturation_residual(usm_periodic *w, const double *x0, const double *x1, double sw,
+                               double *r)
+{
+    const usm_model *m = w->m;
+    const int n = w->n, nc = n + 4, iw = m->x_phi_Rdot;
+    int k = 0;
+    for (int i = 0; i < n; ++i) {
+        if (m->cyclic[i])
+            continue;
+        if (i != iw) {
+            r[k++] = (x1[i] - x0[i] - (i == m->x_phi ? TWO_PI : 0.0)) / w->scale[i];
+            continue;
+        }
+        double sum = 0, xdot[USM_MAX_NX];
+        for (int j = 0; j < NS; ++j) {
+            const double *row = w->samples + j * nc;
+            if (motion(w, row[0], row + 1, xdot, NULL) != 0)
+                return -1;
+            sum += xdot[iw];
+        }
+        r[k++] = sum * (w->T / NS) / sw;
+    }
+    return 0;
+}
+
+int usm_periodic_saturation(usm_periodic *w, const usm_params *p, const usm_param_info *info,
+                            const double *x_start, double lambda_scale, double lambda_tol,
+                            const usm_periodic_options *opt, double *lambda)
+{
+    const usm_model *m = w->m;
+    const int n = w->n, iw = m->x_phi_Rdot;
+    usm_periodic_options def;
+    if (!opt) {
+        usm_periodic_options_default(&def);
+        opt = &def;
+    }
+    w->msg[0] = '\0';
+    w->have_samples = 0;
+    if (!m->friction || iw < 0 || m->x_tau < 0) {
+        snprintf(w->msg, USM_MSG_LEN, "model %s: no friction law to saturate", m->name);
+        return USM_EINPUT;
+    }
+    w->p = *p;
+    double *field = usm_params_field(&w->p, info);
+    double lam = *field;
+    w->Omega = TWO_PI * p->f;
+    w->T = 1.0 / p->f;
+    w->t0 = opt->t0;
+    w->rtol = opt->rtol;
+    double x0[USM_MAX_NX], x1[USM_MAX_NX], xdot[USM_MAX_NX], out[USM_OUT_COUNT], Psi[NN];
+    memcpy(x0, x_start, sizeof(double) * (size_t)n);
+    if (motion(w, w->t0, x0, xdot, NULL) != 0)
+        return USM_EFAILED;
+    m->outputs(x0, xdot, w->t0, &w->p, out);
+    const double v = out[USM_OUT_V_REL], theta = x0[m->x_theta];
+    if (!(fabs(v) > 0) || !(fabs(x0[iw]) > 0) || !(theta > 0)) {
+        snprintf(w->msg, USM_MSG_LEN, "saturation: no slip to start from");
+        return USM_EFAILED;
+    }
+    /* the rotor speed at which the slip velocity is V_HUGE (the slip is
+     * dominated by the rotor's speed there), held fixed: the stator's motion
+     * no longer depends on it */
+    const double W = x0[iw] * (V_HUGE / fabs(v));
+    x0[iw] = W;
+    set_scales(w, theta, fabs(W));
+    const double sw = w->Omega * theta; /* the rotor speed's change over a period */
+    int idx[USM_MAX_NX], k = 0;
+    for (int i = 0; i < n; ++i)
+        if (!m->cyclic[i])
+            idx[k++] = i;
+    for (int it = 0; it <= 2 * opt->max_iter; ++it) {
+        double r[USM_MAX_NX], r2[USM_MAX_NX], J[NN], B[NN], Wm[NN], res = 0;
+        *field = lam;
+        int rc = period_map(w, x0, opt->rtol, x1, Psi);
+        if (rc != USM_OK)
+            return rc;
+        if (saturation_residual(w, x0, x1, sw, r) != 0)
+            return USM_EFAILED;
+        for (int a = 0; a < k; ++a)
+            res = fmax(res, fabs(r[a]));
+        usm_matmul_dense(n, w->Sinv, Psi, Wm);
+        usm_matmul_dense(n, Wm, w->S, B);
+        /* the parameter's column by a forward difference */
+        const double dl = 1e-7 * lambda_scale;
+        *field = lam + dl;
+        if ((rc = period_map(w, x0, opt->rtol, x1, Psi)) != USM_OK)
+            return rc;
+        if (saturation_residual(w, x0, x1, sw, r2) != 0)
+            return USM_EFAILED;
+        *field = lam;
+        /* columns: the non-cyclic states but the rotor speed (held), then lambda;
+         * the rotor speed's row: d(omega(T))/dx_j = d(int omega' dt)/dx_j */
+        for (int a = 0; a < k; ++a) {
+            const int i = idx[a];
+            const double si = i == iw ? sw : w->scale[i];
+            int c = 0;
+            for (int b = 0; b < k; ++b) {
+                const int j = idx[b];
+                if (j == iw)
+                    continue;
+                J[a * k + c++] = (B[i * n + j] - (i == j)) * w->scale[j] / si;
+            }
+            J[a * k + c] = (r2[a] - r[a]) / dl * lambda_scale;
+        }
+        int piv[USM_MAX_NX];
+        if (!isfinite(res) || usm_lu_factor_dense(k, J, piv) != 0) {
+            snprintf(w->msg, USM_MSG_LEN, "saturation: the bordered Newton matrix is singular or "
+                                          "not finite");
+            return USM_EFAILED;
+        }
+        usm_lu_solve_dense(k, J, piv, r, 1);
+        int c = 0;
+        for (int b = 0; b < k; ++b)
+            if (idx[b] != iw)
+                x0[idx[b]] -= r[c++] * w->scale[idx[b]];
+        const double dlam = r[c] * lambda_scale;
+        lam -= dlam;
+        if (!(x0[m->x_theta] > 0) || !isfinite(lam)) {
+            snprintf(w->msg, USM_MSG_LEN, "saturation: Newton left the admissible states");
+            return USM_EFAILED;
+        }
+        if (res <= opt->tol && fabs(dlam) <= lambda_tol) {
+            *lambda = lam;
+            *field = lam;
+            return USM_OK;
+        }
+    }
+    snprintf(w->msg, USM_MSG_LEN, "saturation: Newton did not converge");
+    return USM_EFAILED;
 }

@@ -9,12 +9,18 @@
 #include <string.h>
 
 #include "core/root.h"
+#include "solve/periodic_internal.h"
 
 /* A trial step is accepted when Newton needed at most this many iterations;
  * more means the prediction was poor, and the next step is halved. */
 #define SLOW_NEWTON 4
 #define MIN_STEP 1e-7 /* of the range: below it the branch is lost */
 #define MAX_LOCATE 60
+/* Slip models: once friction_needed_max reaches this fraction of the
+ * friction law's supremum, the saturation point is computed directly (as the
+ * stationary sweep, study/sweep_branch.c). */
+#define SAT_TRIGGER 0.999
+#define SAT_NEAR 0.99 /* where a lost branch is checked for saturation */
 
 struct usm_periodic_sweep {
     const usm_model *m;
@@ -29,6 +35,8 @@ struct usm_periodic_sweep {
     usm_params p;
     usm_periodic_options popt;
     double range, tol;
+    int sat;            /* friction saturation: 0 not looked for, 1 located ahead, -1 not found */
+    double sat_value;   /* its parameter value when sat = 1 */
     char msg[USM_MSG_LEN];
 };
 
@@ -39,6 +47,7 @@ const char *usm_pevent_name(usm_pevent_type type)
     case USM_PEVENT_STICK_LOSS: return "stick_loss";
     case USM_PEVENT_FOLD: return "fold";
     case USM_PEVENT_STABILITY_CHANGE: return "stability_change";
+    case USM_PEVENT_FRICTION_SATURATION: return "friction_saturation";
     }
     return "unknown";
 }
@@ -220,7 +229,8 @@ static double trial_g(double v, void *ctx)
  * trial orbit fails (*v, *r then the end of smaller |g| of the last
  * bracket). */
 static int locate(usm_periodic_sweep *s, int k, double va, const usm_periodic_result *ra,
-                  double vb, const usm_periodic_result *rb, double *v, usm_periodic_result *r)
+                  double vb, const usm_periodic_result *rb, double *v, usm_periodic_result *r,
+                  trial *pos)
 {
     locate_ctx c;
     c.s = s;
@@ -243,6 +253,8 @@ static int locate(usm_periodic_sweep *s, int k, double va, const usm_periodic_re
     const trial *best = fabs(c.t[a].g) <= fabs(c.t[b].g) ? &c.t[a] : &c.t[b];
     *v = best->v;
     *r = best->r;
+    if (pos)
+        *pos = c.t[a].g > 0 ? c.t[a] : c.t[b];
     return rc;
 }
 
@@ -291,20 +303,40 @@ static int emit_located(usm_periodic_sweep *s, int k, double v, const usm_period
     return 0;
 }
 
-/* Events between the accepted orbits (va, ra) and (vb, rb), in sweep order. */
+/* Events between the accepted orbits (va, ra) and (vb, rb), in sweep order.
+ * The contact first: where it opens within the step, friction_needed_max is
+ * undefined at that end (it divides by F_n), and stick_loss is looked for
+ * between the other end and the located contact loss's closed side (where
+ * F_n_min > 0 is tiny and the friction needed large), so that stick loss
+ * before a contact loss in the same step is reported, and in its order. */
 static int step_events(usm_periodic_sweep *s, double va, const usm_periodic_result *ra, double vb,
                        const usm_periodic_result *rb)
 {
+    static const int order[NG] = {G_CONTACT, G_STABILITY, G_STICK};
     double vs[NG];
     usm_periodic_result rs[NG];
-    int ks[NG], located[NG], rising[NG], n = 0;
-    for (int k = 0; k < NG; ++k) {
+    int ks[NG], located[NG], rising[NG], n = 0, have_closed = 0;
+    trial closed; /* the contact loss's last bracket end with F_n_min > 0 */
+    for (int o = 0; o < NG; ++o) {
+        const int k = order[o];
         if (k == G_STICK && s->m->friction)
             continue; /* slip built in: F_t = mu(v) F_n, stick has no meaning */
-        const double g0 = gfun(s, k, ra), g1 = gfun(s, k, rb);
+        double v0 = va, v1 = vb;
+        const usm_periodic_result *r0 = ra, *r1 = rb;
+        double g0 = gfun(s, k, r0), g1 = gfun(s, k, r1);
+        if (k == G_STICK && have_closed && isfinite(g0) != isfinite(g1)) {
+            if (!isfinite(g0))
+                v0 = closed.v, r0 = &closed.r, g0 = closed.g;
+            else
+                v1 = closed.v, r1 = &closed.r, g1 = closed.g;
+            g0 = gfun(s, k, r0), g1 = gfun(s, k, r1);
+        }
         if (!isfinite(g0) || !isfinite(g1) || (g0 < 0) == (g1 < 0))
             continue;
-        located[n] = locate(s, k, va, ra, vb, rb, &vs[n], &rs[n]) == 0;
+        located[n] = locate(s, k, v0, r0, v1, r1, &vs[n], &rs[n],
+                            k == G_CONTACT ? &closed : NULL) == 0;
+        if (k == G_CONTACT)
+            have_closed = isfinite(closed.v);
         rising[n] = g1 > 0;
         ks[n++] = k;
     }
@@ -349,6 +381,37 @@ static int branch_end(usm_periodic_sweep *s, double vp, const usm_periodic_resul
                ? 0 : -1;
 }
 
+/* Friction saturation ahead of the orbit (v, r) of a slip model, between v
+ * and `to`: s->sat 1 and s->sat_value when located there, else -1. */
+static void find_saturation(usm_periodic_sweep *s, double v, const usm_periodic_result *r,
+                            double to)
+{
+    usm_params q = s->p;
+    double ls = NAN;
+    *usm_params_field(&q, s->info) = v;
+    const double dir = to > v ? 1.0 : -1.0;
+    s->sat = -1;
+    if (usm_periodic_saturation(s->w, &q, s->info, r->x0, s->range, s->tol, &s->popt, &ls) ==
+            USM_OK &&
+        (ls - v) * dir > 0 && (ls - to) * dir <= 0) {
+        s->sat = 1;
+        s->sat_value = ls;
+    }
+}
+
+/* The friction_saturation event at s->sat_value. */
+static int emit_saturation(usm_periodic_sweep *s, int dir_up)
+{
+    char vt[96];
+    value_text(s, s->sat_value, vt);
+    return add_event(s, USM_PEVENT_FRICTION_SATURATION, s->sat_value, NULL,
+                     "F_t / F_n reaches the friction law's supremum %.6g over the whole orbit at "
+                     "%s: the rotor speed diverges and no periodic orbit exists %s it",
+                     usm_periodic_friction_supremum(s->m, &s->p), vt,
+                     dir_up ? "above" : "below")
+               ? 0 : -1;
+}
+
 int usm_periodic_sweep_run(usm_periodic_sweep *s, const usm_params *p,
                            const usm_periodic_sweep_options *opt)
 {
@@ -385,6 +448,9 @@ int usm_periodic_sweep_run(usm_periodic_sweep *s, const usm_params *p,
     s->popt = opt->periodic;
     s->range = fabs(opt->to - opt->from);
     s->tol = opt->event_tol * s->range;
+    s->sat = 0;
+    const int slip = s->m->friction != NULL && s->m->x_phi_Rdot >= 0;
+    const double mu_sup = slip ? usm_periodic_friction_supremum(s->m, p) : NAN;
     usm_periodic_point *pts = realloc(s->pts, (size_t)opt->points * sizeof *pts);
     if (!pts) {
         snprintf(s->msg, sizeof s->msg, "out of memory");
@@ -402,6 +468,7 @@ int usm_periodic_sweep_run(usm_periodic_sweep *s, const usm_params *p,
         snprintf(s->msg, sizeof s->msg, "no orbit at %s = %.12g: %.180s", s->over, opt->from, why);
         return rc == USM_EINPUT ? USM_EINPUT : USM_EFAILED;
     }
+    rp = ra; /* unused before a second orbit (have_p) */
     double va = opt->from, vp = va, h = hmax;
     int have_p = 0, lost = 0;
     char lost_why[USM_MSG_LEN] = "";
@@ -416,6 +483,11 @@ int usm_periodic_sweep_run(usm_periodic_sweep *s, const usm_params *p,
         usm_periodic_point *pt = &s->pts[i];
         memset(pt, 0, sizeof *pt);
         pt->value = target;
+        if (!lost && s->sat == 1 && (target - s->sat_value) * (opt->to - opt->from) >= 0) {
+            lost = 1; /* the branch ends at the saturation located ahead */
+            if (emit_saturation(s, opt->to > opt->from) != 0)
+                goto oom;
+        }
         while (!lost && va != target) {
             const double vb = fabs(target - va) <= fabs(h) * (1 + 1e-12) ? target : va + h;
             const double *x0 = ra.x0;
@@ -433,7 +505,15 @@ int usm_periodic_sweep_run(usm_periodic_sweep *s, const usm_params *p,
                 h *= 0.5;
                 if (fabs(h) < MIN_STEP * s->range) {
                     lost = 1;
-                    if (branch_end(s, vp, &rp, have_p, va, &ra) != 0)
+                    /* a branch lost near the friction law's supremum: the
+                     * saturation, if it lies within a grid spacing ahead */
+                    if (slip && s->sat != 1 && ra.friction_needed_max >= SAT_NEAR * mu_sup) {
+                        find_saturation(s, va, &ra, opt->to);
+                        if (s->sat == 1 && fabs(s->sat_value - va) > fabs(hmax))
+                            s->sat = -1;
+                    }
+                    if (s->sat == 1 ? emit_saturation(s, opt->to > opt->from) != 0
+                                    : branch_end(s, vp, &rp, have_p, va, &ra) != 0)
                         goto oom;
                 }
                 continue;
@@ -442,10 +522,17 @@ int usm_periodic_sweep_run(usm_periodic_sweep *s, const usm_params *p,
                 goto oom;
             vp = va, rp = ra, have_p = 1;
             va = vb, ra = rb;
+            if (slip && s->sat == 0 && rb.friction_needed_max >= SAT_TRIGGER * mu_sup)
+                find_saturation(s, va, &ra, opt->to);
             if (rb.iterations <= 2 && fabs(2 * h) <= fabs(hmax))
                 h *= 2;
         }
-        if (lost) {
+        if (lost && s->sat == 1 && (target - s->sat_value) * (opt->to - opt->from) >= 0) {
+            char vt[96];
+            value_text(s, s->sat_value, vt);
+            snprintf(pt->error, sizeof pt->error,
+                     "no orbit beyond friction_saturation at %s: the rotor speed diverges", vt);
+        } else if (lost) {
             char why[USM_MSG_LEN];
             snprintf(why, sizeof why, "%s", lost_why);
             snprintf(pt->error, sizeof pt->error,

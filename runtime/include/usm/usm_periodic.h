@@ -55,8 +55,10 @@ typedef struct usm_periodic_result {
     int nx;
     double x0[USM_MAX_NX];  /* state at t0 on the orbit */
     usm_floquet_result floquet; /* multipliers of the orbit (cyclic ones flagged) */
-    /* over one period (sampled at USM_PERIODIC_SAMPLES points; extremes refined
-     * by a parabola through the three samples around them) */
+    /* over one period: means and harmonics from USM_PERIODIC_SAMPLES samples;
+     * extremes located on the orbit (the zero of their time derivative next
+     * to the extreme sample, by Brent's method on the re-integrated state:
+     * to 1e-9 of a 10^5-sample orbit; docs/periodic.md) */
     double rotor_speed_mean;    /* [1/s], the paper's sign */
     double rotor_speed_ripple;  /* peak to peak [1/s] */
     double F_n_min, F_n_max;    /* [N] */

@@ -21,6 +21,18 @@
  *                      extrapolated linearly in lambda from the last two
  *                      orbits ((mu - 1)^2 is linear in lambda near a fold), so
  *                      it is accurate to the last step only (no orbit there).
+ *   friction_saturation  slip models: F_t/F_n reaches the friction law's
+ *                      supremum over the whole orbit and the rotor speed
+ *                      diverges; the branch ends there (no orbit).  Located
+ *                      directly as the saturated limit orbit (the stator's
+ *                      orbit on which the mean rotor acceleration vanishes,
+ *                      the rotor speed held where the slip is 1e15 m/s, as
+ *                      the stationary sweep's), to the event tolerance, once
+ *                      friction_needed_max passes 0.999 of the supremum or
+ *                      the continuation loses the branch; it is then
+ *                      reported instead of a fold.
+ * Events within one step are reported in sweep order; stick_loss is found
+ * also in a step at whose end the contact is already open.
  * The points are the requested grid values in sweep order.
  *
  * Thread safety: one usm_periodic_sweep per thread; no global state.
@@ -41,7 +53,8 @@ typedef enum {
     USM_PEVENT_CONTACT_LOSS = 0,
     USM_PEVENT_STICK_LOSS = 1,
     USM_PEVENT_FOLD = 2,
-    USM_PEVENT_STABILITY_CHANGE = 3
+    USM_PEVENT_STABILITY_CHANGE = 3,
+    USM_PEVENT_FRICTION_SATURATION = 4
 } usm_pevent_type;
 
 /* How the critical multiplier crosses the unit circle. */
@@ -52,7 +65,8 @@ typedef enum {
     USM_CROSSING_NEIMARK_SACKER = 3 /* a complex pair */
 } usm_crossing_kind;
 
-/* "contact_loss", "stick_loss", "fold", "stability_change". */
+/* "contact_loss", "stick_loss", "fold", "stability_change",
+ * "friction_saturation". */
 const char *usm_pevent_name(usm_pevent_type type);
 /* "", "fold", "period_doubling", "neimark_sacker". */
 const char *usm_crossing_name(usm_crossing_kind kind);
@@ -62,7 +76,8 @@ typedef struct usm_periodic_event {
     usm_pevent_type type;
     usm_crossing_kind kind;     /* stability_change only, else USM_CROSSING_NONE */
     double value;               /* parameter value of the event */
-    int has_orbit;              /* 0 for fold (no orbit at the turning point) */
+    int has_orbit;              /* 0 for fold (no orbit at the turning point) and
+                                   friction_saturation (infinite rotor speed) */
     usm_periodic_result orbit;  /* the orbit at `value` when has_orbit */
     double multiplier_re, multiplier_im; /* stability_change: the critical multiplier */
     char what[USM_MSG_LEN];     /* one sentence */
