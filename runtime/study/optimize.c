@@ -11,6 +11,7 @@
 
 #include <nlopt.h>
 
+#include "core/dense.h"
 #include "core/root.h"
 
 #define FEAS_TOL 1e-6   /* constraint violation accepted, in the scaled units */
@@ -526,6 +527,91 @@ static int run_starts(usm_optimize *o, best *b, cons_ctx *cc, int nc)
     return USM_OK;
 }
 
+/* ---- polishing an interior optimum ------------------------------------------------------ */
+
+#define POLISH_STEP 1e-5   /* gradient differences for the Hessian, box units */
+#define POLISH_NOISE 1e-10 /* the objective's values are this accurate (relative) */
+
+/* SLSQP stops where its function values stop improving, which leaves the
+ * gradient of an interior optimum at ~1e-6 of its size.  Newton's method on
+ * the gradient over the free variables (no active constraint, not at a
+ * bound; the Hessian from central differences of the analytic gradients)
+ * takes it to the gradient's own accuracy.  A step is kept only when it is
+ * small (1e-3 of the box), stays feasible, lowers the gradient and does not
+ * worsen the objective beyond the noise of its values (measured: a step
+ * that took the gradient of the 4dof speed over f from 9e-7 to 6e-13 of the
+ * speed "lost" 1.1e-11 of it: the stationary solutions' rounding, not a
+ * worse point, which SLSQP, deciding by those values, cannot see past). */
+static void polish(usm_optimize *o, cons_ctx *cc, int nc, best *b)
+{
+    const usm_opt_problem *pb = o->pb;
+    const int n = pb->nvary;
+    const double sigma = pb->minimize ? 1.0 : -1.0;
+    int fr[USM_NPARAMS], m = 0;
+    for (int j = 0; j < n; ++j)
+        if (b->x[j] > BOUND_TOL && b->x[j] < 1 - BOUND_TOL)
+            fr[m++] = j;
+    if (m == 0 || m > USM_EXPM_MAX_N)
+        return;
+    for (int it = 0; it < 3; ++it) {
+        double g[USM_NPARAMS], y, x[USM_NPARAMS], H[USM_EXPM_MAX_N * USM_EXPM_MAX_N];
+        double step[USM_EXPM_MAX_N], gn = 0;
+        int piv[USM_EXPM_MAX_N];
+        char worst[USM_OPT_TEXT_LEN];
+        evaluate(o, b->x);
+        if (!o->solved || output(o, pb->objective, &y, g) != 0)
+            return;
+        for (int i = 0; i < nc; ++i)
+            if (fabs(cons_value(&cc[i], b->x, NULL)) <= ACTIVE_TOL)
+                return; /* constrained: SLSQP's multipliers balance it */
+        for (int a = 0; a < m; ++a)
+            gn = fmax(gn, fabs(g[fr[a]]));
+        for (int a = 0; a < m; ++a) {
+            double gp[USM_NPARAMS], gm[USM_NPARAMS], yy;
+            memcpy(x, b->x, sizeof x);
+            x[fr[a]] = b->x[fr[a]] + POLISH_STEP;
+            evaluate(o, x);
+            if (output(o, pb->objective, &yy, gp) != 0)
+                return;
+            x[fr[a]] = b->x[fr[a]] - POLISH_STEP;
+            evaluate(o, x);
+            if (output(o, pb->objective, &yy, gm) != 0)
+                return;
+            for (int c = 0; c < m; ++c)
+                H[c * m + a] = (gp[fr[c]] - gm[fr[c]]) / (2 * POLISH_STEP);
+        }
+        for (int a = 0; a < m; ++a) {
+            for (int c = 0; c < a; ++c)
+                H[a * m + c] = H[c * m + a] = 0.5 * (H[a * m + c] + H[c * m + a]);
+            step[a] = -g[fr[a]];
+        }
+        if (usm_lu_factor_dense(m, H, piv) != 0)
+            return;
+        usm_lu_solve_dense(m, H, piv, step, 1);
+        memcpy(x, b->x, sizeof x);
+        for (int a = 0; a < m; ++a) {
+            if (!(fabs(step[a]) <= 1e-3))
+                return;
+            x[fr[a]] += step[a];
+            if (x[fr[a]] <= BOUND_TOL || x[fr[a]] >= 1 - BOUND_TOL)
+                return;
+        }
+        double v = violation(o, cc, nc, x, worst), g2[USM_NPARAMS], y2, gn2 = 0;
+        if (v > FEAS_TOL || output(o, pb->objective, &y2, g2) != 0)
+            return;
+        for (int a = 0; a < m; ++a)
+            gn2 = fmax(gn2, fabs(g2[fr[a]]));
+        /* a smaller gradient, and not worse beyond the noise of the values */
+        if (!(sigma * (y2 - y) <= POLISH_NOISE * fabs(y)) || !(gn2 < gn))
+            return;
+        memcpy(b->x, x, sizeof x);
+        b->value = y2;
+        b->violation = v;
+        if (gn2 <= 1e-13 * fabs(y2))
+            return;
+    }
+}
+
 /* ---- at the optimum: multipliers and KKT residual ------------------------------------- */
 
 /* Active constraints and bounds at x, their multipliers as d(value)/d(bound)
@@ -887,6 +973,12 @@ int usm_optimize_run(usm_optimize *o, const usm_params *p, const usm_opt_problem
         }
         out->evaluations = o->evaluations;
         return USM_ENOSOLUTION;
+    }
+    polish(o, cc, nc, &b);
+    if (o->failed) {
+        if (!o->msg[0])
+            snprintf(o->msg, USM_MSG_LEN, "numerical failure");
+        return USM_EFAILED;
     }
     o->have = 0; /* re-evaluate at the optimum: the state NLopt left is another point's */
     evaluate(o, b.x);
