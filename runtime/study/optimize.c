@@ -770,6 +770,13 @@ static double profile_value(profile_ctx *c, double z)
             memcpy(xbest, x, sizeof xbest);
         }
     }
+    if (o->failed) {
+        /* a numerical failure (the sensitivities) off the optimum: not a
+         * near-optimal point, and not a reason to lose the optimum found */
+        o->failed = 0;
+        o->msg[0] = '\0';
+        return NAN;
+    }
     if (!isnan(y) && c->ncache < PROFILE_CACHE) {
         c->zc[c->ncache] = z;
         memcpy(c->xc[c->ncache++], xbest, sizeof xbest);
@@ -777,13 +784,11 @@ static double profile_value(profile_ctx *c, double z)
     return y;
 }
 
-/* > 0 where near-optimal, < 0 where not (or infeasible); NaN on a failure. */
+/* > 0 where near-optimal, < 0 where not (infeasible, or a numerical failure). */
 static double profile_fn(double z, void *ctx)
 {
     profile_ctx *c = ctx;
     double y = profile_value(c, z);
-    if (c->o->failed)
-        return NAN;
     if (isnan(y))
         return -c->tol;
     return c->o->pb->minimize ? c->ystar + c->tol - y : y - (c->ystar - c->tol);
@@ -806,36 +811,28 @@ static int flat_intervals(usm_optimize *o, cons_ctx *cc, int nc, const double *x
     *c = (profile_ctx){.o = o, .cc = cc, .nc = nc, .xstar = xstar, .ystar = ystar,
                        .tol = USM_OPT_FLAT_TOL * (ystar != 0 ? fabs(ystar) : 1.0)};
     const usm_root_stop stop = {FLAT_XTOL, 0, 60};
-    int status = USM_OK;
     o->obj_scale = ystar != 0 ? fabs(ystar) : 1.0;
-    for (int j = 0; j < pb->nvary && status == USM_OK; ++j) {
+    for (int j = 0; j < pb->nvary; ++j) {
         double ends[2];
         c->j = j;
         c->ncache = 0;
-        for (int side = 0; side < 2 && status == USM_OK; ++side) {
+        for (int side = 0; side < 2; ++side) {
             const double zb = side ? 1.0 : 0.0, dir = side ? 1.0 : -1.0;
             double z0 = xstar[j], f0 = c->tol, h = 1.0 / 64;
             ends[side] = zb;
             while (fabs(zb - z0) > BOUND_TOL) {
                 const double z1 = fabs(zb - z0) <= h ? zb : z0 + dir * h;
                 const double f1 = profile_fn(z1, c);
-                if (o->failed) {
-                    status = USM_EFAILED;
-                    break;
-                }
                 if (f1 >= 0) {
                     z0 = z1;
                     f0 = f1;
                     h *= 2;
                     continue;
                 }
-                /* the end of Brent's last bracket on the near-optimal side */
+                /* the end of Brent's last bracket on the near-optimal side (the
+                 * function never fails: a failure reads as not near-optimal) */
                 double z, a, b;
-                if (usm_root_brent(o->root, profile_fn, c, z0, z1, f0, f1, &stop, &z) != 0 &&
-                    o->failed) {
-                    status = USM_EFAILED;
-                    break;
-                }
+                usm_root_brent(o->root, profile_fn, c, z0, z1, f0, f1, &stop, &z);
                 usm_root_bracket(o->root, &a, &b);
                 ends[side] = fabs(a - xstar[j]) < fabs(b - xstar[j]) ? a : b;
                 break;
@@ -847,7 +844,7 @@ static int flat_intervals(usm_optimize *o, cons_ctx *cc, int nc, const double *x
         out->flat[j] = ends[1] - ends[0] > USM_OPT_FLAT_FRACTION;
     }
     free(c);
-    return status;
+    return USM_OK;
 }
 
 /* ---- the workspace and the run ---------------------------------------------------------- */
