@@ -8,10 +8,11 @@
  * user constraint OUTPUT <= X or OUTPUT >= X.  The outputs are
  * usm_design.h's USM_SENS_*, the rotor speed signed in the driving
  * direction: USM_OPT_SPEED = -rotor_speed (positive when the motor drives),
- * named "speed" with "rotor_speed" an alias (usm_opt_output_find).  NLopt's SLSQP with the analytic sensitivities
- * (usm_sensitivity_compute) as gradients, in variables normalised to [0, 1],
- * from `starts` deterministic points of a rank-1 lattice over the box; the
- * best feasible end point wins.
+ * named "speed" with "rotor_speed" an alias (usm_opt_output_find).  NLopt's
+ * SLSQP with the analytic sensitivities (usm_sensitivity_compute) as
+ * gradients, in variables normalised to [0, 1], from `starts` deterministic
+ * points of a rank-1 lattice over the box; the best feasible end point wins;
+ * an interior optimum is polished by Newton steps on the gradient.
  *
  * At the optimum the result carries: the active constraints and bounds, each
  * with its Lagrange multiplier expressed as d(value)/d(bound), the change of
@@ -181,12 +182,12 @@ const char *usm_optimize_message(const usm_optimize *o);
 /* The `usm optimize --json` object of the last run of o (model m, problem pb,
  * result res) and a newline to out.  Feasible: feasible (true), objective,
  * sense, value, varied, parameters, active_constraints, multipliers,
- * kkt_residual, flat, near_optimal, evaluations, t0, floquet_method and the
- * stationary solution at the optimum as `usm steady --json` writes it
- * ("solution").  After USM_ENOSOLUTION: feasible (false), objective, sense,
- * least_violation, violated, varied, parameters (at the point of least
- * violation).  Keys: README.md.  0, or -1 on a write error or when out of
- * memory. */
+ * kkt_residual, flat, near_optimal, evaluations and the stationary solution
+ * at the optimum as `usm steady --json` writes it ("solution", its floquet
+ * from pb->t0).  After USM_ENOSOLUTION: feasible (false), objective, sense,
+ * least_violation, violated, value, varied, parameters, evaluations (at the
+ * point of least violation).  Keys: README.md.  0, or -1 on a write error or
+ * when out of memory. */
 int usm_optimize_write_json(const usm_optimize *o, const usm_model *m, const usm_opt_problem *pb,
                             const usm_opt_result *res, FILE *out);
 
