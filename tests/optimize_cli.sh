@@ -1,12 +1,24 @@
 #!/bin/bash
 # usm optimize from the command line:
-#  - --json has the keys of issue 13 (objective, sense, value, varied, parameters,
-#    active_constraints, kkt_residual, evaluations, solution = a usm steady object);
+#  - --json has the keys of issues 13 and 20 (feasible, objective, sense, value,
+#    varied, parameters, active_constraints, multipliers, kkt_residual, flat,
+#    near_optimal, evaluations, solution = a usm steady object);
 #  - the optimum meets every constraint (a user constraint, the stability margin)
 #    and its value is the solution's;
-#  - no feasible point: exit 3 naming the constraint; bad specification: exit 2
-#    naming the field.
-# (The optimum against a grid search: test_optimize.c.)
+#  - speed is signed in the driving direction (rotor_speed an alias of it) and
+#    every design drives the load (power_out >= 0) unless --allow-driven;
+#  - against truths the optimizer does not compute: an interior optimum (KKT
+#    residual < 1e-6) against the maximum `usm sweep --extremum speed` locates;
+#    the flat parameter F0 of the README's example against the efficiency where
+#    `usm sweep --crossing speed=8` puts the speed at 8 at F0 = 0.8; the
+#    multiplier of speed >= 8 against a central difference of re-optimising
+#    with the bound moved; the multiplier of power_out >= 0 at the stall
+#    against 1/T (speed = power_out / T); --t0 against `usm steady --t0`;
+#    a max_modulus objective against the solution's multipliers;
+#  - no feasible point: exit 3 naming the constraint, {"feasible": false, ...}
+#    on stdout with --json; the variant imperfect: steady's exit-2 reason; bad
+#    specification: exit 2 naming the field.
+# (The optimum against grid searches and golden sections: test_optimize.c.)
 #
 # usage: optimize_cli.sh PATH/TO/usm
 set -u
@@ -14,12 +26,16 @@ set -u
 USM=${1:?usage: optimize_cli.sh PATH/TO/usm}
 . "$(dirname "$0")/cli_common.sh"
 
-expect_rc 0 optimize --objective efficiency --vary F0=0.2:0.8 --vary f=36000:38000 --set T=3e-4 \
-    --stability-margin 0.02 --constraint 'rotor_speed>=8' --starts 4 --json
+EXAMPLE=(--objective efficiency --vary F0=0.2:0.8 --vary f=36000:38000 --set T=3e-4
+         --stability-margin 0.02)
+
+expect_rc 0 optimize "${EXAMPLE[@]}" --constraint 'rotor_speed>=8' --starts 4 --json
+cp "$out" "$tmp/example.json"
 py "
-assert list(o) == ['objective', 'sense', 'value', 'varied', 'parameters', 'active_constraints',
-                   'kkt_residual', 'evaluations', 'solution'], list(o)
-assert o['objective'] == 'efficiency' and o['sense'] == 'max'
+assert list(o) == ['feasible', 'objective', 'sense', 'value', 'varied', 'parameters',
+                   'active_constraints', 'multipliers', 'kkt_residual', 'flat', 'near_optimal',
+                   'evaluations', 'solution'], list(o)
+assert o['feasible'] is True and o['objective'] == 'efficiency' and o['sense'] == 'max'
 assert list(o['varied']) == ['F0', 'f'] and len(o['parameters']) == 22
 assert 0.2 <= o['varied']['F0'] <= 0.8 and 36000 <= o['varied']['f'] <= 38000
 for k, v in o['varied'].items():
@@ -28,10 +44,115 @@ s = o['solution']
 assert abs(s['efficiency'] - o['value']) <= 1e-12 * o['value']
 assert -s['rotor_speed'] >= 8 * (1 - 1e-6), s['rotor_speed']
 assert s['floquet']['max_modulus'] <= 0.98 + 1e-6
-assert s['stick_admissible']
-assert 'rotor_speed >= 8' in o['active_constraints'], o['active_constraints']
+assert s['stick_admissible'] and s['power_out'] >= 0
+assert o['active_constraints'] == ['speed >= 8', 'bound: F0 = LO'], o['active_constraints']
+assert list(o['multipliers']) == o['active_constraints']
+assert o['multipliers']['speed >= 8'] < 0 and o['multipliers']['bound: F0 = LO'] < 0
 assert isinstance(o['evaluations'], int) and o['evaluations'] > 0
-assert o['kkt_residual'] <= 1e-6"
+assert o['kkt_residual'] <= 1e-6
+# F0 and f are flat: the optimum is a ridge speed = 8 along which the efficiency
+# changes by 7e-6 (the truth: the sweep below)
+assert o['flat'] == ['F0', 'f'], o['flat']
+assert o['near_optimal']['F0'] == [0.2, 0.8], o['near_optimal']"
+
+# the truth for the flat F0: at F0 = 0.8 the frequency where the speed is 8, located by
+# the sweep's crossing event (Brent on the continued branch), gives an efficiency within
+# 1e-4 of the optimum, so F0's near-optimal interval is all of [0.2, 0.8]; f's interval
+# reaches that frequency (to 1e-3 of the box: 2 Hz)
+expect_rc 0 sweep --over f --from 36000 --to 38000 --points 41 --set F0=0.8 --set T=3e-4 \
+    --crossing speed=8 --json
+py "
+ex = json.load(open('$tmp/example.json'))
+e = [e for e in o['events'] if e['type'] == 'crossing']
+assert len(e) == 1, o['events']
+eff, f8 = e[0]['solution']['efficiency'], e[0]['f']
+assert eff >= ex['value'] * (1 - 1e-4), (eff, ex['value'])
+assert ex['value'] >= eff, (eff, ex['value'])
+assert ex['near_optimal']['f'][1] >= f8 - 2, (ex['near_optimal']['f'], f8)"
+
+# the multiplier of speed >= 8: the optimum's change per unit of the bound, against
+# re-optimising at 8 -+ 0.04 (measured 2.2e-5 relative apart: the curvature, O(h^2))
+for b in 7.96 8.04; do
+    expect_rc 0 optimize "${EXAMPLE[@]}" --constraint "speed>=$b" --starts 4 --no-flat --json
+    cp "$out" "$tmp/speed$b.json"
+done
+py "
+ex = json.load(open('$tmp/example.json'))
+lo, hi = (json.load(open('$tmp/speed%s.json' % b))['value'] for b in ('7.96', '8.04'))
+fd = (hi - lo) / 0.08
+m = ex['multipliers']['speed >= 8']
+assert abs(m - fd) <= 1e-4 * abs(fd), (m, fd)
+assert o['near_optimal']['F0'] == [None, None] and o['flat'] == []"
+
+# 4-DOF, the speed as rotor_speed: the fastest design in the driving direction; it
+# drives the load. (Before issue 20: |rotor_speed| 38.7 1/s driven backwards, -31 mW.)
+expect_rc 0 optimize --model 4dof --objective rotor_speed --vary T=1e-5:1e-3 \
+    --vary f=36000:38000 --json
+py "
+s = o['solution']
+assert o['objective'] == 'speed' and o['value'] == -s['rotor_speed'] and o['value'] > 0
+assert s['power_out'] >= 0 and s['efficiency'] >= 0, (s['power_out'], s['efficiency'])
+assert o['active_constraints'] == ['bound: T = LO'], o['active_constraints']
+assert o['kkt_residual'] < 1e-6"
+
+# the slowest design: without --allow-driven it stalls (speed 0: power_out >= 0 active,
+# held to NLopt's 1e-10 of power_in, measured -5e-12 W; its multiplier
+# d speed / d power_out = 1/T since power_out = T speed); with it the load drives the
+# rotor backwards
+expect_rc 0 optimize --model 4dof --objective speed --minimize --vary T=1e-5:1e-3 \
+    --vary f=36000:38000 --starts 4 --no-flat --json
+py "
+s = o['solution']
+assert abs(o['value']) <= 1e-6 and s['power_out'] >= -1e-9 * s['power_in'], (o['value'], s['power_out'])
+assert 'drives: power_out >= 0' in o['active_constraints'], o['active_constraints']
+m = o['multipliers']['drives: power_out >= 0']
+assert abs(m * o['parameters']['T'] - 1) <= 1e-6, (m, o['parameters']['T'])"
+expect_rc 0 optimize --model 4dof --objective speed --minimize --vary T=1e-5:1e-3 \
+    --vary f=36000:38000 --starts 4 --no-flat --allow-driven --json
+py "
+s = o['solution']
+assert o['value'] < -1 and s['power_out'] < 0, (o['value'], s['power_out'])
+assert not any(a.startswith('drives') for a in o['active_constraints'])"
+
+# an interior optimum (speed over f): KKT residual < 1e-6, no active constraint, f not
+# flat; the truth: the speed maximum of usm sweep --extremum speed (Brent on the branch)
+expect_rc 0 optimize --objective speed --vary f=36000:38000 --json
+cp "$out" "$tmp/interior.json"
+py "
+assert o['active_constraints'] == [] and o['multipliers'] == {}
+assert o['kkt_residual'] < 1e-6, o['kkt_residual']
+assert o['flat'] == [] and o['near_optimal']['f'][0] < o['varied']['f'] < o['near_optimal']['f'][1]"
+expect_rc 0 sweep --over f --from 37300 --to 37600 --points 31 --extremum speed --json --no-floquet
+py "
+ex = json.load(open('$tmp/interior.json'))
+e = [e for e in o['events'] if e['type'] == 'maximum' and e['monitor'] == 'speed']
+assert len(e) == 1, o['events']
+assert abs(ex['varied']['f'] - e[0]['f']) <= 0.05, (ex['varied']['f'], e[0]['f'])
+assert ex['value'] >= e[0]['monitor_value'] * (1 - 1e-10), (ex['value'], e[0]['monitor_value'])"
+
+# --t0: the multipliers start there, the stability margin from t0 = 20 ms limits the
+# speed (at t0 = 0 it does not); usm steady --t0 agrees at the optimum
+expect_rc 0 optimize --objective speed --vary f=36000:38000 --t0 0.02 --json
+cp "$out" "$tmp/t0.json"
+py "
+s = o['solution']
+assert s['floquet']['t0'] == 0.02
+assert o['active_constraints'] == ['stability: max_modulus <= 0.99'], o['active_constraints']
+assert s['floquet']['max_modulus'] <= 0.99 + 1e-6
+assert o['varied']['f'] < 37000"
+f_t0=$("$PY" -c "import json; print(repr(json.load(open('$tmp/t0.json'))['varied']['f']))")
+expect_rc 0 steady --set "f=$f_t0" --t0 0.02 --floquet-method variational --json
+py "
+ex = json.load(open('$tmp/t0.json'))
+assert o['floquet']['t0'] == 0.02
+assert abs(o['floquet']['max_modulus'] - ex['solution']['floquet']['max_modulus']) <= 1e-8
+assert abs(o['floquet']['max_modulus'] - 0.99) <= 1e-6, o['floquet']['max_modulus']"
+expect_bad --t0 "number" optimize --objective speed --vary f=36000:38000 --t0 soon
+
+# a max_modulus objective: value is the reported multipliers' max_modulus, exactly
+expect_rc 0 optimize --objective max_modulus --minimize --vary f=36000:38000 --starts 2 --json
+py "
+assert o['value'] == o['solution']['floquet']['max_modulus'], (o['value'], o['solution']['floquet'])"
 
 # the speed grows with m0, so the optimum is the upper bound, exactly: 0.001 + (0.01 - 0.001)
 # rounds to 0.010000000000000002 (issue 22)
@@ -41,13 +162,43 @@ assert o['varied']['m0'] == 0.01, repr(o['varied']['m0'])
 assert o['parameters']['m0'] == 0.01 and o['solution']['parameters']['m0'] == 0.01"
 
 expect_rc 0 optimize --objective rotor_speed --minimize --vary m0=0.004:0.006 --starts 2
-grep -q '^minimum of rotor_speed' "$out" || fail "table lacks the minimum line"
+grep -q '^minimum of speed' "$out" || fail "table lacks the minimum line"
+grep -q 'near-optimal in' "$out" || fail "table lacks the near-optimal intervals"
 
+# infeasible: exit 3, the one-line message on stderr, and with --json the point of least
+# violation on stdout; its violation is 1 - power_out / 1 W (usm steady at that point)
 checks=$((checks + 1))
 run optimize --objective efficiency --vary F0=0.2:0.8 --constraint 'power_out>=1' --starts 2
 rc=$?
 [ $rc -eq 3 ] || fail "infeasible: exit $rc, want 3"
 grep -q '^usm: constraint: .*power_out >= 1' "$err" || fail "infeasible: stderr does not name the constraint"
+[ -s "$out" ] && fail "infeasible: table output on stdout"
+checks=$((checks + 1))
+run optimize --objective efficiency --vary F0=0.2:0.8 --constraint 'power_out>=1' --starts 2 --json
+rc=$?
+[ $rc -eq 3 ] || fail "infeasible --json: exit $rc, want 3"
+[ "$(wc -l <"$err")" -eq 1 ] && grep -q '^usm: constraint: .*power_out >= 1' "$err" ||
+    fail "infeasible --json: stderr is not the one-line message"
+cp "$out" "$tmp/infeasible.json"
+py "
+assert list(o)[:3] == ['feasible', 'objective', 'sense'] and o['feasible'] is False
+assert o['violated'] == ['power_out >= 1'], o['violated']
+assert 0 < o['least_violation'] < 1"
+F0_iv=$("$PY" -c "import json; print(repr(json.load(open('$tmp/infeasible.json'))['varied']['F0']))")
+expect_rc 0 steady --set "F0=$F0_iv" --json
+py "
+iv = json.load(open('$tmp/infeasible.json'))
+assert abs(iv['least_violation'] - (1 - o['power_out'])) <= 1e-12, (iv['least_violation'], o['power_out'])"
+
+# the variant imperfect: usm steady's reason, word for word, exit 2
+run steady --variant imperfect --set phase_error=0.1
+cp "$err" "$tmp/steady.err"
+checks=$((checks + 1))
+run optimize --variant imperfect --set phase_error=0.1 --objective efficiency --vary F0=0.2:0.8
+rc=$?
+[ $rc -eq 2 ] && cmp -s "$err" "$tmp/steady.err" ||
+    fail "imperfect: exit $rc, stderr differs from usm steady's: $(cat "$tmp/steady.err")"
+expect_bad --variant "twist_integrated" optimize --variant imperfect --objective efficiency --vary F0=0.2:0.8
 
 expect_bad --objective "unknown output" optimize --objective bogus --vary F0=0.2:0.8
 expect_bad --objective "required" optimize --vary F0=0.2:0.8

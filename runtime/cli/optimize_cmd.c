@@ -21,27 +21,37 @@ static void usage(FILE *out)
     fprintf(out,
             "usage: usm optimize --objective NAME [--minimize] --vary NAME=LO:HI [--vary ...]\n"
             "                    [--constraint OUTPUT>=X | OUTPUT<=X]... [--stability-margin D]\n"
-            "                    [--allow-slip] [--starts N] [--model M] [--variant V]\n"
-            "                    [--params F] [--set N=V]... [--json]\n"
+            "                    [--allow-slip] [--allow-driven] [--starts N] [--t0 S]\n"
+            "                    [--no-flat] [--model M] [--variant V] [--params F]\n"
+            "                    [--set N=V]... [--json]\n"
             "\n"
             "Maximize (default) or minimize an output of the primary stationary solution over\n"
             "the --vary parameters within their bounds, subject to: a stationary solution\n"
-            "exists; max_modulus <= 1 - D (--stability-margin, default 0.01); stick is\n"
-            "admissible in the stick model (F_t <= mu0 F_n) unless --allow-slip; every\n"
-            "--constraint.  NLopt SLSQP with the analytic sensitivities as gradients, from\n"
-            "--starts (default 8) deterministic points spread over the box; the best\n"
-            "feasible result wins.\n"
+            "exists; max_modulus <= 1 - D (--stability-margin, default 0.01; multipliers\n"
+            "from t0); the motor drives the load, power_out >= 0, unless --allow-driven;\n"
+            "stick is admissible in the stick model (F_t <= mu0 F_n) unless --allow-slip;\n"
+            "every --constraint.  NLopt SLSQP with the analytic sensitivities as gradients,\n"
+            "from --starts (default 8) deterministic points spread over the box; the best\n"
+            "feasible result wins.  At the optimum: each active constraint's multiplier\n"
+            "(the objective's change per unit of its bound), the KKT residual, and the\n"
+            "flat parameters (objective within 1e-4 relative over more than a tenth of\n"
+            "their bounds).\n"
             "\n"
-            "outputs (objective and constraints): rotor_speed (its magnitude), theta, F_n, F_t,\n"
-            "efficiency, stick_margin, max_modulus, power_in, power_out\n"
+            "outputs (objective and constraints): speed (= -rotor_speed, positive when the\n"
+            "motor drives; rotor_speed is an alias of it), theta, F_n, F_t, efficiency,\n"
+            "stick_margin, max_modulus, power_in, power_out\n"
             "\n"
             "options:\n");
     cli_common_usage(out);
     fprintf(out,
+            "  --allow-driven      drop power_out >= 0 (designs the load drives backwards)\n"
+            "  --t0 S              start of the Floquet period [s] (default 0, the paper's)\n"
+            "  --no-flat           skip the near-optimal intervals (flat parameters)\n"
             "  -h, --help          print this help\n"
             "\n"
             "exit status: 0 optimum found, 1 numerical failure, 2 bad specification,\n"
-            "             3 no feasible point (the message names the constraint)\n");
+            "             3 no feasible point (the message names the constraint; with --json\n"
+            "             {\"feasible\": false, ...} on stdout)\n");
 }
 
 /* NAME=LO:HI */
@@ -87,7 +97,7 @@ static int parse_constraint(opt_args *a, const char *text, char msg[CLI_MSG_LEN]
         return USM_EINPUT;
     }
     snprintf(name, sizeof name, "%.*s", (int)(op - text), text);
-    if (usm_sensitivity_output_find(name) < 0) {
+    if (usm_opt_output_find(name) < 0) {
         cli_msg(msg, "--constraint: unknown output \"%s\"", name);
         return USM_EINPUT;
     }
@@ -102,8 +112,9 @@ static int parse_constraint(opt_args *a, const char *text, char msg[CLI_MSG_LEN]
 
 static int parse(opt_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
 {
-    static const char *const opts[] = {"--objective", "--vary", "--constraint",
-                                       "--stability-margin", "--starts"};
+    static const char *const opts[] = {"--objective",        "--vary",   "--constraint",
+                                       "--stability-margin", "--starts", "--t0"};
+    enum { NOPTS = sizeof opts / sizeof opts[0] };
     memset(a, 0, sizeof *a);
     cli_common_init(&a->common);
     usm_opt_problem_init(&a->pb);
@@ -114,22 +125,34 @@ static int parse(opt_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
             a->help = 1;
             return USM_OK;
         }
-        if (strcmp(argv[i], "--minimize") == 0 || strcmp(argv[i], "--allow-slip") == 0) {
-            *(argv[i][2] == 'm' ? &a->pb.minimize : &a->pb.allow_slip) = 1;
+        if (strcmp(argv[i], "--minimize") == 0) {
+            a->pb.minimize = 1;
+            continue;
+        }
+        if (strcmp(argv[i], "--allow-slip") == 0) {
+            a->pb.allow_slip = 1;
+            continue;
+        }
+        if (strcmp(argv[i], "--allow-driven") == 0) {
+            a->pb.allow_driven = 1;
+            continue;
+        }
+        if (strcmp(argv[i], "--no-flat") == 0) {
+            a->pb.no_flat = 1;
             continue;
         }
         if ((r = cli_common_option(&a->common, argc, argv, &i, msg)) == CLI_OPT_TAKEN)
             continue;
         if (r == CLI_OPT_ERROR)
             return USM_EINPUT;
-        for (int o = 0; o < 5 && which < 0; ++o) {
+        for (int o = 0; o < NOPTS && which < 0; ++o) {
             if ((r = cli_option_value(argc, argv, &i, opts[o], &value, msg)) == CLI_OPT_ERROR)
                 return USM_EINPUT;
             if (r == CLI_OPT_TAKEN)
                 which = o;
         }
         if (which == 0) {
-            a->pb.objective = usm_sensitivity_output_find(value);
+            a->pb.objective = usm_opt_output_find(value);
             if (a->pb.objective < 0) {
                 cli_msg(msg, "--objective: unknown output \"%s\" (see usm optimize --help)", value);
                 return USM_EINPUT;
@@ -143,6 +166,9 @@ static int parse(opt_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
         } else if (which == 4) {
             if (cli_parse_int(opts[which], value, &a->pb.starts, msg) != USM_OK)
                 return USM_EINPUT;
+        } else if (which == 5) {
+            if (cli_parse_double(opts[which], value, &a->pb.t0, msg) != USM_OK)
+                return USM_EINPUT;
         } else {
             cli_msg(msg, "%s: %s (see usm optimize --help)", argv[i],
                     argv[i][0] == '-' ? "unknown option" : "unexpected argument");
@@ -153,6 +179,11 @@ static int parse(opt_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
     if (rc != USM_OK)
         return rc;
     char lib[USM_MSG_LEN];
+    /* an imperfect motor: usm steady's reason, word for word */
+    if (usm_params_check_ideal(&a->common.params, lib) != USM_OK) {
+        cli_msg(msg, "%s", lib);
+        return USM_EINPUT;
+    }
     if (usm_opt_problem_check(&a->pb, a->common.model, &a->common.params, lib) != USM_OK) {
         cli_msg(msg, "--%s", lib);
         return USM_EINPUT;
@@ -177,26 +208,30 @@ static void write_table(const opt_args *a, const usm_opt_result *res)
     const usm_steady_solution *s = &res->sol;
     printf("model %s: %s\n", a->common.model->name, a->common.model->description);
     printf("%s %s = %.10g%s\n", pb->minimize ? "minimum of" : "maximum of",
-           usm_sensitivity_output_name(pb->objective), res->value,
-           pb->objective == USM_SENS_ROTOR_SPEED ? " (magnitude)" : "");
-    printf("\nvaried parameters\n");
+           usm_opt_output_name(pb->objective), res->value,
+           pb->objective == USM_OPT_SPEED ? " 1/s (-rotor_speed: positive when driving)" : "");
+    printf("\nvaried parameters (near-optimal interval: objective within 1e-4 relative)\n");
     for (int j = 0; j < pb->nvary; ++j) {
         const usm_param_info *info = &usm_param_table[pb->vary[j]];
-        printf("  %-6s %-20.10g in [%g, %g] %s\n", info->name, usm_params_get(&res->params, info),
+        printf("  %-6s %-20.10g in [%g, %g] %s", info->name, usm_params_get(&res->params, info),
                pb->lo[j], pb->hi[j], info->unit);
+        if (!pb->no_flat)
+            printf("; near-optimal in [%.6g, %.6g]%s", res->near_lo[j], res->near_hi[j],
+                   res->flat[j] ? ": flat" : "");
+        printf("\n");
     }
-    printf("\nactive constraints\n");
+    printf("\nactive constraints (multiplier: change of the optimum per unit of the bound)\n");
     if (res->nactive == 0)
         printf("  none\n");
     for (int i = 0; i < res->nactive; ++i)
-        printf("  %s\n", res->active[i]);
+        printf("  %-34s %.6g\n", res->active[i], res->multiplier[i]);
     printf("\nKKT residual %.3g, %d evaluations, %d starts\n", res->kkt_residual,
            res->evaluations, pb->starts);
     printf("\nstationary solution at the optimum\n");
     printf("  theta %.10g rad, rotor_speed %.10g 1/s, F_n %.10g N, F_t %.10g N\n", s->theta,
            s->rotor_speed, s->F_n, s->F_t);
-    printf("  power_out %.6g W, efficiency %.6g, max_modulus %.10g\n", s->power_out,
-           s->efficiency, res->floquet.max_modulus);
+    printf("  power_out %.6g W, efficiency %.6g, max_modulus %.10g (t0 = %g s)\n", s->power_out,
+           s->efficiency, res->floquet.max_modulus, res->floquet.t0);
 }
 
 int cli_optimize_main(int argc, char **argv)
@@ -216,8 +251,11 @@ int cli_optimize_main(int argc, char **argv)
     int status = o && res ? usm_optimize_run(o, &a.common.params, &a.pb, res) : USM_EFAILED;
     if (!o || !res)
         cli_error("out of memory");
-    else if (status == USM_ENOSOLUTION)
+    else if (status == USM_ENOSOLUTION) {
         cli_error("%s", usm_optimize_message(o));
+        if (a.common.json && write_json(&a, o, res) != USM_OK)
+            status = USM_EFAILED;
+    }
     else if (status != USM_OK)
         cli_error("optimize: %s", usm_optimize_message(o));
     else if (a.common.json)

@@ -1,29 +1,77 @@
-/* The `usm optimize --json` object (usm_optimize.h). */
+/* The `usm optimize --json` object (usm_optimize.h): the optimum, or after
+ * USM_ENOSOLUTION the point of least violation. */
 #include <stdio.h>
 
 #include "json_out.h"
 #include "steady_out.h"
 #include "usm_optimize.h"
 
+static json_t *strings(int n, const char (*text)[USM_OPT_TEXT_LEN], int *ok)
+{
+    json_t *a = json_array();
+    if (!a)
+        *ok = 0;
+    for (int i = 0; a && i < n; ++i)
+        if (json_array_append_new(a, json_string(text[i])) != 0)
+            *ok = 0;
+    return a;
+}
+
+static json_t *varied(const usm_opt_problem *pb, const usm_params *p, int *ok)
+{
+    json_t *v = json_object();
+    if (!v)
+        *ok = 0;
+    for (int j = 0; v && j < pb->nvary; ++j) {
+        const usm_param_info *info = &usm_param_table[pb->vary[j]];
+        usm_json_put(v, info->name, usm_json_real(usm_params_get(p, info)), ok);
+    }
+    return v;
+}
+
 int usm_optimize_write_json(const usm_optimize *o, const usm_model *m, const usm_opt_problem *pb,
                             const usm_opt_result *res, FILE *out)
 {
-    json_t *obj = json_object(), *varied = json_object(), *act = json_array();
-    int ok = obj && varied && act;
-    usm_json_put(obj, "objective", json_string(usm_sensitivity_output_name(pb->objective)), &ok);
+    json_t *obj = json_object();
+    int ok = obj != NULL;
+    usm_json_put(obj, "feasible", json_boolean(res->feasible), &ok);
+    usm_json_put(obj, "objective", json_string(usm_opt_output_name(pb->objective)), &ok);
     usm_json_put(obj, "sense", json_string(pb->minimize ? "min" : "max"), &ok);
-    usm_json_put(obj, "value", usm_json_real(res->value), &ok);
-    for (int j = 0; j < pb->nvary; ++j) {
-        const usm_param_info *info = &usm_param_table[pb->vary[j]];
-        usm_json_put(varied, info->name, usm_json_real(usm_params_get(&res->params, info)), &ok);
+    if (!res->feasible) {
+        usm_json_put(obj, "least_violation", usm_json_real(res->least_violation), &ok);
+        usm_json_put(obj, "violated", strings(res->nviolated, res->violated, &ok), &ok);
+        usm_json_put(obj, "value", usm_json_real(res->value), &ok);
+        usm_json_put(obj, "varied", varied(pb, &res->params, &ok), &ok);
+        usm_json_put(obj, "parameters", usm_json_params(&res->params), &ok);
+        usm_json_put(obj, "evaluations", json_integer(res->evaluations), &ok);
+        if (!ok) {
+            json_decref(obj);
+            obj = NULL;
+        }
+        return usm_json_write(obj, out);
     }
-    usm_json_put(obj, "varied", varied, &ok);
+    json_t *mult = json_object(), *flat = json_array(), *near = json_object();
+    ok = ok && mult && flat && near;
+    usm_json_put(obj, "value", usm_json_real(res->value), &ok);
+    usm_json_put(obj, "varied", varied(pb, &res->params, &ok), &ok);
     usm_json_put(obj, "parameters", usm_json_params(&res->params), &ok);
+    usm_json_put(obj, "active_constraints", strings(res->nactive, res->active, &ok), &ok);
     for (int i = 0; i < res->nactive; ++i)
-        if (json_array_append_new(act, json_string(res->active[i])) != 0)
-            ok = 0;
-    usm_json_put(obj, "active_constraints", act, &ok);
+        usm_json_put(mult, res->active[i], usm_json_real(res->multiplier[i]), &ok);
+    usm_json_put(obj, "multipliers", mult, &ok);
     usm_json_put(obj, "kkt_residual", usm_json_real(res->kkt_residual), &ok);
+    for (int j = 0; j < pb->nvary; ++j) {
+        const char *name = usm_param_table[pb->vary[j]].name;
+        if (res->flat[j] && json_array_append_new(flat, json_string(name)) != 0)
+            ok = 0;
+        json_t *iv = json_array();
+        if (!iv || json_array_append_new(iv, usm_json_real(res->near_lo[j])) != 0 ||
+            json_array_append_new(iv, usm_json_real(res->near_hi[j])) != 0)
+            ok = 0;
+        usm_json_put(near, name, iv, &ok);
+    }
+    usm_json_put(obj, "flat", flat, &ok);
+    usm_json_put(obj, "near_optimal", near, &ok);
     usm_json_put(obj, "evaluations", json_integer(res->evaluations), &ok);
     usm_json_put(obj, "solution", usm_steady_json(&(usm_steady_report){m, &res->params,
                                                     usm_optimize_steady(o), NULL,

@@ -65,6 +65,7 @@ typedef struct step {
 struct usm_sensitivity {
     const usm_model *m;
     int n;
+    double t0;                        /* start of the period (usm_sensitivity_set_t0) */
     char msg[USM_MSG_LEN];
     step *steps;                      /* MAX_STEPS */
     double complex (*WA)[NN], (*WM)[NN]; /* weights of dA and dM per step */
@@ -135,6 +136,11 @@ void usm_sensitivity_free(usm_sensitivity *s)
     gsl_matrix_complex_free(s->evecr);
     gsl_matrix_complex_free(s->evecl);
     free(s);
+}
+
+void usm_sensitivity_set_t0(usm_sensitivity *s, double t0)
+{
+    s->t0 = t0;
 }
 
 const char *usm_sensitivity_message(const usm_sensitivity *s)
@@ -289,17 +295,17 @@ static int coefficients(usm_sensitivity *s, const usm_params *p, const usm_stead
     return 0;
 }
 
-/* T (tangent map) and its inverse, and D balancing Gy(0) (as floquet.c). */
+/* T (tangent map) and its inverse, and D balancing Gy(t0) (as floquet.c). */
 static int coordinates(usm_sensitivity *s, const usm_params *p, const usm_steady_solution *sol)
 {
     const int n = s->n;
     double orbit[2 * NMAX];
     step st;
-    s->m->steady_state(sol->u, sol->beta, 0.0, p, orbit);
+    s->m->steady_state(sol->u, sol->beta, s->t0, p, orbit);
     s->m->tangent_map(orbit, p, s->T);
     for (int i = 0; i < n; ++i)
         s->d[i] = 1.0;
-    if (invert(s, s->T, s->Tinv) != 0 || coefficients(s, p, sol, 0.0, &st) != 0)
+    if (invert(s, s->T, s->Tinv) != 0 || coefficients(s, p, sol, s->t0, &st) != 0)
         return -1;
     gsl_matrix_view Gv = gsl_matrix_view_array(st.G, (size_t)n, (size_t)n);
     if (gsl_linalg_balance_matrix(&Gv.matrix, s->dscale) != GSL_SUCCESS)
@@ -365,7 +371,7 @@ static int product(usm_sensitivity *s, const usm_params *p, const usm_steady_sol
     for (int i = 0; i < n; ++i)
         Bh[i * n + i] = 1;
     for (int k = 0; k < N; ++k) {
-        if (coefficients(s, p, sol, (k + 0.5) * h, &steps[k]) != 0 ||
+        if (coefficients(s, p, sol, s->t0 + (k + 0.5) * h, &steps[k]) != 0 ||
             expm(s, steps[k].Gh, h, steps[k].E) != 0)
             return -1;
         matmul(n, steps[k].E, Bh, W);

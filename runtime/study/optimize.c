@@ -1,5 +1,7 @@
 /* The best design over parameter bounds (usm_optimize.h): NLopt SLSQP with
- * the analytic sensitivities as gradients, from several deterministic starts. */
+ * the analytic sensitivities as gradients, from several deterministic starts;
+ * at the optimum the KKT multipliers (non-negative least squares), and the
+ * near-optimal interval of each varied parameter (Brent on its profile). */
 #include "usm_optimize.h"
 
 #include <math.h>
@@ -9,10 +11,19 @@
 
 #include <nlopt.h>
 
+#include "core/dense.h"
+#include "core/root.h"
+
 #define FEAS_TOL 1e-6   /* constraint violation accepted, in the scaled units */
 #define ACTIVE_TOL 1e-5 /* a constraint this close to its bound is active */
+#define BOUND_TOL 1e-9  /* a variable this close to 0 or 1 (box units) sits at its bound */
 #define MAX_EVALS 300   /* per start */
-#define MAX_CONS (USM_OPT_MAX_CONSTRAINTS + 2)
+#define PROFILE_EVALS 100 /* per re-optimisation of a profile point */
+#define FLAT_XTOL 1e-3  /* the near-optimal interval's ends, in box units */
+#define MAX_CONS (USM_OPT_MAX_CONSTRAINTS + 3)
+
+/* The built-in and user constraints. */
+enum { C_STABILITY, C_DRIVES, C_STICK, C_USER };
 
 typedef struct cons_ctx cons_ctx;
 
@@ -22,6 +33,7 @@ struct usm_optimize {
     usm_sensitivity *sens;
     usm_floquet *floquet;
     usm_sensitivity_result *r;
+    usm_root *root;
     /* the run */
     const usm_opt_problem *pb;
     usm_params base, p;
@@ -33,15 +45,34 @@ struct usm_optimize {
     int evaluations;
     int failed;           /* a numerical failure (not "no solution") */
     double obj_scale;
+    int fix;              /* a varied parameter held at fix_z (the profile), or -1: NLopt
+                             then sees the other nvary - 1 variables */
+    double fix_z;
     char msg[USM_MSG_LEN];
 };
 
 struct cons_ctx {
     usm_optimize *o;
-    int kind;        /* 0 stability, 1 stick, 2 user */
+    int kind;        /* C_* */
     int index;       /* user constraint index */
     double scale;
 };
+
+/* ---- the outputs -------------------------------------------------------------------- */
+
+const char *usm_opt_output_name(int k)
+{
+    return k == USM_OPT_SPEED ? "speed" : usm_sensitivity_output_name(k);
+}
+
+int usm_opt_output_find(const char *name)
+{
+    if (!name)
+        return -1;
+    if (strcmp(name, "speed") == 0 || strcmp(name, "rotor_speed") == 0)
+        return USM_OPT_SPEED;
+    return usm_sensitivity_output_find(name);
+}
 
 /* ---- the problem ------------------------------------------------------------------ */
 
@@ -81,7 +112,7 @@ int usm_opt_problem_add_vary(usm_opt_problem *pb, const char *name, double lo, d
 int usm_opt_problem_add_constraint(usm_opt_problem *pb, const char *output, int upper,
                                    double value, char msg[USM_MSG_LEN])
 {
-    int k = usm_sensitivity_output_find(output);
+    int k = usm_opt_output_find(output);
     if (k < 0) {
         snprintf(msg, USM_MSG_LEN, "constraint: unknown output \"%s\"", output);
         return USM_EINPUT;
@@ -97,6 +128,16 @@ int usm_opt_problem_add_constraint(usm_opt_problem *pb, const char *output, int 
 int usm_opt_problem_check(const usm_opt_problem *pb, const usm_model *m, const usm_params *p,
                           char msg[USM_MSG_LEN])
 {
+    /* the ideal motor only, refused with usm_steady_solve's own reason */
+    if (usm_params_check_ideal(p, msg) != USM_OK)
+        return USM_EINPUT;
+    if (m->imperfect) {
+        snprintf(msg, USM_MSG_LEN,
+                 "variant: model %s: the optimizer's gradients are the sensitivities of the "
+                 "stationary solution, defined for the ideal motor only; use the variant "
+                 "twist_integrated", m->name);
+        return USM_EINPUT;
+    }
     if (pb->objective < 0 || pb->objective >= USM_SENS_COUNT) {
         snprintf(msg, USM_MSG_LEN, "objective: required");
         return USM_EINPUT;
@@ -113,16 +154,20 @@ int usm_opt_problem_check(const usm_opt_problem *pb, const usm_model *m, const u
         snprintf(msg, USM_MSG_LEN, "starts: must be an integer in [1, 1000]");
         return USM_EINPUT;
     }
+    if (!isfinite(pb->t0)) {
+        snprintf(msg, USM_MSG_LEN, "t0: must be a finite number");
+        return USM_EINPUT;
+    }
     if (pb->ncons < 0 || pb->ncons > USM_OPT_MAX_CONSTRAINTS) {
         snprintf(msg, USM_MSG_LEN, "constraint: at most %d", USM_OPT_MAX_CONSTRAINTS);
         return USM_EINPUT;
     }
     for (int i = 0; i < pb->ncons; ++i)
-        if (!usm_sensitivity_output_name(pb->cons[i].output) || !isfinite(pb->cons[i].value)) {
+        if (!usm_opt_output_name(pb->cons[i].output) || !isfinite(pb->cons[i].value)) {
             snprintf(msg, USM_MSG_LEN, "constraint: %d: unknown output or bound not finite", i);
             return USM_EINPUT;
         }
-    /* every corner of the box must be admissible parameters */
+    /* every corner of the box must be admissible parameters of an ideal motor */
     for (int k = 0; k < pb->nvary; ++k) {
         if (pb->vary[k] < 0 || pb->vary[k] >= USM_NPARAMS || !(pb->lo[k] < pb->hi[k])) {
             snprintf(msg, USM_MSG_LEN, "vary: %d: unknown parameter or LO >= HI", k);
@@ -134,7 +179,7 @@ int usm_opt_problem_check(const usm_opt_problem *pb, const usm_model *m, const u
             char m2[USM_MSG_LEN];
             *usm_params_field(&q, info) = side ? pb->hi[k] : pb->lo[k];
             usm_params_couple(m, &q, pb->vary[k]);
-            if (usm_params_check(&q, m, m2) != USM_OK) {
+            if (usm_params_check(&q, m, m2) != USM_OK || usm_params_check_ideal(&q, m2) != USM_OK) {
                 snprintf(msg, USM_MSG_LEN, "vary: %.240s", m2);
                 return USM_EINPUT;
             }
@@ -188,8 +233,8 @@ static int output(const usm_optimize *o, int k, double *y, double *grad)
     const usm_sensitivity_result *r = o->r;
     if (!o->solved || (grad && !r->defined[k]) || !isfinite(r->value[k]))
         return -1;
-    /* rotor_speed is optimised in magnitude */
-    const double s = k == USM_SENS_ROTOR_SPEED && r->value[k] < 0 ? -1.0 : 1.0;
+    /* speed: -rotor_speed, positive in the driving direction */
+    const double s = k == USM_OPT_SPEED ? -1.0 : 1.0;
     *y = s * r->value[k];
     if (grad)
         for (int i = 0; i < pb->nvary; ++i) {
@@ -204,51 +249,91 @@ static int output(const usm_optimize *o, int k, double *y, double *grad)
     return 0;
 }
 
-/* Constraint c(x) <= 0 in scaled units. */
-static double cons_value(const cons_ctx *c, const double *x, double *grad)
+/* The output, sign and bound of constraint c: sign (y - bound) <= 0. */
+static void cons_def(const cons_ctx *c, int *k, double *sign, double *bound)
+{
+    const usm_opt_problem *pb = c->o->pb;
+    switch (c->kind) {
+    case C_STABILITY:
+        *k = USM_SENS_MAX_MODULUS, *sign = 1, *bound = 1 - pb->margin;
+        break;
+    case C_DRIVES:
+        *k = USM_SENS_POWER_OUT, *sign = -1, *bound = 0;
+        break;
+    case C_STICK:
+        *k = USM_SENS_STICK_MARGIN, *sign = -1, *bound = 0;
+        break;
+    default:
+        *k = pb->cons[c->index].output;
+        *sign = pb->cons[c->index].upper ? 1 : -1;
+        *bound = pb->cons[c->index].value;
+    }
+}
+
+/* Constraint c(x) = sign (y - bound) <= 0 in the output's own units, and its
+ * gradient in z; -1 where not defined (no solution, no derivative). */
+static int cons_own(const cons_ctx *c, const double *x, double *value, double *grad)
 {
     usm_optimize *o = c->o;
-    const usm_opt_problem *pb = o->pb;
+    int k;
+    double sign, bound, y, g[USM_NPARAMS];
     evaluate(o, x);
-    double y, g[USM_NPARAMS];
-    int k = c->kind == 0 ? USM_SENS_MAX_MODULUS
-            : c->kind == 1 ? USM_SENS_STICK_MARGIN
-                           : pb->cons[c->index].output;
-    if (output(o, k, &y, grad ? g : NULL) != 0) {
-        /* no solution (or no derivative): infeasible, no direction */
+    cons_def(c, &k, &sign, &bound);
+    if (output(o, k, &y, grad ? g : NULL) != 0)
+        return -1;
+    *value = sign * (y - bound);
+    if (grad)
+        for (int i = 0; i < o->pb->nvary; ++i)
+            grad[i] = sign * g[i];
+    return 0;
+}
+
+/* Constraint c(x) <= 0 in scaled units: 1 (infeasible, no direction) where not defined. */
+static double cons_value(const cons_ctx *c, const double *x, double *grad)
+{
+    const int n = c->o->pb->nvary;
+    double v;
+    if (cons_own(c, x, &v, grad) != 0) {
         if (grad)
-            memset(grad, 0, sizeof(double) * (size_t)pb->nvary);
+            memset(grad, 0, sizeof(double) * (size_t)n);
         return 1.0;
     }
-    double sign, bound;
-    if (c->kind == 0) {
-        sign = 1;
-        bound = 1 - pb->margin;
-    } else if (c->kind == 1) {
-        sign = -1;
-        bound = 0;
-    } else {
-        sign = pb->cons[c->index].upper ? 1 : -1;
-        bound = pb->cons[c->index].value;
-    }
     if (grad)
-        for (int i = 0; i < pb->nvary; ++i)
-            grad[i] = sign * g[i] / c->scale;
-    return sign * (y - bound) / c->scale;
+        for (int i = 0; i < n; ++i)
+            grad[i] /= c->scale;
+    return v / c->scale;
 }
 
-static double nl_constraint(unsigned n, const double *x, double *grad, void *data)
+/* NLopt's variables: all nvary, or all but the one held (o->fix). */
+static void expand(const usm_optimize *o, const double *xr, double *x)
 {
+    for (int j = 0, k = 0; j < o->pb->nvary; ++j)
+        x[j] = j == o->fix ? o->fix_z : xr[k++];
+}
+
+static void reduce(const usm_optimize *o, const double *x, double *xr)
+{
+    for (int j = 0, k = 0; j < o->pb->nvary; ++j)
+        if (j != o->fix)
+            xr[k++] = x[j];
+}
+
+static double nl_constraint(unsigned n, const double *xr, double *grad, void *data)
+{
+    const cons_ctx *c = data;
+    double x[USM_NPARAMS], g[USM_NPARAMS];
     (void)n;
-    return cons_value(data, x, grad);
+    expand(c->o, xr, x);
+    double v = cons_value(c, x, grad ? g : NULL);
+    if (grad)
+        reduce(c->o, g, grad);
+    return v;
 }
 
-/* NLopt minimises: f = -y / scale to maximise. */
-static double nl_objective(unsigned n, const double *x, double *grad, void *data)
+/* The objective NLopt minimises at full x: sigma y / scale, sigma = -1 to maximise. */
+static double objective(usm_optimize *o, const double *x, double *grad)
 {
-    usm_optimize *o = data;
     const usm_opt_problem *pb = o->pb;
-    (void)n;
     evaluate(o, x);
     double y, g[USM_NPARAMS];
     const double s = pb->minimize ? 1.0 : -1.0;
@@ -263,11 +348,24 @@ static double nl_objective(unsigned n, const double *x, double *grad, void *data
     return s * y / o->obj_scale;
 }
 
+static double nl_objective(unsigned n, const double *xr, double *grad, void *data)
+{
+    usm_optimize *o = data;
+    double x[USM_NPARAMS], g[USM_NPARAMS];
+    (void)n;
+    expand(o, xr, x);
+    double v = objective(o, x, grad ? g : NULL);
+    if (grad)
+        reduce(o, g, grad);
+    return v;
+}
+
 /* ---- the optimisation --------------------------------------------------------------- */
 
 typedef struct best {
     int have;
     double x[USM_NPARAMS];
+    int solved;                    /* a stationary solution at x, the objective defined */
     double value;                  /* objective in its own sense */
     double violation;              /* largest scaled violation (<= FEAS_TOL: feasible) */
     char worst[USM_OPT_TEXT_LEN];  /* the most violated constraint */
@@ -276,23 +374,27 @@ typedef struct best {
 static int constraints(usm_optimize *o, cons_ctx *cc)
 {
     int n = 0;
-    cc[n++] = (cons_ctx){o, 0, 0, 1.0};
+    cc[n++] = (cons_ctx){o, C_STABILITY, 0, 1.0};
+    if (!o->pb->allow_driven)
+        cc[n++] = (cons_ctx){o, C_DRIVES, 0, 1.0};
     if (!o->model->slip && !o->pb->allow_slip)
-        cc[n++] = (cons_ctx){o, 1, 0, 1.0};
+        cc[n++] = (cons_ctx){o, C_STICK, 0, 1.0};
     for (int i = 0; i < o->pb->ncons; ++i)
-        cc[n++] = (cons_ctx){o, 2, i, 1.0};
+        cc[n++] = (cons_ctx){o, C_USER, i, 1.0};
     return n;
 }
 
 static void cons_text(const usm_opt_problem *pb, const cons_ctx *c, char buf[USM_OPT_TEXT_LEN])
 {
-    if (c->kind == 0)
+    if (c->kind == C_STABILITY)
         snprintf(buf, USM_OPT_TEXT_LEN, "stability: max_modulus <= %g", 1 - pb->margin);
-    else if (c->kind == 1)
+    else if (c->kind == C_DRIVES)
+        snprintf(buf, USM_OPT_TEXT_LEN, "drives: power_out >= 0");
+    else if (c->kind == C_STICK)
         snprintf(buf, USM_OPT_TEXT_LEN, "stick: F_t <= mu0 F_n");
     else {
         const usm_opt_constraint *u = &pb->cons[c->index];
-        snprintf(buf, USM_OPT_TEXT_LEN, "%s %s %g", usm_sensitivity_output_name(u->output),
+        snprintf(buf, USM_OPT_TEXT_LEN, "%s %s %g", usm_opt_output_name(u->output),
                  u->upper ? "<=" : ">=", u->value);
     }
 }
@@ -317,89 +419,77 @@ static double violation(usm_optimize *o, cons_ctx *cc, int nc, const double *x,
     return v;
 }
 
-/* Scales: constraint values relative to a typical size (stick: F_n; user: |X|). */
+/* Scales: constraint values relative to a typical size (stick: F_n; drives:
+ * power_in; user: |X|). */
 static void set_scales(usm_optimize *o, cons_ctx *cc, int nc)
 {
     for (int i = 0; i < nc; ++i) {
-        if (cc[i].kind == 1)
+        if (cc[i].kind == C_STICK)
             cc[i].scale = o->solved ? fmax(fabs(o->sol.F_n), 1e-12) : 1.0;
-        else if (cc[i].kind == 2) {
+        else if (cc[i].kind == C_DRIVES)
+            cc[i].scale = o->solved ? fmax(fmax(fabs(o->sol.power_in), fabs(o->sol.power_out)),
+                                           1e-15)
+                                    : 1.0;
+        else if (cc[i].kind == C_USER) {
             const usm_opt_constraint *u = &o->pb->cons[cc[i].index];
-            double v = fabs(u->value);
-            double y = o->solved ? fabs(o->r->value[u->output]) : 0;
-            cc[i].scale = v > 0 ? v : y > 0 ? y : 1.0;
+            double v = fabs(u->value), y;
+            if (output(o, u->output, &y, NULL) != 0)
+                y = 0;
+            cc[i].scale = v > 0 ? v : fabs(y) > 0 ? fabs(y) : 1.0;
         }
     }
 }
 
-/* KKT residual at x in the normalised variables: |grad f + sum lambda_i grad c_i|
- * over the free variables (not at a bound), lambda >= 0 of the active
- * constraints by least squares, relative to |grad f|. */
-static double kkt_residual(usm_optimize *o, cons_ctx *cc, int nc, const double *x,
-                           usm_opt_result *out)
+/* SLSQP from x (full, updated in place) over the variables not held. */
+static nlopt_result slsqp(usm_optimize *o, cons_ctx *cc, int nc, double *x, int maxeval)
 {
-    const usm_opt_problem *pb = o->pb;
-    const int n = pb->nvary;
-    double g[USM_NPARAMS], A[MAX_CONS][USM_NPARAMS];
-    int na = 0;
-    nl_objective((unsigned)n, x, g, o);
-    out->nactive = 0;
-    for (int i = 0; i < nc; ++i) {
-        double gi[USM_NPARAMS];
-        double ci = cons_value(&cc[i], x, gi);
-        if (fabs(ci) <= ACTIVE_TOL) {
-            memcpy(A[na++], gi, sizeof gi);
-            cons_text(pb, &cc[i], out->active[out->nactive++]);
-        }
-    }
-    int free_var[USM_NPARAMS];
+    const int n = o->pb->nvary - (o->fix >= 0);
+    double lb[USM_NPARAMS], ub[USM_NPARAMS], xr[USM_NPARAMS], f;
     for (int j = 0; j < n; ++j) {
-        free_var[j] = 1;
-        if (x[j] <= 1e-9 || x[j] >= 1 - 1e-9) {
-            snprintf(out->active[out->nactive++], USM_OPT_TEXT_LEN, "bound: %s = %s",
-                     usm_param_table[pb->vary[j]].name, x[j] <= 1e-9 ? "LO" : "HI");
-            free_var[j] = 0;
-        }
+        lb[j] = 0;
+        ub[j] = 1;
     }
-    /* projected gradient descent on lambda >= 0: tiny problem, a few hundred sweeps */
-    double lambda[MAX_CONS] = {0};
-    for (int it = 0; it < 500 && na > 0; ++it)
-        for (int i = 0; i < na; ++i) {
-            double num = 0, den = 0;
-            for (int j = 0; j < n; ++j) {
-                if (!free_var[j])
-                    continue;
-                double rj = g[j];
-                for (int l = 0; l < na; ++l)
-                    if (l != i)
-                        rj += lambda[l] * A[l][j];
-                num -= rj * A[i][j];
-                den += A[i][j] * A[i][j];
-            }
-            lambda[i] = den > 0 ? fmax(0, num / den) : 0;
-        }
-    double res = 0, gn = 0;
-    for (int j = 0; j < n; ++j) {
-        if (!free_var[j])
-            continue;
-        double rj = g[j];
-        for (int l = 0; l < na; ++l)
-            rj += lambda[l] * A[l][j];
-        res = fmax(res, fabs(rj));
-        gn = fmax(gn, fabs(g[j]));
+    nlopt_opt opt = nlopt_create(NLOPT_LD_SLSQP, (unsigned)n);
+    if (!opt)
+        return NLOPT_OUT_OF_MEMORY;
+    int ok = nlopt_set_lower_bounds(opt, lb) > 0 && nlopt_set_upper_bounds(opt, ub) > 0 &&
+             nlopt_set_min_objective(opt, nl_objective, o) > 0 &&
+             nlopt_set_xtol_rel(opt, 1e-10) > 0 && nlopt_set_ftol_rel(opt, 1e-12) > 0 &&
+             nlopt_set_maxeval(opt, maxeval) > 0;
+    for (int i = 0; i < nc && ok; ++i)
+        ok = nlopt_add_inequality_constraint(opt, nl_constraint, &cc[i], 1e-10) > 0;
+    if (!ok) {
+        nlopt_destroy(opt);
+        return NLOPT_INVALID_ARGS;
     }
-    return gn > 0 ? res / gn : res;
+    reduce(o, x, xr);
+    nlopt_result res = nlopt_optimize(opt, xr, &f);
+    nlopt_destroy(opt);
+    expand(o, xr, x);
+    return res;
+}
+
+/* Is candidate (feasible, solved, y, v) better than b? */
+static int better(const usm_opt_problem *pb, const best *b, int solved, double y, double v)
+{
+    if (!b->have)
+        return 1;
+    if (solved != b->solved)
+        return solved;
+    if (!solved)
+        return 0;
+    const int feasible = v <= FEAS_TOL, best_feasible = b->violation <= FEAS_TOL;
+    if (feasible != best_feasible)
+        return feasible;
+    if (feasible)
+        return pb->minimize ? y < b->value : y > b->value;
+    return v < b->violation;
 }
 
 static int run_starts(usm_optimize *o, best *b, cons_ctx *cc, int nc)
 {
     const usm_opt_problem *pb = o->pb;
     const int n = pb->nvary;
-    double lb[USM_NPARAMS], ub[USM_NPARAMS];
-    for (int j = 0; j < n; ++j) {
-        lb[j] = 0;
-        ub[j] = 1;
-    }
     for (int s = 0; s < pb->starts; ++s) {
         double x[USM_NPARAMS];
         /* deterministic spread: a rank-1 lattice (golden-ratio offsets) */
@@ -413,53 +503,351 @@ static int run_starts(usm_optimize *o, best *b, cons_ctx *cc, int nc)
         if (output(o, pb->objective, &y, NULL) == 0 && y != 0)
             o->obj_scale = fabs(y);
         set_scales(o, cc, nc);
-        nlopt_opt opt = nlopt_create(NLOPT_LD_SLSQP, (unsigned)n);
-        if (!opt) {
-            snprintf(o->msg, USM_MSG_LEN, "out of memory");
+        nlopt_result res = slsqp(o, cc, nc, x, MAX_EVALS);
+        if (o->failed)
             return USM_EFAILED;
-        }
-        int ok = nlopt_set_lower_bounds(opt, lb) > 0 && nlopt_set_upper_bounds(opt, ub) > 0 &&
-                 nlopt_set_min_objective(opt, nl_objective, o) > 0 &&
-                 nlopt_set_xtol_rel(opt, 1e-10) > 0 && nlopt_set_ftol_rel(opt, 1e-12) > 0 &&
-                 nlopt_set_maxeval(opt, MAX_EVALS) > 0;
-        for (int i = 0; i < nc && ok; ++i)
-            ok = nlopt_add_inequality_constraint(opt, nl_constraint, &cc[i], 1e-10) > 0;
-        if (!ok) {
-            nlopt_destroy(opt);
+        if (res == NLOPT_OUT_OF_MEMORY || res == NLOPT_INVALID_ARGS) {
             snprintf(o->msg, USM_MSG_LEN, "NLopt refused the problem setup");
             return USM_EFAILED;
         }
-        double f;
-        nlopt_result res = nlopt_optimize(opt, x, &f);
-        nlopt_destroy(opt);
-        if (o->failed)
-            return USM_EFAILED;
         if (res < 0 && res != NLOPT_ROUNDOFF_LIMITED && res != NLOPT_FAILURE)
             continue; /* this start failed; others may not */
         char worst[USM_OPT_TEXT_LEN];
         double v = violation(o, cc, nc, x, worst);
-        if (!o->solved || output(o, pb->objective, &y, NULL) != 0)
-            continue;
-        const int feasible = v <= FEAS_TOL, best_feasible = b->have && b->violation <= FEAS_TOL;
-        int better;
-        if (!b->have)
-            better = 1;
-        else if (feasible != best_feasible)
-            better = feasible;
-        else if (feasible)
-            better = pb->minimize ? y < b->value : y > b->value;
-        else
-            better = v < b->violation;
-        if (better) {
+        const int solved = o->solved && output(o, pb->objective, &y, NULL) == 0;
+        if (better(pb, b, solved, y, v)) {
             b->have = 1;
             memcpy(b->x, x, sizeof(double) * (size_t)n);
-            b->value = y;
-            b->violation = v;
-            snprintf(b->worst, sizeof b->worst, "%s", worst);
+            b->solved = solved;
+            b->value = solved ? y : NAN;
+            b->violation = solved ? v : INFINITY;
+            snprintf(b->worst, sizeof b->worst, "%s", solved ? worst : "a stationary solution exists");
         }
     }
     return USM_OK;
 }
+
+/* ---- polishing an interior optimum ------------------------------------------------------ */
+
+#define POLISH_STEP 1e-5   /* gradient differences for the Hessian, box units */
+#define POLISH_NOISE 1e-10 /* the objective's values are this accurate (relative) */
+
+/* SLSQP stops where its function values stop improving, which leaves the
+ * gradient of an interior optimum at ~1e-6 of its size.  Newton's method on
+ * the gradient over the free variables (no active constraint, not at a
+ * bound; the Hessian from central differences of the analytic gradients)
+ * takes it to the gradient's own accuracy.  A step is kept only when it is
+ * small (1e-3 of the box), stays feasible, lowers the gradient and does not
+ * worsen the objective beyond the noise of its values (measured: a step
+ * that took the gradient of the 4dof speed over f from 9e-7 to 6e-13 of the
+ * speed "lost" 1.1e-11 of it: the stationary solutions' rounding, not a
+ * worse point, which SLSQP, deciding by those values, cannot see past). */
+static void polish(usm_optimize *o, cons_ctx *cc, int nc, best *b)
+{
+    const usm_opt_problem *pb = o->pb;
+    const int n = pb->nvary;
+    const double sigma = pb->minimize ? 1.0 : -1.0;
+    int fr[USM_NPARAMS], m = 0;
+    for (int j = 0; j < n; ++j)
+        if (b->x[j] > BOUND_TOL && b->x[j] < 1 - BOUND_TOL)
+            fr[m++] = j;
+    if (m == 0 || m > USM_EXPM_MAX_N)
+        return;
+    for (int it = 0; it < 3; ++it) {
+        double g[USM_NPARAMS], y, x[USM_NPARAMS], H[USM_EXPM_MAX_N * USM_EXPM_MAX_N];
+        double step[USM_EXPM_MAX_N], gn = 0;
+        int piv[USM_EXPM_MAX_N];
+        char worst[USM_OPT_TEXT_LEN];
+        evaluate(o, b->x);
+        if (!o->solved || output(o, pb->objective, &y, g) != 0)
+            return;
+        for (int i = 0; i < nc; ++i)
+            if (fabs(cons_value(&cc[i], b->x, NULL)) <= ACTIVE_TOL)
+                return; /* constrained: SLSQP's multipliers balance it */
+        for (int a = 0; a < m; ++a)
+            gn = fmax(gn, fabs(g[fr[a]]));
+        for (int a = 0; a < m; ++a) {
+            double gp[USM_NPARAMS], gm[USM_NPARAMS], yy;
+            memcpy(x, b->x, sizeof x);
+            x[fr[a]] = b->x[fr[a]] + POLISH_STEP;
+            evaluate(o, x);
+            if (output(o, pb->objective, &yy, gp) != 0)
+                return;
+            x[fr[a]] = b->x[fr[a]] - POLISH_STEP;
+            evaluate(o, x);
+            if (output(o, pb->objective, &yy, gm) != 0)
+                return;
+            for (int c = 0; c < m; ++c)
+                H[c * m + a] = (gp[fr[c]] - gm[fr[c]]) / (2 * POLISH_STEP);
+        }
+        for (int a = 0; a < m; ++a) {
+            for (int c = 0; c < a; ++c)
+                H[a * m + c] = H[c * m + a] = 0.5 * (H[a * m + c] + H[c * m + a]);
+            step[a] = -g[fr[a]];
+        }
+        if (usm_lu_factor_dense(m, H, piv) != 0)
+            return;
+        usm_lu_solve_dense(m, H, piv, step, 1);
+        memcpy(x, b->x, sizeof x);
+        for (int a = 0; a < m; ++a) {
+            if (!(fabs(step[a]) <= 1e-3))
+                return;
+            x[fr[a]] += step[a];
+            if (x[fr[a]] <= BOUND_TOL || x[fr[a]] >= 1 - BOUND_TOL)
+                return;
+        }
+        double v = violation(o, cc, nc, x, worst), g2[USM_NPARAMS], y2, gn2 = 0;
+        if (v > FEAS_TOL || output(o, pb->objective, &y2, g2) != 0)
+            return;
+        for (int a = 0; a < m; ++a)
+            gn2 = fmax(gn2, fabs(g2[fr[a]]));
+        /* a smaller gradient, and not worse beyond the noise of the values */
+        if (!(sigma * (y2 - y) <= POLISH_NOISE * fabs(y)) || !(gn2 < gn))
+            return;
+        memcpy(b->x, x, sizeof x);
+        b->value = y2;
+        b->violation = v;
+        if (gn2 <= 1e-13 * fabs(y2))
+            return;
+    }
+}
+
+/* ---- at the optimum: multipliers and KKT residual ------------------------------------- */
+
+/* Active constraints and bounds at x, their multipliers as d(value)/d(bound)
+ * and the KKT residual.  In the box variables z and the outputs' own units,
+ * with sigma = +1 (minimize) or -1 (maximize): the Lagrangian's gradient
+ *   r = sigma grad y + sum_i lambda_i grad c_i - sum_lo nu_j e_j + sum_hi nu_j e_j,
+ * c_i = sign_i (y_i - X_i) the active constraints, lambda, nu >= 0 by
+ * non-negative least squares (cyclic coordinate descent, exact on each
+ * coordinate; the problem is tiny).  The optimal objective's change per unit
+ * of a bound (envelope theorem): X_i: -sigma sign_i lambda_i; LO_j:
+ * sigma nu_j / w_j; HI_j: -sigma nu_j / w_j (w_j = HI_j - LO_j).  The residual:
+ * max_j |r_j| / |y| (|y| = 0: max_j |r_j|). */
+static double kkt(usm_optimize *o, cons_ctx *cc, int nc, const double *x, usm_opt_result *out)
+{
+    const usm_opt_problem *pb = o->pb;
+    const int n = pb->nvary;
+    const double sigma = pb->minimize ? 1.0 : -1.0;
+    enum { NCOL = MAX_CONS + USM_NPARAMS };
+    double g[USM_NPARAMS], A[NCOL][USM_NPARAMS], y, coef[NCOL]; /* coef: -> d(value)/d(bound) */
+    int na = 0;
+    evaluate(o, x);
+    const int gok = output(o, pb->objective, &y, g) == 0;
+    for (int j = 0; j < n; ++j)
+        g[j] *= sigma;
+    out->nactive = 0;
+    for (int i = 0; i < nc; ++i) {
+        double v, gi[USM_NPARAMS];
+        if (fabs(cons_value(&cc[i], x, NULL)) > ACTIVE_TOL)
+            continue;
+        int k;
+        double sign, bound;
+        cons_def(&cc[i], &k, &sign, &bound);
+        if (cons_own(&cc[i], x, &v, gi) != 0)
+            memset(gi, 0, sizeof gi); /* no derivative: no multiplier (NaN below) */
+        memcpy(A[na], gi, sizeof gi);
+        coef[na] = -sigma * sign;
+        cons_text(pb, &cc[i], out->active[out->nactive++]);
+        na++;
+    }
+    for (int j = 0; j < n; ++j) {
+        const int lo = x[j] <= BOUND_TOL, hi = x[j] >= 1 - BOUND_TOL;
+        if (!lo && !hi)
+            continue;
+        memset(A[na], 0, sizeof A[na]);
+        A[na][j] = lo ? -1.0 : 1.0;
+        coef[na] = (lo ? sigma : -sigma) / (pb->hi[j] - pb->lo[j]);
+        snprintf(out->active[out->nactive++], USM_OPT_TEXT_LEN, "bound: %s = %s",
+                 usm_param_table[pb->vary[j]].name, lo ? "LO" : "HI");
+        na++;
+    }
+    if (!gok) {
+        for (int i = 0; i < na; ++i)
+            out->multiplier[i] = NAN;
+        return NAN;
+    }
+    double lambda[NCOL] = {0}, r[USM_NPARAMS];
+    memcpy(r, g, sizeof r);
+    for (int it = 0; it < 100000 && na > 0; ++it) {
+        double change = 0, size = 0;
+        for (int i = 0; i < na; ++i) {
+            double num = 0, den = 0;
+            for (int j = 0; j < n; ++j) {
+                num -= r[j] * A[i][j];
+                den += A[i][j] * A[i][j];
+            }
+            if (den == 0)
+                continue;
+            const double li = fmax(0, lambda[i] + num / den), d = li - lambda[i];
+            for (int j = 0; j < n; ++j)
+                r[j] += d * A[i][j];
+            lambda[i] = li;
+            change = fmax(change, fabs(d) * sqrt(den));
+            size = fmax(size, li * sqrt(den));
+        }
+        double gn = 0;
+        for (int j = 0; j < n; ++j)
+            gn = fmax(gn, fabs(g[j]));
+        if (change <= 1e-15 * fmax(size, gn))
+            break;
+    }
+    double res = 0;
+    for (int j = 0; j < n; ++j)
+        res = fmax(res, fabs(r[j]));
+    for (int i = 0; i < na; ++i) {
+        double den = 0;
+        for (int j = 0; j < n; ++j)
+            den += A[i][j] * A[i][j];
+        out->multiplier[i] = den > 0 ? coef[i] * lambda[i] : NAN;
+        if (out->multiplier[i] == 0)
+            out->multiplier[i] = 0; /* never -0 */
+    }
+    return fabs(y) > 0 ? res / fabs(y) : res;
+}
+
+/* ---- flat parameters: the near-optimal interval of each --------------------------------- */
+
+#define PROFILE_CACHE 64
+
+typedef struct profile_ctx {
+    usm_optimize *o;
+    cons_ctx *cc;
+    int nc;
+    int j;                        /* the varied parameter */
+    const double *xstar;          /* the optimum */
+    double ystar, tol;            /* its objective; near-optimal: within tol of it */
+    /* the profile's points so far (the other parameters' optima), warm starts */
+    int ncache;
+    double zc[PROFILE_CACHE], xc[PROFILE_CACHE][USM_NPARAMS];
+} profile_ctx;
+
+/* Is y (feasible) better than the best so far (NaN: none)? */
+static int improves(const usm_opt_problem *pb, double y, double sofar)
+{
+    return isnan(sofar) || (pb->minimize ? y < sofar : y > sofar);
+}
+
+/* The best feasible objective with parameter j at z, the others re-optimised
+ * by SLSQP from the nearest profile point found so far (and, when that does
+ * not end near-optimal, from the optimum's values), or the slice itself when
+ * better; NaN when no feasible point was found. */
+static double profile_value(profile_ctx *c, double z)
+{
+    usm_optimize *o = c->o;
+    const usm_opt_problem *pb = o->pb;
+    const int n = pb->nvary;
+    double x[USM_NPARAMS], xbest[USM_NPARAMS], y = NAN, yc;
+    char worst[USM_OPT_TEXT_LEN];
+    memcpy(x, c->xstar, sizeof(double) * (size_t)n);
+    x[c->j] = z;
+    memcpy(xbest, x, sizeof xbest);
+    if (violation(o, c->cc, c->nc, x, worst) <= FEAS_TOL && output(o, pb->objective, &yc, NULL) == 0)
+        y = yc;
+    for (int attempt = 0; n > 1 && attempt < 2 && !o->failed; ++attempt) {
+        const double *from = c->xstar;
+        if (attempt == 0) {
+            int near = -1;
+            for (int k = 0; k < c->ncache; ++k)
+                if (near < 0 || fabs(c->zc[k] - z) < fabs(c->zc[near] - z))
+                    near = k;
+            if (near >= 0 && fabs(c->zc[near] - z) < fabs(c->xstar[c->j] - z))
+                from = c->xc[near];
+            else
+                attempt = 1; /* the optimum is the nearest: one attempt */
+        } else if (!isnan(y) && fabs(y - c->ystar) <= c->tol)
+            break; /* near-optimal already: no second opinion needed */
+        memcpy(x, from, sizeof(double) * (size_t)n);
+        x[c->j] = z;
+        o->fix = c->j;
+        o->fix_z = z;
+        nlopt_result res = slsqp(o, c->cc, c->nc, x, PROFILE_EVALS);
+        o->fix = -1;
+        if (!o->failed && (res > 0 || res == NLOPT_ROUNDOFF_LIMITED || res == NLOPT_FAILURE) &&
+            violation(o, c->cc, c->nc, x, worst) <= FEAS_TOL &&
+            output(o, pb->objective, &yc, NULL) == 0 && improves(pb, yc, y)) {
+            y = yc;
+            memcpy(xbest, x, sizeof xbest);
+        }
+    }
+    if (o->failed) {
+        /* a numerical failure (the sensitivities) off the optimum: not a
+         * near-optimal point, and not a reason to lose the optimum found */
+        o->failed = 0;
+        o->msg[0] = '\0';
+        return NAN;
+    }
+    if (!isnan(y) && c->ncache < PROFILE_CACHE) {
+        c->zc[c->ncache] = z;
+        memcpy(c->xc[c->ncache++], xbest, sizeof xbest);
+    }
+    return y;
+}
+
+/* > 0 where near-optimal, < 0 where not (infeasible, or a numerical failure). */
+static double profile_fn(double z, void *ctx)
+{
+    profile_ctx *c = ctx;
+    double y = profile_value(c, z);
+    if (isnan(y))
+        return -c->tol;
+    return c->o->pb->minimize ? c->ystar + c->tol - y : y - (c->ystar - c->tol);
+}
+
+/* The near-optimal interval of each varied parameter: from the optimum
+ * towards each bound in steps that double from 1/64 of the box (each point
+ * warm-started from the last), until a point is not near-optimal; then
+ * Brent between the last two points to FLAT_XTOL.  One interval is assumed:
+ * a near-optimal region beyond a worse one is not looked for. */
+static int flat_intervals(usm_optimize *o, cons_ctx *cc, int nc, const double *xstar,
+                          double ystar, usm_opt_result *out)
+{
+    const usm_opt_problem *pb = o->pb;
+    profile_ctx *c = malloc(sizeof *c);
+    if (!c) {
+        snprintf(o->msg, USM_MSG_LEN, "out of memory");
+        return USM_EFAILED;
+    }
+    *c = (profile_ctx){.o = o, .cc = cc, .nc = nc, .xstar = xstar, .ystar = ystar,
+                       .tol = USM_OPT_FLAT_TOL * (ystar != 0 ? fabs(ystar) : 1.0)};
+    const usm_root_stop stop = {FLAT_XTOL, 0, 60};
+    o->obj_scale = ystar != 0 ? fabs(ystar) : 1.0;
+    for (int j = 0; j < pb->nvary; ++j) {
+        double ends[2];
+        c->j = j;
+        c->ncache = 0;
+        for (int side = 0; side < 2; ++side) {
+            const double zb = side ? 1.0 : 0.0, dir = side ? 1.0 : -1.0;
+            double z0 = xstar[j], f0 = c->tol, h = 1.0 / 64;
+            ends[side] = zb;
+            while (fabs(zb - z0) > BOUND_TOL) {
+                const double z1 = fabs(zb - z0) <= h ? zb : z0 + dir * h;
+                const double f1 = profile_fn(z1, c);
+                if (f1 >= 0) {
+                    z0 = z1;
+                    f0 = f1;
+                    h *= 2;
+                    continue;
+                }
+                /* the end of Brent's last bracket on the near-optimal side (the
+                 * function never fails: a failure reads as not near-optimal) */
+                double z, a, b;
+                usm_root_brent(o->root, profile_fn, c, z0, z1, f0, f1, &stop, &z);
+                usm_root_bracket(o->root, &a, &b);
+                ends[side] = fabs(a - xstar[j]) < fabs(b - xstar[j]) ? a : b;
+                break;
+            }
+        }
+        const double w = pb->hi[j] - pb->lo[j];
+        out->near_lo[j] = fmax(pb->lo[j], pb->lo[j] + ends[0] * w);
+        out->near_hi[j] = fmin(pb->hi[j], pb->lo[j] + ends[1] * w);
+        out->flat[j] = ends[1] - ends[0] > USM_OPT_FLAT_FRACTION;
+    }
+    free(c);
+    return USM_OK;
+}
+
+/* ---- the workspace and the run ---------------------------------------------------------- */
 
 usm_optimize *usm_optimize_alloc(const usm_model *m)
 {
@@ -469,11 +857,13 @@ usm_optimize *usm_optimize_alloc(const usm_model *m)
     if (!o)
         return NULL;
     o->model = m;
+    o->fix = -1;
     o->steady = usm_steady_alloc(m);
     o->sens = usm_sensitivity_alloc(m);
     o->floquet = usm_floquet_alloc(m);
+    o->root = usm_root_alloc();
     o->r = malloc(sizeof *o->r);
-    if (!o->steady || !o->sens || !o->floquet || !o->r) {
+    if (!o->steady || !o->sens || !o->floquet || !o->root || !o->r) {
         usm_optimize_free(o);
         return NULL;
     }
@@ -485,6 +875,7 @@ void usm_optimize_free(usm_optimize *o)
     if (!o)
         return;
     free(o->r);
+    usm_root_free(o->root);
     usm_floquet_free(o->floquet);
     usm_sensitivity_free(o->sens);
     usm_steady_free(o->steady);
@@ -501,16 +892,55 @@ const char *usm_optimize_message(const usm_optimize *o)
     return o->msg;
 }
 
+/* The point of least violation into out (feasible = 0). */
+static void least_violation(usm_optimize *o, cons_ctx *cc, int nc, const best *b,
+                            usm_opt_result *out)
+{
+    const usm_opt_problem *pb = o->pb;
+    o->have = 0;
+    evaluate(o, b->x);
+    out->params = o->p;
+    out->solved = o->solved;
+    out->value = NAN;
+    if (o->solved) {
+        out->sol = o->sol;
+        double y;
+        if (output(o, pb->objective, &y, NULL) == 0)
+            out->value = y;
+    }
+    out->least_violation = o->solved ? b->violation : NAN;
+    out->nviolated = 0;
+    if (!o->solved) {
+        snprintf(out->violated[0], USM_OPT_TEXT_LEN, "a stationary solution exists");
+        out->violation[0] = NAN;
+        out->nviolated = 1;
+        return;
+    }
+    for (int i = 0; i < nc; ++i) {
+        double v = cons_value(&cc[i], b->x, NULL);
+        if (v > FEAS_TOL) {
+            cons_text(pb, &cc[i], out->violated[out->nviolated]);
+            out->violation[out->nviolated++] = v;
+        }
+    }
+}
+
 int usm_optimize_run(usm_optimize *o, const usm_params *p, const usm_opt_problem *pb,
                      usm_opt_result *out)
 {
     o->msg[0] = '\0';
+    memset(out, 0, sizeof *out);
+    out->least_violation = NAN;
+    for (int j = 0; j < USM_NPARAMS; ++j)
+        out->near_lo[j] = out->near_hi[j] = NAN;
     if (usm_opt_problem_check(pb, o->model, p, o->msg) != USM_OK)
         return USM_EINPUT;
     o->pb = pb;
     o->base = *p;
     o->have = o->solved = o->failed = 0;
+    o->fix = -1;
     o->evaluations = 0;
+    usm_sensitivity_set_t0(o->sens, pb->t0);
     best b;
     memset(&b, 0, sizeof b);
     cons_ctx cc[MAX_CONS];
@@ -521,17 +951,31 @@ int usm_optimize_run(usm_optimize *o, const usm_params *p, const usm_opt_problem
             snprintf(o->msg, USM_MSG_LEN, "numerical failure");
         return status;
     }
-    if (!b.have) {
-        snprintf(o->msg, USM_MSG_LEN,
-                 "constraint: no feasible point found: no stationary solution at any of the "
-                 "%d starts' end points", pb->starts);
+    if (!b.have || !b.solved || b.violation > FEAS_TOL) {
+        if (!b.have || !b.solved)
+            snprintf(o->msg, USM_MSG_LEN,
+                     "constraint: no feasible point found: no stationary solution at any of the "
+                     "%d starts' end points", pb->starts);
+        else
+            snprintf(o->msg, USM_MSG_LEN,
+                     "constraint: no feasible point found: %s cannot be met (best violation %.3g)",
+                     b.worst, b.violation);
+        if (b.have)
+            least_violation(o, cc, nc, &b, out);
+        else {
+            out->params = *p;
+            snprintf(out->violated[0], USM_OPT_TEXT_LEN, "a stationary solution exists");
+            out->violation[0] = NAN;
+            out->nviolated = 1;
+        }
+        out->evaluations = o->evaluations;
         return USM_ENOSOLUTION;
     }
-    if (b.violation > FEAS_TOL) {
-        snprintf(o->msg, USM_MSG_LEN,
-                 "constraint: no feasible point found: %s cannot be met (best violation %.3g)",
-                 b.worst, b.violation);
-        return USM_ENOSOLUTION;
+    polish(o, cc, nc, &b);
+    if (o->failed) {
+        if (!o->msg[0])
+            snprintf(o->msg, USM_MSG_LEN, "numerical failure");
+        return USM_EFAILED;
     }
     o->have = 0; /* re-evaluate at the optimum: the state NLopt left is another point's */
     evaluate(o, b.x);
@@ -539,12 +983,32 @@ int usm_optimize_run(usm_optimize *o, const usm_params *p, const usm_opt_problem
         snprintf(o->msg, USM_MSG_LEN, "the optimum did not re-solve");
         return USM_EFAILED;
     }
-    out->kkt_residual = kkt_residual(o, cc, nc, b.x, out);
-    if (usm_floquet_compute(o->floquet, &o->p, &o->sol, 0.0, NULL, &out->floquet) != USM_OK) {
+    out->kkt_residual = kkt(o, cc, nc, b.x, out);
+    if (!pb->no_flat && flat_intervals(o, cc, nc, b.x, b.value, out) != USM_OK) {
+        if (!o->msg[0])
+            snprintf(o->msg, USM_MSG_LEN, "numerical failure");
+        return USM_EFAILED;
+    }
+    o->have = 0; /* the profiles moved the point: back to the optimum */
+    evaluate(o, b.x);
+    if (o->failed || !o->solved) {
+        snprintf(o->msg, USM_MSG_LEN, "the optimum did not re-solve");
+        return USM_EFAILED;
+    }
+    /* the multipliers reported: the discretisation the search used (the
+     * sensitivities' exponential product), so that a max_modulus objective
+     * or constraint reads the same number here */
+    usm_floquet_options fo;
+    usm_floquet_options_default(&fo);
+    fo.method = USM_FLOQUET_EXPONENTIAL;
+    fo.steps = USM_SENSITIVITY_STEPS;
+    if (usm_floquet_compute(o->floquet, &o->p, &o->sol, pb->t0, &fo, &out->floquet) != USM_OK) {
         snprintf(o->msg, USM_MSG_LEN, "floquet: %.240s", usm_floquet_message(o->floquet));
         return USM_EFAILED;
     }
-    out->value = b.value;
+    out->feasible = 1;
+    out->solved = 1;
+    out->value = pb->objective == USM_SENS_MAX_MODULUS ? out->floquet.max_modulus : b.value;
     out->params = o->p;
     out->sol = o->sol;
     out->evaluations = o->evaluations;

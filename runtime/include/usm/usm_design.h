@@ -10,7 +10,8 @@
  * monodromy matrix B computed exactly as usm_floquet_compute's exponential
  * method (product of matrix exponentials at the sub-interval midpoints, frame
  * A, 64 and 128 sub-intervals, Richardson; one exponential when the model's
- * linearisation is constant, t0_independent), t0 = 0.  dB is the exact
+ * linearisation is constant, t0_independent), over [t0, t0 + T] with t0 = 0
+ * unless usm_sensitivity_set_t0 says otherwise.  dB is the exact
  * derivative of that product: the Frechet derivative of each exponential in
  * the direction of its exponent's derivative, which comes from the generated
  * <model>_floquet_direction (second derivatives of the equations of motion)
@@ -44,7 +45,7 @@ enum {
     USM_SENS_F_T = 3,          /* tangential contact force [N] */
     USM_SENS_EFFICIENCY = 4,   /* power_out / power_in */
     USM_SENS_STICK_MARGIN = 5, /* mu0 F_n - F_t [N] */
-    USM_SENS_MAX_MODULUS = 6,  /* largest non-cyclic Floquet modulus (t0 = 0) */
+    USM_SENS_MAX_MODULUS = 6,  /* largest non-cyclic Floquet modulus (from t0, default 0) */
     USM_SENS_POWER_IN = 7,     /* [W] */
     USM_SENS_POWER_OUT = 8,    /* [W] */
     USM_SENS_COUNT = 9
@@ -93,6 +94,12 @@ int usm_sensitivity_compute(usm_sensitivity *s, const usm_params *p,
  * USM_OK or USM_EFAILED. */
 int usm_sensitivity_max_modulus(usm_sensitivity *s, const usm_params *p,
                                 const usm_steady_solution *sol, double *value);
+/* The start t0 [s] of the Floquet period of max_modulus for the following
+ * computes (default 0, the paper's convention; usm_floquet_compute's t0).
+ * Derivatives are taken at fixed t0: d/df moves the period's end, not its
+ * start.  Only the paper's twist law depends on it (usm_floquet_result's
+ * t0_dependent). */
+void usm_sensitivity_set_t0(usm_sensitivity *s, double t0);
 /* Why the last compute failed, or "". */
 const char *usm_sensitivity_message(const usm_sensitivity *s);
 

@@ -1,18 +1,29 @@
-/* usm_optimize.h: the best design over parameter bounds (issue 13).
+/* usm_optimize.h: the best design over parameter bounds (issues 13, 20).
  *
- * Maximize (or minimize) one output of the primary stationary solution
- * (usm_design.h's USM_SENS_* outputs; rotor_speed in magnitude) over chosen
- * parameters within bounds, subject to: a stationary solution exists; its
- * largest non-cyclic Floquet modulus is at most 1 - margin; stick is
+ * Maximize (or minimize) one output of the primary stationary solution over
+ * chosen parameters within bounds, subject to: a stationary solution exists;
+ * its largest non-cyclic Floquet modulus (from t0) is at most 1 - margin;
+ * the motor drives the load, power_out >= 0, unless allow_driven; stick is
  * admissible (F_t <= mu0 F_n) in a stick model unless allow_slip; and each
- * user constraint OUTPUT <= X or OUTPUT >= X.  NLopt's SLSQP with the analytic
- * sensitivities (usm_sensitivity_compute) as gradients, in variables
- * normalised to [0, 1], from `starts` deterministic points of a rank-1
- * lattice over the box; the best feasible end point wins.  At the optimum the
- * result carries the active constraints and bounds and the KKT residual
- * |grad f + sum lambda_i grad c_i| / |grad f| over the free variables
- * (lambda >= 0 by least squares): a check that the gradients agree with the
- * point found.
+ * user constraint OUTPUT <= X or OUTPUT >= X.  The outputs are
+ * usm_design.h's USM_SENS_*, the rotor speed signed in the driving
+ * direction: USM_OPT_SPEED = -rotor_speed (positive when the motor drives),
+ * named "speed" with "rotor_speed" an alias (usm_opt_output_find).  NLopt's
+ * SLSQP with the analytic sensitivities (usm_sensitivity_compute) as
+ * gradients, in variables normalised to [0, 1], from `starts` deterministic
+ * points of a rank-1 lattice over the box; the best feasible end point wins;
+ * an interior optimum is polished by Newton steps on the gradient.
+ *
+ * At the optimum the result carries: the active constraints and bounds, each
+ * with its Lagrange multiplier expressed as d(value)/d(bound), the change of
+ * the optimal objective per unit of that bound; the KKT residual (the
+ * projected gradient of the Lagrangian, 0 at an optimum); and which varied
+ * parameters are flat (their interval of near-optimal values, objective
+ * within 1e-4 relative with the other varied parameters re-optimised, covers
+ * more than a tenth of their bounds).  Max_modulus everywhere (search,
+ * derivatives, the multipliers reported at the optimum) is one
+ * discretisation: usm_floquet_compute's exponential method with
+ * USM_SENSITIVITY_STEPS sub-intervals, from t0.
  *
  * Thread safety: no global mutable state; distinct usm_optimize objects may
  * be used from distinct threads at the same time, one object must not be
@@ -31,12 +42,32 @@ extern "C" {
 #endif
 
 #define USM_OPT_MAX_CONSTRAINTS 32
-/* Room for every active constraint's text: the user ones, stability, stick
- * and one bound per varied parameter. */
-#define USM_OPT_MAX_ACTIVE (USM_OPT_MAX_CONSTRAINTS + 2 + USM_NPARAMS)
+/* Room for every active constraint's text: the user ones, stability, drives,
+ * stick and one bound per varied parameter. */
+#define USM_OPT_MAX_ACTIVE (USM_OPT_MAX_CONSTRAINTS + 3 + USM_NPARAMS)
 #define USM_OPT_TEXT_LEN 128
 
-/* A user constraint: output (USM_SENS_*) <= value (upper = 1) or >= value. */
+/* The optimizer's outputs are usm_design.h's USM_SENS_* (0 .. USM_SENS_COUNT - 1)
+ * with one difference: its output USM_SENS_ROTOR_SPEED is the speed in the
+ * driving direction, -rotor_speed [1/s] (positive when the motor drives the
+ * load), named "speed". */
+#define USM_OPT_SPEED USM_SENS_ROTOR_SPEED
+
+/* Name of output k ("speed", "efficiency", ...), NULL when out of range. */
+const char *usm_opt_output_name(int k);
+/* Index of the output called `name`, or -1: the names of
+ * usm_sensitivity_output_name and "speed", with "rotor_speed" an alias of
+ * "speed" (-rotor_speed, positive when the motor drives the load: the
+ * quantity `usm sweep --extremum speed` follows), so that maximizing it is a
+ * faster motor, not one driven backwards. */
+int usm_opt_output_find(const char *name);
+
+/* Tolerance of "near-optimal" for the flat parameters: relative to |value|. */
+#define USM_OPT_FLAT_TOL 1e-4
+/* A parameter is flat when its near-optimal interval exceeds this fraction of its bounds. */
+#define USM_OPT_FLAT_FRACTION 0.1
+
+/* A user constraint: output (USM_OPT outputs) <= value (upper = 1) or >= value. */
 typedef struct usm_opt_constraint {
     int output;
     int upper;
@@ -45,7 +76,7 @@ typedef struct usm_opt_constraint {
 
 /* What to optimise.  Fill with usm_opt_problem_init, then the add functions. */
 typedef struct usm_opt_problem {
-    int objective;                 /* USM_SENS_* (-1: not set) */
+    int objective;                 /* an output (USM_SENS_*, USM_OPT_SPEED; -1: not set) */
     int minimize;                  /* 0: maximize */
     int nvary;
     int vary[USM_NPARAMS];         /* usm_param_table indices */
@@ -54,10 +85,14 @@ typedef struct usm_opt_problem {
     usm_opt_constraint cons[USM_OPT_MAX_CONSTRAINTS];
     double margin;                 /* stability margin D in [0, 1): max_modulus <= 1 - D */
     int allow_slip;                /* drop the stick constraint */
+    int allow_driven;              /* drop power_out >= 0 (the load may drive the rotor) */
     int starts;                    /* 1 to 1000 */
+    double t0;                     /* start of the Floquet period [s] (usm_floquet_compute) */
+    int no_flat;                   /* skip the flat parameters' intervals (their cost) */
 } usm_opt_problem;
 
-/* No objective, nothing varied, no constraint, margin 0.01, 8 starts. */
+/* No objective, nothing varied, no constraint, margin 0.01, power_out >= 0
+ * required, 8 starts, t0 = 0, flat parameters computed. */
 void usm_opt_problem_init(usm_opt_problem *pb);
 /* Vary parameter `name` in [lo, hi].  USM_OK, or USM_EINPUT with
  * "vary: reason" in msg (unknown parameter, given twice, lo >= hi). */
@@ -67,24 +102,58 @@ int usm_opt_problem_add_vary(usm_opt_problem *pb, const char *name, double lo, d
  * USM_EINPUT with "constraint: reason" in msg (unknown output, too many). */
 int usm_opt_problem_add_constraint(usm_opt_problem *pb, const char *output, int upper,
                                    double value, char msg[USM_MSG_LEN]);
-/* The whole problem for model m around parameters p: an objective, at least
- * one varied parameter, margin and starts in range, every corner of the box
- * admissible parameters (usm_params_check), no I_yy varied in an
- * axisymmetric model.  USM_OK, or USM_EINPUT with "FIELD: reason" in msg,
- * FIELD one of objective, vary, stability-margin, starts. */
+/* The whole problem for model m around parameters p: an ideal motor (p
+ * passes usm_params_check_ideal: otherwise its message, as usm_steady_solve
+ * gives it, e.g. "phase_error: must be 0 here: ..."; a model with
+ * imperfections is refused even at zero imperfections, "variant: ...", since
+ * its sensitivities are not defined), an objective, at least one varied
+ * parameter, margin, starts and t0 in range, every corner of the box
+ * admissible parameters (usm_params_check and usm_params_check_ideal), no
+ * I_yy varied in an axisymmetric model.  USM_OK, or USM_EINPUT with
+ * "FIELD: reason" in msg, FIELD one of objective, vary, stability-margin,
+ * starts, t0, variant or an imperfection's name. */
 int usm_opt_problem_check(const usm_opt_problem *pb, const usm_model *m, const usm_params *p,
                           char msg[USM_MSG_LEN]);
 
-/* The optimum. */
+/* The optimum (feasible = 1), or after USM_ENOSOLUTION the point of least
+ * violation (feasible = 0: value, params, least_violation, violated; sol
+ * when a stationary solution exists there). */
 typedef struct usm_opt_result {
-    double value;                  /* the objective there (rotor_speed: magnitude) */
+    int feasible;
+    double value;                  /* the objective there (speed: -rotor_speed; max_modulus:
+                                      floquet.max_modulus exactly) */
     usm_params params;             /* all parameters there */
+    int solved;                    /* a stationary solution exists there (sol valid) */
     usm_steady_solution sol;       /* the primary stationary solution there */
-    usm_floquet_result floquet;    /* its multipliers (usm_floquet_compute, t0 = 0) */
+    usm_floquet_result floquet;    /* its multipliers: usm_floquet_compute from t0, exponential
+                                      method, USM_SENSITIVITY_STEPS sub-intervals */
     int nactive;                   /* active constraints and bounds, as text */
     char active[USM_OPT_MAX_ACTIVE][USM_OPT_TEXT_LEN];
-    double kkt_residual;
-    int evaluations;               /* stationary solutions computed, all starts */
+    /* multiplier[i] of active[i]: d(value)/d(bound), the change of the optimal
+     * objective per unit of the constraint's bound X (user constraints, in
+     * the output's unit; stability: per unit of 1 - margin; drives: per W of
+     * the bound 0 on power_out; stick: per N of a bound mu0 F_n - F_t >= X)
+     * or of the parameter's bound LO or HI (per the parameter's unit) */
+    double multiplier[USM_OPT_MAX_ACTIVE];
+    double kkt_residual;           /* max over the varied parameters of the projected gradient
+                                      of the Lagrangian in box units, relative to |value|
+                                      (|value| = 0: absolute): 0 at a KKT point */
+    int evaluations;               /* stationary solutions computed, all starts and the
+                                      flat parameters' intervals */
+    /* per varied parameter (index as pb->vary): the near-optimal interval
+     * [near_lo, near_hi] (objective within USM_OPT_FLAT_TOL |value|, the other
+     * varied parameters re-optimised; located to 1e-3 of the bounds, assumed
+     * to be one interval) and flat = its length > USM_OPT_FLAT_FRACTION of the
+     * bounds (NaN and 0 when pb->no_flat) */
+    double near_lo[USM_NPARAMS], near_hi[USM_NPARAMS];
+    int flat[USM_NPARAMS];
+    /* infeasible: the largest scaled violation at the point of least
+     * violation (NaN when no start ended with a stationary solution) and
+     * the constraints violated there */
+    double least_violation;
+    int nviolated;
+    char violated[USM_OPT_MAX_ACTIVE][USM_OPT_TEXT_LEN];
+    double violation[USM_OPT_MAX_ACTIVE]; /* each one's scaled violation */
 } usm_opt_result;
 
 /* Workspace of one model (opaque). */
@@ -96,23 +165,29 @@ usm_optimize *usm_optimize_alloc(const usm_model *m);
 void usm_optimize_free(usm_optimize *o);
 
 /* Solve problem pb around parameters p (the values of the parameters not
- * varied).  USM_OK with *out; USM_EINPUT (usm_opt_problem_check failed);
- * USM_ENOSOLUTION when no start ends feasible (the message names the
- * constraint that cannot be met, or says no stationary solution exists);
- * USM_EFAILED on a numerical failure.  The message is in usm_optimize_message. */
+ * varied).  USM_OK with *out (feasible = 1); USM_EINPUT (usm_opt_problem_check
+ * failed); USM_ENOSOLUTION when no start ends feasible, *out the point of
+ * least violation (feasible = 0; the message names the constraint that
+ * cannot be met, or says no stationary solution exists); USM_EFAILED on a
+ * numerical failure.  The message is in usm_optimize_message. */
 int usm_optimize_run(usm_optimize *o, const usm_params *p, const usm_opt_problem *pb,
                      usm_opt_result *out);
 /* Every stationary solution at the optimum of the last successful run (root
- * 0 is out->sol), owned by o, valid until the next run. */
+ * 0 is out->sol), or at the point of least violation after USM_ENOSOLUTION
+ * (none when no solution exists there), owned by o, valid until the next run. */
 const usm_steady *usm_optimize_steady(const usm_optimize *o);
 /* Why the last run did not succeed, or "". */
 const char *usm_optimize_message(const usm_optimize *o);
 
-/* The `usm optimize --json` object of the last successful run of o (model m,
- * problem pb, result res) and a newline to out: objective, sense, value,
- * varied, parameters, active_constraints, kkt_residual, evaluations and the
- * stationary solution at the optimum as `usm steady --json` writes it
- * ("solution").  0, or -1 on a write error or when out of memory. */
+/* The `usm optimize --json` object of the last run of o (model m, problem pb,
+ * result res) and a newline to out.  Feasible: feasible (true), objective,
+ * sense, value, varied, parameters, active_constraints, multipliers,
+ * kkt_residual, flat, near_optimal, evaluations and the stationary solution
+ * at the optimum as `usm steady --json` writes it ("solution", its floquet
+ * from pb->t0).  After USM_ENOSOLUTION: feasible (false), objective, sense,
+ * least_violation, violated, value, varied, parameters, evaluations (at the
+ * point of least violation).  Keys: README.md.  0, or -1 on a write error or
+ * when out of memory. */
 int usm_optimize_write_json(const usm_optimize *o, const usm_model *m, const usm_opt_problem *pb,
                             const usm_opt_result *res, FILE *out);
 
