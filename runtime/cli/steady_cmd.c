@@ -1,7 +1,8 @@
 /* usm steady: every stationary solution of a model and the Floquet
- * multipliers of the primary one (smallest tilt). */
+ * multipliers of each (the top level: the primary one, smallest tilt). */
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "commands.h"
@@ -17,7 +18,7 @@ static void usage(FILE *out)
             "                  [--t0 S] [--floquet-method NAME] [--rtol R] [--json]\n"
             "\n"
             "Find every stationary solution (paper, eq. 3.1) and the Floquet multipliers of\n"
-            "the one with the smallest tilt.\n"
+            "each; the summary at the top is the one with the smallest tilt.\n"
             "\n"
             "options:\n");
     cli_common_usage(out);
@@ -120,8 +121,8 @@ static const char *non_finite(const usm_steady_solution *s, const usm_floquet_re
 static int run(const steady_args *a)
 {
     const cli_common *c = &a->common;
-    usm_steady_report rep = {c->model, &c->params, NULL, NULL, NULL};
-    usm_floquet_result res;
+    usm_steady_report rep = {c->model, &c->params, NULL, NULL, NULL, NULL};
+    usm_floquet_result *res = NULL;
     usm_floquet *fl = NULL;
     const char *bad;
     int status;
@@ -155,24 +156,32 @@ static int run(const steady_args *a)
         status = USM_EFAILED;
         goto done;
     }
-    status = usm_floquet_compute(fl, &c->params, usm_steady_root(s, 0), a->t0, &a->floquet,
-                                 &res);
+    if (!(res = malloc(usm_steady_count(s) * sizeof *res))) {
+        cli_error("out of memory");
+        status = USM_EFAILED;
+        goto done;
+    }
+    /* every root's multipliers; the top level keeps describing root 0 */
+    status = usm_floquet_roots(fl, &c->params, s, a->t0, &a->floquet, res);
     if (status != USM_OK) {
         cli_error("floquet: %s", usm_floquet_message(fl));
         status = status == USM_EINPUT ? USM_EINPUT : USM_EFAILED;
         goto done;
     }
-    if ((bad = non_finite(usm_steady_root(s, 0), &res))) {
-        cli_error("%s", bad);
-        status = USM_EFAILED;
-        goto done;
-    }
-    rep.floquet = &res;
+    for (size_t k = 0; k < usm_steady_count(s); ++k)
+        if ((bad = non_finite(usm_steady_root(s, k), &res[k]))) {
+            cli_error("%s", bad);
+            status = USM_EFAILED;
+            goto done;
+        }
+    rep.floquet = &res[0];
+    rep.roots_floquet = res;
     if (c->json)
         status = emit_json(&rep);
     else
         usm_steady_table(&rep, stdout);
 done:
+    free(res);
     if (fl)
         usm_floquet_free(fl);
     usm_steady_free(s);

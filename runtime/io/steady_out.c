@@ -26,9 +26,14 @@ json_t *usm_steady_json(const usm_steady_report *r)
             ok = 0;
         json_decref(primary);
     }
-    for (size_t k = 0; k < n; ++k)
-        if (json_array_append_new(roots, usm_json_root(usm_steady_root(r->steady, k))) != 0)
+    for (size_t k = 0; k < n; ++k) {
+        json_t *root = usm_json_root(usm_steady_root(r->steady, k));
+        /* each root's own multipliers, the keys of the top-level "floquet" */
+        if (root && r->roots_floquet)
+            usm_json_put(root, "floquet", usm_json_floquet(&r->roots_floquet[k]), &ok);
+        if (json_array_append_new(roots, root) != 0)
             ok = 0;
+    }
     usm_json_put(obj, "roots", roots, &ok);
     if (r->floquet)
         usm_json_put(obj, "floquet", usm_json_floquet(r->floquet), &ok);
@@ -86,18 +91,31 @@ static void multipliers(FILE *out, const usm_floquet_result *f)
                      "  twist_integrated removes the dependence\n");
 }
 
-static void other_roots(FILE *out, const usm_steady *s)
+/* One line per root; with every root's multipliers (fl, or NULL) also its
+ * largest modulus and stability, for every count of roots. */
+static void other_roots(FILE *out, const usm_steady *s, const usm_floquet_result *fl)
 {
     size_t n = usm_steady_count(s);
-    if (n < 2)
+    if (n < 2 && !fl)
         return;
-    fprintf(out, "\nall %zu stationary solutions (Floquet multipliers above are of #1)\n", n);
-    fprintf(out, "  %3s %-18s %-18s %-18s %-18s %s\n", "#", "theta [rad]", "alpha [rad]",
+    if (fl)
+        fprintf(out, n == 1 ? "\nthe stationary solution and its stability\n"
+                            : "\nall %zu stationary solutions, each with its own stability\n",
+                n);
+    else
+        fprintf(out, "\nall %zu stationary solutions (Floquet multipliers above are of #1)\n", n);
+    fprintf(out, "  %3s %-18s %-18s %-18s %-18s %-5s", "#", "theta [rad]", "alpha [rad]",
             "rotor_speed [1/s]", "F_n [N]", "stick");
+    if (fl)
+        fprintf(out, " %-14s %s", "max |lambda|", "stability");
+    fputc('\n', out);
     for (size_t k = 0; k < n; ++k) {
         const usm_steady_solution *r = usm_steady_root(s, k);
-        fprintf(out, "  %3zu %-18.10g %-18.10g %-18.10g %-18.10g %s\n", k + 1, r->theta, r->alpha,
+        fprintf(out, "  %3zu %-18.10g %-18.10g %-18.10g %-18.10g %-5s", k + 1, r->theta, r->alpha,
                 r->rotor_speed, r->F_n, r->stick_admissible ? "yes" : "no");
+        if (fl)
+            fprintf(out, " %-14.10g %s", fl[k].max_modulus, fl[k].stable ? "stable" : "unstable");
+        fputc('\n', out);
     }
 }
 
@@ -126,7 +144,7 @@ void usm_steady_table(const usm_steady_report *r, FILE *out)
     solution(out, usm_steady_root(r->steady, 0));
     if (r->floquet)
         multipliers(out, r->floquet);
-    other_roots(out, r->steady);
+    other_roots(out, r->steady, r->roots_floquet);
     parameters(out, r->params);
 }
 

@@ -111,6 +111,8 @@ typedef struct usm_steady_report {
     const usm_steady *steady;          /* its roots; 0 roots when error is set */
     const char *error;                 /* NULL when a root was found */
     const usm_floquet_result *floquet; /* of root 0, or NULL */
+    const usm_floquet_result *roots_floquet; /* one per root (usm_floquet_roots), or NULL:
+                                                then the roots carry no "floquet" */
 } usm_steady_report;
 
 /* The `usm steady --json` object and a newline to out.  0, or -1 on a write
