@@ -33,4 +33,41 @@ if expect_rc 0 steady --json; then
 assert len(o['roots']) == 1 and o['roots'][0]['floquet'] == o['floquet']"
 fi
 
+# ---- simulate: which root a start-up from rest ends on --------------------------
+if expect_rc 0 steady --set F0=1.001 --set f=38000 --json; then
+    cp "$out" "$tmp/steady1001.json"
+fi
+if expect_rc 0 simulate --set F0=1.001 --set f=38000 --duration 6e-3 --rate 0 --json; then
+    py "
+s = json.load(open('$tmp/steady1001.json'))
+assert o['settled_on'] == 1 and o['roots'] == 2, (o['settled_on'], o['roots'])
+assert not o['settled'], 'settled refers to root 0'
+r = s['roots'][1]
+assert abs(r['theta'] - 8.635e-5) < 1e-8 and abs(r['rotor_speed'] + 12.37) < 5e-3
+assert abs(o['settled_root']['theta'] - r['theta']) <= 1e-15 * r['theta']
+assert abs(o['theta_avg_end'] / r['theta'] - 1) < 1e-3
+assert abs(o['rotor_speed_avg_end'] / r['rotor_speed'] - 1) < 1e-3
+assert not s['roots'][0]['floquet']['stable'] and s['roots'][1]['floquet']['stable']"
+fi
+if expect_rc 0 simulate --set F0=1.001 --set f=38000 --duration 6e-3 --rate 0; then
+    grep -q 'settled on  *root #2 of 2 (theta = 8.635042134e-05 rad' "$out" ||
+        fail "table: does not say it settled on root #2"
+fi
+if expect_rc 0 simulate --duration 5e-3 --rate 0 --json; then
+    py "assert o['settled_on'] == 0 and o['settled'] and o['roots'] == 1"
+fi
+# the wobble decays at F0 = 1.2 N: rest, the run stops there (exit 0)
+if expect_rc 0 simulate --set F0=1.2 --set f=38000 --duration 2e-3 --rate 0 --json; then
+    py "
+assert o['settled_on'] == 'rest' and o['stop'] == 'rest' and not o['completed'], o['stop']
+assert o['theta_avg_end'] < 1e-2 * o['rest_theta_ref'] and o['t_rest'] == o['t_reached']"
+fi
+if expect_rc 0 simulate --set F0=1.2 --set f=38000 --duration 2e-3 --rate 0; then
+    grep -q 'settled on  *rest: the wobble decayed' "$out" || fail "table: does not say rest"
+fi
+# too short to settle: null
+if expect_rc 0 simulate --duration 1e-3 --rate 0 --json; then
+    py "assert o['settled_on'] is None"
+fi
+
 finish roots_cli

@@ -10,12 +10,14 @@
 #include "options.h"
 #include "usm_io.h"
 #include "usm.h"
+#include "usm_operating_point.h"
 
 static void usage(FILE *out)
 {
     fprintf(out,
             "usage: usm steady [--model 3dof|4dof] [--params FILE.json] [--set NAME=VALUE]...\n"
-            "                  [--t0 S] [--floquet-method NAME] [--rtol R] [--json]\n"
+            "                  [--t0 S] [--floquet-method NAME] [--rtol R]\n"
+            "                  [--from-rest [--from-rest-periods N]] [--json]\n"
             "\n"
             "Find every stationary solution (paper, eq. 3.1) and the Floquet multipliers of\n"
             "each; the summary at the top is the one with the smallest tilt.\n"
@@ -23,7 +25,11 @@ static void usage(FILE *out)
             "options:\n");
     cli_common_usage(out);
     fprintf(out,
-            "  --t0 S              start of the Floquet period [s] (default 0, the paper's)\n");
+            "  --t0 S              start of the Floquet period [s] (default 0, the paper's)\n"
+            "  --from-rest         simulate the start-up from rest to find the operating point\n"
+            "                      (the stable root the motor reaches) where several roots exist\n"
+            "  --from-rest-periods N  length of that simulation in excitation periods\n"
+            "                      (default 400)\n");
     cli_floquet_usage(out);
     fprintf(out,
             "  -h, --help          print this help\n"
@@ -47,6 +53,7 @@ static void usage(FILE *out)
 typedef struct steady_args {
     cli_common common;
     usm_floquet_options floquet;
+    usm_op_options op;
     double t0;
     int help;
 } steady_args;
@@ -55,6 +62,7 @@ static int parse(steady_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
 {
     cli_common_init(&a->common);
     usm_floquet_options_default(&a->floquet);
+    usm_op_options_default(&a->op);
     a->t0 = 0.0;
     a->help = 0;
     for (int i = 1; i < argc; ++i) {
@@ -72,6 +80,22 @@ static int parse(steady_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
             continue;
         if (r == CLI_OPT_ERROR)
             return USM_EINPUT;
+        if (strcmp(argv[i], "--from-rest") == 0) {
+            a->op.from_rest = 1;
+            continue;
+        }
+        if ((r = cli_option_value(argc, argv, &i, "--from-rest-periods", &value, msg)) ==
+            CLI_OPT_ERROR)
+            return USM_EINPUT;
+        if (r == CLI_OPT_TAKEN) {
+            if (cli_parse_double("--from-rest-periods", value, &a->op.periods, msg) != USM_OK)
+                return USM_EINPUT;
+            if (!(a->op.periods >= 1 && a->op.periods <= 1e7)) {
+                cli_msg(msg, "--from-rest-periods: must be in [1, 1e7]");
+                return USM_EINPUT;
+            }
+            continue;
+        }
         if ((r = cli_option_value(argc, argv, &i, "--t0", &value, msg)) == CLI_OPT_ERROR)
             return USM_EINPUT;
         if (r == CLI_OPT_TAKEN) {
@@ -121,8 +145,9 @@ static const char *non_finite(const usm_steady_solution *s, const usm_floquet_re
 static int run(const steady_args *a)
 {
     const cli_common *c = &a->common;
-    usm_steady_report rep = {c->model, &c->params, NULL, NULL, NULL, NULL};
+    usm_steady_report rep = {c->model, &c->params, NULL, NULL, NULL, NULL, NULL};
     usm_floquet_result *res = NULL;
+    usm_op_result op;
     usm_floquet *fl = NULL;
     const char *bad;
     int status;
@@ -176,6 +201,14 @@ static int run(const steady_args *a)
         }
     rep.floquet = &res[0];
     rep.roots_floquet = res;
+    /* the operating point: cheap where one root is stable, a simulation from
+     * rest where asked (usm_operating_point.h) */
+    status = usm_operating_point(c->model, &c->params, s, res, &a->op, &op);
+    if (status != USM_OK) {
+        cli_error("%s", op.message);
+        goto done;
+    }
+    rep.op = &op;
     if (c->json)
         status = emit_json(&rep);
     else
