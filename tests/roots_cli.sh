@@ -33,6 +33,38 @@ if expect_rc 0 steady --json; then
 assert len(o['roots']) == 1 and o['roots'][0]['floquet'] == o['floquet']"
 fi
 
+# ---- steady: the operating point ------------------------------------------------
+if expect_rc 0 steady --json; then
+    py "
+assert o['operating_point'] == 0 and o['operating_point_reason'] == 'only_stable_root'
+assert o['starts_from_rest'] is None and 'from_rest' not in o"
+fi
+py_file "$tmp/steady12.json" "
+assert o['operating_point'] is None and o['operating_point_reason'] is None
+assert o['starts_from_rest'] is None and 'simulation from rest' in o['operating_point_message']"
+if expect_rc 0 steady --set F0=1.001 --set f=38000 --from-rest --json; then
+    py "
+assert o['operating_point'] == 1 and o['operating_point_reason'] == 'reached_from_rest'
+assert o['starts_from_rest'] is True and o['from_rest']['settled_on'] == 1
+r = o['roots'][1]
+assert o['theta'] == r['theta'] and o['rotor_speed'] == r['rotor_speed']
+assert o['floquet'] == r['floquet'] and o['floquet']['stable']"
+fi
+if expect_rc 0 steady --set F0=1.2 --set f=38000 --from-rest --json; then
+    py "
+assert o['operating_point'] is None and o['operating_point_reason'] == 'does_not_start'
+assert o['starts_from_rest'] is False and o['from_rest']['stop'] == 'rest'
+assert o['theta'] == o['roots'][0]['theta']"
+fi
+if expect_rc 0 steady --set F0=1.2 --set f=38000 --from-rest; then
+    grep -q '^operating point  *none (does_not_start)' "$out" || fail "table: no does_not_start"
+    grep -q 'starts from rest:  no: the wobble decays' "$out" || fail "table: starts from rest"
+fi
+if expect_rc 0 steady --set f=32000 --set T=0.004 --json; then
+    py "assert o['operating_point'] is None and o['operating_point_reason'] == 'no_stable_root'"
+fi
+expect_bad --from-rest-periods 'must be in' steady --from-rest --from-rest-periods 0
+
 # ---- simulate: which root a start-up from rest ends on --------------------------
 if expect_rc 0 steady --set F0=1.001 --set f=38000 --json; then
     cp "$out" "$tmp/steady1001.json"
