@@ -111,9 +111,9 @@ void usm_sim_write_table(const usm_sim_report *a, FILE *out)
                 s->settled_root.rotor_speed, s->settle_tol, s->settle_periods);
     else if (s->settled_on == USM_SIM_SETTLED_REST)
         fprintf(out,
-                "  %-22s rest: the wobble decayed (tilt below %g of %.3g rad, still falling, by "
+                "  %-22s rest: the wobble decayed (tilt below %g of %.3g rad for %d periods by "
                 "t = %.6g s); the motor does not start\n",
-                "settled on", s->rest_fraction, s->rest_theta_ref, s->t_rest);
+                "settled on", s->rest_fraction, s->rest_theta_ref, USM_SIM_REST_PERIODS, s->t_rest);
     else
         fprintf(out, "  %-22s none of the %zu stationary solution%s, and no decay to rest\n",
                 "settled on", s->roots, s->roots == 1 ? "" : "s");

@@ -89,7 +89,7 @@ void usm_sim_options_default(usm_sim_options *opt)
     opt->max_steps = 0;
     opt->max_step = 0.0;
     opt->max_twist_growth = 400.0;
-    opt->rest_fraction = 1e-2;
+    opt->rest_fraction = 2e-2;
 }
 
 const char *usm_sim_stop_name(usm_sim_stop stop)
@@ -633,8 +633,7 @@ static void end_of_period(usm_sim *s, run_state *r, double t, const double *q)
     /* the decay rule */
     if (sum->rest_fraction > 0) {
         const double lim = sum->rest_fraction * sum->rest_theta_ref;
-        if (r->theta_avg < lim && r->theta_avg < s->rest_prev &&
-            fabs(r->speed_avg) < lim * s->Omega)
+        if (r->theta_avg < lim && fabs(r->speed_avg) < lim * s->Omega)
             s->rest_run++;
         else
             s->rest_run = 0;

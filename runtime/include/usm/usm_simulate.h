@@ -36,13 +36,14 @@
  *    this is `settled`); should two roots qualify (roots closer than
  *    settle_tol), the one nearer at the end wins.  The wobble decayed (the
  *    motor does not start) when, for USM_SIM_REST_PERIODS consecutive
- *    periods, the period-mean tilt is below rest_fraction theta_ref and
- *    falls from period to period, and the period-mean |rotor speed| is below
- *    rest_fraction Omega theta_ref; theta_ref is the smaller of the start
- *    tilt and the smallest stationary tilt (the start tilt when there is no
- *    stationary solution).  A tilt 100 times below where it started and
- *    below every stationary tilt, still falling, is decay, not a slow
- *    approach to a root; the run then stops (USM_SIM_REST) instead of
+ *    periods, the period-mean tilt is below rest_fraction theta_ref and the
+ *    period-mean |rotor speed| below rest_fraction Omega theta_ref;
+ *    theta_ref is the smaller of the start tilt and the smallest stationary
+ *    tilt (the start tilt when there is no stationary solution).  A tilt 50
+ *    times below where it started and below every stationary tilt, held for
+ *    5 periods, is decay, not an approach to a root (the start-ups that reach
+ *    a root dip by less than a factor 2; those that decay fall towards about
+ *    1e-8 rad, where they creep on); the run then stops (USM_SIM_REST) instead of
  *    integrating on towards theta = 0, where the z-x-z angles are singular
  *    and the steps shrink without end.  Otherwise the run has not settled
  *    (USM_SIM_SETTLED_NONE), e.g. when it was too short or stopped early.
@@ -105,11 +106,11 @@ typedef struct usm_sim_options {
                               * header comment); 0: no limit (default 400: about 2 s
                               * of the paper's motor, a minute of computing) */
     double rest_fraction;  /* the decay rule of settled_on (header comment; default
-                              1e-2, in [0, 0.5]); 0: never decide that the wobble decayed */
+                              2e-2, in [0, 0.5]); 0: never decide that the wobble decayed */
 } usm_sim_options;
 
 /* Consecutive periods the decay rule must hold (see the header comment). */
-#define USM_SIM_REST_PERIODS 3
+#define USM_SIM_REST_PERIODS 5
 
 /* usm_sim_summary.settled_on when the wobble decayed: the motor does not start. */
 #define USM_SIM_SETTLED_REST (-1)
