@@ -54,7 +54,7 @@ static void steady_json(void)
               usm_floquet_compute(fl, &p, usm_steady_root(st, 0), 0.0, NULL, &fr) == USM_OK,
           "steady: no solution at the paper's parameters");
     FILE *f = tmpfile();
-    usm_steady_report rep = {m, &p, st, NULL, &fr};
+    usm_steady_report rep = {m, &p, st, NULL, &fr, NULL, NULL};
     CHECK(f && usm_steady_write_json(&rep, f) == 0, "usm_steady_write_json failed");
     rewind(f);
     json_error_t err;

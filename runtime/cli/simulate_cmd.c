@@ -32,7 +32,8 @@ static void usage(FILE *out)
             "\n"
             "Integrate the full nonlinear model M(x) x' = f(x, t) (CVODES, BDF) from the motor\n"
             "at rest, write the time history as CSV and report whether and when the motion\n"
-            "settled onto the stationary solution.\n"
+            "settled onto the stationary solution, and which root it settled on (settled_on:\n"
+            "a root index of usm steady, \"rest\" when the wobble decays: the run then stops).\n"
             "\n"
             "options:\n");
     cli_common_usage(out);
@@ -65,7 +66,8 @@ static void usage(FILE *out)
             "phi_R [rad], phi_Rdot [rad/s], F_n F_t [N], v_rel [m/s], theta_avg [rad],\n"
             "phi_Rdot_avg [rad/s] (means over the last complete excitation period).\n"
             "\n"
-            "exit status: 0 completed (settled or not), 1 stopped early (integrator failure,\n"
+            "exit status: 0 completed (settled or not) or the wobble decayed to rest,\n"
+            "             1 stopped early (integrator failure,\n"
             "             runaway, step cap, write error), 2 bad input or an existing output\n"
             "             file, 3 --from stationary without a stationary solution\n");
 }

@@ -1,7 +1,8 @@
 /* usm steady: every stationary solution of a model and the Floquet
- * multipliers of the primary one (smallest tilt). */
+ * multipliers of each (the top level: the primary one, smallest tilt). */
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "commands.h"
@@ -9,20 +10,26 @@
 #include "options.h"
 #include "usm_io.h"
 #include "usm.h"
+#include "usm_operating_point.h"
 
 static void usage(FILE *out)
 {
     fprintf(out,
             "usage: usm steady [--model 3dof|4dof] [--params FILE.json] [--set NAME=VALUE]...\n"
-            "                  [--t0 S] [--floquet-method NAME] [--rtol R] [--json]\n"
+            "                  [--t0 S] [--floquet-method NAME] [--rtol R]\n"
+            "                  [--from-rest [--from-rest-periods N]] [--json]\n"
             "\n"
             "Find every stationary solution (paper, eq. 3.1) and the Floquet multipliers of\n"
-            "the one with the smallest tilt.\n"
+            "each; the summary at the top is the one with the smallest tilt.\n"
             "\n"
             "options:\n");
     cli_common_usage(out);
     fprintf(out,
-            "  --t0 S              start of the Floquet period [s] (default 0, the paper's)\n");
+            "  --t0 S              start of the Floquet period [s] (default 0, the paper's)\n"
+            "  --from-rest         simulate the start-up from rest to find the operating point\n"
+            "                      (the stable root the motor reaches) where several roots exist\n"
+            "  --from-rest-periods N  length of that simulation in excitation periods\n"
+            "                      (default 400)\n");
     cli_floquet_usage(out);
     fprintf(out,
             "  -h, --help          print this help\n"
@@ -46,6 +53,7 @@ static void usage(FILE *out)
 typedef struct steady_args {
     cli_common common;
     usm_floquet_options floquet;
+    usm_op_options op;
     double t0;
     int help;
 } steady_args;
@@ -54,6 +62,7 @@ static int parse(steady_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
 {
     cli_common_init(&a->common);
     usm_floquet_options_default(&a->floquet);
+    usm_op_options_default(&a->op);
     a->t0 = 0.0;
     a->help = 0;
     for (int i = 1; i < argc; ++i) {
@@ -71,6 +80,22 @@ static int parse(steady_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
             continue;
         if (r == CLI_OPT_ERROR)
             return USM_EINPUT;
+        if (strcmp(argv[i], "--from-rest") == 0) {
+            a->op.from_rest = 1;
+            continue;
+        }
+        if ((r = cli_option_value(argc, argv, &i, "--from-rest-periods", &value, msg)) ==
+            CLI_OPT_ERROR)
+            return USM_EINPUT;
+        if (r == CLI_OPT_TAKEN) {
+            if (cli_parse_double("--from-rest-periods", value, &a->op.periods, msg) != USM_OK)
+                return USM_EINPUT;
+            if (!(a->op.periods >= 1 && a->op.periods <= 1e7)) {
+                cli_msg(msg, "--from-rest-periods: must be in [1, 1e7]");
+                return USM_EINPUT;
+            }
+            continue;
+        }
         if ((r = cli_option_value(argc, argv, &i, "--t0", &value, msg)) == CLI_OPT_ERROR)
             return USM_EINPUT;
         if (r == CLI_OPT_TAKEN) {
@@ -120,8 +145,9 @@ static const char *non_finite(const usm_steady_solution *s, const usm_floquet_re
 static int run(const steady_args *a)
 {
     const cli_common *c = &a->common;
-    usm_steady_report rep = {c->model, &c->params, NULL, NULL, NULL};
-    usm_floquet_result res;
+    usm_steady_report rep = {c->model, &c->params, NULL, NULL, NULL, NULL, NULL};
+    usm_floquet_result *res = NULL;
+    usm_op_result op;
     usm_floquet *fl = NULL;
     const char *bad;
     int status;
@@ -155,24 +181,40 @@ static int run(const steady_args *a)
         status = USM_EFAILED;
         goto done;
     }
-    status = usm_floquet_compute(fl, &c->params, usm_steady_root(s, 0), a->t0, &a->floquet,
-                                 &res);
+    if (!(res = malloc(usm_steady_count(s) * sizeof *res))) {
+        cli_error("out of memory");
+        status = USM_EFAILED;
+        goto done;
+    }
+    /* every root's multipliers; the top level keeps describing root 0 */
+    status = usm_floquet_roots(fl, &c->params, s, a->t0, &a->floquet, res);
     if (status != USM_OK) {
         cli_error("floquet: %s", usm_floquet_message(fl));
         status = status == USM_EINPUT ? USM_EINPUT : USM_EFAILED;
         goto done;
     }
-    if ((bad = non_finite(usm_steady_root(s, 0), &res))) {
-        cli_error("%s", bad);
-        status = USM_EFAILED;
+    for (size_t k = 0; k < usm_steady_count(s); ++k)
+        if ((bad = non_finite(usm_steady_root(s, k), &res[k]))) {
+            cli_error("%s", bad);
+            status = USM_EFAILED;
+            goto done;
+        }
+    rep.floquet = &res[0];
+    rep.roots_floquet = res;
+    /* the operating point: cheap where one root is stable, a simulation from
+     * rest where asked (usm_operating_point.h) */
+    status = usm_operating_point(c->model, &c->params, s, res, &a->op, &op);
+    if (status != USM_OK) {
+        cli_error("%s", op.message);
         goto done;
     }
-    rep.floquet = &res;
+    rep.op = &op;
     if (c->json)
         status = emit_json(&rep);
     else
         usm_steady_table(&rep, stdout);
 done:
+    free(res);
     if (fl)
         usm_floquet_free(fl);
     usm_steady_free(s);

@@ -96,10 +96,27 @@ void usm_sim_write_table(const usm_sim_report *a, FILE *out)
                 "periods)\n",
                 "settled", s->t_settle, (s->t_settle - s->t0) / T, s->settle_tol,
                 s->periods - (long)floor((s->t_settle - s->t0) / T + 0.5));
+    else if (s->have_steady && s->settled_on > 0)
+        fprintf(out, "  %-22s no, not on the stationary solution above (#1): see \"settled on\"\n",
+                "settled");
     else if (s->have_steady)
         fprintf(out,
                 "  %-22s no (tolerance %g relative, held for %d periods to the end of the run)\n",
                 "settled", s->settle_tol, s->settle_periods);
+    if (s->settled_on >= 0)
+        fprintf(out,
+                "  %-22s root #%d of %zu (theta = %.10g rad, rotor speed = %.10g 1/s): period "
+                "means within %g of it for the last %d periods\n",
+                "settled on", s->settled_on + 1, s->roots, s->settled_root.theta,
+                s->settled_root.rotor_speed, s->settle_tol, s->settle_periods);
+    else if (s->settled_on == USM_SIM_SETTLED_REST)
+        fprintf(out,
+                "  %-22s rest: the wobble decayed (tilt below %g of %.3g rad for %d periods by "
+                "t = %.6g s); the motor does not start\n",
+                "settled on", s->rest_fraction, s->rest_theta_ref, USM_SIM_REST_PERIODS, s->t_rest);
+    else
+        fprintf(out, "  %-22s none of the %zu stationary solution%s, and no decay to rest\n",
+                "settled on", s->roots, s->roots == 1 ? "" : "s");
     if (s->contact_open.count)
         episodes_line(out, "F_n < 0 (contact opens)", &s->contact_open, "most negative F_n", "N");
     if (s->stick_checked && s->stick_exceeded.count)
@@ -172,6 +189,20 @@ static json_t *summary_json(const usm_sim_report *a)
     usm_json_put(o, "settle_periods", json_integer(s->settle_periods), &ok);
     usm_json_put(o, "settled", json_boolean(s->settled), &ok);
     usm_json_put(o, "t_settle", s->settled ? usm_json_real(s->t_settle) : json_null(), &ok);
+    /* where it ended: a root index, "rest", or null (usm_simulate.h) */
+    if (s->settled_on >= 0)
+        usm_json_put(o, "settled_on", json_integer(s->settled_on), &ok);
+    else if (s->settled_on == USM_SIM_SETTLED_REST)
+        usm_json_put(o, "settled_on", json_string("rest"), &ok);
+    else
+        usm_json_put(o, "settled_on", json_null(), &ok);
+    usm_json_put(o, "roots", json_integer((json_int_t)s->roots), &ok);
+    if (s->settled_on >= 0)
+        usm_json_put(o, "settled_root", usm_json_root(&s->settled_root), &ok);
+    usm_json_put(o, "rest_fraction", usm_json_real(s->rest_fraction), &ok);
+    usm_json_put(o, "rest_theta_ref", usm_json_real(s->rest_theta_ref), &ok);
+    usm_json_put(o, "t_rest", s->settled_on == USM_SIM_SETTLED_REST ? usm_json_real(s->t_rest)
+                                                                   : json_null(), &ok);
     if (s->periods > 0) {
         usm_json_put(o, "theta_avg_end", usm_json_real(s->theta_avg_end), &ok);
         usm_json_put(o, "rotor_speed_avg_end", usm_json_real(s->rotor_speed_avg_end), &ok);

@@ -6,6 +6,53 @@
 
 #include "json_out.h"
 
+/* The root the top level describes: the operating point when there is one
+ * (and every root's multipliers are known), else root 0. */
+static size_t top_root(const usm_steady_report *r)
+{
+    if (r->op && r->op->index > 0 && r->roots_floquet &&
+        (size_t)r->op->index < usm_steady_count(r->steady))
+        return (size_t)r->op->index;
+    return 0;
+}
+
+/* operating_point, operating_point_reason, starts_from_rest, and what the
+ * simulation from rest showed */
+static void put_operating_point(json_t *obj, const usm_op_result *op, int *ok)
+{
+    usm_json_put(obj, "operating_point", op->index >= 0 ? json_integer(op->index) : json_null(),
+                 ok);
+    usm_json_put(obj, "operating_point_reason",
+                 op->reason == USM_OP_UNDECIDED ? json_null()
+                                                : json_string(usm_op_reason_name(op->reason)),
+                 ok);
+    usm_json_put(obj, "operating_point_message", json_string(op->message), ok);
+    usm_json_put(obj, "starts_from_rest",
+                 op->starts_from_rest < 0 ? json_null() : json_boolean(op->starts_from_rest), ok);
+    if (op->simulated) {
+        const usm_sim_summary *s = &op->sim;
+        json_t *fr = json_object();
+        int fok = fr != NULL;
+        usm_json_put(fr, "duration", usm_json_real(s->t1 - s->t0), &fok);
+        usm_json_put(fr, "t_reached", usm_json_real(s->t_reached), &fok);
+        usm_json_put(fr, "stop", json_string(usm_sim_stop_name(s->stop)), &fok);
+        usm_json_put(fr, "steps", json_integer(s->steps), &fok);
+        usm_json_put(fr, "settled_on",
+                     s->settled_on >= 0 ? json_integer(s->settled_on)
+                     : s->settled_on == USM_SIM_SETTLED_REST ? json_string("rest")
+                                                             : json_null(),
+                     &fok);
+        usm_json_put(fr, "theta_avg_end", usm_json_real(s->theta_avg_end), &fok);
+        usm_json_put(fr, "rotor_speed_avg_end", usm_json_real(s->rotor_speed_avg_end), &fok);
+        usm_json_put(fr, "wall_time", usm_json_real(op->wall), &fok);
+        if (!fok) {
+            json_decref(fr);
+            fr = NULL;
+        }
+        usm_json_put(obj, "from_rest", fr, ok);
+    }
+}
+
 json_t *usm_steady_json(const usm_steady_report *r)
 {
     json_t *obj = json_object();
@@ -19,19 +66,29 @@ json_t *usm_steady_json(const usm_steady_report *r)
     if (r->error)
         usm_json_put(obj, "error", json_string(r->error), &ok);
     else {
-        /* The primary root's values at top level, so that the common case
-         * needs no indexing. */
-        json_t *primary = usm_json_root(usm_steady_root(r->steady, 0));
+        /* The operating point's (else the primary root's) values at top
+         * level, so that the common case needs no indexing. */
+        json_t *primary = usm_json_root(usm_steady_root(r->steady, top_root(r)));
         if (!primary || json_object_update(obj, primary) != 0)
             ok = 0;
         json_decref(primary);
     }
-    for (size_t k = 0; k < n; ++k)
-        if (json_array_append_new(roots, usm_json_root(usm_steady_root(r->steady, k))) != 0)
+    for (size_t k = 0; k < n; ++k) {
+        json_t *root = usm_json_root(usm_steady_root(r->steady, k));
+        /* each root's own multipliers, the keys of the top-level "floquet" */
+        if (root && r->roots_floquet)
+            usm_json_put(root, "floquet", usm_json_floquet(&r->roots_floquet[k]), &ok);
+        if (json_array_append_new(roots, root) != 0)
             ok = 0;
+    }
     usm_json_put(obj, "roots", roots, &ok);
     if (r->floquet)
-        usm_json_put(obj, "floquet", usm_json_floquet(r->floquet), &ok);
+        usm_json_put(obj, "floquet",
+                     usm_json_floquet(top_root(r) > 0 ? &r->roots_floquet[top_root(r)]
+                                                      : r->floquet),
+                     &ok);
+    if (r->op && !r->error)
+        put_operating_point(obj, r->op, &ok);
     if (!ok) {
         json_decref(obj);
         return NULL;
@@ -86,18 +143,31 @@ static void multipliers(FILE *out, const usm_floquet_result *f)
                      "  twist_integrated removes the dependence\n");
 }
 
-static void other_roots(FILE *out, const usm_steady *s)
+/* One line per root; with every root's multipliers (fl, or NULL) also its
+ * largest modulus and stability, for every count of roots. */
+static void other_roots(FILE *out, const usm_steady *s, const usm_floquet_result *fl)
 {
     size_t n = usm_steady_count(s);
-    if (n < 2)
+    if (n < 2 && !fl)
         return;
-    fprintf(out, "\nall %zu stationary solutions (Floquet multipliers above are of #1)\n", n);
-    fprintf(out, "  %3s %-18s %-18s %-18s %-18s %s\n", "#", "theta [rad]", "alpha [rad]",
+    if (fl)
+        fprintf(out, n == 1 ? "\nthe stationary solution and its stability\n"
+                            : "\nall %zu stationary solutions, each with its own stability\n",
+                n);
+    else
+        fprintf(out, "\nall %zu stationary solutions (Floquet multipliers above are of #1)\n", n);
+    fprintf(out, "  %3s %-18s %-18s %-18s %-18s %-5s", "#", "theta [rad]", "alpha [rad]",
             "rotor_speed [1/s]", "F_n [N]", "stick");
+    if (fl)
+        fprintf(out, " %-14s %s", "max |lambda|", "stability");
+    fputc('\n', out);
     for (size_t k = 0; k < n; ++k) {
         const usm_steady_solution *r = usm_steady_root(s, k);
-        fprintf(out, "  %3zu %-18.10g %-18.10g %-18.10g %-18.10g %s\n", k + 1, r->theta, r->alpha,
+        fprintf(out, "  %3zu %-18.10g %-18.10g %-18.10g %-18.10g %-5s", k + 1, r->theta, r->alpha,
                 r->rotor_speed, r->F_n, r->stick_admissible ? "yes" : "no");
+        if (fl)
+            fprintf(out, " %-14.10g %s", fl[k].max_modulus, fl[k].stable ? "stable" : "unstable");
+        fputc('\n', out);
     }
 }
 
@@ -119,14 +189,42 @@ static void parameters(FILE *out, const usm_params *p)
     }
 }
 
+/* The operating point in words. */
+static void operating_point(FILE *out, const usm_op_result *op)
+{
+    fprintf(out, "\noperating point      ");
+    if (op->index >= 0)
+        fprintf(out, "#%d (%s)\n", op->index + 1, usm_op_reason_name(op->reason));
+    else
+        fprintf(out, "none (%s)\n", op->reason == USM_OP_UNDECIDED
+                                        ? "undecided"
+                                        : usm_op_reason_name(op->reason));
+    fprintf(out, "  %s\n", op->message);
+    fprintf(out, "  starts from rest:  %s\n",
+            op->starts_from_rest < 0 ? "not known (usm steady --from-rest simulates it)"
+            : op->starts_from_rest   ? "yes"
+                                     : "no: the wobble decays");
+    if (op->simulated)
+        fprintf(out, "  from rest:         %ld steps to t = %.6g s (stop: %s), %.3g s\n",
+                op->sim.steps, op->sim.t_reached, usm_sim_stop_name(op->sim.stop), op->wall);
+}
+
 void usm_steady_table(const usm_steady_report *r, FILE *out)
 {
+    const size_t top = top_root(r);
     fprintf(out, "model %s: %s\n", r->model->name, r->model->description);
-    fprintf(out, "\nstationary solution #1 of %zu (smallest tilt)\n", usm_steady_count(r->steady));
-    solution(out, usm_steady_root(r->steady, 0));
+    if (top > 0)
+        fprintf(out, "\nstationary solution #%zu of %zu (the operating point)\n", top + 1,
+                usm_steady_count(r->steady));
+    else
+        fprintf(out, "\nstationary solution #1 of %zu (smallest tilt)\n",
+                usm_steady_count(r->steady));
+    solution(out, usm_steady_root(r->steady, top));
     if (r->floquet)
-        multipliers(out, r->floquet);
-    other_roots(out, r->steady);
+        multipliers(out, top > 0 ? &r->roots_floquet[top] : r->floquet);
+    other_roots(out, r->steady, r->roots_floquet);
+    if (r->op)
+        operating_point(out, r->op);
     parameters(out, r->params);
 }
 

@@ -718,3 +718,24 @@ int usm_floquet_compute(usm_floquet *f, const usm_params *p, const usm_steady_so
         }
     return multipliers(f, out);
 }
+
+/* Every root of the last solve in turn, with the same method and t0 as one
+ * root alone: out[k] is bit for bit usm_floquet_compute of root k. */
+int usm_floquet_roots(usm_floquet *f, const usm_params *p, const usm_steady *s, double t0,
+                      const usm_floquet_options *opt, usm_floquet_result *out)
+{
+    const size_t n = usm_steady_count(s);
+    f->msg[0] = '\0';
+    for (size_t k = 0; k < n; ++k) {
+        const usm_steady_solution *root = usm_steady_root(s, k);
+        int rc = usm_floquet_compute(f, p, root, t0, opt, &out[k]);
+        if (rc != USM_OK) {
+            char why[USM_MSG_LEN];
+            snprintf(why, sizeof why, "%s", f->msg);
+            snprintf(f->msg, USM_MSG_LEN, "root #%zu (theta = %.6g rad): %.200s", k + 1, root->theta,
+                     why);
+            return rc;
+        }
+    }
+    return USM_OK;
+}

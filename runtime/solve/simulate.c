@@ -62,6 +62,12 @@ struct usm_sim {
     double Fn_min, excess_max;
     int in_open, in_stick;
     double open_since, stick_since;
+    /* where it ends (usm_simulate.h): consecutive periods within settle_tol
+     * of each root, and of the decay rule */
+    long *root_run;
+    size_t root_cap;
+    long rest_run;
+    double rest_prev;
     char cvmsg[USM_MSG_LEN];
     char msg[USM_MSG_LEN];
 };
@@ -83,6 +89,7 @@ void usm_sim_options_default(usm_sim_options *opt)
     opt->max_steps = 0;
     opt->max_step = 0.0;
     opt->max_twist_growth = 400.0;
+    opt->rest_fraction = 2e-2;
 }
 
 const char *usm_sim_stop_name(usm_sim_stop stop)
@@ -102,6 +109,8 @@ const char *usm_sim_stop_name(usm_sim_stop stop)
         return "max_steps";
     case USM_SIM_STOPPED:
         return "stopped";
+    case USM_SIM_REST:
+        return "rest";
     }
     return "unknown";
 }
@@ -165,6 +174,7 @@ void usm_sim_free(usm_sim *s)
     gsl_matrix_free(s->G);
     gsl_permutation_free(s->perm);
     usm_steady_free(s->steady);
+    free(s->root_run);
     free(s);
 }
 
@@ -391,6 +401,8 @@ static int check_options(usm_sim *s, const usm_sim_options *o)
         return input_error(s, "settle_tol: must be in (0, 1)");
     if (o->settle_periods < 1)
         return input_error(s, "settle_periods: must be at least 1");
+    if (!(o->rest_fraction >= 0 && o->rest_fraction <= 0.5))
+        return input_error(s, "rest_fraction: must be in [0, 0.5] (0: never decide rest)");
     if (!(o->theta_limit > 0 && o->theta_limit < 1.5))
         return input_error(s, "theta_limit: must be in (0, 1.5) rad");
     if (!(o->speed_limit > 0) || !isfinite(o->speed_limit))
@@ -531,6 +543,7 @@ typedef struct run_state {
     double theta_avg, speed_avg;
     double last_out;          /* end of the last period outside the tolerance */
     long in_tol_run;          /* consecutive periods inside, at the end */
+    int rest;                 /* the decay rule was met at the last period end */
 } run_state;
 
 static double sample_time(const usm_sim *s, const run_state *r)
@@ -608,6 +621,54 @@ static void end_of_period(usm_sim *s, run_state *r, double t, const double *q)
             r->last_out = t;
         }
     }
+    /* every root, by the rule of root 0 (usm_simulate.h, "Where it ended") */
+    for (size_t k = 0; k < sum->roots; ++k) {
+        const usm_steady_solution *root = usm_steady_root(s->steady, k);
+        if (fabs(rel_diff(r->theta_avg, root->theta)) <= sum->settle_tol &&
+            fabs(rel_diff(r->speed_avg, root->rotor_speed)) <= sum->settle_tol)
+            s->root_run[k]++;
+        else
+            s->root_run[k] = 0;
+    }
+    /* the decay rule */
+    if (sum->rest_fraction > 0) {
+        const double lim = sum->rest_fraction * sum->rest_theta_ref;
+        if (r->theta_avg < lim && fabs(r->speed_avg) < lim * s->Omega)
+            s->rest_run++;
+        else
+            s->rest_run = 0;
+        s->rest_prev = r->theta_avg;
+        if (s->rest_run >= USM_SIM_REST_PERIODS) {
+            r->rest = 1;
+            sum->t_rest = t;
+        }
+    }
+}
+
+/* Where the run ended (usm_simulate.h): the root whose settling stretch
+ * reaches the end of a completed run, the nearest at the end should several;
+ * rest when the decay rule stopped it; otherwise none. */
+static int settled_on(const usm_sim *s, const run_state *r, int rc)
+{
+    const usm_sim_summary *sum = s->sum;
+    if (r->rest)
+        return USM_SIM_SETTLED_REST;
+    if (rc != USM_OK || sum->stop != USM_SIM_COMPLETED)
+        return USM_SIM_SETTLED_NONE;
+    int best = USM_SIM_SETTLED_NONE;
+    double best_d = INFINITY;
+    for (size_t k = 0; k < sum->roots; ++k) {
+        if (s->root_run[k] < sum->settle_periods)
+            continue;
+        const usm_steady_solution *root = usm_steady_root(s->steady, k);
+        const double d = fmax(fabs(rel_diff(r->theta_avg, root->theta)),
+                              fabs(rel_diff(r->speed_avg, root->rotor_speed)));
+        if (d < best_d) {
+            best_d = d;
+            best = (int)k;
+        }
+    }
+    return best;
 }
 
 static void episode_begin(int *inside, double *since, usm_sim_episodes *e, double t)
@@ -833,6 +894,15 @@ static int integrate(usm_sim *s, run_state *r)
             r->j++;
             if (r->cb && r->cb->progress)
                 r->cb->progress(t, s->t0, s->t1, r->cb->data);
+            if (r->rest) {
+                sum->stop = USM_SIM_REST;
+                snprintf(sum->reason, USM_MSG_LEN,
+                         "the wobble decayed: the period-mean tilt %.3g rad fell below %g of "
+                         "%.3g rad for %d periods by t = %.9g s; the motor does not start",
+                         r->theta_avg, sum->rest_fraction, sum->rest_theta_ref,
+                         USM_SIM_REST_PERIODS, t);
+                return USM_OK;
+            }
         }
         if (tout == ts) {
             if (emit_sample(s, r, t, y, q) != 0) {
@@ -927,16 +997,36 @@ int usm_sim_run(usm_sim *s, const usm_params *p, const usm_sim_options *opt,
     s->excess_max = -INFINITY;
     s->in_open = s->in_stick = 0;
 
+    sum->settled_on = USM_SIM_SETTLED_NONE;
+    sum->rest_fraction = opt->rest_fraction;
+    sum->t_rest = NAN;
     if (usm_steady_solve(s->steady, p, NULL) == USM_OK && usm_steady_count(s->steady) > 0) {
         sum->have_steady = 1;
         sum->steady = *usm_steady_root(s->steady, 0);
+        sum->roots = usm_steady_count(s->steady);
     } else
         snprintf(sum->steady_message, USM_MSG_LEN, "%s", usm_steady_message(s->steady));
+    if (sum->roots > s->root_cap) {
+        long *run = realloc(s->root_run, sum->roots * sizeof *run);
+        if (!run) {
+            snprintf(s->msg, USM_MSG_LEN, "out of memory");
+            return USM_EFAILED;
+        }
+        s->root_run = run;
+        s->root_cap = sum->roots;
+    }
+    for (size_t k = 0; k < sum->roots; ++k)
+        s->root_run[k] = 0;
+    s->rest_run = 0;
+    s->rest_prev = INFINITY;
 
     if ((rc = initial_state(s, x0, &rotor_angle0)) != USM_OK ||
         (rc = check_twist_growth(s, x0, cb)) != USM_OK)
         return rc;
     set_scales(s, x0);
+    sum->rest_theta_ref = fabs(x0[s->ith]);
+    if (sum->have_steady)
+        sum->rest_theta_ref = fmin(sum->rest_theta_ref, sum->steady.theta);
     memcpy(sum->final_x, x0, sizeof(double) * (size_t)s->n);
     sum->final_rotor_angle = s->irot >= 0 ? x0[s->irot] : rotor_angle0;
 
@@ -988,7 +1078,11 @@ int usm_sim_run(usm_sim *s, const usm_params *p, const usm_sim_options *opt,
         sum->contact_open.worst = s->Fn_min;
     if (sum->stick_exceeded.count)
         sum->stick_exceeded.worst = s->excess_max;
-    sum->settled = sum->have_steady && rc == USM_OK && r.in_tol_run >= opt->settle_periods;
+    sum->settled = sum->have_steady && rc == USM_OK && sum->stop == USM_SIM_COMPLETED &&
+                   r.in_tol_run >= opt->settle_periods;
+    sum->settled_on = settled_on(s, &r, rc);
+    if (sum->settled_on >= 0)
+        sum->settled_root = *usm_steady_root(s->steady, (size_t)sum->settled_on);
     sum->t_settle = sum->settled ? r.last_out : NAN;
     if (rc != USM_OK)
         snprintf(s->msg, USM_MSG_LEN, "%s", sum->reason);

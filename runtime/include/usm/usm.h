@@ -297,6 +297,20 @@ int usm_floquet_compute(usm_floquet *f, const usm_params *p, const usm_steady_so
  * valid until the next compute or usm_floquet_free. */
 const char *usm_floquet_message(const usm_floquet *f);
 
+/* Multipliers of every root of the last solve of s (usm_steady_count(s) of
+ * them, in root order): out[k] is exactly what usm_floquet_compute gives for
+ * usm_steady_root(s, k) with the same t0 and opt, so out[0] describes the
+ * primary root.  out has room for usm_steady_count(s) results; nothing is
+ * computed when s has no roots.  The cost is that of one root per root (each
+ * a monodromy over one period; docs/library.md, "Floquet methods").  USM_OK
+ * when every root's multipliers were computed; otherwise the status of the
+ * first root that failed (roots before it are filled, those after it are
+ * not), with "root #K (theta = ...): reason" in usm_floquet_message (K counted
+ * from 1, as `usm steady` numbers the roots).  Thread safety: as
+ * usm_floquet_compute (f and s are used, not shared). */
+int usm_floquet_roots(usm_floquet *f, const usm_params *p, const usm_steady *s, double t0,
+                      const usm_floquet_options *opt, usm_floquet_result *out);
+
 #ifdef __cplusplus
 }
 #endif

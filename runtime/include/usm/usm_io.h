@@ -22,6 +22,7 @@
 
 #include "usm.h"
 #include "usm_design.h"
+#include "usm_operating_point.h"
 #include "usm_simulate.h"
 #include "usm_sweep.h"
 
@@ -111,6 +112,12 @@ typedef struct usm_steady_report {
     const usm_steady *steady;          /* its roots; 0 roots when error is set */
     const char *error;                 /* NULL when a root was found */
     const usm_floquet_result *floquet; /* of root 0, or NULL */
+    const usm_floquet_result *roots_floquet; /* one per root (usm_floquet_roots), or NULL:
+                                                then the roots carry no "floquet" */
+    const usm_op_result *op;           /* the operating point (usm_operating_point), or
+                                          NULL: no operating_point keys.  The top level
+                                          describes root op->index when there is one
+                                          (needs roots_floquet), else root 0 */
 } usm_steady_report;
 
 /* The `usm steady --json` object and a newline to out.  0, or -1 on a write

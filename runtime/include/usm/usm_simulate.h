@@ -28,6 +28,25 @@
  *    at t_settle when every period from t_settle to the end is within
  *    settle_tol (relative) in both, and that stretch lasts at least
  *    settle_periods periods.
+ *  - Where it ended (settled_on).  The same rule is applied to every root of
+ *    usm_steady_solve (the roots of `usm steady`, in its order): the run
+ *    settled on root k when the period means of tilt and rotor speed are
+ *    within settle_tol (relative) of root k's in every period of the last
+ *    settle_periods periods up to the end of a completed run (for root 0
+ *    this is `settled`); should two roots qualify (roots closer than
+ *    settle_tol), the one nearer at the end wins.  The wobble decayed (the
+ *    motor does not start) when, for USM_SIM_REST_PERIODS consecutive
+ *    periods, the period-mean tilt is below rest_fraction theta_ref and the
+ *    period-mean |rotor speed| below rest_fraction Omega theta_ref;
+ *    theta_ref is the smaller of the start tilt and the smallest stationary
+ *    tilt (the start tilt when there is no stationary solution).  A tilt 50
+ *    times below where it started and below every stationary tilt, held for
+ *    5 periods, is decay, not an approach to a root (the start-ups that reach
+ *    a root dip by less than a factor 2; those that decay fall towards about
+ *    1e-8 rad, where they creep on); the run then stops (USM_SIM_REST) instead of
+ *    integrating on towards theta = 0, where the z-x-z angles are singular
+ *    and the steps shrink without end.  Otherwise the run has not settled
+ *    (USM_SIM_SETTLED_NONE), e.g. when it was too short or stopped early.
  *  - The paper's twist law.  Its linearisation grows with psi(t) (the twist
  *    torque's theta-derivative c_t psi sin(theta), psi ~ -Omega t): the fastest
  *    linearised mode gets faster as the run goes on, the steps shorter, and the
@@ -86,7 +105,17 @@ typedef struct usm_sim_options {
     double max_twist_growth; /* refuse runs whose twist growth exceeds this (see the
                               * header comment); 0: no limit (default 400: about 2 s
                               * of the paper's motor, a minute of computing) */
+    double rest_fraction;  /* the decay rule of settled_on (header comment; default
+                              2e-2, in [0, 0.5]); 0: never decide that the wobble decayed */
 } usm_sim_options;
+
+/* Consecutive periods the decay rule must hold (see the header comment). */
+#define USM_SIM_REST_PERIODS 5
+
+/* usm_sim_summary.settled_on when the wobble decayed: the motor does not start. */
+#define USM_SIM_SETTLED_REST (-1)
+/* usm_sim_summary.settled_on when the run settled on no root and did not decay. */
+#define USM_SIM_SETTLED_NONE (-2)
 
 /* Twist growth above which a run warns that it will slow down (about 0.2 s
  * of the paper's motor under its twist law). */
@@ -140,11 +169,12 @@ typedef enum {
     USM_SIM_TILT_ZERO = 3,      /* theta <= 0: the Euler angles' singularity */
     USM_SIM_RUNAWAY_SPEED = 4,  /* |phidot_R| >= speed_limit */
     USM_SIM_MAX_STEPS = 5,      /* max_steps internal steps used */
-    USM_SIM_STOPPED = 6         /* the sample callback asked to stop */
+    USM_SIM_STOPPED = 6,        /* the sample callback asked to stop */
+    USM_SIM_REST = 7            /* the wobble decayed (settled_on: USM_SIM_SETTLED_REST) */
 } usm_sim_stop;
 
 /* "completed", "integrator", "runaway_tilt", "tilt_zero", "runaway_speed",
- * "max_steps", "stopped" */
+ * "max_steps", "stopped", "rest" */
 const char *usm_sim_stop_name(usm_sim_stop stop);
 
 typedef struct usm_sim_summary {
@@ -176,6 +206,15 @@ typedef struct usm_sim_summary {
     /* the paper's twist law (see the header comment) */
     double twist_growth;        /* g of this run; 0 when it does not apply */
     char warning[USM_MSG_LEN];  /* "" or why the run will slow down, with the remedy */
+    /* where it ended (see the header comment) */
+    int settled_on;             /* the root index k (0: the primary; the index into
+                                   `usm steady --json`'s roots), USM_SIM_SETTLED_REST or
+                                   USM_SIM_SETTLED_NONE */
+    size_t roots;               /* stationary solutions compared with */
+    usm_steady_solution settled_root; /* root settled_on, when settled_on >= 0 */
+    double rest_fraction;       /* of the options */
+    double rest_theta_ref;      /* theta_ref of the decay rule [rad] */
+    double t_rest;              /* [s] when the decay rule was met; NaN otherwise */
 } usm_sim_summary;
 
 /* A transient simulation of one model: integrator workspace and the
@@ -194,7 +233,8 @@ void usm_sim_free(usm_sim *s);
 int usm_sim_check(usm_sim *s, const usm_params *p, const usm_sim_options *opt);
 
 /* Integrate over [t0, t0 + duration].  Returns USM_OK when the interval was
- * completed (settled or not), USM_EFAILED when the run stopped early
+ * completed (settled or not) or the wobble decayed (stop USM_SIM_REST: the
+ * motor does not start, a decided end), USM_EFAILED when the run stopped early
  * (integrator failure, runaway, step cap, callback), USM_EINPUT for bad
  * parameters or options and for a run beyond max_twist_growth (message
  * "duration: ..."), USM_ENOSOLUTION for FROM_STATIONARY without a
