@@ -1,10 +1,7 @@
 #!/bin/bash
-# usm report and its output directory (issues 11 "Files" and 22):
-#  - the report appears whole or not at all: a run interrupted while plotting
-#    leaves no DIR (a re-run into an existing report leaves the old one
-#    intact), and the next run cleans up after it;
-#  - a second run into the same directory fails at once (one line, exit 2);
-#  - a symlink in the directory is replaced, its target never written;
+# usm report and its output directory (issue 11 "Files"):
+#  - a report interrupted while plotting leaves files the next run replaces
+#    without --force (the .usm-report manifest is written first);
 #  - files the user wrote are still never overwritten without --force;
 #  - a gnuplot that exits 0 without writing the images is a failure (exit 1,
 #    one line), and report.md then links no image.
@@ -30,60 +27,13 @@ d=$tmp/interrupted
 checks=$((checks + 1))
 USM_GNUPLOT=$tmp/gnuplot_kill run report --out "$d" --quick
 rc=$?
-if [ $rc -ne 137 ] || [ -e "$d" ]; then
-    fail "killed while plotting: exit $rc, want 137 and no $d (whole or absent)"
+if [ $rc -ne 137 ] || [ -e "$d/report.md" ] || [ ! -e "$d/fig10_speed_load_3dof.csv" ]; then
+    fail "killed while plotting: exit $rc, want 137 with data files and no report.md"
 fi
 if expect_rc 0 report --out "$d" --quick --no-plots; then
     checks=$((checks + 1))
     [ "$(cat "$out")" = "$d/report.md" ] && [ -s "$d/report.md" ] ||
         fail "the run after an interrupted one did not write report.md"
-    checks=$((checks + 1))
-    ls -a "$tmp" | grep -q '^\.interrupted\.usm-new-' &&
-        fail "the interrupted run's staging directory is still there"
-fi
-
-# ---- a re-run interrupted: the old report stays, whole ------------------------------
-checks=$((checks + 1))
-cp "$d/report.json" "$tmp/old.json"
-USM_GNUPLOT=$tmp/gnuplot_kill run report --out "$d" --quick --set F0=0.3
-rc=$?
-if [ $rc -ne 137 ] || ! cmp -s "$d/report.json" "$tmp/old.json" ||
-    ! grep -q 'fig10_speed_load_3dof' "$d/report.md" ||
-    [ "$(ls "$d" | wc -l)" -ne "$(ls "$d" | grep -c -E '\.(csv|gp|md|json|html|log|png|svg)$')" ]; then
-    fail "a re-run killed while plotting: exit $rc; the old report is not intact"
-fi
-# no file of the old report is newer than its report.md (nothing of the new run got in)
-checks=$((checks + 1))
-[ -z "$(find "$d" -newer "$d/report.md" -type f)" ] ||
-    fail "files of the interrupted re-run are in the old report: $(find "$d" -newer "$d/report.md" -type f | head -3)"
-
-# ---- two runs into one directory: the second fails at once ------------------------
-c=$tmp/concurrent
-cat >"$tmp/gnuplot_slow" <<'SH'
-#!/bin/sh
-sleep 3
-exit 0
-SH
-chmod +x "$tmp/gnuplot_slow"
-USM_GNUPLOT=$tmp/gnuplot_slow "$USM" report --out "$c" --quick >"$tmp/first.out" 2>"$tmp/first.err" &
-first=$!
-for _ in $(seq 50); do
-    ls -a "$tmp" | grep -q '^\.concurrent\.usm-new-' && break
-    sleep 0.1
-done
-expect_bad "$c" 'another usm report is writing it' report --out "$c" --quick --no-plots
-wait $first
-checks=$((checks + 1))
-[ -e "$c/report.md" ] || fail "the first of two concurrent runs did not finish its report"
-
-# ---- a symlink in the report directory: replaced, its target untouched -------------
-checks=$((checks + 1))
-echo "precious" >"$tmp/precious"
-rm -f "$d/report_values.csv"
-ln -s "$tmp/precious" "$d/report_values.csv"
-if expect_rc 0 report --out "$d" --quick --no-plots; then
-    [ "$(cat "$tmp/precious")" = "precious" ] && [ ! -L "$d/report_values.csv" ] ||
-        fail "the target of a symlink in the report directory was written"
 fi
 
 # ---- the user's files are kept ------------------------------------------------------

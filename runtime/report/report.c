@@ -16,7 +16,6 @@
 
 #include "io/data_dir.h"
 #include "io/io_msg.h"
-#include "report_dir.h"
 #include "report_internal.h"
 #include "io/template.h"
 
@@ -26,6 +25,35 @@ void usm_report_options_default(usm_report_options *opt)
     opt->threads = 2;
     opt->plots = 1;
     opt->force = 0;
+}
+
+/* mkdir -p */
+static int make_dir(const char *dir, char msg[USM_IO_MSG_LEN])
+{
+    char path[4096];
+    struct stat st;
+    size_t len = strlen(dir);
+    if (len >= sizeof path) {
+        usm_io_msg(msg, "%s: path too long", dir);
+        return USM_EINPUT;
+    }
+    memcpy(path, dir, len + 1);
+    for (size_t i = 1; i <= len; ++i) {
+        if (path[i] != '/' && path[i] != '\0')
+            continue;
+        char c = path[i];
+        path[i] = '\0';
+        if (mkdir(path, 0777) != 0 && errno != EEXIST) {
+            usm_io_msg(msg, "%s: cannot create %s: %s", dir, path, strerror(errno));
+            return USM_EINPUT;
+        }
+        path[i] = c;
+    }
+    if (stat(dir, &st) != 0 || !S_ISDIR(st.st_mode)) {
+        usm_io_msg(msg, "%s: not a directory", dir);
+        return USM_EINPUT;
+    }
+    return USM_OK;
 }
 
 /* 1 when the file at path starts with the line `marker`. */
@@ -191,45 +219,22 @@ int usm_report_prepare_dir(const char *dir, const usm_report_options *opt,
 {
     if (usm_report_options_check(opt, msg) != USM_OK)
         return USM_EINPUT;
-    return check_dir(dir, opt->force, msg);
+    if (check_dir(dir, opt->force, msg) != USM_OK || make_dir(dir, msg) != USM_OK ||
+        write_manifest(dir, msg) != USM_OK)
+        return USM_EINPUT;
+    return USM_OK;
 }
 
-/* Every occurrence of path `from` in msg replaced by `to` (messages name the
- * final directory, not the staging one). */
-static void replace_path(char msg[USM_IO_MSG_LEN], const char *from, const char *to)
-{
-    char out[USM_IO_MSG_LEN];
-    size_t n = 0, flen = strlen(from), tlen = strlen(to);
-    const char *s = msg;
-    if (flen == 0)
-        return;
-    while (*s && n + 1 < sizeof out) {
-        if (strncmp(s, from, flen) == 0 && n + tlen < sizeof out) {
-            memcpy(out + n, to, tlen);
-            n += tlen;
-            s += flen;
-        } else {
-            out[n++] = *s++;
-        }
-    }
-    out[n] = '\0';
-    memcpy(msg, out, n + 1);
-}
-
-/* The report into the staging directory dir (usm_report_write).  *written
- * is set once the outputs are there, so that the report is published even
- * when only its figures failed. */
-static int write_into(const char *dir, const char *final_dir, const usm_params *p,
-                      const usm_report_options *opt, int *written, char msg[USM_IO_MSG_LEN])
+int usm_report_write(const char *dir, const usm_params *p, const usm_report_options *opt,
+                     char msg[USM_IO_MSG_LEN])
 {
     usm_report_data *d;
     char plot_note[USM_IO_MSG_LEN] = "";
     int status, plots_ok = 0;
     double t;
 
-    *written = 0;
-    if (write_manifest(dir, msg) != USM_OK)
-        return USM_EFAILED;
+    if (usm_report_options_check(opt, msg) != USM_OK)
+        return USM_EINPUT;
     if (!(d = calloc(1, sizeof *d))) {
         usm_io_msg(msg, "out of memory");
         return USM_EFAILED;
@@ -257,8 +262,6 @@ static int write_into(const char *dir, const char *final_dir, const usm_params *
                                           plot_note) == USM_OK)
         plots_ok = 1;
     d->seconds[3] = usm_report_now() - t;
-    if (final_dir)
-        replace_path(plot_note, dir, final_dir); /* the note is read after publishing */
     d->opt.plots = plots_ok; /* the report links figures only when they exist */
     {
         /* report.md last: its marker says a complete report is there */
@@ -281,32 +284,9 @@ static int write_into(const char *dir, const char *final_dir, const usm_params *
     free(d);
     if (status != USM_OK)
         return USM_EFAILED;
-    *written = 1;
     if (opt->plots && !plots_ok) {
         usm_io_msg(msg, "%s", plot_note);
         return USM_EFAILED;
     }
     return USM_OK;
-}
-
-int usm_report_write(const char *dir, const usm_params *p, const usm_report_options *opt,
-                     char msg[USM_IO_MSG_LEN])
-{
-    usm_report_stage st;
-    int status, written;
-    if (usm_report_options_check(opt, msg) != USM_OK)
-        return USM_EINPUT;
-    if (usm_report_stage_begin(&st, dir, msg) != USM_OK)
-        return USM_EINPUT;
-    status = write_into(st.stage, dir, p, opt, &written, msg);
-    replace_path(msg, st.stage, dir);
-    if (written) {
-        char pmsg[USM_IO_MSG_LEN];
-        if (usm_report_stage_publish(&st, pmsg) != USM_OK) {
-            usm_io_msg(msg, "%s", pmsg);
-            status = USM_EFAILED;
-        }
-    }
-    usm_report_stage_end(&st);
-    return status;
 }

@@ -40,26 +40,18 @@ int usm_report_options_check(const usm_report_options *opt, char msg[USM_IO_MSG_
 
 /* Whether a report may be written into dir: it does not exist yet, or is a
  * writable directory holding no file of the report's names that an earlier
- * `usm report` did not write (unless opt->force).  Creates nothing: the
- * directory appears whole when usm_report_write publishes it.  USM_OK, or
- * USM_EINPUT with "DIR: reason" in msg (or as usm_report_options_check). */
+ * `usm report` did not write (unless opt->force).  Then dir is created (with
+ * its parents) and marked as the report's (the file .usm-report, so that an
+ * interrupted run is replaced by the next).  USM_OK, or USM_EINPUT with
+ * "DIR: reason" in msg (or as usm_report_options_check). */
 int usm_report_prepare_dir(const char *dir, const usm_report_options *opt,
                            char msg[USM_IO_MSG_LEN]);
 
-/* Compute the report at parameters p and write it into dir (checked by
- * usm_report_prepare_dir).  The report is written into a directory beside
- * dir (.NAME.usm-new-XXXXXX) and published whole: renamed to dir, or
- * swapped with an earlier report there (renameat2 RENAME_EXCHANGE), or, when
- * dir holds other files too (or is the working directory), moved in file by
- * file with the old report.md/.html/.json removed first and the new ones
- * last.  So an interrupted run leaves the earlier report as it was, never a
- * mixture.  A second run into the same dir while one is writing fails at
- * once (USM_EINPUT, "another usm report is writing it"; the lock is the file
- * .NAME.usm-lock beside dir).  USM_OK; USM_ENOSOLUTION (no stationary
- * solution at p), USM_EINPUT (bad parameters or options, dir locked),
- * USM_EFAILED (a numerical failure, a file not written, or the figures not
- * rendered: then the report is still published, without figures); with a
- * one-line msg. */
+/* Compute the report at parameters p and write it into dir (prepared by
+ * usm_report_prepare_dir).  USM_OK; USM_ENOSOLUTION (no stationary solution
+ * at p), USM_EINPUT (bad parameters or options), USM_EFAILED (a numerical
+ * failure, a file not written, or the figures not rendered: then the report
+ * is still written, without figures); with a one-line msg. */
 int usm_report_write(const char *dir, const usm_params *p, const usm_report_options *opt,
                      char msg[USM_IO_MSG_LEN]);
 
