@@ -78,15 +78,17 @@ static int parse(periodic_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
 
 static int write_orbit(const periodic_args *a, const usm_periodic *w, char msg[CLI_MSG_LEN])
 {
+    usm_io_file file;
     int status;
-    FILE *f = usm_io_create(a->orbit, a->force, msg, &status);
+    FILE *f = usm_io_create(&file, a->orbit, a->force, msg, &status);
     if (!f)
         return status;
-    if ((usm_periodic_write_orbit_csv(w, f) != 0) | (fclose(f) != 0)) {
+    if (usm_periodic_write_orbit_csv(w, f) != 0) {
+        usm_io_abort(&file);
         cli_msg(msg, "%s: write error", a->orbit);
         return USM_EFAILED;
     }
-    return USM_OK;
+    return usm_io_commit(&file, msg);
 }
 
 static void table(const usm_periodic_result *r, const char *model)
