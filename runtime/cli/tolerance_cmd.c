@@ -2,6 +2,7 @@
  * this file parses, calls and writes. */
 #define _POSIX_C_SOURCE 200809L
 
+#include <dirent.h>
 #include <errno.h>
 #include <stdlib.h>
 #include <string.h>
@@ -140,32 +141,58 @@ static int parse(tol_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
     return cli_common_finish(&a->common, msg);
 }
 
-/* DIR/NAME written by `write`; USM_OK or USM_EFAILED with msg. */
+/* DIR/NAME written by `write`, whole or not at all (usm_io_create); USM_OK
+ * or a status with msg. */
 static int write_file(const char *dir, const char *name, const usm_tolerance *t, int summary,
-                      char msg[CLI_MSG_LEN])
+                      int force, char msg[CLI_MSG_LEN])
 {
-    char path[4096];
+    char path[4096], why[USM_IO_MSG_LEN];
+    usm_io_file file;
+    int status;
     snprintf(path, sizeof path, "%s/%s", dir, name);
-    FILE *f = fopen(path, "w");
-    int bad = !f || (summary ? usm_tolerance_write_summary(t, f, "histograms")
-                             : usm_tolerance_write_csv(t, f)) != 0;
-    if (!f || (fclose(f) != 0) | bad) {
-        cli_msg(msg, "--out %s: write error%s%s", path, f ? "" : ": ", f ? "" : strerror(errno));
+    FILE *f = usm_io_create(&file, path, force, why, &status);
+    if (f && (summary ? usm_tolerance_write_summary(t, f, "histograms")
+                      : usm_tolerance_write_csv(t, f)) != 0) {
+        usm_io_abort(&file);
+        cli_msg(msg, "--out %s: write error", path);
         return USM_EFAILED;
     }
+    if (!f || (status = usm_io_commit(&file, why)) != USM_OK) {
+        cli_msg(msg, "--out %.900s", why);
+        return status;
+    }
     return USM_OK;
+}
+
+/* Whether DIR holds nothing but usm's temporaries (.NAME.usm-PID-XXXXXX.part,
+ * of a run that was killed): a re-run may write there without --force. */
+static int empty_dir(const char *dir)
+{
+    DIR *d = opendir(dir);
+    struct dirent *e;
+    int empty = d != NULL;
+    while (empty && (e = readdir(d))) {
+        const char *n = e->d_name;
+        const size_t len = strlen(n);
+        empty = strcmp(n, ".") == 0 || strcmp(n, "..") == 0 ||
+                (n[0] == '.' && strstr(n, ".usm-") && len > 5 && strcmp(n + len - 5, ".part") == 0);
+    }
+    if (d)
+        closedir(d);
+    return empty;
 }
 
 static int write_out(const tol_args *a, const usm_tolerance *t, char msg[CLI_MSG_LEN])
 {
     char prefix[4096], csv[4096];
-    if (mkdir(a->out, 0777) != 0 && !(errno == EEXIST && a->force)) {
+    const int force = a->force || empty_dir(a->out);
+    if (mkdir(a->out, 0777) != 0 && !(errno == EEXIST && force)) {
         cli_msg(msg, "--out %s: %s", a->out, strerror(errno));
         return USM_EFAILED;
     }
-    int rc = write_file(a->out, "samples.csv", t, 0, msg);
+    int rc = write_file(a->out, "samples.csv", t, 0, a->force, msg);
     if (rc == USM_OK)
-        rc = write_file(a->out, "summary.md", t, 1, msg);
+        rc = write_file(a->out, "summary.md", t, 1, a->force, msg);
     if (rc != USM_OK)
         return rc;
     snprintf(prefix, sizeof prefix, "%s/histograms", a->out);
@@ -177,18 +204,26 @@ static int write_out(const tol_args *a, const usm_tolerance *t, char msg[CLI_MSG
     return rc == USM_ENOSOLUTION ? USM_OK : rc;
 }
 
-/* Before the computation, alike on every rank: DIR new (or --force), its
- * parent writable. */
+/* Before the computation, alike on every rank: DIR new, empty (a killed
+ * run's) or --force; not a symlink to nothing; its parent writable. */
 static int check_out(const tol_args *a, char msg[CLI_MSG_LEN])
 {
     char parent[4096];
+    struct stat st;
     snprintf(parent, sizeof parent, "%s", a->out);
     char *slash = strrchr(parent, '/');
     if (slash)
         slash[slash == parent] = '\0';
-    if (access(a->out, F_OK) == 0 && !a->force)
+    if (lstat(a->out, &st) == 0 && stat(a->out, &st) != 0)
+        cli_msg(msg, "--out %s: a symbolic link to nothing; refusing to write through it",
+                a->out);
+    else if (stat(a->out, &st) == 0 && !S_ISDIR(st.st_mode))
+        cli_msg(msg, "--out %s: exists and is not a directory", a->out);
+    else if (lstat(a->out, &st) == 0 && !a->force && !empty_dir(a->out))
         cli_msg(msg, "--out %s: exists (use --force to write into it)", a->out);
-    else if (access(a->out, F_OK) != 0 && access(slash ? parent : ".", W_OK) != 0)
+    else if (lstat(a->out, &st) == 0 && access(a->out, W_OK | X_OK) != 0)
+        cli_msg(msg, "--out %s: %s", a->out, strerror(errno));
+    else if (lstat(a->out, &st) != 0 && access(slash ? parent : ".", W_OK | X_OK) != 0)
         cli_msg(msg, "--out %s: %s", a->out, strerror(errno));
     else
         return USM_OK;
@@ -231,7 +266,9 @@ int cli_tolerance_main(int argc, char **argv)
         else
 #endif
             status = usm_tolerance_run(t, &a.common.params, &a.opt);
-        cli_msg(msg, "%s", usm_tolerance_message(t));
+        /* the library names its option field "checkpoint"; the command's is --checkpoint */
+        cli_msg(msg, "%s%s", strncmp(usm_tolerance_message(t), "checkpoint ", 11) ? "" : "--",
+                usm_tolerance_message(t));
     }
     if (status == USM_OK && rank == 0) {
         if ((a.common.json ? usm_tolerance_write_json(t, stdout)

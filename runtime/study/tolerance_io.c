@@ -6,7 +6,10 @@
  * back only on a host of the same byte order), the number of blocks stored,
  * each block as its index (uint64) and its rows (doubles, bit for bit), and
  * ORDER again (a truncated file is refused, not half read).  It is written to
- * FILE.tmp and renamed over FILE, so FILE is always one complete write. */
+ * a temporary beside FILE (core/outfile.c: a fresh name, created with
+ * O_EXCL|O_NOFOLLOW, so never through a symlink) and renamed over FILE, so
+ * FILE is always one complete write and a symlink is replaced, never
+ * written through. */
 #define _POSIX_C_SOURCE 200809L
 #include <errno.h>
 #include <stdio.h>
@@ -14,6 +17,9 @@
 #include <string.h>
 #include <unistd.h>
 
+#include <sys/stat.h>
+
+#include "core/outfile.h"
 #include "tolerance_io.h"
 
 static const char MAGIC[] = "usm tolerance checkpoint 1\n";
@@ -54,10 +60,20 @@ int tol_checkpoint_load(usm_tolerance *t)
     uint64_t order = 0, n = 0;
     int status = USM_OK;
     if (!f) {
-        if (errno == ENOENT)
-            return USM_OK; /* a first run */
-        snprintf(t->msg, USM_MSG_LEN, "checkpoint %.120s: %s", path, strerror(errno));
-        return USM_EINPUT;
+        struct stat st;
+        char why[USM_MSG_LEN];
+        if (errno != ENOENT) {
+            snprintf(t->msg, USM_MSG_LEN, "checkpoint %.120s: %s", path, strerror(errno));
+            return USM_EINPUT;
+        }
+        /* a first run: the file must be creatable now, not at the first write */
+        if (lstat(path, &st) == 0)
+            return refuse(t, "a symbolic link to nothing; refusing to write through it");
+        if (usm_outfile_check(path, 1, why, sizeof why) != USM_OK) {
+            snprintf(t->msg, USM_MSG_LEN, "checkpoint %.200s", why);
+            return USM_EINPUT;
+        }
+        return USM_OK;
     }
     if (!fgets(line, sizeof line, f) || strcmp(line, MAGIC) != 0) {
         fclose(f);
@@ -121,17 +137,20 @@ int tol_checkpoint_load(usm_tolerance *t)
 int tol_checkpoint_write(usm_tolerance *t)
 {
     const char *path = t->opt.checkpoint;
-    char tmp[4096];
+    char tmp[USM_OUTFILE_PATH], why[USM_MSG_LEN];
     uint64_t n = 0;
     FILE *f;
-    int bad;
+    int bad, fd, status;
     const double start = tol_now();
-    if (snprintf(tmp, sizeof tmp, "%s.tmp", path) >= (int)sizeof tmp) {
-        snprintf(t->msg, USM_MSG_LEN, "checkpoint %.120s: path too long", path);
-        return USM_EINPUT;
+    if ((fd = usm_outfile_open(path, 1, tmp, why, sizeof why, &status)) < 0) {
+        snprintf(t->msg, USM_MSG_LEN, "checkpoint %.200s", why);
+        return USM_EFAILED;
     }
-    if (!(f = fopen(tmp, "wb"))) {
-        snprintf(t->msg, USM_MSG_LEN, "checkpoint %.120s: %s", tmp, strerror(errno));
+    if (!(f = fdopen(fd, "wb"))) {
+        snprintf(t->msg, USM_MSG_LEN, "checkpoint %.120s: %s", path, strerror(errno));
+        close(fd);
+        if (tmp[0])
+            unlink(tmp);
         return USM_EFAILED;
     }
     for (uint64_t b = 0; b < t->nblocks; ++b)
@@ -148,10 +167,15 @@ int tol_checkpoint_write(usm_tolerance *t)
     }
     bad = bad || fwrite(&ORDER, sizeof ORDER, 1, f) != 1 || fflush(f) != 0 ||
           fsync(fileno(f)) != 0;
-    if ((fclose(f) != 0) | bad || rename(tmp, path) != 0) {
+    if ((fclose(f) != 0) | bad) {
         snprintf(t->msg, USM_MSG_LEN, "checkpoint %.120s: write error: %s", path,
                  strerror(errno));
-        unlink(tmp);
+        if (tmp[0])
+            unlink(tmp);
+        return USM_EFAILED;
+    }
+    if (usm_outfile_place(tmp, path, 1, why, sizeof why) != USM_OK) {
+        snprintf(t->msg, USM_MSG_LEN, "checkpoint %.200s", why);
         return USM_EFAILED;
     }
     t->last_write = tol_now();
