@@ -108,4 +108,11 @@ mkdir "$d/empty"
 expect_rc 0 $T --out "$d/empty" && { [ -s "$d/empty/samples.csv" ] || fail "tolerance --out empty DIR"; }
 expect_bad "--out" "exists" $T --out "$d/empty"
 
+# ---- ranges: finite, and their width representable (it used to hang) --------------
+expect_bad "from, to" "overflows" sweep --periodic --variant imperfect --over phase_error --from -1e308 --to 1e308 --points 3
+expect_bad "from, to" "overflows" sweep --over T --from -1e308 --to 1e308 --points 3
+expect_bad "--x-from" "overflows" map --x f --x-from -1e308 --x-to 1e308
+expect_bad "--y-from" "overflows" map --y-from -1.7e308 --y-to 1.7e308
+expect_bad "--vary T" "overflows" tolerance --samples 3 --vary T=uniform:-1e308:1e308
+
 finish output_files_cli

@@ -78,6 +78,11 @@ int usm_tolerance_vary_parse(const char *text, usm_tolerance_vary *v, char msg[U
                      v->lo, v->hi);
             return USM_EINPUT;
         }
+        if (!isfinite(v->hi - v->lo)) { /* every draw would be infinite */
+            snprintf(msg, USM_MSG_LEN, "%s: uniform:LO:HI: the width HI - LO overflows (%g to "
+                     "%g)", name, v->lo, v->hi);
+            return USM_EINPUT;
+        }
         return USM_OK;
     }
     v->relative = end > arg && end[-1] == '%';
