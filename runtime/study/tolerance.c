@@ -18,7 +18,7 @@
 
 /* A sample whose draw is refused this often is a distribution that is almost
  * never physical: an input error, not a rare event. */
-#define MAX_REDRAWS 10000
+#define MAX_REDRAWS TOL_MAX_REDRAWS
 
 /* ---- parsing ---------------------------------------------------------------------- */
 
@@ -340,7 +340,7 @@ static void *worker_alloc(void *ctx)
     return w;
 }
 
-static int meets_specs(const usm_tolerance *t, const double *out)
+int tol_meets_specs(const usm_tolerance *t, const double *out)
 {
     for (int s = 0; s < t->nspec; ++s) {
         const double v = out[t->spec[s].output];
@@ -396,7 +396,7 @@ static int sample(usm_tolerance *t, worker *w, uint64_t i, double *row, char msg
         out[USM_TOL_STABLE] = pt.floquet.max_modulus < 1.0;
     }
     row[TOL_ROW_GOOD(t)] = pt.exists && pt.has_floquet && pt.floquet.max_modulus < 1.0 &&
-                           meets_specs(t, out);
+                           tol_meets_specs(t, out);
     row[TOL_ROW_REDRAWS(t)] = redraws;
     return USM_OK;
 }

@@ -18,6 +18,8 @@
 #include "usm_tolerance.h"
 
 #define TOL_MAX_SPECS 64
+/* Draws of one sample before the study gives up; a row's redraws are below. */
+#define TOL_MAX_REDRAWS 10000
 #define TOL_ROW_GOOD(t) ((t)->nvary + USM_TOL_NOUTPUTS)
 #define TOL_ROW_REDRAWS(t) ((t)->nvary + USM_TOL_NOUTPUTS + 1)
 
@@ -56,6 +58,9 @@ void tol_unpack(usm_tolerance *t, const uint64_t *blocks, size_t n, const double
 /* The blocks not done yet, in increasing order, into list (nblocks room);
  * returns how many. */
 size_t tol_pending(const usm_tolerance *t, uint64_t *list);
+
+/* Whether the outputs out (USM_TOL_NOUTPUTS) meet every --spec (tolerance.c). */
+int tol_meets_specs(const usm_tolerance *t, const double *out);
 
 /* Seconds on a monotonic clock. */
 double tol_now(void);
