@@ -108,6 +108,19 @@ mkdir "$d/empty"
 expect_rc 0 $T --out "$d/empty" && { [ -s "$d/empty/samples.csv" ] || fail "tolerance --out empty DIR"; }
 expect_bad "--out" "exists" $T --out "$d/empty"
 
+# ---- a symlink planted in a report directory: replaced, its target untouched ---------
+r=$d/report
+if expect_rc 0 report --out "$r" --quick --no-plots; then
+    ln -sf ../precious "$r/fig09_speed_frequency_3dof.csv"
+    ln -sf ../precious "$r/report.html"
+    if expect_rc 0 report --out "$r" --quick --no-plots; then
+        untouched "report into a directory with planted symlinks"
+        [ ! -L "$r/fig09_speed_frequency_3dof.csv" ] && [ ! -L "$r/report.html" ] ||
+            fail "report: the planted symlinks are still there"
+        ! ls -A "$r" | grep -q '\.part$' || fail "report: temporaries left"
+    fi
+fi
+
 # ---- ranges: finite, and their width representable (it used to hang) --------------
 expect_bad "from, to" "overflows" sweep --periodic --variant imperfect --over phase_error --from -1e308 --to 1e308 --points 3
 expect_bad "from, to" "overflows" sweep --over T --from -1e308 --to 1e308 --points 3

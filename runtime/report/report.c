@@ -75,13 +75,14 @@ static int starts_with_line(const char *path, const char *marker)
 /* DIR/.usm-report, written before any other file of the report. */
 static int write_manifest(const char *dir, char msg[USM_IO_MSG_LEN])
 {
-    FILE *f = usm_report_open(dir, REPORT_MANIFEST, msg);
+    usm_io_file out;
+    FILE *f = usm_report_open(&out, dir, REPORT_MANIFEST, msg);
     if (!f)
         return USM_EINPUT;
     fprintf(f, "%s\n", REPORT_MANIFEST_MARKER);
     for (int k = 0; usm_report_files[k]; ++k)
         fprintf(f, "%s\n", usm_report_files[k]);
-    return usm_report_close(f, dir, REPORT_MANIFEST, msg) == USM_OK ? USM_OK : USM_EINPUT;
+    return usm_report_close(&out, msg) == USM_OK ? USM_OK : USM_EINPUT;
 }
 
 /* Refuse to overwrite files usm did not write (see --force). */
@@ -163,28 +164,16 @@ static char *render_md(json_t *data, char msg[USM_IO_MSG_LEN])
     return md;
 }
 
-/* DIR/name through a temporary file, renamed when complete: report.json
+/* DIR/name through a temporary file, renamed when complete (usm_io_create): report.json
  * (data), report.html (md as HTML) or report.md (md). */
 static int write_output(json_t *data, const char *md, const char *dir, const char *name,
                         char msg[USM_IO_MSG_LEN])
 {
-    char tmp[4096], path[4096];
-    FILE *f;
-    int fd, bad;
-    if (usm_report_path(path, sizeof path, dir, name) != 0 ||
-        usm_report_path(tmp, sizeof tmp, dir, ".report.XXXXXX") != 0) {
-        usm_io_msg(msg, "%s: path too long", dir);
+    usm_io_file out;
+    FILE *f = usm_report_open(&out, dir, name, msg);
+    int bad;
+    if (!f)
         return USM_EFAILED;
-    }
-    if ((fd = mkstemp(tmp)) < 0 || !(f = fdopen(fd, "w"))) {
-        usm_io_msg(msg, "%s: %s", tmp, strerror(errno));
-        if (fd >= 0) {
-            close(fd);
-            unlink(tmp);
-        }
-        return USM_EFAILED;
-    }
-    fchmod(fd, 0644);
     if (strcmp(name, "report.json") == 0)
         bad = json_dumpf(data, f, JSON_INDENT(2) | JSON_REAL_PRECISION(17)) != 0 ||
               fputc('\n', f) == EOF;
@@ -192,17 +181,12 @@ static int write_output(json_t *data, const char *md, const char *dir, const cha
         bad = usm_report_html_write(md, dir, f) != 0;
     else
         bad = fputs(md, f) == EOF;
-    if (ferror(f) | (fclose(f) != 0) | bad) {
-        usm_io_msg(msg, "%s: write error", path);
-        unlink(tmp);
+    if (bad) {
+        usm_io_abort(&out);
+        usm_io_msg(msg, "%s/%s: write error", dir, name);
         return USM_EFAILED;
     }
-    if (rename(tmp, path) != 0) {
-        usm_io_msg(msg, "%s: %s", path, strerror(errno));
-        unlink(tmp);
-        return USM_EFAILED;
-    }
-    return USM_OK;
+    return usm_report_close(&out, msg);
 }
 
 int usm_report_options_check(const usm_report_options *opt, char msg[USM_IO_MSG_LEN])
