@@ -1,15 +1,30 @@
 /* The report into a directory (usm_report.h): the directory's guard, the
  * computation (report_compute.c, report_map.c), the data files and figures
  * (report_plot.c), report.json (report_json.c), report.md from its template
- * (template.c) and report.html (report_html.c). */
-#define _POSIX_C_SOURCE 200809L
+ * (template.c) and report.html (report_html.c).
+ *
+ * A report directory is replaced as a whole: the new report is written into
+ * a stage beside it (PARENT/.NAME.usm-new-PID), and only when complete the
+ * stage and DIR are exchanged (renameat2 RENAME_EXCHANGE, one step) and the
+ * old report removed, so that no interruption mixes two runs: a reader sees
+ * the old report or the new one.  A DIR holding files that are not the
+ * report's (allowed with --force), a DIR that is a symlink, or a parent that
+ * is not writable is written in place instead, its old report.md/.html/.json
+ * removed first, so that an interrupted run leaves no complete-looking
+ * report beside new data.  flock(2) on DIR makes a second run into the same
+ * directory fail at once. */
+#define _GNU_SOURCE /* renameat2 */
 
 #include "usm_report.h"
 
+#include <dirent.h>
 #include <errno.h>
+#include <fcntl.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/file.h>
 #include <sys/stat.h>
 #include <sys/types.h>
 #include <unistd.h>
@@ -189,6 +204,189 @@ static int write_output(json_t *data, const char *md, const char *dir, const cha
     return usm_report_close(&out, msg);
 }
 
+/* ---- the directory replaced as a whole ------------------------------------------- */
+
+#define STAGE_MID ".usm-new-"
+
+/* Whether name is one of the report's files, its manifest, or a usm temporary. */
+static int report_name(const char *name)
+{
+    const size_t n = strlen(name);
+    if (strcmp(name, REPORT_MANIFEST) == 0 ||
+        (name[0] == '.' && strstr(name, ".usm-") && n > 5 && strcmp(name + n - 5, ".part") == 0))
+        return 1;
+    for (int k = 0; usm_report_files[k]; ++k)
+        if (strcmp(name, usm_report_files[k]) == 0)
+            return 1;
+    return 0;
+}
+
+/* Whether dir holds nothing but regular files of report names (so that it
+ * may be replaced as a whole); 0 when it cannot be read. */
+static int only_report_files(const char *dir)
+{
+    DIR *d = opendir(dir);
+    struct dirent *e;
+    int only = d != NULL;
+    while (only && (e = readdir(d))) {
+        struct stat st;
+        if (strcmp(e->d_name, ".") == 0 || strcmp(e->d_name, "..") == 0)
+            continue;
+        only = report_name(e->d_name) && fstatat(dirfd(d), e->d_name, &st, AT_SYMLINK_NOFOLLOW) == 0 &&
+               (S_ISREG(st.st_mode) || S_ISLNK(st.st_mode));
+    }
+    if (d)
+        closedir(d);
+    return only;
+}
+
+/* Remove a stage or an old report: its report files, then the directory
+ * (left when something else is in it). */
+static void remove_report_dir(const char *dir)
+{
+    DIR *d = opendir(dir);
+    struct dirent *e;
+    if (!d)
+        return;
+    while ((e = readdir(d)))
+        if (report_name(e->d_name))
+            unlinkat(dirfd(d), e->d_name, 0);
+    closedir(d);
+    rmdir(dir);
+}
+
+/* PARENT/.NAME + suffix for dir (no trailing slash) into buf; -1 when too
+ * long or dir has no last component. */
+static int beside(char *buf, size_t len, const char *dir, const char *suffix)
+{
+    size_t n = strlen(dir);
+    while (n > 1 && dir[n - 1] == '/')
+        --n;
+    const char *slash = memrchr(dir, '/', n);
+    const size_t plen = slash ? (size_t)(slash - dir) + 1 : 0;
+    const int w = snprintf(buf, len, "%.*s.%.*s%s", (int)plen, dir, (int)(n - plen), dir + plen,
+                           suffix);
+    return n == plen || w < 0 || (size_t)w >= len ? -1 : 0;
+}
+
+/* Remove the stages of runs into dir that were killed (their process gone). */
+static void clean_stale_stages(const char *dir)
+{
+    char prefix[4096], path[4096], parent[4096];
+    if (beside(prefix, sizeof prefix, dir, STAGE_MID) != 0)
+        return;
+    const char *slash = strrchr(prefix, '/');
+    const char *base = slash ? slash + 1 : prefix;
+    snprintf(parent, sizeof parent, "%.*s", slash ? (int)(slash - prefix) + (slash == prefix) : 1,
+             slash ? prefix : ".");
+    DIR *d = opendir(parent);
+    struct dirent *e;
+    if (!d)
+        return;
+    while ((e = readdir(d))) {
+        char *end;
+        if (strncmp(e->d_name, base, strlen(base)) != 0)
+            continue;
+        const long pid = strtol(e->d_name + strlen(base), &end, 10);
+        if (pid <= 0 || (*end != '\0' && strcmp(end, ".old") != 0) || pid == (long)getpid() ||
+            !(kill((pid_t)pid, 0) != 0 && errno == ESRCH))
+            continue;
+        if (snprintf(path, sizeof path, "%s/%s", parent, e->d_name) < (int)sizeof path)
+            remove_report_dir(path);
+    }
+    closedir(d);
+}
+
+/* Lock dir for this run: a descriptor (close it to unlock), or -1 with msg
+ * when another run holds it. */
+static int lock_dir(const char *dir, char msg[USM_IO_MSG_LEN])
+{
+    const int fd = open(dir, O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (fd < 0) {
+        usm_io_msg(msg, "--out %s: %s", dir, strerror(errno));
+        return -1;
+    }
+    if (flock(fd, LOCK_EX | LOCK_NB) != 0) {
+        usm_io_msg(msg, "--out %s: %s", dir,
+                   errno == EWOULDBLOCK ? "another usm report is writing there (wait for it, "
+                                          "or use another directory)"
+                                        : strerror(errno));
+        close(fd);
+        return -1;
+    }
+    return fd;
+}
+
+/* A stage for dir (stage: 4096 bytes), when dir can be replaced as a whole;
+ * 0 with the stage made, else -1 (write in place). */
+static int make_stage(const char *dir, char *stage, char msg[USM_IO_MSG_LEN])
+{
+    char suffix[64];
+    struct stat st;
+    snprintf(suffix, sizeof suffix, "%s%ld", STAGE_MID, (long)getpid());
+    if (lstat(dir, &st) != 0 || !S_ISDIR(st.st_mode) || !only_report_files(dir) ||
+        beside(stage, 4096, dir, suffix) != 0)
+        return -1;
+    remove_report_dir(stage); /* a stage of a run with our pid, long gone */
+    if (mkdir(stage, st.st_mode & 07777) != 0)
+        return -1;
+    chmod(stage, st.st_mode & 07777);
+    if (write_manifest(stage, msg) != USM_OK) {
+        remove_report_dir(stage);
+        return -1;
+    }
+    return 0;
+}
+
+/* The complete stage in place of dir, the old report removed. */
+static int swap_in(const char *dir, const char *stage, char msg[USM_IO_MSG_LEN])
+{
+    char old[4096];
+    if (renameat2(AT_FDCWD, stage, AT_FDCWD, dir, RENAME_EXCHANGE) == 0) {
+        remove_report_dir(stage); /* now the old report */
+        return USM_OK;
+    }
+    /* a file system without the exchange: two renames (between them no DIR) */
+    if (snprintf(old, sizeof old, "%s.old", stage) >= (int)sizeof old || rename(dir, old) != 0 ||
+        rename(stage, dir) != 0) {
+        usm_io_msg(msg, "%s: cannot put the new report in place: %s (it is in %s)", dir,
+                   strerror(errno), stage);
+        return USM_EFAILED;
+    }
+    remove_report_dir(old);
+    return USM_OK;
+}
+
+/* Every occurrence of from in msg replaced by to (the stage's path by the
+ * directory's in gnuplot's messages, which outlive the stage). */
+static void replace_all(char msg[USM_IO_MSG_LEN], const char *from, const char *to)
+{
+    char out[USM_IO_MSG_LEN];
+    size_t o = 0;
+    const size_t fl = strlen(from), tl = strlen(to);
+    for (const char *s = msg; *s && o + 1 < sizeof out;) {
+        if (fl && strncmp(s, from, fl) == 0 && o + tl + 1 < sizeof out) {
+            memcpy(out + o, to, tl);
+            o += tl;
+            s += fl;
+        } else
+            out[o++] = *s++;
+    }
+    out[o] = '\0';
+    memcpy(msg, out, o + 1);
+}
+
+/* In place: the old report's marker files go first, so that an interrupted
+ * run does not leave them beside new data. */
+static void remove_old_report(const char *dir)
+{
+    static const char *const names[] = {"report.md", "report.html", "report.json"};
+    char path[4096];
+    for (size_t k = 0; k < sizeof names / sizeof names[0]; ++k)
+        if (usm_report_path(path, sizeof path, dir, names[k]) == 0)
+            unlink(path);
+}
+
 int usm_report_options_check(const usm_report_options *opt, char msg[USM_IO_MSG_LEN])
 {
     if (!(opt->threads >= 1 && opt->threads <= 64)) {
@@ -213,18 +411,24 @@ int usm_report_write(const char *dir, const usm_params *p, const usm_report_opti
                      char msg[USM_IO_MSG_LEN])
 {
     usm_report_data *d;
-    char plot_note[USM_IO_MSG_LEN] = "";
-    int status, plots_ok = 0;
+    char plot_note[USM_IO_MSG_LEN] = "", stage[4096];
+    int status, plots_ok = 0, lock, staged = 0;
+    const char *w = dir; /* where the files are written: the stage, or dir */
     double t;
 
     if (usm_report_options_check(opt, msg) != USM_OK)
         return USM_EINPUT;
+    /* one run per directory, refused before computing */
+    if ((lock = lock_dir(dir, msg)) < 0)
+        return USM_EINPUT;
     if (!(d = calloc(1, sizeof *d))) {
         usm_io_msg(msg, "out of memory");
+        close(lock);
         return USM_EFAILED;
     }
     if (usm_report_paper_load(&d->paper, msg) != USM_OK) {
         free(d);
+        close(lock);
         return USM_EFAILED;
     }
     d->params = *p;
@@ -234,17 +438,28 @@ int usm_report_write(const char *dir, const usm_params *p, const usm_report_opti
         status = usm_report_compute_maps(d, msg);
     if (status == USM_OK)
         status = usm_report_compute_nonideal(d, msg);
-    if (status == USM_OK)
-        status = usm_report_write_data(d, dir, msg);
+    if (status == USM_OK) {
+        clean_stale_stages(dir);
+        if (make_stage(dir, stage, msg) == 0)
+            staged = 1, w = stage;
+        else
+            remove_old_report(dir);
+        status = usm_report_write_data(d, w, msg);
+    }
     if (status != USM_OK) {
         usm_report_data_free(d);
         free(d);
+        if (staged)
+            remove_report_dir(stage); /* the old report stays as it was */
+        close(lock);
         return status == USM_EINPUT || status == USM_ENOSOLUTION ? status : USM_EFAILED;
     }
     t = usm_report_now();
-    if (opt->plots && usm_report_run_gnuplot(dir, opt->threads, usm_report_figure_count(d),
+    if (opt->plots && usm_report_run_gnuplot(w, opt->threads, usm_report_figure_count(d),
                                           plot_note) == USM_OK)
         plots_ok = 1;
+    if (staged)
+        replace_all(plot_note, stage, dir);
     d->seconds[3] = usm_report_now() - t;
     d->opt.plots = plots_ok; /* the report links figures only when they exist */
     {
@@ -254,18 +469,24 @@ int usm_report_write(const char *dir, const usm_params *p, const usm_report_opti
         char *md = NULL;
         /* report.json before the rendering: when the template fails, the
          * values it was given are there to see */
-        status = data ? write_output(data, NULL, dir, outputs[0], msg) : USM_EFAILED;
+        status = data ? write_output(data, NULL, w, outputs[0], msg) : USM_EFAILED;
         if (!data)
             usm_io_msg(msg, "out of memory");
         if (status == USM_OK && !(md = render_md(data, msg)))
             status = USM_EFAILED;
         for (size_t k = 1; status == USM_OK && k < sizeof outputs / sizeof outputs[0]; ++k)
-            status = write_output(data, md, dir, outputs[k], msg);
+            status = write_output(data, md, w, outputs[k], msg);
         free(md);
         json_decref(data);
     }
     usm_report_data_free(d);
     free(d);
+    /* complete (report.md written last): the stage replaces dir as a whole */
+    if (staged && status == USM_OK)
+        status = swap_in(dir, stage, msg);
+    else if (staged)
+        remove_report_dir(stage);
+    close(lock);
     if (status != USM_OK)
         return USM_EFAILED;
     if (opt->plots && !plots_ok) {
