@@ -97,6 +97,15 @@ expect_bad "--checkpoint" "symbolic link" $T --checkpoint "$d/ckdangling"
 expect_bad "--checkpoint" "not a usm tolerance checkpoint" $T --checkpoint "$d"
 no_temp "checkpoint"
 
+# two runs sharing a checkpoint: the second fails at once (flock on .ck.usm-lock)
+L="tolerance --samples 40000 --vary F0=normal:10% --threads 1"
+"$USM" $L --checkpoint "$d/shared.ck" >/dev/null 2>&1 &
+first=$!
+for _ in $(seq 100); do [ -e "$d/.shared.ck.usm-lock" ] && break; sleep 0.05; done
+expect_bad "--checkpoint $d/shared.ck" "another run is using it" $L --checkpoint "$d/shared.ck"
+kill $first 2>/dev/null
+wait $first 2>/dev/null
+
 # ---- tolerance --out DIR ----------------------------------------------------------
 ln -s nowhere "$d/tdangling"
 expect_bad "--out" "symbolic link" $T --out "$d/tdangling"

@@ -11,6 +11,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/file.h>
 #include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
@@ -188,4 +189,31 @@ int usm_outfile_place(const char *tmp, const char *path, int force, char *why, s
     if (status != USM_OK || !force)
         unlink(tmp);
     return status;
+}
+
+int usm_outfile_lock(const char *path, char *why, size_t len, int *busy)
+{
+    char dir[USM_OUTFILE_PATH], lock[USM_OUTFILE_PATH];
+    const char *base;
+    int fd;
+    *busy = 0;
+    if (split(path, dir, &base) != 0 ||
+        snprintf(lock, sizeof lock, "%.*s.%s.usm-lock", (int)(base - path), path, base) >=
+            (int)sizeof lock) {
+        snprintf(why, len, "%.200s: path too long", path);
+        return -1;
+    }
+    if ((fd = open(lock, O_RDWR | O_CREAT | O_NOFOLLOW | O_CLOEXEC, 0666)) < 0) {
+        snprintf(why, len, "%.900s: %s", lock, strerror(errno));
+        return -1;
+    }
+    if (flock(fd, LOCK_EX | LOCK_NB) != 0) {
+        *busy = errno == EWOULDBLOCK;
+        snprintf(why, len, "%.900s: %s", path,
+                 *busy ? "another run is using it (wait for it to end, or use another file)"
+                       : strerror(errno));
+        close(fd);
+        return -1;
+    }
+    return fd;
 }

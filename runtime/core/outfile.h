@@ -40,4 +40,12 @@ int usm_outfile_open(const char *path, int force, char tmp[USM_OUTFILE_PATH], ch
  * why; the temporary is removed on failure. */
 int usm_outfile_place(const char *tmp, const char *path, int force, char *why, size_t len);
 
+/* An exclusive lock for the users of path: flock(2) on the lock file
+ * DIR/.BASE.usm-lock beside it (created if missing, never through a
+ * symlink; kept, since removing a lock file races), not on path itself,
+ * which renames replace.  The descriptor (close it to unlock), or -1 with
+ * why: another process holds the lock (*busy = 1), or the lock file cannot
+ * be opened (*busy = 0). */
+int usm_outfile_lock(const char *path, char *why, size_t len, int *busy);
+
 #endif /* USM_CORE_OUTFILE_H */

@@ -8,10 +8,12 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <unistd.h>
 
 #include <gsl/gsl_randist.h>
 #include <gsl/gsl_rng.h>
 
+#include "core/outfile.h"
 #include "core/pool_internal.h"
 #include "tolerance_internal.h"
 #include "usm_map.h"
@@ -154,8 +156,10 @@ void usm_tolerance_options_default(usm_tolerance_options *opt)
 usm_tolerance *usm_tolerance_alloc(const usm_model *m)
 {
     usm_tolerance *t = calloc(1, sizeof *t);
-    if (t)
+    if (t) {
         t->m = m;
+        t->lock_fd = -1;
+    }
     return t;
 }
 
@@ -168,6 +172,9 @@ static void clear(usm_tolerance *t)
     t->rows = NULL;
     t->config = NULL;
     t->have_result = 0;
+    if (t->lock_fd >= 0)
+        close(t->lock_fd);
+    t->lock_fd = -1;
 }
 
 void usm_tolerance_free(usm_tolerance *t)
@@ -576,8 +583,17 @@ int tol_prepare(usm_tolerance *t, const usm_params *p, const usm_tolerance_optio
                  (unsigned long long)opt->samples);
         return USM_EFAILED;
     }
-    if (root && opt->checkpoint)
-        return tol_checkpoint_load(t);
+    if (root && opt->checkpoint) {
+        /* one run per checkpoint: a second one fails at once, not at a rename */
+        int status = tol_checkpoint_load(t), busy;
+        char why[USM_MSG_LEN];
+        if (status == USM_OK &&
+            (t->lock_fd = usm_outfile_lock(opt->checkpoint, why, sizeof why, &busy)) < 0) {
+            snprintf(t->msg, USM_MSG_LEN, "checkpoint %.200s", why);
+            status = busy ? USM_EINPUT : USM_EFAILED;
+        }
+        return status;
+    }
     return USM_OK;
 }
 

@@ -39,6 +39,7 @@ struct usm_tolerance {
     char *config;           /* the study's configuration text (checkpoint header) */
     double last_write;      /* monotonic time of the last checkpoint write [s] */
     double write_seconds;   /* how long that write took */
+    int lock_fd;            /* the checkpoint's lock (usm_outfile_lock), or -1 */
     /* the result */
     int have_result;
     usm_tolerance_summary sum;
