@@ -436,12 +436,14 @@ int tol_compute(usm_tolerance *t, const uint64_t *blocks, size_t n, double *pack
     }
     for (size_t k = 1; k < n; ++k)
         c.offset[k] = c.offset[k - 1] + tol_block_size(t, blocks[k - 1]);
+    t->fail_block = UINT64_MAX;
     pool_job job = {n, t->opt.threads, &c, worker_alloc, worker_free, block_task, NULL};
     status = pool_run(&job, t->msg);
     /* the first failing block in list order names the sample: independent of threads */
     for (size_t k = 0; status != USM_OK && k < n; ++k)
         if (c.msg[k * USM_MSG_LEN]) {
             snprintf(t->msg, USM_MSG_LEN, "%s", c.msg + k * USM_MSG_LEN);
+            t->fail_block = blocks[k];
             break;
         }
     free(c.msg);

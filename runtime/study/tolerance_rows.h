@@ -40,6 +40,8 @@ struct usm_tolerance {
     double last_write;      /* monotonic time of the last checkpoint write [s] */
     double write_seconds;   /* how long that write took */
     int lock_fd;            /* the checkpoint's lock (usm_outfile_lock), or -1 */
+    uint64_t fail_block;    /* the block whose failure t->msg names (tol_compute), or
+                               UINT64_MAX: under MPI the lowest one is reported */
     /* the result */
     int have_result;
     usm_tolerance_summary sum;
