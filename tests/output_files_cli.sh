@@ -116,6 +116,22 @@ expect_bad "--out" "not a directory" $T --out "$d/afile"
 mkdir "$d/empty"
 expect_rc 0 $T --out "$d/empty" && { [ -s "$d/empty/samples.csv" ] || fail "tolerance --out empty DIR"; }
 expect_bad "--out" "exists" $T --out "$d/empty"
+# DIR appears whole: written in a stage beside it, renamed when samples.csv and summary.md are
+# there; a run killed leaves no DIR (its stage is removed by the next run)
+checks=$((checks + 1))
+"$USM" $L --out "$d/tk" >/dev/null 2>&1 &
+first=$!
+sleep 0.5
+kill -9 $first 2>/dev/null
+wait $first 2>/dev/null
+if [ -e "$d/tk" ]; then
+    [ "$(wc -l <"$d/tk/samples.csv")" -eq 40001 ] && [ -s "$d/tk/summary.md" ] ||
+        fail "tolerance --out killed: a partial DIR"
+else
+    expect_rc 0 $T --out "$d/tk" && { [ -s "$d/tk/summary.md" ] || fail "tolerance --out re-run"; }
+fi
+checks=$((checks + 1))
+! ls -A "$d" | grep -q '^\.tk\.usm-new-' || fail "tolerance --out: a stage left: $(ls -A "$d" | grep usm-new)"
 
 # ---- a symlink planted in a report directory: replaced, its target untouched ---------
 r=$d/report

@@ -2,7 +2,6 @@
  * this file parses, calls and writes. */
 #define _POSIX_C_SOURCE 200809L
 
-#include <dirent.h>
 #include <errno.h>
 #include <stdlib.h>
 #include <string.h>
@@ -164,37 +163,29 @@ static int write_file(const char *dir, const char *name, const usm_tolerance *t,
     return USM_OK;
 }
 
-/* Whether DIR holds nothing but usm's temporaries (.NAME.usm-PID-XXXXXX.part,
- * of a run that was killed): a re-run may write there without --force. */
-static int empty_dir(const char *dir)
-{
-    DIR *d = opendir(dir);
-    struct dirent *e;
-    int empty = d != NULL;
-    while (empty && (e = readdir(d))) {
-        const char *n = e->d_name;
-        const size_t len = strlen(n);
-        empty = strcmp(n, ".") == 0 || strcmp(n, "..") == 0 ||
-                (n[0] == '.' && strstr(n, ".usm-") && len > 5 && strcmp(n + len - 5, ".part") == 0);
-    }
-    if (d)
-        closedir(d);
-    return empty;
-}
-
+/* DIR: samples.csv and summary.md written into a stage and renamed to DIR
+ * together (a new or empty DIR appears whole or not at all; with --force
+ * into a non-empty one, file by file, each whole); then the histograms. */
 static int write_out(const tol_args *a, const usm_tolerance *t, char msg[CLI_MSG_LEN])
 {
-    char prefix[4096], csv[4096];
-    const int force = a->force || empty_dir(a->out);
-    if (mkdir(a->out, 0777) != 0 && !(errno == EEXIST && force)) {
-        cli_msg(msg, "--out %s: %s", a->out, strerror(errno));
-        return USM_EFAILED;
-    }
-    int rc = write_file(a->out, "samples.csv", t, 0, a->force, msg);
-    if (rc == USM_OK)
-        rc = write_file(a->out, "summary.md", t, 1, a->force, msg);
-    if (rc != USM_OK)
+    char prefix[4096], csv[4096], why[USM_IO_MSG_LEN];
+    usm_io_dir dir;
+    int rc = usm_io_dir_create(&dir, a->out, a->force, why);
+    if (rc != USM_OK) {
+        cli_msg(msg, "--out %.900s", why);
         return rc;
+    }
+    rc = write_file(dir.work, "samples.csv", t, 0, a->force, msg);
+    if (rc == USM_OK)
+        rc = write_file(dir.work, "summary.md", t, 1, a->force, msg);
+    if (rc != USM_OK) {
+        usm_io_dir_abort(&dir);
+        return rc;
+    }
+    if ((rc = usm_io_dir_commit(&dir, why)) != USM_OK) {
+        cli_msg(msg, "--out %.900s", why);
+        return rc;
+    }
     snprintf(prefix, sizeof prefix, "%s/histograms", a->out);
     snprintf(csv, sizeof csv, "%s/samples.csv", a->out);
     const char *names[] = {"csv"}, *values[] = {csv};
@@ -205,28 +196,14 @@ static int write_out(const tol_args *a, const usm_tolerance *t, char msg[CLI_MSG
 }
 
 /* Before the computation, alike on every rank: DIR new, empty (a killed
- * run's) or --force; not a symlink to nothing; its parent writable. */
+ * run's) or --force; not a symlink to nothing nor a file; its parent
+ * writable. */
 static int check_out(const tol_args *a, char msg[CLI_MSG_LEN])
 {
-    char parent[4096];
-    struct stat st;
-    snprintf(parent, sizeof parent, "%s", a->out);
-    char *slash = strrchr(parent, '/');
-    if (slash)
-        slash[slash == parent] = '\0';
-    if (lstat(a->out, &st) == 0 && stat(a->out, &st) != 0)
-        cli_msg(msg, "--out %s: a symbolic link to nothing; refusing to write through it",
-                a->out);
-    else if (stat(a->out, &st) == 0 && !S_ISDIR(st.st_mode))
-        cli_msg(msg, "--out %s: exists and is not a directory", a->out);
-    else if (lstat(a->out, &st) == 0 && !a->force && !empty_dir(a->out))
-        cli_msg(msg, "--out %s: exists (use --force to write into it)", a->out);
-    else if (lstat(a->out, &st) == 0 && access(a->out, W_OK | X_OK) != 0)
-        cli_msg(msg, "--out %s: %s", a->out, strerror(errno));
-    else if (lstat(a->out, &st) != 0 && access(slash ? parent : ".", W_OK | X_OK) != 0)
-        cli_msg(msg, "--out %s: %s", a->out, strerror(errno));
-    else
+    char why[USM_IO_MSG_LEN];
+    if (usm_io_dir_check(a->out, a->force, why) == USM_OK)
         return USM_OK;
+    cli_msg(msg, "--out %.900s", why);
     return USM_EINPUT;
 }
 

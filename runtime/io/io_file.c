@@ -2,8 +2,12 @@
  * the mechanism is core/outfile.c's. */
 #define _POSIX_C_SOURCE 200809L
 
+#include <dirent.h>
 #include <errno.h>
+#include <signal.h>
+#include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include "core/outfile.h"
@@ -68,4 +72,177 @@ void usm_io_abort(usm_io_file *out)
     out->f = NULL;
     if (out->tmp[0])
         unlink(out->tmp);
+}
+
+/* ---- output directories ---------------------------------------------------------- */
+
+#define DIR_STAGE_MID ".usm-new-"
+
+/* Whether dir is a directory with no entry (1), has entries (0), or cannot
+ * be read (-1). */
+static int dir_empty(const char *dir)
+{
+    DIR *d = opendir(dir);
+    struct dirent *e;
+    int empty = 1;
+    if (!d)
+        return -1;
+    while (empty && (e = readdir(d)))
+        empty = strcmp(e->d_name, ".") == 0 || strcmp(e->d_name, "..") == 0;
+    closedir(d);
+    return empty;
+}
+
+/* The regular files and symlinks in dir removed, then dir (a stage: only
+ * usm wrote there). */
+static void remove_stage(const char *dir)
+{
+    DIR *d = opendir(dir);
+    struct dirent *e;
+    if (!d)
+        return;
+    while ((e = readdir(d)))
+        if (strcmp(e->d_name, ".") != 0 && strcmp(e->d_name, "..") != 0)
+            unlinkat(dirfd(d), e->d_name, 0);
+    closedir(d);
+    rmdir(dir);
+}
+
+/* PARENT/.NAME + suffix into buf; -1 when too long or no NAME. */
+static int stage_name(char *buf, size_t len, const char *path, const char *suffix)
+{
+    size_t n = strlen(path);
+    while (n > 1 && path[n - 1] == '/')
+        --n;
+    size_t plen = n;
+    while (plen > 0 && path[plen - 1] != '/')
+        --plen;
+    const int w = snprintf(buf, len, "%.*s.%.*s%s", (int)plen, path, (int)(n - plen), path + plen,
+                           suffix);
+    return n == plen || w < 0 || (size_t)w >= len ? -1 : 0;
+}
+
+/* Stages of path left by runs that were killed (their process gone). */
+static void clean_stale_stages(const char *path)
+{
+    char prefix[USM_IO_PATH_LEN], parent[USM_IO_PATH_LEN], p[USM_IO_PATH_LEN];
+    if (stage_name(prefix, sizeof prefix, path, DIR_STAGE_MID) != 0)
+        return;
+    const char *slash = strrchr(prefix, '/');
+    const char *base = slash ? slash + 1 : prefix;
+    if (slash)
+        snprintf(parent, sizeof parent, "%.*s", slash == prefix ? 1 : (int)(slash - prefix),
+                 prefix);
+    else
+        snprintf(parent, sizeof parent, ".");
+    DIR *d = opendir(parent);
+    struct dirent *e;
+    if (!d)
+        return;
+    while ((e = readdir(d))) {
+        char *end;
+        if (strncmp(e->d_name, base, strlen(base)) != 0)
+            continue;
+        const long pid = strtol(e->d_name + strlen(base), &end, 10);
+        if (pid <= 0 || *end || pid == (long)getpid() || !(kill((pid_t)pid, 0) != 0 && errno == ESRCH))
+            continue;
+        if (snprintf(p, sizeof p, "%s/%s", parent, e->d_name) < (int)sizeof p)
+            remove_stage(p);
+    }
+    closedir(d);
+}
+
+int usm_io_dir_check(const char *path, int force, char msg[USM_IO_MSG_LEN])
+{
+    char parent[USM_IO_PATH_LEN];
+    struct stat st;
+    if (!path[0] || strlen(path) + 64 >= USM_IO_PATH_LEN) {
+        usm_io_msg(msg, "%.200s: not usable as a directory name", path);
+        return USM_EINPUT;
+    }
+    if (lstat(path, &st) == 0) {
+        int empty;
+        if (stat(path, &st) != 0)
+            usm_io_msg(msg, "%s: a symbolic link to nothing; refusing to write through it", path);
+        else if (!S_ISDIR(st.st_mode))
+            usm_io_msg(msg, "%s: exists and is not a directory", path);
+        else if ((empty = dir_empty(path)) < 0 || access(path, W_OK | X_OK) != 0)
+            usm_io_msg(msg, "%s: %s", path, strerror(errno));
+        else if (!empty && !force)
+            usm_io_msg(msg, "%s: exists (use --force to write into it)", path);
+        else
+            return USM_OK;
+        return USM_EINPUT;
+    }
+    if (errno != ENOENT) {
+        usm_io_msg(msg, "%s: %s", path, strerror(errno));
+        return USM_EINPUT;
+    }
+    snprintf(parent, sizeof parent, "%s", path);
+    char *slash = strrchr(parent, '/');
+    if (slash)
+        slash[slash == parent] = '\0';
+    else
+        snprintf(parent, sizeof parent, ".");
+    if (access(parent, W_OK | X_OK) != 0) {
+        usm_io_msg(msg, "%s: %s", path, strerror(errno));
+        return USM_EINPUT;
+    }
+    return USM_OK;
+}
+
+int usm_io_dir_create(usm_io_dir *out, const char *path, int force, char msg[USM_IO_MSG_LEN])
+{
+    char suffix[64];
+    struct stat st;
+    int status;
+    memset(out, 0, sizeof *out);
+    if ((status = usm_io_dir_check(path, force, msg)) != USM_OK)
+        return status;
+    snprintf(out->path, sizeof out->path, "%s", path);
+    out->work = out->path;
+    /* a non-empty directory (force): in place */
+    if (stat(path, &st) == 0 && dir_empty(path) == 0)
+        return USM_OK;
+    clean_stale_stages(path);
+    snprintf(suffix, sizeof suffix, "%s%ld", DIR_STAGE_MID, (long)getpid());
+    if (stage_name(out->stage, sizeof out->stage, path, suffix) != 0) {
+        usm_io_msg(msg, "%.200s: path too long", path);
+        return USM_EINPUT;
+    }
+    remove_stage(out->stage); /* of a run with our pid, long gone */
+    if (mkdir(out->stage, 0777) != 0) {
+        usm_io_msg(msg, "%s: %s", out->stage, strerror(errno));
+        out->stage[0] = '\0';
+        return USM_EFAILED;
+    }
+    out->work = out->stage;
+    return USM_OK;
+}
+
+int usm_io_dir_commit(usm_io_dir *out, char msg[USM_IO_MSG_LEN])
+{
+    if (!out->stage[0])
+        return USM_OK;
+    /* rename(2) replaces only an empty directory: a DIR filled meanwhile is kept */
+    if (rename(out->stage, out->path) != 0) {
+        const int e = errno;
+        usm_io_msg(msg, "%s: %s", out->path,
+                   e == ENOTEMPTY || e == EEXIST || e == ENOTDIR
+                       ? "appeared while computing; refusing to replace it (use --force)"
+                       : strerror(e));
+        remove_stage(out->stage);
+        out->stage[0] = '\0';
+        return e == ENOTEMPTY || e == EEXIST || e == ENOTDIR ? USM_EINPUT : USM_EFAILED;
+    }
+    out->stage[0] = '\0';
+    out->work = out->path;
+    return USM_OK;
+}
+
+void usm_io_dir_abort(usm_io_dir *out)
+{
+    if (out->stage[0])
+        remove_stage(out->stage);
+    out->stage[0] = '\0';
 }

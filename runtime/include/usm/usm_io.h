@@ -81,6 +81,39 @@ int usm_io_commit(usm_io_file *out, char msg[USM_IO_MSG_LEN]);
  * when out->f is NULL. */
 void usm_io_abort(usm_io_file *out);
 
+/* An output directory that appears whole or not at all (usm tolerance
+ * --out DIR).  usm_io_dir_create makes a stage beside path,
+ * PARENT/.NAME.usm-new-PID, when path does not exist or is an empty
+ * directory: the files go there (out->work) and usm_io_dir_commit renames
+ * the stage to path when all are written -- a reader sees no DIR or the
+ * complete one.  With force and an existing, non-empty directory the files
+ * are written into it (out->work is path; each file still whole through
+ * usm_io_create).  A stage left by a killed run is removed by the next
+ * usm_io_dir_create of the same path once its process is gone. */
+typedef struct usm_io_dir {
+    char path[USM_IO_PATH_LEN];  /* the final directory */
+    char stage[USM_IO_PATH_LEN]; /* the stage ("" when writing in place) */
+    const char *work;            /* where to write: stage or path */
+} usm_io_dir;
+
+/* USM_OK when a directory can be written at path now: it does not exist
+ * (its parent a writable directory) or is an empty directory, or force and
+ * a writable directory; not a dangling symlink nor a file.  Else USM_EINPUT
+ * with "PATH: reason" in msg.  Called before the computation. */
+int usm_io_dir_check(const char *path, int force, char msg[USM_IO_MSG_LEN]);
+
+/* Prepare out for path (the checks of usm_io_dir_check, then the stage).
+ * USM_OK, or USM_EINPUT / USM_EFAILED with msg. */
+int usm_io_dir_create(usm_io_dir *out, const char *path, int force, char msg[USM_IO_MSG_LEN]);
+
+/* The stage renamed to out->path (nothing to do in place).  USM_OK, or
+ * USM_EINPUT with msg when path appeared meanwhile (not empty), or
+ * USM_EFAILED; the stage is removed on failure. */
+int usm_io_dir_commit(usm_io_dir *out, char msg[USM_IO_MSG_LEN]);
+
+/* Remove the stage and its files (nothing in place). */
+void usm_io_dir_abort(usm_io_dir *out);
+
 /* ---- numbers and parameter files ------------------------------------------- */
 
 /* Parse the `len` characters at `text` as a finite double (strtod syntax,
