@@ -75,6 +75,8 @@ int usm_outfile_check(const char *path, int force, char *why, size_t len)
     return USM_OK;
 }
 
+static int dead_pid(const char *s, int old_too);
+
 /* Remove the temporaries of base in dir whose process is gone (a killed
  * run's); a live process's are left alone. */
 static void clean_stale(const char *dir, const char *base)
@@ -87,15 +89,19 @@ static void clean_stale(const char *dir, const char *base)
     while ((e = readdir(d))) {
         const char *n = e->d_name;
         const size_t nlen = strlen(n);
-        char *end;
         if (n[0] != '.' || nlen < 1 + blen + strlen(TMP_MID) + strlen(TMP_END) + 2 ||
             strncmp(n + 1, base, blen) != 0 ||
             strncmp(n + 1 + blen, TMP_MID, strlen(TMP_MID)) != 0 ||
             strcmp(n + nlen - strlen(TMP_END), TMP_END) != 0)
             continue;
-        const long pid = strtol(n + 1 + blen + strlen(TMP_MID), &end, 10);
-        if (pid <= 0 || *end != '-' || pid == (long)getpid() ||
-            !(kill((pid_t)pid, 0) != 0 && errno == ESRCH))
+        char num[32];
+        const char *at = n + 1 + blen + strlen(TMP_MID);
+        const size_t digits = strspn(at, "0123456789");
+        if (digits == 0 || digits >= sizeof num || at[digits] != '-')
+            continue;
+        memcpy(num, at, digits);
+        num[digits] = '\0';
+        if (!dead_pid(num, 0))
             continue;
         char p[USM_OUTFILE_PATH];
         if (snprintf(p, sizeof p, "%s/%s", dir, n) < (int)sizeof p)
@@ -216,4 +222,67 @@ int usm_outfile_lock(const char *path, char *why, size_t len, int *busy)
         return -1;
     }
     return fd;
+}
+
+/* ---- output directories -------------------------------------------------------------- */
+
+/* Whether the text at s is PID followed by end ("" or ".old") and that
+ * process is gone (ours is alive). */
+static int dead_pid(const char *s, int old_too)
+{
+    char *end;
+    const long pid = strtol(s, &end, 10);
+    return pid > 0 && (*end == '\0' || (old_too && strcmp(end, ".old") == 0)) &&
+           pid != (long)getpid() && kill((pid_t)pid, 0) != 0 && errno == ESRCH;
+}
+
+int usm_outfile_beside(char buf[USM_OUTFILE_PATH], const char *path, const char *suffix)
+{
+    size_t n = strlen(path);
+    while (n > 1 && path[n - 1] == '/')
+        --n;
+    size_t plen = n;
+    while (plen > 0 && path[plen - 1] != '/')
+        --plen;
+    const int w = snprintf(buf, USM_OUTFILE_PATH, "%.*s.%.*s%s", (int)plen, path,
+                           (int)(n - plen), path + plen, suffix);
+    return n == plen || w < 0 || w >= USM_OUTFILE_PATH ? -1 : 0;
+}
+
+void usm_outfile_remove_dir(const char *dir, int (*drop)(const char *name))
+{
+    DIR *d = opendir(dir);
+    struct dirent *e;
+    if (!d)
+        return;
+    while ((e = readdir(d)))
+        if (strcmp(e->d_name, ".") != 0 && strcmp(e->d_name, "..") != 0 &&
+            (!drop || drop(e->d_name)))
+            unlinkat(dirfd(d), e->d_name, 0);
+    closedir(d);
+    rmdir(dir);
+}
+
+void usm_outfile_clean_stages(const char *path, int (*drop)(const char *name))
+{
+    char prefix[USM_OUTFILE_PATH], parent[USM_OUTFILE_PATH], p[USM_OUTFILE_PATH];
+    if (usm_outfile_beside(prefix, path, USM_OUTFILE_STAGE) != 0)
+        return;
+    const char *slash = strrchr(prefix, '/');
+    const char *base = slash ? slash + 1 : prefix;
+    if (slash)
+        snprintf(parent, sizeof parent, "%.*s", slash == prefix ? 1 : (int)(slash - prefix),
+                 prefix);
+    else
+        snprintf(parent, sizeof parent, ".");
+    DIR *d = opendir(parent);
+    struct dirent *e;
+    if (!d)
+        return;
+    while ((e = readdir(d)))
+        if (strncmp(e->d_name, base, strlen(base)) == 0 &&
+            dead_pid(e->d_name + strlen(base), 1) &&
+            snprintf(p, sizeof p, "%s/%s", parent, e->d_name) < (int)sizeof p)
+            usm_outfile_remove_dir(p, drop);
+    closedir(d);
 }

@@ -40,6 +40,25 @@ int usm_outfile_open(const char *path, int force, char tmp[USM_OUTFILE_PATH], ch
  * why; the temporary is removed on failure. */
 int usm_outfile_place(const char *tmp, const char *path, int force, char *why, size_t len);
 
+/* ---- output directories (io/io_file.c usm_io_dir_*, report/report.c) ---------- */
+
+/* A directory written whole is first a stage beside it: PARENT/.NAME +
+ * USM_OUTFILE_STAGE + PID (+ ".old" for a report's old directory while it
+ * is swapped out). */
+#define USM_OUTFILE_STAGE ".usm-new-"
+
+/* PARENT/.NAME + suffix for the directory path into buf (USM_OUTFILE_PATH
+ * bytes); 0, or -1 when too long or path has no last component. */
+int usm_outfile_beside(char buf[USM_OUTFILE_PATH], const char *path, const char *suffix);
+
+/* Remove the entries of dir that drop(name) accepts (every one when drop is
+ * NULL), then dir itself (kept when anything is left). */
+void usm_outfile_remove_dir(const char *dir, int (*drop)(const char *name));
+
+/* Remove (as usm_outfile_remove_dir) the stages of path whose process is
+ * gone: runs that were killed. */
+void usm_outfile_clean_stages(const char *path, int (*drop)(const char *name));
+
 /* An exclusive lock for the users of path: flock(2) on the lock file
  * DIR/.BASE.usm-lock beside it (created if missing, never through a
  * symlink; kept, since removing a lock file races), not on path itself,

@@ -4,7 +4,6 @@
 
 #include <dirent.h>
 #include <errno.h>
-#include <signal.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
@@ -76,8 +75,6 @@ void usm_io_abort(usm_io_file *out)
 
 /* ---- output directories ---------------------------------------------------------- */
 
-#define DIR_STAGE_MID ".usm-new-"
-
 /* Whether dir is a directory with no entry (1), has entries (0), or cannot
  * be read (-1). */
 static int dir_empty(const char *dir)
@@ -91,65 +88,6 @@ static int dir_empty(const char *dir)
         empty = strcmp(e->d_name, ".") == 0 || strcmp(e->d_name, "..") == 0;
     closedir(d);
     return empty;
-}
-
-/* The regular files and symlinks in dir removed, then dir (a stage: only
- * usm wrote there). */
-static void remove_stage(const char *dir)
-{
-    DIR *d = opendir(dir);
-    struct dirent *e;
-    if (!d)
-        return;
-    while ((e = readdir(d)))
-        if (strcmp(e->d_name, ".") != 0 && strcmp(e->d_name, "..") != 0)
-            unlinkat(dirfd(d), e->d_name, 0);
-    closedir(d);
-    rmdir(dir);
-}
-
-/* PARENT/.NAME + suffix into buf; -1 when too long or no NAME. */
-static int stage_name(char *buf, size_t len, const char *path, const char *suffix)
-{
-    size_t n = strlen(path);
-    while (n > 1 && path[n - 1] == '/')
-        --n;
-    size_t plen = n;
-    while (plen > 0 && path[plen - 1] != '/')
-        --plen;
-    const int w = snprintf(buf, len, "%.*s.%.*s%s", (int)plen, path, (int)(n - plen), path + plen,
-                           suffix);
-    return n == plen || w < 0 || (size_t)w >= len ? -1 : 0;
-}
-
-/* Stages of path left by runs that were killed (their process gone). */
-static void clean_stale_stages(const char *path)
-{
-    char prefix[USM_IO_PATH_LEN], parent[USM_IO_PATH_LEN], p[USM_IO_PATH_LEN];
-    if (stage_name(prefix, sizeof prefix, path, DIR_STAGE_MID) != 0)
-        return;
-    const char *slash = strrchr(prefix, '/');
-    const char *base = slash ? slash + 1 : prefix;
-    if (slash)
-        snprintf(parent, sizeof parent, "%.*s", slash == prefix ? 1 : (int)(slash - prefix),
-                 prefix);
-    else
-        snprintf(parent, sizeof parent, ".");
-    DIR *d = opendir(parent);
-    struct dirent *e;
-    if (!d)
-        return;
-    while ((e = readdir(d))) {
-        char *end;
-        if (strncmp(e->d_name, base, strlen(base)) != 0)
-            continue;
-        const long pid = strtol(e->d_name + strlen(base), &end, 10);
-        if (pid <= 0 || *end || pid == (long)getpid() || !(kill((pid_t)pid, 0) != 0 && errno == ESRCH))
-            continue;
-        if (snprintf(p, sizeof p, "%s/%s", parent, e->d_name) < (int)sizeof p)
-            remove_stage(p);
-    }
-    closedir(d);
 }
 
 int usm_io_dir_check(const char *path, int force, char msg[USM_IO_MSG_LEN])
@@ -204,13 +142,13 @@ int usm_io_dir_create(usm_io_dir *out, const char *path, int force, char msg[USM
     /* a non-empty directory (force): in place */
     if (stat(path, &st) == 0 && dir_empty(path) == 0)
         return USM_OK;
-    clean_stale_stages(path);
-    snprintf(suffix, sizeof suffix, "%s%ld", DIR_STAGE_MID, (long)getpid());
-    if (stage_name(out->stage, sizeof out->stage, path, suffix) != 0) {
+    usm_outfile_clean_stages(path, NULL);
+    snprintf(suffix, sizeof suffix, "%s%ld", USM_OUTFILE_STAGE, (long)getpid());
+    if (usm_outfile_beside(out->stage, path, suffix) != 0) {
         usm_io_msg(msg, "%.200s: path too long", path);
         return USM_EINPUT;
     }
-    remove_stage(out->stage); /* of a run with our pid, long gone */
+    usm_outfile_remove_dir(out->stage, NULL); /* of a run with our pid, long gone */
     if (mkdir(out->stage, 0777) != 0) {
         usm_io_msg(msg, "%s: %s", out->stage, strerror(errno));
         out->stage[0] = '\0';
@@ -231,7 +169,7 @@ int usm_io_dir_commit(usm_io_dir *out, char msg[USM_IO_MSG_LEN])
                    e == ENOTEMPTY || e == EEXIST || e == ENOTDIR
                        ? "appeared while computing; refusing to replace it (use --force)"
                        : strerror(e));
-        remove_stage(out->stage);
+        usm_outfile_remove_dir(out->stage, NULL);
         out->stage[0] = '\0';
         return e == ENOTEMPTY || e == EEXIST || e == ENOTDIR ? USM_EINPUT : USM_EFAILED;
     }
@@ -243,6 +181,6 @@ int usm_io_dir_commit(usm_io_dir *out, char msg[USM_IO_MSG_LEN])
 void usm_io_dir_abort(usm_io_dir *out)
 {
     if (out->stage[0])
-        remove_stage(out->stage);
+        usm_outfile_remove_dir(out->stage, NULL);
     out->stage[0] = '\0';
 }

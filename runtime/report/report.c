@@ -20,7 +20,6 @@
 #include <dirent.h>
 #include <errno.h>
 #include <fcntl.h>
-#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -29,6 +28,7 @@
 #include <sys/types.h>
 #include <unistd.h>
 
+#include "core/outfile.h"
 #include "io/data_dir.h"
 #include "io/io_msg.h"
 #include "report_internal.h"
@@ -206,8 +206,6 @@ static int write_output(json_t *data, const char *md, const char *dir, const cha
 
 /* ---- the directory replaced as a whole ------------------------------------------- */
 
-#define STAGE_MID ".usm-new-"
-
 /* Whether name is one of the report's files, its manifest, or a usm temporary. */
 static int report_name(const char *name)
 {
@@ -240,63 +238,6 @@ static int only_report_files(const char *dir)
     return only;
 }
 
-/* Remove a stage or an old report: its report files, then the directory
- * (left when something else is in it). */
-static void remove_report_dir(const char *dir)
-{
-    DIR *d = opendir(dir);
-    struct dirent *e;
-    if (!d)
-        return;
-    while ((e = readdir(d)))
-        if (report_name(e->d_name))
-            unlinkat(dirfd(d), e->d_name, 0);
-    closedir(d);
-    rmdir(dir);
-}
-
-/* PARENT/.NAME + suffix for dir (no trailing slash) into buf; -1 when too
- * long or dir has no last component. */
-static int beside(char *buf, size_t len, const char *dir, const char *suffix)
-{
-    size_t n = strlen(dir);
-    while (n > 1 && dir[n - 1] == '/')
-        --n;
-    const char *slash = memrchr(dir, '/', n);
-    const size_t plen = slash ? (size_t)(slash - dir) + 1 : 0;
-    const int w = snprintf(buf, len, "%.*s.%.*s%s", (int)plen, dir, (int)(n - plen), dir + plen,
-                           suffix);
-    return n == plen || w < 0 || (size_t)w >= len ? -1 : 0;
-}
-
-/* Remove the stages of runs into dir that were killed (their process gone). */
-static void clean_stale_stages(const char *dir)
-{
-    char prefix[4096], path[4096], parent[4096];
-    if (beside(prefix, sizeof prefix, dir, STAGE_MID) != 0)
-        return;
-    const char *slash = strrchr(prefix, '/');
-    const char *base = slash ? slash + 1 : prefix;
-    snprintf(parent, sizeof parent, "%.*s", slash ? (int)(slash - prefix) + (slash == prefix) : 1,
-             slash ? prefix : ".");
-    DIR *d = opendir(parent);
-    struct dirent *e;
-    if (!d)
-        return;
-    while ((e = readdir(d))) {
-        char *end;
-        if (strncmp(e->d_name, base, strlen(base)) != 0)
-            continue;
-        const long pid = strtol(e->d_name + strlen(base), &end, 10);
-        if (pid <= 0 || (*end != '\0' && strcmp(end, ".old") != 0) || pid == (long)getpid() ||
-            !(kill((pid_t)pid, 0) != 0 && errno == ESRCH))
-            continue;
-        if (snprintf(path, sizeof path, "%s/%s", parent, e->d_name) < (int)sizeof path)
-            remove_report_dir(path);
-    }
-    closedir(d);
-}
-
 /* Lock dir for this run: a descriptor (close it to unlock), or -1 with msg
  * when another run holds it. */
 static int lock_dir(const char *dir, char msg[USM_IO_MSG_LEN])
@@ -323,16 +264,16 @@ static int make_stage(const char *dir, char *stage, char msg[USM_IO_MSG_LEN])
 {
     char suffix[64];
     struct stat st;
-    snprintf(suffix, sizeof suffix, "%s%ld", STAGE_MID, (long)getpid());
+    snprintf(suffix, sizeof suffix, "%s%ld", USM_OUTFILE_STAGE, (long)getpid());
     if (lstat(dir, &st) != 0 || !S_ISDIR(st.st_mode) || !only_report_files(dir) ||
-        beside(stage, 4096, dir, suffix) != 0)
+        usm_outfile_beside(stage, dir, suffix) != 0)
         return -1;
-    remove_report_dir(stage); /* a stage of a run with our pid, long gone */
+    usm_outfile_remove_dir(stage, report_name); /* a stage of a run with our pid, long gone */
     if (mkdir(stage, st.st_mode & 07777) != 0)
         return -1;
     chmod(stage, st.st_mode & 07777);
     if (write_manifest(stage, msg) != USM_OK) {
-        remove_report_dir(stage);
+        usm_outfile_remove_dir(stage, report_name);
         return -1;
     }
     return 0;
@@ -343,7 +284,7 @@ static int swap_in(const char *dir, const char *stage, char msg[USM_IO_MSG_LEN])
 {
     char old[4096];
     if (renameat2(AT_FDCWD, stage, AT_FDCWD, dir, RENAME_EXCHANGE) == 0) {
-        remove_report_dir(stage); /* now the old report */
+        usm_outfile_remove_dir(stage, report_name); /* now the old report */
         return USM_OK;
     }
     /* a file system without the exchange: two renames (between them no DIR) */
@@ -353,7 +294,7 @@ static int swap_in(const char *dir, const char *stage, char msg[USM_IO_MSG_LEN])
                    strerror(errno), stage);
         return USM_EFAILED;
     }
-    remove_report_dir(old);
+    usm_outfile_remove_dir(old, report_name);
     return USM_OK;
 }
 
@@ -439,7 +380,7 @@ int usm_report_write(const char *dir, const usm_params *p, const usm_report_opti
     if (status == USM_OK)
         status = usm_report_compute_nonideal(d, msg);
     if (status == USM_OK) {
-        clean_stale_stages(dir);
+        usm_outfile_clean_stages(dir, report_name);
         if (make_stage(dir, stage, msg) == 0)
             staged = 1, w = stage;
         else
@@ -450,7 +391,7 @@ int usm_report_write(const char *dir, const usm_params *p, const usm_report_opti
         usm_report_data_free(d);
         free(d);
         if (staged)
-            remove_report_dir(stage); /* the old report stays as it was */
+            usm_outfile_remove_dir(stage, report_name); /* the old report stays as it was */
         close(lock);
         return status == USM_EINPUT || status == USM_ENOSOLUTION ? status : USM_EFAILED;
     }
@@ -485,7 +426,7 @@ int usm_report_write(const char *dir, const usm_params *p, const usm_report_opti
     if (staged && status == USM_OK)
         status = swap_in(dir, stage, msg);
     else if (staged)
-        remove_report_dir(stage);
+        usm_outfile_remove_dir(stage, report_name);
     close(lock);
     if (status != USM_OK)
         return USM_EFAILED;
