@@ -347,16 +347,6 @@ static void *worker_alloc(void *ctx)
     return w;
 }
 
-int tol_meets_specs(const usm_tolerance *t, const double *out)
-{
-    for (int s = 0; s < t->nspec; ++s) {
-        const double v = out[t->spec[s].output];
-        if (!(t->spec[s].upper ? v <= t->spec[s].bound : v >= t->spec[s].bound))
-            return 0; /* NaN (the output does not exist) fails every spec */
-    }
-    return 1;
-}
-
 static int sample(usm_tolerance *t, worker *w, uint64_t i, double *row, char msg[USM_MSG_LEN])
 {
     usm_params q;

@@ -62,7 +62,7 @@ void tol_unpack(usm_tolerance *t, const uint64_t *blocks, size_t n, const double
  * returns how many. */
 size_t tol_pending(const usm_tolerance *t, uint64_t *list);
 
-/* Whether the outputs out (USM_TOL_NOUTPUTS) meet every --spec (tolerance.c). */
+/* Whether the outputs out (USM_TOL_NOUTPUTS) meet every --spec. */
 int tol_meets_specs(const usm_tolerance *t, const double *out);
 
 /* Seconds on a monotonic clock. */
