@@ -1,7 +1,12 @@
 #!/bin/bash
 # usm report and its output directory (issue 11 "Files"):
-#  - a report interrupted while plotting leaves files the next run replaces
-#    without --force (the .usm-report manifest is written first);
+#  - a report interrupted while plotting leaves no report and no data under
+#    DIR (they are in a stage beside it); the next run replaces it without
+#    --force (the .usm-report manifest is written first) and removes the stage;
+#  - a re-run interrupted leaves the old report intact, byte for byte (the
+#    directory is replaced as a whole: issue 22); a second run into the same
+#    directory at once fails at once with one line;
+#  - a symlink planted in the directory is replaced, its target never written;
 #  - files the user wrote are still never overwritten without --force;
 #  - a gnuplot that exits 0 without writing the images is a failure (exit 1,
 #    one line), and report.md then links no image.
@@ -27,13 +32,54 @@ d=$tmp/interrupted
 checks=$((checks + 1))
 USM_GNUPLOT=$tmp/gnuplot_kill run report --out "$d" --quick
 rc=$?
-if [ $rc -ne 137 ] || [ -e "$d/report.md" ] || [ ! -e "$d/fig10_speed_load_3dof.csv" ]; then
-    fail "killed while plotting: exit $rc, want 137 with data files and no report.md"
+if [ $rc -ne 137 ] || [ -e "$d/report.md" ] || [ -e "$d/fig10_speed_load_3dof.csv" ] ||
+    ! ls -d "$tmp"/.interrupted.usm-new-* >/dev/null 2>&1; then
+    fail "killed while plotting: exit $rc, want 137, no report.md and no data under DIR, a stage beside it"
 fi
 if expect_rc 0 report --out "$d" --quick --no-plots; then
     checks=$((checks + 1))
     [ "$(cat "$out")" = "$d/report.md" ] && [ -s "$d/report.md" ] ||
         fail "the run after an interrupted one did not write report.md"
+    ls -d "$tmp"/.interrupted.usm-new-* >/dev/null 2>&1 && fail "the killed run's stage is still there"
+fi
+
+# ---- a re-run interrupted: the old report intact, nothing mixed --------------------
+o=$tmp/old
+if expect_rc 0 report --out "$o" --quick --no-plots --set F0=0.3; then
+    (cd "$o" && sha256sum -- * .usm-report) >"$tmp/old.sums"
+    checks=$((checks + 1))
+    USM_GNUPLOT=$tmp/gnuplot_kill run report --out "$o" --quick --set F0=0.4
+    rc=$?
+    [ $rc -eq 137 ] || fail "re-run killed while plotting: exit $rc, want 137"
+    checks=$((checks + 1))
+    (cd "$o" && sha256sum -- * .usm-report) | cmp -s - "$tmp/old.sums" ||
+        fail "a killed re-run changed the old report: $( (cd "$o" && sha256sum -- * .usm-report) | diff - "$tmp/old.sums" | head -n 4)"
+    # the re-run, completed, replaces it as a whole
+    if expect_rc 0 report --out "$o" --quick --no-plots --set F0=0.4; then
+        checks=$((checks + 1))
+        grep -q '"F0": 0.4' "$o/report.json" || fail "the completed re-run's report.json is not F0 = 0.4"
+        ls -A "$tmp" | grep -q '^\.old\.usm-new-' && fail "stages left after the re-run"
+    fi
+fi
+
+# ---- two runs into one directory: the second fails at once ---------------------------
+printf '#!/bin/sh\nsleep 3\nexit 0\n' >"$tmp/gnuplot_slow"
+chmod +x "$tmp/gnuplot_slow"
+c=$tmp/concurrent
+USM_GNUPLOT=$tmp/gnuplot_slow "$USM" report --out "$c" --quick >/dev/null 2>&1 &
+first=$!
+for _ in $(seq 100); do ls -d "$tmp"/.concurrent.usm-new-* >/dev/null 2>&1 && break; sleep 0.05; done
+expect_bad "--out $c" "another usm report is writing there" report --out "$c" --quick --no-plots
+kill $first 2>/dev/null
+wait $first 2>/dev/null
+
+# ---- a symlink planted in the directory: replaced, never written through -----------
+echo precious >"$tmp/precious"
+ln -sf "$tmp/precious" "$o/report_values.csv"
+if expect_rc 0 report --out "$o" --quick --no-plots; then
+    checks=$((checks + 1))
+    [ "$(cat "$tmp/precious")" = precious ] && [ ! -L "$o/report_values.csv" ] ||
+        fail "a symlink in the report directory was written through"
 fi
 
 # ---- the user's files are kept ------------------------------------------------------

@@ -35,7 +35,7 @@ expect_bad '--seed' 'whole number' tolerance --samples 10 --seed -1 --vary c_t=n
 expect_bad 'T' 'nominal value is 0' tolerance --samples 10 --set T=0 --vary T=normal:5%
 expect_bad 'c_t' 'outside the physical range' tolerance --samples 10 --vary c_t=uniform:-2:-1
 expect_bad '--bogus' 'unknown option' tolerance --samples 10 --vary c_t=normal:1% --bogus
-mkdir "$tmp/exists"
+mkdir "$tmp/exists" && echo keep >"$tmp/exists/keep" # an empty DIR is taken (issue 22)
 expect_bad '--out' 'exists' tolerance --samples 10 --vary c_t=normal:1% --out "$tmp/exists"
 
 # ---- the result -------------------------------------------------------------------

@@ -197,14 +197,19 @@ static int make_axis(usm_report_axis *ax, const char *field, const char *name, c
 static int plot(const map_args *a, const usm_report_map *map)
 {
     char msg[CLI_MSG_LEN], xcol[128], ycol[128];
-    FILE *f = usm_plot_csv_open(a->plot, a->force, msg);
+    usm_io_file file;
+    FILE *f = usm_plot_csv_open(&file, a->plot, a->force, msg);
     if (!f) {
         cli_error("%s", msg);
         return USM_EINPUT;
     }
-    int bad = usm_report_map_write_csv(map, f) != 0;
-    if ((fclose(f) != 0) | bad) {
+    if (usm_report_map_write_csv(map, f) != 0) {
+        usm_io_abort(&file);
         cli_error("--plot %s.csv: write error", a->plot);
+        return USM_EFAILED;
+    }
+    if (usm_io_commit(&file, msg) != USM_OK) {
+        cli_error("--plot %s", msg);
         return USM_EFAILED;
     }
     /* the header's first two columns (report_map.c) */
@@ -229,6 +234,7 @@ int cli_map_main(int argc, char **argv)
     usm_report_map map;
     char msg[CLI_MSG_LEN];
     FILE *out = stdout;
+    usm_io_file file;
     int status;
 #ifdef USM_HAVE_MPI
     int rank = 0, size = 1;
@@ -265,9 +271,9 @@ int cli_map_main(int argc, char **argv)
     map.floquet = &a.floquet;
     map.threads = a.threads;
     map.boundaries = a.common.json;
-    /* Refuse an existing --out before the (long) computation. */
-    if (a.out && !a.force && access(a.out, F_OK) == 0) {
-        cli_error("--out %s: exists; refusing to overwrite it (use --force)", a.out);
+    /* Refuse an --out that cannot be written before the (long) computation. */
+    if (a.out && usm_io_check(a.out, a.force, msg) != USM_OK) {
+        cli_error("--out %s", msg);
         return USM_EINPUT;
     }
     if (a.plot && usm_plot_csv_check(a.plot, a.force, msg) != USM_OK) {
@@ -294,7 +300,7 @@ int cli_map_main(int argc, char **argv)
         cli_error("%s", msg);
         return status;
     }
-    if (a.out && !(out = usm_io_create(a.out, a.force, msg, &status))) {
+    if (a.out && !(out = usm_io_create(&file, a.out, a.force, msg, &status))) {
         cli_error("--out %s", msg);
         usm_report_map_free(&map);
         return status;
@@ -305,10 +311,11 @@ int cli_map_main(int argc, char **argv)
     } else if (usm_report_map_write_csv(&map, out) != 0)
         status = USM_EFAILED;
     if (out != stdout) {
-        if (fclose(out) != 0 || status != USM_OK) {
+        if (status != USM_OK) {
+            usm_io_abort(&file);
             cli_error("--out %s: write error", a.out);
-            status = USM_EFAILED;
-        }
+        } else if ((status = usm_io_commit(&file, msg)) != USM_OK)
+            cli_error("--out %s", msg);
     } else if (fflush(stdout) != 0 || ferror(stdout)) {
         clearerr(stdout);
         cli_error("stdout: write error");

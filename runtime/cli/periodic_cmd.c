@@ -32,7 +32,8 @@ static void usage(FILE *out)
             "\n"
             "exit status: 0 solved, 1 numerical failure (Newton or integrator; --json still\n"
             "             prints converged=false), 2 bad input or a twist law without\n"
-            "             periodic orbit\n",
+            "             periodic orbit, 3 no stationary solution of the ideal motor to\n"
+            "             start from (as usm steady)\n",
             USM_PERIODIC_SAMPLES);
 }
 
@@ -78,15 +79,17 @@ static int parse(periodic_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
 
 static int write_orbit(const periodic_args *a, const usm_periodic *w, char msg[CLI_MSG_LEN])
 {
+    usm_io_file file;
     int status;
-    FILE *f = usm_io_create(a->orbit, a->force, msg, &status);
+    FILE *f = usm_io_create(&file, a->orbit, a->force, msg, &status);
     if (!f)
         return status;
-    if ((usm_periodic_write_orbit_csv(w, f) != 0) | (fclose(f) != 0)) {
+    if (usm_periodic_write_orbit_csv(w, f) != 0) {
+        usm_io_abort(&file);
         cli_msg(msg, "%s: write error", a->orbit);
         return USM_EFAILED;
     }
-    return USM_OK;
+    return usm_io_commit(&file, msg);
 }
 
 static void table(const usm_periodic_result *r, const char *model)
@@ -124,6 +127,11 @@ int cli_periodic_main(int argc, char **argv)
         usage(stdout);
         return USM_OK;
     }
+    /* an --orbit that cannot be written fails now, not after the shooting */
+    if (a.orbit && usm_io_check(a.orbit, a.force, msg) != USM_OK) {
+        cli_error("--orbit %s", msg);
+        return USM_EINPUT;
+    }
     usm_periodic *w = usm_periodic_alloc(a.common.model);
     if (!w) {
         cli_error("out of memory");
@@ -141,7 +149,7 @@ int cli_periodic_main(int argc, char **argv)
             status = USM_EFAILED;
         } else if (!a.common.json)
             table(&r, a.common.model->name);
-        if (status != USM_OK && status != USM_EFAILED)
+        if (status != USM_OK && status != USM_EFAILED && status != USM_ENOSOLUTION)
             status = USM_EFAILED;
     } else
         cli_error("periodic: %s", usm_periodic_message(w));

@@ -283,6 +283,7 @@ static int run(sim_args *a, usm_sim *s)
     usm_sim_callbacks cb;
     int status = USM_OK, rc;
     FILE *summary_out;
+    usm_io_file csv_file;
     double wall;
 
     if (!a->rate_set)
@@ -308,7 +309,7 @@ static int run(sim_args *a, usm_sim *s)
     memset(&io, 0, sizeof io);
     if (a->opt.rate > 0) {
         if (a->out) {
-            if (!(io.csv = usm_io_create(a->out, a->force, msg, &status))) {
+            if (!(io.csv = usm_io_create(&csv_file, a->out, a->force, msg, &status))) {
                 cli_error("--out %s", msg);
                 return status;
             }
@@ -329,8 +330,11 @@ static int run(sim_args *a, usm_sim *s)
     if (io.drawn)
         fprintf(stderr, "\r%*s\r", 96, "");
     if (io.csv && io.csv != stdout) {
-        if (fclose(io.csv) != 0 && rc == USM_OK) {
-            cli_error("--out %s: write error", a->out);
+        /* the history up to a numerical stop is data; bad input or no start, none */
+        if (rc == USM_EINPUT || rc == USM_ENOSOLUTION)
+            usm_io_abort(&csv_file);
+        else if (usm_io_commit(&csv_file, msg) != USM_OK && rc == USM_OK) {
+            cli_error("--out %s", msg);
             rc = USM_EFAILED;
         }
     } else if (io.csv && (fflush(stdout) != 0 || ferror(stdout))) {

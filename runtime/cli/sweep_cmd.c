@@ -315,14 +315,19 @@ static int plot(const sweep_args *a, const usm_sweep *s)
 {
     char msg[CLI_MSG_LEN], xcol[128];
     const usm_param_info *info = usm_params_find(a->over);
-    FILE *f = usm_plot_csv_open(a->plot, a->force, msg);
+    usm_io_file file;
+    FILE *f = usm_plot_csv_open(&file, a->plot, a->force, msg);
     if (!f) {
         cli_error("%s", msg);
         return USM_EINPUT;
     }
-    int bad = usm_sweep_csv(s, a->over, a->floquet, f) != 0;
-    if ((fclose(f) != 0) | bad) {
+    if (usm_sweep_csv(s, a->over, a->floquet, f) != 0) {
+        usm_io_abort(&file);
         cli_error("--plot %s.csv: write error", a->plot);
+        return USM_EFAILED;
+    }
+    if (usm_io_commit(&file, msg) != USM_OK) {
+        cli_error("--plot %s", msg);
         return USM_EFAILED;
     }
     /* the header's first column (sweep_out.c) */

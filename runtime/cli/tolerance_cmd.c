@@ -140,34 +140,52 @@ static int parse(tol_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
     return cli_common_finish(&a->common, msg);
 }
 
-/* DIR/NAME written by `write`; USM_OK or USM_EFAILED with msg. */
+/* DIR/NAME written by `write`, whole or not at all (usm_io_create); USM_OK
+ * or a status with msg. */
 static int write_file(const char *dir, const char *name, const usm_tolerance *t, int summary,
-                      char msg[CLI_MSG_LEN])
+                      int force, char msg[CLI_MSG_LEN])
 {
-    char path[4096];
+    char path[4096], why[USM_IO_MSG_LEN];
+    usm_io_file file;
+    int status;
     snprintf(path, sizeof path, "%s/%s", dir, name);
-    FILE *f = fopen(path, "w");
-    int bad = !f || (summary ? usm_tolerance_write_summary(t, f, "histograms")
-                             : usm_tolerance_write_csv(t, f)) != 0;
-    if (!f || (fclose(f) != 0) | bad) {
-        cli_msg(msg, "--out %s: write error%s%s", path, f ? "" : ": ", f ? "" : strerror(errno));
+    FILE *f = usm_io_create(&file, path, force, why, &status);
+    if (f && (summary ? usm_tolerance_write_summary(t, f, "histograms")
+                      : usm_tolerance_write_csv(t, f)) != 0) {
+        usm_io_abort(&file);
+        cli_msg(msg, "--out %s: write error", path);
         return USM_EFAILED;
+    }
+    if (!f || (status = usm_io_commit(&file, why)) != USM_OK) {
+        cli_msg(msg, "--out %.900s", why);
+        return status;
     }
     return USM_OK;
 }
 
+/* DIR: samples.csv and summary.md written into a stage and renamed to DIR
+ * together (a new or empty DIR appears whole or not at all; with --force
+ * into a non-empty one, file by file, each whole); then the histograms. */
 static int write_out(const tol_args *a, const usm_tolerance *t, char msg[CLI_MSG_LEN])
 {
-    char prefix[4096], csv[4096];
-    if (mkdir(a->out, 0777) != 0 && !(errno == EEXIST && a->force)) {
-        cli_msg(msg, "--out %s: %s", a->out, strerror(errno));
-        return USM_EFAILED;
-    }
-    int rc = write_file(a->out, "samples.csv", t, 0, msg);
-    if (rc == USM_OK)
-        rc = write_file(a->out, "summary.md", t, 1, msg);
-    if (rc != USM_OK)
+    char prefix[4096], csv[4096], why[USM_IO_MSG_LEN];
+    usm_io_dir dir;
+    int rc = usm_io_dir_create(&dir, a->out, a->force, why);
+    if (rc != USM_OK) {
+        cli_msg(msg, "--out %.900s", why);
         return rc;
+    }
+    rc = write_file(dir.work, "samples.csv", t, 0, a->force, msg);
+    if (rc == USM_OK)
+        rc = write_file(dir.work, "summary.md", t, 1, a->force, msg);
+    if (rc != USM_OK) {
+        usm_io_dir_abort(&dir);
+        return rc;
+    }
+    if ((rc = usm_io_dir_commit(&dir, why)) != USM_OK) {
+        cli_msg(msg, "--out %.900s", why);
+        return rc;
+    }
     snprintf(prefix, sizeof prefix, "%s/histograms", a->out);
     snprintf(csv, sizeof csv, "%s/samples.csv", a->out);
     const char *names[] = {"csv"}, *values[] = {csv};
@@ -177,21 +195,15 @@ static int write_out(const tol_args *a, const usm_tolerance *t, char msg[CLI_MSG
     return rc == USM_ENOSOLUTION ? USM_OK : rc;
 }
 
-/* Before the computation, alike on every rank: DIR new (or --force), its
- * parent writable. */
+/* Before the computation, alike on every rank: DIR new, empty (a killed
+ * run's) or --force; not a symlink to nothing nor a file; its parent
+ * writable. */
 static int check_out(const tol_args *a, char msg[CLI_MSG_LEN])
 {
-    char parent[4096];
-    snprintf(parent, sizeof parent, "%s", a->out);
-    char *slash = strrchr(parent, '/');
-    if (slash)
-        slash[slash == parent] = '\0';
-    if (access(a->out, F_OK) == 0 && !a->force)
-        cli_msg(msg, "--out %s: exists (use --force to write into it)", a->out);
-    else if (access(a->out, F_OK) != 0 && access(slash ? parent : ".", W_OK) != 0)
-        cli_msg(msg, "--out %s: %s", a->out, strerror(errno));
-    else
+    char why[USM_IO_MSG_LEN];
+    if (usm_io_dir_check(a->out, a->force, why) == USM_OK)
         return USM_OK;
+    cli_msg(msg, "--out %.900s", why);
     return USM_EINPUT;
 }
 
@@ -231,7 +243,9 @@ int cli_tolerance_main(int argc, char **argv)
         else
 #endif
             status = usm_tolerance_run(t, &a.common.params, &a.opt);
-        cli_msg(msg, "%s", usm_tolerance_message(t));
+        /* the library names its option field "checkpoint"; the command's is --checkpoint */
+        cli_msg(msg, "%s%s", strncmp(usm_tolerance_message(t), "checkpoint ", 11) ? "" : "--",
+                usm_tolerance_message(t));
     }
     if (status == USM_OK && rank == 0) {
         if ((a.common.json ? usm_tolerance_write_json(t, stdout)

@@ -15,6 +15,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "core/outfile.h"
 #include "data_dir.h"
 #include "template.h"
 #include "usm.h"
@@ -47,14 +48,16 @@ int usm_gnuplot_run(const char *dir, const char *const *stems, int n, int jobs,
                     const char *log_path, char msg[USM_IO_MSG_LEN])
 {
     const char *exe = getenv("USM_GNUPLOT");
-    char path[4096], script[256];
+    char path[4096], script[256], log_tmp[USM_OUTFILE_PATH];
     pid_t *pids = calloc((size_t)n + 1, sizeof *pids);
     int running = 0, next = 0, failed = 0, missing = 0, log_fd;
-    int failed_at = -1;
+    int failed_at = -1, ost;
     if (!exe || !exe[0])
         exe = "gnuplot";
-    if (!pids || (log_fd = open(log_path, O_WRONLY | O_CREAT | O_TRUNC, 0666)) < 0) {
-        usm_io_msg(msg, "%s: %s", log_path, pids ? strerror(errno) : "out of memory");
+    /* the log too appears whole, and replaces a symlink rather than write its target */
+    if (!pids || (log_fd = usm_outfile_open(log_path, 1, log_tmp, msg, USM_IO_MSG_LEN, &ost)) < 0) {
+        if (!pids)
+            usm_io_msg(msg, "%s: out of memory", log_path);
         free(pids);
         return USM_EFAILED;
     }
@@ -96,7 +99,8 @@ int usm_gnuplot_run(const char *dir, const char *const *stems, int n, int jobs,
                     failed_at = i;
             }
     }
-    close(log_fd);
+    if ((close(log_fd) != 0) | (usm_outfile_place(log_tmp, log_path, 1, path, sizeof path) != 0))
+        failed = 1, usm_io_msg(msg, "%.1000s", path);
     if (missing) {
         usm_io_msg(msg, "%s: not found, figures not rendered (install gnuplot-nox, or set "
                      "USM_GNUPLOT; then run the *.gp scripts in %s)", exe, dir);
@@ -127,16 +131,16 @@ int usm_gnuplot_run(const char *dir, const char *const *stems, int n, int jobs,
 int usm_plot_check(const char *prefix, int force, char msg[USM_IO_MSG_LEN])
 {
     static const char *const ext[] = {".gp", ".png", ".svg"};
-    char path[4096];
-    struct stat st;
-    if (prefix[0] == '\0' || strchr(prefix, '\n') || strlen(prefix) + 5 > sizeof path) {
+    char path[4096], why[USM_IO_MSG_LEN];
+    if (prefix[0] == '\0' || strchr(prefix, '\n') || strlen(prefix) + 70 > sizeof path) {
         usm_io_msg(msg, "--plot: \"%.200s\" is not usable as a file prefix", prefix);
         return USM_EINPUT;
     }
-    for (size_t k = 0; !force && k < sizeof ext / sizeof ext[0]; ++k) {
+    /* lstat, not stat: a dangling symlink is refused too */
+    for (size_t k = 0; k < sizeof ext / sizeof ext[0]; ++k) {
         snprintf(path, sizeof path, "%s%s", prefix, ext[k]);
-        if (stat(path, &st) == 0) {
-            usm_io_msg(msg, "--plot %s: exists; refusing to overwrite it (use --force)", path);
+        if (usm_outfile_check(path, force, why, sizeof why) != USM_OK) {
+            usm_io_msg(msg, "--plot %.1000s", why);
             return USM_EINPUT;
         }
     }
@@ -165,10 +169,11 @@ static void value(FILE *f, const char *s)
 int usm_plot_render(const char *script, const char *prefix, const char *const *names,
                     const char *const *values, int n, char msg[USM_IO_MSG_LEN])
 {
-    char src[4096], name[256], out[4096], log[4096];
+    char src[4096], name[256], out[4096], log[4096], why[USM_IO_MSG_LEN];
     char *text;
+    usm_io_file gp;
     FILE *f;
-    int bad;
+    int st;
     if (usm_plot_check(prefix, 1, msg) != USM_OK)
         return USM_EINPUT;
     snprintf(name, sizeof name, "plots/%s.gp", script);
@@ -180,10 +185,10 @@ int usm_plot_render(const char *script, const char *prefix, const char *const *n
     if (!(text = usm_template_read(src, msg)))
         return USM_EFAILED;
     snprintf(out, sizeof out, "%s.gp", prefix);
-    if (!(f = fopen(out, "w"))) {
-        usm_io_msg(msg, "--plot %s: %s", out, strerror(errno));
+    if (!(f = usm_io_create(&gp, out, 1, why, &st))) {
+        usm_io_msg(msg, "--plot %.1000s", why);
         free(text);
-        return USM_EINPUT;
+        return st;
     }
     fputs("# written by usm (--plot): the values, then the static script ", f);
     fprintf(f, "%s.gp;\n# re-plot: gnuplot ", script);
@@ -198,10 +203,9 @@ int usm_plot_render(const char *script, const char *prefix, const char *const *n
     }
     fputs(text, f);
     free(text);
-    bad = ferror(f);
-    if ((fclose(f) != 0) | bad) {
-        usm_io_msg(msg, "--plot %s: write error", out);
-        return USM_EFAILED;
+    if ((st = usm_io_commit(&gp, why)) != USM_OK) {
+        usm_io_msg(msg, "--plot %.1000s", why);
+        return st;
     }
     snprintf(log, sizeof log, "%s.log", prefix);
     {
@@ -212,23 +216,24 @@ int usm_plot_render(const char *script, const char *prefix, const char *const *n
 
 int usm_plot_csv_check(const char *prefix, int force, char msg[USM_IO_MSG_LEN])
 {
-    char path[4096];
+    char path[4096], why[USM_IO_MSG_LEN];
     if (usm_plot_check(prefix, force, msg) != USM_OK)
         return USM_EINPUT;
     snprintf(path, sizeof path, "%s.csv", prefix);
-    if (!force && access(path, F_OK) == 0) {
-        usm_io_msg(msg, "--plot %s: exists; refusing to overwrite it (use --force)", path);
+    if (usm_outfile_check(path, force, why, sizeof why) != USM_OK) {
+        usm_io_msg(msg, "--plot %.1000s", why);
         return USM_EINPUT;
     }
     return USM_OK;
 }
 
-FILE *usm_plot_csv_open(const char *prefix, int force, char msg[USM_IO_MSG_LEN])
+FILE *usm_plot_csv_open(usm_io_file *out, const char *prefix, int force,
+                        char msg[USM_IO_MSG_LEN])
 {
     char path[4096], why[USM_IO_MSG_LEN];
     int status;
     snprintf(path, sizeof path, "%s.csv", prefix);
-    FILE *f = usm_io_create(path, force, why, &status);
+    FILE *f = usm_io_create(out, path, force, why, &status);
     if (!f)
         usm_io_msg(msg, "--plot %.1000s", why);
     return f;

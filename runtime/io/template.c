@@ -165,16 +165,17 @@ static int block(render *r, const char **p, const char *close, int *saw_else)
             return USM_OK;
         }
         if (len == 4 && memcmp(tag, "@row", 4) == 0) {
-            ++r->row;
-            if (r->out)
-                fprintf(r->out, "%d", r->row);
+            if (r->out) /* a row skipped is not counted */
+                fprintf(r->out, "%d", ++r->row);
             continue;
         }
         if (len > 6 && memcmp(tag, "#each ", 6) == 0) {
             int found;
             json_t *arr = lookup(r, tag + 6, len - 6, &found);
             FILE *saved = r->out;
-            size_t n = json_is_array(arr) ? json_array_size(arr) : 0;
+            /* while skipping, the body is parsed once, not once per element:
+             * the cost stays linear in the template however deep the nesting */
+            size_t n = saved && json_is_array(arr) ? json_array_size(arr) : 0;
             const char *body = s;
             if (!found || (arr && !json_is_array(arr) && !json_is_null(arr)))
                 return fail(r, open, found ? "not an array:" : "unknown name in", tag, len);

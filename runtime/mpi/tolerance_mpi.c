@@ -56,13 +56,21 @@ void usm_mpi_stop(void)
     started_here = 0;
 }
 
-/* The worst status of all ranks; the message of the lowest failing rank
- * goes to rank 0 (t->msg). */
-static int agree(usm_tolerance *t, int status, int rank, MPI_Comm comm)
+/* The worst status of all ranks; the message of the failing rank with the
+ * lowest key goes to rank 0 (t->msg): the key is the failing block after
+ * tol_compute (so that the lowest failing sample is named, as by a serial
+ * run), else any (the lowest failing rank). */
+static int agree_key(usm_tolerance *t, int status, uint64_t key, int rank, MPI_Comm comm)
 {
-    int worst = status, who = status != USM_OK ? rank : 1 << 30, first;
+    uint64_t mine = status != USM_OK ? key : UINT64_MAX, low = mine;
+    int worst = status, who, first;
     if (MPI_Allreduce(&status, &worst, 1, MPI_INT, MPI_MAX, comm) != MPI_SUCCESS ||
-        MPI_Allreduce(&who, &first, 1, MPI_INT, MPI_MIN, comm) != MPI_SUCCESS) {
+        MPI_Allreduce(&mine, &low, 1, MPI_UINT64_T, MPI_MIN, comm) != MPI_SUCCESS) {
+        snprintf(t->msg, USM_MSG_LEN, "MPI_Allreduce failed");
+        return USM_EFAILED;
+    }
+    who = status != USM_OK && mine == low ? rank : 1 << 30;
+    if (MPI_Allreduce(&who, &first, 1, MPI_INT, MPI_MIN, comm) != MPI_SUCCESS) {
         snprintf(t->msg, USM_MSG_LEN, "MPI_Allreduce failed");
         return USM_EFAILED;
     }
@@ -72,6 +80,11 @@ static int agree(usm_tolerance *t, int status, int rank, MPI_Comm comm)
         MPI_Bcast(t->msg, USM_MSG_LEN, MPI_CHAR, first, comm) != MPI_SUCCESS)
         snprintf(t->msg, USM_MSG_LEN, "rank %d failed (MPI_Bcast of its message failed)", first);
     return worst;
+}
+
+static int agree(usm_tolerance *t, int status, int rank, MPI_Comm comm)
+{
+    return agree_key(t, status, 0, rank, comm);
 }
 
 int usm_tolerance_run_mpi(usm_tolerance *t, const usm_params *p, const usm_tolerance_options *opt)
@@ -113,7 +126,8 @@ int usm_tolerance_run_mpi(usm_tolerance *t, const usm_params *p, const usm_toler
         const uint64_t *blocks = list + at;
         for (size_t k = (size_t)rank; k < n; k += (size_t)size)
             mine[nmine++] = blocks[k];
-        status = agree(t, tol_compute(t, mine, nmine, pack), rank, comm);
+        const int computed_st = tol_compute(t, mine, nmine, pack);
+        status = agree_key(t, computed_st, t->fail_block, rank, comm);
         if (status != USM_OK)
             break;
         /* rank r's share: blocks r, r + size, ... of the round, packed */

@@ -1,19 +1,34 @@
 /* The report into a directory (usm_report.h): the directory's guard, the
  * computation (report_compute.c, report_map.c), the data files and figures
  * (report_plot.c), report.json (report_json.c), report.md from its template
- * (template.c) and report.html (report_html.c). */
-#define _POSIX_C_SOURCE 200809L
+ * (template.c) and report.html (report_html.c).
+ *
+ * A report directory is replaced as a whole: the new report is written into
+ * a stage beside it (PARENT/.NAME.usm-new-PID), and only when complete the
+ * stage and DIR are exchanged (renameat2 RENAME_EXCHANGE, one step) and the
+ * old report removed, so that no interruption mixes two runs: a reader sees
+ * the old report or the new one.  A DIR holding files that are not the
+ * report's (allowed with --force), a DIR that is a symlink, or a parent that
+ * is not writable is written in place instead, its old report.md/.html/.json
+ * removed first, so that an interrupted run leaves no complete-looking
+ * report beside new data.  flock(2) on DIR makes a second run into the same
+ * directory fail at once. */
+#define _GNU_SOURCE /* renameat2 */
 
 #include "usm_report.h"
 
+#include <dirent.h>
 #include <errno.h>
+#include <fcntl.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/file.h>
 #include <sys/stat.h>
 #include <sys/types.h>
 #include <unistd.h>
 
+#include "core/outfile.h"
 #include "io/data_dir.h"
 #include "io/io_msg.h"
 #include "report_internal.h"
@@ -75,13 +90,14 @@ static int starts_with_line(const char *path, const char *marker)
 /* DIR/.usm-report, written before any other file of the report. */
 static int write_manifest(const char *dir, char msg[USM_IO_MSG_LEN])
 {
-    FILE *f = usm_report_open(dir, REPORT_MANIFEST, msg);
+    usm_io_file out;
+    FILE *f = usm_report_open(&out, dir, REPORT_MANIFEST, msg);
     if (!f)
         return USM_EINPUT;
     fprintf(f, "%s\n", REPORT_MANIFEST_MARKER);
     for (int k = 0; usm_report_files[k]; ++k)
         fprintf(f, "%s\n", usm_report_files[k]);
-    return usm_report_close(f, dir, REPORT_MANIFEST, msg) == USM_OK ? USM_OK : USM_EINPUT;
+    return usm_report_close(&out, msg) == USM_OK ? USM_OK : USM_EINPUT;
 }
 
 /* Refuse to overwrite files usm did not write (see --force). */
@@ -163,28 +179,16 @@ static char *render_md(json_t *data, char msg[USM_IO_MSG_LEN])
     return md;
 }
 
-/* DIR/name through a temporary file, renamed when complete: report.json
+/* DIR/name through a temporary file, renamed when complete (usm_io_create): report.json
  * (data), report.html (md as HTML) or report.md (md). */
 static int write_output(json_t *data, const char *md, const char *dir, const char *name,
                         char msg[USM_IO_MSG_LEN])
 {
-    char tmp[4096], path[4096];
-    FILE *f;
-    int fd, bad;
-    if (usm_report_path(path, sizeof path, dir, name) != 0 ||
-        usm_report_path(tmp, sizeof tmp, dir, ".report.XXXXXX") != 0) {
-        usm_io_msg(msg, "%s: path too long", dir);
+    usm_io_file out;
+    FILE *f = usm_report_open(&out, dir, name, msg);
+    int bad;
+    if (!f)
         return USM_EFAILED;
-    }
-    if ((fd = mkstemp(tmp)) < 0 || !(f = fdopen(fd, "w"))) {
-        usm_io_msg(msg, "%s: %s", tmp, strerror(errno));
-        if (fd >= 0) {
-            close(fd);
-            unlink(tmp);
-        }
-        return USM_EFAILED;
-    }
-    fchmod(fd, 0644);
     if (strcmp(name, "report.json") == 0)
         bad = json_dumpf(data, f, JSON_INDENT(2) | JSON_REAL_PRECISION(17)) != 0 ||
               fputc('\n', f) == EOF;
@@ -192,17 +196,136 @@ static int write_output(json_t *data, const char *md, const char *dir, const cha
         bad = usm_report_html_write(md, dir, f) != 0;
     else
         bad = fputs(md, f) == EOF;
-    if (ferror(f) | (fclose(f) != 0) | bad) {
-        usm_io_msg(msg, "%s: write error", path);
-        unlink(tmp);
+    if (bad) {
+        usm_io_abort(&out);
+        usm_io_msg(msg, "%s/%s: write error", dir, name);
         return USM_EFAILED;
     }
-    if (rename(tmp, path) != 0) {
-        usm_io_msg(msg, "%s: %s", path, strerror(errno));
-        unlink(tmp);
+    return usm_report_close(&out, msg);
+}
+
+/* ---- the directory replaced as a whole ------------------------------------------- */
+
+/* Whether name is one of the report's files, its manifest, or a usm temporary. */
+static int report_name(const char *name)
+{
+    const size_t n = strlen(name);
+    if (strcmp(name, REPORT_MANIFEST) == 0 ||
+        (name[0] == '.' && strstr(name, ".usm-") && n > 5 && strcmp(name + n - 5, ".part") == 0))
+        return 1;
+    for (int k = 0; usm_report_files[k]; ++k)
+        if (strcmp(name, usm_report_files[k]) == 0)
+            return 1;
+    return 0;
+}
+
+/* Whether dir holds nothing but regular files of report names (so that it
+ * may be replaced as a whole); 0 when it cannot be read. */
+static int only_report_files(const char *dir)
+{
+    DIR *d = opendir(dir);
+    struct dirent *e;
+    int only = d != NULL;
+    while (only && (e = readdir(d))) {
+        struct stat st;
+        if (strcmp(e->d_name, ".") == 0 || strcmp(e->d_name, "..") == 0)
+            continue;
+        only = report_name(e->d_name) && fstatat(dirfd(d), e->d_name, &st, AT_SYMLINK_NOFOLLOW) == 0 &&
+               (S_ISREG(st.st_mode) || S_ISLNK(st.st_mode));
+    }
+    if (d)
+        closedir(d);
+    return only;
+}
+
+/* Lock dir for this run: a descriptor (close it to unlock), or -1 with msg
+ * when another run holds it. */
+static int lock_dir(const char *dir, char msg[USM_IO_MSG_LEN])
+{
+    const int fd = open(dir, O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (fd < 0) {
+        usm_io_msg(msg, "--out %s: %s", dir, strerror(errno));
+        return -1;
+    }
+    if (flock(fd, LOCK_EX | LOCK_NB) != 0) {
+        usm_io_msg(msg, "--out %s: %s", dir,
+                   errno == EWOULDBLOCK ? "another usm report is writing there (wait for it, "
+                                          "or use another directory)"
+                                        : strerror(errno));
+        close(fd);
+        return -1;
+    }
+    return fd;
+}
+
+/* A stage for dir (stage: 4096 bytes), when dir can be replaced as a whole;
+ * 0 with the stage made, else -1 (write in place). */
+static int make_stage(const char *dir, char *stage, char msg[USM_IO_MSG_LEN])
+{
+    char suffix[64];
+    struct stat st;
+    snprintf(suffix, sizeof suffix, "%s%ld", USM_OUTFILE_STAGE, (long)getpid());
+    if (lstat(dir, &st) != 0 || !S_ISDIR(st.st_mode) || !only_report_files(dir) ||
+        usm_outfile_beside(stage, dir, suffix) != 0)
+        return -1;
+    usm_outfile_remove_dir(stage, report_name); /* a stage of a run with our pid, long gone */
+    if (mkdir(stage, st.st_mode & 07777) != 0)
+        return -1;
+    chmod(stage, st.st_mode & 07777);
+    if (write_manifest(stage, msg) != USM_OK) {
+        usm_outfile_remove_dir(stage, report_name);
+        return -1;
+    }
+    return 0;
+}
+
+/* The complete stage in place of dir, the old report removed. */
+static int swap_in(const char *dir, const char *stage, char msg[USM_IO_MSG_LEN])
+{
+    char old[4096];
+    if (renameat2(AT_FDCWD, stage, AT_FDCWD, dir, RENAME_EXCHANGE) == 0) {
+        usm_outfile_remove_dir(stage, report_name); /* now the old report */
+        return USM_OK;
+    }
+    /* a file system without the exchange: two renames (between them no DIR) */
+    if (snprintf(old, sizeof old, "%s.old", stage) >= (int)sizeof old || rename(dir, old) != 0 ||
+        rename(stage, dir) != 0) {
+        usm_io_msg(msg, "%s: cannot put the new report in place: %s (it is in %s)", dir,
+                   strerror(errno), stage);
         return USM_EFAILED;
     }
+    usm_outfile_remove_dir(old, report_name);
     return USM_OK;
+}
+
+/* Every occurrence of from in msg replaced by to (the stage's path by the
+ * directory's in gnuplot's messages, which outlive the stage). */
+static void replace_all(char msg[USM_IO_MSG_LEN], const char *from, const char *to)
+{
+    char out[USM_IO_MSG_LEN];
+    size_t o = 0;
+    const size_t fl = strlen(from), tl = strlen(to);
+    for (const char *s = msg; *s && o + 1 < sizeof out;) {
+        if (fl && strncmp(s, from, fl) == 0 && o + tl + 1 < sizeof out) {
+            memcpy(out + o, to, tl);
+            o += tl;
+            s += fl;
+        } else
+            out[o++] = *s++;
+    }
+    out[o] = '\0';
+    memcpy(msg, out, o + 1);
+}
+
+/* In place: the old report's marker files go first, so that an interrupted
+ * run does not leave them beside new data. */
+static void remove_old_report(const char *dir)
+{
+    static const char *const names[] = {"report.md", "report.html", "report.json"};
+    char path[4096];
+    for (size_t k = 0; k < sizeof names / sizeof names[0]; ++k)
+        if (usm_report_path(path, sizeof path, dir, names[k]) == 0)
+            unlink(path);
 }
 
 int usm_report_options_check(const usm_report_options *opt, char msg[USM_IO_MSG_LEN])
@@ -229,18 +352,24 @@ int usm_report_write(const char *dir, const usm_params *p, const usm_report_opti
                      char msg[USM_IO_MSG_LEN])
 {
     usm_report_data *d;
-    char plot_note[USM_IO_MSG_LEN] = "";
-    int status, plots_ok = 0;
+    char plot_note[USM_IO_MSG_LEN] = "", stage[4096];
+    int status, plots_ok = 0, lock, staged = 0;
+    const char *w = dir; /* where the files are written: the stage, or dir */
     double t;
 
     if (usm_report_options_check(opt, msg) != USM_OK)
         return USM_EINPUT;
+    /* one run per directory, refused before computing */
+    if ((lock = lock_dir(dir, msg)) < 0)
+        return USM_EINPUT;
     if (!(d = calloc(1, sizeof *d))) {
         usm_io_msg(msg, "out of memory");
+        close(lock);
         return USM_EFAILED;
     }
     if (usm_report_paper_load(&d->paper, msg) != USM_OK) {
         free(d);
+        close(lock);
         return USM_EFAILED;
     }
     d->params = *p;
@@ -250,17 +379,28 @@ int usm_report_write(const char *dir, const usm_params *p, const usm_report_opti
         status = usm_report_compute_maps(d, msg);
     if (status == USM_OK)
         status = usm_report_compute_nonideal(d, msg);
-    if (status == USM_OK)
-        status = usm_report_write_data(d, dir, msg);
+    if (status == USM_OK) {
+        usm_outfile_clean_stages(dir, report_name);
+        if (make_stage(dir, stage, msg) == 0)
+            staged = 1, w = stage;
+        else
+            remove_old_report(dir);
+        status = usm_report_write_data(d, w, msg);
+    }
     if (status != USM_OK) {
         usm_report_data_free(d);
         free(d);
+        if (staged)
+            usm_outfile_remove_dir(stage, report_name); /* the old report stays as it was */
+        close(lock);
         return status == USM_EINPUT || status == USM_ENOSOLUTION ? status : USM_EFAILED;
     }
     t = usm_report_now();
-    if (opt->plots && usm_report_run_gnuplot(dir, opt->threads, usm_report_figure_count(d),
+    if (opt->plots && usm_report_run_gnuplot(w, opt->threads, usm_report_figure_count(d),
                                           plot_note) == USM_OK)
         plots_ok = 1;
+    if (staged)
+        replace_all(plot_note, stage, dir);
     d->seconds[3] = usm_report_now() - t;
     d->opt.plots = plots_ok; /* the report links figures only when they exist */
     {
@@ -270,18 +410,24 @@ int usm_report_write(const char *dir, const usm_params *p, const usm_report_opti
         char *md = NULL;
         /* report.json before the rendering: when the template fails, the
          * values it was given are there to see */
-        status = data ? write_output(data, NULL, dir, outputs[0], msg) : USM_EFAILED;
+        status = data ? write_output(data, NULL, w, outputs[0], msg) : USM_EFAILED;
         if (!data)
             usm_io_msg(msg, "out of memory");
         if (status == USM_OK && !(md = render_md(data, msg)))
             status = USM_EFAILED;
         for (size_t k = 1; status == USM_OK && k < sizeof outputs / sizeof outputs[0]; ++k)
-            status = write_output(data, md, dir, outputs[k], msg);
+            status = write_output(data, md, w, outputs[k], msg);
         free(md);
         json_decref(data);
     }
     usm_report_data_free(d);
     free(d);
+    /* complete (report.md written last): the stage replaces dir as a whole */
+    if (staged && status == USM_OK)
+        status = swap_in(dir, stage, msg);
+    else if (staged)
+        usm_outfile_remove_dir(stage, report_name);
+    close(lock);
     if (status != USM_OK)
         return USM_EFAILED;
     if (opt->plots && !plots_ok) {

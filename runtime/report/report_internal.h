@@ -308,10 +308,14 @@ int usm_report_html_write(const char *md, const char *dir, FILE *out);
 /* dir + "/" + name into buf (size len); 0, or -1 when too long. */
 int usm_report_path(char *buf, size_t len, const char *dir, const char *name);
 
-/* Open dir/name for writing; NULL with msg on failure. */
-FILE *usm_report_open(const char *dir, const char *name, char msg[USM_IO_MSG_LEN]);
-/* Close f; USM_OK, or USM_EFAILED with msg naming dir/name on a write error. */
-int usm_report_close(FILE *f, const char *dir, const char *name, char msg[USM_IO_MSG_LEN]);
+/* Open dir/name for writing through usm_io_create (a temporary beside it;
+ * replacing a file or a symlink there, never writing through one); NULL with
+ * msg on failure. */
+FILE *usm_report_open(usm_io_file *out, const char *dir, const char *name,
+                      char msg[USM_IO_MSG_LEN]);
+/* Rename the complete file into place; USM_OK, or USM_EFAILED with msg
+ * naming dir/name (a write error: the old file is kept). */
+int usm_report_close(usm_io_file *out, char msg[USM_IO_MSG_LEN]);
 
 /* Seconds of a monotonic clock. */
 double usm_report_now(void);

@@ -76,27 +76,23 @@ int usm_report_path(char *buf, size_t len, const char *dir, const char *name)
     return n < 0 || (size_t)n >= len ? -1 : 0;
 }
 
-FILE *usm_report_open(const char *dir, const char *name, char msg[USM_IO_MSG_LEN])
+FILE *usm_report_open(usm_io_file *out, const char *dir, const char *name,
+                      char msg[USM_IO_MSG_LEN])
 {
     char path[4096];
-    FILE *f;
+    int status;
     if (usm_report_path(path, sizeof path, dir, name) != 0) {
         usm_io_msg(msg, "--out %s: path too long", dir);
         return NULL;
     }
-    if (!(f = fopen(path, "w")))
-        usm_io_msg(msg, "%s: %s", path, strerror(errno));
-    return f;
+    /* the report replaces its own files (check_dir guards the directory):
+     * force, so a symlink planted there is replaced, never written through */
+    return usm_io_create(out, path, 1, msg, &status);
 }
 
-int usm_report_close(FILE *f, const char *dir, const char *name, char msg[USM_IO_MSG_LEN])
+int usm_report_close(usm_io_file *out, char msg[USM_IO_MSG_LEN])
 {
-    int bad = ferror(f);
-    if (fclose(f) != 0 || bad) {
-        usm_io_msg(msg, "%s/%s: write error", dir, name);
-        return USM_EFAILED;
-    }
-    return USM_OK;
+    return usm_io_commit(out, msg) == USM_OK ? USM_OK : USM_EFAILED;
 }
 
 /* ---- CSV (csv_out.h) ------------------------------------------------------------- */
@@ -375,6 +371,7 @@ static int copy_script(const char *dir, const char *name, char msg[USM_IO_MSG_LE
 {
     char src[4096], file[160];
     char *text;
+    usm_io_file out;
     FILE *f;
     snprintf(file, sizeof file, "plots/%s.gp", name);
     if (usm_data_path(file, src, sizeof src) != 0) {
@@ -384,13 +381,13 @@ static int copy_script(const char *dir, const char *name, char msg[USM_IO_MSG_LE
     if (!(text = usm_template_read(src, msg)))
         return USM_EFAILED;
     snprintf(file, sizeof file, "%s.gp", name);
-    if (!(f = usm_report_open(dir, file, msg))) {
+    if (!(f = usm_report_open(&out, dir, file, msg))) {
         free(text);
         return USM_EFAILED;
     }
     fputs(text, f);
     free(text);
-    return usm_report_close(f, dir, file, msg);
+    return usm_report_close(&out, msg);
 }
 
 typedef enum {
@@ -402,7 +399,8 @@ static int write_data_file(const usm_report_data *d, const char *dir, const char
                            data_kind kind, int k, int c, char msg[USM_IO_MSG_LEN])
 {
     const usm_report_paper *pv = &d->paper;
-    FILE *f = usm_report_open(dir, name, msg);
+    usm_io_file out;
+    FILE *f = usm_report_open(&out, dir, name, msg);
     if (!f)
         return USM_EFAILED;
     switch (kind) {
@@ -421,7 +419,7 @@ static int write_data_file(const usm_report_data *d, const char *dir, const char
     case DATA_ORBIT: write_orbit_csv(f, &d->nonideal); break;
     case DATA_CIRCLE: write_circle_csv(f, &d->nonideal); break;
     }
-    return usm_report_close(f, dir, name, msg);
+    return usm_report_close(&out, msg);
 }
 
 int usm_report_write_data(const usm_report_data *d, const char *dir, char msg[USM_IO_MSG_LEN])

@@ -646,7 +646,7 @@ static int ideal_start(usm_periodic *w, const usm_params *p, double *x0, double 
         snprintf(w->msg, USM_MSG_LEN,
                  "no start: the ideal motor (imperfections 0) has no stationary solution (%.150s)",
                  usm_steady_message(w->steady));
-        return rc == USM_EINPUT ? USM_EINPUT : USM_EFAILED;
+        return rc == USM_EINPUT || rc == USM_ENOSOLUTION ? rc : USM_EFAILED;
     }
     const usm_steady_solution *s = usm_steady_root(w->steady, 0);
     double orbit[2 * USM_MAX_NX];

@@ -1,4 +1,5 @@
 /* Stability maps over two parameters, and the point evaluator (usm_map.h). */
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -181,6 +182,11 @@ static int check_axis(usm_map *map, const usm_map_axis *a, const char *field,
     }
     if (!(isfinite(a->from) && isfinite(a->to))) {
         snprintf(map->msg, USM_MSG_LEN, "%s-from/%s-to: the range must be finite", field, field);
+        return USM_EINPUT;
+    }
+    if (!isfinite(a->to - a->from)) { /* the grid's spacing would be infinite */
+        snprintf(map->msg, USM_MSG_LEN, "%s-from/%s-to: the width to - from overflows (%g to "
+                 "%g; at most %g)", field, field, a->from, a->to, DBL_MAX);
         return USM_EINPUT;
     }
     if (!(a->to != a->from)) {

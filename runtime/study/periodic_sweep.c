@@ -2,6 +2,7 @@
  * (usm_periodic_sweep.h). */
 #include "periodic_sweep_internal.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -429,6 +430,11 @@ int usm_periodic_sweep_run(usm_periodic_sweep *s, const usm_params *p,
     snprintf(s->over, sizeof s->over, "%s", opt->over);
     if (!isfinite(opt->from) || !isfinite(opt->to) || opt->from == opt->to) {
         snprintf(s->msg, sizeof s->msg, "from, to: must be finite and different");
+        return USM_EINPUT;
+    }
+    if (!isfinite(opt->to - opt->from)) { /* the steps would be infinite: no end */
+        snprintf(s->msg, sizeof s->msg, "from, to: the width to - from overflows (%g to %g; "
+                 "at most %g)", opt->from, opt->to, DBL_MAX);
         return USM_EINPUT;
     }
     if (opt->points < 2 || opt->points > 1000000) {

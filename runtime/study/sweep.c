@@ -4,6 +4,7 @@
  * the result arrays and the order of the work.  The continuation itself is in
  * sweep_branch.c, the Floquet part in sweep_stability.c.
  */
+#include <float.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -166,6 +167,11 @@ static int check_options(usm_sweep *s, const usm_params *p, const usm_sweep_opti
     }
     if (opt->to == opt->from) {
         snprintf(s->msg, USM_MSG_LEN, "to: must differ from from (%g)", opt->from);
+        return USM_EINPUT;
+    }
+    if (!isfinite(opt->to - opt->from)) { /* the steps would be infinite */
+        snprintf(s->msg, USM_MSG_LEN, "from, to: the width to - from overflows (%g to %g; "
+                 "at most %g)", opt->from, opt->to, DBL_MAX);
         return USM_EINPUT;
     }
     if (opt->points < 2 || opt->points > SWEEP_MAX_POINTS) {

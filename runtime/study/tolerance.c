@@ -8,17 +8,19 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <unistd.h>
 
 #include <gsl/gsl_randist.h>
 #include <gsl/gsl_rng.h>
 
+#include "core/outfile.h"
 #include "core/pool_internal.h"
 #include "tolerance_internal.h"
 #include "usm_map.h"
 
 /* A sample whose draw is refused this often is a distribution that is almost
  * never physical: an input error, not a rare event. */
-#define MAX_REDRAWS 10000
+#define MAX_REDRAWS TOL_MAX_REDRAWS
 
 /* ---- parsing ---------------------------------------------------------------------- */
 
@@ -76,6 +78,11 @@ int usm_tolerance_vary_parse(const char *text, usm_tolerance_vary *v, char msg[U
         if (!(v->lo < v->hi)) {
             snprintf(msg, USM_MSG_LEN, "%s: uniform:LO:HI needs LO < HI, got %g and %g", name,
                      v->lo, v->hi);
+            return USM_EINPUT;
+        }
+        if (!isfinite(v->hi - v->lo)) { /* every draw would be infinite */
+            snprintf(msg, USM_MSG_LEN, "%s: uniform:LO:HI: the width HI - LO overflows (%g to "
+                     "%g)", name, v->lo, v->hi);
             return USM_EINPUT;
         }
         return USM_OK;
@@ -149,8 +156,10 @@ void usm_tolerance_options_default(usm_tolerance_options *opt)
 usm_tolerance *usm_tolerance_alloc(const usm_model *m)
 {
     usm_tolerance *t = calloc(1, sizeof *t);
-    if (t)
+    if (t) {
         t->m = m;
+        t->lock_fd = -1;
+    }
     return t;
 }
 
@@ -163,6 +172,9 @@ static void clear(usm_tolerance *t)
     t->rows = NULL;
     t->config = NULL;
     t->have_result = 0;
+    if (t->lock_fd >= 0)
+        close(t->lock_fd);
+    t->lock_fd = -1;
 }
 
 void usm_tolerance_free(usm_tolerance *t)
@@ -335,16 +347,6 @@ static void *worker_alloc(void *ctx)
     return w;
 }
 
-static int meets_specs(const usm_tolerance *t, const double *out)
-{
-    for (int s = 0; s < t->nspec; ++s) {
-        const double v = out[t->spec[s].output];
-        if (!(t->spec[s].upper ? v <= t->spec[s].bound : v >= t->spec[s].bound))
-            return 0; /* NaN (the output does not exist) fails every spec */
-    }
-    return 1;
-}
-
 static int sample(usm_tolerance *t, worker *w, uint64_t i, double *row, char msg[USM_MSG_LEN])
 {
     usm_params q;
@@ -391,7 +393,7 @@ static int sample(usm_tolerance *t, worker *w, uint64_t i, double *row, char msg
         out[USM_TOL_STABLE] = pt.floquet.max_modulus < 1.0;
     }
     row[TOL_ROW_GOOD(t)] = pt.exists && pt.has_floquet && pt.floquet.max_modulus < 1.0 &&
-                           meets_specs(t, out);
+                           tol_meets_specs(t, out);
     row[TOL_ROW_REDRAWS(t)] = redraws;
     return USM_OK;
 }
@@ -424,12 +426,14 @@ int tol_compute(usm_tolerance *t, const uint64_t *blocks, size_t n, double *pack
     }
     for (size_t k = 1; k < n; ++k)
         c.offset[k] = c.offset[k - 1] + tol_block_size(t, blocks[k - 1]);
+    t->fail_block = UINT64_MAX;
     pool_job job = {n, t->opt.threads, &c, worker_alloc, worker_free, block_task, NULL};
     status = pool_run(&job, t->msg);
     /* the first failing block in list order names the sample: independent of threads */
     for (size_t k = 0; status != USM_OK && k < n; ++k)
         if (c.msg[k * USM_MSG_LEN]) {
             snprintf(t->msg, USM_MSG_LEN, "%s", c.msg + k * USM_MSG_LEN);
+            t->fail_block = blocks[k];
             break;
         }
     free(c.msg);
@@ -571,8 +575,17 @@ int tol_prepare(usm_tolerance *t, const usm_params *p, const usm_tolerance_optio
                  (unsigned long long)opt->samples);
         return USM_EFAILED;
     }
-    if (root && opt->checkpoint)
-        return tol_checkpoint_load(t);
+    if (root && opt->checkpoint) {
+        /* one run per checkpoint: a second one fails at once, not at a rename */
+        int status = tol_checkpoint_load(t), busy;
+        char why[USM_MSG_LEN];
+        if (status == USM_OK &&
+            (t->lock_fd = usm_outfile_lock(opt->checkpoint, why, sizeof why, &busy)) < 0) {
+            snprintf(t->msg, USM_MSG_LEN, "checkpoint %.200s", why);
+            status = busy ? USM_EINPUT : USM_EFAILED;
+        }
+        return status;
+    }
     return USM_OK;
 }
 

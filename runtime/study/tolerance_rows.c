@@ -73,3 +73,13 @@ double tol_now(void)
         return 0.0;
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
+
+int tol_meets_specs(const usm_tolerance *t, const double *out)
+{
+    for (int s = 0; s < t->nspec; ++s) {
+        const double v = out[t->spec[s].output];
+        if (!(t->spec[s].upper ? v <= t->spec[s].bound : v >= t->spec[s].bound))
+            return 0; /* NaN (the output does not exist) fails every spec */
+    }
+    return 1;
+}

@@ -18,6 +18,8 @@
 #include "usm_tolerance.h"
 
 #define TOL_MAX_SPECS 64
+/* Draws of one sample before the study gives up; a row's redraws are below. */
+#define TOL_MAX_REDRAWS 10000
 #define TOL_ROW_GOOD(t) ((t)->nvary + USM_TOL_NOUTPUTS)
 #define TOL_ROW_REDRAWS(t) ((t)->nvary + USM_TOL_NOUTPUTS + 1)
 
@@ -37,6 +39,9 @@ struct usm_tolerance {
     char *config;           /* the study's configuration text (checkpoint header) */
     double last_write;      /* monotonic time of the last checkpoint write [s] */
     double write_seconds;   /* how long that write took */
+    int lock_fd;            /* the checkpoint's lock (usm_outfile_lock), or -1 */
+    uint64_t fail_block;    /* the block whose failure t->msg names (tol_compute), or
+                               UINT64_MAX: under MPI the lowest one is reported */
     /* the result */
     int have_result;
     usm_tolerance_summary sum;
@@ -56,6 +61,9 @@ void tol_unpack(usm_tolerance *t, const uint64_t *blocks, size_t n, const double
 /* The blocks not done yet, in increasing order, into list (nblocks room);
  * returns how many. */
 size_t tol_pending(const usm_tolerance *t, uint64_t *list);
+
+/* Whether the outputs out (USM_TOL_NOUTPUTS) meet every --spec. */
+int tol_meets_specs(const usm_tolerance *t, const double *out);
 
 /* Seconds on a monotonic clock. */
 double tol_now(void);

@@ -46,7 +46,9 @@ int tol_finish(usm_tolerance *t)
     for (uint64_t i = 0; i < n; ++i) {
         const double *row = t->rows + i * (uint64_t)w, *out = row + t->nvary;
         s->good += row[TOL_ROW_GOOD(t)] != 0.0;
-        s->redrawn += (uint64_t)row[TOL_ROW_REDRAWS(t)];
+        /* a count, checked on load (tolerance_io.c); never an out-of-range conversion */
+        const double r = row[TOL_ROW_REDRAWS(t)];
+        s->redrawn += r >= 0.0 && r < (double)TOL_MAX_REDRAWS ? (uint64_t)r : 0;
         s->exists += out[USM_TOL_EXISTS] != 0.0;
         s->stable += out[USM_TOL_STABLE] == 1.0;
         s->failed += out[USM_TOL_EXISTS] != 0.0 && isnan(out[USM_TOL_MAX_MODULUS]);

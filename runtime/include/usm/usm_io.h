@@ -35,11 +35,85 @@ extern "C" {
 
 /* ---- files ------------------------------------------------------------------ */
 
-/* Create the file at path for writing, never replacing one that exists
- * unless force (the check and the creation are one step: O_EXCL).  NULL with
- * "PATH: reason" in msg and *status USM_EINPUT (exists, cannot be created) or
- * USM_EFAILED. */
-FILE *usm_io_create(const char *path, int force, char msg[USM_IO_MSG_LEN], int *status);
+/* Length of a path held by usm_io_file. */
+#define USM_IO_PATH_LEN 4096
+
+/* An output file that appears whole or not at all.  usm_io_create opens a
+ * temporary beside path (DIR/.BASE.usm-PID-XXXXXX.part, created with
+ * O_CREAT|O_EXCL|O_NOFOLLOW: never through a symlink); usm_io_commit renames
+ * it to path once everything is written, usm_io_abort removes it.  A reader
+ * sees the old file, the new one, or none -- never a partial file under
+ * path.  Without force nothing that exists at path is replaced: neither a
+ * file nor a symlink (dangling or not); the final step is link(2), which
+ * cannot replace a name that appeared meanwhile.  With force, rename(2)
+ * replaces the name path itself: a symlink there is replaced by the file,
+ * its target is never written.  A device or pipe at path (--force --out
+ * /dev/null) is written directly.  A killed run leaves at most a
+ * temporary; the next usm_io_create of the same path removes those whose
+ * process is gone. */
+typedef struct usm_io_file {
+    FILE *f;                    /* write here */
+    int force;
+    char path[USM_IO_PATH_LEN]; /* the final name */
+    char tmp[USM_IO_PATH_LEN];  /* the temporary ("" for a device) */
+} usm_io_file;
+
+/* USM_OK when a file can be written at path now (called before a
+ * computation, so that it does not fail late): its directory exists and is
+ * writable, path is not a directory and, unless force, nothing exists
+ * there (a file, or a symlink even dangling).  Else USM_EINPUT with
+ * "PATH: reason" in msg. */
+int usm_io_check(const char *path, int force, char msg[USM_IO_MSG_LEN]);
+
+/* Open out->f on a temporary for path (the checks of usm_io_check first).
+ * out->f, or NULL with "PATH: reason" in msg and *status USM_EINPUT (exists,
+ * cannot be created) or USM_EFAILED.  Follow with usm_io_commit or
+ * usm_io_abort. */
+FILE *usm_io_create(usm_io_file *out, const char *path, int force, char msg[USM_IO_MSG_LEN],
+                    int *status);
+
+/* Close out->f and, when everything was written (no stream error), rename
+ * the temporary to out->path.  USM_OK; else the temporary is removed and
+ * msg says "PATH: write error" or "PATH: reason" with USM_EFAILED, or
+ * USM_EINPUT when, without force, a file appeared at path meanwhile. */
+int usm_io_commit(usm_io_file *out, char msg[USM_IO_MSG_LEN]);
+
+/* Close out->f and remove the temporary: path keeps what it had.  A no-op
+ * when out->f is NULL. */
+void usm_io_abort(usm_io_file *out);
+
+/* An output directory that appears whole or not at all (usm tolerance
+ * --out DIR).  usm_io_dir_create makes a stage beside path,
+ * PARENT/.NAME.usm-new-PID, when path does not exist or is an empty
+ * directory: the files go there (out->work) and usm_io_dir_commit renames
+ * the stage to path when all are written -- a reader sees no DIR or the
+ * complete one.  With force and an existing, non-empty directory the files
+ * are written into it (out->work is path; each file still whole through
+ * usm_io_create).  A stage left by a killed run is removed by the next
+ * usm_io_dir_create of the same path once its process is gone. */
+typedef struct usm_io_dir {
+    char path[USM_IO_PATH_LEN];  /* the final directory */
+    char stage[USM_IO_PATH_LEN]; /* the stage ("" when writing in place) */
+    const char *work;            /* where to write: stage or path */
+} usm_io_dir;
+
+/* USM_OK when a directory can be written at path now: it does not exist
+ * (its parent a writable directory) or is an empty directory, or force and
+ * a writable directory; not a dangling symlink nor a file.  Else USM_EINPUT
+ * with "PATH: reason" in msg.  Called before the computation. */
+int usm_io_dir_check(const char *path, int force, char msg[USM_IO_MSG_LEN]);
+
+/* Prepare out for path (the checks of usm_io_dir_check, then the stage).
+ * USM_OK, or USM_EINPUT / USM_EFAILED with msg. */
+int usm_io_dir_create(usm_io_dir *out, const char *path, int force, char msg[USM_IO_MSG_LEN]);
+
+/* The stage renamed to out->path (nothing to do in place).  USM_OK, or
+ * USM_EINPUT with msg when path appeared meanwhile (not empty), or
+ * USM_EFAILED; the stage is removed on failure. */
+int usm_io_dir_commit(usm_io_dir *out, char msg[USM_IO_MSG_LEN]);
+
+/* Remove the stage and its files (nothing in place). */
+void usm_io_dir_abort(usm_io_dir *out);
 
 /* ---- numbers and parameter files ------------------------------------------- */
 

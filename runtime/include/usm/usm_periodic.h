@@ -82,10 +82,11 @@ void usm_periodic_free(usm_periodic *w);
  * opt->t0; NULL: the ideal motor's primary stationary solution, imperfections
  * set to 0).  opt may be NULL.  Returns USM_OK (out->converged = 1);
  * USM_EINPUT for bad parameters or options, or for a model without the
- * integrated twist law (no periodic orbit in these coordinates); USM_EFAILED
- * when the integration fails, Newton does not converge, or the ideal motor
- * has no stationary solution to start from (no claim that no orbit exists).
- * The reason is in usm_periodic_message. */
+ * integrated twist law (no periodic orbit in these coordinates);
+ * USM_ENOSOLUTION when x0 is NULL and the ideal motor has no stationary
+ * solution to start from (as usm_steady_solve; no claim that no orbit
+ * exists); USM_EFAILED when the integration fails or Newton does not
+ * converge.  The reason is in usm_periodic_message. */
 int usm_periodic_solve(usm_periodic *w, const usm_params *p, const double *x0,
                        const usm_periodic_options *opt, usm_periodic_result *out);
 

@@ -23,8 +23,11 @@
 extern "C" {
 #endif
 
-/* USM_OK when PREFIX is usable and none of PREFIX.gp/.png/.svg exists (or
- * force); USM_EINPUT with "--plot FILE: exists..." otherwise. */
+/* USM_OK when PREFIX is usable, its directory writable, and none of
+ * PREFIX.gp/.png/.svg exists, not even as a dangling symlink (or force);
+ * USM_EINPUT with "--plot FILE: exists..." otherwise.  Every file is
+ * written whole or not at all (usm_io_create), and with force a symlink is
+ * replaced, never written through. */
 int usm_plot_check(const char *prefix, int force, char msg[USM_IO_MSG_LEN]);
 
 /* `--plot PREFIX` of usm simulate, sweep and map (call usm_plot_check first,
@@ -45,9 +48,11 @@ int usm_plot_render(const char *script, const char *prefix, const char *const *n
  * called before the computation. */
 int usm_plot_csv_check(const char *prefix, int force, char msg[USM_IO_MSG_LEN]);
 
-/* PREFIX.csv opened for writing (never replacing a file that appeared since
- * usm_plot_csv_check unless force), or NULL with msg. */
-FILE *usm_plot_csv_open(const char *prefix, int force, char msg[USM_IO_MSG_LEN]);
+/* PREFIX.csv opened for writing by usm_io_create(out, ...) (never replacing
+ * a file that appeared since usm_plot_csv_check unless force), or NULL with
+ * msg; finish with usm_io_commit(out) or usm_io_abort(out). */
+FILE *usm_plot_csv_open(usm_io_file *out, const char *prefix, int force,
+                        char msg[USM_IO_MSG_LEN]);
 
 #ifdef __cplusplus
 }

@@ -49,9 +49,15 @@ int usm_report_prepare_dir(const char *dir, const usm_report_options *opt,
 
 /* Compute the report at parameters p and write it into dir (prepared by
  * usm_report_prepare_dir).  USM_OK; USM_ENOSOLUTION (no stationary solution
- * at p), USM_EINPUT (bad parameters or options), USM_EFAILED (a numerical
- * failure, a file not written, or the figures not rendered: then the report
- * is still written, without figures); with a one-line msg. */
+ * at p), USM_EINPUT (bad parameters or options, or another run writing into
+ * dir: flock on dir), USM_EFAILED (a numerical failure, a file not written,
+ * or the figures not rendered: then the report is still written, without
+ * figures); with a one-line msg.  The report is written into a stage beside
+ * dir and exchanged with it only when complete, so that dir holds the old
+ * report or the new one, never a mix (in place, the old report.md/.html/.json
+ * removed first, when dir holds other files, is a symlink, or its parent is
+ * not writable); every file through usm_io_create (no write through a
+ * symlink). */
 int usm_report_write(const char *dir, const usm_params *p, const usm_report_options *opt,
                      char msg[USM_IO_MSG_LEN]);
 

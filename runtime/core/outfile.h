@@ -1,0 +1,70 @@
+/* outfile.h: files that appear whole or not at all (internal; not
+ * installed).  The one mechanism behind every single-file output of libusm
+ * and the command: usm_io_create/usm_io_commit (io/io_file.c, usm_io.h) and
+ * the tolerance checkpoint (study/tolerance_io.c).
+ *
+ * A file FINAL is written to a temporary beside it, DIR/.BASE.usm-PID-XXXXXX.part,
+ * created with O_CREAT|O_EXCL|O_NOFOLLOW (never through a symlink, never
+ * over a file), and renamed over FINAL only when whole.  Without force the
+ * rename cannot replace anything (link(2), then unlink of the temporary):
+ * a file or symlink that appeared meanwhile is kept and the write refused.
+ * With force, rename(2) replaces the directory entry FINAL itself -- a
+ * symlink there is replaced, its target is never written.  A killed run
+ * leaves at most a temporary, which a later usm_outfile_open in the same
+ * directory removes once its process is gone.
+ *
+ * Messages are "PATH: reason" (no option name), into why[len].
+ * Thread safety: no global mutable state. */
+#ifndef USM_CORE_OUTFILE_H
+#define USM_CORE_OUTFILE_H
+
+#include <stddef.h>
+
+#define USM_OUTFILE_PATH 4096
+
+/* USM_OK when a file could be written at path now: its directory exists
+ * and is writable, path is not a directory, and (unless force) nothing is
+ * there -- neither a file nor a symlink, dangling or not.  Else USM_EINPUT
+ * with why.  Called before a computation, so that it does not fail late. */
+int usm_outfile_check(const char *path, int force, char *why, size_t len);
+
+/* Create the temporary for path (tmp: USM_OUTFILE_PATH bytes); an fd open
+ * for writing, or -1 with why.  *status: USM_OK, USM_EINPUT (path not
+ * usable, exists without force, directory missing or not writable) or
+ * USM_EFAILED. */
+int usm_outfile_open(const char *path, int force, char tmp[USM_OUTFILE_PATH], char *why,
+                     size_t len, int *status);
+
+/* Put the closed, complete temporary tmp in place as path; USM_OK, or
+ * USM_EINPUT (path appeared meanwhile, without force) / USM_EFAILED with
+ * why; the temporary is removed on failure. */
+int usm_outfile_place(const char *tmp, const char *path, int force, char *why, size_t len);
+
+/* ---- output directories (io/io_file.c usm_io_dir_*, report/report.c) ---------- */
+
+/* A directory written whole is first a stage beside it: PARENT/.NAME +
+ * USM_OUTFILE_STAGE + PID (+ ".old" for a report's old directory while it
+ * is swapped out). */
+#define USM_OUTFILE_STAGE ".usm-new-"
+
+/* PARENT/.NAME + suffix for the directory path into buf (USM_OUTFILE_PATH
+ * bytes); 0, or -1 when too long or path has no last component. */
+int usm_outfile_beside(char buf[USM_OUTFILE_PATH], const char *path, const char *suffix);
+
+/* Remove the entries of dir that drop(name) accepts (every one when drop is
+ * NULL), then dir itself (kept when anything is left). */
+void usm_outfile_remove_dir(const char *dir, int (*drop)(const char *name));
+
+/* Remove (as usm_outfile_remove_dir) the stages of path whose process is
+ * gone: runs that were killed. */
+void usm_outfile_clean_stages(const char *path, int (*drop)(const char *name));
+
+/* An exclusive lock for the users of path: flock(2) on the lock file
+ * DIR/.BASE.usm-lock beside it (created if missing, never through a
+ * symlink; kept, since removing a lock file races), not on path itself,
+ * which renames replace.  The descriptor (close it to unlock), or -1 with
+ * why: another process holds the lock (*busy = 1), or the lock file cannot
+ * be opened (*busy = 0). */
+int usm_outfile_lock(const char *path, char *why, size_t len, int *busy);
+
+#endif /* USM_CORE_OUTFILE_H */
