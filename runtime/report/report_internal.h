@@ -128,6 +128,7 @@ typedef struct usm_report_nonideal_point {
     double F_n_min, F_n_max;   /* [N] */
     double max_modulus;        /* largest non-cyclic |lambda| */
     double theta_h2;           /* 2 Omega amplitude of theta [rad] */
+    usm_validity validity;     /* of the orbit (usm_periodic_result.validity) */
 } usm_report_nonideal_point;
 
 /* A root of F_n_min (contact opens) or of max_modulus - 1 (stability lost)

@@ -147,6 +147,7 @@ static int curve_task(void *ctx, void *state, size_t i)
         if (!pt->converged) {
             pt->speed_mean = pt->ripple = pt->F_n_min = pt->F_n_max = NAN;
             pt->max_modulus = pt->theta_h2 = NAN;
+            pt->validity = USM_VALID;
             continue;
         }
         pt->speed_mean = sp->orbit.rotor_speed_mean;
@@ -155,6 +156,7 @@ static int curve_task(void *ctx, void *state, size_t i)
         pt->F_n_max = sp->orbit.F_n_max;
         pt->max_modulus = sp->orbit.floquet.max_modulus;
         pt->theta_h2 = sp->orbit.theta_harmonic_2;
+        pt->validity = sp->orbit.validity;
     }
     root_from_sweep(sw, cv, 0, &cv->contact);
     root_from_sweep(sw, cv, 1, &cv->stability);

@@ -109,7 +109,7 @@ static void write_curve_csv(FILE *f, const usm_report_curve *cv)
         {cv->over, over ? over->unit : "1"}, {"converged", NULL}, {"rotor_speed", "1/s"},
         {"speed", "1/s"}, {"theta", "rad"}, {"alpha", "rad"}, {"beta", "rad"}, {"F_n", "N"},
         {"F_t", "N"}, {"mu_used", "1"}, {"stick_admissible", NULL}, {"v_rel", "m/s"},
-        {"max_modulus", "1"}, {"stable", NULL}};
+        {"max_modulus", "1"}, {"stable", NULL}, {"valid", NULL}, {"invalid_reason", NULL}};
     usm_csv_header(f, cols, (int)(sizeof cols / sizeof cols[0]));
     for (size_t i = 0; i < n; ++i) {
         const usm_sweep_point *pt = usm_sweep_point_at(cv->sweep, i);
@@ -129,6 +129,7 @@ static void write_curve_csv(FILE *f, const usm_report_curve *cv)
         usm_csv_num(f, 0, ok ? s->v_rel : NAN);
         usm_csv_num(f, 0, fl ? pt->floquet.max_modulus : NAN);
         usm_csv_bool(f, 0, fl && pt->floquet.stable);
+        usm_csv_validity(f, ok, s->validity);
         fputc('\n', f);
     }
 }
@@ -141,7 +142,7 @@ static void write_datasheet_csv(FILE *f, const usm_report_curve *cv)
         {"T", "N m"},          {"converged", NULL},    {"speed", "1/s"},
         {"power_in", "W"},     {"power_out", "W"},     {"power_damping", "W"},
         {"power_slip", "W"},   {"efficiency", "1"},    {"stick_admissible", NULL},
-        {"stable", NULL}};
+        {"stable", NULL},      {"valid", NULL},        {"invalid_reason", NULL}};
     usm_csv_header(f, cols, (int)(sizeof cols / sizeof cols[0]));
     for (size_t i = 0; i < n; ++i) {
         const usm_sweep_point *pt = usm_sweep_point_at(cv->sweep, i);
@@ -157,6 +158,7 @@ static void write_datasheet_csv(FILE *f, const usm_report_curve *cv)
         usm_csv_num(f, 0, ok ? s->efficiency : NAN);
         usm_csv_bool(f, 0, ok && s->stick_admissible);
         usm_csv_bool(f, 0, ok && pt->has_floquet && pt->floquet.stable);
+        usm_csv_validity(f, ok, s->validity);
         fputc('\n', f);
     }
 }
@@ -267,7 +269,7 @@ static void write_nonideal_curve_csv(FILE *f, const usm_report_nonideal_curve *c
          j == REPORT_IMP_PHASE ? "deg" : "%"},
         {"converged", NULL}, {"rotor_speed_mean", "1/s"}, {"rotor_speed_ripple", "1/s"},
         {"F_n_min", "N"}, {"F_n_max", "N"}, {"max_modulus", "1"}, {"theta_harmonic_2", "rad"},
-        {"contact_open", NULL}};
+        {"contact_open", NULL}, {"valid", NULL}, {"invalid_reason", NULL}};
     usm_csv_header(f, cols, (int)(sizeof cols / sizeof cols[0]));
     for (int q = 0; q < cv->points; ++q) {
         const usm_report_nonideal_point *pt = &cv->pt[q];
@@ -281,6 +283,7 @@ static void write_nonideal_curve_csv(FILE *f, const usm_report_nonideal_curve *c
         usm_csv_num(f, 0, pt->max_modulus);
         usm_csv_num(f, 0, pt->theta_h2);
         usm_csv_bool(f, 0, pt->converged && pt->F_n_min < 0);
+        usm_csv_validity(f, pt->converged, pt->validity);
         fputc('\n', f);
     }
 }
