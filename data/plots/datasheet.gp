@@ -69,12 +69,11 @@ do for [fmt in "png svg"] {
     } else {
       plot \
         file using (x(0)):(column(w)) with lines lw 0.8 lc rgb "#aaaaaa" notitle, \
-        file using (x(0)):(ok(column(w))) with lines lw 2.5 lc rgb "#1f5fa8" title "speed w_R", \
+        file using (x(0)):(ok(column(w))) with lines lw 2.5 lc rgb "#1f5fa8" title "speed w_R (thin grey where not valid: contact open)", \
         file using (x(0)):(column(pw) * 1e3) axes x1y2 with lines lw 0.8 dt 2 lc rgb "#aaaaaa" notitle, \
         file using (x(0)):(ok(column(pw) * 1e3)) axes x1y2 with lines lw 2 dt 2 lc rgb "#c0392b" title sprintf("output power P_{out} [mW] (max %.3g)", pmax_stick), \
         file using (x(0)):(column(eta) * 100) axes x1y2 with lines lw 0.8 dt 4 lc rgb "#aaaaaa" notitle, \
-        file using (x(0)):(ok(column(eta) * 100)) axes x1y2 with lines lw 2 dt 4 lc rgb "#2e8b57" title sprintf("efficiency η [%%] (max %.3g)", emax_stick), \
-        keyentry with lines lw 0.8 lc rgb "#aaaaaa" title "thin grey: not valid (contact open)"
+        file using (x(0)):(ok(column(eta) * 100)) axes x1y2 with lines lw 2 dt 4 lc rgb "#2e8b57" title sprintf("efficiency η [%%] (max %.3g)", emax_stick)
     }
   }
   unset multiplot

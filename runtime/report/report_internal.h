@@ -147,6 +147,9 @@ typedef struct usm_report_nonideal_curve {
     usm_report_nonideal_point pt[REPORT_NONIDEAL_MAXPTS];
     usm_report_nonideal_root contact;   /* F_n_min = 0 */
     usm_report_nonideal_root stability; /* max |lambda| = 1 */
+    usm_report_nonideal_root valid_to;  /* the model stops describing the motor
+                                         * (validity: contact opens, stick lost):
+                                         * found = 0 when valid over the curve */
     int tolerable_found;      /* the smaller of the two roots found */
     double tolerable;
     const char *tolerable_by; /* "contact" or "stability" */

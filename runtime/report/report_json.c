@@ -372,12 +372,17 @@ static json_t *valid_ranges(const usm_sweep *sw, const char *name, const char *u
             str(r, "from_by", from.by);
             str(r, "to_by", to.by);
             json_array_append_new(iv, r);
-            const int a = strcmp(from.by, "range") != 0, b = strcmp(to.by, "range") != 0;
+            /* the ends that validity sets (not the curve's or the branch's end) */
+            const int a = strcmp(from.by, "range") != 0 && strcmp(from.by, "no_solution") != 0;
+            const int b = strcmp(to.by, "range") != 0 && strcmp(to.by, "no_solution") != 0;
+            const int gap = !a && !b && (strcmp(from.by, "no_solution") == 0 ||
+                                         strcmp(to.by, "no_solution") == 0);
             if (len < sizeof text)
                 len += (size_t)snprintf(text + len, sizeof text - len, "%s", len ? "; " : "");
             if (len < sizeof text && !a && !b)
                 len += (size_t)snprintf(text + len, sizeof text - len,
-                                        "valid over the whole curve (%s from %.4g to %.4g %s)",
+                                        "valid %s (%s from %.4g to %.4g %s)",
+                                        gap ? "wherever a solution exists" : "over the whole curve",
                                         name, from.value * scale, to.value * scale, unit);
             else if (len < sizeof text && !a)
                 len += (size_t)snprintf(text + len, sizeof text - len, "valid for %s <= %.4g %s (%s)",
@@ -668,6 +673,9 @@ static json_t *nonideal_curve(const usm_report_nonideal_curve *cv, int j)
     num(o, "ripple_at_end", cv->pt[cv->points - 1].ripple);
     json_object_set_new(o, "contact_open", nonideal_root(&cv->contact, j));
     json_object_set_new(o, "stability_loss", nonideal_root(&cv->stability, j));
+    /* valid_to: found = 0 when the model describes the motor over the whole curve;
+     * note: stick_loss, contact_loss (events), or the first invalid point's reason */
+    json_object_set_new(o, "valid_to", nonideal_root(&cv->valid_to, j));
     flag(t, "found", cv->tolerable_found);
     num(t, "value", cv->tolerable_found ? cv->tolerable : NAN);
     num(t, "display", cv->tolerable_found ? imp_display(j, cv->tolerable) : NAN);
