@@ -322,11 +322,14 @@ static void write_nonideal_values_csv(FILE *f, const usm_report_nonideal *ni)
  * one period (the samples and, closing the curve, the state at t0 + T, which
  * is the first sample's with phi advanced by 2 pi), its tilt relative to the
  * ideal motor's. */
-static void write_orbit_csv(FILE *f, const usm_report_nonideal *ni)
+/* valid, invalid_reason per sample: the contact closed and, the 3-DOF model
+ * being a stick model, |F_t| <= mu0 F_n at that instant. */
+static void write_orbit_csv(FILE *f, const usm_report_nonideal *ni, double mu0)
 {
     static const usm_csv_column cols[] = {
         {"t", "s"}, {"t_over_T", "1"}, {"phi", "rad"}, {"theta", "rad"}, {"rho_X", "rad"},
-        {"rho_Y", "rad"}, {"angle", "deg"}, {"radial", "%"}, {"F_n", "N"}};
+        {"rho_Y", "rad"}, {"angle", "deg"}, {"radial", "%"}, {"F_n", "N"},
+        {"valid", NULL}, {"invalid_reason", NULL}};
     const int nx = ni->orbit_nx;
     const double th0 = ni->theta_ideal[REPORT_3DOF];
     usm_csv_header(f, cols, (int)(sizeof cols / sizeof cols[0]));
@@ -350,6 +353,9 @@ static void write_orbit_csv(FILE *f, const usm_report_nonideal *ni)
         usm_csv_num(f, 0, ang);
         usm_csv_num(f, 0, (th / th0 - 1) * 100);
         usm_csv_num(f, 0, row[1 + nx]);
+        usm_csv_validity(f, 1, !(row[1 + nx] > 0)                       ? USM_INVALID_CONTACT_OPEN
+                               : fabs(row[2 + nx]) > mu0 * row[1 + nx] ? USM_INVALID_STICK
+                                                                       : USM_VALID);
         fputc('\n', f);
     }
 }
@@ -421,7 +427,7 @@ static int write_data_file(const usm_report_data *d, const char *dir, const char
     case DATA_ELASTICITY: write_elasticity_csv(f, d, k, c); break;
     case DATA_NONIDEAL: write_nonideal_curve_csv(f, &d->nonideal.curve[k][c], c); break;
     case DATA_NONIDEAL_VALUES: write_nonideal_values_csv(f, &d->nonideal); break;
-    case DATA_ORBIT: write_orbit_csv(f, &d->nonideal); break;
+    case DATA_ORBIT: write_orbit_csv(f, &d->nonideal, d->params.mu0); break;
     case DATA_CIRCLE: write_circle_csv(f, &d->nonideal); break;
     }
     return usm_report_close(f, dir, name, msg);
