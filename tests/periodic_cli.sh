@@ -95,6 +95,7 @@ if expect_rc 0 periodic --model 4dof --variant imperfect --set phase_error=0.2 -
         --orbit "$csv" --json; then
     py "assert sorted(o) == sorted($KEYS), sorted(o)
 assert o['converged'] and o['model'] == '4dof_imperfect' and not o['contact_open']
+assert o['valid'] is True and o['invalid_reason'] is None and o['F_n_min'] > 0
 assert sorted(o['harmonic_2']) == ['F_n', 'theta']
 assert len(o['floquet']['multipliers']) == 9 and o['floquet']['t0_dependent'] is False
 import csv

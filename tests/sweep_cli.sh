@@ -149,6 +149,27 @@ if expect_rc 0 steady --set T=0.001 --json; then
 assert all(r['valid'] == r['stick_admissible'] for r in o['roots'])"
 fi
 
+# usm map: valid and invalid_reason last; valid exactly where stick is admissible
+# (3dof, the contact closed), from the cell's own mu_used (independent of the flag)
+if expect_rc 0 map --x-points 3 --y-points 6; then
+    checks=$((checks + 1))
+    "$PY" - "$out" <<'EOF' || fail "usm map: valid, invalid_reason"
+import csv, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+assert list(rows[0])[-2:] == ["valid", "invalid_reason"], list(rows[0])
+n = 0
+for r in rows:
+    if r["exists"] != "true":
+        assert r["valid"] == r["invalid_reason"] == "", r
+        continue
+    stick = abs(float(r["mu_used [1]"])) <= 0.3
+    assert r["valid"] == ("true" if stick else "false") == r["stick_admissible"], r
+    assert r["invalid_reason"] == ("" if stick else "stick_not_admissible"), r
+    n += not stick
+assert n > 0, "no invalid cell on the default T range"
+EOF
+fi
+
 # ---- sweeps that must not give up ----------------------------------------------------
 # over decades of a parameter: every grid point solved, exit 0
 for args in "--over c_r --from 924.7 --to 924668" "--over mu0 --from 0.3 --to 300" \
