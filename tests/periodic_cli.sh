@@ -13,7 +13,7 @@ USM=${1:?usage: periodic_cli.sh PATH/TO/usm}
 
 KEYS="['model','parameters','converged','rotor_speed_mean','rotor_speed_ripple','F_n_min','F_n_max',
 'friction_needed_max','theta_mean','theta_min','theta_max','harmonic_2','floquet','contact_open',
-'newton_iterations','residual']"
+'newton_iterations','residual','valid','invalid_reason']"
 
 # the paper's twist law has no periodic orbit in these coordinates: exit 2, the reason
 expect_bad "model 3dof" "twist" periodic
@@ -29,12 +29,26 @@ expect_bad "mode_split" "\(-1, 1\)" sweep --variant imperfect --over mode_split 
 expect_bad "model 3dof" "twist" sweep --periodic --over T --from 0 --to 1e-4 --points 3
 if expect_rc 0 sweep --variant imperfect --over phase_error --from 0 --to 0.6 --points 7; then
     checks=$((checks + 1))
-    head -1 "$out" | grep -q '^phase_error \[rad\],converged,rotor_speed_mean \[1/s\],rotor_speed_ripple \[1/s\],F_n_min \[N\],F_n_max \[N\],friction_needed_max \[1\],theta_mean \[rad\],theta_min \[rad\],theta_max \[rad\],theta_harmonic_2 \[rad\],F_n_harmonic_2 \[N\],max_modulus \[1\],stable,contact_open,error$' \
+    head -1 "$out" | grep -q '^phase_error \[rad\],converged,rotor_speed_mean \[1/s\],rotor_speed_ripple \[1/s\],F_n_min \[N\],F_n_max \[N\],friction_needed_max \[1\],theta_mean \[rad\],theta_min \[rad\],theta_max \[rad\],theta_harmonic_2 \[rad\],F_n_harmonic_2 \[N\],max_modulus \[1\],stable,contact_open,error,valid,invalid_reason$' \
         || fail "periodic sweep: CSV header"
     checks=$((checks + 1))
     [ "$(grep -c '^[0-9]' "$out")" -eq 7 ] && grep -q '^# stick_loss at phase_error = 0\.2724' "$out" \
         && grep -q '^# contact_loss at phase_error = 0\.5013' "$out" \
-        && grep -q '^0\.6,true,.*,,.*,true,true,$' "$out" || fail "periodic sweep: rows and events"
+        && grep -q '^0\.6,true,.*,,.*,true,true,,false,contact_open$' "$out" || fail "periodic sweep: rows and events"
+    # valid (issue 20, item 4): false exactly where the contact opens (F_n_min <= 0)
+    # or the stick model needs more than mu0 = 0.3; invalid from past stick_loss on
+    checks=$((checks + 1))
+    "$PY" - "$out" <<'EOF' || fail "periodic sweep: valid and invalid_reason"
+import csv, sys
+lines = open(sys.argv[1]).read().splitlines()
+rows = list(csv.DictReader([l for l in lines if not l.startswith("#")]))
+loss = float([l for l in lines if l.startswith("# stick_loss")][0].split(" = ")[1].split(":")[0])
+for r in rows:
+    Fmin, fn = float(r["F_n_min [N]"]), r["friction_needed_max [1]"]
+    want = "contact_open" if Fmin <= 0 else ("stick_not_admissible" if float(fn) > 0.3 else "")
+    assert r["invalid_reason"] == want and r["valid"] == ("false" if want else "true"), r
+    assert (r["valid"] == "true") == (float(r["phase_error [rad]"]) < loss), (r, loss)
+EOF
 fi
 if expect_rc 0 sweep --model 4dof --variant imperfect --over mode_split --from 0.08 --to 0.09 --points 3 --json; then
     py "assert sorted(o) == ['events', 'model', 'over', 'parameters', 'periodic', 'points'], sorted(o)
@@ -81,6 +95,7 @@ if expect_rc 0 periodic --model 4dof --variant imperfect --set phase_error=0.2 -
         --orbit "$csv" --json; then
     py "assert sorted(o) == sorted($KEYS), sorted(o)
 assert o['converged'] and o['model'] == '4dof_imperfect' and not o['contact_open']
+assert o['valid'] is True and o['invalid_reason'] is None and o['F_n_min'] > 0
 assert sorted(o['harmonic_2']) == ['F_n', 'theta']
 assert len(o['floquet']['multipliers']) == 9 and o['floquet']['t0_dependent'] is False
 import csv

@@ -125,6 +125,7 @@ def check_report(out):
             fail("report.json: the paper's values differ from data/paper_values.json")
         check_design(out, md, data)
         check_nonideal(out, md, data)
+        check_validity(out, md, data)
 
     images = re.findall(r"!\[[^\]]*\]\(([^)\s]+)\)", md)
     links = [t for t in re.findall(r"(?<!!)\[[^\]]*\]\(([^)\s]+)\)", md)
@@ -344,6 +345,76 @@ def check_design(out, md, data):
         else:
             fail(f"{model}: datasheet efficiency_max {ds.get('efficiency_max')} vs CSV "
                  f"{max(cands) if cands else None}")
+
+
+def check_validity(out, md, data):
+    """Validity (issue 20, item 4): every data row says whether the model
+    describes the motor, and the stated valid range of the 3-DOF load curve is
+    the stick_limit event of an independent `usm sweep` over the same grid."""
+    rows = read_csv(os.path.join(out, "fig10_speed_load_3dof.csv"))
+    conv = [r_ for r_ in rows if r_["converged"] == "true"]
+    # valid exactly where stick is admissible (3-DOF; the contact is closed)
+    if conv and all((r_["valid"] == "true") == (r_["stick_admissible"] == "true") and
+                    r_["invalid_reason"] == ("" if r_["valid"] == "true" else
+                                             "stick_not_admissible") for r_ in conv):
+        ok(f"fig10_speed_load_3dof.csv: valid = stick_admissible on {len(conv)} rows")
+    else:
+        fail("fig10_speed_load_3dof.csv: valid differs from stick_admissible")
+    Ts = [float(r_["T [N m]"]) for r_ in rows]
+    r = run("sweep", "--model", "3dof", "--over", "T", "--from", repr(Ts[0]), "--to",
+            repr(Ts[-1]), "--points", str(len(Ts)), "--no-floquet", "--json")
+    try:
+        ev = [e["T"] for e in json.loads(r.stdout)["events"] if e["type"] == "stick_limit"]
+    except (ValueError, KeyError):
+        ev = []
+    curve = [c for c in data["characteristics"]["curves"]
+             if c["over"] == "T" and c["model"] == "3dof"]
+    iv = curve[0]["valid"]["intervals"] if curve else []
+    if len(ev) == 1 and len(iv) == 1 and iv[0]["to_by"] == "stick_limit" and \
+            close(iv[0]["to"], ev[0], 1e-9) and iv[0]["from"] == Ts[0] and \
+            data["datasheet"]["3dof"]["valid"]["intervals"] == iv:
+        ok(f"3-DOF load curve valid for T <= {iv[0]['to']:.10g} N m: the sweep's stick_limit "
+           f"{ev[0]:.10g}")
+    else:
+        fail(f"3-DOF valid range {iv} vs the sweep's stick_limit {ev}")
+    bad = [float(r_["T [N m]"]) for r_ in conv if r_["valid"] == "false"]
+    if ev and bad and min(bad) > ev[0]:
+        ok("the first invalid row of the load curve lies past the stick limit")
+    else:
+        fail(f"first invalid row {min(bad) if bad else None} vs stick limit {ev}")
+    stated = f"valid for T <= {ev[0] * 1e3:.4g} N mm (stick limit" if ev else None
+    texts = [c["valid"]["text"] for c in data["characteristics"]["curves"]]
+    if stated and stated in md and all(t and t in md for t in texts):
+        ok(f"report.md states every curve's valid range ({stated}...)")
+    else:
+        fail(f"report.md does not state the valid ranges {texts}")
+    # the datasheet's power and efficiency know it too
+    ds = read_csv(os.path.join(out, "datasheet_3dof.csv"))
+    if ds and all((r_["valid"] == "true") == (r_["converged"] == "true" and
+                                              r_["stick_admissible"] == "true")
+                  for r_ in ds if r_["converged"] == "true"):
+        ok("datasheet_3dof.csv: valid on every row")
+    else:
+        fail("datasheet_3dof.csv: valid differs from stick_admissible")
+    # the non-ideal curves: valid up to valid_to, not beyond
+    ni = data.get("nonideal", {})
+    for model in ("3dof", "4dof"):
+        for imp in ("phase_error", "mode_split"):
+            if not ni.get("ok"):
+                continue
+            v = ni[model][imp]["valid_to"]
+            rows = read_csv(os.path.join(out, f"nonideal_curves_{imp}_{model}.csv"))
+            col = f"{imp} [{'rad' if imp == 'phase_error' else '1'}]"
+            good = all((r_["valid"] == "true") == (not v["found"] or float(r_[col]) < v["value"])
+                       for r_ in rows if r_["converged"] == "true")
+            # and the reason matches the orbit: contact open iff F_n_min <= 0
+            good = good and all((r_["invalid_reason"] == "contact_open") ==
+                                (float(r_["F_n_min [N]"]) <= 0)
+                                for r_ in rows if r_["converged"] == "true")
+            if good:
+                ok(f"nonideal_curves_{imp}_{model}.csv: valid up to {v['value'] if v['found'] else 'the end'}")
+            else:
+                fail(f"nonideal_curves_{imp}_{model}.csv: valid rows vs valid_to {v}")
 
 
 def periodic(model, name, value):

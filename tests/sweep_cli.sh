@@ -77,7 +77,7 @@ with open(sys.argv[1]) as f:
 assert lines[0] == ("T [N m],theta [rad],alpha [rad],rotor_speed [1/s],F_n [N],F_t [N],"
                     "mu_needed [1],max_modulus [1],stable,converged,roots,error,"
                     "power_in [W],power_out [W],power_damping [W],power_slip [W],"
-                    "efficiency [1]"), lines[0]
+                    "efficiency [1],valid,invalid_reason"), lines[0]
 rows = [l for l in lines[1:] if not l.startswith("#")]
 assert len(rows) == 11, len(rows)
 assert lines[1:12] == rows, "event lines must follow the rows"
@@ -87,7 +87,7 @@ t_stab = [float(l.split(" at T = ")[1].split(":")[0]) for l in lines[12:]
           if l.startswith("# stability_change ")]
 assert len(t_stab) == 1, lines[12:]
 for f in csv.reader(rows):
-    assert len(f) == 17, f
+    assert len(f) == 19, f
     if f[9] == "true":
         assert all(f[:8]) and f[10] == "1" and not f[11], f
         assert f[8] == ("true" if float(f[0]) < t_stab[0] else "false"), (f, t_stab)
@@ -99,10 +99,14 @@ for f in csv.reader(rows):
         assert abs(eff - pout / pin) <= 1e-12 * abs(eff) + 1e-15, f
         # T * |rotor speed| is the output power (the load is driven)
         assert abs(pout - float(f[0]) * -float(f[3])) <= 1e-9 * (abs(pout) + 1e-12), f
+        # valid: the stick model holds where F_t <= mu0 F_n (mu0 = 0.3), from the
+        # row's own forces, and the contact is closed
+        stick = abs(float(f[5])) <= 0.3 * float(f[4]) and float(f[4]) > 0
+        assert f[17:19] == (["true", ""] if stick else ["false", "stick_not_admissible"]), f
     else:
         # beyond the tilt's end: no root at all, and the reason
         assert f[9] == "false" and not any(f[1:9]) and f[10] == "0" and "tilt_zero" in f[11], f
-        assert not any(f[12:]), f
+        assert not any(f[12:]), f  # no solution: valid and invalid_reason empty too
 events = lines[12:]
 assert [e.split()[1] for e in events] == ["stick_limit", "stability_change", "tilt_zero"], events
 assert all(e.startswith("# ") and " at T = " in e for e in events), events
@@ -113,6 +117,57 @@ EOF
     [ -s "$err" ] && fail "CSV: stderr not empty (no progress bar when stderr is not a terminal)"
 else
     fail "usm sweep --over T --from 0 --to 0.01: exit $?, want 0 (points without solution are not an error)"
+fi
+
+# ---- validity (issue 20, item 4) ------------------------------------------------------
+# 3dof over T: valid is exactly stick_admissible (independent: F_t <= mu0 F_n from
+# the point's own forces), the reason names the stick, and the first invalid
+# point lies past the stick_limit event, the last valid one before it.
+if expect_rc 0 sweep --model 3dof --over T --from 0 --to 0.002 --points 21 --no-floquet --json; then
+    py "pts = [p for p in o['points'] if p['converged']]
+assert len(pts) == 21
+mu0 = o['parameters']['mu0']
+for p in pts:
+    stick = p['F_n'] > 0 and abs(p['F_t']) <= mu0 * p['F_n']
+    assert p['valid'] == p['stick_admissible'] == stick, p
+    assert p['invalid_reason'] == (None if stick else 'stick_not_admissible'), p
+ev = [e['T'] for e in o['events'] if e['type'] == 'stick_limit']
+assert len(ev) == 1, o['events']
+bad = [p['T'] for p in pts if not p['valid']]
+good = [p['T'] for p in pts if p['valid']]
+assert bad and good and min(bad) > ev[0] and max(good) <= ev[0], (ev, bad[:1], good[-1:])"
+fi
+# 4dof: slip is the model, so every point with the contact closed is valid
+if expect_rc 0 sweep --model 4dof --over T --from 0 --to 0.002 --points 5 --no-floquet --json; then
+    py "pts = [p for p in o['points'] if p['converged']]
+assert pts and all(p['valid'] == (p['F_n'] > 0) for p in pts), pts
+assert all(p['invalid_reason'] in (None, 'contact_open') for p in pts)"
+fi
+# usm steady: every root and the top level carry valid, invalid_reason
+if expect_rc 0 steady --set T=0.001 --json; then
+    py "assert o['valid'] is False and o['invalid_reason'] == 'stick_not_admissible', o
+assert all(r['valid'] == r['stick_admissible'] for r in o['roots'])"
+fi
+
+# usm map: valid and invalid_reason last; valid exactly where stick is admissible
+# (3dof, the contact closed), from the cell's own mu_used (independent of the flag)
+if expect_rc 0 map --x-points 3 --y-points 6; then
+    checks=$((checks + 1))
+    "$PY" - "$out" <<'EOF' || fail "usm map: valid, invalid_reason"
+import csv, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+assert list(rows[0])[-2:] == ["valid", "invalid_reason"], list(rows[0])
+n = 0
+for r in rows:
+    if r["exists"] != "true":
+        assert r["valid"] == r["invalid_reason"] == "", r
+        continue
+    stick = abs(float(r["mu_used [1]"])) <= 0.3
+    assert r["valid"] == ("true" if stick else "false") == r["stick_admissible"], r
+    assert r["invalid_reason"] == ("" if stick else "stick_not_admissible"), r
+    n += not stick
+assert n > 0, "no invalid cell on the default T range"
+EOF
 fi
 
 # ---- sweeps that must not give up ----------------------------------------------------

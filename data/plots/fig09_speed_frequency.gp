@@ -10,6 +10,8 @@ set grid lc rgb "#dddddd"
 fmax3 = NaN; fmax4 = NaN; fpaper = NaN
 stats "report_values.csv" using (fmax3 = column("f_max_3dof [Hz]") / 1000, \
     fmax4 = column("f_max_4dof [Hz]") / 1000, fpaper = column("f_max_paper [Hz]") / 1000, 0) nooutput
+# full weight where the model describes the motor (column valid), thin grey elsewhere
+ok(v) = strcol("valid") eq "true" ? v : NaN
 set xlabel "excitation frequency f [kHz]"
 set ylabel "rotor speed w_R = -dφ_R/dt [1/s]"
 set key top right box opaque
@@ -25,8 +27,12 @@ do for [fmt in "png svg"] {
   set output "fig09_speed_frequency.".fmt
   plot \
     "fig09_speed_frequency_3dof.csv" using (column("f [Hz]") / 1000):(column("speed [1/s]")) \
+      with lines lw 0.8 lc rgb "#aaaaaa" title "not valid (stick not admissible, contact open)", \
+    "fig09_speed_frequency_3dof.csv" using (column("f [Hz]") / 1000):(ok(column("speed [1/s]"))) \
       with lines lw 2 lc rgb "#1f5fa8" title "3-DOF (stick)", \
     "fig09_speed_frequency_4dof.csv" using (column("f [Hz]") / 1000):(column("speed [1/s]")) \
+      with lines lw 0.8 lc rgb "#aaaaaa" notitle, \
+    "fig09_speed_frequency_4dof.csv" using (column("f [Hz]") / 1000):(ok(column("speed [1/s]"))) \
       with lines lw 2 lc rgb "#c0392b" title "4-DOF (slip)", \
     keyentry with lines dt 2 lw 1.5 lc rgb "#1f5fa8" title (fmax3 == fmax3 ? sprintf("3dof maximum: %.4g kHz", fmax3) : ""), \
     keyentry with lines dt 2 lw 1.5 lc rgb "#c0392b" title (fmax4 == fmax4 ? sprintf("4dof maximum: %.4g kHz", fmax4) : ""), \

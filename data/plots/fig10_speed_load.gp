@@ -18,7 +18,9 @@ stats "report_values.csv" using (stick = column("stick_limit [N m]") * 1e3, \
 zoom = ex4 == ex4 ? 1.25 * ex4 : (stick == stick ? 2 * stick : NaN)
 x(c) = column("T [N m]") * 1e3
 w = "speed [1/s]"
-stuck(c) = strcol("stick_admissible") eq "true" ? column(w) : NaN
+# full weight where the model describes the motor (column valid: the stick
+# model up to the stick limit, the contact closed), thin where it does not
+stuck(c) = strcol("valid") eq "true" ? column(w) : NaN
 unstable(c) = column("max_modulus [1]") >= 1 ? column(w) : NaN
 stats "fig10_speed_load_3dof.csv" using (x(0)):(column(w)) nooutput
 xmax = STATS_max_x > 1.05 * paper ? STATS_max_x : 1.05 * paper
@@ -47,7 +49,8 @@ do for [fmt in "png svg"] {
     "fig10_speed_load_3dof.csv" using (x(0)):(stuck(0)) with lines lw 2.5 lc rgb "#1f5fa8" title "3-DOF (stick), F_t <= μ_0 F_n", \
     "fig10_speed_load_3dof.csv" using (x(0)):(column(w)) with lines lw 1 lc rgb "#1f5fa8" title "3-DOF, stick not admissible", \
     "fig10_speed_load_3dof.csv" using (x(0)):(unstable(0)) with points pt 6 ps 0.6 lc rgb "#ff8c00" title "3-DOF unstable (max |λ| > 1)", \
-    "fig10_speed_load_4dof.csv" using (x(0)):(column(w)) with lines lw 2.5 lc rgb "#c0392b" title "4-DOF (slip)", \
+    "fig10_speed_load_4dof.csv" using (x(0)):(column(w)) with lines lw 1 lc rgb "#c0392b" notitle, \
+    "fig10_speed_load_4dof.csv" using (x(0)):(stuck(0)) with lines lw 2.5 lc rgb "#c0392b" title "4-DOF (slip)", \
     keyentry with lines dt 2 lw 1.5 lc rgb "#2e8b57" title sprintf("stick limit F_t = μ_0 F_n: %.3g N mm", stick), \
     keyentry with lines dt 4 lw 1.5 lc rgb "#1f5fa8" title sprintf("3-DOF solution exists up to %.3g N mm", ex3), \
     keyentry with lines dt 5 lw 1.5 lc rgb "#ff8c00" title sprintf("3-DOF unstable above %.3g N mm", stab), \
@@ -63,7 +66,8 @@ do for [fmt in "png svg"] {
   plot \
     "fig10_speed_load_3dof.csv" using (x(0)):(stuck(0)) with linespoints lw 2.5 pt 7 ps 0.4 lc rgb "#1f5fa8" title "3-DOF (stick), F_t <= μ_0 F_n", \
     "fig10_speed_load_3dof.csv" using (x(0)):(column(w)) with lines lw 1 lc rgb "#1f5fa8" notitle, \
-    "fig10_speed_load_4dof.csv" using (x(0)):(column(w)) with linespoints lw 2.5 pt 7 ps 0.4 lc rgb "#c0392b" title "4-DOF (slip)", \
+    "fig10_speed_load_4dof.csv" using (x(0)):(column(w)) with lines lw 1 lc rgb "#c0392b" notitle, \
+    "fig10_speed_load_4dof.csv" using (x(0)):(stuck(0)) with linespoints lw 2.5 pt 7 ps 0.4 lc rgb "#c0392b" title "4-DOF (slip)", \
     keyentry with lines dt 2 lw 1.5 lc rgb "#2e8b57" title sprintf("F_t = μ_0 F_n: %.3g N mm", stick), \
     keyentry with lines dt 2 lw 1.5 lc rgb "#8e44ad" title sprintf("F_t = μ_0 (π/2) F_n: %.3g N mm", sat), \
     keyentry with lines dt 4 lw 1.5 lc rgb "#c0392b" title sprintf("4-DOF solution exists up to %.3g N mm", ex4)

@@ -11,6 +11,8 @@ ex3 = NaN; ex4 = NaN; m0 = NaN; w0 = NaN
 stats "report_values.csv" using (ex3 = column("existence_m0_3dof [N m]") * 1e3, \
     ex4 = column("existence_m0_4dof [N m]") * 1e3, m0 = column("m0 [N m]") * 1e3, \
     w0 = column("speed_3dof [1/s]"), 0) nooutput
+# full weight where the model describes the motor (column valid), thin grey elsewhere
+ok(v) = strcol("valid") eq "true" ? v : NaN
 set xlabel "excitation torque amplitude m_0 [mN m]"
 set ylabel "rotor speed w_R = -dφ_R/dt [1/s]"
 set key top left box opaque
@@ -25,9 +27,13 @@ do for [fmt in "png svg"] {
   set output "fig11_speed_amplitude.".fmt
   plot \
     "fig11_speed_amplitude_3dof.csv" using (column("m0 [N m]") * 1e3):(column("speed [1/s]")) \
+      with lines lw 0.8 lc rgb "#aaaaaa" title "not valid (stick not admissible, contact open)", \
+    "fig11_speed_amplitude_3dof.csv" using (column("m0 [N m]") * 1e3):(ok(column("speed [1/s]"))) \
       with lines lw 2 lc rgb "#1f5fa8" title "3-DOF (stick)", \
     keyentry with lines dt 2 lw 1.5 lc rgb "#1f5fa8" title (ex3 == ex3 ? sprintf("3dof: a solution exists from m_0 = %.5g mN m", ex3) : ""), \
     "fig11_speed_amplitude_4dof.csv" using (column("m0 [N m]") * 1e3):(column("speed [1/s]")) \
+      with lines lw 0.8 lc rgb "#aaaaaa" notitle, \
+    "fig11_speed_amplitude_4dof.csv" using (column("m0 [N m]") * 1e3):(ok(column("speed [1/s]"))) \
       with lines lw 2 lc rgb "#c0392b" title "4-DOF (slip)", \
     keyentry with lines dt 4 lw 1.5 lc rgb "#c0392b" title (ex4 == ex4 ? sprintf("4dof: a solution exists from m_0 = %.5g mN m", ex4) : ""), \
     "+" using (m0):(w0) every ::0::0 with points pt 3 ps 2 lc rgb "black" title sprintf("Appendix A: m_0 = %g mN m", m0)

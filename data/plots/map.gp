@@ -30,6 +30,9 @@ set cbtics (0.8, 0.9, 1, 1.1, 1.25)
 set palette defined (0 '#313695', 0.25 '#74add1', 0.5 '#ffffbf', 0.75 '#f46d43', 1 '#a50026')
 set object 1 rectangle from graph 0,0 to graph 1,1 behind fillcolor rgb '#bdbdbd' fillstyle solid 1.0 noborder
 present(c) = strcol('exists') eq 'true'
+# cells where the model does not describe the motor (column valid false:
+# stick not admissible, contact open): a small grey dot
+invalid(c) = strcol('valid') eq 'false' ? column(ycol) : NaN
 do for [fmt in 'png svg'] {
   if (fmt eq 'png') {
     set terminal pngcairo size 900,720 noenhanced font 'DejaVu Sans,11'
@@ -37,7 +40,8 @@ do for [fmt in 'png svg'] {
     set terminal svg size 900,720 dynamic noenhanced font 'DejaVu Sans,11'
   }
   set output prefix.'.'.fmt
-  set title 'usm map: '.csv.' (grey: no stationary solution)'
-  plot csv using (column(xcol)):(column(ycol)):(present(0) ? column(mcol) : NaN) with image notitle
+  set title 'usm map: '.csv.' (grey: no stationary solution; dots: model not valid)'
+  plot csv using (column(xcol)):(column(ycol)):(present(0) ? column(mcol) : NaN) with image notitle, \
+       csv using (column(xcol)):(invalid(0)) with points pt 7 ps 0.3 lc rgb '#555555' title 'model not valid (grey dots)'
   unset output
 }

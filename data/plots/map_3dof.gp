@@ -33,6 +33,9 @@ set key at screen 0.5, screen 0.01 center bottom horizontal box opaque maxrows 2
 set bmargin 7
 unset grid
 bx(c) = column("f [Hz]") / 1000
+# cells where the model does not describe the motor (column valid false:
+# stick not admissible, contact open) get a small grey dot
+invalid(c) = strcol("valid") eq "false" ? by(0) : NaN
 by(c) = column("T [N m]") * 1e3
 do for [fmt in "png svg"] {
   if (fmt eq "png") {
@@ -46,6 +49,7 @@ do for [fmt in "png svg"] {
     "map_3dof_existence.csv" using (bx(0)):(by(0)) with lines lw 3 lc rgb "black" title (nb1 > 0 ? "solution stops existing" : ""), \
     "map_3dof_stability.csv" using (bx(0)):(by(0)) with lines lw 2.5 dt 2 lc rgb "white" title (nb2 > 0 ? "|λ| = 1" : ""), \
     "map_3dof_stick.csv" using (bx(0)):(by(0)) with lines lw 2.5 dt 4 lc rgb "#1e8449" title (nb3 > 0 ? "F_t = μ_0 F_n" : ""), \
+    "map_3dof.csv" using (bx(0)):(invalid(0)) with points pt 7 ps 0.3 lc rgb "#555555" title "model not valid here", \
     keyentry with boxes fillstyle solid 1.0 lc rgb "#bdbdbd" title "no stationary solution", \
     "+" using (f0):(T0) every ::0::0 with points pt 3 ps 2.5 lw 2 lc rgb "black" title sprintf("Appendix A (f = %g kHz, T = %g N mm)", f0, T0)
   unset output

@@ -31,6 +31,9 @@ ycol(r) = r == 1 ? "rotor_speed_ripple [1/s]" : (r == 2 ? "F_n_min [N]" : "max_m
 ylab(r) = r == 1 ? "rotor-speed ripple (peak to peak) [1/s]" : (r == 2 ? "smallest normal force F_{n,min} [N]" : "largest |λ| (non-cyclic)")
 color(k) = k == 1 ? "#1f5fa8" : "#c0392b"
 file(j, k) = "nonideal_curves_".word(imps, j)."_".word(mods, k).".csv"
+# full weight where the model describes the motor (column valid: the contact
+# closed over the whole orbit, the 3-DOF stick admissible), thin grey elsewhere
+ok(v) = strcol("valid") eq "true" ? v : NaN
 do for [fmt in "png svg"] {
   if (fmt eq "png") {
     set terminal pngcairo size 1200,1100 enhanced font "DejaVu Sans,10"
@@ -60,6 +63,9 @@ do for [fmt in "png svg"] {
         if (t == t) { set arrow k from t, graph 0 to t, graph 1 nohead lc rgb color(k) dt 2 lw 1.5 }
       }
       plot for [k = 1:2] file(j, k) using (column(xcol(j))):(column(ycol(r))) \
+             with linespoints lw 0.8 pt 7 ps 0.3 lc rgb "#aaaaaa" \
+             title (k == 1 ? "not valid (contact open, stick lost)" : ""), \
+           for [k = 1:2] file(j, k) using (column(xcol(j))):(ok(column(ycol(r)))) \
              with linespoints lw 2 pt 7 ps 0.5 lc rgb color(k) \
              title (word(mods, k) eq "3dof" ? "3-DOF (stick)" : "4-DOF (slip)") . \
                (tol[2 * (j - 1) + k] == tol[2 * (j - 1) + k] ? sprintf(": tolerable %.3g %s", tol[2 * (j - 1) + k], word(units, j)) : ": tolerable beyond the range")

@@ -8,12 +8,15 @@
 # plane, true scale, the ideal circle beside it (shifted right by 2.5 radii);
 # right: the tilt relative to the ideal one, theta/theta_ideal - 1 in per
 # cent, against the direction of the tilt: the deviation the left panel is
-# too small to show.  Every range comes from the data.
+# too small to show.  Every range comes from the data.  The orbit is drawn
+# thin and grey over the whole period and at full weight where the model
+# describes the motor (column valid: the contact closed, |F_t| <= mu0 F_n).
 reset session
 set datafile separator ","
 set encoding utf8
 set grid lc rgb "#dddddd"
 orb = "nonideal_orbit.csv"; circ = "nonideal_orbit_circle.csv"
+ok(v) = strcol("valid") eq "true" ? v : NaN
 stats circ using (column("radius [rad]") * 1e6) nooutput
 r0 = STATS_max
 stats orb using (column("theta [rad]") * 1e6) nooutput
@@ -36,7 +39,8 @@ do for [fmt in "png svg"] {
   set xlabel "ρ_X [μrad]"
   set ylabel "ρ_Y [μrad]"
   set key below
-  plot orb using (column("rho_X [rad]") * 1e6):(column("rho_Y [rad]") * 1e6) with lines lw 2 lc rgb "#c0392b" title "periodic orbit (one period)", \
+  plot orb using (column("rho_X [rad]") * 1e6):(column("rho_Y [rad]") * 1e6) with lines lw 0.8 lc rgb "#aaaaaa" title "not valid (contact open or stick lost)", \
+       orb using (column("rho_X [rad]") * 1e6):(ok(column("rho_Y [rad]") * 1e6)) with lines lw 2 lc rgb "#c0392b" title "periodic orbit (one period)", \
        circ using (column("rho_X [rad]") * 1e6 + shift):(column("rho_Y [rad]") * 1e6) with lines lw 2 dt 2 lc rgb "#1f5fa8" title sprintf("ideal motor: circle of radius θ = %.4g μrad", r0)
   set size noratio
   set xrange [0:360]
@@ -44,7 +48,8 @@ do for [fmt in "png svg"] {
   set yrange [d0 - dpad:d1 + dpad]
   set xlabel "direction of the tilt φ mod 360 [deg]"
   set ylabel "θ / θ_{ideal} - 1 [%]"
-  plot orb using (column("angle [deg]")):(column("radial [%]")) with points pt 7 ps 0.4 lc rgb "#c0392b" title "periodic orbit", \
+  plot orb using (column("angle [deg]")):(column("radial [%]")) with points pt 7 ps 0.2 lc rgb "#aaaaaa" title "not valid", \
+       orb using (column("angle [deg]")):(ok(column("radial [%]"))) with points pt 7 ps 0.4 lc rgb "#c0392b" title "periodic orbit", \
        0 with lines dt 2 lw 2 lc rgb "#1f5fa8" title "ideal motor"
   unset multiplot
   unset output

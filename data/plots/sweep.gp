@@ -16,6 +16,9 @@ set grid lc rgb '#dddddd'
 w = 'rotor_speed [1/s]'
 x(c) = column(xcol)
 unstable(c) = column('max_modulus [1]') > 1 ? column(w) : NaN
+# full weight where the model describes the motor (column valid: the stick
+# model up to the stick limit, the contact closed), thin grey elsewhere
+ok(v) = strcol('valid') eq 'true' ? v : NaN
 set xlabel xcol noenhanced
 set format y '%g'
 do for [fmt in 'png svg'] {
@@ -28,10 +31,12 @@ do for [fmt in 'png svg'] {
   set multiplot layout 2,1 title 'usm sweep: '.csv
   set ylabel 'rotor speed phi_Rdot [1/s]'
   set key top right box opaque
-  plot csv using (x(0)):(column(w)) with linespoints lw 2 pt 7 ps 0.4 lc rgb '#1f5fa8' title 'rotor speed', \
+  plot csv using (x(0)):(column(w)) with linespoints lw 0.8 pt 7 ps 0.2 lc rgb '#aaaaaa' title 'not valid (stick not admissible, contact open)', \
+       csv using (x(0)):(ok(column(w))) with linespoints lw 2 pt 7 ps 0.4 lc rgb '#1f5fa8' title 'rotor speed', \
        csv using (x(0)):(unstable(0)) with points pt 6 ps 1 lc rgb '#ff8c00' title 'unstable (max |lambda| > 1)'
   set ylabel 'tilt theta [rad]'
-  plot csv using (x(0)):(column('theta [rad]')) with linespoints lw 2 pt 7 ps 0.4 lc rgb '#2e8b57' title 'theta'
+  plot csv using (x(0)):(column('theta [rad]')) with linespoints lw 0.8 pt 7 ps 0.2 lc rgb '#aaaaaa' notitle, \
+       csv using (x(0)):(ok(column('theta [rad]'))) with linespoints lw 2 pt 7 ps 0.4 lc rgb '#2e8b57' title 'theta'
   unset multiplot
   unset output
 }

@@ -55,7 +55,7 @@ static void usage(FILE *out)
             "Output: CSV (default), header\n"
             "  X [unit],Y [unit],exists,roots,max_modulus [1],stable,theta [rad],\n"
             "  rotor_speed [1/s],mu_used [1],stick_admissible,power_in [W],power_out [W],\n"
-            "  power_damping [W],power_slip [W],efficiency [1]\n"
+            "  power_damping [W],power_slip [W],efficiency [1],valid,invalid_reason\n"
             "one row per grid point, x fastest, an empty field where a value does not\n"
             "exist, true/false for yes/no.  With\n"
             "--json one object: model, parameters, t0, x, y, points[] and boundaries\n"

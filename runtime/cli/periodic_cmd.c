@@ -107,6 +107,9 @@ static void table(const usm_periodic_result *r, const char *model)
         printf("  friction needed    max |F_t|/F_n %.6g\n", r->friction_needed_max);
     else
         printf("  friction needed    undefined (F_n <= 0 on the orbit)\n");
+    printf("  valid              %s\n", r->validity == USM_VALID
+                                             ? "yes: the model describes the motor on this orbit"
+                                             : usm_validity_name(r->validity));
     printf("  Floquet multipliers (max |lambda| %.10g, %s):\n", r->floquet.max_modulus,
            r->floquet.stable ? "stable" : "UNSTABLE");
     for (int i = 0; i < r->floquet.n; ++i)

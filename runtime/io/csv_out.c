@@ -57,3 +57,13 @@ void usm_csv_text(FILE *f, int first, const char *s)
     }
     fputc('"', f);
 }
+
+void usm_csv_validity(FILE *f, int has, usm_validity v)
+{
+    if (!has) {
+        fputs(",,", f);
+        return;
+    }
+    usm_csv_bool(f, 0, v == USM_VALID);
+    usm_csv_text(f, 0, usm_validity_name(v));
+}

@@ -13,6 +13,8 @@
 
 #include <stdio.h>
 
+#include "usm.h"
+
 /* The shortest %g text (at least 6 digits) that reads back as exactly v, in
  * buf; returns buf. */
 const char *usm_shortest(char buf[32], double v);
@@ -30,5 +32,10 @@ void usm_csv_header(FILE *f, const usm_csv_column *cols, int n);
 void usm_csv_num(FILE *f, int first, double v);
 void usm_csv_bool(FILE *f, int first, int b);
 void usm_csv_text(FILE *f, int first, const char *s);
+
+/* The two validity columns, valid and invalid_reason (appended at the end of
+ * a row): ",true," or ",false,REASON" (usm_validity_name); ",," for a row
+ * without a solution (has = 0). */
+void usm_csv_validity(FILE *f, int has, usm_validity v);
 
 #endif /* USM_CSV_OUT_H */

@@ -63,6 +63,10 @@ json_t *usm_json_root(const usm_steady_solution *s)
     usm_json_put(obj, "power_damping", usm_json_real(s->power_damping), &ok);
     usm_json_put(obj, "power_slip", usm_json_real(s->power_slip), &ok);
     usm_json_put(obj, "efficiency", usm_json_real(s->efficiency), &ok); /* null: power_in <= 0 */
+    usm_json_put(obj, "valid", json_boolean(s->validity == USM_VALID), &ok);
+    usm_json_put(obj, "invalid_reason",
+                 s->validity == USM_VALID ? json_null() : json_string(usm_validity_name(s->validity)),
+                 &ok);
     return finish(obj, ok);
 }
 
@@ -120,6 +124,10 @@ json_t *usm_json_periodic_result(const usm_periodic_result *r)
     usm_json_put(o, "harmonic_2", h, &ok);
     usm_json_put(o, "floquet", usm_json_floquet(&r->floquet), &ok);
     usm_json_put(o, "contact_open", json_boolean(r->contact_open), &ok);
+    usm_json_put(o, "valid", json_boolean(r->validity == USM_VALID), &ok);
+    usm_json_put(o, "invalid_reason",
+                 r->validity == USM_VALID ? json_null() : json_string(usm_validity_name(r->validity)),
+                 &ok);
     usm_json_put(o, "newton_iterations", json_integer(r->iterations), &ok);
     usm_json_put(o, "residual", usm_json_real(r->residual), &ok);
     if (!ok) {

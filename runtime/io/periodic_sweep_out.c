@@ -12,7 +12,7 @@ int usm_periodic_sweep_csv(const usm_periodic_sweep *s, FILE *out)
     fprintf(out, "%s [%s],converged,rotor_speed_mean [1/s],rotor_speed_ripple [1/s],F_n_min [N],"
                  "F_n_max [N],friction_needed_max [1],theta_mean [rad],theta_min [rad],"
                  "theta_max [rad],theta_harmonic_2 [rad],F_n_harmonic_2 [N],max_modulus [1],"
-                 "stable,contact_open,error\n",
+                 "stable,contact_open,error,valid,invalid_reason\n",
             over, usm_periodic_sweep_unit(s));
     for (size_t i = 0; i < usm_periodic_sweep_count(s); ++i) {
         const usm_periodic_point *pt = usm_periodic_sweep_point_at(s, i);
@@ -23,6 +23,7 @@ int usm_periodic_sweep_csv(const usm_periodic_sweep *s, FILE *out)
         if (!pt->converged) {
             fputs(",,,,,,,,,,,,,,", out);
             usm_csv_text(out, 0, pt->error);
+            usm_csv_validity(out, 0, USM_VALID);
             fputc('\n', out);
             continue;
         }
@@ -33,7 +34,9 @@ int usm_periodic_sweep_csv(const usm_periodic_sweep *s, FILE *out)
             usm_csv_num(out, 0, v[k]);
         usm_csv_bool(out, 0, r->floquet.stable);
         usm_csv_bool(out, 0, r->contact_open);
-        fputs(",\n", out);
+        fputc(',', out);
+        usm_csv_validity(out, 1, r->validity);
+        fputc('\n', out);
     }
     for (size_t i = 0; i < usm_periodic_sweep_event_count(s); ++i) {
         const usm_periodic_event *e = usm_periodic_sweep_event_at(s, i);

@@ -116,6 +116,9 @@ static void solution(FILE *out, const usm_steady_solution *s)
     row(out, "Z", s->Z, "m", "contact height");
     fprintf(out, "  %-17s %-24s %-7s F_t <= %.6g F_n\n", "stick_admissible",
             s->stick_admissible ? "yes" : "no", "", s->mu_stick);
+    fprintf(out, "  %-17s %-24s %-7s %s\n", "valid", s->validity == USM_VALID ? "yes" : "no", "",
+            s->validity == USM_VALID ? "the model describes the motor here"
+                                     : usm_validity_name(s->validity));
     row(out, "residual_norm", s->residual_norm, "N m", "max |r_i| of eq. (3.5)");
     row(out, "power_in", s->power_in, "W", "excitation torque x stator angular velocity");
     row(out, "power_out", s->power_out, "W", "load torque x rotor speed (driving: > 0)");

@@ -111,7 +111,8 @@ int usm_sweep_csv(const usm_sweep *s, const char *over, int floquet, FILE *out)
     const usm_param_info *info = usm_params_find(over);
     fprintf(out, "%s [%s],theta [rad],alpha [rad],rotor_speed [1/s],F_n [N],F_t [N],"
                  "mu_needed [1],max_modulus [1],stable,converged,roots,error,"
-                 "power_in [W],power_out [W],power_damping [W],power_slip [W],efficiency [1]\n",
+                 "power_in [W],power_out [W],power_damping [W],power_slip [W],efficiency [1],"
+                 "valid,invalid_reason\n",
             over, info ? info->unit : "");
     for (size_t i = 0; i < usm_sweep_count(s); ++i) {
         const usm_sweep_point *pt = usm_sweep_point_at(s, i);
@@ -121,7 +122,7 @@ int usm_sweep_csv(const usm_sweep *s, const char *over, int floquet, FILE *out)
         if (!pt->converged) {
             fprintf(out, ",,,,,,,,,false,%d,", pt->roots);
             csv_text(out, pt->error);
-            fputs(",,,,,\n", out);
+            fputs(",,,,,,,\n", out);
             continue;
         }
         const usm_steady_solution *r = &pt->sol;
@@ -144,6 +145,7 @@ int usm_sweep_csv(const usm_sweep *s, const char *over, int floquet, FILE *out)
         usm_csv_num(out, 0, r->power_damping);
         usm_csv_num(out, 0, r->power_slip);
         usm_csv_num(out, 0, r->efficiency); /* empty: power_in <= 0 */
+        usm_csv_validity(out, 1, r->validity);
         fputc('\n', out);
     }
     for (size_t i = 0; i < usm_sweep_event_count(s); ++i) {

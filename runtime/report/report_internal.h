@@ -128,6 +128,7 @@ typedef struct usm_report_nonideal_point {
     double F_n_min, F_n_max;   /* [N] */
     double max_modulus;        /* largest non-cyclic |lambda| */
     double theta_h2;           /* 2 Omega amplitude of theta [rad] */
+    usm_validity validity;     /* of the orbit (usm_periodic_result.validity) */
 } usm_report_nonideal_point;
 
 /* A root of F_n_min (contact opens) or of max_modulus - 1 (stability lost)
@@ -146,6 +147,9 @@ typedef struct usm_report_nonideal_curve {
     usm_report_nonideal_point pt[REPORT_NONIDEAL_MAXPTS];
     usm_report_nonideal_root contact;   /* F_n_min = 0 */
     usm_report_nonideal_root stability; /* max |lambda| = 1 */
+    usm_report_nonideal_root valid_to;  /* the model stops describing the motor
+                                         * (validity: contact opens, stick lost):
+                                         * found = 0 when valid over the curve */
     int tolerable_found;      /* the smaller of the two roots found */
     double tolerable;
     const char *tolerable_by; /* "contact" or "stability" */

@@ -301,9 +301,119 @@ static json_t *figures(int from, int to)
     return a;
 }
 
+/* One end of a valid range: SI value and why it ends there. */
+typedef struct valid_end {
+    double value;
+    const char *by; /* "range" (the curve's end), "stick_limit" (the event),
+                     * "no_solution", or the first invalid point's reason
+                     * ("contact_open", "stick_not_admissible": located to the grid) */
+} valid_end;
+
+static const char *valid_phrase(const char *by)
+{
+    return strcmp(by, "stick_limit") == 0    ? "stick limit F_t = mu0 F_n"
+           : strcmp(by, "no_solution") == 0  ? "end of the solution branch"
+           : strcmp(by, "contact_open") == 0 ? "the contact opens beyond, to the grid"
+                                             : "stick not admissible beyond, to the grid";
+}
+
+/* Between the valid grid value a and the invalid b: the stick_limit event
+ * located between them, else a (the grid's resolution). */
+static valid_end valid_boundary(const usm_sweep *sw, double a, const usm_steady_solution *bad,
+                                double b)
+{
+    valid_end e = {a, usm_validity_name(bad->validity)};
+    for (size_t i = 0; i < usm_sweep_event_count(sw); ++i) {
+        const usm_sweep_event *ev = usm_sweep_event_at(sw, i);
+        if (ev->type == USM_EVENT_STICK_LIMIT && bad->validity == USM_INVALID_STICK &&
+            fmin(a, b) <= ev->value && ev->value <= fmax(a, b)) {
+            e.value = ev->value;
+            e.by = "stick_limit";
+        }
+    }
+    return e;
+}
+
+/* Where a curve's model describes the motor (usm_steady_solution.validity):
+ * {all, none, intervals: [{from, to, from_by, to_by}] in increasing order,
+ * text}: an end between a valid and an invalid grid point is the sweep's
+ * stick_limit event there, else the last valid grid point.  text in the
+ * report's units (scale, unit). */
+static json_t *valid_ranges(const usm_sweep *sw, const char *name, const char *unit, double scale)
+{
+    json_t *o = json_object(), *iv = json_array();
+    const size_t n = sw ? usm_sweep_count(sw) : 0;
+    const int down = n > 1 && usm_sweep_point_at(sw, n - 1)->value < usm_sweep_point_at(sw, 0)->value;
+    char text[1024] = "";
+    size_t len = 0;
+    int open = 0, nvalid = 0, ninvalid = 0;
+    valid_end from = {0, "range"};
+    const usm_sweep_point *prev = NULL; /* the previous point in increasing order */
+    for (size_t q = 0; q <= n; ++q) {
+        const usm_sweep_point *pt = q < n ? usm_sweep_point_at(sw, down ? n - 1 - q : q) : NULL;
+        const int valid = pt && pt->converged && pt->sol.validity == USM_VALID;
+        if (pt && pt->converged)
+            valid ? ++nvalid : ++ninvalid;
+        if (valid && !open) {
+            open = 1;
+            from = (valid_end){pt->value, "range"};
+            if (prev && !prev->converged)
+                from.by = "no_solution";
+            else if (prev)
+                from = valid_boundary(sw, pt->value, &prev->sol, prev->value);
+        } else if (!valid && open) {
+            open = 0;
+            valid_end to = {prev->value, !pt ? "range" : !pt->converged ? "no_solution" : ""};
+            if (pt && pt->converged)
+                to = valid_boundary(sw, prev->value, &pt->sol, pt->value);
+            json_t *r = json_object();
+            num(r, "from", from.value);
+            num(r, "to", to.value);
+            str(r, "from_by", from.by);
+            str(r, "to_by", to.by);
+            json_array_append_new(iv, r);
+            /* the ends that validity sets (not the curve's or the branch's end) */
+            const int a = strcmp(from.by, "range") != 0 && strcmp(from.by, "no_solution") != 0;
+            const int b = strcmp(to.by, "range") != 0 && strcmp(to.by, "no_solution") != 0;
+            const int gap = !a && !b && (strcmp(from.by, "no_solution") == 0 ||
+                                         strcmp(to.by, "no_solution") == 0);
+            if (len < sizeof text)
+                len += (size_t)snprintf(text + len, sizeof text - len, "%s", len ? "; " : "");
+            if (len < sizeof text && !a && !b)
+                len += (size_t)snprintf(text + len, sizeof text - len,
+                                        "valid %s (%s from %.4g to %.4g %s)",
+                                        gap ? "wherever a solution exists" : "over the whole curve",
+                                        name, from.value * scale, to.value * scale, unit);
+            else if (len < sizeof text && !a)
+                len += (size_t)snprintf(text + len, sizeof text - len, "valid for %s <= %.4g %s (%s)",
+                                        name, to.value * scale, unit, valid_phrase(to.by));
+            else if (len < sizeof text && !b)
+                len += (size_t)snprintf(text + len, sizeof text - len, "valid for %s >= %.4g %s (%s)",
+                                        name, from.value * scale, unit, valid_phrase(from.by));
+            else if (len < sizeof text)
+                len += (size_t)snprintf(text + len, sizeof text - len,
+                                        "valid for %.4g <= %s <= %.4g %s (%s; %s)",
+                                        from.value * scale, name, to.value * scale, unit,
+                                        valid_phrase(from.by), valid_phrase(to.by));
+        }
+        prev = pt;
+    }
+    if (nvalid == 0)
+        snprintf(text, sizeof text, "%s", ninvalid ? "not valid anywhere on the curve"
+                                                   : "no solution on the curve");
+    flag(o, "all", nvalid > 0 && ninvalid == 0);
+    flag(o, "none", nvalid == 0);
+    json_object_set_new(o, "intervals", iv);
+    str(o, "text", text);
+    return o;
+}
+
 static json_t *characteristics(const usm_report_data *d)
 {
     static const char *const cname[REPORT_NCURVES] = {"f [Hz]", "T [N m]", "m0 [N m]"};
+    static const char *const vname[REPORT_NCURVES] = {"f", "T", "m0"};
+    static const char *const vunit[REPORT_NCURVES] = {"kHz", "N mm", "mN m"};
+    static const double vscale[REPORT_NCURVES] = {1e-3, 1e3, 1e3};
     json_t *o = json_object(), *curves = json_array(), *loc = json_object();
     integer(o, "points_min", d->curve[REPORT_CURVE_T][REPORT_4DOF].points);
     integer(o, "points_max", d->curve[REPORT_CURVE_F][0].points);
@@ -324,6 +434,7 @@ static json_t *characteristics(const usm_report_data *d)
                 json_array_append_new(ev, eo);
             }
             json_object_set_new(cv, "events", ev);
+            json_object_set_new(cv, "valid", valid_ranges(sw, vname[c], vunit[c], vscale[c]));
             json_array_append_new(curves, cv);
         }
     json_object_set_new(o, "curves", curves);
@@ -405,9 +516,9 @@ static json_t *variants(const usm_report_data *d)
 
 /* The datasheet's key numbers on the grid of the load curve (sweep over T):
  * maxima of efficiency and output power, where they lie, the no-load speed.
- * stick_only: the maxima only where stick is admissible (the stick model
- * continued beyond its stick limit no longer describes the motor). */
-static json_t *datasheet_model(const usm_report_curve *cv, int stick_only)
+ * The maxima only where the model describes the motor (validity: the stick
+ * model continued beyond its stick limit no longer does). */
+static json_t *datasheet_model(const usm_report_curve *cv)
 {
     json_t *o = json_object();
     const size_t n = cv->sweep ? usm_sweep_count(cv->sweep) : 0;
@@ -420,7 +531,7 @@ static json_t *datasheet_model(const usm_report_curve *cv, int stick_only)
         ++converged;
         if (!first)
             first = pt;
-        if (stick_only && !pt->sol.stick_admissible)
+        if (pt->sol.validity != USM_VALID)
             continue;
         if (isfinite(pt->sol.efficiency) &&
             (!best_eta || pt->sol.efficiency > best_eta->sol.efficiency))
@@ -444,6 +555,7 @@ static json_t *datasheet_model(const usm_report_curve *cv, int stick_only)
     num(o, "power_out_max_T", best_p ? best_p->value : NAN);
     num(o, "power_out_max_T_Nmm", best_p ? best_p->value * 1e3 : NAN);
     num(o, "power_out_max_efficiency", best_p ? best_p->sol.efficiency : NAN);
+    json_object_set_new(o, "valid", valid_ranges(cv->sweep, "T", "N mm", 1e3));
     return o;
 }
 
@@ -451,7 +563,7 @@ static json_t *datasheet(const usm_report_data *d)
 {
     json_t *o = json_object();
     for (int k = 0; k < REPORT_NMODELS; ++k)
-        json_object_set_new(o, tag[k], datasheet_model(&d->curve[REPORT_CURVE_T][k], k == REPORT_3DOF));
+        json_object_set_new(o, tag[k], datasheet_model(&d->curve[REPORT_CURVE_T][k]));
     return o;
 }
 
@@ -561,6 +673,9 @@ static json_t *nonideal_curve(const usm_report_nonideal_curve *cv, int j)
     num(o, "ripple_at_end", cv->pt[cv->points - 1].ripple);
     json_object_set_new(o, "contact_open", nonideal_root(&cv->contact, j));
     json_object_set_new(o, "stability_loss", nonideal_root(&cv->stability, j));
+    /* valid_to: found = 0 when the model describes the motor over the whole curve;
+     * note: stick_loss, contact_loss (events), or the first invalid point's reason */
+    json_object_set_new(o, "valid_to", nonideal_root(&cv->valid_to, j));
     flag(t, "found", cv->tolerable_found);
     num(t, "value", cv->tolerable_found ? cv->tolerable : NAN);
     num(t, "display", cv->tolerable_found ? imp_display(j, cv->tolerable) : NAN);

@@ -40,6 +40,7 @@ void usm_report_map_cell_copy(const usm_map_cell *in, usm_report_map_cell *c)
     c->rotor_speed = pt->exists ? pt->sol.rotor_speed : NAN;
     c->mu_used = pt->exists ? pt->sol.mu_used : NAN;
     c->stick_admissible = pt->exists && pt->sol.stick_admissible;
+    c->validity = pt->exists ? pt->sol.validity : USM_VALID;
     c->power_in = pt->exists ? pt->sol.power_in : NAN;
     c->power_out = pt->exists ? pt->sol.power_out : NAN;
     c->power_damping = pt->exists ? pt->sol.power_damping : NAN;
@@ -174,7 +175,8 @@ int usm_report_map_write_csv(const usm_report_map *map, FILE *out)
                              {"mu_used", "1"},      {"stick_admissible", NULL},
                              {"power_in", "W"},     {"power_out", "W"},
                              {"power_damping", "W"}, {"power_slip", "W"},
-                             {"efficiency", "1"}};
+                             {"efficiency", "1"},   {"valid", NULL},
+                             {"invalid_reason", NULL}};
     axis_header(map, cols);
     usm_csv_header(out, cols, (int)(sizeof cols / sizeof cols[0]));
     for (int j = 0; j < ny; ++j)
@@ -203,6 +205,7 @@ int usm_report_map_write_csv(const usm_report_map *map, FILE *out)
             usm_csv_num(out, 0, c->power_damping);
             usm_csv_num(out, 0, c->power_slip);
             usm_csv_num(out, 0, c->efficiency);
+            usm_csv_validity(out, c->exists, c->validity);
             fputc('\n', out);
         }
     return ferror(out) ? -1 : 0;
@@ -270,6 +273,11 @@ json_t *usm_report_map_json(const usm_report_map *map)
             usm_json_put(pt, "power_damping", usm_json_real(c->power_damping), &ok);
             usm_json_put(pt, "power_slip", usm_json_real(c->power_slip), &ok);
             usm_json_put(pt, "efficiency", usm_json_real(c->efficiency), &ok); /* null: power_in <= 0 */
+            usm_json_put(pt, "valid", json_boolean(c->validity == USM_VALID), &ok);
+            usm_json_put(pt, "invalid_reason",
+                         c->validity == USM_VALID ? json_null()
+                                                  : json_string(usm_validity_name(c->validity)),
+                         &ok);
         }
         if (c->floquet_ok) {
             usm_json_put(pt, "max_modulus", usm_json_real(c->max_modulus), &ok);

@@ -117,6 +117,38 @@ static void root_from_sweep(const usm_periodic_sweep *sw, const usm_report_nonid
              cv->from, cv->to);
 }
 
+/* How far the curve is valid (usm_periodic_result.validity, from 0): the
+ * first grid interval from a valid to an invalid orbit, and there the sweep's
+ * first stick_loss or contact_loss event (else the last valid grid value). */
+static void valid_from_sweep(const usm_periodic_sweep *sw, const usm_report_nonideal_curve *cv,
+                             usm_report_nonideal_root *out)
+{
+    memset(out, 0, sizeof *out);
+    for (int i = 0; i < cv->points; ++i) {
+        const usm_report_nonideal_point *pt = &cv->pt[i];
+        if (!pt->converged || pt->validity == USM_VALID)
+            continue;
+        out->found = 1;
+        out->value = pt->value;
+        snprintf(out->note, USM_MSG_LEN, "%s", usm_validity_name(pt->validity));
+        if (i == 0 || !cv->pt[i - 1].converged)
+            return;
+        const double a = cv->pt[i - 1].value, b = pt->value;
+        out->value = a;
+        for (size_t q = 0; q < usm_periodic_sweep_event_count(sw); ++q) {
+            const usm_periodic_event *e = usm_periodic_sweep_event_at(sw, q);
+            if ((e->type == USM_PEVENT_STICK_LOSS || e->type == USM_PEVENT_CONTACT_LOSS) &&
+                e->value >= fmin(a, b) && e->value <= fmax(a, b)) {
+                out->value = e->value;
+                snprintf(out->note, USM_MSG_LEN, "%s", e->type == USM_PEVENT_STICK_LOSS
+                                                           ? "stick_loss" : "contact_loss");
+                return;
+            }
+        }
+        return;
+    }
+}
+
 /* Task i: model i / REPORT_NIMP, imperfection i % REPORT_NIMP. */
 static int curve_task(void *ctx, void *state, size_t i)
 {
@@ -147,6 +179,7 @@ static int curve_task(void *ctx, void *state, size_t i)
         if (!pt->converged) {
             pt->speed_mean = pt->ripple = pt->F_n_min = pt->F_n_max = NAN;
             pt->max_modulus = pt->theta_h2 = NAN;
+            pt->validity = USM_VALID;
             continue;
         }
         pt->speed_mean = sp->orbit.rotor_speed_mean;
@@ -155,9 +188,11 @@ static int curve_task(void *ctx, void *state, size_t i)
         pt->F_n_max = sp->orbit.F_n_max;
         pt->max_modulus = sp->orbit.floquet.max_modulus;
         pt->theta_h2 = sp->orbit.theta_harmonic_2;
+        pt->validity = sp->orbit.validity;
     }
     root_from_sweep(sw, cv, 0, &cv->contact);
     root_from_sweep(sw, cv, 1, &cv->stability);
+    valid_from_sweep(sw, cv, &cv->valid_to);
     cv->tolerable_found = cv->contact.found || cv->stability.found;
     if (cv->contact.found && (!cv->stability.found || cv->contact.value <= cv->stability.value)) {
         cv->tolerable = cv->contact.value;

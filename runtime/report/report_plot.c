@@ -105,7 +105,7 @@ static void write_curve_csv(FILE *f, const usm_report_curve *cv)
         {cv->over, over ? over->unit : "1"}, {"converged", NULL}, {"rotor_speed", "1/s"},
         {"speed", "1/s"}, {"theta", "rad"}, {"alpha", "rad"}, {"beta", "rad"}, {"F_n", "N"},
         {"F_t", "N"}, {"mu_used", "1"}, {"stick_admissible", NULL}, {"v_rel", "m/s"},
-        {"max_modulus", "1"}, {"stable", NULL}};
+        {"max_modulus", "1"}, {"stable", NULL}, {"valid", NULL}, {"invalid_reason", NULL}};
     usm_csv_header(f, cols, (int)(sizeof cols / sizeof cols[0]));
     for (size_t i = 0; i < n; ++i) {
         const usm_sweep_point *pt = usm_sweep_point_at(cv->sweep, i);
@@ -125,6 +125,7 @@ static void write_curve_csv(FILE *f, const usm_report_curve *cv)
         usm_csv_num(f, 0, ok ? s->v_rel : NAN);
         usm_csv_num(f, 0, fl ? pt->floquet.max_modulus : NAN);
         usm_csv_bool(f, 0, fl && pt->floquet.stable);
+        usm_csv_validity(f, ok, s->validity);
         fputc('\n', f);
     }
 }
@@ -137,7 +138,7 @@ static void write_datasheet_csv(FILE *f, const usm_report_curve *cv)
         {"T", "N m"},          {"converged", NULL},    {"speed", "1/s"},
         {"power_in", "W"},     {"power_out", "W"},     {"power_damping", "W"},
         {"power_slip", "W"},   {"efficiency", "1"},    {"stick_admissible", NULL},
-        {"stable", NULL}};
+        {"stable", NULL},      {"valid", NULL},        {"invalid_reason", NULL}};
     usm_csv_header(f, cols, (int)(sizeof cols / sizeof cols[0]));
     for (size_t i = 0; i < n; ++i) {
         const usm_sweep_point *pt = usm_sweep_point_at(cv->sweep, i);
@@ -153,6 +154,7 @@ static void write_datasheet_csv(FILE *f, const usm_report_curve *cv)
         usm_csv_num(f, 0, ok ? s->efficiency : NAN);
         usm_csv_bool(f, 0, ok && s->stick_admissible);
         usm_csv_bool(f, 0, ok && pt->has_floquet && pt->floquet.stable);
+        usm_csv_validity(f, ok, s->validity);
         fputc('\n', f);
     }
 }
@@ -263,7 +265,7 @@ static void write_nonideal_curve_csv(FILE *f, const usm_report_nonideal_curve *c
          j == REPORT_IMP_PHASE ? "deg" : "%"},
         {"converged", NULL}, {"rotor_speed_mean", "1/s"}, {"rotor_speed_ripple", "1/s"},
         {"F_n_min", "N"}, {"F_n_max", "N"}, {"max_modulus", "1"}, {"theta_harmonic_2", "rad"},
-        {"contact_open", NULL}};
+        {"contact_open", NULL}, {"valid", NULL}, {"invalid_reason", NULL}};
     usm_csv_header(f, cols, (int)(sizeof cols / sizeof cols[0]));
     for (int q = 0; q < cv->points; ++q) {
         const usm_report_nonideal_point *pt = &cv->pt[q];
@@ -277,6 +279,7 @@ static void write_nonideal_curve_csv(FILE *f, const usm_report_nonideal_curve *c
         usm_csv_num(f, 0, pt->max_modulus);
         usm_csv_num(f, 0, pt->theta_h2);
         usm_csv_bool(f, 0, pt->converged && pt->F_n_min < 0);
+        usm_csv_validity(f, pt->converged, pt->validity);
         fputc('\n', f);
     }
 }
@@ -315,11 +318,14 @@ static void write_nonideal_values_csv(FILE *f, const usm_report_nonideal *ni)
  * one period (the samples and, closing the curve, the state at t0 + T, which
  * is the first sample's with phi advanced by 2 pi), its tilt relative to the
  * ideal motor's. */
-static void write_orbit_csv(FILE *f, const usm_report_nonideal *ni)
+/* valid, invalid_reason per sample: the contact closed and, the 3-DOF model
+ * being a stick model, |F_t| <= mu0 F_n at that instant. */
+static void write_orbit_csv(FILE *f, const usm_report_nonideal *ni, double mu0)
 {
     static const usm_csv_column cols[] = {
         {"t", "s"}, {"t_over_T", "1"}, {"phi", "rad"}, {"theta", "rad"}, {"rho_X", "rad"},
-        {"rho_Y", "rad"}, {"angle", "deg"}, {"radial", "%"}, {"F_n", "N"}};
+        {"rho_Y", "rad"}, {"angle", "deg"}, {"radial", "%"}, {"F_n", "N"},
+        {"valid", NULL}, {"invalid_reason", NULL}};
     const int nx = ni->orbit_nx;
     const double th0 = ni->theta_ideal[REPORT_3DOF];
     usm_csv_header(f, cols, (int)(sizeof cols / sizeof cols[0]));
@@ -343,6 +349,9 @@ static void write_orbit_csv(FILE *f, const usm_report_nonideal *ni)
         usm_csv_num(f, 0, ang);
         usm_csv_num(f, 0, (th / th0 - 1) * 100);
         usm_csv_num(f, 0, row[1 + nx]);
+        usm_csv_validity(f, 1, !(row[1 + nx] > 0)                       ? USM_INVALID_CONTACT_OPEN
+                               : fabs(row[2 + nx]) > mu0 * row[1 + nx] ? USM_INVALID_STICK
+                                                                       : USM_VALID);
         fputc('\n', f);
     }
 }
@@ -416,7 +425,7 @@ static int write_data_file(const usm_report_data *d, const char *dir, const char
     case DATA_ELASTICITY: write_elasticity_csv(f, d, k, c); break;
     case DATA_NONIDEAL: write_nonideal_curve_csv(f, &d->nonideal.curve[k][c], c); break;
     case DATA_NONIDEAL_VALUES: write_nonideal_values_csv(f, &d->nonideal); break;
-    case DATA_ORBIT: write_orbit_csv(f, &d->nonideal); break;
+    case DATA_ORBIT: write_orbit_csv(f, &d->nonideal, d->params.mu0); break;
     case DATA_CIRCLE: write_circle_csv(f, &d->nonideal); break;
     }
     return usm_report_close(&out, msg);

@@ -546,6 +546,9 @@ static void orbit_outputs(usm_periodic *w, usm_periodic_result *r)
     r->theta_max = exact_extreme(w, Q_THETA, 1.0);
     r->theta_harmonic_2 = harmonic(th, nc, 2);
     r->F_n_harmonic_2 = harmonic(Fn, nc, 2);
+    r->validity = open || !(r->F_n_min > 0.0) ? USM_INVALID_CONTACT_OPEN
+                  : !w->m->slip && r->friction_needed_max > w->p.mu0 ? USM_INVALID_STICK
+                                                                     : USM_VALID;
 }
 
 /* ---- the solver ------------------------------------------------------------------ */

@@ -693,6 +693,16 @@ void usm_steady_evaluate(const usm_model *m, const usm_params *p, usm_steady_sol
     sol->power_damping = pw[USM_POWER_POWER_DAMPING];
     sol->power_slip = pw[USM_POWER_POWER_SLIP];
     sol->efficiency = sol->power_in > 0 ? sol->power_out / sol->power_in : NAN;
+    sol->validity = !(sol->F_n > 0)                        ? USM_INVALID_CONTACT_OPEN
+                    : !m->slip && !sol->stick_admissible ? USM_INVALID_STICK
+                                                           : USM_VALID;
+}
+
+const char *usm_validity_name(usm_validity v)
+{
+    return v == USM_INVALID_CONTACT_OPEN ? "contact_open"
+           : v == USM_INVALID_STICK      ? "stick_not_admissible"
+                                         : "";
 }
 
 /* Same root: the same tilt and the same rotor speed (the slip model's third

@@ -118,6 +118,22 @@ int usm_params_check_ideal(const usm_params *p, char msg[USM_MSG_LEN]);
 
 /* ---- stationary solution --------------------------------------------------- */
 
+/* Whether the model describes the motor at a solution (docs/library.md,
+ * "Validity"): the contact must be closed (F_n > 0; on a periodic orbit
+ * F_n_min > 0), and a stick model (m->slip == 0) needs the stick to be
+ * admissible (|F_t| <= mu0 F_n; on an orbit friction_needed_max <= mu0).
+ * Past these limits the equations still have solutions, but the motor does
+ * something else (the rotor lifts off, the contact slips). */
+typedef enum {
+    USM_VALID = 0,
+    USM_INVALID_CONTACT_OPEN = 1,  /* F_n <= 0 (F_n_min <= 0 on an orbit) */
+    USM_INVALID_STICK = 2          /* stick model past the stick limit */
+} usm_validity;
+
+/* "" for USM_VALID, "contact_open", "stick_not_admissible" (the JSON
+ * invalid_reason and the CSV column of that name). */
+const char *usm_validity_name(usm_validity v);
+
 /* One stationary solution: the unknowns and the quantities derived from them. */
 typedef struct usm_steady_solution {
     double u[USM_MAX_NU];  /* the unknowns (theta, alpha[, phidot_R]) */
@@ -141,6 +157,8 @@ typedef struct usm_steady_solution {
     double power_slip;     /* F_t * v_rel (slip models; 0 in the stick model) */
     double efficiency;     /* power_out / power_in; NaN when power_in <= 0 (no power
                               taken in: the ratio means nothing) */
+    usm_validity validity; /* USM_VALID when the model describes the motor here:
+                              F_n > 0 and, for stick models, stick_admissible */
 } usm_steady_solution;
 
 /* Where and how usm_steady_solve searches (usm_steady_options_default). */

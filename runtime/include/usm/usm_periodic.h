@@ -68,6 +68,8 @@ typedef struct usm_periodic_result {
     double F_n_harmonic_2;      /* amplitude of the 2 Omega component of F_n [N] */
     int contact_open;           /* F_n_min < 0: the bilateral contact of the model is
                                    then not valid (the rotor would lift off) */
+    usm_validity validity;      /* USM_VALID: F_n_min > 0 and, for stick models,
+                                   friction_needed_max <= mu0 (usm.h) */
 } usm_periodic_result;
 
 /* Shooting solver of one model (opaque). */

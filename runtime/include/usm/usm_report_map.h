@@ -41,6 +41,7 @@ typedef struct usm_report_map_cell {
     int stable;
     double theta, rotor_speed, mu_used; /* primary root (NaN unless exists) */
     int stick_admissible;
+    usm_validity validity; /* of the primary root (USM_VALID unless exists) */
     /* power of the primary root [W] and power_out / power_in (NaN unless
      * exists; efficiency NaN also when power_in <= 0) */
     double power_in, power_out, power_damping, power_slip, efficiency;
