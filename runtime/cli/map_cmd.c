@@ -85,6 +85,8 @@ static int parse(map_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
     static const char *const dbl_names[] = {"--x-from", "--x-to", "--y-from", "--y-to", "--t0"};
     double *dbl_dest[] = {&a->xfrom, &a->xto, &a->yfrom, &a->yto, &a->t0};
     int *dbl_flag[] = {&a->have_xfrom, &a->have_xto, &a->have_yfrom, &a->have_yto, NULL};
+    /* the ranges are parsed once --x and --y are known, in their units */
+    const char *dbl_text[sizeof dbl_names / sizeof dbl_names[0]] = {NULL};
     memset(a, 0, sizeof *a);
     cli_common_init(&a->common);
     usm_floquet_options_default(&a->floquet);
@@ -113,8 +115,9 @@ static int parse(map_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
             if ((r = cli_option_value(argc, argv, &i, dbl_names[k], &value, msg)) == CLI_OPT_ERROR)
                 return USM_EINPUT;
             if (r == CLI_OPT_TAKEN) {
-                if (cli_parse_double(dbl_names[k], value, dbl_dest[k], msg) != USM_OK)
+                if (!dbl_flag[k] && cli_parse_quantity(dbl_names[k], "s", value, dbl_dest[k], msg))
                     return USM_EINPUT;
+                dbl_text[k] = value;
                 if (dbl_flag[k])
                     *dbl_flag[k] = 1;
                 done = 1;
@@ -169,6 +172,15 @@ static int parse(map_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
         else
             cli_msg(msg, "%s: unexpected argument (see usm map --help)", argv[i]);
         return USM_EINPUT;
+    }
+    for (int k = 0; k < 4; ++k) {
+        const char *name = k < 2 ? a->xname : a->yname;
+        const usm_param_info *axis =
+            usm_params_find(name ? name : usm_param_table[k < 2 ? USM_P_f : USM_P_T].name);
+        if (dbl_text[k] &&
+            cli_parse_quantity(dbl_names[k], axis ? axis->unit : NULL, dbl_text[k], dbl_dest[k],
+                               msg) != USM_OK)
+            return USM_EINPUT;
     }
     return cli_common_finish(&a->common, msg);
 }

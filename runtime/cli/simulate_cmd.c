@@ -143,7 +143,10 @@ static int parse(sim_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
         }
         if (which >= 0) {
             double v;
-            if (cli_parse_double(num_opt[which], sv, &v, msg) != USM_OK)
+            /* the units of --duration, --rate, --tilt0, --theta-limit, --speed-limit */
+            static const char *const num_unit[] = {"s", "Hz", "rad", NULL, NULL,
+                                                   "rad", "1/s", NULL, NULL, NULL};
+            if (cli_parse_quantity(num_opt[which], num_unit[which], sv, &v, msg) != USM_OK)
                 return USM_EINPUT;
             if (which < 8)
                 *num[which] = v;

@@ -99,7 +99,7 @@ static int parse(steady_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
         if ((r = cli_option_value(argc, argv, &i, "--t0", &value, msg)) == CLI_OPT_ERROR)
             return USM_EINPUT;
         if (r == CLI_OPT_TAKEN) {
-            if (cli_parse_double("--t0", value, &a->t0, msg) != USM_OK)
+            if (cli_parse_quantity("--t0", "s", value, &a->t0, msg) != USM_OK)
                 return USM_EINPUT;
             continue;
         }

@@ -16,6 +16,7 @@
 
 #include "io/data_dir.h"
 #include "io/io_msg.h"
+#include "io/json_out.h"
 #include "report_dir.h"
 #include "report_internal.h"
 #include "io/template.h"
@@ -158,7 +159,7 @@ static int write_output(json_t *data, const char *md, const char *dir, const cha
     }
     fchmod(fd, 0644);
     if (strcmp(name, "report.json") == 0)
-        bad = json_dumpf(data, f, JSON_INDENT(2) | JSON_REAL_PRECISION(17)) != 0 ||
+        bad = usm_json_dumpf(data, f, JSON_INDENT(2)) != 0 ||
               fputc('\n', f) == EOF;
     else if (strcmp(name, "report.html") == 0)
         bad = usm_report_html_write(md, dir, f) != 0;
