@@ -25,7 +25,8 @@ static void usage(FILE *out)
     fprintf(out,
             "usage: usm map [--x NAME --x-from A --x-to B] [--x-points N]\n"
             "               [--y NAME --y-from A --y-to B] [--y-points N]\n"
-            "               [--model 3dof|4dof] [--params FILE.json] [--set NAME=VALUE]...\n"
+            "               [--model 3dof|4dof] [--variant NAME] [--params FILE.json]\n"
+            "               [--set NAME=VALUE]...\n"
             "               [--t0 S] [--floquet-method NAME] [--rtol R] [--threads N] [--json]\n"
             "               [--out FILE] [--plot PREFIX] [--force]\n"
             "\n"
@@ -38,7 +39,8 @@ static void usage(FILE *out)
     cli_common_usage(out);
     fprintf(out,
             "  --x NAME, --y NAME  the parameters of the two axes (see usm steady --help)\n"
-            "  --x-from A, --x-to B, --y-from A, --y-to B   axis ranges\n"
+            "  --x-from A, --x-to B, --y-from A, --y-to B   axis ranges (SI, or with a\n"
+            "                      unit: --x-from 30kHz, --y-to 8mNm)\n"
             "  --x-points N, --y-points N   grid points per axis (default 33, at least 2)\n"
             "  --t0 S              start of the Floquet period [s] (default 0, the paper's)\n");
     cli_floquet_usage(out);

@@ -25,7 +25,8 @@
 static void usage(FILE *out)
 {
     fprintf(out,
-            "usage: usm simulate [--model 3dof|4dof] [--params FILE.json] [--set NAME=VALUE]...\n"
+            "usage: usm simulate [--model 3dof|4dof] [--variant NAME] [--params FILE.json]\n"
+            "                    [--set NAME=VALUE]...\n"
             "                    --duration S [--from rest|stationary|FILE] [--out FILE.csv]\n"
             "                    [--force] [--rate HZ] [--tilt0 RAD] [--rtol R] [--plot PREFIX]\n"
             "                    [--json]\n"

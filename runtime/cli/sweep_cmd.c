@@ -21,11 +21,14 @@ static void usage(FILE *out)
 {
     fprintf(out,
             "usage: usm sweep --over NAME --from A --to B [--points N]\n"
-            "                 [--model 3dof|4dof] [--params FILE.json] [--set NAME=VALUE]...\n"
+            "                 [--model 3dof|4dof] [--variant NAME] [--params FILE.json]\n"
+            "                 [--set NAME=VALUE]...\n"
             "                 [--t0 S] [--floquet-method NAME] [--rtol R] [--threads N]\n"
             "                 [--no-floquet] [--json] [--plot PREFIX [--force]]\n"
             "                 [--extremum Q]... [--crossing Q=V]...\n"
-            "       usm sweep --periodic --over NAME --from A --to B [--points N] [--json]\n"
+            "       usm sweep --periodic --over NAME --from A --to B [--points N]\n"
+            "                 [--model 3dof|4dof] [--variant NAME] [--params FILE.json]\n"
+            "                 [--set NAME=VALUE]... [--json]\n"
             "\n"
             "Follow the stationary solution of smallest tilt at A through the parameter\n"
             "range A..B by pseudo-arclength continuation and report it at N equally spaced\n"
@@ -41,7 +44,8 @@ static void usage(FILE *out)
     cli_common_usage(out);
     fprintf(out,
             "  --over NAME         the parameter to sweep (any of usm steady --help)\n"
-            "  --from A, --to B    the range, in the parameter's unit (A != B; B < A sweeps down)\n"
+            "  --from A, --to B    the range, in the parameter's unit or with a unit: 36kHz\n"
+            "                      (A != B; B < A sweeps down)\n"
             "  --points N          grid values, 2 to 1000000 (default 101)\n"
             "  --t0 S              start of the Floquet period [s] (default 0, the paper's)\n"
             "  --threads N         worker threads for the multipliers (default 2)\n"

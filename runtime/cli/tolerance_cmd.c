@@ -21,6 +21,7 @@ static void usage(FILE *out)
     fputs("usage: usm tolerance --samples N --vary NAME=DIST [--vary ...]\n"
           "         [--spec OUTPUT>=X | --spec OUTPUT<=X]... [--seed S] [--threads N]\n"
           "         [--model M] [--variant V] [--params F] [--set N=V]...\n"
+          "         [--floquet-method NAME] [--rtol R]\n"
           "         [--out DIR [--force]] [--checkpoint FILE] [--json]\n\n"
           "Monte Carlo tolerance study: at N parameter points drawn around the nominal\n"
           "design, the stationary solution and its Floquet multipliers; the yield (exists,\n"
