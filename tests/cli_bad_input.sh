@@ -39,7 +39,7 @@ expect_bad '--set m0' 'not a number' steady --set 'm0= 1'
 expect_bad '--set m0' 'not a number' steady --set m0=0x
 expect_bad '--set m0' 'expected NAME=VALUE' steady --set m0
 expect_bad '--set' 'expected NAME=VALUE' steady --set =1
-expect_bad 'm0' 'kHz is not a unit of a value in \[N m\] (accepted: Nm, mNm, Nmm, uNm)' steady --params "$tmp/string.json"
+expect_bad 'm0' 'kHz is not a unit of a value in \[N m\] \(accepted: Nm, mNm, Nmm, uNm\)' steady --params "$tmp/string.json"
 expect_bad 'm0' 'expected a number' steady --params "$tmp/bool.json"
 expect_bad 'm0' 'expected a number' steady --params "$tmp/null.json"
 expect_bad 'm0' 'expected a number' steady --params "$tmp/array_value.json"
