@@ -34,6 +34,10 @@ expect_bad '--from' 'accepted: Hz, kHz, MHz' sweep --over f --from 36mN --to 37k
 expect_bad '--x-to' 'accepted: Nm, mNm, Nmm, uNm' map --x T --x-from 0 --x-to 8kHz --y f --y-from 30kHz --y-to 40kHz
 expect_bad '--vary' 'accepted: N, kN, mN, uN' optimize --objective rotor_speed --vary F0=300mN:500Hz
 expect_bad '--t0' 'accepted: s, ms, us' steady --t0 5Hz
+expect_bad '--vary F0' 'accepted: N, kN, mN, uN' tolerance --samples 10 --vary F0=uniform:350mN:450kHz
+if expect_rc 0 tolerance --samples 20 --vary F0=uniform:350mN:450mN --vary T=normal:0.01mNm --json; then
+    py "assert o['samples'] == 20, o"
+fi
 
 # ---- JSON: the shortest numbers; decimal grids as typed --------------------------
 if expect_rc 0 steady --json; then
