@@ -50,6 +50,15 @@ got = [q['T'] for q in o['points']]
 assert got == want, got"
 fi
 
+if expect_rc 0 map --x T --x-from 0.001 --x-to 0.005 --x-points 9 --y f --y-from 36.5kHz --y-to 37kHz --y-points 2 --json; then
+    py "xs = sorted({q['x'] for q in o['points']})
+assert xs == [0.001, 0.0015, 0.002, 0.0025, 0.003, 0.0035, 0.004, 0.0045, 0.005], xs"
+fi
+if expect_rc 0 sweep --variant imperfect --over phase_error --from 0.001 --to 0.005 --points 9 --json; then
+    py "got = [q['phase_error'] for q in o['points']]
+assert got == [0.001, 0.0015, 0.002, 0.0025, 0.003, 0.0035, 0.004, 0.0045, 0.005], got"
+fi
+
 # ---- help: the usage lines ----------------------------------------------------------
 for cmd in steady sweep map simulate; do
     if expect_rc 0 "$cmd" --help; then
