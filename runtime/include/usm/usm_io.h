@@ -69,10 +69,12 @@ int usm_parse_number(const char *field, const char *text, size_t len, double *ou
 int usm_parse_quantity(const char *field, const char *unit, const char *text, size_t len,
                        double *out, char msg[USM_IO_MSG_LEN]);
 
-/* The units table: rows 0 .. usm_unit_count() - 1, each the SI unit of its
+/* The number of rows of the units table (for usm_unit_at). */
+int usm_unit_count(void);
+
+/* Row k (0 .. usm_unit_count() - 1) of the units table: the SI unit of its
  * dimension (`si`), the unit as typed (`name`) and its value in SI (`scale`;
  * any pointer may be NULL).  USM_EINPUT for a row out of range. */
-int usm_unit_count(void);
 int usm_unit_at(int k, const char **si, const char **name, double *scale);
 
 /* The units accepted for a value in SI unit `si`, ", "-separated, in buf
