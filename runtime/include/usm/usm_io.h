@@ -83,13 +83,15 @@ int usm_unit_at(int k, const char **si, const char **name, double *scale);
 int usm_units_accepted(const char *si, char *buf, size_t len);
 
 /* Set the parameters named in the parameter file at `path`, a JSON object
- * {"NAME": number, ...}, in *p (others keep their value).  USM_OK, or
- * USM_EINPUT with "PATH[:LINE:COLUMN]: reason" in msg. */
+ * {"NAME": number, ...}, in *p (others keep their value).  A number is in
+ * the parameter's SI unit; a string is a value with a unit ("f": "37.5 kHz",
+ * usm_parse_quantity).  USM_OK, or USM_EINPUT with "PATH[:LINE:COLUMN]:
+ * reason" in msg. */
 int usm_params_read_file(const char *path, usm_params *p, char msg[USM_IO_MSG_LEN]);
 
 /* The same on the `len` bytes at `text` (which need not end in NUL); `path`
  * names them in messages.  *p is changed only when the whole text is good.
- * Numbers go through usm_parse_number(). */
+ * Numbers go through usm_parse_number(), strings through usm_parse_quantity(). */
 int usm_params_parse_text(const char *path, const char *text, size_t len, usm_params *p,
                           char msg[USM_IO_MSG_LEN]);
 
