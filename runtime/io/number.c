@@ -192,31 +192,29 @@ int usm_parse_quantity(const char *field, const char *unit, const char *text, si
                        "(accepted: %s)", field, len > 200 ? 200 : (int)len, text, unit, known);
         return USM_EINPUT;
     }
-    /* a decimal number is scaled by its exponent (400mN reads as 400e-3, the
-     * double nearest 0.4); hexadecimal ones by multiplication */
+    /* the number as usm_parse_number takes it (its messages), then a decimal
+     * one scaled in its exponent (400mN reads as 400e-3, the double nearest
+     * 0.4); a hexadecimal one by multiplication */
     double v;
     const unit_row *u = &unit_table[row];
-    int decimal = memchr(text, 'x', numlen) == NULL && memchr(text, 'X', numlen) == NULL;
+    if (usm_parse_number(field, text, numlen, &v, msg) != USM_OK)
+        return USM_EINPUT;
+    const int decimal = memchr(text, 'x', numlen) == NULL && memchr(text, 'X', numlen) == NULL;
     if (u->exp10 != 0 && decimal) {
         char scaled[128];
         const char *e = NULL;
-        long ex = 0;
         for (size_t k = 0; k < numlen; ++k)
             if (text[k] == 'e' || text[k] == 'E')
                 e = text + k;
-        if (e)
-            ex = strtol(e + 1, NULL, 10);
-        size_t mant = e ? (size_t)(e - text) : numlen;
-        if (mant > 80 || ex > 100000 || ex < -100000)
-            return usm_parse_number(field, text, numlen, &v, msg) != USM_OK
-                       ? USM_EINPUT
-                       : (*out = v * pow(10.0, u->exp10) * u->factor, USM_OK);
-        int n = snprintf(scaled, sizeof scaled, "%.*se%ld", (int)mant, text, ex + u->exp10);
-        if (usm_parse_number(field, scaled, (size_t)n, &v, msg) != USM_OK)
-            return USM_EINPUT;
+        const long ex = e ? strtol(e + 1, NULL, 10) : 0;
+        const size_t mant = e ? (size_t)(e - text) : numlen;
+        if (mant <= 80 && ex > -100000 && ex < 100000) {
+            snprintf(scaled, sizeof scaled, "%.*se%ld", (int)mant, text, ex + u->exp10);
+            v = strtod(scaled, NULL);
+        } else {
+            v *= pow(10.0, u->exp10);
+        }
     } else {
-        if (usm_parse_number(field, text, numlen, &v, msg) != USM_OK)
-            return USM_EINPUT;
         v *= pow(10.0, u->exp10);
     }
     v *= u->factor;
