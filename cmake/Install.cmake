@@ -148,3 +148,7 @@ install(CODE "
   set(USM_PC_INSTALL_PREFIX \"\${CMAKE_INSTALL_PREFIX}\")
   configure_file(\"${PROJECT_BINARY_DIR}/usm.pc.in\" \"${PROJECT_BINARY_DIR}/usm.pc\" @ONLY)")
 install(FILES ${PROJECT_BINARY_DIR}/usm.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)
+# How to link the library, and the example it describes (share/doc/usm)
+install(FILES ${PROJECT_SOURCE_DIR}/docs/library.md DESTINATION ${CMAKE_INSTALL_DOCDIR})
+install(FILES ${PROJECT_SOURCE_DIR}/examples/usm_example.c ${PROJECT_SOURCE_DIR}/examples/Makefile
+  ${PROJECT_SOURCE_DIR}/examples/CMakeLists.txt DESTINATION ${CMAKE_INSTALL_DOCDIR}/examples)

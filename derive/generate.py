@@ -99,10 +99,20 @@ def model_digest(model, code):
                                   emit_contracts.model_couplings(spec)], sort_keys=True))
 
 
+class Refused(Exception):
+    """The derivation refuses a model's assumptions: one line for the user,
+    naming the model and the assumptions (no traceback)."""
+
+
 def _model_files(job):
     name, base, variant, spec, description, stamp = job
     t0 = time.perf_counter()
-    model = derive_model(name, spec)
+    try:
+        model = derive_model(name, spec)
+    except (ValueError, RuntimeError, KeyError) as e:
+        changes = variants.VARIANTS.get(variant, ({},))[0]
+        said = ", ".join(f"{k}={v}" for k, v in changes.items()) or "the paper's"
+        raise Refused(f"model {name} (variant {variant}: {said}): {e}") from None
     t1 = time.perf_counter()
     files = emit_model.model_files(model, description, stamp, base, variant)
     # the document as data; rendered by render_docs() once every model is known
@@ -269,6 +279,14 @@ def check_sympy(allow_other):
 
 
 def main():
+    try:
+        return _main()
+    except Refused as e:
+        print(f"derive/generate.py: refused: {e}", file=sys.stderr)
+        return 2
+
+
+def _main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--out", default=os.path.join(HERE, "..", "generated"))
     ap.add_argument("--check", action="store_true",

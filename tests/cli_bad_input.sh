@@ -13,7 +13,7 @@ USM=${1:?usage: cli_bad_input.sh PATH/TO/usm}
 # ---- parameter files --------------------------------------------------------
 printf '{\n  "m0": 0.006,\n  "T": ,\n}\n' >"$tmp/malformed.json"
 printf '{"m0": 0.006, "T": 1e-5}\n' >"$tmp/good.json"
-printf '{"m0": "0.005"}\n' >"$tmp/string.json"
+printf '{"m0": "5 kHz"}\n' >"$tmp/string.json"
 printf '{"m0": true}\n' >"$tmp/bool.json"
 printf '{"m0": null}\n' >"$tmp/null.json"
 printf '{"m0": [1]}\n' >"$tmp/array_value.json"
@@ -39,7 +39,7 @@ expect_bad '--set m0' 'not a number' steady --set 'm0= 1'
 expect_bad '--set m0' 'not a number' steady --set m0=0x
 expect_bad '--set m0' 'expected NAME=VALUE' steady --set m0
 expect_bad '--set' 'expected NAME=VALUE' steady --set =1
-expect_bad 'm0' 'expected a number, got a string' steady --params "$tmp/string.json"
+expect_bad 'm0' 'kHz is not a unit of a value in \[N m\] \(accepted: Nm, mNm, Nmm, uNm\)' steady --params "$tmp/string.json"
 expect_bad 'm0' 'expected a number' steady --params "$tmp/bool.json"
 expect_bad 'm0' 'expected a number' steady --params "$tmp/null.json"
 expect_bad 'm0' 'expected a number' steady --params "$tmp/array_value.json"

@@ -31,7 +31,9 @@ cmake --install "$build" --prefix "$prefix" > "$tmp/install.log" || { cat "$tmp/
 pc=$(find "$prefix" -name usm.pc -path '*/pkgconfig/*' | head -n 1)
 [ -n "$pc" ] || fail "no usm.pc installed"
 libdir=$(dirname "$(dirname "$pc")")
-for f in bin/usm include/usm/usm.h include/usm/usm_sweep.h include/usm/usm_kernels.h; do
+for f in bin/usm include/usm/usm.h include/usm/usm_sweep.h include/usm/usm_kernels.h \
+         share/doc/usm/library.md share/doc/usm/examples/usm_example.c \
+         share/doc/usm/examples/Makefile share/doc/usm/examples/CMakeLists.txt; do
     [ -e "$prefix/$f" ] || fail "$f not installed"
 done
 for f in libusm.a libusm.so; do
@@ -66,11 +68,20 @@ echo "== pkg-config: cc usm_example.c \$(pkg-config --cflags --libs usm)"
 # shellcheck disable=SC2046
 "$cc" -O2 -Wall -Wextra -Werror -o "$tmp/usm_example_pc" "$src/examples/usm_example.c" \
       $(pkg-config --cflags --libs usm) || fail "build with pkg-config"
-echo "== pkg-config, static: ... -Wl,-Bstatic -lusm -Wl,-Bdynamic \$(pkg-config --static --libs usm)"
+echo "== pkg-config, static: ... -Wl,--as-needed -Wl,-Bstatic -lusm -Wl,-Bdynamic \$(pkg-config --static --libs usm)"
 # shellcheck disable=SC2046
 "$cc" -O2 -Wall -Wextra -Werror -o "$tmp/usm_example_pc_static" "$src/examples/usm_example.c" \
-      $(pkg-config --cflags usm) -L"$(pkg-config --variable=libdir usm)" \
+      $(pkg-config --cflags usm) -L"$(pkg-config --variable=libdir usm)" -Wl,--as-needed \
       -Wl,-Bstatic -lusm -Wl,-Bdynamic $(pkg-config --static --libs usm) || fail "static build with pkg-config"
+# the same line with AddressSanitizer (whose link drops the default --as-needed): no libusm.so
+# shellcheck disable=SC2046
+"$cc" -O0 -g -fsanitize=address -Wall -Wextra -Werror -o "$tmp/usm_example_pc_static_asan" \
+      "$src/examples/usm_example.c" $(pkg-config --cflags usm) -L"$(pkg-config --variable=libdir usm)" \
+      -Wl,--as-needed -Wl,-Bstatic -lusm -Wl,-Bdynamic $(pkg-config --static --libs usm) ||
+    fail "static ASan build with pkg-config"
+if readelf -d "$tmp/usm_example_pc_static_asan" | grep -q 'NEEDED.*libusm'; then
+    fail "the static pkg-config line with ASan still needs libusm.so"
+fi
 # -O0: an array the example hands a kernel too short overwrites its
 # neighbours on the stack (the kernels, in the uninstrumented library, write
 # past it unseen by ASan; an earlier example lost its Floquet multipliers so),

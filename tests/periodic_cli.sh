@@ -16,7 +16,11 @@ KEYS="['model','parameters','converged','rotor_speed_mean','rotor_speed_ripple',
 'newton_iterations','residual','valid','invalid_reason']"
 
 # the paper's twist law has no periodic orbit in these coordinates: exit 2, the reason
-expect_bad "model 3dof" "twist" periodic
+expect_bad "model 3dof" "twist" periodic --variant paper
+# the default variant of periodic is imperfect (issue 23)
+if expect_rc 0 periodic --json; then
+    grep -q '"model": "3dof_imperfect"' "$out" || fail "usm periodic: default variant is not imperfect"
+fi
 expect_bad "model 4dof_friction_tanh" "twist" periodic --model 4dof --variant friction_tanh
 # imperfections only in the variant imperfect; the stationary solution only without them
 expect_bad "amp_imbalance" "variant imperfect" periodic --variant twist_integrated --set amp_imbalance=0.1

@@ -10,7 +10,15 @@
  *    JSON summary's final_state (usm_sim_write_json) against
  *    usm_sim_summary.final_x;
  *  - usm_params_read_file: the values of a file; a malformed file is
- *    USM_EINPUT naming PATH:LINE:COLUMN and leaves the parameters unchanged.
+ *    USM_EINPUT naming PATH:LINE:COLUMN and leaves the parameters unchanged;
+ *    a string value is a value with a unit;
+ *  - usm_parse_quantity: every row of the units table (1.5 UNIT is 1.5 x its
+ *    scale, with and without a blank, micro as u, U+00B5 and U+03BC), the
+ *    worked examples (37.5kHz, 400mN, 0.5mNm, 10deg) exactly, and a unit of
+ *    another dimension or no unit at all refused with the accepted list;
+ *  - JSON numbers (usm_steady_write_json): every real is the shortest text
+ *    that reads back to the same double (no shorter %.*g does), so the
+ *    paper's m0 prints as 0.005.
  */
 #define _POSIX_C_SOURCE 200809L /* mkstemp, fdopen */
 #include <math.h>
@@ -176,9 +184,166 @@ static void params_file(void)
     remove(path);
 }
 
+/* Significant digits of a number token ("0.0035" -> 2, "1.0" -> 1). */
+static int sig_digits(const char *tok, size_t len)
+{
+    int n = 0, lead = 1, zeros = 0;
+    for (size_t k = 0; k < len && tok[k] != 'e' && tok[k] != 'E'; ++k) {
+        if (tok[k] < '0' || tok[k] > '9')
+            continue;
+        if (tok[k] == '0' && lead)
+            continue;
+        lead = 0;
+        if (tok[k] == '0') {
+            ++zeros; /* trailing zeros are not significant */
+        } else {
+            n += zeros + 1;
+            zeros = 0;
+        }
+    }
+    return n ? n : 1;
+}
+
+static void json_shortest(void)
+{
+    const usm_model *m = usm_model_find("3dof");
+    usm_steady *st = usm_steady_alloc(m);
+    usm_params p;
+    usm_params_default(&p);
+    CHECK(st && usm_steady_solve(st, &p, NULL) == USM_OK, "json_shortest: no solution");
+    FILE *f = tmpfile();
+    usm_steady_report rep = {m, &p, st, NULL, NULL, NULL, NULL};
+    CHECK(f && usm_steady_write_json(&rep, f) == 0, "usm_steady_write_json failed");
+    long size = f ? (fseek(f, 0, SEEK_END), ftell(f)) : 0;
+    char *text = size > 0 ? malloc((size_t)size + 1) : NULL;
+    CHECK(text != NULL, "json_shortest: empty output");
+    if (!text) {
+        usm_steady_free(st);
+        return;
+    }
+    rewind(f);
+    text[fread(text, 1, (size_t)size, f)] = '\0';
+    fclose(f);
+    CHECK(strstr(text, "\"m0\": 0.005,") != NULL, "m0 is not printed as 0.005");
+    int reals = 0, in_string = 0;
+    for (char *c = text; *c; ++c) {
+        if (in_string) {
+            if (*c == '\\' && c[1])
+                ++c;
+            else if (*c == '"')
+                in_string = 0;
+            continue;
+        }
+        if (*c == '"') {
+            in_string = 1;
+            continue;
+        }
+        if (!(*c == '-' || (*c >= '0' && *c <= '9')))
+            continue;
+        size_t len = strspn(c, "-+0123456789.eE");
+        if (strcspn(c, ".eE") < len) {
+            char *end;
+            const double v = strtod(c, &end);
+            const int n = sig_digits(c, len);
+            char shorter[400];
+            snprintf(shorter, sizeof shorter, "%.*g", n - 1, v);
+            CHECK(end == c + len, "JSON number %.*s does not read back", (int)len, c);
+            CHECK(n == 1 || strtod(shorter, NULL) != v,
+                  "JSON number %.*s is not the shortest: %s reads back the same", (int)len, c,
+                  shorter);
+            ++reals;
+        }
+        c += len - 1;
+    }
+    CHECK(reals > 30, "json_shortest: only %d real numbers checked", reals);
+    free(text);
+    usm_steady_free(st);
+}
+
+static void units(void)
+{
+    char msg[USM_IO_MSG_LEN];
+    double v;
+    const int n = usm_unit_count();
+    CHECK(n > 30, "units: only %d rows", n);
+    for (int k = 0; k < n; ++k) {
+        const char *si, *name;
+        double scale;
+        char text[64];
+        CHECK(usm_unit_at(k, &si, &name, &scale) == USM_OK, "units: row %d", k);
+        for (int j = 0; j < k; ++j) {
+            const char *si2, *name2;
+            usm_unit_at(j, &si2, &name2, NULL);
+            CHECK(strcmp(si, si2) != 0 || strcmp(name, name2) != 0, "units: %s twice in [%s]",
+                  name, si);
+        }
+        const double want = 1.5 * scale;
+        for (int form = 0; form < 4; ++form) {
+            if (form >= 2 && name[0] != 'u')
+                break;
+            if (form == 0 && name[0] >= '0' && name[0] <= '9')
+                continue; /* "1.51/s" is 1.51 /s: a unit that starts with a digit needs a blank */
+            if (form < 2)
+                snprintf(text, sizeof text, "1.5%s%s", form ? " " : "", name);
+            else
+                snprintf(text, sizeof text, "1.5%s%s", form == 2 ? "\xc2\xb5" : "\xce\xbc",
+                         name + 1);
+            CHECK(usm_parse_quantity("unit", si, text, strlen(text), &v, msg) == USM_OK &&
+                      fabs(v - want) <= 4e-16 * fabs(want),
+                  "units: \"%s\" in [%s] gives %.17g, want %.17g (%s)", text, si, v, want, msg);
+        }
+        /* a value in SI without a unit is the number itself */
+        CHECK(usm_parse_quantity("unit", si, "2.5", 3, &v, msg) == USM_OK && v == 2.5,
+              "units: 2.5 in [%s]", si);
+    }
+    static const struct {
+        const char *si, *text;
+        double want;
+    } exact[] = {{"Hz", "37.5kHz", 37500.0},  {"N", "400mN", 0.4},      {"N m", "0.5mNm", 0.0005},
+                 {"N m", "6.46e-2 mNm", 6.46e-5}, {"rad", "10deg", 10 * 3.14159265358979323846 / 180},
+                 {"1", "5%", 0.05},           {"m", "5mm", 0.005},      {"kg", "636.176mg", 636.176e-6}};
+    for (size_t k = 0; k < sizeof exact / sizeof exact[0]; ++k)
+        CHECK(usm_parse_quantity("x", exact[k].si, exact[k].text, strlen(exact[k].text), &v, msg) ==
+                      USM_OK && v == exact[k].want,
+              "units: \"%s\" gives %.17g, want %.17g", exact[k].text, v, exact[k].want);
+    /* refused: a unit of another dimension, an unknown one, a unit where none is accepted */
+    static const struct {
+        const char *si, *text;
+    } bad[] = {{"N m", "5kHz"}, {"N m", "5xyz"}, {"Hz", "1e5x"}, {"rad", "10 degrees"},
+               {"N", "1N m"},   {"N/m", "5kHz"}};
+    for (size_t k = 0; k < sizeof bad / sizeof bad[0]; ++k) {
+        char known[256];
+        usm_units_accepted(bad[k].si, known, sizeof known);
+        CHECK(usm_parse_quantity("--set X", bad[k].si, bad[k].text, strlen(bad[k].text), &v, msg) ==
+                      USM_EINPUT && strstr(msg, "--set X") && strstr(msg, known),
+              "units: \"%s\" in [%s] not refused with the list (%s): %s", bad[k].text, bad[k].si,
+              known, msg);
+    }
+    /* without a unit to read, the number parser's own messages */
+    CHECK(usm_parse_quantity("x", NULL, "5kHz", 4, &v, msg) == USM_EINPUT &&
+              strstr(msg, "not a number"), "units: NULL unit takes a unit: %s", msg);
+    CHECK(usm_parse_quantity("x", "Hz", "inf", 3, &v, msg) == USM_EINPUT &&
+              strstr(msg, "not a finite number"), "units: inf: %s", msg);
+    CHECK(usm_parse_quantity("x", "Hz", "1e400kHz", 8, &v, msg) == USM_EINPUT,
+          "units: 1e400kHz accepted");
+    /* a parameter file's string is a value with a unit */
+    usm_params p;
+    usm_params_default(&p);
+    const char *file = "{\"f\": \"37.5 kHz\", \"T\": 1e-4, \"phase_error\": \"10deg\"}";
+    CHECK(usm_params_parse_text("p.json", file, strlen(file), &p, msg) == USM_OK && p.f == 37500.0 &&
+              p.T == 1e-4 && p.phase_error == 10 * 3.14159265358979323846 / 180,
+          "units: parameter file with units: %s", msg);
+    const char *badfile = "{\"f\": \"37.5 kN\"}";
+    CHECK(usm_params_parse_text("p.json", badfile, strlen(badfile), &p, msg) == USM_EINPUT &&
+              strstr(msg, "p.json") && strstr(msg, "Hz, kHz, MHz"),
+          "units: a bad unit in a file: %s", msg);
+}
+
 int main(void)
 {
     gsl_set_error_handler_off();
+    units();
+    json_shortest();
     steady_json();
     sim_round_trip("3dof");
     sim_round_trip("4dof");

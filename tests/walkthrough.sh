@@ -27,7 +27,9 @@ import os, re
 p = "derive/variants.py"
 s = open(p).read()
 s = s.replace("FRICTION_LAWS = {\n", "FRICTION_LAWS = {\n" + os.environ["LAW"] + "\n", 1)
-s = s.replace("VARIANTS = {\n", "VARIANTS = {\n" + os.environ["VARIANT"] + "\n", 1)
+# at the end of VARIANTS, after "imperfect", as the document says
+at = s.index("\n}\n", s.index("VARIANTS = {\n")) + 1
+s = s[:at] + os.environ["VARIANT"] + "\n" + s[at:]
 open(p, "w").write(s)
 PY
 cmake -S . -B build -DUSM_REGENERATE=ON -DUSM_BUILD_TESTS=ON > cmake.log

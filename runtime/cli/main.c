@@ -44,8 +44,12 @@ static void usage(FILE *out)
             "Ultrasonic wobbling-disk motor: stationary solution and Floquet stability.\n"
             "\n"
             "commands:\n");
+    int width = 0;
     for (size_t k = 0; k < NCOMMANDS; ++k)
-        fprintf(out, "  %-10s %s\n", commands[k].name, commands[k].summary);
+        if ((int)strlen(commands[k].name) > width)
+            width = (int)strlen(commands[k].name);
+    for (size_t k = 0; k < NCOMMANDS; ++k)
+        fprintf(out, "  %-*s %s\n", width, commands[k].name, commands[k].summary);
     fprintf(out,
             "\n"
             "Run \"usm COMMAND --help\" for a command's options.\n"

@@ -25,7 +25,8 @@ static void usage(FILE *out)
     fprintf(out,
             "usage: usm map [--x NAME --x-from A --x-to B] [--x-points N]\n"
             "               [--y NAME --y-from A --y-to B] [--y-points N]\n"
-            "               [--model 3dof|4dof] [--params FILE.json] [--set NAME=VALUE]...\n"
+            "               [--model 3dof|4dof] [--variant NAME] [--params FILE.json]\n"
+            "               [--set NAME=VALUE]...\n"
             "               [--t0 S] [--floquet-method NAME] [--rtol R] [--threads N] [--json]\n"
             "               [--out FILE] [--plot PREFIX] [--force]\n"
             "\n"
@@ -38,7 +39,8 @@ static void usage(FILE *out)
     cli_common_usage(out);
     fprintf(out,
             "  --x NAME, --y NAME  the parameters of the two axes (see usm steady --help)\n"
-            "  --x-from A, --x-to B, --y-from A, --y-to B   axis ranges\n"
+            "  --x-from A, --x-to B, --y-from A, --y-to B   axis ranges (SI, or with a\n"
+            "                      unit: --x-from 30kHz, --y-to 8mNm)\n"
             "  --x-points N, --y-points N   grid points per axis (default 33, at least 2)\n"
             "  --t0 S              start of the Floquet period [s] (default 0, the paper's)\n");
     cli_floquet_usage(out);
@@ -85,6 +87,8 @@ static int parse(map_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
     static const char *const dbl_names[] = {"--x-from", "--x-to", "--y-from", "--y-to", "--t0"};
     double *dbl_dest[] = {&a->xfrom, &a->xto, &a->yfrom, &a->yto, &a->t0};
     int *dbl_flag[] = {&a->have_xfrom, &a->have_xto, &a->have_yfrom, &a->have_yto, NULL};
+    /* the ranges are parsed once --x and --y are known, in their units */
+    const char *dbl_text[sizeof dbl_names / sizeof dbl_names[0]] = {NULL};
     memset(a, 0, sizeof *a);
     cli_common_init(&a->common);
     usm_floquet_options_default(&a->floquet);
@@ -113,8 +117,9 @@ static int parse(map_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
             if ((r = cli_option_value(argc, argv, &i, dbl_names[k], &value, msg)) == CLI_OPT_ERROR)
                 return USM_EINPUT;
             if (r == CLI_OPT_TAKEN) {
-                if (cli_parse_double(dbl_names[k], value, dbl_dest[k], msg) != USM_OK)
+                if (!dbl_flag[k] && cli_parse_quantity(dbl_names[k], "s", value, dbl_dest[k], msg))
                     return USM_EINPUT;
+                dbl_text[k] = value;
                 if (dbl_flag[k])
                     *dbl_flag[k] = 1;
                 done = 1;
@@ -169,6 +174,15 @@ static int parse(map_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
         else
             cli_msg(msg, "%s: unexpected argument (see usm map --help)", argv[i]);
         return USM_EINPUT;
+    }
+    for (int k = 0; k < 4; ++k) {
+        const char *name = k < 2 ? a->xname : a->yname;
+        const usm_param_info *axis =
+            usm_params_find(name ? name : usm_param_table[k < 2 ? USM_P_f : USM_P_T].name);
+        if (dbl_text[k] &&
+            cli_parse_quantity(dbl_names[k], axis ? axis->unit : NULL, dbl_text[k], dbl_dest[k],
+                               msg) != USM_OK)
+            return USM_EINPUT;
     }
     return cli_common_finish(&a->common, msg);
 }

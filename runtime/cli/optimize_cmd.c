@@ -67,12 +67,13 @@ static int parse_vary(opt_args *a, const char *text, char msg[CLI_MSG_LEN])
     }
     snprintf(name, sizeof name, "%.*s", (int)(eq - text), text);
     snprintf(lo_text, sizeof lo_text, "%.*s", (int)(colon - eq - 1), eq + 1);
-    if (!usm_params_find(name)) {
+    const usm_param_info *info = usm_params_find(name);
+    if (!info) {
         cli_msg(msg, "--vary: unknown parameter \"%s\"", name);
         return USM_EINPUT;
     }
-    if (cli_parse_double("--vary", lo_text, &lo, msg) != USM_OK ||
-        cli_parse_double("--vary", colon + 1, &hi, msg) != USM_OK)
+    if (cli_parse_quantity("--vary", info->unit, lo_text, &lo, msg) != USM_OK ||
+        cli_parse_quantity("--vary", info->unit, colon + 1, &hi, msg) != USM_OK)
         return USM_EINPUT;
     if (usm_opt_problem_add_vary(&a->pb, name, lo, hi, lib) != USM_OK) {
         cli_msg(msg, "--%s", lib);
@@ -167,7 +168,7 @@ static int parse(opt_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
             if (cli_parse_int(opts[which], value, &a->pb.starts, msg) != USM_OK)
                 return USM_EINPUT;
         } else if (which == 5) {
-            if (cli_parse_double(opts[which], value, &a->pb.t0, msg) != USM_OK)
+            if (cli_parse_quantity(opts[which], "s", value, &a->pb.t0, msg) != USM_OK)
                 return USM_EINPUT;
         } else {
             cli_msg(msg, "%s: %s (see usm optimize --help)", argv[i],

@@ -43,6 +43,12 @@ int cli_parse_double(const char *field, const char *text, double *out, char msg[
     return usm_parse_number(field, text, strlen(text), out, msg);
 }
 
+int cli_parse_quantity(const char *field, const char *unit, const char *text, double *out,
+                       char msg[CLI_MSG_LEN])
+{
+    return usm_parse_quantity(field, unit, text, strlen(text), out, msg);
+}
+
 /* "--set NAME=VALUE": checked at once so that errors name the --set option. */
 static int take_set(cli_common *c, const char *arg, char msg[CLI_MSG_LEN])
 {
@@ -71,7 +77,7 @@ static int take_set(cli_common *c, const char *arg, char msg[CLI_MSG_LEN])
         return CLI_OPT_ERROR;
     }
     snprintf(field, sizeof field, "--set %s", name);
-    if (cli_parse_double(field, eq + 1, &v, msg) != USM_OK)
+    if (cli_parse_quantity(field, info->unit, eq + 1, &v, msg) != USM_OK)
         return CLI_OPT_ERROR;
     c->set_value[info - usm_param_table] = v;
     c->is_set[info - usm_param_table] = 1;
@@ -186,7 +192,9 @@ void cli_common_usage(FILE *out)
             "  --model NAME        model to use: %s (default 3dof)\n"
             "  --variant NAME      modelling assumptions (default paper; see usm variants)\n"
             "  --params FILE.json  parameter values, a JSON object {\"NAME\": number, ...}\n"
-            "  --set NAME=VALUE    set one parameter (repeatable; applied after --params)\n"
+            "  --set NAME=VALUE    set one parameter (repeatable; applied after --params);\n"
+            "                      VALUE in SI or with a unit: f=37.5kHz, T=0.5mNm,\n"
+            "                      phase_error=10deg (see usm steady --help)\n"
             "  --json              print one JSON object instead of a table\n",
             known);
 }

@@ -58,6 +58,13 @@ int cli_option_value(int argc, char **argv, int *i, const char *name, const char
  * with "FIELD: \"text\" reason" in msg. */
 int cli_parse_double(const char *field, const char *text, double *out, char msg[CLI_MSG_LEN]);
 
+/* usm_parse_quantity() on a NUL-terminated text: a value in SI unit `unit`
+ * (a contract's spelling, e.g. usm_param_table[k].unit), typed in it or with
+ * one of the units of the table ("37.5kHz", "10deg"); NULL unit: a plain
+ * number.  USM_EINPUT with the units accepted in msg. */
+int cli_parse_quantity(const char *field, const char *unit, const char *text, double *out,
+                       char msg[CLI_MSG_LEN]);
+
 /* cli_parse_double() of a whole number that fits an int (its range is the
  * library's to check).  USM_EINPUT with "FIELD: \"text\" reason" in msg. */
 int cli_parse_int(const char *field, const char *text, int *out, char msg[CLI_MSG_LEN]);

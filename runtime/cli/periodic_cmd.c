@@ -20,8 +20,9 @@ static void usage(FILE *out)
             "The periodic steady state of a motor with driver amplitude imbalance\n"
             "(amp_imbalance), phase error (phase_error [rad]) and stator mode split\n"
             "(mode_split): shooting over one excitation period from the ideal stationary\n"
-            "solution, with its Floquet multipliers.  Use --variant imperfect (the\n"
-            "integrated twist law; the paper's twist law has no periodic orbit).\n"
+            "solution, with its Floquet multipliers.  The variant is imperfect unless\n"
+            "--variant says otherwise (it has the integrated twist law; the paper's twist\n"
+            "law has no periodic orbit).\n"
             "\n"
             "options:\n");
     cli_common_usage(out);
@@ -46,6 +47,13 @@ typedef struct periodic_args {
 static int parse(periodic_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
 {
     cli_common_init(&a->common);
+    /* the default variant: the one of a real motor (m->imperfect), whose
+     * integrated twist law has a periodic orbit; --variant overrides it */
+    for (int k = 0; k < USM_NMODELS; ++k)
+        if (usm_models[k]->imperfect && strcmp(usm_models[k]->base, a->common.base) == 0) {
+            a->common.variant = usm_models[k]->variant;
+            break;
+        }
     a->orbit = NULL;
     a->force = a->help = 0;
     for (int i = 1; i < argc; ++i) {

@@ -25,7 +25,8 @@
 static void usage(FILE *out)
 {
     fprintf(out,
-            "usage: usm simulate [--model 3dof|4dof] [--params FILE.json] [--set NAME=VALUE]...\n"
+            "usage: usm simulate [--model 3dof|4dof] [--variant NAME] [--params FILE.json]\n"
+            "                    [--set NAME=VALUE]...\n"
             "                    --duration S [--from rest|stationary|FILE] [--out FILE.csv]\n"
             "                    [--force] [--rate HZ] [--tilt0 RAD] [--rtol R] [--plot PREFIX]\n"
             "                    [--json]\n"
@@ -144,7 +145,10 @@ static int parse(sim_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
         }
         if (which >= 0) {
             double v;
-            if (cli_parse_double(num_opt[which], sv, &v, msg) != USM_OK)
+            /* the units of --duration, --rate, --tilt0, --theta-limit, --speed-limit */
+            static const char *const num_unit[] = {"s", "Hz", "rad", NULL, NULL,
+                                                   "rad", "1/s", NULL, NULL, NULL};
+            if (cli_parse_quantity(num_opt[which], num_unit[which], sv, &v, msg) != USM_OK)
                 return USM_EINPUT;
             if (which < 8)
                 *num[which] = v;

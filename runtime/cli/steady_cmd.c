@@ -15,8 +15,8 @@
 static void usage(FILE *out)
 {
     fprintf(out,
-            "usage: usm steady [--model 3dof|4dof] [--params FILE.json] [--set NAME=VALUE]...\n"
-            "                  [--t0 S] [--floquet-method NAME] [--rtol R]\n"
+            "usage: usm steady [--model 3dof|4dof] [--variant NAME] [--params FILE.json]\n"
+            "                  [--set NAME=VALUE]... [--t0 S] [--floquet-method NAME] [--rtol R]\n"
             "                  [--from-rest [--from-rest-periods N]] [--json]\n"
             "\n"
             "Find every stationary solution (paper, eq. 3.1) and the Floquet multipliers of\n"
@@ -37,12 +37,28 @@ static void usage(FILE *out)
             "parameters (SI units; defaults from the paper, Appendix A):\n");
     {
         usm_params def;
+        int width = 0;
         usm_params_default(&def);
+        for (int k = 0; k < USM_NPARAMS; ++k)
+            if ((int)strlen(usm_param_table[k].name) > width)
+                width = (int)strlen(usm_param_table[k].name);
         for (int k = 0; k < USM_NPARAMS; ++k) {
             const usm_param_info *info = &usm_param_table[k];
-            fprintf(out, "  %-6s %-12.7g %-10s %s\n", info->name, usm_params_get(&def, info),
-                    info->unit, info->description);
+            fprintf(out, "  %-*s %-12.7g %-10s %s\n", width, info->name,
+                    usm_params_get(&def, info), info->unit, info->description);
         }
+    }
+    /* the units table of usm_parse_quantity, one line per SI unit in use */
+    fprintf(out, "\nunits a value may be typed in (--set f=37.5kHz, phase_error=10deg;\n"
+                 "also --from/--to, --x-from.., --vary and strings in --params files):\n");
+    for (int k = 0; k < USM_NPARAMS; ++k) {
+        const char *unit = usm_param_table[k].unit;
+        char known[256];
+        int seen = 0;
+        for (int j = 0; j < k; ++j)
+            seen |= strcmp(usm_param_table[j].unit, unit) == 0;
+        if (!seen && usm_units_accepted(unit, known, sizeof known) > 0)
+            fprintf(out, "  %-10s %s\n", unit, known);
     }
     fprintf(out,
             "\n"
@@ -99,7 +115,7 @@ static int parse(steady_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
         if ((r = cli_option_value(argc, argv, &i, "--t0", &value, msg)) == CLI_OPT_ERROR)
             return USM_EINPUT;
         if (r == CLI_OPT_TAKEN) {
-            if (cli_parse_double("--t0", value, &a->t0, msg) != USM_OK)
+            if (cli_parse_quantity("--t0", "s", value, &a->t0, msg) != USM_OK)
                 return USM_EINPUT;
             continue;
         }

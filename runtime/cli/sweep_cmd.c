@@ -21,11 +21,14 @@ static void usage(FILE *out)
 {
     fprintf(out,
             "usage: usm sweep --over NAME --from A --to B [--points N]\n"
-            "                 [--model 3dof|4dof] [--params FILE.json] [--set NAME=VALUE]...\n"
+            "                 [--model 3dof|4dof] [--variant NAME] [--params FILE.json]\n"
+            "                 [--set NAME=VALUE]...\n"
             "                 [--t0 S] [--floquet-method NAME] [--rtol R] [--threads N]\n"
             "                 [--no-floquet] [--json] [--plot PREFIX [--force]]\n"
             "                 [--extremum Q]... [--crossing Q=V]...\n"
-            "       usm sweep --periodic --over NAME --from A --to B [--points N] [--json]\n"
+            "       usm sweep --periodic --over NAME --from A --to B [--points N]\n"
+            "                 [--model 3dof|4dof] [--variant NAME] [--params FILE.json]\n"
+            "                 [--set NAME=VALUE]... [--json]\n"
             "\n"
             "Follow the stationary solution of smallest tilt at A through the parameter\n"
             "range A..B by pseudo-arclength continuation and report it at N equally spaced\n"
@@ -41,7 +44,8 @@ static void usage(FILE *out)
     cli_common_usage(out);
     fprintf(out,
             "  --over NAME         the parameter to sweep (any of usm steady --help)\n"
-            "  --from A, --to B    the range, in the parameter's unit (A != B; B < A sweeps down)\n"
+            "  --from A, --to B    the range, in the parameter's unit or with a unit: 36kHz\n"
+            "                      (A != B; B < A sweeps down)\n"
             "  --points N          grid values, 2 to 1000000 (default 101)\n"
             "  --t0 S              start of the Floquet period [s] (default 0, the paper's)\n"
             "  --threads N         worker threads for the multipliers (default 2)\n"
@@ -107,6 +111,7 @@ typedef struct sweep_args {
     const char *over;
     double from, to, t0;
     int have_from, have_to;
+    const char *from_text, *to_text; /* parsed in --over's unit once it is known */
     int points, threads, floquet, help, force, periodic;
     int others; /* options of the stationary sweep only, for --periodic's refusal */
     const char *plot; /* --plot PREFIX, or NULL */
@@ -190,18 +195,20 @@ static int own_option(sweep_args *a, int argc, char **argv, int *i, char msg[CLI
     }
     if ((r = cli_option_value(argc, argv, i, "--from", &value, msg)) != CLI_OPT_NOT_MINE) {
         a->have_from = 1;
-        return r == CLI_OPT_TAKEN && cli_parse_double("--from", value, &a->from, msg) ? CLI_OPT_ERROR : r;
+        a->from_text = value;
+        return r;
     }
     if ((r = cli_option_value(argc, argv, i, "--to", &value, msg)) != CLI_OPT_NOT_MINE) {
         a->have_to = 1;
-        return r == CLI_OPT_TAKEN && cli_parse_double("--to", value, &a->to, msg) ? CLI_OPT_ERROR : r;
+        a->to_text = value;
+        return r;
     }
     if ((r = cli_option_value(argc, argv, i, "--extremum", &value, msg)) != CLI_OPT_NOT_MINE)
         return r == CLI_OPT_TAKEN ? monitor_option(a, 0, value, msg) : r;
     if ((r = cli_option_value(argc, argv, i, "--crossing", &value, msg)) != CLI_OPT_NOT_MINE)
         return r == CLI_OPT_TAKEN ? monitor_option(a, 1, value, msg) : r;
     if ((r = cli_option_value(argc, argv, i, "--t0", &value, msg)) != CLI_OPT_NOT_MINE)
-        return r == CLI_OPT_TAKEN && cli_parse_double("--t0", value, &a->t0, msg) ? CLI_OPT_ERROR : r;
+        return r == CLI_OPT_TAKEN && cli_parse_quantity("--t0", "s", value, &a->t0, msg) ? CLI_OPT_ERROR : r;
     if ((r = cli_option_value(argc, argv, i, "--points", &value, msg)) != CLI_OPT_NOT_MINE)
         return r == CLI_OPT_TAKEN && cli_parse_int("--points", value, &a->points, msg)
                    ? CLI_OPT_ERROR
@@ -251,6 +258,13 @@ static int parse(sweep_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
         cli_msg(msg, "%s: required (see usm sweep --help)",
                 !a->over ? "--over" : !a->have_from ? "--from" : "--to");
         return USM_EINPUT;
+    }
+    {
+        const usm_param_info *over = usm_params_find(a->over);
+        const char *unit = over ? over->unit : NULL;
+        if (cli_parse_quantity("--from", unit, a->from_text, &a->from, msg) != USM_OK ||
+            cli_parse_quantity("--to", unit, a->to_text, &a->to, msg) != USM_OK)
+            return USM_EINPUT;
     }
     if (a->force && !a->plot) {
         cli_msg(msg, "--force: only with --plot (it overwrites the --plot files)");

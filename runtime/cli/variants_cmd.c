@@ -10,8 +10,9 @@ int cli_variants_main(int argc, char **argv)
     if (argc > 1 && (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0)) {
         printf("usage: usm variants\n\n"
                "Lists the modelling variants: name, the base models it is generated for,\n"
-               "and what it assumes.  Select one with --variant NAME in steady, sweep\n"
-               "and simulate; the paper's (\"paper\") is the default.\n");
+               "and what it assumes.  Select one with --variant NAME in steady, sweep,\n"
+               "map, simulate, periodic, sensitivity, optimize, tolerance and equations;\n"
+               "the paper's (\"paper\") is the default (periodic: imperfect).\n");
         return USM_OK;
     }
     if (argc > 1) {

@@ -2,6 +2,10 @@
 #include "json_out.h"
 
 #include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "csv_out.h"
 
 json_t *usm_json_real(double v)
 {
@@ -92,9 +96,102 @@ json_t *usm_json_floquet(const usm_floquet_result *r)
     return finish(obj, ok);
 }
 
+/* jansson (2.14) prints a real with a fixed number of digits; 17 read back
+ * bit for bit but show 0.005 as 0.0050000000000000001.  So the text passes
+ * through this filter, which reprints every real number token outside the
+ * strings in the shortest form that reads back to the same double (the CSV's
+ * usm_shortest), keeping a "." or an exponent so that it stays a real. */
+typedef struct shortest_filter {
+    FILE *out;
+    int in_string, escaped, failed;
+    size_t len;   /* of the number token being collected */
+    char num[64];
+} shortest_filter;
+
+static void filter_flush(shortest_filter *f)
+{
+    char buf[40];
+    const char *text = f->num;
+    f->num[f->len] = '\0';
+    if (f->len > 0 && strpbrk(f->num, ".eE")) {
+        char *end;
+        double v = strtod(f->num, &end);
+        if (*end == '\0' && isfinite(v)) {
+            char *e;
+            usm_shortest(buf, v);
+            if (!strpbrk(buf, ".e"))
+                strcat(buf, ".0");
+            if ((e = strchr(buf, 'e'))) { /* 1e-05 -> 1e-5, 1e+20 -> 1e20, as jansson */
+                char *d = e + 1, *src = e + 1;
+                if (*src == '+')
+                    ++src;
+                else if (*src == '-')
+                    d = ++src;
+                while (*src == '0' && src[1] != '\0')
+                    ++src;
+                memmove(d, src, strlen(src) + 1);
+            }
+            text = buf;
+        }
+    }
+    if (f->len > 0 && fputs(text, f->out) == EOF)
+        f->failed = 1;
+    f->len = 0;
+}
+
+static int filter_chunk(const char *buffer, size_t size, void *data)
+{
+    shortest_filter *f = data;
+    size_t run = 0; /* start of the pending pass-through span */
+    for (size_t k = 0; k < size; ++k) {
+        const char c = buffer[k];
+        if (f->in_string) {
+            if (f->escaped)
+                f->escaped = 0;
+            else if (c == '\\')
+                f->escaped = 1;
+            else if (c == '"')
+                f->in_string = 0;
+            continue;
+        }
+        const int starts = c == '-' || (c >= '0' && c <= '9');
+        const int goes_on = starts || c == '+' || c == '.' || c == 'e' || c == 'E';
+        if ((f->len == 0 && starts) || (f->len > 0 && goes_on)) {
+            if (k > run && fwrite(buffer + run, 1, k - run, f->out) != k - run)
+                f->failed = 1;
+            run = k + 1;
+            if (f->len + 1 >= sizeof f->num) { /* not a double's text: as it is */
+                f->num[f->len] = '\0';
+                if (fputs(f->num, f->out) == EOF)
+                    f->failed = 1;
+                f->len = 0;
+            }
+            f->num[f->len++] = c;
+            continue;
+        }
+        if (f->len > 0) {
+            filter_flush(f);
+        }
+        if (c == '"')
+            f->in_string = 1;
+    }
+    if (size > run && fwrite(buffer + run, 1, size - run, f->out) != size - run)
+        f->failed = 1;
+    return f->failed ? -1 : 0;
+}
+
+int usm_json_dumpf(const json_t *value, FILE *out, size_t flags)
+{
+    shortest_filter f = {out, 0, 0, 0, 0, {0}};
+    if (json_dump_callback(value, filter_chunk, &f, flags | JSON_REAL_PRECISION(17)) != 0)
+        return -1;
+    filter_flush(&f);
+    return f.failed ? -1 : 0;
+}
+
 int usm_json_print(const json_t *value, FILE *out)
 {
-    if (json_dumpf(value, out, JSON_INDENT(2) | JSON_PRESERVE_ORDER | JSON_REAL_PRECISION(17)) != 0)
+    if (usm_json_dumpf(value, out, JSON_INDENT(2) | JSON_PRESERVE_ORDER) != 0)
         return -1;
     return fputc('\n', out) == EOF ? -1 : 0;
 }

@@ -1,7 +1,8 @@
 /* json_out.h: JSON output of the usm command (jansson).
  *
  * Builders return a new reference, or NULL when out of memory.  Doubles are
- * printed with 17 significant digits so that they read back bit for bit.
+ * printed in the shortest form that reads back bit for bit (0.005, not
+ * 0.0050000000000000001): usm_json_dumpf.
  */
 #ifndef USM_JSON_OUT_H
 #define USM_JSON_OUT_H
@@ -38,6 +39,11 @@ json_t *usm_json_periodic_result(const usm_periodic_result *r);
 /* Print `value` and a newline, then release it (NULL, a builder's "out of
  * memory", gives -1).  0, or -1. */
 int usm_json_write(json_t *value, FILE *out);
+
+/* json_dumpf with every real number in the shortest text that reads back to
+ * the same double (usm_shortest; "1.0" keeps its ".0", exponents as jansson
+ * writes them: 1e-5).  0, or -1 on a write error. */
+int usm_json_dumpf(const json_t *value, FILE *out, size_t flags);
 
 /* Print `value` and a newline.  0, or -1 on a write error. */
 int usm_json_print(const json_t *value, FILE *out);

@@ -17,7 +17,9 @@
  *   - a name given twice ("duplicate name");
  *   - a top level that is not an object ("expected a JSON object");
  *   - an unknown name, a value that is not a number, a number that
- *     usm_parse_number refuses (not finite, overflow, underflow). */
+ *     usm_parse_number refuses (not finite, overflow, underflow).
+ * A number is in the parameter's SI unit; a string is a value with a unit,
+ * as --set takes it ("f": "37.5 kHz", usm_parse_quantity). */
 #include "usm_io.h"
 #include "io_msg.h"
 
@@ -204,16 +206,26 @@ static int apply(const char *path, const char *text, json_t *obj, const numbers 
             usm_io_msg(msg, "%s: %s: unknown parameter (see usm steady --help)", path, shown);
             return USM_EINPUT;
         }
+        char inner[USM_IO_MSG_LEN];
+        double x;
+        if (json_is_string(v)) {
+            if (usm_parse_quantity(shown, info->unit, json_string_value(v), json_string_length(v),
+                                   &x, inner) != USM_OK) {
+                usm_io_msg(msg, "%s: %.900s", path, inner);
+                return USM_EINPUT;
+            }
+            *usm_params_field(p, info) = x;
+            continue;
+        }
         if (!json_is_number(v)) {
-            usm_io_msg(msg, "%s: %s: expected a number, got %s", path, shown, kind_of(v));
+            usm_io_msg(msg, "%s: %s: expected a number (SI) or a string with a unit, got %s",
+                       path, shown, kind_of(v));
             return USM_EINPUT;
         }
         if (k >= nums->n) { /* cannot happen: every number value was masked */
             usm_io_msg(msg, "%s: %s: number not found in the text", path, shown);
             return USM_EFAILED;
         }
-        char inner[USM_IO_MSG_LEN];
-        double x;
         if (usm_parse_number(shown, text + nums->at[k], nums->len[k], &x, inner) != USM_OK) {
             usm_io_msg(msg, "%s: %.900s", path, inner);
             return USM_EINPUT;

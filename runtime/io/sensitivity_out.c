@@ -3,6 +3,7 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include <jansson.h>
 
@@ -97,9 +98,13 @@ void usm_sensitivity_write_table(const usm_model *m, const usm_params *p,
         for (int j = 0; j < USM_NPARAMS; ++j)
             rk[j] = (ranked){j, usm_sensitivity_elasticity(p, r, k, j)};
         qsort(rk, USM_NPARAMS, sizeof rk[0], by_abs_desc);
-        fprintf(out, "  %-6s %-20s %-20s\n", "param", "elasticity", "dy/dp");
+        int width = 5; /* "param", or the longest name: the columns stay aligned */
         for (int j = 0; j < USM_NPARAMS; ++j)
-            fprintf(out, "  %-6s %-20.10g %-20.10g\n", usm_param_table[rk[j].j].name, rk[j].e,
+            if ((int)strlen(usm_param_table[j].name) > width)
+                width = (int)strlen(usm_param_table[j].name);
+        fprintf(out, "  %-*s %-20s %-20s\n", width, "param", "elasticity", "dy/dp");
+        for (int j = 0; j < USM_NPARAMS; ++j)
+            fprintf(out, "  %-*s %-20.10g %-20.10g\n", width, usm_param_table[rk[j].j].name, rk[j].e,
                     r->d[k][rk[j].j]);
     }
 }

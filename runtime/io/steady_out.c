@@ -3,6 +3,7 @@
 
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "json_out.h"
 
@@ -182,11 +183,15 @@ static void parameters(FILE *out, const usm_params *p)
     char buf[32];
     usm_params def;
     usm_params_default(&def);
+    int width = 0; /* the longest name (amp_imbalance): the columns stay aligned */
+    for (int k = 0; k < USM_NPARAMS; ++k)
+        if ((int)strlen(usm_param_table[k].name) > width)
+            width = (int)strlen(usm_param_table[k].name);
     fprintf(out, "\nparameters (* differs from the default)\n");
     for (int k = 0; k < USM_NPARAMS; ++k) {
         const usm_param_info *info = &usm_param_table[k];
         double v = usm_params_get(p, info);
-        fprintf(out, "  %-6s %c %-24s %-10s %s\n", info->name,
+        fprintf(out, "  %-*s %c %-24s %-10s %s\n", width, info->name,
                 v != usm_params_get(&def, info) ? '*' : ' ', usm_shortest(buf, v), info->unit,
                 info->description);
     }

@@ -31,6 +31,7 @@
 #include "core/outfile.h"
 #include "io/data_dir.h"
 #include "io/io_msg.h"
+#include "io/json_out.h"
 #include "report_internal.h"
 #include "io/template.h"
 
@@ -190,7 +191,7 @@ static int write_output(json_t *data, const char *md, const char *dir, const cha
     if (!f)
         return USM_EFAILED;
     if (strcmp(name, "report.json") == 0)
-        bad = json_dumpf(data, f, JSON_INDENT(2) | JSON_REAL_PRECISION(17)) != 0 ||
+        bad = usm_json_dumpf(data, f, JSON_INDENT(2)) != 0 ||
               fputc('\n', f) == EOF;
     else if (strcmp(name, "report.html") == 0)
         bad = usm_report_html_write(md, dir, f) != 0;

@@ -13,6 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/grid.h"
 #include "core/pool_internal.h"
 #include "report_internal.h"
 #include "usm_periodic_sweep.h"
@@ -174,7 +175,7 @@ static int curve_task(void *ctx, void *state, size_t i)
     for (int q = 0; q < cv->points; ++q) {
         usm_report_nonideal_point *pt = &cv->pt[q];
         const usm_periodic_point *sp = swept ? usm_periodic_sweep_point_at(sw, (size_t)q) : NULL;
-        pt->value = sp ? sp->value : cv->from + (cv->to - cv->from) * q / (cv->points - 1);
+        pt->value = sp ? sp->value : usm_grid_value(cv->from, cv->to, q, cv->points);
         pt->converged = sp && sp->converged;
         if (!pt->converged) {
             pt->speed_mean = pt->ripple = pt->F_n_min = pt->F_n_max = NAN;

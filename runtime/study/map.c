@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/grid.h"
 #include "core/pool_internal.h"
 #include "core/root.h"
 #include "usm_map.h"
@@ -74,11 +75,7 @@ int usm_point_evaluate_warm(usm_steady *s, usm_floquet *f, const usm_params *p,
 
 double usm_map_axis_value(const usm_map_axis *a, int i)
 {
-    if (i <= 0)
-        return a->from;
-    if (i >= a->points - 1)
-        return a->to;
-    return a->from + (a->to - a->from) * (double)i / (double)(a->points - 1);
+    return usm_grid_value(a->from, a->to, i, a->points);
 }
 
 void usm_map_options_default(usm_map_options *opt)

@@ -9,6 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/grid.h"
 #include "core/root.h"
 #include "solve/periodic_internal.h"
 
@@ -484,8 +485,8 @@ int usm_periodic_sweep_run(usm_periodic_sweep *s, const usm_params *p,
     s->pts[0].orbit = ra;
     s->npts = 1;
     for (int i = 1; i < n; ++i) {
-        /* the last grid value exactly `to`, not from + (n-1) h rounded */
-        const double target = i == n - 1 ? opt->to : opt->from + i * hmax;
+        /* the grid value as typed, the last exactly `to` (core/grid.h) */
+        const double target = usm_grid_value(opt->from, opt->to, i, n);
         usm_periodic_point *pt = &s->pts[i];
         memset(pt, 0, sizeof *pt);
         pt->value = target;

@@ -11,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/grid.h"
 #include "sweep_branch.h"
 #include "sweep_stability.h"
 
@@ -137,14 +138,9 @@ static void sink_progress(void *ctx, double fraction)
 
 static double grid_value(const usm_sweep_options *opt, int i)
 {
-    /* one rounding where the values allow it: 36000..39000 in 301 points gives
-     * 36010, not 36009.999999999993, and the ends are from and to exactly */
-    const double n = opt->points - 1;
-    if (i == 0)
-        return opt->from;
-    if (i == opt->points - 1)
-        return opt->to;
-    return (opt->from * (n - i) + opt->to * i) / n;
+    /* 36000..39000 in 301 points gives 36010, not 36009.999999999993, and
+     * the ends are from and to exactly (core/grid.h) */
+    return usm_grid_value(opt->from, opt->to, i, opt->points);
 }
 
 static int check_options(usm_sweep *s, const usm_params *p, const usm_sweep_options *opt)

@@ -5,8 +5,9 @@
  *
  * CSV dialect (sweep, map, simulate, report): one header line, a column with
  * a unit named "NAME [UNIT]"; numbers as the shortest text that reads back
- * exactly; an empty field where a value does not exist.  JSON numbers have 17
- * significant digits (they read back bit for bit); a non-finite value is null.
+ * exactly; an empty field where a value does not exist.  JSON numbers too are
+ * the shortest text that reads back bit for bit (0.005, not
+ * 0.0050000000000000001); a non-finite value is null.
  *
  * Messages name the file (or field) and the reason; they get USM_IO_MSG_LEN
  * bytes, room for a path.
@@ -128,14 +129,43 @@ void usm_io_dir_abort(usm_io_dir *out);
 int usm_parse_number(const char *field, const char *text, size_t len, double *out,
                      char msg[USM_IO_MSG_LEN]);
 
+/* Parse a value typed with an optional unit: "37.5kHz", "10deg", "0.5 mNm",
+ * "400mN" (a blank may stand between number and unit; blanks inside the unit
+ * are ignored; u, U+00B5 and U+03BC all mean micro).  `unit` is the SI unit
+ * the value is wanted in, spelled as the contracts spell it
+ * (usm_param_table[k].unit: "N m", "Hz", "rad", ...; also "s", "1/s", "W");
+ * without a unit the number is taken in it.  The units accepted for each are
+ * one table (usm_unit_at); a decimal number with a power-of-ten unit is scaled
+ * in its exponent (400mN is the double nearest 0.4).  NULL unit: a plain
+ * number, as usm_parse_number.  USM_EINPUT on a bad number (as
+ * usm_parse_number) or an unknown unit, with "FIELD: \"text\": unknown unit
+ * \"U\" for a value in [UNIT] (accepted: ...)" in msg. */
+int usm_parse_quantity(const char *field, const char *unit, const char *text, size_t len,
+                       double *out, char msg[USM_IO_MSG_LEN]);
+
+/* The number of rows of the units table (for usm_unit_at). */
+int usm_unit_count(void);
+
+/* Row k (0 .. usm_unit_count() - 1) of the units table: the SI unit of its
+ * dimension (`si`), the unit as typed (`name`) and its value in SI (`scale`;
+ * any pointer may be NULL).  USM_EINPUT for a row out of range. */
+int usm_unit_at(int k, const char **si, const char **name, double *scale);
+
+/* The units accepted for a value in SI unit `si`, ", "-separated, in buf
+ * (truncated to len); returns how many there are (0: a number without
+ * unit only). */
+int usm_units_accepted(const char *si, char *buf, size_t len);
+
 /* Set the parameters named in the parameter file at `path`, a JSON object
- * {"NAME": number, ...}, in *p (others keep their value).  USM_OK, or
- * USM_EINPUT with "PATH[:LINE:COLUMN]: reason" in msg. */
+ * {"NAME": number, ...}, in *p (others keep their value).  A number is in
+ * the parameter's SI unit; a string is a value with a unit ("f": "37.5 kHz",
+ * usm_parse_quantity).  USM_OK, or USM_EINPUT with "PATH[:LINE:COLUMN]:
+ * reason" in msg. */
 int usm_params_read_file(const char *path, usm_params *p, char msg[USM_IO_MSG_LEN]);
 
 /* The same on the `len` bytes at `text` (which need not end in NUL); `path`
  * names them in messages.  *p is changed only when the whole text is good.
- * Numbers go through usm_parse_number(). */
+ * Numbers go through usm_parse_number(), strings through usm_parse_quantity(). */
 int usm_params_parse_text(const char *path, const char *text, size_t len, usm_params *p,
                           char msg[USM_IO_MSG_LEN]);
 
