@@ -37,7 +37,7 @@ set object 1 rectangle from graph 0,0 to graph 1,1 behind fillcolor rgb '#bdbdbd
 present(c) = strcol('exists') eq 'true'
 # the operating point's class (column op_class)
 opc(name) = strcol('op_class') eq name
-value(c) = opc('operating_point') ? column(mcol) : NaN
+opval(c) = opc('operating_point') ? column(mcol) : NaN
 klass(name) = opc(name) ? 1 : NaN
 do for [fmt in 'png svg'] {
   if (fmt eq 'png') {
@@ -48,10 +48,10 @@ do for [fmt in 'png svg'] {
   set output prefix.'.'.fmt
   set title 'usm map: '.csv.' (operating point; grey: no stationary solution)'
   set key outside bottom center horizontal
-  plot csv using (column(xcol)):(column(ycol)):(value(0)) with image notitle, \
+  plot csv using (column(xcol)):(column(ycol)):(opval(0)) with image notitle, \
        csv using (column(xcol)):(column(ycol) * klass('no_stable_root')):(dx / 2):(dy / 2) with boxxyerror fillstyle solid 1.0 noborder lc rgb '#67001f' title 'no stable root', \
        csv using (column(xcol)):(column(ycol) * klass('does_not_start')):(dx / 2):(dy / 2) with boxxyerror fillstyle solid 1.0 noborder lc rgb '#000000' title 'does not start from rest', \
-       csv using (column(xcol)):(column(ycol) * klass('unknown')):(dx / 2):(dy / 2) with boxxyerror fillstyle solid 1.0 border lc rgb '#ffffff' title 'unknown (several roots; --from-rest decides)', \
+       csv using (column(xcol)):(column(ycol) * klass('unknown')):(dx / 2):(dy / 2) with boxxyerror fillstyle solid 1.0 border lc rgb '#969696' fillcolor rgb '#ffffff' title 'unknown (several roots; --from-rest decides)', \
        NaN with boxes fillstyle solid 1.0 lc rgb '#bdbdbd' title 'no stationary solution'
   unset output
 }

@@ -143,7 +143,6 @@ int usm_point_evaluate_op(usm_steady *s, usm_floquet *f, const usm_model *m,
     op->reason = res.reason;
     op->starts_from_rest = res.starts_from_rest;
     op->simulated = res.simulated;
-    op->wall = res.wall;
     snprintf(op->message, USM_MSG_LEN, "%s", res.message);
     if (orc != USM_OK)
         op->cls = USM_POINT_OP_UNKNOWN;

@@ -8,8 +8,10 @@
  *    polished by Newton at b's value (usm_steady_solve_from), is not b's
  *    operating point, or b's polished at a's value is not a's (tilt within
  *    1e-6 relative);
- *  - one has an operating point and the other is decided without one
- *    (no_stable_root, does_not_start), or they are those two classes.
+ *  - one has an operating point and the other does not start from rest;
+ *  - one has an operating point and at the other no root is stable, unless
+ *    the operating point is the sweep's branch root there (then the branch
+ *    loses its stability and the stability_change event says so).
  * A point whose operating point is unknown (several roots and no simulation
  * from rest, or undecided) or that has no solution makes no event: nothing is
  * known there.  The event is not located: its value is the midpoint, its text
@@ -98,6 +100,14 @@ static int continues(usm_steady *s, const usm_params *p, const usm_param_info *i
     return fabs(th - to->theta) <= SAME_ROOT_RTOL * fmax(fabs(th), fabs(to->theta));
 }
 
+/* Whether the operating point of pt is the sweep's branch root there. */
+static int on_branch(const usm_sweep_point *pt)
+{
+    return pt->converged &&
+           fabs(pt->op.sol.theta - pt->sol.theta) <=
+               SAME_ROOT_RTOL * fmax(fabs(pt->op.sol.theta), fabs(pt->sol.theta));
+}
+
 static int decided(const usm_point_op *op)
 {
     return op->cls == USM_POINT_OP_STABLE || op->cls == USM_POINT_OP_NO_STABLE_ROOT ||
@@ -128,12 +138,15 @@ static int jump_events(const usm_model *m, const usm_params *p, const usm_sweep_
         const usm_sweep_point *a = &pts[i], *b = &pts[i + 1];
         if (!a->has_op || !b->has_op || !decided(&a->op) || !decided(&b->op))
             continue;
-        int jump;
+        int jump = 0;
         if (a->op.cls == USM_POINT_OP_STABLE && b->op.cls == USM_POINT_OP_STABLE)
             jump = !continues(s, p, info, b->value, &a->op.sol, &b->op.sol) ||
                    !continues(s, p, info, a->value, &b->op.sol, &a->op.sol);
-        else
-            jump = a->op.cls != b->op.cls;
+        else if (a->op.cls == USM_POINT_OP_STABLE || b->op.cls == USM_POINT_OP_STABLE) {
+            const usm_sweep_point *on = a->op.cls == USM_POINT_OP_STABLE ? a : b;
+            const usm_sweep_point *off = on == a ? b : a;
+            jump = off->op.cls == USM_POINT_OP_DOES_NOT_START || !on_branch(on);
+        }
         if (!jump)
             continue;
         usm_sweep_event e;

@@ -64,7 +64,6 @@ typedef struct usm_point_op {
     int stable_roots;           /* how many roots are stable (0 when the multipliers failed) */
     usm_steady_solution sol;    /* the operating point's root (index >= 0) */
     usm_floquet_result floquet; /* its multipliers (index >= 0) */
-    double wall;                /* seconds: the other roots' multipliers and the simulation */
     char message[USM_MSG_LEN];  /* the answer in words (usm_op_result.message) */
 } usm_point_op;
 

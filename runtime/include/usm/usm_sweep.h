@@ -25,7 +25,9 @@
  *   crossing             a user monitor crosses one of its levels
  *   operating_point_jump the operating point (usm_operating_point.h: the stable
  *                        root the motor runs at) moves to another branch, or
- *                        appears or vanishes (no stable root, does not start),
+ *                        appears or vanishes (the motor does not start from
+ *                        rest; no root is stable where the operating point is
+ *                        not the sweep's branch, else stability_change says it),
  *                        between two neighbouring grid points where it is known
  *                        (usm_sweep_options.operating_point); not located: the
  *                        event's value is the midpoint of the two grid values,
