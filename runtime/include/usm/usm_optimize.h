@@ -188,10 +188,11 @@ int usm_optimize_run(usm_optimize *o, const usm_params *p, const usm_opt_problem
 const usm_steady *usm_optimize_steady(const usm_optimize *o);
 
 /* The operating point at the optimum of the last feasible run (the root
- * that result's `sol` is), and the multipliers of every root there
+ * that result's `sol` is).  NULL before a feasible run. */
+const usm_op_result *usm_optimize_op(const usm_optimize *o);
+/* The multipliers of every root at that optimum
  * (usm_steady_count(usm_optimize_steady(o)) of them, the result's floquet's
  * method: the exponential product).  NULL before a feasible run. */
-const usm_op_result *usm_optimize_op(const usm_optimize *o);
 const usm_floquet_result *usm_optimize_roots_floquet(const usm_optimize *o);
 
 /* Why the last run did not succeed, or "". */
