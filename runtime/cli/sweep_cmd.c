@@ -274,7 +274,7 @@ static int parse(sweep_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
     a->periodic |= a->common.model->imperfect;
     if (a->periodic && (a->others || a->plot || a->nmonitors > 0 || a->t0 != 0.0)) {
         cli_msg(msg, "--periodic (or the variant imperfect): --no-floquet, --t0, --threads, "
-                     "--plot, --extremum, --crossing and the Floquet options are for the "
+                     "--plot, --extremum, --crossing, --from-rest and the Floquet options are for the "
                      "stationary sweep only");
         return USM_EINPUT;
     }
