@@ -6,6 +6,7 @@
 
 #include "core/pool_internal.h"
 #include "core/root.h"
+#include "point_worker.h"
 #include "usm_map.h"
 
 /* Bisection stops when the bracket is this fraction of the y range. */
@@ -331,34 +332,12 @@ static int check_options(usm_map *map, const usm_params *p, const usm_map_option
 
 /* ---- one column (a task of the pool) ---------------------------------------------- */
 
-typedef struct worker {
-    usm_steady *steady;
-    usm_floquet *floquet;
-} worker;
+typedef point_worker worker;
 
 static void *worker_alloc(void *ctx)
 {
-    usm_map *map = ctx;
-    worker *w = calloc(1, sizeof *w);
-    if (!w)
-        return NULL;
-    w->steady = usm_steady_alloc(map->m);
-    w->floquet = usm_floquet_alloc(map->m);
-    if (!w->steady || !w->floquet) {
-        usm_steady_free(w->steady);
-        usm_floquet_free(w->floquet);
-        free(w);
-        return NULL;
-    }
-    return w;
-}
-
-static void worker_free(void *state)
-{
-    worker *w = state;
-    usm_steady_free(w->steady);
-    usm_floquet_free(w->floquet);
-    free(w);
+    const usm_map *map = ctx;
+    return point_worker_alloc(map->m);
 }
 
 /* Point (x, y); guess: a neighbouring point's primary root for the warm
@@ -510,7 +489,7 @@ int usm_map_run(usm_map *map, const usm_params *p, const usm_map_options *opt)
         snprintf(map->msg, USM_MSG_LEN, "out of memory for a %zu x %zu map", nx, ny);
         return USM_EFAILED;
     }
-    pool_job job = {nx, opt->threads, map, worker_alloc, worker_free, column_task, NULL};
+    pool_job job = {nx, opt->threads, map, worker_alloc, point_worker_free, column_task, NULL};
     int status = pool_run(&job, map->msg);
     if (status == USM_EINPUT)
         for (size_t i = 0; i < nx; ++i)

@@ -23,6 +23,7 @@
 #include <string.h>
 
 #include "core/pool_internal.h"
+#include "point_worker.h"
 #include "sweep_op.h"
 #include "usm_map.h"
 
@@ -38,40 +39,16 @@ typedef struct op_pass {
     char *msgs; /* per point: why it stopped (USM_EINPUT) */
 } op_pass;
 
-typedef struct op_worker {
-    usm_steady *steady;
-    usm_floquet *floquet;
-} op_worker;
-
 static void *op_alloc(void *ctx)
 {
     const op_pass *c = ctx;
-    op_worker *w = calloc(1, sizeof *w);
-    if (!w)
-        return NULL;
-    w->steady = usm_steady_alloc(c->m);
-    w->floquet = usm_floquet_alloc(c->m);
-    if (!w->steady || !w->floquet) {
-        usm_steady_free(w->steady);
-        usm_floquet_free(w->floquet);
-        free(w);
-        return NULL;
-    }
-    return w;
-}
-
-static void op_free(void *state)
-{
-    op_worker *w = state;
-    usm_steady_free(w->steady);
-    usm_floquet_free(w->floquet);
-    free(w);
+    return point_worker_alloc(c->m);
 }
 
 static int op_task(void *ctx, void *state, size_t i)
 {
     op_pass *c = ctx;
-    op_worker *w = state;
+    point_worker *w = state;
     usm_sweep_point *pt = &c->pts[i];
     usm_params q = *c->p;
     usm_point res;
@@ -182,7 +159,7 @@ int sweep_operating_points(const usm_model *m, const usm_params *p,
         snprintf(msg, USM_MSG_LEN, "out of memory");
         return USM_EFAILED;
     }
-    pool_job job = {n, opt->threads, &c, op_alloc, op_free, op_task, NULL};
+    pool_job job = {n, opt->threads, &c, op_alloc, point_worker_free, op_task, NULL};
     int status = pool_run(&job, msg);
     if (status == USM_EINPUT)
         for (size_t i = 0; i < n; ++i)
