@@ -77,7 +77,8 @@ with open(sys.argv[1]) as f:
 assert lines[0] == ("T [N m],theta [rad],alpha [rad],rotor_speed [1/s],F_n [N],F_t [N],"
                     "mu_needed [1],max_modulus [1],stable,converged,roots,error,"
                     "power_in [W],power_out [W],power_damping [W],power_slip [W],"
-                    "efficiency [1],valid,invalid_reason"), lines[0]
+                    "efficiency [1],valid,invalid_reason,operating_point,op_class,"
+                    "op_theta [rad],op_rotor_speed [1/s],op_max_modulus [1]"), lines[0]
 rows = [l for l in lines[1:] if not l.startswith("#")]
 assert len(rows) == 11, len(rows)
 assert lines[1:12] == rows, "event lines must follow the rows"
@@ -87,7 +88,7 @@ t_stab = [float(l.split(" at T = ")[1].split(":")[0]) for l in lines[12:]
           if l.startswith("# stability_change ")]
 assert len(t_stab) == 1, lines[12:]
 for f in csv.reader(rows):
-    assert len(f) == 19, f
+    assert len(f) == 24, f
     if f[9] == "true":
         assert all(f[:8]) and f[10] == "1" and not f[11], f
         assert f[8] == ("true" if float(f[0]) < t_stab[0] else "false"), (f, t_stab)
@@ -106,7 +107,17 @@ for f in csv.reader(rows):
     else:
         # beyond the tilt's end: no root at all, and the reason
         assert f[9] == "false" and not any(f[1:9]) and f[10] == "0" and "tilt_zero" in f[11], f
-        assert not any(f[12:]), f  # no solution: valid and invalid_reason empty too
+        assert not any(f[12:19]), f  # no solution: valid and invalid_reason empty too
+        assert not f[19] and f[20] == "no_solution" and not any(f[21:]), f
+        continue
+    # the operating point: the only root, stable (only_stable_root), or none
+    # where that root is unstable (no_stable_root)
+    if f[8] == "true":
+        assert f[19] == "0" and f[20] == "operating_point", f
+        assert all(abs(float(f[i]) - float(f[j])) <= 1e-11 * abs(float(f[j]))
+                   for i, j in ((21, 1), (22, 3), (23, 7))), f
+    else:
+        assert f[19] == "" and f[20] == "no_stable_root", f
 events = lines[12:]
 assert [e.split()[1] for e in events] == ["stick_limit", "stability_change", "tilt_zero"], events
 assert all(e.startswith("# ") and " at T = " in e for e in events), events

@@ -57,7 +57,7 @@ expect_rc 0 $T --json --threads 2 && { cmp -s "$out" "$tmp/t1.json" || fail "thr
 # ---- --out --------------------------------------------------------------------------
 if expect_rc 0 $T --out "$tmp/full"; then
     for f in samples.csv summary.md; do [ -s "$tmp/full/$f" ] || fail "--out: no $f"; done
-    head -n 1 "$tmp/full/samples.csv" | grep -qx 'sample,F0 \[N\],T \[N m\],exists,stable,stick_admissible,theta \[rad\],rotor_speed \[1/s\],F_n \[N\],F_t \[N\],max_modulus \[1\],efficiency \[1\],good,redraws' ||
+    head -n 1 "$tmp/full/samples.csv" | grep -qx 'sample,F0 \[N\],T \[N m\],exists,stable,stick_admissible,theta \[rad\],rotor_speed \[1/s\],F_n \[N\],F_t \[N\],max_modulus \[1\],efficiency \[1\],good,redraws,operating_point,op_class' ||
         fail "samples.csv header: $(head -n 1 "$tmp/full/samples.csv")"
     [ "$(wc -l <"$tmp/full/samples.csv")" -eq 301 ] || fail "samples.csv rows"
     grep -qi 'nan\|inf' "$tmp/full/samples.csv" && fail "samples.csv has nan/inf"

@@ -28,6 +28,7 @@ static void usage(FILE *out)
             "               [--model 3dof|4dof] [--variant NAME] [--params FILE.json]\n"
             "               [--set NAME=VALUE]...\n"
             "               [--t0 S] [--floquet-method NAME] [--rtol R] [--threads N] [--json]\n"
+            "               [--from-rest [--from-rest-periods N]]\n"
             "               [--out FILE] [--plot PREFIX] [--force]\n"
             "\n"
             "Stability map: at every point of a grid over two parameters, the stationary\n"
@@ -44,6 +45,7 @@ static void usage(FILE *out)
             "  --x-points N, --y-points N   grid points per axis (default 33, at least 2)\n"
             "  --t0 S              start of the Floquet period [s] (default 0, the paper's)\n");
     cli_floquet_usage(out);
+    cli_from_rest_usage(out);
     fprintf(out,
             "  --threads N         worker threads (default 2)\n"
             "  --out FILE          write to FILE instead of stdout; an existing FILE is\n"
@@ -57,7 +59,12 @@ static void usage(FILE *out)
             "Output: CSV (default), header\n"
             "  X [unit],Y [unit],exists,roots,max_modulus [1],stable,theta [rad],\n"
             "  rotor_speed [1/s],mu_used [1],stick_admissible,power_in [W],power_out [W],\n"
-            "  power_damping [W],power_slip [W],efficiency [1],valid,invalid_reason\n"
+            "  power_damping [W],power_slip [W],efficiency [1],valid,invalid_reason,\n"
+            "  operating_point,op_class,op_reason,starts_from_rest,op_theta [rad],\n"
+            "  op_rotor_speed [1/s],op_max_modulus [1]\n"
+            "(op_class: operating_point, no_stable_root, does_not_start, unknown --\n"
+            "several roots and no --from-rest -- or no_solution; the columns before it are\n"
+            "the smallest-tilt root's)\n"
             "one row per grid point, x fastest, an empty field where a value does not\n"
             "exist, true/false for yes/no.  With\n"
             "--json one object: model, parameters, t0, x, y, points[] and boundaries\n"
@@ -72,6 +79,7 @@ static void usage(FILE *out)
 typedef struct map_args {
     cli_common common;
     usm_floquet_options floquet;
+    usm_op_options op;
     const char *xname, *yname;
     double xfrom, xto, yfrom, yto;
     int have_xfrom, have_xto, have_yfrom, have_yto;
@@ -92,6 +100,7 @@ static int parse(map_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
     memset(a, 0, sizeof *a);
     cli_common_init(&a->common);
     usm_floquet_options_default(&a->floquet);
+    usm_op_options_default(&a->op);
     a->xpoints = a->ypoints = 33;
     a->threads = 2;
     for (int i = 1; i < argc; ++i) {
@@ -110,6 +119,10 @@ static int parse(map_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
         if (r == CLI_OPT_ERROR)
             return USM_EINPUT;
         if ((r = cli_floquet_option(&a->floquet, argc, argv, &i, msg)) == CLI_OPT_TAKEN)
+            continue;
+        if (r == CLI_OPT_ERROR)
+            return USM_EINPUT;
+        if ((r = cli_from_rest_option(&a->op, argc, argv, &i, msg)) == CLI_OPT_TAKEN)
             continue;
         if (r == CLI_OPT_ERROR)
             return USM_EINPUT;
@@ -229,7 +242,7 @@ static int plot(const map_args *a, const usm_report_map *map)
     /* the header's first two columns (report_map.c) */
     snprintf(xcol, sizeof xcol, "%s [%s]", map->x.param->name, map->x.param->unit);
     snprintf(ycol, sizeof ycol, "%s [%s]", map->y.param->name, map->y.param->unit);
-    const char *names[] = {"xcol", "ycol", "mcol"}, *values[] = {xcol, ycol, "max_modulus [1]"};
+    const char *names[] = {"xcol", "ycol", "mcol"}, *values[] = {xcol, ycol, "op_max_modulus [1]"};
     int rc = usm_plot_render("map", a->plot, names, values, 3, msg);
     if (rc == USM_ENOSOLUTION) {
         cli_error("warning: %s", msg);
@@ -283,6 +296,7 @@ int cli_map_main(int argc, char **argv)
     map.params = a.common.params;
     map.t0 = a.t0;
     map.floquet = &a.floquet;
+    map.op = &a.op;
     map.threads = a.threads;
     map.boundaries = a.common.json;
     /* Refuse an --out that cannot be written before the (long) computation. */

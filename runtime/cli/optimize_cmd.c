@@ -23,7 +23,7 @@ static void usage(FILE *out)
             "                    [--constraint OUTPUT>=X | OUTPUT<=X]... [--stability-margin D]\n"
             "                    [--allow-slip] [--allow-driven] [--starts N] [--t0 S]\n"
             "                    [--no-flat] [--model M] [--variant V] [--params F]\n"
-            "                    [--set N=V]... [--json]\n"
+            "                    [--set N=V]... [--from-rest [--from-rest-periods N]] [--json]\n"
             "\n"
             "Maximize (default) or minimize an output of the primary stationary solution over\n"
             "the --vary parameters within their bounds, subject to: a stationary solution\n"
@@ -35,7 +35,10 @@ static void usage(FILE *out)
             "feasible result wins.  At the optimum: each active constraint's multiplier\n"
             "(the objective's change per unit of its bound), the KKT residual, and the\n"
             "flat parameters (objective within 1e-4 relative over more than a tenth of\n"
-            "their bounds).\n"
+            "their bounds).  A design is judged by its operating point: one root is it\n"
+            "when stable; where several roots exist the design is refused (infeasible)\n"
+            "unless --from-rest, which simulates the start-up there and judges the root\n"
+            "it reaches.\n"
             "\n"
             "outputs (objective and constraints): speed (= -rotor_speed, positive when the\n"
             "motor drives; rotor_speed is an alias of it), theta, F_n, F_t, efficiency,\n"
@@ -46,7 +49,9 @@ static void usage(FILE *out)
     fprintf(out,
             "  --allow-driven      drop power_out >= 0 (designs the load drives backwards)\n"
             "  --t0 S              start of the Floquet period [s] (default 0, the paper's)\n"
-            "  --no-flat           skip the near-optimal intervals (flat parameters)\n"
+            "  --no-flat           skip the near-optimal intervals (flat parameters)\n");
+    cli_from_rest_usage(out);
+    fprintf(out,
             "  -h, --help          print this help\n"
             "\n"
             "exit status: 0 optimum found, 1 numerical failure, 2 bad specification,\n"
@@ -146,6 +151,19 @@ static int parse(opt_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
             continue;
         if (r == CLI_OPT_ERROR)
             return USM_EINPUT;
+        {
+            usm_op_options op;
+            usm_op_options_default(&op);
+            op.periods = a->pb.from_rest_periods > 0 ? a->pb.from_rest_periods : op.periods;
+            op.from_rest = a->pb.from_rest;
+            if ((r = cli_from_rest_option(&op, argc, argv, &i, msg)) == CLI_OPT_ERROR)
+                return USM_EINPUT;
+            if (r == CLI_OPT_TAKEN) {
+                a->pb.from_rest = op.from_rest;
+                a->pb.from_rest_periods = op.periods;
+                continue;
+            }
+        }
         for (int o = 0; o < NOPTS && which < 0; ++o) {
             if ((r = cli_option_value(argc, argv, &i, opts[o], &value, msg)) == CLI_OPT_ERROR)
                 return USM_EINPUT;

@@ -265,3 +265,34 @@ int cli_plot_option(int argc, char **argv, int *i, const char **prefix, char msg
     *prefix = value;
     return CLI_OPT_TAKEN;
 }
+
+int cli_from_rest_option(usm_op_options *o, int argc, char **argv, int *i,
+                         char msg[CLI_MSG_LEN])
+{
+    const char *value;
+    int r;
+    if (strcmp(argv[*i], "--from-rest") == 0) {
+        o->from_rest = 1;
+        return CLI_OPT_TAKEN;
+    }
+    if ((r = cli_option_value(argc, argv, i, "--from-rest-periods", &value, msg)) !=
+        CLI_OPT_TAKEN)
+        return r;
+    if (cli_parse_double("--from-rest-periods", value, &o->periods, msg) != USM_OK)
+        return CLI_OPT_ERROR;
+    if (!(o->periods >= 1 && o->periods <= 1e7)) {
+        cli_msg(msg, "--from-rest-periods: must be in [1, 1e7]");
+        return CLI_OPT_ERROR;
+    }
+    return CLI_OPT_TAKEN;
+}
+
+void cli_from_rest_usage(FILE *out)
+{
+    fprintf(out,
+            "  --from-rest         where several roots exist, simulate the start-up from rest\n"
+            "                      to find the operating point (0.2 .. 1.2 s a point); without\n"
+            "                      it such points have no operating point (unknown)\n"
+            "  --from-rest-periods N  length of that simulation in excitation periods\n"
+            "                      (default 400)\n");
+}

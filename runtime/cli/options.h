@@ -15,6 +15,7 @@
 
 #include "diag.h"
 #include "usm.h"
+#include "usm_operating_point.h"
 
 typedef struct cli_common {
     const usm_model *model;      /* --model + --variant, resolved by cli_common_finish() */
@@ -81,5 +82,15 @@ void cli_floquet_usage(FILE *out);
 /* If argv[*i] is "--plot PREFIX" (or --plot=PREFIX), store PREFIX: returns
  * CLI_OPT_TAKEN, CLI_OPT_NOT_MINE or CLI_OPT_ERROR (missing, empty). */
 int cli_plot_option(int argc, char **argv, int *i, const char **prefix, char msg[CLI_MSG_LEN]);
+
+/* The operating point's options of map, sweep, tolerance and optimize
+ * (usm_operating_point.h): --from-rest (simulate the start-up from rest
+ * where several roots exist) and --from-rest-periods N (in [1, 1e7]).
+ * Offer argv[*i] as to cli_common_option. */
+int cli_from_rest_option(usm_op_options *o, int argc, char **argv, int *i,
+                         char msg[CLI_MSG_LEN]);
+
+/* Print the lines of those options in a usage text. */
+void cli_from_rest_usage(FILE *out);
 
 #endif /* USM_CLI_OPTIONS_H */

@@ -96,22 +96,10 @@ static int parse(steady_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
             continue;
         if (r == CLI_OPT_ERROR)
             return USM_EINPUT;
-        if (strcmp(argv[i], "--from-rest") == 0) {
-            a->op.from_rest = 1;
+        if ((r = cli_from_rest_option(&a->op, argc, argv, &i, msg)) == CLI_OPT_TAKEN)
             continue;
-        }
-        if ((r = cli_option_value(argc, argv, &i, "--from-rest-periods", &value, msg)) ==
-            CLI_OPT_ERROR)
+        if (r == CLI_OPT_ERROR)
             return USM_EINPUT;
-        if (r == CLI_OPT_TAKEN) {
-            if (cli_parse_double("--from-rest-periods", value, &a->op.periods, msg) != USM_OK)
-                return USM_EINPUT;
-            if (!(a->op.periods >= 1 && a->op.periods <= 1e7)) {
-                cli_msg(msg, "--from-rest-periods: must be in [1, 1e7]");
-                return USM_EINPUT;
-            }
-            continue;
-        }
         if ((r = cli_option_value(argc, argv, &i, "--t0", &value, msg)) == CLI_OPT_ERROR)
             return USM_EINPUT;
         if (r == CLI_OPT_TAKEN) {

@@ -25,6 +25,7 @@ static void usage(FILE *out)
             "                 [--set NAME=VALUE]...\n"
             "                 [--t0 S] [--floquet-method NAME] [--rtol R] [--threads N]\n"
             "                 [--no-floquet] [--json] [--plot PREFIX [--force]]\n"
+            "                 [--from-rest [--from-rest-periods N]]\n"
             "                 [--extremum Q]... [--crossing Q=V]...\n"
             "       usm sweep --periodic --over NAME --from A --to B [--points N]\n"
             "                 [--model 3dof|4dof] [--variant NAME] [--params FILE.json]\n"
@@ -38,7 +39,10 @@ static void usage(FILE *out)
             "models: F_t = mu0 F_n), stall (slip models: the rotor speed passes 0),\n"
             "friction_saturation (slip models: the friction needed reaches the law's\n"
             "supremum), stability_change (the largest multiplier crosses 1), and the\n"
-            "maximum, minimum and crossing events of --extremum and --crossing.\n"
+            "maximum, minimum and crossing events of --extremum and --crossing.  At every\n"
+            "value also the operating point (the stable root the motor runs at; several\n"
+            "roots: unknown unless --from-rest) and operating_point_jump events where it\n"
+            "moves to another branch, appears or vanishes between two grid values.\n"
             "\n"
             "options:\n");
     cli_common_usage(out);
@@ -51,6 +55,7 @@ static void usage(FILE *out)
             "  --threads N         worker threads for the multipliers (default 2)\n"
             "  --no-floquet        skip the multipliers (and the stability events)\n");
     cli_floquet_usage(out);
+    cli_from_rest_usage(out);
     fprintf(out,
             "  --extremum Q        events at the maxima and minima of quantity Q along the\n"
             "                      branch (repeatable); Q is one of theta, alpha,\n"
@@ -116,6 +121,7 @@ typedef struct sweep_args {
     int others; /* options of the stationary sweep only, for --periodic's refusal */
     const char *plot; /* --plot PREFIX, or NULL */
     usm_floquet_options floquet_opt;
+    usm_op_options op;
     usm_sweep_monitor monitors[NQUANTITIES]; /* one per quantity named */
     int nmonitors;
 } sweep_args;
@@ -228,6 +234,7 @@ static int parse(sweep_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
     a->threads = 2;
     a->floquet = 1;
     usm_floquet_options_default(&a->floquet_opt);
+    usm_op_options_default(&a->op);
     for (int i = 1; i < argc; ++i) {
         int r;
         if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
@@ -239,6 +246,12 @@ static int parse(sweep_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
         if (r == CLI_OPT_ERROR)
             return USM_EINPUT;
         if ((r = cli_floquet_option(&a->floquet_opt, argc, argv, &i, msg)) == CLI_OPT_TAKEN) {
+            a->others = 1;
+            continue;
+        }
+        if (r == CLI_OPT_ERROR)
+            return USM_EINPUT;
+        if ((r = cli_from_rest_option(&a->op, argc, argv, &i, msg)) == CLI_OPT_TAKEN) {
             a->others = 1;
             continue;
         }
@@ -275,7 +288,7 @@ static int parse(sweep_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
     a->periodic |= a->common.model->imperfect;
     if (a->periodic && (a->others || a->plot || a->nmonitors > 0 || a->t0 != 0.0)) {
         cli_msg(msg, "--periodic (or the variant imperfect): --no-floquet, --t0, --threads, "
-                     "--plot, --extremum, --crossing and the Floquet options are for the "
+                     "--plot, --extremum, --crossing, --from-rest and the Floquet options are for the "
                      "stationary sweep only");
         return USM_EINPUT;
     }
@@ -419,6 +432,7 @@ static int run(const sweep_args *a)
     opt.threads = a->threads;
     opt.monitors = a->monitors;
     opt.nmonitors = a->nmonitors;
+    opt.op = a->op;
     if (isatty(STDERR_FILENO)) {
         opt.progress = draw;
         opt.progress_ctx = &progress;

@@ -21,15 +21,18 @@ static void usage(FILE *out)
     fputs("usage: usm tolerance --samples N --vary NAME=DIST [--vary ...]\n"
           "         [--spec OUTPUT>=X | --spec OUTPUT<=X]... [--seed S] [--threads N]\n"
           "         [--model M] [--variant V] [--params F] [--set N=V]...\n"
-          "         [--floquet-method NAME] [--rtol R]\n"
+          "         [--floquet-method NAME] [--rtol R] [--from-rest]\n"
           "         [--out DIR [--force]] [--checkpoint FILE] [--json]\n\n"
           "Monte Carlo tolerance study: at N parameter points drawn around the nominal\n"
           "design, the stationary solution and its Floquet multipliers; the yield (exists,\n"
           "stable, every spec met) with its 95 % Wilson interval, quantiles, and the\n"
-          "Spearman rank correlation of each output with each varied parameter.\n\noptions:\n",
+          "Spearman rank correlation of each output with each varied parameter.  A sample\n"
+          "is judged by its operating point (the stable root the motor runs at): where\n"
+          "several roots exist it is unknown, and does not count, unless --from-rest.\n\noptions:\n",
           out);
     cli_common_usage(out);
     cli_floquet_usage(out);
+    cli_from_rest_usage(out);
     fputs("  --samples N         number of samples, a whole number 1 ... 1000000000\n"
           "  --vary NAME=DIST    normal:5% (sigma relative to the nominal value), normal:0.01\n"
           "                      (absolute), uniform:2% (relative half-width), uniform:LO:HI;\n"
@@ -42,7 +45,7 @@ static void usage(FILE *out)
           "                      write into an existing DIR)\n"
           "  --checkpoint FILE   keep completed blocks in FILE; the same command resumes\n\n"
           "Output: a Markdown summary; --json: {samples, seed, yield, yield_ci, quantiles,\n"
-          "influence, failed, redrawn, exists, stable}.  Under mpirun the samples are shared\n"
+          "influence, failed, redrawn, exists, stable, good, operating_point}.  Under mpirun the samples are shared\n"
           "out over the ranks, with the same output.\n"
           "exit status: 0 done, 1 numerical failure or write error, 2 bad input\n", out);
 }
@@ -165,7 +168,8 @@ static int parse(tol_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
             continue;
         }
         if ((r = cli_common_option(&a->common, argc, argv, &i, msg)) == CLI_OPT_NOT_MINE &&
-            (r = cli_floquet_option(&a->opt.floquet, argc, argv, &i, msg)) == CLI_OPT_NOT_MINE)
+            (r = cli_floquet_option(&a->opt.floquet, argc, argv, &i, msg)) == CLI_OPT_NOT_MINE &&
+            (r = cli_from_rest_option(&a->opt.op, argc, argv, &i, msg)) == CLI_OPT_NOT_MINE)
             r = option(a, argc, argv, &i, msg) == USM_OK ? CLI_OPT_TAKEN : CLI_OPT_ERROR;
         if (r == CLI_OPT_ERROR)
             return USM_EINPUT;

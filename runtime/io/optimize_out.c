@@ -75,7 +75,9 @@ int usm_optimize_write_json(const usm_optimize *o, const usm_model *m, const usm
     usm_json_put(obj, "evaluations", json_integer(res->evaluations), &ok);
     usm_json_put(obj, "solution", usm_steady_json(&(usm_steady_report){m, &res->params,
                                                     usm_optimize_steady(o), NULL,
-                                                    &res->floquet, NULL, NULL}),
+                                                    &res->floquet,
+                                                    usm_optimize_roots_floquet(o),
+                                                    usm_optimize_op(o)}),
                  &ok);
     if (!ok) {
         json_decref(obj);

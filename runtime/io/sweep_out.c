@@ -8,6 +8,47 @@
 #include "json_out.h"
 #include "steady_out.h"
 
+/* The operating point of a point (issue 20): operating_point (index into
+ * the full search's roots, or null), operating_point_class,
+ * operating_point_reason (null when undecided), operating_point_message,
+ * starts_from_rest, and operating_point_solution (the root, when there is
+ * one, with its floquet). */
+static void op_json(json_t *obj, const usm_point_op *op, int *ok)
+{
+    usm_json_put(obj, "operating_point", op->index >= 0 ? json_integer(op->index) : json_null(),
+                 ok);
+    usm_json_put(obj, "operating_point_class", json_string(usm_point_op_class_name(op->cls)), ok);
+    usm_json_put(obj, "operating_point_reason",
+                 op->cls != USM_POINT_OP_NO_SOLUTION && op->reason != USM_OP_UNDECIDED
+                     ? json_string(usm_op_reason_name(op->reason))
+                     : json_null(),
+                 ok);
+    usm_json_put(obj, "operating_point_message", json_string(op->message), ok);
+    usm_json_put(obj, "starts_from_rest",
+                 op->starts_from_rest >= 0 ? json_boolean(op->starts_from_rest) : json_null(), ok);
+    if (op->index >= 0) {
+        json_t *root = usm_json_root(&op->sol);
+        usm_json_put(root, "floquet", usm_json_floquet(&op->floquet), ok);
+        usm_json_put(obj, "operating_point_solution", root, ok);
+    }
+}
+
+/* The operating point's CSV fields, appended last: operating_point, op_class,
+ * op_theta [rad], op_rotor_speed [1/s], op_max_modulus [1] (empty when not
+ * computed or none). */
+static void op_csv(FILE *out, const usm_sweep_point *pt)
+{
+    const int op = pt->has_op && pt->op.index >= 0;
+    if (op)
+        fprintf(out, ",%d", pt->op.index);
+    else
+        fputc(',', out);
+    fprintf(out, ",%s", pt->has_op ? usm_point_op_class_name(pt->op.cls) : "");
+    usm_csv_num(out, 0, op ? pt->op.sol.theta : NAN);
+    usm_csv_num(out, 0, op ? pt->op.sol.rotor_speed : NAN);
+    usm_csv_num(out, 0, op ? pt->op.floquet.max_modulus : NAN);
+}
+
 /* A point carries the keys of `usm steady --json` for one root, so that a
  * program reading either finds the same names. */
 static json_t *point_json(const usm_sweep_point *pt, const usm_model *m, const char *over)
@@ -30,6 +71,8 @@ static json_t *point_json(const usm_sweep_point *pt, const usm_model *m, const c
         usm_json_put(obj, "floquet", usm_json_floquet(&pt->floquet), &ok);
     else if (pt->floquet_error[0])
         usm_json_put(obj, "floquet_error", json_string(pt->floquet_error), &ok);
+    if (pt->has_op)
+        op_json(obj, &pt->op, &ok);
     if (!ok) {
         json_decref(obj);
         return NULL;
@@ -112,7 +155,8 @@ int usm_sweep_csv(const usm_sweep *s, const char *over, int floquet, FILE *out)
     fprintf(out, "%s [%s],theta [rad],alpha [rad],rotor_speed [1/s],F_n [N],F_t [N],"
                  "mu_needed [1],max_modulus [1],stable,converged,roots,error,"
                  "power_in [W],power_out [W],power_damping [W],power_slip [W],efficiency [1],"
-                 "valid,invalid_reason\n",
+                 "valid,invalid_reason,operating_point,op_class,op_theta [rad],"
+                 "op_rotor_speed [1/s],op_max_modulus [1]\n",
             over, info ? info->unit : "");
     for (size_t i = 0; i < usm_sweep_count(s); ++i) {
         const usm_sweep_point *pt = usm_sweep_point_at(s, i);
@@ -122,7 +166,9 @@ int usm_sweep_csv(const usm_sweep *s, const char *over, int floquet, FILE *out)
         if (!pt->converged) {
             fprintf(out, ",,,,,,,,,false,%d,", pt->roots);
             csv_text(out, pt->error);
-            fputs(",,,,,,,\n", out);
+            fputs(",,,,,,,", out);
+            op_csv(out, pt);
+            fputc('\n', out);
             continue;
         }
         const usm_steady_solution *r = &pt->sol;
@@ -146,6 +192,7 @@ int usm_sweep_csv(const usm_sweep *s, const char *over, int floquet, FILE *out)
         usm_csv_num(out, 0, r->power_slip);
         usm_csv_num(out, 0, r->efficiency); /* empty: power_in <= 0 */
         usm_csv_validity(out, 1, r->validity);
+        op_csv(out, pt);
         fputc('\n', out);
     }
     for (size_t i = 0; i < usm_sweep_event_count(s); ++i) {

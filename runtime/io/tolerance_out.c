@@ -6,6 +6,7 @@
 
 #include "csv_out.h"
 #include "study/tolerance_rows.h"
+#include "usm_map.h"
 
 /* A field of the CSV dialect (csv_out.h): the shortest text that reads back
  * exactly, empty where the value does not exist. */
@@ -34,7 +35,7 @@ int usm_tolerance_write_csv(const usm_tolerance *t, FILE *out)
         if (unit)
             fprintf(out, " [%s]", unit);
     }
-    fputs(",good,redraws\n", out);
+    fputs(",good,redraws,operating_point,op_class\n", out);
     for (uint64_t i = 0; i < t->sum.samples; ++i) {
         const double *row = t->rows + i * (uint64_t)t->width;
         fprintf(out, "%llu", (unsigned long long)i);
@@ -47,7 +48,13 @@ int usm_tolerance_write_csv(const usm_tolerance *t, FILE *out)
                 num(out, row[t->nvary + order[c]]);
         }
         yesno(out, row[TOL_ROW_GOOD(t)]);
-        fprintf(out, ",%d\n", (int)row[TOL_ROW_REDRAWS(t)]);
+        fprintf(out, ",%d", (int)row[TOL_ROW_REDRAWS(t)]);
+        if (!isnan(row[t->nvary + USM_TOL_OPERATING_POINT]))
+            fprintf(out, ",%d", (int)row[t->nvary + USM_TOL_OPERATING_POINT]);
+        else
+            fputc(',', out);
+        fprintf(out, ",%s\n",
+                usm_point_op_class_name((usm_point_op_class)(int)row[t->nvary + USM_TOL_OP_CLASS]));
     }
     return ferror(out) ? -1 : 0;
 }
@@ -89,8 +96,9 @@ int usm_tolerance_write_summary(const usm_tolerance *t, FILE *out, const char *h
     }
     fprintf(out, "\nDraws outside a parameter's physical range, drawn again: %llu.\n",
             (unsigned long long)s->redrawn);
-    fputs("\n## Yield\n\nA sample counts when a stationary solution exists, it is stable "
-          "(largest non-cyclic |multiplier| < 1)", out);
+    fputs("\n## Yield\n\nA sample counts when its operating point exists (the stable root "
+          "the motor runs at: the only root and stable, or the one reached from rest with "
+          "--from-rest)", out);
     for (int k = 0; k < t->nspec; ++k)
         fprintf(out, "%s %s %s %.6g", k ? "," : " and", usm_tolerance_output_name(t->spec[k].output),
                 t->spec[k].upper ? "<=" : ">=", t->spec[k].bound);
@@ -101,6 +109,11 @@ int usm_tolerance_write_summary(const usm_tolerance *t, FILE *out, const char *h
     fprintf(out, "Samples with a stationary solution: %llu; stable: %llu; with a solution but "
             "failed multipliers: %llu.\n", (unsigned long long)s->exists,
             (unsigned long long)s->stable, (unsigned long long)s->failed);
+    fprintf(out, "By the operating point: %llu have one; no stable root: %llu; do not start "
+            "from rest: %llu; unknown (several roots, no simulation from rest, or "
+            "undecided): %llu -- these do not count.\n",
+            (unsigned long long)s->op_exists, (unsigned long long)s->op_no_stable_root,
+            (unsigned long long)s->op_does_not_start, (unsigned long long)s->op_unknown);
     fputs("\n## Quantiles\n\n| output | samples | 1 % | 5 % | 50 % | 95 % | 99 % |\n"
           "|---|---|---|---|---|---|---|\n", out);
     for (int k = 0; k < USM_TOL_NNUMERIC; ++k) {
@@ -179,9 +192,12 @@ int usm_tolerance_write_json(const usm_tolerance *t, FILE *out)
         fputs("\n    }", out);
     }
     fprintf(out, "\n  },\n  \"failed\": %llu,\n  \"redrawn\": %llu,\n  \"exists\": %llu,\n"
-            "  \"stable\": %llu,\n  \"good\": %llu\n}\n",
+            "  \"stable\": %llu,\n  \"good\": %llu,\n  \"operating_point\": {\"exists\": %llu, "
+            "\"no_stable_root\": %llu, \"does_not_start\": %llu, \"unknown\": %llu}\n}\n",
             (unsigned long long)s->failed, (unsigned long long)s->redrawn,
             (unsigned long long)s->exists, (unsigned long long)s->stable,
-            (unsigned long long)s->good);
+            (unsigned long long)s->good, (unsigned long long)s->op_exists,
+            (unsigned long long)s->op_no_stable_root, (unsigned long long)s->op_does_not_start,
+            (unsigned long long)s->op_unknown);
     return ferror(out) ? -1 : 0;
 }

@@ -47,6 +47,15 @@ void usm_report_map_cell_copy(const usm_map_cell *in, usm_report_map_cell *c)
     c->power_slip = pt->exists ? pt->sol.power_slip : NAN;
     c->efficiency = pt->exists ? pt->sol.efficiency : NAN;
     snprintf(c->error, sizeof c->error, "%s", pt->error);
+    const int op = pt->has_op && pt->op.index >= 0;
+    c->op_class = pt->has_op ? (int)pt->op.cls : (int)USM_POINT_OP_NOT_EVALUATED;
+    c->op_index = op ? pt->op.index : -1;
+    c->op_reason = pt->has_op ? (int)pt->op.reason : (int)USM_OP_UNDECIDED;
+    c->starts_from_rest = pt->has_op ? pt->op.starts_from_rest : -1;
+    c->op_theta = op ? pt->op.sol.theta : NAN;
+    c->op_rotor_speed = op ? pt->op.sol.rotor_speed : NAN;
+    c->op_max_modulus = op ? pt->op.floquet.max_modulus : NAN;
+    snprintf(c->op_message, sizeof c->op_message, "%s", pt->has_op ? pt->op.message : "");
 }
 
 void usm_report_map_options(const usm_report_map *map, usm_map_options *opt)
@@ -59,6 +68,8 @@ void usm_report_map_options(const usm_report_map *map, usm_map_options *opt)
         opt->floquet = *map->floquet;
     opt->threads = map->threads;
     opt->boundaries = map->boundaries;
+    if (map->op)
+        opt->op = *map->op;
 }
 
 int usm_report_map_fill(usm_report_map *map, const usm_map_cell *cells,
@@ -176,7 +187,10 @@ int usm_report_map_write_csv(const usm_report_map *map, FILE *out)
                              {"power_in", "W"},     {"power_out", "W"},
                              {"power_damping", "W"}, {"power_slip", "W"},
                              {"efficiency", "1"},   {"valid", NULL},
-                             {"invalid_reason", NULL}};
+                             {"invalid_reason", NULL}, {"operating_point", NULL},
+                             {"op_class", NULL},    {"op_reason", NULL},
+                             {"starts_from_rest", NULL}, {"op_theta", "rad"},
+                             {"op_rotor_speed", "1/s"}, {"op_max_modulus", "1"}};
     axis_header(map, cols);
     usm_csv_header(out, cols, (int)(sizeof cols / sizeof cols[0]));
     for (int j = 0; j < ny; ++j)
@@ -206,6 +220,23 @@ int usm_report_map_write_csv(const usm_report_map *map, FILE *out)
             usm_csv_num(out, 0, c->power_slip);
             usm_csv_num(out, 0, c->efficiency);
             usm_csv_validity(out, c->exists, c->validity);
+            if (c->op_index >= 0) {
+                snprintf(buf, sizeof buf, "%d", c->op_index);
+                usm_csv_text(out, 0, buf);
+            } else
+                fputc(',', out);
+            usm_csv_text(out, 0, usm_point_op_class_name((usm_point_op_class)c->op_class));
+            if (c->op_reason != USM_OP_UNDECIDED)
+                usm_csv_text(out, 0, usm_op_reason_name((usm_op_reason)c->op_reason));
+            else
+                fputc(',', out);
+            if (c->starts_from_rest >= 0)
+                usm_csv_bool(out, 0, c->starts_from_rest);
+            else
+                fputc(',', out);
+            usm_csv_num(out, 0, c->op_theta);
+            usm_csv_num(out, 0, c->op_rotor_speed);
+            usm_csv_num(out, 0, c->op_max_modulus);
             fputc('\n', out);
         }
     return ferror(out) ? -1 : 0;
@@ -285,6 +316,28 @@ json_t *usm_report_map_json(const usm_report_map *map)
         }
         if (c->error[0])
             usm_json_put(pt, "error", json_string(c->error), &ok);
+        if (c->op_class != USM_POINT_OP_NOT_EVALUATED) {
+            usm_json_put(pt, "operating_point",
+                         c->op_index >= 0 ? json_integer(c->op_index) : json_null(), &ok);
+            usm_json_put(pt, "operating_point_class",
+                         json_string(usm_point_op_class_name((usm_point_op_class)c->op_class)),
+                         &ok);
+            usm_json_put(pt, "operating_point_reason",
+                         c->op_reason != USM_OP_UNDECIDED
+                             ? json_string(usm_op_reason_name((usm_op_reason)c->op_reason))
+                             : json_null(),
+                         &ok);
+            usm_json_put(pt, "operating_point_message", json_string(c->op_message), &ok);
+            usm_json_put(pt, "starts_from_rest",
+                         c->starts_from_rest >= 0 ? json_boolean(c->starts_from_rest)
+                                                  : json_null(),
+                         &ok);
+            if (c->op_index >= 0) {
+                usm_json_put(pt, "op_theta", usm_json_real(c->op_theta), &ok);
+                usm_json_put(pt, "op_rotor_speed", usm_json_real(c->op_rotor_speed), &ok);
+                usm_json_put(pt, "op_max_modulus", usm_json_real(c->op_max_modulus), &ok);
+            }
+        }
         if (json_array_append_new(pts, pt) != 0)
             ok = 0;
     }

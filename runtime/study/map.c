@@ -8,6 +8,7 @@
 #include "core/grid.h"
 #include "core/pool_internal.h"
 #include "core/root.h"
+#include "point_worker.h"
 #include "usm_map.h"
 
 /* Bisection stops when the bracket is this fraction of the y range. */
@@ -71,6 +72,98 @@ int usm_point_evaluate_warm(usm_steady *s, usm_floquet *f, const usm_params *p,
     return point_evaluate(s, f, p, steady_opt, guess, 1, floquet, t0, floquet_opt, out);
 }
 
+const char *usm_point_op_class_name(usm_point_op_class cls)
+{
+    switch (cls) {
+    case USM_POINT_OP_NOT_EVALUATED:
+        return "not_evaluated";
+    case USM_POINT_OP_STABLE:
+        return "operating_point";
+    case USM_POINT_OP_NO_STABLE_ROOT:
+        return "no_stable_root";
+    case USM_POINT_OP_DOES_NOT_START:
+        return "does_not_start";
+    case USM_POINT_OP_UNKNOWN:
+        return "unknown";
+    case USM_POINT_OP_NO_SOLUTION:
+        return "no_solution";
+    }
+    return NULL;
+}
+
+int usm_point_evaluate_op(usm_steady *s, usm_floquet *f, const usm_model *m,
+                          const usm_params *p, double t0, const usm_floquet_options *floquet_opt,
+                          const usm_op_options *op_opt, usm_point *out)
+{
+    const int rc = point_evaluate(s, f, p, NULL, NULL, 0, 0, t0, floquet_opt, out);
+    usm_point_op *op = &out->op;
+    memset(op, 0, sizeof *op);
+    out->has_op = 1;
+    op->index = -1;
+    op->reason = USM_OP_UNDECIDED;
+    op->starts_from_rest = -1;
+    if (rc != USM_OK)
+        return rc;
+    if (!out->exists) {
+        op->cls = USM_POINT_OP_NO_SOLUTION;
+        snprintf(op->message, USM_MSG_LEN, "no stationary solution");
+        return USM_OK;
+    }
+    const size_t n = usm_steady_count(s);
+    usm_floquet_result *fl = malloc(n * sizeof *fl);
+    if (!fl) {
+        op->cls = USM_POINT_OP_UNKNOWN;
+        snprintf(op->message, USM_MSG_LEN, "out of memory");
+        snprintf(out->error, USM_MSG_LEN, "out of memory");
+        return USM_OK;
+    }
+    const int fr = usm_floquet_roots(f, p, s, t0, floquet_opt, fl);
+    /* root 0's multipliers are those usm_point_evaluate gives */
+    if (fr == USM_OK || usm_floquet_message(f)[0] == '\0' ||
+        strncmp(usm_floquet_message(f), "root #1 ", 8) != 0) {
+        out->floquet = fl[0];
+        if (isfinite(out->floquet.max_modulus))
+            out->has_floquet = 1;
+        else
+            snprintf(out->error, USM_MSG_LEN, "floquet: the multipliers are not finite");
+    } else
+        snprintf(out->error, USM_MSG_LEN, "floquet: %.240s", usm_floquet_message(f));
+    if (fr != USM_OK) {
+        op->cls = USM_POINT_OP_UNKNOWN;
+        snprintf(op->message, USM_MSG_LEN, "multipliers: %.240s", usm_floquet_message(f));
+        free(fl);
+        return USM_OK;
+    }
+    for (size_t k = 0; k < n; ++k)
+        op->stable_roots += fl[k].stable != 0;
+    usm_op_result res;
+    const int orc = usm_operating_point(m, p, s, fl, op_opt, &res);
+    if (orc == USM_EINPUT) {
+        snprintf(out->error, USM_MSG_LEN, "%s", res.message);
+        free(fl);
+        return USM_EINPUT;
+    }
+    op->reason = res.reason;
+    op->starts_from_rest = res.starts_from_rest;
+    op->simulated = res.simulated;
+    snprintf(op->message, USM_MSG_LEN, "%s", res.message);
+    if (orc != USM_OK)
+        op->cls = USM_POINT_OP_UNKNOWN;
+    else if (res.index >= 0) {
+        op->cls = USM_POINT_OP_STABLE;
+        op->index = res.index;
+        op->sol = *usm_steady_root(s, (size_t)res.index);
+        op->floquet = fl[res.index];
+    } else if (res.reason == USM_OP_NO_STABLE_ROOT)
+        op->cls = USM_POINT_OP_NO_STABLE_ROOT;
+    else if (res.reason == USM_OP_DOES_NOT_START)
+        op->cls = USM_POINT_OP_DOES_NOT_START;
+    else
+        op->cls = USM_POINT_OP_UNKNOWN;
+    free(fl);
+    return USM_OK;
+}
+
 /* ---- options ----------------------------------------------------------------------- */
 
 double usm_map_axis_value(const usm_map_axis *a, int i)
@@ -88,6 +181,8 @@ void usm_map_options_default(usm_map_options *opt)
     opt->threads = 2;
     opt->boundaries = 1;
     opt->warm_start = 0;
+    opt->operating_point = 1;
+    usm_op_options_default(&opt->op);
 }
 
 const char *usm_map_boundary_name(usm_map_boundary_kind kind)
@@ -240,34 +335,12 @@ static int check_options(usm_map *map, const usm_params *p, const usm_map_option
 
 /* ---- one column (a task of the pool) ---------------------------------------------- */
 
-typedef struct worker {
-    usm_steady *steady;
-    usm_floquet *floquet;
-} worker;
+typedef point_worker worker;
 
 static void *worker_alloc(void *ctx)
 {
-    usm_map *map = ctx;
-    worker *w = calloc(1, sizeof *w);
-    if (!w)
-        return NULL;
-    w->steady = usm_steady_alloc(map->m);
-    w->floquet = usm_floquet_alloc(map->m);
-    if (!w->steady || !w->floquet) {
-        usm_steady_free(w->steady);
-        usm_floquet_free(w->floquet);
-        free(w);
-        return NULL;
-    }
-    return w;
-}
-
-static void worker_free(void *state)
-{
-    worker *w = state;
-    usm_steady_free(w->steady);
-    usm_floquet_free(w->floquet);
-    free(w);
+    const usm_map *map = ctx;
+    return point_worker_alloc(map->m);
 }
 
 /* Point (x, y); guess: a neighbouring point's primary root for the warm
@@ -278,8 +351,11 @@ static int eval_at(usm_map *map, worker *w, size_t column, double x, double y, i
     usm_params q = map->p;
     *usm_params_field(&q, map->xi) = x;
     *usm_params_field(&q, map->yi) = y;
+    /* floquet == 2: a cell of the grid with its operating point */
     const int st =
-        map->opt.warm_start
+        floquet == 2 ? usm_point_evaluate_op(w->steady, w->floquet, map->m, &q, map->opt.t0,
+                                             &map->opt.floquet, &map->opt.op, pt)
+        : map->opt.warm_start
             ? usm_point_evaluate_warm(w->steady, w->floquet, &q, NULL, guess, floquet,
                                       map->opt.t0, &map->opt.floquet, pt)
             : usm_point_evaluate(w->steady, w->floquet, &q, NULL, NULL, floquet, map->opt.t0,
@@ -336,7 +412,8 @@ static int column_task(void *ctx, void *state, size_t i)
         c->x = x;
         c->y = usm_map_axis_value(&map->opt.y, (int)j);
         const usm_map_cell *prev = j > 0 ? &map->cells[(j - 1) * nx + i] : NULL;
-        if (eval_at(map, w, i, x, c->y, 1, prev && prev->point.exists ? &prev->point.sol : NULL,
+        if (eval_at(map, w, i, x, c->y, map->opt.operating_point ? 2 : 1,
+                    prev && prev->point.exists ? &prev->point.sol : NULL,
                     &c->point) != USM_OK)
             return USM_EINPUT;
         map->col_failures[i] += c->point.exists && !c->point.has_floquet;
@@ -415,7 +492,7 @@ int usm_map_run(usm_map *map, const usm_params *p, const usm_map_options *opt)
         snprintf(map->msg, USM_MSG_LEN, "out of memory for a %zu x %zu map", nx, ny);
         return USM_EFAILED;
     }
-    pool_job job = {nx, opt->threads, map, worker_alloc, worker_free, column_task, NULL};
+    pool_job job = {nx, opt->threads, map, worker_alloc, point_worker_free, column_task, NULL};
     int status = pool_run(&job, map->msg);
     if (status == USM_EINPUT)
         for (size_t i = 0; i < nx; ++i)

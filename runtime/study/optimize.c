@@ -48,6 +48,14 @@ struct usm_optimize {
     int fix;              /* a varied parameter held at fix_z (the profile), or -1: NLopt
                              then sees the other nvary - 1 variables */
     double fix_z;
+    /* the operating point (usm_opt_problem.from_rest) */
+    int refused;          /* evaluations refused: several roots, no from_rest */
+    int no_op;            /* evaluations (from_rest) whose start-up reached no stable root */
+    char op_msg[USM_MSG_LEN]; /* the last refusal, in words */
+    usm_floquet_result *fl; /* every root's multipliers */
+    size_t flcap;
+    usm_op_result op;
+    int have_op;          /* op and fl describe the last feasible optimum */
     char msg[USM_MSG_LEN];
 };
 
@@ -154,6 +162,11 @@ int usm_opt_problem_check(const usm_opt_problem *pb, const usm_model *m, const u
         snprintf(msg, USM_MSG_LEN, "starts: must be an integer in [1, 1000]");
         return USM_EINPUT;
     }
+    if (pb->from_rest_periods != 0 &&
+        !(pb->from_rest_periods >= 1 && pb->from_rest_periods <= 1e7)) {
+        snprintf(msg, USM_MSG_LEN, "from-rest-periods: must be in [1, 1e7]");
+        return USM_EINPUT;
+    }
     if (!isfinite(pb->t0)) {
         snprintf(msg, USM_MSG_LEN, "t0: must be a finite number");
         return USM_EINPUT;
@@ -196,6 +209,42 @@ int usm_opt_problem_check(const usm_opt_problem *pb, const usm_model *m, const u
 
 /* ---- evaluation ------------------------------------------------------------------ */
 
+/* The operating point of the roots of the last solve (o->steady at o->p):
+ * every root's multipliers with fo from pb->t0 into o->fl, then
+ * usm_operating_point (a simulation from rest when pb->from_rest).  0 and
+ * o->op, or -1 with o->failed (a numerical failure) and o->msg. */
+static int operating_point(usm_optimize *o, const usm_floquet_options *fo)
+{
+    const usm_opt_problem *pb = o->pb;
+    const size_t n = usm_steady_count(o->steady);
+    if (n > o->flcap) {
+        usm_floquet_result *fl = realloc(o->fl, n * sizeof *fl);
+        if (!fl) {
+            o->failed = 1;
+            snprintf(o->msg, USM_MSG_LEN, "out of memory");
+            return -1;
+        }
+        o->fl = fl;
+        o->flcap = n;
+    }
+    if (usm_floquet_roots(o->floquet, &o->p, o->steady, pb->t0, fo, o->fl) != USM_OK) {
+        o->failed = 1;
+        snprintf(o->msg, USM_MSG_LEN, "floquet: %.240s", usm_floquet_message(o->floquet));
+        return -1;
+    }
+    usm_op_options oo;
+    usm_op_options_default(&oo);
+    oo.from_rest = pb->from_rest && n > 1; /* one root: the cheap rule */
+    if (pb->from_rest_periods > 0)
+        oo.periods = pb->from_rest_periods;
+    if (usm_operating_point(o->model, &o->p, o->steady, o->fl, &oo, &o->op) != USM_OK) {
+        o->failed = 1;
+        snprintf(o->msg, USM_MSG_LEN, "operating point: %.200s", o->op.message);
+        return -1;
+    }
+    return 0;
+}
+
 /* Evaluate the design at normalised x (z in [0, 1] per varied parameter). */
 static void evaluate(usm_optimize *o, const double *x)
 {
@@ -215,7 +264,31 @@ static void evaluate(usm_optimize *o, const double *x)
     }
     if (usm_steady_solve(o->steady, &o->p, NULL) != USM_OK)
         return;
-    o->sol = *usm_steady_root(o->steady, 0);
+    /* judged by the operating point: one root is it when stable (the
+     * stability constraint); several roots only a simulation from rest
+     * decides (pb->from_rest), else the design is refused */
+    size_t pick = 0;
+    const size_t nroots = usm_steady_count(o->steady);
+    if (nroots > 1 && !pb->from_rest) {
+        ++o->refused;
+        snprintf(o->op_msg, USM_MSG_LEN,
+                 "%zu roots: which one the motor runs at needs a simulation from rest "
+                 "(--from-rest)", nroots);
+        return;
+    }
+    if (nroots > 1) {
+        usm_floquet_options fo;
+        usm_floquet_options_default(&fo);
+        if (operating_point(o, &fo) != 0)
+            return;
+        if (o->op.index < 0) {
+            ++o->no_op;
+            snprintf(o->op_msg, USM_MSG_LEN, "no operating point: %.200s", o->op.message);
+            return;
+        }
+        pick = (size_t)o->op.index;
+    }
+    o->sol = *usm_steady_root(o->steady, pick);
     /* the stability constraint is always there, so max_modulus is always needed */
     if (usm_sensitivity_compute(o->sens, &o->p, &o->sol, 1, o->r) != USM_OK) {
         o->failed = 1;
@@ -875,11 +948,22 @@ void usm_optimize_free(usm_optimize *o)
     if (!o)
         return;
     free(o->r);
+    free(o->fl);
     usm_root_free(o->root);
     usm_floquet_free(o->floquet);
     usm_sensitivity_free(o->sens);
     usm_steady_free(o->steady);
     free(o);
+}
+
+const usm_op_result *usm_optimize_op(const usm_optimize *o)
+{
+    return o->have_op ? &o->op : NULL;
+}
+
+const usm_floquet_result *usm_optimize_roots_floquet(const usm_optimize *o)
+{
+    return o->have_op ? o->fl : NULL;
 }
 
 const usm_steady *usm_optimize_steady(const usm_optimize *o)
@@ -938,6 +1022,8 @@ int usm_optimize_run(usm_optimize *o, const usm_params *p, const usm_opt_problem
     o->pb = pb;
     o->base = *p;
     o->have = o->solved = o->failed = 0;
+    o->refused = o->no_op = o->have_op = 0;
+    o->op_msg[0] = '\0';
     o->fix = -1;
     o->evaluations = 0;
     usm_sensitivity_set_t0(o->sens, pb->t0);
@@ -954,8 +1040,11 @@ int usm_optimize_run(usm_optimize *o, const usm_params *p, const usm_opt_problem
     if (!b.have || !b.solved || b.violation > FEAS_TOL) {
         if (!b.have || !b.solved)
             snprintf(o->msg, USM_MSG_LEN,
-                     "constraint: no feasible point found: no stationary solution at any of the "
-                     "%d starts' end points", pb->starts);
+                     "constraint: no feasible point found: no stationary solution%s at any of "
+                     "the %d starts' end points%s%.90s%s",
+                     o->refused || o->no_op ? " with an operating point" : "", pb->starts,
+                     o->refused || o->no_op ? " (last refusal: " : "",
+                     o->refused || o->no_op ? o->op_msg : "", o->refused || o->no_op ? ")" : "");
         else
             snprintf(o->msg, USM_MSG_LEN,
                      "constraint: no feasible point found: %s cannot be met (best violation %.3g)",
@@ -1006,6 +1095,11 @@ int usm_optimize_run(usm_optimize *o, const usm_params *p, const usm_opt_problem
         snprintf(o->msg, USM_MSG_LEN, "floquet: %.240s", usm_floquet_message(o->floquet));
         return USM_EFAILED;
     }
+    /* the operating point at the optimum, every root's multipliers by the
+     * same discretisation (the writer's `solution`) */
+    if (operating_point(o, &fo) != 0)
+        return USM_EFAILED;
+    o->have_op = 1;
     out->feasible = 1;
     out->solved = 1;
     out->value = pb->objective == USM_SENS_MAX_MODULUS ? out->floquet.max_modulus : b.value;

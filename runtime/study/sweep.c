@@ -13,6 +13,7 @@
 
 #include "core/grid.h"
 #include "sweep_branch.h"
+#include "sweep_op.h"
 #include "sweep_stability.h"
 
 struct usm_sweep {
@@ -45,6 +46,8 @@ void usm_sweep_options_default(usm_sweep_options *opt)
     opt->progress = NULL;
     opt->progress_ctx = NULL;
     usm_steady_options_default(&opt->steady);
+    opt->operating_point = 1;
+    usm_op_options_default(&opt->op);
 }
 
 usm_sweep *usm_sweep_alloc(const usm_model *m)
@@ -175,6 +178,12 @@ static int check_options(usm_sweep *s, const usm_params *p, const usm_sweep_opti
                  SWEEP_MAX_POINTS, opt->points);
         return USM_EINPUT;
     }
+    if (opt->operating_point && opt->op.from_rest &&
+        !(opt->op.periods >= 1 && opt->op.periods <= 1e7)) {
+        snprintf(s->msg, USM_MSG_LEN, "from-rest-periods: must be in [1, 1e7], got %g",
+                 opt->op.periods);
+        return USM_EINPUT;
+    }
     if (opt->threads < 1 || opt->threads > SWEEP_MAX_THREADS) {
         snprintf(s->msg, USM_MSG_LEN, "threads: must be between 1 and %d, got %d", SWEEP_MAX_THREADS,
                  opt->threads);
@@ -291,6 +300,8 @@ int usm_sweep_run(usm_sweep *s, const usm_params *p, const usm_sweep_options *op
         status = sweep_floquet_points(s->m, p, opt, s->pts, s->npts, &sink, s->msg);
         if (status == USM_OK)
             status = sweep_stability_events(s->m, p, opt, s->pts, s->npts, &sink, s->msg);
+        if (status == USM_OK && opt->operating_point)
+            status = sweep_operating_points(s->m, p, opt, s->pts, s->npts, &sink, s->msg);
     }
     if (s->nev > 1) {
         qsort(s->ev, s->nev, sizeof *s->ev, by_position);

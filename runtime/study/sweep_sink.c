@@ -27,6 +27,8 @@ const char *usm_event_name(usm_event_type type)
         return "minimum";
     case USM_EVENT_CROSSING:
         return "crossing";
+    case USM_EVENT_OPERATING_POINT_JUMP:
+        return "operating_point_jump";
     }
     return "unknown";
 }

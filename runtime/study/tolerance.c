@@ -151,6 +151,7 @@ void usm_tolerance_options_default(usm_tolerance_options *opt)
     opt->threads = 2;
     usm_floquet_options_default(&opt->floquet);
     opt->checkpoint_interval = 10.0;
+    usm_op_options_default(&opt->op);
 }
 
 usm_tolerance *usm_tolerance_alloc(const usm_model *m)
@@ -372,28 +373,35 @@ static int sample(usm_tolerance *t, worker *w, uint64_t i, double *row, char msg
             return USM_EINPUT;
         }
     }
-    if (usm_point_evaluate(w->steady, w->floquet, &q, NULL, NULL, 1, t->opt.t0, &t->opt.floquet,
-                           &pt) != USM_OK) {
+    if (usm_point_evaluate_op(w->steady, w->floquet, t->m, &q, t->opt.t0, &t->opt.floquet,
+                              &t->opt.op, &pt) != USM_OK) {
         snprintf(msg, USM_MSG_LEN, "sample %llu: %.200s", (unsigned long long)i, pt.error);
         return USM_EINPUT;
     }
     for (int k = 0; k < USM_TOL_NOUTPUTS; ++k)
         out[k] = NAN;
     out[USM_TOL_EXISTS] = pt.exists;
+    out[USM_TOL_OP_CLASS] = (double)pt.op.cls;
+    /* the operating point when there is one, else the smallest-tilt root */
+    const int op = pt.op.index >= 0;
+    const usm_steady_solution *sol = op ? &pt.op.sol : &pt.sol;
+    if (op)
+        out[USM_TOL_OPERATING_POINT] = pt.op.index;
     if (pt.exists) {
-        out[USM_TOL_THETA] = pt.sol.theta;
-        out[USM_TOL_ROTOR_SPEED] = pt.sol.rotor_speed;
-        out[USM_TOL_F_N] = pt.sol.F_n;
-        out[USM_TOL_F_T] = pt.sol.F_t;
-        out[USM_TOL_EFFICIENCY] = pt.sol.efficiency;
-        out[USM_TOL_STICK_ADMISSIBLE] = pt.sol.stick_admissible;
+        out[USM_TOL_THETA] = sol->theta;
+        out[USM_TOL_ROTOR_SPEED] = sol->rotor_speed;
+        out[USM_TOL_F_N] = sol->F_n;
+        out[USM_TOL_F_T] = sol->F_t;
+        out[USM_TOL_EFFICIENCY] = sol->efficiency;
+        out[USM_TOL_STICK_ADMISSIBLE] = sol->stick_admissible;
     }
-    if (pt.has_floquet) {
-        out[USM_TOL_MAX_MODULUS] = pt.floquet.max_modulus;
-        out[USM_TOL_STABLE] = pt.floquet.max_modulus < 1.0;
+    if (op || pt.has_floquet) {
+        const usm_floquet_result *fl = op ? &pt.op.floquet : &pt.floquet;
+        out[USM_TOL_MAX_MODULUS] = fl->max_modulus;
+        out[USM_TOL_STABLE] = fl->max_modulus < 1.0;
     }
-    row[TOL_ROW_GOOD(t)] = pt.exists && pt.has_floquet && pt.floquet.max_modulus < 1.0 &&
-                           tol_meets_specs(t, out);
+    /* good: the operating point exists (a stable root) and meets the specs */
+    row[TOL_ROW_GOOD(t)] = op && pt.op.floquet.max_modulus < 1.0 && tol_meets_specs(t, out);
     row[TOL_ROW_REDRAWS(t)] = redraws;
     return USM_OK;
 }
@@ -485,6 +493,8 @@ static int build_config(usm_tolerance *t)
     bad |= append(&t->config, &len, "floquet %s rtol %a atol %a steps %d\n",
                   usm_floquet_method_name(o->floquet.method), o->floquet.rtol, o->floquet.atol,
                   o->floquet.steps);
+    bad |= append(&t->config, &len, "operating_point from_rest %d periods %a\n",
+                  o->op.from_rest, o->op.periods);
     for (int k = 0; k < USM_NPARAMS; ++k)
         bad |= append(&t->config, &len, "param %s %a\n", usm_param_table[k].name,
                       usm_params_get(&t->p, &usm_param_table[k]));
@@ -521,6 +531,11 @@ static int check(usm_tolerance *t, const usm_params *p, const usm_tolerance_opti
         snprintf(t->msg, USM_MSG_LEN, "%s: must be a finite number%s",
                  isfinite(opt->t0) ? "checkpoint_interval" : "t0",
                  isfinite(opt->t0) ? " >= 0" : "");
+        return USM_EINPUT;
+    }
+    if (opt->op.from_rest && !(opt->op.periods >= 1 && opt->op.periods <= 1e7)) {
+        snprintf(t->msg, USM_MSG_LEN, "from-rest-periods: must be in [1, 1e7], got %g",
+                 opt->op.periods);
         return USM_EINPUT;
     }
     if (t->nvary == 0) {

@@ -29,6 +29,7 @@
 
 #include "core/outfile.h"
 #include "tolerance_io.h"
+#include "usm_map.h" /* usm_point_op_class */
 
 static const char MAGIC[] = "usm tolerance checkpoint 2\n";
 static const char MAGIC1[] = "usm tolerance checkpoint 1\n"; /* without the hash */
@@ -93,7 +94,14 @@ static const char *check_row(const usm_tolerance *t, uint64_t i, const double *r
         int ok;
         if (k == USM_TOL_EXISTS)
             continue;
-        if (exists == 0.0)
+        if (k == USM_TOL_OP_CLASS) { /* a usm_point_op_class, defined for every sample */
+            ok = v >= USM_POINT_OP_STABLE && v <= USM_POINT_OP_NO_SOLUTION && v == floor(v) &&
+                 (v == USM_POINT_OP_NO_SOLUTION) == (exists == 0.0);
+            name = "op_class";
+        } else if (k == USM_TOL_OPERATING_POINT) { /* a root index, or NaN: none */
+            ok = isnan(v) || (v >= 0.0 && v < 1e6 && v == floor(v) && exists == 1.0);
+            name = "operating_point";
+        } else if (exists == 0.0)
             ok = isnan(v); /* no solution: no value */
         else if (k == USM_TOL_MAX_MODULUS)
             ok = isnan(v) || (isfinite(v) && v >= 0.0); /* NaN: the multipliers failed */
@@ -111,7 +119,9 @@ static const char *check_row(const usm_tolerance *t, uint64_t i, const double *r
             return why;
         }
     }
-    const int computed = exists == 1.0 && isfinite(mm) && mm < 1.0 && tol_meets_specs(t, out);
+    /* good: an operating point (whose max_modulus the row holds) that meets the specs */
+    const int computed = !isnan(out[USM_TOL_OPERATING_POINT]) && isfinite(mm) && mm < 1.0 &&
+                         tol_meets_specs(t, out);
     if (good != (double)computed) {
         snprintf(why, USM_MSG_LEN, "sample %llu: good is %g but its outputs say %d",
                  (unsigned long long)i, good, computed);

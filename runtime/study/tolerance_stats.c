@@ -9,6 +9,7 @@
 #include <gsl/gsl_statistics_double.h>
 
 #include "tolerance_stats.h"
+#include "usm_map.h"
 
 /* Two-sided 95 % normal quantile, z = Phi^-1(0.975). */
 #define Z95 1.959963984540054
@@ -43,6 +44,7 @@ int tol_finish(usm_tolerance *t)
     s->samples = n;
     s->seed = t->opt.seed;
     s->good = s->exists = s->stable = s->failed = s->redrawn = 0;
+    s->op_exists = s->op_no_stable_root = s->op_does_not_start = s->op_unknown = 0;
     for (uint64_t i = 0; i < n; ++i) {
         const double *row = t->rows + i * (uint64_t)w, *out = row + t->nvary;
         s->good += row[TOL_ROW_GOOD(t)] != 0.0;
@@ -52,6 +54,10 @@ int tol_finish(usm_tolerance *t)
         s->exists += out[USM_TOL_EXISTS] != 0.0;
         s->stable += out[USM_TOL_STABLE] == 1.0;
         s->failed += out[USM_TOL_EXISTS] != 0.0 && isnan(out[USM_TOL_MAX_MODULUS]);
+        s->op_exists += out[USM_TOL_OP_CLASS] == (double)USM_POINT_OP_STABLE;
+        s->op_no_stable_root += out[USM_TOL_OP_CLASS] == (double)USM_POINT_OP_NO_STABLE_ROOT;
+        s->op_does_not_start += out[USM_TOL_OP_CLASS] == (double)USM_POINT_OP_DOES_NOT_START;
+        s->op_unknown += out[USM_TOL_OP_CLASS] == (double)USM_POINT_OP_UNKNOWN;
     }
     s->yield = (double)s->good / (double)n;
     wilson(s->good, n, &s->yield_lo, &s->yield_hi);

@@ -26,12 +26,46 @@
 #define USM_MAP_H
 
 #include "usm.h"
+#include "usm_operating_point.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
 
 /* ---- one point ----------------------------------------------------------------- */
+
+/* The class of a point by its operating point (usm_operating_point.h), how
+ * the studies judge a design (issue 20): */
+typedef enum {
+    USM_POINT_OP_NOT_EVALUATED = 0, /* not asked (usm_point.has_op == 0) */
+    USM_POINT_OP_STABLE = 1,        /* an operating point exists (a stable root, op.index) */
+    USM_POINT_OP_NO_STABLE_ROOT = 2,/* roots exist, every one unstable */
+    USM_POINT_OP_DOES_NOT_START = 3,/* a stable root exists, but from rest the wobble decays */
+    USM_POINT_OP_UNKNOWN = 4,       /* several roots, a stable one among them, and no
+                                       simulation from rest asked; or the simulation settled
+                                       on no root; or a root's multipliers failed (message) */
+    USM_POINT_OP_NO_SOLUTION = 5    /* no stationary solution */
+} usm_point_op_class;
+
+/* "not_evaluated", "operating_point", "no_stable_root", "does_not_start",
+ * "unknown", "no_solution" (NULL for an unknown value). */
+const char *usm_point_op_class_name(usm_point_op_class cls);
+
+/* The operating point of a point: the rule of usm_operating_point on the
+ * multipliers of every root (usm_floquet_roots), with a simulation from
+ * rest where several roots exist and usm_op_options.from_rest asks for it. */
+typedef struct usm_point_op {
+    usm_point_op_class cls;
+    int index;                  /* root index of the operating point, or -1 */
+    usm_op_reason reason;       /* usm_operating_point's reason (USM_OP_UNDECIDED for
+                                   no_solution and for failed multipliers) */
+    int starts_from_rest;       /* 1, 0, -1 as usm_op_result */
+    int simulated;              /* 1: a simulation from rest ran */
+    int stable_roots;           /* how many roots are stable (0 when the multipliers failed) */
+    usm_steady_solution sol;    /* the operating point's root (index >= 0) */
+    usm_floquet_result floquet; /* its multipliers (index >= 0) */
+    char message[USM_MSG_LEN];  /* the answer in words (usm_op_result.message) */
+} usm_point_op;
 
 /* A stationary solution and its multipliers at one parameter point. */
 typedef struct usm_point {
@@ -42,6 +76,8 @@ typedef struct usm_point {
     int has_floquet;            /* multipliers computed */
     usm_floquet_result floquet;
     char error[USM_MSG_LEN];    /* why not exists, or why the multipliers failed */
+    int has_op;                 /* 1: op filled (usm_point_evaluate_op) */
+    usm_point_op op;            /* the operating point */
 } usm_point;
 
 /* Evaluate at parameters p: with root == NULL the full search (s, steady_opt;
@@ -67,6 +103,19 @@ int usm_point_evaluate_warm(usm_steady *s, usm_floquet *f, const usm_params *p,
                             const usm_steady_solution *guess, int floquet, double t0,
                             const usm_floquet_options *floquet_opt, usm_point *out);
 
+/* As usm_point_evaluate with root == NULL and floquet == 1 (s is solved by
+ * the full search with the default options, which the simulation from rest
+ * compares with), and the operating point: the multipliers of every root
+ * (root 0's are out->floquet), then usm_operating_point with op_opt (NULL:
+ * the defaults, no simulation).  out->sol and out->floquet stay the primary
+ * root's; out->op is the operating point (has_op = 1).  Cost: one monodromy
+ * per root, plus the simulation from rest (0.2 .. 1.2 s) where several roots
+ * exist and op_opt->from_rest is set.  Returns as usm_point_evaluate, or
+ * USM_EINPUT for bad op_opt (out->error). */
+int usm_point_evaluate_op(usm_steady *s, usm_floquet *f, const usm_model *m,
+                          const usm_params *p, double t0, const usm_floquet_options *floquet_opt,
+                          const usm_op_options *op_opt, usm_point *out);
+
 /* ---- maps ---------------------------------------------------------------------- */
 
 /* One axis of a map: parameter `name` at `points` equally spaced values from
@@ -90,6 +139,10 @@ typedef struct usm_map_options {
     int warm_start;        /* 1: each grid point's primary root by usm_steady_solve_warm
                               from the previous point of its column (the same roots;
                               the cells' `roots` are then 0, not counted); default 0 */
+    int operating_point;   /* 1: each cell's operating point (usm_point_evaluate_op; the
+                              full search, warm_start ignored for the cells); default 1 */
+    usm_op_options op;     /* how (usm_op_options_default: no simulation from rest, so
+                              cells with several roots are USM_POINT_OP_UNKNOWN) */
 } usm_map_options;
 
 /* Fill `opt` with the defaults listed above. */

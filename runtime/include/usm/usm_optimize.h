@@ -36,6 +36,7 @@
 
 #include "usm.h"
 #include "usm_design.h"
+#include "usm_operating_point.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -89,6 +90,14 @@ typedef struct usm_opt_problem {
     int starts;                    /* 1 to 1000 */
     double t0;                     /* start of the Floquet period [s] (usm_floquet_compute) */
     int no_flat;                   /* skip the flat parameters' intervals (their cost) */
+    /* The design is judged by its operating point (usm_operating_point.h):
+     * with one root, that root (stable by the stability constraint: the
+     * cheap rule); with several roots the design is refused (no point
+     * there: an infeasible evaluation) unless from_rest = 1, which
+     * simulates the start-up from rest at such designs (0.2 .. 1.2 s each)
+     * and judges the root it reaches (none: refused). */
+    int from_rest;                 /* default 0 */
+    double from_rest_periods;      /* its length in excitation periods (0: 400) */
 } usm_opt_problem;
 
 /* No objective, nothing varied, no constraint, margin 0.01, power_out >= 0
@@ -174,8 +183,18 @@ int usm_optimize_run(usm_optimize *o, const usm_params *p, const usm_opt_problem
                      usm_opt_result *out);
 /* Every stationary solution at the optimum of the last successful run (root
  * 0 is out->sol), or at the point of least violation after USM_ENOSOLUTION
- * (none when no solution exists there), owned by o, valid until the next run. */
+ * (none when no solution exists there), owned by o, valid until the next run.
+ * Where the operating point is not root 0, out->sol is that root. */
 const usm_steady *usm_optimize_steady(const usm_optimize *o);
+
+/* The operating point at the optimum of the last feasible run (the root
+ * that result's `sol` is).  NULL before a feasible run. */
+const usm_op_result *usm_optimize_op(const usm_optimize *o);
+/* The multipliers of every root at that optimum
+ * (usm_steady_count(usm_optimize_steady(o)) of them, the result's floquet's
+ * method: the exponential product).  NULL before a feasible run. */
+const usm_floquet_result *usm_optimize_roots_floquet(const usm_optimize *o);
+
 /* Why the last run did not succeed, or "". */
 const char *usm_optimize_message(const usm_optimize *o);
 

@@ -46,6 +46,13 @@ typedef struct usm_report_map_cell {
      * exists; efficiency NaN also when power_in <= 0) */
     double power_in, power_out, power_damping, power_slip, efficiency;
     char error[USM_MSG_LEN]; /* why no solution, or why the multipliers failed */
+    /* the operating point (usm_point_evaluate_op; issue 20) */
+    int op_class;      /* usm_point_op_class */
+    int op_index;      /* root index of the operating point, or -1 */
+    int op_reason;     /* usm_op_reason */
+    int starts_from_rest; /* 1, 0, -1 (not simulated or undecided) */
+    double op_theta, op_rotor_speed, op_max_modulus; /* NaN unless op_index >= 0 */
+    char op_message[USM_MSG_LEN];
 } usm_report_map_cell;
 
 /* The boundaries located along y: a solution starts or stops existing,
@@ -78,6 +85,8 @@ typedef struct usm_report_map {
     const usm_floquet_options *floquet; /* NULL: the library's defaults */
     int threads;     /* >= 1 */
     int boundaries;  /* locate the boundaries (1) or not (0) */
+    const usm_op_options *op; /* the operating point's rule (NULL: usm_op_options_default,
+                                 no simulation from rest) */
     /* output: cells[j * x.points + i] is (x_i, y_j) */
     usm_report_map_cell *cells;
     usm_report_boundary_point *bnd[USM_REPORT_NBOUNDARY];
@@ -114,7 +123,12 @@ void usm_report_map_free(usm_report_map *map);
 /* CSV in the command's dialect (usm_io.h): header "X [UNIT],Y [UNIT],exists,
  * roots,max_modulus [1],stable,theta [rad],rotor_speed [1/s],mu_used [1],
  * stick_admissible,power_in [W],power_out [W],power_damping [W],
- * power_slip [W],efficiency [1]" then one row per point, x fastest.  Values
+ * power_slip [W],efficiency [1],operating_point,op_class,op_reason,
+ * starts_from_rest,op_theta [rad],op_rotor_speed [1/s],op_max_modulus [1]"
+ * then one row per point, x fastest (operating_point: the root index from 0
+ * or empty; op_class: usm_point_op_class_name; op_reason:
+ * usm_op_reason_name, empty when undecided; starts_from_rest true/false or
+ * empty).  Values
  * that do not exist (no solution, no multipliers) are empty fields.
  * 0, or -1 on a write error. */
 int usm_report_map_write_csv(const usm_report_map *map, FILE *out);

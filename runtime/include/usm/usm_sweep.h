@@ -23,6 +23,15 @@
  *   maximum, minimum     a user monitor (usm_sweep_monitor) is extremal along the
  *                        branch: d y/ds = 0 (central differences along the tangent)
  *   crossing             a user monitor crosses one of its levels
+ *   operating_point_jump the operating point (usm_operating_point.h: the stable
+ *                        root the motor runs at) moves to another branch, or
+ *                        appears or vanishes (the motor does not start from
+ *                        rest; no root is stable where the operating point is
+ *                        not the sweep's branch, else stability_change says it),
+ *                        between two neighbouring grid points where it is known
+ *                        (usm_sweep_options.operating_point); not located: the
+ *                        event's value is the midpoint of the two grid values,
+ *                        named in `what`
  * The points of the result are the requested grid values lambda_i on the
  * branch, in sweep order.
  *
@@ -35,6 +44,7 @@
 #define USM_SWEEP_H
 
 #include "usm.h"
+#include "usm_map.h" /* usm_point_op */
 
 #ifdef __cplusplus
 extern "C" {
@@ -51,11 +61,13 @@ typedef enum {
     USM_EVENT_STALL = 6,
     USM_EVENT_MAXIMUM = 7,
     USM_EVENT_MINIMUM = 8,
-    USM_EVENT_CROSSING = 9
+    USM_EVENT_CROSSING = 9,
+    USM_EVENT_OPERATING_POINT_JUMP = 10
 } usm_event_type;
 
 /* "fold", "stick_limit", "friction_saturation", "stability_change",
- * "tilt_zero", "range_end", "stall", "maximum", "minimum", "crossing" */
+ * "tilt_zero", "range_end", "stall", "maximum", "minimum", "crossing",
+ * "operating_point_jump" */
 const char *usm_event_name(usm_event_type type);
 
 /* One event located along the branch. */
@@ -104,6 +116,11 @@ typedef struct usm_sweep_point {
     char floquet_error[USM_MSG_LEN]; /* why the multipliers failed here ("" when
                                    * has_floquet or not asked for); the sweep
                                    * goes on at the other points */
+    int has_op;                   /* 1: op filled (usm_sweep_options.operating_point) */
+    usm_point_op op;              /* the operating point at this value: every root's
+                                   * multipliers and the rule of usm_operating_point
+                                   * (usm_point_evaluate_op); op.index counts the
+                                   * full search's roots, smallest tilt first */
 } usm_sweep_point;
 
 /* What to sweep and how (usm_sweep_options_default). */
@@ -124,6 +141,11 @@ typedef struct usm_sweep_options {
                         * ends (event range_end) where theta leaves this range */
     const usm_sweep_monitor *monitors; /* NULL or nmonitors of them (default none) */
     int nmonitors;      /* 0 .. USM_SWEEP_MAX_MONITORS */
+    int operating_point; /* 1: the operating point at every grid point and the
+                        * operating_point_jump events (needs floquet); default 1 */
+    usm_op_options op;  /* its rule (usm_op_options_default: no simulation from
+                        * rest; points with several roots then have an unknown
+                        * operating point and no jump is reported next to them) */
 } usm_sweep_options;
 
 /* Fill `opt` with the defaults (those listed above); the caller then sets

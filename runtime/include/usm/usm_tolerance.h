@@ -39,6 +39,7 @@
 #include <stdio.h>
 
 #include "usm.h"
+#include "usm_operating_point.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -77,7 +78,10 @@ int usm_tolerance_vary_parse(const char *text, usm_tolerance_vary *v, char msg[U
 
 /* ---- outputs and specs ---------------------------------------------------------- */
 
-/* The recorded outputs of a sample: the numeric ones first. */
+/* The recorded outputs of a sample: the numeric ones first.  They describe
+ * the sample's operating point (usm_point_evaluate_op, usm_operating_point.h)
+ * when it has one, else its smallest-tilt root (as `usm steady`'s top
+ * level); operating_point and op_class say which. */
 enum {
     USM_TOL_THETA = 0,       /* tilt [rad] */
     USM_TOL_ROTOR_SPEED = 1, /* phidot_R [1/s] (the paper's sign: negative when driving) */
@@ -89,7 +93,9 @@ enum {
     USM_TOL_STABLE = 6,           /* max_modulus < 1 */
     USM_TOL_STICK_ADMISSIBLE = 7, /* F_t <= mu0 F_n */
     USM_TOL_EXISTS = 8,           /* a stationary solution exists */
-    USM_TOL_NOUTPUTS = 9
+    USM_TOL_OPERATING_POINT = 9,  /* the operating point's root index (NaN: none) */
+    USM_TOL_OP_CLASS = 10,        /* usm_point_op_class (usm_map.h) as a number */
+    USM_TOL_NOUTPUTS = 11
 };
 
 /* Name of output k ("theta", ...), NULL when out of range. */
@@ -122,6 +128,9 @@ typedef struct usm_tolerance_options {
     uint64_t stop_after_blocks; /* stop (USM_EFAILED) once this many blocks were
                                    computed by this run and checkpointed; 0: never
                                    (default; a test hook for resuming) */
+    usm_op_options op;       /* the operating point's rule (usm_op_options_default: no
+                                simulation from rest, so a sample with several roots has
+                                an unknown operating point and does not count) */
 } usm_tolerance_options;
 
 /* Fill `opt` with the defaults listed above. */
@@ -154,13 +163,18 @@ int usm_tolerance_run(usm_tolerance *t, const usm_params *p, const usm_tolerance
 typedef struct usm_tolerance_summary {
     uint64_t samples;
     uint64_t seed;
-    uint64_t good;          /* samples that exist, are stable and meet every spec */
+    uint64_t good;          /* samples whose operating point exists (a stable root) and
+                               meets every spec */
     double yield;           /* good / samples */
     double yield_lo, yield_hi; /* 95 % Wilson score interval */
     uint64_t exists, stable; /* samples with a solution; with stable multipliers */
     uint64_t failed;        /* samples with a solution whose multipliers failed */
     uint64_t redrawn;       /* draws refused as unphysical and drawn again */
     uint64_t resumed_blocks; /* blocks read from the checkpoint */
+    /* by the operating point: samples that have one; whose roots are all
+     * unstable; that do not start from rest; whose operating point is
+     * unknown (several roots and no simulation from rest, or undecided) */
+    uint64_t op_exists, op_no_stable_root, op_does_not_start, op_unknown;
     /* quantiles[k][q] of numeric output k at USM_TOLERANCE_QUANTILES[q] (NaN
      * when no sample has the output); count[k] samples have it */
     double quantile[USM_TOL_NNUMERIC][5];
@@ -198,13 +212,16 @@ const char *usm_tolerance_message(const usm_tolerance *t);
 /* The samples as CSV in the usm command's dialect (docs/cli.md, "CSV
  * files"): sample, the varied parameters "NAME [UNIT]", exists, stable,
  * stick_admissible, theta [rad], rotor_speed [1/s], F_n [N], F_t [N],
- * max_modulus [1], efficiency [1], good, redraws.  0, or -1 on a write error. */
+ * max_modulus [1], efficiency [1], good, redraws, operating_point (root
+ * index or empty), op_class (usm_point_op_class_name).  0, or -1 on a write
+ * error. */
 int usm_tolerance_write_csv(const usm_tolerance *t, FILE *out);
 
 /* The result as one JSON object (2-space indent, numbers with 17 digits,
  * null where a value does not exist): samples, seed, yield, yield_ci [lo,
  * hi], quantiles {OUTPUT: {count, p1, p5, p50, p95, p99}}, influence
- * {OUTPUT: {PARAM: Spearman}}, failed, redrawn, exists, stable, good (the
+ * {OUTPUT: {PARAM: Spearman}}, failed, redrawn, exists, stable, good,
+ * operating_point {exists, no_stable_root, does_not_start, unknown} (the
  * same bytes after a checkpoint resume).  0 or -1 on a write error. */
 int usm_tolerance_write_json(const usm_tolerance *t, FILE *out);
 

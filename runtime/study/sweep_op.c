@@ -1,0 +1,174 @@
+/* The operating point along a sweep (usm_sweep.h, usm_operating_point.h).
+ *
+ * At every grid point the full search, every root's multipliers and the rule
+ * of usm_operating_point (usm_point_evaluate_op, the map's point evaluator):
+ * the points are independent, so the worker pool hands them out.  Then, between
+ * neighbouring grid points a and b, an operating_point_jump event where:
+ *  - both have an operating point, and they are not one branch: the root at a,
+ *    polished by Newton at b's value (usm_steady_solve_from), is not b's
+ *    operating point, or b's polished at a's value is not a's (tilt within
+ *    1e-6 relative);
+ *  - one has an operating point and the other does not start from rest;
+ *  - one has an operating point and at the other no root is stable, unless
+ *    the operating point is the sweep's branch root there (then the branch
+ *    loses its stability and the stability_change event says so).
+ * A point whose operating point is unknown (several roots and no simulation
+ * from rest, or undecided) or that has no solution makes no event: nothing is
+ * known there.  The event is not located: its value is the midpoint, its text
+ * names both grid values.
+ */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/pool_internal.h"
+#include "point_worker.h"
+#include "sweep_op.h"
+#include "usm_map.h"
+
+/* Two tilts are one root when they agree to this, relative. */
+#define SAME_ROOT_RTOL 1e-6
+
+typedef struct op_pass {
+    const usm_model *m;
+    const usm_params *p;
+    const usm_sweep_options *opt;
+    const usm_param_info *info;
+    usm_sweep_point *pts;
+    char *msgs; /* per point: why it stopped (USM_EINPUT) */
+} op_pass;
+
+static void *op_alloc(void *ctx)
+{
+    const op_pass *c = ctx;
+    return point_worker_alloc(c->m);
+}
+
+static int op_task(void *ctx, void *state, size_t i)
+{
+    op_pass *c = ctx;
+    point_worker *w = state;
+    usm_sweep_point *pt = &c->pts[i];
+    usm_params q = *c->p;
+    usm_point res;
+    *usm_params_field(&q, c->info) = pt->value;
+    if (usm_point_evaluate_op(w->steady, w->floquet, c->m, &q, c->opt->t0,
+                              &c->opt->floquet_options, &c->opt->op, &res) != USM_OK) {
+        snprintf(c->msgs + i * USM_MSG_LEN, USM_MSG_LEN, "operating point at %s = %g: %.180s",
+                 c->info->name, pt->value, res.error);
+        return USM_EINPUT;
+    }
+    pt->op = res.op;
+    pt->has_op = 1;
+    return USM_OK;
+}
+
+/* Whether root `from` (at a's parameters) continues to root `to` at value. */
+static int continues(usm_steady *s, const usm_params *p, const usm_param_info *info,
+                     double value, const usm_steady_solution *from,
+                     const usm_steady_solution *to)
+{
+    usm_params q = *p;
+    *usm_params_field(&q, info) = value;
+    if (usm_steady_solve_from(s, &q, from->u) != USM_OK || usm_steady_count(s) == 0)
+        return 0;
+    const double th = usm_steady_root(s, 0)->theta;
+    return fabs(th - to->theta) <= SAME_ROOT_RTOL * fmax(fabs(th), fabs(to->theta));
+}
+
+/* Whether the operating point of pt is the sweep's branch root there. */
+static int on_branch(const usm_sweep_point *pt)
+{
+    return pt->converged &&
+           fabs(pt->op.sol.theta - pt->sol.theta) <=
+               SAME_ROOT_RTOL * fmax(fabs(pt->op.sol.theta), fabs(pt->sol.theta));
+}
+
+static int decided(const usm_point_op *op)
+{
+    return op->cls == USM_POINT_OP_STABLE || op->cls == USM_POINT_OP_NO_STABLE_ROOT ||
+           op->cls == USM_POINT_OP_DOES_NOT_START;
+}
+
+/* "root #2 (theta 8.6e-05 rad)" or the class. */
+static void op_text(const usm_point_op *op, char buf[96])
+{
+    if (op->cls == USM_POINT_OP_STABLE)
+        snprintf(buf, 96, "root #%d (theta %.4g rad, rotor speed %.4g 1/s)", op->index + 1,
+                 op->sol.theta, op->sol.rotor_speed);
+    else
+        snprintf(buf, 96, "none (%s)", usm_point_op_class_name(op->cls));
+}
+
+static int jump_events(const usm_model *m, const usm_params *p, const usm_sweep_options *opt,
+                       const usm_param_info *info, const usm_sweep_point *pts, size_t n,
+                       const sweep_sink *sink, char msg[USM_MSG_LEN])
+{
+    usm_steady *s = usm_steady_alloc(m);
+    if (!s) {
+        snprintf(msg, USM_MSG_LEN, "out of memory");
+        return USM_EFAILED;
+    }
+    (void)opt;
+    for (size_t i = 0; i + 1 < n; ++i) {
+        const usm_sweep_point *a = &pts[i], *b = &pts[i + 1];
+        if (!a->has_op || !b->has_op || !decided(&a->op) || !decided(&b->op))
+            continue;
+        int jump = 0;
+        if (a->op.cls == USM_POINT_OP_STABLE && b->op.cls == USM_POINT_OP_STABLE)
+            jump = !continues(s, p, info, b->value, &a->op.sol, &b->op.sol) ||
+                   !continues(s, p, info, a->value, &b->op.sol, &a->op.sol);
+        else if (a->op.cls == USM_POINT_OP_STABLE || b->op.cls == USM_POINT_OP_STABLE) {
+            const usm_sweep_point *on = a->op.cls == USM_POINT_OP_STABLE ? a : b;
+            const usm_sweep_point *off = on == a ? b : a;
+            jump = off->op.cls == USM_POINT_OP_DOES_NOT_START || !on_branch(on);
+        }
+        if (!jump)
+            continue;
+        usm_sweep_event e;
+        char va[64], vb[64], ta[96], tb[96];
+        memset(&e, 0, sizeof e);
+        e.type = USM_EVENT_OPERATING_POINT_JUMP;
+        e.value = 0.5 * (a->value + b->value);
+        e.has_sol = b->op.cls == USM_POINT_OP_STABLE;
+        if (e.has_sol)
+            e.sol = b->op.sol;
+        op_text(&a->op, ta);
+        op_text(&b->op, tb);
+        snprintf(e.what, USM_MSG_LEN,
+                 "the operating point moves between %s and %s (not located): %s -> %s",
+                 sweep_value_text(info, a->value, va), sweep_value_text(info, b->value, vb), ta,
+                 tb);
+        if (sink->event(sink->ctx, &e) != 0) {
+            usm_steady_free(s);
+            snprintf(msg, USM_MSG_LEN, "out of memory for the events");
+            return USM_EFAILED;
+        }
+    }
+    usm_steady_free(s);
+    return USM_OK;
+}
+
+int sweep_operating_points(const usm_model *m, const usm_params *p,
+                           const usm_sweep_options *opt, usm_sweep_point *pts, size_t n,
+                           const sweep_sink *sink, char msg[USM_MSG_LEN])
+{
+    op_pass c = {m, p, opt, usm_params_find(opt->over), pts, calloc(n ? n : 1, USM_MSG_LEN)};
+    if (!c.msgs) {
+        snprintf(msg, USM_MSG_LEN, "out of memory");
+        return USM_EFAILED;
+    }
+    pool_job job = {n, opt->threads, &c, op_alloc, point_worker_free, op_task, NULL};
+    int status = pool_run(&job, msg);
+    if (status == USM_EINPUT)
+        for (size_t i = 0; i < n; ++i)
+            if (c.msgs[i * USM_MSG_LEN]) {
+                snprintf(msg, USM_MSG_LEN, "%s", c.msgs + i * USM_MSG_LEN);
+                break;
+            }
+    free(c.msgs);
+    if (status == USM_OK)
+        status = jump_events(m, p, opt, c.info, pts, n, sink, msg);
+    return status;
+}
