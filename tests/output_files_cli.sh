@@ -156,7 +156,7 @@ expect_bad "--vary T" "overflows" tolerance --samples 3 --vary T=uniform:-1e308:
 # ---- a checkpoint's data validated on load -----------------------------------------
 # corrupt SRC DST SAMPLE COLUMN VALUE [keep-hash]: one double of a row changed (columns: F0,
 # theta, rotor_speed, F_n, F_t, max_modulus, efficiency, stable, stick_admissible, exists,
-# good, redraws), the FNV-1a hash recomputed (so that the row check itself is tested) unless
+# operating_point, op_class, good, redraws), the FNV-1a hash recomputed (so that the row check itself is tested) unless
 # keep-hash
 corrupt() {
     "$PY" - "$@" <<'PYEOF'
@@ -165,7 +165,7 @@ src, dst, sample, col, value = sys.argv[1], sys.argv[2], int(sys.argv[3]), int(s
 rehash = len(sys.argv) < 7
 data = bytearray(open(src, "rb").read())
 start = data.index(b"\nend\n") + 5 + 8           # after ORDER
-width, block = 12, 64
+width, block = 14, 64
 n = struct.unpack_from("<Q", data, start)[0]
 assert n == 1
 off = start + 8 + 8 + (sample * width + col) * 8  # count, block index, the rows
@@ -191,18 +191,20 @@ if expect_rc 0 $T --checkpoint "$d/good.ck" --json; then
         expect_bad "--checkpoint $d/$name.ck" "$reason" $T --checkpoint "$d/$name.ck" --json
         cmp -s "$d/$name.ck" "$d/$name.orig" || fail "checkpoint $name: the refused file was changed"
     }
-    bad_ck nan_redraws 'sample 3: redraws nan' 3 11 nan
-    bad_ck big_redraws 'sample 3: redraws 1e\+300' 3 11 1e300
-    bad_ck neg_redraws 'sample 0: redraws -1' 0 11 -1
-    bad_ck frac_redraws 'redraws 0.5' 5 11 0.5
-    bad_ck huge_redraws 'redraws 9.22337e\+18' 5 11 9223372036854775808
+    bad_ck nan_redraws 'sample 3: redraws nan' 3 13 nan
+    bad_ck big_redraws 'sample 3: redraws 1e\+300' 3 13 1e300
+    bad_ck neg_redraws 'sample 0: redraws -1' 0 13 -1
+    bad_ck frac_redraws 'redraws 0.5' 5 13 0.5
+    bad_ck huge_redraws 'redraws 9.22337e\+18' 5 13 9223372036854775808
     bad_ck good_no_exists 'sample 7: exists 2' 7 9 2
-    bad_ck good_flag 'good is 0 but' 7 10 0
+    bad_ck good_flag 'good is 0 but' 7 12 0
     bad_ck nan_param 'sample 2: F0 = nan' 2 0 nan
     bad_ck neg_param 'sample 2: not physical' 2 0 -1
     bad_ck inf_theta 'sample 4: theta = inf' 4 1 inf
     bad_ck stable_flag 'sample 4: stable = 0' 4 7 0
     bad_ck stick_flag 'sample 4: stick_admissible = 0.5' 4 8 0.5
+    bad_ck op_index 'sample 4: operating_point = -1' 4 10 -1
+    bad_ck op_class 'sample 4: op_class = 9' 4 11 9
     # a plausible value (rotor speed +1000) is caught by the hash
     bad_ck speed_hash 'do not match their hash' 6 2 -1000 keep-hash
     head -c 300 "$d/good.ck" >"$d/trunc.ck"

@@ -160,14 +160,16 @@ if expect_rc 0 steady --set T=0.001 --json; then
 assert all(r['valid'] == r['stick_admissible'] for r in o['roots'])"
 fi
 
-# usm map: valid and invalid_reason last; valid exactly where stick is admissible
+# usm map: valid and invalid_reason after efficiency (the operating point's columns
+# follow); valid exactly where stick is admissible
 # (3dof, the contact closed), from the cell's own mu_used (independent of the flag)
 if expect_rc 0 map --x-points 3 --y-points 6; then
     checks=$((checks + 1))
     "$PY" - "$out" <<'EOF' || fail "usm map: valid, invalid_reason"
 import csv, sys
 rows = list(csv.DictReader(open(sys.argv[1])))
-assert list(rows[0])[-2:] == ["valid", "invalid_reason"], list(rows[0])
+cols = list(rows[0])
+assert cols[cols.index("efficiency [1]") + 1:][:2] == ["valid", "invalid_reason"], cols
 n = 0
 for r in rows:
     if r["exists"] != "true":
