@@ -8,6 +8,10 @@ python3-mpmath) after a build:
 
     /usr/bin/python3 tests/coordinates_study.py build [model]
 
+or, Euler angles only at the six points of the issue (a minute):
+
+    /usr/bin/python3 tests/coordinates_study.py build --points [models]
+
 model is 3dof_twist_integrated (default); only the twist_integrated models
 have a linearisation that is constant in frame A, so that the multipliers are
 exp(T eig(A)) and the 50-digit reference needs no ODE solver.
@@ -47,9 +51,10 @@ from usm_derive.kinematics import rot_z                    # noqa: E402
 mp.mp.dps = 50
 
 
-def run_usm(build, model, variant):
+def run_usm(build, model, variant, sets=()):
+    extra = [a for kv in sets for a in ("--set", kv)]
     out = subprocess.run([os.path.join(build, "usm"), "steady", "--model", model,
-                          "--variant", variant, "--json"], check=True,
+                          "--variant", variant, "--json"] + extra, check=True,
                          capture_output=True, text=True).stdout
     return json.loads(out)
 
@@ -197,7 +202,68 @@ def norm2(M):
     return max(abs(x) for x in sv)
 
 
+# The six points: the paper's; T, f, m0 varied.
+POINTS = [(), ("T=0",), ("T=1.2e-4",), ("f=36000",), ("f=38500",), ("m0=0.008",)]
+
+
+def euler_points(build, name):
+    """Euler angles only (fast): at each point, the digits of usm's
+    multipliers and of the C kernels' G (eigenvalues in 50 digits)."""
+    spec = {g[0]: g for g in generated_models()}[name]
+    _, base, variant, assumptions, _ = spec
+    m = derive_model(name, assumptions)
+    pnames = [nm for nm, *_ in PARAMETERS]
+    psyms = [P[nm] for nm in pnames]
+    n = len(m.states)
+    r_f = sp.lambdify([m.unknowns, psyms], m.residual, modules="mpmath")
+    beta_f = sp.lambdify([m.unknowns, psyms], m.steady_outputs["beta"], modules="mpmath")
+    beta_sym = [x for x in m.steady_state.free_symbols if x.name == "beta"][0]
+    xs_f = sp.lambdify([m.unknowns, beta_sym, t, psyms],
+                       list(m.steady_state) + list(m.steady_rate), modules="mpmath")
+    fe_mp, _ = linearisation_fns(m.states, m.mass, m.rhs, m.v)
+    lib = ctypes.CDLL(os.path.join(build, "libusm.so"))
+    for sets in POINTS:
+        js = run_usm(build, base, variant, sets)
+        pdouble = [float(js["parameters"][nm]) for nm in pnames]
+        pmp = [mp.mpf(x) for x in pdouble]
+        period = 1 / pmp[pnames.index("f")]
+        guess = [mp.mpf(js["theta"]), mp.mpf(js["alpha"])]
+        if len(m.unknowns) == 3:
+            guess.append(mp.mpf(js["rotor_speed"]))
+        u = mp.findroot(lambda *uu: [e for e in r_f(list(uu), pmp)], guess)
+        u = [u[i] for i in range(len(m.unknowns))]
+        orb = xs_f(u, beta_f(u, pmp), 0, pmp)
+        x_mp, xd_mp = orb[:n], orb[n:]
+        _, A_e, _ = A_of(fe_mp, x_mp, xd_mp, 0, pmp, conv_mp)
+        mu_ref = multipliers(A_e, period)
+        x_d, xd_d = [float(e) for e in x_mp], [float(e) for e in xd_mp]
+        Dn = ctypes.c_double * (n * n)
+        xc, vc = (ctypes.c_double * n)(*x_d), (ctypes.c_double * n)(*xd_d)
+        pc = (ctypes.c_double * len(pdouble))(*pdouble)
+        out_m, out_r, out_m2 = Dn(), Dn(), Dn()
+        getattr(lib, f"usm_{name}_mass")(xc, pc, out_m)
+        getattr(lib, f"usm_{name}_jac_rhs")(xc, ctypes.c_double(0), pc, out_r)
+        getattr(lib, f"usm_{name}_jac_mass")(xc, vc, pc, out_m2)
+        Mc, Jc = mp.matrix(n, n), mp.matrix(n, n)
+        for i in range(n):
+            for j in range(n):
+                Mc[i, j] = out_m[n * i + j]
+                Jc[i, j] = out_r[n * i + j] - out_m2[n * i + j]
+        mu_c = multipliers(mp.inverse(Mc) * Jc, period)
+        mu_usm = [mp.mpc(a, b) for a, b in js["floquet"]["multipliers"]]
+
+        def digits(err):
+            return float(-mp.log10(err)) if err > 0 else 50.0
+        print(f"{name} {' '.join(sets) or 'paper':10s} theta {float(u[0]):.3e}  usm "
+              f"{digits(match_err(mu_usm, mu_ref)):5.2f}  C-kernel G "
+              f"{digits(match_err(mu_c, mu_ref)):5.2f}  |mu|max {float(abs(mu_ref[1])):.4f}")
+
+
 def main():
+    if len(sys.argv) > 2 and sys.argv[2] == "--points":
+        for name in sys.argv[3:] or ["3dof_twist_integrated", "4dof_twist_integrated"]:
+            euler_points(sys.argv[1], name)
+        return
     build = sys.argv[1] if len(sys.argv) > 1 else "build"
     name = sys.argv[2] if len(sys.argv) > 2 else "3dof_twist_integrated"
     spec = {g[0]: g for g in generated_models()}[name]
