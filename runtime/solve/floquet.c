@@ -188,7 +188,8 @@ void usm_floquet_free(usm_floquet *f)
  * free: M(xbar) is ill-conditioned near theta = 1e-4 (2-norm condition 9e11
  * at the paper's point), so the last bits move every method's multipliers
  * together by up to 4.1e-8 (3dof; 4dof 3e-11; the methods still agree with
- * each other to 4e-11).  Not faster: not used. */
+ * each other to 4e-11; measured while G was formed with M^{-1} alone, before
+ * issue 21: see balanced_coefficient_matrix).  Not faster: not used. */
 
 /* ---- variational equations with CVODES ----------------------------------- */
 
