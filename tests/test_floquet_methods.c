@@ -29,7 +29,9 @@
  * the input (f or the tilt one ulp away) moves the reference by up to 2.4e-10
  * (4dof at 30 kHz, T = 0) and 6.9e-12 in max |lambda|, and the default with
  * it; a last-bit change of the kernels (the fused `linearisation` kernel in
- * place of mass, jac_rhs, jac_mass) moves every method by up to 4.1e-8
+ * place of mass, jac_rhs, jac_mass) moved every method by up to 4.1e-8
+ * (before issue 21 formed G without inverting M alone: test
+ * multipliers_reference)
  * (3dof: M(xbar) is ill-conditioned near theta = 1e-4), all of them alike:
  * the two still agree to 4e-11.  Both compute the same coefficient matrix
  * G(t), so what is compared is the integration of one linear system:

@@ -171,7 +171,8 @@ void usm_floquet_free(usm_floquet *f)
     free(f);
 }
 
-/* G(t) = M(xbar)^{-1} A(t), the coefficient matrix of the variational system.
+/* G(t) = M(xbar)^{-1} A(t), the coefficient matrix of the variational system,
+ * is formed in the coordinates S only (balanced_coefficient_matrix below).
  *
  * From the three kernels, not the fused `linearisation` kernel [M, df/dx,
  * d(Mv)/dx], measured again (issue 19): the fused kernel agrees with the three
@@ -187,8 +188,20 @@ void usm_floquet_free(usm_floquet *f)
  * free: M(xbar) is ill-conditioned near theta = 1e-4 (2-norm condition 9e11
  * at the paper's point), so the last bits move every method's multipliers
  * together by up to 4.1e-8 (3dof; 4dof 3e-11; the methods still agree with
- * each other to 4e-11).  Not faster: not used. */
-static int coefficient_matrix(usm_floquet *f, double t, gsl_matrix *G)
+ * each other to 4e-11; measured while G was formed with M^{-1} alone, before
+ * issue 21: see balanced_coefficient_matrix).  Not faster: not used. */
+
+/* ---- variational equations with CVODES ----------------------------------- */
+
+/* G <- S G(t) S^{-1}, formed as (M S^{-1})^{-1} (A S^{-1}) (issue 21): the same
+ * matrix, but M(xbar) is never inverted alone.  Its 2-norm condition number
+ * is 9e11 at the paper's point (the Euler angles' phi/psi degeneracy near
+ * theta = 0); M S^{-1}, the mass matrix acting on small-rotation-vector
+ * rates, is the well-conditioned one.  Measured against a 50-digit reference
+ * (tests/coordinates_study.py, docs/coordinates.md): exp(T eig G) of
+ * 3dof_twist_integrated at the paper's point has 11.5 correct digits this
+ * way and 10.0 from S (M^{-1} A) S^{-1}. */
+static int balanced_coefficient_matrix(usm_floquet *f, double t)
 {
     const int n = f->n;
     double orbit[2 * USM_MAX_NX], Mbuf[NN], Jf[NN], Jm[NN];
@@ -198,24 +211,14 @@ static int coefficient_matrix(usm_floquet *f, double t, gsl_matrix *G)
     f->m->jac_rhs(x, t, &f->p, Jf);
     f->m->jac_mass(x, xdot, &f->p, Jm);
     for (int k = 0; k < n * n; ++k)
-        G->data[k] = Jf[k] - Jm[k]; /* G is n x n with tda n (gsl_matrix_alloc) */
-    if (usm_solve_dense(n, Mbuf, G->data) != 0)
+        Jf[k] -= Jm[k];
+    usm_matmul_dense(n, Mbuf, f->Sinv->data, f->W->data);
+    usm_matmul_dense(n, Jf, f->Sinv->data, f->G->data);
+    if (usm_solve_dense(n, f->W->data, f->G->data) != 0)
         return -1;
     for (int i = 0; i < n * n; ++i)
-        if (!isfinite(G->data[i]))
+        if (!isfinite(f->G->data[i]))
             return -1;
-    return 0;
-}
-
-/* ---- variational equations with CVODES ----------------------------------- */
-
-/* G <- S G(t) S^{-1} */
-static int balanced_coefficient_matrix(usm_floquet *f, double t)
-{
-    if (coefficient_matrix(f, t, f->W) != 0)
-        return -1;
-    usm_matmul_dense(f->n, f->S->data, f->W->data, f->E->data);
-    usm_matmul_dense(f->n, f->E->data, f->Sinv->data, f->G->data);
     return 0;
 }
 
