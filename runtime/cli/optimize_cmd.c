@@ -40,9 +40,13 @@ static void usage(FILE *out)
             "unless --from-rest, which simulates the start-up there and judges the root\n"
             "it reaches.\n"
             "\n"
-            "outputs (objective and constraints): speed (= -rotor_speed, positive when the\n"
-            "motor drives; rotor_speed is an alias of it), theta, F_n, F_t, efficiency,\n"
-            "stick_margin, max_modulus, power_in, power_out\n"
+            "outputs (objective and constraints; analytic gradients): speed (= -rotor_speed,\n"
+            "positive when the motor drives; rotor_speed is an alias of it), theta, F_n,\n"
+            "F_t, efficiency, stick_margin, max_modulus, power_in, power_out\n"
+            "further outputs (constraints only), of the judged root as usm steady writes\n"
+            "them: alpha, beta, mu_used, v_c, v_rel, R_star, Z, power_damping, power_slip\n"
+            "(central differences in the varied parameters, step 1e-4 of each box), and\n"
+            "margin (= 1 - max_modulus, analytic)\n"
             "\n"
             "options:\n");
     cli_common_usage(out);
@@ -104,7 +108,9 @@ static int parse_constraint(opt_args *a, const char *text, char msg[CLI_MSG_LEN]
     }
     snprintf(name, sizeof name, "%.*s", (int)(op - text), text);
     if (usm_opt_output_find(name) < 0) {
-        cli_msg(msg, "--constraint: unknown output \"%s\"", name);
+        char list[512];
+        usm_opt_output_list(list, sizeof list);
+        cli_msg(msg, "--constraint: unknown output \"%s\" (one of: %s)", name, list);
         return USM_EINPUT;
     }
     if (cli_parse_double("--constraint", op + 2, &value, msg) != USM_OK)

@@ -5,6 +5,7 @@
 #include "usm_optimize.h"
 
 #include <math.h>
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -56,6 +57,13 @@ struct usm_optimize {
     size_t flcap;
     usm_op_result op;
     int have_op;          /* op and fl describe the last feasible optimum */
+    /* finite differences of the outputs without analytic derivatives */
+    usm_steady *steady_fd; /* the continued solutions */
+    double fd_step;       /* h in box units (USM_OPT_FD_STEP) */
+    int fd_have, fd_ok;   /* fd_d computed at x (with step fd_h), and whether it succeeded */
+    double fd_h;
+    double fd_d[USM_OPT_OUTPUT_COUNT][USM_NPARAMS]; /* d(output)/dz */
+    usm_params fd_p;      /* the parameters of the last continued solution */
     char msg[USM_MSG_LEN];
 };
 
@@ -68,18 +76,92 @@ struct cons_ctx {
 
 /* ---- the outputs -------------------------------------------------------------------- */
 
+/* The outputs beyond usm_sensitivity's, in index order from USM_SENS_COUNT:
+ * a field of usm_steady_solution, named by the generated contracts where
+ * they list it (gen), else by the name `usm steady --json` writes; wrap: a
+ * phase in [0, 2 pi), whose differences are taken modulo 2 pi. */
+typedef struct extra_output {
+    const usm_output_info *gen;
+    const char *name, *unit;
+    size_t offset;
+    int wrap;
+} extra_output;
+
+#define NEXTRA (USM_OPT_OUTPUT_COUNT - USM_SENS_COUNT)
+#define TWO_PI 6.283185307179586476925286766559
+#define FIELD(f) offsetof(usm_steady_solution, f)
+static const extra_output extra[NEXTRA] = {
+    {NULL, "alpha", "rad", FIELD(alpha), 1},
+    {&usm_steady_outputs[USM_STEADY_BETA], NULL, NULL, FIELD(beta), 1},
+    {NULL, "mu_used", "1", FIELD(mu_used), 0},
+    {&usm_steady_outputs[USM_STEADY_V_C], NULL, NULL, FIELD(v_c), 0},
+    {&usm_steady_outputs[USM_STEADY_V_REL], NULL, NULL, FIELD(v_rel), 0},
+    {&usm_steady_outputs[USM_STEADY_R_STAR], NULL, NULL, FIELD(R_star), 0},
+    {&usm_steady_outputs[USM_STEADY_Z], NULL, NULL, FIELD(Z), 0},
+    {&usm_power_outputs[USM_POWER_POWER_DAMPING], NULL, NULL, FIELD(power_damping), 0},
+    {&usm_power_outputs[USM_POWER_POWER_SLIP], NULL, NULL, FIELD(power_slip), 0},
+    {NULL, "margin", "1", 0, 0}, /* 1 - max_modulus: analytic */
+};
+#undef FIELD
+
+/* The units of the sensitivity outputs, by USM_SENS_* (speed: 1/s). */
+static const char *const sens_unit[USM_SENS_COUNT] = {"rad", "1/s", "N", "N", "1",
+                                                      "N",   "1",   "W", "W"};
+
 const char *usm_opt_output_name(int k)
 {
-    return k == USM_OPT_SPEED ? "speed" : usm_sensitivity_output_name(k);
+    if (k == USM_OPT_SPEED)
+        return "speed";
+    if (k >= USM_SENS_COUNT && k < USM_OPT_OUTPUT_COUNT) {
+        const extra_output *e = &extra[k - USM_SENS_COUNT];
+        return e->gen ? e->gen->name : e->name;
+    }
+    return usm_sensitivity_output_name(k);
+}
+
+const char *usm_opt_output_unit(int k)
+{
+    if (k >= 0 && k < USM_SENS_COUNT)
+        return sens_unit[k];
+    if (k >= USM_SENS_COUNT && k < USM_OPT_OUTPUT_COUNT) {
+        const extra_output *e = &extra[k - USM_SENS_COUNT];
+        return e->gen ? e->gen->unit : e->unit;
+    }
+    return NULL;
+}
+
+int usm_opt_output_analytic(int k)
+{
+    if (k < 0 || k >= USM_OPT_OUTPUT_COUNT)
+        return -1;
+    return k < USM_SENS_COUNT || k == USM_OPT_MARGIN;
+}
+
+void usm_opt_output_list(char *buf, size_t len)
+{
+    size_t n = 0;
+    if (len == 0)
+        return;
+    buf[0] = '\0';
+    for (int k = 0; k < USM_OPT_OUTPUT_COUNT && n < len; ++k) {
+        int w = snprintf(buf + n, len - n, "%s%s", k ? ", " : "", usm_opt_output_name(k));
+        if (w < 0)
+            break;
+        n += (size_t)w;
+    }
 }
 
 int usm_opt_output_find(const char *name)
 {
     if (!name)
         return -1;
-    if (strcmp(name, "speed") == 0 || strcmp(name, "rotor_speed") == 0)
+    /* rotor_speed, the sensitivity output's own name, is the alias of speed */
+    if (strcmp(name, usm_sensitivity_output_name(USM_SENS_ROTOR_SPEED)) == 0)
         return USM_OPT_SPEED;
-    return usm_sensitivity_output_find(name);
+    for (int k = 0; k < USM_OPT_OUTPUT_COUNT; ++k)
+        if (strcmp(name, usm_opt_output_name(k)) == 0)
+            return k;
+    return -1;
 }
 
 /* ---- the problem ------------------------------------------------------------------ */
@@ -122,7 +204,10 @@ int usm_opt_problem_add_constraint(usm_opt_problem *pb, const char *output, int 
 {
     int k = usm_opt_output_find(output);
     if (k < 0) {
-        snprintf(msg, USM_MSG_LEN, "constraint: unknown output \"%s\"", output);
+        char list[USM_MSG_LEN];
+        usm_opt_output_list(list, sizeof list);
+        snprintf(msg, USM_MSG_LEN, "constraint: unknown output \"%.24s\" (one of: %.190s)",
+                 output, list);
         return USM_EINPUT;
     }
     if (pb->ncons == USM_OPT_MAX_CONSTRAINTS) {
@@ -146,8 +231,16 @@ int usm_opt_problem_check(const usm_opt_problem *pb, const usm_model *m, const u
                  "twist_integrated", m->name);
         return USM_EINPUT;
     }
-    if (pb->objective < 0 || pb->objective >= USM_SENS_COUNT) {
+    if (pb->objective < 0 || pb->objective >= USM_OPT_OUTPUT_COUNT) {
         snprintf(msg, USM_MSG_LEN, "objective: required");
+        return USM_EINPUT;
+    }
+    if (!usm_opt_output_analytic(pb->objective) || pb->objective == USM_OPT_MARGIN) {
+        snprintf(msg, USM_MSG_LEN,
+                 "objective: %s: the objective needs an analytic gradient (speed, theta, F_n, "
+                 "F_t, efficiency, stick_margin, max_modulus, power_in, power_out); %s may be "
+                 "a constraint", usm_opt_output_name(pb->objective),
+                 usm_opt_output_name(pb->objective));
         return USM_EINPUT;
     }
     if (pb->nvary < 1 || pb->nvary > USM_NPARAMS) {
@@ -254,6 +347,7 @@ static void evaluate(usm_optimize *o, const double *x)
     memcpy(o->x, x, sizeof(double) * (size_t)pb->nvary);
     o->have = 1;
     o->solved = 0;
+    o->fd_have = 0;
     o->evaluations++;
     o->p = o->base;
     for (int k = 0; k < pb->nvary; ++k) {
@@ -298,13 +392,134 @@ static void evaluate(usm_optimize *o, const double *x)
     o->solved = 1;
 }
 
+/* The value of output k on solution sol at parameters p, from the solution
+ * alone: every output but max_modulus and margin (NaN for those). */
+static double field_value(const usm_steady_solution *sol, const usm_params *p, int k)
+{
+    switch (k) {
+    case USM_SENS_THETA:
+        return sol->theta;
+    case USM_OPT_SPEED:
+        return -sol->rotor_speed;
+    case USM_SENS_F_N:
+        return sol->F_n;
+    case USM_SENS_F_T:
+        return sol->F_t;
+    case USM_SENS_EFFICIENCY:
+        return sol->efficiency;
+    case USM_SENS_STICK_MARGIN:
+        return p->mu0 * sol->F_n - sol->F_t;
+    case USM_SENS_POWER_IN:
+        return sol->power_in;
+    case USM_SENS_POWER_OUT:
+        return sol->power_out;
+    default:
+        if (k > USM_SENS_COUNT - 1 && k < USM_OPT_MARGIN)
+            return *(const double *)((const char *)sol + extra[k - USM_SENS_COUNT].offset);
+        return NAN;
+    }
+}
+
+/* y1 - y0 for output k, modulo 2 pi for a phase. */
+static double fd_diff(int k, double y1, double y0)
+{
+    double d = y1 - y0;
+    if (k >= USM_SENS_COUNT && k < USM_OPT_MARGIN && extra[k - USM_SENS_COUNT].wrap)
+        d -= TWO_PI * nearbyint(d / TWO_PI);
+    return d;
+}
+
+/* The judged root continued to box point z_i = x[i] + dz (the others at
+ * x): Newton from o->sol (usm_steady_solve_from), into *out.  0 or -1. */
+static int fd_solve(usm_optimize *o, int i, double dz, usm_steady_solution *out)
+{
+    const usm_opt_problem *pb = o->pb;
+    usm_params q = o->p;
+    const double z = o->x[i] + dz;
+    *usm_params_field(&q, &usm_param_table[pb->vary[i]]) =
+        fmin(pb->hi[i], fmax(pb->lo[i], pb->lo[i] + z * (pb->hi[i] - pb->lo[i])));
+    usm_params_couple(o->model, &q, pb->vary[i]);
+    if (usm_steady_solve_from(o->steady_fd, &q, o->sol.u) != USM_OK)
+        return -1;
+    *out = *usm_steady_root(o->steady_fd, 0);
+    o->fd_p = q;
+    return 0;
+}
+
+/* Finite differences of every output but max_modulus and margin in each
+ * box variable at the current point (o->fd_d, per unit of z), with step h:
+ * central, or second-order one-sided where z -+ h leaves [0, 1]
+ * (USM_OPT_FD_STEP).  0, or -1 when a continued solution fails. */
+static int fd_derivatives(usm_optimize *o, double h)
+{
+    const usm_opt_problem *pb = o->pb;
+    if (o->fd_have && o->fd_h == h)
+        return o->fd_ok;
+    o->fd_have = 1;
+    o->fd_h = h;
+    o->fd_ok = -1;
+    for (int i = 0; i < pb->nvary; ++i) {
+        const double z = o->x[i];
+        usm_steady_solution s1, s2;
+        usm_params p1, p2;
+        double c0, c1, c2, dz1, dz2; /* d = (c0 y0 + c1 y(z + dz1) + c2 y(z + dz2)) / h */
+        if (z - h >= 0 && z + h <= 1)
+            c0 = 0, c1 = 0.5, c2 = -0.5, dz1 = h, dz2 = -h;
+        else if (z + 2 * h <= 1)
+            c0 = -1.5, c1 = 2, c2 = -0.5, dz1 = h, dz2 = 2 * h;
+        else
+            c0 = 1.5, c1 = -2, c2 = 0.5, dz1 = -h, dz2 = -2 * h;
+        if (fd_solve(o, i, dz1, &s1) != 0)
+            return -1;
+        p1 = o->fd_p;
+        if (fd_solve(o, i, dz2, &s2) != 0)
+            return -1;
+        p2 = o->fd_p;
+        for (int k = 0; k < USM_OPT_OUTPUT_COUNT; ++k) {
+            const double y0 = field_value(&o->sol, &o->p, k);
+            /* differences from y0: a phase's wrap cancels, c0 + c1 + c2 = 0 */
+            const double d1 = fd_diff(k, field_value(&s1, &p1, k), y0),
+                         d2 = fd_diff(k, field_value(&s2, &p2, k), y0);
+            (void)c0;
+            o->fd_d[k][i] = (c1 * d1 + c2 * d2) / h;
+        }
+    }
+    o->fd_ok = 0;
+    return 0;
+}
+
 /* y and dy/dz of output k at the current point; -1 when not defined there
- * (the value can exist without the derivative: a kink of max_modulus). */
-static int output(const usm_optimize *o, int k, double *y, double *grad)
+ * (the value can exist without the derivative: a kink of max_modulus).
+ * fd: differences for the outputs that have analytic derivatives too. */
+static int output_fd(usm_optimize *o, int k, double *y, double *grad, int fd)
 {
     const usm_opt_problem *pb = o->pb;
     const usm_sensitivity_result *r = o->r;
-    if (!o->solved || (grad && !r->defined[k]) || !isfinite(r->value[k]))
+    if (!o->solved)
+        return -1;
+    if (k == USM_OPT_MARGIN) {
+        /* 1 - max_modulus, analytic */
+        if (output_fd(o, USM_SENS_MAX_MODULUS, y, grad, fd) != 0)
+            return -1;
+        *y = 1 - *y;
+        if (grad)
+            for (int i = 0; i < pb->nvary; ++i)
+                grad[i] = -grad[i];
+        return 0;
+    }
+    if (k >= USM_SENS_COUNT || (fd && k != USM_SENS_MAX_MODULUS)) {
+        *y = field_value(&o->sol, &o->p, k);
+        if (!isfinite(*y))
+            return -1;
+        if (grad) {
+            if (fd_derivatives(o, o->fd_step) != 0)
+                return -1;
+            for (int i = 0; i < pb->nvary; ++i)
+                grad[i] = o->fd_d[k][i];
+        }
+        return 0;
+    }
+    if ((grad && !r->defined[k]) || !isfinite(r->value[k]))
         return -1;
     /* speed: -rotor_speed, positive in the driving direction */
     const double s = k == USM_OPT_SPEED ? -1.0 : 1.0;
@@ -320,6 +535,11 @@ static int output(const usm_optimize *o, int k, double *y, double *grad)
             grad[i] = s * d * (pb->hi[i] - pb->lo[i]);
         }
     return 0;
+}
+
+static int output(usm_optimize *o, int k, double *y, double *grad)
+{
+    return output_fd(o, k, y, grad, 0);
 }
 
 /* The output, sign and bound of constraint c: sign (y - bound) <= 0. */
@@ -932,11 +1152,13 @@ usm_optimize *usm_optimize_alloc(const usm_model *m)
     o->model = m;
     o->fix = -1;
     o->steady = usm_steady_alloc(m);
+    o->steady_fd = usm_steady_alloc(m);
+    o->fd_step = USM_OPT_FD_STEP;
     o->sens = usm_sensitivity_alloc(m);
     o->floquet = usm_floquet_alloc(m);
     o->root = usm_root_alloc();
     o->r = malloc(sizeof *o->r);
-    if (!o->steady || !o->sens || !o->floquet || !o->root || !o->r) {
+    if (!o->steady || !o->steady_fd || !o->sens || !o->floquet || !o->root || !o->r) {
         usm_optimize_free(o);
         return NULL;
     }
@@ -952,6 +1174,7 @@ void usm_optimize_free(usm_optimize *o)
     usm_root_free(o->root);
     usm_floquet_free(o->floquet);
     usm_sensitivity_free(o->sens);
+    usm_steady_free(o->steady_fd);
     usm_steady_free(o->steady);
     free(o);
 }
@@ -1026,6 +1249,7 @@ int usm_optimize_run(usm_optimize *o, const usm_params *p, const usm_opt_problem
     o->op_msg[0] = '\0';
     o->fix = -1;
     o->evaluations = 0;
+    o->fd_step = USM_OPT_FD_STEP;
     usm_sensitivity_set_t0(o->sens, pb->t0);
     best b;
     memset(&b, 0, sizeof b);
@@ -1107,4 +1331,64 @@ int usm_optimize_run(usm_optimize *o, const usm_params *p, const usm_opt_problem
     out->sol = o->sol;
     out->evaluations = o->evaluations;
     return USM_OK;
+}
+
+int usm_optimize_output_derivative(usm_optimize *o, const usm_params *p,
+                                   const usm_opt_problem *pb, int k, double step, int fd,
+                                   double *value, double d[USM_NPARAMS])
+{
+    double x[USM_NPARAMS], g[USM_NPARAMS];
+    o->msg[0] = '\0';
+    o->have_op = 0;
+    if (usm_opt_problem_check(pb, o->model, p, o->msg) != USM_OK)
+        return USM_EINPUT;
+    if (k < 0 || k >= USM_OPT_OUTPUT_COUNT) {
+        snprintf(o->msg, USM_MSG_LEN, "output: %d out of range", k);
+        return USM_EINPUT;
+    }
+    if (step == 0)
+        step = USM_OPT_FD_STEP;
+    if (!(step > 0 && step <= 0.25)) {
+        snprintf(o->msg, USM_MSG_LEN, "step: must be in (0, 0.25]");
+        return USM_EINPUT;
+    }
+    if (fd && (k == USM_SENS_MAX_MODULUS || k == USM_OPT_MARGIN)) {
+        snprintf(o->msg, USM_MSG_LEN, "%s: no finite differences here (analytic only)",
+                 usm_opt_output_name(k));
+        return USM_EINPUT;
+    }
+    for (int i = 0; i < pb->nvary; ++i) {
+        const double v = usm_params_get(p, &usm_param_table[pb->vary[i]]);
+        if (!(v >= pb->lo[i] && v <= pb->hi[i])) {
+            snprintf(o->msg, USM_MSG_LEN, "vary: %s = %g lies outside [%g, %g]",
+                     usm_param_table[pb->vary[i]].name, v, pb->lo[i], pb->hi[i]);
+            return USM_EINPUT;
+        }
+        x[i] = (v - pb->lo[i]) / (pb->hi[i] - pb->lo[i]);
+    }
+    o->pb = pb;
+    o->base = *p;
+    o->have = o->solved = o->failed = 0;
+    o->refused = o->no_op = 0;
+    o->fix = -1;
+    o->fd_step = step;
+    usm_sensitivity_set_t0(o->sens, pb->t0);
+    evaluate(o, x);
+    int rc = USM_OK;
+    if (o->failed)
+        rc = USM_EFAILED;
+    else if (!o->solved) {
+        snprintf(o->msg, USM_MSG_LEN, "no judged root here%s%.200s", o->op_msg[0] ? ": " : "",
+                 o->op_msg);
+        rc = USM_ENOSOLUTION;
+    } else if (output_fd(o, k, value, g, fd) != 0) {
+        snprintf(o->msg, USM_MSG_LEN, "%s: the derivative is not defined here",
+                 usm_opt_output_name(k));
+        rc = USM_ENOSOLUTION;
+    } else
+        for (int i = 0; i < pb->nvary; ++i)
+            d[i] = g[i] / (pb->hi[i] - pb->lo[i]);
+    o->fd_step = USM_OPT_FD_STEP;
+    o->pb = NULL;
+    return rc;
 }

@@ -54,10 +54,43 @@ extern "C" {
  * load), named "speed". */
 #define USM_OPT_SPEED USM_SENS_ROTOR_SPEED
 
-/* Name of output k ("speed", "efficiency", ...), NULL when out of range. */
+/* Beyond the sensitivity outputs, a constraint may name the other scalar
+ * outputs of `usm steady --json` for the judged root (the operating point):
+ * indices USM_SENS_COUNT .. USM_OPT_OUTPUT_COUNT - 1, in this order: alpha,
+ * beta, mu_used, v_c, v_rel, R_star, Z, power_damping, power_slip and
+ * margin = 1 - max_modulus.  Derivatives: analytic where usm_sensitivity has
+ * them (the USM_SENS_* outputs, and margin from max_modulus); the others by
+ * central differences in the varied parameters (usm_opt_output_analytic,
+ * USM_OPT_FD_STEP).  The count of roots, stability and stick_admissible are
+ * not outputs here: integers and flags have no derivative (the one-root rule
+ * and the stability and stick constraints already judge them). */
+#define USM_OPT_MARGIN (USM_SENS_COUNT + 9)
+#define USM_OPT_OUTPUT_COUNT (USM_SENS_COUNT + 10)
+
+/* The finite-difference step in the box variable z = (p - LO) / (HI - LO):
+ * the derivative of a non-analytic output in a varied parameter is
+ * (y(z + h) - y(z - h)) / 2h, h = USM_OPT_FD_STEP (the second-order one-sided
+ * stencil (-3 y(z) + 4 y(z +- h) - y(z +- 2h)) / +-2h where z -+ h leaves the
+ * box), every y the judged root continued by Newton (usm_steady_solve_from,
+ * to 1e-13 relative).  Error: truncation h^2 |y'''| / 6 plus the solutions'
+ * rounding ~1e-13 |y| / h: about 1e-8 relative (README: measured). */
+#define USM_OPT_FD_STEP 1e-4
+
+/* Name of output k ("speed", "efficiency", "v_rel", ...), NULL when out of range. */
 const char *usm_opt_output_name(int k);
+/* Unit of output k ("1/s", "N", ...), NULL when out of range. */
+const char *usm_opt_output_unit(int k);
+/* 1 when output k's derivative is analytic (usm_sensitivity), 0 when it is
+ * a central difference, -1 when k is out of range. */
+int usm_opt_output_analytic(int k);
+/* The names of every output, ", "-separated, into buf (truncated to len):
+ * for the messages that list what may be named. */
+void usm_opt_output_list(char *buf, size_t len);
 /* Index of the output called `name`, or -1: the names of
- * usm_sensitivity_output_name and "speed", with "rotor_speed" an alias of
+ * usm_sensitivity_output_name and of the further outputs above (looked up
+ * through the optimizer's output table, names from the generated contracts
+ * usm_steady_outputs and usm_power_outputs where they have them) and "speed",
+ * with "rotor_speed" an alias of
  * "speed" (-rotor_speed, positive when the motor drives the load: the
  * quantity `usm sweep --extremum speed` follows), so that maximizing it is a
  * faster motor, not one driven backwards. */
@@ -77,7 +110,8 @@ typedef struct usm_opt_constraint {
 
 /* What to optimise.  Fill with usm_opt_problem_init, then the add functions. */
 typedef struct usm_opt_problem {
-    int objective;                 /* an output (USM_SENS_*, USM_OPT_SPEED; -1: not set) */
+    int objective;                 /* an analytic output (USM_SENS_*, USM_OPT_SPEED; -1: not set);
+                                      constraints may name any output < USM_OPT_OUTPUT_COUNT */
     int minimize;                  /* 0: maximize */
     int nvary;
     int vary[USM_NPARAMS];         /* usm_param_table indices */
@@ -194,6 +228,20 @@ const usm_op_result *usm_optimize_op(const usm_optimize *o);
  * (usm_steady_count(usm_optimize_steady(o)) of them, the result's floquet's
  * method: the exponential product).  NULL before a feasible run. */
 const usm_floquet_result *usm_optimize_roots_floquet(const usm_optimize *o);
+
+/* Output k (< USM_OPT_OUTPUT_COUNT) of the design p as the optimizer judges
+ * it (problem pb: its varied parameters, t0 and operating-point rule; p
+ * inside the box) and its derivative d[i] per unit of varied parameter
+ * pb->vary[i] as the optimizer computes it: analytic where
+ * usm_opt_output_analytic(k), else central differences with step `step` in
+ * box units (0: USM_OPT_FD_STEP); fd = 1 takes differences for an analytic
+ * output too (to measure their accuracy).  USM_OK; USM_EINPUT (the problem,
+ * k, step, or p outside the box); USM_ENOSOLUTION (no judged root at p, or
+ * the derivative is not defined there).  Message in usm_optimize_message.
+ * Replaces what usm_optimize_steady, _op and _roots_floquet describe. */
+int usm_optimize_output_derivative(usm_optimize *o, const usm_params *p,
+                                   const usm_opt_problem *pb, int k, double step, int fd,
+                                   double *value, double d[USM_NPARAMS]);
 
 /* Why the last run did not succeed, or "". */
 const char *usm_optimize_message(const usm_optimize *o);
