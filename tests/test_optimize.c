@@ -572,6 +572,181 @@ static void test_max_modulus_and_refusals(void)
     free(res);
 }
 
+/* ---- constraints on the further outputs of steady (issue 20, item 5) ---------------- */
+
+/* v_rel and power_out of the primary root at p (NaN without one) */
+static int vrel_at(usm_steady *st, const usm_params *p, double *v_rel, double *power_out)
+{
+    if (usm_steady_solve(st, p, NULL) != USM_OK)
+        return -1;
+    *v_rel = usm_steady_root(st, 0)->v_rel;
+    *power_out = usm_steady_root(st, 0)->power_out;
+    return 0;
+}
+
+/* At frequency f: the load T in [lo, hi] where v_rel = vmax (bisection on
+ * usm_steady_solve; v_rel grows with T) and the power out there. */
+static double power_at_vrel(usm_steady *st, usm_params *p, double f, double vmax, double lo,
+                            double hi, double *Tv)
+{
+    double v, P;
+    p->f = f;
+    for (int it = 0; it < 60; ++it) {
+        p->T = 0.5 * (lo + hi);
+        if (vrel_at(st, p, &v, &P) != 0)
+            return NAN;
+        if (v > vmax)
+            hi = p->T;
+        else
+            lo = p->T;
+    }
+    p->T = lo;
+    *Tv = lo;
+    return vrel_at(st, p, &v, &P) == 0 ? P : NAN;
+}
+
+/* Maximize power_out over T in [1e-5, 4e-4] N m and f in [36, 38] kHz (4dof),
+ * subject to v_rel <= 0.01 m/s: v_rel has no analytic derivative (central
+ * differences).  Unconstrained, the optimum is at T = 3.0e-4 with v_rel
+ * 0.027; the bound is active.  Truth: on a 201-point grid of f, the T where
+ * v_rel = 0.01 (bisection; power_out grows with T up to there), refined by
+ * golden section in f.  Checks: the constraint is met and active, the optimum
+ * matches the truth (power to 1e-9 relative, f to 0.5 Hz), `usm steady` at
+ * the optimum has v_rel = 0.01; the multiplier against re-optimising with
+ * the bound at 0.01 -+ 1e-4; the derivative of v_rel (step 1e-4 of the box)
+ * against a central difference with step 1e-3, and the differences of F_n
+ * against its analytic derivative. */
+static void test_fd_constraint(void)
+{
+    const usm_model *m = usm_model_find("4dof");
+    usm_steady *st = usm_steady_alloc(m);
+    usm_opt_problem pb;
+    usm_opt_result *res = malloc(sizeof *res);
+    char msg[USM_MSG_LEN];
+    const double vmax = 0.01, tlo = 1e-5, thi = 4e-4, flo = 36000, fhi = 38000;
+    usm_params p;
+    usm_params_default(&p);
+    usm_opt_problem_init(&pb);
+    pb.objective = USM_SENS_POWER_OUT;
+    CHECK(usm_opt_problem_add_vary(&pb, "T", tlo, thi, msg) == USM_OK &&
+              usm_opt_problem_add_vary(&pb, "f", flo, fhi, msg) == USM_OK &&
+              usm_opt_problem_add_constraint(&pb, "v_rel", 1, vmax, msg) == USM_OK,
+          "v_rel problem: %s", msg);
+    CHECK(usm_opt_output_find("v_rel") >= USM_SENS_COUNT &&
+              usm_opt_output_analytic(usm_opt_output_find("v_rel")) == 0 &&
+              usm_opt_output_analytic(USM_OPT_MARGIN) == 1 &&
+              strcmp(usm_opt_output_unit(usm_opt_output_find("v_rel")), "m/s") == 0,
+          "v_rel: index, analytic flag or unit");
+    /* the truth: a grid in f of the power on the boundary v_rel = vmax */
+    double bestP = -INFINITY, bestf = NAN, Tv;
+    usm_params q = p;
+    for (int i = 0; i <= 200; ++i) {
+        const double f = flo + (fhi - flo) * i / 200;
+        const double P = power_at_vrel(st, &q, f, vmax, tlo, thi, &Tv);
+        if (P > bestP)
+            bestP = P, bestf = f;
+    }
+    {
+        double a = fmax(flo, bestf - 10), b = fmin(fhi, bestf + 10);
+        const double g = 0.6180339887498949;
+        for (int it = 0; it < 40; ++it) {
+            const double c = b - g * (b - a), d = a + g * (b - a);
+            if (power_at_vrel(st, &q, c, vmax, tlo, thi, &Tv) >
+                power_at_vrel(st, &q, d, vmax, tlo, thi, &Tv))
+                b = d;
+            else
+                a = c;
+        }
+        bestf = 0.5 * (a + b);
+        bestP = power_at_vrel(st, &q, bestf, vmax, tlo, thi, &Tv);
+    }
+    printf("v_rel <= %g: truth power_out %.12g W at f = %.6f Hz, T = %.8g N m\n", vmax, bestP,
+           bestf, Tv);
+    if (optimize(m, &p, &pb, res, "v_rel constraint") == USM_OK) {
+        const int a = find_active(res, "v_rel <= 0.01");
+        double v = NAN, P = NAN;
+        printf("optimizer: power_out %.12g W at f = %.6f Hz, T = %.8g N m, v_rel %.12g, "
+               "multiplier %.6g, KKT residual %.3g\n",
+               res->value, res->params.f, res->params.T, res->sol.v_rel,
+               a >= 0 ? res->multiplier[a] : NAN, res->kkt_residual);
+        CHECK(a >= 0, "v_rel <= 0.01 not active");
+        CHECK(res->sol.v_rel <= vmax * (1 + 1e-6) && res->sol.v_rel >= vmax * (1 - 1e-5),
+              "v_rel %.12g not at its bound", res->sol.v_rel);
+        CHECK(res->value >= bestP * (1 - 1e-9) && res->value <= bestP * (1 + 1e-6),
+              "power_out %.12g against the truth %.12g", res->value, bestP);
+        CHECK(fabs(res->params.f - bestf) < 0.5, "f %.6f against the truth %.6f", res->params.f,
+              bestf);
+        CHECK(res->kkt_residual < 1e-5, "KKT residual %.3g", res->kkt_residual);
+        /* usm steady's own numbers at the optimum */
+        CHECK(vrel_at(st, &res->params, &v, &P) == 0 && fabs(v - res->sol.v_rel) <= 1e-12 * vmax &&
+                  fabs(P - res->value) <= 1e-12 * fabs(P),
+              "steady at the optimum: v_rel %.15g power_out %.15g", v, P);
+        /* the multiplier: d(value)/d(0.01), a central difference of re-optimising */
+        if (a >= 0) {
+            const double mu = res->multiplier[a], dv = 1e-4;
+            double val[2];
+            int ok = 1;
+            usm_opt_problem pb2 = pb;
+            pb2.no_flat = 1;
+            for (int s = 0; s < 2 && ok; ++s) {
+                pb2.cons[0].value = vmax + (s ? dv : -dv);
+                ok = optimize(m, &p, &pb2, res, "v_rel constraint moved") == USM_OK;
+                val[s] = res->value;
+            }
+            const double fdm = ok ? (val[1] - val[0]) / (2 * dv) : NAN;
+            printf("v_rel multiplier %.8g, central difference of the optimum %.8g\n", mu, fdm);
+            CHECK(ok && fabs(mu - fdm) <= 1e-3 * fabs(fdm), "multiplier %.8g against %.8g", mu,
+                  fdm);
+        }
+        /* the derivative the optimizer used, against another step */
+        usm_optimize *o = usm_optimize_alloc(m);
+        const int kv = usm_opt_output_find("v_rel");
+        double y1, y2, d1[USM_NPARAMS], d2[USM_NPARAMS], yn, dn[USM_NPARAMS], da[USM_NPARAMS];
+        usm_params at = p;
+        at.T = 2e-4;
+        at.f = 37000;
+        int rc = usm_optimize_output_derivative(o, &at, &pb, kv, 0, 0, &y1, d1);
+        rc = rc ? rc : usm_optimize_output_derivative(o, &at, &pb, kv, 1e-3, 0, &y2, d2);
+        rc = rc ? rc : usm_optimize_output_derivative(o, &at, &pb, USM_SENS_F_N, 0, 1, &yn, dn);
+        rc = rc ? rc : usm_optimize_output_derivative(o, &at, &pb, USM_SENS_F_N, 0, 0, &yn, da);
+        CHECK(rc == USM_OK, "usm_optimize_output_derivative: %d %s", rc,
+              usm_optimize_message(o));
+        for (int i = 0; rc == USM_OK && i < 2; ++i) {
+            const double w = pb.hi[i] - pb.lo[i];
+            printf("d v_rel / d %s: %.12g (step 1e-4), %.12g (step 1e-3), rel. diff %.2g; "
+                   "d F_n / d %s: differences %.12g, analytic %.12g, rel. diff %.2g\n",
+                   usm_param_table[pb.vary[i]].name, d1[i], d2[i],
+                   fabs(d1[i] - d2[i]) / fabs(d2[i]), usm_param_table[pb.vary[i]].name, dn[i],
+                   da[i], fabs(dn[i] - da[i]) / fmax(fabs(da[i]), 1e-300));
+            /* per box width, relative to the output's size: the scale the optimizer sees */
+            CHECK(fabs(d1[i] - d2[i]) * w <= 1e-6 * fabs(y1),
+                  "d v_rel / d %s: %.12g and %.12g", usm_param_table[pb.vary[i]].name, d1[i],
+                  d2[i]);
+            CHECK(fabs(dn[i] - da[i]) * w <= 1e-7 * fabs(yn),
+                  "d F_n / d %s: differences %.12g, analytic %.12g",
+                  usm_param_table[pb.vary[i]].name, dn[i], da[i]);
+        }
+        /* outside the box, a bad output: refused */
+        at.f = 39000;
+        CHECK(usm_optimize_output_derivative(o, &at, &pb, kv, 0, 0, &y1, d1) == USM_EINPUT &&
+                  usm_optimize_output_derivative(o, &p, &pb, USM_OPT_OUTPUT_COUNT, 0, 0, &y1,
+                                                 d1) == USM_EINPUT,
+              "output_derivative accepted a point outside the box or a bad output");
+        usm_optimize_free(o);
+    }
+    /* unknown names are refused, naming what may be named */
+    CHECK(usm_opt_problem_add_constraint(&pb, "v_slip", 1, 0, msg) == USM_EINPUT &&
+              strstr(msg, "v_rel") && strstr(msg, "power_slip") && strstr(msg, "margin"),
+          "unknown output: \"%s\"", msg);
+    /* and a difference output is no objective */
+    pb.objective = usm_opt_output_find("v_rel");
+    CHECK(usm_opt_problem_check(&pb, m, &p, msg) == USM_EINPUT &&
+              strncmp(msg, "objective: ", 11) == 0,
+          "v_rel objective: \"%s\"", msg);
+    free(res);
+    usm_steady_free(st);
+}
+
 int main(int argc, char **argv)
 {
     if (argc < 2) {
@@ -663,6 +838,7 @@ int main(int argc, char **argv)
     test_flat();
     test_t0();
     test_max_modulus_and_refusals();
+    test_fd_constraint();
 
     char cmd[512];
     snprintf(cmd, sizeof cmd,
