@@ -17,7 +17,11 @@
 #    a max_modulus objective against the solution's multipliers;
 #  - no feasible point: exit 3 naming the constraint, {"feasible": false, ...}
 #    on stdout with --json; the variant imperfect: steady's exit-2 reason; bad
-#    specification: exit 2 naming the field.
+#    specification: exit 2 naming the field;
+#  - constraints on the further outputs of steady: alpha (central differences)
+#    against `usm steady` at and beside the optimum, its multiplier against
+#    d speed / d alpha from those solutions; margin = 1 - max_modulus against
+#    --stability-margin; a bad name lists the outputs that may be named.
 # (The optimum against grid searches and golden sections: test_optimize.c.)
 #
 # usage: optimize_cli.sh PATH/TO/usm
@@ -214,5 +218,46 @@ expect_bad --constraint "OUTPUT>=X" optimize --objective efficiency --vary F0=0.
 expect_bad --constraint "unknown output" optimize --objective efficiency --vary F0=0.2:0.8 --constraint 'x>=3'
 expect_bad --stability-margin "0, 1" optimize --objective efficiency --vary F0=0.2:0.8 --stability-margin 1.5
 expect_bad --starts "integer" optimize --objective efficiency --vary F0=0.2:0.8 --starts 0
+
+# constraints on the other outputs of steady (issue 20, item 5): alpha (central
+# differences in f) stops the speed where alpha = 5; the truth is `usm steady` at the
+# optimum and 0.5 Hz either side: alpha = 5 there, the faster side has alpha < 5, and the
+# multiplier is d speed / d alpha along f from those two solutions
+expect_rc 0 optimize --objective speed --vary f=36000:38000 --constraint 'alpha>=5' --json
+cp "$out" "$tmp/alpha.json"
+py "
+assert o['active_constraints'] == ['alpha >= 5'], o['active_constraints']
+assert abs(o['solution']['alpha'] - 5) <= 1e-9, o['solution']['alpha']"
+f_a=$("$PY" -c "import json; print(repr(json.load(open('$tmp/alpha.json'))['varied']['f']))")
+for d in -0.5 0 0.5; do
+    expect_rc 0 steady --set "f=$("$PY" -c "print(repr($f_a + $d))")" --json
+    cp "$out" "$tmp/alpha_$d.json"
+done
+py "
+a = json.load(open('$tmp/alpha.json'))
+m, s0, sp = (json.load(open('$tmp/alpha_%s.json' % d)) for d in ('-0.5', '0', '0.5'))
+assert abs(s0['alpha'] - 5) <= 1e-9 and abs(-s0['rotor_speed'] - a['value']) <= 1e-12 * a['value']
+assert sp['alpha'] < 5 < m['alpha'] and -sp['rotor_speed'] > a['value'] > -m['rotor_speed']
+truth = (m['rotor_speed'] - sp['rotor_speed']) / (sp['alpha'] - m['alpha'])
+mult = a['multipliers']['alpha >= 5']
+assert abs(mult - truth) <= 1e-5 * abs(truth), (mult, truth)"
+
+# margin = 1 - max_modulus (analytic) is the stability margin by another name: the same
+# optimum, and multipliers of opposite sign (per unit of D, per unit of 1 - D)
+expect_rc 0 optimize --objective speed --vary f=36000:38000 --constraint 'margin>=0.0752' --json
+cp "$out" "$tmp/margin.json"
+expect_rc 0 optimize --objective speed --vary f=36000:38000 --stability-margin 0.0752 --json
+py "
+a = json.load(open('$tmp/margin.json'))
+assert a['active_constraints'] == ['margin >= 0.0752'], a['active_constraints']
+assert o['active_constraints'] == ['stability: max_modulus <= 0.9248'], o['active_constraints']
+assert abs(a['value'] - o['value']) <= 1e-8 * o['value'], (a['value'], o['value'])
+ma, mo = a['multipliers']['margin >= 0.0752'], o['multipliers']['stability: max_modulus <= 0.9248']
+assert abs(ma + mo) <= 1e-6 * abs(mo), (ma, mo)"
+
+# an output that has no analytic derivative is no objective; bad names list the allowed ones
+expect_bad --objective "may be a constraint" optimize --objective v_rel --vary F0=0.2:0.8
+expect_bad --constraint "one of: theta, speed, .*v_rel, R_star, Z, power_damping, power_slip, margin" \
+    optimize --objective efficiency --vary F0=0.2:0.8 --constraint 'roots<=1'
 
 finish optimize_cli
