@@ -42,11 +42,11 @@ static void usage(FILE *out)
             "\n"
             "outputs (objective and constraints; analytic gradients): speed (= -rotor_speed,\n"
             "positive when the motor drives; rotor_speed is an alias of it), theta, F_n,\n"
-            "F_t, efficiency, stick_margin, max_modulus, power_in, power_out\n"
-            "further outputs (constraints only), of the judged root as usm steady writes\n"
-            "them: alpha, beta, mu_used, v_c, v_rel, R_star, Z, power_damping, power_slip\n"
-            "(central differences in the varied parameters, step 1e-4 of each box), and\n"
-            "margin (= 1 - max_modulus, analytic)\n"
+            "F_t, efficiency, stick_margin, max_modulus, power_in, power_out,\n"
+            "margin (= 1 - max_modulus, analytic); and for constraints only, of the judged\n"
+            "root as usm steady writes them: alpha, beta, mu_used, v_c, v_rel, R_star, Z,\n"
+            "power_damping, power_slip (central differences in the varied parameters,\n"
+            "step 1e-4 of each box)\n"
             "\n"
             "options:\n");
     cli_common_usage(out);

@@ -235,12 +235,21 @@ int usm_opt_problem_check(const usm_opt_problem *pb, const usm_model *m, const u
         snprintf(msg, USM_MSG_LEN, "objective: required");
         return USM_EINPUT;
     }
-    if (!usm_opt_output_analytic(pb->objective) || pb->objective == USM_OPT_MARGIN) {
+    if (!usm_opt_output_analytic(pb->objective)) {
+        /* the objective's gradient is differentiated once more (the polish) */
+        char list[USM_MSG_LEN] = "";
+        size_t n = 0;
+        for (int k = 0; k < USM_OPT_OUTPUT_COUNT && n < sizeof list; ++k) {
+            if (usm_opt_output_analytic(k) != 1)
+                continue;
+            int w = snprintf(list + n, sizeof list - n, "%s%s", n ? ", " : "",
+                             usm_opt_output_name(k));
+            n += w > 0 ? (size_t)w : 0;
+        }
         snprintf(msg, USM_MSG_LEN,
-                 "objective: %s: the objective needs an analytic gradient (speed, theta, F_n, "
-                 "F_t, efficiency, stick_margin, max_modulus, power_in, power_out); %s may be "
-                 "a constraint", usm_opt_output_name(pb->objective),
-                 usm_opt_output_name(pb->objective));
+                 "objective: %.16s: the objective needs an analytic gradient (one of: %.120s); "
+                 "%.16s may be a constraint",
+                 usm_opt_output_name(pb->objective), list, usm_opt_output_name(pb->objective));
         return USM_EINPUT;
     }
     if (pb->nvary < 1 || pb->nvary > USM_NPARAMS) {
@@ -1326,7 +1335,9 @@ int usm_optimize_run(usm_optimize *o, const usm_params *p, const usm_opt_problem
     o->have_op = 1;
     out->feasible = 1;
     out->solved = 1;
-    out->value = pb->objective == USM_SENS_MAX_MODULUS ? out->floquet.max_modulus : b.value;
+    out->value = pb->objective == USM_SENS_MAX_MODULUS ? out->floquet.max_modulus
+                 : pb->objective == USM_OPT_MARGIN     ? 1 - out->floquet.max_modulus
+                                                       : b.value;
     out->params = o->p;
     out->sol = o->sol;
     out->evaluations = o->evaluations;

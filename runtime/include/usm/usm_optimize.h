@@ -8,7 +8,9 @@
  * user constraint OUTPUT <= X or OUTPUT >= X.  The outputs are
  * usm_design.h's USM_SENS_*, the rotor speed signed in the driving
  * direction: USM_OPT_SPEED = -rotor_speed (positive when the motor drives),
- * named "speed" with "rotor_speed" an alias (usm_opt_output_find).  NLopt's
+ * named "speed" with "rotor_speed" an alias (usm_opt_output_find); a
+ * constraint may also name the further scalar outputs of `usm steady` below
+ * (central differences where no analytic derivative exists).  NLopt's
  * SLSQP with the analytic sensitivities (usm_sensitivity_compute) as
  * gradients, in variables normalised to [0, 1], from `starts` deterministic
  * points of a rank-1 lattice over the box; the best feasible end point wins;
@@ -110,8 +112,9 @@ typedef struct usm_opt_constraint {
 
 /* What to optimise.  Fill with usm_opt_problem_init, then the add functions. */
 typedef struct usm_opt_problem {
-    int objective;                 /* an analytic output (USM_SENS_*, USM_OPT_SPEED; -1: not set);
-                                      constraints may name any output < USM_OPT_OUTPUT_COUNT */
+    int objective;                 /* an analytic output (USM_SENS_*, USM_OPT_SPEED,
+                                      USM_OPT_MARGIN; -1: not set); constraints may name
+                                      any output < USM_OPT_OUTPUT_COUNT */
     int minimize;                  /* 0: maximize */
     int nvary;
     int vary[USM_NPARAMS];         /* usm_param_table indices */
@@ -149,9 +152,10 @@ int usm_opt_problem_add_constraint(usm_opt_problem *pb, const char *output, int 
  * passes usm_params_check_ideal: otherwise its message, as usm_steady_solve
  * gives it, e.g. "phase_error: must be 0 here: ..."; a model with
  * imperfections is refused even at zero imperfections, "variant: ...", since
- * its sensitivities are not defined), an objective, at least one varied
- * parameter, margin, starts and t0 in range, every corner of the box
- * admissible parameters (usm_params_check and usm_params_check_ideal), no
+ * its sensitivities are not defined), an objective with an analytic
+ * gradient (usm_opt_output_analytic), at least one varied parameter,
+ * margin, starts and t0 in range, every corner of the box admissible
+ * parameters (usm_params_check and usm_params_check_ideal), no
  * I_yy varied in an axisymmetric model.  USM_OK, or USM_EINPUT with
  * "FIELD: reason" in msg, FIELD one of objective, vary, stability-margin,
  * starts, t0, variant or an imperfection's name. */
