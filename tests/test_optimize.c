@@ -726,6 +726,21 @@ static void test_fd_constraint(void)
                   "d F_n / d %s: differences %.12g, analytic %.12g",
                   usm_param_table[pb.vary[i]].name, dn[i], da[i]);
         }
+        /* at a bound (T = LO, f = HI): the one-sided stencils, F_n's against the analytic */
+        at.T = tlo;
+        at.f = fhi;
+        rc = usm_optimize_output_derivative(o, &at, &pb, USM_SENS_F_N, 0, 1, &yn, dn);
+        rc = rc ? rc : usm_optimize_output_derivative(o, &at, &pb, USM_SENS_F_N, 0, 0, &yn, da);
+        CHECK(rc == USM_OK, "output_derivative at the corner: %d %s", rc,
+              usm_optimize_message(o));
+        for (int i = 0; rc == USM_OK && i < 2; ++i) {
+            const double w = pb.hi[i] - pb.lo[i];
+            printf("at the corner: d F_n / d %s: one-sided differences %.12g, analytic %.12g\n",
+                   usm_param_table[pb.vary[i]].name, dn[i], da[i]);
+            CHECK(fabs(dn[i] - da[i]) * w <= 1e-7 * fabs(yn),
+                  "corner: d F_n / d %s: differences %.12g, analytic %.12g",
+                  usm_param_table[pb.vary[i]].name, dn[i], da[i]);
+        }
         /* outside the box, a bad output: refused */
         at.f = 39000;
         CHECK(usm_optimize_output_derivative(o, &at, &pb, kv, 0, 0, &y1, d1) == USM_EINPUT &&
