@@ -87,9 +87,9 @@ int usm_tolerance_write_summary(const usm_tolerance *t, FILE *out, const char *h
     char buf[96];
     if (!t->have_result)
         return -1;
-    fprintf(out, "# Tolerance study\n\nModel %s; %llu samples, seed %llu; every sample is the "
-            "stationary solution (full search, primary root) and its Floquet multipliers "
-            "(method %s, t0 = %g s).\n\n", t->m->name, (unsigned long long)s->samples,
+    fprintf(out, "# Tolerance study\n\nModel %s; %llu samples, seed %llu; every sample is "
+            "judged by its operating point (full stationary search, every root's Floquet "
+            "multipliers, method %s, t0 = %g s).\n\n", t->m->name, (unsigned long long)s->samples,
             (unsigned long long)s->seed, usm_floquet_method_name(t->opt.floquet.method),
             t->opt.t0);
     fputs("| parameter | nominal | distribution |\n|---|---|---|\n", out);
@@ -102,8 +102,8 @@ int usm_tolerance_write_summary(const usm_tolerance *t, FILE *out, const char *h
             (unsigned long long)s->redrawn);
     fputs("\n## Yield\n\nA sample counts when its operating point exists (the stable root "
           "the motor runs at: the only root and stable, or the one reached from rest with "
-          "--from-rest), the model describes the motor there (valid: the contact closed and, "
-          "for a stick model, the stick admissible)", out);
+          "--from-rest) and is valid (the model describes the motor there: the contact closed "
+          "and, for a stick model, |F_t| <= mu0 F_n)", out);
     for (int k = 0; k < t->nspec; ++k)
         fprintf(out, "%s %s %s %.6g", k ? "," : " and", usm_tolerance_output_name(t->spec[k].output),
                 t->spec[k].upper ? "<=" : ">=", t->spec[k].bound);
