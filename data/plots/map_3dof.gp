@@ -42,9 +42,9 @@ L_inv = "model not valid here"
 cells(n, label) = n > 0 ? sprintf("%s (%d cell%s)", label, n, n == 1 ? "" : "s") : ""
 absent = ""
 add(s, n, label) = n > 0 ? s : (s eq "" ? label : s.", ".label)
-absent = add(absent, n_nsr, L_nsr); absent = add(absent, n_dns, L_dns)
-absent = add(absent, n_unk, "unknown"); absent = add(absent, n_nos, L_nos)
-absent = add(absent, n_op, L_op)
+absent = add(absent, n_op, L_op); absent = add(absent, n_nsr, L_nsr)
+absent = add(absent, n_dns, L_dns); absent = add(absent, n_unk, "unknown")
+absent = add(absent, n_nos, L_nos)
 # the classes absent from this map, stated under the legend
 note = absent eq "" ? "" : "Classes not on this map: ".absent
 if (n_inv == 0) note = note.(note eq "" ? "" : "; ")."the model is valid at every cell"
