@@ -13,24 +13,23 @@
 # motor there (column valid false).  The legend names each class present with
 # its number of cells (counted here from the CSV) and lists the absent ones.
 reset session
-map = "map_3dof"
 set datafile separator ","
 set encoding utf8
 set title "Stability map f x T, 3-DOF stick model: the operating point of each cell"
 f0 = NaN; T0 = NaN; nb1 = 0; nb2 = 0; nb3 = 0
 stats "report_values.csv" using (f0 = column("f [Hz]") / 1000, T0 = column("T [N m]") * 1e3, \
-    nb1 = column(map."_existence [1]"), nb2 = column(map."_stability [1]"), \
-    nb3 = column(map."_stick [1]"), 0) nooutput
-stats map.".csv" using (column("f [Hz]") / 1000):(column("T [N m]") * 1e3) nooutput
+    nb1 = column("map_3dof_existence [1]"), nb2 = column("map_3dof_stability [1]"), \
+    nb3 = column("map_3dof_stick [1]"), 0) nooutput
+stats "map_3dof.csv" using (column("f [Hz]") / 1000):(column("T [N m]") * 1e3) nooutput
 xmin = STATS_min_x; xmax = STATS_max_x; ymin = STATS_min_y; ymax = STATS_max_y
 nx = 0
-stats map.".csv" using (nx = nx + (column("T [N m]") * 1e3 == ymin), 0) nooutput
+stats "map_3dof.csv" using (nx = nx + (column("T [N m]") * 1e3 == ymin), 0) nooutput
 ny = STATS_records / nx
 dx = nx > 1 ? (xmax - xmin) / (nx - 1) : 1; dy = ny > 1 ? (ymax - ymin) / (ny - 1) : 1
 # the cells of each class, and those outside the model's validity
 is(name) = strcol("op_class") eq name
 n_op = 0; n_nsr = 0; n_dns = 0; n_unk = 0; n_nos = 0; n_inv = 0
-stats map.".csv" using (n_op = n_op + is("operating_point"), n_nsr = n_nsr + is("no_stable_root"), \
+stats "map_3dof.csv" using (n_op = n_op + is("operating_point"), n_nsr = n_nsr + is("no_stable_root"), \
     n_dns = n_dns + is("does_not_start"), n_unk = n_unk + is("unknown"), \
     n_nos = n_nos + is("no_solution"), n_inv = n_inv + (strcol("valid") eq "false"), 0) nooutput
 L_op = "operating point"
@@ -75,19 +74,19 @@ do for [fmt in "png svg"] {
   } else {
     set terminal svg size 900,820 dynamic enhanced font "DejaVu Sans,11"
   }
-  set output map.".".fmt
+  set output "map_3dof.".fmt
   plot \
-    map.".csv" using (bx(0)):(by(0)):(strcol("op_class") eq "operating_point" ? column("op_max_modulus [1]") : NaN) with image notitle, \
+    "map_3dof.csv" using (bx(0)):(by(0)):(strcol("op_class") eq "operating_point" ? column("op_max_modulus [1]") : NaN) with image notitle, \
     keyentry with boxes fillstyle solid 1.0 lc rgb "#74add1" title cells(n_op, L_op), \
-    map.".csv" using (bx(0)):(inclass("no_stable_root")):(0.51 * dx):(0.51 * dy) with boxxyerror fillstyle solid 1.0 noborder lc rgb "#67001f" title cells(n_nsr, L_nsr), \
-    map.".csv" using (bx(0)):(inclass("does_not_start")):(0.51 * dx):(0.51 * dy) with boxxyerror fillstyle solid 1.0 noborder lc rgb "#000000" title cells(n_dns, L_dns), \
-    map.".csv" using (bx(0)):(inclass("unknown")):(0.51 * dx):(0.51 * dy) with boxxyerror fillstyle solid 1.0 noborder lc rgb "#ffffff" notitle, \
-    map.".csv" using (bx(0)):(inclass("unknown")):(0.51 * dx):(0.51 * dy) with boxxyerror fillstyle pattern 4 noborder lc rgb "#525252" title cells(n_unk, L_unk), \
-    map."_existence.csv" using (bx(0)):(by(0)) with lines lw 3 lc rgb "black" title (nb1 > 0 ? "solution stops existing" : ""), \
-    map."_stability.csv" using (bx(0)):(by(0)) with lines lw 2.5 dt 2 lc rgb "white" title (nb2 > 0 ? "|λ| = 1 (smallest-tilt root)" : ""), \
-    map."_stick.csv" using (bx(0)):(by(0)) with lines lw 2.5 dt 4 lc rgb "#1e8449" title (nb3 > 0 ? "F_t = μ_0 F_n" : ""), \
-    map.".csv" using (bx(0)):(invalid(0)) with points pt 7 ps 0.55 lc rgb "#ffffff" notitle, \
-    map.".csv" using (bx(0)):(invalid(0)) with points pt 7 ps 0.35 lc rgb "#525252" title cells(n_inv, L_inv), \
+    "map_3dof.csv" using (bx(0)):(inclass("no_stable_root")):(0.51 * dx):(0.51 * dy) with boxxyerror fillstyle solid 1.0 noborder lc rgb "#67001f" title cells(n_nsr, L_nsr), \
+    "map_3dof.csv" using (bx(0)):(inclass("does_not_start")):(0.51 * dx):(0.51 * dy) with boxxyerror fillstyle solid 1.0 noborder lc rgb "#000000" title cells(n_dns, L_dns), \
+    "map_3dof.csv" using (bx(0)):(inclass("unknown")):(0.51 * dx):(0.51 * dy) with boxxyerror fillstyle solid 1.0 noborder lc rgb "#ffffff" notitle, \
+    "map_3dof.csv" using (bx(0)):(inclass("unknown")):(0.51 * dx):(0.51 * dy) with boxxyerror fillstyle pattern 4 noborder lc rgb "#525252" title cells(n_unk, L_unk), \
+    "map_3dof_existence.csv" using (bx(0)):(by(0)) with lines lw 3 lc rgb "black" title (nb1 > 0 ? "solution stops existing" : ""), \
+    "map_3dof_stability.csv" using (bx(0)):(by(0)) with lines lw 2.5 dt 2 lc rgb "white" title (nb2 > 0 ? "|λ| = 1 (smallest-tilt root)" : ""), \
+    "map_3dof_stick.csv" using (bx(0)):(by(0)) with lines lw 2.5 dt 4 lc rgb "#1e8449" title (nb3 > 0 ? "F_t = μ_0 F_n" : ""), \
+    "map_3dof.csv" using (bx(0)):(invalid(0)) with points pt 7 ps 0.55 lc rgb "#ffffff" notitle, \
+    "map_3dof.csv" using (bx(0)):(invalid(0)) with points pt 7 ps 0.35 lc rgb "#525252" title cells(n_inv, L_inv), \
     keyentry with boxes fillstyle solid 1.0 lc rgb "#bdbdbd" title cells(n_nos, L_nos), \
     "+" using (f0):(T0) every ::0::0 with points pt 3 ps 2.5 lw 2 lc rgb "black" title sprintf("Appendix A (f = %g kHz, T = %g N mm)", f0, T0)
   unset output
