@@ -78,9 +78,9 @@ do for [fmt in "png svg"] {
   plot \
     "map_4dof.csv" using (bx(0)):(by(0)):(strcol("op_class") eq "operating_point" ? column("op_max_modulus [1]") : NaN) with image notitle, \
     keyentry with boxes fillstyle solid 1.0 lc rgb "#74add1" title cells(n_op, L_op), \
-    "map_4dof.csv" using (bx(0)):(inclass("no_stable_root")):(0.51 * dx):(0.51 * dy) with boxxyerror fillstyle solid 1.0 noborder lc rgb "#67001f" title cells(n_nsr, L_nsr), \
-    "map_4dof.csv" using (bx(0)):(inclass("does_not_start")):(0.51 * dx):(0.51 * dy) with boxxyerror fillstyle solid 1.0 noborder lc rgb "#000000" title cells(n_dns, L_dns), \
-    "map_4dof.csv" using (bx(0)):(inclass("unknown")):(0.51 * dx):(0.51 * dy) with boxxyerror fillstyle solid 1.0 noborder lc rgb "#ffffff" notitle, \
+    "map_4dof.csv" using (bx(0)):(inclass("no_stable_root")):(0.51 * dx):(0.51 * dy) with boxxyerror fillstyle solid 1.0 border lc rgb "#67001f" lc rgb "#67001f" title cells(n_nsr, L_nsr), \
+    "map_4dof.csv" using (bx(0)):(inclass("does_not_start")):(0.51 * dx):(0.51 * dy) with boxxyerror fillstyle solid 1.0 border lc rgb "#000000" lc rgb "#000000" title cells(n_dns, L_dns), \
+    "map_4dof.csv" using (bx(0)):(inclass("unknown")):(0.51 * dx):(0.51 * dy) with boxxyerror fillstyle solid 1.0 border lc rgb "#ffffff" lc rgb "#ffffff" notitle, \
     "map_4dof.csv" using (bx(0)):(inclass("unknown")):(0.51 * dx):(0.51 * dy) with boxxyerror fillstyle pattern 4 noborder lc rgb "#525252" title cells(n_unk, L_unk), \
     "map_4dof_existence.csv" using (bx(0)):(by(0)) with lines lw 3 lc rgb "black" title (nb1 > 0 ? "solution stops existing" : ""), \
     "map_4dof_stability.csv" using (bx(0)):(by(0)) with lines lw 2.5 dt 2 lc rgb "white" title (nb2 > 0 ? "|λ| = 1 (smallest-tilt root)" : ""), \
