@@ -8,7 +8,8 @@
 #    operating_point_jump event lies between two grid values whose steady
 #    operating points differ (and no jump where they agree on one branch);
 #  - tolerance: a sample counts (good) exactly when steady finds an
-#    operating point at its parameters; unknown samples are counted;
+#    operating point at its parameters and calls it valid; its valid and
+#    invalid_reason are steady's; unknown samples are counted;
 #  - optimize: without --from-rest a design with several roots is refused,
 #    so the optimum has one root, its operating point.
 #
@@ -26,6 +27,8 @@ USM = sys.argv[1]
 CLASS = {"only_stable_root": "operating_point", "reached_from_rest": "operating_point",
          "no_stable_root": "no_stable_root", "does_not_start": "does_not_start", None: "unknown"}
 
+last = [None]  # steady's last JSON
+
 def steady(sets, from_rest=True):
     args = [USM, "steady", "--json"] + (["--from-rest"] if from_rest else [])
     for k, v in sets.items():
@@ -35,6 +38,7 @@ def steady(sets, from_rest=True):
         return None, "no_solution"
     assert r.returncode == 0, (args, r.stderr)
     o = json.loads(r.stdout)
+    last[0] = o
     return o["operating_point"], CLASS[o["operating_point_reason"]]
 
 def check_map(path, from_rest):
@@ -76,7 +80,12 @@ def check_tolerance(path, fixed, names):
             sets[n] = float(r["%s [N]" % n] if "%s [N]" % n in r else r[n])
         idx, cls = steady(sets)
         assert r["op_class"] == cls, (r, cls)
-        assert (r["good"] == "true") == (cls == "operating_point"), (r, cls)
+        # the top level of steady describes the operating point, as the sample does
+        valid = last[0]["valid"] if cls != "no_solution" else None
+        assert r["valid"] == {True: "true", False: "false", None: ""}[valid], (r, valid)
+        if cls != "no_solution":
+            assert r["invalid_reason"] == (last[0]["invalid_reason"] or ""), (r, last[0])
+        assert (r["good"] == "true") == (cls == "operating_point" and valid), (r, cls)
         unknown += cls == "unknown"
     return len(rows), unknown
 

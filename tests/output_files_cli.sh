@@ -156,7 +156,7 @@ expect_bad "--vary T" "overflows" tolerance --samples 3 --vary T=uniform:-1e308:
 # ---- a checkpoint's data validated on load -----------------------------------------
 # corrupt SRC DST SAMPLE COLUMN VALUE [keep-hash]: one double of a row changed (columns: F0,
 # theta, rotor_speed, F_n, F_t, max_modulus, efficiency, stable, stick_admissible, exists,
-# operating_point, op_class, good, redraws), the FNV-1a hash recomputed (so that the row check itself is tested) unless
+# operating_point, op_class, validity, good, redraws), the FNV-1a hash recomputed (so that the row check itself is tested) unless
 # keep-hash
 corrupt() {
     "$PY" - "$@" <<'PYEOF'
@@ -165,7 +165,7 @@ src, dst, sample, col, value = sys.argv[1], sys.argv[2], int(sys.argv[3]), int(s
 rehash = len(sys.argv) < 7
 data = bytearray(open(src, "rb").read())
 start = data.index(b"\nend\n") + 5 + 8           # after ORDER
-width, block = 14, 64
+width, block = 15, 64
 n = struct.unpack_from("<Q", data, start)[0]
 assert n == 1
 off = start + 8 + 8 + (sample * width + col) * 8  # count, block index, the rows
@@ -191,13 +191,13 @@ if expect_rc 0 $T --checkpoint "$d/good.ck" --json; then
         expect_bad "--checkpoint $d/$name.ck" "$reason" $T --checkpoint "$d/$name.ck" --json
         cmp -s "$d/$name.ck" "$d/$name.orig" || fail "checkpoint $name: the refused file was changed"
     }
-    bad_ck nan_redraws 'sample 3: redraws nan' 3 13 nan
-    bad_ck big_redraws 'sample 3: redraws 1e\+300' 3 13 1e300
-    bad_ck neg_redraws 'sample 0: redraws -1' 0 13 -1
-    bad_ck frac_redraws 'redraws 0.5' 5 13 0.5
-    bad_ck huge_redraws 'redraws 9.22337e\+18' 5 13 9223372036854775808
+    bad_ck nan_redraws 'sample 3: redraws nan' 3 14 nan
+    bad_ck big_redraws 'sample 3: redraws 1e\+300' 3 14 1e300
+    bad_ck neg_redraws 'sample 0: redraws -1' 0 14 -1
+    bad_ck frac_redraws 'redraws 0.5' 5 14 0.5
+    bad_ck huge_redraws 'redraws 9.22337e\+18' 5 14 9223372036854775808
     bad_ck good_no_exists 'sample 7: exists 2' 7 9 2
-    bad_ck good_flag 'good is 0 but' 7 12 0
+    bad_ck good_flag 'good is 0 but' 7 13 0
     bad_ck nan_param 'sample 2: F0 = nan' 2 0 nan
     bad_ck neg_param 'sample 2: not physical' 2 0 -1
     bad_ck inf_theta 'sample 4: theta = inf' 4 1 inf
@@ -205,6 +205,11 @@ if expect_rc 0 $T --checkpoint "$d/good.ck" --json; then
     bad_ck stick_flag 'sample 4: stick_admissible = 0.5' 4 8 0.5
     bad_ck op_index 'sample 4: operating_point = -1' 4 10 -1
     bad_ck op_class 'sample 4: op_class = 9' 4 11 9
+    # the validity and the stick flag as the row's own F_n, F_t and mu0 imply (sample 4 is
+    # valid: mu0 F_n > |F_t|)
+    bad_ck validity 'sample 4: validity = 2 where its F_n, F_t and mu0 say 0' 4 12 2
+    bad_ck validity_nan 'sample 4: validity = nan where' 4 12 nan
+    bad_ck stick_lie 'sample 4: stick_admissible = 0 where its F_n, F_t and mu0 say 1' 4 8 0
     # a plausible value (rotor speed +1000) is caught by the hash
     bad_ck speed_hash 'do not match their hash' 6 2 -1000 keep-hash
     head -c 300 "$d/good.ck" >"$d/trunc.ck"

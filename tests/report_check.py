@@ -126,6 +126,7 @@ def check_report(out):
         check_design(out, md, data)
         check_nonideal(out, md, data)
         check_validity(out, md, data)
+        check_maps(out, md, data)
 
     images = re.findall(r"!\[[^\]]*\]\(([^)\s]+)\)", md)
     links = [t for t in re.findall(r"(?<!!)\[[^\]]*\]\(([^)\s]+)\)", md)
@@ -428,6 +429,93 @@ def periodic(model, name, value):
         fail(f"usm periodic --model {model} --set {name}={value}: exit {r.returncode}: "
              f"{r.stderr.strip()}")
         return None, None, None
+
+
+# The figure's labels of the operating point's classes (data/plots/map_3dof.gp,
+# map_4dof.gp) and the CSV's op_class names; "invalid" is the dots (column valid).
+MAP_LABELS = {"operating point": "operating_point", "no stable root": "no_stable_root",
+              "does not start from rest": "does_not_start", "unknown": "unknown",
+              "no stationary solution": "no_solution", "model not valid here": "invalid"}
+
+
+def svg_texts(path):
+    """The text of every <text> element of an SVG (tspans joined)."""
+    return ["".join(e.itertext()).strip() for e in ET.parse(path).iter()
+            if e.tag.split("}")[-1] == "text"]
+
+
+def check_maps(out, md, data):
+    """The stability maps by the operating point (issue 20): report.json's class
+    counts are the CSV's; report.md states them and says the maps are computed
+    without --from-rest; every class the figure's legend names exists in the CSV
+    with the count it gives, every class absent from the CSV is stated absent
+    under the legend, and the two together are every class."""
+    sections = md.split("![Stability map f x T, ")
+    for k, model in enumerate(("3dof", "4dof")):
+        name = f"map_{model}"
+        rows = read_csv(os.path.join(out, f"{name}.csv"))
+        count = {c: sum(r["op_class"] == c for r in rows) for c in
+                 ("operating_point", "no_stable_root", "does_not_start", "unknown",
+                  "no_solution", "not_evaluated")}
+        count["invalid"] = sum(r["valid"] == "false" for r in rows)
+        summary = [m for m in data["maps"] if m["name"] == name]
+        if not summary:
+            fail(f"report.json has no map {name}")
+            continue
+        js = summary[0]
+        want = dict(js["classes"], invalid=js["invalid"])
+        if want == count and sum(count[c] for c in js["classes"]) == len(rows) and \
+                js["several_roots"] == sum(int(r["roots"]) > 1 for r in rows):
+            ok(f"report.json {name}: class counts equal the CSV's {count}")
+        else:
+            fail(f"report.json {name}: classes {want} vs the CSV's {count}")
+        absent = [l for l, c in MAP_LABELS.items() if c != "invalid" and count[c] == 0]
+        if js["absent"] != ", ".join(absent):
+            fail(f"report.json {name}: absent {js['absent']!r}, the CSV has none of {absent}")
+        # report.md: the table of this map (after its figure) gives the CSV's counts
+        text = next((t for t in sections[1:] if t.startswith(("3-DOF", "4-DOF")[k])), "")
+        text = text.split("\n## ")[0]
+        shown = {c: re.search(r"^\| %s[^|]*\| (\d+) \|$" % re.escape(l), text, re.M)
+                 for l, c in MAP_LABELS.items() if c != "invalid"}
+        if all(m and int(m.group(1)) == count[c] for c, m in shown.items()) and \
+                (not absent or f"Not on this map: {', '.join(absent)}." in text) and \
+                f"at {count['invalid']} of the" in text:
+            ok(f"report.md states {name}'s class counts and its absent classes")
+        else:
+            fail(f"report.md: {name}'s counts { {c: m and m.group(1) for c, m in shown.items()} } "
+                 f"vs the CSV's {count}")
+        # the legend: "LABEL (N cells)" for each class present, the absent ones under it
+        svg = os.path.join(out, f"{name}.svg")
+        if not os.path.exists(svg):
+            continue  # no plots: check_report names the missing figure
+        texts = svg_texts(svg)
+        legend = {}
+        for t in texts:
+            m = re.match(r"^(.*?)(?: \(several roots\))? \((\d+) cells?\)$", t)
+            if m:
+                legend[m.group(1)] = int(m.group(2))
+        notes = [t for t in texts if t.startswith("Classes not on this map: ") or
+                 t == "the model is valid at every cell"]
+        stated = []
+        for t in notes:
+            for part in t.split("; "):
+                if part.startswith("Classes not on this map: "):
+                    stated += part[len("Classes not on this map: "):].split(", ")
+                elif part == "the model is valid at every cell":
+                    stated.append("model not valid here")
+        bad = [l for l in legend if l not in MAP_LABELS or legend[l] != count[MAP_LABELS[l]]
+               or legend[l] == 0]
+        bad += [l for l in stated if l not in MAP_LABELS or count[MAP_LABELS[l]] != 0]
+        missing = [l for l, c in MAP_LABELS.items() if (l in legend) == (l in stated)]
+        if not bad and not missing and legend:
+            ok(f"{name}.svg: the legend names {sorted(legend)} with the CSV's counts; "
+               f"stated absent: {stated}")
+        else:
+            fail(f"{name}.svg: legend {legend}, stated absent {stated}: wrong {bad}, "
+                 f"neither or both {missing}")
+    for phrase in ("without `--from-rest`", "is **unknown**"):
+        if phrase not in md:
+            fail(f"report.md section 6 does not say {phrase!r}")
 
 
 def check_nonideal(out, md, data):

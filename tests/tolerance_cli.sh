@@ -57,7 +57,7 @@ expect_rc 0 $T --json --threads 2 && { cmp -s "$out" "$tmp/t1.json" || fail "thr
 # ---- --out --------------------------------------------------------------------------
 if expect_rc 0 $T --out "$tmp/full"; then
     for f in samples.csv summary.md; do [ -s "$tmp/full/$f" ] || fail "--out: no $f"; done
-    head -n 1 "$tmp/full/samples.csv" | grep -qx 'sample,F0 \[N\],T \[N m\],exists,stable,stick_admissible,theta \[rad\],rotor_speed \[1/s\],F_n \[N\],F_t \[N\],max_modulus \[1\],efficiency \[1\],good,redraws,operating_point,op_class' ||
+    head -n 1 "$tmp/full/samples.csv" | grep -qx 'sample,F0 \[N\],T \[N m\],exists,stable,stick_admissible,theta \[rad\],rotor_speed \[1/s\],F_n \[N\],F_t \[N\],max_modulus \[1\],efficiency \[1\],good,redraws,operating_point,op_class,valid,invalid_reason' ||
         fail "samples.csv header: $(head -n 1 "$tmp/full/samples.csv")"
     [ "$(wc -l <"$tmp/full/samples.csv")" -eq 301 ] || fail "samples.csv rows"
     grep -qi 'nan\|inf' "$tmp/full/samples.csv" && fail "samples.csv has nan/inf"
@@ -94,5 +94,61 @@ expect_bad 'checkpoint' 'another study.*seed' $T --seed 2 --checkpoint "$tmp/ck"
 printf 'my notes\n' >"$tmp/notes"
 expect_bad 'checkpoint' 'not a usm tolerance checkpoint' $T --checkpoint "$tmp/notes"
 grep -qx 'my notes' "$tmp/notes" || fail "a foreign file was overwritten"
+
+# ---- validity (issue 20): each sample's valid flag is what the model says there -----
+# A 3-DOF (stick) study across the stick limit (the load T and the friction scale mu0
+# varied): every row's valid/invalid_reason recomputed from its own F_n, F_t and mu0
+# (steady.c's definition: contact closed, |F_t| <= mu0 F_n); good only when the operating
+# point exists, is stable, meets the spec and is valid; the JSON's invalid counts are the
+# CSV's; and three samples (a valid one, an invalid one, the one nearest the limit) against
+# `usm steady` at the sample's parameters.
+V="tolerance --samples 40 --seed 5 --vary T=uniform:0:0.001 --vary mu0=uniform:0.1:0.4 --vary F0=normal:10% --spec rotor_speed<=-5"
+if expect_rc 0 $V --json --out "$tmp/valid"; then
+    cp "$out" "$tmp/valid.json"
+    checks=$((checks + 1))
+    "$PY" - "$USM" "$tmp/valid/samples.csv" "$tmp/valid.json" >"$tmp/valid.out" 2>&1 <<'PYEOF' || {
+import csv, json, subprocess, sys
+usm, rows, summary = sys.argv[1], list(csv.DictReader(open(sys.argv[2]))), json.load(open(sys.argv[3]))
+invalid = {"contact_open": 0, "stick_not_admissible": 0}
+for r in rows:
+    if r["exists"] != "true":
+        assert r["valid"] == "" and r["invalid_reason"] == "", r
+        continue
+    F_n, F_t, mu0 = float(r["F_n [N]"]), float(r["F_t [N]"]), float(r["mu0 [1]"])
+    want = "" if F_n > 0 and abs(F_t) <= mu0 * F_n else \
+        "contact_open" if not F_n > 0 else "stick_not_admissible"
+    assert r["valid"] == ("true" if want == "" else "false"), (r, want)
+    assert r["invalid_reason"] == want, (r, want)
+    if want:
+        invalid[want] += 1
+    good = (r["op_class"] == "operating_point" and r["stable"] == "true" and
+            float(r["rotor_speed [1/s]"]) <= -5 and want == "")
+    assert (r["good"] == "true") == good, (r, good)
+assert summary["invalid"] == sum(invalid.values()), (summary["invalid"], invalid)
+assert summary["invalid_reasons"] == invalid, (summary["invalid_reasons"], invalid)
+assert summary["good"] == sum(r["good"] == "true" for r in rows)
+nvalid = sum(r["valid"] == "true" for r in rows)
+assert nvalid >= 3 and invalid["stick_not_admissible"] >= 3, (nvalid, invalid)
+# some samples are good only because they are valid: an invalid one meets the rest
+assert any(r["valid"] == "false" and r["op_class"] == "operating_point" and
+           float(r["rotor_speed [1/s]"]) <= -5 for r in rows)
+def margin(r):
+    return abs(abs(float(r["F_t [N]"])) - float(r["mu0 [1]"]) * float(r["F_n [N]"]))
+pick = [next(r for r in rows if r["valid"] == "true"),
+        next(r for r in rows if r["valid"] == "false"), min(rows, key=margin)]
+for r in pick:
+    args = [usm, "steady", "--json"]
+    for n in ("T [N m]", "mu0 [1]", "F0 [N]"):
+        args += ["--set", "%s=%r" % (n.split()[0], float(r[n]))]
+    o = json.loads(subprocess.run(args, capture_output=True, text=True, check=True).stdout)
+    assert o["rotor_speed"] == float(r["rotor_speed [1/s]"]), (o["rotor_speed"], r)
+    assert o["valid"] == (r["valid"] == "true"), (o["valid"], r)
+    assert (o["invalid_reason"] or "") == r["invalid_reason"], (o["invalid_reason"], r)
+print("validity: %d rows, %d valid, invalid %s" % (len(rows), nvalid, invalid))
+PYEOF
+        failures=$((failures + 1))
+        echo "FAIL: tolerance validity: $(tail -n 3 "$tmp/valid.out")"
+    } && cat "$tmp/valid.out"
+fi
 
 finish tolerance_cli

@@ -24,11 +24,13 @@ static void usage(FILE *out)
           "         [--floquet-method NAME] [--rtol R] [--from-rest]\n"
           "         [--out DIR [--force]] [--checkpoint FILE] [--json]\n\n"
           "Monte Carlo tolerance study: at N parameter points drawn around the nominal\n"
-          "design, the stationary solution and its Floquet multipliers; the yield (exists,\n"
-          "stable, every spec met) with its 95 % Wilson interval, quantiles, and the\n"
-          "Spearman rank correlation of each output with each varied parameter.  A sample\n"
-          "is judged by its operating point (the stable root the motor runs at): where\n"
-          "several roots exist it is unknown, and does not count, unless --from-rest.\n\noptions:\n",
+          "design, the stationary solution and its Floquet multipliers; the yield with its\n"
+          "95 % Wilson interval, quantiles, and the Spearman rank correlation of each\n"
+          "output with each varied parameter.  A sample is good (counts for the yield) only\n"
+          "if its operating point (the stable root the motor runs at) exists, is stable,\n"
+          "meets every spec and is valid (the model describes the motor there: contact\n"
+          "closed, and for the 3-DOF stick model |F_t| <= mu0 F_n).  Where several roots\n"
+          "exist the operating point is unknown, and does not count, unless --from-rest.\n\noptions:\n",
           out);
     cli_common_usage(out);
     cli_floquet_usage(out);
@@ -45,8 +47,9 @@ static void usage(FILE *out)
           "                      write into an existing DIR)\n"
           "  --checkpoint FILE   keep completed blocks in FILE; the same command resumes\n\n"
           "Output: a Markdown summary; --json: {samples, seed, yield, yield_ci, quantiles,\n"
-          "influence, failed, redrawn, exists, stable, good, operating_point}.  Under mpirun the samples are shared\n"
-          "out over the ranks, with the same output.\n"
+          "influence, failed, redrawn, exists, stable, good, operating_point, invalid,\n"
+          "invalid_reasons}; samples.csv ends with valid, invalid_reason.  Under mpirun the\n"
+          "samples are shared out over the ranks, with the same output.\n"
           "exit status: 0 done, 1 numerical failure or write error, 2 bad input\n", out);
 }
 

@@ -35,7 +35,7 @@ int usm_tolerance_write_csv(const usm_tolerance *t, FILE *out)
         if (unit)
             fprintf(out, " [%s]", unit);
     }
-    fputs(",good,redraws,operating_point,op_class\n", out);
+    fputs(",good,redraws,operating_point,op_class,valid,invalid_reason\n", out);
     for (uint64_t i = 0; i < t->sum.samples; ++i) {
         const double *row = t->rows + i * (uint64_t)t->width;
         fprintf(out, "%llu", (unsigned long long)i);
@@ -53,8 +53,12 @@ int usm_tolerance_write_csv(const usm_tolerance *t, FILE *out)
             fprintf(out, ",%d", (int)row[t->nvary + USM_TOL_OPERATING_POINT]);
         else
             fputc(',', out);
-        fprintf(out, ",%s\n",
+        fprintf(out, ",%s",
                 usm_point_op_class_name((usm_point_op_class)(int)row[t->nvary + USM_TOL_OP_CLASS]));
+        /* a row's validity is NaN (no solution) or a usm_validity, checked on load */
+        const double v = row[t->nvary + USM_TOL_VALIDITY];
+        usm_csv_validity(out, !isnan(v), isnan(v) ? USM_VALID : (usm_validity)(int)v);
+        fputc('\n', out);
     }
     return ferror(out) ? -1 : 0;
 }
@@ -83,9 +87,9 @@ int usm_tolerance_write_summary(const usm_tolerance *t, FILE *out, const char *h
     char buf[96];
     if (!t->have_result)
         return -1;
-    fprintf(out, "# Tolerance study\n\nModel %s; %llu samples, seed %llu; every sample is the "
-            "stationary solution (full search, primary root) and its Floquet multipliers "
-            "(method %s, t0 = %g s).\n\n", t->m->name, (unsigned long long)s->samples,
+    fprintf(out, "# Tolerance study\n\nModel %s; %llu samples, seed %llu; every sample is "
+            "judged by its operating point (full stationary search, every root's Floquet "
+            "multipliers, method %s, t0 = %g s).\n\n", t->m->name, (unsigned long long)s->samples,
             (unsigned long long)s->seed, usm_floquet_method_name(t->opt.floquet.method),
             t->opt.t0);
     fputs("| parameter | nominal | distribution |\n|---|---|---|\n", out);
@@ -98,7 +102,8 @@ int usm_tolerance_write_summary(const usm_tolerance *t, FILE *out, const char *h
             (unsigned long long)s->redrawn);
     fputs("\n## Yield\n\nA sample counts when its operating point exists (the stable root "
           "the motor runs at: the only root and stable, or the one reached from rest with "
-          "--from-rest)", out);
+          "--from-rest) and is valid (the model describes the motor there: the contact closed "
+          "and, for a stick model, |F_t| <= mu0 F_n)", out);
     for (int k = 0; k < t->nspec; ++k)
         fprintf(out, "%s %s %s %.6g", k ? "," : " and", usm_tolerance_output_name(t->spec[k].output),
                 t->spec[k].upper ? "<=" : ">=", t->spec[k].bound);
@@ -114,6 +119,10 @@ int usm_tolerance_write_summary(const usm_tolerance *t, FILE *out, const char *h
             "undecided): %llu -- these do not count.\n",
             (unsigned long long)s->op_exists, (unsigned long long)s->op_no_stable_root,
             (unsigned long long)s->op_does_not_start, (unsigned long long)s->op_unknown);
+    fprintf(out, "Outside the model's validity (the model does not describe the motor there, "
+            "so they do not count): %llu (contact open: %llu; past the stick limit: %llu).\n",
+            (unsigned long long)s->invalid, (unsigned long long)s->invalid_contact_open,
+            (unsigned long long)s->invalid_stick);
     fputs("\n## Quantiles\n\n| output | samples | 1 % | 5 % | 50 % | 95 % | 99 % |\n"
           "|---|---|---|---|---|---|---|\n", out);
     for (int k = 0; k < USM_TOL_NNUMERIC; ++k) {
@@ -193,11 +202,14 @@ int usm_tolerance_write_json(const usm_tolerance *t, FILE *out)
     }
     fprintf(out, "\n  },\n  \"failed\": %llu,\n  \"redrawn\": %llu,\n  \"exists\": %llu,\n"
             "  \"stable\": %llu,\n  \"good\": %llu,\n  \"operating_point\": {\"exists\": %llu, "
-            "\"no_stable_root\": %llu, \"does_not_start\": %llu, \"unknown\": %llu}\n}\n",
+            "\"no_stable_root\": %llu, \"does_not_start\": %llu, \"unknown\": %llu},\n"
+            "  \"invalid\": %llu,\n  \"invalid_reasons\": {\"contact_open\": %llu, "
+            "\"stick_not_admissible\": %llu}\n}\n",
             (unsigned long long)s->failed, (unsigned long long)s->redrawn,
             (unsigned long long)s->exists, (unsigned long long)s->stable,
             (unsigned long long)s->good, (unsigned long long)s->op_exists,
             (unsigned long long)s->op_no_stable_root, (unsigned long long)s->op_does_not_start,
-            (unsigned long long)s->op_unknown);
+            (unsigned long long)s->op_unknown, (unsigned long long)s->invalid,
+            (unsigned long long)s->invalid_contact_open, (unsigned long long)s->invalid_stick);
     return ferror(out) ? -1 : 0;
 }

@@ -457,16 +457,42 @@ static json_t *characteristics(const usm_report_data *d)
     return o;
 }
 
+/* The classes of a map's cells by their operating point (usm_point_op_class),
+ * as the map's CSV names them (op_class) and its figure labels them
+ * (data/plots/map_3dof.gp, map_4dof.gp). */
+static const struct {
+    usm_point_op_class cls;
+    const char *label;
+} map_class[] = {{USM_POINT_OP_STABLE, "operating point"},
+                 {USM_POINT_OP_NO_STABLE_ROOT, "no stable root"},
+                 {USM_POINT_OP_DOES_NOT_START, "does not start from rest"},
+                 {USM_POINT_OP_UNKNOWN, "unknown"},
+                 {USM_POINT_OP_NO_SOLUTION, "no stationary solution"}};
+#define NMAP_CLASS (sizeof map_class / sizeof map_class[0])
+
 static json_t *map_summary(const usm_report_map *m, int fig)
 {
     const size_t n = (size_t)m->x.points * (size_t)m->y.points;
-    size_t exist = 0, unstable = 0, unstable_stick = 0;
-    double maxmod = 0, maxmod_stick = 0;
-    json_t *o = figure(fig);
+    size_t exist = 0, unstable = 0, unstable_stick = 0, invalid = 0, several = 0;
+    size_t count[NMAP_CLASS] = {0}, other = 0;
+    double maxmod = 0, maxmod_stick = 0, op_maxmod = NAN;
+    json_t *o = figure(fig), *classes = json_object();
+    char absent[160] = "";
     for (size_t q = 0; q < n; ++q) {
         const usm_report_map_cell *c = &m->cells[q];
+        size_t k = 0;
+        while (k < NMAP_CLASS && (int)map_class[k].cls != c->op_class)
+            ++k;
+        if (k < NMAP_CLASS)
+            ++count[k];
+        else
+            ++other; /* not evaluated: the report always asks (usm_map_options) */
+        if (c->op_index >= 0)
+            op_maxmod = isnan(op_maxmod) ? c->op_max_modulus : fmax(op_maxmod, c->op_max_modulus);
+        several += c->roots > 1;
         if (!c->exists)
             continue;
+        invalid += c->validity != USM_VALID;
         ++exist;
         if (c->floquet_ok) {
             maxmod = fmax(maxmod, c->max_modulus);
@@ -491,6 +517,20 @@ static json_t *map_summary(const usm_report_map *m, int fig)
     integer(o, "unstable_stick", (long long)unstable_stick);
     num(o, "max_modulus_stick", maxmod_stick);
     flag(o, "floquet_failures", m->floquet_failures != 0);
+    /* by the operating point (issue 20): cells per class, and the absent ones */
+    for (size_t k = 0; k < NMAP_CLASS; ++k) {
+        integer(classes, usm_point_op_class_name(map_class[k].cls), (long long)count[k]);
+        if (!count[k])
+            snprintf(absent + strlen(absent), sizeof absent - strlen(absent), "%s%s",
+                     absent[0] ? ", " : "", map_class[k].label);
+    }
+    integer(classes, "not_evaluated", (long long)other);
+    json_object_set_new(o, "classes", classes);
+    str(o, "absent", absent);
+    num(o, "op_max_modulus", op_maxmod);
+    integer(o, "several_roots", (long long)several);
+    integer(o, "invalid", (long long)invalid);
+    flag(o, "from_rest", m->op && m->op->from_rest);
     return o;
 }
 

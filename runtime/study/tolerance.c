@@ -394,14 +394,17 @@ static int sample(usm_tolerance *t, worker *w, uint64_t i, double *row, char msg
         out[USM_TOL_F_T] = sol->F_t;
         out[USM_TOL_EFFICIENCY] = sol->efficiency;
         out[USM_TOL_STICK_ADMISSIBLE] = sol->stick_admissible;
+        out[USM_TOL_VALIDITY] = (double)sol->validity;
     }
     if (op || pt.has_floquet) {
         const usm_floquet_result *fl = op ? &pt.op.floquet : &pt.floquet;
         out[USM_TOL_MAX_MODULUS] = fl->max_modulus;
         out[USM_TOL_STABLE] = fl->max_modulus < 1.0;
     }
-    /* good: the operating point exists (a stable root) and meets the specs */
-    row[TOL_ROW_GOOD(t)] = op && pt.op.floquet.max_modulus < 1.0 && tol_meets_specs(t, out);
+    /* good: the operating point exists (a stable root), meets the specs and
+     * the model describes the motor there */
+    row[TOL_ROW_GOOD(t)] = op && pt.op.floquet.max_modulus < 1.0 && tol_meets_specs(t, out) &&
+                           out[USM_TOL_VALIDITY] == (double)USM_VALID;
     row[TOL_ROW_REDRAWS(t)] = redraws;
     return USM_OK;
 }
@@ -495,6 +498,11 @@ static int build_config(usm_tolerance *t)
                   o->floquet.steps);
     bad |= append(&t->config, &len, "operating_point from_rest %d periods %a\n",
                   o->op.from_rest, o->op.periods);
+    /* the row's layout: a file of rows laid out otherwise is another study's */
+    bad |= append(&t->config, &len, "outputs");
+    for (int k = 0; k < USM_TOL_NOUTPUTS; ++k)
+        bad |= append(&t->config, &len, " %s", usm_tolerance_output_name(k));
+    bad |= append(&t->config, &len, " good redraws\n");
     for (int k = 0; k < USM_NPARAMS; ++k)
         bad |= append(&t->config, &len, "param %s %a\n", usm_param_table[k].name,
                       usm_params_get(&t->p, &usm_param_table[k]));

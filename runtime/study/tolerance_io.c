@@ -9,7 +9,8 @@
  * format 1, which is still read), and ORDER again (a truncated file is
  * refused, not half read).  Every row read is checked (check_row) before it
  * is used: the varied parameters physical, the outputs finite or NaN as a
- * computed row has them, the yes/no values 0 or 1, `good` as the study
+ * computed row has them, the yes/no values 0 or 1, stick_admissible and the
+ * validity as the row's own F_n, F_t and mu0 imply, `good` as the study
  * would compute it, the redraws a whole number below TOL_MAX_REDRAWS -- a
  * corrupted or hand-made file is refused naming the sample, never turned
  * into a result (nor into an out-of-range float-to-integer conversion).  It is written to
@@ -87,41 +88,54 @@ static const char *check_row(const usm_tolerance *t, uint64_t i, const double *r
     }
     for (int k = 0; k < USM_TOL_NOUTPUTS; ++k) {
         const double v = out[k];
-        const char *name = k < USM_TOL_NNUMERIC ? usm_tolerance_output_name(k)
-                           : k == USM_TOL_STABLE ? "stable"
-                           : k == USM_TOL_STICK_ADMISSIBLE ? "stick_admissible"
-                                                           : "exists";
+        const char *name = usm_tolerance_output_name(k);
+        double want = NAN; /* the value the row's other outputs imply, where they do */
         int ok;
         if (k == USM_TOL_EXISTS)
             continue;
         if (k == USM_TOL_OP_CLASS) { /* a usm_point_op_class, defined for every sample */
             ok = v >= USM_POINT_OP_STABLE && v <= USM_POINT_OP_NO_SOLUTION && v == floor(v) &&
                  (v == USM_POINT_OP_NO_SOLUTION) == (exists == 0.0);
-            name = "op_class";
         } else if (k == USM_TOL_OPERATING_POINT) { /* a root index, or NaN: none */
             ok = isnan(v) || (v >= 0.0 && v < 1e6 && v == floor(v) && exists == 1.0);
-            name = "operating_point";
         } else if (exists == 0.0)
             ok = isnan(v); /* no solution: no value */
         else if (k == USM_TOL_MAX_MODULUS)
             ok = isnan(v) || (isfinite(v) && v >= 0.0); /* NaN: the multipliers failed */
         else if (k == USM_TOL_STABLE)
             ok = isnan(mm) ? isnan(v) : v == (mm < 1.0);
-        else if (k == USM_TOL_STICK_ADMISSIBLE)
-            ok = yes_no(v);
-        else if (k == USM_TOL_EFFICIENCY)
+        else if (k == USM_TOL_STICK_ADMISSIBLE) {
+            /* steady.c: F_n > 0 and |F_t| <= mu0 F_n, from the row's own forces */
+            want = out[USM_TOL_F_N] > 0 &&
+                   fabs(out[USM_TOL_F_T]) <= usm_params_get(&q, &usm_param_table[USM_P_mu0]) *
+                                                 out[USM_TOL_F_N];
+            ok = v == want;
+        } else if (k == USM_TOL_VALIDITY) {
+            /* usm_validity from the row's own F_n and stick_admissible (both checked
+             * above): the contact open, else a stick model past its limit */
+            want = !(out[USM_TOL_F_N] > 0) ? USM_INVALID_CONTACT_OPEN
+                   : !t->m->slip && out[USM_TOL_STICK_ADMISSIBLE] == 0.0 ? USM_INVALID_STICK
+                                                                         : USM_VALID;
+            ok = v == want;
+        } else if (k == USM_TOL_EFFICIENCY)
             ok = !isinf(v); /* NaN where power_in <= 0 */
         else
             ok = isfinite(v);
+        if (!ok && !isnan(want)) {
+            snprintf(why, USM_MSG_LEN, "sample %llu: %s = %g where its F_n, F_t and mu0 say %g",
+                     (unsigned long long)i, name, v, want);
+            return why;
+        }
         if (!ok) {
             snprintf(why, USM_MSG_LEN, "sample %llu: %s = %g where %s", (unsigned long long)i,
                      name, v, exists == 0.0 ? "no solution exists" : "the study computes no such value");
             return why;
         }
     }
-    /* good: an operating point (whose max_modulus the row holds) that meets the specs */
+    /* good: an operating point (whose max_modulus the row holds) that meets the
+     * specs and is valid */
     const int computed = !isnan(out[USM_TOL_OPERATING_POINT]) && isfinite(mm) && mm < 1.0 &&
-                         tol_meets_specs(t, out);
+                         tol_meets_specs(t, out) && out[USM_TOL_VALIDITY] == (double)USM_VALID;
     if (good != (double)computed) {
         snprintf(why, USM_MSG_LEN, "sample %llu: good is %g but its outputs say %d",
                  (unsigned long long)i, good, computed);

@@ -8,9 +8,9 @@
 
 static const char *const output_names[USM_TOL_NOUTPUTS] = {
     "theta", "rotor_speed", "F_n", "F_t", "max_modulus", "efficiency",
-    "stable", "stick_admissible", "exists", "operating_point", "op_class"};
+    "stable", "stick_admissible", "exists", "operating_point", "op_class", "validity"};
 static const char *const output_units[USM_TOL_NOUTPUTS] = {
-    "rad", "1/s", "N", "N", "1", "1", NULL, NULL, NULL, NULL, NULL};
+    "rad", "1/s", "N", "N", "1", "1", NULL, NULL, NULL, NULL, NULL, NULL};
 
 const double USM_TOLERANCE_QUANTILES[5] = {0.01, 0.05, 0.5, 0.95, 0.99};
 

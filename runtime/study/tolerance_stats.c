@@ -45,6 +45,7 @@ int tol_finish(usm_tolerance *t)
     s->seed = t->opt.seed;
     s->good = s->exists = s->stable = s->failed = s->redrawn = 0;
     s->op_exists = s->op_no_stable_root = s->op_does_not_start = s->op_unknown = 0;
+    s->invalid = s->invalid_contact_open = s->invalid_stick = 0;
     for (uint64_t i = 0; i < n; ++i) {
         const double *row = t->rows + i * (uint64_t)w, *out = row + t->nvary;
         s->good += row[TOL_ROW_GOOD(t)] != 0.0;
@@ -58,6 +59,10 @@ int tol_finish(usm_tolerance *t)
         s->op_no_stable_root += out[USM_TOL_OP_CLASS] == (double)USM_POINT_OP_NO_STABLE_ROOT;
         s->op_does_not_start += out[USM_TOL_OP_CLASS] == (double)USM_POINT_OP_DOES_NOT_START;
         s->op_unknown += out[USM_TOL_OP_CLASS] == (double)USM_POINT_OP_UNKNOWN;
+        /* NaN (no solution) is neither valid nor invalid */
+        s->invalid += out[USM_TOL_VALIDITY] > (double)USM_VALID;
+        s->invalid_contact_open += out[USM_TOL_VALIDITY] == (double)USM_INVALID_CONTACT_OPEN;
+        s->invalid_stick += out[USM_TOL_VALIDITY] == (double)USM_INVALID_STICK;
     }
     s->yield = (double)s->good / (double)n;
     wilson(s->good, n, &s->yield_lo, &s->yield_hi);

@@ -4,9 +4,10 @@
  * parameter is drawn from its distribution, and at that parameter point the
  * stationary solution (full search, primary root) and its Floquet multipliers
  * are computed by usm_point_evaluate (usm_map.h).  The study reports
- *   - the yield: the fraction of samples that have a stationary solution, are
- *     stable (largest non-cyclic multiplier < 1) and meet every spec, with
- *     its 95 % Wilson score interval;
+ *   - the yield: the fraction of samples whose operating point exists, is
+ *     stable (largest non-cyclic multiplier < 1), meets every spec and is
+ *     valid (the model describes the motor there: usm_validity), with its
+ *     95 % Wilson score interval;
  *   - the 1, 5, 50, 95, 99 % quantiles of every numeric output (over the
  *     samples where it exists; gsl_stats_quantile_from_sorted_data);
  *   - the influence of each varied parameter on each numeric output: the
@@ -95,7 +96,10 @@ enum {
     USM_TOL_EXISTS = 8,           /* a stationary solution exists */
     USM_TOL_OPERATING_POINT = 9,  /* the operating point's root index (NaN: none) */
     USM_TOL_OP_CLASS = 10,        /* usm_point_op_class (usm_map.h) as a number */
-    USM_TOL_NOUTPUTS = 11
+    USM_TOL_VALIDITY = 11,        /* usm_validity (usm.h) of the solution the sample
+                                     describes, as a number (NaN: no solution); a sample
+                                     counts for the yield only where it is USM_VALID */
+    USM_TOL_NOUTPUTS = 12
 };
 
 /* Name of output k ("theta", ...), NULL when out of range. */
@@ -163,8 +167,8 @@ int usm_tolerance_run(usm_tolerance *t, const usm_params *p, const usm_tolerance
 typedef struct usm_tolerance_summary {
     uint64_t samples;
     uint64_t seed;
-    uint64_t good;          /* samples whose operating point exists (a stable root) and
-                               meets every spec */
+    uint64_t good;          /* samples whose operating point exists (a stable root),
+                               meets every spec and is valid (USM_VALID) */
     double yield;           /* good / samples */
     double yield_lo, yield_hi; /* 95 % Wilson score interval */
     uint64_t exists, stable; /* samples with a solution; with stable multipliers */
@@ -175,6 +179,9 @@ typedef struct usm_tolerance_summary {
      * unstable; that do not start from rest; whose operating point is
      * unknown (several roots and no simulation from rest, or undecided) */
     uint64_t op_exists, op_no_stable_root, op_does_not_start, op_unknown;
+    /* samples with a solution that the model does not describe (usm_validity
+     * != USM_VALID): in all, with the contact open, past the stick limit */
+    uint64_t invalid, invalid_contact_open, invalid_stick;
     /* quantiles[k][q] of numeric output k at USM_TOLERANCE_QUANTILES[q] (NaN
      * when no sample has the output); count[k] samples have it */
     double quantile[USM_TOL_NNUMERIC][5];
@@ -213,16 +220,19 @@ const char *usm_tolerance_message(const usm_tolerance *t);
  * files"): sample, the varied parameters "NAME [UNIT]", exists, stable,
  * stick_admissible, theta [rad], rotor_speed [1/s], F_n [N], F_t [N],
  * max_modulus [1], efficiency [1], good, redraws, operating_point (root
- * index or empty), op_class (usm_point_op_class_name).  0, or -1 on a write
- * error. */
+ * index or empty), op_class (usm_point_op_class_name), valid (true/false,
+ * empty without a solution), invalid_reason (usm_validity_name).  0, or -1 on
+ * a write error. */
 int usm_tolerance_write_csv(const usm_tolerance *t, FILE *out);
 
 /* The result as one JSON object (2-space indent, numbers with 17 digits,
  * null where a value does not exist): samples, seed, yield, yield_ci [lo,
  * hi], quantiles {OUTPUT: {count, p1, p5, p50, p95, p99}}, influence
  * {OUTPUT: {PARAM: Spearman}}, failed, redrawn, exists, stable, good,
- * operating_point {exists, no_stable_root, does_not_start, unknown} (the
- * same bytes after a checkpoint resume).  0 or -1 on a write error. */
+ * operating_point {exists, no_stable_root, does_not_start, unknown},
+ * invalid (samples whose solution the model does not describe),
+ * invalid_reasons {contact_open, stick_not_admissible} (the same bytes after
+ * a checkpoint resume).  0 or -1 on a write error. */
 int usm_tolerance_write_json(const usm_tolerance *t, FILE *out);
 
 /* summary.md: the study, the yield, quantiles and influence tables.
