@@ -102,6 +102,13 @@ def check_report(out):
         ok("report.md starts with the usm marker")
     else:
         fail("report.md lacks the marker line")
+    # the contents list every section, in order (issue 23)
+    sections = re.findall(r"^## (\d+)\. (.+)$", md, re.M)
+    listed = re.findall(r"^(\d+)\. \[([^\]]+)\]\(#[^)]+\)$", md, re.M)
+    if sections and sections == listed:
+        ok(f"the contents list all {len(sections)} sections")
+    else:
+        fail(f"contents {listed} differ from the sections {sections}")
 
     # report.json: every number by name; report.md shows the same numbers
     try:
