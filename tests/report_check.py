@@ -137,6 +137,18 @@ def check_report(out):
             ok("report.json holds the paper's values as loaded")
         else:
             fail("report.json: the paper's values differ from data/paper_values.json")
+        # the maps' largest |lambda| printed with enough digits that a value
+        # below 1 does not read as 1 (issue 23: 0.99999 was printed "1")
+        for m in data["maps"]:
+            t = re.search(rf"{m['exist']} of {m['points']} points; {m['unstable']} of them unstable "
+                          r"\(largest \|λ\| ([^)]+)\); where F_t <= mu0 F_n, \d+ unstable "
+                          r"\(largest \|λ\| ([^)]+)\)", md)
+            shown = [float(x) for x in t.groups()] if t else []
+            want = [m["max_modulus"], m["max_modulus_stick"]]
+            if t and all((a < 1) == (b < 1) and close(a, b, 1e-5) for a, b in zip(shown, want)):
+                ok(f"{m['name']}: largest |lambda| shown as {t.group(1)}, {t.group(2)}")
+            else:
+                fail(f"{m['name']}: largest |lambda| shown {shown}, report.json {want}")
         check_design(out, md, data)
         check_nonideal(out, md, data)
         check_validity(out, md, data)
