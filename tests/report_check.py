@@ -543,6 +543,19 @@ def check_nonideal(out, md, data):
         ok(f"the ideal circle's radius is usm steady's theta {theta:.6g} rad")
     else:
         fail(f"the ideal circle's radius {radii[:2]} is not usm steady's theta {theta}")
+    # the circle is drawn where the orbit is, centred at the origin (issue 23):
+    # its points' mean is ~0 against the radius, and the script adds no shift
+    cx = sum(float(c["rho_X [rad]"]) for c in circle) / len(circle)
+    cy = sum(float(c["rho_Y [rad]"]) for c in circle) / len(circle)
+    with open(os.path.join(out, "nonideal_orbit.gp"), encoding="utf-8") as f:
+        gp = f.read()
+    drawn = re.search(r'circ using \(column\("rho_X \[rad\]"\) \* 1e6\):'
+                      r'\(column\("rho_Y \[rad\]"\) \* 1e6\)', gp)
+    if radii and max(abs(cx), abs(cy)) < 0.05 * max(radii) and drawn:
+        ok("the ideal circle is centred at the origin, as drawn")
+    else:
+        fail(f"the ideal circle's centre ({cx}, {cy}) or its plot command is shifted")
+
 
 def expect_bad(args, field):
     r = run(*args)
