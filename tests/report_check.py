@@ -109,6 +109,21 @@ def check_report(out):
         ok(f"the contents list all {len(sections)} sections")
     else:
         fail(f"contents {listed} differ from the sections {sections}")
+    # keys outside the plots they would cover (issue 23)
+    for name in ("fig11_speed_amplitude", "datasheet", "nonideal_curves", "nonideal_orbit"):
+        with open(os.path.join(out, name + ".gp"), encoding="utf-8") as f:
+            keys = re.findall(r"^\s*set key (.*)$", f.read(), re.M)
+        if keys and all(re.match(r"(below|above|outside|[tblr]margin)\b", k) for k in keys):
+            ok(f"{name}.gp: the key outside the plot ({keys[0].split()[0]})")
+        else:
+            fail(f"{name}.gp: a key inside the plot: {keys}")
+    # fig. 11's existence limits inside the frame, not on it
+    with open(os.path.join(out, "fig11_speed_amplitude.gp"), encoding="utf-8") as f:
+        fig11 = f.read()
+    if "graph 0 to" not in fig11 and "set offsets" in fig11:
+        ok("fig11: the existence lines end inside the frame, the ranges padded")
+    else:
+        fail("fig11: the existence lines run from frame to frame")
     # the imperfections are usm's choice, not the paper's (issue 23)
     for name in ("amp_imbalance", "phase_error", "mode_split"):
         row = re.search(rf"^\| `{name}` \|.*$", md, re.M)
