@@ -359,8 +359,18 @@ static int plot(const sweep_args *a, const usm_sweep *s)
     }
     /* the header's first column (sweep_out.c) */
     snprintf(xcol, sizeof xcol, "%s [%s]", a->over, info ? info->unit : "");
-    const char *names[] = {"xcol"}, *values[] = {xcol};
-    int rc = usm_plot_render("sweep", a->plot, names, values, 1, msg);
+    /* the events, for their labelled lines: names and values as word lists */
+    char events[1024] = "", event_x[1024] = "";
+    for (size_t i = 0; i < usm_sweep_event_count(s); ++i) {
+        const usm_sweep_event *e = usm_sweep_event_at(s, i);
+        const size_t ln = strlen(events), lx = strlen(event_x);
+        if (ln + 64 >= sizeof events || lx + 32 >= sizeof event_x)
+            break;
+        snprintf(events + ln, sizeof events - ln, "%s%s", ln ? " " : "", usm_event_name(e->type));
+        snprintf(event_x + lx, sizeof event_x - lx, "%s%.17g", lx ? " " : "", e->value);
+    }
+    const char *names[] = {"xcol", "events", "event_x"}, *values[] = {xcol, events, event_x};
+    int rc = usm_plot_render("sweep", a->plot, names, values, 3, msg);
     if (rc == USM_ENOSOLUTION) {
         cli_error("warning: %s", msg);
         return USM_OK;
