@@ -75,6 +75,16 @@ read -r ymin ymax dlo dhi <<<"$range"
 awk -v a="$ymin" -v b="$ymax" -v lo="$dlo" -v hi="$dhi" \
     'BEGIN { exit !(a > -100 && b < 100 && b > 10 && lo < -200 && hi > 10) }' ||
     fail "usm sweep --model 4dof --plot: speed axis [$ymin, $ymax] for data [$dlo, $dhi]: not clipped, or not the driving direction"
+# usm sweep --periodic --plot (issue 23): its own script, the events labelled
+checks=$((checks + 1))
+(cd "$tmp" && "$USM" sweep --periodic --variant imperfect --over phase_error --from 0 --to 0.6 \
+    --points 7 --plot pe >/dev/null 2>"$tmp/pe.err") ||
+    fail "usm sweep --periodic --plot: exit $?: $(head -c 300 "$tmp/pe.err")"
+plotted pe
+checks=$((checks + 1))
+grep -q "^events = 'stick_loss contact_loss'" "$tmp/pe.gp" && grep -q '>contact_loss<' "$tmp/pe.svg" &&
+    grep -q 'sweep_periodic.gp' "$tmp/pe.gp" ||
+    fail "usm sweep --periodic --plot: not the periodic script, or the events not drawn"
 # a file of the user's is never overwritten without --force (exit 2, one line,
 # checked before the computation), and is with --force
 for cmd in sweep map; do
