@@ -1,6 +1,7 @@
 #!/bin/bash
 # The static gnuplot scripts of `usm sweep --plot` and `usm map --plot`
-# (data/plots/sweep.gp, map.gp) on the CSV files those commands write: each
+# (data/plots/sweep.gp, sweep_periodic.gp, map.gp) on the CSV files those
+# commands write: each
 # draws a PNG and an SVG, addresses the columns by name, and gnuplot reports
 # no error or warning.  (The report's scripts are run by report_check.py and
 # simulate.gp by simulate_cli.sh.)  Exit 77 without gnuplot.
