@@ -53,7 +53,7 @@ do for [i = 1:words(events)] {
 }
 set xlabel xcol noenhanced
 set format y '%g'
-set key below horizontal Left reverse nobox
+set key below horizontal Left reverse nobox height 1.5
 set lmargin 12
 do for [fmt in 'png svg'] {
   if (fmt eq 'png') {

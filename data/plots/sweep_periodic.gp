@@ -34,7 +34,7 @@ do for [i = 1:words(events)] {
 }
 set xlabel xcol noenhanced
 set format y '%g'
-set key below horizontal Left reverse nobox
+set key below horizontal Left reverse nobox height 1.5
 set lmargin 12
 set offsets 0, 0, graph 0.08, graph 0.08
 do for [fmt in 'png svg'] {
