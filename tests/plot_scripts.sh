@@ -1,6 +1,7 @@
 #!/bin/bash
 # The static gnuplot scripts of `usm sweep --plot` and `usm map --plot`
-# (data/plots/sweep.gp, map.gp) on the CSV files those commands write: each
+# (data/plots/sweep.gp, sweep_periodic.gp, map.gp) on the CSV files those
+# commands write: each
 # draws a PNG and an SVG, addresses the columns by name, and gnuplot reports
 # no error or warning.  (The report's scripts are run by report_check.py and
 # simulate.gp by simulate_cli.sh.)  Exit 77 without gnuplot.
@@ -58,6 +59,33 @@ checks=$((checks + 1))
 (cd "$tmp" && "$USM" "${map_plot[@]}" --plot mp >/dev/null 2>"$tmp/mp.err") ||
     fail "usm map --plot: exit $?: $(head -c 300 "$tmp/mp.err")"
 plotted mp
+# the 4-DOF load sweep (issue 23): speed in the driving direction, the events
+# as labelled lines, the speed axis clipped before the divergence at the
+# friction saturation (the speed reaches hundreds of 1/s there)
+checks=$((checks + 1))
+(cd "$tmp" && "$USM" sweep --model 4dof --over T --from 0 --to 0.001 --points 41 --plot s4 \
+    >/dev/null 2>"$tmp/s4.err") || fail "usm sweep --model 4dof --plot: exit $?: $(head -c 300 "$tmp/s4.err")"
+plotted s4
+checks=$((checks + 1))
+grep -q "^events = 'stall friction_saturation'" "$tmp/s4.gp" &&
+    grep -q 'friction_saturation: speed diverges' "$tmp/s4.svg" && grep -q '>stall<' "$tmp/s4.svg" ||
+    fail "usm sweep --model 4dof --plot: the events are not drawn as labelled lines"
+checks=$((checks + 1))
+range=$(cd "$tmp" && gnuplot -e "set terminal unknown" -e "load 's4.gp'; set print '-'; print sprintf('%g %g %g %g', ymin, ymax, dlo, dhi)" 2>/dev/null | tail -1)
+read -r ymin ymax dlo dhi <<<"$range"
+awk -v a="$ymin" -v b="$ymax" -v lo="$dlo" -v hi="$dhi" \
+    'BEGIN { exit !(a > -100 && b < 100 && b > 10 && lo < -200 && hi > 10) }' ||
+    fail "usm sweep --model 4dof --plot: speed axis [$ymin, $ymax] for data [$dlo, $dhi]: not clipped, or not the driving direction"
+# usm sweep --periodic --plot (issue 23): its own script, the events labelled
+checks=$((checks + 1))
+(cd "$tmp" && "$USM" sweep --periodic --variant imperfect --over phase_error --from 0 --to 0.6 \
+    --points 7 --plot pe >/dev/null 2>"$tmp/pe.err") ||
+    fail "usm sweep --periodic --plot: exit $?: $(head -c 300 "$tmp/pe.err")"
+plotted pe
+checks=$((checks + 1))
+grep -q "^events = 'stick_loss contact_loss'" "$tmp/pe.gp" && grep -q '>contact_loss<' "$tmp/pe.svg" &&
+    grep -q 'sweep_periodic.gp' "$tmp/pe.gp" ||
+    fail "usm sweep --periodic --plot: not the periodic script, or the events not drawn"
 # a file of the user's is never overwritten without --force (exit 2, one line,
 # checked before the computation), and is with --force
 for cmd in sweep map; do

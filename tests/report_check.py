@@ -102,6 +102,35 @@ def check_report(out):
         ok("report.md starts with the usm marker")
     else:
         fail("report.md lacks the marker line")
+    # the contents list every section, in order (issue 23)
+    sections = re.findall(r"^## (\d+)\. (.+)$", md, re.M)
+    listed = re.findall(r"^(\d+)\. \[([^\]]+)\]\(#[^)]+\)$", md, re.M)
+    if sections and sections == listed:
+        ok(f"the contents list all {len(sections)} sections")
+    else:
+        fail(f"contents {listed} differ from the sections {sections}")
+    # keys outside the plots they would cover (issue 23)
+    for name in ("fig11_speed_amplitude", "datasheet", "nonideal_curves", "nonideal_orbit"):
+        with open(os.path.join(out, name + ".gp"), encoding="utf-8") as f:
+            keys = re.findall(r"^\s*set key (.*)$", f.read(), re.M)
+        if keys and all(re.match(r"(below|above|outside|[tblr]margin)\b", k) for k in keys):
+            ok(f"{name}.gp: the key outside the plot ({keys[0].split()[0]})")
+        else:
+            fail(f"{name}.gp: a key inside the plot: {keys}")
+    # fig. 11's existence limits inside the frame, not on it
+    with open(os.path.join(out, "fig11_speed_amplitude.gp"), encoding="utf-8") as f:
+        fig11 = f.read()
+    if "graph 0 to" not in fig11 and "set offsets" in fig11:
+        ok("fig11: the existence lines end inside the frame, the ranges padded")
+    else:
+        fail("fig11: the existence lines run from frame to frame")
+    # the imperfections are usm's choice, not the paper's (issue 23)
+    for name in ("amp_imbalance", "phase_error", "mode_split"):
+        row = re.search(rf"^\| `{name}` \|.*$", md, re.M)
+        if row and "Table 5" not in row.group(0) and "chosen by usm" in row.group(0):
+            ok(f"{name} is credited to usm, not to the paper")
+        else:
+            fail(f"{name}'s parameter row: {row.group(0) if row else 'missing'}")
 
     # report.json: every number by name; report.md shows the same numbers
     try:
@@ -123,6 +152,18 @@ def check_report(out):
             ok("report.json holds the paper's values as loaded")
         else:
             fail("report.json: the paper's values differ from data/paper_values.json")
+        # the maps' largest |lambda| printed with enough digits that a value
+        # below 1 does not read as 1 (issue 23: 0.99999 was printed "1")
+        for m in data["maps"]:
+            t = re.search(rf"{m['exist']} of {m['points']} points; {m['unstable']} of them unstable "
+                          r"\(largest \|λ\| ([^)]+)\); where F_t <= mu0 F_n, \d+ unstable "
+                          r"\(largest \|λ\| ([^)]+)\)", md)
+            shown = [float(x) for x in t.groups()] if t else []
+            want = [m["max_modulus"], m["max_modulus_stick"]]
+            if t and all((a < 1) == (b < 1) and close(a, b, 1e-5) for a, b in zip(shown, want)):
+                ok(f"{m['name']}: largest |lambda| shown as {t.group(1)}, {t.group(2)}")
+            else:
+                fail(f"{m['name']}: largest |lambda| shown {shown}, report.json {want}")
         check_design(out, md, data)
         check_nonideal(out, md, data)
         check_validity(out, md, data)
@@ -605,6 +646,18 @@ def check_nonideal(out, md, data):
         ok(f"the ideal circle's radius is usm steady's theta {theta:.6g} rad")
     else:
         fail(f"the ideal circle's radius {radii[:2]} is not usm steady's theta {theta}")
+    # the circle is drawn where the orbit is, centred at the origin (issue 23):
+    # its points' mean is ~0 against the radius, and the script adds no shift
+    cx = sum(float(c["rho_X [rad]"]) for c in circle) / len(circle)
+    cy = sum(float(c["rho_Y [rad]"]) for c in circle) / len(circle)
+    with open(os.path.join(out, "nonideal_orbit.gp"), encoding="utf-8") as f:
+        gp = f.read()
+    drawn = re.search(r'circ using \(column\("rho_X \[rad\]"\) \* 1e6\):'
+                      r'\(column\("rho_Y \[rad\]"\) \* 1e6\)', gp)
+    if radii and max(abs(cx), abs(cy)) < 0.05 * max(radii) and drawn:
+        ok("the ideal circle is centred at the origin, as drawn")
+    else:
+        fail(f"the ideal circle's centre ({cx}, {cy}) or its plot command is shifted")
 
 
 def expect_bad(args, field):

@@ -139,11 +139,27 @@ def main():
                     "Elasticities of rotor speed and of the largest Floquet modulus",
                     "The non-ideal motor: rotor-speed ripple, smallest contact force",
                     "One periodic orbit of the non-ideal motor: the tilt vector"):
-            if re.search(r"<figure><svg(?:(?!</figure>).)*</svg>\s*<figcaption>" + re.escape(cap),
+            if re.search(r"<figure><svg(?:(?!</figure>).)*</svg>\s*<figcaption><em>" + re.escape(cap),
                          html, re.S):
                 ok(f"report.html inlines the figure {cap!r}")
             else:
                 fail(f"report.html lacks the figure {cap!r}")
+        # each caption once (issue 23): the caption paragraph report.md puts
+        # under each figure is the figure's <figcaption>, not repeated beside it
+        with open(os.path.join(out, "report.md"), encoding="utf-8") as f:
+            alts = re.findall(r"^!\[([^\]]*)\]\([^)\s]+\.png\)$", f.read(), re.M)
+        captions = re.findall(r"<figcaption>(.*?)</figcaption>", html, re.S)
+        twice = []
+        for alt in alts:
+            esc = alt.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;") \
+                     .replace('"', "&quot;")
+            in_caps = sum(c.count(esc) for c in captions)
+            if in_caps != 1 or html.count(f"<em>{esc}.</em>") != 1:
+                twice.append((alt, in_caps, html.count(f"<em>{esc}.</em>")))
+        if not alts or len(captions) != len(alts) or twice:
+            fail(f"captions: {len(captions)} for {len(alts)} figures; not once: {twice[:3]}")
+        else:
+            ok(f"each of the {len(alts)} captions appears once, as its figure's <figcaption>")
         fetching = re.findall(r"<(?:img|link|script)\b[^>]*>", html)
         if fetching:
             fail(f"report.html fetches other files: {fetching[:3]}")

@@ -19,12 +19,13 @@ set grid lc rgb "#dddddd"
 x(c) = column("T [N m]") * 1e3
 w = "speed [1/s]"; pw = "power_out [W]"; eta = "efficiency [1]"
 ok(v) = strcol("valid") eq "true" ? v : NaN
-set xlabel "load torque T [N mm]" offset 0,0.7
+set xlabel "load torque T [N mm]"
 set ylabel "rotor speed w_R = -dφ_R/dt [1/s]"
 set y2label "output power P_{out} [mW], efficiency η [%]"
 set ytics nomirror
 set y2tics
-set key below left Left reverse nobox spacing 1.1
+# the key below the plot, clear of the curves and of the axis label
+set key below left Left reverse nobox spacing 1.1 height 1.5
 stick = NaN
 stats "report_values.csv" using (stick = column("stick_limit [N m]") * 1e3, 0) nooutput
 do for [fmt in "png svg"] {

@@ -15,9 +15,19 @@ stats "report_values.csv" using (ex3 = column("existence_m0_3dof [N m]") * 1e3, 
 ok(v) = strcol("valid") eq "true" ? v : NaN
 set xlabel "excitation torque amplitude m_0 [mN m]"
 set ylabel "rotor speed w_R = -dφ_R/dt [1/s]"
-set key top left box opaque
-if (ex3 == ex3) { set arrow 1 from ex3, graph 0 to ex3, graph 1 nohead lc rgb "#1f5fa8" dt 2 lw 1.5 }
-if (ex4 == ex4) { set arrow 2 from ex4, graph 0 to ex4, graph 1 nohead lc rgb "#c0392b" dt 4 lw 1.5 }
+# the key below the plot, where it covers neither the curves nor the limits
+set key below left Left reverse nobox horizontal maxrows 3 spacing 1.1
+# room above the curves and beside the limits: nothing sits on the frame
+set offsets 0, graph 0.03, graph 0.12, 0
+set xrange [0:*]
+set autoscale xfixmax
+set yrange [0:*]
+# the existence limits: labelled dashed lines inside the frame (3-DOF to the
+# left of its label, 4-DOF below it when the two coincide)
+if (ex3 == ex3) { set arrow 1 from ex3, graph 0.02 to ex3, graph 0.9 nohead lc rgb "#1f5fa8" dt 2 lw 1.5 front
+  set label 1 sprintf(" 3-DOF: a solution from %.5g mN m", ex3) at ex3, graph 0.95 left tc rgb "#1f5fa8" font ",10" front }
+if (ex4 == ex4) { set arrow 2 from ex4, graph 0.02 to ex4, graph 0.9 nohead lc rgb "#c0392b" dt 4 lw 1.5 front
+  set label 2 sprintf(" 4-DOF: a solution from %.5g mN m", ex4) at ex4, graph 0.91 left tc rgb "#c0392b" font ",10" front }
 do for [fmt in "png svg"] {
   if (fmt eq "png") {
     set terminal pngcairo size 900,560 enhanced font "DejaVu Sans,11"

@@ -11,7 +11,8 @@ reset session
 set datafile separator ","
 set encoding utf8
 set grid lc rgb "#dddddd"
-set key top left Left reverse nobox spacing 1.05 font ",9"
+# the key above each panel, where it covers no curve
+set key tmargin center horizontal Left reverse nobox spacing 1.05 font ",9" maxrows 2
 vals = "nonideal_curves_values.csv"
 # the located values (NaN where not found in the range)
 val(name) = 0
@@ -36,12 +37,12 @@ file(j, k) = "nonideal_curves_".word(imps, j)."_".word(mods, k).".csv"
 ok(v) = strcol("valid") eq "true" ? v : NaN
 do for [fmt in "png svg"] {
   if (fmt eq "png") {
-    set terminal pngcairo size 1200,1100 enhanced font "DejaVu Sans,10"
+    set terminal pngcairo size 1200,1300 enhanced font "DejaVu Sans,10"
   } else {
-    set terminal svg size 1200,1100 dynamic enhanced font "DejaVu Sans,10"
+    set terminal svg size 1200,1300 dynamic enhanced font "DejaVu Sans,10"
   }
   set output "nonideal_curves.".fmt
-  set multiplot layout 3,2 title "The non-ideal motor: each imperfection alone (periodic orbits by shooting, variant imperfect)"
+  set multiplot layout 3,2 title "The non-ideal motor: each imperfection alone (periodic orbits by shooting, variant imperfect)\n"
   do for [r = 1:3] {
     do for [j = 1:2] {
       set autoscale

@@ -5,8 +5,8 @@
 # first) and nonideal_orbit_circle.csv (the ideal motor's path, a circle of
 # radius the stationary tilt), columns by name; writes nonideal_orbit.png and
 # .svg.  Left: the tilt vector rho = theta (cos phi, sin phi) in the housing
-# plane, true scale, the ideal circle beside it (shifted right by 2.5 radii);
-# right: the tilt relative to the ideal one, theta/theta_ideal - 1 in per
+# plane, true scale, over the ideal circle (centred at the origin, as the
+# orbit: the two nearly coincide at this scale); right: the tilt relative to the ideal one, theta/theta_ideal - 1 in per
 # cent, against the direction of the tilt: the deviation the left panel is
 # too small to show.  Every range comes from the data.  The orbit is drawn
 # thin and grey over the whole period and at full weight where the model
@@ -24,7 +24,6 @@ rmax = STATS_max > r0 ? STATS_max : r0
 stats orb using (column("radial [%]")) nooutput
 d0 = STATS_min; d1 = STATS_max
 dpad = (d1 - d0) > 0 ? 0.1 * (d1 - d0) : 0.1
-shift = 2.5 * rmax
 do for [fmt in "png svg"] {
   if (fmt eq "png") {
     set terminal pngcairo size 1200,560 enhanced font "DejaVu Sans,11"
@@ -34,14 +33,14 @@ do for [fmt in "png svg"] {
   set output "nonideal_orbit.".fmt
   set multiplot layout 1,2 title "One period of the non-ideal motor (3-DOF, variant imperfect): the tilt vector in the housing plane"
   set size ratio -1
-  set xrange [-1.2 * rmax:shift + 1.2 * rmax]
+  set xrange [-1.25 * rmax:1.25 * rmax]
   set yrange [-1.25 * rmax:1.25 * rmax]
   set xlabel "ρ_X [μrad]"
   set ylabel "ρ_Y [μrad]"
   set key below
-  plot orb using (column("rho_X [rad]") * 1e6):(column("rho_Y [rad]") * 1e6) with lines lw 0.8 lc rgb "#aaaaaa" title "not valid (contact open or stick lost)", \
-       orb using (column("rho_X [rad]") * 1e6):(ok(column("rho_Y [rad]") * 1e6)) with lines lw 2 lc rgb "#c0392b" title "periodic orbit (one period)", \
-       circ using (column("rho_X [rad]") * 1e6 + shift):(column("rho_Y [rad]") * 1e6) with lines lw 2 dt 2 lc rgb "#1f5fa8" title sprintf("ideal motor: circle of radius θ = %.4g μrad", r0)
+  plot orb using (column("rho_X [rad]") * 1e6):(column("rho_Y [rad]") * 1e6) with lines lw 1.5 lc rgb "#aaaaaa" title "not valid (contact open or stick lost)", \
+       orb using (column("rho_X [rad]") * 1e6):(ok(column("rho_Y [rad]") * 1e6)) with lines lw 2.5 lc rgb "#c0392b" title "periodic orbit (one period)", \
+       circ using (column("rho_X [rad]") * 1e6):(column("rho_Y [rad]") * 1e6) with lines lw 1.2 dt 2 lc rgb "#1f5fa8" title sprintf("ideal motor: circle of radius θ = %.4g μrad", r0)
   set size noratio
   set xrange [0:360]
   set xtics 60

@@ -29,7 +29,7 @@ static void usage(FILE *out)
             "                 [--extremum Q]... [--crossing Q=V]...\n"
             "       usm sweep --periodic --over NAME --from A --to B [--points N]\n"
             "                 [--model 3dof|4dof] [--variant NAME] [--params FILE.json]\n"
-            "                 [--set NAME=VALUE]... [--json]\n"
+            "                 [--set NAME=VALUE]... [--json] [--plot PREFIX [--force]]\n"
             "\n"
             "Follow the stationary solution of smallest tilt at A through the parameter\n"
             "range A..B by pseudo-arclength continuation and report it at N equally spaced\n"
@@ -62,9 +62,11 @@ static void usage(FILE *out)
             "                      rotor_speed, speed (= -rotor_speed), F_n, F_t, mu_used, v_rel\n"
             "  --crossing Q=V      an event where quantity Q crosses V (repeatable)\n"
             "  --plot PREFIX       also write the CSV to PREFIX.csv and draw it with gnuplot\n"
-            "                      (rotor speed and tilt against NAME): PREFIX.gp,\n"
-            "                      PREFIX.png, PREFIX.svg; existing files are kept unless\n"
-            "                      --force is given\n"
+            "                      (rotor speed in the driving direction and tilt against\n"
+            "                      NAME, the events as labelled lines; with --periodic the\n"
+            "                      mean speed and its ripple, F_n_min and max |lambda|):\n"
+            "                      PREFIX.gp, PREFIX.png, PREFIX.svg; existing files are\n"
+            "                      kept unless --force is given\n"
             "  --force             overwrite the --plot files\n"
             "  --periodic          follow the periodic orbit (usm periodic) instead; implied\n"
             "                      by the variant imperfect.\n"
@@ -286,9 +288,9 @@ static int parse(sweep_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
     if (cli_common_finish(&a->common, msg) != USM_OK)
         return USM_EINPUT;
     a->periodic |= a->common.model->imperfect;
-    if (a->periodic && (a->others || a->plot || a->nmonitors > 0 || a->t0 != 0.0)) {
+    if (a->periodic && (a->others || a->nmonitors > 0 || a->t0 != 0.0)) {
         cli_msg(msg, "--periodic (or the variant imperfect): --no-floquet, --t0, --threads, "
-                     "--plot, --extremum, --crossing, --from-rest and the Floquet options are for the "
+                     "--extremum, --crossing, --from-rest and the Floquet options are for the "
                      "stationary sweep only");
         return USM_EINPUT;
     }
@@ -359,8 +361,61 @@ static int plot(const sweep_args *a, const usm_sweep *s)
     }
     /* the header's first column (sweep_out.c) */
     snprintf(xcol, sizeof xcol, "%s [%s]", a->over, info ? info->unit : "");
-    const char *names[] = {"xcol"}, *values[] = {xcol};
-    int rc = usm_plot_render("sweep", a->plot, names, values, 1, msg);
+    /* the events, for their labelled lines: names and values as word lists */
+    char events[1024] = "", event_x[1024] = "";
+    for (size_t i = 0; i < usm_sweep_event_count(s); ++i) {
+        const usm_sweep_event *e = usm_sweep_event_at(s, i);
+        const size_t ln = strlen(events), lx = strlen(event_x);
+        if (ln + 64 >= sizeof events || lx + 32 >= sizeof event_x)
+            break;
+        snprintf(events + ln, sizeof events - ln, "%s%s", ln ? " " : "", usm_event_name(e->type));
+        snprintf(event_x + lx, sizeof event_x - lx, "%s%.17g", lx ? " " : "", e->value);
+    }
+    const char *names[] = {"xcol", "events", "event_x"}, *values[] = {xcol, events, event_x};
+    int rc = usm_plot_render("sweep", a->plot, names, values, 3, msg);
+    if (rc == USM_ENOSOLUTION) {
+        cli_error("warning: %s", msg);
+        return USM_OK;
+    }
+    if (rc != USM_OK) {
+        cli_error("%s", msg);
+        return rc == USM_EINPUT ? USM_EINPUT : USM_EFAILED;
+    }
+    return USM_OK;
+}
+
+/* --plot with --periodic: PREFIX.csv, then gnuplot on data/plots/sweep_periodic.gp
+ * with the events as word lists.  A missing gnuplot is a warning. */
+static int plot_periodic(const sweep_args *a, const usm_periodic_sweep *s)
+{
+    char msg[CLI_MSG_LEN], xcol[128], events[1024] = "", event_x[1024] = "";
+    const usm_param_info *info = usm_params_find(a->over);
+    usm_io_file file;
+    FILE *f = usm_plot_csv_open(&file, a->plot, a->force, msg);
+    if (!f) {
+        cli_error("%s", msg);
+        return USM_EINPUT;
+    }
+    if (usm_periodic_sweep_csv(s, f) != 0) {
+        usm_io_abort(&file);
+        cli_error("--plot %s.csv: write error", a->plot);
+        return USM_EFAILED;
+    }
+    if (usm_io_commit(&file, msg) != USM_OK) {
+        cli_error("--plot %s", msg);
+        return USM_EFAILED;
+    }
+    snprintf(xcol, sizeof xcol, "%s [%s]", a->over, info ? info->unit : "");
+    for (size_t i = 0; i < usm_periodic_sweep_event_count(s); ++i) {
+        const usm_periodic_event *e = usm_periodic_sweep_event_at(s, i);
+        const size_t ln = strlen(events), lx = strlen(event_x);
+        if (ln + 64 >= sizeof events || lx + 32 >= sizeof event_x)
+            break;
+        snprintf(events + ln, sizeof events - ln, "%s%s", ln ? " " : "", usm_pevent_name(e->type));
+        snprintf(event_x + lx, sizeof event_x - lx, "%s%.17g", lx ? " " : "", e->value);
+    }
+    const char *names[] = {"xcol", "events", "event_x"}, *values[] = {xcol, events, event_x};
+    int rc = usm_plot_render("sweep_periodic", a->plot, names, values, 3, msg);
     if (rc == USM_ENOSOLUTION) {
         cli_error("warning: %s", msg);
         return USM_OK;
@@ -403,6 +458,8 @@ static int run_periodic(const sweep_args *a, bar *progress)
         clearerr(stdout);
         cli_error("stdout: write error");
         status = USM_EFAILED;
+    } else if (a->plot) {
+        status = plot_periodic(a, s);
     }
     usm_periodic_sweep_free(s);
     return status;

@@ -7,7 +7,7 @@
 
 void usm_params_default(usm_params *p)
 {
-    /* Appendix A (Table 5) of the paper. */
+    /* Appendix A (Table 5) of the paper: m0 to I_zz. */
     p->m0 = 0.005;
     p->T = 6.46e-5;
     p->F0 = 0.4;
@@ -30,7 +30,8 @@ void usm_params_default(usm_params *p)
     p->M = 2.0 * p->I_R / (p->R * p->R);
     p->mu0 = 0.3;
     p->kappa = 20.0;
-    /* The ideal motor (issue 14): imperfections enter only the imperfect variant. */
+    /* Not in the paper either: chosen by usm as 0, the ideal motor the paper
+     * models (issue 14); imperfections enter only the imperfect variant. */
     p->amp_imbalance = 0.0;
     p->phase_error = 0.0;
     p->mode_split = 0.0;

@@ -97,14 +97,42 @@ static int valid_format(const char *f, size_t n)
         while (i < n && isdigit((unsigned char)f[i]))
             ++i;
     }
-    return i + 1 == n && strchr("gfe", f[i]) != NULL;
+    return i + 1 == n && strchr("gfem", f[i]) != NULL;
+}
+
+/* x as %.Ng (spec: the flags and ".N" of FMT, N default 6), with as many more
+ * digits as it takes for the text to lie on the same side of 1 as x: a
+ * modulus 0.9999999 is not printed "1", nor 1.0000001 "1". */
+static void put_modulus(FILE *out, double x, const char *fmt, size_t flen)
+{
+    char buf[64];
+    size_t i = 0;
+    const int sign = flen > 0 && (fmt[0] == '+' || fmt[0] == ' ') ? fmt[i++] : 0;
+    int digits = 6;
+    if (i < flen && fmt[i] == '.')
+        digits = atoi(fmt + i + 1);
+    if (digits < 1)
+        digits = 1;
+    for (int d = digits; d <= 17; ++d) {
+        double y;
+        if (sign)
+            snprintf(buf, sizeof buf, sign == '+' ? "%+.*g" : "% .*g", d, x);
+        else
+            snprintf(buf, sizeof buf, "%.*g", d, x);
+        y = strtod(buf, NULL);
+        if ((x < 1) == (y < 1) && (x > 1) == (y > 1))
+            break;
+    }
+    fputs(buf, out);
 }
 
 static void put_value(render *r, json_t *v, const char *fmt, size_t flen)
 {
     if (!r->out)
         return;
-    if (json_is_number(v) && isfinite(json_number_value(v))) {
+    if (json_is_number(v) && isfinite(json_number_value(v)) && flen > 0 && fmt[flen - 1] == 'm') {
+        put_modulus(r->out, json_number_value(v), fmt, flen);
+    } else if (json_is_number(v) && isfinite(json_number_value(v))) {
         char spec[16] = "%.10g";
         if (flen > 0 && flen < 10) {
             spec[0] = '%';

@@ -4,8 +4,12 @@
  *                       true/false as yes/no, null (a value that does not
  *                       exist) as n/a
  *   {{path:FMT}}        a number through printf's %FMT, FMT one of [+ ] then
- *                       [.digits] then g, f or e (".6g", "+.2g", ".4f"); or
- *                       FMT "cell": a string made safe for a Markdown table cell
+ *                       [.digits] then g, f or e (".6g", "+.2g", ".4f"); or m
+ *                       (".6m"): as g, with more digits where the rounding
+ *                       would put the text on the other side of 1 than the
+ *                       value, or on 1 (a Floquet modulus 0.9999999 is not
+ *                       "1"); or FMT "cell": a string made safe for a
+ *                       Markdown table cell
  *   {{#each path}}..{{/each}}       once per element of an array; inside, a
  *                       path is looked up in the element first, then outside
  *   {{#if path}}..{{else}}..{{/if}} (and #unless): true, a nonzero number, a

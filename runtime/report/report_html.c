@@ -36,9 +36,12 @@ static void escaped(FILE *out, const char *s, size_t n)
         }
 }
 
-/* dir/NAME.svg without its XML prologue, or a note that it is missing. */
-static void inline_svg(FILE *out, const char *dir, const char *src, size_t n, const char *alt,
-                       size_t alt_n)
+static void inline_md(FILE *out, const char *s, size_t n, const char *dir);
+
+/* dir/NAME.svg without its XML prologue, or a note that it is missing, in a
+   <figure> whose caption is the inline Markdown cap[0..cap_n). */
+static void inline_svg(FILE *out, const char *dir, const char *src, size_t n, const char *cap,
+                       size_t cap_n)
 {
     char name[512], path[4096], msg[USM_IO_MSG_LEN];
     char *svg = NULL, *start;
@@ -56,7 +59,7 @@ static void inline_svg(FILE *out, const char *dir, const char *src, size_t n, co
         fputs("]</p>", out);
     }
     fputs("<figcaption>", out);
-    escaped(out, alt, alt_n);
+    inline_md(out, cap, cap_n, dir);
     fputs("</figcaption></figure>", out);
     free(svg);
 }
@@ -174,6 +177,37 @@ static int line_kind(const char *line)
     return strncmp(line, "<!--", 4) == 0 || line[0] == '#' ? NONE : PARA;
 }
 
+/* A line that is only an image, ![ALT](NAME.png): the figure, captioned once.
+   report.md follows each figure with its caption paragraph "*ALT.* Vector
+   version: ..."; when it does (after blank lines), that paragraph becomes the
+   figure's caption and is consumed (*next moves past it), else ALT is the
+   caption.  Returns 0 (nothing written) for any other line. */
+static int figure_line(FILE *out, const char *line, char **next, const char *dir)
+{
+    const size_t len = strlen(line);
+    const char *close, *src;
+    char *p;
+    size_t alt_n;
+    if (len < 6 || strncmp(line, "![", 2) != 0 || line[len - 1] != ')' ||
+        (close = strstr(line, "](")) == NULL || strchr(close + 2, ')') != line + len - 1)
+        return 0;
+    alt_n = (size_t)(close - line) - 2;
+    src = close + 2;
+    for (p = *next; p && *p == '\n'; ++p)
+        ;
+    if (p && p[0] == '*' && strncmp(p + 1, line + 2, alt_n) == 0 &&
+        strncmp(p + 1 + alt_n, ".*", 2) == 0) {
+        char *end = strchr(p, '\n');
+        const size_t cap_n = end ? (size_t)(end - p) : strlen(p);
+        inline_svg(out, dir, src, (size_t)(line + len - 1 - src), p, cap_n);
+        *next = end ? end + 1 : NULL;
+    } else {
+        inline_svg(out, dir, src, (size_t)(line + len - 1 - src), line + 2, alt_n);
+    }
+    fputc('\n', out);
+    return 1;
+}
+
 int usm_report_html_write(const char *md, const char *dir, FILE *out)
 {
     static const char *const open_tag[] = {"", "<p>", "<ul>\n", "<ol>\n", "<blockquote>",
@@ -207,6 +241,8 @@ int usm_report_html_write(const char *md, const char *dir, FILE *out)
             heading(out, level, line + level + (line[level] == ' '), dir);
             continue;
         }
+        if (kind == PARA && open == NONE && figure_line(out, line, &next, dir))
+            continue;
         body = kind == UL || kind == QUOTE ? line + 2 : kind == OL ? strstr(line, ". ") + 2 : line;
         if (open != kind) {
             fputs(open_tag[kind], out);

@@ -234,6 +234,15 @@ static json_t *compare(const usm_report_data *d)
     return o;
 }
 
+/* Whether parameter k is one of the imperfections (amp_imbalance, ...). */
+static int is_imperfection(int k)
+{
+    for (int j = 0; j < USM_NIMPERFECTIONS; ++j)
+        if (usm_param_imperfections[j] == k)
+            return 1;
+    return 0;
+}
+
 static json_t *params(const usm_report_data *d)
 {
     json_t *a = json_array();
@@ -243,7 +252,10 @@ static json_t *params(const usm_report_data *d)
         const usm_param_info *info = &usm_param_table[k];
         const double v = usm_params_get(&d->params, info);
         json_t *o = json_object();
-        const char *source = k == USM_P_f ? "**not in the paper**: chosen, see below"
+        const char *source = is_imperfection(k)
+            ? "**not in the paper**: chosen by usm, 0 (the ideal motor the paper models; "
+              "set with `--set` for the non-ideal motor of section 10)"
+            : k == USM_P_f ? "**not in the paper**: chosen, see below"
             : k == USM_P_M ? "**not in the paper**: 2 I_R / R^2, see below"
             : k == USM_P_mu0 || k == USM_P_kappa ? "Sec. 5 text"
             : "Appendix A, Table 5";
