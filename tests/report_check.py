@@ -155,8 +155,8 @@ def check_report(out):
         # the maps' largest |lambda| printed with enough digits that a value
         # below 1 does not read as 1 (issue 23: 0.99999 was printed "1")
         for m in data["maps"]:
-            t = re.search(rf"{m['exist']} of {m['points']} points; {m['unstable']} of them unstable "
-                          r"\(largest \|λ\| ([^)]+)\); where F_t <= mu0 F_n, \d+ unstable "
+            t = re.search(rf"Judged by the smallest-tilt root alone, {m['unstable']} cells are "
+                          r"unstable \(largest \|λ\| ([^)]+)\); where F_t <= mu0 F_n, \d+ "
                           r"\(largest \|λ\| ([^)]+)\)", md)
             shown = [float(x) for x in t.groups()] if t else []
             want = [m["max_modulus"], m["max_modulus_stick"]]
