@@ -21,7 +21,12 @@
 #  - constraints on the further outputs of steady: alpha (central differences)
 #    against `usm steady` at and beside the optimum, its multiplier against
 #    d speed / d alpha from those solutions; margin = 1 - max_modulus against
-#    --stability-margin; a bad name lists the outputs that may be named.
+#    --stability-margin; a bad name lists the outputs that may be named;
+#  - per-root constraints (rootR.NAME): root1.theta and root2.theta at F0 = 1.001 N
+#    (two roots, --from-rest) met at the optimum against `usm steady --json`'s
+#    roots[R-1] there, the multiplier against steady beside it; a missing root is
+#    violated (exit 3); roots<=N / roots>=N filter designs; bad root numbers and
+#    names exit 2.
 # (The optimum against grid searches and golden sections: test_optimize.c.)
 #
 # usage: optimize_cli.sh PATH/TO/usm
@@ -258,6 +263,81 @@ assert abs(ma + mo) <= 1e-6 * abs(mo), (ma, mo)"
 # an output that has no analytic derivative is no objective; bad names list the allowed ones
 expect_bad --objective "may be a constraint" optimize --objective v_rel --vary F0=0.2:0.8
 expect_bad --constraint "one of: theta, speed, .*v_rel, R_star, Z, power_damping, power_slip, margin" \
-    optimize --objective efficiency --vary F0=0.2:0.8 --constraint 'roots<=1'
+    optimize --objective efficiency --vary F0=0.2:0.8 --constraint 'stable<=1'
+
+# per-root constraints (issue 20, item 5): rootR.NAME names root R as usm steady lists them
+# (from 1). At F0 = 1.001 N, 37.5..38 kHz two roots exist: #1 unstable (theta ~1e-7), #2
+# stable (the operating point, from rest). root1.theta >= 1.5e-7 holds the speed (of root
+# #2) below 38 kHz; the truth is `usm steady --from-rest` at the optimum's parameters (root
+# #1's theta = 1.5e-7, the value is root #2's speed, operating_point 1) and 0.5 Hz either
+# side (the multiplier: d speed / d theta of root #1 along f from those solutions)
+ROOTS=(--objective speed --vary f=37500:38000 --set F0=1.001 --from-rest --starts 1 --no-flat)
+expect_rc 0 optimize "${ROOTS[@]}" --constraint 'root1.theta>=1.5e-7' --json
+cp "$out" "$tmp/root1.json"
+py "
+assert o['active_constraints'] == ['root1.theta >= 1.5e-07'], o['active_constraints']
+assert o['solution']['operating_point'] == 1 and o['kkt_residual'] < 1e-6"
+f_r=$("$PY" -c "import json; print(repr(json.load(open('$tmp/root1.json'))['varied']['f']))")
+for d in -0.5 0 0.5; do
+    expect_rc 0 steady --set F0=1.001 --set f="$("$PY" -c "print(repr($f_r + $d))")" \
+        --from-rest --json
+    cp "$out" "$tmp/root1_$d.json"
+done
+py "
+a = json.load(open('$tmp/root1.json'))
+m, s0, sp = (json.load(open('$tmp/root1_%s.json' % d)) for d in ('-0.5', '0', '0.5'))
+assert len(s0['roots']) == 2 and s0['operating_point'] == 1, s0['operating_point']
+assert abs(s0['roots'][0]['theta'] - 1.5e-7) <= 1e-6 * 1.5e-7, s0['roots'][0]['theta']
+assert abs(-s0['roots'][1]['rotor_speed'] - a['value']) <= 1e-9 * a['value']
+truth = (sp['roots'][1]['rotor_speed'] - m['roots'][1]['rotor_speed']) / \
+        (m['roots'][0]['theta'] - sp['roots'][0]['theta'])
+mult = a['multipliers']['root1.theta >= 1.5e-07']
+assert abs(mult - truth) <= 1e-4 * abs(truth), (mult, truth)"
+
+# root2.theta <= 8e-5 on the operating point's own root: met at the optimum, checked
+# against usm steady's roots[1]
+expect_rc 0 optimize "${ROOTS[@]}" --constraint 'root2.theta<=8e-5' --json
+cp "$out" "$tmp/root2.json"
+py "assert o['active_constraints'] == ['root2.theta <= 8e-05'], o['active_constraints']"
+f_r=$("$PY" -c "import json; print(repr(json.load(open('$tmp/root2.json'))['varied']['f']))")
+expect_rc 0 steady --set F0=1.001 --set f="$f_r" --json
+py "
+a = json.load(open('$tmp/root2.json'))
+assert len(o['roots']) == 2
+assert abs(o['roots'][1]['theta'] - 8e-5) <= 1e-6 * 8e-5, o['roots'][1]['theta']
+assert abs(-o['roots'][1]['rotor_speed'] - a['value']) <= 1e-9 * a['value']"
+
+# a root that does not exist violates its constraint: exit 3 naming it
+checks=$((checks + 1))
+run optimize "${ROOTS[@]}" --constraint 'root3.theta>=0' --json
+rc=$?
+[ $rc -eq 3 ] || fail "root3: exit $rc, want 3"
+grep -q '^usm: constraint: .*root3.theta >= 0 cannot be met' "$err" ||
+    fail "root3: stderr does not name the constraint"
+py "assert o['feasible'] is False and o['violated'] == ['root3.theta >= 0'], o['violated']"
+
+# roots (their number) is a filter: roots <= 1 refuses every design of two roots (exit 3,
+# the refusal named); roots >= 2 needs --from-rest (exit 2) and with it keeps the optimum
+# on the two-root side of the fold near 37.2 kHz
+checks=$((checks + 1))
+run optimize "${ROOTS[@]}" --constraint 'roots<=1'
+rc=$?
+[ $rc -eq 3 ] || fail "roots<=1: exit $rc, want 3"
+grep -q 'refused by roots <= 1' "$err" || fail "roots<=1: stderr does not name the refusal"
+expect_bad --constraint "roots >= 2 needs --from-rest" \
+    optimize --objective speed --vary f=36000:38000 --constraint 'roots>=2'
+expect_rc 0 optimize --objective speed --vary f=36000:38000 --set F0=1.001 --from-rest \
+    --starts 2 --no-flat --constraint 'roots>=2' --json
+py "assert len(o['solution']['roots']) == 2 and o['varied']['f'] == 38000, o['varied']"
+
+# bad root numbers and names exit 2 with the reason
+for c in 'root0.theta>=1' 'root65.theta>=1' 'rootx.theta>=1' 'root2theta>=1'; do
+    expect_bad --constraint "bad root .*expected rootR.NAME" \
+        optimize --objective speed --vary f=36000:38000 --constraint "$c"
+done
+expect_bad --constraint 'unknown output "root2.nosuch" \(one of: theta, speed' \
+    optimize --objective speed --vary f=36000:38000 --constraint 'root2.nosuch>=1'
+expect_bad --constraint "root2.max_modulus: a root's multipliers are not an output here" \
+    optimize --objective speed --vary f=36000:38000 --constraint 'root2.max_modulus<=1'
 
 finish optimize_cli

@@ -46,7 +46,11 @@ static void usage(FILE *out)
             "margin (= 1 - max_modulus, analytic); and for constraints only, of the judged\n"
             "root as usm steady writes them: alpha, beta, mu_used, v_c, v_rel, R_star, Z,\n"
             "power_damping, power_slip (central differences in the varied parameters,\n"
-            "step 1e-4 of each box)\n"
+            "step 1e-4 of each box).  A constraint may name root R's output (R from 1,\n"
+            "as usm steady lists the roots) as rootR.NAME, e.g. root2.theta>=5e-5: every\n"
+            "output but max_modulus and margin, by central differences along that root;\n"
+            "violated where root R does not exist.  roots>=N / roots<=N (the number of\n"
+            "roots) is a filter: a design not meeting it is refused\n"
             "\n"
             "options:\n");
     cli_common_usage(out);
@@ -107,7 +111,11 @@ static int parse_constraint(opt_args *a, const char *text, char msg[CLI_MSG_LEN]
         return USM_EINPUT;
     }
     snprintf(name, sizeof name, "%.*s", (int)(op - text), text);
-    if (usm_opt_output_find(name) < 0) {
+    /* NAME, rootR.NAME (NAME checked here, R by the library) or roots */
+    const int per_root = strncmp(name, "root", 4) == 0;
+    const char *dot = per_root ? strchr(name, '.') : NULL;
+    const char *bare = dot ? dot + 1 : name;
+    if ((!per_root || dot) && usm_opt_output_find(bare) < 0) {
         char list[512];
         usm_opt_output_list(list, sizeof list);
         cli_msg(msg, "--constraint: unknown output \"%s\" (one of: %s)", name, list);

@@ -4,6 +4,7 @@
  * near-optimal interval of each varied parameter (Brent on its profile). */
 #include "usm_optimize.h"
 
+#include <ctype.h>
 #include <math.h>
 #include <stddef.h>
 #include <stdio.h>
@@ -64,6 +65,7 @@ struct usm_optimize {
     double fd_h;
     double fd_d[USM_OPT_OUTPUT_COUNT][USM_NPARAMS]; /* d(output)/dz */
     usm_params fd_p;      /* the parameters of the last continued solution */
+    double fd_r[USM_OPT_OUTPUT_COUNT][USM_NPARAMS]; /* a named root's (root_output) */
     char msg[USM_MSG_LEN];
 };
 
@@ -202,19 +204,56 @@ int usm_opt_problem_add_vary(usm_opt_problem *pb, const char *name, double lo, d
 int usm_opt_problem_add_constraint(usm_opt_problem *pb, const char *output, int upper,
                                    double value, char msg[USM_MSG_LEN])
 {
+    int root = 0;
+    const char *whole = output;
+    if (output && strcmp(output, "roots") == 0) {
+        if (pb->ncons == USM_OPT_MAX_CONSTRAINTS) {
+            snprintf(msg, USM_MSG_LEN, "constraint: at most %d", USM_OPT_MAX_CONSTRAINTS);
+            return USM_EINPUT;
+        }
+        pb->cons[pb->ncons++] = (usm_opt_constraint){USM_OPT_ROOTS, upper != 0, value, 0};
+        return USM_OK;
+    }
+    if (output && strncmp(output, "root", 4) == 0 && output[4] != 's') {
+        /* rootR.NAME: R a decimal 1 .. USM_OPT_MAX_ROOT */
+        const char *dot = strchr(output, '.');
+        char *end = NULL;
+        long r = dot && isdigit((unsigned char)output[4]) ? strtol(output + 4, &end, 10) : -1;
+        if (!dot || end != dot || r < 1 || r > USM_OPT_MAX_ROOT) {
+            snprintf(msg, USM_MSG_LEN,
+                     "constraint: bad root \"%.40s\": expected rootR.NAME with R the root's "
+                     "number as usm steady lists them, 1 to %d (e.g. root2.theta)",
+                     output, USM_OPT_MAX_ROOT);
+            return USM_EINPUT;
+        }
+        root = (int)r;
+        output = dot + 1;
+    }
     int k = usm_opt_output_find(output);
+    if (k >= 0 && root > 0 && (k == USM_SENS_MAX_MODULUS || k == USM_OPT_MARGIN)) {
+        snprintf(msg, USM_MSG_LEN,
+                 "constraint: root%d.%s: a root's multipliers are not an output here (the "
+                 "stability constraint judges the operating point's)",
+                 root, usm_opt_output_name(k));
+        return USM_EINPUT;
+    }
     if (k < 0) {
         char list[USM_MSG_LEN];
         usm_opt_output_list(list, sizeof list);
-        snprintf(msg, USM_MSG_LEN, "constraint: unknown output \"%.24s\" (one of: %.190s)",
-                 output, list);
+        if (root > 0)
+            snprintf(msg, USM_MSG_LEN,
+                     "constraint: unknown output \"%.24s\" in \"%.30s\" (one of: %.140s)",
+                     output, whole, list);
+        else
+            snprintf(msg, USM_MSG_LEN, "constraint: unknown output \"%.24s\" (one of: %.190s)",
+                     output, list);
         return USM_EINPUT;
     }
     if (pb->ncons == USM_OPT_MAX_CONSTRAINTS) {
         snprintf(msg, USM_MSG_LEN, "constraint: at most %d", USM_OPT_MAX_CONSTRAINTS);
         return USM_EINPUT;
     }
-    pb->cons[pb->ncons++] = (usm_opt_constraint){k, upper != 0, value};
+    pb->cons[pb->ncons++] = (usm_opt_constraint){k, upper != 0, value, root};
     return USM_OK;
 }
 
@@ -277,11 +316,23 @@ int usm_opt_problem_check(const usm_opt_problem *pb, const usm_model *m, const u
         snprintf(msg, USM_MSG_LEN, "constraint: at most %d", USM_OPT_MAX_CONSTRAINTS);
         return USM_EINPUT;
     }
-    for (int i = 0; i < pb->ncons; ++i)
-        if (!usm_opt_output_name(pb->cons[i].output) || !isfinite(pb->cons[i].value)) {
-            snprintf(msg, USM_MSG_LEN, "constraint: %d: unknown output or bound not finite", i);
+    for (int i = 0; i < pb->ncons; ++i) {
+        const usm_opt_constraint *u = &pb->cons[i];
+        const int count = u->output == USM_OPT_ROOTS;
+        if ((!count && !usm_opt_output_name(u->output)) || !isfinite(u->value) ||
+            u->root < 0 || u->root > USM_OPT_MAX_ROOT || (count && u->root != 0) ||
+            (u->root > 0 && (u->output == USM_SENS_MAX_MODULUS || u->output == USM_OPT_MARGIN))) {
+            snprintf(msg, USM_MSG_LEN,
+                     "constraint: %d: unknown output, bad root or bound not finite", i);
             return USM_EINPUT;
         }
+        if (count && !u->upper && u->value > 1 && !pb->from_rest) {
+            snprintf(msg, USM_MSG_LEN,
+                     "constraint: roots >= %g needs --from-rest (without it a design with "
+                     "several roots is refused)", u->value);
+            return USM_EINPUT;
+        }
+    }
     /* every corner of the box must be admissible parameters of an ideal motor */
     for (int k = 0; k < pb->nvary; ++k) {
         if (pb->vary[k] < 0 || pb->vary[k] >= USM_NPARAMS || !(pb->lo[k] < pb->hi[k])) {
@@ -372,6 +423,17 @@ static void evaluate(usm_optimize *o, const double *x)
      * decides (pb->from_rest), else the design is refused */
     size_t pick = 0;
     const size_t nroots = usm_steady_count(o->steady);
+    /* the count of roots: a filter (no derivative), usm_opt_constraint */
+    for (int i = 0; i < pb->ncons; ++i) {
+        const usm_opt_constraint *u = &pb->cons[i];
+        if (u->output == USM_OPT_ROOTS &&
+            (u->upper ? (double)nroots > u->value : (double)nroots < u->value)) {
+            ++o->refused;
+            snprintf(o->op_msg, USM_MSG_LEN, "%zu roots: refused by roots %s %g", nroots,
+                     u->upper ? "<=" : ">=", u->value);
+            return;
+        }
+    }
     if (nroots > 1 && !pb->from_rest) {
         ++o->refused;
         snprintf(o->op_msg, USM_MSG_LEN,
@@ -440,7 +502,8 @@ static double fd_diff(int k, double y1, double y0)
 
 /* The judged root continued to box point z_i = x[i] + dz (the others at
  * x): Newton from o->sol (usm_steady_solve_from), into *out.  0 or -1. */
-static int fd_solve(usm_optimize *o, int i, double dz, usm_steady_solution *out)
+static int fd_solve_at(usm_optimize *o, const usm_steady_solution *from, int i, double dz,
+                       usm_steady_solution *out)
 {
     const usm_opt_problem *pb = o->pb;
     usm_params q = o->p;
@@ -448,25 +511,21 @@ static int fd_solve(usm_optimize *o, int i, double dz, usm_steady_solution *out)
     *usm_params_field(&q, &usm_param_table[pb->vary[i]]) =
         fmin(pb->hi[i], fmax(pb->lo[i], pb->lo[i] + z * (pb->hi[i] - pb->lo[i])));
     usm_params_couple(o->model, &q, pb->vary[i]);
-    if (usm_steady_solve_from(o->steady_fd, &q, o->sol.u) != USM_OK)
+    if (usm_steady_solve_from(o->steady_fd, &q, from->u) != USM_OK)
         return -1;
     *out = *usm_steady_root(o->steady_fd, 0);
     o->fd_p = q;
     return 0;
 }
 
-/* Finite differences of every output but max_modulus and margin in each
- * box variable at the current point (o->fd_d, per unit of z), with step h:
- * central, or second-order one-sided where z -+ h leaves [0, 1]
- * (USM_OPT_FD_STEP).  0, or -1 when a continued solution fails. */
-static int fd_derivatives(usm_optimize *o, double h)
+/* Finite differences of every output but max_modulus and margin of root
+ * `from` (at o->p) in each box variable at the current point (into d, per
+ * unit of z), with step h: central, or second-order one-sided where z -+ h
+ * leaves [0, 1] (USM_OPT_FD_STEP).  0, or -1 when a continued solution fails. */
+static int fd_root(usm_optimize *o, const usm_steady_solution *from, double h,
+                   double d[USM_OPT_OUTPUT_COUNT][USM_NPARAMS])
 {
     const usm_opt_problem *pb = o->pb;
-    if (o->fd_have && o->fd_h == h)
-        return o->fd_ok;
-    o->fd_have = 1;
-    o->fd_h = h;
-    o->fd_ok = -1;
     for (int i = 0; i < pb->nvary; ++i) {
         const double z = o->x[i];
         usm_steady_solution s1, s2;
@@ -478,22 +537,52 @@ static int fd_derivatives(usm_optimize *o, double h)
             c0 = -1.5, c1 = 2, c2 = -0.5, dz1 = h, dz2 = 2 * h;
         else
             c0 = 1.5, c1 = -2, c2 = 0.5, dz1 = -h, dz2 = -2 * h;
-        if (fd_solve(o, i, dz1, &s1) != 0)
+        if (fd_solve_at(o, from, i, dz1, &s1) != 0)
             return -1;
         p1 = o->fd_p;
-        if (fd_solve(o, i, dz2, &s2) != 0)
+        if (fd_solve_at(o, from, i, dz2, &s2) != 0)
             return -1;
         p2 = o->fd_p;
         for (int k = 0; k < USM_OPT_OUTPUT_COUNT; ++k) {
-            const double y0 = field_value(&o->sol, &o->p, k);
+            const double y0 = field_value(from, &o->p, k);
             /* differences from y0: a phase's wrap cancels, c0 + c1 + c2 = 0 */
             const double d1 = fd_diff(k, field_value(&s1, &p1, k), y0),
                          d2 = fd_diff(k, field_value(&s2, &p2, k), y0);
             (void)c0;
-            o->fd_d[k][i] = (c1 * d1 + c2 * d2) / h;
+            d[k][i] = (c1 * d1 + c2 * d2) / h;
         }
     }
-    o->fd_ok = 0;
+    return 0;
+}
+
+/* fd_root of the judged root, kept in o->fd_d for the current point. */
+static int fd_derivatives(usm_optimize *o, double h)
+{
+    if (o->fd_have && o->fd_h == h)
+        return o->fd_ok;
+    o->fd_have = 1;
+    o->fd_h = h;
+    o->fd_ok = fd_root(o, &o->sol, h, o->fd_d);
+    return o->fd_ok;
+}
+
+/* Output k of root r (from 1, as usm steady numbers them) at the current
+ * point and its central differences along that root: -1 where the design
+ * has no solution or no root r (the constraint is then violated). */
+static int root_output(usm_optimize *o, int r, int k, double *y, double *grad)
+{
+    if (!o->solved || (size_t)r > usm_steady_count(o->steady))
+        return -1;
+    const usm_steady_solution *s = usm_steady_root(o->steady, (size_t)r - 1);
+    *y = field_value(s, &o->p, k);
+    if (!isfinite(*y))
+        return -1;
+    if (grad) {
+        if (fd_root(o, s, o->fd_step, o->fd_r) != 0)
+            return -1;
+        for (int i = 0; i < o->pb->nvary; ++i)
+            grad[i] = o->fd_r[k][i];
+    }
     return 0;
 }
 
@@ -581,7 +670,9 @@ static int cons_own(const cons_ctx *c, const double *x, double *value, double *g
     double sign, bound, y, g[USM_NPARAMS];
     evaluate(o, x);
     cons_def(c, &k, &sign, &bound);
-    if (output(o, k, &y, grad ? g : NULL) != 0)
+    const int root = c->kind == C_USER ? o->pb->cons[c->index].root : 0;
+    if ((root > 0 ? root_output(o, root, k, &y, grad ? g : NULL)
+                  : output(o, k, &y, grad ? g : NULL)) != 0)
         return -1;
     *value = sign * (y - bound);
     if (grad)
@@ -682,7 +773,8 @@ static int constraints(usm_optimize *o, cons_ctx *cc)
     if (!o->model->slip && !o->pb->allow_slip)
         cc[n++] = (cons_ctx){o, C_STICK, 0, 1.0};
     for (int i = 0; i < o->pb->ncons; ++i)
-        cc[n++] = (cons_ctx){o, C_USER, i, 1.0};
+        if (o->pb->cons[i].output != USM_OPT_ROOTS) /* a filter in evaluate, not SLSQP's */
+            cc[n++] = (cons_ctx){o, C_USER, i, 1.0};
     return n;
 }
 
@@ -696,7 +788,10 @@ static void cons_text(const usm_opt_problem *pb, const cons_ctx *c, char buf[USM
         snprintf(buf, USM_OPT_TEXT_LEN, "stick: F_t <= mu0 F_n");
     else {
         const usm_opt_constraint *u = &pb->cons[c->index];
-        snprintf(buf, USM_OPT_TEXT_LEN, "%s %s %g", usm_opt_output_name(u->output),
+        char root[24] = "";
+        if (u->root > 0)
+            snprintf(root, sizeof root, "root%d.", u->root);
+        snprintf(buf, USM_OPT_TEXT_LEN, "%s%s %s %g", root, usm_opt_output_name(u->output),
                  u->upper ? "<=" : ">=", u->value);
     }
 }
@@ -735,7 +830,8 @@ static void set_scales(usm_optimize *o, cons_ctx *cc, int nc)
         else if (cc[i].kind == C_USER) {
             const usm_opt_constraint *u = &o->pb->cons[cc[i].index];
             double v = fabs(u->value), y;
-            if (output(o, u->output, &y, NULL) != 0)
+            if ((u->root > 0 ? root_output(o, u->root, u->output, &y, NULL)
+                             : output(o, u->output, &y, NULL)) != 0)
                 y = 0;
             cc[i].scale = v > 0 ? v : fabs(y) > 0 ? fabs(y) : 1.0;
         }

@@ -10,7 +10,8 @@
  * direction: USM_OPT_SPEED = -rotor_speed (positive when the motor drives),
  * named "speed" with "rotor_speed" an alias (usm_opt_output_find); a
  * constraint may also name the further scalar outputs of `usm steady` below
- * (central differences where no analytic derivative exists).  NLopt's
+ * (central differences where no analytic derivative exists), those of any
+ * root by its number (rootR.NAME), and the number of roots as a filter.  NLopt's
  * SLSQP with the analytic sensitivities (usm_sensitivity_compute) as
  * gradients, in variables normalised to [0, 1], from `starts` deterministic
  * points of a rank-1 lattice over the box; the best feasible end point wins;
@@ -63,9 +64,10 @@ extern "C" {
  * margin = 1 - max_modulus.  Derivatives: analytic where usm_sensitivity has
  * them (the USM_SENS_* outputs, and margin from max_modulus); the others by
  * central differences in the varied parameters (usm_opt_output_analytic,
- * USM_OPT_FD_STEP).  The count of roots, stability and stick_admissible are
- * not outputs here: integers and flags have no derivative (the one-root rule
- * and the stability and stick constraints already judge them). */
+ * USM_OPT_FD_STEP).  Stability and stick_admissible are not outputs here:
+ * flags have no derivative (the stability and stick constraints judge them);
+ * the count of roots is a filter (USM_OPT_ROOTS below), and a constraint
+ * may name another root's output (usm_opt_constraint.root). */
 #define USM_OPT_MARGIN (USM_SENS_COUNT + 9)
 #define USM_OPT_OUTPUT_COUNT (USM_SENS_COUNT + 10)
 
@@ -103,11 +105,32 @@ int usm_opt_output_find(const char *name);
 /* A parameter is flat when its near-optimal interval exceeds this fraction of its bounds. */
 #define USM_OPT_FLAT_FRACTION 0.1
 
-/* A user constraint: output (USM_OPT outputs) <= value (upper = 1) or >= value. */
+/* A user constraint: output (USM_OPT outputs) <= value (upper = 1) or >= value.
+ *
+ * Per-root constraints (issue 20): root = r >= 1 names output k of the r-th
+ * stationary root as `usm steady` numbers them (from 1, in its order),
+ * written "rootR.NAME" (root2.theta); root = 0 is the judged root (the
+ * operating point), written NAME.  Every output but max_modulus and margin
+ * may be named per root (only the judged root's multipliers are computed
+ * at every design).  Where root r does not exist the constraint is violated:
+ * scaled value 1 (the value of an undefined constraint) and no direction
+ * (zero gradient), as at a design without a solution.  Its derivatives are
+ * central differences along root r, continued by Newton from its current
+ * value (usm_steady_solve_from, USM_OPT_FD_STEP), as for the judged root.
+ *
+ * output = USM_OPT_ROOTS ("roots", root 0) is the number of stationary
+ * roots: it has no derivative, so it is no constraint of SLSQP but a
+ * feasibility filter: a design whose count violates it is refused (an
+ * infeasible evaluation, like several roots without from_rest).  roots >= X
+ * with X > 1 needs from_rest (several roots are refused without it). */
+#define USM_OPT_ROOTS USM_OPT_OUTPUT_COUNT
+/* The largest root number a constraint may name. */
+#define USM_OPT_MAX_ROOT 64
 typedef struct usm_opt_constraint {
     int output;
     int upper;
     double value;
+    int root;                      /* 0: the judged root; r >= 1: root r (from 1) */
 } usm_opt_constraint;
 
 /* What to optimise.  Fill with usm_opt_problem_init, then the add functions. */
@@ -144,8 +167,11 @@ void usm_opt_problem_init(usm_opt_problem *pb);
  * "vary: reason" in msg (unknown parameter, given twice, lo >= hi). */
 int usm_opt_problem_add_vary(usm_opt_problem *pb, const char *name, double lo, double hi,
                              char msg[USM_MSG_LEN]);
-/* Add the constraint `output` <= value (upper = 1) or >= value.  USM_OK, or
- * USM_EINPUT with "constraint: reason" in msg (unknown output, too many). */
+/* Add the constraint `output` <= value (upper = 1) or >= value; `output` is
+ * NAME (the judged root), rootR.NAME (root R, 1 <= R <= USM_OPT_MAX_ROOT) or
+ * roots (their count).  USM_OK, or USM_EINPUT with "constraint: reason" in
+ * msg (unknown output, bad root number, max_modulus or margin per root,
+ * too many). */
 int usm_opt_problem_add_constraint(usm_opt_problem *pb, const char *output, int upper,
                                    double value, char msg[USM_MSG_LEN]);
 /* The whole problem for model m around parameters p: an ideal motor (p
