@@ -67,6 +67,29 @@ if expect 1 simulate --duration 1e-3 --rate 0 --max-steps 50 --json; then
     [ "$(wc -l <"$err")" -eq 1 ] || fail "step cap: exit 1 printed $(wc -l <"$err") stderr lines, want 1"
 fi
 
+# ---- validity per row: the stick model describes the motor only where
+# |F_t| <= mu0 F_n (mu0 = 0.3) and the contact is closed, recomputed from each
+# row's own forces; at T = 1 N mm (past the stick limit, 0.602 N mm) no row is
+if expect 0 simulate --model 3dof --set T=0.001 --from stationary --duration 2e-4 --out "$tmp/v.csv"; then
+    checks=$((checks + 1))
+    "$PY" - "$tmp/v.csv" <<'PYEOF' || fail "simulate rows: valid, invalid_reason"
+import csv, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+assert rows
+for r in rows:
+    fn, ft = float(r["F_n [N]"]), float(r["F_t [N]"])
+    want = ("false", "contact_open") if not fn > 0 else \
+           ("false", "stick_not_admissible") if abs(ft) > 0.3 * fn else ("true", "")
+    assert (r["valid"], r["invalid_reason"]) == want, r
+assert all(r["valid"] == "false" for r in rows)
+PYEOF
+fi
+if expect 0 simulate --model 3dof --from stationary --duration 2e-4 --out "$tmp/v0.csv"; then
+    checks=$((checks + 1))
+    "$PY" -c "import csv,sys; rows=list(csv.DictReader(open(sys.argv[1]))); assert rows and all(r['valid'] == 'true' for r in rows)" "$tmp/v0.csv" ||
+        fail "simulate rows at the paper's load are not all valid"
+fi
+
 # ---- --out never overwrites without --force -------------------------------------
 echo "precious" >"$tmp/keep.csv"
 if expect 2 simulate --duration 1e-4 --out "$tmp/keep.csv"; then

@@ -15,7 +15,7 @@ static const usm_csv_column columns[] = {
     {"phidot", "rad/s"},  {"thetadot", "rad/s"},  {"psidot", "rad/s"}, {"phi_R", "rad"},
     {"phi_Rdot", "rad/s"}, {"F_n", "N"},          {"F_t", "N"},        {"v_rel", "m/s"},
     {"theta_avg", "rad"}, {"phi_Rdot_avg", "rad/s"},
-    {"valid", NULL}, {"invalid_reason", NULL}}; /* last: the contact closed (F_n > 0) */
+    {"valid", NULL}, {"invalid_reason", NULL}}; /* last: usm_sim_sample.validity */
 
 void usm_sim_csv_header(FILE *f)
 {
@@ -31,7 +31,7 @@ int usm_sim_csv_row(const usm_sim_sample *s, FILE *f)
                         s->have_avg ? s->theta_avg : NAN, s->have_avg ? s->rotor_speed_avg : NAN};
     for (size_t k = 0; k < sizeof v / sizeof v[0]; ++k)
         usm_csv_num(f, k == 0, v[k]);
-    usm_csv_validity(f, 1, s->out[USM_OUT_F_N] > 0 ? USM_VALID : USM_INVALID_CONTACT_OPEN);
+    usm_csv_validity(f, 1, s->validity);
     fputc('\n', f);
     return ferror(f) ? -1 : 0;
 }

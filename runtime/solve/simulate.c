@@ -588,6 +588,10 @@ static int emit_sample(usm_sim *s, run_state *r, double t, const double *y, cons
     smp.have_avg = r->have_avg;
     smp.theta_avg = r->theta_avg;
     smp.rotor_speed_avg = r->speed_avg;
+    smp.validity = !(smp.out[USM_OUT_F_N] > 0) ? USM_INVALID_CONTACT_OPEN
+                   : !s->m->slip && fabs(smp.out[USM_OUT_F_T]) > s->p.mu0 * smp.out[USM_OUT_F_N]
+                       ? USM_INVALID_STICK
+                       : USM_VALID;
     s->sum->samples++;
     if (r->cb && r->cb->sample)
         return r->cb->sample(&smp, r->cb->data);

@@ -139,6 +139,9 @@ typedef struct usm_sim_sample {
     int have_avg;             /* 0 before the first complete excitation period */
     double theta_avg;         /* mean tilt over the last complete period [rad] */
     double rotor_speed_avg;   /* mean phidot_R over the last complete period [1/s] */
+    usm_validity validity;    /* USM_VALID, or the contact open (F_n <= 0), or in the
+                               * stick model |F_t| > mu0 F_n (the model does not
+                               * describe the motor at this instant) */
 } usm_sim_sample;
 
 typedef struct usm_sim_callbacks {
