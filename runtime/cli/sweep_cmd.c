@@ -338,6 +338,41 @@ static int emit(const sweep_args *a, const usm_sweep *s)
     return USM_OK;
 }
 
+/* The events of a sweep as the word lists its gnuplot script reads (names,
+ * values), for labelled lines. */
+typedef struct plot_events {
+    char names[1024], values[1024];
+} plot_events;
+
+/* Append one event; -1 when the lists are full (the rest are left out). */
+static int plot_event_add(plot_events *ev, const char *name, double value)
+{
+    const size_t ln = strlen(ev->names), lx = strlen(ev->values);
+    if (ln + 64 >= sizeof ev->names || lx + 32 >= sizeof ev->values)
+        return -1;
+    snprintf(ev->names + ln, sizeof ev->names - ln, "%s%s", ln ? " " : "", name);
+    snprintf(ev->values + lx, sizeof ev->values - lx, "%s%.17g", lx ? " " : "", value);
+    return 0;
+}
+
+/* gnuplot on data/plots/SCRIPT.gp for PREFIX; a missing gnuplot is a warning. */
+static int plot_render(const char *script, const char *prefix, const char *xcol,
+                       const plot_events *ev)
+{
+    char msg[CLI_MSG_LEN];
+    const char *names[] = {"xcol", "events", "event_x"};
+    const char *values[] = {xcol, ev->names, ev->values};
+    int rc = usm_plot_render(script, prefix, names, values, 3, msg);
+    if (rc == USM_ENOSOLUTION) {
+        cli_error("warning: %s", msg);
+        return USM_OK;
+    }
+    if (rc != USM_OK) {
+        cli_error("%s", msg);
+        return rc == USM_EINPUT ? USM_EINPUT : USM_EFAILED;
+    }
+    return USM_OK;
+}
 /* --plot: PREFIX.csv, then gnuplot on data/plots/sweep.gp.  A missing
  * gnuplot is a warning (the CSV and PREFIX.gp are there to plot later). */
 static int plot(const sweep_args *a, const usm_sweep *s)
@@ -362,33 +397,20 @@ static int plot(const sweep_args *a, const usm_sweep *s)
     /* the header's first column (sweep_out.c) */
     snprintf(xcol, sizeof xcol, "%s [%s]", a->over, info ? info->unit : "");
     /* the events, for their labelled lines: names and values as word lists */
-    char events[1024] = "", event_x[1024] = "";
+    plot_events ev = {"", ""};
     for (size_t i = 0; i < usm_sweep_event_count(s); ++i) {
         const usm_sweep_event *e = usm_sweep_event_at(s, i);
-        const size_t ln = strlen(events), lx = strlen(event_x);
-        if (ln + 64 >= sizeof events || lx + 32 >= sizeof event_x)
+        if (plot_event_add(&ev, usm_event_name(e->type), e->value) != 0)
             break;
-        snprintf(events + ln, sizeof events - ln, "%s%s", ln ? " " : "", usm_event_name(e->type));
-        snprintf(event_x + lx, sizeof event_x - lx, "%s%.17g", lx ? " " : "", e->value);
     }
-    const char *names[] = {"xcol", "events", "event_x"}, *values[] = {xcol, events, event_x};
-    int rc = usm_plot_render("sweep", a->plot, names, values, 3, msg);
-    if (rc == USM_ENOSOLUTION) {
-        cli_error("warning: %s", msg);
-        return USM_OK;
-    }
-    if (rc != USM_OK) {
-        cli_error("%s", msg);
-        return rc == USM_EINPUT ? USM_EINPUT : USM_EFAILED;
-    }
-    return USM_OK;
+    return plot_render("sweep", a->plot, xcol, &ev);
 }
 
 /* --plot with --periodic: PREFIX.csv, then gnuplot on data/plots/sweep_periodic.gp
  * with the events as word lists.  A missing gnuplot is a warning. */
 static int plot_periodic(const sweep_args *a, const usm_periodic_sweep *s)
 {
-    char msg[CLI_MSG_LEN], xcol[128], events[1024] = "", event_x[1024] = "";
+    char msg[CLI_MSG_LEN], xcol[128];
     const usm_param_info *info = usm_params_find(a->over);
     usm_io_file file;
     FILE *f = usm_plot_csv_open(&file, a->plot, a->force, msg);
@@ -406,25 +428,13 @@ static int plot_periodic(const sweep_args *a, const usm_periodic_sweep *s)
         return USM_EFAILED;
     }
     snprintf(xcol, sizeof xcol, "%s [%s]", a->over, info ? info->unit : "");
+    plot_events ev = {"", ""};
     for (size_t i = 0; i < usm_periodic_sweep_event_count(s); ++i) {
         const usm_periodic_event *e = usm_periodic_sweep_event_at(s, i);
-        const size_t ln = strlen(events), lx = strlen(event_x);
-        if (ln + 64 >= sizeof events || lx + 32 >= sizeof event_x)
+        if (plot_event_add(&ev, usm_pevent_name(e->type), e->value) != 0)
             break;
-        snprintf(events + ln, sizeof events - ln, "%s%s", ln ? " " : "", usm_pevent_name(e->type));
-        snprintf(event_x + lx, sizeof event_x - lx, "%s%.17g", lx ? " " : "", e->value);
     }
-    const char *names[] = {"xcol", "events", "event_x"}, *values[] = {xcol, events, event_x};
-    int rc = usm_plot_render("sweep_periodic", a->plot, names, values, 3, msg);
-    if (rc == USM_ENOSOLUTION) {
-        cli_error("warning: %s", msg);
-        return USM_OK;
-    }
-    if (rc != USM_OK) {
-        cli_error("%s", msg);
-        return rc == USM_EINPUT ? USM_EINPUT : USM_EFAILED;
-    }
-    return USM_OK;
+    return plot_render("sweep_periodic", a->plot, xcol, &ev);
 }
 
 /* --periodic: the orbit's continuation (usm_periodic_sweep.h). */
