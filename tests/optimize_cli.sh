@@ -337,7 +337,16 @@ for c in 'root0.theta>=1' 'root65.theta>=1' 'rootx.theta>=1' 'root2theta>=1'; do
 done
 expect_bad --constraint 'unknown output "root2.nosuch" \(one of: theta, speed' \
     optimize --objective speed --vary f=36000:38000 --constraint 'root2.nosuch>=1'
-expect_bad --constraint "root2.max_modulus: a root's multipliers are not an output here" \
-    optimize --objective speed --vary f=36000:38000 --constraint 'root2.max_modulus<=1'
+
+# a root's own multipliers: root #1 (unstable) grows more unstable with f (1.78 at 37.5 kHz,
+# 2.42 at 38 kHz), so root1.max_modulus <= 2.2 bounds f; usm steady's roots[0].floquet
+# (another Floquet method, Magnus: the two agree to ~1e-9) at the optimum says 2.2
+expect_rc 0 optimize "${ROOTS[@]}" --constraint 'root1.max_modulus<=2.2' --json
+cp "$out" "$tmp/rootmm.json"
+py "assert o['active_constraints'] == ['root1.max_modulus <= 2.2'], o['active_constraints']
+assert 37700 < o['varied']['f'] < 37900, o['varied']"
+f_r=$("$PY" -c "import json; print(repr(json.load(open('$tmp/rootmm.json'))['varied']['f']))")
+expect_rc 0 steady --set F0=1.001 --set f="$f_r" --json
+py "assert abs(o['roots'][0]['floquet']['max_modulus'] - 2.2) <= 1e-6, o['roots'][0]['floquet']"
 
 finish optimize_cli

@@ -35,6 +35,7 @@ struct usm_optimize {
     usm_sensitivity *sens;
     usm_floquet *floquet;
     usm_sensitivity_result *r;
+    usm_sensitivity_result *r_root; /* a named root's (root_output: its max_modulus) */
     usm_root *root;
     /* the run */
     const usm_opt_problem *pb;
@@ -230,13 +231,6 @@ int usm_opt_problem_add_constraint(usm_opt_problem *pb, const char *output, int 
         output = dot + 1;
     }
     int k = usm_opt_output_find(output);
-    if (k >= 0 && root > 0 && (k == USM_SENS_MAX_MODULUS || k == USM_OPT_MARGIN)) {
-        snprintf(msg, USM_MSG_LEN,
-                 "constraint: root%d.%s: a root's multipliers are not an output here (the "
-                 "stability constraint judges the operating point's)",
-                 root, usm_opt_output_name(k));
-        return USM_EINPUT;
-    }
     if (k < 0) {
         char list[USM_MSG_LEN];
         usm_opt_output_list(list, sizeof list);
@@ -320,8 +314,7 @@ int usm_opt_problem_check(const usm_opt_problem *pb, const usm_model *m, const u
         const usm_opt_constraint *u = &pb->cons[i];
         const int count = u->output == USM_OPT_ROOTS;
         if ((!count && !usm_opt_output_name(u->output)) || !isfinite(u->value) ||
-            u->root < 0 || u->root > USM_OPT_MAX_ROOT || (count && u->root != 0) ||
-            (u->root > 0 && (u->output == USM_SENS_MAX_MODULUS || u->output == USM_OPT_MARGIN))) {
+            u->root < 0 || u->root > USM_OPT_MAX_ROOT || (count && u->root != 0)) {
             snprintf(msg, USM_MSG_LEN,
                      "constraint: %d: unknown output, bad root or bound not finite", i);
             return USM_EINPUT;
@@ -566,6 +559,23 @@ static int fd_derivatives(usm_optimize *o, double h)
     return o->fd_ok;
 }
 
+/* grad = s d(output k)/dz from the sensitivities r (per unit of each box
+ * variable; the parameters tied to a varied one move with it). */
+static void analytic_gradient(const usm_optimize *o, const usm_sensitivity_result *r, int k,
+                              double s, double *grad)
+{
+    const usm_opt_problem *pb = o->pb;
+    for (int i = 0; i < pb->nvary; ++i) {
+        double d = r->d[k][pb->vary[i]];
+        for (int j = 0; j < USM_NPARAMS; ++j) {
+            const usm_param_coupling *c = usm_param_coupled(o->model, j);
+            if (c && c->equals == pb->vary[i])
+                d += r->d[k][j];
+        }
+        grad[i] = s * d * (pb->hi[i] - pb->lo[i]);
+    }
+}
+
 /* Output k of root r (from 1, as usm steady numbers them) at the current
  * point and its central differences along that root: -1 where the design
  * has no solution or no root r (the constraint is then violated). */
@@ -574,6 +584,20 @@ static int root_output(usm_optimize *o, int r, int k, double *y, double *grad)
     if (!o->solved || (size_t)r > usm_steady_count(o->steady))
         return -1;
     const usm_steady_solution *s = usm_steady_root(o->steady, (size_t)r - 1);
+    if (k == USM_SENS_MAX_MODULUS || k == USM_OPT_MARGIN) {
+        /* that root's multipliers and their analytic derivative (the same
+         * computation as the judged root's, on this root) */
+        const usm_sensitivity_result *rr = o->r_root;
+        if (usm_sensitivity_compute(o->sens, &o->p, s, 1, o->r_root) != USM_OK ||
+            !isfinite(rr->value[USM_SENS_MAX_MODULUS]) ||
+            (grad && !rr->defined[USM_SENS_MAX_MODULUS]))
+            return -1;
+        const double sign = k == USM_OPT_MARGIN ? -1.0 : 1.0;
+        *y = (k == USM_OPT_MARGIN ? 1.0 : 0.0) + sign * rr->value[USM_SENS_MAX_MODULUS];
+        if (grad)
+            analytic_gradient(o, rr, USM_SENS_MAX_MODULUS, sign, grad);
+        return 0;
+    }
     *y = field_value(s, &o->p, k);
     if (!isfinite(*y))
         return -1;
@@ -623,15 +647,7 @@ static int output_fd(usm_optimize *o, int k, double *y, double *grad, int fd)
     const double s = k == USM_OPT_SPEED ? -1.0 : 1.0;
     *y = s * r->value[k];
     if (grad)
-        for (int i = 0; i < pb->nvary; ++i) {
-            double d = r->d[k][pb->vary[i]];
-            for (int j = 0; j < USM_NPARAMS; ++j) { /* the parameters tied to it move too */
-                const usm_param_coupling *c = usm_param_coupled(o->model, j);
-                if (c && c->equals == pb->vary[i])
-                    d += r->d[k][j];
-            }
-            grad[i] = s * d * (pb->hi[i] - pb->lo[i]);
-        }
+        analytic_gradient(o, r, k, s, grad);
     return 0;
 }
 
@@ -1263,7 +1279,9 @@ usm_optimize *usm_optimize_alloc(const usm_model *m)
     o->floquet = usm_floquet_alloc(m);
     o->root = usm_root_alloc();
     o->r = malloc(sizeof *o->r);
-    if (!o->steady || !o->steady_fd || !o->sens || !o->floquet || !o->root || !o->r) {
+    o->r_root = malloc(sizeof *o->r_root);
+    if (!o->steady || !o->steady_fd || !o->sens || !o->floquet || !o->root || !o->r ||
+        !o->r_root) {
         usm_optimize_free(o);
         return NULL;
     }
@@ -1275,6 +1293,7 @@ void usm_optimize_free(usm_optimize *o)
     if (!o)
         return;
     free(o->r);
+    free(o->r_root);
     free(o->fl);
     usm_root_free(o->root);
     usm_floquet_free(o->floquet);

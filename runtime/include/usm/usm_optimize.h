@@ -170,8 +170,8 @@ int usm_opt_problem_add_vary(usm_opt_problem *pb, const char *name, double lo, d
 /* Add the constraint `output` <= value (upper = 1) or >= value; `output` is
  * NAME (the judged root), rootR.NAME (root R, 1 <= R <= USM_OPT_MAX_ROOT) or
  * roots (their count).  USM_OK, or USM_EINPUT with "constraint: reason" in
- * msg (unknown output, bad root number, max_modulus or margin per root,
- * too many). */
+ * msg (unknown output, bad root number, too many).  max_modulus and margin
+ * of root R come from that root's own multipliers (analytic derivative). */
 int usm_opt_problem_add_constraint(usm_opt_problem *pb, const char *output, int upper,
                                    double value, char msg[USM_MSG_LEN]);
 /* The whole problem for model m around parameters p: an ideal motor (p
