@@ -219,31 +219,26 @@ static int make_axis(usm_report_axis *ax, const char *field, const char *name, c
     return USM_OK;
 }
 
+static int write_map_csv(FILE *out, const void *map)
+{
+    return usm_report_map_write_csv(map, out);
+}
+
 /* --plot: PREFIX.csv, then gnuplot on data/plots/map.gp.  A missing gnuplot
  * is a warning (the CSV and PREFIX.gp are there to plot later). */
 static int plot(const map_args *a, const usm_report_map *map)
 {
     char msg[CLI_MSG_LEN], xcol[128], ycol[128];
-    usm_io_file file;
-    FILE *f = usm_plot_csv_open(&file, a->plot, a->force, msg);
-    if (!f) {
+    int rc = usm_plot_csv_write(a->plot, a->force, write_map_csv, map, msg);
+    if (rc != USM_OK) {
         cli_error("%s", msg);
-        return USM_EINPUT;
-    }
-    if (usm_report_map_write_csv(map, f) != 0) {
-        usm_io_abort(&file);
-        cli_error("--plot %s.csv: write error", a->plot);
-        return USM_EFAILED;
-    }
-    if (usm_io_commit(&file, msg) != USM_OK) {
-        cli_error("--plot %s", msg);
-        return USM_EFAILED;
+        return rc;
     }
     /* the header's first two columns (report_map.c) */
     snprintf(xcol, sizeof xcol, "%s [%s]", map->x.param->name, map->x.param->unit);
     snprintf(ycol, sizeof ycol, "%s [%s]", map->y.param->name, map->y.param->unit);
     const char *names[] = {"xcol", "ycol", "mcol"}, *values[] = {xcol, ycol, "op_max_modulus [1]"};
-    int rc = usm_plot_render("map", a->plot, names, values, 3, msg);
+    rc = usm_plot_render("map", a->plot, names, values, 3, msg);
     if (rc == USM_ENOSOLUTION) {
         cli_error("warning: %s", msg);
         return USM_OK;

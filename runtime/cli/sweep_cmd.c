@@ -338,6 +338,24 @@ static int emit(const sweep_args *a, const usm_sweep *s)
     return USM_OK;
 }
 
+/* The CSV files of --plot (usm_plot_csv_write's writers). */
+typedef struct sweep_csv_data {
+    const usm_sweep *s;
+    const char *over;
+    int floquet;
+} sweep_csv_data;
+
+static int write_sweep_csv(FILE *out, const void *data)
+{
+    const sweep_csv_data *d = data;
+    return usm_sweep_csv(d->s, d->over, d->floquet, out);
+}
+
+static int write_periodic_csv(FILE *out, const void *s)
+{
+    return usm_periodic_sweep_csv(s, out);
+}
+
 /* The events of a sweep as the word lists its gnuplot script reads (names,
  * values), for labelled lines. */
 typedef struct plot_events {
@@ -379,20 +397,11 @@ static int plot(const sweep_args *a, const usm_sweep *s)
 {
     char msg[CLI_MSG_LEN], xcol[128];
     const usm_param_info *info = usm_params_find(a->over);
-    usm_io_file file;
-    FILE *f = usm_plot_csv_open(&file, a->plot, a->force, msg);
-    if (!f) {
+    const sweep_csv_data data = {s, a->over, a->floquet};
+    int rc = usm_plot_csv_write(a->plot, a->force, write_sweep_csv, &data, msg);
+    if (rc != USM_OK) {
         cli_error("%s", msg);
-        return USM_EINPUT;
-    }
-    if (usm_sweep_csv(s, a->over, a->floquet, f) != 0) {
-        usm_io_abort(&file);
-        cli_error("--plot %s.csv: write error", a->plot);
-        return USM_EFAILED;
-    }
-    if (usm_io_commit(&file, msg) != USM_OK) {
-        cli_error("--plot %s", msg);
-        return USM_EFAILED;
+        return rc;
     }
     /* the header's first column (sweep_out.c) */
     snprintf(xcol, sizeof xcol, "%s [%s]", a->over, info ? info->unit : "");
@@ -412,20 +421,10 @@ static int plot_periodic(const sweep_args *a, const usm_periodic_sweep *s)
 {
     char msg[CLI_MSG_LEN], xcol[128];
     const usm_param_info *info = usm_params_find(a->over);
-    usm_io_file file;
-    FILE *f = usm_plot_csv_open(&file, a->plot, a->force, msg);
-    if (!f) {
+    int rc = usm_plot_csv_write(a->plot, a->force, write_periodic_csv, s, msg);
+    if (rc != USM_OK) {
         cli_error("%s", msg);
-        return USM_EINPUT;
-    }
-    if (usm_periodic_sweep_csv(s, f) != 0) {
-        usm_io_abort(&file);
-        cli_error("--plot %s.csv: write error", a->plot);
-        return USM_EFAILED;
-    }
-    if (usm_io_commit(&file, msg) != USM_OK) {
-        cli_error("--plot %s", msg);
-        return USM_EFAILED;
+        return rc;
     }
     snprintf(xcol, sizeof xcol, "%s [%s]", a->over, info ? info->unit : "");
     plot_events ev = {"", ""};

@@ -227,14 +227,26 @@ int usm_plot_csv_check(const char *prefix, int force, char msg[USM_IO_MSG_LEN])
     return USM_OK;
 }
 
-FILE *usm_plot_csv_open(usm_io_file *out, const char *prefix, int force,
-                        char msg[USM_IO_MSG_LEN])
+int usm_plot_csv_write(const char *prefix, int force, int (*write)(FILE *out, const void *data),
+                       const void *data, char msg[USM_IO_MSG_LEN])
 {
     char path[4096], why[USM_IO_MSG_LEN];
+    usm_io_file file;
     int status;
     snprintf(path, sizeof path, "%s.csv", prefix);
-    FILE *f = usm_io_create(out, path, force, why, &status);
-    if (!f)
+    FILE *f = usm_io_create(&file, path, force, why, &status);
+    if (!f) {
         usm_io_msg(msg, "--plot %.1000s", why);
-    return f;
+        return USM_EINPUT;
+    }
+    if (write(f, data) != 0) {
+        usm_io_abort(&file);
+        usm_io_msg(msg, "--plot %.1000s: write error", path);
+        return USM_EFAILED;
+    }
+    if (usm_io_commit(&file, why) != USM_OK) {
+        usm_io_msg(msg, "--plot %.1000s", why);
+        return USM_EFAILED;
+    }
+    return USM_OK;
 }

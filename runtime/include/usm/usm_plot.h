@@ -48,11 +48,13 @@ int usm_plot_render(const char *script, const char *prefix, const char *const *n
  * called before the computation. */
 int usm_plot_csv_check(const char *prefix, int force, char msg[USM_IO_MSG_LEN]);
 
-/* PREFIX.csv opened for writing by usm_io_create(out, ...) (never replacing
- * a file that appeared since usm_plot_csv_check unless force), or NULL with
- * msg; finish with usm_io_commit(out) or usm_io_abort(out). */
-FILE *usm_plot_csv_open(usm_io_file *out, const char *prefix, int force,
-                        char msg[USM_IO_MSG_LEN]);
+/* PREFIX.csv written whole by write(out, data) (0, or -1 on a write error)
+ * through usm_io_create / usm_io_commit: never replacing a file that
+ * appeared since usm_plot_csv_check unless force, never half-written.
+ * USM_OK; USM_EINPUT when the file cannot be created, USM_EFAILED on a write
+ * error; with a one-line msg starting "--plot ". */
+int usm_plot_csv_write(const char *prefix, int force, int (*write)(FILE *out, const void *data),
+                       const void *data, char msg[USM_IO_MSG_LEN]);
 
 #ifdef __cplusplus
 }
