@@ -349,4 +349,15 @@ f_r=$("$PY" -c "import json; print(repr(json.load(open('$tmp/rootmm.json'))['var
 expect_rc 0 steady --set F0=1.001 --set f="$f_r" --json
 py "assert abs(o['roots'][0]['floquet']['max_modulus'] - 2.2) <= 1e-6, o['roots'][0]['floquet']"
 
+# an optimum where the stick model does not describe the motor (--allow-slip past the stick
+# limit, 0.602 N mm) says so: the table's valid line and the solution's JSON keys
+expect_rc 0 optimize --objective speed --vary f=36000:38000 --starts 2 --no-flat --allow-slip \
+    --set T=0.001
+grep -q '^  valid no: stick_not_admissible$' "$out" || fail "optimize table: no 'valid no' line"
+expect_rc 0 optimize --objective speed --vary f=36000:38000 --starts 2 --no-flat --allow-slip \
+    --set T=0.001 --json
+py "s = o['solution']
+assert s['valid'] is False and s['invalid_reason'] == 'stick_not_admissible', s['valid']
+assert abs(s['F_t']) > 0.3 * s['F_n']"
+
 finish optimize_cli

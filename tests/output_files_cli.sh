@@ -84,6 +84,12 @@ expect_bad "--plot" "symbolic link" $M --plot "$d/pg"
 expect_bad "--plot" "No such file or directory" $S --plot "$d/nodir/p"
 untouched "sweep --plot link"
 rm -f "$d/pl.csv" "$d/pg.gp"
+# gnuplot's log is an output too: a user's PREFIX.log is refused before the sweep
+echo "my log" >"$d/pq.log"
+expect_bad "--plot" "exists" $S --plot "$d/pq"
+checks=$((checks + 1))
+[ "$(cat "$d/pq.log")" = "my log" ] || fail "--plot: a user's PREFIX.log was changed"
+rm -f "$d/pq.log"
 
 # ---- tolerance --checkpoint -----------------------------------------------------
 T="tolerance --samples 40 --vary F0=normal:10%"

@@ -266,6 +266,8 @@ static void write_table(const opt_args *a, const usm_opt_result *res)
            s->rotor_speed, s->F_n, s->F_t);
     printf("  power_out %.6g W, efficiency %.6g, max_modulus %.10g (t0 = %g s)\n", s->power_out,
            s->efficiency, res->floquet.max_modulus, res->floquet.t0);
+    printf("  valid %s%s%s\n", s->validity == USM_VALID ? "yes" : "no",
+           s->validity == USM_VALID ? "" : ": ", usm_validity_name(s->validity));
 }
 
 int cli_optimize_main(int argc, char **argv)

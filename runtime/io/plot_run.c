@@ -130,7 +130,7 @@ int usm_gnuplot_run(const char *dir, const char *const *stems, int n, int jobs,
 
 int usm_plot_check(const char *prefix, int force, char msg[USM_IO_MSG_LEN])
 {
-    static const char *const ext[] = {".gp", ".png", ".svg"};
+    static const char *const ext[] = {".gp", ".png", ".svg", ".log"}; /* gnuplot's messages too */
     char path[4096], why[USM_IO_MSG_LEN];
     if (prefix[0] == '\0' || strchr(prefix, '\n') || strlen(prefix) + 70 > sizeof path) {
         usm_io_msg(msg, "--plot: \"%.200s\" is not usable as a file prefix", prefix);

@@ -523,13 +523,15 @@ static int fd_root(usm_optimize *o, const usm_steady_solution *from, double h,
         const double z = o->x[i];
         usm_steady_solution s1, s2;
         usm_params p1, p2;
-        double c0, c1, c2, dz1, dz2; /* d = (c0 y0 + c1 y(z + dz1) + c2 y(z + dz2)) / h */
+        /* d = (c0 y0 + c1 y(z + dz1) + c2 y(z + dz2)) / h with c0 = -(c1 + c2):
+         * central, or second-order one-sided at a bound */
+        double c1, c2, dz1, dz2;
         if (z - h >= 0 && z + h <= 1)
-            c0 = 0, c1 = 0.5, c2 = -0.5, dz1 = h, dz2 = -h;
+            c1 = 0.5, c2 = -0.5, dz1 = h, dz2 = -h;
         else if (z + 2 * h <= 1)
-            c0 = -1.5, c1 = 2, c2 = -0.5, dz1 = h, dz2 = 2 * h;
+            c1 = 2, c2 = -0.5, dz1 = h, dz2 = 2 * h;
         else
-            c0 = 1.5, c1 = -2, c2 = 0.5, dz1 = -h, dz2 = -2 * h;
+            c1 = -2, c2 = 0.5, dz1 = -h, dz2 = -2 * h;
         if (fd_solve_at(o, from, i, dz1, &s1) != 0)
             return -1;
         p1 = o->fd_p;
@@ -541,7 +543,6 @@ static int fd_root(usm_optimize *o, const usm_steady_solution *from, double h,
             /* differences from y0: a phase's wrap cancels, c0 + c1 + c2 = 0 */
             const double d1 = fd_diff(k, field_value(&s1, &p1, k), y0),
                          d2 = fd_diff(k, field_value(&s2, &p2, k), y0);
-            (void)c0;
             d[k][i] = (c1 * d1 + c2 * d2) / h;
         }
     }

@@ -24,7 +24,7 @@ extern "C" {
 #endif
 
 /* USM_OK when PREFIX is usable, its directory writable, and none of
- * PREFIX.gp/.png/.svg exists, not even as a dangling symlink (or force);
+ * PREFIX.gp/.png/.svg/.log exists, not even as a dangling symlink (or force);
  * USM_EINPUT with "--plot FILE: exists..." otherwise.  Every file is
  * written whole or not at all (usm_io_create), and with force a symlink is
  * replaced, never written through. */
