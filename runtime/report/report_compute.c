@@ -90,19 +90,18 @@ int usm_report_match_multiplier(const usm_floquet_result *r, double re, double i
     return best;
 }
 
-/* Largest distance between Table 3 (both members of each pair) and the
- * nearest computed multipliers. */
-static double table3_deviation(const usm_report_paper *pv, const usm_floquet_result *r)
+double usm_report_table_distance(const usm_report_published_multiplier *t, int nt,
+                                 const usm_floquet_result *r, int skip_first)
 {
     int used[USM_MAX_NX] = {0};
     double dev = 0;
-    for (int k = 0; k < pv->n3; ++k)
-        for (int sgn = 1; sgn >= (pv->table3[k].im > 0 ? -1 : 1); sgn -= 2) {
-            double im = sgn * pv->table3[k].im;
-            int j = usm_report_match_multiplier(r, pv->table3[k].re, im, used);
+    for (int k = 0; k < nt; ++k)
+        for (int sgn = 1; sgn >= (t[k].im > 0 ? -1 : 1); sgn -= 2) {
+            int j = usm_report_match_multiplier(r, t[k].re, sgn * t[k].im, used);
             if (j < 0)
                 return INFINITY;
-            dev = fmax(dev, hypot(r->re[j] - pv->table3[k].re, r->im[j] - im));
+            if (!(skip_first && k == 0))
+                dev = fmax(dev, hypot(r->re[j] - t[k].re, r->im[j] - sgn * t[k].im));
         }
     return dev;
 }
@@ -353,8 +352,9 @@ static int parameter_checks(usm_report_data *d, solver *s3, char msg[USM_IO_MSG_
     for (int i = 0; i < 3; ++i) {
         q = *p;
         q.M = d->M_trial[i];
-        d->M_trial_dev[i] =
-            solve_point(s3, &q, 0, &sol, &fl, msg) == USM_OK ? table3_deviation(&d->paper, &fl) : NAN;
+        d->M_trial_dev[i] = solve_point(s3, &q, 0, &sol, &fl, msg) == USM_OK
+                                ? usm_report_table_distance(d->paper.table3, d->paper.n3, &fl, 0)
+                                : NAN;
     }
     return USM_OK;
 }

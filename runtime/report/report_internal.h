@@ -278,6 +278,14 @@ extern const int usm_report_sens_outputs[REPORT_NSENS_OUT];
 int usm_report_elasticity_order(const usm_params *p, const usm_sensitivity_result *r, int k,
                             int idx[USM_NPARAMS]);
 
+/* Largest distance between a published table of nt multipliers (each pair
+ * with both members) and the nearest computed ones in r, each used once
+ * (INFINITY when one has no partner); skip_first: the first entry is
+ * matched but not measured (Table 4's pair, whose modulus the paper
+ * prints 1.5 % off). */
+double usm_report_table_distance(const usm_report_published_multiplier *t, int nt,
+                                 const usm_floquet_result *r, int skip_first);
+
 /* Every file name `usm report` writes into its directory (NULL-terminated). */
 extern const char *const usm_report_files[];
 

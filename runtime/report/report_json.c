@@ -36,23 +36,6 @@ static void integer(json_t *o, const char *key, long long v)
     json_object_set_new(o, key, json_integer(v));
 }
 
-/* Largest distance between a published table and the multipliers r. */
-static double table_distance(const usm_report_published_multiplier *t, int nt,
-                             const usm_floquet_result *r, int skip_first)
-{
-    int used[USM_MAX_NX] = {0};
-    double dev = 0;
-    for (int k = 0; k < nt; ++k)
-        for (int sgn = 1; sgn >= (t[k].im > 0 ? -1 : 1); sgn -= 2) {
-            int j = usm_report_match_multiplier(r, t[k].re, sgn * t[k].im, used);
-            if (j < 0)
-                return INFINITY;
-            if (!(skip_first && k == 0))
-                dev = fmax(dev, hypot(r->re[j] - t[k].re, r->im[j] - sgn * t[k].im));
-        }
-    return dev;
-}
-
 /* The multipliers, a conjugate pair once ("pair": re ± im i). */
 static json_t *multipliers(const usm_floquet_result *r)
 {
@@ -145,10 +128,10 @@ static json_t *model(const usm_report_data *d, int k)
     str(o, "name", r->model->name);
     for (int i = 0; i < REPORT_NT0; ++i)
         json_array_append_new(t0, floquet(&r->fl[i], usm_report_t0_label[i],
-                                          table_distance(t, nt, &r->fl[i], k == REPORT_4DOF)));
+                                          usm_report_table_distance(t, nt, &r->fl[i], k == REPORT_4DOF)));
     for (int i = 0; r->integrated && i < 2; ++i)
         json_array_append_new(in, floquet(&r->fl_integrated[i], i ? "T/2" : "0",
-                                          table_distance(t, nt, &r->fl_integrated[i],
+                                          usm_report_table_distance(t, nt, &r->fl_integrated[i],
                                                          k == REPORT_4DOF)));
     json_object_set_new(o, "t0", t0);
     json_object_set_new(o, "integrated", in);
@@ -227,8 +210,8 @@ static json_t *compare(const usm_report_data *d)
     num(o, "table4_first_angle_paper", atan2(pv->table4[0].im, pv->table4[0].re));
     num(o, "table4_first_modulus_percent", 100 * (mod_c / pv->table4[0].modulus - 1));
     num(o, "tables_distance_others",
-        fmax(table_distance(pv->table3, pv->n3, &r3->fl[0], 0),
-             table_distance(pv->table4, pv->n4, fl4, 1)));
+        fmax(usm_report_table_distance(pv->table3, pv->n3, &r3->fl[0], 0),
+             usm_report_table_distance(pv->table4, pv->n4, fl4, 1)));
     /* (e): the friction coefficient the paper's slip load would need */
     num(o, "mu_needed", pv->slip_load.value / (s3->R_star * s3->F_n));
     return o;
