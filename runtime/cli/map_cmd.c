@@ -101,7 +101,10 @@ static int parse(map_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
     cli_common_init(&a->common);
     usm_floquet_options_default(&a->floquet);
     usm_op_options_default(&a->op);
-    a->xpoints = a->ypoints = 33;
+    usm_map_options def; /* the library's default grid */
+    usm_map_options_default(&def);
+    a->xpoints = def.x.points;
+    a->ypoints = def.y.points;
     a->threads = 2;
     for (int i = 1; i < argc; ++i) {
         const char *value;
@@ -202,19 +205,19 @@ static int parse(map_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
 
 /* An axis from the options: the default parameter has a default range,
  * another one needs --?-from and --?-to.  The library checks the values. */
-static int make_axis(usm_report_axis *ax, const char *field, const char *name, const char *def,
-                     double def_from, double def_to, int have_from, double from, int have_to,
+static int make_axis(usm_report_axis *ax, const char *field, const char *name,
+                     const usm_map_axis *def, int have_from, double from, int have_to,
                      double to, int points, char msg[CLI_MSG_LEN])
 {
-    const char *n = name ? name : def;
-    if (strcmp(n, def) != 0 && !(have_from && have_to) && usm_params_find(n)) {
+    const char *n = name ? name : def->name;
+    if (strcmp(n, def->name) != 0 && !(have_from && have_to) && usm_params_find(n)) {
         cli_msg(msg, "%s-%s: required when %s is not %s (the range of %s)", field,
-                have_from ? "to" : "from", field, def, n);
+                have_from ? "to" : "from", field, def->name, n);
         return USM_EINPUT;
     }
     ax->name = n;
-    ax->from = have_from ? from : def_from;
-    ax->to = have_to ? to : def_to;
+    ax->from = have_from ? from : def->from;
+    ax->to = have_to ? to : def->to;
     ax->points = points;
     return USM_OK;
 }
@@ -280,10 +283,12 @@ int cli_map_main(int argc, char **argv)
         return USM_OK;
     }
     memset(&map, 0, sizeof map);
-    if (make_axis(&map.x, "--x", a.xname, usm_param_table[USM_P_f].name, 30000, 46000,
-                  a.have_xfrom, a.xfrom, a.have_xto, a.xto, a.xpoints, msg) != USM_OK ||
-        make_axis(&map.y, "--y", a.yname, usm_param_table[USM_P_T].name, 0, 0.008,
-                  a.have_yfrom, a.yfrom, a.have_yto, a.yto, a.ypoints, msg) != USM_OK) {
+    usm_map_options def; /* the library's default grid */
+    usm_map_options_default(&def);
+    if (make_axis(&map.x, "--x", a.xname, &def.x, a.have_xfrom, a.xfrom, a.have_xto, a.xto,
+                  a.xpoints, msg) != USM_OK ||
+        make_axis(&map.y, "--y", a.yname, &def.y, a.have_yfrom, a.yfrom, a.have_yto, a.yto,
+                  a.ypoints, msg) != USM_OK) {
         cli_error("%s", msg);
         return USM_EINPUT;
     }
