@@ -36,6 +36,7 @@ struct usm_optimize {
     usm_floquet *floquet;
     usm_sensitivity_result *r;
     usm_sensitivity_result *r_root; /* a named root's (root_output: its max_modulus) */
+    int rr_of, rr_ok;     /* root number whose r_root is computed at x (0: none), success */
     usm_root *root;
     /* the run */
     const usm_opt_problem *pb;
@@ -67,6 +68,8 @@ struct usm_optimize {
     double fd_d[USM_OPT_OUTPUT_COUNT][USM_NPARAMS]; /* d(output)/dz */
     usm_params fd_p;      /* the parameters of the last continued solution */
     double fd_r[USM_OPT_OUTPUT_COUNT][USM_NPARAMS]; /* a named root's (root_output) */
+    int fdr_of, fdr_ok;   /* root number whose fd_r is computed at x (0: none), success */
+    double fdr_h;         /* with this step */
     char msg[USM_MSG_LEN];
 };
 
@@ -401,6 +404,7 @@ static void evaluate(usm_optimize *o, const double *x)
     o->have = 1;
     o->solved = 0;
     o->fd_have = 0;
+    o->rr_of = o->fdr_of = 0; /* the named roots' caches belong to the last x */
     o->evaluations++;
     o->p = o->base;
     for (int k = 0; k < pb->nvary; ++k) {
@@ -589,8 +593,11 @@ static int root_output(usm_optimize *o, int r, int k, double *y, double *grad)
         /* that root's multipliers and their analytic derivative (the same
          * computation as the judged root's, on this root) */
         const usm_sensitivity_result *rr = o->r_root;
-        if (usm_sensitivity_compute(o->sens, &o->p, s, 1, o->r_root) != USM_OK ||
-            !isfinite(rr->value[USM_SENS_MAX_MODULUS]) ||
+        if (o->rr_of != r) { /* once per root and point: constraints share it */
+            o->rr_of = r;
+            o->rr_ok = usm_sensitivity_compute(o->sens, &o->p, s, 1, o->r_root) == USM_OK;
+        }
+        if (!o->rr_ok || !isfinite(rr->value[USM_SENS_MAX_MODULUS]) ||
             (grad && !rr->defined[USM_SENS_MAX_MODULUS]))
             return -1;
         const double sign = k == USM_OPT_MARGIN ? -1.0 : 1.0;
@@ -603,7 +610,12 @@ static int root_output(usm_optimize *o, int r, int k, double *y, double *grad)
     if (!isfinite(*y))
         return -1;
     if (grad) {
-        if (fd_root(o, s, o->fd_step, o->fd_r) != 0)
+        if (o->fdr_of != r || o->fdr_h != o->fd_step) {
+            o->fdr_of = r;
+            o->fdr_h = o->fd_step;
+            o->fdr_ok = fd_root(o, s, o->fd_step, o->fd_r) == 0;
+        }
+        if (!o->fdr_ok)
             return -1;
         for (int i = 0; i < o->pb->nvary; ++i)
             grad[i] = o->fd_r[k][i];
