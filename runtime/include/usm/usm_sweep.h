@@ -34,6 +34,10 @@
  *                        named in `what`
  * The points of the result are the requested grid values lambda_i on the
  * branch, in sweep order.
+ * An event is found where its quantity changes sign between the two ends of
+ * an accepted continuation step (at most 1/20 of the range): a quantity
+ * that changes sign twice within one step (a level crossed twice, an
+ * extremum pair, stick lost and regained) is not reported.
  *
  * Thread safety: as usm.h.  Distinct sweeps may run in distinct threads at
  * the same time; one usm_sweep must not be shared without a lock.
