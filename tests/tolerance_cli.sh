@@ -63,6 +63,23 @@ if expect_rc 0 $T --out "$tmp/full"; then
     grep -qi 'nan\|inf' "$tmp/full/samples.csv" && fail "samples.csv has nan/inf"
     if command -v gnuplot >/dev/null; then
         [ -s "$tmp/full/histograms.png" ] && [ -s "$tmp/full/histograms.svg" ] || fail "no histograms"
+        # the key names each bound as drawn (within one data span of the
+        # samples) or as off the axis, judged here from samples.csv
+        python3 - "$tmp/full" <<'PY' || fail "histogram key: bounds not named as drawn"
+import csv, sys
+rows = list(csv.DictReader(open(sys.argv[1] + "/samples.csv")))
+import html
+svg = html.unescape(open(sys.argv[1] + "/histograms.svg").read())
+def key(col, bound, what):
+    v = [float(r[col]) for r in rows if r[col]]
+    lo, hi = min(v), max(v)
+    near = lo - (hi - lo) <= bound <= hi + (hi - lo)
+    want = ("dashed: %s %g" % (what, bound) if near else
+            "%s %g off the axis, %s every sample" % (what, bound, "above" if bound > hi else "below"))
+    assert want in svg, (want, lo, hi)
+key("rotor_speed [1/s]", -5, "spec <=")
+key("max_modulus [1]", 1, "stability limit")
+PY
     fi
     cp "$out" "$tmp/full.stdout"
 fi

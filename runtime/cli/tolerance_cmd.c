@@ -3,6 +3,7 @@
 #define _POSIX_C_SOURCE 200809L
 
 #include <errno.h>
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
@@ -233,8 +234,26 @@ static int write_out(const tol_args *a, const usm_tolerance *t, char msg[CLI_MSG
     }
     snprintf(prefix, sizeof prefix, "%s/histograms", a->out);
     snprintf(csv, sizeof csv, "%s/samples.csv", a->out);
-    const char *names[] = {"csv"}, *values[] = {csv};
-    rc = usm_plot_render("tolerance", prefix, names, values, 1, msg);
+    /* the figure draws the bounds a sample is judged by: the tightest
+     * --spec on rotor_speed each way, and on max_modulus (else 1) */
+    char lo[32] = "", hi[32] = "", mod[32] = "1";
+    double slo = -HUGE_VAL, shi = HUGE_VAL, mhi = 1.0;
+    for (int j = 0; j < a->nspec; ++j) {
+        const usm_tolerance_spec *s = &a->spec[j];
+        if (s->output == USM_TOL_ROTOR_SPEED && s->upper && s->bound < shi)
+            shi = s->bound, snprintf(hi, sizeof hi, "%.17g", s->bound);
+        else if (s->output == USM_TOL_ROTOR_SPEED && !s->upper && s->bound > slo)
+            slo = s->bound, snprintf(lo, sizeof lo, "%.17g", s->bound);
+        else if (s->output == USM_TOL_MAX_MODULUS && s->upper && s->bound < mhi)
+            mhi = s->bound, snprintf(mod, sizeof mod, "%.17g", s->bound);
+    }
+    const char *names[4] = {"csv", "modulus_hi"}, *values[4] = {csv, mod};
+    int n = 2;
+    if (lo[0])
+        names[n] = "speed_lo", values[n++] = lo;
+    if (hi[0])
+        names[n] = "speed_hi", values[n++] = hi;
+    rc = usm_plot_render("tolerance", prefix, names, values, n, msg);
     if (rc == USM_ENOSOLUTION) /* no gnuplot: the data and script are there */
         cli_error("warning: %s", msg);
     return rc == USM_ENOSOLUTION ? USM_OK : rc;
