@@ -148,18 +148,6 @@ const char *usm_sensitivity_message(const usm_sensitivity *s)
     return s->msg;
 }
 
-/* C = A B for n x n row-major arrays. */
-static void matmul(int n, const double *A, const double *B, double *C)
-{
-    for (int i = 0; i < n; ++i)
-        for (int j = 0; j < n; ++j) {
-            double acc = 0;
-            for (int k = 0; k < n; ++k)
-                acc += A[i * n + k] * B[k * n + j];
-            C[i * n + j] = acc;
-        }
-}
-
 /* out = A^-1 (row-major n x n) with GSL LU. */
 static int invert(usm_sensitivity *s, const double *A, double *out)
 {
@@ -283,11 +271,11 @@ static int coefficients(usm_sensitivity *s, const usm_params *p, const usm_stead
     s->m->linearisation(orbit, orbit + n, t, p, lin);
     for (int i = 0; i < n * n; ++i)
         A[i] = lin[n * n + i] - lin[2 * n * n + i];
-    matmul(n, lin, s->Tinv, Mt);
-    matmul(n, A, s->Tinv, At);
+    usm_matmul_dense(n, lin, s->Tinv, Mt);
+    usm_matmul_dense(n, A, s->Tinv, At);
     if (invert(s, Mt, st->Minv) != 0)
         return -1;
-    matmul(n, st->Minv, At, st->G);
+    usm_matmul_dense(n, st->Minv, At, st->G);
     for (int i = 0; i < n; ++i)
         for (int j = 0; j < n; ++j)
             st->Gh[i * n + j] = st->G[i * n + j] * s->d[j] / s->d[i];
@@ -374,7 +362,7 @@ static int product(usm_sensitivity *s, const usm_params *p, const usm_steady_sol
         if (coefficients(s, p, sol, s->t0 + (k + 0.5) * h, &steps[k]) != 0 ||
             expm(s, steps[k].Gh, h, steps[k].E) != 0)
             return -1;
-        matmul(n, steps[k].E, Bh, W);
+        usm_matmul_dense(n, steps[k].E, Bh, W);
         memcpy(Bh, W, sizeof W[0] * (size_t)(n * n));
     }
     return 0;
@@ -441,7 +429,7 @@ static int weights(usm_sensitivity *s, int N, const step *steps, double h, doubl
                     acc += steps[k].Minv[l * n + i] * K[l * n + j];
                 P[i * n + j] = h * acc;
             }
-        matmul(n, s->Tinv, steps[k].G, TG);
+        usm_matmul_dense(n, s->Tinv, steps[k].G, TG);
         for (int i = 0; i < n; ++i)
             for (int j = 0; j < n; ++j) {
                 double complex a1 = 0, a2 = 0;
