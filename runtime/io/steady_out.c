@@ -77,17 +77,20 @@ json_t *usm_steady_json(const usm_steady_report *r)
     for (size_t k = 0; k < n; ++k) {
         json_t *root = usm_json_root(usm_steady_root(r->steady, k));
         /* each root's own multipliers, the keys of the top-level "floquet" */
-        if (root && r->roots_floquet)
+        if (root && r->roots_floquet) {
             usm_json_put(root, "floquet", usm_json_floquet(&r->roots_floquet[k]), &ok);
+            usm_json_put_squeal(root, &r->roots_floquet[k], r->params->f, &ok);
+        }
         if (json_array_append_new(roots, root) != 0)
             ok = 0;
     }
     usm_json_put(obj, "roots", roots, &ok);
-    if (r->floquet)
-        usm_json_put(obj, "floquet",
-                     usm_json_floquet(top_root(r) > 0 ? &r->roots_floquet[top_root(r)]
-                                                      : r->floquet),
-                     &ok);
+    if (r->floquet) {
+        const usm_floquet_result *fl =
+            top_root(r) > 0 ? &r->roots_floquet[top_root(r)] : r->floquet;
+        usm_json_put(obj, "floquet", usm_json_floquet(fl), &ok);
+        usm_json_put_squeal(obj, fl, r->params->f, &ok);
+    }
     if (r->op && !r->error)
         put_operating_point(obj, r->op, &ok);
     if (!ok) {
