@@ -17,8 +17,9 @@
  * delta = +-(2 alpha - 1) / (alpha + 1), and W(delta) = |sinc(delta)| /
  * (1 - delta^2) the window's response to a sinusoid delta bins off a bin;
  * exact for one sinusoid, off by the leakage of the others (in the unit
- * test, three lines 20 bins apart: frequencies to 1e-4 bin, amplitudes to
- * 1e-4 relative).  Lines below 1e-9 of the strongest are not reported.
+ * test, four lines 200 bins or more apart: frequencies to 5e-9 bin,
+ * amplitudes to 6e-10 relative).  Lines below 1e-9 of the strongest are not
+ * reported.
  *
  * Harmonics.  With the excitation frequency f, a line is the harmonic k f
  * (k >= 1) when |frequency - k f| <= 1.5 df: the Hann main lobe is 2 bins
