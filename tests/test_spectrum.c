@@ -179,6 +179,17 @@ static void test_recorder(void)
         CHECK(r.have_nonharmonic[c] && fabs(r.nonharmonic[c].frequency - (F - FS)) < 1e-3 * r.df,
               "channel %d: strongest non-harmonic %g Hz, want %g", c, r.nonharmonic[c].frequency,
               F - FS);
+    /* the parasitic vibration: the two sidebands' RMS, the harmonics and the
+     * mean removed by the synchronous average (measured 1.2e-5 relative: the
+     * sidebands' own average over 370 periods) */
+    {
+        const double want = sqrt((A[2] * A[2] + A[3] * A[3]) / 2);
+        printf("parasitic_rms: %.3g relative\n",
+               fabs(r.parasitic_rms[USM_SPECTRUM_ROTOR_SPEED] / want - 1));
+        CHECK(fabs(r.parasitic_rms[USM_SPECTRUM_ROTOR_SPEED] / want - 1) < 1e-4 &&
+                  fabs(r.parasitic_rms[USM_SPECTRUM_F_N] / (10 * want) - 1) < 1e-4,
+              "parasitic_rms %.9g, want %.9g", r.parasitic_rms[USM_SPECTRUM_ROTOR_SPEED], want);
+    }
     /* a window of 100 periods: 1000 samples */
     opt.periods = 100;
     CHECK(usm_sim_spectrum_compute(s, &opt, &r, msg) == USM_OK && r.samples == 1000 &&
@@ -198,9 +209,9 @@ static void test_recorder(void)
     record(s, 23.37 * F, 740.0 / F, 300 / F);
     opt.periods = 370;
     CHECK(usm_sim_spectrum_compute(s, &opt, &r, msg) == USM_OK, "resampled: %s", msg);
-    CHECK(r.resampled && r.samples == (size_t)llround(370 * 23.37), "resampled %d samples %zu",
+    CHECK(r.resampled && r.samples == 370 * 23, "resampled %d samples %zu",
           r.resampled, r.samples);
-    /* measured: frequencies to 8e-5 bin, amplitudes to 1.2e-3 relative (the
+    /* measured: frequencies to 2e-9 bin, amplitudes to 2.4e-3 relative (the
      * spline's error at 5.8 samples per period of the 4 f line) */
     check_lines("resampled", r.lines[USM_SPECTRUM_ROTOR_SPEED], r.nlines[USM_SPECTRUM_ROTOR_SPEED],
                 r.df, 1e-3, 5e-3);

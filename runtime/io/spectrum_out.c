@@ -69,6 +69,7 @@ json_t *usm_json_sim_spectrum(const usm_sim_spectrum_result *r, const char *csv)
         json_t *co = json_object(), *lines = json_array();
         int cok = co && lines;
         usm_json_put(co, "unit", json_string(usm_spectrum_channel_unit(c)), &cok);
+        usm_json_put(co, "parasitic_rms", usm_json_real(r->parasitic_rms[c]), &cok);
         for (size_t q = 0; q < r->nlines[c] && cok; ++q)
             if (json_array_append_new(lines, line_json(&r->lines[c][q])) != 0)
                 cok = 0;
@@ -108,7 +109,9 @@ void usm_sim_spectrum_write_table(const usm_sim_spectrum_result *r, const char *
             r->samples, r->resampled ? " (resampled by a cubic spline)" : "", r->df, r->seconds);
     for (int c = 0; c < USM_SPECTRUM_NCHANNELS; ++c) {
         const char *unit = usm_spectrum_channel_unit(c);
-        fprintf(out, "  %s [%s]: strongest lines\n", usm_spectrum_channel_name(c), unit);
+        fprintf(out, "  %s [%s]: not repeating with the excitation period (RMS) %.4g %s; "
+                     "strongest lines\n",
+                usm_spectrum_channel_name(c), unit, r->parasitic_rms[c], unit);
         for (size_t q = 0; q < r->nlines[c]; ++q)
             line_text(out, &r->lines[c][q], r->f, unit, "  ");
         if (r->have_nonharmonic[c]) {

@@ -313,6 +313,41 @@ static int grid_values(const usm_sim_spectrum *s, double t_from, double dt, size
     return rc;
 }
 
+/* The RMS of x[0..N m - 1] (N periods of m points) minus its synchronous
+ * average: the mean over the N periods of the points at the same phase. */
+static double parasitic_rms(const double *x, size_t N, size_t m)
+{
+    double sum = 0.0;
+    for (size_t i = 0; i < m; ++i) {
+        double avg = 0.0;
+        for (size_t k = 0; k < N; ++k)
+            avg += x[k * m + i];
+        avg /= (double)N;
+        for (size_t k = 0; k < N; ++k) {
+            const double r = x[k * m + i] - avg;
+            sum += r * r;
+        }
+    }
+    return sqrt(sum / (double)(N * m));
+}
+
+/* The grid: m = round(rate / f) >= 4 points per period, n = N m in all
+ * (at most 1e9).  USM_OK, or USM_EINPUT with msg. */
+static int grid_size(double rate, double f, long N, size_t *m_out, char msg[USM_MSG_LEN])
+{
+    const double m = round(rate / f);
+    if (!(m >= 4) || m * (double)N > 1e9) {
+        snprintf(msg, USM_MSG_LEN,
+                 "rate: %.6g samples per second give %.0f points per excitation period and "
+                 "%.0f over the window (at least 4 per period, at most 1e9 in all)",
+                 rate, m, m * (double)N);
+        return USM_EINPUT;
+    }
+    if (m_out)
+        *m_out = (size_t)m;
+    return USM_OK;
+}
+
 /* The options, and the window's N whole periods for samples spanning span
  * seconds. */
 static int check(const usm_sim_spectrum_options *opt, double span, long *N_out,
@@ -354,13 +389,8 @@ static int check(const usm_sim_spectrum_options *opt, double span, long *N_out,
                  "%.6g s (%ld whole periods)", N, (double)N * T, span, whole);
         return USM_EINPUT;
     }
-    const double nd = round((double)N * T * opt->rate);
-    if (opt->rate > 0 && (!(nd >= 16) || nd > 1e9)) {
-        snprintf(msg, USM_MSG_LEN,
-                 "rate: %.6g samples per second give %.0f points over the window of %.6g s "
-                 "(16 to 1e9 needed)", opt->rate, nd, (double)N * T);
+    if (opt->rate > 0 && grid_size(opt->rate, f, N, NULL, msg) != USM_OK)
         return USM_EINPUT;
-    }
     *N_out = N;
     return USM_OK;
 }
@@ -385,14 +415,10 @@ int usm_sim_spectrum_compute(usm_sim_spectrum *s, const usm_sim_spectrum_options
     const double f = opt->f, T = 1.0 / f;
     const double L = (double)N * T;
     const double rate = opt->rate > 0 ? opt->rate : (double)(s->n - 1) / span;
-    const double nd = round(L * rate);
-    if (!(nd >= 16) || nd > 1e9) {
-        snprintf(msg, USM_MSG_LEN,
-                 "rate: %.6g samples per second give %.0f points over the window of %.6g s "
-                 "(16 to 1e9 needed)", rate, nd, L);
+    size_t m;
+    if (grid_size(rate, f, N, &m, msg) != USM_OK)
         return USM_EINPUT;
-    }
-    const size_t n = (size_t)nd, nb = n / 2 + 1;
+    const size_t n = (size_t)N * m, nb = n / 2 + 1;
     double *g[USM_SPECTRUM_NCHANNELS] = {NULL};
     int status = USM_OK;
     for (int c = 0; c < USM_SPECTRUM_NCHANNELS; ++c)
@@ -413,6 +439,8 @@ int usm_sim_spectrum_compute(usm_sim_spectrum *s, const usm_sim_spectrum_options
         status = USM_EFAILED;
     if (status != USM_OK)
         snprintf(msg, USM_MSG_LEN, "out of memory (a spectrum of %zu samples)", n);
+    for (int c = 0; c < USM_SPECTRUM_NCHANNELS && status == USM_OK; ++c)
+        out->parasitic_rms[c] = parasitic_rms(g[c], (size_t)N, m);
     for (int c = 0; c < USM_SPECTRUM_NCHANNELS && status == USM_OK; ++c) {
         size_t nl;
         if ((status = usm_spectrum_amplitude(g[c], n, out->dt, s->amp[c], msg)) != USM_OK) {

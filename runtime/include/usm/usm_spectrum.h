@@ -36,10 +36,19 @@
  * half (the first half is taken as the start-up transient).  A window of N
  * whole periods puts the harmonics k f exactly on the bins k N: they do not
  * leak.  The window [t_end - N T, t_end) is sampled on the uniform grid of
- * n = round(N T rate) points (rate: the sampling rate, by default the
- * recorded samples' mean rate); where a grid point is not a sample (a rate
- * that is not a multiple of f / N, samples not uniform) the samples are
- * resampled by a natural cubic spline (GSL) and `resampled` says so.
+ * m = round(rate / f) >= 4 points per period, n = N m in all (rate: the
+ * sampling rate, by default the recorded samples' mean rate); where a grid
+ * point is not a sample (a rate that is not a multiple of f, samples not
+ * uniform) the samples are resampled by a natural cubic spline (GSL) and
+ * `resampled` says so.
+ *
+ * The parasitic vibration.  parasitic_rms is the RMS over the window of the
+ * signal minus its synchronous average (the mean over the window's N periods
+ * of the grid points at the same phase): everything that does not repeat
+ * with the excitation period, the squeal's lines and any drift (Parseval:
+ * the power of the unwindowed spectrum off the bins k N).  On a periodic
+ * orbit it is 0 up to the integration error; past a Neimark-Sacker point it
+ * measures the emerging vibration.
  *
  * Thread safety: no global state; one usm_sim_spectrum per thread.  The
  * caller sets GSL's error handler (usm.h).
@@ -122,6 +131,8 @@ typedef struct usm_sim_spectrum_result {
     int have_nonharmonic[USM_SPECTRUM_NCHANNELS];
     usm_spectrum_line nonharmonic[USM_SPECTRUM_NCHANNELS]; /* the strongest line that is
                                    not a harmonic of f (among all local maxima) */
+    double parasitic_rms[USM_SPECTRUM_NCHANNELS]; /* RMS of the part that does not
+                                   repeat with the excitation period (header comment) */
     double seconds;             /* wall time of usm_sim_spectrum_compute [s] */
 } usm_sim_spectrum_result;
 
