@@ -305,6 +305,9 @@ json_t *usm_report_squeal_json(const usm_report_data *d)
     num(o, "seconds", sq->seconds);
     num(o, "from_percent", 100 * sq->from);
     num(o, "to_percent", 100 * sq->to);
+    num(o, "duration_ms", 1e3 * sq->duration);
+    json_object_set_new(o, "periods", json_integer(sq->periods));
+    num(o, "resolution", sq->ok ? sq->df : NAN);
     if (!sq->ok) {
         json_decref(pts);
         return o;
@@ -318,9 +321,6 @@ json_t *usm_report_squeal_json(const usm_report_data *d)
     num(o, "squeal_order", sq->ns_frequency / sq->f);
     num(o, "lower_kHz", 1e-3 * (sq->f - sq->ns_frequency));
     num(o, "upper_kHz", 1e-3 * (sq->f + sq->ns_frequency));
-    num(o, "duration_ms", 1e3 * sq->duration);
-    json_object_set_new(o, "periods", json_integer(sq->periods));
-    num(o, "resolution", sq->df);
     {
         const usm_report_squeal_point *sp = &sq->pt[sq->spectrum_pt];
         json_t *s = json_object();
