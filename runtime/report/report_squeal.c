@@ -211,6 +211,8 @@ int usm_report_compute_squeal(usm_report_data *d, char msg[USM_IO_MSG_LEN])
         if (rel[i] == REL_SPECTRUM)
             sq->spectrum_pt = i;
     }
+    if (sq->spectrum_pt < 0) /* not reached: both lists hold REL_SPECTRUM */
+        sq->spectrum_pt = 0;
     pool_job job = {(size_t)n, d->opt.threads, d, state_alloc, state_free, point_task, NULL};
     if (pool_run(&job, pmsg) != USM_OK) {
         usm_io_msg(msg, "the squeal: %s", pmsg[0] ? pmsg : "out of memory");
