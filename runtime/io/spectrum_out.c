@@ -106,7 +106,9 @@ void usm_sim_spectrum_write_table(const usm_sim_spectrum_result *r, const char *
     fprintf(out, "  %-22s %s%sHann window over the last %ld excitation periods, t in [%.6g, "
                  "%.6g] s: %zu samples%s, resolution %.6g Hz (%.3g s)\n",
             "spectrum", csv ? csv : "", csv ? ": " : "", r->periods, r->t_from, r->t_to,
-            r->samples, r->resampled ? " (resampled by a cubic spline)" : "", r->df, r->seconds);
+            r->samples, r->resampled ? " (resampled by a cubic spline: the spline's error shows as weak image "
+                           "lines; a --rate that is a multiple of f avoids it)"
+                         : "", r->df, r->seconds);
     for (int c = 0; c < USM_SPECTRUM_NCHANNELS; ++c) {
         const char *unit = usm_spectrum_channel_unit(c);
         fprintf(out, "  %s [%s]: not repeating with the excitation period (RMS) %.4g %s; "
