@@ -40,7 +40,9 @@
  * sampling rate, by default the recorded samples' mean rate); where a grid
  * point is not a sample (a rate that is not a multiple of f, samples not
  * uniform) the samples are resampled by a natural cubic spline (GSL) and
- * `resampled` says so.
+ * `resampled` says so (the spline's error then shows as weak image lines of
+ * the strong ones, about (2 pi / points per period of the line)^4 / 384 of
+ * their amplitude).
  *
  * The parasitic vibration.  parasitic_rms is the RMS over the window of the
  * signal minus its synchronous average (the mean over the window's N periods
