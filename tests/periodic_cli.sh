@@ -13,7 +13,8 @@ USM=${1:?usage: periodic_cli.sh PATH/TO/usm}
 
 KEYS="['model','parameters','converged','rotor_speed_mean','rotor_speed_ripple','F_n_min','F_n_max',
 'friction_needed_max','theta_mean','theta_min','theta_max','harmonic_2','floquet','contact_open',
-'newton_iterations','residual','valid','invalid_reason']"
+'newton_iterations','residual','valid','invalid_reason','squeal_frequency','squeal_multiplier',
+'squeal_reason']"
 
 # the paper's twist law has no periodic orbit in these coordinates: exit 2, the reason
 expect_bad "model 3dof" "twist" periodic --variant paper

@@ -136,7 +136,7 @@ static void sim_round_trip(const char *model)
     char json_path[] = "/tmp/usm-test-io-XXXXXX";
     fd = mkstemp(json_path);
     FILE *jf = fd >= 0 ? fdopen(fd, "w") : NULL;
-    usm_sim_report rep = {m, &p, &opt, NULL, csv_path, &sum, 0.0};
+    usm_sim_report rep = {m, &p, &opt, NULL, csv_path, &sum, 0.0, NULL, NULL, NULL};
     CHECK(jf && usm_sim_write_json(&rep, jf) == 0 && fclose(jf) == 0, "%s: JSON not written",
           model);
     usm_sim_options_default(&back);

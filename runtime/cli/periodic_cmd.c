@@ -123,6 +123,14 @@ static void table(const usm_periodic_result *r, const char *model)
     for (int i = 0; i < r->floquet.n; ++i)
         printf("    %+.10f %+.10fi%s\n", r->floquet.re[i], r->floquet.im[i],
                r->floquet.cyclic[i] ? "  (cyclic coordinate)" : "");
+    usm_squeal sq;
+    usm_floquet_squeal(&r->floquet, 1.0 / r->period, &sq);
+    if (sq.found)
+        printf("  squeal frequency   %.8g Hz (%.6f f): the dominant complex pair %.10f +-%.10fi "
+               "(|lambda| %.10g)\n",
+               sq.frequency, sq.frequency * r->period, sq.re, sq.im, sq.modulus);
+    else
+        printf("  squeal frequency   none: %s\n", sq.reason);
 }
 
 int cli_periodic_main(int argc, char **argv)

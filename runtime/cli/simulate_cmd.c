@@ -18,6 +18,7 @@
 #include "usm_io.h"
 #include "usm_plot.h"
 #include "usm_simulate.h"
+#include "usm_spectrum.h"
 
 /* More rows than anyone can look at; a typo in --rate or --duration. */
 #define MAX_ROWS 100000000.0
@@ -29,7 +30,7 @@ static void usage(FILE *out)
             "                    [--set NAME=VALUE]...\n"
             "                    --duration S [--from rest|stationary|FILE] [--out FILE.csv]\n"
             "                    [--force] [--rate HZ] [--tilt0 RAD] [--rtol R] [--plot PREFIX]\n"
-            "                    [--json]\n"
+            "                    [--spectrum PREFIX [--spectrum-periods N]] [--json]\n"
             "\n"
             "Integrate the full nonlinear model M(x) x' = f(x, t) (CVODES, BDF) from the motor\n"
             "at rest, write the time history as CSV and report whether and when the motion\n"
@@ -61,6 +62,13 @@ static void usage(FILE *out)
             "                      0: no limit; see docs/simulate.md)\n"
             "  --plot PREFIX       write PREFIX.gp and run gnuplot: PREFIX.png, PREFIX.svg\n"
             "                      (needs --out)\n"
+            "  --spectrum PREFIX   amplitude spectrum (Hann window, FFT) of the rotor speed,\n"
+            "                      tilt and F_n over the settled part of the run: PREFIX.csv,\n"
+            "                      PREFIX.gp, PREFIX.png, PREFIX.svg; its strongest lines in the\n"
+            "                      summary (harmonics of f or not; see docs/simulate.md).  The\n"
+            "                      time history goes only to --out, not to stdout\n"
+            "  --spectrum-periods N  the settled part: the last N whole excitation periods\n"
+            "                      (default: the whole periods of the run's second half)\n"
             "  -h, --help          print this help\n"
             "\n"
             "CSV columns: t [s], phi theta psi [rad], phidot thetadot psidot [rad/s],\n"
@@ -80,6 +88,8 @@ typedef struct sim_args {
     const char *from_file;
     const char *out;
     const char *plot;
+    const char *spectrum;
+    long spectrum_periods; /* 0: the library's default */
     int force;
     int rate_set;
     int duration_set;
@@ -115,7 +125,7 @@ static int parse(sim_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
     const char *const num_opt[] = {"--duration",    "--rate",         "--tilt0",
                                    "--rtol",        "--settle-tol",   "--theta-limit",
                                    "--speed-limit", "--max-twist-growth", "--settle-periods",
-                                   "--max-steps"};
+                                   "--max-steps",   "--spectrum-periods"};
     memset(a, 0, sizeof *a);
     cli_common_init(&a->common);
     usm_sim_options_default(o);
@@ -137,7 +147,7 @@ static int parse(sim_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
             a->force = 1;
             continue;
         }
-        for (int k = 0; k < 10 && which < 0; ++k) {
+        for (int k = 0; k < 11 && which < 0; ++k) {
             if ((r = cli_option_value(argc, argv, &i, num_opt[k], &sv, msg)) == CLI_OPT_ERROR)
                 return USM_EINPUT;
             if (r == CLI_OPT_TAKEN)
@@ -146,26 +156,28 @@ static int parse(sim_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
         if (which >= 0) {
             double v;
             /* the units of --duration, --rate, --tilt0, --theta-limit, --speed-limit */
-            static const char *const num_unit[] = {"s", "Hz", "rad", NULL, NULL,
-                                                   "rad", "1/s", NULL, NULL, NULL};
+            static const char *const num_unit[] = {"s", "Hz", "rad", NULL, NULL, "rad",
+                                                   "1/s", NULL, NULL, NULL, NULL};
             if (cli_parse_quantity(num_opt[which], num_unit[which], sv, &v, msg) != USM_OK)
                 return USM_EINPUT;
             if (which < 8)
                 *num[which] = v;
-            else if (v != floor(v) || v < 1 || v > (which == 8 ? 1e8 : 1e15)) {
+            else if (v != floor(v) || v < 1 || v > (which == 9 ? 1e15 : 1e8)) {
                 cli_msg(msg, "%s: must be a whole number in [1, %.0f]", num_opt[which],
-                        which == 8 ? 1e8 : 1e15);
+                        which == 9 ? 1e15 : 1e8);
                 return USM_EINPUT;
             } else if (which == 8)
                 o->settle_periods = (int)v;
-            else
+            else if (which == 9)
                 o->max_steps = (long)v;
+            else
+                a->spectrum_periods = (long)v;
             a->duration_set |= which == 0;
             a->rate_set |= which == 1;
             continue;
         }
-        const char *const str_opt[] = {"--from", "--out", "--plot"};
-        for (int k = 0; k < 3 && which < 0; ++k) {
+        const char *const str_opt[] = {"--from", "--out", "--plot", "--spectrum"};
+        for (int k = 0; k < 4 && which < 0; ++k) {
             if ((r = cli_option_value(argc, argv, &i, str_opt[k], &sv, msg)) == CLI_OPT_ERROR)
                 return USM_EINPUT;
             if (r == CLI_OPT_TAKEN)
@@ -187,6 +199,8 @@ static int parse(sim_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
             }
         } else if (which == 1 || which == 2) {
             *(which == 1 ? &a->out : &a->plot) = sv;
+        } else if (which == 3) {
+            a->spectrum = sv;
         } else {
             cli_msg(msg, "%s: %s (see usm simulate --help)", argv[i],
                     argv[i][0] == '-' ? "unknown option" : "unexpected argument");
@@ -205,6 +219,18 @@ static int parse(sim_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
         cli_msg(msg, "--rate 0 writes no time history; drop --out/--plot or give a rate");
         return USM_EINPUT;
     }
+    if (a->spectrum_periods && !a->spectrum) {
+        cli_msg(msg, "--spectrum-periods: needs --spectrum");
+        return USM_EINPUT;
+    }
+    if (a->spectrum && a->rate_set && o->rate == 0) {
+        cli_msg(msg, "--rate 0 records no samples; --spectrum needs a rate (default 10 f)");
+        return USM_EINPUT;
+    }
+    if (a->spectrum && a->plot && strcmp(a->spectrum, a->plot) == 0) {
+        cli_msg(msg, "--spectrum: the same PREFIX as --plot (both write PREFIX.gp/.png/.svg)");
+        return USM_EINPUT;
+    }
     return cli_common_finish(&a->common, msg);
 }
 
@@ -212,6 +238,10 @@ static int parse(sim_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
 
 typedef struct run_io {
     FILE *csv;
+    usm_sim_spectrum *spec; /* --spectrum: the recorded samples */
+    int spec_failed;        /* out of memory recording them */
+    usm_sim_spectrum_result *spec_result;
+    int have_spec;          /* spec_result holds the spectrum */
     int progress;          /* draw a progress bar on stderr */
     double last_draw;      /* wall time of the last redraw */
     int drawn;
@@ -228,7 +258,83 @@ static double now(void)
 
 static int on_sample(const usm_sim_sample *s, void *data)
 {
-    return usm_sim_csv_row(s, ((run_io *)data)->csv) != 0;
+    run_io *io = data;
+    if (io->spec && usm_sim_spectrum_add(io->spec, s) != 0)
+        return io->spec_failed = 1;
+    return io->csv && usm_sim_csv_row(s, io->csv) != 0;
+}
+
+static void spectrum_free(run_io *io)
+{
+    usm_sim_spectrum_free(io->spec);
+    free(io->spec_result);
+    io->spec = NULL;
+    io->spec_result = NULL;
+}
+
+/* The message of usm_plot_csv_check / usm_plot_csv_write ("--plot ...") as
+ * the option --spectrum's. */
+static void spectrum_msg(char msg[CLI_MSG_LEN])
+{
+    if (strncmp(msg, "--plot", 6) == 0) {
+        char tmp[CLI_MSG_LEN];
+        snprintf(tmp, sizeof tmp, "--spectrum%.*s", CLI_MSG_LEN - 16, msg + 6);
+        snprintf(msg, CLI_MSG_LEN, "%s", tmp);
+    }
+}
+
+static int spectrum_csv(FILE *out, const void *data)
+{
+    const run_io *io = data;
+    return usm_sim_spectrum_write_csv(io->spec, io->spec_result, out);
+}
+
+/* --spectrum after the run: the spectrum of the samples (io->spec_result),
+ * PREFIX.csv, and PREFIX.gp run by gnuplot.  USM_OK; otherwise msg says why
+ * (USM_EINPUT: the run was too short for the window asked for). */
+static int spectrum_write(const sim_args *a, run_io *io, char msg[CLI_MSG_LEN])
+{
+    usm_sim_spectrum_options so;
+    char lib[USM_MSG_LEN];
+    usm_sim_spectrum_options_default(&so);
+    so.f = a->common.params.f;
+    so.periods = a->spectrum_periods;
+    so.rate = a->opt.rate;
+    int rc = usm_sim_spectrum_compute(io->spec, &so, io->spec_result, lib);
+    if (rc != USM_OK) {
+        /* "periods: ..." is the option's */
+        if (strncmp(lib, "periods:", 8) == 0)
+            cli_msg(msg, "--spectrum-periods:%s", lib + 8);
+        else
+            cli_msg(msg, "--spectrum: %s", lib);
+        return rc;
+    }
+    io->have_spec = 1;
+    if ((rc = usm_plot_csv_write(a->spectrum, a->force, spectrum_csv, io, msg)) != USM_OK) {
+        spectrum_msg(msg);
+        return rc;
+    }
+    char csv[4096], title[256], num[8][32];
+    const usm_sim_spectrum_result *r = io->spec_result;
+    snprintf(csv, sizeof csv, "%s.csv", a->spectrum);
+    snprintf(title, sizeof title,
+             "usm simulate, model %s: amplitude spectrum over t = %.4g to %.4g ms (%ld periods, "
+             "Hann window)", a->common.model->name, r->t_from * 1e3, r->t_to * 1e3, r->periods);
+    static const char *const names[] = {"csv", "title", "f", "nh_rotor_speed", "nh_theta",
+                                        "nh_F_n", "nh_rotor_speed_amp", "nh_theta_amp",
+                                        "nh_F_n_amp", "fmax"};
+    const char *values[10] = {csv, title, num[0], num[1], num[2], num[3], num[4], num[5], num[6],
+                              num[7]};
+    snprintf(num[0], 32, "%.17g", r->f);
+    for (int c = 0; c < USM_SPECTRUM_NCHANNELS; ++c) {
+        snprintf(num[1 + c], 32, "%.17g", r->have_nonharmonic[c] ? r->nonharmonic[c].frequency : 0.0);
+        snprintf(num[4 + c], 32, "%.17g", r->have_nonharmonic[c] ? r->nonharmonic[c].amplitude : 0.0);
+    }
+    snprintf(num[7], 32, "%.17g", (double)(r->bins - 1) * r->df);
+    rc = usm_plot_render("spectrum", a->spectrum, names, values, 10, msg);
+    if (rc != USM_OK)
+        spectrum_msg(msg);
+    return rc;
 }
 
 /* Said before the run starts on a terminal, so that a slow run is not a
@@ -312,20 +418,48 @@ static int run(sim_args *a, usm_sim *s)
         return USM_EINPUT;
     }
     memset(&io, 0, sizeof io);
+    if (a->spectrum) {
+        usm_sim_spectrum_options so;
+        char lib[USM_MSG_LEN];
+        usm_sim_spectrum_options_default(&so);
+        so.f = p->f;
+        so.periods = a->spectrum_periods;
+        so.rate = a->opt.rate;
+        if (usm_sim_spectrum_check(&so, a->opt.duration, lib) != USM_OK) {
+            if (strncmp(lib, "periods:", 8) == 0)
+                cli_error("--spectrum-periods:%s", lib + 8);
+            else
+                cli_error("--spectrum: %s", lib);
+            return USM_EINPUT;
+        }
+        if (usm_plot_csv_check(a->spectrum, a->force, msg) != USM_OK) {
+            spectrum_msg(msg);
+            cli_error("%s", msg);
+            return USM_EINPUT;
+        }
+        if (!(io.spec = usm_sim_spectrum_alloc()) ||
+            !(io.spec_result = malloc(sizeof *io.spec_result))) {
+            usm_sim_spectrum_free(io.spec);
+            cli_error("out of memory");
+            return USM_EFAILED;
+        }
+    }
     if (a->opt.rate > 0) {
         if (a->out) {
             if (!(io.csv = usm_io_create(&csv_file, a->out, a->force, msg, &status))) {
                 cli_error("--out %s", msg);
+                spectrum_free(&io);
                 return status;
             }
-        } else
+        } else if (!a->spectrum)
             io.csv = stdout;
-        usm_sim_csv_header(io.csv);
+        if (io.csv)
+            usm_sim_csv_header(io.csv);
     }
     summary_out = io.csv == stdout ? stderr : stdout;
     io.progress = isatty(STDERR_FILENO);
     io.wall0 = io.last_draw = now();
-    cb.sample = io.csv ? on_sample : NULL;
+    cb.sample = io.csv || io.spec ? on_sample : NULL;
     cb.progress = on_progress;
     cb.data = &io;
     cb.warning = on_warning;
@@ -345,16 +479,38 @@ static int run(sim_args *a, usm_sim *s)
     } else if (io.csv && (fflush(stdout) != 0 || ferror(stdout))) {
         clearerr(stdout);
         cli_error("stdout: write error");
+        spectrum_free(&io);
         return USM_EFAILED;
     }
     if (rc == USM_EINPUT || rc == USM_ENOSOLUTION) {
         cli_error("%s", usm_sim_message(s));
+        spectrum_free(&io);
         return rc;
     }
-    if (sum.stop == USM_SIM_STOPPED && io.csv)
+    if (sum.stop == USM_SIM_STOPPED && io.spec_failed)
+        snprintf(sum.reason, sizeof sum.reason,
+                 "out of memory recording the samples of --spectrum at t = %.9g s", sum.t_reached);
+    else if (sum.stop == USM_SIM_STOPPED && io.csv)
         snprintf(sum.reason, sizeof sum.reason, "write error on the CSV output at t = %.9g s",
                  sum.t_reached);
-    usm_sim_report rep = {a->common.model, p, &a->opt, a->from_file, a->out, &sum, wall};
+    /* the spectrum of what was simulated, also of a run that stopped early
+     * (its window is then the end of what exists) */
+    char spec_msg[CLI_MSG_LEN] = "";
+    int spec_rc = USM_OK;
+    if (io.spec && !io.spec_failed) {
+        spec_rc = spectrum_write(a, &io, spec_msg);
+        if (spec_rc != USM_OK && spec_rc != USM_ENOSOLUTION && rc == USM_OK)
+            rc = USM_EFAILED;
+    } else if (io.spec)
+        snprintf(spec_msg, sizeof spec_msg, "out of memory recording the samples");
+    usm_sim_report rep = {a->common.model, p, &a->opt, a->from_file, a->out, &sum, wall,
+                          io.have_spec ? io.spec_result : NULL, NULL, NULL};
+    char spec_csv[4096];
+    if (io.have_spec) {
+        snprintf(spec_csv, sizeof spec_csv, "%s.csv", a->spectrum);
+        rep.spectrum_csv = spec_csv;
+    } else if (io.spec)
+        rep.spectrum_error = spec_msg;
     if (!a->common.json)
         usm_sim_write_table(&rep, summary_out);
     else if (usm_sim_write_json(&rep, summary_out) != 0) {
@@ -403,6 +559,9 @@ static int run(sim_args *a, usm_sim *s)
                 rc = USM_EFAILED;
         }
     }
+    if (spec_msg[0])
+        cli_error("%s%s", spec_rc == USM_ENOSOLUTION ? "warning: " : "", spec_msg);
+    spectrum_free(&io);
     return rc == USM_OK ? USM_OK : USM_EFAILED;
 }
 

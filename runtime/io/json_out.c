@@ -203,6 +203,17 @@ int usm_json_write(json_t *value, FILE *out)
     return rc;
 }
 
+void usm_json_put_squeal(json_t *obj, const usm_floquet_result *r, double f, int *ok)
+{
+    usm_squeal sq;
+    usm_floquet_squeal(r, f, &sq);
+    usm_json_put(obj, "squeal_frequency", sq.found ? usm_json_real(sq.frequency) : json_null(),
+                 ok);
+    usm_json_put(obj, "squeal_multiplier", sq.found ? json_pack("[ff]", sq.re, sq.im) : json_null(),
+                 ok);
+    usm_json_put(obj, "squeal_reason", sq.found ? json_null() : json_string(sq.reason), ok);
+}
+
 /* The keys of `usm periodic --json` for one orbit. */
 json_t *usm_json_periodic_result(const usm_periodic_result *r)
 {
@@ -220,6 +231,7 @@ json_t *usm_json_periodic_result(const usm_periodic_result *r)
     usm_json_put(h, "F_n", usm_json_real(r->F_n_harmonic_2), &ok);
     usm_json_put(o, "harmonic_2", h, &ok);
     usm_json_put(o, "floquet", usm_json_floquet(&r->floquet), &ok);
+    usm_json_put_squeal(o, &r->floquet, 1.0 / r->period, &ok);
     usm_json_put(o, "contact_open", json_boolean(r->contact_open), &ok);
     usm_json_put(o, "valid", json_boolean(r->validity == USM_VALID), &ok);
     usm_json_put(o, "invalid_reason",

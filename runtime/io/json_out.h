@@ -32,6 +32,12 @@ json_t *usm_json_root(const usm_steady_solution *s);
  *  "max_modulus", "stable"}. */
 json_t *usm_json_floquet(const usm_floquet_result *r);
 
+/* The dominant complex pair of r for a motion of frequency f (usm.h,
+ * usm_floquet_squeal) as keys of obj: squeal_frequency [Hz] (null when
+ * there is no complex pair), squeal_multiplier ([re, im], im > 0, or null),
+ * squeal_reason (null, or why there is none). */
+void usm_json_put_squeal(json_t *obj, const usm_floquet_result *r, double f, int *ok);
+
 /* The keys of `usm periodic --json` for one orbit (all but model, parameters,
    converged): shared by `usm periodic` and the periodic sweep's points. */
 json_t *usm_json_periodic_result(const usm_periodic_result *r);

@@ -77,6 +77,8 @@ static json_t *sweep_json(const usm_periodic_sweep *s, const usm_params *p)
             usm_json_put(o, "kind", json_string(usm_crossing_name(e->kind)), &eok);
             json_t *mu = json_pack("[ff]", e->multiplier_re, e->multiplier_im);
             usm_json_put(o, "multiplier", mu, &eok);
+            if (e->kind == USM_CROSSING_NEIMARK_SACKER)
+                usm_json_put(o, "squeal_frequency", usm_json_real(e->squeal_frequency), &eok);
         }
         usm_json_put(o, over, usm_json_real(e->value), &eok);
         usm_json_put(o, "what", json_string(e->what), &eok);

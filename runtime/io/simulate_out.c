@@ -7,6 +7,7 @@
 
 #include "csv_out.h"
 #include "json_out.h"
+#include "spectrum_out.h"
 #include "usm_io.h"
 
 /* The time history's columns (csv_out.h), read back by usm_sim_read_start. */
@@ -123,6 +124,10 @@ void usm_sim_write_table(const usm_sim_report *a, FILE *out)
         episodes_line(out, "F_n < 0 (contact opens)", &s->contact_open, "most negative F_n", "N");
     if (s->stick_checked && s->stick_exceeded.count)
         episodes_line(out, "|F_t| > mu0 F_n", &s->stick_exceeded, "largest |F_t| - mu0 F_n", "N");
+    if (a->spectrum)
+        usm_sim_spectrum_write_table(a->spectrum, a->spectrum_csv, out);
+    else if (a->spectrum_error && a->spectrum_error[0])
+        fprintf(out, "  %-22s none: %s\n", "spectrum", a->spectrum_error);
 }
 
 static json_t *episodes_json(const usm_sim_episodes *e, const char *worst_key)
@@ -225,6 +230,12 @@ static json_t *summary_json(const usm_sim_report *a)
     usm_json_put(fs, "names", names, &ok);
     usm_json_put(fs, "phi_R", usm_json_real(s->final_rotor_angle), &ok);
     usm_json_put(o, "final_state", fs, &ok);
+    if (a->spectrum)
+        usm_json_put(o, "spectrum", usm_json_sim_spectrum(a->spectrum, a->spectrum_csv), &ok);
+    else if (a->spectrum_error && a->spectrum_error[0]) {
+        usm_json_put(o, "spectrum", json_null(), &ok);
+        usm_json_put(o, "spectrum_error", json_string(a->spectrum_error), &ok);
+    }
     if (!ok) {
         json_decref(o);
         return NULL;

@@ -77,17 +77,20 @@ json_t *usm_steady_json(const usm_steady_report *r)
     for (size_t k = 0; k < n; ++k) {
         json_t *root = usm_json_root(usm_steady_root(r->steady, k));
         /* each root's own multipliers, the keys of the top-level "floquet" */
-        if (root && r->roots_floquet)
+        if (root && r->roots_floquet) {
             usm_json_put(root, "floquet", usm_json_floquet(&r->roots_floquet[k]), &ok);
+            usm_json_put_squeal(root, &r->roots_floquet[k], r->params->f, &ok);
+        }
         if (json_array_append_new(roots, root) != 0)
             ok = 0;
     }
     usm_json_put(obj, "roots", roots, &ok);
-    if (r->floquet)
-        usm_json_put(obj, "floquet",
-                     usm_json_floquet(top_root(r) > 0 ? &r->roots_floquet[top_root(r)]
-                                                      : r->floquet),
-                     &ok);
+    if (r->floquet) {
+        const usm_floquet_result *fl =
+            top_root(r) > 0 ? &r->roots_floquet[top_root(r)] : r->floquet;
+        usm_json_put(obj, "floquet", usm_json_floquet(fl), &ok);
+        usm_json_put_squeal(obj, fl, r->params->f, &ok);
+    }
     if (r->op && !r->error)
         put_operating_point(obj, r->op, &ok);
     if (!ok) {
@@ -132,8 +135,9 @@ static void solution(FILE *out, const usm_steady_solution *s)
                 "power_in <= 0: no power taken in");
 }
 
-static void multipliers(FILE *out, const usm_floquet_result *f)
+static void multipliers(FILE *out, const usm_floquet_result *f, double freq)
 {
+    usm_squeal sq;
     fprintf(out, "\nFloquet multipliers over [t0, t0 + 2 pi / Omega], t0 = %.10g s\n", f->t0);
     fprintf(out, "  %3s %-24s %-24s %-18s\n", "#", "re", "im", "|lambda|");
     for (int k = 0; k < f->n; ++k)
@@ -141,6 +145,13 @@ static void multipliers(FILE *out, const usm_floquet_result *f)
                 hypot(f->re[k], f->im[k]), f->cyclic[k] ? " cyclic coordinate" : "");
     fprintf(out, "  max |lambda| (non-cyclic) = %.10g: %s\n", f->max_modulus,
             f->stable ? "stable" : "unstable");
+    usm_floquet_squeal(f, freq, &sq);
+    if (sq.found)
+        fprintf(out, "  squeal frequency = %.8g Hz (%.6f f): the dominant complex pair %.10g "
+                     "+-%.10gi (|lambda| %.10g)\n",
+                sq.frequency, sq.frequency / freq, sq.re, sq.im, sq.modulus);
+    else
+        fprintf(out, "  squeal frequency: none (%s)\n", sq.reason);
     if (f->t0_dependent)
         fprintf(out, "  note: under the paper's twist law the linearisation is not periodic and\n"
                      "  the multipliers depend on t0 (Table 3 uses t0 = 0); --variant\n"
@@ -229,7 +240,7 @@ void usm_steady_table(const usm_steady_report *r, FILE *out)
                 usm_steady_count(r->steady));
     solution(out, usm_steady_root(r->steady, top));
     if (r->floquet)
-        multipliers(out, top > 0 ? &r->roots_floquet[top] : r->floquet);
+        multipliers(out, top > 0 ? &r->roots_floquet[top] : r->floquet, r->params->f);
     other_roots(out, r->steady, r->roots_floquet);
     if (r->op)
         operating_point(out, r->op);

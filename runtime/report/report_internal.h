@@ -22,6 +22,7 @@
 #include "usm_design.h"
 #include "usm_report.h"
 #include "usm_periodic.h"
+#include "usm_spectrum.h"
 #include "usm_sweep.h"
 
 /* ---- the paper's published values (usm_report_paper.c) ------------------------ */
@@ -175,6 +176,49 @@ typedef struct usm_report_nonideal {
     double seconds;
 } usm_report_nonideal;
 
+/* ---- the squeal (report_squeal.c, issue 24) ------------------------------------ */
+
+#define REPORT_SQUEAL_MAXPTS 8
+#define REPORT_SQUEAL_MAXBINS 2048
+
+/* One mode split past (or before) the Neimark-Sacker point: the periodic
+ * orbit's multipliers and a simulation from rest with its spectrum. */
+typedef struct usm_report_squeal_point {
+    double mode_split;          /* [1] */
+    int orbit_ok;               /* the periodic orbit converged */
+    double max_modulus;         /* its largest non-cyclic |lambda| */
+    double F_n_min;             /* its smallest normal force [N] */
+    int valid;                  /* the model describes the motor on the orbit
+                                   (usm_periodic_result.validity) */
+    int has_pair;               /* it has a complex pair (usm_floquet_squeal) */
+    double squeal_frequency;    /* of the dominant pair [Hz] */
+    int sim_ok;                 /* simulated and its spectrum computed */
+    char note[USM_MSG_LEN];     /* why not */
+    double parasitic_rms[USM_SPECTRUM_NCHANNELS];
+    int has_line;               /* F_n has a non-harmonic line */
+    usm_spectrum_line line;     /* F_n's strongest non-harmonic line */
+} usm_report_squeal_point;
+
+typedef struct usm_report_squeal {
+    int ok;                     /* computed (else note says why) */
+    char note[USM_MSG_LEN];
+    const usm_model *model;     /* 4dof_imperfect */
+    double from, to;            /* the mode split range searched for the NS point */
+    double ns_value;            /* the Neimark-Sacker point's mode split */
+    double ns_re, ns_im;        /* its critical multiplier (im > 0) */
+    double ns_frequency;        /* its squeal_frequency [Hz] */
+    double f;                   /* excitation frequency [Hz] */
+    double duration;            /* of each simulation [s] */
+    long periods;               /* the spectrum's window [periods] */
+    int npts;
+    usm_report_squeal_point pt[REPORT_SQUEAL_MAXPTS];
+    int spectrum_pt;            /* the point whose spectrum is drawn, just past NS */
+    size_t bins;                /* of its spectrum (bin k at k df) */
+    double df;
+    double amp[USM_SPECTRUM_NCHANNELS][REPORT_SQUEAL_MAXBINS];
+    double seconds;
+} usm_report_squeal;
+
 typedef struct usm_report_data {
     usm_report_paper paper;     /* the published values (usm_report_paper_load) */
     usm_params params;
@@ -220,6 +264,7 @@ typedef struct usm_report_data {
     double seconds[4]; /* timing: tables, curves, maps, plots */
 
     usm_report_nonideal nonideal; /* the non-ideal motor (report_nonideal.c) */
+    usm_report_squeal squeal;     /* the squeal (report_squeal.c) */
 } usm_report_data;
 
 /* Compute everything but the maps.  USM_OK or an error status with msg. */
@@ -232,6 +277,17 @@ void usm_report_data_free(usm_report_data *d);
  * d->nonideal.note, not an error of the report; USM_EFAILED (out of memory)
  * with msg. */
 int usm_report_compute_nonideal(usm_report_data *d, char msg[USM_IO_MSG_LEN]);
+
+/* The squeal past the 4-DOF Neimark-Sacker point along the mode split
+ * (d->squeal).  A failure is reported in d->squeal.note, not an error of the
+ * report; USM_EFAILED (out of memory) with msg. */
+int usm_report_compute_squeal(usm_report_data *d, char msg[USM_IO_MSG_LEN]);
+/* Its data files squeal_{spectrum,amplitude,values}.csv (when computed).
+ * USM_OK or USM_EFAILED with msg. */
+int usm_report_squeal_write_data(const usm_report_data *d, const char *dir,
+                                 char msg[USM_IO_MSG_LEN]);
+/* Its numbers in report.json ("squeal"; keys: docs/report.md). */
+json_t *usm_report_squeal_json(const usm_report_data *d);
 
 /* Nearest computed multiplier to (re, im) among the non-cyclic and cyclic
  * ones of r (each computed one used once: `used` flags, n entries). */
@@ -256,6 +312,7 @@ enum {
     REPORT_FIG_ELASTICITY, /* elasticities of rotor_speed and max_modulus */
     REPORT_FIG_NONIDEAL,   /* ripple, F_n_min, max |lambda| vs phase error and mode split */
     REPORT_FIG_ORBIT,      /* one periodic orbit: the tilt vector in the housing plane */
+    REPORT_FIG_SQUEAL,     /* the spectrum past the NS point, the vibration vs mode split */
     REPORT_NFIGURES
 };
 extern const usm_report_figure usm_report_figures[REPORT_NFIGURES];
@@ -297,8 +354,9 @@ int usm_report_write_data(const usm_report_data *d, const char *dir, char msg[US
  * (gnuplot missing or failing; its messages are in dir/gnuplot.log). */
 int usm_report_run_gnuplot(const char *dir, int jobs, int nfigures, char msg[USM_IO_MSG_LEN]);
 
-/* The figures whose data exist: the non-ideal motor's (the last two) only
- * when computed. */
+/* The figures whose data exist: the non-ideal motor's (the last three) only
+ * when computed, the squeal's (the last) only with the non-ideal orbit's
+ * (the figures rendered are a prefix of usm_report_figures). */
 int usm_report_figure_count(const usm_report_data *d);
 
 /* ---- report.json, report.md, report.html (usm_report_json.c, data/report/) ----- */

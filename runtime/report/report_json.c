@@ -730,7 +730,11 @@ static json_t *nonideal(const usm_report_data *d)
     flag(o, "ok", ni->ok);
     str(o, "note", ni->note);
     num(o, "seconds", ni->seconds);
-    json_object_set_new(o, "figures", figures(REPORT_FIG_NONIDEAL, usm_report_figure_count(d)));
+    {
+        const int n = usm_report_figure_count(d);
+        json_object_set_new(o, "figures", figures(REPORT_FIG_NONIDEAL,
+                                                  n < REPORT_FIG_SQUEAL ? n : REPORT_FIG_SQUEAL));
+    }
     if (!ni->ok)
         return o;
     integer(o, "points", ni->curve[0][0].points);
@@ -818,13 +822,19 @@ json_t *usm_report_json(const usm_report_data *d, int plots_ok, const char *plot
     json_object_set_new(o, "maps", maps);
     json_object_set_new(o, "variants", variants(d));
     json_object_set_new(o, "nonideal", nonideal(d));
+    {
+        json_t *sq = usm_report_squeal_json(d);
+        json_object_set_new(sq, "figures", figures(REPORT_FIG_SQUEAL, usm_report_figure_count(d)));
+        json_object_set_new(o, "squeal", sq);
+    }
     num(sec, "tables", d->seconds[0]);
     num(sec, "curves", d->seconds[1]);
     num(sec, "maps", d->seconds[2]);
     num(sec, "plots", d->seconds[3]);
     num(sec, "nonideal", d->nonideal.seconds);
+    num(sec, "squeal", d->squeal.seconds);
     num(sec, "total", d->seconds[0] + d->seconds[1] + d->seconds[2] + d->seconds[3] +
-                          d->nonideal.seconds);
+                          d->nonideal.seconds + d->squeal.seconds);
     json_object_set_new(o, "seconds", sec);
     {
         /* the paper's values, as loaded */

@@ -292,5 +292,7 @@ int usm_report_figure_count(const usm_report_data *d)
 {
     if (!d->nonideal.ok)
         return REPORT_FIG_NONIDEAL;
-    return d->nonideal.orbit_ok ? REPORT_NFIGURES : REPORT_FIG_ORBIT;
+    if (!d->nonideal.orbit_ok)
+        return REPORT_FIG_ORBIT;
+    return d->squeal.ok ? REPORT_NFIGURES : REPORT_FIG_SQUEAL;
 }

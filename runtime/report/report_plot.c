@@ -34,6 +34,7 @@ const usm_report_figure usm_report_figures[REPORT_NFIGURES] = {
     {"elasticity", "Elasticities of rotor speed and of the largest Floquet modulus at the paper's point"},
     {"nonideal_curves", "The non-ideal motor: rotor-speed ripple, smallest contact force and largest |λ| vs phase error and mode split"},
     {"nonideal_orbit", "One periodic orbit of the non-ideal motor: the tilt vector in the housing plane over a period, the ideal circle beside it"},
+    {"squeal", "The squeal: the spectrum of the contact force just past the 4-DOF Neimark-Sacker point, and the parasitic vibration against the mode split"},
 };
 
 const char *const usm_report_files[] = {
@@ -63,6 +64,8 @@ const char *const usm_report_files[] = {
     "nonideal_curves_values.csv",
     "nonideal_orbit.gp", "nonideal_orbit.png", "nonideal_orbit.svg", "nonideal_orbit.csv",
     "nonideal_orbit_circle.csv",
+    "squeal.gp", "squeal.png", "squeal.svg", "squeal_spectrum.csv", "squeal_amplitude.csv",
+    "squeal_values.csv",
     NULL,
 };
 
@@ -481,6 +484,8 @@ int usm_report_write_data(const usm_report_data *d, const char *dir, char msg[US
         st = write_data_file(d, dir, "nonideal_orbit.csv", DATA_ORBIT, 0, 0, msg);
     if (st == USM_OK && d->nonideal.ok && d->nonideal.orbit_ok)
         st = write_data_file(d, dir, "nonideal_orbit_circle.csv", DATA_CIRCLE, 0, 0, msg);
+    if (st == USM_OK)
+        st = usm_report_squeal_write_data(d, dir, msg);
     for (int i = 0; i < REPORT_NFIGURES && st == USM_OK; ++i)
         st = copy_script(dir, usm_report_figures[i].name, msg);
     return st;

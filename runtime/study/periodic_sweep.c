@@ -146,6 +146,7 @@ static usm_periodic_event *add_event(usm_periodic_sweep *s, usm_pevent_type type
     memset(e, 0, sizeof *e);
     e->type = type;
     e->value = v;
+    e->squeal_frequency = NAN;
     if (orbit) {
         e->has_orbit = 1;
         e->orbit = *orbit;
@@ -289,17 +290,28 @@ static int emit_located(usm_periodic_sweep *s, int k, double v, const usm_period
                    ? 0 : -1;
     const int c = critical(&r->floquet);
     const double re = c >= 0 ? r->floquet.re[c] : NAN, im = c >= 0 ? r->floquet.im[c] : NAN;
-    usm_crossing_kind kind = fabs(im) > 1e-6 * hypot(re, im) ? USM_CROSSING_NEIMARK_SACKER
-                             : re > 0                        ? USM_CROSSING_FOLD
-                                                             : USM_CROSSING_PERIOD_DOUBLING;
+    usm_crossing_kind kind = fabs(im) > USM_COMPLEX_PAIR_TOL * hypot(re, im)
+                                 ? USM_CROSSING_NEIMARK_SACKER
+                             : re > 0 ? USM_CROSSING_FOLD
+                                      : USM_CROSSING_PERIOD_DOUBLING;
+    /* the emerging vibration's frequency, of the orbit's period there (a
+     * sweep over f changes it) */
+    const double squeal = kind == USM_CROSSING_NEIMARK_SACKER
+                              ? usm_squeal_frequency(1.0 / r->period, re, im)
+                              : NAN;
+    char sq[64] = "";
+    if (isfinite(squeal))
+        snprintf(sq, sizeof sq, ", squeal frequency %.6g Hz", squeal);
     usm_periodic_event *e = add_event(
         s, USM_PEVENT_STABILITY_CHANGE, v, r,
-        "max |lambda| = 1 at %s (%s: critical multiplier %.8f %+.8fi): the orbit %s as %s %s%s",
-        vt, usm_crossing_name(kind), re, fabs(im), rising ? "loses stability" : "becomes stable",
-        s->over, inc, how);
+        "max |lambda| = 1 at %s (%s: critical multiplier %.8f %+.8fi%s): the orbit %s as %s "
+        "%s%s",
+        vt, usm_crossing_name(kind), re, fabs(im), sq,
+        rising ? "loses stability" : "becomes stable", s->over, inc, how);
     if (!e)
         return -1;
     e->kind = kind;
+    e->squeal_frequency = squeal;
     e->multiplier_re = re;
     e->multiplier_im = fabs(im);
     return 0;

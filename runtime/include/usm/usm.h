@@ -329,6 +329,47 @@ const char *usm_floquet_message(const usm_floquet *f);
 int usm_floquet_roots(usm_floquet *f, const usm_params *p, const usm_steady *s, double t0,
                       const usm_floquet_options *opt, usm_floquet_result *out);
 
+/* ---- the squeal frequency (solve/squeal.c, issue 24) --------------------------
+ *
+ * A Floquet multiplier lambda of a motion of period T = 1/f (a stationary
+ * solution's multipliers are over one excitation period too) is exp(mu T)
+ * with mu = sigma + i omega: a perturbation along its eigenvector vibrates at
+ * omega / (2 pi) = f arg(lambda) / (2 pi) + k f for any integer k, and with
+ * either sign.  Its lines in a spectrum are at k f +- f_s, and the one
+ * representative used here is the folded f_s = f |arg(lambda)| / (2 pi) in
+ * [0, f/2] (arg in (-pi, pi]): for lambda = -0.9348 + 0.3552i, f = 37 kHz,
+ * f_s = 0.44217 f = 16.360 kHz.  A real multiplier gives 0 (lambda > 0) or f/2
+ * (lambda < 0): no new frequency but a drift or a period doubling.
+ *
+ * A multiplier is one member of a complex pair when |Im lambda| >
+ * USM_COMPLEX_PAIR_TOL |lambda| (the rule by which usm_periodic_sweep calls a
+ * stability change neimark_sacker); the dominant complex pair is the complex
+ * pair of largest modulus among the non-cyclic multipliers (the first in
+ * usm_floquet_result order on a tie), whether or not it is the largest
+ * multiplier overall: it is the oscillatory mode that decays slowest, and
+ * the one that becomes the squeal when it crosses the unit circle. */
+#define USM_COMPLEX_PAIR_TOL 1e-6
+
+/* f |arg(re + i im)| / (2 pi) [Hz] in [0, f/2], the folded frequency above;
+ * NaN when f or the multiplier is not finite, f <= 0, or re = im = 0. */
+double usm_squeal_frequency(double f, double re, double im);
+
+/* The dominant complex pair of a set of multipliers and its frequency. */
+typedef struct usm_squeal {
+    int found;           /* 1: there is a complex pair */
+    int index;           /* the pair's member with im > 0 in r->re/im (-1 when none) */
+    double re, im;       /* the pair re +- im i, im > 0 (NaN when none) */
+    double modulus;      /* |lambda| (NaN when none) */
+    double frequency;    /* usm_squeal_frequency(f, re, im) [Hz] (NaN when none) */
+    char reason[USM_MSG_LEN]; /* "" when found, else why there is none */
+} usm_squeal;
+
+/* The dominant complex pair of r (above) for a motion of frequency f [Hz]
+ * (period 1/f).  USM_OK (out->found says whether there is one, out->reason
+ * why not); USM_EINPUT when f is not finite and positive (message in
+ * out->reason).  Thread safe (no state). */
+int usm_floquet_squeal(const usm_floquet_result *r, double f, usm_squeal *out);
+
 #ifdef __cplusplus
 }
 #endif

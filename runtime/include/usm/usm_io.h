@@ -197,6 +197,12 @@ typedef struct usm_sim_report {
     const char *out;                /* the time history's file, or NULL */
     const usm_sim_summary *summary; /* of usm_sim_run */
     double wall;                    /* seconds the run took */
+    /* --spectrum (usm_spectrum.h): the spectrum (NULL: none), its CSV file,
+     * and why it was not computed (NULL or ""; with spectrum NULL and this
+     * NULL or "", the summary has no spectrum keys) */
+    const struct usm_sim_spectrum_result *spectrum;
+    const char *spectrum_csv;
+    const char *spectrum_error;
 } usm_sim_report;
 
 /* The summary as `usm simulate` prints it for people. */

@@ -16,6 +16,8 @@
  *   stability_change   the largest non-cyclic multiplier modulus = 1; its kind
  *                      from the critical multiplier there: +1 fold, -1
  *                      period_doubling, a complex pair neimark_sacker
+ *                      (|Im| > USM_COMPLEX_PAIR_TOL |lambda|), which carries
+ *                      the squeal frequency of the pair (usm.h)
  *   fold               the branch ends at a turning point; its value is the
  *                      zero of (mu - 1)^2, mu the real multiplier nearest +1,
  *                      extrapolated linearly in lambda from the last two
@@ -80,6 +82,9 @@ typedef struct usm_periodic_event {
                                    friction_saturation (infinite rotor speed) */
     usm_periodic_result orbit;  /* the orbit at `value` when has_orbit */
     double multiplier_re, multiplier_im; /* stability_change: the critical multiplier */
+    double squeal_frequency;    /* neimark_sacker: the emerging vibration's frequency [Hz],
+                                   usm_squeal_frequency(1 / orbit.period, multiplier_re,
+                                   multiplier_im) in [0, f/2] (usm.h); NaN otherwise */
     char what[USM_MSG_LEN];     /* one sentence */
 } usm_periodic_event;
 
