@@ -611,7 +611,8 @@ class ModelDocument:
                r"marks a quantity on it.  Frame $A$ turns with $\bar\varphi = \Omega t + \alpha$, "
                r"so the components in frame $A$ are the paper's $X + iY$ combination (3.3) times "
                r"$e^{-i\bar\varphi}$: time drops out, and (3.4) splits into the real residuals "
-               r"(3.5a), (3.5b).", "orbit")
+               r"(3.5a), (3.5b)." + (r"  The twist angle $\chi$ is constant on the orbit, "
+                                     r"$\bar\chi$." if self.extra else ""), "orbit")
         d.identity("identity:3.3", sp.cos(Om * t + alpha) + sp.I * sp.sin(Om * t + alpha),
                    sp.exp(sp.I * Om * t) * (sp.cos(alpha) + sp.I * sp.sin(alpha)), tag="3.3")
 
@@ -781,7 +782,8 @@ class ModelDocument:
                   if not self.slip else
                   r" (the slip model's friction law replaces the stick condition)")
                + r".  usm checks this on every stationary solution and marks a result where it "
-               r"fails.", "valid")
+               r"fails (in JSON: `valid` is false, `invalid_reason` is `contact_open`"
+               + ("" if self.slip else r" or `stick_not_admissible`") + ").", "valid")
         d.display("display:contact", r"F_n", "0", rel=">")
         if not self.slip:
             d.display("display:stick", r"|F_t|", r"\mu_0 F_n", rel=r"\le")
@@ -1025,7 +1027,13 @@ def _assumption_words(assumptions):
     for k, v in assumptions.items():
         if k == "friction_law":
             continue
-        out.append(ASSUMPTION_WORDS.get((k, v), f"Assumption `{k}` is `{v}`."))
+        if (k, v) in ASSUMPTION_WORDS:
+            out.append(ASSUMPTION_WORDS[(k, v)])
+        elif k == "friction" and "friction_law" in assumptions:
+            out.append(f"The friction law `mu = {assumptions['friction_law']}` (`{v}`) in place "
+                       "of the paper's (5.2).")
+        else:   # an assumption this module has no words for yet
+            out.append(f"Assumption `{k}` is `{v}` (derive/variants.py).")
     return out
 
 
@@ -1041,7 +1049,7 @@ def _num(v):
 
 
 def _unit_tex(u):
-    return re.sub(r"\^(\d)", r"$^\1$", u).replace(" ", r"\,")
+    return re.sub(r"\^(\d)", r"$^\1$", u)
 
 
 def parameter_rows(data, names_tex):
@@ -1216,6 +1224,13 @@ def _front(data, description, changes, diff):
         for syms, reason in notes) + "."
     notation = NOTATION + (NOTATION_SLIP if data.get("slip") else []) + \
         (NOTATION_TWIST if data.get("twist_integrated") else [])
+    listed = {x.strip() for sym, _ in notation for x in sym.split(",")}
+    for st in data["states"]:   # coordinates of another model (not the Euler angles)
+        tx = names_tex.get(st, "")
+        if st in data.get("accelerations", []) or "dot" in st or not tx or tx in listed:
+            continue
+        notation.append((tx, r"a coordinate of the state $\mathbf{x}$ of this model"))
+        listed.add(tx)
     nrow = [(f"${sym}$", what) for sym, what in notation]
     drow = departures(data, changes, description)
     md = [p + "" for p in [intro, ""] ]
@@ -1230,12 +1245,13 @@ def _front(data, description, changes, diff):
     tex = [_escape_text(intro), "", r"\subsection*{The model in words}", r"\begin{itemize}"]
     tex += [r"\item " + _escape_text(w) for w in words] + [r"\end{itemize}"]
     tex += [r"\subsection*{Parameters}"]
-    tex += _tex_table("parameters", r"@{}l l p{0.22\textwidth} l l p{0.23\textwidth}@{}",
+    tex += _tex_table("parameters", r"@{}p{0.07\textwidth} p{0.15\textwidth} p{0.20\textwidth} "
+                      r"p{0.11\textwidth} p{0.13\textwidth} p{0.22\textwidth}@{}",
                       ["symbol", "name", "meaning", "unit", "default", "source"],
                       [(a, b, c, _unit_tex(d), e, f) for a, b, c, d, e, f in prow])
     tex += [_escape_text(pnote), ""]
     tex += [r"\subsection*{Notation}"]
-    tex += _tex_table("notation", r"@{}l p{0.68\textwidth}@{}", ["symbol", "meaning"], nrow)
+    tex += _tex_table("notation", r"@{}p{0.22\textwidth} p{0.70\textwidth}@{}", ["symbol", "meaning"], nrow)
     tex += [_escape_text(CONVENTIONS), ""]
     tex += [r"\subsection*{Departures from the paper}"]
     tex += _tex_table("departures", r"@{}p{0.08\textwidth} p{0.23\textwidth} "
