@@ -1,4 +1,5 @@
-"""The default value of every parameter, where it comes from and why.
+"""The default value of every parameter, where it comes from and why (the
+reasons are prose with LaTeX math between $...$, printed in the documents).
 
 The one place these numbers are written: derive/ emits them as
 usm_param_defaults (generated/usm_contracts.c), which usm_params_default
@@ -30,14 +31,15 @@ DEFAULTS = {
     "I_zz": (2.3120e-8, TABLE5, ""),
     # the same operations as C's double arithmetic: 2.0 * I_R / (R * R)
     "M": (2.0 * _I_R / (_R * _R), "chosen",
-          "not stated; M = 2 I_R / R^2, a solid-disk rotor of radius R; a scan of M over "
-          "0-0.02 kg fits the paper's Table 3 best at 6.361e-4 kg (all six multipliers "
-          "within 5e-4)"),
+          r"not stated; $M = 2 I_R / R^2$, a solid-disk rotor of radius $R$; a scan of $M$ "
+          r"over 0 to 0.02 kg fits the paper's Table 3 best at $6.361 \cdot 10^{-4}$ kg (all "
+          r"six multipliers within $5 \cdot 10^{-4}$)"),
     "f": (37000.0, "chosen",
-          "not stated; Table 5 is built on 37 kHz: c_r = I_xx (2 pi 37 kHz)^2, d_r and d_t "
-          "are 3 % damping at it, and it gives the paper's tilt 0.81836e-4 to five digits"),
-    "mu0": (0.3, "paper, section 5 text", "not in Table 5"),
-    "kappa": (20.0, "paper, section 5 text", "not in Table 5"),
+          r"not stated; Table 5 is built on 37 kHz: $c_r = I_{xx} (2\pi \cdot 37\,\mathrm{kHz})^2$, "
+          r"$d_r$ and $d_t$ are 3 % damping at it, and it gives the paper's tilt "
+          r"$\bar\theta = 0.81836 \cdot 10^{-4}$ to five digits"),
+    "mu0": (0.3, "paper, section 5 text", "stated with the friction law (5.2), not in Table 5"),
+    "kappa": (20.0, "paper, section 5 text", "stated with the friction law (5.2), not in Table 5"),
     "amp_imbalance": (0.0, "chosen", "the ideal motor of the paper; a real motor's value "
                       "enters only the imperfect variant"),
     "phase_error": (0.0, "chosen", "the ideal motor of the paper; a real motor's value "

@@ -1067,7 +1067,7 @@ def parameter_rows(data, names_tex):
         if name in coupled:
             eq, because = coupled[name]
             val = "$= " + names_tex[eq] + "$"
-            src += f"; taken equal to {eq} ({because})"
+            src += f"; taken equal to ${names_tex[eq]}$ ({because})"
         elif name not in used:
             src += "; does not enter this model"
         if reason and source != TABLE5:
@@ -1220,7 +1220,7 @@ def _front(data, description, changes, diff):
     prow = [(f"${sym}$", f"`{name}`", meaning, unit, val, src)
             for sym, name, meaning, unit, val, src in rows]
     pnote = "The values the paper's Table 5 does not give: " + "; ".join(
-        ", ".join(f"${x}$" for x in syms) + ": " + re.sub(r"\^(\d)", r"$^\1$", reason)
+        ", ".join(f"${x}$" for x in syms) + ": " + reason
         for syms, reason in notes) + "."
     notation = NOTATION + (NOTATION_SLIP if data.get("slip") else []) + \
         (NOTATION_TWIST if data.get("twist_integrated") else [])
