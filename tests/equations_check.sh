@@ -12,7 +12,9 @@ trap 'rm -rf "$tmp"' EXIT
 fail=0
 # the paper's numbered equations every model states (kinematics, forces,
 # torques, Euler's equations, stationary solution, linearisation) ...
-common="2.1 2.2 2.3 2.5 2.6 2.7 2.8 2.9 2.10 2.11 3.1a 3.1b 3.1c 3.2 3.3 3.4 3.5a 3.5b 3.6 4.9"
+common="2.1 2.2 2.3 2.5 2.6 2.7 2.8 2.9 2.10 2.11 3.1a 3.1b 3.1c 3.2 3.3 3.4 3.5a 3.5b 4.9"
+# ... (3.6), beta from the twisting balance, where the twist angle is the paper's
+# phi + psi cos(theta) (under the integrated twist law psi is cyclic and beta free) ...
 # ... and those of the stick model (sections 2-4) and of the slip model (section 5)
 stick="2.4 3.7 4.6"
 slip="5.1 5.2 5.3"
@@ -25,7 +27,12 @@ for model in $models; do
     "$usm" equations --model "$base" --variant "$variant" --format latex > "$tex"
     "$usm" equations --model "$base" --variant "$variant" --diff > "$tmp/$model.diff.md"
     "$usm" equations --model "$base" --variant "$variant" --diff --format latex > "$tmp/$model.diff.tex"
-    if [ "$base" = 3dof ]; then tags="$common $stick"; else tags="$common $slip"; fi
+    if [ "$base" = 3dof ]; then tags="$common $stick"; else tags="$common $slip 3.5c"; fi
+    if grep -q '^Assumptions as derive/variants.py.*`twist = integrated`' "$md"; then
+        if grep -qF '\tag{3.6}' "$md"; then echo "FAIL $model.md: (3.6) under the integrated twist"; fail=1; fi
+    else
+        tags="$tags 3.6"
+    fi
     n=0
     for tag in $tags; do
         n=$((n + 1))
@@ -34,17 +41,28 @@ for model in $models; do
     done
     # an imperfect motor: the stationary section (checked above) holds at zero imperfection
     # only, and says so (tests/equations_proof.py checks its lines against the kernels)
-    if grep -q '^Assumptions.*`imperfection = ' "$md"; then
-        grep -qxF 'e = \delta = s = 0' "$md" || { echo "FAIL $model.md: no condition e = delta = s = 0 on the stationary solution"; fail=1; }
+    if grep -q '^Assumptions as derive/variants.py.*`imperfection = ' "$md"; then
+        grep -qxF '\varepsilon = \delta = s = 0' "$md" || { echo "FAIL $model.md: no condition varepsilon = delta = s = 0 on the stationary solution"; fail=1; }
     fi
+    # page 1 is the model in words and its parameters, not code flags: the flags are in the appendix
+    first=$(grep -n -m1 '`contact = ' "$md" | cut -d: -f1)
+    params=$(grep -n -m1 '^## Parameters' "$md" | cut -d: -f1)
+    appendix=$(grep -n -m1 '^## Appendix' "$md" | cut -d: -f1)
+    if [ -z "$params" ] || [ -z "$appendix" ] || [ "${first:-0}" -lt "$appendix" ]; then
+        echo "FAIL $model.md: the parameters come first and the code flags in the appendix"; fail=1
+    fi
+    if grep -q 'Highlighted' "$tmp/$model.diff.md"; then echo "FAIL $model: --diff says Highlighted"; fail=1; fi
     # prose: outside $...$ no symbol is spelled in ASCII (phi_Rddot, omega_A x L)
     bad=$(awk '/^\$\$$/ {m = !m; next} !m' "$md" | sed 's/\$[^$]*\$//g; s/`[^`]*`//g' \
           | grep -nE 'dot|ddot|omega|theta|phi|psi|R_star| x L' || true)
     [ -z "$bad" ] || { echo "FAIL $model.md: ASCII names in prose: $bad"; fail=1; }
-    # --diff: the highlighted equations, no others
+    # --diff: the highlighted equations, no others, each after the paper's version it replaces
     nmark=$(grep -c '^> \*\*Changed by the variant\*\*' "$md" || true)
-    ndiff=$(grep -c '^\$\$$' "$tmp/$model.diff.md" || true)
-    ndiff=$((ndiff / 2))
+    ndiff=$(grep -c '^\*\*This model:\*\*$' "$tmp/$model.diff.md" || true)
+    nold=$(grep -c "^\*\*Paper's model:\*\*" "$tmp/$model.diff.md" || true)
+    if [ "$nold" -lt "$ndiff" ]; then
+        echo "FAIL $model: --diff shows $ndiff new lines but $nold old ones"; fail=1
+    fi
     if [ "$variant" = paper ]; then
         grep -q "no differences" "$tmp/$model.diff.md" && [ "$nmark" = 0 ] && [ "$ndiff" = 0 ] \
             || { echo "FAIL $model: the paper's model has differences"; fail=1; }

@@ -67,7 +67,8 @@ def check_text(data, tex_path, fail):
         if body is None:
             fail(f"{ln['key']}: not in {os.path.basename(tex_path)}")
             continue
-        if unbreak(body) != f"{ln['lhs_tex']} = {ln['rhs_tex']}":
+        # a display may state a relation other than '=' (F_n > 0)
+        if unbreak(body) != f"{ln['lhs_tex']} {ln.get('rel', '=')} {ln['rhs_tex']}":
             fail(f"{ln['key']}: the .tex line differs from the data: {unbreak(body)[:120]}")
         if ln["kind"] == "display":
             continue

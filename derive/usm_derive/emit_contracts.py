@@ -20,6 +20,7 @@ Naming (also in the header's comment):
 """
 import re
 
+from .defaults import defaults
 from .model import IMPERFECTIONS, PARAMETERS
 from .outputs import (DESIGN_NAMES, OUTPUT_NAMES, OUTPUT_UNITS, POWER_NAMES, SEED_NAMES,
                       STEADY_NAMES)
@@ -141,6 +142,10 @@ def contracts_h(banner):
     h += ("/* The row of usm_param_table that info points to: its USM_P_<name>. */\n"
           "static inline int usm_param_index(const usm_param_info *info)\n"
           "{\n    return (int)(info - usm_param_table);\n}\n\n")
+    h += ("/* The default value of each parameter, by USM_P_<name>, in its SI unit\n"
+          "   (derive/usm_derive/defaults.py: the paper's Appendix A and the values it\n"
+          "   leaves out; usm_params_default copies them). */\n"
+          "extern const double usm_param_defaults[USM_NPARAMS];\n\n")
     h += ("/* The imperfections of a real motor (0 in every ideal model), in table order. */\n"
           f"#define USM_NIMPERFECTIONS {len(IMPERFECTIONS)}\n"
           "extern const int usm_param_imperfections[USM_NIMPERFECTIONS];\n\n")
@@ -179,6 +184,9 @@ def contracts_c(banner):
     c += "const usm_constraint usm_param_constraints[USM_NPARAMS] = {\n"
     c += "".join(f"    USM_CONSTRAINT_{cons.upper()}, /* {name} */\n"
                  for name, _, _, cons in PARAMETERS) + "};\n\n"
+    c += "const double usm_param_defaults[USM_NPARAMS] = {\n"
+    c += "".join(f"    {value!r}, /* {name} [{unit}]: {source} */\n"
+                 for name, unit, _, value, source, _ in defaults()) + "};\n\n"
     c += ("const int usm_param_imperfections[USM_NIMPERFECTIONS] = {"
           + ", ".join(f"USM_P_{nm}" for nm in IMPERFECTIONS) + "};\n\n")
     c += f"const usm_param_coupling usm_param_couplings[{max(len(cs), 1)}] = {{\n"

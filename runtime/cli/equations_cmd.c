@@ -18,10 +18,13 @@ static void usage(FILE *out)
             "                     [--diff]\n"
             "\n"
             "Print the derived equations of a model in the paper's notation, with the\n"
-            "paper's equation numbers: kinematics, contact geometry, contact and rotor laws,\n"
-            "torques, Euler's equations in frame A, M(x) x' = f(x, t) row by row, the\n"
-            "stationary residuals (3.5), beta (3.6) and the linearisation (4.9).  Lines that\n"
-            "differ from the paper's model are highlighted.  --diff prints only those.\n"
+            "paper's equation numbers: the model in words, its parameters (unit, value,\n"
+            "source), the notation, the departures from the paper; kinematics, contact\n"
+            "geometry, contact and rotor laws, torques, Euler's equations in frame A,\n"
+            "M(x) x' = f(x, t) row by row, the stationary residuals (3.5), beta (3.6), the\n"
+            "linearisation (4.9), the Floquet problem and the validity checks.  Lines that\n"
+            "differ from the paper's model are highlighted.  --diff prints only those, each\n"
+            "after the paper's model's version it replaces.\n"
             "The LaTeX output is a complete document (pdflatex builds it).\n");
 }
 

@@ -7,34 +7,12 @@
 
 void usm_params_default(usm_params *p)
 {
-    /* Appendix A (Table 5) of the paper: m0 to I_zz. */
-    p->m0 = 0.005;
-    p->T = 6.46e-5;
-    p->F0 = 0.4;
-    p->c_R = 4000.0;
-    p->d_R = 0.1632;
-    p->c_t = 10000.0;
-    p->c_r = 924.6677;
-    p->d_t = 9.1232e-4;
-    p->d_r = 2.3865e-4;
-    p->R = 0.005;
-    p->H = 0.003;
-    p->I_R = 7.9522e-9;
-    p->I_xx = 1.7109e-8;
-    p->I_yy = 1.7109e-8;
-    p->I_zz = 2.3120e-8;
-    /* Not in the paper's table (see README, "Values the paper leaves out"):
-     * c_r = I_xx (2 pi 37 kHz)^2 fixes the excitation frequency, a solid-disk
-     * rotor gives M = 2 I_R / R^2, and section 5 states mu0 and kappa. */
-    p->f = 37000.0;
-    p->M = 2.0 * p->I_R / (p->R * p->R);
-    p->mu0 = 0.3;
-    p->kappa = 20.0;
-    /* Not in the paper either: chosen by usm as 0, the ideal motor the paper
-     * models (issue 14); imperfections enter only the imperfect variant. */
-    p->amp_imbalance = 0.0;
-    p->phase_error = 0.0;
-    p->mode_split = 0.0;
+    /* The paper's Appendix A (Table 5), the values it states in the text
+     * (mu0, kappa) and those it leaves out (f, M, the imperfections: chosen,
+     * with the reasons in derive/usm_derive/defaults.py, the one place the
+     * numbers are written; the equations documents print the same table). */
+    for (int k = 0; k < USM_NPARAMS; ++k)
+        *usm_params_field(p, &usm_param_table[k]) = usm_param_defaults[k];
 }
 
 /* The name of the first imperfection (in table order) that is not 0, NULL when none is. */
