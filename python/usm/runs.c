@@ -1,0 +1,388 @@
+/* runs.c: the analyses of the Python module as the usm command runs them
+ * (runs.h).  Each function repeats the library calls of its command's run()
+ * in runtime/cli/ and writes the result with the same writer, into an
+ * in-memory stream instead of stdout; messages carry the command's prefixes. */
+#include "runs.h"
+
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+void usmpy_out_init(usmpy_out *o)
+{
+    memset(o, 0, sizeof *o);
+}
+
+void usmpy_out_free(usmpy_out *o)
+{
+    free(o->json);
+    free(o->rows);
+    o->json = NULL;
+    o->rows = NULL;
+}
+
+static void fail(usmpy_out *o, int status, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(o->msg, sizeof o->msg, fmt, ap);
+    va_end(ap);
+    o->status = status;
+}
+
+/* An in-memory stream for a writer; finish() closes it and keeps the text. */
+typedef struct mem {
+    FILE *f;
+    char *buf;
+    size_t len;
+} mem;
+
+static int mem_open(mem *m, usmpy_out *o)
+{
+    m->buf = NULL;
+    m->len = 0;
+    if (!(m->f = open_memstream(&m->buf, &m->len))) {
+        fail(o, USM_EFAILED, "out of memory");
+        return -1;
+    }
+    return 0;
+}
+
+/* rc: the writer's return.  The text becomes o->json on success. */
+static int mem_finish(mem *m, int rc, usmpy_out *o)
+{
+    int bad = rc != 0 || ferror(m->f);
+    if (fclose(m->f) != 0)
+        bad = 1;
+    if (bad || !m->buf) {
+        free(m->buf);
+        fail(o, USM_EFAILED, "out of memory or write error");
+        return -1;
+    }
+    o->json = m->buf;
+    o->len = m->len;
+    return 0;
+}
+
+/* ---- steady (steady_cmd.c) ----------------------------------------------------- */
+
+static const char *non_finite(const usm_steady_solution *s, const usm_floquet_result *f)
+{
+    const double v[] = {s->theta, s->alpha, s->beta, s->rotor_speed, s->F_n, s->F_t,
+                        s->v_c, s->v_rel, s->R_star, s->Z, s->mu_used};
+    for (size_t k = 0; k < sizeof v / sizeof v[0]; ++k)
+        if (!isfinite(v[k]))
+            return "steady: the stationary solution has a non-finite value";
+    for (int k = 0; k < f->n; ++k)
+        if (!isfinite(f->re[k]) || !isfinite(f->im[k]))
+            return "floquet: a multiplier is not finite";
+    if (!isfinite(f->max_modulus))
+        return "floquet: the largest modulus is not finite";
+    return NULL;
+}
+
+static void steady_write(const usm_steady_report *rep, usmpy_out *o)
+{
+    mem m;
+    if (mem_open(&m, o) == 0)
+        mem_finish(&m, usm_steady_write_json(rep, m.f), o);
+}
+
+void usmpy_steady(const usm_model *model, const usm_params *p, double t0,
+                  const usm_floquet_options *fo, const usm_op_options *opo, usmpy_out *o)
+{
+    usm_steady_report rep = {model, p, NULL, NULL, NULL, NULL, NULL};
+    usm_floquet_result *res = NULL;
+    usm_op_result op;
+    usm_floquet *fl = NULL;
+    const char *bad;
+    int status;
+    usm_steady *s = usm_steady_alloc(model);
+    usmpy_out_init(o);
+    if (!s) {
+        fail(o, USM_EFAILED, "out of memory");
+        return;
+    }
+    rep.steady = s;
+    status = usm_steady_solve(s, p, NULL);
+    if (status == USM_ENOSOLUTION) {
+        rep.error = usm_steady_message(s);
+        fail(o, USM_ENOSOLUTION, "no stationary solution: %s", rep.error);
+        steady_write(&rep, o); /* converged = false, as --json prints it */
+        if (o->status == USM_EFAILED)
+            o->status = USM_EFAILED;
+        else
+            o->status = USM_ENOSOLUTION;
+        goto done;
+    }
+    if (status == USM_EINPUT) {
+        fail(o, USM_EINPUT, "%s", usm_steady_message(s));
+        goto done;
+    }
+    if (status != USM_OK || usm_steady_count(s) == 0) {
+        fail(o, USM_EFAILED, "steady: %s", usm_steady_message(s));
+        goto done;
+    }
+    if (!(fl = usm_floquet_alloc(model)) || !(res = malloc(usm_steady_count(s) * sizeof *res))) {
+        fail(o, USM_EFAILED, "out of memory");
+        goto done;
+    }
+    status = usm_floquet_roots(fl, p, s, t0, fo, res);
+    if (status != USM_OK) {
+        fail(o, status == USM_EINPUT ? USM_EINPUT : USM_EFAILED, "floquet: %s",
+             usm_floquet_message(fl));
+        goto done;
+    }
+    for (size_t k = 0; k < usm_steady_count(s); ++k)
+        if ((bad = non_finite(usm_steady_root(s, k), &res[k]))) {
+            fail(o, USM_EFAILED, "%s", bad);
+            goto done;
+        }
+    rep.floquet = &res[0];
+    rep.roots_floquet = res;
+    status = usm_operating_point(model, p, s, res, opo, &op);
+    if (status != USM_OK) {
+        fail(o, status, "%s", op.message);
+        goto done;
+    }
+    rep.op = &op;
+    o->status = USM_OK;
+    steady_write(&rep, o);
+done:
+    free(res);
+    if (fl)
+        usm_floquet_free(fl);
+    usm_steady_free(s);
+}
+
+/* ---- sweep (sweep_cmd.c run, run_periodic) ----------------------------------------- */
+
+void usmpy_sweep(const usm_model *model, const usm_params *p, const usm_sweep_options *opt,
+                 usmpy_out *o)
+{
+    mem m;
+    int status;
+    usm_sweep *s = usm_sweep_alloc(model);
+    usmpy_out_init(o);
+    if (!s) {
+        fail(o, USM_EFAILED, "out of memory");
+        return;
+    }
+    status = usm_sweep_run(s, p, opt);
+    if (status == USM_EINPUT)
+        fail(o, USM_EINPUT, "%s", usm_sweep_message(s));
+    else if (status != USM_OK)
+        fail(o, USM_EFAILED, "sweep: %s", usm_sweep_message(s));
+    else if (mem_open(&m, o) == 0)
+        mem_finish(&m, usm_sweep_write_json(s, model, p, opt->over, m.f), o);
+    usm_sweep_free(s);
+}
+
+void usmpy_periodic_sweep(const usm_model *model, const usm_params *p,
+                          const usm_periodic_sweep_options *opt, usmpy_out *o)
+{
+    mem m;
+    int status;
+    usm_periodic_sweep *s = usm_periodic_sweep_alloc(model);
+    usmpy_out_init(o);
+    if (!s) {
+        fail(o, USM_EFAILED, "out of memory");
+        return;
+    }
+    status = usm_periodic_sweep_run(s, p, opt);
+    if (status != USM_OK)
+        fail(o, status == USM_EINPUT ? USM_EINPUT : USM_EFAILED, "sweep: %s",
+             usm_periodic_sweep_message(s));
+    else if (mem_open(&m, o) == 0)
+        mem_finish(&m, usm_periodic_sweep_write_json(s, p, m.f), o);
+    usm_periodic_sweep_free(s);
+}
+
+/* ---- simulate (simulate_cmd.c run) --------------------------------------------------- */
+
+typedef struct history {
+    double *rows;
+    size_t n, cap;
+    int oom;
+} history;
+
+/* One row in the CSV's columns (usm_sim_csv_header, usm_sim_csv_row). */
+static int on_sample(const usm_sim_sample *s, void *data)
+{
+    history *h = data;
+    if (h->n == h->cap) {
+        size_t cap = h->cap ? 2 * h->cap : 1024;
+        double *r = realloc(h->rows, cap * USMPY_SIM_COLUMNS * sizeof *r);
+        if (!r) {
+            h->oom = 1;
+            return 1;
+        }
+        h->rows = r;
+        h->cap = cap;
+    }
+    double *row = h->rows + h->n * USMPY_SIM_COLUMNS;
+    const double v[USMPY_SIM_COLUMNS] = {
+        s->t, s->phi, s->theta, s->psi, s->phidot, s->thetadot, s->psidot, s->rotor_angle,
+        s->rotor_speed, s->out[USM_OUT_F_N], s->out[USM_OUT_F_T], s->out[USM_OUT_V_REL],
+        s->have_avg ? s->theta_avg : NAN, s->have_avg ? s->rotor_speed_avg : NAN};
+    memcpy(row, v, sizeof v);
+    h->n++;
+    return 0;
+}
+
+void usmpy_simulate(const usm_model *model, const usm_params *p, const usm_sim_options *opt,
+                    usmpy_out *o)
+{
+    usm_sim_summary sum;
+    usm_sim_callbacks cb = {NULL, NULL, NULL, NULL};
+    history h = {NULL, 0, 0, 0};
+    mem m;
+    int rc;
+    usm_sim *s = usm_sim_alloc(model);
+    usmpy_out_init(o);
+    if (!s) {
+        fail(o, USM_EFAILED, "out of memory");
+        return;
+    }
+    if (usm_sim_check(s, p, opt) != USM_OK) {
+        fail(o, USM_EINPUT, "%s", usm_sim_message(s));
+        goto done;
+    }
+    cb.sample = opt->rate > 0 ? on_sample : NULL;
+    cb.data = &h;
+    rc = usm_sim_run(s, p, opt, &cb, &sum);
+    if (h.oom) {
+        fail(o, USM_EFAILED, "out of memory");
+        goto done;
+    }
+    if (rc == USM_EINPUT || rc == USM_ENOSOLUTION) {
+        fail(o, rc, "%s", usm_sim_message(s));
+        goto done;
+    }
+    usm_sim_report rep = {model, p, opt, NULL, NULL, &sum, 0.0};
+    o->status = rc;
+    if (rc != USM_OK)
+        snprintf(o->msg, sizeof o->msg, "%s", usm_sim_message(s));
+    if (mem_open(&m, o) == 0 && mem_finish(&m, usm_sim_write_json(&rep, m.f), o) == 0) {
+        o->rows = h.rows;
+        o->nrows = h.n;
+        o->ncols = USMPY_SIM_COLUMNS;
+        h.rows = NULL;
+    }
+done:
+    free(h.rows);
+    usm_sim_free(s);
+}
+
+/* ---- periodic (periodic_cmd.c) --------------------------------------------------------- */
+
+void usmpy_periodic(const usm_model *model, const usm_params *p, usmpy_out *o)
+{
+    usm_periodic_result r;
+    mem m;
+    usm_periodic *w = usm_periodic_alloc(model);
+    usmpy_out_init(o);
+    if (!w) {
+        fail(o, USM_EFAILED, "out of memory");
+        return;
+    }
+    int status = usm_periodic_solve(w, p, NULL, NULL, &r);
+    if (status == USM_EINPUT) {
+        fail(o, USM_EINPUT, "%s", usm_periodic_message(w));
+    } else {
+        if (status != USM_OK)
+            fail(o, status == USM_ENOSOLUTION ? USM_ENOSOLUTION : USM_EFAILED, "periodic: %s",
+                 usm_periodic_message(w));
+        else
+            o->status = USM_OK;
+        /* --json prints the object with "error" on a failure too */
+        if (mem_open(&m, o) == 0)
+            mem_finish(&m, usm_periodic_write_json(w, p, status ? NULL : &r, m.f), o);
+    }
+    usm_periodic_free(w);
+}
+
+/* ---- sensitivity (sensitivity_cmd.c) --------------------------------------------------- */
+
+void usmpy_sensitivity(const usm_model *model, const usm_params *p, const int want[USM_SENS_COUNT],
+                       usmpy_out *o)
+{
+    usm_sensitivity_result res;
+    usm_sensitivity *sens = NULL;
+    mem m;
+    int status;
+    usm_steady *s = usm_steady_alloc(model);
+    usmpy_out_init(o);
+    if (!s) {
+        fail(o, USM_EFAILED, "out of memory");
+        return;
+    }
+    status = usm_steady_solve(s, p, NULL);
+    if (status == USM_ENOSOLUTION) {
+        fail(o, USM_ENOSOLUTION, "no stationary solution: %s", usm_steady_message(s));
+        goto done;
+    }
+    if (status == USM_EINPUT) {
+        fail(o, USM_EINPUT, "%s", usm_steady_message(s));
+        goto done;
+    }
+    if (status != USM_OK || usm_steady_count(s) == 0) {
+        fail(o, USM_EFAILED, "steady: %s", usm_steady_message(s));
+        goto done;
+    }
+    if (!(sens = usm_sensitivity_alloc(model))) {
+        fail(o, USM_EFAILED, "out of memory");
+        goto done;
+    }
+    status = usm_sensitivity_compute(sens, p, usm_steady_root(s, 0), want[USM_SENS_MAX_MODULUS],
+                                     &res);
+    if (status != USM_OK) {
+        fail(o, status == USM_EINPUT ? USM_EINPUT : USM_EFAILED, "sensitivity: %s",
+             usm_sensitivity_message(sens));
+        goto done;
+    }
+    o->status = USM_OK;
+    if (mem_open(&m, o) == 0)
+        mem_finish(&m, usm_sensitivity_write_json(model, p, &res, want, m.f), o);
+done:
+    usm_sensitivity_free(sens);
+    usm_steady_free(s);
+}
+
+/* ---- map (map_cmd.c) --------------------------------------------------------------------- */
+
+void usmpy_map(const usm_model *model, const usm_params *p, const usm_map_options *opt,
+               usmpy_out *o)
+{
+    usm_report_map map;
+    mem m;
+    int status;
+    usmpy_out_init(o);
+    memset(&map, 0, sizeof map);
+    map.model = model;
+    map.params = *p;
+    map.x.name = opt->x.name;
+    map.x.from = opt->x.from;
+    map.x.to = opt->x.to;
+    map.x.points = opt->x.points;
+    map.y.name = opt->y.name;
+    map.y.from = opt->y.from;
+    map.y.to = opt->y.to;
+    map.y.points = opt->y.points;
+    map.t0 = opt->t0;
+    map.floquet = &opt->floquet;
+    map.op = &opt->op;
+    map.threads = opt->threads;
+    map.boundaries = 1; /* as --json */
+    status = usm_report_map_run(&map, o->msg);
+    if (status != USM_OK) {
+        o->status = status;
+        return;
+    }
+    o->status = USM_OK;
+    if (mem_open(&m, o) == 0)
+        mem_finish(&m, usm_report_map_write_json(&map, m.f), o);
+    usm_report_map_free(&map);
+}
