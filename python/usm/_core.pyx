@@ -178,9 +178,9 @@ cdef class _Model:
         for name, value in values.items():
             bname = str(name).encode()
             info = usm_params_find(bname)
-            if info == NULL:
-                raise ValueError("%s: unknown parameter (known: %s)"
-                                 % (name, ", ".join(r[0] for r in parameter_table())))
+            if info == NULL:   # the library's message ("NAME: unknown parameter")
+                usm_params_set(&new.p, bname, 0.0, msg)
+                raise ValueError(msg.decode(errors="replace"))
             if isinstance(value, str):
                 text = value.encode()
                 if usm_parse_quantity(bname, info.unit, text, len(text), &v, msg) != USM_OK:
@@ -426,7 +426,8 @@ cdef class _Model:
                         raise ValueError("max_steps: must be a whole number in [1, 1000000000000000]")
                     so.max_steps = int(v)
                 continue
-            v = _quantity(key, units.get(key), value)
+            ub = units.get(key)
+            v = _quantity(key, <const char *>ub if ub is not None else NULL, value)
             if key == "duration": so.duration = v
             elif key == "rate": so.rate = v
             elif key == "tilt0": so.tilt0 = v

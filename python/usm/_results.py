@@ -207,9 +207,10 @@ class MapResult(_Table):
 
 
 SIM_COLUMNS = ("t", "phi", "theta", "psi", "phidot", "thetadot", "psidot", "phi_R", "phi_Rdot",
-               "F_n", "F_t", "v_rel", "theta_avg", "phi_Rdot_avg")
+               "F_n", "F_t", "v_rel", "theta_avg", "phi_Rdot_avg", "validity")
 SIM_UNITS = ("s", "rad", "rad", "rad", "rad/s", "rad/s", "rad/s", "rad", "rad/s", "N", "N", "m/s",
-             "rad", "rad/s")
+             "rad", "rad/s", "1")
+VALIDITY_NAMES = ("", "contact_open", "stick_not_admissible")
 
 
 class SimulationResult(Result):
@@ -217,18 +218,21 @@ class SimulationResult(Result):
     as a dict of arrays (the CSV's columns: t [s], phi, theta, psi [rad],
     phidot, thetadot, psidot [rad/s], phi_R [rad], phi_Rdot [rad/s],
     F_n, F_t [N], v_rel [m/s], theta_avg [rad], phi_Rdot_avg [rad/s];
-    the means nan before the first complete period).  .to_dict() is the
-    summary only, as the command prints it."""
+    the means nan before the first complete period; validity 0 where the
+    model describes the motor, 1 contact open, 2 stick not admissible:
+    the CSV's invalid_reason), and history["valid"] (bool).  .to_dict() is
+    the summary only, as the command prints it (its "out" is null)."""
 
     def __init__(self, d, history):
         super().__init__(d)
         if history is None:
             history = np.empty((0, len(SIM_COLUMNS)))
         object.__setattr__(self, "_hist", history)
-        object.__setattr__(self, "history",
-                           {k: history[:, i] for i, k in enumerate(SIM_COLUMNS)})
+        h = {k: history[:, i] for i, k in enumerate(SIM_COLUMNS)}
+        h["valid"] = h["validity"] == 0
+        object.__setattr__(self, "history", h)
 
     @property
     def history_array(self):
-        """The time history as one (rows, 14) array, columns SIM_COLUMNS."""
+        """The time history as one (rows, 15) array, columns SIM_COLUMNS."""
         return self._hist

@@ -9,6 +9,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 void usmpy_out_init(usmpy_out *o)
 {
@@ -226,7 +227,8 @@ static int on_sample(const usm_sim_sample *s, void *data)
     const double v[USMPY_SIM_COLUMNS] = {
         s->t, s->phi, s->theta, s->psi, s->phidot, s->thetadot, s->psidot, s->rotor_angle,
         s->rotor_speed, s->out[USM_OUT_F_N], s->out[USM_OUT_F_T], s->out[USM_OUT_V_REL],
-        s->have_avg ? s->theta_avg : NAN, s->have_avg ? s->rotor_speed_avg : NAN};
+        s->have_avg ? s->theta_avg : NAN, s->have_avg ? s->rotor_speed_avg : NAN,
+        (double)s->validity};
     memcpy(row, v, sizeof v);
     h->n++;
     return 0;
@@ -252,7 +254,10 @@ void usmpy_simulate(const usm_model *model, const usm_params *p, const usm_sim_o
     }
     cb.sample = opt->rate > 0 ? on_sample : NULL;
     cb.data = &h;
+    struct timespec w0, w1;
+    clock_gettime(CLOCK_MONOTONIC, &w0);
     rc = usm_sim_run(s, p, opt, &cb, &sum);
+    clock_gettime(CLOCK_MONOTONIC, &w1);
     if (h.oom) {
         fail(o, USM_EFAILED, "out of memory");
         goto done;
@@ -261,7 +266,8 @@ void usmpy_simulate(const usm_model *model, const usm_params *p, const usm_sim_o
         fail(o, rc, "%s", usm_sim_message(s));
         goto done;
     }
-    usm_sim_report rep = {model, p, opt, NULL, NULL, &sum, 0.0};
+    usm_sim_report rep = {model, p, opt, NULL, NULL, &sum,
+                          (double)(w1.tv_sec - w0.tv_sec) + 1e-9 * (double)(w1.tv_nsec - w0.tv_nsec)};
     o->status = rc;
     if (rc != USM_OK)
         snprintf(o->msg, sizeof o->msg, "%s", usm_sim_message(s));

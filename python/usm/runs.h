@@ -49,9 +49,11 @@ void usmpy_sweep(const usm_model *m, const usm_params *p, const usm_sweep_option
 void usmpy_periodic_sweep(const usm_model *m, const usm_params *p,
                           const usm_periodic_sweep_options *opt, usmpy_out *o);
 
-/* usm simulate --json (the summary) and its time history: the CSV's columns
- * (usm_sim_csv_header), a non-existing value NaN */
-#define USMPY_SIM_COLUMNS 14
+/* usm simulate --json (the summary; its wall_time measured here as the
+ * command measures it) and its time history: the CSV's numeric columns
+ * (usm_sim_csv_header), a non-existing value NaN, then the validity
+ * (usm_validity: 0 valid, 1 contact open, 2 stick not admissible) */
+#define USMPY_SIM_COLUMNS 15
 void usmpy_simulate(const usm_model *m, const usm_params *p, const usm_sim_options *opt,
                     usmpy_out *o);
 
