@@ -59,6 +59,7 @@ cdef extern from "usm.h" nogil:
     const char *usm_generator_version()
     const usm_model *usm_model_find(const char *name)
     const usm_model *usm_model_variant(const char *base, const char *variant)
+    const usm_variant_info *usm_variant_find(const char *name)
     void usm_params_default(usm_params *p)
     const usm_param_info *usm_params_find(const char *name)
     double usm_params_get(const usm_params *p, const usm_param_info *info)

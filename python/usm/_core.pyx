@@ -157,10 +157,13 @@ cdef class _Model:
         v = variant.encode()
         self.m = usm_model_variant(b, v)
         if self.m == NULL:
-            have = [x["name"] for x in variants() if base in x["models"]]
-            if not have:
-                bases = sorted({x["base"] for x in models()})
+            bases = sorted({x["base"] for x in models()})
+            if base not in bases:
                 raise ValueError('model: unknown model "%s" (known: %s)' % (base, ", ".join(bases)))
+            if usm_variant_find(v) == NULL:
+                raise ValueError('variant: unknown variant "%s" (known: %s)'
+                                 % (variant, ", ".join(x["name"] for x in variants())))
+            have = [x["name"] for x in variants() if base in x["models"]]
             raise ValueError('variant: variant "%s" is not generated for model %s (it has: %s)'
                              % (variant, base, ", ".join(have)))
         usm_params_default(&self.p)
@@ -410,7 +413,13 @@ cdef class _Model:
                 so.x0[i] = xv[i]
         units = {"duration": b"s", "rate": b"Hz", "tilt0": b"rad", "theta_limit": b"rad",
                  "speed_limit": b"1/s", "t0": b"s", "rotor_angle0": b"rad", "max_step": b"s"}
+        known = ("duration", "rate", "tilt0", "rtol", "settle_tol", "theta_limit", "speed_limit",
+                 "max_twist_growth", "t0", "rotor_angle0", "max_step", "rest_fraction",
+                 "settle_periods", "max_steps")
         for key, value in opts.items():
+            if key not in known:
+                raise TypeError("simulate: unknown option %s (known: start, %s)"
+                                % (key, ", ".join(known)))
             if value is None:
                 continue
             if key in ("settle_periods", "max_steps"):
