@@ -192,6 +192,13 @@ cdef extern from "runs.h" nogil:
         size_t ncols
     void usmpy_out_init(usmpy_out *o)
     void usmpy_out_free(usmpy_out *o)
+    ctypedef struct usmpy_steady_state:
+        pass
+    usmpy_steady_state *usmpy_steady_run(const usm_model *m, const usm_params *p, double t0,
+                                         const usm_floquet_options *fo, const usm_op_options *op,
+                                         usmpy_out *o)
+    void usmpy_steady_json(const usmpy_steady_state *st, usmpy_out *o)
+    void usmpy_steady_state_free(usmpy_steady_state *st)
     void usmpy_steady(const usm_model *m, const usm_params *p, double t0,
                       const usm_floquet_options *fo, const usm_op_options *op, usmpy_out *o)
     void usmpy_sweep(const usm_model *m, const usm_params *p, const usm_sweep_options *opt,

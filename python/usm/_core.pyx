@@ -251,7 +251,7 @@ cdef class _Model:
 
     # -- kernels ---------------------------------------------------------------
 
-    cdef object _kernel(self, Kernel kind, x, t, int n, tuple outshape, str what):
+    cdef object _kernel(self, Kernel kind, x, t, int n, tuple outshape, str what, out=None):
         cdef const double[:, :] xv
         cdef const double[:] tv = None
         cdef double t1 = 0.0
@@ -281,7 +281,15 @@ cdef class _Model:
         rowlen = 1
         for d in outshape:
             rowlen *= d
-        out = np.empty((N,) + outshape, dtype=np.float64)
+        if out is None:
+            out = np.empty((N,) + outshape, dtype=np.float64)
+        else:
+            want = ((N,) if not single else ()) + outshape
+            if not isinstance(out, np.ndarray) or out.dtype != np.float64 \
+                    or out.shape != want or not out.flags.c_contiguous or not out.flags.writeable:
+                raise ValueError("out: expected a writeable C-contiguous float64 array of shape %s"
+                                 % (want,))
+            out = out.reshape((N,) + outshape)
         ov = out.reshape(-1)
         xv = x2
         with nogil:
@@ -292,20 +300,20 @@ cdef class _Model:
                              "x %s, t %r" % (x2[bad], tv[bad])))
         return out[0] if single else out
 
-    def mass_matrix(self, x, t=None):
-        return self._kernel(K_MASS, x, t, self.m.nx, (self.m.nx, self.m.nx), "x")
+    def mass_matrix(self, x, t=None, out=None):
+        return self._kernel(K_MASS, x, t, self.m.nx, (self.m.nx, self.m.nx), "x", out)
 
-    def rhs(self, x, t=0.0):
-        return self._kernel(K_RHS, x, t, self.m.nx, (self.m.nx,), "x")
+    def rhs(self, x, t=0.0, out=None):
+        return self._kernel(K_RHS, x, t, self.m.nx, (self.m.nx,), "x", out)
 
-    def jacobian(self, x, t=0.0):
-        return self._kernel(K_JAC, x, t, self.m.nx, (self.m.nx, self.m.nx), "x")
+    def jacobian(self, x, t=0.0, out=None):
+        return self._kernel(K_JAC, x, t, self.m.nx, (self.m.nx, self.m.nx), "x", out)
 
-    def steady_residual(self, u):
-        return self._kernel(K_RES, u, None, self.m.nu, (self.m.nu,), "u")
+    def steady_residual(self, u, out=None):
+        return self._kernel(K_RES, u, None, self.m.nu, (self.m.nu,), "u", out)
 
-    def steady_jacobian(self, u):
-        return self._kernel(K_RESJAC, u, None, self.m.nu, (self.m.nu, self.m.nu), "u")
+    def steady_jacobian(self, u, out=None):
+        return self._kernel(K_RESJAC, u, None, self.m.nu, (self.m.nu, self.m.nu), "u", out)
 
     # -- analyses (runs.c) ----------------------------------------------------------
 
@@ -342,9 +350,14 @@ cdef class _Model:
                 raise ValueError("from_rest_periods: must be in [1, 1e7]")
         if not isfinite(t0):
             raise ValueError("t0: not finite")
+        cdef usmpy_steady_state *st
         with nogil:
-            usmpy_steady(self.m, &self.p, t0, &fo, &op, &o)
-        return self._finish(&o)
+            st = usmpy_steady_run(self.m, &self.p, t0, &fo, &op, &o)
+        cdef _SteadyState state = None
+        if st != NULL:
+            state = _SteadyState.__new__(_SteadyState)
+            state.st = st
+        return o.status, o.msg.decode(errors="replace"), state
 
     def _sweep(self, str over, start, stop, int points, int floquet, double t0, method, rtol,
                steps, int threads, int from_rest, from_rest_periods, int periodic):
@@ -525,6 +538,36 @@ cdef class _Model:
         with nogil:
             usmpy_map(self.m, &self.p, &mo, &o)
         return self._finish(&o)
+
+
+cdef class _SteadyState:
+    """The library's objects of one steady analysis (runs.c), kept so that
+    the JSON text is written only when a result is read: .json() writes it
+    once (the library's writer, the GIL released) and keeps it."""
+    cdef usmpy_steady_state *st
+    cdef object text
+
+    def __cinit__(self):
+        self.st = NULL
+        self.text = None
+
+    def __dealloc__(self):
+        usmpy_steady_state_free(self.st)
+
+    def json(self):
+        cdef usmpy_out o
+        if self.text is None:
+            with nogil:
+                usmpy_steady_json(self.st, &o)
+            try:
+                if o.status != USM_OK or o.json == NULL:
+                    raise NumericalError(o.msg.decode(errors="replace"))
+                text = o.json[:o.len].decode()
+            finally:
+                usmpy_out_free(&o)
+            if self.text is None:
+                self.text = text
+        return self.text
 
 
 cdef object _axis(str field, spec):

@@ -109,28 +109,29 @@ class Model:
 
     # ---- kernels -------------------------------------------------------------------
 
-    def mass_matrix(self, x, t=None):
+    def mass_matrix(self, x, t=None, out=None):
         """M(x): x (nx,) -> (nx, nx); (N, nx) -> (N, nx, nx).  t is accepted
         and ignored (M does not depend on time)."""
-        return self._c.mass_matrix(x, t)
+        return self._c.mass_matrix(x, t, out)
 
-    def rhs(self, x, t=0.0):
+    def rhs(self, x, t=0.0, out=None):
         """f(x, t) of M(x) x' = f(x, t): x (nx,) -> (nx,), (N, nx) -> (N, nx);
-        t [s] a number or (N,) array."""
-        return self._c.rhs(x, t)
+        t [s] a number or (N,) array.  out: an array of the result's shape
+        (C-contiguous float64) to write into instead of a new one."""
+        return self._c.rhs(x, t, out)
 
-    def jacobian(self, x, t=0.0):
+    def jacobian(self, x, t=0.0, out=None):
         """df/dx: x (nx,) -> (nx, nx), (N, nx) -> (N, nx, nx), row i = f_i."""
-        return self._c.jacobian(x, t)
+        return self._c.jacobian(x, t, out)
 
-    def steady_residual(self, u):
+    def steady_residual(self, u, out=None):
         """r(u) of the stationary ansatz, u = (theta, alpha[, phidot_R]):
         (nu,) -> (nu,), (N, nu) -> (N, nu) [N m]."""
-        return self._c.steady_residual(u)
+        return self._c.steady_residual(u, out)
 
-    def steady_jacobian(self, u):
+    def steady_jacobian(self, u, out=None):
         """dr/du: (nu,) -> (nu, nu), (N, nu) -> (N, nu, nu)."""
-        return self._c.steady_jacobian(u)
+        return self._c.steady_jacobian(u, out)
 
     # ---- analyses ------------------------------------------------------------------
 
@@ -139,11 +140,13 @@ class Model:
         """Every stationary solution, the Floquet multipliers of each and the
         operating point (`usm steady --json`).  NoSolution when none exists
         (its .result is the converged = false object)."""
-        st, msg, doc, _ = self._c._steady(float(t0), method, rtol, steps, bool(from_rest),
-                                          from_rest_periods)
+        st, msg, state = self._c._steady(float(t0), method, rtol, steps, bool(from_rest),
+                                         from_rest_periods)
+        # the JSON is written and parsed when the result is first read
+        res = SteadyResult(source=state.json) if state is not None else None
         if st != 0:
-            _raise(st, msg, SteadyResult(doc) if doc is not None else None)
-        return SteadyResult(doc)
+            _raise(st, msg, res)
+        return res
 
     def floquet(self, method=None, rtol=None, t0=0.0, steps=None, root=0):
         """The Floquet multipliers of stationary root `root` (0: the

@@ -8,6 +8,7 @@ nested objects become results, lists of numbers numpy arrays (null -> nan),
 "multipliers" ([re, im] pairs) a complex array.
 """
 import copy
+import json
 import math
 
 import numpy as np
@@ -45,8 +46,18 @@ class Result:
     give the value of KEY (converted, see the module's text); r.to_dict()
     is the object itself, equal to the command's --json output."""
 
-    def __init__(self, d):
-        object.__setattr__(self, "_d", d)
+    def __init__(self, d=None, source=None):
+        # d: the parsed object; or source: a function returning its JSON
+        # text, called (and parsed) when the result is first read
+        object.__setattr__(self, "_dd", d)
+        object.__setattr__(self, "_source", source)
+
+    @property
+    def _d(self):
+        if self._dd is None:
+            object.__setattr__(self, "_dd", json.loads(self._source()))
+            object.__setattr__(self, "_source", None)
+        return self._dd
 
     def to_dict(self):
         """A deep copy of the JSON object (plain dicts, lists, floats)."""
@@ -159,8 +170,8 @@ class _Table(Result):
 
     _points_key = "points"
 
-    def __init__(self, d):
-        super().__init__(d)
+    def __init__(self, d=None, source=None):
+        super().__init__(d, source)
         object.__setattr__(self, "_cols", None)
 
     @property

@@ -84,78 +84,118 @@ static const char *non_finite(const usm_steady_solution *s, const usm_floquet_re
     return NULL;
 }
 
-static void steady_write(const usm_steady_report *rep, usmpy_out *o)
+/* The state of one steady analysis, kept until its JSON is asked for. */
+struct usmpy_steady_state {
+    const usm_model *model;
+    usm_params params;
+    usm_steady *s;
+    usm_floquet_result *res;
+    usm_op_result op;
+    int status;       /* USM_OK: roots, multipliers and op; USM_ENOSOLUTION: error */
+};
+
+void usmpy_steady_state_free(usmpy_steady_state *st)
 {
+    if (!st)
+        return;
+    free(st->res);
+    usm_steady_free(st->s);
+    free(st);
+}
+
+usmpy_steady_state *usmpy_steady_run(const usm_model *model, const usm_params *p, double t0,
+                                     const usm_floquet_options *fo, const usm_op_options *opo,
+                                     usmpy_out *o)
+{
+    usm_floquet *fl = NULL;
+    const char *bad;
+    int status;
+    usmpy_steady_state *st = calloc(1, sizeof *st);
+    usmpy_out_init(o);
+    if (!st || !(st->s = usm_steady_alloc(model))) {
+        free(st);
+        fail(o, USM_EFAILED, "out of memory");
+        return NULL;
+    }
+    st->model = model;
+    st->params = *p;
+    p = &st->params;
+    status = usm_steady_solve(st->s, p, NULL);
+    if (status == USM_ENOSOLUTION) {
+        fail(o, USM_ENOSOLUTION, "no stationary solution: %s", usm_steady_message(st->s));
+        st->status = USM_ENOSOLUTION; /* --json prints converged = false */
+        return st;
+    }
+    if (status == USM_EINPUT) {
+        fail(o, USM_EINPUT, "%s", usm_steady_message(st->s));
+        goto fail;
+    }
+    if (status != USM_OK || usm_steady_count(st->s) == 0) {
+        fail(o, USM_EFAILED, "steady: %s", usm_steady_message(st->s));
+        goto fail;
+    }
+    if (!(fl = usm_floquet_alloc(model)) ||
+        !(st->res = malloc(usm_steady_count(st->s) * sizeof *st->res))) {
+        fail(o, USM_EFAILED, "out of memory");
+        goto fail;
+    }
+    status = usm_floquet_roots(fl, p, st->s, t0, fo, st->res);
+    if (status != USM_OK) {
+        fail(o, status == USM_EINPUT ? USM_EINPUT : USM_EFAILED, "floquet: %s",
+             usm_floquet_message(fl));
+        goto fail;
+    }
+    for (size_t k = 0; k < usm_steady_count(st->s); ++k)
+        if ((bad = non_finite(usm_steady_root(st->s, k), &st->res[k]))) {
+            fail(o, USM_EFAILED, "%s", bad);
+            goto fail;
+        }
+    status = usm_operating_point(model, p, st->s, st->res, opo, &st->op);
+    if (status != USM_OK) {
+        fail(o, status, "%s", st->op.message);
+        goto fail;
+    }
+    usm_floquet_free(fl);
+    st->status = o->status = USM_OK;
+    return st;
+fail:
+    usm_floquet_free(fl);
+    usmpy_steady_state_free(st);
+    return NULL;
+}
+
+void usmpy_steady_json(const usmpy_steady_state *st, usmpy_out *o)
+{
+    usm_steady_report rep = {st->model, &st->params, st->s, NULL, NULL, NULL, NULL};
     mem m;
+    usmpy_out_init(o);
+    if (st->status == USM_ENOSOLUTION)
+        rep.error = usm_steady_message(st->s);
+    else {
+        rep.floquet = &st->res[0];
+        rep.roots_floquet = st->res;
+        rep.op = &st->op;
+    }
+    o->status = USM_OK;
     if (mem_open(&m, o) == 0)
-        mem_finish(&m, usm_steady_write_json(rep, m.f), o);
+        mem_finish(&m, usm_steady_write_json(&rep, m.f), o);
 }
 
 void usmpy_steady(const usm_model *model, const usm_params *p, double t0,
                   const usm_floquet_options *fo, const usm_op_options *opo, usmpy_out *o)
 {
-    usm_steady_report rep = {model, p, NULL, NULL, NULL, NULL, NULL};
-    usm_floquet_result *res = NULL;
-    usm_op_result op;
-    usm_floquet *fl = NULL;
-    const char *bad;
-    int status;
-    usm_steady *s = usm_steady_alloc(model);
-    usmpy_out_init(o);
-    if (!s) {
-        fail(o, USM_EFAILED, "out of memory");
-        return;
-    }
-    rep.steady = s;
-    status = usm_steady_solve(s, p, NULL);
-    if (status == USM_ENOSOLUTION) {
-        rep.error = usm_steady_message(s);
-        fail(o, USM_ENOSOLUTION, "no stationary solution: %s", rep.error);
-        steady_write(&rep, o); /* converged = false, as --json prints it */
-        if (o->status == USM_EFAILED)
-            o->status = USM_EFAILED;
-        else
-            o->status = USM_ENOSOLUTION;
-        goto done;
-    }
-    if (status == USM_EINPUT) {
-        fail(o, USM_EINPUT, "%s", usm_steady_message(s));
-        goto done;
-    }
-    if (status != USM_OK || usm_steady_count(s) == 0) {
-        fail(o, USM_EFAILED, "steady: %s", usm_steady_message(s));
-        goto done;
-    }
-    if (!(fl = usm_floquet_alloc(model)) || !(res = malloc(usm_steady_count(s) * sizeof *res))) {
-        fail(o, USM_EFAILED, "out of memory");
-        goto done;
-    }
-    status = usm_floquet_roots(fl, p, s, t0, fo, res);
-    if (status != USM_OK) {
-        fail(o, status == USM_EINPUT ? USM_EINPUT : USM_EFAILED, "floquet: %s",
-             usm_floquet_message(fl));
-        goto done;
-    }
-    for (size_t k = 0; k < usm_steady_count(s); ++k)
-        if ((bad = non_finite(usm_steady_root(s, k), &res[k]))) {
-            fail(o, USM_EFAILED, "%s", bad);
-            goto done;
+    usmpy_steady_state *st = usmpy_steady_run(model, p, t0, fo, opo, o);
+    if (st) {
+        usmpy_out w;
+        usmpy_steady_json(st, &w);
+        if (w.status != USM_OK) {
+            *o = w;
+        } else {
+            o->json = w.json;
+            o->len = w.len;
         }
-    rep.floquet = &res[0];
-    rep.roots_floquet = res;
-    status = usm_operating_point(model, p, s, res, opo, &op);
-    if (status != USM_OK) {
-        fail(o, status, "%s", op.message);
-        goto done;
+        usmpy_steady_state_free(st);
     }
-    rep.op = &op;
-    o->status = USM_OK;
-    steady_write(&rep, o);
-done:
-    free(res);
-    if (fl)
-        usm_floquet_free(fl);
-    usm_steady_free(s);
 }
 
 /* ---- sweep (sweep_cmd.c run, run_periodic) ----------------------------------------- */

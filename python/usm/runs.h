@@ -39,7 +39,20 @@ typedef struct usmpy_out {
 void usmpy_out_init(usmpy_out *o);
 void usmpy_out_free(usmpy_out *o);
 
-/* usm steady --json [--t0 S] [--floquet-method M --rtol R] [--from-rest ...] */
+/* usm steady --json [--t0 S] [--floquet-method M --rtol R] [--from-rest ...]
+ * in two steps, so that a caller pays for the JSON only when it reads it:
+ * usmpy_steady_run computes (status and message in o, no JSON) and returns
+ * the state (NULL after USM_EINPUT, USM_EFAILED or out of memory; after
+ * USM_ENOSOLUTION the state of the converged = false object);
+ * usmpy_steady_json writes its JSON into o (status USM_OK, or USM_EFAILED
+ * when out of memory); usmpy_steady_state_free frees it.  usmpy_steady does
+ * all three. */
+typedef struct usmpy_steady_state usmpy_steady_state;
+usmpy_steady_state *usmpy_steady_run(const usm_model *m, const usm_params *p, double t0,
+                                     const usm_floquet_options *fo, const usm_op_options *op,
+                                     usmpy_out *o);
+void usmpy_steady_json(const usmpy_steady_state *st, usmpy_out *o);
+void usmpy_steady_state_free(usmpy_steady_state *st);
 void usmpy_steady(const usm_model *m, const usm_params *p, double t0,
                   const usm_floquet_options *fo, const usm_op_options *op, usmpy_out *o);
 

@@ -58,6 +58,8 @@ def test_kernel_shapes_and_dtypes():
         m.rhs(x)
     with pytest.raises(ValueError, match=r"t: shape \(2,\), expected a number or \(3,\)"):
         m.rhs(np.full((3, 6), 0.01), np.zeros(2))
+    with pytest.raises(ValueError, match=r"out: expected a writeable C-contiguous float64 array of shape \(3, 6\)"):
+        m.rhs(np.full((3, 6), 0.01), out=np.empty((3, 5)))
     with pytest.raises(ValueError, match="t: not finite"):
         m.rhs(np.full(6, 0.01), float("inf"))
 
