@@ -179,6 +179,31 @@ cdef extern from "usm_map.h" nogil:
         usm_op_options op
     void usm_map_options_default(usm_map_options *opt)
 
+cdef extern from "usm_optimize.h" nogil:
+    ctypedef struct usm_opt_problem:
+        int objective
+        int minimize
+        double margin
+        int allow_slip
+        int allow_driven
+        int starts
+        double t0
+        int no_flat
+        int from_rest
+        double from_rest_periods
+    void usm_opt_problem_init(usm_opt_problem *pb)
+    int usm_opt_problem_add_vary(usm_opt_problem *pb, const char *name, double lo, double hi,
+                                 char *msg)
+    int usm_opt_problem_add_constraint(usm_opt_problem *pb, const char *output, int upper,
+                                       double value, char *msg)
+    int usm_opt_problem_check(const usm_opt_problem *pb, const usm_model *m, const usm_params *p,
+                              char *msg)
+    int usm_opt_output_find(const char *name)
+    void usm_opt_output_list(char *buf, size_t len)
+
+cdef extern from "usm.h" nogil:
+    int usm_params_check_ideal(const usm_params *p, char *msg)
+
 cdef extern from "runs.h" nogil:
     enum:
         USMPY_SIM_COLUMNS
@@ -210,5 +235,7 @@ cdef extern from "runs.h" nogil:
     void usmpy_periodic(const usm_model *m, const usm_params *p, usmpy_out *o)
     void usmpy_sensitivity(const usm_model *m, const usm_params *p, const int *want,
                            usmpy_out *o)
+    void usmpy_optimize(const usm_model *m, const usm_params *p, const usm_opt_problem *pb,
+                        usmpy_out *o)
     void usmpy_map(const usm_model *m, const usm_params *p, const usm_map_options *opt,
                    usmpy_out *o)

@@ -471,6 +471,12 @@ cdef class _Model:
             usmpy_simulate(self.m, &self.p, &so, &o)
         return self._finish(&o)
 
+    def _optimize(self, objective, dict vary, list constraints, int minimize, margin, starts,
+                  t0, int allow_slip, int allow_driven, int no_flat, int from_rest,
+                  from_rest_periods):
+        return _run_optimize(self, objective, vary, constraints, minimize, margin, starts, t0,
+                             allow_slip, allow_driven, no_flat, from_rest, from_rest_periods)
+
     def _periodic(self):
         cdef usmpy_out o
         with nogil:
@@ -538,6 +544,91 @@ cdef class _Model:
         with nogil:
             usmpy_map(self.m, &self.p, &mo, &o)
         return self._finish(&o)
+
+
+cdef object _run_optimize(_Model self, objective, dict vary, list constraints, int minimize,
+                          margin, starts, t0, int allow_slip, int allow_driven, int no_flat,
+                          int from_rest, from_rest_periods):
+    """usm optimize: the problem as optimize_cmd.c builds it from its options,
+    checked by the library, then run (runs.c)."""
+    cdef usm_opt_problem pb
+    cdef char msg[USM_MSG_LEN]
+    cdef char lst[1024]
+    cdef usmpy_out o
+    cdef const usm_param_info *info
+    cdef const char *unit
+    cdef double lo, hi, v
+    usm_opt_problem_init(&pb)
+    pb.objective = usm_opt_output_find(str(objective).encode())
+    if pb.objective < 0:
+        usm_opt_output_list(lst, sizeof(lst))
+        raise ValueError('objective: unknown output "%s" (one of: %s)'
+                         % (objective, lst.decode(errors="replace")))
+    pb.minimize = minimize
+    for name, bounds in vary.items():
+        bname = str(name).encode()
+        info = usm_params_find(bname)
+        unit = info.unit if info != NULL else NULL
+        try:
+            blo, bhi = bounds
+        except (TypeError, ValueError):
+            raise ValueError("vary: %s: expected (lo, hi), got %r" % (name, bounds)) from None
+        lo = _quantity("vary", unit, blo)
+        hi = _quantity("vary", unit, bhi)
+        if usm_opt_problem_add_vary(&pb, bname, lo, hi, msg) != USM_OK:
+            raise ValueError(msg.decode(errors="replace"))
+    for c in constraints:
+        if isinstance(c, str):
+            text = c.replace(" ", "")
+            if ">=" in text:
+                out, val = text.split(">=", 1)
+                upper = 0
+            elif "<=" in text:
+                out, val = text.split("<=", 1)
+                upper = 1
+            else:
+                raise ValueError('constraint: expected "OUTPUT>=X" or "OUTPUT<=X", got "%s"' % c)
+            try:
+                v = float(val)
+            except ValueError:
+                raise ValueError('constraint: "%s" is not a number' % val) from None
+        else:
+            try:
+                out, rel, val = c
+            except (TypeError, ValueError):
+                raise ValueError("constraint: expected (output, \">=\"|\"<=\", value), got %r"
+                                 % (c,)) from None
+            if rel not in (">=", "<="):
+                raise ValueError('constraint: the relation must be ">=" or "<=", got %r' % (rel,))
+            upper = rel == "<="
+            v = _number("constraint", val)
+        if not isfinite(v):
+            raise ValueError('constraint: %s: not finite' % out)
+        if usm_opt_problem_add_constraint(&pb, str(out).encode(), upper, v, msg) != USM_OK:
+            raise ValueError(msg.decode(errors="replace"))
+    if margin is not None:
+        pb.margin = _number("stability_margin", margin)
+    if starts is not None:
+        if isinstance(starts, bool) or not isinstance(starts, (int, np.integer)):
+            raise TypeError("starts: must be an integer")
+        pb.starts = int(starts)
+    if t0 is not None:
+        pb.t0 = _quantity("t0", b"s", t0)
+    pb.allow_slip = allow_slip
+    pb.allow_driven = allow_driven
+    pb.no_flat = no_flat
+    pb.from_rest = from_rest
+    if from_rest_periods is not None:
+        pb.from_rest_periods = _number("from_rest_periods", from_rest_periods)
+        if not (pb.from_rest_periods >= 1 and pb.from_rest_periods <= 1e7):
+            raise ValueError("from_rest_periods: must be in [1, 1e7]")
+    if usm_params_check_ideal(&self.p, msg) != USM_OK:
+        raise ValueError(msg.decode(errors="replace"))
+    if usm_opt_problem_check(&pb, self.m, &self.p, msg) != USM_OK:
+        raise ValueError(msg.decode(errors="replace"))
+    with nogil:
+        usmpy_optimize(self.m, &self.p, &pb, &o)
+    return self._finish(&o)
 
 
 cdef class _SteadyState:

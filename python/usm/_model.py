@@ -4,7 +4,7 @@ from typing import NamedTuple
 
 from . import _core
 from ._results import (SteadyResult, FloquetResult, SweepResult, SimulationResult,
-                       PeriodicResult, SensitivityResult, MapResult)
+                       PeriodicResult, SensitivityResult, MapResult, OptimizeResult)
 
 
 class Parameter(NamedTuple):
@@ -228,3 +228,27 @@ class Model:
         if st != 0:
             _raise(st, msg)
         return MapResult(doc)
+
+    def optimize(self, objective, vary, constraints=(), minimize=False, stability_margin=None,
+                 starts=None, t0=None, allow_slip=False, allow_driven=False, no_flat=False,
+                 from_rest=False, from_rest_periods=None):
+        """Design optimisation (`usm optimize --json`): maximise (minimize=True:
+        minimise) output `objective` ("speed", "efficiency", "power_out", ...)
+        over the parameters of `vary`, {name: (lo, hi)} (SI, or texts with a
+        unit), subject to `constraints`: "OUTPUT>=X", "OUTPUT<=X",
+        "rootR.OUTPUT<=X", "roots<=1", or (output, ">=" | "<=", X).  The
+        other options as the command's (--stability-margin, --starts, --t0,
+        --allow-slip, --allow-driven, --no-flat, --from-rest).  No feasible
+        point raises NoSolution, its .result the {"feasible": false, ...}
+        object."""
+        if isinstance(constraints, str) or (isinstance(constraints, tuple) and len(constraints) == 3
+                                            and constraints[1] in (">=", "<=")):
+            constraints = [constraints]               # one constraint
+        st, msg, doc, _ = self._c._optimize(str(objective), dict(vary), list(constraints),
+                                            bool(minimize), stability_margin, starts, t0,
+                                            bool(allow_slip), bool(allow_driven), bool(no_flat),
+                                            bool(from_rest), from_rest_periods)
+        res = OptimizeResult(doc) if doc is not None else None
+        if st != 0:
+            _raise(st, msg, res)
+        return res

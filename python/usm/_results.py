@@ -14,7 +14,7 @@ import math
 import numpy as np
 
 __all__ = ["Result", "SteadyResult", "FloquetResult", "SweepResult", "SimulationResult",
-           "PeriodicResult", "SensitivityResult", "MapResult"]
+           "PeriodicResult", "SensitivityResult", "MapResult", "OptimizeResult"]
 
 
 def _is_number(v):
@@ -115,6 +115,12 @@ class FloquetResult(Result):
 
 class PeriodicResult(Result):
     """`usm periodic --json` (docs/periodic.md)."""
+
+
+class OptimizeResult(Result):
+    """`usm optimize --json`: feasible, objective, sense, value, varied (the
+    optimal parameters), parameters, the active constraints with their
+    multipliers, the stationary solution and stability at the optimum."""
 
 
 class SensitivityResult(Result):

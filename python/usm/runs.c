@@ -432,3 +432,31 @@ void usmpy_map(const usm_model *model, const usm_params *p, const usm_map_option
         mem_finish(&m, usm_report_map_write_json(&map, m.f), o);
     usm_report_map_free(&map);
 }
+
+/* ---- optimize (optimize_cmd.c) --------------------------------------------------------------- */
+
+void usmpy_optimize(const usm_model *model, const usm_params *p, const usm_opt_problem *pb,
+                    usmpy_out *o)
+{
+    mem m;
+    usmpy_out_init(o);
+    usm_optimize *opt = usm_optimize_alloc(model);
+    usm_opt_result *res = malloc(sizeof *res);
+    if (!opt || !res) {
+        fail(o, USM_EFAILED, "out of memory");
+    } else {
+        int status = usm_optimize_run(opt, p, pb, res);
+        if (status == USM_ENOSOLUTION || status == USM_OK) {
+            if (status == USM_ENOSOLUTION)
+                fail(o, USM_ENOSOLUTION, "%s", usm_optimize_message(opt));
+            else
+                o->status = USM_OK;
+            if (mem_open(&m, o) == 0)
+                mem_finish(&m, usm_optimize_write_json(opt, model, pb, res, m.f), o);
+        } else
+            fail(o, status == USM_EINPUT ? USM_EINPUT : USM_EFAILED, "optimize: %s",
+                 usm_optimize_message(opt));
+    }
+    free(res);
+    usm_optimize_free(opt);
+}

@@ -20,6 +20,7 @@
 #include "usm_io.h"
 #include "usm_map.h"
 #include "usm_operating_point.h"
+#include "usm_optimize.h"
 #include "usm_periodic.h"
 #include "usm_periodic_sweep.h"
 #include "usm_report_map.h"
@@ -80,5 +81,11 @@ void usmpy_sensitivity(const usm_model *m, const usm_params *p, const int want[U
 /* usm map --json */
 void usmpy_map(const usm_model *m, const usm_params *p, const usm_map_options *opt,
                usmpy_out *o);
+
+/* usm optimize --json (optimize_cmd.c): pb built and checked by the caller
+ * (usm_opt_problem_check); the JSON also after USM_ENOSOLUTION ({"feasible":
+ * false, ...}) */
+void usmpy_optimize(const usm_model *m, const usm_params *p, const usm_opt_problem *pb,
+                    usmpy_out *o);
 
 #endif /* USMPY_RUNS_H */

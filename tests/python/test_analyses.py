@@ -140,3 +140,25 @@ def test_stability_map(model, variant, params):
     got = usm.Model(model, variant, **params).stability_map(x=("f", 4), y=("F0", 0.3, 0.5, 3))
     assert got.to_dict() == want
     assert got.grid("max_modulus").shape == (3, 4)
+
+
+@pytest.mark.parametrize("model,variant,params,args,kw", [
+    ("3dof", "paper", {}, ["--objective", "speed", "--vary", "f=36kHz:39kHz", "--vary",
+                           "F0=0.3:0.6", "--constraint", "F_n>=0.35", "--starts", "2"],
+     dict(objective="speed", vary={"f": ("36kHz", "39kHz"), "F0": (0.3, 0.6)},
+          constraints=["F_n>=0.35"], starts=2)),
+    ("4dof", "paper", {"T": 5e-5}, ["--objective", "efficiency", "--vary", "F0=0.3:0.6",
+                                    "--constraint", "speed>=5", "--starts", "2", "--no-flat"],
+     dict(objective="efficiency", vary={"F0": (0.3, 0.6)}, constraints=[("speed", ">=", 5)],
+          starts=2, no_flat=True)),
+    ("3dof", "twist_integrated", {}, ["--objective", "theta", "--minimize", "--vary",
+                                      "F0=0.3:0.6", "--starts", "2", "--stability-margin",
+                                      "0.05"],
+     dict(objective="theta", minimize=True, vary={"F0": (0.3, 0.6)}, starts=2,
+          stability_margin=0.05)),
+])
+def test_optimize(model, variant, params, args, kw):
+    want, _ = run_cli("optimize", *cli_args(model, variant, params), *args)
+    got = usm.Model(model, variant, **params).optimize(**kw)
+    assert got.to_dict() == want
+    assert got.feasible is True and got.value == want["value"]

@@ -114,3 +114,25 @@ def test_bad_options():
         m.stability_map(x=("Q", 1, 2, 3))
     with pytest.raises(ValueError, match="root: 3 is out of range"):
         m.floquet(root=3)
+
+
+def test_optimize_errors():
+    m = usm.Model()
+    want, _ = run_cli("optimize", "--objective", "speed", "--vary", "F0=0.3:0.6", "--constraint",
+                      "F_n>=5", "--starts", "2", expect=3)
+    with pytest.raises(usm.NoSolution) as e:
+        m.optimize("speed", {"F0": (0.3, 0.6)}, "F_n>=5", starts=2)
+    assert str(e.value) == cli_error("optimize", "--objective", "speed", "--vary", "F0=0.3:0.6",
+                                     "--constraint", "F_n>=5", "--starts", "2", expect=3)
+    assert e.value.result.to_dict() == want and e.value.result.feasible is False
+    # the library's "vary: ..." (the command prefixes it with "--")
+    with pytest.raises(ValueError) as e:
+        m.optimize("speed", {"F0": (0.6, 0.3)})
+    assert "--" + str(e.value) == cli_error("optimize", "--objective", "speed", "--vary",
+                                            "F0=0.6:0.3", expect=2)
+    with pytest.raises(ValueError, match='objective: unknown output "spd"'):
+        m.optimize("spd", {"F0": (0.3, 0.6)})
+    with pytest.raises(ValueError, match="vary"):
+        m.optimize("speed", {"Q": (0.3, 0.6)})
+    with pytest.raises(ValueError, match="constraint"):
+        m.optimize("speed", {"F0": (0.3, 0.6)}, "F_n=5")
