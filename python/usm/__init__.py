@@ -16,7 +16,8 @@ for bit.  Reference: docs/python.md.
 from . import _core
 from ._core import NoSolution, NumericalError, variants, models, parameter_table
 from ._results import (Result, SteadyResult, FloquetResult, SweepResult, SimulationResult,
-                       PeriodicResult, SensitivityResult, MapResult, OptimizeResult, SIM_COLUMNS, SIM_UNITS,
+                       PeriodicResult, SensitivityResult, MapResult, OptimizeResult, ToleranceResult,
+                       SIM_COLUMNS, SIM_UNITS,
                        VALIDITY_NAMES)
 from ._model import Model, Parameter, Parameters
 
@@ -24,5 +25,5 @@ __version__, generator_version = _core.version()
 
 __all__ = ["Model", "Parameter", "Parameters", "NoSolution", "NumericalError", "variants",
            "models", "parameter_table", "Result", "SteadyResult", "FloquetResult", "SweepResult",
-           "SimulationResult", "PeriodicResult", "SensitivityResult", "MapResult", "OptimizeResult",
+           "SimulationResult", "PeriodicResult", "SensitivityResult", "MapResult", "OptimizeResult", "ToleranceResult",
            "SIM_COLUMNS", "SIM_UNITS", "VALIDITY_NAMES", "__version__", "generator_version"]

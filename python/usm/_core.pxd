@@ -204,6 +204,26 @@ cdef extern from "usm_optimize.h" nogil:
 cdef extern from "usm.h" nogil:
     int usm_params_check_ideal(const usm_params *p, char *msg)
 
+cdef extern from "usm_tolerance.h" nogil:
+    enum:
+        USM_TOL_NOUTPUTS
+    ctypedef unsigned long long uint64_t
+    ctypedef struct usm_tolerance_vary:
+        pass
+    ctypedef struct usm_tolerance_spec:
+        pass
+    ctypedef struct usm_tolerance_options:
+        uint64_t samples
+        uint64_t seed
+        int threads
+        double t0
+        usm_floquet_options floquet
+        usm_op_options op
+    void usm_tolerance_options_default(usm_tolerance_options *opt)
+    int usm_tolerance_vary_parse(const char *text, usm_tolerance_vary *v, char *msg)
+    int usm_tolerance_spec_parse(const char *text, usm_tolerance_spec *s, char *msg)
+    const char *usm_tolerance_output_name(int k)
+
 cdef extern from "runs.h" nogil:
     enum:
         USMPY_SIM_COLUMNS
@@ -237,5 +257,8 @@ cdef extern from "runs.h" nogil:
                            usmpy_out *o)
     void usmpy_optimize(const usm_model *m, const usm_params *p, const usm_opt_problem *pb,
                         usmpy_out *o)
+    void usmpy_tolerance(const usm_model *m, const usm_params *p, const usm_tolerance_vary *vary,
+                         int nvary, const usm_tolerance_spec *spec, int nspec,
+                         const usm_tolerance_options *opt, usmpy_out *o)
     void usmpy_map(const usm_model *m, const usm_params *p, const usm_map_options *opt,
                    usmpy_out *o)

@@ -477,6 +477,11 @@ cdef class _Model:
         return _run_optimize(self, objective, vary, constraints, minimize, margin, starts, t0,
                              allow_slip, allow_driven, no_flat, from_rest, from_rest_periods)
 
+    def _tolerance(self, list vary, list spec, samples, seed, threads, double t0, method, rtol,
+                   steps, int from_rest, from_rest_periods):
+        return _run_tolerance(self, vary, spec, samples, seed, threads, t0, method, rtol, steps,
+                              from_rest, from_rest_periods)
+
     def _periodic(self):
         cdef usmpy_out o
         with nogil:
@@ -629,6 +634,81 @@ cdef object _run_optimize(_Model self, objective, dict vary, list constraints, i
     with nogil:
         usmpy_optimize(self.m, &self.p, &pb, &o)
     return self._finish(&o)
+
+
+cdef object _vary_in_si(str text):
+    """NAME=DIST with a unit in its absolute numbers (normal:SIGMA,
+    uniform:LO:HI) written in SI for usm_tolerance_vary_parse, as the
+    command's --vary; other forms pass as they are (the library says what is
+    wrong with them)."""
+    cdef const usm_param_info *info
+    if "=" not in text:
+        return text
+    name, d = text.split("=", 1)
+    info = usm_params_find(name.encode())
+    if info == NULL or not d or d.endswith("%") or ":" not in d:
+        return text
+    field = "vary " + name
+    if d.startswith("uniform:") and ":" in d[8:]:
+        lo, hi = d[8:].split(":", 1)
+        return "%s=uniform:%.17g:%.17g" % (name, _quantity(field, info.unit, lo),
+                                            _quantity(field, info.unit, hi))
+    if d.startswith("normal:"):
+        return "%s=normal:%.17g" % (name, _quantity(field, info.unit, d[7:]))
+    return text
+
+
+cdef object _run_tolerance(_Model self, list vary, list spec, samples, seed, threads,
+                           double t0, method, rtol, steps, int from_rest, from_rest_periods):
+    cdef usm_tolerance_options opt
+    cdef usm_tolerance_vary v[64]
+    cdef usm_tolerance_spec sp[64]
+    cdef char msg[USM_MSG_LEN]
+    cdef usmpy_out o
+    cdef int nv = 0, ns = 0
+    usm_tolerance_options_default(&opt)
+    if len(vary) == 0:
+        raise ValueError("vary: required (at least one NAME=DIST)")
+    if len(vary) > USM_NPARAMS:
+        raise ValueError("vary: too many")
+    if len(spec) > 64:
+        raise ValueError("spec: at most 64")
+    for text in vary:
+        si = _vary_in_si(str(text)).encode()
+        if usm_tolerance_vary_parse(si, &v[nv], msg) != USM_OK:
+            raise ValueError("vary " + msg.decode(errors="replace"))
+        nv += 1
+    for text in spec:
+        if usm_tolerance_spec_parse(str(text).replace(" ", "").encode(), &sp[ns], msg) != USM_OK:
+            raise ValueError("spec " + msg.decode(errors="replace"))
+        ns += 1
+    for field, value, lo, hi in (("samples", samples, 1, 1000000000), ("seed", seed, 0, 2**64 - 1),
+                                 ("threads", threads, 1, 64)):
+        if value is None:
+            continue
+        if isinstance(value, bool) or not isinstance(value, (int, np.integer)) \
+                or not lo <= value <= hi:
+            raise ValueError('%s: "%s" must be a whole number from %d to %d' % (field, value, lo, hi))
+    opt.samples = samples
+    if seed is not None:
+        opt.seed = seed
+    if threads is not None:
+        opt.threads = threads
+    opt.t0 = t0
+    _floquet_options(&opt.floquet, method, rtol, steps)
+    opt.op.from_rest = from_rest
+    if from_rest_periods is not None:
+        opt.op.periods = _number("from_rest_periods", from_rest_periods)
+        if not (opt.op.periods >= 1 and opt.op.periods <= 1e7):
+            raise ValueError("from_rest_periods: must be in [1, 1e7]")
+    with nogil:
+        usmpy_tolerance(self.m, &self.p, v, nv, sp, ns, &opt, &o)
+    return self._finish(&o)
+
+
+def tolerance_output_names():
+    """The outputs recorded per sample (usm_tolerance_output_name)."""
+    return [usm_tolerance_output_name(k).decode() for k in range(USM_TOL_NOUTPUTS)]
 
 
 cdef class _SteadyState:

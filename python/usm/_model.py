@@ -4,7 +4,8 @@ from typing import NamedTuple
 
 from . import _core
 from ._results import (SteadyResult, FloquetResult, SweepResult, SimulationResult,
-                       PeriodicResult, SensitivityResult, MapResult, OptimizeResult)
+                       PeriodicResult, SensitivityResult, MapResult, OptimizeResult,
+                       ToleranceResult)
 
 
 class Parameter(NamedTuple):
@@ -252,3 +253,26 @@ class Model:
         if st != 0:
             _raise(st, msg, res)
         return res
+
+    def tolerance(self, samples, vary, spec=(), seed=None, threads=None, t0=0.0, method=None,
+                  rtol=None, steps=None, from_rest=False, from_rest_periods=None):
+        """Monte Carlo tolerance study (`usm tolerance --json --samples N
+        --vary ... --spec ...`): `samples` draws of the parameters of
+        `vary` ({name: dist} or ["NAME=DIST", ...]; dist "normal:5%",
+        "normal:0.01", "uniform:2%", "uniform:LO:HI", numbers in SI or with
+        a unit), the yield against `spec` (["theta<=1e-4", ...]); seed
+        (default 1), threads (default 2: the results do not depend on it)."""
+        if isinstance(vary, dict):
+            vary = ["%s=%s" % kv for kv in vary.items()]
+        elif isinstance(vary, str):
+            vary = [vary]
+        if isinstance(spec, str):
+            spec = [spec]
+        st, msg, doc, table = self._c._tolerance(list(vary), list(spec), samples, seed, threads,
+                                                 float(t0), method, rtol, steps, bool(from_rest),
+                                                 from_rest_periods)
+        if st != 0:
+            _raise(st, msg)
+        names = [v.split("=", 1)[0] for v in vary] + _core.tolerance_output_names() \
+            + ["good", "redraws"]
+        return ToleranceResult(doc, table, names)

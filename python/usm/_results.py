@@ -14,7 +14,7 @@ import math
 import numpy as np
 
 __all__ = ["Result", "SteadyResult", "FloquetResult", "SweepResult", "SimulationResult",
-           "PeriodicResult", "SensitivityResult", "MapResult", "OptimizeResult"]
+           "PeriodicResult", "SensitivityResult", "MapResult", "OptimizeResult", "ToleranceResult"]
 
 
 def _is_number(v):
@@ -121,6 +121,23 @@ class OptimizeResult(Result):
     """`usm optimize --json`: feasible, objective, sense, value, varied (the
     optimal parameters), parameters, the active constraints with their
     multipliers, the stationary solution and stability at the optimum."""
+
+
+class ToleranceResult(Result):
+    """`usm tolerance --json` (yield, yield_ci, quantiles, influence, ...)
+    and .samples: per sample (a dict of arrays of length `samples`) the
+    varied parameters' values under their names, the outputs (theta,
+    rotor_speed, F_n, F_t, max_modulus, efficiency, stable,
+    stick_admissible, exists, operating_point, op_class, validity; NaN
+    where one does not exist), good (counts for the yield) and redraws:
+    the numbers of the command's --out DIR/samples.csv."""
+
+    def __init__(self, d, table, names):
+        super().__init__(d)
+        if table is None:
+            table = np.empty((0, len(names)))
+        object.__setattr__(self, "samples_array", table)
+        object.__setattr__(self, "samples", {k: table[:, i] for i, k in enumerate(names)})
 
 
 class SensitivityResult(Result):

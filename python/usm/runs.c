@@ -460,3 +460,48 @@ void usmpy_optimize(const usm_model *model, const usm_params *p, const usm_opt_p
     free(res);
     usm_optimize_free(opt);
 }
+
+/* ---- tolerance (tolerance_cmd.c) ------------------------------------------------------------- */
+
+void usmpy_tolerance(const usm_model *model, const usm_params *p, const usm_tolerance_vary *vary,
+                     int nvary, const usm_tolerance_spec *spec, int nspec,
+                     const usm_tolerance_options *opt, usmpy_out *o)
+{
+    mem m;
+    int status = USM_OK;
+    usmpy_out_init(o);
+    usm_tolerance *t = usm_tolerance_alloc(model);
+    if (!t) {
+        fail(o, USM_EFAILED, "out of memory");
+        return;
+    }
+    for (int j = 0; status == USM_OK && j < nvary + nspec; ++j)
+        if ((j < nvary ? usm_tolerance_vary_add(t, &vary[j])
+                       : usm_tolerance_spec_add(t, &spec[j - nvary])) != USM_OK) {
+            fail(o, USM_EINPUT, "%s %s", j < nvary ? "vary" : "spec", usm_tolerance_message(t));
+            status = USM_EINPUT;
+        }
+    if (status == USM_OK && (status = usm_tolerance_run(t, p, opt)) != USM_OK)
+        fail(o, status, "%s", usm_tolerance_message(t));
+    if (status == USM_OK) {
+        size_t cols = (size_t)nvary + USM_TOL_NOUTPUTS + 2;
+        size_t rows = (size_t)opt->samples;
+        o->status = USM_OK;
+        if (!(o->rows = malloc(rows * cols * sizeof *o->rows))) {
+            fail(o, USM_EFAILED, "out of memory");
+        } else {
+            o->nrows = rows;
+            o->ncols = cols;
+            for (size_t i = 0; i < rows; ++i) {
+                double *r = o->rows + i * cols;
+                int good = 0, redraws = 0;
+                usm_tolerance_sample(t, i, r, r + nvary, &good, &redraws);
+                r[cols - 2] = good;
+                r[cols - 1] = redraws;
+            }
+            if (mem_open(&m, o) == 0)
+                mem_finish(&m, usm_tolerance_write_json(t, m.f), o);
+        }
+    }
+    usm_tolerance_free(t);
+}

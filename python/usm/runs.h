@@ -26,6 +26,7 @@
 #include "usm_report_map.h"
 #include "usm_simulate.h"
 #include "usm_sweep.h"
+#include "usm_tolerance.h"
 
 typedef struct usmpy_out {
     int status;
@@ -87,5 +88,13 @@ void usmpy_map(const usm_model *m, const usm_params *p, const usm_map_options *o
  * false, ...}) */
 void usmpy_optimize(const usm_model *m, const usm_params *p, const usm_opt_problem *pb,
                     usmpy_out *o);
+
+/* usm tolerance --json (tolerance_cmd.c, one process): the varied
+ * parameters and specs as the library parsed them; o->rows: one row per
+ * sample, the varied parameters' values, the USM_TOL_NOUTPUTS outputs, good
+ * and redraws (usm_tolerance_sample). */
+void usmpy_tolerance(const usm_model *m, const usm_params *p, const usm_tolerance_vary *vary,
+                     int nvary, const usm_tolerance_spec *spec, int nspec,
+                     const usm_tolerance_options *opt, usmpy_out *o);
 
 #endif /* USMPY_RUNS_H */

@@ -162,3 +162,30 @@ def test_optimize(model, variant, params, args, kw):
     got = usm.Model(model, variant, **params).optimize(**kw)
     assert got.to_dict() == want
     assert got.feasible is True and got.value == want["value"]
+
+
+@pytest.mark.parametrize("model,variant,params,vary,spec", [
+    ("3dof", "paper", {}, {"F0": "normal:5%", "f": "uniform:36.9kHz:37.1kHz"}, ["theta<=1e-4"]),
+    ("4dof", "paper", {"T": 5e-5}, {"F0": "uniform:350mN:450mN", "c_r": "normal:2%"},
+     ["rotor_speed<=-5", "max_modulus<=0.99"]),
+    ("3dof", "twist_integrated", {"F0": 0.6}, {"m0": "normal:0.0002"}, []),
+])
+def test_tolerance(model, variant, params, vary, spec):
+    import csv
+    args = sum([["--vary", "%s=%s" % kv] for kv in vary.items()], []) \
+        + sum([["--spec", s] for s in spec], [])
+    with tempfile.TemporaryDirectory() as d:
+        want, _ = run_cli("tolerance", *cli_args(model, variant, params), "--samples", "70",
+                          "--seed", "5", *args, "--out", os.path.join(d, "out"))
+        with open(os.path.join(d, "out", "samples.csv")) as f:
+            rows = list(csv.DictReader(f))
+    got = usm.Model(model, variant, **params).tolerance(70, vary, spec, seed=5)
+    assert got.to_dict() == want
+    # the samples are the command's samples.csv, number for number
+    for col in ["theta [rad]", "rotor_speed [1/s]", "F_n [N]", "F_t [N]", "max_modulus [1]",
+                "efficiency [1]", "redraws"] + ["%s [%s]" % (k, usm.Model().parameters[k].unit)
+                                                for k in vary]:
+        name = col.split(" [")[0]
+        want_col = [float(r[col]) if r[col] != "" else np.nan for r in rows]
+        assert np.array_equal(got.samples[name], want_col, equal_nan=True), col
+    assert np.array_equal(got.samples["good"], [r["good"] == "true" for r in rows])

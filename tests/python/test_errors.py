@@ -136,3 +136,19 @@ def test_optimize_errors():
         m.optimize("speed", {"Q": (0.3, 0.6)})
     with pytest.raises(ValueError, match="constraint"):
         m.optimize("speed", {"F0": (0.3, 0.6)}, "F_n=5")
+
+
+def test_tolerance_errors():
+    m = usm.Model()
+    with pytest.raises(ValueError) as e:
+        m.tolerance(10, {"Q": "normal:5%"})
+    assert "--" + str(e.value) == cli_error("tolerance", "--samples", "10", "--vary",
+                                            "Q=normal:5%", expect=2)
+    with pytest.raises(ValueError) as e:
+        m.tolerance(10, {"F0": "normal:5%"}, "thetaa<=1")
+    assert "--" + str(e.value) == cli_error("tolerance", "--samples", "10", "--vary",
+                                            "F0=normal:5%", "--spec", "thetaa<=1", expect=2)
+    with pytest.raises(ValueError, match="samples"):
+        m.tolerance(0, {"F0": "normal:5%"})
+    with pytest.raises(ValueError, match="vary: required"):
+        m.tolerance(10, {})
