@@ -132,6 +132,18 @@ cdef extern from "usm_sweep.h" nogil:
         double theta_max
         int grid
         double xtol
+    ctypedef double (*usm_monitor_fn)(const usm_steady_solution *sol, const usm_params *p,
+                                      void *ctx) nogil
+    enum:
+        USM_SWEEP_MAX_LEVELS
+        USM_SWEEP_MAX_MONITORS
+    ctypedef struct usm_sweep_monitor:
+        const char *name
+        usm_monitor_fn fn
+        void *ctx
+        int extrema
+        int nlevels
+        double levels[4]
     ctypedef struct usm_sweep_options:
         const char *over
         double from_ "from"
@@ -142,6 +154,7 @@ cdef extern from "usm_sweep.h" nogil:
         usm_floquet_options floquet_options
         int threads
         usm_steady_options steady
+        const usm_sweep_monitor *monitors
         int nmonitors
         int operating_point
         usm_op_options op
@@ -227,6 +240,8 @@ cdef extern from "usm_tolerance.h" nogil:
 cdef extern from "runs.h" nogil:
     enum:
         USMPY_SIM_COLUMNS
+    const char *USMPY_QUANTITIES
+    usm_monitor_fn usmpy_sweep_quantity(const char *name)
     ctypedef struct usmpy_out:
         int status
         char msg[1024]

@@ -360,13 +360,17 @@ cdef class _Model:
         return o.status, o.msg.decode(errors="replace"), state
 
     def _sweep(self, str over, start, stop, int points, int floquet, double t0, method, rtol,
-               steps, int threads, int from_rest, from_rest_periods, int periodic):
+               steps, int threads, int from_rest, from_rest_periods, int periodic,
+               list extremum, dict crossing):
         cdef usm_sweep_options so
         cdef usm_periodic_sweep_options po
         cdef usmpy_out o
         cdef const usm_param_info *info
         cdef double a, b
         cdef const char *unit = NULL
+        cdef usm_sweep_monitor mons[8]
+        cdef usm_monitor_fn fn
+        cdef int nmon = 0, k
         bover = over.encode()
         info = usm_params_find(bover)
         if info != NULL:
@@ -396,6 +400,39 @@ cdef class _Model:
             so.op.periods = _number("from_rest_periods", from_rest_periods)
             if not (so.op.periods >= 1 and so.op.periods <= 1e7):
                 raise ValueError("from_rest_periods: must be in [1, 1e7]")
+        # --extremum Q and --crossing Q=V: one monitor per quantity, in the
+        # order first named (extrema first), as sweep_cmd.c builds them
+        names = []
+        keep = []
+        for field, q in [("extremum", q) for q in extremum] + \
+                        [("crossing", q) for q in crossing]:
+            bq = str(q).encode()
+            if usmpy_sweep_quantity(bq) == NULL:
+                raise ValueError('%s: unknown quantity "%s" (%s)'
+                                 % (field, q, USMPY_QUANTITIES.decode()))
+            if q not in names:
+                names.append(q)
+                keep.append(bq)
+                k = len(names) - 1
+                mons[k].name = bq
+                mons[k].fn = usmpy_sweep_quantity(bq)
+                mons[k].ctx = NULL
+                mons[k].extrema = 0
+                mons[k].nlevels = 0
+            k = names.index(q)
+            if field == "extremum":
+                mons[k].extrema = 1
+            else:
+                levels = crossing[q]
+                levels = [levels] if np.isscalar(levels) else list(levels)
+                for lv in levels:
+                    if mons[k].nlevels == USM_SWEEP_MAX_LEVELS:
+                        raise ValueError("crossing: at most %d levels per quantity"
+                                         % USM_SWEEP_MAX_LEVELS)
+                    mons[k].levels[mons[k].nlevels] = _number("crossing", lv)
+                    mons[k].nlevels += 1
+        so.monitors = mons if names else NULL
+        so.nmonitors = len(names)
         with nogil:
             usmpy_sweep(self.m, &self.p, &so, &o)
         return self._finish(&o)

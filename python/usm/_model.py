@@ -161,11 +161,17 @@ class Model:
         return FloquetResult(roots[root]["floquet"])
 
     def sweep(self, over, start, stop, points=101, floquet=True, t0=0.0, method=None, rtol=None,
-              steps=None, threads=2, from_rest=False, from_rest_periods=None, periodic=None):
+              steps=None, threads=2, from_rest=False, from_rest_periods=None, periodic=None,
+              extremum=(), crossing=None):
         """Continuation of the stationary solution over parameter `over` from
         `start` to `stop` (SI or text with a unit) at `points` values
-        (`usm sweep --json`).  periodic=True (default for an imperfect
-        model): the periodic orbit's sweep (`usm sweep --periodic`)."""
+        (`usm sweep --json`).  extremum: quantities whose maxima and minima
+        are events (--extremum Q); crossing: {quantity: value or values}
+        (--crossing Q=V).  periodic=True (default for an imperfect model):
+        the periodic orbit's sweep (`usm sweep --periodic`)."""
+        if isinstance(extremum, str):
+            extremum = [extremum]
+        crossing = dict(crossing or {})
         if periodic is None:
             periodic = self.imperfect
         if isinstance(points, bool) or not isinstance(points, int):
@@ -173,11 +179,13 @@ class Model:
         if isinstance(threads, bool) or not isinstance(threads, int):
             raise TypeError("threads: must be an integer")
         if periodic and (not floquet or t0 != 0.0 or method is not None or rtol is not None
-                         or steps is not None or from_rest or from_rest_periods is not None):
+                         or steps is not None or from_rest or from_rest_periods is not None
+                         or extremum or crossing):
             raise ValueError("periodic: the periodic sweep takes only over, start, stop, points")
         st, msg, doc, _ = self._c._sweep(str(over), start, stop, points, bool(floquet), float(t0),
                                          method, rtol, steps, threads, bool(from_rest),
-                                         from_rest_periods, bool(periodic))
+                                         from_rest_periods, bool(periodic), list(extremum),
+                                         crossing)
         if st != 0:
             _raise(st, msg)
         return SweepResult(doc)

@@ -74,6 +74,17 @@ def test_sweep_units_and_floquet_off():
     assert got.to_dict() == want
 
 
+def test_sweep_monitors():
+    want, _ = run_cli("sweep", "--model", "4dof", "--over", "f", "--from", "36kHz", "--to",
+                      "39kHz", "--points", "31", "--extremum", "speed", "--extremum", "theta",
+                      "--crossing", "F_n=0.4005", "--crossing", "F_n=0.401", "--crossing",
+                      "speed=10")
+    got = usm.Model("4dof").sweep("f", "36kHz", "39kHz", points=31, extremum=["speed", "theta"],
+                                  crossing={"F_n": [0.4005, 0.401], "speed": 10})
+    assert got.to_dict() == want
+    assert {e.type for e in got.events} >= {"maximum", "crossing"}
+
+
 def test_periodic_sweep():
     want, _ = run_cli("sweep", "--variant", "imperfect", "--set", "amp_imbalance=0.05", "--over",
                       "f", "--from", "36500", "--to", "37500", "--points", "3")

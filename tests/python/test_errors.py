@@ -96,6 +96,10 @@ def test_bad_options():
         m.sweep("f", 1, 2, points=1)
     assert str(e.value) == cli_error("sweep", "--over", "f", "--from", "1", "--to", "2",
                                      "--points", "1", expect=2)
+    with pytest.raises(ValueError, match='extremum: unknown quantity "speeed"'):
+        m.sweep("f", 36000, 37000, points=3, extremum="speeed")
+    with pytest.raises(ValueError, match="crossing: at most 4 levels"):
+        m.sweep("f", 36000, 37000, points=3, crossing={"theta": [1, 2, 3, 4, 5]})
     with pytest.raises(ValueError, match="method: foo: unknown Floquet method"):
         m.steady(method="foo")
     with pytest.raises(ValueError, match=r"rtol: must be in \[1e-14, 1e-3\]"):
