@@ -15,7 +15,7 @@ import json as _json
 import numpy as np
 
 from libc.math cimport isfinite
-from libc.string cimport strlen
+from libc.string cimport memcpy, strlen
 
 gsl_set_error_handler_off()   # the library handles GSL's errors itself (usm.h)
 
@@ -328,10 +328,9 @@ cdef class _Model:
             hist = None
             if o.rows != NULL:
                 hist = np.empty((o.nrows, o.ncols), dtype=np.float64)
-                hv = hist
-                for i in range(<Py_ssize_t>o.nrows):
-                    for j in range(<Py_ssize_t>o.ncols):
-                        hv[i, j] = o.rows[i * o.ncols + j]
+                if o.nrows > 0 and o.ncols > 0:
+                    hv = hist
+                    memcpy(&hv[0, 0], o.rows, o.nrows * o.ncols * sizeof(double))
             return o.status, msg, doc, hist
         finally:
             usmpy_out_free(o)
