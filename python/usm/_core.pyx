@@ -156,6 +156,8 @@ cdef class _Model:
         b = base.encode()
         v = variant.encode()
         self.m = usm_model_variant(b, v)
+        if self.m == NULL and variant == "paper":
+            self.m = usm_model_find(b)      # a generated model's full name: "4dof_friction_tanh"
         if self.m == NULL:
             bases = sorted({x["base"] for x in models()})
             if base not in bases:

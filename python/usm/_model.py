@@ -54,8 +54,9 @@ def _raise(status, msg, result=None):
 
 class Model:
     """A generated model ("3dof", "4dof") under a variant ("paper",
-    "twist_integrated", ...: usm.variants()) with a parameter set (the
-    paper's, Appendix A, changed by keyword: Model("3dof", F0=0.6)).
+    "twist_integrated", ...: usm.variants()), or by its full name
+    ("4dof_friction_tanh", usm.models()), with a parameter set (the paper's,
+    Appendix A, changed by keyword: Model("3dof", F0=0.6)).
     Immutable; thread-safe (each call has its own workspace)."""
 
     def __init__(self, model="3dof", variant="paper", **params):

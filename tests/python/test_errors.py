@@ -38,6 +38,8 @@ def test_unknown_model_and_variant():
         usm.Model("3dof", variant="friction_tanh")
     with pytest.raises(ValueError, match='model: unknown model "5dof"'):
         usm.Model("5dof")
+    # a generated model by its full name is the base under that variant
+    assert usm.Model("4dof_friction_tanh").name == usm.Model("4dof", "friction_tanh").name
 
 
 def test_kernel_shapes_and_dtypes():
