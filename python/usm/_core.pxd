@@ -144,6 +144,8 @@ cdef extern from "usm_sweep.h" nogil:
         int extrema
         int nlevels
         double levels[4]
+    const char *USM_SWEEP_QUANTITIES
+    const char *usm_sweep_quantity(const char *name, size_t len, usm_monitor_fn *fn)
     ctypedef struct usm_sweep_options:
         const char *over
         double from_ "from"
@@ -240,8 +242,6 @@ cdef extern from "usm_tolerance.h" nogil:
 cdef extern from "runs.h" nogil:
     enum:
         USMPY_SIM_COLUMNS
-    const char *USMPY_QUANTITIES
-    usm_monitor_fn usmpy_sweep_quantity(const char *name)
     ctypedef struct usmpy_out:
         int status
         char msg[1024]

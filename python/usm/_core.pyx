@@ -403,20 +403,20 @@ cdef class _Model:
                 raise ValueError("from_rest_periods: must be in [1, 1e7]")
         # --extremum Q and --crossing Q=V: one monitor per quantity, in the
         # order first named (extrema first), as sweep_cmd.c builds them
+        cdef const char *qname
         names = []
-        keep = []
         for field, q in [("extremum", q) for q in extremum] + \
                         [("crossing", q) for q in crossing]:
             bq = str(q).encode()
-            if usmpy_sweep_quantity(bq) == NULL:
+            qname = usm_sweep_quantity(bq, len(bq), &fn)
+            if qname == NULL:
                 raise ValueError('%s: unknown quantity "%s" (%s)'
-                                 % (field, q, USMPY_QUANTITIES.decode()))
+                                 % (field, q, USM_SWEEP_QUANTITIES.decode()))
             if q not in names:
                 names.append(q)
-                keep.append(bq)
                 k = len(names) - 1
-                mons[k].name = bq
-                mons[k].fn = usmpy_sweep_quantity(bq)
+                mons[k].name = qname
+                mons[k].fn = fn
                 mons[k].ctx = NULL
                 mons[k].extrema = 0
                 mons[k].nlevels = 0

@@ -200,30 +200,6 @@ void usmpy_steady(const usm_model *model, const usm_params *p, double t0,
 
 /* ---- sweep (sweep_cmd.c run, run_periodic) ----------------------------------------- */
 
-/* The quantities of sweep_cmd.c's --extremum and --crossing. */
-static double q_theta(const usm_steady_solution *s, const usm_params *p, void *c) { (void)p; (void)c; return s->theta; }
-static double q_alpha(const usm_steady_solution *s, const usm_params *p, void *c) { (void)p; (void)c; return s->alpha; }
-static double q_rotor(const usm_steady_solution *s, const usm_params *p, void *c) { (void)p; (void)c; return s->rotor_speed; }
-static double q_speed(const usm_steady_solution *s, const usm_params *p, void *c) { (void)p; (void)c; return -s->rotor_speed; }
-static double q_Fn(const usm_steady_solution *s, const usm_params *p, void *c) { (void)p; (void)c; return s->F_n; }
-static double q_Ft(const usm_steady_solution *s, const usm_params *p, void *c) { (void)p; (void)c; return s->F_t; }
-static double q_mu(const usm_steady_solution *s, const usm_params *p, void *c) { (void)p; (void)c; return s->mu_used; }
-static double q_vrel(const usm_steady_solution *s, const usm_params *p, void *c) { (void)p; (void)c; return s->v_rel; }
-
-usm_monitor_fn usmpy_sweep_quantity(const char *name)
-{
-    static const struct {
-        const char *name;
-        usm_monitor_fn fn;
-    } quantities[] = {{"theta", q_theta}, {"alpha", q_alpha}, {"rotor_speed", q_rotor},
-                      {"speed", q_speed}, {"F_n", q_Fn},       {"F_t", q_Ft},
-                      {"mu_used", q_mu},  {"v_rel", q_vrel}};
-    for (size_t q = 0; q < sizeof quantities / sizeof quantities[0]; ++q)
-        if (strcmp(quantities[q].name, name) == 0)
-            return quantities[q].fn;
-    return NULL;
-}
-
 void usmpy_sweep(const usm_model *model, const usm_params *p, const usm_sweep_options *opt,
                  usmpy_out *o)
 {

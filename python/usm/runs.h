@@ -61,12 +61,6 @@ void usmpy_steady(const usm_model *m, const usm_params *p, double t0,
 /* usm sweep --json --over ... (sweep_cmd.c run); periodic: usm sweep --periodic */
 void usmpy_sweep(const usm_model *m, const usm_params *p, const usm_sweep_options *opt,
                  usmpy_out *o);
-/* The monitor function of a quantity of a stationary solution, as the
- * command's --extremum and --crossing name them: theta, alpha, rotor_speed,
- * speed (= -rotor_speed), F_n, F_t, mu_used, v_rel; NULL for another name.
- * USMPY_QUANTITIES lists them. */
-#define USMPY_QUANTITIES "theta, alpha, rotor_speed, speed, F_n, F_t, mu_used, v_rel"
-usm_monitor_fn usmpy_sweep_quantity(const char *name);
 void usmpy_periodic_sweep(const usm_model *m, const usm_params *p,
                           const usm_periodic_sweep_options *opt, usmpy_out *o);
 
