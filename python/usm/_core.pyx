@@ -267,6 +267,8 @@ cdef class _Model:
                              % (what, arr.shape, n, n, self.name))
         x2 = arr.reshape(1, n) if single else arr
         N = x2.shape[0]
+        if isinstance(t, np.ndarray) and t.ndim == 0:
+            t = t[()]                          # a 0-d array is a number
         if t is not None and not np.isscalar(t):
             tarr = _checked_array(t, "t")
             if single or tarr.ndim != 1 or tarr.shape[0] != N:
@@ -283,6 +285,7 @@ cdef class _Model:
         rowlen = 1
         for d in outshape:
             rowlen *= d
+        given = out
         if out is None:
             out = np.empty((N,) + outshape, dtype=np.float64)
         else:
@@ -300,6 +303,8 @@ cdef class _Model:
         if bad >= 0:
             raise ValueError("%s: row %d is not finite (%s)" % (what, bad, x2[bad] if tscalar else
                              "x %s, t %r" % (x2[bad], tv[bad])))
+        if given is not None:
+            return given
         return out[0] if single else out
 
     def mass_matrix(self, x, t=None, out=None):

@@ -78,7 +78,8 @@ def test_kernels_one_state_at_a_time(name):
     assert bits_equal(model.jacobian(x[7], t[7]), want["jac"][7])
     assert bits_equal(model.steady_jacobian(u[3]), want["resj"][3])
     out = np.empty((N, nx))
-    assert model.rhs(x, t, out=out) is not None and bits_equal(out, want["rhs"])
+    assert model.rhs(x, t, out=out) is out and bits_equal(out, want["rhs"])
+    assert bits_equal(model.rhs(x[9], np.array(t[9])), want["rhs"][9])   # a 0-d time
     one = np.empty(nx)
     rhs(ptr(x[9]), 2e-5, ptr(p), ptr(one))
     assert bits_equal(model.rhs(x, 2e-5)[9], one)
