@@ -125,7 +125,8 @@ class OptimizeResult(Result):
 
 class ToleranceResult(Result):
     """`usm tolerance --json` (yield, yield_ci, quantiles, influence, ...)
-    and .samples: per sample (a dict of arrays of length `samples`) the
+    and .table: per sample (a dict of arrays of length `samples`; the
+    JSON's "samples" stays its count) the
     varied parameters' values under their names, the outputs (theta,
     rotor_speed, F_n, F_t, max_modulus, efficiency, stable,
     stick_admissible, exists, operating_point, op_class, validity; NaN
@@ -136,8 +137,8 @@ class ToleranceResult(Result):
         super().__init__(d)
         if table is None:
             table = np.empty((0, len(names)))
-        object.__setattr__(self, "samples_array", table)
-        object.__setattr__(self, "samples", {k: table[:, i] for i, k in enumerate(names)})
+        object.__setattr__(self, "table_array", table)
+        object.__setattr__(self, "table", {k: table[:, i] for i, k in enumerate(names)})
 
 
 class SensitivityResult(Result):

@@ -191,12 +191,12 @@ def test_tolerance(model, variant, params, vary, spec):
         with open(os.path.join(d, "out", "samples.csv")) as f:
             rows = list(csv.DictReader(f))
     got = usm.Model(model, variant, **params).tolerance(70, vary, spec, seed=5)
-    assert got.to_dict() == want
+    assert got.to_dict() == want and got.samples == 70
     # the samples are the command's samples.csv, number for number
     for col in ["theta [rad]", "rotor_speed [1/s]", "F_n [N]", "F_t [N]", "max_modulus [1]",
                 "efficiency [1]", "redraws"] + ["%s [%s]" % (k, usm.Model().parameters[k].unit)
                                                 for k in vary]:
         name = col.split(" [")[0]
         want_col = [float(r[col]) if r[col] != "" else np.nan for r in rows]
-        assert np.array_equal(got.samples[name], want_col, equal_nan=True), col
-    assert np.array_equal(got.samples["good"], [r["good"] == "true" for r in rows])
+        assert np.array_equal(got.table[name], want_col, equal_nan=True), col
+    assert np.array_equal(got.table["good"], [r["good"] == "true" for r in rows])
