@@ -166,7 +166,8 @@ fail:
 
 void usmpy_steady_json(const usmpy_steady_state *st, usmpy_out *o)
 {
-    usm_steady_report rep = {st->model, &st->params, st->s, NULL, NULL, NULL, NULL};
+    /* designated: fields the report gains stay zero (absent) here */
+    usm_steady_report rep = {.model = st->model, .params = &st->params, .steady = st->s};
     mem m;
     usmpy_out_init(o);
     if (st->status == USM_ENOSOLUTION)
@@ -306,8 +307,9 @@ void usmpy_simulate(const usm_model *model, const usm_params *p, const usm_sim_o
         fail(o, rc, "%s", usm_sim_message(s));
         goto done;
     }
-    usm_sim_report rep = {model, p, opt, NULL, NULL, &sum,
-                          (double)(w1.tv_sec - w0.tv_sec) + 1e-9 * (double)(w1.tv_nsec - w0.tv_nsec)};
+    usm_sim_report rep = {.model = model, .params = p, .opt = opt, .summary = &sum,
+                          .wall = (double)(w1.tv_sec - w0.tv_sec) +
+                                  1e-9 * (double)(w1.tv_nsec - w0.tv_nsec)};
     o->status = rc;
     if (rc != USM_OK)
         snprintf(o->msg, sizeof o->msg, "%s", usm_sim_message(s));
