@@ -69,21 +69,6 @@ static int mem_finish(mem *m, int rc, usmpy_out *o)
 
 /* ---- steady (steady_cmd.c) ----------------------------------------------------- */
 
-static const char *non_finite(const usm_steady_solution *s, const usm_floquet_result *f)
-{
-    const double v[] = {s->theta, s->alpha, s->beta, s->rotor_speed, s->F_n, s->F_t,
-                        s->v_c, s->v_rel, s->R_star, s->Z, s->mu_used};
-    for (size_t k = 0; k < sizeof v / sizeof v[0]; ++k)
-        if (!isfinite(v[k]))
-            return "steady: the stationary solution has a non-finite value";
-    for (int k = 0; k < f->n; ++k)
-        if (!isfinite(f->re[k]) || !isfinite(f->im[k]))
-            return "floquet: a multiplier is not finite";
-    if (!isfinite(f->max_modulus))
-        return "floquet: the largest modulus is not finite";
-    return NULL;
-}
-
 /* The state of one steady analysis, kept until its JSON is asked for. */
 struct usmpy_steady_state {
     const usm_model *model;
@@ -146,7 +131,7 @@ usmpy_steady_state *usmpy_steady_run(const usm_model *model, const usm_params *p
         goto fail;
     }
     for (size_t k = 0; k < usm_steady_count(st->s); ++k)
-        if ((bad = non_finite(usm_steady_root(st->s, k), &st->res[k]))) {
+        if ((bad = usm_steady_nonfinite(usm_steady_root(st->s, k), &st->res[k]))) {
             fail(o, USM_EFAILED, "%s", bad);
             goto fail;
         }
