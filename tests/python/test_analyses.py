@@ -144,7 +144,7 @@ def test_simulate_options():
     assert np.array_equal(got.history_array[:, :14], csv, equal_nan=True)
 
 
-@pytest.mark.parametrize("model,variant,params", POINTS[:2] + POINTS[3:])
+@pytest.mark.parametrize("model,variant,params", POINTS)
 def test_stability_map(model, variant, params):
     want, _ = run_cli("map", *cli_args(model, variant, params), "--x-points", "4", "--y",
                       "F0", "--y-from", "0.3", "--y-to", "0.5", "--y-points", "3")
