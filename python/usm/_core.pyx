@@ -376,7 +376,7 @@ cdef class _Model:
         cdef const char *unit = NULL
         cdef usm_sweep_monitor mons[8]
         cdef usm_monitor_fn fn
-        cdef int nmon = 0, k
+        cdef int k
         bover = over.encode()
         info = usm_params_find(bover)
         if info != NULL:
