@@ -48,6 +48,11 @@ class Parameters(Mapping):
         return "Parameters(%s)" % ", ".join("%s=%r" % (k, p.value) for k, p in self._p.items())
 
 
+def _rebuild(name, params):
+    """The model `name` (a generated model's full name) with these parameters."""
+    return Model(name, **params)
+
+
 def _raise(status, msg, result=None):
     raise _core._error(status, msg, result)
 
@@ -103,6 +108,10 @@ class Model:
         library's message ("NAME: reason") for an unknown name, a value
         that is not finite or not physical for the model."""
         return Model._from(self._c._copy_set(values))
+
+    def __reduce__(self):
+        # pickled as its generated model's name and its parameters (multiprocessing)
+        return (_rebuild, (self.name, self.params))
 
     def __repr__(self):
         changed = {k: p.value for k, p in self.parameters.items() if p.value != p.default}

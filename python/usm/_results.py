@@ -63,6 +63,9 @@ class Result:
         """A deep copy of the JSON object (plain dicts, lists, floats)."""
         return copy.deepcopy(self._d)
 
+    def __reduce__(self):
+        return (type(self), (self._d,))
+
     def keys(self):
         return self._d.keys()
 
@@ -132,6 +135,9 @@ class ToleranceResult(Result):
     stick_admissible, exists, operating_point, op_class, validity; NaN
     where one does not exist), good (counts for the yield) and redraws:
     the numbers of the command's --out DIR/samples.csv."""
+
+    def __reduce__(self):
+        return (type(self), (self._d, self.table_array, list(self.table)))
 
     def __init__(self, d, table, names):
         super().__init__(d)
@@ -257,6 +263,9 @@ class SimulationResult(Result):
     model describes the motor, 1 contact open, 2 stick not admissible:
     the CSV's invalid_reason), and history["valid"] (bool).  .to_dict() is
     the summary only, as the command prints it (its "out" is null)."""
+
+    def __reduce__(self):
+        return (type(self), (self._d, self._hist))
 
     def __init__(self, d, history):
         super().__init__(d)
