@@ -162,7 +162,7 @@ EOF
 # there): installed under PREFIX/lib/python3.X/dist-packages (lib/python3/
 # dist-packages for the prefix /usr), it imports from there, outside the
 # build tree, and gives the installed `usm steady --json` bit for bit.
-if [ -d "$build/python/usm" ]; then
+if grep -qx 'USM_PYTHON_PACKAGE:BOOL=ON' "$build/CMakeCache.txt"; then
     pydir=$(find "$prefix/lib" -maxdepth 3 -type d -name dist-packages | head -n 1)
     [ -n "$pydir" ] && [ -e "$pydir/usm/__init__.py" ] || fail "the Python package usm is not installed"
     echo "== Python: PYTHONPATH=$pydir"
