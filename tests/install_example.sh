@@ -157,4 +157,19 @@ for b in bad:
     print("FAIL:", b)
 sys.exit(1 if bad else 0)
 EOF
+
+# The Python package (built when python3-dev, python3-numpy and cython3 are
+# there): installed under PREFIX/lib/python3.X/dist-packages (lib/python3/
+# dist-packages for the prefix /usr), it imports from there, outside the
+# build tree, and gives the installed `usm steady --json` bit for bit.
+if grep -qx 'USM_PYTHON_PACKAGE:BOOL=ON' "$build/CMakeCache.txt"; then
+    pydir=$(find "$prefix/lib" -maxdepth 3 -type d -name dist-packages | head -n 1)
+    [ -n "$pydir" ] && [ -e "$pydir/usm/__init__.py" ] || fail "the Python package usm is not installed"
+    echo "== Python: PYTHONPATH=$pydir"
+    (cd "$tmp" && PYTHONPATH=$pydir "$python" -c "
+import json, sys, usm
+assert usm.__file__.startswith('$pydir'), usm.__file__
+sys.exit(0 if usm.Model().steady().to_dict() == json.load(open('usm.json')) else 1)") ||
+        fail "the installed Python package differs from usm steady --json"
+fi
 echo "install and examples: ok"

@@ -129,23 +129,6 @@ static int emit_json(const usm_steady_report *rep)
     return USM_OK;
 }
 
-/* Guard the "never NaN in the output" promise against a library result that
- * slipped through: a non-finite value is a numerical failure. */
-static const char *non_finite(const usm_steady_solution *s, const usm_floquet_result *f)
-{
-    const double v[] = {s->theta, s->alpha, s->beta, s->rotor_speed, s->F_n, s->F_t,
-                        s->v_c, s->v_rel, s->R_star, s->Z, s->mu_used};
-    for (size_t k = 0; k < sizeof v / sizeof v[0]; ++k)
-        if (!isfinite(v[k]))
-            return "steady: the stationary solution has a non-finite value";
-    for (int k = 0; k < f->n; ++k)
-        if (!isfinite(f->re[k]) || !isfinite(f->im[k]))
-            return "floquet: a multiplier is not finite";
-    if (!isfinite(f->max_modulus))
-        return "floquet: the largest modulus is not finite";
-    return NULL;
-}
-
 static int run(const steady_args *a)
 {
     const cli_common *c = &a->common;
@@ -198,7 +181,8 @@ static int run(const steady_args *a)
         goto done;
     }
     for (size_t k = 0; k < usm_steady_count(s); ++k)
-        if ((bad = non_finite(usm_steady_root(s, k), &res[k]))) {
+        /* "never NaN in the output": a non-finite value is a numerical failure */
+        if ((bad = usm_steady_nonfinite(usm_steady_root(s, k), &res[k]))) {
             cli_error("%s", bad);
             status = USM_EFAILED;
             goto done;

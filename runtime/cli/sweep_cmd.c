@@ -95,23 +95,8 @@ static void usage(FILE *out)
             "             failure or write error, 2 bad input\n");
 }
 
-/* Quantities of a stationary solution a monitor can watch (--extremum, --crossing). */
-static double q_theta(const usm_steady_solution *s, const usm_params *p, void *c) { (void)p; (void)c; return s->theta; }
-static double q_alpha(const usm_steady_solution *s, const usm_params *p, void *c) { (void)p; (void)c; return s->alpha; }
-static double q_rotor(const usm_steady_solution *s, const usm_params *p, void *c) { (void)p; (void)c; return s->rotor_speed; }
-static double q_speed(const usm_steady_solution *s, const usm_params *p, void *c) { (void)p; (void)c; return -s->rotor_speed; }
-static double q_Fn(const usm_steady_solution *s, const usm_params *p, void *c) { (void)p; (void)c; return s->F_n; }
-static double q_Ft(const usm_steady_solution *s, const usm_params *p, void *c) { (void)p; (void)c; return s->F_t; }
-static double q_mu(const usm_steady_solution *s, const usm_params *p, void *c) { (void)p; (void)c; return s->mu_used; }
-static double q_vrel(const usm_steady_solution *s, const usm_params *p, void *c) { (void)p; (void)c; return s->v_rel; }
-
-static const struct {
-    const char *name;
-    usm_monitor_fn fn;
-} quantities[] = {{"theta", q_theta}, {"alpha", q_alpha}, {"rotor_speed", q_rotor},
-                  {"speed", q_speed}, {"F_n", q_Fn},       {"F_t", q_Ft},
-                  {"mu_used", q_mu},  {"v_rel", q_vrel}};
-#define NQUANTITIES (sizeof quantities / sizeof quantities[0])
+/* One monitor per quantity named (usm_sweep_quantity: --extremum, --crossing). */
+#define NQUANTITIES USM_SWEEP_MAX_MONITORS
 
 typedef struct sweep_args {
     cli_common common;
@@ -132,21 +117,20 @@ typedef struct sweep_args {
 static usm_sweep_monitor *monitor_of(sweep_args *a, const char *field, const char *name,
                                      size_t len, char msg[CLI_MSG_LEN])
 {
+    usm_monitor_fn fn;
+    const char *q;
     for (int k = 0; k < a->nmonitors; ++k)
         if (strlen(a->monitors[k].name) == len && strncmp(a->monitors[k].name, name, len) == 0)
             return &a->monitors[k];
-    for (size_t q = 0; q < NQUANTITIES; ++q)
-        if (strlen(quantities[q].name) == len && strncmp(quantities[q].name, name, len) == 0) {
-            usm_sweep_monitor *m = &a->monitors[a->nmonitors++];
-            memset(m, 0, sizeof *m);
-            m->name = quantities[q].name;
-            m->fn = quantities[q].fn;
-            return m;
-        }
-    cli_msg(msg,
-            "%s: unknown quantity \"%.*s\" (theta, alpha, rotor_speed, speed, F_n, F_t, mu_used, "
-            "v_rel)",
-            field, (int)len, name);
+    if ((q = usm_sweep_quantity(name, len, &fn)) && a->nmonitors < NQUANTITIES) {
+        usm_sweep_monitor *m = &a->monitors[a->nmonitors++];
+        memset(m, 0, sizeof *m);
+        m->name = q;
+        m->fn = fn;
+        return m;
+    }
+    cli_msg(msg, "%s: unknown quantity \"%.*s\" (%s)", field, (int)len, name,
+            USM_SWEEP_QUANTITIES);
     return NULL;
 }
 

@@ -742,3 +742,18 @@ int usm_floquet_roots(usm_floquet *f, const usm_params *p, const usm_steady *s, 
     }
     return USM_OK;
 }
+
+const char *usm_steady_nonfinite(const usm_steady_solution *s, const usm_floquet_result *f)
+{
+    const double v[] = {s->theta, s->alpha, s->beta, s->rotor_speed, s->F_n, s->F_t,
+                        s->v_c, s->v_rel, s->R_star, s->Z, s->mu_used};
+    for (size_t k = 0; k < sizeof v / sizeof v[0]; ++k)
+        if (!isfinite(v[k]))
+            return "steady: the stationary solution has a non-finite value";
+    for (int k = 0; k < f->n; ++k)
+        if (!isfinite(f->re[k]) || !isfinite(f->im[k]))
+            return "floquet: a multiplier is not finite";
+    if (!isfinite(f->max_modulus))
+        return "floquet: the largest modulus is not finite";
+    return NULL;
+}

@@ -370,6 +370,15 @@ typedef struct usm_squeal {
  * out->reason).  Thread safe (no state). */
 int usm_floquet_squeal(const usm_floquet_result *r, double f, usm_squeal *out);
 
+/* The guard of the "never NaN in the output" promise on a stationary
+ * solution and its multipliers (the usm command's and the Python package's
+ * steady): NULL when theta, alpha, beta, rotor_speed, F_n, F_t, v_c, v_rel,
+ * R_star, Z, mu_used, every multiplier and max_modulus are finite, else a
+ * static message ("steady: the stationary solution has a non-finite value",
+ * "floquet: a multiplier is not finite", "floquet: the largest modulus is
+ * not finite"): a numerical failure. */
+const char *usm_steady_nonfinite(const usm_steady_solution *s, const usm_floquet_result *f);
+
 #ifdef __cplusplus
 }
 #endif

@@ -95,6 +95,17 @@ typedef double (*usm_monitor_fn)(const usm_steady_solution *sol, const usm_param
 #define USM_SWEEP_MAX_LEVELS 4
 #define USM_SWEEP_MAX_MONITORS 8
 
+/* The quantities of a stationary solution a monitor can watch by name (the
+ * command's --extremum and --crossing, the Python package's sweep). */
+#define USM_SWEEP_QUANTITIES "theta, alpha, rotor_speed, speed, F_n, F_t, mu_used, v_rel"
+
+/* The monitor function of the quantity named by the `len` characters at
+ * `name`: theta, alpha [rad], rotor_speed [1/s], speed (= -rotor_speed),
+ * F_n, F_t [N], mu_used, v_rel [m/s] of the solution.  Returns the
+ * quantity's name as a static string (for usm_sweep_monitor.name) with its
+ * function in *fn, or NULL for another name. */
+const char *usm_sweep_quantity(const char *name, size_t len, usm_monitor_fn *fn);
+
 /* What to watch: maxima and minima of y along the branch, and the values of
  * the swept parameter where y crosses given levels. */
 typedef struct usm_sweep_monitor {

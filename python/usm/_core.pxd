@@ -1,0 +1,279 @@
+# _usm.pxd: the parts of libusm's public API (runtime/include/usm/, the
+# generated headers) and of runs.h that the extension calls.  The structs
+# are declared with the fields the extension uses; Cython takes their
+# layout from the headers.
+
+cdef extern from "usm.h" nogil:
+    enum:
+        USM_OK
+        USM_EFAILED
+        USM_EINPUT
+        USM_ENOSOLUTION
+        USM_MSG_LEN
+        USM_NPARAMS
+        USM_NMODELS
+        USM_NVARIANTS
+        USM_MAX_NX
+        USM_MAX_NU
+
+    ctypedef struct usm_params:
+        double f
+
+    ctypedef struct usm_param_info:
+        const char *name
+        const char *unit
+        const char *description
+        const char *constraint
+        size_t offset
+
+    const usm_param_info usm_param_table[]
+
+    ctypedef struct usm_model:
+        const char *name
+        const char *base
+        const char *variant
+        const char *description
+        const char *assumptions
+        int nx
+        int nu
+        int t0_independent
+        const char *const *state_names
+        const char *const *unknown_names
+        int slip
+        int imperfect
+        void (*mass)(const double *x, const usm_params *p, double *out) nogil
+        void (*rhs)(const double *x, double t, const usm_params *p, double *out) nogil
+        void (*jac_rhs)(const double *x, double t, const usm_params *p, double *out) nogil
+        void (*steady_residual)(const double *u, const usm_params *p, double *out) nogil
+        void (*steady_jacobian)(const double *u, const usm_params *p, double *out) nogil
+
+    const usm_model *const usm_models[]
+
+    ctypedef struct usm_variant_info:
+        const char *name
+        const char *description
+
+    const usm_variant_info usm_variants[]
+
+    const char *usm_version()
+    const char *usm_generator_version()
+    const usm_model *usm_model_find(const char *name)
+    const usm_model *usm_model_variant(const char *base, const char *variant)
+    const usm_variant_info *usm_variant_find(const char *name)
+    void usm_params_default(usm_params *p)
+    const usm_param_info *usm_params_find(const char *name)
+    double usm_params_get(const usm_params *p, const usm_param_info *info)
+    int usm_params_set(usm_params *p, const char *name, double value, char *msg)
+    int usm_params_check(const usm_params *p, const usm_model *m, char *msg)
+
+    ctypedef enum usm_floquet_method:
+        pass
+    ctypedef struct usm_floquet_options:
+        usm_floquet_method method
+        double rtol
+        double atol
+        int steps
+    void usm_floquet_options_default(usm_floquet_options *opt)
+    int usm_floquet_method_from_name(const char *name, usm_floquet_method *method, char *msg)
+
+    ctypedef struct usm_steady_solution:
+        pass
+
+cdef extern from "gsl/gsl_errno.h" nogil:
+    ctypedef void gsl_error_handler_t(const char *, const char *, int, int)
+    gsl_error_handler_t *gsl_set_error_handler_off()
+
+cdef extern from "usm_io.h" nogil:
+    enum:
+        USM_IO_MSG_LEN
+    int usm_parse_quantity(const char *field, const char *unit, const char *text, size_t len,
+                           double *out, char *msg)
+
+cdef extern from "usm_simulate.h" nogil:
+    ctypedef enum usm_sim_start:
+        USM_SIM_FROM_REST
+        USM_SIM_FROM_STATIONARY
+        USM_SIM_FROM_STATE
+    ctypedef struct usm_sim_options:
+        usm_sim_start start
+        double t0
+        double duration
+        double tilt0
+        double x0[9]
+        double rotor_angle0
+        double rate
+        double rtol
+        double settle_tol
+        int settle_periods
+        double theta_limit
+        double speed_limit
+        long max_steps
+        double max_step
+        double max_twist_growth
+        double rest_fraction
+    void usm_sim_options_default(usm_sim_options *opt)
+
+cdef extern from "usm_operating_point.h" nogil:
+    ctypedef struct usm_op_options:
+        int from_rest
+        double periods
+        usm_sim_options sim
+    void usm_op_options_default(usm_op_options *opt)
+
+cdef extern from "usm_design.h" nogil:
+    enum:
+        USM_SENS_COUNT
+    const char *usm_sensitivity_output_name(int k)
+    int usm_sensitivity_output_find(const char *name)
+
+cdef extern from "usm_sweep.h" nogil:
+    ctypedef struct usm_steady_options:
+        double theta_min
+        double theta_max
+        int grid
+        double xtol
+    ctypedef double (*usm_monitor_fn)(const usm_steady_solution *sol, const usm_params *p,
+                                      void *ctx) nogil
+    enum:
+        USM_SWEEP_MAX_LEVELS
+        USM_SWEEP_MAX_MONITORS
+    ctypedef struct usm_sweep_monitor:
+        const char *name
+        usm_monitor_fn fn
+        void *ctx
+        int extrema
+        int nlevels
+        double levels[4]
+    const char *USM_SWEEP_QUANTITIES
+    const char *usm_sweep_quantity(const char *name, size_t len, usm_monitor_fn *fn)
+    ctypedef struct usm_sweep_options:
+        const char *over
+        double from_ "from"
+        double to
+        int points
+        int floquet
+        double t0
+        usm_floquet_options floquet_options
+        int threads
+        usm_steady_options steady
+        const usm_sweep_monitor *monitors
+        int nmonitors
+        int operating_point
+        usm_op_options op
+    void usm_sweep_options_default(usm_sweep_options *opt)
+
+cdef extern from "usm_periodic.h" nogil:
+    ctypedef struct usm_periodic_options:
+        double rtol
+        double tol
+        int max_iter
+        double t0
+
+cdef extern from "usm_periodic_sweep.h" nogil:
+    ctypedef struct usm_periodic_sweep_options:
+        const char *over
+        double from_ "from"
+        double to
+        int points
+        double event_tol
+        usm_periodic_options periodic
+    void usm_periodic_sweep_options_default(usm_periodic_sweep_options *opt)
+
+cdef extern from "usm_map.h" nogil:
+    ctypedef struct usm_map_axis:
+        const char *name
+        double from_ "from"
+        double to
+        int points
+    ctypedef struct usm_map_options:
+        usm_map_axis x
+        usm_map_axis y
+        double t0
+        usm_floquet_options floquet
+        int threads
+        usm_op_options op
+    void usm_map_options_default(usm_map_options *opt)
+
+cdef extern from "usm_optimize.h" nogil:
+    ctypedef struct usm_opt_problem:
+        int objective
+        int minimize
+        double margin
+        int allow_slip
+        int allow_driven
+        int starts
+        double t0
+        int no_flat
+        int from_rest
+        double from_rest_periods
+    void usm_opt_problem_init(usm_opt_problem *pb)
+    int usm_opt_problem_add_vary(usm_opt_problem *pb, const char *name, double lo, double hi,
+                                 char *msg)
+    int usm_opt_problem_add_constraint(usm_opt_problem *pb, const char *output, int upper,
+                                       double value, char *msg)
+    int usm_opt_problem_check(const usm_opt_problem *pb, const usm_model *m, const usm_params *p,
+                              char *msg)
+    int usm_opt_output_find(const char *name)
+    void usm_opt_output_list(char *buf, size_t len)
+
+cdef extern from "usm.h" nogil:
+    int usm_params_check_ideal(const usm_params *p, char *msg)
+
+cdef extern from "usm_tolerance.h" nogil:
+    enum:
+        USM_TOL_NOUTPUTS
+    ctypedef unsigned long long uint64_t
+    ctypedef struct usm_tolerance_vary:
+        pass
+    ctypedef struct usm_tolerance_spec:
+        pass
+    ctypedef struct usm_tolerance_options:
+        uint64_t samples
+        uint64_t seed
+        int threads
+        double t0
+        usm_floquet_options floquet
+        usm_op_options op
+    void usm_tolerance_options_default(usm_tolerance_options *opt)
+    int usm_tolerance_vary_parse(const char *text, usm_tolerance_vary *v, char *msg)
+    int usm_tolerance_spec_parse(const char *text, usm_tolerance_spec *s, char *msg)
+    const char *usm_tolerance_output_name(int k)
+
+cdef extern from "runs.h" nogil:
+    enum:
+        USMPY_SIM_COLUMNS
+    ctypedef struct usmpy_out:
+        int status
+        char msg[1024]
+        char *json
+        size_t len
+        double *rows
+        size_t nrows
+        size_t ncols
+    void usmpy_out_init(usmpy_out *o)
+    void usmpy_out_free(usmpy_out *o)
+    ctypedef struct usmpy_steady_state:
+        pass
+    usmpy_steady_state *usmpy_steady_run(const usm_model *m, const usm_params *p, double t0,
+                                         const usm_floquet_options *fo, const usm_op_options *op,
+                                         usmpy_out *o)
+    void usmpy_steady_json(const usmpy_steady_state *st, usmpy_out *o)
+    void usmpy_steady_state_free(usmpy_steady_state *st)
+    void usmpy_steady(const usm_model *m, const usm_params *p, double t0,
+                      const usm_floquet_options *fo, const usm_op_options *op, usmpy_out *o)
+    void usmpy_sweep(const usm_model *m, const usm_params *p, const usm_sweep_options *opt,
+                     usmpy_out *o)
+    void usmpy_periodic_sweep(const usm_model *m, const usm_params *p,
+                              const usm_periodic_sweep_options *opt, usmpy_out *o)
+    void usmpy_simulate(const usm_model *m, const usm_params *p, const usm_sim_options *opt,
+                        usmpy_out *o)
+    void usmpy_periodic(const usm_model *m, const usm_params *p, usmpy_out *o)
+    void usmpy_sensitivity(const usm_model *m, const usm_params *p, const int *want,
+                           usmpy_out *o)
+    void usmpy_optimize(const usm_model *m, const usm_params *p, const usm_opt_problem *pb,
+                        usmpy_out *o)
+    void usmpy_tolerance(const usm_model *m, const usm_params *p, const usm_tolerance_vary *vary,
+                         int nvary, const usm_tolerance_spec *spec, int nspec,
+                         const usm_tolerance_options *opt, usmpy_out *o)
+    void usmpy_map(const usm_model *m, const usm_params *p, const usm_map_options *opt,
+                   usmpy_out *o)
