@@ -7,6 +7,7 @@
 
 #include "commands.h"
 #include "diag.h"
+#include "optimize_args.h"
 #include "options.h"
 #include "usm_optimize.h"
 #include "usm_robust.h"
@@ -107,8 +108,8 @@ static void usage(FILE *out)
             "             {\"feasible\": false, ...} on stdout)\n");
 }
 
-/* NAME=LO:HI */
-static int parse_vary(opt_args *a, const char *text, char msg[CLI_MSG_LEN])
+/* NAME=LO:HI (optimize_args.h) */
+int cli_opt_parse_vary(usm_opt_problem *pb, const char *text, char msg[CLI_MSG_LEN])
 {
     char name[64], lo_text[64], lib[USM_MSG_LEN];
     const char *eq = strchr(text, '='), *colon = eq ? strchr(eq, ':') : NULL;
@@ -128,15 +129,15 @@ static int parse_vary(opt_args *a, const char *text, char msg[CLI_MSG_LEN])
     if (cli_parse_quantity("--vary", info->unit, lo_text, &lo, msg) != USM_OK ||
         cli_parse_quantity("--vary", info->unit, colon + 1, &hi, msg) != USM_OK)
         return USM_EINPUT;
-    if (usm_opt_problem_add_vary(&a->pb, name, lo, hi, lib) != USM_OK) {
+    if (usm_opt_problem_add_vary(pb, name, lo, hi, lib) != USM_OK) {
         cli_msg(msg, "--%s", lib);
         return USM_EINPUT;
     }
     return USM_OK;
 }
 
-/* OUTPUT>=X or OUTPUT<=X */
-static int parse_constraint(opt_args *a, const char *text, char msg[CLI_MSG_LEN])
+/* OUTPUT>=X or OUTPUT<=X (optimize_args.h) */
+int cli_opt_parse_constraint(usm_opt_problem *pb, const char *text, char msg[CLI_MSG_LEN])
 {
     const char *op = strstr(text, ">=");
     int upper = 0;
@@ -163,7 +164,7 @@ static int parse_constraint(opt_args *a, const char *text, char msg[CLI_MSG_LEN]
     }
     if (cli_parse_double("--constraint", op + 2, &value, msg) != USM_OK)
         return USM_EINPUT;
-    if (usm_opt_problem_add_constraint(&a->pb, name, upper, value, lib) != USM_OK) {
+    if (usm_opt_problem_add_constraint(pb, name, upper, value, lib) != USM_OK) {
         cli_msg(msg, "--%s", lib);
         return USM_EINPUT;
     }
@@ -403,7 +404,8 @@ static int parse(opt_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
             if (parse_robust_option(a, opts[which], value, msg) != USM_OK)
                 return USM_EINPUT;
         } else if (which == 1 || which == 2) {
-            if ((which == 1 ? parse_vary : parse_constraint)(a, value, msg) != USM_OK)
+            if ((which == 1 ? cli_opt_parse_vary : cli_opt_parse_constraint)(&a->pb, value, msg) !=
+                USM_OK)
                 return USM_EINPUT;
         } else if (which == 3) {
             if (cli_parse_double(opts[which], value, &a->pb.margin, msg) != USM_OK)

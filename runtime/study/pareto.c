@@ -116,31 +116,37 @@ int usm_pareto_run(const usm_model *m, const usm_params *p, const usm_opt_proble
         }
     }
     all[n++] = anchor[0];
-    /* obj[1] from its value at obj[0]'s optimum to its own optimum */
-    const double e0 = anchor[0].f[1], e1 = anchor[1].f[1];
-    double start[USM_NPARAMS];
-    for (int j = 0; j < pb->nvary; ++j)
-        start[j] = usm_params_get(&anchor[0].params, &usm_param_table[pb->vary[j]]);
-    for (int i = 1; i + 1 < points; ++i) {
-        usm_opt_problem q = *pb;
-        const double eps = e0 + (e1 - e0) * (double)i / (double)(points - 1);
-        q.cons[q.ncons++] = (usm_opt_constraint){obj[1], minimize[1], eps, 0};
-        usm_pareto_point pt;
-        int got = solve(o, p, &q, obj[0], minimize[0], obj, start, r, &pt, msg);
-        res->computed++;
-        if (got == 0) { /* the warm start failed: the lattice's starts */
-            got = solve(o, p, &q, obj[0], minimize[0], obj, NULL, r, &pt, msg);
-            res->computed++;
-        }
-        if (got < 0) {
-            status = USM_EFAILED;
-            goto done;
-        }
-        if (got == 0)
-            continue;
-        all[n++] = pt;
+    /* half of the levels on obj[1] (obj[0] optimized), half on obj[0]
+     * (obj[1] optimized): a front steep in one of them is still covered */
+    const int levels = points - 2, nb = (levels + 1) / 2;
+    for (int role = 0; role < 2; ++role) {
+        const int opt_k = role, eps_k = 1 - role; /* optimize obj[opt_k], bound obj[eps_k] */
+        const int nl = role == 0 ? nb : levels - nb;
+        const double e0 = anchor[opt_k].f[eps_k], e1 = anchor[eps_k].f[eps_k];
+        double start[USM_NPARAMS];
         for (int j = 0; j < pb->nvary; ++j)
-            start[j] = usm_params_get(&pt.params, &usm_param_table[pb->vary[j]]);
+            start[j] = usm_params_get(&anchor[opt_k].params, &usm_param_table[pb->vary[j]]);
+        for (int i = 1; i <= nl; ++i) {
+            usm_opt_problem q = *pb;
+            const double eps = e0 + (e1 - e0) * (double)i / (double)(nl + 1);
+            q.cons[q.ncons++] = (usm_opt_constraint){obj[eps_k], minimize[eps_k], eps, 0};
+            usm_pareto_point pt;
+            int got = solve(o, p, &q, obj[opt_k], minimize[opt_k], obj, start, r, &pt, msg);
+            res->computed++;
+            if (got == 0) { /* the warm start failed: the lattice's starts */
+                got = solve(o, p, &q, obj[opt_k], minimize[opt_k], obj, NULL, r, &pt, msg);
+                res->computed++;
+            }
+            if (got < 0) {
+                status = USM_EFAILED;
+                goto done;
+            }
+            if (got == 0)
+                continue;
+            all[n++] = pt;
+            for (int j = 0; j < pb->nvary; ++j)
+                start[j] = usm_params_get(&pt.params, &usm_param_table[pb->vary[j]]);
+        }
     }
     all[n++] = anchor[1];
     /* drop the dominated points and the repeated ones */
