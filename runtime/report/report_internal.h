@@ -220,6 +220,7 @@ typedef struct usm_report_data {
     double seconds[4]; /* timing: tables, curves, maps, plots */
 
     usm_report_nonideal nonideal; /* the non-ideal motor (report_nonideal.c) */
+    struct usm_report_design *design; /* design under scatter (report_design.c); owned */
 } usm_report_data;
 
 /* Compute everything but the maps.  USM_OK or an error status with msg. */
@@ -232,6 +233,17 @@ void usm_report_data_free(usm_report_data *d);
  * d->nonideal.note, not an error of the report; USM_EFAILED (out of memory)
  * with msg. */
 int usm_report_compute_nonideal(usm_report_data *d, char msg[USM_IO_MSG_LEN]);
+
+/* ---- design under scatter (report_design.c, issue 26) ---------------------------- */
+
+/* The speed-efficiency front over (f, F0) and the robust optimum beside the
+ * nominal one on the paper's 3-DOF motor, into d->design (allocated).  A
+ * failure of the computation is reported in the section's note, not an
+ * error of the report; USM_EFAILED (out of memory) with msg. */
+int usm_report_compute_design(usm_report_data *d, char msg[USM_IO_MSG_LEN]);
+/* The section's values ("design_robust" of report.json); NULL when out of memory. */
+json_t *usm_report_design_json(const usm_report_data *d);
+void usm_report_design_free(usm_report_data *d);
 
 /* Nearest computed multiplier to (re, im) among the non-cyclic and cyclic
  * ones of r (each computed one used once: `used` flags, n entries). */

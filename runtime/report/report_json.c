@@ -818,6 +818,7 @@ json_t *usm_report_json(const usm_report_data *d, int plots_ok, const char *plot
     json_object_set_new(o, "maps", maps);
     json_object_set_new(o, "variants", variants(d));
     json_object_set_new(o, "nonideal", nonideal(d));
+    json_object_set_new(o, "design_robust", usm_report_design_json(d));
     num(sec, "tables", d->seconds[0]);
     num(sec, "curves", d->seconds[1]);
     num(sec, "maps", d->seconds[2]);
