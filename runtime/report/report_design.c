@@ -15,9 +15,9 @@
 #define REPORT_DESIGN_POINTS 12      /* front points */
 #define REPORT_DESIGN_SPEED 6.0      /* the speed spec [1/s] */
 #define REPORT_DESIGN_YIELD 0.99
-#define REPORT_DESIGN_SAMPLES 1000   /* CRN samples per design (command: 10^4) */
+#define REPORT_DESIGN_SAMPLES 2000   /* CRN samples per design (command: 10^4) */
 #define REPORT_DESIGN_VERIFY 10000   /* fresh samples (command: 10^5) */
-#define REPORT_DESIGN_EVALS 24       /* designs per COBYLA run (command: 40) */
+#define REPORT_DESIGN_EVALS 30       /* designs per COBYLA run (command: 40) */
 static const double F_LO = 34000, F_HI = 42000, P_LO = 0.2, P_HI = 1.0;
 
 typedef struct usm_report_design {
@@ -79,6 +79,11 @@ void usm_report_design_free(usm_report_data *d)
     usm_pareto_result_free(&d->design->front);
     free(d->design);
     d->design = NULL;
+}
+
+double usm_report_design_seconds(const usm_report_data *d)
+{
+    return d->design ? d->design->seconds : NAN;
 }
 
 static void num(json_t *o, const char *key, double v)

@@ -244,6 +244,8 @@ int usm_report_compute_design(usm_report_data *d, char msg[USM_IO_MSG_LEN]);
 /* The section's values ("design_robust" of report.json); NULL when out of memory. */
 json_t *usm_report_design_json(const usm_report_data *d);
 void usm_report_design_free(usm_report_data *d);
+/* Seconds the section took (NaN when not computed). */
+double usm_report_design_seconds(const usm_report_data *d);
 
 /* Nearest computed multiplier to (re, im) among the non-cyclic and cyclic
  * ones of r (each computed one used once: `used` flags, n entries). */

@@ -824,6 +824,7 @@ json_t *usm_report_json(const usm_report_data *d, int plots_ok, const char *plot
     num(sec, "maps", d->seconds[2]);
     num(sec, "plots", d->seconds[3]);
     num(sec, "nonideal", d->nonideal.seconds);
+    num(sec, "design", usm_report_design_seconds(d));
     num(sec, "total", d->seconds[0] + d->seconds[1] + d->seconds[2] + d->seconds[3] +
                           d->nonideal.seconds);
     json_object_set_new(o, "seconds", sec);

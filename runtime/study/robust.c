@@ -132,6 +132,7 @@ typedef struct ctx {
     double x[USM_NPARAMS];
     int have, ok;
     double obj, cons[MAX_RCONS], yield;
+    double obj_scale;        /* |objective| at the start (COBYLA is not scale-free) */
     int evaluations;
     /* the best feasible (least violation when none) */
     int best_have;
@@ -248,8 +249,9 @@ static void evaluate(ctx *c, const double *x)
             return;
         }
         c->yield = yr.yield;
+        /* in units of the allowed failure fraction 1 - yield_min */
         if (!isnan(rp->yield_min))
-            c->cons[n++] = c->yield_target - yr.yield;
+            c->cons[n++] = (c->yield_target - yr.yield) / (1 - rp->yield_min);
         if (rp->stat == USM_ROBUST_STAT_MEAN)
             c->obj = yr.mean;
         else if (rp->stat == USM_ROBUST_STAT_QUANTILE)
@@ -310,8 +312,8 @@ static double nl_objective(unsigned n, const double *x, double *grad, void *data
     consider(c);
     if (isnan(c->obj))
         return 1e3;
-    /* minimized: larger-better objectives negated */
-    return c->larger_better ? -c->obj : c->obj;
+    /* minimized: larger-better objectives negated; in units of the start's value */
+    return (c->larger_better ? -c->obj : c->obj) / c->obj_scale;
 }
 
 static void nl_cons(unsigned mcons, double *result, unsigned n, const double *x, double *grad,
@@ -325,7 +327,7 @@ static void nl_cons(unsigned mcons, double *result, unsigned n, const double *x,
         result[i] = c->cons[i];
 }
 
-static int cobyla(ctx *c, double *x, int maxeval)
+static int cobyla(ctx *c, double *x, int maxeval, double rho)
 {
     nlopt_opt opt = nlopt_create(NLOPT_LN_COBYLA, (unsigned)c->n);
     if (!opt)
@@ -334,7 +336,7 @@ static int cobyla(ctx *c, double *x, int maxeval)
     for (int i = 0; i < c->n; ++i) {
         lo[i] = 0;
         hi[i] = 1;
-        step[i] = RHO_BEGIN;
+        step[i] = rho;
     }
     for (int i = 0; i < c->ncons; ++i)
         tol[i] = 0;
@@ -436,6 +438,7 @@ int usm_robust_run(const usm_model *m, const usm_params *p, const usm_robust_pro
     c->n = rp->nominal.nvary;
     c->larger_better = rp->objective == USM_ROBUST_YIELD || !rp->nominal.minimize;
     c->ncons = cons_texts(c);
+    c->obj_scale = 1.0;
     int status = USM_OK;
     if (rp->nscatter > 0) {
         c->crn = usm_yield_alloc(m, rp->scatter, rp->nscatter, rp->samples, rp->seed, msg);
@@ -488,25 +491,59 @@ int usm_robust_run(const usm_model *m, const usm_params *p, const usm_robust_pro
         res->nominal.feasible = 1; /* feasible as a nominal design */
         res->nominal.value = res->nominal.nominal_value;
     }
-    /* COBYLA from the nominal optimum (else the box's centre); a second run
-     * from the centre when the first ends infeasible */
+    /* Two fidelities: COBYLA on the first eighth of the common random
+     * numbers (the same draws: the set is drawn sequentially) from the
+     * nominal optimum (else the box's centre; a second run from the centre
+     * when the first ends infeasible) finds the region cheaply; then on the
+     * whole set from the best point found, with a smaller first step and
+     * half the designs.  Each phase's yield target carries its own sample's
+     * margin.  Sets under 4000 samples skip the first phase (it takes at
+     * least 1000: a yield near 0.99 needs them). */
     double x[USM_NPARAMS];
     memcpy(x, x0, sizeof x);
-    c->best_have = 0;
-    int budget = rp->max_evals;
-    if (cobyla(c, x, budget) != 0 || c->failed) {
-        snprintf(msg, USM_MSG_LEN, "%s", c->failed ? c->msg : "NLopt refused the problem");
-        status = USM_EFAILED;
-        goto done;
-    }
-    if (!(c->best_have && c->best_viol <= 0) && have_nominal) {
-        for (int j = 0; j < c->n; ++j)
-            x[j] = 0.5;
-        if (cobyla(c, x, budget) != 0 || c->failed) {
+    const int coarse = rp->samples >= 4000 && c->crn;
+    usm_yield *full = c->crn;
+    for (int phase = coarse ? 0 : 1; phase < 2; ++phase) {
+        const uint64_t ns = phase == 0 ? (rp->samples / 8 > 1000 ? rp->samples / 8 : 1000)
+                                       : rp->samples;
+        usm_yield *set = full;
+        if (phase == 0) {
+            set = usm_yield_alloc(m, rp->scatter, rp->nscatter, ns, rp->seed, msg);
+            if (!set) {
+                status = USM_EFAILED;
+                goto done;
+            }
+            for (int i = 0; i < rp->nominal.ncons; ++i)
+                usm_yield_spec_add(set, rp->nominal.cons[i].output, rp->nominal.cons[i].upper,
+                                   rp->nominal.cons[i].value);
+        }
+        c->crn = set;
+        c->have = 0;
+        c->best_have = 0;
+        evaluate(c, x);
+        c->obj_scale = isfinite(c->obj) && c->obj != 0 ? fabs(c->obj) : 1.0;
+        if (!isnan(rp->yield_min) && set)
+            c->yield_target = fmin(1.0, rp->yield_min + 2.0 * sqrt(rp->yield_min *
+                                   (1 - rp->yield_min) / (double)ns));
+        const int budget = phase == 0 || !coarse ? rp->max_evals : (rp->max_evals + 1) / 2;
+        const double rho = phase == 0 || !coarse ? RHO_BEGIN : RHO_BEGIN / 4;
+        int bad = cobyla(c, x, budget, rho) != 0 || c->failed;
+        if (!bad && !(c->best_have && c->best_viol <= 0) && have_nominal &&
+            (phase == 0 || !coarse)) {
+            for (int j = 0; j < c->n; ++j)
+                x[j] = 0.5;
+            bad = cobyla(c, x, budget, RHO_BEGIN) != 0 || c->failed;
+        }
+        if (phase == 0)
+            usm_yield_free(set);
+        c->crn = full;
+        if (bad) {
             snprintf(msg, USM_MSG_LEN, "%s", c->failed ? c->msg : "NLopt refused the problem");
             status = USM_EFAILED;
             goto done;
         }
+        if (c->best_have)
+            memcpy(x, c->best_x, sizeof x);
     }
     double xb[USM_NPARAMS];
     memcpy(xb, c->best_x, sizeof xb);
@@ -515,7 +552,7 @@ int usm_robust_run(const usm_model *m, const usm_params *p, const usm_robust_pro
     /* active constraints and bounds at the chosen design */
     for (int i = 0; i < c->ncons && res->nactive < USM_OPT_MAX_ACTIVE; ++i) {
         const int is_yield = !isnan(rp->yield_min) && i == c->ncons - 1;
-        const double tol = is_yield ? 3.0 / (double)rp->samples : ACTIVE_TOL;
+        const double tol = is_yield ? 3.0 / (double)rp->samples / (1 - rp->yield_min) : ACTIVE_TOL;
         if (fabs(c->cons[i]) <= tol)
             snprintf(res->active[res->nactive++], USM_OPT_TEXT_LEN, "%s", c->text[i]);
     }
