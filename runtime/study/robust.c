@@ -103,6 +103,37 @@ int usm_robust_problem_check(const usm_robust_problem *rp, const usm_model *m,
         snprintf(msg, USM_MSG_LEN, "from-rest: not available in a robust problem");
         return USM_EINPUT;
     }
+    /* the derived quantities' own needs, before any computation */
+    for (int i = -1; i < rp->nderived; ++i) {
+        const int k = i < 0 ? rp->objective : rp->derived[i].quantity;
+        const char *field = i < 0 ? "objective" : "constraint";
+        const usm_robust_range *r = &rp->qopt.range;
+        if (k == USM_ROBUST_STALL_TORQUE && !m->slip) {
+            snprintf(msg, USM_MSG_LEN, "%s: stall_torque: model %s keeps stick (its rotor speed "
+                     "is kinematic and never stalls); use a slip model (--model 4dof)", field,
+                     m->name);
+            return USM_EINPUT;
+        }
+        if ((k == USM_ROBUST_STALL_TORQUE || k == USM_ROBUST_MAX_POWER) && r->param >= 0 &&
+            r->param != USM_P_T) {
+            snprintf(msg, USM_MSG_LEN, "over-range: %s searches a load range: give T=LO:HI",
+                     usm_robust_quantity_name(k));
+            return USM_EINPUT;
+        }
+        if (k == USM_ROBUST_BAND_WIDTH && (r->param != USM_P_f || !isfinite(rp->qopt.band_threshold))) {
+            snprintf(msg, USM_MSG_LEN, "%s: band_width needs --over-range f=LO:HI and "
+                     "--band-threshold X (the speed [1/s] the band keeps)",
+                     r->param != USM_P_f ? "over-range" : "band-threshold");
+            return USM_EINPUT;
+        }
+    }
+    if (rp->qopt.range.param >= 0 && rp->objective >= USM_OPT_OUTPUT_COUNT &&
+        rp->objective != USM_ROBUST_STALL_TORQUE && rp->objective != USM_ROBUST_MAX_POWER &&
+        rp->objective != USM_ROBUST_BAND_WIDTH && rp->nderived == 0) {
+        snprintf(msg, USM_MSG_LEN, "over-range: the objective %s takes no range",
+                 usm_robust_quantity_name(rp->objective));
+        return USM_EINPUT;
+    }
     /* the box, margin, t0 as the nominal optimizer checks them */
     usm_opt_problem pb = rp->nominal;
     pb.objective = USM_OPT_SPEED;
