@@ -61,6 +61,7 @@ typedef struct usm_yield_result {
  * bad input or when out of memory. */
 usm_yield *usm_yield_alloc(const usm_model *m, const usm_tolerance_vary *scatter, int nscatter,
                            uint64_t samples, uint64_t seed, char msg[USM_MSG_LEN]);
+/* Free y; NULL is allowed. */
 void usm_yield_free(usm_yield *y);
 /* A spec on optimizer output k (usm_optimize.h: speed, efficiency, power_out,
  * margin, ...): k <= bound (upper) or >= bound, judged at each sample's
@@ -80,6 +81,7 @@ double usm_yield_quantile(usm_yield *y, double q, int larger_better);
 /* Sample i of the last evaluation: its tracked output (NaN without an
  * operating point) and whether it is good.  USM_OK or USM_EINPUT. */
 int usm_yield_sample(const usm_yield *y, uint64_t i, double *value, int *good);
+/* Why the last call failed, or "". */
 const char *usm_yield_message(const usm_yield *y);
 
 /* ---- datasheet quantities and operating ranges ---------------------------------- */
@@ -122,6 +124,7 @@ const char *usm_robust_quantity_unit(int k);
 int usm_robust_quantity_find(const char *name);
 /* "worst", "mean", "integral" <-> usm_range_stat; -1 for an unknown name. */
 int usm_range_stat_find(const char *name);
+/* The name of s ("worst", "mean", "integral"), NULL when out of range. */
 const char *usm_range_stat_name(usm_range_stat s);
 
 /* The options of the derived quantities. */
@@ -185,6 +188,10 @@ typedef struct usm_robust_problem {
     usm_quantity_options qopt;
 } usm_robust_problem;
 
+/* Nothing varied, no objective, statistic nominal, quantile 0.05, no yield
+ * constraint, no scatter, 10^4 samples, seed 1, 10^5 verification samples,
+ * 2 threads, 40 designs per COBYLA run, no range (21 points when given),
+ * no band threshold; rp->nominal as usm_opt_problem_init with no_flat. */
 void usm_robust_problem_init(usm_robust_problem *rp);
 /* Whether a problem needs the robust (derivative-free) path: a yield, a
  * statistic over the scatter, a range, or a derived quantity. */
@@ -259,6 +266,7 @@ typedef struct usm_pareto_result {
 int usm_pareto_run(const usm_model *m, const usm_params *p, const usm_opt_problem *pb,
                    const int obj[2], const int minimize[2], int points,
                    usm_pareto_result *res, char msg[USM_MSG_LEN]);
+/* Free the points of res (not res itself); NULL is allowed. */
 void usm_pareto_result_free(usm_pareto_result *res);
 
 /* CSV in the usm command's dialect: point, OBJ0 [unit], OBJ1 [unit], each
@@ -269,6 +277,7 @@ void usm_pareto_result_free(usm_pareto_result *res);
  * 0 or -1 on a write error. */
 int usm_pareto_write_csv(const usm_opt_problem *pb, const int obj[2],
                          const usm_pareto_result *res, FILE *out);
+/* The JSON object described above, and a newline. */
 int usm_pareto_write_json(const usm_opt_problem *pb, const int obj[2], const int minimize[2],
                           const usm_pareto_result *res, FILE *out);
 
