@@ -498,7 +498,15 @@ static void write_table(const opt_args *a, const usm_opt_result *res)
 static void write_design(const opt_args *a, const char *title, const usm_robust_design *d)
 {
     const usm_robust_problem *rp = &a->rp;
-    printf("\n%s: %s = %.10g\n", title, usm_robust_quantity_name(rp->objective), d->value);
+    char stat[32] = "";
+    if (rp->stat == USM_ROBUST_STAT_MEAN)
+        snprintf(stat, sizeof stat, "mean:");
+    else if (rp->stat == USM_ROBUST_STAT_QUANTILE)
+        snprintf(stat, sizeof stat, "q%02.0f:", 100 * rp->quantile);
+    printf("\n%s: %s%s = %.10g", title, stat, usm_robust_quantity_name(rp->objective), d->value);
+    if (stat[0])
+        printf(" (nominal %s %.10g)", usm_robust_quantity_name(rp->objective), d->nominal_value);
+    printf("\n");
     for (int j = 0; j < rp->nominal.nvary; ++j) {
         const usm_param_info *info = &usm_param_table[rp->nominal.vary[j]];
         printf("  %-6s %-20.10g in [%g, %g] %s\n", info->name, usm_params_get(&d->params, info),

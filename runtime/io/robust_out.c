@@ -45,6 +45,7 @@ static void put_design(json_t *obj, const usm_robust_problem *rp, const usm_robu
                        int *ok)
 {
     usm_json_put(obj, "value", usm_json_real(d->value), ok);
+    usm_json_put(obj, "nominal_value", usm_json_real(d->nominal_value), ok);
     usm_json_put(obj, "varied", varied(&rp->nominal, &d->params, ok), ok);
     json_t *op = json_object();
     if (!op)

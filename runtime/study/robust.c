@@ -519,8 +519,8 @@ int usm_robust_run(const usm_model *m, const usm_params *p, const usm_robust_pro
     if (have_nominal) {
         if ((status = describe(c, x0, fresh, &res->nominal)) != USM_OK)
             goto done;
-        res->nominal.feasible = 1; /* feasible as a nominal design */
-        res->nominal.value = res->nominal.nominal_value;
+        res->nominal.feasible = 1; /* feasible as a nominal design; value: the
+                                      robust objective (the statistic) there */
     }
     /* Two fidelities: COBYLA on the first eighth of the common random
      * numbers (the same draws: the set is drawn sequentially) from the
@@ -559,6 +559,13 @@ int usm_robust_run(const usm_model *m, const usm_params *p, const usm_robust_pro
         const int budget = phase == 0 || !coarse ? rp->max_evals : (rp->max_evals + 1) / 2;
         const double rho = phase == 0 || !coarse ? RHO_BEGIN : RHO_BEGIN / 4;
         int bad = cobyla(c, x, budget, rho) != 0 || c->failed;
+        if (!bad && !(c->best_have && c->best_viol <= 0) && phase == 1 && coarse) {
+            /* the whole set disagrees with the first phase's region: a full
+             * search from its best point */
+            if (c->best_have)
+                memcpy(x, c->best_x, sizeof x);
+            bad = cobyla(c, x, rp->max_evals, RHO_BEGIN) != 0 || c->failed;
+        }
         if (!bad && !(c->best_have && c->best_viol <= 0) && have_nominal &&
             (phase == 0 || !coarse)) {
             for (int j = 0; j < c->n; ++j)

@@ -203,8 +203,10 @@ int usm_robust_problem_check(const usm_robust_problem *rp, const usm_model *m,
 typedef struct usm_robust_design {
     int feasible;
     usm_params params;
-    double value;             /* the objective */
-    double nominal_value;     /* the objective's quantity at the nominal design */
+    double value;             /* the objective (its statistic over the scatter, the
+                                 yield, or the quantity) at this design */
+    double nominal_value;     /* the objective's quantity at the nominal design
+                                 (no scatter; NaN for the yield) */
     double speed, efficiency, power_out, max_modulus; /* nominal operating point */
     double crn_yield;         /* CRN yield (NaN without scatter) */
     double yield, yield_lo, yield_hi; /* fresh verification sample (NaN without scatter) */
