@@ -67,7 +67,8 @@ int main(int argc, char **argv)
            "yield %.4f [%.4f, %.4f] (CRN %.4f), verified %s\n", r->params.f, r->params.F0,
            100 * r->efficiency, r->speed, r->yield, r->yield_lo, r->yield_hi, r->crn_yield,
            res->verified ? "yes" : "no");
-    printf("  yield gained %+.2f points; efficiency cost %.1f %% of the nominal's; speed %+.3g 1/s\n",
+    printf("  yield gained %+.2f points; efficiency cost %.1f %% of the nominal's; "
+           "speed %+.3g 1/s\n",
            100 * (r->yield - n->yield), 100 * (1 - r->efficiency / n->efficiency),
            r->speed - n->speed);
     usm_pareto_result pr;

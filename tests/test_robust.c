@@ -282,7 +282,8 @@ static void test_pareto(const usm_model *m)
                 pt.op.index < 0)
                 continue;
             const usm_steady_solution *s = &pt.op.sol;
-            if (pt.op.floquet.max_modulus > 0.99 || s->power_out < 0 || -s->rotor_speed < SPEED_MIN ||
+            if (pt.op.floquet.max_modulus > 0.99 || s->power_out < 0 ||
+                -s->rotor_speed < SPEED_MIN ||
                 s->F_t > q.mu0 * s->F_n)
                 continue;
             g[ng++] = (gp){-s->rotor_speed, s->efficiency};

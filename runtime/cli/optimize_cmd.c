@@ -32,7 +32,7 @@ static void usage(FILE *out)
             "                    [--constraint yield>=Y] [--samples N] [--verify-samples N]\n"
             "                    [--seed S] [--threads N] [--max-evals N] (robust design)\n"
             "       usm optimize --objective NAME --over-range P=LO:HI[:N] [--range-stat S]\n"
-            "                    [--band-threshold X] ... (operating ranges, datasheet quantities)\n"
+            "                    [--band-threshold X] ... (ranges, datasheet quantities)\n"
             "\n"
             "Maximize (default) or minimize an output of the primary stationary solution over\n"
             "the --vary parameters within their bounds, subject to: a stationary solution\n"

@@ -6,30 +6,8 @@
 
 #include "csv_out.h"
 #include "json_out.h"
+#include "optimize_json.h"
 #include "usm_robust.h"
-
-static json_t *strings(int n, const char (*text)[USM_OPT_TEXT_LEN], int *ok)
-{
-    json_t *a = json_array();
-    if (!a)
-        *ok = 0;
-    for (int i = 0; a && i < n; ++i)
-        if (json_array_append_new(a, json_string(text[i])) != 0)
-            *ok = 0;
-    return a;
-}
-
-static json_t *varied(const usm_opt_problem *pb, const usm_params *p, int *ok)
-{
-    json_t *v = json_object();
-    if (!v)
-        *ok = 0;
-    for (int j = 0; v && j < pb->nvary; ++j) {
-        const usm_param_info *info = &usm_param_table[pb->vary[j]];
-        usm_json_put(v, info->name, usm_json_real(usm_params_get(p, info)), ok);
-    }
-    return v;
-}
 
 static json_t *pair(double a, double b, int *ok)
 {
@@ -46,7 +24,7 @@ static void put_design(json_t *obj, const usm_robust_problem *rp, const usm_robu
 {
     usm_json_put(obj, "value", usm_json_real(d->value), ok);
     usm_json_put(obj, "nominal_value", usm_json_real(d->nominal_value), ok);
-    usm_json_put(obj, "varied", varied(&rp->nominal, &d->params, ok), ok);
+    usm_json_put(obj, "varied", usm_opt_json_varied(&rp->nominal, &d->params, ok), ok);
     json_t *op = json_object();
     if (!op)
         *ok = 0;
@@ -84,8 +62,8 @@ int usm_robust_write_json(const usm_model *m, const usm_robust_problem *rp,
     usm_json_put(obj, "feasible", json_boolean(res->robust.feasible), &ok);
     usm_json_put(obj, "objective", json_string(usm_robust_quantity_name(rp->objective)), &ok);
     usm_json_put(obj, "statistic", json_string(stat_name(rp, sbuf)), &ok);
-    usm_json_put(obj, "sense", json_string(rp->objective == USM_ROBUST_YIELD || !rp->nominal.minimize
-                                               ? "max" : "min"), &ok);
+    const int maximize = rp->objective == USM_ROBUST_YIELD || !rp->nominal.minimize;
+    usm_json_put(obj, "sense", json_string(maximize ? "max" : "min"), &ok);
     if (rp->qopt.range.param >= 0) {
         json_t *r = json_object();
         if (!r)
@@ -100,7 +78,8 @@ int usm_robust_write_json(const usm_model *m, const usm_robust_problem *rp,
     }
     put_design(obj, rp, &res->robust, &ok);
     usm_json_put(obj, "parameters", usm_json_params(&res->robust.params), &ok);
-    usm_json_put(obj, "active_constraints", strings(res->nactive, res->active, &ok), &ok);
+    usm_json_put(obj, "active_constraints",
+                 usm_opt_json_strings(res->nactive, res->active, &ok), &ok);
     usm_json_put(obj, "evaluations", json_integer(res->evaluations), &ok);
     if (rp->nscatter > 0) {
         usm_json_put(obj, "verified", json_boolean(res->verified), &ok);
@@ -182,8 +161,9 @@ int usm_pareto_write_json(const usm_opt_problem *pb, const int obj[2], const int
         }
         usm_json_put(p, usm_opt_output_name(obj[0]), usm_json_real(pt->f[0]), &ok);
         usm_json_put(p, usm_opt_output_name(obj[1]), usm_json_real(pt->f[1]), &ok);
-        usm_json_put(p, "design", varied(pb, &pt->params, &ok), &ok);
-        usm_json_put(p, "active_constraints", strings(pt->nactive, pt->active, &ok), &ok);
+        usm_json_put(p, "design", usm_opt_json_varied(pb, &pt->params, &ok), &ok);
+        usm_json_put(p, "active_constraints",
+                     usm_opt_json_strings(pt->nactive, pt->active, &ok), &ok);
     }
     usm_json_put(o, "objectives", names, &ok);
     usm_json_put(o, "senses", senses, &ok);

@@ -81,7 +81,8 @@ int usm_report_compute_design(usm_report_data *d, char msg[USM_IO_MSG_LEN])
     rc = usm_robust_run(m, &d->params, &rp, &g->robust, why);
     g->robust_ok = rc == USM_OK && g->robust.nominal.feasible;
     if (!g->robust_ok && !g->note[0])
-        snprintf(g->note, sizeof g->note, "robust optimum: %.200s", why[0] ? why : "no nominal optimum");
+        snprintf(g->note, sizeof g->note, "robust optimum: %.200s",
+                 why[0] ? why : "no nominal optimum");
     g->ok = g->front_ok && g->robust_ok;
     g->seconds = usm_report_now() - t;
     return USM_OK;

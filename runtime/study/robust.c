@@ -120,7 +120,8 @@ int usm_robust_problem_check(const usm_robust_problem *rp, const usm_model *m,
                      usm_robust_quantity_name(k));
             return USM_EINPUT;
         }
-        if (k == USM_ROBUST_BAND_WIDTH && (r->param != USM_P_f || !isfinite(rp->qopt.band_threshold))) {
+        if (k == USM_ROBUST_BAND_WIDTH &&
+            (r->param != USM_P_f || !isfinite(rp->qopt.band_threshold))) {
             snprintf(msg, USM_MSG_LEN, "%s: band_width needs --over-range f=LO:HI and "
                      "--band-threshold X (the speed [1/s] the band keeps)",
                      r->param != USM_P_f ? "over-range" : "band-threshold");
