@@ -26,14 +26,17 @@ SCATTER=(--scatter c_r=normal:2% --scatter f=normal:1%)
 BOX=(--vary f=34000:42000 --vary F0=0.2:1.0)
 
 # ---- the robust optimum, verified ------------------------------------------------
+# (small sets to stay fast under the sanitizers: the search asks the 1000 CRN
+# samples 0.99 + 2 sqrt(0.99 0.01 / 1000) = 0.9963; the 5000 fresh ones estimate
+# the yield to 1.1e-3.  Deterministic: the same numbers at every run)
 if expect_rc 0 optimize --objective efficiency "${BOX[@]}" --constraint speed\>=6 \
-    --constraint yield\>=0.99 "${SCATTER[@]}" --samples 1000 --verify-samples 20000 \
-    --max-evals 20 --json; then
+    --constraint yield\>=0.99 "${SCATTER[@]}" --samples 1000 --verify-samples 5000 \
+    --max-evals 12 --starts 2 --json; then
     cp "$out" "$tmp/robust.json"
     py 'assert o["feasible"] is True and o["verified"] is True, o.get("verified")
 for k in ("yield", "yield_ci", "samples", "verified", "crn", "nominal_optimum"):
     assert k in o, k
-assert o["samples"] == 20000 and o["crn"]["samples"] == 1000, (o["samples"], o["crn"])
+assert o["samples"] == 5000 and o["crn"]["samples"] == 1000, (o["samples"], o["crn"])
 lo, hi = o["yield_ci"]
 assert lo <= o["yield"] <= hi and o["yield"] >= 0.99, (o["yield"], lo, hi)
 n = o["nominal_optimum"]
