@@ -550,13 +550,13 @@ int usm_robust_run(const usm_model *m, const usm_params *p, const usm_robust_pro
                                    rp->nominal.cons[i].value);
         }
         c->crn = set;
-        c->have = 0;
-        c->best_have = 0;
-        evaluate(c, x);
-        c->obj_scale = isfinite(c->obj) && c->obj != 0 ? fabs(c->obj) : 1.0;
         if (!isnan(rp->yield_min) && set)
             c->yield_target = fmin(1.0, rp->yield_min + 2.0 * sqrt(rp->yield_min *
                                    (1 - rp->yield_min) / (double)ns));
+        c->have = 0;
+        c->best_have = 0;
+        evaluate(c, x); /* the start's objective: COBYLA's scale */
+        c->obj_scale = isfinite(c->obj) && c->obj != 0 ? fabs(c->obj) : 1.0;
         const int budget = phase == 0 || !coarse ? rp->max_evals : (rp->max_evals + 1) / 2;
         const double rho = phase == 0 || !coarse ? RHO_BEGIN : RHO_BEGIN / 4;
         int bad = cobyla(c, x, budget, rho) != 0 || c->failed;
