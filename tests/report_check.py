@@ -19,7 +19,7 @@ Builds the report (--quick) into a temporary directory and checks that
    independent `usm sensitivity --json`; the datasheet CSV obeys
    P_out = T w_R, eta = P_out / P_in and the power balance; the chart's CSV
    holds the nonzero elasticities sorted by magnitude; section 8 quotes them.
- - the non-ideal motor (issue 14, section 10): each tolerable phase error
+ - the non-ideal motor (issue 14, section 9): each tolerable phase error
    and mode split of report.json is bracketed by independent `usm periodic
    --variant imperfect --set NAME=X` runs (F_n_min > 0 and max |lambda| < 1
    just below it, F_n_min < 0 or max |lambda| > 1 just above, whichever the
@@ -560,21 +560,21 @@ def check_maps(out, md, data):
 
 
 def check_nonideal(out, md, data):
-    """Section 10: the non-ideal motor (issue 14 part 4)."""
+    """Section 9: the non-ideal motor (issue 14 part 4)."""
     ni = data.get("nonideal", {})
     if not ni.get("ok"):
         fail(f"report.json: the non-ideal motor not computed: {ni.get('note')}")
         return
-    m = re.search(r"^## 10\. The non-ideal motor.*", md, re.S | re.M)
+    m = re.search(r"^## 9\. The non-ideal motor.*", md, re.S | re.M)
     sec = m.group(0) if m else ""
     if not sec:
-        fail("no section 10 (the non-ideal motor)")
+        fail("no section 9 (the non-ideal motor)")
     images = set(re.findall(r"!\[[^\]]*\]\(([^)\s]+)\)", sec))
     for fig in ("nonideal_curves", "nonideal_orbit"):
         if f"{fig}.png" in images and f"{fig}.svg" in sec:
-            ok(f"section 10 shows the {fig} figure")
+            ok(f"section 9 shows the {fig} figure")
         else:
-            fail(f"section 10 lacks the {fig} figure")
+            fail(f"section 9 lacks the {fig} figure")
     # the tolerable values against independent runs on each side: the report
     # locates them to 1e-9 of the range, the test brackets them at 1e-3
     delta = 1e-3
@@ -605,9 +605,9 @@ def check_nonideal(out, md, data):
                      f"F_n_min {f_lo} / {f_hi}, max |lambda| {l_lo} / {l_hi}")
             said = f"{tol['display']:.3g} {unit}"
             if said in sec and data["nonideal"][model]["model"] in sec:
-                ok(f"section 10 states the {model} tolerable {name}: {said}")
+                ok(f"section 9 states the {model} tolerable {name}: {said}")
             else:
-                fail(f"section 10 does not state the {model} tolerable {name} {said!r}")
+                fail(f"section 9 does not state the {model} tolerable {name} {said!r}")
     # a curve point (the warm-started last one) against an independent run
     rows = read_csv(os.path.join(out, "nonideal_curves_phase_error_4dof.csv"))
     last = rows[-1]

@@ -21,5 +21,6 @@ int cli_sensitivity_main(int argc, char **argv);
 int cli_optimize_main(int argc, char **argv);
 int cli_tolerance_main(int argc, char **argv);
 int cli_periodic_main(int argc, char **argv);
+int cli_pareto_main(int argc, char **argv);
 
 #endif /* USM_CLI_COMMANDS_H */

@@ -31,6 +31,7 @@ static const cli_command commands[] = {
     {"sensitivity", "derivatives and elasticities of the stationary outputs in every parameter", cli_sensitivity_main},
     {"optimize", "best design over parameter bounds under stability, stick and user constraints", cli_optimize_main},
     {"tolerance", "Monte Carlo yield: stability and specs under parameter scatter", cli_tolerance_main},
+    {"pareto", "trade-off front of two outputs (epsilon-constraint), CSV, JSON and figure", cli_pareto_main},
 };
 #define NCOMMANDS (sizeof commands / sizeof commands[0])
 

@@ -7,12 +7,16 @@
 
 #include "commands.h"
 #include "diag.h"
+#include "optimize_args.h"
 #include "options.h"
 #include "usm_optimize.h"
+#include "usm_robust.h"
 
 typedef struct opt_args {
     cli_common common;
     usm_opt_problem pb;
+    usm_robust_problem rp;   /* the robust options (issue 26); rp.nominal = pb at the end */
+    int robust;              /* usm_robust_problem_is_robust */
     int help;
 } opt_args;
 
@@ -24,6 +28,11 @@ static void usage(FILE *out)
             "                    [--allow-slip] [--allow-driven] [--starts N] [--t0 S]\n"
             "                    [--no-flat] [--model M] [--variant V] [--params F]\n"
             "                    [--set N=V]... [--from-rest [--from-rest-periods N]] [--json]\n"
+            "       usm optimize --objective yield|mean:NAME|qNN:NAME|NAME --scatter NAME=DIST...\n"
+            "                    [--constraint yield>=Y] [--samples N] [--verify-samples N]\n"
+            "                    [--seed S] [--threads N] [--max-evals N] (robust design)\n"
+            "       usm optimize --objective NAME --over-range P=LO:HI[:N] [--range-stat S]\n"
+            "                    [--band-threshold X] ... (ranges, datasheet quantities)\n"
             "\n"
             "Maximize (default) or minimize an output of the primary stationary solution over\n"
             "the --vary parameters within their bounds, subject to: a stationary solution\n"
@@ -61,6 +70,37 @@ static void usage(FILE *out)
             "  --no-flat           skip the near-optimal intervals (flat parameters)\n");
     cli_from_rest_usage(out);
     fprintf(out,
+            "robust design (a derivative-free search, NLopt COBYLA, from the nominal optimum):\n"
+            "  --objective yield   maximize the yield: the fraction of built motors (the\n"
+            "                      --scatter samples) whose operating point exists, is stable,\n"
+            "                      valid and meets every --constraint\n"
+            "  --objective mean:NAME, qNN:NAME  the mean or the NN %% quantile of output NAME\n"
+            "                      over the scatter (q05:power_out: 5 %% of the motors give less;\n"
+            "                      a sample without an operating point counts as the worst)\n"
+            "  --constraint yield>=Y  at least the fraction Y (0 < Y < 1) of the motors good;\n"
+            "                      every other constraint holds at the nominal design and is a\n"
+            "                      spec of each sample\n"
+            "  --scatter NAME=DIST the manufacturing scatter of a parameter, DIST as usm\n"
+            "                      tolerance --vary: normal:2%%, normal:SIGMA, uniform:P%%,\n"
+            "                      uniform:LO:HI (repeatable)\n"
+            "  --samples N         common-random-number samples per design (default 10000): the\n"
+            "                      same seed and draws at every design\n"
+            "  --verify-samples N  the final check: a fresh sample (seed S + 1) at the chosen\n"
+            "                      design with its 95 %% Wilson interval (default 100000)\n"
+            "  --seed S            seed of the samples (default 1)\n"
+            "  --threads N         worker threads for the samples (default 2)\n"
+            "  --max-evals N       designs per COBYLA run (default 40)\n"
+            "operating ranges and datasheet quantities (objective or constraint):\n"
+            "  --over-range P=LO:HI[:N]  judge the objective output over parameter P from LO\n"
+            "                      to HI (N grid values, default 21) by --range-stat: worst\n"
+            "                      (default), mean or integral; the load range of stall_torque\n"
+            "                      and max_power (T; default 0 to 0.01 N m), the frequency\n"
+            "                      range of band_width (f)\n"
+            "  stall_torque        slip models: the load T where the speed reaches 0 (the\n"
+            "                      stall event of usm sweep --over T)\n"
+            "  no_load_speed       the speed at T = 0;  max_power: the largest power_out over\n"
+            "                      the load range;  band_width: the length of the frequency\n"
+            "                      range where speed >= --band-threshold X [1/s]\n"
             "  -h, --help          print this help\n"
             "\n"
             "exit status: 0 optimum found, 1 numerical failure, 2 bad specification,\n"
@@ -68,8 +108,8 @@ static void usage(FILE *out)
             "             {\"feasible\": false, ...} on stdout)\n");
 }
 
-/* NAME=LO:HI */
-static int parse_vary(opt_args *a, const char *text, char msg[CLI_MSG_LEN])
+/* NAME=LO:HI (optimize_args.h) */
+int cli_opt_parse_vary(usm_opt_problem *pb, const char *text, char msg[CLI_MSG_LEN])
 {
     char name[64], lo_text[64], lib[USM_MSG_LEN];
     const char *eq = strchr(text, '='), *colon = eq ? strchr(eq, ':') : NULL;
@@ -89,15 +129,15 @@ static int parse_vary(opt_args *a, const char *text, char msg[CLI_MSG_LEN])
     if (cli_parse_quantity("--vary", info->unit, lo_text, &lo, msg) != USM_OK ||
         cli_parse_quantity("--vary", info->unit, colon + 1, &hi, msg) != USM_OK)
         return USM_EINPUT;
-    if (usm_opt_problem_add_vary(&a->pb, name, lo, hi, lib) != USM_OK) {
+    if (usm_opt_problem_add_vary(pb, name, lo, hi, lib) != USM_OK) {
         cli_msg(msg, "--%s", lib);
         return USM_EINPUT;
     }
     return USM_OK;
 }
 
-/* OUTPUT>=X or OUTPUT<=X */
-static int parse_constraint(opt_args *a, const char *text, char msg[CLI_MSG_LEN])
+/* OUTPUT>=X or OUTPUT<=X (optimize_args.h) */
+int cli_opt_parse_constraint(usm_opt_problem *pb, const char *text, char msg[CLI_MSG_LEN])
 {
     const char *op = strstr(text, ">=");
     int upper = 0;
@@ -124,21 +164,190 @@ static int parse_constraint(opt_args *a, const char *text, char msg[CLI_MSG_LEN]
     }
     if (cli_parse_double("--constraint", op + 2, &value, msg) != USM_OK)
         return USM_EINPUT;
-    if (usm_opt_problem_add_constraint(&a->pb, name, upper, value, lib) != USM_OK) {
+    if (usm_opt_problem_add_constraint(pb, name, upper, value, lib) != USM_OK) {
         cli_msg(msg, "--%s", lib);
         return USM_EINPUT;
     }
     return USM_OK;
 }
 
+/* --objective NAME, yield, mean:NAME or qNN:NAME */
+static int parse_objective(opt_args *a, const char *value, char msg[CLI_MSG_LEN])
+{
+    const char *name = value;
+    if (strncmp(value, "mean:", 5) == 0) {
+        a->rp.stat = USM_ROBUST_STAT_MEAN;
+        name = value + 5;
+    } else if (value[0] == 'q' && value[1] >= '0' && value[1] <= '9') {
+        char *end;
+        const double q = strtod(value + 1, &end);
+        if (*end != ':' || !(q > 0 && q < 100)) {
+            cli_msg(msg, "--objective: \"%s\": a quantile is qNN:NAME with 0 < NN < 100 "
+                    "(q05:power_out)", value);
+            return USM_EINPUT;
+        }
+        a->rp.stat = USM_ROBUST_STAT_QUANTILE;
+        a->rp.quantile = q / 100;
+        name = end + 1;
+    }
+    a->rp.objective = usm_robust_quantity_find(name);
+    if (a->rp.objective < 0) {
+        cli_msg(msg, "--objective: unknown output \"%s\" (see usm optimize --help)", name);
+        return USM_EINPUT;
+    }
+    if (a->rp.objective == USM_ROBUST_YIELD && a->rp.stat != USM_ROBUST_STAT_NOMINAL) {
+        cli_msg(msg, "--objective: \"%s\": yield takes no statistic", value);
+        return USM_EINPUT;
+    }
+    return USM_OK;
+}
+
+/* --constraint yield>=Y or on a derived quantity: CLI_OPT_TAKEN (msg set on
+ * an error), else CLI_OPT_NOT_MINE (an optimizer output: parse_constraint). */
+static int parse_robust_constraint(opt_args *a, const char *text, char msg[CLI_MSG_LEN])
+{
+    const char *op = strstr(text, ">=");
+    int upper = 0;
+    char name[64];
+    double value;
+    msg[0] = '\0';
+    if (!op) {
+        op = strstr(text, "<=");
+        upper = 1;
+    }
+    if (!op || op == text || (size_t)(op - text) >= sizeof name)
+        return CLI_OPT_NOT_MINE;
+    snprintf(name, sizeof name, "%.*s", (int)(op - text), text);
+    const int k = usm_robust_quantity_find(name);
+    if (k < USM_OPT_OUTPUT_COUNT)
+        return CLI_OPT_NOT_MINE;
+    if (cli_parse_double("--constraint", op + 2, &value, msg) != USM_OK)
+        return CLI_OPT_TAKEN;
+    if (k == USM_ROBUST_YIELD) {
+        if (upper || !(value > 0 && value < 1))
+            cli_msg(msg, "--constraint: yield>=Y with 0 < Y < 1, got \"%s\"", text);
+        else
+            a->rp.yield_min = value;
+        return CLI_OPT_TAKEN;
+    }
+    if (a->rp.nderived >= 8) {
+        cli_msg(msg, "--constraint: at most 8 on derived quantities");
+        return CLI_OPT_TAKEN;
+    }
+    a->rp.derived[a->rp.nderived++] = (usm_robust_constraint){k, upper, value};
+    return CLI_OPT_TAKEN;
+}
+
+/* --over-range P=LO:HI[:N] */
+static int parse_range(opt_args *a, const char *text, char msg[CLI_MSG_LEN])
+{
+    char buf[160], *eq, *c1, *c2;
+    snprintf(buf, sizeof buf, "%s", text);
+    eq = strchr(buf, '=');
+    c1 = eq ? strchr(eq + 1, ':') : NULL;
+    c2 = c1 ? strchr(c1 + 1, ':') : NULL;
+    if (!eq || !c1) {
+        cli_msg(msg, "--over-range: expected NAME=LO:HI[:N], got \"%s\"", text);
+        return USM_EINPUT;
+    }
+    *eq = *c1 = '\0';
+    if (c2)
+        *c2 = '\0';
+    const usm_param_info *info = usm_params_find(buf);
+    usm_robust_range *r = &a->rp.qopt.range;
+    if (!info) {
+        cli_msg(msg, "--over-range: unknown parameter \"%s\"", buf);
+        return USM_EINPUT;
+    }
+    if (cli_parse_quantity("--over-range", info->unit, eq + 1, &r->lo, msg) != USM_OK ||
+        cli_parse_quantity("--over-range", info->unit, c1 + 1, &r->hi, msg) != USM_OK)
+        return USM_EINPUT;
+    if (c2 && (cli_parse_int("--over-range", c2 + 1, &r->points, msg) != USM_OK))
+        return USM_EINPUT;
+    if (!(r->lo < r->hi) || r->points < 2 || r->points > 100000) {
+        cli_msg(msg, "--over-range: needs LO < HI and 2 <= N <= 100000");
+        return USM_EINPUT;
+    }
+    r->param = usm_param_index(info);
+    return USM_OK;
+}
+
+static int parse_count(const char *opt, const char *value, uint64_t *out, char msg[CLI_MSG_LEN])
+{
+    double v;
+    if (cli_parse_double(opt, value, &v, msg) != USM_OK)
+        return USM_EINPUT;
+    if (!(v >= 1 && v <= 1e7) || v != floor(v)) {
+        cli_msg(msg, "%s: a whole number 1 ... 10000000, got \"%s\"", opt, value);
+        return USM_EINPUT;
+    }
+    *out = (uint64_t)v;
+    return USM_OK;
+}
+
+static int parse_robust_option(opt_args *a, const char *opt, const char *value,
+                               char msg[CLI_MSG_LEN])
+{
+    usm_robust_problem *rp = &a->rp;
+    char lib[USM_MSG_LEN];
+    if (strcmp(opt, "--scatter") == 0) {
+        if (rp->nscatter >= USM_ROBUST_MAX_SCATTER) {
+            cli_msg(msg, "--scatter: at most %d", USM_ROBUST_MAX_SCATTER);
+            return USM_EINPUT;
+        }
+        if (usm_tolerance_vary_parse(value, &rp->scatter[rp->nscatter], lib) != USM_OK) {
+            cli_msg(msg, "--scatter: %s", lib);
+            return USM_EINPUT;
+        }
+        rp->nscatter++;
+        return USM_OK;
+    }
+    if (strcmp(opt, "--samples") == 0)
+        return parse_count(opt, value, &rp->samples, msg);
+    if (strcmp(opt, "--verify-samples") == 0)
+        return parse_count(opt, value, &rp->verify_samples, msg);
+    if (strcmp(opt, "--seed") == 0) {
+        double v;
+        if (cli_parse_double(opt, value, &v, msg) != USM_OK)
+            return USM_EINPUT;
+        if (!(v >= 0 && v <= 9007199254740992.0) || v != floor(v)) {
+            cli_msg(msg, "--seed: a whole number >= 0, got \"%s\"", value);
+            return USM_EINPUT;
+        }
+        rp->seed = (uint64_t)v;
+        return USM_OK;
+    }
+    if (strcmp(opt, "--threads") == 0)
+        return cli_parse_int(opt, value, &rp->threads, msg);
+    if (strcmp(opt, "--max-evals") == 0)
+        return cli_parse_int(opt, value, &rp->max_evals, msg);
+    if (strcmp(opt, "--over-range") == 0)
+        return parse_range(a, value, msg);
+    if (strcmp(opt, "--range-stat") == 0) {
+        const int s = usm_range_stat_find(value);
+        if (s < 0) {
+            cli_msg(msg, "--range-stat: one of worst, mean, integral, got \"%s\"", value);
+            return USM_EINPUT;
+        }
+        rp->qopt.range.stat = (usm_range_stat)s;
+        return USM_OK;
+    }
+    /* --band-threshold */
+    return cli_parse_double(opt, value, &rp->qopt.band_threshold, msg);
+}
+
 static int parse(opt_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
 {
-    static const char *const opts[] = {"--objective",        "--vary",   "--constraint",
-                                       "--stability-margin", "--starts", "--t0"};
+    static const char *const opts[] = {"--objective",      "--vary",       "--constraint",
+                                       "--stability-margin", "--starts",  "--t0",
+                                       "--scatter",        "--samples",    "--verify-samples",
+                                       "--seed",           "--threads",    "--max-evals",
+                                       "--over-range",     "--range-stat", "--band-threshold"};
     enum { NOPTS = sizeof opts / sizeof opts[0] };
     memset(a, 0, sizeof *a);
     cli_common_init(&a->common);
     usm_opt_problem_init(&a->pb);
+    usm_robust_problem_init(&a->rp);
     for (int i = 1; i < argc; ++i) {
         const char *value;
         int r, which = -1;
@@ -186,13 +395,17 @@ static int parse(opt_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
                 which = o;
         }
         if (which == 0) {
-            a->pb.objective = usm_opt_output_find(value);
-            if (a->pb.objective < 0) {
-                cli_msg(msg, "--objective: unknown output \"%s\" (see usm optimize --help)", value);
+            if (parse_objective(a, value, msg) != USM_OK)
                 return USM_EINPUT;
-            }
+        } else if (which == 2 && parse_robust_constraint(a, value, msg) == CLI_OPT_TAKEN) {
+            if (msg[0])
+                return USM_EINPUT;
+        } else if (which >= 6) {
+            if (parse_robust_option(a, opts[which], value, msg) != USM_OK)
+                return USM_EINPUT;
         } else if (which == 1 || which == 2) {
-            if ((which == 1 ? parse_vary : parse_constraint)(a, value, msg) != USM_OK)
+            if ((which == 1 ? cli_opt_parse_vary : cli_opt_parse_constraint)(&a->pb, value, msg) !=
+                USM_OK)
                 return USM_EINPUT;
         } else if (which == 3) {
             if (cli_parse_double(opts[which], value, &a->pb.margin, msg) != USM_OK)
@@ -218,6 +431,18 @@ static int parse(opt_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
         cli_msg(msg, "%s", lib);
         return USM_EINPUT;
     }
+    a->robust = usm_robust_problem_is_robust(&a->rp);
+    if (a->robust) {
+        a->rp.nominal = a->pb;
+        if (usm_robust_problem_check(&a->rp, a->common.model, &a->common.params, lib) !=
+            USM_OK) {
+            cli_msg(msg, "--%s", lib);
+            return USM_EINPUT;
+        }
+        return USM_OK;
+    }
+    if (a->rp.objective >= 0)
+        a->pb.objective = a->rp.objective;
     if (usm_opt_problem_check(&a->pb, a->common.model, &a->common.params, lib) != USM_OK) {
         cli_msg(msg, "--%s", lib);
         return USM_EINPUT;
@@ -270,6 +495,72 @@ static void write_table(const opt_args *a, const usm_opt_result *res)
            s->validity == USM_VALID ? "" : ": ", usm_validity_name(s->validity));
 }
 
+static void write_design(const opt_args *a, const char *title, const usm_robust_design *d)
+{
+    const usm_robust_problem *rp = &a->rp;
+    char stat[32] = "";
+    if (rp->stat == USM_ROBUST_STAT_MEAN)
+        snprintf(stat, sizeof stat, "mean:");
+    else if (rp->stat == USM_ROBUST_STAT_QUANTILE)
+        snprintf(stat, sizeof stat, "q%02.0f:", 100 * rp->quantile);
+    printf("\n%s: %s%s = %.10g", title, stat, usm_robust_quantity_name(rp->objective), d->value);
+    if (stat[0])
+        printf(" (nominal %s %.10g)", usm_robust_quantity_name(rp->objective), d->nominal_value);
+    printf("\n");
+    for (int j = 0; j < rp->nominal.nvary; ++j) {
+        const usm_param_info *info = &usm_param_table[rp->nominal.vary[j]];
+        printf("  %-6s %-20.10g in [%g, %g] %s\n", info->name, usm_params_get(&d->params, info),
+               rp->nominal.lo[j], rp->nominal.hi[j], info->unit);
+    }
+    printf("  nominal operating point: speed %.6g 1/s, efficiency %.6g, power_out %.6g W, "
+           "max_modulus %.6g\n", d->speed, d->efficiency, d->power_out, d->max_modulus);
+    if (rp->nscatter > 0)
+        printf("  yield %.5f (95 %% Wilson [%.5f, %.5f], %llu fresh samples); common-random-"
+               "number yield %.5f (%llu samples)\n", d->yield, d->yield_lo, d->yield_hi,
+               (unsigned long long)d->verify_samples, d->crn_yield,
+               (unsigned long long)rp->samples);
+}
+
+static int robust_main(const opt_args *a)
+{
+    char msg[USM_MSG_LEN];
+    usm_robust_result *res = malloc(sizeof *res);
+    if (!res) {
+        cli_error("out of memory");
+        return USM_EFAILED;
+    }
+    int status = usm_robust_run(a->common.model, &a->common.params, &a->rp, res, msg);
+    if (status == USM_ENOSOLUTION)
+        cli_error("%s", msg);
+    else if (status != USM_OK) {
+        cli_error("optimize: %s", msg);
+        free(res);
+        return status;
+    }
+    if (a->common.json) {
+        if (usm_robust_write_json(a->common.model, &a->rp, res, stdout) != 0 ||
+            fflush(stdout) != 0 || ferror(stdout)) {
+            clearerr(stdout);
+            cli_error("stdout: write error");
+            status = USM_EFAILED;
+        }
+    } else if (status == USM_OK) {
+        printf("model %s: %s\n", a->common.model->name, a->common.model->description);
+        write_design(a, "robust optimum", &res->robust);
+        printf("  active:");
+        for (int i = 0; i < res->nactive; ++i)
+            printf("%s %s", i ? ";" : "", res->active[i]);
+        printf("%s\n", res->nactive ? "" : " none");
+        if (a->rp.nscatter > 0)
+            printf("  verified: %s\n", res->verified ? "yes" : "no");
+        if (res->nominal.feasible)
+            write_design(a, "nominal optimum (no scatter)", &res->nominal);
+        printf("\n%d designs evaluated in %.3g s\n", res->evaluations, res->seconds);
+    }
+    free(res);
+    return status;
+}
+
 int cli_optimize_main(int argc, char **argv)
 {
     opt_args a;
@@ -282,6 +573,8 @@ int cli_optimize_main(int argc, char **argv)
         usage(stdout);
         return USM_OK;
     }
+    if (a.robust)
+        return robust_main(&a);
     usm_optimize *o = usm_optimize_alloc(a.common.model);
     usm_opt_result *res = malloc(sizeof *res);
     int status = o && res ? usm_optimize_run(o, &a.common.params, &a.pb, res) : USM_EFAILED;

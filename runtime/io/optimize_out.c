@@ -3,10 +3,11 @@
 #include <stdio.h>
 
 #include "json_out.h"
+#include "optimize_json.h"
 #include "steady_out.h"
 #include "usm_optimize.h"
 
-static json_t *strings(int n, const char (*text)[USM_OPT_TEXT_LEN], int *ok)
+json_t *usm_opt_json_strings(int n, const char (*text)[USM_OPT_TEXT_LEN], int *ok)
 {
     json_t *a = json_array();
     if (!a)
@@ -17,7 +18,7 @@ static json_t *strings(int n, const char (*text)[USM_OPT_TEXT_LEN], int *ok)
     return a;
 }
 
-static json_t *varied(const usm_opt_problem *pb, const usm_params *p, int *ok)
+json_t *usm_opt_json_varied(const usm_opt_problem *pb, const usm_params *p, int *ok)
 {
     json_t *v = json_object();
     if (!v)
@@ -39,9 +40,10 @@ int usm_optimize_write_json(const usm_optimize *o, const usm_model *m, const usm
     usm_json_put(obj, "sense", json_string(pb->minimize ? "min" : "max"), &ok);
     if (!res->feasible) {
         usm_json_put(obj, "least_violation", usm_json_real(res->least_violation), &ok);
-        usm_json_put(obj, "violated", strings(res->nviolated, res->violated, &ok), &ok);
+        usm_json_put(obj, "violated",
+                     usm_opt_json_strings(res->nviolated, res->violated, &ok), &ok);
         usm_json_put(obj, "value", usm_json_real(res->value), &ok);
-        usm_json_put(obj, "varied", varied(pb, &res->params, &ok), &ok);
+        usm_json_put(obj, "varied", usm_opt_json_varied(pb, &res->params, &ok), &ok);
         usm_json_put(obj, "parameters", usm_json_params(&res->params), &ok);
         usm_json_put(obj, "evaluations", json_integer(res->evaluations), &ok);
         if (!ok) {
@@ -53,9 +55,10 @@ int usm_optimize_write_json(const usm_optimize *o, const usm_model *m, const usm
     json_t *mult = json_object(), *flat = json_array(), *near = json_object();
     ok = ok && mult && flat && near;
     usm_json_put(obj, "value", usm_json_real(res->value), &ok);
-    usm_json_put(obj, "varied", varied(pb, &res->params, &ok), &ok);
+    usm_json_put(obj, "varied", usm_opt_json_varied(pb, &res->params, &ok), &ok);
     usm_json_put(obj, "parameters", usm_json_params(&res->params), &ok);
-    usm_json_put(obj, "active_constraints", strings(res->nactive, res->active, &ok), &ok);
+    usm_json_put(obj, "active_constraints",
+                 usm_opt_json_strings(res->nactive, res->active, &ok), &ok);
     for (int i = 0; i < res->nactive; ++i)
         usm_json_put(mult, res->active[i], usm_json_real(res->multiplier[i]), &ok);
     usm_json_put(obj, "multipliers", mult, &ok);

@@ -382,6 +382,8 @@ int usm_report_write(const char *dir, const usm_params *p, const usm_report_opti
         status = usm_report_compute_nonideal(d, msg);
     if (status == USM_OK)
         status = usm_report_compute_squeal(d, msg);
+    if (status == USM_OK)
+        status = usm_report_compute_design(d, msg);
     if (status == USM_OK) {
         usm_outfile_clean_stages(dir, report_name);
         if (make_stage(dir, stage, msg) == 0)

@@ -265,6 +265,8 @@ typedef struct usm_report_data {
 
     usm_report_nonideal nonideal; /* the non-ideal motor (report_nonideal.c) */
     usm_report_squeal squeal;     /* the squeal (report_squeal.c) */
+
+    struct usm_report_design *design; /* design under scatter (report_design.c); owned */
 } usm_report_data;
 
 /* Compute everything but the maps.  USM_OK or an error status with msg. */
@@ -288,6 +290,19 @@ int usm_report_squeal_write_data(const usm_report_data *d, const char *dir,
                                  char msg[USM_IO_MSG_LEN]);
 /* Its numbers in report.json ("squeal"; keys: docs/report.md). */
 json_t *usm_report_squeal_json(const usm_report_data *d);
+
+/* ---- design under scatter (report_design.c, issue 26) ---------------------------- */
+
+/* The speed-efficiency front over (f, F0) and the robust optimum beside the
+ * nominal one on the paper's 3-DOF motor, into d->design (allocated).  A
+ * failure of the computation is reported in the section's note, not an
+ * error of the report; USM_EFAILED (out of memory) with msg. */
+int usm_report_compute_design(usm_report_data *d, char msg[USM_IO_MSG_LEN]);
+/* The section's values ("design_robust" of report.json); NULL when out of memory. */
+json_t *usm_report_design_json(const usm_report_data *d);
+void usm_report_design_free(usm_report_data *d);
+/* Seconds the section took (NaN when not computed). */
+double usm_report_design_seconds(const usm_report_data *d);
 
 /* Nearest computed multiplier to (re, im) among the non-cyclic and cyclic
  * ones of r (each computed one used once: `used` flags, n entries). */

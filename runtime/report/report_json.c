@@ -237,7 +237,7 @@ static json_t *params(const usm_report_data *d)
         json_t *o = json_object();
         const char *source = is_imperfection(k)
             ? "**not in the paper**: chosen by usm, 0 (the ideal motor the paper models; "
-              "set with `--set` for the non-ideal motor of section 10)"
+              "set with `--set` for the non-ideal motor of section 9)"
             : k == USM_P_f ? "**not in the paper**: chosen, see below"
             : k == USM_P_M ? "**not in the paper**: 2 I_R / R^2, see below"
             : k == USM_P_mu0 || k == USM_P_kappa ? "Sec. 5 text"
@@ -827,14 +827,17 @@ json_t *usm_report_json(const usm_report_data *d, int plots_ok, const char *plot
         json_object_set_new(sq, "figures", figures(REPORT_FIG_SQUEAL, usm_report_figure_count(d)));
         json_object_set_new(o, "squeal", sq);
     }
+    json_object_set_new(o, "design_robust", usm_report_design_json(d));
     num(sec, "tables", d->seconds[0]);
     num(sec, "curves", d->seconds[1]);
     num(sec, "maps", d->seconds[2]);
     num(sec, "plots", d->seconds[3]);
     num(sec, "nonideal", d->nonideal.seconds);
     num(sec, "squeal", d->squeal.seconds);
+    num(sec, "design", usm_report_design_seconds(d));
     num(sec, "total", d->seconds[0] + d->seconds[1] + d->seconds[2] + d->seconds[3] +
-                          d->nonideal.seconds + d->squeal.seconds);
+                          d->nonideal.seconds + d->squeal.seconds +
+                          (isfinite(usm_report_design_seconds(d)) ? usm_report_design_seconds(d) : 0));
     json_object_set_new(o, "seconds", sec);
     {
         /* the paper's values, as loaded */

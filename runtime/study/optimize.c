@@ -309,6 +309,11 @@ int usm_opt_problem_check(const usm_opt_problem *pb, const usm_model *m, const u
         snprintf(msg, USM_MSG_LEN, "t0: must be a finite number");
         return USM_EINPUT;
     }
+    for (int k = 0; pb->has_start && k < pb->nvary && k < USM_NPARAMS; ++k)
+        if (!isfinite(pb->start[k])) {
+            snprintf(msg, USM_MSG_LEN, "start: the warm start's value %d is not finite", k);
+            return USM_EINPUT;
+        }
     if (pb->ncons < 0 || pb->ncons > USM_OPT_MAX_CONSTRAINTS) {
         snprintf(msg, USM_MSG_LEN, "constraint: at most %d", USM_OPT_MAX_CONSTRAINTS);
         return USM_EINPUT;
@@ -486,6 +491,16 @@ static double field_value(const usm_steady_solution *sol, const usm_params *p, i
             return *(const double *)((const char *)sol + extra[k - USM_SENS_COUNT].offset);
         return NAN;
     }
+}
+
+double usm_opt_output_value(int k, const usm_steady_solution *sol, const usm_params *p,
+                            double max_modulus)
+{
+    if (k == USM_SENS_MAX_MODULUS)
+        return max_modulus;
+    if (k == USM_OPT_MARGIN)
+        return 1 - max_modulus;
+    return field_value(sol, p, k);
 }
 
 /* y1 - y0 for output k, modulo 2 pi for a phase. */
@@ -922,6 +937,9 @@ static int run_starts(usm_optimize *o, best *b, cons_ctx *cc, int nc)
         /* deterministic spread: a rank-1 lattice (golden-ratio offsets) */
         for (int j = 0; j < n; ++j)
             x[j] = fmod((s + 0.5) / pb->starts + j * 0.6180339887498949, 1.0);
+        if (s == 0 && pb->has_start) /* the caller's warm start */
+            for (int j = 0; j < n; ++j)
+                x[j] = fmin(1.0, fmax(0.0, (pb->start[j] - pb->lo[j]) / (pb->hi[j] - pb->lo[j])));
         evaluate(o, x);
         if (o->failed)
             return USM_EFAILED;

@@ -80,6 +80,11 @@ extern "C" {
  * rounding ~1e-13 |y| / h: about 1e-8 relative (README: measured). */
 #define USM_OPT_FD_STEP 1e-4
 
+/* Output k of solution sol at parameters p whose multipliers have largest
+ * modulus max_modulus (USM_OPT_SPEED: -rotor_speed; margin: 1 - max_modulus);
+ * NaN when k is out of range. */
+double usm_opt_output_value(int k, const usm_steady_solution *sol, const usm_params *p,
+                            double max_modulus);
 /* Name of output k ("speed", "efficiency", "v_rel", ...), NULL when out of range. */
 const char *usm_opt_output_name(int k);
 /* Unit of output k ("1/s", "N", ...), NULL when out of range. */
@@ -158,6 +163,11 @@ typedef struct usm_opt_problem {
      * and judges the root it reaches (none: refused). */
     int from_rest;                 /* default 0 */
     double from_rest_periods;      /* its length in excitation periods (0: 400) */
+    /* A warm start (issue 26): with has_start = 1 the first start is the
+     * design start[i] (the value of varied parameter pb->vary[i], clamped
+     * to its bounds) instead of the lattice's first point. */
+    int has_start;
+    double start[USM_NPARAMS];
 } usm_opt_problem;
 
 /* No objective, nothing varied, no constraint, margin 0.01, power_out >= 0
