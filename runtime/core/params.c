@@ -35,6 +35,9 @@ void usm_params_default(usm_params *p)
     p->amp_imbalance = 0.0;
     p->phase_error = 0.0;
     p->mode_split = 0.0;
+    /* Not in the paper (its contact never opens): the rotor lands and stays
+     * (issue 24); enters only the variant imperfect_unilateral. */
+    p->e_impact = 0.0;
 }
 
 /* The name of the first imperfection (in table order) that is not 0, NULL when none is. */
@@ -110,6 +113,11 @@ int usm_params_check(const usm_params *p, const usm_model *m, char msg[USM_MSG_L
         }
         if (usm_param_constraints[i] == USM_CONSTRAINT_NONNEGATIVE && !(v >= 0.0)) {
             snprintf(msg, USM_MSG_LEN, "%s: must not be negative (%s), got %g", info->name,
+                     info->description, v);
+            return USM_EINPUT;
+        }
+        if (usm_param_constraints[i] == USM_CONSTRAINT_UNIT_INTERVAL && !(v >= 0.0 && v <= 1.0)) {
+            snprintf(msg, USM_MSG_LEN, "%s: must lie in [0, 1] (%s), got %g", info->name,
                      info->description, v);
             return USM_EINPUT;
         }
