@@ -253,6 +253,14 @@ def build_unilateral_kernels(m):
                ["Open contact: kinetic energy of stator and rotor [J] (stator from its",
                 "inertia tensor, rotor axial and turning).", ydoc],
                [y_arg, PARAMS, out], yb, [u["kinetic"]], "out: [T].", [("y", ny)]),
+        Kernel(f"{pre}_closed_rhs_t",
+               ["Closed contact: the explicit time derivative df/dt (the excitation), for",
+                "the rate of the guard F_n along a motion (saltation matrices).", xdoc],
+               [x_arg, t_arg, PARAMS, out], xb, list(u["closed_rhs_t"]),
+               f"out: {n} entries.", [("x", n)]),
+        Kernel(f"{pre}_open_rhs_t", ["Open contact: the explicit time derivative df/dt.", ydoc],
+               [y_arg, t_arg, PARAMS, out], yb, list(u["open_rhs_t"]),
+               f"out: {ny} entries.", [("y", ny)]),
     ]
     return ks
 
@@ -260,7 +268,7 @@ def build_unilateral_kernels(m):
 UNILATERAL_KERNELS = ("open_mass", "open_rhs", "open_jac_rhs", "open_jac_mass", "open_outputs",
                       "guard_closed", "guard_open", "contact_velocity", "separation",
                       "impact_stick", "impact_stick_jac", "impact_slide", "impact_slide_jac",
-                      "kinetic_energy")
+                      "kinetic_energy", "closed_rhs_t", "open_rhs_t")
 
 
 SEED_TRIG = (("sin", 0), ("cos", 1), ("tan", 2))
@@ -497,6 +505,9 @@ UNILATERAL_STRUCT = (
     "    void (*impact_slide_jac)(const double *USM_RESTRICT y, double s, const usm_params *USM_RESTRICT p, double *USM_RESTRICT out);\n"
     "    /* out = [kinetic energy of stator and rotor, J] */\n"
     "    void (*kinetic_energy)(const double *USM_RESTRICT y, const usm_params *USM_RESTRICT p, double *USM_RESTRICT out);\n"
+    "    /* explicit df/dt of the closed (nx) and the open (ny) mode */\n"
+    "    void (*closed_rhs_t)(const double *USM_RESTRICT x, double t, const usm_params *USM_RESTRICT p, double *USM_RESTRICT out);\n"
+    "    void (*open_rhs_t)(const double *USM_RESTRICT y, double t, const usm_params *USM_RESTRICT p, double *USM_RESTRICT out);\n"
     "} usm_unilateral;\n\n")
 
 

@@ -810,6 +810,8 @@ def unilateral_closure(d):
         "impact_stick": impact_stick, "impact_slide": impact_slide, "s": s_sym,
         "impact_stick_jac": jac_stick, "impact_slide_jac": jac_slide,
         "kinetic": kinetic,
+        # explicit time derivatives of f (the excitation), for the guards' rates
+        "closed_rhs_t": d.rhs.diff(t), "open_rhs_t": rhs.diff(t),
         # for the documents
         "rows": rows, "acc": acc, "forces": forces, "Z_R": Z_R,
     }

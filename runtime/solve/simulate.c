@@ -845,7 +845,10 @@ static int impact(usm_sim *s, double t, const double *yv, const double *q)
     usm_sim_summary *sum = s->sum;
     s->u->contact_velocity(yv, &s->p, cv);
     const double gd = cv[0];
-    if (!(gd < 0)) /* touching without approach: nothing to reset */
+    double Ft0;
+    if (!(gd < 0) || (-gd <= s->v_land && closed_Fn(s, t, yv, &Ft0) < 0))
+        /* touching without approach, or grazing slower than v_land while the
+         * closed mode would pull the rotor off again: no impact */
         return switch_mode(s, 1, t, yv, q);
     sum->impacts++;
     sum->impact_velocity_max = fmax(sum->impact_velocity_max, -gd);
