@@ -69,7 +69,7 @@ void usm_hybrid_options_default(usm_hybrid_options *opt)
     opt->rtol = 1e-10;
     opt->tol = 1e-9;
     opt->max_iter = 12;
-    opt->settle = 0.01;
+    opt->settle = 0.005;
 }
 
 const char *usm_hybrid_message(const usm_hybrid *h) { return h->msg; }
@@ -465,6 +465,8 @@ static int period_map(usm_hybrid *h, double ts, const double *x0, double *x1, do
     int rc = setup(h, t, z, q, t_end);
     for (int events = 0; rc == USM_OK; ++events) {
         h->cvmsg[0] = '\0';
+        if (t >= t_end) /* a switch at the end of the period */
+            break;
         const int flag = CVode(h->cv, t_end, h->z, &t, CV_NORMAL);
         if (flag < 0) {
             rc = fail(h, "CVode", flag);
@@ -593,7 +595,7 @@ static int start_from_simulation(usm_hybrid *h, const usm_hybrid_options *o, dou
     usm_sim_options_default(&so);
     so.duration = o->settle;
     so.rate = 200 * h->p.f;
-    so.rtol = fmax(h->rtol, 1e-10);
+    so.rtol = 1e-8; /* a start near the orbit: Newton does the rest */
     r->nx = h->nx;
     usm_sim_callbacks cb = {keep_sample, NULL, r, NULL};
     int rc = usm_sim_run(s, &h->p, &so, &cb, &sum);

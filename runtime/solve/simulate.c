@@ -1074,7 +1074,9 @@ static int integrate(usm_sim *s, run_state *r)
         const double ts = sample_time(s, r), tp = period_end(s, r);
         const double tout = fmin(fmin(ts, tp), s->t1);
         s->cvmsg[0] = '\0';
-        int flag = CVode(s->cv, tout, s->y, &t, CV_NORMAL);
+        /* a contact switch that landed on tout restarted the integrator there:
+         * the state at tout is at hand */
+        int flag = tout <= t ? CV_SUCCESS : CVode(s->cv, tout, s->y, &t, CV_NORMAL);
         sum->t_reached = t;
         if (flag < 0) {
             char name[32];

@@ -133,7 +133,7 @@ typedef struct usm_hybrid_options {
     double rtol;     /* CVODES relative tolerance (default 1e-10) */
     double tol;      /* Newton: max |x(ts + T) - x(ts)| / scale (default 1e-9) */
     int max_iter;    /* Newton iterations (default 12) */
-    double settle;   /* simulated time from rest before shooting [s] (default 0.01) */
+    double settle;   /* simulated time from rest before shooting [s] (default 0.005) */
 } usm_hybrid_options;
 
 /* Fill `opt` with the defaults listed above. */
@@ -186,6 +186,12 @@ int usm_hybrid_set(usm_hybrid *h, const usm_params *p, double rtol);
 
 /* Why the last call failed, or "".  Owned by h. */
 const char *usm_hybrid_message(const usm_hybrid *h);
+
+/* The `usm periodic --json` object of an orbit with separation of model m
+ * (keys: docs/unilateral.md), or with r NULL "converged": false and "error":
+ * error.  0, or -1 on a write error or when out of memory. */
+int usm_hybrid_write_json(const usm_model *m, const usm_params *p, const usm_hybrid_result *r,
+                          const char *error, FILE *out);
 
 #ifdef __cplusplus
 }
