@@ -133,4 +133,20 @@ fi
 expect_rc 0 periodic --variant imperfect --set amp_imbalance=0.3 && \
     { grep -q 'CONTACT OPENS' "$out" || fail "the table does not say that the contact opens"; }
 
+# a contact that may open (docs/unilateral.md): the orbit with separation past
+# contact loss (28.73 deg), the bilateral orbit with the keys at 0 before it
+if expect_rc 0 periodic --model 3dof --variant imperfect_unilateral --set phase_error=35deg --json; then
+    py "assert o['converged'] and o['contact_open'] and o['mode_sequence'] == 'cococ'
+assert 0.40 < o['separation_fraction'] < 0.41 and o['impacts_per_period'] == 2
+assert 1e-3 < o['impact_velocity_max'] < 1e-2 and o['floquet']['max_modulus'] < 1
+assert abs(o['rotor_speed_mean'] + 10.7523) < 1e-3
+assert o['valid'] is False and o['invalid_reason'] == 'stick_not_admissible'"
+fi
+if expect_rc 0 periodic --model 3dof --variant imperfect_unilateral --set phase_error=10deg --json; then
+    py "assert o['converged'] and not o['contact_open'] and o['mode_sequence'] == 'c'
+assert o['separation_fraction'] == 0 and o['impacts_per_period'] == 0"
+fi
+expect_rc 0 periodic --model 4dof --variant imperfect_unilateral --set phase_error=30deg && \
+    { grep -q 'mode sequence  *cococ' "$out" || fail "the table has no mode sequence"; }
+
 finish periodic_cli
