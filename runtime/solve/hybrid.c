@@ -50,6 +50,8 @@ struct usm_hybrid {
     usm_params p;
     double rtol, Omega, T, v_land;
     double scale[NY];
+    double colscale[USM_MAX_NX]; /* of Phi's columns: the spin coordinates (below) */
+    double Bspin[USM_MAX_NX * USM_MAX_NX]; /* the last monodromy in spin coordinates */
     /* the integration */
     int mode, n, ncol; /* mode (0 closed, 1 open), its state length, columns of Phi */
     SUNContext ctx;
@@ -276,7 +278,7 @@ static int setup(usm_hybrid *h, double t, const double *z, double q0, double t_e
     for (int i = 0; i < n; ++i) {
         a[i] = h->rtol * h->scale[i];
         for (int j = 0; j < c; ++j)
-            a[n + i * c + j] = h->rtol * h->scale[i] / h->scale[j];
+            a[n + i * c + j] = h->rtol * h->scale[i] / h->colscale[j];
     }
     N_VGetArrayPointer(h->q)[0] = q0;
     h->NLS = SUNNonlinSol_FixedPoint(h->z, 0, h->ctx);
@@ -457,10 +459,19 @@ static int period_map(usm_hybrid *h, double ts, const double *x0, double *x1, do
     h->seq[0] = '\0';
     note_mode(h, 0);
     memcpy(z, x0, sizeof(double) * (size_t)nx);
+    /* Phi's columns are perturbations in the spin coordinates w = (.., u =
+     * phidot + psidot, .., psidot, ..): Phi(ts) = T^-1, the column of psidot
+     * moves psidot at fixed spin.  In x the monodromy has two nearly equal
+     * columns of size Omega / (Omega theta) whose difference carries the
+     * multipliers; integrated this way, each column has its own error
+     * control and the difference is never formed. */
+    const int ip = h->m->x_phidot, is = h->m->x_psidot;
     for (int i = 0; i < nx * h->ncol; ++i)
         z[nx + i] = 0.0;
     for (int i = 0; i < h->ncol; ++i)
         z[nx + i * nx + i] = 1.0;
+    if (h->ncol)
+        z[nx + ip * nx + is] = -1.0;
     double q = 0.0, t = ts;
     int rc = setup(h, t, z, q, t_end);
     for (int events = 0; rc == USM_OK; ++events) {
@@ -495,8 +506,16 @@ static int period_map(usm_hybrid *h, double ts, const double *x0, double *x1, do
     if (rc == USM_OK) {
         const double *zz = N_VGetArrayPointer(h->z);
         memcpy(x1, zz, sizeof(double) * (size_t)nx);
-        if (B)
-            memcpy(B, zz + nx, sizeof(double) * (size_t)(nx * nx));
+        if (B) {
+            /* x coordinates: B = Phi T (column psidot = Phi's phidot + psidot
+             * columns); spin coordinates: T Phi (row phidot += row psidot) */
+            const double *Phi = zz + nx;
+            for (int i = 0; i < nx; ++i)
+                for (int j = 0; j < nx; ++j) {
+                    B[i * nx + j] = Phi[i * nx + j] + (j == is ? Phi[i * nx + ip] : 0.0);
+                    h->Bspin[i * nx + j] = Phi[i * nx + j] + (i == ip ? Phi[is * nx + j] : 0.0);
+                }
+        }
         if (speed_mean)
             *speed_mean = q / h->T;
     }
@@ -507,6 +526,8 @@ static int period_map(usm_hybrid *h, double ts, const double *x0, double *x1, do
 static void set_scales(usm_hybrid *h, double theta, double speed)
 {
     const usm_model *m = h->m;
+    for (int j = 0; j < USM_MAX_NX; ++j)
+        h->colscale[j] = 1.0;
     for (int i = 0; i < NY; ++i)
         h->scale[i] = 1.0;
     h->scale[m->x_theta] = theta;
@@ -520,6 +541,9 @@ static void set_scales(usm_hybrid *h, double theta, double speed)
     if (h->u->y_w_R >= 0)
         h->scale[h->u->y_w_R] = fmax(fabs(speed), h->Omega * theta);
     h->v_land = sqrt(h->rtol) * h->p.R * theta * h->Omega;
+    for (int j = 0; j < h->nx; ++j)
+        h->colscale[j] = h->scale[j];
+    h->colscale[m->x_phidot] = h->Omega * theta; /* the spin */
 }
 
 int usm_hybrid_set(usm_hybrid *h, const usm_params *p, double rtol)
@@ -657,13 +681,8 @@ static int multipliers(usm_hybrid *h, const double *B, usm_floquet_result *f)
          * the monodromy has two nearly equal columns of size Omega / (Omega
          * theta) whose difference carries the multipliers, and an eigensolver
          * loses 1e-5 of them to it; T B T^-1 has the same eigenvalues */
-        double Bt[USM_MAX_NX * USM_MAX_NX];
-        const int ip = h->m->x_phidot, is = h->m->x_psidot;
-        memcpy(Bt, B, sizeof(double) * (size_t)(nx * nx));
-        for (int i = 0; i < nx; ++i)
-            Bt[i * nx + is] -= Bt[i * nx + ip];
-        for (int j = 0; j < nx; ++j)
-            Bt[ip * nx + j] += Bt[is * nx + j];
+        (void)B;
+        const double *Bt = h->Bspin; /* T B T^-1, integrated so (period_map) */
         for (int a = 0; a < nr; ++a)
             for (int b = 0; b < nr; ++b)
                 gsl_matrix_set(Br, (size_t)a, (size_t)b, Bt[idx[a] * nx + idx[b]]);
