@@ -68,7 +68,7 @@ struct usm_hybrid {
 
 void usm_hybrid_options_default(usm_hybrid_options *opt)
 {
-    opt->rtol = 1e-10;
+    opt->rtol = 1e-11;
     opt->tol = 1e-9;
     opt->max_iter = 12;
     opt->settle = 0.005;

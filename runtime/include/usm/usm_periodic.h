@@ -130,7 +130,7 @@ const char *usm_periodic_message(const usm_periodic *w);
 
 /* Options of usm_hybrid_solve (usm_hybrid_options_default). */
 typedef struct usm_hybrid_options {
-    double rtol;     /* CVODES relative tolerance (default 1e-10) */
+    double rtol;     /* CVODES relative tolerance (default 1e-11: Newton's tol 1e-9 needs it) */
     double tol;      /* Newton: max |x(ts + T) - x(ts)| / scale (default 1e-9) */
     int max_iter;    /* Newton iterations (default 12) */
     double settle;   /* simulated time from rest before shooting [s] (default 0.005) */
