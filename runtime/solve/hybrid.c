@@ -729,16 +729,13 @@ static int multipliers(usm_hybrid *h, const double *B, usm_floquet_result *f)
     return rc;
 }
 
-int usm_hybrid_solve(usm_hybrid *h, const usm_params *p, const usm_hybrid_options *opt,
-                     usm_hybrid_result *out)
+static int newton(usm_hybrid *h, const usm_hybrid_options *opt, double ts, double *x0,
+                  usm_hybrid_result *out);
+
+static int check_start(usm_hybrid *h, const usm_params *p, const usm_hybrid_options *opt,
+                       usm_hybrid_result *out)
 {
-    usm_hybrid_options def;
-    const int nx = h->nx;
     int rc;
-    if (!opt) {
-        usm_hybrid_options_default(&def);
-        opt = &def;
-    }
     memset(out, 0, sizeof *out);
     memset(h->scale, 0, sizeof h->scale);
     if ((rc = usm_hybrid_set(h, p, opt->rtol)) != USM_OK)
@@ -747,10 +744,55 @@ int usm_hybrid_solve(usm_hybrid *h, const usm_params *p, const usm_hybrid_option
         snprintf(h->msg, USM_MSG_LEN, "options: tol > 0, max_iter >= 1 and settle > 0 needed");
         return USM_EINPUT;
     }
-    double ts, x0[USM_MAX_NX], x1[USM_MAX_NX], B[USM_MAX_NX * USM_MAX_NX], speed;
+    return USM_OK;
+}
+
+int usm_hybrid_solve(usm_hybrid *h, const usm_params *p, const usm_hybrid_options *opt,
+                     usm_hybrid_result *out)
+{
+    usm_hybrid_options def;
+    int rc;
+    if (!opt) {
+        usm_hybrid_options_default(&def);
+        opt = &def;
+    }
+    if ((rc = check_start(h, p, opt, out)) != USM_OK)
+        return rc;
+    double ts, x0[USM_MAX_NX], speed;
     if ((rc = start_from_simulation(h, opt, &ts, x0, &speed)) != USM_OK)
         return rc;
     set_scales(h, x0[h->m->x_theta], speed);
+    return newton(h, opt, ts, x0, out);
+}
+
+int usm_hybrid_solve_from(usm_hybrid *h, const usm_params *p, const usm_hybrid_options *opt,
+                          double ts, const double *x_start, usm_hybrid_result *out)
+{
+    usm_hybrid_options def;
+    double x0[USM_MAX_NX];
+    int rc;
+    if (!opt) {
+        usm_hybrid_options_default(&def);
+        opt = &def;
+    }
+    if ((rc = check_start(h, p, opt, out)) != USM_OK)
+        return rc;
+    memcpy(x0, x_start, sizeof(double) * (size_t)h->nx);
+    if (!isfinite(ts) || !(x0[h->m->x_theta] > 0)) {
+        snprintf(h->msg, USM_MSG_LEN, "x0: theta must be > 0 and ts finite");
+        return USM_EINPUT;
+    }
+    const int ird = h->m->x_phi_Rdot;
+    set_scales(h, x0[h->m->x_theta], ird >= 0 ? x0[ird] : h->Omega * x0[h->m->x_theta]);
+    return newton(h, opt, ts, x0, out);
+}
+
+static int newton(usm_hybrid *h, const usm_hybrid_options *opt, double ts, double *x0,
+                  usm_hybrid_result *out)
+{
+    const int nx = h->nx;
+    int rc;
+    double x1[USM_MAX_NX], B[USM_MAX_NX * USM_MAX_NX];
     int idx[USM_MAX_NX], nr = 0;
     for (int i = 0; i < nx; ++i)
         if (!h->m->cyclic[i])

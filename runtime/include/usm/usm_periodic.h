@@ -174,6 +174,12 @@ void usm_hybrid_free(usm_hybrid *h);
 int usm_hybrid_solve(usm_hybrid *h, const usm_params *p, const usm_hybrid_options *opt,
                      usm_hybrid_result *out);
 
+/* The same from a given start: the closed state x_start at the section time
+ * ts (e.g. a neighbouring orbit's x0 and t0, for continuation), no
+ * simulation.  Returns as usm_hybrid_solve. */
+int usm_hybrid_solve_from(usm_hybrid *h, const usm_params *p, const usm_hybrid_options *opt,
+                          double ts, const double *x_start, usm_hybrid_result *out);
+
 /* The event-driven period map from the closed state x0 at ts: x1 = x(ts + T)
  * and, when B is not NULL, the monodromy dx1/dx0 (nx x nx, row-major, with
  * the saltation matrices).  USM_OK or USM_EFAILED (the end in an open phase,
