@@ -148,6 +148,13 @@ assert 0.3 < o['open_fraction'] < 0.5 and 1e-3 < o['impact_velocity_max'] < 0.1
 assert o['contact_open']['count'] == o['separations'] and o['contact_open']['min_F_n'] == 0"
     grep -q 'F_n < 0' "$err" && fail "unilateral: the bilateral contact warning"
 fi
+# restitution: the rotor bounces (several impacts per landing) and lands below v_land
+if expect 0 simulate --model 4dof --variant imperfect_unilateral --set phase_error=35deg \
+    --set e_impact=0.5 --duration 1e-3 --rate 0 --json; then
+    py_file "$out" "
+assert o['completed'] and o['separations'] >= 30, o['separations']
+assert o['impacts'] >= 3 * o['separations'], (o['impacts'], o['separations'])"
+fi
 if expect 0 simulate --model 3dof --variant imperfect --duration 1e-3 --rate 0 --json; then
     py_file "$out" "assert 'separations' not in o and 'open_fraction' not in o"
 fi
