@@ -158,6 +158,8 @@ fi
 if expect 0 simulate --model 3dof --variant imperfect --duration 1e-3 --rate 0 --json; then
     py_file "$out" "assert 'separations' not in o and 'open_fraction' not in o"
 fi
+expect 2 simulate --variant imperfect_unilateral --set M=0 --duration 1e-3 &&
+    { grep -q 'M: must be positive for a contact that may open' "$err" || fail "M=0 accepted"; }
 expect 2 simulate --variant imperfect_unilateral --set e_impact=1.5 --duration 1e-3 &&
     { grep -q 'e_impact: must lie in \[0, 1\]' "$err" || fail "e_impact=1.5 accepted"; }
 

@@ -505,6 +505,11 @@ static int check_params(usm_sim *s, const usm_params *p)
         snprintf(s->msg, USM_MSG_LEN, "%s", why);
         return USM_EINPUT;
     }
+    if (s->m->unilateral && !(p->M > 0)) {
+        snprintf(s->msg, USM_MSG_LEN, "M: must be positive for a contact that may open (the "
+                 "rotor's axial motion is a state of its own), got %g", p->M);
+        return USM_EINPUT;
+    }
     return USM_OK;
 }
 
