@@ -26,6 +26,13 @@ Assumptions and their choices:
                    housing) enter the equations of motion; the stationary
                    solution and its kernels are those of the ideal motor
                    (imperfections 0), the only case where it exists
+  closure          "bilateral" (default): the rotor rides on the stator at all
+                   times (2.3), F_n may take any sign (the paper's model)
+                   "unilateral": the contact opens where F_n would turn
+                   negative; while open the rotor's axial position is a state
+                   of its own, and it closes again by an impact (Newton
+                   restitution e_impact, friction impulse at most mu0 times
+                   the normal one); see docs/unilateral.md
 """
 
 PAPER = {
@@ -47,7 +54,7 @@ COUPLINGS = {
 
 # Assumptions PAPER leaves unstated (so the paper's models keep their lists):
 # their value in the paper's models, e.g. for the documents' "(paper: none)".
-UNSTATED = {"imperfection": "none"}
+UNSTATED = {"imperfection": "none", "closure": "bilateral"}
 
 # Friction laws mu(v_rel) of the slip model, as formulas in v_rel, mu0, kappa.
 # The runtime needs mu continuous in v_rel; it may be non-monotone (then
@@ -91,6 +98,12 @@ VARIANTS = {
                   "a real motor: driver amplitude imbalance and phase error, stator mode "
                   "split (parameters amp_imbalance, phase_error, mode_split), integrated "
                   "twist law; periodic steady states by `usm periodic`"),
+    # After imperfect: its kernels (the closed mode) stay owned by imperfect.
+    "imperfect_unilateral": ({"twist": "integrated", "imperfection": "driver_stator",
+                              "closure": "unilateral"}, ["3dof", "4dof"],
+                             "the variant imperfect with a contact that may open: the rotor "
+                             "lifts off where F_n would turn negative and lands again by an "
+                             "impact (restitution e_impact); `usm simulate` switches modes"),
 }
 
 

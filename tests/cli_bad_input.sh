@@ -159,7 +159,7 @@ fi
 # ---- solved cases ---------------------------------------------------------------
 ROOT_KEYS="'theta','alpha','beta','rotor_speed','F_n','F_t','v_rel','stick_admissible'"
 TOP_KEYS="'model','parameters','converged','floquet','roots','mu_used','v_c','R_star','Z',$ROOT_KEYS"
-PARAMS="'m0','T','F0','c_R','d_R','c_t','c_r','d_t','d_r','R','H','I_R','I_xx','I_yy','I_zz','M','f','mu0','kappa','amp_imbalance','phase_error','mode_split'"
+PARAMS="'m0','T','F0','c_R','d_R','c_t','c_r','d_t','d_r','R','H','I_R','I_xx','I_yy','I_zz','M','f','mu0','kappa','amp_imbalance','phase_error','mode_split','e_impact'"
 CHECK_SOLVED="
 import math
 for k in [$TOP_KEYS]: assert k in o, 'missing key ' + k
@@ -226,7 +226,7 @@ for args in "--set m0=1e-6" "--model 4dof --set T=0.002"; do
         py "assert o['converged'] is False
 assert isinstance(o['error'], str) and o['error'], 'no error string'
 assert o['roots'] == []
-assert 'model' in o and len(o['parameters']) == 22"
+assert 'model' in o and len(o['parameters']) == 23"
     fi
 done
 

@@ -45,7 +45,7 @@ assert list(o) == ['feasible', 'objective', 'sense', 'value', 'varied', 'paramet
                    'active_constraints', 'multipliers', 'kkt_residual', 'flat', 'near_optimal',
                    'evaluations', 'solution'], list(o)
 assert o['feasible'] is True and o['objective'] == 'efficiency' and o['sense'] == 'max'
-assert list(o['varied']) == ['F0', 'f'] and len(o['parameters']) == 22
+assert list(o['varied']) == ['F0', 'f'] and len(o['parameters']) == 23
 assert 0.2 <= o['varied']['F0'] <= 0.8 and 36000 <= o['varied']['f'] <= 38000
 for k, v in o['varied'].items():
     assert o['parameters'][k] == v and o['solution']['parameters'][k] == v

@@ -134,4 +134,54 @@ fi
 expect_rc 0 periodic --variant imperfect --set amp_imbalance=0.3 && \
     { grep -q 'CONTACT OPENS' "$out" || fail "the table does not say that the contact opens"; }
 
+# a contact that may open (docs/unilateral.md): the orbit with separation past
+# contact loss (28.73 deg), the bilateral orbit with the keys at 0 before it
+if expect_rc 0 periodic --model 3dof --variant imperfect_unilateral --set phase_error=35deg --json; then
+    py "assert o['converged'] and o['contact_open'] and o['mode_sequence'] == 'cococ'
+assert 0.40 < o['separation_fraction'] < 0.41 and o['impacts_per_period'] == 2
+assert 1e-3 < o['impact_velocity_max'] < 1e-2 and o['floquet']['max_modulus'] < 1
+assert abs(o['rotor_speed_mean'] + 10.7523) < 1e-3
+assert o['valid'] is False and o['invalid_reason'] == 'stick_not_admissible'"
+fi
+if expect_rc 0 periodic --model 3dof --variant imperfect_unilateral --set phase_error=10deg --json; then
+    py "assert o['converged'] and not o['contact_open'] and o['mode_sequence'] == 'c'
+assert o['separation_fraction'] == 0 and o['impacts_per_period'] == 0"
+fi
+expect_rc 0 periodic --model 4dof --variant imperfect_unilateral --set phase_error=30deg && \
+    { grep -q 'mode sequence  *cococ' "$out" || fail "the table has no mode sequence"; }
+
+# sweep --periodic on a unilateral model continues past contact loss: the
+# points carry the orbit with separation (the same as usm periodic's, started
+# independently from a simulation), contact_regained sweeping back, grazing
+# where the mode sequence changes (cococ -> coc near 53 deg, 3-DOF)
+if expect_rc 0 periodic --model 3dof --variant imperfect_unilateral --set phase_error=0.6 --json; then
+    cp "$out" "$tmp/p06.json"
+fi
+if expect_rc 0 sweep --periodic --model 3dof --variant imperfect_unilateral --over phase_error \
+    --from 0.45 --to 0.7 --points 6 --json; then
+    py "p06 = json.load(open('$tmp/p06.json'))
+pts = o['points']
+assert [p['separating'] for p in pts] == [False, False, True, True, True, True], pts
+for p in pts:
+    assert p['mode_sequence'] == ('cococ' if p['separating'] else 'c'), p
+assert pts[0]['contact_open'] is False and pts[3]['contact_open'] is True
+# Newton's tol 1e-9 of the scales, two starts: measured 2e-10
+assert abs(pts[3]['rotor_speed_mean'] / p06['rotor_speed_mean'] - 1) < 1e-7, (pts[3], p06)
+assert abs(pts[3]['separation_fraction'] - p06['separation_fraction']) < 1e-6
+e = o['events']
+assert [x['type'] for x in e].count('contact_loss') == 1, e
+cl = [x for x in e if x['type'] == 'contact_loss'][0]
+assert abs(cl['phase_error'] - 0.50136329) < 1e-8, cl"
+fi
+if expect_rc 0 sweep --periodic --model 3dof --variant imperfect_unilateral --over phase_error \
+    --from 0.6 --to 0.45 --points 4 --json; then
+    py "e = [x for x in o['events'] if x['type'].startswith('contact')]
+assert len(e) == 1 and e[0]['type'] == 'contact_regained' and abs(e[0]['phase_error'] - 0.50136329) < 1e-8, e"
+fi
+if expect_rc 0 sweep --periodic --model 3dof --variant imperfect_unilateral --over phase_error \
+    --from 0.88 --to 0.98 --points 6 --json; then
+    py "g = [x for x in o['events'] if x['type'] == 'grazing']
+assert len(g) == 1 and 0.9 < g[0]['phase_error'] <= 0.94 and 'cococ to coc' in g[0]['what'], g"
+fi
+
 finish periodic_cli

@@ -2,7 +2,7 @@
 # usm sensitivity and the power fields of usm steady from the command line:
 #  - --json has exactly the shape of issue 13: {"model", "parameters",
 #    "outputs": {NAME: {"value", "d": {PARAM}, "elasticity": {PARAM}}}} with all
-#    22 parameters, the default outputs, and elasticity = (p / value) d;
+#    23 parameters, the default outputs, and elasticity = (p / value) d;
 #  - the values equal `usm steady --json` (theta, rotor_speed, F_n, F_t,
 #    efficiency, mu0 F_n - F_t) and its max_modulus (1e-6: the Floquet methods);
 #  - usm steady --json carries power_in, power_out, power_damping, power_slip and
@@ -32,7 +32,7 @@ assert o['model'] == '$model'
 names = ['theta', 'rotor_speed', 'F_n', 'F_t', 'efficiency', 'stick_margin', 'max_modulus']
 assert list(o['outputs']) == names, list(o['outputs'])
 params = o['parameters']
-assert len(params) == 22
+assert len(params) == 23
 want = {'theta': s['theta'], 'rotor_speed': s['rotor_speed'], 'F_n': s['F_n'], 'F_t': s['F_t'],
         'efficiency': s['efficiency'], 'stick_margin': params['mu0'] * s['F_n'] - s['F_t']}
 for name, v in o['outputs'].items():

@@ -137,6 +137,32 @@ expect 2 simulate --duration 1e-3 --from "$tmp/nosuch.csv" && { grep -q 'nosuch.
 expect 3 simulate --duration 1e-3 --from stationary --set m0=1e-6 --rate 0 &&
     { grep -q 'no stationary solution' "$err" || fail "--from stationary without a solution"; }
 
+# ---- a contact that may open (docs/unilateral.md) -----------------------------------
+if expect 0 simulate --model 4dof --variant imperfect_unilateral --set phase_error=30deg \
+    --duration 2e-3 --rate 0 --json; then
+    py_file "$out" "
+assert o['model'] == '4dof_imperfect_unilateral' and o['completed']
+# twice per period past contact loss (23.17 deg): 74 periods in 2 ms
+assert o['separations'] >= 100 and o['impacts'] >= o['separations'] - 1, (o['separations'], o['impacts'])
+assert 0.3 < o['open_fraction'] < 0.5 and 1e-3 < o['impact_velocity_max'] < 0.1
+assert o['contact_open']['count'] == o['separations'] and o['contact_open']['min_F_n'] == 0"
+    grep -q 'F_n < 0' "$err" && fail "unilateral: the bilateral contact warning"
+fi
+# restitution: the rotor bounces (several impacts per landing) and lands below v_land
+if expect 0 simulate --model 4dof --variant imperfect_unilateral --set phase_error=35deg \
+    --set e_impact=0.5 --duration 1e-3 --rate 0 --json; then
+    py_file "$out" "
+assert o['completed'] and o['separations'] >= 30, o['separations']
+assert o['impacts'] >= 3 * o['separations'], (o['impacts'], o['separations'])"
+fi
+if expect 0 simulate --model 3dof --variant imperfect --duration 1e-3 --rate 0 --json; then
+    py_file "$out" "assert 'separations' not in o and 'open_fraction' not in o"
+fi
+expect 2 simulate --variant imperfect_unilateral --set M=0 --duration 1e-3 &&
+    { grep -q 'M: must be positive for a contact that may open' "$err" || fail "M=0 accepted"; }
+expect 2 simulate --variant imperfect_unilateral --set e_impact=1.5 --duration 1e-3 &&
+    { grep -q 'e_impact: must lie in \[0, 1\]' "$err" || fail "e_impact=1.5 accepted"; }
+
 # ---- plots -------------------------------------------------------------------------
 if command -v gnuplot >/dev/null; then
     if expect 0 simulate --duration 2e-3 --rate 2e5 --out "$tmp/p.csv" --plot "$tmp/p"; then

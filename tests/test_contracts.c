@@ -34,14 +34,15 @@ typedef struct expected {
 } expected;
 
 #define E(field, unit) {USM_P_##field, #field, unit, offsetof(usm_params, field)}
-/* docs/cli.md "Parameters" and docs/periodic.md (e dimensionless, delta in rad, s dimensionless) */
+/* docs/cli.md "Parameters", docs/periodic.md (e dimensionless, delta in rad, s dimensionless)
+ * and docs/unilateral.md (e_impact dimensionless) */
 static const expected params[] = {
     E(m0, "N m"),        E(T, "N m"),         E(F0, "N"),           E(c_R, "N/m"),
     E(d_R, "N s/m"),     E(c_t, "N m/rad"),   E(c_r, "N m/rad"),    E(d_t, "N m s/rad"),
     E(d_r, "N m s/rad"), E(R, "m"),           E(H, "m"),            E(I_R, "kg m^2"),
     E(I_xx, "kg m^2"),   E(I_yy, "kg m^2"),   E(I_zz, "kg m^2"),    E(M, "kg"),
     E(f, "Hz"),          E(mu0, "1"),         E(kappa, "s/m"),      E(amp_imbalance, "1"),
-    E(phase_error, "rad"), E(mode_split, "1"),
+    E(phase_error, "rad"), E(mode_split, "1"), E(e_impact, "1"),
 };
 #define NEXP ((int)(sizeof params / sizeof params[0]))
 

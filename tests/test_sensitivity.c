@@ -125,11 +125,14 @@ static int check_point(const usm_model *m, usm_steady *st, usm_sensitivity *sens
     }
     for (int j = 0; j < USM_NPARAMS; ++j) {
         const char *pname = usm_param_table[j].name;
-        /* an ideal model does not contain the imperfections (issue 14): its
+        /* an ideal model does not contain the imperfections (issue 14), nor a
+         * bilateral one e_impact (issue 24): its
          * equations, and so every derivative, are independent of them */
         const int imperfection = strcmp(pname, "amp_imbalance") == 0 ||
                                  strcmp(pname, "phase_error") == 0 ||
-                                 strcmp(pname, "mode_split") == 0;
+                                 strcmp(pname, "mode_split") == 0 ||
+                                 /* only the impact of a contact that opens (issue 24) */
+                                 strcmp(pname, "e_impact") == 0;
         if ((m->axisymmetric_stator && strcmp(pname, "I_yy") == 0) || imperfection) {
             for (int k = 0; k < USM_SENS_COUNT; ++k)
                 if (r.defined[k])

@@ -46,6 +46,8 @@ DEFAULTS = {
                     "enters only the imperfect variant"),
     "mode_split": (0.0, "chosen", "the ideal motor of the paper; a real motor's value "
                    "enters only the imperfect variant"),
+    "e_impact": (0.0, "chosen", "not in the paper, whose contact never opens: the rotor lands "
+                 "and stays (Newton restitution 0); enters only the unilateral variant"),
 }
 
 

@@ -33,6 +33,7 @@ CONSTRAINTS = [
     ("any", "every finite value"),
     ("positive", "> 0"),
     ("nonnegative", ">= 0"),
+    ("unit_interval", "in [0, 1]"),
 ]
 
 

@@ -235,6 +235,8 @@ def model_data(m):
     doc.linearisation()
     doc.stability()
     doc.validity()
+    if getattr(m, "unilateral", None):
+        doc.unilateral()
     return doc.data()
 
 
@@ -798,6 +800,36 @@ class ModelDocument:
                r"of magnitude.  Do not invert $\mathcal{M}$ alone: solve with it in balanced "
                r"coordinates, integrate with tight tolerances, and expect the multipliers to "
                r"about 9 to 12 digits in double precision (docs/coordinates.md).", "cond")
+
+    def unilateral(self):
+        """closure = unilateral (issue 24): the two modes, the guards, the resets
+        (typeset only; the kernels are checked by tests/test_unilateral.c)."""
+        d, u = self.d, self.m.unilateral
+        tex = dict(self.names.tex)
+        tex.update({sp.Symbol(nm, real=True): t_ for nm, t_ in (
+            ("Z_R", r"Z_R"), ("Z_Rdot", r"\dot{Z}_R"), ("Z_Rddot", r"\ddot{Z}_R"),
+            ("w_R", r"w_R"), ("w_Rdot", r"\dot{w}_R"), ("F_n", r"F_n"), ("F_t", r"F_t"))})
+        d.section("Unilateral contact: modes, guards, resets")
+        d.text("Closed mode: the equations of motion above, valid while $F_n \\ge 0$. "
+               "Open mode: state $\\mathbf{y} = (\\mathbf{x}, " + ", ".join(
+                   tex[sp.Symbol(nm, real=True)] for nm in u["new_names"]) + ")$; the rows "
+               "below with $F_n = F_t = 0$ (the stator's rows are (2.6) with the contact "
+               "forces as symbols; the impact uses their coefficients).", "unilateral:modes")
+        rows = u["rows"]
+        start = len(rows) - len(u["new_names"]) + 1
+        for i in range(start, len(rows)):
+            d.display(f"display:open_row{i}", "0", latex(rows[i], tex))
+        d.display("display:guard_closed", r"g_{\mathrm{closed}}",
+                  r"F_n(\mathbf{x}, \dot{\mathbf{x}}) \searrow 0 \;\Rightarrow\; "
+                  r"\text{separation: } \mathbf{y} = (\mathbf{x}, Z(\theta), \dot Z"
+                  + (r", v_c/R^*" if "w_R" in u["new_names"] else "") + ")")
+        d.display("display:guard_open", r"g_{\mathrm{open}}", latex(u["gap"], tex)
+                  + r" \searrow 0 \;\Rightarrow\; \text{impact}")
+        d.display("display:impact", r"M_a\,\Delta\mathbf{v}",
+                  r"B\,(P_n, P_t)^T, \quad \dot g^+ = -e_{\mathrm{impact}}\,\dot g^-, "
+                  r"\quad v_{\mathrm{rel}}^+ = 0 \text{ if } |P_t| \le \mu_0 P_n "
+                  r"\text{, else } P_t = \pm\mu_0 P_n")
+        d.display("display:gap_rate", r"\dot g", latex(u["contact_velocity"][0], tex))
 
     def data(self):
         m = self.m

@@ -174,6 +174,103 @@ def build_kernels(m):
     return ks
 
 
+def build_unilateral_kernels(m):
+    """The open mode, guards and reset of a model whose contact may open
+    (closure = unilateral, issue 24): model.py, unilateral_closure."""
+    u = m.unilateral
+    pre = f"usm_{m.name}"
+    n, ny = len(m.states), u["ny"]
+    y = u["states"]
+    y_arg = ("const double *USM_RESTRICT y", y)
+    yb = _array_bindings("y", y, u["state_names"])
+    x_arg = ("const double *USM_RESTRICT x", m.states)
+    xb = _array_bindings("x", m.states, m.state_names)
+    t_arg = ("double t", [t])
+    out = ("double *USM_RESTRICT out", None)
+    ydoc = _index_doc("y", u["state_names"])
+    xdoc = _index_doc("x", m.state_names)
+    vb = _array_bindings("v", u["v"], [f"v[{i}]" for i in range(ny)])
+    s_arg = ("double s", [u["s"]])
+    ks = [
+        Kernel(f"{pre}_open_mass", ["Open contact: mass matrix M(y) of M(y) y' = f(y, t).", ydoc],
+               [y_arg, PARAMS, out], yb, list(u["mass"]),
+               f"out: {ny}x{ny}, row-major.", [("y", ny)]),
+        Kernel(f"{pre}_open_rhs", ["Open contact: right-hand side f(y, t).", ydoc],
+               [y_arg, t_arg, PARAMS, out], yb, list(u["rhs"]), f"out: {ny} entries.",
+               [("y", ny)]),
+        Kernel(f"{pre}_open_jac_rhs", ["Open contact: df/dy.", ydoc],
+               [y_arg, t_arg, PARAMS, out], yb, list(u["jac_rhs"]),
+               f"out: {ny}x{ny}, row-major.", [("y", ny)]),
+        Kernel(f"{pre}_open_jac_mass", ["Open contact: d(M(y) v)/dy at fixed v.", ydoc],
+               [y_arg, ("const double *USM_RESTRICT v", u["v"]), PARAMS, out], yb + vb,
+               list(u["jac_mass"]), f"out: {ny}x{ny}, row-major.", [("y", ny), ("v", ny)]),
+        Kernel(f"{pre}_open_outputs",
+               ["Open contact: derived quantities along a motion (F_n = F_t = 0).", ydoc],
+               [y_arg, ("const double *USM_RESTRICT ydot", u["ydot"]), t_arg, PARAMS, out],
+               yb + _array_bindings("ydot", u["ydot"], [f"d{nm}/dt" for nm in u["state_names"]]),
+               [u["outputs"][k] for k in OUTPUT_NAMES], _index_doc("out", OUTPUT_NAMES),
+               [("y", ny), ("ydot", ny)]),
+        Kernel(f"{pre}_guard_closed",
+               ["Closed contact: the guard F_n(x, x') (the contact opens where it falls",
+                "through 0) and its gradients.", xdoc],
+               [x_arg, ("const double *USM_RESTRICT xdot", m.xdot), t_arg, PARAMS, out],
+               xb + _array_bindings("xdot", m.xdot, [f"d{nm}/dt" for nm in m.state_names]),
+               [u["guard_closed"]] + u["guard_closed_grad"],
+               f"out: [F_n, dF_n/dx ({n}), dF_n/dx' ({n})].", [("x", n), ("xdot", n)]),
+        Kernel(f"{pre}_guard_open",
+               ["Open contact: the guard gap = Z_R - Z(theta) (the contact closes where it",
+                "falls through 0) and its gradient.", ydoc],
+               [y_arg, PARAMS, out], yb, [u["gap"]] + u["gap_grad"],
+               f"out: [gap, dgap/dy ({ny})].", [("y", ny)]),
+        Kernel(f"{pre}_contact_velocity",
+               ["Open contact: the relative velocities at the contact point, normal",
+                "gap' = Z_R' - Z' and tangential v_rel = v_c - w_R R*, and their gradients.",
+                ydoc],
+               [y_arg, PARAMS, out], yb, u["contact_velocity"] + u["contact_velocity_grad"],
+               f"out: [gap', v_rel, d(gap', v_rel)/dy (2x{ny}, row-major)].", [("y", ny)]),
+        Kernel(f"{pre}_separation",
+               ["Reset at separation (closed -> open): y = (x, Z(theta), Z', w_R) and dy/dx.",
+                xdoc],
+               [x_arg, PARAMS, out], xb, list(u["separation"]) + list(u["separation_jac"]),
+               f"out: [y ({ny}), dy/dx ({ny}x{n}, row-major)].", [("x", n)]),
+        Kernel(f"{pre}_impact_stick",
+               ["Reset at impact, sticking branch: Newton's law gap'+ = -e_impact gap'-",
+                "and v_rel+ = 0; the state after and the impulses.", ydoc],
+               [y_arg, PARAMS, out], yb, u["impact_stick"],
+               f"out: [y+ ({ny}), P_n, P_t] (impulses in N s).", [("y", ny)]),
+        Kernel(f"{pre}_impact_stick_jac", ["Jacobian dy+/dy of the sticking impact.", ydoc],
+               [y_arg, PARAMS, out], yb, list(u["impact_stick_jac"]),
+               f"out: {ny}x{ny}, row-major.", [("y", ny)]),
+        Kernel(f"{pre}_impact_slide",
+               ["Reset at impact, sliding branch: gap'+ = -e_impact gap'- and",
+                "P_t = s mu0 P_n (s = +-1, the sign of the sticking P_t).", ydoc],
+               [y_arg, s_arg, PARAMS, out], yb, u["impact_slide"],
+               f"out: [y+ ({ny}), P_n, P_t].", [("y", ny)]),
+        Kernel(f"{pre}_impact_slide_jac", ["Jacobian dy+/dy of the sliding impact.", ydoc],
+               [y_arg, s_arg, PARAMS, out], yb, list(u["impact_slide_jac"]),
+               f"out: {ny}x{ny}, row-major.", [("y", ny)]),
+        Kernel(f"{pre}_kinetic_energy",
+               ["Open contact: kinetic energy of stator and rotor [J] (stator from its",
+                "inertia tensor, rotor axial and turning).", ydoc],
+               [y_arg, PARAMS, out], yb, [u["kinetic"]], "out: [T].", [("y", ny)]),
+        Kernel(f"{pre}_closed_rhs_t",
+               ["Closed contact: the explicit time derivative df/dt (the excitation), for",
+                "the rate of the guard F_n along a motion (saltation matrices).", xdoc],
+               [x_arg, t_arg, PARAMS, out], xb, list(u["closed_rhs_t"]),
+               f"out: {n} entries.", [("x", n)]),
+        Kernel(f"{pre}_open_rhs_t", ["Open contact: the explicit time derivative df/dt.", ydoc],
+               [y_arg, t_arg, PARAMS, out], yb, list(u["open_rhs_t"]),
+               f"out: {ny} entries.", [("y", ny)]),
+    ]
+    return ks
+
+
+UNILATERAL_KERNELS = ("open_mass", "open_rhs", "open_jac_rhs", "open_jac_mass", "open_outputs",
+                      "guard_closed", "guard_open", "contact_velocity", "separation",
+                      "impact_stick", "impact_stick_jac", "impact_slide", "impact_slide_jac",
+                      "kinetic_energy", "closed_rhs_t", "open_rhs_t")
+
+
 SEED_TRIG = (("sin", 0), ("cos", 1), ("tan", 2))
 
 
@@ -209,8 +306,10 @@ def _names_array(cname, names):
 def model_files(m, description, stamp, base, variant):
     pre = f"usm_{m.name}"
     kernels = build_kernels(m)
+    if m.unilateral:
+        kernels += build_unilateral_kernels(m)
     n, nu = len(m.states), len(m.unknowns)
-    if n > 9 or nu > 3:
+    if n > 9 or nu > 3 or (m.unilateral and m.unilateral["ny"] > 12):
         raise RuntimeError(f"{m.name}: raise USM_MAX_NX/USM_MAX_NU in emit_model.py")
     assumptions = ", ".join(f"{k}={v}" for k, v in m.assumptions.items())
     guard = f"USM_{m.name.upper().replace('-', '_')}_H"
@@ -256,6 +355,18 @@ def model_files(m, description, stamp, base, variant):
     cyc = ", ".join("1" if i in m.cyclic else "0" for i in range(n))
     c += f"static const unsigned char cyclic[] = {{{cyc}}};\n"
     c += emit_contracts.model_coupling_array(m.assumptions) + "\n"
+    unilateral = "0"
+    if m.unilateral:
+        u = m.unilateral
+        c += _names_array("open_state_names", u["state_names"])
+        names = u["state_names"]
+        ufields = [("ny", u["ny"]), ("state_names", "open_state_names"),
+                   ("y_Z_R", names.index("Z_R")), ("y_Z_Rdot", names.index("Z_Rdot")),
+                   ("y_w_R", names.index("w_R") if "w_R" in names else -1)]
+        ufields += [(k, f"{pre}_{k}") for k in UNILATERAL_KERNELS]
+        c += ("static const usm_unilateral unilateral = {\n"
+              + "".join(f"    .{k} = {v},\n" for k, v in ufields) + "};\n\n")
+        unilateral = "&unilateral"
     friction = f"{pre}_friction" if m.friction is not None else "0"
 
     def index(names, name):
@@ -289,7 +400,8 @@ def model_files(m, description, stamp, base, variant):
                ("steady_design_jacobian", f"{pre}_steady_design_jacobian"),
                ("floquet_direction", f"{pre}_floquet_direction"),
                ("imperfect", 1 if m.assumptions.get("imperfection", "none") != "none" else 0),
-               ("param_coupling", "param_coupling")]
+               ("param_coupling", "param_coupling"),
+               ("unilateral", unilateral)]
     c += (f"const usm_model {pre.replace('usm_', 'usm_model_')} = {{\n"
           + "".join(f"    .{k} = {v},\n" for k, v in fields) + "};\n")
     return {f"{pre}.h": h,
@@ -359,6 +471,46 @@ def share_kernels(entries, files):
                                  + includes + "\n" + "\n".join(texts) + "\n" + parts["tail"])
 
 
+UNILATERAL_STRUCT = (
+    "/* A contact that may open (closure = unilateral, issue 24; docs/unilateral.md).\n"
+    " * Closed mode: the model's own kernels, state x (nx).  Open mode: state\n"
+    " * y = (x, Z_R, Z_Rdot[, w_R]) (ny), the rotor's axial position and rate (and\n"
+    " * in the stick model its speed in the driving direction) states of their own;\n"
+    " * M(y) y' = f(y, t) with F_n = F_t = 0.  Guards: F_n(x, x') while closed,\n"
+    " * gap(y) = Z_R - Z(theta) while open, each with its gradient.  Resets:\n"
+    " * separation x -> y (continuous), impact y- -> y+ (Newton's restitution\n"
+    " * e_impact; sticking, or sliding with P_t = s mu0 P_n when sticking would\n"
+    " * need |P_t| > mu0 P_n), each with its Jacobian. */\n"
+    "typedef struct usm_unilateral {\n"
+    "    int ny; /* length of the open mode's state y */\n"
+    "    const char *const *state_names; /* of y */\n"
+    "    int y_Z_R, y_Z_Rdot, y_w_R; /* indices in y (y_w_R: -1 in slip models, phi_Rdot is in x) */\n"
+    "    void (*open_mass)(const double *USM_RESTRICT y, const usm_params *USM_RESTRICT p, double *USM_RESTRICT out);\n"
+    "    void (*open_rhs)(const double *USM_RESTRICT y, double t, const usm_params *USM_RESTRICT p, double *USM_RESTRICT out);\n"
+    "    void (*open_jac_rhs)(const double *USM_RESTRICT y, double t, const usm_params *USM_RESTRICT p, double *USM_RESTRICT out);\n"
+    "    void (*open_jac_mass)(const double *USM_RESTRICT y, const double *USM_RESTRICT v, const usm_params *USM_RESTRICT p, double *USM_RESTRICT out);\n"
+    "    void (*open_outputs)(const double *USM_RESTRICT y, const double *USM_RESTRICT ydot, double t, const usm_params *USM_RESTRICT p, double *USM_RESTRICT out);\n"
+    "    /* out = [F_n, dF_n/dx (nx), dF_n/dx' (nx)] */\n"
+    "    void (*guard_closed)(const double *USM_RESTRICT x, const double *USM_RESTRICT xdot, double t, const usm_params *USM_RESTRICT p, double *USM_RESTRICT out);\n"
+    "    /* out = [gap, dgap/dy (ny)] */\n"
+    "    void (*guard_open)(const double *USM_RESTRICT y, const usm_params *USM_RESTRICT p, double *USM_RESTRICT out);\n"
+    "    /* out = [gap', v_rel, their gradients (2 x ny)] */\n"
+    "    void (*contact_velocity)(const double *USM_RESTRICT y, const usm_params *USM_RESTRICT p, double *USM_RESTRICT out);\n"
+    "    /* out = [y (ny), dy/dx (ny x nx)] */\n"
+    "    void (*separation)(const double *USM_RESTRICT x, const usm_params *USM_RESTRICT p, double *USM_RESTRICT out);\n"
+    "    /* out = [y+ (ny), P_n, P_t]; the Jacobians dy+/dy (ny x ny) */\n"
+    "    void (*impact_stick)(const double *USM_RESTRICT y, const usm_params *USM_RESTRICT p, double *USM_RESTRICT out);\n"
+    "    void (*impact_stick_jac)(const double *USM_RESTRICT y, const usm_params *USM_RESTRICT p, double *USM_RESTRICT out);\n"
+    "    void (*impact_slide)(const double *USM_RESTRICT y, double s, const usm_params *USM_RESTRICT p, double *USM_RESTRICT out);\n"
+    "    void (*impact_slide_jac)(const double *USM_RESTRICT y, double s, const usm_params *USM_RESTRICT p, double *USM_RESTRICT out);\n"
+    "    /* out = [kinetic energy of stator and rotor, J] */\n"
+    "    void (*kinetic_energy)(const double *USM_RESTRICT y, const usm_params *USM_RESTRICT p, double *USM_RESTRICT out);\n"
+    "    /* explicit df/dt of the closed (nx) and the open (ny) mode */\n"
+    "    void (*closed_rhs_t)(const double *USM_RESTRICT x, double t, const usm_params *USM_RESTRICT p, double *USM_RESTRICT out);\n"
+    "    void (*open_rhs_t)(const double *USM_RESTRICT y, double t, const usm_params *USM_RESTRICT p, double *USM_RESTRICT out);\n"
+    "} usm_unilateral;\n\n")
+
+
 def _enum(prefix, names):
     body = ",\n".join(f"    {prefix}_{nm.upper()} = {i}" for i, nm in enumerate(names))
     return f"enum {{\n{body},\n    {prefix}_COUNT = {len(names)}\n}};\n"
@@ -406,7 +558,9 @@ def common_files(models, variant_list, stamp):
     h += _enum("USM_POWER", POWER_NAMES) + "\n"
     h += "/* Rows y of <model>_steady_design_jacobian. */\n"
     h += _enum("USM_DESIGN", DESIGN_NAMES) + "\n"
-    h += ("#define USM_MAX_NX 9\n#define USM_MAX_NU 3\n\n"
+    h += ("#define USM_MAX_NX 9\n#define USM_MAX_NU 3\n"
+          "/* longest state of an open contact (usm_unilateral.ny) */\n#define USM_MAX_NY 12\n\n"
+          + UNILATERAL_STRUCT +
           "/* A generated model: sizes, names and kernels (see usm_<name>.h). */\n"
           "typedef struct usm_model {\n"
           "    const char *name;        /* e.g. \"4dof_friction_tanh\" */\n"
@@ -459,6 +613,9 @@ def common_files(models, variant_list, stamp):
           "       model is ideal and those parameters must be 0. */\n"
           "    int imperfect;\n"
           + emit_contracts.DESCRIPTOR_MEMBER +
+          "    /* closure = unilateral (the contact may open): its open mode, guards and\n"
+          "       resets; NULL when the contact never opens (the paper's models) */\n"
+          "    const usm_unilateral *unilateral;\n"
           "} usm_model;\n\n")
     for name, _, _ in models:
         h += f"extern const usm_model usm_model_{name};\n"

@@ -45,6 +45,10 @@ PARAMETERS = [
     ("amp_imbalance", "1", "amplitude imbalance e of the two excitation phases", "any"),
     ("phase_error", "rad", "phase error delta of the second excitation phase", "any"),
     ("mode_split", "1", "tilt stiffness split s: c_r (1 + s) about X, c_r (1 - s) about Y", "any"),
+    # Newton's restitution coefficient of the impact that closes an open
+    # contact (issue 24); it enters only the models whose assumption closure
+    # is "unilateral".  0: the rotor lands and stays.
+    ("e_impact", "1", "restitution coefficient of the rotor's impact on the stator", "unit_interval"),
 ]
 IMPERFECTIONS = ["amp_imbalance", "phase_error", "mode_split"]
 
@@ -149,6 +153,7 @@ class Model:
     direction_symbols: list = None  # (symbol, direction symbol) pairs of that derivative
     cyclic: list = field(default_factory=list)
     equations: dict = field(default_factory=dict)  # for the readable export
+    unilateral: dict = None  # closure = unilateral: the open mode, guards, reset
 
 
 # --------------------------------------------------------------------------
@@ -610,6 +615,217 @@ def cyclic_states(d):
                 if s not in d.rhs.free_symbols and s not in d.mass.free_symbols]
 
 
+# --- closure: whether the contact may open (issue 24) ------------------------------
+
+def bilateral_closure(d):
+    """The paper's contact (2.3): the rotor rides on the stator's contact
+    point at all times, F_n may take any sign."""
+    d.unilateral = None
+
+
+def _block_inverse(A):
+    """Inverse of a matrix whose nonzero pattern is block diagonal (after a
+    permutation): each connected block by its adjugate, without simplification
+    (A's entries are placeholder symbols here, so the formulas stay small)."""
+    n = A.shape[0]
+    seen, inv = set(), sp.zeros(n, n)
+    for i in range(n):
+        if i in seen:
+            continue
+        block, todo = [], [i]
+        while todo:
+            k = todo.pop()
+            if k in block:
+                continue
+            block.append(k)
+            todo += [j for j in range(n) if j not in block and (A[k, j] != 0 or A[j, k] != 0)]
+        block.sort()
+        seen |= set(block)
+        sub = A.extract(block, block)
+        si = sub.inv(method="ADJ") if len(block) > 1 else sp.Matrix([[1 / sub[0, 0]]])
+        for a, ia in enumerate(block):
+            for b, ib in enumerate(block):
+                inv[ia, ib] = si[a, b]
+    return inv
+
+
+def _placeholders(mat, stem):
+    """A matrix of the same shape whose nonzero entries are fresh symbols,
+    and the map symbol -> entry."""
+    out, back = sp.zeros(*mat.shape), {}
+    for i in range(mat.shape[0]):
+        for j in range(mat.shape[1]):
+            if mat[i, j] != 0:
+                s = sp.Symbol(f"{stem}_{i}_{j}", real=True)
+                out[i, j], back[s] = s, mat[i, j]
+    return out, back
+
+
+def _total_jacobian(exprs, y, back):
+    """d exprs / d y where exprs are written in the placeholders of ``back``
+    (symbol -> expression of y): the chain rule through the placeholders, so
+    that no large expression is differentiated."""
+    syms = list(back)
+    D = sp.Matrix([[sp.diff(back[s], v) for v in y] for s in syms])
+    rows = []
+    for e in exprs:
+        direct = [sp.diff(e, v) for v in y]
+        through = [sp.diff(e, s) for s in syms]
+        rows.append([direct[j] + sum((through[k] * D[k, j] for k in range(len(syms))
+                                      if through[k] != 0 and D[k, j] != 0), sp.Integer(0))
+                     for j in range(len(y))])
+    return sp.Matrix(rows)
+
+
+def unilateral_closure(d):
+    """The contact may open (issue 24).  Two modes:
+
+    closed: the model above (the rotor rides on the contact point, (2.3));
+      it holds while F_n >= 0; its guard is F_n = 0 (F_n falling).
+    open:   the rotor's axial position Z_R and rate are states of their own:
+      M Z_R'' + F0 + c_R (Z_R - Z_ref) + d_R Z_R' = 0 (2.1 with F_n = 0); the
+      stator's rows (2.6) with F_n = F_t = 0; the rotor's moment balance (2.2)
+      with F_t = 0 (the load T alone decelerates it), its speed w_R a state of
+      its own in the stick model.  It holds while the gap Z_R - Z(theta) >= 0;
+      its guard is gap = 0 (gap falling).
+    separation (closed -> open): y = (x, Z(theta), Z', w_R(x)): continuous.
+    impact (open, gap = 0, gap' < 0): impulses P_n (normal) and P_t
+      (tangential) act on stator and rotor as the forces F_n, F_t do:
+      M_a dv = B (P_n, P_t), M_a the open mode's mass matrix of the
+      accelerations, B their force coefficients.  The contact velocities
+      (gap', v_rel) = G v change by W P, W = G M_a^-1 B; Newton's law
+      gap'+ = -e gap'- with, first, sticking v_rel+ = 0 (P from W); if then
+      |P_t| > mu0 P_n, sliding P_t = s mu0 P_n (s the sign of the sticking
+      P_t) with the normal law alone.
+    """
+    kin, plain = d.kin, d.plain
+    stick = d.phiR_f is None
+    Z_R, Z_Rd, Z_Rdd = sp.symbols("Z_R Z_Rdot Z_Rddot", real=True)
+    new, new_names = [Z_R, Z_Rd], ["Z_R", "Z_Rdot"]
+    acc_new = [Z_Rdd]
+    if stick:
+        w_R, w_Rd = sp.symbols("w_R w_Rdot", real=True)
+        new.append(w_R)
+        new_names.append("w_R")
+        acc_new.append(w_Rd)
+    n = d.n
+    y = list(d.states) + new
+    ny = len(y)
+    # the open mode's rows with the contact forces as symbols (B comes out of them)
+    stator = d.dLdt_A - (d.M_E_A - d.M_R_A - d.M_D_A + d.M_C_A)                  # (2.6)
+    rows = [plain(r) for r in _rotor_rows_forces(d)] if not stick else []
+    rows += [plain(r) for r in stator.subs(d.Tw, d.twist_angle)]
+    rows.append(d.F_n_generic.subs({d.Zdd_s: Z_Rdd, d.Zd_s: Z_Rd, d.Z_s: Z_R},
+                                   simultaneous=True) - d.Fn_s)                # (2.1)
+    if stick:
+        rows.append(P["I_R"] * w_Rd - (d.Ft_s * plain(kin.R_star) - P["T"]))    # (2.2)
+    rows = sp.Matrix(rows)
+    acc = list(d.qdd) + acc_new
+    forces = [d.Fn_s, d.Ft_s]
+    M_a = rows.jacobian(acc)
+    B = -rows.jacobian(forces)
+    for e in list(M_a) + list(B):
+        if set(acc + forces) & e.free_symbols:
+            raise RuntimeError("open-mode rows are not linear in the accelerations and forces")
+    f_a = -rows.subs({a: 0 for a in acc + forces})
+    # positions of the velocities in y (the rows of the accelerations)
+    nq = d.nq
+    pos = [nq + i for i in range(nq)] + [n + 1] + ([n + 2] if stick else [])
+    mass = sp.eye(ny)
+    rhs = sp.Matrix(list(d.qd) + [0] * nq + [plain(r) for r in d.extra_rates] + [Z_Rd, 0]
+                    + ([0] if stick else []))
+    for i, pi in enumerate(pos):
+        for j, pj in enumerate(pos):
+            mass[pi, pj] = M_a[i, j]
+        rhs[pi] = f_a[i]
+    v = [sp.Symbol(f"v{i}", real=True) for i in range(ny)]
+    # outputs along an open motion, in the order of OUTPUT_NAMES
+    w_open = w_R if stick else plain(d.w_R)
+    v_rel = plain(kin.v_c) - w_open * plain(kin.R_star)
+    outputs = {"R_star": plain(kin.R_star), "Z": plain(kin.Z), "v_c": plain(kin.v_c),
+               "F_n": sp.Integer(0), "F_t": sp.Integer(0), "v_rel": v_rel,
+               "rotor_speed": -w_open}
+    ydot = [sp.Symbol(nm + "_rate", real=True) for nm in d.state_names + new_names]
+    # guards
+    F_n = d.outputs["F_n"]
+    gap = Z_R - plain(kin.Z)
+    gap_rate = Z_Rd - plain(kin.Z.diff(t))
+    # separation: the rotor leaves the contact point with its position and rates
+    sep = sp.Matrix(list(d.states) + [plain(kin.Z), plain(kin.Z.diff(t))]
+                    + ([plain(d.w_R)] if stick else []))
+    # impact: placeholders for M_a, B, G keep the formulas small
+    vel = [y[p_] for p_ in pos]
+    cv = sp.Matrix([gap_rate, v_rel])
+    G = cv.jacobian(vel)
+    if (cv - G * sp.Matrix(vel)).applyfunc(sp.expand) != sp.zeros(2, 1):
+        raise RuntimeError("contact velocities are not linear in the velocities")
+    Mp, back = _placeholders(M_a, "m")
+    Bp, bb = _placeholders(B, "b")
+    Gp, gb = _placeholders(G, "g")
+    back.update(bb)
+    back.update(gb)
+    Minv_B = _block_inverse(Mp) * Bp
+    W = Gp * Minv_B
+    u = Gp * sp.Matrix(vel)
+    e = P["e_impact"]
+    s_sym = sp.Symbol("s", real=True)
+    detW = W[0, 0] * W[1, 1] - W[0, 1] * W[1, 0]
+    rhs_stick = sp.Matrix([-(1 + e) * u[0], -u[1]])
+    P_stick = sp.Matrix([(W[1, 1] * rhs_stick[0] - W[0, 1] * rhs_stick[1]) / detW,
+                         (W[0, 0] * rhs_stick[1] - W[1, 0] * rhs_stick[0]) / detW])
+    Pn_slide = -(1 + e) * u[0] / (W[0, 0] + s_sym * P["mu0"] * W[0, 1])
+    P_slide = sp.Matrix([Pn_slide, s_sym * P["mu0"] * Pn_slide])
+
+    def after(Pvec):
+        dv = Minv_B * Pvec
+        out = list(y)
+        for i, p_ in enumerate(pos):
+            out[p_] = y[p_] + dv[i]
+        return out + list(Pvec)
+    impact_stick = after(P_stick)
+    impact_slide = after(P_slide)
+    jac_stick = _total_jacobian(impact_stick[:ny], y, back)
+    jac_slide = _total_jacobian(impact_slide[:ny], y, back)
+    fill = {k: v_ for k, v_ in back.items()}
+    impact_stick = [sp.sympify(x_).xreplace(fill) for x_ in impact_stick]
+    impact_slide = [sp.sympify(x_).xreplace(fill) for x_ in impact_slide]
+    jac_stick = jac_stick.xreplace(fill)
+    jac_slide = jac_slide.xreplace(fill)
+    # kinetic energy of the open state: the stator's (I_A from its principal
+    # moments, independent of the rows above), the rotor's axial and turning
+    omega = kin.omega_A.applyfunc(plain)
+    kinetic = ((omega.T * d.I_A.applyfunc(plain) * omega)[0] / 2 + P["M"] * Z_Rd ** 2 / 2
+               + P["I_R"] * w_open ** 2 / 2)
+    d.unilateral = {
+        "states": y, "state_names": d.state_names + new_names, "new_names": new_names,
+        "ny": ny, "mass": mass, "rhs": rhs, "v": v,
+        "jac_rhs": rhs.jacobian(y), "jac_mass": (mass * sp.Matrix(v)).jacobian(y),
+        "outputs": outputs, "ydot": ydot,
+        "guard_closed": F_n, "guard_closed_grad": [sp.diff(F_n, s_) for s_ in d.states]
+        + [sp.diff(F_n, s_) for s_ in d.xdot],
+        "gap": gap, "gap_grad": [sp.diff(gap, s_) for s_ in y],
+        "contact_velocity": [gap_rate, v_rel],
+        "contact_velocity_grad": list(cv.jacobian(y)),
+        "separation": sep, "separation_jac": sep.jacobian(d.states),
+        "impact_stick": impact_stick, "impact_slide": impact_slide, "s": s_sym,
+        "impact_stick_jac": jac_stick, "impact_slide_jac": jac_slide,
+        "kinetic": kinetic,
+        # explicit time derivatives of f (the excitation), for the guards' rates
+        "closed_rhs_t": d.rhs.diff(t), "open_rhs_t": rhs.diff(t),
+        # for the documents
+        "rows": rows, "acc": acc, "forces": forces, "Z_R": Z_R,
+    }
+
+
+def _rotor_rows_forces(d):
+    """The rotor's moment balance (2.2) with F_t a symbol (slip models)."""
+    return [d.rotor_balance]
+
+
+# Assumption closure.
+CLOSURE = {"bilateral": bilateral_closure, "unilateral": unilateral_closure}
+
+
 def document_pieces(d):
     """Pieces for the readable export (derive/usm_derive/emit_doc.py)."""
     kin, plain = d.kin, d.plain
@@ -665,6 +881,7 @@ def derive_model(name, assumptions):
     twist = _choose(TWIST, "twist law", assumptions["twist"])
     imperfection = _choose(IMPERFECTION, "imperfection",
                            assumptions.get("imperfection", "none"))
+    closure = _choose(CLOSURE, "closure", assumptions.get("closure", "bilateral"))
     # the equations of motion, assumption by assumption
     kinematics(d, rotor_angle)
     normal_force(d, assumptions["spring_reference"])
@@ -688,6 +905,7 @@ def derive_model(name, assumptions):
     tangent_map(d)
     linearisation(d)
     cyclic_states(d)
+    closure(d)
     return Model(name=name, assumptions=dict(assumptions), states=d.states,
                  state_names=d.state_names, mass=d.mass, rhs=d.rhs, v=d.v,
                  outputs=d.outputs, xdot=d.xdot, unknowns=d.unknowns,
@@ -698,4 +916,5 @@ def derive_model(name, assumptions):
                  jac_mass=d.jac_mass, t0_independent=d.t0_independent, cyclic=d.cyclic,
                  equations=document_pieces(d), steady_power=d.steady_power,
                  floquet_direction=d.floquet_direction,
-                 direction_symbols=list(zip(d.dir_vars, d.dir_syms)))
+                 direction_symbols=list(zip(d.dir_vars, d.dir_syms)),
+                 unilateral=d.unilateral)

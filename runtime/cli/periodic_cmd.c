@@ -133,6 +133,52 @@ static void table(const usm_periodic_result *r, const char *model)
         printf("  squeal frequency   none: %s\n", sq.reason);
 }
 
+static void hybrid_table(const usm_hybrid_result *r, const char *model)
+{
+    printf("usm periodic: model %s, an orbit with separation (period %.10g s, section at "
+           "t = %.10g s)\n", model, r->period, r->t0);
+    printf("  converged in %d Newton iterations, residual %.3g\n", r->iterations, r->residual);
+    printf("  rotor speed mean      %.10g 1/s\n", r->rotor_speed_mean);
+    printf("  mode sequence         %s (c closed, o open; from the section)\n", r->mode_sequence);
+    printf("  separation fraction   %.6f of the period\n", r->separation_fraction);
+    printf("  per period            %d separations, %d impacts (%d needing more than mu0)\n",
+           r->separations_per_period, r->impacts_per_period, r->impacts_slipping);
+    printf("  impact velocity max   %.6g m/s\n", r->impact_velocity_max);
+    printf("  Floquet multipliers (with saltation matrices; max |lambda| %.10g, %s):\n",
+           r->floquet.max_modulus, r->floquet.stable ? "stable" : "UNSTABLE");
+    for (int i = 0; i < r->floquet.n; ++i)
+        printf("    %+.10f %+.10fi%s\n", r->floquet.re[i], r->floquet.im[i],
+               r->floquet.cyclic[i] ? "  (cyclic coordinate)" : "");
+}
+
+/* A unilateral model whose orbit separates: the hybrid shooting. */
+static int solve_hybrid(const periodic_args *a)
+{
+    usm_hybrid *h = usm_hybrid_alloc(a->common.model);
+    usm_hybrid_result r;
+    if (!h) {
+        cli_error("out of memory");
+        return USM_EFAILED;
+    }
+    if (a->orbit)
+        cli_error("warning: --orbit is not written for an orbit with separation (not implemented)");
+    int status = usm_hybrid_solve(h, &a->common.params, NULL, &r);
+    if (status == USM_EINPUT)
+        cli_error("%s", usm_hybrid_message(h));
+    else if (a->common.json) {
+        if (usm_hybrid_write_json(a->common.model, &a->common.params, status ? NULL : &r,
+                                  usm_hybrid_message(h), stdout) != 0) {
+            cli_error("out of memory or write error");
+            status = USM_EFAILED;
+        }
+    } else if (status == USM_OK)
+        hybrid_table(&r, a->common.model->name);
+    else
+        cli_error("periodic: %s", usm_hybrid_message(h));
+    usm_hybrid_free(h);
+    return status;
+}
+
 int cli_periodic_main(int argc, char **argv)
 {
     periodic_args a;
@@ -157,6 +203,13 @@ int cli_periodic_main(int argc, char **argv)
         return USM_EFAILED;
     }
     int status = usm_periodic_solve(w, &a.common.params, NULL, NULL, &r);
+    if (a.common.model->unilateral && status != USM_EINPUT &&
+        !(status == USM_OK && !r.contact_open)) {
+        /* the contact opens on the bilateral orbit (or there is none): the
+         * orbit with separation (docs/unilateral.md) */
+        usm_periodic_free(w);
+        return solve_hybrid(&a);
+    }
     if (status == USM_OK && a.orbit && (status = write_orbit(&a, w, msg)) != USM_OK)
         cli_error("--orbit %s", msg);
     else if (status == USM_EINPUT)

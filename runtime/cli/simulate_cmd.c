@@ -370,7 +370,11 @@ static void on_progress(double t, double t0, double t1, void *data)
 
 static void warnings(const usm_sim_summary *s, double mu0)
 {
-    if (s->contact_open.count)
+    if (s->unilateral && s->impacts_slipping)
+        cli_error("warning: %ld impacts needed a friction impulse above mu0 P_n; the stick model "
+                  "sticks regardless and does not describe them (the 4-DOF model does)",
+                  s->impacts_slipping);
+    if (s->contact_open.count && !s->unilateral)
         cli_error("warning: F_n < 0 (the contact would open; the model assumes it never does) in "
                   "%ld interval%s from t = %.6g s to %.6g s, total %.6g s, min F_n = %.4g N",
                   s->contact_open.count, s->contact_open.count == 1 ? "" : "s",

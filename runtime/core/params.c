@@ -91,6 +91,11 @@ int usm_params_check(const usm_params *p, const usm_model *m, char msg[USM_MSG_L
                      info->description, v);
             return USM_EINPUT;
         }
+        if (usm_param_constraints[i] == USM_CONSTRAINT_UNIT_INTERVAL && !(v >= 0.0 && v <= 1.0)) {
+            snprintf(msg, USM_MSG_LEN, "%s: must lie in [0, 1] (%s), got %g", info->name,
+                     info->description, v);
+            return USM_EINPUT;
+        }
     }
     if (!(fabs(p->amp_imbalance) <= 1.0)) {
         snprintf(msg, USM_MSG_LEN,

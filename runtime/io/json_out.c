@@ -245,3 +245,31 @@ json_t *usm_json_periodic_result(const usm_periodic_result *r)
     }
     return o;
 }
+
+json_t *usm_json_hybrid_result(const usm_hybrid_result *r, int slip)
+{
+    json_t *o = json_object();
+    int ok = o != NULL;
+    const int valid = slip || r->impacts_slipping == 0;
+    usm_json_put(o, "rotor_speed_mean", usm_json_real(r->rotor_speed_mean), &ok);
+    usm_json_put(o, "floquet", usm_json_floquet(&r->floquet), &ok);
+    usm_json_put(o, "separation_fraction", usm_json_real(r->separation_fraction), &ok);
+    usm_json_put(o, "separations_per_period", json_integer(r->separations_per_period), &ok);
+    usm_json_put(o, "impacts_per_period", json_integer(r->impacts_per_period), &ok);
+    usm_json_put(o, "impacts_slipping", json_integer(r->impacts_slipping), &ok);
+    usm_json_put(o, "impact_velocity_max", usm_json_real(r->impact_velocity_max), &ok);
+    usm_json_put(o, "mode_sequence", json_string(r->mode_sequence), &ok);
+    usm_json_put(o, "section_t", usm_json_real(r->t0), &ok);
+    usm_json_put(o, "contact_open", json_true(), &ok);
+    /* the stick model does not describe an impact that needs more than mu0 */
+    usm_json_put(o, "valid", json_boolean(valid), &ok);
+    usm_json_put(o, "invalid_reason",
+                 valid ? json_null() : json_string(usm_validity_name(USM_INVALID_STICK)), &ok);
+    usm_json_put(o, "newton_iterations", json_integer(r->iterations), &ok);
+    usm_json_put(o, "residual", usm_json_real(r->residual), &ok);
+    if (!ok) {
+        json_decref(o);
+        return NULL;
+    }
+    return o;
+}

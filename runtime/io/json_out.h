@@ -41,6 +41,9 @@ void usm_json_put_squeal(json_t *obj, const usm_floquet_result *r, double f, int
 /* The keys of `usm periodic --json` for one orbit (all but model, parameters,
    converged): shared by `usm periodic` and the periodic sweep's points. */
 json_t *usm_json_periodic_result(const usm_periodic_result *r);
+/* The keys of an orbit with separation (usm periodic --json on a unilateral
+ * model, docs/unilateral.md); slip: the model's (its impacts may slide). */
+json_t *usm_json_hybrid_result(const usm_hybrid_result *r, int slip);
 
 /* Print `value` and a newline, then release it (NULL, a builder's "out of
  * memory", gives -1).  0, or -1. */

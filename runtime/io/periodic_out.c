@@ -47,6 +47,35 @@ int usm_periodic_write_json(const usm_periodic *w, const usm_params *p,
         json_t *orbit = usm_json_periodic_result(r);
         ok = ok && orbit && json_object_update(o, orbit) == 0;
         json_decref(orbit);
+        if (usm_periodic_model_of(w)->unilateral) {
+            /* a contact that may open, and here never does (docs/unilateral.md) */
+            usm_json_put(o, "separation_fraction", usm_json_real(0.0), &ok);
+            usm_json_put(o, "impacts_per_period", json_integer(0), &ok);
+            usm_json_put(o, "impact_velocity_max", usm_json_real(0.0), &ok);
+            usm_json_put(o, "mode_sequence", json_string("c"), &ok);
+        }
+    }
+    if (!ok) {
+        json_decref(o);
+        o = NULL;
+    }
+    return usm_json_write(o, out);
+}
+
+int usm_hybrid_write_json(const usm_model *m, const usm_params *p, const usm_hybrid_result *r,
+                          const char *error, FILE *out)
+{
+    json_t *o = json_object();
+    int ok = o != NULL;
+    usm_json_put(o, "model", json_string(m->name), &ok);
+    usm_json_put(o, "parameters", usm_json_params(p), &ok);
+    usm_json_put(o, "converged", json_boolean(r != NULL), &ok);
+    if (!r) {
+        usm_json_put(o, "error", json_string(error ? error : ""), &ok);
+    } else {
+        json_t *orbit = usm_json_hybrid_result(r, m->slip);
+        ok = ok && orbit && json_object_update(o, orbit) == 0;
+        json_decref(orbit);
     }
     if (!ok) {
         json_decref(o);

@@ -9,21 +9,46 @@
 int usm_periodic_sweep_csv(const usm_periodic_sweep *s, FILE *out)
 {
     const char *over = usm_periodic_sweep_over(s);
+    const usm_model *m = usm_periodic_sweep_model(s);
     fprintf(out, "%s [%s],converged,rotor_speed_mean [1/s],rotor_speed_ripple [1/s],F_n_min [N],"
                  "F_n_max [N],friction_needed_max [1],theta_mean [rad],theta_min [rad],"
                  "theta_max [rad],theta_harmonic_2 [rad],F_n_harmonic_2 [N],max_modulus [1],"
-                 "stable,contact_open,error,valid,invalid_reason\n",
-            over, usm_periodic_sweep_unit(s));
+                 "stable,contact_open,error,valid,invalid_reason%s\n",
+            over, usm_periodic_sweep_unit(s),
+            m->unilateral ? ",separating,separation_fraction [1],impacts_per_period,"
+                            "impact_velocity_max [m/s],mode_sequence" : "");
     for (size_t i = 0; i < usm_periodic_sweep_count(s); ++i) {
         const usm_periodic_point *pt = usm_periodic_sweep_point_at(s, i);
         const usm_periodic_result *r = &pt->orbit;
         char buf[32];
         fputs(usm_shortest(buf, pt->value), out);
+        if (pt->separating) {
+            /* the orbit with separation: its speed, multipliers and contact */
+            const usm_hybrid_result *h = &pt->hybrid;
+            const int valid = m->slip || h->impacts_slipping == 0;
+            usm_csv_bool(out, 0, 1);
+            usm_csv_num(out, 0, h->rotor_speed_mean);
+            fputs(",,,,,,,,,", out); /* ripple to F_n_harmonic_2: the bilateral orbit's */
+            usm_csv_num(out, 0, h->floquet.max_modulus);
+            usm_csv_bool(out, 0, h->floquet.stable);
+            usm_csv_bool(out, 0, 1);
+            fputc(',', out);
+            usm_csv_validity(out, 1, valid ? USM_VALID : USM_INVALID_STICK);
+            usm_csv_bool(out, 0, 1);
+            usm_csv_num(out, 0, h->separation_fraction);
+            fprintf(out, ",%d", h->impacts_per_period);
+            usm_csv_num(out, 0, h->impact_velocity_max);
+            usm_csv_text(out, 0, h->mode_sequence);
+            fputc('\n', out);
+            continue;
+        }
         usm_csv_bool(out, 0, pt->converged);
         if (!pt->converged) {
             fputs(",,,,,,,,,,,,,,", out);
             usm_csv_text(out, 0, pt->error);
             usm_csv_validity(out, 0, USM_VALID);
+            if (m->unilateral)
+                fputs(",false,,,,", out);
             fputc('\n', out);
             continue;
         }
@@ -36,6 +61,8 @@ int usm_periodic_sweep_csv(const usm_periodic_sweep *s, FILE *out)
         usm_csv_bool(out, 0, r->contact_open);
         fputc(',', out);
         usm_csv_validity(out, 1, r->validity);
+        if (m->unilateral) /* the contact does not open here, or no orbit with separation */
+            fputs(r->contact_open ? ",false,,,," : ",false,0,0,0,c", out);
         fputc('\n', out);
     }
     for (size_t i = 0; i < usm_periodic_sweep_event_count(s); ++i) {
@@ -59,12 +86,27 @@ static json_t *sweep_json(const usm_periodic_sweep *s, const usm_params *p)
     usm_json_put(obj, "parameters", usm_json_params(p), &ok);
     for (size_t i = 0; ok && i < usm_periodic_sweep_count(s); ++i) {
         const usm_periodic_point *pt = usm_periodic_sweep_point_at(s, i);
-        json_t *o = pt->converged ? usm_json_periodic_result(&pt->orbit) : json_object();
+        const usm_model *m = usm_periodic_sweep_model(s);
+        /* a unilateral model's point past contact loss: the orbit with separation */
+        json_t *o = pt->separating ? usm_json_hybrid_result(&pt->hybrid, m->slip)
+                    : pt->converged ? usm_json_periodic_result(&pt->orbit)
+                                    : json_object();
         int pok = o != NULL;
+        if (m->unilateral)
+            usm_json_put(o, "separating", json_boolean(pt->separating), &pok);
+        if (m->unilateral && pt->converged && !pt->separating && !pt->orbit.contact_open) {
+            /* as usm periodic says of an orbit that never opens */
+            usm_json_put(o, "separation_fraction", usm_json_real(0.0), &pok);
+            usm_json_put(o, "impacts_per_period", json_integer(0), &pok);
+            usm_json_put(o, "impact_velocity_max", usm_json_real(0.0), &pok);
+            usm_json_put(o, "mode_sequence", json_string("c"), &pok);
+        }
         usm_json_put(o, over, usm_json_real(pt->value), &pok);
-        usm_json_put(o, "converged", json_boolean(pt->converged), &pok);
-        if (!pt->converged)
+        usm_json_put(o, "converged", json_boolean(pt->converged || pt->separating), &pok);
+        if (!pt->converged && !pt->separating)
             usm_json_put(o, "error", json_string(pt->error), &pok);
+        else if (!pt->separating && pt->error[0]) /* why no orbit with separation */
+            usm_json_put(o, "separation_error", json_string(pt->error), &pok);
         if (!pok || json_array_append_new(points, o) != 0)
             ok = 0;
     }

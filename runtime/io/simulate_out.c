@@ -120,7 +120,15 @@ void usm_sim_write_table(const usm_sim_report *a, FILE *out)
     else
         fprintf(out, "  %-22s none of the %zu stationary solution%s, and no decay to rest\n",
                 "settled on", s->roots, s->roots == 1 ? "" : "s");
-    if (s->contact_open.count)
+    if (s->unilateral) {
+        fprintf(out, "  %-22s %ld separations, %ld impacts (largest approach velocity %.4g m/s), "
+                "open %.6g of the time\n", "unilateral contact", s->separations, s->impacts,
+                s->impact_velocity_max, s->open_fraction);
+        if (s->impacts_slipping)
+            fprintf(out, "  %-22s %ld impacts needed a friction impulse above mu0 P_n (the stick "
+                    "model sticks regardless: it does not describe them)\n", "impacts slipping",
+                    s->impacts_slipping);
+    } else if (s->contact_open.count)
         episodes_line(out, "F_n < 0 (contact opens)", &s->contact_open, "most negative F_n", "N");
     if (s->stick_checked && s->stick_exceeded.count)
         episodes_line(out, "|F_t| > mu0 F_n", &s->stick_exceeded, "largest |F_t| - mu0 F_n", "N");
@@ -219,6 +227,15 @@ static json_t *summary_json(const usm_sim_report *a)
         }
     }
     usm_json_put(o, "contact_open", episodes_json(&s->contact_open, "min_F_n"), &ok);
+    if (s->unilateral) {
+        /* a contact that may open (docs/unilateral.md) */
+        usm_json_put(o, "separations", json_integer(s->separations), &ok);
+        usm_json_put(o, "impacts", json_integer(s->impacts), &ok);
+        usm_json_put(o, "impacts_slipping", json_integer(s->impacts_slipping), &ok);
+        usm_json_put(o, "impact_velocity_max", usm_json_real(s->impact_velocity_max), &ok);
+        usm_json_put(o, "open_fraction", usm_json_real(s->open_fraction), &ok);
+        usm_json_put(o, "final_open", json_boolean(s->final_open), &ok);
+    }
     if (s->stick_checked)
         usm_json_put(o, "stick_exceeded", episodes_json(&s->stick_exceeded, "max_excess"), &ok);
     for (int i = 0; i < m->nx && ok; ++i) {

@@ -42,10 +42,25 @@ struct usm_sim {
     usm_sim_options o;
     double Omega, t0, t1;
     /* integrator state z = T x + c + d (t - t0) (see to_x) */
-    double c[USM_MAX_NX], d[USM_MAX_NX];
-    double ewt_scale[USM_MAX_NX];
-    unsigned char ewt_absolute[USM_MAX_NX];
+    double c[USM_MAX_NY], d[USM_MAX_NY];
+    double ewt_scale[USM_MAX_NY];
+    unsigned char ewt_absolute[USM_MAX_NY];
     int nroots;
+    /* the contact mode (usm_model.unilateral): 0 closed (the model's kernels,
+     * n = nx), 1 open (the open mode's kernels, n = ny) */
+    const usm_unilateral *u;  /* NULL: the contact never opens */
+    int nx, mode;
+    void (*k_mass)(const double *x, const usm_params *p, double *out);
+    void (*k_rhs)(const double *x, double t, const usm_params *p, double *out);
+    void (*k_jac_rhs)(const double *x, double t, const usm_params *p, double *out);
+    void (*k_jac_mass)(const double *x, const double *v, const usm_params *p, double *out);
+    void (*k_outputs)(const double *x, const double *xdot, double t, const usm_params *p,
+                      double *out);
+    gsl_matrix *Mxs[2], *Gs[2];
+    gsl_permutation *perms[2];
+    long stats_done[5];  /* steps, rhs, jac, error test and Newton failures of the
+                          * integrators of earlier modes (each switch makes a new one) */
+    double v_land;       /* a bounce slower than this lands (usm_simulate.h) */
     /* SUNDIALS */
     SUNContext ctx;
     void *cv;
@@ -117,6 +132,30 @@ const char *usm_sim_stop_name(usm_sim_stop stop)
 
 const char *usm_sim_message(const usm_sim *s) { return s->msg; }
 
+/* The kernels and workspace of contact mode `mode` (0 closed, 1 open). */
+static void set_mode(usm_sim *s, int mode)
+{
+    s->mode = mode;
+    s->Mx = s->Mxs[mode];
+    s->G = s->Gs[mode];
+    s->perm = s->perms[mode];
+    if (mode == 0) {
+        s->n = s->m->nx;
+        s->k_mass = s->m->mass;
+        s->k_rhs = s->m->rhs;
+        s->k_jac_rhs = s->m->jac_rhs;
+        s->k_jac_mass = s->m->jac_mass;
+        s->k_outputs = s->m->outputs;
+    } else {
+        s->n = s->u->ny;
+        s->k_mass = s->u->open_mass;
+        s->k_rhs = s->u->open_rhs;
+        s->k_jac_rhs = s->u->open_jac_rhs;
+        s->k_jac_mass = s->u->open_jac_mass;
+        s->k_outputs = s->u->open_outputs;
+    }
+}
+
 usm_sim *usm_sim_alloc(const usm_model *m)
 {
     usm_sim *s = calloc(1, sizeof *s);
@@ -133,11 +172,19 @@ usm_sim *usm_sim_alloc(const usm_model *m)
     s->ipsid = m->x_psidot;
     s->layout_ok = s->iphi >= 0 && s->ith >= 0 && s->ipsi >= 0 && s->iphid >= 0 &&
                    s->ithd >= 0 && s->ipsid >= 0;
-    s->Mx = gsl_matrix_alloc((size_t)s->n, (size_t)s->n);
-    s->G = gsl_matrix_alloc((size_t)s->n, (size_t)s->n);
-    s->perm = gsl_permutation_alloc((size_t)s->n);
+    s->nx = m->nx;
+    s->u = m->unilateral;
+    int ok = 1;
+    for (int k = 0; k < (s->u ? 2 : 1); ++k) {
+        const size_t n = (size_t)(k ? s->u->ny : m->nx);
+        s->Mxs[k] = gsl_matrix_alloc(n, n);
+        s->Gs[k] = gsl_matrix_alloc(n, n);
+        s->perms[k] = gsl_permutation_alloc(n);
+        ok = ok && s->Mxs[k] && s->Gs[k] && s->perms[k];
+    }
+    set_mode(s, 0);
     s->steady = usm_steady_alloc(m);
-    if (!s->Mx || !s->G || !s->perm || !s->steady || SUNContext_Create(NULL, &s->ctx) != 0) {
+    if (!ok || !s->steady || SUNContext_Create(NULL, &s->ctx) != 0) {
         s->ctx = NULL;
         usm_sim_free(s);
         return NULL;
@@ -170,9 +217,11 @@ void usm_sim_free(usm_sim *s)
     free_integrator(s);
     if (s->ctx)
         SUNContext_Free(&s->ctx);
-    gsl_matrix_free(s->Mx);
-    gsl_matrix_free(s->G);
-    gsl_permutation_free(s->perm);
+    for (int k = 0; k < 2; ++k) {
+        gsl_matrix_free(s->Mxs[k]);
+        gsl_matrix_free(s->Gs[k]);
+        gsl_permutation_free(s->perms[k]);
+    }
     usm_steady_free(s->steady);
     free(s->root_run);
     free(s);
@@ -194,7 +243,7 @@ static void to_x(const usm_sim *s, double t, const double *z, double *x)
 static void to_z(const usm_sim *s, double t, const double *x, double *z)
 {
     const double dt = t - s->t0;
-    double u[USM_MAX_NX];
+    double u[USM_MAX_NY];
     memcpy(u, x, sizeof(double) * (size_t)s->n);
     u[s->iphi] += u[s->ipsi];
     u[s->iphid] += u[s->ipsid];
@@ -215,9 +264,9 @@ static void to_zdot(const usm_sim *s, const double *xdot, double *zdot)
 static int factor_mass(usm_sim *s, const double *x)
 {
     const int n = s->n;
-    double M[USM_MAX_NX * USM_MAX_NX];
+    double M[USM_MAX_NY * USM_MAX_NY];
     int sign;
-    s->m->mass(x, &s->p, M);
+    s->k_mass(x, &s->p, M);
     for (int i = 0; i < n * n; ++i) {
         if (!isfinite(M[i]))
             return -1;
@@ -239,7 +288,7 @@ static int evaluate(usm_sim *s, double t, const double *y, double *x, double *xd
     to_x(s, t, y, x);
     if (factor_mass(s, x) != 0)
         return -1;
-    s->m->rhs(x, t, &s->p, xdot);
+    s->k_rhs(x, t, &s->p, xdot);
     gsl_vector_view v = gsl_vector_view_array(xdot, (size_t)s->n);
     if (gsl_linalg_LU_svx(s->Mx, s->perm, &v.vector) != GSL_SUCCESS)
         return -1;
@@ -252,7 +301,7 @@ static int evaluate(usm_sim *s, double t, const double *y, double *x, double *xd
 static int cv_rhs(sunrealtype t, N_Vector yv, N_Vector ydot, void *data)
 {
     usm_sim *s = data;
-    double x[USM_MAX_NX], xdot[USM_MAX_NX];
+    double x[USM_MAX_NY], xdot[USM_MAX_NY];
     if (evaluate(s, t, N_VGetArrayPointer(yv), x, xdot) != 0)
         return 1; /* recoverable: CVODES retries with a smaller step */
     to_zdot(s, xdot, N_VGetArrayPointer(ydot));
@@ -274,8 +323,8 @@ static int cv_jac(sunrealtype t, N_Vector yv, N_Vector fy, SUNMatrix J, void *da
 {
     usm_sim *s = data;
     const int n = s->n;
-    double x[USM_MAX_NX], xdot[USM_MAX_NX];
-    double Jf[USM_MAX_NX * USM_MAX_NX], Jm[USM_MAX_NX * USM_MAX_NX];
+    double x[USM_MAX_NY], xdot[USM_MAX_NY];
+    double Jf[USM_MAX_NY * USM_MAX_NY], Jm[USM_MAX_NY * USM_MAX_NY];
     const double *f = N_VGetArrayPointer(fy);
     (void)tmp1;
     (void)tmp2;
@@ -284,8 +333,8 @@ static int cv_jac(sunrealtype t, N_Vector yv, N_Vector fy, SUNMatrix J, void *da
     to_xdot(s, f, xdot);
     if (factor_mass(s, x) != 0)
         return 1;
-    s->m->jac_rhs(x, t, &s->p, Jf);
-    s->m->jac_mass(x, xdot, &s->p, Jm);
+    s->k_jac_rhs(x, t, &s->p, Jf);
+    s->k_jac_mass(x, xdot, &s->p, Jm);
     for (int i = 0; i < n * n; ++i)
         s->G->data[i] = Jf[i] - Jm[i];
     for (int j = 0; j < n; ++j) {
@@ -315,11 +364,11 @@ static int cv_jac(sunrealtype t, N_Vector yv, N_Vector fy, SUNMatrix J, void *da
 static int cv_quad(sunrealtype t, N_Vector yv, N_Vector qdot, void *data)
 {
     usm_sim *s = data;
-    double x[USM_MAX_NX], xdot[USM_MAX_NX], out[USM_OUT_COUNT];
+    double x[USM_MAX_NY], xdot[USM_MAX_NY], out[USM_OUT_COUNT];
     double *d = N_VGetArrayPointer(qdot);
     if (evaluate(s, t, N_VGetArrayPointer(yv), x, xdot) != 0)
         return 1;
-    s->m->outputs(x, xdot, t, &s->p, out);
+    s->k_outputs(x, xdot, t, &s->p, out);
     d[0] = x[s->ith];
     d[1] = out[USM_OUT_ROTOR_SPEED];
     return isfinite(d[1]) ? 0 : 1;
@@ -331,10 +380,10 @@ static int cv_quad(sunrealtype t, N_Vector yv, N_Vector qdot, void *data)
 static int cv_roots(sunrealtype t, N_Vector yv, sunrealtype *g, void *data)
 {
     usm_sim *s = data;
-    double x[USM_MAX_NX], xdot[USM_MAX_NX], out[USM_OUT_COUNT];
+    double x[USM_MAX_NY], xdot[USM_MAX_NY], out[USM_OUT_COUNT];
     if (evaluate(s, t, N_VGetArrayPointer(yv), x, xdot) != 0)
         return -1;
-    s->m->outputs(x, xdot, t, &s->p, out);
+    s->k_outputs(x, xdot, t, &s->p, out);
     const double theta = x[s->ith], Fn = out[USM_OUT_F_N], Ft = out[USM_OUT_F_T];
     const double speed = out[USM_OUT_ROTOR_SPEED];
     g[ROOT_TILT_ZERO] = theta;
@@ -343,13 +392,23 @@ static int cv_roots(sunrealtype t, N_Vector yv, sunrealtype *g, void *data)
     g[ROOT_FN] = Fn;
     if (s->nroots > ROOT_STICK)
         g[ROOT_STICK] = s->p.mu0 * Fn - fabs(Ft);
+    if (s->mode == 1) {
+        /* open: the guard is the gap; no contact force, nothing to check */
+        double gap[1 + USM_MAX_NY];
+        s->u->guard_open(x, &s->p, gap);
+        g[ROOT_FN] = gap[0];
+        if (s->nroots > ROOT_STICK)
+            g[ROOT_STICK] = 1.0;
+    }
     for (int i = 0; i < s->nroots; ++i)
         if (!isfinite(g[i]))
             return -1;
     s->sum->theta_min = fmin(s->sum->theta_min, theta);
     s->sum->theta_max = fmax(s->sum->theta_max, theta);
-    s->Fn_min = fmin(s->Fn_min, Fn);
-    s->excess_max = fmax(s->excess_max, fabs(Ft) - s->p.mu0 * Fn);
+    if (s->mode == 0) {
+        s->Fn_min = fmin(s->Fn_min, Fn);
+        s->excess_max = fmax(s->excess_max, fabs(Ft) - s->p.mu0 * Fn);
+    }
     return 0;
 }
 
@@ -446,6 +505,11 @@ static int check_params(usm_sim *s, const usm_params *p)
         snprintf(s->msg, USM_MSG_LEN, "%s", why);
         return USM_EINPUT;
     }
+    if (s->m->unilateral && !(p->M > 0)) {
+        snprintf(s->msg, USM_MSG_LEN, "M: must be positive for a contact that may open (the "
+                 "rotor's axial motion is a state of its own), got %g", p->M);
+        return USM_EINPUT;
+    }
     return USM_OK;
 }
 
@@ -466,7 +530,10 @@ static int cv_setup_fail(usm_sim *s, const char *call, int flag)
     return USM_EFAILED;
 }
 
-static int setup_integrator(usm_sim *s, const double *x0, double rotor_angle0)
+/* A new integrator for the current mode from state x at time t, quadratures
+ * q0 (int theta dt) and q1 (the rotor angle).  A switch of the contact mode
+ * restarts the integration (a new state length, a discontinuous derivative). */
+static int setup_integrator(usm_sim *s, double t, const double *x0, double q0, double q1)
 {
     const int n = s->n;
     int flag;
@@ -484,14 +551,16 @@ static int setup_integrator(usm_sim *s, const double *x0, double rotor_angle0)
         snprintf(s->msg, USM_MSG_LEN, "CVODES: out of memory");
         return USM_EFAILED;
     }
-    to_z(s, s->t0, x0, N_VGetArrayPointer(s->y));
+    to_z(s, t, x0, N_VGetArrayPointer(s->y));
     double *q = N_VGetArrayPointer(s->q);
-    q[0] = 0.0;
-    q[1] = rotor_angle0;
-    int dir[NROOTS] = {-1, -1, -1, 0, 0};
+    q[0] = q0;
+    q[1] = q1;
+    /* F_n: both ways for the episodes; a unilateral contact opens where F_n
+     * falls through 0 and closes where the gap does */
+    int dir[NROOTS] = {-1, -1, -1, s->u ? -1 : 0, 0};
     if ((flag = CVodeSetErrHandlerFn(s->cv, cv_errors, s)) != CV_SUCCESS)
         return cv_setup_fail(s, "CVodeSetErrHandlerFn", flag);
-    if ((flag = CVodeInit(s->cv, cv_rhs, s->t0, s->y)) != CV_SUCCESS)
+    if ((flag = CVodeInit(s->cv, cv_rhs, t, s->y)) != CV_SUCCESS)
         return cv_setup_fail(s, "CVodeInit", flag);
     if ((flag = CVodeSetUserData(s->cv, s)) != CV_SUCCESS)
         return cv_setup_fail(s, "CVodeSetUserData", flag);
@@ -563,7 +632,7 @@ static double period_end(const usm_sim *s, const run_state *r)
 
 static int emit_sample(usm_sim *s, run_state *r, double t, const double *y, const double *q)
 {
-    double x[USM_MAX_NX], xdot[USM_MAX_NX];
+    double x[USM_MAX_NY], xdot[USM_MAX_NY];
     usm_sim_sample smp;
     memset(&smp, 0, sizeof smp);
     if (evaluate(s, t, y, x, xdot) != 0) {
@@ -572,9 +641,15 @@ static int emit_sample(usm_sim *s, run_state *r, double t, const double *y, cons
         for (int i = 0; i < s->n; ++i)
             xdot[i] = NAN;
     }
-    s->m->outputs(x, xdot, t, &s->p, smp.out);
+    s->k_outputs(x, xdot, t, &s->p, smp.out);
     smp.t = t;
-    smp.nx = s->n;
+    smp.nx = s->nx; /* the open mode's y begins with x */
+    smp.open = s->mode;
+    if (s->mode == 1) {
+        double gap[1 + USM_MAX_NY];
+        s->u->guard_open(x, &s->p, gap);
+        smp.gap = gap[0];
+    }
     smp.x = x;
     smp.xdot = xdot;
     smp.phi = x[s->iphi];
@@ -588,7 +663,8 @@ static int emit_sample(usm_sim *s, run_state *r, double t, const double *y, cons
     smp.have_avg = r->have_avg;
     smp.theta_avg = r->theta_avg;
     smp.rotor_speed_avg = r->speed_avg;
-    smp.validity = !(smp.out[USM_OUT_F_N] > 0) ? USM_INVALID_CONTACT_OPEN
+    smp.validity = s->mode == 1 ? USM_VALID /* the unilateral model describes it */
+                   : !(smp.out[USM_OUT_F_N] > 0) ? USM_INVALID_CONTACT_OPEN
                    : !s->m->slip && fabs(smp.out[USM_OUT_F_T]) > s->p.mu0 * smp.out[USM_OUT_F_N]
                        ? USM_INVALID_STICK
                        : USM_VALID;
@@ -700,16 +776,123 @@ static void callback_stop(usm_sim *s, double t)
     snprintf(s->sum->reason, USM_MSG_LEN, "stopped by the sample callback at t = %.9g s", t);
 }
 
+/* Accumulate the integrator's counters (before it is replaced). */
+static void bank_stats(usm_sim *s)
+{
+    long v[5] = {0, 0, 0, 0, 0};
+    CVodeGetNumSteps(s->cv, &v[0]);
+    CVodeGetNumRhsEvals(s->cv, &v[1]);
+    CVodeGetNumJacEvals(s->cv, &v[2]);
+    CVodeGetNumErrTestFails(s->cv, &v[3]);
+    CVodeGetNumNonlinSolvConvFails(s->cv, &v[4]);
+    for (int k = 0; k < 5; ++k)
+        s->stats_done[k] += v[k];
+}
+
+/* Continue in mode `mode` from state x (that mode's layout) at t. */
+static int switch_mode(usm_sim *s, int mode, double t, const double *x, const double *q)
+{
+    if (s->cv)
+        bank_stats(s);
+    set_mode(s, mode);
+    int rc = setup_integrator(s, t, x, q[0], q[1]);
+    if (rc != USM_OK) {
+        s->sum->stop = USM_SIM_INTEGRATOR;
+        snprintf(s->sum->reason, USM_MSG_LEN, "after a contact switch at t = %.9g s: %.200s", t,
+                 s->msg);
+    }
+    return rc;
+}
+
+/* The contact opens (closed mode, F_n fell through 0) at t: the separation
+ * map, the open mode.  x: the closed state. */
+static int separate(usm_sim *s, double t, const double *x, const double *q)
+{
+    double yx[USM_MAX_NY * (USM_MAX_NY + 1)];
+    s->u->separation(x, &s->p, yx);
+    s->sum->separations++;
+    episode_begin(&s->in_open, &s->open_since, &s->sum->contact_open, t);
+    /* no contact force while open: the stick check rests until it closes */
+    episode_end(&s->in_stick, s->stick_since, &s->sum->stick_exceeded, t);
+    return switch_mode(s, 1, t, yx, q);
+}
+
+/* F_n of the closed mode at state x (which must be evaluable); NAN if not.
+ * Ft: F_t there. */
+static double closed_Fn(usm_sim *s, double t, const double *x, double *Ft)
+{
+    double xdot[USM_MAX_NY], out[USM_OUT_COUNT];
+    const int mode = s->mode;
+    double Fn = NAN;
+    *Ft = NAN;
+    set_mode(s, 0);
+    if (factor_mass(s, x) == 0) {
+        s->k_rhs(x, t, &s->p, xdot);
+        gsl_vector_view v = gsl_vector_view_array(xdot, (size_t)s->n);
+        if (gsl_linalg_LU_svx(s->Mx, s->perm, &v.vector) == GSL_SUCCESS) {
+            s->k_outputs(x, xdot, t, &s->p, out);
+            Fn = out[USM_OUT_F_N];
+            *Ft = out[USM_OUT_F_T];
+        }
+    }
+    set_mode(s, mode);
+    return Fn;
+}
+
+/* The rotor lands (open mode, the gap fell through 0) at t: the impact map
+ * (usm_simulate.h, "Unilateral contact"); then the closed mode, unless the
+ * rotor bounces (gap' after above v_land) or the closed mode would pull
+ * (F_n < 0: it lifts off again at once).  yv: the open state. */
+static int impact(usm_sim *s, double t, const double *yv, const double *q)
+{
+    const int ny = s->u->ny;
+    double cv[2 + 2 * USM_MAX_NY], out[USM_MAX_NY + 2];
+    usm_sim_summary *sum = s->sum;
+    s->u->contact_velocity(yv, &s->p, cv);
+    const double gd = cv[0];
+    double Ft0;
+    if (!(gd < 0) || (-gd <= s->v_land && closed_Fn(s, t, yv, &Ft0) < 0))
+        /* touching without approach, or grazing slower than v_land while the
+         * closed mode would pull the rotor off again: no impact */
+        return switch_mode(s, 1, t, yv, q);
+    sum->impacts++;
+    sum->impact_velocity_max = fmax(sum->impact_velocity_max, -gd);
+    s->u->impact_stick(yv, &s->p, out);
+    const double Pn = out[ny], Pt = out[ny + 1];
+    if (fabs(Pt) > s->p.mu0 * Pn) {
+        if (s->m->slip)
+            s->u->impact_slide(yv, Pt > 0 ? 1.0 : -1.0, &s->p, out);
+        else
+            sum->impacts_slipping++; /* the stick model sticks regardless */
+    }
+    for (int i = 0; i < ny; ++i)
+        if (!isfinite(out[i])) {
+            sum->stop = USM_SIM_INTEGRATOR;
+            snprintf(sum->reason, USM_MSG_LEN, "the impact at t = %.9g s gave a state that is "
+                     "not finite", t);
+            return USM_EFAILED;
+        }
+    s->u->contact_velocity(out, &s->p, cv);
+    double Ft;
+    const double Fn = cv[0] > s->v_land ? NAN : closed_Fn(s, t, out, &Ft);
+    if (!(Fn >= 0))
+        return switch_mode(s, 1, t, out, q);
+    episode_end(&s->in_open, s->open_since, &sum->contact_open, t);
+    if (s->nroots > ROOT_STICK && s->p.mu0 * Fn - fabs(Ft) < 0)
+        episode_begin(&s->in_stick, &s->stick_since, &sum->stick_exceeded, t);
+    return switch_mode(s, 0, t, out, q);
+}
+
 /* A root was located at t: record contact events; decide about runaway. */
-static int handle_roots(usm_sim *s, double t, const double *y)
+static int handle_roots(usm_sim *s, double t, const double *y, const double *q)
 {
     int found[NROOTS] = {0};
-    double x[USM_MAX_NX], xdot[USM_MAX_NX], out[USM_OUT_COUNT];
+    double x[USM_MAX_NY], xdot[USM_MAX_NY], out[USM_OUT_COUNT];
     usm_sim_summary *sum = s->sum;
     CVodeGetRootInfo(s->cv, found);
-    if (found[ROOT_FN] < 0)
+    if (!s->u && found[ROOT_FN] < 0)
         episode_begin(&s->in_open, &s->open_since, &sum->contact_open, t);
-    else if (found[ROOT_FN] > 0)
+    else if (!s->u && found[ROOT_FN] > 0)
         episode_end(&s->in_open, s->open_since, &sum->contact_open, t);
     if (s->nroots > ROOT_STICK) {
         if (found[ROOT_STICK] < 0)
@@ -718,7 +901,7 @@ static int handle_roots(usm_sim *s, double t, const double *y)
             episode_end(&s->in_stick, s->stick_since, &sum->stick_exceeded, t);
     }
     if (evaluate(s, t, y, x, xdot) == 0)
-        s->m->outputs(x, xdot, t, &s->p, out);
+        s->k_outputs(x, xdot, t, &s->p, out);
     else
         out[USM_OUT_ROTOR_SPEED] = NAN;
     if (found[ROOT_TILT_ZERO]) {
@@ -748,6 +931,13 @@ static int handle_roots(usm_sim *s, double t, const double *y)
                        : "in the driving direction");
         return 1;
     }
+    if (s->u && found[ROOT_FN]) {
+        /* a unilateral contact: the guard of the current mode was crossed */
+        double xs[USM_MAX_NY];
+        to_x(s, t, y, xs);
+        if ((s->mode == 0 ? separate(s, t, xs, q) : impact(s, t, xs, q)) != USM_OK)
+            return 1;
+    }
     return 0;
 }
 
@@ -768,7 +958,7 @@ static int initial_state(usm_sim *s, double *x0, double *rotor_angle0)
             x0[s->irot] = o->rotor_angle0;
         break;
     case USM_SIM_FROM_STATIONARY: {
-        double orbit[2 * USM_MAX_NX];
+        double orbit[2 * USM_MAX_NY];
         if (!s->sum->have_steady) {
             snprintf(s->msg, USM_MSG_LEN, "no stationary solution to start from: %.200s",
                      s->sum->steady_message);
@@ -837,22 +1027,35 @@ static void set_scales(usm_sim *s, const double *x0)
         s->ewt_scale[irotd] = theta_c * s->Omega;
     if (itau >= 0) /* an integrated twist angle: what the twist spring sees */
         s->ewt_absolute[itau] = 1;
+    if (s->u) {
+        /* an open contact: the gap is a fraction of R theta_c, its rate of
+         * R theta_c Omega; the stick model's free rotor speed as phi_Rdot */
+        s->ewt_absolute[s->u->y_Z_R] = 1;
+        s->ewt_scale[s->u->y_Z_R] = s->p.R * theta_c;
+        s->ewt_absolute[s->u->y_Z_Rdot] = 1;
+        s->ewt_scale[s->u->y_Z_Rdot] = s->p.R * theta_c * s->Omega;
+        if (s->u->y_w_R >= 0) {
+            s->ewt_absolute[s->u->y_w_R] = 0;
+            s->ewt_scale[s->u->y_w_R] = theta_c * s->Omega;
+        }
+    }
 }
 
 static void collect_stats(usm_sim *s)
 {
     long v;
     usm_sim_summary *sum = s->sum;
+    const long *done = s->stats_done;
     if (CVodeGetNumSteps(s->cv, &v) == CV_SUCCESS)
-        sum->steps = v;
+        sum->steps = v + done[0];
     if (CVodeGetNumRhsEvals(s->cv, &v) == CV_SUCCESS)
-        sum->rhs_evals = v;
+        sum->rhs_evals = v + done[1];
     if (CVodeGetNumJacEvals(s->cv, &v) == CV_SUCCESS)
-        sum->jac_evals = v;
+        sum->jac_evals = v + done[2];
     if (CVodeGetNumErrTestFails(s->cv, &v) == CV_SUCCESS)
-        sum->error_test_fails = v;
+        sum->error_test_fails = v + done[3];
     if (CVodeGetNumNonlinSolvConvFails(s->cv, &v) == CV_SUCCESS)
-        sum->newton_fails = v;
+        sum->newton_fails = v + done[4];
 }
 
 static int integrate(usm_sim *s, run_state *r)
@@ -876,7 +1079,9 @@ static int integrate(usm_sim *s, run_state *r)
         const double ts = sample_time(s, r), tp = period_end(s, r);
         const double tout = fmin(fmin(ts, tp), s->t1);
         s->cvmsg[0] = '\0';
-        int flag = CVode(s->cv, tout, s->y, &t, CV_NORMAL);
+        /* a contact switch that landed on tout restarted the integrator there:
+         * the state at tout is at hand */
+        int flag = tout <= t ? CV_SUCCESS : CVode(s->cv, tout, s->y, &t, CV_NORMAL);
         sum->t_reached = t;
         if (flag < 0) {
             char name[32];
@@ -889,8 +1094,9 @@ static int integrate(usm_sim *s, run_state *r)
         if (CVodeGetQuad(s->cv, &t, s->q) == CV_SUCCESS)
             memcpy(q, N_VGetArrayPointer(s->q), sizeof q);
         if (flag == CV_ROOT_RETURN) {
-            if (handle_roots(s, t, y))
+            if (handle_roots(s, t, y, q))
                 return USM_EFAILED;
+            y = N_VGetArrayPointer(s->y); /* a contact switch makes a new integrator */
             continue;
         }
         if (tout == tp) {
@@ -918,7 +1124,8 @@ static int integrate(usm_sim *s, run_state *r)
         if (tout >= s->t1)
             return USM_OK;
         long nst = 0;
-        if (CVodeGetNumSteps(s->cv, &nst) == CV_SUCCESS && nst >= max_steps) {
+        if (CVodeGetNumSteps(s->cv, &nst) == CV_SUCCESS && nst + s->stats_done[0] >= max_steps) {
+            nst += s->stats_done[0];
             sum->stop = USM_SIM_MAX_STEPS;
             snprintf(sum->reason, USM_MSG_LEN,
                      "step cap: %ld internal steps used by t = %.9g s (max_steps); "
@@ -970,7 +1177,7 @@ int usm_sim_run(usm_sim *s, const usm_params *p, const usm_sim_options *opt,
                 const usm_sim_callbacks *cb, usm_sim_summary *sum)
 {
     usm_sim_options def;
-    double x0[USM_MAX_NX], rotor_angle0;
+    double x0[USM_MAX_NY], rotor_angle0;
     run_state r;
     int rc;
     if (!opt) {
@@ -1031,10 +1238,15 @@ int usm_sim_run(usm_sim *s, const usm_params *p, const usm_sim_options *opt,
     sum->rest_theta_ref = fabs(x0[s->ith]);
     if (sum->have_steady)
         sum->rest_theta_ref = fmin(sum->rest_theta_ref, sum->steady.theta);
-    memcpy(sum->final_x, x0, sizeof(double) * (size_t)s->n);
+    memcpy(sum->final_x, x0, sizeof(double) * (size_t)s->nx);
+    /* a bounce slower than this lands: sqrt(rtol) of the contact point's speed scale */
+    s->v_land = sqrt(opt->rtol) * p->R * s->ewt_scale[s->ithd];
     sum->final_rotor_angle = s->irot >= 0 ? x0[s->irot] : rotor_angle0;
 
-    if ((rc = setup_integrator(s, x0, rotor_angle0)) != USM_OK)
+    set_mode(s, 0);
+    memset(s->stats_done, 0, sizeof s->stats_done);
+    sum->unilateral = s->u != NULL;
+    if ((rc = setup_integrator(s, s->t0, x0, 0.0, rotor_angle0)) != USM_OK)
         goto done;
     {
         double g[NROOTS];
@@ -1045,7 +1257,15 @@ int usm_sim_run(usm_sim *s, const usm_params *p, const usm_sim_options *opt,
             rc = USM_EINPUT;
             goto done;
         }
-        if (g[ROOT_FN] < 0)
+        if (g[ROOT_FN] < 0 && s->u) {
+            /* a unilateral contact that pulls at the start opens at once */
+            const double q0[2] = {0.0, rotor_angle0};
+            if (separate(s, s->t0, x0, q0) != USM_OK) {
+                snprintf(s->msg, USM_MSG_LEN, "%s", sum->reason);
+                rc = USM_EFAILED;
+                goto done;
+            }
+        } else if (g[ROOT_FN] < 0)
             episode_begin(&s->in_open, &s->open_since, &sum->contact_open, s->t0);
         if (s->nroots > ROOT_STICK && g[ROOT_STICK] < 0)
             episode_begin(&s->in_stick, &s->stick_since, &sum->stick_exceeded, s->t0);
@@ -1071,17 +1291,20 @@ int usm_sim_run(usm_sim *s, const usm_params *p, const usm_sim_options *opt,
     rc = integrate(s, &r);
     collect_stats(s);
     {
-        double x[USM_MAX_NX];
+        double x[USM_MAX_NY];
         to_x(s, sum->t_reached, N_VGetArrayPointer(s->y), x);
-        memcpy(sum->final_x, x, sizeof(double) * (size_t)s->n);
+        memcpy(sum->final_x, x, sizeof(double) * (size_t)s->nx);
+        sum->final_open = s->mode;
         sum->final_rotor_angle = s->irot >= 0 ? x[s->irot] : N_VGetArrayPointer(s->q)[1];
     }
     episode_end(&s->in_open, s->open_since, &sum->contact_open, sum->t_reached);
     episode_end(&s->in_stick, s->stick_since, &sum->stick_exceeded, sum->t_reached);
-    if (sum->contact_open.count)
-        sum->contact_open.worst = s->Fn_min;
+    if (sum->contact_open.count) /* a unilateral contact opens at F_n = 0 */
+        sum->contact_open.worst = s->u ? 0.0 : s->Fn_min;
     if (sum->stick_exceeded.count)
         sum->stick_exceeded.worst = s->excess_max;
+    if (s->u && sum->t_reached > s->t0)
+        sum->open_fraction = sum->contact_open.total / (sum->t_reached - s->t0);
     sum->settled = sum->have_steady && rc == USM_OK && sum->stop == USM_SIM_COMPLETED &&
                    r.in_tol_run >= opt->settle_periods;
     sum->settled_on = settled_on(s, &r, rc);

@@ -39,6 +39,7 @@ struct usm_periodic_sweep {
     double range, tol;
     int sat;            /* friction saturation: 0 not looked for, 1 located ahead, -1 not found */
     double sat_value;   /* its parameter value when sat = 1 */
+    usm_hybrid *hy;     /* unilateral models: the orbits with separation */
     char msg[USM_MSG_LEN];
 };
 
@@ -50,6 +51,8 @@ const char *usm_pevent_name(usm_pevent_type type)
     case USM_PEVENT_FOLD: return "fold";
     case USM_PEVENT_STABILITY_CHANGE: return "stability_change";
     case USM_PEVENT_FRICTION_SATURATION: return "friction_saturation";
+    case USM_PEVENT_CONTACT_REGAINED: return "contact_regained";
+    case USM_PEVENT_GRAZING: return "grazing";
     }
     return "unknown";
 }
@@ -91,6 +94,7 @@ void usm_periodic_sweep_free(usm_periodic_sweep *s)
     if (!s)
         return;
     usm_periodic_free(s->w);
+    usm_hybrid_free(s->hy);
     free(s->pts);
     free(s->ev);
     free(s);
@@ -277,7 +281,8 @@ static int emit_located(usm_periodic_sweep *s, int k, double v, const usm_period
     value_text(s, v, vt);
     const char *inc = dir_up ? "increases" : "decreases";
     if (k == G_CONTACT)
-        return add_event(s, USM_PEVENT_CONTACT_LOSS, v, r,
+        return add_event(s, rising && s->m->unilateral ? USM_PEVENT_CONTACT_REGAINED
+                                                       : USM_PEVENT_CONTACT_LOSS, v, r,
                          "F_n_min = 0 at %s: the contact %s once a period as %s %s%s", vt,
                          rising ? "closes again" : "opens", s->over, inc, how)
                    ? 0 : -1;
@@ -426,6 +431,68 @@ static int emit_saturation(usm_periodic_sweep *s, int dir_up)
                ? 0 : -1;
 }
 
+/* Unilateral models: the orbits with separation at the grid points whose
+ * bilateral orbit's contact opens (or that have none after such a point),
+ * each warm-started from the last; grazing events where the mode sequence
+ * changes; then every event in sweep order.  0, or -1 when out of memory. */
+static int separating_pass(usm_periodic_sweep *s, double dir)
+{
+    if (!s->hy && !(s->hy = usm_hybrid_alloc(s->m)))
+        return -1;
+    usm_hybrid_result prev;
+    double vprev = 0;
+    int have = 0;          /* prev is the last point's orbit: a warm start */
+    char seq[USM_HYBRID_MAX_SWITCHES + 1] = ""; /* the last orbit's mode sequence */
+    for (size_t i = 0; i < s->npts; ++i) {
+        usm_periodic_point *pt = &s->pts[i];
+        pt->separating = 0;
+        if (pt->converged ? !pt->orbit.contact_open : !have) {
+            have = 0;
+            seq[0] = '\0';
+            continue;
+        }
+        usm_params q = s->p;
+        *usm_params_field(&q, s->info) = pt->value;
+        int rc = have ? usm_hybrid_solve_from(s->hy, &q, NULL, prev.t0, prev.x0, &pt->hybrid)
+                      : -1;
+        if (rc != USM_OK)
+            rc = usm_hybrid_solve(s->hy, &q, NULL, &pt->hybrid);
+        if (rc != USM_OK || pt->hybrid.nmodes < 2) {
+            /* a converged point keeps its bilateral orbit (contact_open) and
+             * says why there is no orbit with separation in `error` */
+            const size_t len = strlen(pt->error);
+            snprintf(pt->error + len, sizeof pt->error - len, "%sno orbit with separation: %.100s",
+                     len ? "; " : "", rc == USM_OK ? "the contact does not open on it"
+                                                   : usm_hybrid_message(s->hy));
+            have = 0;
+            continue;
+        }
+        pt->separating = 1;
+        if (seq[0] && strcmp(seq, pt->hybrid.mode_sequence) != 0) {
+            char va[96], vb[96];
+            value_text(s, vprev, va);
+            value_text(s, pt->value, vb);
+            if (!add_event(s, USM_PEVENT_GRAZING, pt->value, NULL,
+                           "the orbit with separation changes its mode sequence from %s to %s "
+                           "between %s and %s (located to the grid): an orbit touches a guard "
+                           "tangentially in between", seq, pt->hybrid.mode_sequence, va, vb))
+                return -1;
+        }
+        prev = pt->hybrid;
+        vprev = pt->value;
+        have = 1;
+        snprintf(seq, sizeof seq, "%s", pt->hybrid.mode_sequence);
+    }
+    /* every event in sweep order (insertion sort: stable, few events) */
+    for (size_t i = 1; i < s->nev; ++i)
+        for (size_t j = i; j > 0 && dir * (s->ev[j].value - s->ev[j - 1].value) < 0; --j) {
+            usm_periodic_event t = s->ev[j];
+            s->ev[j] = s->ev[j - 1];
+            s->ev[j - 1] = t;
+        }
+    return 0;
+}
+
 int usm_periodic_sweep_run(usm_periodic_sweep *s, const usm_params *p,
                            const usm_periodic_sweep_options *opt)
 {
@@ -566,6 +633,8 @@ int usm_periodic_sweep_run(usm_periodic_sweep *s, const usm_params *p,
         if (opt->progress)
             opt->progress((double)i / (n - 1), opt->progress_ctx);
     }
+    if (s->m->unilateral && separating_pass(s, opt->to - opt->from) != 0)
+        goto oom;
     return USM_OK;
 oom:
     snprintf(s->msg, sizeof s->msg, "out of memory");

@@ -112,6 +112,93 @@ int usm_periodic_write_json(const usm_periodic *w, const usm_params *p,
 /* Why the last solve failed, or "".  Owned by w. */
 const char *usm_periodic_message(const usm_periodic *w);
 
+/* ---- periodic orbits with separation (issue 24; docs/unilateral.md) -------------
+ *
+ * For a model whose contact may open (m->unilateral, the variant
+ * imperfect_unilateral).  The orbit is a fixed point of the event-driven
+ * period map P: x(ts) -> x(ts + T) with the section time ts inside a closed
+ * phase (found from a simulation: the middle of the longest closed stretch
+ * of its last period).  One shooting integration carries the state and its
+ * variational matrix through every mode; at each switch the variational
+ * matrix is multiplied by the saltation matrix
+ *     S = R + (f+ - R f-) g_x^T / (dg/dt),
+ * R the reset's Jacobian, f-, f+ the flows before and after, g the guard
+ * (F_n(x, x'(x, t)) while closed, the gap while open), so the monodromy is
+ * Phi_K S_K ... S_1 Phi_0.  Newton on the non-cyclic components as
+ * usm_periodic_solve.  The mode sequence is the one the shooting
+ * integration meets (from the simulation's state, then each Newton iterate). */
+
+/* Options of usm_hybrid_solve (usm_hybrid_options_default). */
+typedef struct usm_hybrid_options {
+    double rtol;     /* CVODES relative tolerance (default 1e-11: Newton's tol 1e-9 needs it) */
+    double tol;      /* Newton: max |x(ts + T) - x(ts)| / scale (default 1e-9) */
+    int max_iter;    /* Newton iterations (default 12) */
+    double settle;   /* simulated time from rest before shooting [s] (default 0.005) */
+} usm_hybrid_options;
+
+/* Fill `opt` with the defaults listed above. */
+void usm_hybrid_options_default(usm_hybrid_options *opt);
+
+/* Longest mode sequence reported (usm_hybrid_result.mode_sequence). */
+#define USM_HYBRID_MAX_SWITCHES 32
+
+typedef struct usm_hybrid_result {
+    int converged, iterations;
+    double residual;            /* as usm_periodic_result's */
+    double t0, period;          /* the section time ts and T [s] */
+    int nx;
+    double x0[USM_MAX_NX];      /* closed state at ts on the orbit */
+    usm_floquet_result floquet; /* multipliers of the monodromy with saltation matrices */
+    double rotor_speed_mean;    /* [1/s], the paper's sign */
+    double separation_fraction; /* time open per period / T */
+    int separations_per_period, impacts_per_period;
+    int impacts_slipping;       /* stick model: impacts per period needing more than mu0 */
+    double impact_velocity_max; /* largest approach velocity -gap' [m/s] */
+    int nmodes;                 /* modes in mode_sequence (the switches + 1) */
+    char mode_sequence[USM_HYBRID_MAX_SWITCHES + 1]; /* 'c' closed, 'o' open, from ts */
+} usm_hybrid_result;
+
+/* Hybrid shooting solver of one unilateral model (opaque). */
+typedef struct usm_hybrid usm_hybrid;
+
+/* A solver for model m (m->unilateral not NULL), or NULL (out of memory or
+ * not a unilateral model). */
+usm_hybrid *usm_hybrid_alloc(const usm_model *m);
+/* Free h; NULL is allowed. */
+void usm_hybrid_free(usm_hybrid *h);
+
+/* The periodic orbit with separation for parameters p: a simulation from
+ * rest over opt->settle gives the section time and the start, then Newton.
+ * USM_OK (out->converged), USM_EINPUT (bad parameters or options),
+ * USM_EFAILED (integration or Newton failed; usm_hybrid_message). */
+int usm_hybrid_solve(usm_hybrid *h, const usm_params *p, const usm_hybrid_options *opt,
+                     usm_hybrid_result *out);
+
+/* The same from a given start: the closed state x_start at the section time
+ * ts (e.g. a neighbouring orbit's x0 and t0, for continuation), no
+ * simulation.  Returns as usm_hybrid_solve. */
+int usm_hybrid_solve_from(usm_hybrid *h, const usm_params *p, const usm_hybrid_options *opt,
+                          double ts, const double *x_start, usm_hybrid_result *out);
+
+/* The event-driven period map from the closed state x0 at ts: x1 = x(ts + T)
+ * and, when B is not NULL, the monodromy dx1/dx0 (nx x nx, row-major, with
+ * the saltation matrices).  USM_OK or USM_EFAILED (the end in an open phase,
+ * an integration failure).  Uses p and rtol of the last usm_hybrid_solve or
+ * usm_hybrid_set. */
+int usm_hybrid_period_map(usm_hybrid *h, double ts, const double *x0, double *x1, double *B);
+
+/* Set parameters and tolerance for usm_hybrid_period_map without solving. */
+int usm_hybrid_set(usm_hybrid *h, const usm_params *p, double rtol);
+
+/* Why the last call failed, or "".  Owned by h. */
+const char *usm_hybrid_message(const usm_hybrid *h);
+
+/* The `usm periodic --json` object of an orbit with separation of model m
+ * (keys: docs/unilateral.md), or with r NULL "converged": false and "error":
+ * error.  0, or -1 on a write error or when out of memory. */
+int usm_hybrid_write_json(const usm_model *m, const usm_params *p, const usm_hybrid_result *r,
+                          const char *error, FILE *out);
+
 #ifdef __cplusplus
 }
 #endif

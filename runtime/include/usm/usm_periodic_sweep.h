@@ -33,6 +33,16 @@
  *                      friction_needed_max passes 0.999 of the supremum or
  *                      the continuation loses the branch; it is then
  *                      reported instead of a fold.
+ * Unilateral models (variant imperfect_unilateral; docs/unilateral.md): the
+ * branch is the bilateral orbit's; at every grid point where its contact
+ * opens the point also carries the orbit with separation (separating,
+ * hybrid), and
+ *   contact_regained   F_n_min = 0 where the contact closes again (the
+ *                      contact_loss crossing in the other direction)
+ *   grazing            the mode sequence of the orbits with separation
+ *                      changes between two grid points (an orbit touches a
+ *                      guard tangentially in between; located to the grid:
+ *                      its value is the later point's)
  * Events within one step are reported in sweep order; stick_loss is found
  * also in a step at whose end the contact is already open.
  * The points are the requested grid values in sweep order.
@@ -56,7 +66,9 @@ typedef enum {
     USM_PEVENT_STICK_LOSS = 1,
     USM_PEVENT_FOLD = 2,
     USM_PEVENT_STABILITY_CHANGE = 3,
-    USM_PEVENT_FRICTION_SATURATION = 4
+    USM_PEVENT_FRICTION_SATURATION = 4,
+    USM_PEVENT_CONTACT_REGAINED = 5, /* unilateral models: F_n_min = 0 closing */
+    USM_PEVENT_GRAZING = 6           /* unilateral models: the mode sequence changes */
 } usm_pevent_type;
 
 /* How the critical multiplier crosses the unit circle. */
@@ -68,7 +80,7 @@ typedef enum {
 } usm_crossing_kind;
 
 /* "contact_loss", "stick_loss", "fold", "stability_change",
- * "friction_saturation". */
+ * "friction_saturation", "contact_regained", "grazing". */
 const char *usm_pevent_name(usm_pevent_type type);
 /* "", "fold", "period_doubling", "neimark_sacker". */
 const char *usm_crossing_name(usm_crossing_kind kind);
@@ -93,7 +105,13 @@ typedef struct usm_periodic_point {
     double value;
     int converged;              /* the branch's orbit exists here */
     usm_periodic_result orbit;
-    char error[USM_MSG_LEN];    /* why not converged */
+    char error[USM_MSG_LEN];    /* why not converged; unilateral models: also why a converged
+                                   point whose contact opens has no orbit with separation */
+    /* unilateral models (usm_model.unilateral) where the contact opens on the
+     * bilateral orbit: the orbit with separation (usm_hybrid_solve_from, warm
+     * started from the last one; usm_hybrid_solve after a gap) */
+    int separating;             /* 1: `hybrid` holds it */
+    usm_hybrid_result hybrid;
 } usm_periodic_point;
 
 /* What to sweep (usm_periodic_sweep_options_default, then over/from/to/points). */

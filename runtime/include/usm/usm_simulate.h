@@ -61,6 +61,20 @@
  *    the run warns (usm_sim_summary.warning and the warning callback, before
  *    integrating); above max_twist_growth it is refused (USM_EINPUT).  The
  *    variant twist_integrated has a constant linearisation and scales linearly.
+ *  - Unilateral contact (models with usm_model.unilateral, the variant
+ *    imperfect_unilateral; docs/unilateral.md).  Closed, the model's own
+ *    equations; the contact opens where F_n falls through 0 (located by CVODES'
+ *    root finding to its tolerance): the separation map continues in the open
+ *    mode, whose state adds the rotor's axial position Z_R and rate (and the
+ *    stick model's free rotor speed w_R).  Open, the contact closes where the gap
+ *    Z_R - Z(theta) falls through 0: the impact map (Newton's restitution
+ *    e_impact; sticking if |P_t| <= mu0 P_n, else sliding with P_t = +-mu0 P_n,
+ *    the stick model counting it in impacts_slipping) and then the closed mode,
+ *    unless the rotor bounces faster than v_land = sqrt(rtol) R theta_c Omega
+ *    or the closed mode would pull (F_n < 0): then it stays open.  Every
+ *    switch restarts CVODES from the new state (its order and step history
+ *    are lost: the derivative jumps).  Where the contact never opens the run
+ *    is the closed model's own, step for step.
  *  - Diagnostics.  Root functions locate, to the integrator's accuracy, where
  *    F_n changes sign (contact would open) and, in the stick model, where
  *    |F_t| crosses mu0 F_n; and stop the run at runaway: theta >= theta_limit,
@@ -141,7 +155,10 @@ typedef struct usm_sim_sample {
     double rotor_speed_avg;   /* mean phidot_R over the last complete period [1/s] */
     usm_validity validity;    /* USM_VALID, or the contact open (F_n <= 0), or in the
                                * stick model |F_t| > mu0 F_n (the model does not
-                               * describe the motor at this instant) */
+                               * describe the motor at this instant); a unilateral
+                               * model's open contact is valid (it describes it) */
+    int open;                 /* unilateral model: 1 while the contact is open */
+    double gap;               /* Z_R - Z(theta) [m] while open, 0 while closed */
 } usm_sim_sample;
 
 typedef struct usm_sim_callbacks {
@@ -215,6 +232,15 @@ typedef struct usm_sim_summary {
                                    USM_SIM_SETTLED_NONE */
     size_t roots;               /* stationary solutions compared with */
     usm_steady_solution settled_root; /* root settled_on, when settled_on >= 0 */
+    /* a unilateral contact (usm_model.unilateral; "Unilateral contact" above) */
+    int unilateral;             /* 1: the model's contact may open */
+    long separations;           /* closed -> open switches (F_n fell through 0) */
+    long impacts;               /* landings of the rotor (the gap fell through 0) */
+    long impacts_slipping;      /* stick model: impacts whose sticking impulse exceeded
+                                   mu0 P_n (the stick assumption fails there) */
+    double impact_velocity_max; /* largest normal approach velocity -gap' [m/s] */
+    double open_fraction;       /* time open / time integrated */
+    int final_open;             /* 1: open at t_reached (final_x: its first nx states) */
     double rest_fraction;       /* of the options */
     double rest_theta_ref;      /* theta_ref of the decay rule [rad] */
     double t_rest;              /* [s] when the decay rule was met; NaN otherwise */

@@ -1,0 +1,857 @@
+/* Periodic orbits with separation (usm_periodic.h, "periodic orbits with
+ * separation"; issue 24, docs/unilateral.md).
+ *
+ * One CVODES integration (Adams, fixed-point iteration: over a period the
+ * motion is not stiff, as in periodic.c) carries the state of the current
+ * contact mode and its variational matrix Phi (n x nx: the current mode's
+ * state against the closed state at the section), z = (x, Phi), with
+ *     x' = M^-1 f,   Phi' = M^-1 (df/dx - d(M v)/dx |_{v = x'}) Phi.
+ * The guard of the mode (F_n while closed, the gap while open) is located by
+ * CVODES' root finding; there the reset (separation, or impact and landing)
+ * maps x, the saltation matrix
+ *     S = R + (f+ - R f-) g_x^T / (g_x f- + g_t)
+ * maps Phi (R the reset's Jacobian; f-, f+ the flows before and after; for
+ * the closed guard g(x, t) = F_n(x, x'(x, t)), so g_x = F_n,x + F_n,x' A and
+ * g_t = F_n,x' M^-1 df/dt), and the integration restarts in the new mode.
+ * The landing rule is the simulation's (simulate.c, usm_simulate.h): the
+ * closed mode follows an impact unless the rotor bounces faster than v_land
+ * or the closed mode would pull.
+ *
+ * Error control: absolute tolerances rtol * scale_i for x_i and
+ * rtol * scale_i / scale_j for Phi_ij (scales as periodic.c's, and R theta,
+ * R theta Omega for the gap and its rate).
+ */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <gsl/gsl_eigen.h>
+#include <gsl/gsl_errno.h>
+#include <gsl/gsl_linalg.h>
+#include <gsl/gsl_matrix.h>
+
+#include <cvodes/cvodes.h>
+#include <nvector/nvector_serial.h>
+#include <sunnonlinsol/sunnonlinsol_fixedpoint.h>
+
+#include "core/cvode_msg.h"
+#include "usm_periodic.h"
+#include "usm_simulate.h"
+
+#define TWO_PI 6.283185307179586476925286766559
+#define NY USM_MAX_NY
+#define MAXZ (NY + NY * USM_MAX_NX)
+
+struct usm_hybrid {
+    const usm_model *m;
+    const usm_unilateral *u;
+    int nx, ny;
+    usm_params p;
+    double rtol, Omega, T, v_land;
+    double scale[NY];
+    double colscale[USM_MAX_NX]; /* of Phi's columns: the spin coordinates (below) */
+    double Bspin[USM_MAX_NX * USM_MAX_NX]; /* the last monodromy in spin coordinates */
+    /* the integration */
+    int mode, n, ncol; /* mode (0 closed, 1 open), its state length, columns of Phi */
+    SUNContext ctx;
+    void *cv;
+    N_Vector z, atol, q;
+    SUNNonlinearSolver NLS;
+    /* the last period map */
+    double open_total, open_since, vmax;
+    int nsep, nimp, nslip, nmodes;
+    char seq[USM_HYBRID_MAX_SWITCHES + 1];
+    char cvmsg[USM_MSG_LEN];
+    char msg[USM_MSG_LEN];
+};
+
+void usm_hybrid_options_default(usm_hybrid_options *opt)
+{
+    opt->rtol = 1e-11;
+    opt->tol = 1e-9;
+    opt->max_iter = 12;
+    opt->settle = 0.005;
+}
+
+const char *usm_hybrid_message(const usm_hybrid *h) { return h->msg; }
+
+static void free_integrator(usm_hybrid *h)
+{
+    if (h->cv)
+        CVodeFree(&h->cv);
+    if (h->NLS)
+        SUNNonlinSolFree(h->NLS);
+    if (h->z)
+        N_VDestroy(h->z);
+    if (h->atol)
+        N_VDestroy(h->atol);
+    if (h->q)
+        N_VDestroy(h->q);
+    h->cv = NULL;
+    h->NLS = NULL;
+    h->z = h->atol = h->q = NULL;
+}
+
+void usm_hybrid_free(usm_hybrid *h)
+{
+    if (!h)
+        return;
+    free_integrator(h);
+    if (h->ctx)
+        SUNContext_Free(&h->ctx);
+    free(h);
+}
+
+usm_hybrid *usm_hybrid_alloc(const usm_model *m)
+{
+    if (!m || !m->unilateral)
+        return NULL;
+    usm_hybrid *h = calloc(1, sizeof *h);
+    if (!h)
+        return NULL;
+    h->m = m;
+    h->u = m->unilateral;
+    h->nx = m->nx;
+    h->ny = m->unilateral->ny;
+    if (SUNContext_Create(NULL, &h->ctx) != 0) {
+        free(h);
+        return NULL;
+    }
+    return h;
+}
+
+/* ---- the modes ------------------------------------------------------------------- */
+
+/* LU of the mode's mass matrix at x into lu/perm; 0 or -1. */
+static int mass_lu(const usm_hybrid *h, int mode, const double *x, double *lu, size_t *pdata,
+                   gsl_permutation *perm)
+{
+    const int n = mode ? h->ny : h->nx;
+    int sign;
+    (mode ? h->u->open_mass : h->m->mass)(x, &h->p, lu);
+    for (int i = 0; i < n * n; ++i)
+        if (!isfinite(lu[i]))
+            return -1;
+    perm->size = (size_t)n;
+    perm->data = pdata;
+    gsl_matrix_view A = gsl_matrix_view_array(lu, (size_t)n, (size_t)n);
+    if (gsl_linalg_LU_decomp(&A.matrix, perm, &sign) != GSL_SUCCESS)
+        return -1;
+    for (int i = 0; i < n; ++i)
+        if (lu[i * n + i] == 0.0)
+            return -1;
+    return 0;
+}
+
+static int lu_solve(int n, double *lu, gsl_permutation *perm, double *b)
+{
+    gsl_matrix_view A = gsl_matrix_view_array(lu, (size_t)n, (size_t)n);
+    gsl_vector_view v = gsl_vector_view_array(b, (size_t)n);
+    return gsl_linalg_LU_svx(&A.matrix, perm, &v.vector) == GSL_SUCCESS ? 0 : -1;
+}
+
+/* x' of the mode, and when A is not NULL the flow's Jacobian
+ * A = M^-1 (df/dx - d(M v)/dx |_{v = x'}) (n x n) and, when ft is not NULL,
+ * M^-1 df/dt.  0 or -1. */
+static int rates(const usm_hybrid *h, int mode, double t, const double *x, double *xdot,
+                 double *A, double *ft)
+{
+    const int n = mode ? h->ny : h->nx;
+    double lu[NY * NY], Jf[NY * NY], Jm[NY * NY];
+    size_t pdata[NY];
+    gsl_permutation perm;
+    if (mass_lu(h, mode, x, lu, pdata, &perm) != 0)
+        return -1;
+    (mode ? h->u->open_rhs : h->m->rhs)(x, t, &h->p, xdot);
+    if (lu_solve(n, lu, &perm, xdot) != 0)
+        return -1;
+    if (A) {
+        (mode ? h->u->open_jac_rhs : h->m->jac_rhs)(x, t, &h->p, Jf);
+        (mode ? h->u->open_jac_mass : h->m->jac_mass)(x, xdot, &h->p, Jm);
+        double col[NY];
+        for (int j = 0; j < n; ++j) {
+            for (int i = 0; i < n; ++i)
+                col[i] = Jf[i * n + j] - Jm[i * n + j];
+            if (lu_solve(n, lu, &perm, col) != 0)
+                return -1;
+            for (int i = 0; i < n; ++i)
+                A[i * n + j] = col[i];
+        }
+    }
+    if (ft) {
+        (mode ? h->u->open_rhs_t : h->u->closed_rhs_t)(x, t, &h->p, ft);
+        if (lu_solve(n, lu, &perm, ft) != 0)
+            return -1;
+    }
+    for (int i = 0; i < n; ++i)
+        if (!isfinite(xdot[i]))
+            return -1;
+    return 0;
+}
+
+/* ---- CVODES -------------------------------------------------------------------- */
+
+static int cv_rhs(sunrealtype t, N_Vector zv, N_Vector zdot, void *data)
+{
+    usm_hybrid *h = data;
+    const int n = h->n, c = h->ncol;
+    const double *z = N_VGetArrayPointer(zv);
+    double *d = N_VGetArrayPointer(zdot);
+    double A[NY * NY];
+    if (rates(h, h->mode, t, z, d, c ? A : NULL, NULL) != 0)
+        return 1;
+    const double *Phi = z + n;
+    double *dPhi = d + n;
+    for (int i = 0; i < n; ++i)
+        for (int j = 0; j < c; ++j) {
+            double s = 0;
+            for (int k = 0; k < n; ++k)
+                s += A[i * n + k] * Phi[k * c + j];
+            dPhi[i * c + j] = s;
+        }
+    return 0;
+}
+
+static int cv_quad(sunrealtype t, N_Vector zv, N_Vector qdot, void *data)
+{
+    usm_hybrid *h = data;
+    const double *z = N_VGetArrayPointer(zv);
+    double xdot[NY], out[USM_OUT_COUNT];
+    if (rates(h, h->mode, t, z, xdot, NULL, NULL) != 0)
+        return 1;
+    (h->mode ? h->u->open_outputs : h->m->outputs)(z, xdot, t, &h->p, out);
+    N_VGetArrayPointer(qdot)[0] = out[USM_OUT_ROTOR_SPEED];
+    return 0;
+}
+
+static int cv_root(sunrealtype t, N_Vector zv, sunrealtype *g, void *data)
+{
+    usm_hybrid *h = data;
+    const double *z = N_VGetArrayPointer(zv);
+    if (h->mode == 1) {
+        double gg[1 + NY];
+        h->u->guard_open(z, &h->p, gg);
+        g[0] = gg[0];
+    } else {
+        double xdot[NY], out[USM_OUT_COUNT];
+        if (rates(h, 0, t, z, xdot, NULL, NULL) != 0)
+            return -1;
+        h->m->outputs(z, xdot, t, &h->p, out);
+        g[0] = out[USM_OUT_F_N];
+    }
+    return isfinite(g[0]) ? 0 : -1;
+}
+
+static void cv_errors(int code, const char *module, const char *function, char *text, void *data)
+{
+    usm_hybrid *h = data;
+    (void)code;
+    (void)module;
+    snprintf(h->cvmsg, sizeof h->cvmsg, "%s: %s", function, text);
+}
+
+static int fail(usm_hybrid *h, const char *what, int flag)
+{
+    char name[32];
+    snprintf(h->msg, USM_MSG_LEN, "CVODES %s: %s%s%.150s", what,
+             usm_cvode_flag_name(flag, name, sizeof name), h->cvmsg[0] ? " -- " : "", h->cvmsg);
+    return USM_EFAILED;
+}
+
+/* A new integrator for the current mode from z at t to t_end, quadrature q0. */
+static int setup(usm_hybrid *h, double t, const double *z, double q0, double t_end)
+{
+    const int n = h->n, c = h->ncol, len = n + n * c;
+    int flag;
+    free_integrator(h);
+    h->z = N_VNew_Serial(len, h->ctx);
+    h->atol = N_VNew_Serial(len, h->ctx);
+    h->q = N_VNew_Serial(1, h->ctx);
+    h->cv = CVodeCreate(CV_ADAMS, h->ctx);
+    if (!h->z || !h->atol || !h->q || !h->cv) {
+        snprintf(h->msg, USM_MSG_LEN, "out of memory");
+        return USM_EFAILED;
+    }
+    memcpy(N_VGetArrayPointer(h->z), z, sizeof(double) * (size_t)len);
+    double *a = N_VGetArrayPointer(h->atol);
+    for (int i = 0; i < n; ++i) {
+        a[i] = h->rtol * h->scale[i];
+        for (int j = 0; j < c; ++j)
+            a[n + i * c + j] = h->rtol * h->scale[i] / h->colscale[j];
+    }
+    N_VGetArrayPointer(h->q)[0] = q0;
+    h->NLS = SUNNonlinSol_FixedPoint(h->z, 0, h->ctx);
+    if (!h->NLS)
+        return fail(h, "SUNNonlinSol_FixedPoint", 0);
+    if ((flag = CVodeSetErrHandlerFn(h->cv, cv_errors, h)) != CV_SUCCESS)
+        return fail(h, "CVodeSetErrHandlerFn", flag);
+    if ((flag = CVodeInit(h->cv, cv_rhs, t, h->z)) != CV_SUCCESS)
+        return fail(h, "CVodeInit", flag);
+    if ((flag = CVodeSetUserData(h->cv, h)) != CV_SUCCESS)
+        return fail(h, "CVodeSetUserData", flag);
+    if ((flag = CVodeSVtolerances(h->cv, h->rtol, h->atol)) != CV_SUCCESS)
+        return fail(h, "CVodeSVtolerances", flag);
+    if ((flag = CVodeSetNonlinearSolver(h->cv, h->NLS)) != CV_SUCCESS)
+        return fail(h, "CVodeSetNonlinearSolver", flag);
+    if ((flag = CVodeSetMaxNumSteps(h->cv, 200000)) != CV_SUCCESS)
+        return fail(h, "CVodeSetMaxNumSteps", flag);
+    if ((flag = CVodeSetStopTime(h->cv, t_end)) != CV_SUCCESS)
+        return fail(h, "CVodeSetStopTime", flag);
+    if ((flag = CVodeQuadInit(h->cv, cv_quad, h->q)) != CV_SUCCESS)
+        return fail(h, "CVodeQuadInit", flag);
+    if ((flag = CVodeRootInit(h->cv, 1, cv_root)) != CV_SUCCESS)
+        return fail(h, "CVodeRootInit", flag);
+    int dir = -1;
+    if ((flag = CVodeSetRootDirection(h->cv, &dir)) != CV_SUCCESS)
+        return fail(h, "CVodeSetRootDirection", flag);
+    if ((flag = CVodeSetNoInactiveRootWarn(h->cv)) != CV_SUCCESS)
+        return fail(h, "CVodeSetNoInactiveRootWarn", flag);
+    return USM_OK;
+}
+
+/* ---- the switches ----------------------------------------------------------------- */
+
+static void note_mode(usm_hybrid *h, int mode)
+{
+    if (h->nmodes < USM_HYBRID_MAX_SWITCHES)
+        h->seq[h->nmodes] = mode ? 'o' : 'c';
+    h->nmodes++;
+    h->seq[h->nmodes < USM_HYBRID_MAX_SWITCHES ? h->nmodes : USM_HYBRID_MAX_SWITCHES] = '\0';
+}
+
+/* A touch slower than v_land while the closed mode would pull (F_n < 0):
+ * the rotor grazes the stator and stays off (simulate.c decides the same). */
+static int grazing_touch(const usm_hybrid *h, double t, const double *y, double gd)
+{
+    double xd[NY], o[USM_OUT_COUNT];
+    if (!(-gd <= h->v_land) || rates(h, 0, t, y, xd, NULL, NULL) != 0)
+        return 0;
+    h->m->outputs(y, xd, t, &h->p, o);
+    return o[USM_OUT_F_N] < 0;
+}
+
+/* The guard crossed at t: reset the state and the variational matrix in z
+ * (the current mode's layout on entry, the new mode's on return). */
+static int switch_at(usm_hybrid *h, double t, double *z)
+{
+    const int na = h->n, c = h->ncol, nx = h->nx, ny = h->ny;
+    double x[NY], fa[NY], A[NY * NY], ft[NY], Gx[NY], Gt = 0.0;
+    double xp[NY], R[NY * NY], fb[NY];
+    int nb, newmode;
+    memcpy(x, z, sizeof(double) * (size_t)na);
+    if (rates(h, h->mode, t, x, fa, A, ft) != 0) {
+        snprintf(h->msg, USM_MSG_LEN, "the state at the switch at t = %.9g s is singular", t);
+        return USM_EFAILED;
+    }
+    if (h->mode == 0) {
+        double gc[1 + 2 * USM_MAX_NX];
+        h->u->guard_closed(x, fa, t, &h->p, gc);
+        for (int j = 0; j < nx; ++j) {
+            Gx[j] = gc[1 + j];
+            for (int i = 0; i < nx; ++i)
+                Gx[j] += gc[1 + nx + i] * A[i * nx + j];
+        }
+        for (int i = 0; i < nx; ++i)
+            Gt += gc[1 + nx + i] * ft[i];
+        double sj[NY * (NY + 1)];
+        h->u->separation(x, &h->p, sj);
+        memcpy(xp, sj, sizeof(double) * (size_t)ny);
+        memcpy(R, sj + ny, sizeof(double) * (size_t)(ny * nx));
+        nb = ny;
+        newmode = 1;
+        h->nsep++;
+        h->open_since = t;
+    } else {
+        double gg[1 + NY], cv[2 + 2 * NY], out[NY + 2];
+        h->u->guard_open(x, &h->p, gg);
+        memcpy(Gx, gg + 1, sizeof(double) * (size_t)ny);
+        h->u->contact_velocity(x, &h->p, cv);
+        const double gd = cv[0];
+        if (grazing_touch(h, t, x, gd)) {
+            /* no impact: the rotor touches and the closed mode would pull it
+             * off again; the same mode, no reset, S = I */
+            h->n = na;
+            return USM_OK;
+        }
+        h->nimp++;
+        h->vmax = fmax(h->vmax, -gd);
+        h->u->impact_stick(x, &h->p, out);
+        const double Pn = out[ny], Pt = out[ny + 1];
+        int slide = 0;
+        if (fabs(Pt) > h->p.mu0 * Pn) {
+            if (h->m->slip) {
+                slide = 1;
+                h->u->impact_slide(x, Pt > 0 ? 1.0 : -1.0, &h->p, out);
+                h->u->impact_slide_jac(x, Pt > 0 ? 1.0 : -1.0, &h->p, R);
+            } else
+                h->nslip++;
+        }
+        if (!slide)
+            h->u->impact_stick_jac(x, &h->p, R);
+        memcpy(xp, out, sizeof(double) * (size_t)ny);
+        h->u->contact_velocity(xp, &h->p, cv);
+        newmode = 1;
+        if (!(cv[0] > h->v_land)) {
+            double xd[NY], o[USM_OUT_COUNT];
+            if (rates(h, 0, t, xp, xd, NULL, NULL) == 0) {
+                h->m->outputs(xp, xd, t, &h->p, o);
+                if (o[USM_OUT_F_N] >= 0)
+                    newmode = 0;
+            }
+        }
+        nb = newmode ? ny : nx; /* landing: the first nx rows of R */
+        if (newmode == 0)
+            h->open_total += t - h->open_since;
+    }
+    if (rates(h, newmode, t, xp, fb, NULL, NULL) != 0) {
+        snprintf(h->msg, USM_MSG_LEN, "the state after the switch at t = %.9g s is singular", t);
+        return USM_EFAILED;
+    }
+    double Gdot = Gt;
+    for (int j = 0; j < na; ++j)
+        Gdot += Gx[j] * fa[j];
+    if (!(fabs(Gdot) > 0)) {
+        snprintf(h->msg, USM_MSG_LEN, "grazing at t = %.9g s: the guard's rate is 0", t);
+        return USM_EFAILED;
+    }
+    /* saltation S = R + (fb - R fa) Gx^T / Gdot (nb x na), then Phi+ = S Phi- */
+    double S[NY * NY], w[NY];
+    for (int i = 0; i < nb; ++i) {
+        double Rf = 0;
+        for (int k = 0; k < na; ++k)
+            Rf += R[i * na + k] * fa[k];
+        w[i] = (fb[i] - Rf) / Gdot;
+    }
+    for (int i = 0; i < nb; ++i)
+        for (int j = 0; j < na; ++j)
+            S[i * na + j] = R[i * na + j] + w[i] * Gx[j];
+    double Phi[NY * USM_MAX_NX];
+    for (int i = 0; i < nb; ++i)
+        for (int j = 0; j < c; ++j) {
+            double s = 0;
+            for (int k = 0; k < na; ++k)
+                s += S[i * na + k] * z[na + k * c + j];
+            Phi[i * c + j] = s;
+        }
+    memcpy(z, xp, sizeof(double) * (size_t)nb);
+    memcpy(z + nb, Phi, sizeof(double) * (size_t)(nb * c));
+    h->mode = newmode;
+    h->n = nb;
+    note_mode(h, newmode);
+    return USM_OK;
+}
+
+/* ---- the period map -------------------------------------------------------------- */
+
+static int period_map(usm_hybrid *h, double ts, const double *x0, double *x1, double *B,
+                      double *speed_mean)
+{
+    const int nx = h->nx;
+    double z[MAXZ];
+    const double t_end = ts + h->T;
+    h->mode = 0;
+    h->n = nx;
+    h->ncol = B ? nx : 0;
+    h->open_total = 0;
+    h->vmax = 0;
+    h->nsep = h->nimp = h->nslip = h->nmodes = 0;
+    h->seq[0] = '\0';
+    note_mode(h, 0);
+    memcpy(z, x0, sizeof(double) * (size_t)nx);
+    /* Phi's columns are perturbations in the spin coordinates w = (.., u =
+     * phidot + psidot, .., psidot, ..): Phi(ts) = T^-1, the column of psidot
+     * moves psidot at fixed spin.  In x the monodromy has two nearly equal
+     * columns of size Omega / (Omega theta) whose difference carries the
+     * multipliers; integrated this way, each column has its own error
+     * control and the difference is never formed. */
+    const int ip = h->m->x_phidot, is = h->m->x_psidot;
+    for (int i = 0; i < nx * h->ncol; ++i)
+        z[nx + i] = 0.0;
+    for (int i = 0; i < h->ncol; ++i)
+        z[nx + i * nx + i] = 1.0;
+    if (h->ncol)
+        z[nx + ip * nx + is] = -1.0;
+    double q = 0.0, t = ts;
+    int rc = setup(h, t, z, q, t_end);
+    for (int events = 0; rc == USM_OK; ++events) {
+        h->cvmsg[0] = '\0';
+        if (t >= t_end) /* a switch at the end of the period */
+            break;
+        const int flag = CVode(h->cv, t_end, h->z, &t, CV_NORMAL);
+        if (flag < 0) {
+            rc = fail(h, "CVode", flag);
+            break;
+        }
+        N_Vector qv = h->q;
+        if (CVodeGetQuad(h->cv, &t, qv) == CV_SUCCESS)
+            q = N_VGetArrayPointer(qv)[0];
+        if (flag != CV_ROOT_RETURN)
+            break;
+        if (events > 4 * USM_HYBRID_MAX_SWITCHES) {
+            snprintf(h->msg, USM_MSG_LEN, "more than %d contact switches in one period",
+                     4 * USM_HYBRID_MAX_SWITCHES);
+            rc = USM_EFAILED;
+            break;
+        }
+        memcpy(z, N_VGetArrayPointer(h->z), sizeof(double) * (size_t)(h->n + h->n * h->ncol));
+        if ((rc = switch_at(h, t, z)) == USM_OK)
+            rc = setup(h, t, z, q, t_end);
+    }
+    if (rc == USM_OK && h->mode != 0) {
+        snprintf(h->msg, USM_MSG_LEN, "the contact is open at the end of the period (t = %.9g s): "
+                 "the section must lie in a closed phase", t);
+        rc = USM_EFAILED;
+    }
+    if (rc == USM_OK) {
+        const double *zz = N_VGetArrayPointer(h->z);
+        memcpy(x1, zz, sizeof(double) * (size_t)nx);
+        if (B) {
+            /* x coordinates: B = Phi T (column psidot = Phi's phidot + psidot
+             * columns); spin coordinates: T Phi (row phidot += row psidot) */
+            const double *Phi = zz + nx;
+            for (int i = 0; i < nx; ++i)
+                for (int j = 0; j < nx; ++j) {
+                    B[i * nx + j] = Phi[i * nx + j] + (j == is ? Phi[i * nx + ip] : 0.0);
+                    h->Bspin[i * nx + j] = Phi[i * nx + j] + (i == ip ? Phi[is * nx + j] : 0.0);
+                }
+        }
+        if (speed_mean)
+            *speed_mean = q / h->T;
+    }
+    free_integrator(h);
+    return rc;
+}
+
+static void set_scales(usm_hybrid *h, double theta, double speed)
+{
+    const usm_model *m = h->m;
+    for (int j = 0; j < USM_MAX_NX; ++j)
+        h->colscale[j] = 1.0;
+    for (int i = 0; i < NY; ++i)
+        h->scale[i] = 1.0;
+    h->scale[m->x_theta] = theta;
+    h->scale[m->x_phidot] = h->scale[m->x_psidot] = h->Omega;
+    h->scale[m->x_thetadot] = h->Omega * theta;
+    h->scale[m->x_tau] = h->p.m0 / h->p.c_t;
+    if (m->x_phi_Rdot >= 0)
+        h->scale[m->x_phi_Rdot] = fmax(fabs(speed), h->Omega * theta);
+    h->scale[h->u->y_Z_R] = h->p.R * theta;
+    h->scale[h->u->y_Z_Rdot] = h->p.R * theta * h->Omega;
+    if (h->u->y_w_R >= 0)
+        h->scale[h->u->y_w_R] = fmax(fabs(speed), h->Omega * theta);
+    h->v_land = sqrt(h->rtol) * h->p.R * theta * h->Omega;
+    for (int j = 0; j < h->nx; ++j)
+        h->colscale[j] = h->scale[j];
+    h->colscale[m->x_phidot] = h->Omega * theta; /* the spin */
+}
+
+int usm_hybrid_set(usm_hybrid *h, const usm_params *p, double rtol)
+{
+    char why[USM_MSG_LEN];
+    h->msg[0] = '\0';
+    if (usm_params_check(p, h->m, why) != USM_OK) {
+        snprintf(h->msg, USM_MSG_LEN, "%s", why);
+        return USM_EINPUT;
+    }
+    if (!(p->M > 0)) {
+        snprintf(h->msg, USM_MSG_LEN, "M: must be positive for a contact that may open (the "
+                 "rotor's axial motion is a state of its own)");
+        return USM_EINPUT;
+    }
+    if (!(rtol >= 1e-14 && rtol <= 1e-3)) {
+        snprintf(h->msg, USM_MSG_LEN, "rtol: must be in [1e-14, 1e-3]");
+        return USM_EINPUT;
+    }
+    h->p = *p;
+    h->rtol = rtol;
+    h->Omega = TWO_PI * p->f;
+    h->T = 1.0 / p->f;
+    if (!(h->scale[h->m->x_theta] > 0))
+        set_scales(h, 1e-4, 0.0);
+    else
+        set_scales(h, h->scale[h->m->x_theta], h->scale[h->m->x_phi_Rdot >= 0 ? h->m->x_phi_Rdot
+                                                                              : h->m->x_theta]);
+    return USM_OK;
+}
+
+int usm_hybrid_period_map(usm_hybrid *h, double ts, const double *x0, double *x1, double *B)
+{
+    h->msg[0] = '\0';
+    return period_map(h, ts, x0, x1, B, NULL);
+}
+
+/* ---- the start: a simulation ---------------------------------------------------- */
+
+#define NSAMP 400
+typedef struct {
+    int n, nx;
+    double t[NSAMP], x[NSAMP][USM_MAX_NX];
+    int open[NSAMP];
+} ring_t;
+
+static int keep_sample(const usm_sim_sample *s, void *data)
+{
+    ring_t *r = data;
+    const int k = r->n % NSAMP;
+    r->t[k] = s->t;
+    r->open[k] = s->open;
+    memcpy(r->x[k], s->x, sizeof(double) * (size_t)r->nx);
+    r->n++;
+    return 0;
+}
+
+/* The section: the middle of the longest closed stretch among the last
+ * samples (200 per period over two periods). */
+static int start_from_simulation(usm_hybrid *h, const usm_hybrid_options *o, double *ts,
+                                 double *x0, double *speed)
+{
+    usm_sim *s = usm_sim_alloc(h->m);
+    usm_sim_options so;
+    usm_sim_summary sum;
+    ring_t *r = calloc(1, sizeof *r);
+    if (!s || !r) {
+        usm_sim_free(s);
+        free(r);
+        snprintf(h->msg, USM_MSG_LEN, "out of memory");
+        return USM_EFAILED;
+    }
+    usm_sim_options_default(&so);
+    so.duration = o->settle;
+    so.rate = 200 * h->p.f;
+    so.rtol = 1e-8; /* a start near the orbit: Newton does the rest */
+    r->nx = h->nx;
+    usm_sim_callbacks cb = {keep_sample, NULL, r, NULL};
+    int rc = usm_sim_run(s, &h->p, &so, &cb, &sum);
+    if (rc != USM_OK)
+        snprintf(h->msg, USM_MSG_LEN, "the simulation to start from failed: %.200s",
+                 usm_sim_message(s));
+    usm_sim_free(s);
+    if (rc == USM_OK && r->n < NSAMP) {
+        snprintf(h->msg, USM_MSG_LEN, "settle: too short for two periods of samples");
+        rc = USM_EINPUT;
+    }
+    if (rc == USM_OK) {
+        int best = -1, best_len = 0;
+        for (int i = 0; i < NSAMP;) {
+            const int k0 = (r->n + i) % NSAMP;
+            if (r->open[k0]) {
+                ++i;
+                continue;
+            }
+            int j = i;
+            while (j < NSAMP && !r->open[(r->n + j) % NSAMP])
+                ++j;
+            if (j - i > best_len) {
+                best_len = j - i;
+                best = i + (j - i) / 2;
+            }
+            i = j;
+        }
+        if (best < 0) {
+            snprintf(h->msg, USM_MSG_LEN, "the contact stays open in the simulation: no section "
+                     "in a closed phase");
+            rc = USM_EFAILED;
+        } else {
+            const int k = (r->n + best) % NSAMP;
+            *ts = r->t[k];
+            memcpy(x0, r->x[k], sizeof(double) * (size_t)h->nx);
+            *speed = sum.rotor_speed_avg_end;
+        }
+    }
+    free(r);
+    return rc;
+}
+
+/* ---- Newton and the multipliers -------------------------------------------------- */
+
+static int multipliers(usm_hybrid *h, const double *B, usm_floquet_result *f)
+{
+    const int nx = h->nx;
+    int idx[USM_MAX_NX], nr = 0;
+    for (int i = 0; i < nx; ++i)
+        if (!h->m->cyclic[i])
+            idx[nr++] = i;
+    gsl_matrix *Br = gsl_matrix_alloc((size_t)nr, (size_t)nr);
+    gsl_vector_complex *ev = gsl_vector_complex_alloc((size_t)nr);
+    gsl_eigen_nonsymm_workspace *ws = gsl_eigen_nonsymm_alloc((size_t)nr);
+    int rc = USM_EFAILED;
+    if (Br && ev && ws) {
+        /* in the coordinates (spin phidot + psidot, psidot) for phidot: in x
+         * the monodromy has two nearly equal columns of size Omega / (Omega
+         * theta) whose difference carries the multipliers, and an eigensolver
+         * loses 1e-5 of them to it; T B T^-1 has the same eigenvalues */
+        (void)B;
+        const double *Bt = h->Bspin; /* T B T^-1, integrated so (period_map) */
+        for (int a = 0; a < nr; ++a)
+            for (int b = 0; b < nr; ++b)
+                gsl_matrix_set(Br, (size_t)a, (size_t)b, Bt[idx[a] * nx + idx[b]]);
+        if (gsl_eigen_nonsymm(Br, ev, ws) == GSL_SUCCESS) {
+            memset(f, 0, sizeof *f);
+            f->n = nx;
+            int k = 0;
+            for (int a = 0; a < nr; ++a, ++k) {
+                f->re[k] = GSL_REAL(gsl_vector_complex_get(ev, (size_t)a));
+                f->im[k] = GSL_IMAG(gsl_vector_complex_get(ev, (size_t)a));
+            }
+            for (; k < nx; ++k) {
+                f->re[k] = 1.0;
+                f->cyclic[k] = 1;
+            }
+            /* by decreasing modulus */
+            for (int i = 1; i < nx; ++i)
+                for (int j = i; j > 0 && hypot(f->re[j], f->im[j]) > hypot(f->re[j - 1], f->im[j - 1]);
+                     --j) {
+                    double t = f->re[j];
+                    f->re[j] = f->re[j - 1];
+                    f->re[j - 1] = t;
+                    t = f->im[j];
+                    f->im[j] = f->im[j - 1];
+                    f->im[j - 1] = t;
+                    int c = f->cyclic[j];
+                    f->cyclic[j] = f->cyclic[j - 1];
+                    f->cyclic[j - 1] = c;
+                }
+            f->max_modulus = 0;
+            for (int i = 0; i < nx; ++i)
+                if (!f->cyclic[i])
+                    f->max_modulus = fmax(f->max_modulus, hypot(f->re[i], f->im[i]));
+            f->stable = f->max_modulus < 1;
+            memcpy(f->monodromy, B, sizeof(double) * (size_t)(nx * nx));
+            rc = USM_OK;
+        } else
+            snprintf(h->msg, USM_MSG_LEN, "the eigenvalues of the monodromy did not converge");
+    } else
+        snprintf(h->msg, USM_MSG_LEN, "out of memory");
+    gsl_matrix_free(Br);
+    gsl_vector_complex_free(ev);
+    gsl_eigen_nonsymm_free(ws);
+    return rc;
+}
+
+static int newton(usm_hybrid *h, const usm_hybrid_options *opt, double ts, double *x0,
+                  usm_hybrid_result *out);
+
+static int check_start(usm_hybrid *h, const usm_params *p, const usm_hybrid_options *opt,
+                       usm_hybrid_result *out)
+{
+    int rc;
+    memset(out, 0, sizeof *out);
+    memset(h->scale, 0, sizeof h->scale);
+    if ((rc = usm_hybrid_set(h, p, opt->rtol)) != USM_OK)
+        return rc;
+    if (!(opt->tol > 0) || opt->max_iter < 1 || !(opt->settle > 0) || !isfinite(opt->settle)) {
+        snprintf(h->msg, USM_MSG_LEN, "options: tol > 0, max_iter >= 1 and settle > 0 needed");
+        return USM_EINPUT;
+    }
+    return USM_OK;
+}
+
+int usm_hybrid_solve(usm_hybrid *h, const usm_params *p, const usm_hybrid_options *opt,
+                     usm_hybrid_result *out)
+{
+    usm_hybrid_options def;
+    int rc;
+    if (!opt) {
+        usm_hybrid_options_default(&def);
+        opt = &def;
+    }
+    if ((rc = check_start(h, p, opt, out)) != USM_OK)
+        return rc;
+    double ts, x0[USM_MAX_NX], speed;
+    if ((rc = start_from_simulation(h, opt, &ts, x0, &speed)) != USM_OK)
+        return rc;
+    set_scales(h, x0[h->m->x_theta], speed);
+    return newton(h, opt, ts, x0, out);
+}
+
+int usm_hybrid_solve_from(usm_hybrid *h, const usm_params *p, const usm_hybrid_options *opt,
+                          double ts, const double *x_start, usm_hybrid_result *out)
+{
+    usm_hybrid_options def;
+    double x0[USM_MAX_NX];
+    int rc;
+    if (!opt) {
+        usm_hybrid_options_default(&def);
+        opt = &def;
+    }
+    if ((rc = check_start(h, p, opt, out)) != USM_OK)
+        return rc;
+    memcpy(x0, x_start, sizeof(double) * (size_t)h->nx);
+    if (!isfinite(ts) || !(x0[h->m->x_theta] > 0)) {
+        snprintf(h->msg, USM_MSG_LEN, "x0: theta must be > 0 and ts finite");
+        return USM_EINPUT;
+    }
+    const int ird = h->m->x_phi_Rdot;
+    set_scales(h, x0[h->m->x_theta], ird >= 0 ? x0[ird] : h->Omega * x0[h->m->x_theta]);
+    return newton(h, opt, ts, x0, out);
+}
+
+static int newton(usm_hybrid *h, const usm_hybrid_options *opt, double ts, double *x0,
+                  usm_hybrid_result *out)
+{
+    const int nx = h->nx;
+    int rc;
+    double x1[USM_MAX_NX], B[USM_MAX_NX * USM_MAX_NX];
+    int idx[USM_MAX_NX], nr = 0;
+    for (int i = 0; i < nx; ++i)
+        if (!h->m->cyclic[i])
+            idx[nr++] = i;
+    double res = INFINITY, mean = NAN;
+    int it;
+    for (it = 0; it <= opt->max_iter; ++it) {
+        if ((rc = period_map(h, ts, x0, x1, B, &mean)) != USM_OK)
+            return rc;
+        double r[USM_MAX_NX];
+        res = 0;
+        for (int a = 0; a < nr; ++a) {
+            const int i = idx[a];
+            r[a] = x1[i] - x0[i] - (i == h->m->x_phi ? TWO_PI : 0.0);
+            res = fmax(res, fabs(r[a]) / h->scale[i]);
+        }
+        if (res <= opt->tol)
+            break;
+        if (it == opt->max_iter)
+            break;
+        double J[USM_MAX_NX * USM_MAX_NX];
+        size_t pdata[USM_MAX_NX];
+        gsl_permutation perm = {(size_t)nr, pdata};
+        int sign;
+        for (int a = 0; a < nr; ++a)
+            for (int b = 0; b < nr; ++b)
+                J[a * nr + b] = B[idx[a] * nx + idx[b]] - (a == b);
+        gsl_matrix_view Jm = gsl_matrix_view_array(J, (size_t)nr, (size_t)nr);
+        gsl_vector_view rv = gsl_vector_view_array(r, (size_t)nr);
+        if (gsl_linalg_LU_decomp(&Jm.matrix, &perm, &sign) != GSL_SUCCESS ||
+            gsl_linalg_LU_svx(&Jm.matrix, &perm, &rv.vector) != GSL_SUCCESS) {
+            snprintf(h->msg, USM_MSG_LEN, "Newton: B - I is singular");
+            return USM_EFAILED;
+        }
+        for (int a = 0; a < nr; ++a)
+            x0[idx[a]] -= r[a];
+    }
+    out->iterations = it;
+    out->residual = res;
+    out->t0 = ts;
+    out->period = h->T;
+    out->nx = nx;
+    memcpy(out->x0, x0, sizeof(double) * (size_t)nx);
+    if (!(res <= opt->tol)) {
+        snprintf(h->msg, USM_MSG_LEN, "Newton did not converge in %d iterations (residual %.3g)",
+                 opt->max_iter, res);
+        return USM_EFAILED;
+    }
+    if ((rc = multipliers(h, B, &out->floquet)) != USM_OK)
+        return rc;
+    out->floquet.t0 = ts;
+    out->converged = 1;
+    out->rotor_speed_mean = mean;
+    out->separation_fraction = h->open_total / h->T;
+    out->separations_per_period = h->nsep;
+    out->impacts_per_period = h->nimp;
+    out->impacts_slipping = h->nslip;
+    out->impact_velocity_max = h->vmax;
+    out->nmodes = h->nmodes;
+    memcpy(out->mode_sequence, h->seq, sizeof h->seq);
+    return USM_OK;
+}
