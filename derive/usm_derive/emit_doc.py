@@ -29,7 +29,8 @@ GREEK = {"phi": r"\varphi", "theta": r"\theta", "psi": r"\psi", "phi_R": r"\varp
 PARAM_TEX = {"m0": "m_0", "F0": "F_0", "I_xx": "I_{xx}", "I_yy": "I_{yy}", "I_zz": "I_{zz}",
              "mu0": r"\mu_0", "kappa": r"\kappa", "c_R": "c_R", "d_R": "d_R", "c_t": "c_t",
              "c_r": "c_r", "d_t": "d_t", "d_r": "d_r", "I_R": "I_R",
-             "amp_imbalance": r"\varepsilon", "phase_error": r"\delta", "mode_split": "s"}
+             "amp_imbalance": r"\varepsilon", "phase_error": r"\delta", "mode_split": "s",
+             "e_impact": r"e_{\mathrm{impact}}"}
 AXES = ["x_1", "y_1", "z_1"]
 SMALL = 120  # operations: trigsimp only below this, its cost grows steeply
 
@@ -842,6 +843,8 @@ class ModelDocument:
         used = sorted(self.d.used & {s.name for s in P.values()})
         if not self.slip:
             used = sorted(set(used) | {"mu0"})   # the stick check
+        if getattr(m, "unilateral", None):
+            used = sorted(set(used) | {"e_impact", "mu0"})   # the impact law
         return {
             "model": m.name,
             "assumptions": m.assumptions,
@@ -855,6 +858,7 @@ class ModelDocument:
             "ansatz": self.ansatz,
             "used_parameters": used, "coupled": coupled, "slip": self.slip,
             "twist_integrated": bool(self.extra),
+            "unilateral": bool(getattr(m, "unilateral", None)),
             "cyclic": [m.states[i].name for i in m.cyclic],
         }
 
@@ -1142,6 +1146,19 @@ NOTATION = [
 ]
 NOTATION_SLIP = [(r"\bar{\dot\varphi}_R", "rotor speed of the stationary solution (unknown)")]
 NOTATION_TWIST = [(r"\chi", r"twist angle, a state: $\dot\chi = \omega_{z_1}$")]
+# the unilateral contact's section (closure = unilateral, issue 24)
+NOTATION_UNILATERAL = [
+    (r"Z_R", r"height of the rotor's contact face, a state while the contact is open"),
+    (r"\mathbf{y}", r"state of the open mode: $\mathbf{x}$ with the rotor's own coordinates"),
+    (r"g", r"gap between the rotor's face and the stator's highest point (open mode)"),
+    (r"g_{\mathrm{closed}}, g_{\mathrm{open}}", r"guard functions: the contact opens where "
+                                              r"$g_{\mathrm{closed}} = F_n$ falls through 0, "
+                                              r"closes where $g_{\mathrm{open}} = g$ does"),
+    (r"M_a", r"mass matrix of the impact (the velocity rows of $\mathcal{M}$ with the rotor's)"),
+    (r"B", r"directions in which the normal and tangential impulses act"),
+    (r"P_n, P_t", r"normal and tangential impulse at the impact"),
+    (r"v_{\mathrm{rel}}", r"relative tangential velocity of rotor and stator at the contact"),
+]
 
 CONVENTIONS = (
     r"$\dot X$ is the time derivative of $X$, $\bar X$ its value on the stationary orbit (3.1), "
@@ -1255,7 +1272,8 @@ def _front(data, description, changes, diff):
         ", ".join(f"${x}$" for x in syms) + ": " + reason
         for syms, reason in notes) + "."
     notation = NOTATION + (NOTATION_SLIP if data.get("slip") else []) + \
-        (NOTATION_TWIST if data.get("twist_integrated") else [])
+        (NOTATION_TWIST if data.get("twist_integrated") else []) + \
+        (NOTATION_UNILATERAL if data.get("unilateral") else [])
     listed = {x.strip() for sym, _ in notation for x in sym.split(",")}
     for st in data["states"]:   # coordinates of another model (not the Euler angles)
         tx = names_tex.get(st, "")
