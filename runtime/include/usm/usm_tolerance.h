@@ -211,6 +211,22 @@ double usm_tolerance_influence(const usm_tolerance *t, int k, int j);
 int usm_tolerance_sample(const usm_tolerance *t, uint64_t i, double *values, double *out,
                          int *good, int *redraws);
 
+/* Wall seconds of the phases of the last run (usm tolerance --json's
+ * "timings"; under MPI, rank 0's): compute, the samples; reduce, waiting
+ * for and agreeing with the other ranks (their load imbalance) and reducing
+ * the counts; statistics, the quantiles and Spearman correlations (sorts,
+ * selections and, under MPI, the exchange of ranks); output, the checkpoint
+ * writes plus what usm_tolerance_output_seconds_add adds (the command's
+ * files).  NULL before a run. */
+typedef struct usm_tolerance_timings {
+    double compute, reduce, statistics, output;
+} usm_tolerance_timings;
+const usm_tolerance_timings *usm_tolerance_timings_get(const usm_tolerance *t);
+
+/* Add `seconds` to the output phase of the last run's timings (a writer's
+ * wall time, measured by its caller). */
+void usm_tolerance_output_seconds_add(usm_tolerance *t, double seconds);
+
 /* Why the last run failed, or "". */
 const char *usm_tolerance_message(const usm_tolerance *t);
 
@@ -232,7 +248,11 @@ int usm_tolerance_write_csv(const usm_tolerance *t, FILE *out);
  * operating_point {exists, no_stable_root, does_not_start, unknown},
  * invalid (samples whose solution the model does not describe),
  * invalid_reasons {contact_open, stick_not_admissible} (the same bytes after
- * a checkpoint resume).  0 or -1 on a write error. */
+ * a checkpoint resume, for any number of threads or MPI ranks), and last, on
+ * a line of its own, timings {compute, reduce, statistics, output}
+ * (usm_tolerance_timings_get: wall seconds, different in every run; compare
+ * two runs' output without the line that starts with `  "timings"`).  0 or -1
+ * on a write error. */
 int usm_tolerance_write_json(const usm_tolerance *t, FILE *out);
 
 /* summary.md: the study, the yield, quantiles and influence tables.
