@@ -198,6 +198,29 @@ static int line_crc(char *line, int len, FILE *f, uLong *crc)
     return 0;
 }
 
+/* Whether the rest of f (after the bytes whose CRC-32 is crc) ends with the
+ * CRC-32 of all of it but its last 16 bytes (the stored CRC and ORDER). */
+static int crc_matches(FILE *f, uLong crc)
+{
+    unsigned char buf[1 << 16], keep[16];
+    size_t held = 0, got;
+    while ((got = fread(buf, 1, sizeof buf, f)) > 0) {
+        /* the 16 bytes held back are not the last ones: into the CRC */
+        const size_t all = held + got, out = all > 16 ? all - 16 : 0;
+        unsigned char joined[16 + sizeof buf];
+        memcpy(joined, keep, held);
+        memcpy(joined + held, buf, got);
+        crc = crc32(crc, joined, (uInt)out);
+        held = all - out;
+        memcpy(keep, joined + out, held);
+    }
+    uint64_t stored;
+    if (held != 16)
+        return 0;
+    memcpy(&stored, keep, sizeof stored);
+    return stored == (uint64_t)crc;
+}
+
 /* The header of checkpoint file `path` (file k of the set): magic, the
  * library version, "part R of S", the configuration.  USM_OK with the file
  * at its binary part and *parts = S; *missing = 1 (and USM_OK) when there is
@@ -275,8 +298,13 @@ static int read_header(usm_tolerance *t, const char *path, int k, FILE **fp, uLo
             snprintf(a, sizeof a, "a longer configuration"), snprintf(b, sizeof b, "%s", "");
         else
             first_difference(text, t->config, a, b);
-        snprintf(why, sizeof why, "written by another study (it has \"%.70s\" where this run "
-                 "has \"%.70s\"); use another file or remove it", a, b);
+        /* a byte damaged in the configuration is not another study */
+        if (!crc_matches(f, *crc))
+            snprintf(why, sizeof why, "damaged: its CRC-32 does not match its bytes (its "
+                     "configuration reads \"%.70s\" where this run has \"%.70s\")", a, b);
+        else
+            snprintf(why, sizeof why, "written by another study (it has \"%.70s\" where this "
+                     "run has \"%.70s\"); use another file or remove it", a, b);
         status = refuse_path(t, path, why);
     }
     free(text);
