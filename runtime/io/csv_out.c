@@ -1,5 +1,6 @@
 /* The usm command's CSV dialect (see csv_out.h). */
 #include "csv_out.h"
+#include "usm_io.h"
 
 #include <float.h>
 #include <math.h>
@@ -143,6 +144,11 @@ int usm_shortest_len(char buf[32], double v)
     }
     *o = '\0';
     return (int)(o - buf);
+}
+
+int usm_format_shortest(char buf[32], double v)
+{
+    return usm_shortest_len(buf, v);
 }
 
 const char *usm_shortest(char buf[32], double v)
