@@ -7,9 +7,9 @@
  *   - counts, yield and the Wilson interval: sums of integers;
  *   - quantiles: gsl_stats_quantile_from_sorted_data's interpolation between
  *     the order statistics at floor(f (n - 1)) and the next one, each found
- *     exactly by a bitwise search over the doubles' ordered 64-bit keys (64
- *     rounds of one sum of counts, every local count a binary search in the
- *     rank's sorted keys);
+ *     exactly by a digit-by-digit search over the doubles' ordered 64-bit
+ *     keys (8 rounds of one sum of counts, every local count a binary search
+ *     in the rank's sorted keys);
  *   - Spearman: the Pearson correlation of the (tie-averaged) ranks, in
  *     doubled ranks U = 2 R (integers): r = S_uv / sqrt(S_uu S_vv) with S_uv =
  *     sum U V - m (m + 1)^2 summed exactly in 128-bit integers, then rounded
@@ -157,25 +157,52 @@ static size_t lower_bound(const u64 *sorted, size_t n, u64 k)
 
 /* ---- exact order statistics across ranks -------------------------------------------- */
 
-/* The keys at the global positions pos[0..n) (0-based, below the number of
- * keys of all ranks) of the ranks' sorted keys, into out: bit by bit from the
- * top, the smallest key with more than pos keys at or below it.  cnt: room
- * for n.  0 or -1 (a failed collective). */
-static int select_keys(const tol_comm *c, const u64 *sorted, size_t m, const u64 *pos, size_t n,
-                       u64 *out, u64 *cnt)
+/* 1 when every rank has ok, else 0 (or -1 when the sum fails). */
+static int all_ok(const tol_comm *c, int ok)
 {
+    u64 bad = !ok;
+    if (c->sum_u64(c->ctx, &bad, 1) != 0)
+        return -1;
+    return bad == 0;
+}
+
+/* The keys at the global positions pos[0..n) (0-based, below the number of
+ * keys of all ranks) of the ranks' sorted keys, into out: digit by digit
+ * from the top (8 bits a round for a few positions, 4 for many), the
+ * smallest key with more than pos keys at or below it -- each round one sum
+ * of the counts at or below every value of the next digit (a binary search
+ * each in this rank's keys), so 8 or 16 rounds in all.  0 or -1 (out of
+ * memory, a failed collective). */
+static int select_keys(const tol_comm *c, const u64 *sorted, size_t m, const u64 *pos, size_t n,
+                       u64 *out, u64 *unused)
+{
+    const int bits = n <= 64 ? 8 : 4, values = 1 << bits;
+    u64 *cnt = malloc((n ? n : 1) * (size_t)values * sizeof *cnt);
+    (void)unused;
+    if (all_ok(c, cnt != NULL) != 1) {
+        free(cnt);
+        return -1;
+    }
     for (size_t q = 0; q < n; ++q)
         out[q] = 0;
-    for (int bit = 63; bit >= 0; --bit) {
-        const u64 low = (1ULL << bit) - 1;
+    for (int shift = 64 - bits; shift >= 0; shift -= bits) {
+        const u64 low = shift ? (1ULL << shift) - 1 : 0;
         for (size_t q = 0; q < n; ++q)
-            cnt[q] = upper_bound(sorted, m, out[q] | low);
-        if (c->sum_u64(c->ctx, cnt, n) != 0)
+            for (int d = 0; d < values; ++d)
+                cnt[q * (size_t)values + (size_t)d] =
+                    upper_bound(sorted, m, out[q] | ((u64)d << shift) | low);
+        if (c->sum_u64(c->ctx, cnt, n * (size_t)values) != 0) {
+            free(cnt);
             return -1;
-        for (size_t q = 0; q < n; ++q)
-            if (cnt[q] <= pos[q])
-                out[q] |= 1ULL << bit;
+        }
+        for (size_t q = 0; q < n; ++q) {
+            int d = 0; /* the first digit with more than pos keys at or below it */
+            while (d < values - 1 && cnt[q * (size_t)values + (size_t)d] <= pos[q])
+                ++d;
+            out[q] |= (u64)d << shift;
+        }
     }
+    free(cnt);
     return 0;
 }
 
@@ -185,15 +212,6 @@ typedef struct scratch {
     u64 *k2;       /* radix sort's second buffer */
     uint32_t *ix, *ix2;
 } scratch;
-
-/* 1 when every rank has ok, else 0 (or -1 when the sum fails). */
-static int all_ok(const tol_comm *c, int ok)
-{
-    u64 bad = !ok;
-    if (c->sum_u64(c->ctx, &bad, 1) != 0)
-        return -1;
-    return bad == 0;
-}
 
 /* The doubled ranks U = 2 less + equal + 1 of the keys (m on this rank, in the
  * local order; global count total) into u, over the keys of every rank; keys
