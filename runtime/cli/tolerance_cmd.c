@@ -53,11 +53,14 @@ static void usage(FILE *out)
           "  --threads N         worker threads (default 2)\n"
           "  --out DIR           DIR/samples.csv, summary.md, histograms.png/svg (--force:\n"
           "                      write into an existing DIR)\n"
-          "  --checkpoint FILE   keep completed blocks in FILE; the same command resumes\n\n"
+          "  --checkpoint FILE   keep completed blocks in FILE (under mpirun also FILE.R for\n"
+          "                      rank R); the same command resumes, with any number of ranks\n\n"
           "Output: a Markdown summary; --json: {samples, seed, yield, yield_ci, quantiles,\n"
           "influence, failed, redrawn, exists, stable, good, operating_point, invalid,\n"
-          "invalid_reasons}; samples.csv ends with valid, invalid_reason.  Under mpirun the\n"
-          "samples are shared out over the ranks, with the same output.\n"
+          "invalid_reasons, timings: {compute, reduce, statistics, output} (wall seconds)};\n"
+          "samples.csv ends with valid, invalid_reason.  Under mpirun the samples are shared\n"
+          "out over the ranks and stay there (statistics by reductions, samples.csv written\n"
+          "by every rank with MPI-IO), with the same output.\n"
           "exit status: 0 done, 1 numerical failure or write error, 2 bad input\n", out);
 }
 
