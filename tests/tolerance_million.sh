@@ -4,7 +4,7 @@
 #     definition as GSL's) and every Spearman correlation (scipy.stats.rankdata's
 #     ranks, correlated in exact integer arithmetic) from the run's own
 #     samples.csv, to 1e-14; scipy.stats.spearmanr itself (floating-point
-#     sums, off by up to ~4e-13 for small correlations) to 1e-11;
+#     sums, off by up to ~1e-11 near |r| = 1) to 1e-9;
 #   - byte-identical JSON (without its "timings" line), samples.csv and
 #     summary.md between a 2-thread serial run, `mpirun -np 4`, and a study
 #     stopped under `mpirun -np 2` after half its blocks and resumed by
@@ -88,12 +88,13 @@ for k in outs:
         worst_r = max(worst_r, abs(got - ref))
         # ours rounds each sum once, then a product, a root and a quotient: a few ulps
         assert abs(got - ref) <= 1e-14, (k, p, got, ref)
-        # scipy.stats.spearmanr itself (floating-point sums: measured up to 4e-13 here)
+        # scipy.stats.spearmanr itself: floating-point sums, worst near |r| = 1 (measured: 1.05e-11
+        # at r = -0.99784, where the exact value from its own ranks is 2 ulps from ours)
         sp = stats.spearmanr(cols[p][ok], y[ok]).correlation
         worst_s = max(worst_s, abs(got - sp))
-        assert abs(got - sp) <= 1e-11, (k, p, got, sp)
-print("numpy/scipy at 10^6: quantiles within %.1e (relative), Spearman within %.1e of the exact "
-      "value from scipy's ranks, %.1e of scipy.stats.spearmanr" % (worst_q, worst_r, worst_s))
+        assert abs(got - sp) <= 1e-9, (k, p, got, sp)
+print("numpy/scipy at %d samples: quantiles within %.1e (relative), Spearman within %.1e of the exact "
+      "value from scipy's ranks, %.1e of scipy.stats.spearmanr" % (o["samples"], worst_q, worst_r, worst_s))
 PYEOF
     failures=$((failures + 1))
     echo "FAIL: numpy/scipy: $(tail -n 5 "$tmp/np.out")"
