@@ -22,6 +22,7 @@
  */
 #define _POSIX_C_SOURCE 200809L /* mkstemp, fdopen */
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -339,9 +340,81 @@ static void units(void)
           "units: a bad unit in a file: %s", msg);
 }
 
+/* usm_format_shortest (issue 25: one print, one or two parses) against its
+ * definition, the first %.{P}g, P = 6 ... 17, that strtod reads back as v:
+ * the same text for random bit patterns (every exponent, subnormals),
+ * short decimals, whole numbers around the %g style switch, and decimals of
+ * 15 to 17 digits ending in 5 (where rounding the 17-digit print to fewer
+ * digits is a tie that the definition decides on v's later digits). */
+static uint64_t xs = 88172645463325252ULL;
+static uint64_t xorshift(void)
+{
+    xs ^= xs << 13;
+    xs ^= xs >> 7;
+    xs ^= xs << 17;
+    return xs;
+}
+
+static void shortest_definition(char buf[32], double v)
+{
+    for (int p = 6; p <= 17; ++p) {
+        snprintf(buf, 32, "%.*g", p, v);
+        if (strtod(buf, NULL) == v)
+            return;
+    }
+}
+
+static void shortest_writer(void)
+{
+    static const double special[] = {0.0, -0.0, 1, 1e6, 1e5, 123456, 1234567, 1e15, 1e16, 1e17,
+                                     1e-5, 1e-4, 0.1, 0.30000000000000004, 1.5e-300, 5e-324,
+                                     2.2250738585072014e-308, 1.7976931348623157e308, 100,
+                                     999999.5, 9.9999999999999999e14, -0.005};
+    char a[32], b[32], digits[32], text[64];
+    long bad = 0, n = 0;
+    for (size_t k = 0; k < sizeof special / sizeof special[0]; ++k, ++n) {
+        shortest_definition(a, special[k]);
+        bad += usm_format_shortest(b, special[k]) != (int)strlen(a) || strcmp(a, b) != 0;
+    }
+    for (long i = 0; i < 400000; ++i) {
+        const uint64_t r = xorshift();
+        double v;
+        switch (i % 5) {
+        case 0: memcpy(&v, &r, sizeof v); break;
+        case 1: v = (double)(r % 2000000) / 1000.0; break;
+        case 2: v = (double)(int64_t)(r % 200000000) - 1e8; break;
+        case 3: v = ldexp((double)(r >> 11), -53) * pow(10, (int)(r % 40) - 20); break;
+        default: /* 15, 16 or 17 digits ending in 5 (or 05) */
+            snprintf(digits, sizeof digits, "%llu",
+                     (unsigned long long)(r % 9000000000000000000ULL + 1000000000000000000ULL));
+            {
+                const int nd = 15 + (int)(i / 5 % 3);
+                digits[nd] = '\0';
+                digits[nd - 1] = '5';
+                if (i / 15 % 2)
+                    digits[nd - 2] = '0';
+            }
+            snprintf(text, sizeof text, "%s%c.%se%d", i % 2 ? "-" : "", digits[0], digits + 1,
+                     (int)(xorshift() % 60) - 30);
+            v = strtod(text, NULL);
+        }
+        if (!isfinite(v))
+            continue;
+        ++n;
+        shortest_definition(a, v);
+        if (usm_format_shortest(b, v) != (int)strlen(a) || strcmp(a, b) != 0) {
+            if (bad < 5)
+                printf("usm_format_shortest(%a) = %s, the definition gives %s\n", v, b, a);
+            ++bad;
+        }
+    }
+    CHECK(bad == 0, "usm_format_shortest: %ld of %ld texts differ from the definition", bad, n);
+}
+
 int main(void)
 {
     gsl_set_error_handler_off();
+    shortest_writer();
     units();
     json_shortest();
     steady_json();

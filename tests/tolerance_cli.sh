@@ -52,7 +52,13 @@ assert set(o["influence"]["theta"]) == {"F0", "T"}
 # the load slows the motor down: rotor_speed (negative when driving) rises with T
 assert o["influence"]["rotor_speed"]["T"] > 0.5, o["influence"]'
 fi
-expect_rc 0 $T --json --threads 2 && { cmp -s "$out" "$tmp/t1.json" || fail "threads 2 differs from threads 1"; }
+# "timings" (wall seconds, last, on a line of its own) differ between runs: compared without it
+py_file "$tmp/t1.json" 't = o["timings"]
+assert set(t) == {"compute", "reduce", "statistics", "output"} and all(v >= 0 for v in t.values()), t
+assert list(o)[-1] == "timings", list(o)'
+notimings() { grep -v '^  "timings": ' "$1"; }
+expect_rc 0 $T --json --threads 2 &&
+    { cmp -s <(notimings "$out") <(notimings "$tmp/t1.json") || fail "threads 2 differs from threads 1"; }
 
 # ---- --out --------------------------------------------------------------------------
 if expect_rc 0 $T --out "$tmp/full"; then
@@ -108,6 +114,34 @@ if expect_rc 0 $T --checkpoint "$tmp/ck" --out "$tmp/resumed" --force; then
     cmp -s "$tmp/resumed/samples.csv" "$tmp/full/samples.csv" || fail "resumed samples.csv differs"
 fi
 expect_bad 'checkpoint' 'another study.*seed' $T --seed 2 --checkpoint "$tmp/ck"
+
+# ---- checkpoints that cannot lie (issue 25): each refused with one line, exit 2 ------------
+# a checkpoint of 3 of the 5 blocks (the last in-place run left all of them): damaged copies
+USM_TOLERANCE_STOP_AFTER_BLOCKS=3 timeout 60 "$USM" $T --checkpoint "$tmp/ck3" >"$out" 2>"$err"
+size=$(stat -c %s "$tmp/ck3")
+cp "$tmp/ck3" "$tmp/ck3.orig"
+flip() { # FILE OFFSET: one byte inverted
+    "$PY" -c 'import sys; p, k = sys.argv[1], int(sys.argv[2]); b = bytearray(open(p, "rb").read()); b[k] ^= 0xff; open(p, "wb").write(b)' "$1" "$2"
+}
+for at in 120 $((size / 2)) $((size - 20)) $((size - 100)); do # the configuration, a row, the checksum, the last rows
+    cp "$tmp/ck3.orig" "$tmp/ck3"; flip "$tmp/ck3" $at
+    expect_bad 'checkpoint' 'damaged' $T --checkpoint "$tmp/ck3"
+done
+cp "$tmp/ck3.orig" "$tmp/ck3"; head -c $((size - 9)) "$tmp/ck3.orig" >"$tmp/ck3"
+expect_bad 'checkpoint' 'truncated' $T --checkpoint "$tmp/ck3"
+head -c $((size / 3)) "$tmp/ck3.orig" >"$tmp/ck3"
+expect_bad 'checkpoint' 'truncated' $T --checkpoint "$tmp/ck3"
+cp "$tmp/ck3.orig" "$tmp/ck3"
+expect_bad 'checkpoint' 'another study.*seed 1.*seed 3' $T --seed 3 --checkpoint "$tmp/ck3"
+sed '2s/^usm .*/usm 0.0.1/' "$tmp/ck3.orig" >"$tmp/ck3"
+expect_bad 'checkpoint' 'written by usm 0.0.1, this is usm' $T --checkpoint "$tmp/ck3"
+sed '1s/checkpoint 3/checkpoint 2/' "$tmp/ck3.orig" >"$tmp/ck3"
+cp "$tmp/ck3" "$tmp/ck3.bad"
+expect_bad 'checkpoint' 'another format' $T --checkpoint "$tmp/ck3"
+cmp -s "$tmp/ck3" "$tmp/ck3.bad" || fail "a refused checkpoint was rewritten"
+# the intact one resumes to the uninterrupted result
+cp "$tmp/ck3.orig" "$tmp/ck3"
+expect_rc 0 $T --checkpoint "$tmp/ck3" && { cmp -s "$out" "$tmp/full.stdout" || fail "resumed from 3 blocks differs"; }
 printf 'my notes\n' >"$tmp/notes"
 expect_bad 'checkpoint' 'not a usm tolerance checkpoint' $T --checkpoint "$tmp/notes"
 grep -qx 'my notes' "$tmp/notes" || fail "a foreign file was overwritten"

@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <time.h>
 #include <unistd.h>
 
 #include "commands.h"
@@ -16,6 +17,13 @@
 #ifdef USM_HAVE_MPI
 #include "usm_mpi.h"
 #endif
+
+static double now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
 
 static void usage(FILE *out)
 {
@@ -46,11 +54,14 @@ static void usage(FILE *out)
           "  --threads N         worker threads (default 2)\n"
           "  --out DIR           DIR/samples.csv, summary.md, histograms.png/svg (--force:\n"
           "                      write into an existing DIR)\n"
-          "  --checkpoint FILE   keep completed blocks in FILE; the same command resumes\n\n"
+          "  --checkpoint FILE   keep completed blocks in FILE (under mpirun also FILE.R for\n"
+          "                      rank R); the same command resumes, with any number of ranks\n\n"
           "Output: a Markdown summary; --json: {samples, seed, yield, yield_ci, quantiles,\n"
           "influence, failed, redrawn, exists, stable, good, operating_point, invalid,\n"
-          "invalid_reasons}; samples.csv ends with valid, invalid_reason.  Under mpirun the\n"
-          "samples are shared out over the ranks, with the same output.\n"
+          "invalid_reasons, timings: {compute, reduce, statistics, output} (wall seconds)};\n"
+          "samples.csv ends with valid, invalid_reason.  Under mpirun the samples are shared\n"
+          "out over the ranks and stay there (statistics by reductions, samples.csv written\n"
+          "by every rank with MPI-IO), with the same output.\n"
           "exit status: 0 done, 1 numerical failure or write error, 2 bad input\n", out);
 }
 
@@ -186,18 +197,44 @@ static int parse(tol_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
     return cli_common_finish(&a->common, msg);
 }
 
+/* Under MPI, samples.csv is written by every rank (usm_tolerance_write_csv_mpi):
+ * the ranks other than 0 call it here, rank 0 from write_file (or with NULL,
+ * to let them go, when it gives up before). */
+static int csv_mpi(const usm_tolerance *t, const char *path, char msg[CLI_MSG_LEN])
+{
+#ifdef USM_HAVE_MPI
+    char why[USM_MSG_LEN];
+    const int rc = usm_tolerance_write_csv_mpi(t, path, why);
+    if (rc != USM_OK)
+        cli_msg(msg, "--out %s", why);
+    return rc;
+#else
+    (void)t, (void)path, (void)msg;
+    return USM_EFAILED;
+#endif
+}
+
 /* DIR/NAME written by `write`, whole or not at all (usm_io_create); USM_OK
- * or a status with msg. */
+ * or a status with msg.  mpi: samples.csv written by all ranks. */
 static int write_file(const char *dir, const char *name, const usm_tolerance *t, int summary,
-                      int force, char msg[CLI_MSG_LEN])
+                      int force, int mpi, char msg[CLI_MSG_LEN])
 {
     char path[4096], why[USM_IO_MSG_LEN];
     usm_io_file file;
     int status;
     snprintf(path, sizeof path, "%s/%s", dir, name);
     FILE *f = usm_io_create(&file, path, force, why, &status);
-    if (f && (summary ? usm_tolerance_write_summary(t, f, "histograms")
-                      : usm_tolerance_write_csv(t, f)) != 0) {
+    if (mpi && !summary) {
+        /* the temporary exists: the ranks write into it, rank 0 commits it */
+        if (csv_mpi(t, f ? (file.tmp[0] ? file.tmp : file.path) : NULL, msg) != USM_OK) {
+            if (f)
+                usm_io_abort(&file);
+            else
+                cli_msg(msg, "--out %.900s", why);
+            return f ? USM_EFAILED : status;
+        }
+    } else if (f && (summary ? usm_tolerance_write_summary(t, f, "histograms")
+                             : usm_tolerance_write_csv(t, f)) != 0) {
         usm_io_abort(&file);
         cli_msg(msg, "--out %s: write error", path);
         return USM_EFAILED;
@@ -212,18 +249,20 @@ static int write_file(const char *dir, const char *name, const usm_tolerance *t,
 /* DIR: samples.csv and summary.md written into a stage and renamed to DIR
  * together (a new or empty DIR appears whole or not at all; with --force
  * into a non-empty one, file by file, each whole); then the histograms. */
-static int write_out(const tol_args *a, const usm_tolerance *t, char msg[CLI_MSG_LEN])
+static int write_out(const tol_args *a, const usm_tolerance *t, int mpi, char msg[CLI_MSG_LEN])
 {
     char prefix[4096], csv[4096], why[USM_IO_MSG_LEN];
     usm_io_dir dir;
     int rc = usm_io_dir_create(&dir, a->out, a->force, why);
     if (rc != USM_OK) {
         cli_msg(msg, "--out %.900s", why);
+        if (mpi)
+            csv_mpi(t, NULL, why); /* the other ranks wait for samples.csv */
         return rc;
     }
-    rc = write_file(dir.work, "samples.csv", t, 0, a->force, msg);
+    rc = write_file(dir.work, "samples.csv", t, 0, a->force, mpi, msg);
     if (rc == USM_OK)
-        rc = write_file(dir.work, "summary.md", t, 1, a->force, msg);
+        rc = write_file(dir.work, "summary.md", t, 1, a->force, 0, msg);
     if (rc != USM_OK) {
         usm_io_dir_abort(&dir);
         return rc;
@@ -311,14 +350,21 @@ int cli_tolerance_main(int argc, char **argv)
         cli_msg(msg, "%s%s", strncmp(usm_tolerance_message(t), "checkpoint ", 11) ? "" : "--",
                 usm_tolerance_message(t));
     }
+    /* the files first: their time is in --json's timings.output */
+    if (status == USM_OK && a.out) {
+        const double t0 = now();
+        if (rank == 0)
+            status = write_out(&a, t, size > 1, msg);
+        else
+            status = csv_mpi(t, NULL, msg);
+        usm_tolerance_output_seconds_add(t, now() - t0);
+    }
     if (status == USM_OK && rank == 0) {
         if ((a.common.json ? usm_tolerance_write_json(t, stdout)
                            : usm_tolerance_write_summary(t, stdout, NULL)) != 0) {
             cli_msg(msg, "stdout: write error");
             status = USM_EFAILED;
         }
-        if (status == USM_OK && a.out)
-            status = write_out(&a, t, msg);
     }
     if (status != USM_OK && rank == 0)
         cli_error("%s", msg);

@@ -18,6 +18,8 @@
 /* The shortest %g text (at least 6 digits) that reads back as exactly v, in
  * buf; returns buf. */
 const char *usm_shortest(char buf[32], double v);
+/* The same text; returns its length (one print and one parse, nearly always). */
+int usm_shortest_len(char buf[32], double v);
 
 /* One column of a header: unit NULL for a yes/no or text column. */
 typedef struct usm_csv_column {

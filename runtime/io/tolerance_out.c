@@ -2,64 +2,130 @@
  * (usm_tolerance.h). */
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "csv_out.h"
+#include "tolerance_csv.h"
 #include "study/tolerance_rows.h"
 #include "usm_map.h"
 
+static const int csv_order[] = {USM_TOL_EXISTS, USM_TOL_STABLE, USM_TOL_STICK_ADMISSIBLE,
+                                USM_TOL_THETA, USM_TOL_ROTOR_SPEED, USM_TOL_F_N, USM_TOL_F_T,
+                                USM_TOL_MAX_MODULUS, USM_TOL_EFFICIENCY};
+#define NORDER ((int)(sizeof csv_order / sizeof csv_order[0]))
+
+size_t tol_csv_row_max(const usm_tolerance *t)
+{
+    /* numbers <= 24 bytes and a comma; the texts (op_class, invalid_reason) < 64 each */
+    return (size_t)(t->nvary + NORDER) * 26 + 256;
+}
+
+size_t tol_csv_header(const usm_tolerance *t, char *buf, size_t len)
+{
+    size_t n = (size_t)snprintf(buf, len, "sample");
+    for (int j = 0; j < t->nvary && n < len; ++j)
+        n += (size_t)snprintf(buf + n, len - n, ",%s [%s]", t->vary[j].param->name,
+                              t->vary[j].param->unit);
+    for (int c = 0; c < NORDER && n < len; ++c) {
+        const char *unit = usm_tolerance_output_unit(csv_order[c]);
+        n += (size_t)snprintf(buf + n, len - n, ",%s%s%s%s", usm_tolerance_output_name(csv_order[c]),
+                              unit ? " [" : "", unit ? unit : "", unit ? "]" : "");
+    }
+    if (n < len)
+        n += (size_t)snprintf(buf + n, len - n, ",good,redraws,operating_point,op_class,valid,"
+                              "invalid_reason\n");
+    return n < len ? n : len - 1;
+}
+
+/* A whole number's digits at o; the end. */
+static char *whole(char *o, uint64_t v)
+{
+    char d[24];
+    int n = 0;
+    do
+        d[n++] = (char)('0' + v % 10);
+    while ((v /= 10) != 0);
+    while (n)
+        *o++ = d[--n];
+    return o;
+}
+
+static char *text(char *o, const char *s)
+{
+    const size_t n = strlen(s);
+    memcpy(o, s, n);
+    return o + n;
+}
+
 /* A field of the CSV dialect (csv_out.h): the shortest text that reads back
  * exactly, empty where the value does not exist. */
-static void num(FILE *f, double v) { usm_csv_num(f, 0, v); }
-
-static void yesno(FILE *f, double v)
+static char *num(char *o, double v)
 {
-    fputc(',', f);
+    *o++ = ',';
+    if (isfinite(v))
+        o += usm_shortest_len(o, v);
+    return o;
+}
+
+static char *yesno(char *o, double v)
+{
+    *o++ = ',';
     if (!isnan(v))
-        fputs(v != 0.0 ? "true" : "false", f);
+        o = text(o, v != 0.0 ? "true" : "false");
+    return o;
+}
+
+size_t tol_csv_row(const usm_tolerance *t, uint64_t i, const double *row, char *buf)
+{
+    char *o = whole(buf, i);
+    for (int j = 0; j < t->nvary; ++j)
+        o = num(o, row[j]);
+    for (int c = 0; c < NORDER; ++c)
+        o = csv_order[c] >= USM_TOL_NNUMERIC ? yesno(o, row[t->nvary + csv_order[c]])
+                                             : num(o, row[t->nvary + csv_order[c]]);
+    o = yesno(o, row[TOL_ROW_GOOD(t)]);
+    *o++ = ',';
+    o = whole(o, (uint64_t)row[TOL_ROW_REDRAWS(t)]); /* checked on load: 0 ... 9999 */
+    *o++ = ',';
+    if (!isnan(row[t->nvary + USM_TOL_OPERATING_POINT]))
+        o = whole(o, (uint64_t)row[t->nvary + USM_TOL_OPERATING_POINT]);
+    *o++ = ',';
+    o = text(o, usm_point_op_class_name(
+                    (usm_point_op_class)(int)row[t->nvary + USM_TOL_OP_CLASS]));
+    /* a row's validity is NaN (no solution) or a usm_validity, checked on load;
+     * the columns valid, invalid_reason as usm_csv_validity writes them */
+    const double v = row[t->nvary + USM_TOL_VALIDITY];
+    if (isnan(v))
+        o = text(o, ",,");
+    else {
+        o = text(o, v == (double)USM_VALID ? ",true," : ",false,");
+        o = text(o, usm_validity_name((usm_validity)(int)v));
+    }
+    *o++ = '\n';
+    return (size_t)(o - buf);
 }
 
 int usm_tolerance_write_csv(const usm_tolerance *t, FILE *out)
 {
-    static const int order[] = {USM_TOL_EXISTS, USM_TOL_STABLE, USM_TOL_STICK_ADMISSIBLE,
-                                USM_TOL_THETA, USM_TOL_ROTOR_SPEED, USM_TOL_F_N, USM_TOL_F_T,
-                                USM_TOL_MAX_MODULUS, USM_TOL_EFFICIENCY};
+    char head[4096];
     if (!t->have_result)
         return -1;
-    fputs("sample", out);
-    for (int j = 0; j < t->nvary; ++j)
-        fprintf(out, ",%s [%s]", t->vary[j].param->name, t->vary[j].param->unit);
-    for (size_t c = 0; c < sizeof order / sizeof order[0]; ++c) {
-        const char *unit = usm_tolerance_output_unit(order[c]);
-        fprintf(out, ",%s", usm_tolerance_output_name(order[c]));
-        if (unit)
-            fprintf(out, " [%s]", unit);
-    }
-    fputs(",good,redraws,operating_point,op_class,valid,invalid_reason\n", out);
-    for (uint64_t i = 0; i < t->sum.samples; ++i) {
-        const double *row = t->rows + i * (uint64_t)t->width;
-        fprintf(out, "%llu", (unsigned long long)i);
-        for (int j = 0; j < t->nvary; ++j)
-            num(out, row[j]);
-        for (size_t c = 0; c < sizeof order / sizeof order[0]; ++c) {
-            if (order[c] >= USM_TOL_NNUMERIC)
-                yesno(out, row[t->nvary + order[c]]);
-            else
-                num(out, row[t->nvary + order[c]]);
+    const size_t max = tol_csv_row_max(t), chunk = 1 << 16;
+    char *buf = malloc(chunk + max);
+    if (!buf)
+        return -1;
+    fwrite(head, 1, tol_csv_header(t, head, sizeof head), out);
+    const uint64_t n = tol_local_samples(t), first = t->blo * USM_TOLERANCE_BLOCK;
+    size_t used = 0;
+    for (uint64_t i = 0; i < n; ++i) {
+        used += tol_csv_row(t, first + i, t->rows + i * (uint64_t)t->width, buf + used);
+        if (used >= chunk || i + 1 == n) {
+            fwrite(buf, 1, used, out);
+            used = 0;
         }
-        yesno(out, row[TOL_ROW_GOOD(t)]);
-        fprintf(out, ",%d", (int)row[TOL_ROW_REDRAWS(t)]);
-        if (!isnan(row[t->nvary + USM_TOL_OPERATING_POINT]))
-            fprintf(out, ",%d", (int)row[t->nvary + USM_TOL_OPERATING_POINT]);
-        else
-            fputc(',', out);
-        fprintf(out, ",%s",
-                usm_point_op_class_name((usm_point_op_class)(int)row[t->nvary + USM_TOL_OP_CLASS]));
-        /* a row's validity is NaN (no solution) or a usm_validity, checked on load */
-        const double v = row[t->nvary + USM_TOL_VALIDITY];
-        usm_csv_validity(out, !isnan(v), isnan(v) ? USM_VALID : (usm_validity)(int)v);
-        fputc('\n', out);
     }
+    free(buf);
     return ferror(out) ? -1 : 0;
 }
 
@@ -204,12 +270,16 @@ int usm_tolerance_write_json(const usm_tolerance *t, FILE *out)
             "  \"stable\": %llu,\n  \"good\": %llu,\n  \"operating_point\": {\"exists\": %llu, "
             "\"no_stable_root\": %llu, \"does_not_start\": %llu, \"unknown\": %llu},\n"
             "  \"invalid\": %llu,\n  \"invalid_reasons\": {\"contact_open\": %llu, "
-            "\"stick_not_admissible\": %llu}\n}\n",
+            "\"stick_not_admissible\": %llu},\n",
             (unsigned long long)s->failed, (unsigned long long)s->redrawn,
             (unsigned long long)s->exists, (unsigned long long)s->stable,
             (unsigned long long)s->good, (unsigned long long)s->op_exists,
             (unsigned long long)s->op_no_stable_root, (unsigned long long)s->op_does_not_start,
             (unsigned long long)s->op_unknown, (unsigned long long)s->invalid,
             (unsigned long long)s->invalid_contact_open, (unsigned long long)s->invalid_stick);
+    /* wall seconds, different in every run: on a line of their own, last */
+    fprintf(out, "  \"timings\": {\"compute\": %.6f, \"reduce\": %.6f, \"statistics\": %.6f, "
+            "\"output\": %.6f}\n}\n", t->timings.compute, t->timings.reduce,
+            t->timings.statistics, t->timings.output);
     return ferror(out) ? -1 : 0;
 }

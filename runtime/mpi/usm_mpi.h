@@ -5,9 +5,10 @@
  *
  * The command initialises MPI only when an MPI launcher started it (mpirun,
  * srun: usm_mpi_launched), so a plain `usm ...` never touches MPI.  The ranks
- * share the work out in a fixed order and rank 0 gathers every result, so
- * rank 0's output is byte-identical to a serial run's; only rank 0 prints
- * and writes files.
+ * share the work out in a fixed order; a map's results are gathered on rank
+ * 0, a tolerance study's rows stay on the ranks that computed them (issue 25:
+ * statistics by reductions and a sample sort, samples.csv by MPI-IO), and
+ * rank 0's output is byte-identical to a serial run's; only rank 0 prints.
  */
 #ifndef USM_MPI_H
 #define USM_MPI_H
@@ -26,12 +27,24 @@ int usm_mpi_start(int *rank, int *size, char msg[USM_MSG_LEN]);
 /* MPI_Finalize, if usm_mpi_start initialised MPI. */
 void usm_mpi_stop(void);
 
-/* usm_tolerance_run distributed over MPI_COMM_WORLD: blocks of samples dealt
- * round-robin to the ranks (each uses opt->threads threads), the rows
- * gathered on rank 0 after every round, which writes the checkpoint and
- * computes the result.  Every rank returns the same status; rank 0 has the
- * message and the result. */
+/* usm_tolerance_run distributed over MPI_COMM_WORLD: rank r of S owns the
+ * contiguous blocks [nblocks r / S, nblocks (r + 1) / S), computes them (with
+ * opt->threads threads), keeps their rows (memory O(samples / S)) and
+ * writes its own checkpoint file (FILE for rank 0, FILE.r for rank r); the
+ * statistics are computed by all ranks together, without gathering rows.
+ * Every rank returns the same status and has the summary
+ * (usm_tolerance_result, usm_tolerance_influence); rank 0 has the message;
+ * usm_tolerance_sample gives this rank's samples only. */
 int usm_tolerance_run_mpi(usm_tolerance *t, const usm_params *p, const usm_tolerance_options *opt);
+
+/* samples.csv of a study run by usm_tolerance_run_mpi (collective: every
+ * rank calls it): the file `path` (read on rank 0 only: an existing file,
+ * rank 0's usm_io_create temporary; NULL on rank 0: give up, every rank
+ * returns USM_EFAILED) written by all ranks with MPI-IO, the header by rank
+ * 0, each rank's rows at the offset of the rows before them (MPI_Exscan of
+ * the text's lengths): byte for byte usm_tolerance_write_csv's file of a
+ * serial run.  USM_OK or USM_EFAILED with msg (on every rank). */
+int usm_tolerance_write_csv_mpi(const usm_tolerance *t, const char *path, char msg[USM_MSG_LEN]);
 
 /* A map gathered on rank 0: what usm_map's accessors give after a serial
  * usm_map_run, as plain arrays. */

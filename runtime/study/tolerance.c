@@ -224,6 +224,16 @@ int usm_tolerance_spec_add(usm_tolerance *t, const usm_tolerance_spec *s)
 
 const char *usm_tolerance_message(const usm_tolerance *t) { return t->msg; }
 
+const usm_tolerance_timings *usm_tolerance_timings_get(const usm_tolerance *t)
+{
+    return t->done ? &t->timings : NULL;
+}
+
+void usm_tolerance_output_seconds_add(usm_tolerance *t, double seconds)
+{
+    t->timings.output += seconds;
+}
+
 int usm_tolerance_vary_count(const usm_tolerance *t) { return t->nvary; }
 
 const usm_tolerance_vary *usm_tolerance_vary_at(const usm_tolerance *t, int j)
@@ -246,9 +256,12 @@ double usm_tolerance_influence(const usm_tolerance *t, int k, int j)
 int usm_tolerance_sample(const usm_tolerance *t, uint64_t i, double *values, double *out,
                          int *good, int *redraws)
 {
-    if (!t->have_result || i >= t->sum.samples)
+    /* under MPI a rank holds its own samples only */
+    const uint64_t first = t->blo * USM_TOLERANCE_BLOCK;
+    if (!t->have_result || i >= t->sum.samples || i < first ||
+        i - first >= tol_local_samples(t))
         return USM_EINPUT;
-    const double *row = t->rows + i * (uint64_t)t->width;
+    const double *row = t->rows + (i - first) * (uint64_t)t->width;
     if (values)
         memcpy(values, row, (size_t)t->nvary * sizeof *values);
     if (out)
@@ -576,7 +589,8 @@ static int check(usm_tolerance *t, const usm_params *p, const usm_tolerance_opti
     return USM_OK;
 }
 
-int tol_prepare(usm_tolerance *t, const usm_params *p, const usm_tolerance_options *opt, int root)
+int tol_prepare(usm_tolerance *t, const usm_params *p, const usm_tolerance_options *opt,
+                int rank, int size)
 {
     clear(t);
     t->msg[0] = '\0';
@@ -587,23 +601,29 @@ int tol_prepare(usm_tolerance *t, const usm_params *p, const usm_tolerance_optio
     t->width = t->nvary + USM_TOL_NOUTPUTS + 2;
     t->nblocks = (opt->samples + USM_TOLERANCE_BLOCK - 1) / USM_TOLERANCE_BLOCK;
     memset(&t->sum, 0, sizeof t->sum);
+    memset(&t->timings, 0, sizeof t->timings);
     t->write_seconds = 0.0;
     t->last_write = tol_now();
+    t->rank = rank;
+    t->size = size;
+    tol_owned(t->nblocks, rank, size, &t->blo, &t->bhi);
+    const uint64_t local = (t->bhi - t->blo) * USM_TOLERANCE_BLOCK;
     if ((uint64_t)t->width > SIZE_MAX / sizeof(double) / opt->samples ||
         !(t->done = calloc(t->nblocks, 1)) ||
-        (root && !(t->rows = malloc(opt->samples * (uint64_t)t->width * sizeof(double)))) ||
+        !(t->rows = malloc((local ? local : 1) * (uint64_t)t->width * sizeof(double))) ||
         build_config(t) != 0) {
         clear(t);
         snprintf(t->msg, USM_MSG_LEN, "out of memory for %llu samples",
                  (unsigned long long)opt->samples);
         return USM_EFAILED;
     }
-    if (root && opt->checkpoint) {
+    if (opt->checkpoint) {
         /* one run per checkpoint: a second one fails at once, not at a rename */
         int status = tol_checkpoint_load(t), busy;
-        char why[USM_MSG_LEN];
+        char why[USM_MSG_LEN], own[USM_OUTFILE_PATH + 16];
         if (status == USM_OK &&
-            (t->lock_fd = usm_outfile_lock(opt->checkpoint, why, sizeof why, &busy)) < 0) {
+            (t->lock_fd = usm_outfile_lock(tol_checkpoint_path(t, own, sizeof own), why,
+                                           sizeof why, &busy)) < 0) {
             snprintf(t->msg, USM_MSG_LEN, "checkpoint %.200s", why);
             status = busy ? USM_EINPUT : USM_EFAILED;
         }
@@ -616,7 +636,7 @@ int tol_prepare(usm_tolerance *t, const usm_params *p, const usm_tolerance_optio
 
 int usm_tolerance_run(usm_tolerance *t, const usm_params *p, const usm_tolerance_options *opt)
 {
-    int status = tol_prepare(t, p, opt, 1);
+    int status = tol_prepare(t, p, opt, 0, 1);
     uint64_t *list = NULL, computed = 0;
     double *pack = NULL;
     if (status != USM_OK)
@@ -634,21 +654,26 @@ int usm_tolerance_run(usm_tolerance *t, const usm_params *p, const usm_tolerance
         size_t n = pending - at < round ? pending - at : round;
         if (opt->stop_after_blocks && n > opt->stop_after_blocks - computed)
             n = (size_t)(opt->stop_after_blocks - computed);
-        if ((status = tol_compute(t, list + at, n, pack)) != USM_OK)
+        double t0 = tol_now();
+        status = tol_compute(t, list + at, n, pack);
+        t->timings.compute += tol_now() - t0;
+        if (status != USM_OK)
             break;
         tol_unpack(t, list + at, n, pack);
         at += n;
         computed += n;
         const int stop = opt->stop_after_blocks && computed >= opt->stop_after_blocks &&
                          at < pending;
+        t0 = tol_now();
         if (tol_checkpoint_due(t, at == pending, stop))
             status = tol_checkpoint_write(t);
+        t->timings.output += tol_now() - t0;
         if (status == USM_OK && stop)
             status = tol_stopped(t, computed);
     }
     free(list);
     free(pack);
-    return status == USM_OK ? tol_finish(t) : status;
+    return status == USM_OK ? tol_finish(t, &tol_comm_serial) : status;
 }
 
 int tol_stopped(usm_tolerance *t, uint64_t computed)

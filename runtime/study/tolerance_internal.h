@@ -12,10 +12,11 @@
 #include "tolerance_stats.h"
 
 /* Check the options and nominal parameters, build the configuration text;
- * with root != 0 (the process that gathers the samples) allocate the rows
- * and, when the checkpoint file exists, read its blocks.  USM_OK or a status
- * with t->msg. */
-int tol_prepare(usm_tolerance *t, const usm_params *p, const usm_tolerance_options *opt, int root);
+ * as rank `rank` of `size`, allocate the rows of the blocks this rank owns
+ * (tol_owned) and read them from the checkpoint files where they hold them
+ * (tolerance_io.c).  USM_OK or a status with t->msg. */
+int tol_prepare(usm_tolerance *t, const usm_params *p, const usm_tolerance_options *opt,
+                int rank, int size);
 
 /* Compute the n blocks listed (threads: opt.threads), their rows one after
  * the other into pack (tol_pack_size doubles).  USM_OK or a status with

@@ -1,23 +1,32 @@
-/* The checkpoint file of a tolerance study (usm_tolerance.h).
+/* The checkpoint files of a tolerance study (usm_tolerance.h).
  *
- * Layout: the text line MAGIC, the study's configuration (tolerance.c,
- * build_config: one "key value" line each, numbers exact in %a), the line
- * "end", then binary in the host's byte order: ORDER (a uint64 that reads
- * back only on a host of the same byte order), the number of blocks stored,
- * each block as its index (uint64) and its rows (doubles, bit for bit), the
- * FNV-1a hash of those bytes from the count on (uint64; format 2, absent in
- * format 1, which is still read), and ORDER again (a truncated file is
- * refused, not half read).  Every row read is checked (check_row) before it
- * is used: the varied parameters physical, the outputs finite or NaN as a
- * computed row has them, the yes/no values 0 or 1, stick_admissible and the
- * validity as the row's own F_n, F_t and mu0 imply, `good` as the study
- * would compute it, the redraws a whole number below TOL_MAX_REDRAWS -- a
- * corrupted or hand-made file is refused naming the sample, never turned
- * into a result (nor into an out-of-range float-to-integer conversion).  It is written to
- * a temporary beside FILE (core/outfile.c: a fresh name, created with
- * O_EXCL|O_NOFOLLOW, so never through a symlink) and renamed over FILE, so
- * FILE is always one complete write and a symlink is replaced, never
- * written through. */
+ * One file per rank (issue 25): rank 0's is FILE itself (the serial run's
+ * only one), rank r's FILE.r; each holds the blocks its rank owns
+ * (tol_owned).  Layout (format 3): the text line MAGIC; "usm VERSION" (the
+ * library's version: another version's file is refused, since another build
+ * may compute other bits); "part R of S" (rank R of S ranks wrote it, so it
+ * holds blocks of [nblocks R / S, nblocks (R + 1) / S) only); the study's
+ * configuration (tolerance.c, build_config: one "key value" line each,
+ * numbers exact in %a); the line "end"; then binary in the host's byte order:
+ * ORDER (a uint64 that reads back only on a host of the same byte order), the
+ * number of blocks stored, each block as its index (uint64) and its rows
+ * (doubles, bit for bit), the CRC-32 (zlib's crc32, the ISO-HDLC polynomial,
+ * as a uint64) of every byte after the MAGIC line up to it, and ORDER again.
+ * A resume reads every file of the set (FILE's part line says how many a run
+ * wrote; missing ones are skipped) whose blocks overlap this rank's, so a run
+ * may resume with another number of ranks.  Refused, with one line (exit 2),
+ * never used: a file of another format or version, of another configuration
+ * (seed, parameters, ...), truncated, or damaged -- its checksum, or any row
+ * that the study could not have computed (check_row: the varied parameters
+ * physical, the outputs finite or NaN as a computed row has them, the yes/no
+ * values 0 or 1, stick_admissible and the validity as the row's own F_n, F_t
+ * and mu0 imply, `good` as the study would compute it, the redraws a whole
+ * number below TOL_MAX_REDRAWS; never an out-of-range float-to-integer
+ * conversion).  Each file is written to a temporary beside it (core/outfile.c:
+ * a fresh name, created with O_EXCL|O_NOFOLLOW, so never through a symlink)
+ * and renamed over it, so it is always one complete write.  Files FILE.r of
+ * an earlier run with more ranks than this one stay (their blocks are in this
+ * run's files too); remove them after the run. */
 #define _POSIX_C_SOURCE 200809L
 #include <errno.h>
 #include <math.h>
@@ -28,22 +37,13 @@
 
 #include <sys/stat.h>
 
+#include <zlib.h>
+
 #include "core/outfile.h"
 #include "tolerance_io.h"
 #include "usm_map.h" /* usm_point_op_class */
 
-static const char MAGIC[] = "usm tolerance checkpoint 2\n";
-static const char MAGIC1[] = "usm tolerance checkpoint 1\n"; /* without the hash */
-
-/* FNV-1a, 64 bits, continued from h over n bytes. */
-static uint64_t fnv(uint64_t h, const void *data, size_t n)
-{
-    const unsigned char *c = data;
-    for (size_t i = 0; i < n; ++i)
-        h = (h ^ c[i]) * 0x100000001b3ULL;
-    return h;
-}
-#define FNV_START 0xcbf29ce484222325ULL
+static const char MAGIC[] = "usm tolerance checkpoint 3\n";
 
 /* Whether x is 0 or 1. */
 static int yes_no(double x)
@@ -164,43 +164,116 @@ static void first_difference(const char *x, const char *y, char a[80], char b[80
     b[strcspn(b, "\n")] = '\0';
 }
 
-static int refuse(usm_tolerance *t, const char *why)
+/* The checkpoint file of rank r: FILE for rank 0 (the serial run's), FILE.r
+ * for the others. */
+static void part_path(const usm_tolerance *t, int r, char *buf, size_t len)
 {
-    snprintf(t->msg, USM_MSG_LEN, "checkpoint %.60s: %.180s", t->opt.checkpoint, why);
+    if (r == 0)
+        snprintf(buf, len, "%s", t->opt.checkpoint);
+    else
+        snprintf(buf, len, "%s.%d", t->opt.checkpoint, r);
+}
+
+static int refuse_path(usm_tolerance *t, const char *path, const char *why)
+{
+    snprintf(t->msg, USM_MSG_LEN, "checkpoint %.60s: %.180s", path, why);
     return USM_EINPUT;
 }
 
-int tol_checkpoint_load(usm_tolerance *t)
+/* fread of n bytes that continues the CRC-32 of what was read. */
+static int read_crc(void *buf, size_t n, FILE *f, uLong *crc)
 {
-    const char *path = t->opt.checkpoint;
+    if (fread(buf, 1, n, f) != n)
+        return -1;
+    *crc = crc32(*crc, buf, (uInt)n);
+    return 0;
+}
+
+/* A line of at most len - 1 bytes, continuing the CRC. */
+static int line_crc(char *line, int len, FILE *f, uLong *crc)
+{
+    if (!fgets(line, len, f))
+        return -1;
+    *crc = crc32(*crc, (const Bytef *)line, (uInt)strlen(line));
+    return 0;
+}
+
+/* Whether the rest of f (after the bytes whose CRC-32 is crc) ends with the
+ * CRC-32 of all of it but its last 16 bytes (the stored CRC and ORDER). */
+static int crc_matches(FILE *f, uLong crc)
+{
+    unsigned char buf[1 << 16], keep[16];
+    size_t held = 0, got;
+    while ((got = fread(buf, 1, sizeof buf, f)) > 0) {
+        /* the 16 bytes held back are not the last ones: into the CRC */
+        const size_t all = held + got, out = all > 16 ? all - 16 : 0;
+        unsigned char joined[16 + sizeof buf];
+        memcpy(joined, keep, held);
+        memcpy(joined + held, buf, got);
+        crc = crc32(crc, joined, (uInt)out);
+        held = all - out;
+        memcpy(keep, joined + out, held);
+    }
+    uint64_t stored;
+    if (held != 16)
+        return 0;
+    memcpy(&stored, keep, sizeof stored);
+    return stored == (uint64_t)crc;
+}
+
+/* The header of checkpoint file `path` (file k of the set): magic, the
+ * library version, "part R of S", the configuration.  USM_OK with the file
+ * at its binary part and *parts = S; *missing = 1 (and USM_OK) when there is
+ * no such file; else a refusal. */
+static int read_header(usm_tolerance *t, const char *path, int k, FILE **fp, uLong *crc,
+                       int *parts, int *missing)
+{
+    char line[512], why[USM_MSG_LEN];
+    const size_t clen = strlen(t->config);
+    size_t have = 0;
+    char *text;
+    int ended = 0, r = -1, s = 0, status = USM_OK;
     FILE *f = fopen(path, "rb");
-    char line[512];
-    size_t clen = strlen(t->config), have = 0;
-    char *text = NULL;
-    uint64_t order = 0, n = 0;
-    int status = USM_OK;
+    *missing = 0;
+    *fp = NULL;
     if (!f) {
-        struct stat st;
-        char why[USM_MSG_LEN];
         if (errno != ENOENT) {
             snprintf(t->msg, USM_MSG_LEN, "checkpoint %.120s: %s", path, strerror(errno));
             return USM_EINPUT;
         }
-        /* a first run: the file must be creatable now, not at the first write */
-        if (lstat(path, &st) == 0)
-            return refuse(t, "a symbolic link to nothing; refusing to write through it");
-        if (usm_outfile_check(path, 1, why, sizeof why) != USM_OK) {
-            snprintf(t->msg, USM_MSG_LEN, "checkpoint %.200s", why);
-            return USM_EINPUT;
-        }
+        *missing = 1;
         return USM_OK;
     }
-    if (!fgets(line, sizeof line, f) || (strcmp(line, MAGIC) != 0 && strcmp(line, MAGIC1) != 0)) {
+    if (!fgets(line, sizeof line, f) || strncmp(line, "usm tolerance checkpoint ", 25) != 0) {
         fclose(f);
-        return refuse(t, "not a usm tolerance checkpoint (refusing to overwrite it)");
+        return refuse_path(t, path, "not a usm tolerance checkpoint (refusing to overwrite it)");
     }
-    const int hashed = strcmp(line, MAGIC) == 0;
-    uint64_t hash = FNV_START, stored;
+    if (strcmp(line, MAGIC) != 0) {
+        fclose(f);
+        snprintf(why, sizeof why, "written in another format (\"%.40s\"; this usm %s writes "
+                 "format 3, with its version and a checksum): a checkpoint is resumed by the "
+                 "usm that wrote it; remove it", strtok(line, "\n"), usm_version());
+        return refuse_path(t, path, why);
+    }
+    *crc = crc32(0L, Z_NULL, 0);
+    if (line_crc(line, sizeof line, f, crc) != 0 || strncmp(line, "usm ", 4) != 0) {
+        fclose(f);
+        return refuse_path(t, path, "damaged: no library version line");
+    }
+    line[strcspn(line, "\n")] = '\0';
+    if (strcmp(line + 4, usm_version()) != 0) {
+        fclose(f);
+        snprintf(why, sizeof why, "written by usm %.40s, this is usm %s: a checkpoint is "
+                 "resumed by the same version only (another build may compute other bits); "
+                 "remove it", line + 4, usm_version());
+        return refuse_path(t, path, why);
+    }
+    if (line_crc(line, sizeof line, f, crc) != 0 || sscanf(line, "part %d of %d", &r, &s) != 2 ||
+        r != k || s < 1 || r >= s) {
+        fclose(f);
+        snprintf(why, sizeof why, "damaged: its part line is not \"part %d of S\"", k);
+        return refuse_path(t, path, why);
+    }
     if (!(text = malloc(clen + 1))) {
         fclose(f);
         snprintf(t->msg, USM_MSG_LEN, "out of memory");
@@ -208,8 +281,7 @@ int tol_checkpoint_load(usm_tolerance *t)
     }
     text[0] = '\0';
     /* the configuration, up to "end" */
-    int ended = 0;
-    while (fgets(line, sizeof line, f) && !(ended = strcmp(line, "end\n") == 0)) {
+    while (line_crc(line, sizeof line, f, crc) == 0 && !(ended = strcmp(line, "end\n") == 0)) {
         const size_t l = strlen(line);
         if (have + l > clen) {
             have = clen + 1; /* longer than this study's: differs */
@@ -219,83 +291,168 @@ int tol_checkpoint_load(usm_tolerance *t)
         have += l;
     }
     if (!ended && have <= clen) {
-        status = refuse(t, "truncated (in its configuration)");
+        status = refuse_path(t, path, "truncated (in its configuration)");
     } else if (have != clen || memcmp(text, t->config, clen) != 0) {
-        char a[80], b[80], why[USM_MSG_LEN];
+        char a[80], b[80];
         if (have > clen)
             snprintf(a, sizeof a, "a longer configuration"), snprintf(b, sizeof b, "%s", "");
         else
             first_difference(text, t->config, a, b);
-        snprintf(why, sizeof why, "written by another study (it has \"%.70s\" where this run "
-                 "has \"%.70s\"); use another file or remove it", a, b);
-        status = refuse(t, why);
-    } else if (fread(&order, sizeof order, 1, f) != 1 || order != ORDER ||
-               fread(&n, sizeof n, 1, f) != 1) {
-        status = refuse(t, "truncated or from a host of another byte order");
-    } else if (n > t->nblocks) {
-        char why[USM_MSG_LEN];
-        snprintf(why, sizeof why, "corrupt: %llu blocks stored, the study has %llu",
-                 (unsigned long long)n, (unsigned long long)t->nblocks);
-        status = refuse(t, why);
+        /* a byte damaged in the configuration is not another study */
+        if (!crc_matches(f, *crc))
+            snprintf(why, sizeof why, "damaged: its CRC-32 does not match its bytes (its "
+                     "configuration reads \"%.70s\" where this run has \"%.70s\")", a, b);
+        else
+            snprintf(why, sizeof why, "written by another study (it has \"%.70s\" where this "
+                     "run has \"%.70s\"); use another file or remove it", a, b);
+        status = refuse_path(t, path, why);
     }
-    hash = fnv(hash, &n, sizeof n);
+    free(text);
+    if (status != USM_OK) {
+        fclose(f);
+        return status;
+    }
+    *fp = f;
+    *parts = s;
+    return USM_OK;
+}
+
+/* The blocks of an open checkpoint file (after its header): those this rank
+ * owns into t->rows (checked row by row), the others read past; the CRC-32
+ * of the whole file after its first line must match the one stored.  USM_OK
+ * or a refusal (the blocks read are then not marked done). */
+static int read_blocks(usm_tolerance *t, const char *path, FILE *f, uLong crc, uint64_t *got)
+{
+    uint64_t order = 0, n = 0, stored = 0;
+    int status = USM_OK;
+    char why[USM_MSG_LEN];
+    double *skip = malloc(USM_TOLERANCE_BLOCK * (size_t)t->width * sizeof *skip);
+    uint64_t *mine = malloc((t->bhi - t->blo + 1) * sizeof *mine), nmine = 0;
+    if (!skip || !mine) {
+        free(skip);
+        free(mine);
+        snprintf(t->msg, USM_MSG_LEN, "out of memory");
+        return USM_EFAILED;
+    }
+    if (read_crc(&order, sizeof order, f, &crc) != 0 || order != ORDER ||
+        read_crc(&n, sizeof n, f, &crc) != 0) {
+        status = refuse_path(t, path, "truncated or from a host of another byte order");
+    } else if (n > t->nblocks) {
+        snprintf(why, sizeof why, "damaged: %llu blocks stored, the study has %llu",
+                 (unsigned long long)n, (unsigned long long)t->nblocks);
+        status = refuse_path(t, path, why);
+    }
     for (uint64_t k = 0; status == USM_OK && k < n; ++k) {
         uint64_t b;
-        char why[USM_MSG_LEN];
-        if (fread(&b, sizeof b, 1, f) != 1) {
-            status = refuse(t, "truncated");
+        if (read_crc(&b, sizeof b, f, &crc) != 0) {
+            status = refuse_path(t, path, "truncated");
             break;
         }
-        if (b >= t->nblocks || t->done[b]) {
-            snprintf(why, sizeof why, "corrupt: block index %llu %s", (unsigned long long)b,
-                     b >= t->nblocks ? "beyond the study" : "stored twice");
-            status = refuse(t, why);
+        if (b >= t->nblocks) {
+            snprintf(why, sizeof why, "damaged: block index %llu beyond the study",
+                     (unsigned long long)b);
+            status = refuse_path(t, path, why);
             break;
         }
-        const size_t cnt = (size_t)(tol_block_size(t, b) * (uint64_t)t->width);
-        double *rows = t->rows + b * USM_TOLERANCE_BLOCK * (uint64_t)t->width;
-        if (fread(rows, sizeof(double), cnt, f) != cnt) {
-            status = refuse(t, "truncated");
+        const int own = b >= t->blo && b < t->bhi && !t->done[b];
+        const uint64_t rows_n = tol_block_size(t, b);
+        const size_t cnt = (size_t)(rows_n * (uint64_t)t->width);
+        double *rows = own ? tol_block_rows(t, b) : skip;
+        if (read_crc(rows, cnt * sizeof(double), f, &crc) != 0) {
+            status = refuse_path(t, path, "truncated");
             break;
         }
-        hash = fnv(fnv(hash, &b, sizeof b), rows, cnt * sizeof(double));
-        for (uint64_t i = 0; i < tol_block_size(t, b); ++i) {
+        for (uint64_t i = 0; own && i < rows_n; ++i) {
             const char *bad = check_row(t, b * USM_TOLERANCE_BLOCK + i,
                                         rows + i * (uint64_t)t->width, why);
             if (bad) {
                 char w2[USM_MSG_LEN];
-                snprintf(w2, sizeof w2, "corrupt: %.200s", bad);
-                status = refuse(t, w2);
+                snprintf(w2, sizeof w2, "damaged: %.200s", bad);
+                status = refuse_path(t, path, w2);
                 break;
             }
         }
-        t->done[b] = status == USM_OK;
+        if (own && status == USM_OK) {
+            t->done[b] = 1;
+            mine[nmine++] = b;
+        }
     }
-    if (status == USM_OK && hashed &&
-        (fread(&stored, sizeof stored, 1, f) != 1 || stored != hash))
-        status = refuse(t, "corrupt: its data do not match their hash");
-    if (status == USM_OK && (fread(&order, sizeof order, 1, f) != 1 || order != ORDER))
-        status = refuse(t, "truncated");
-    if (status == USM_OK && fgetc(f) != EOF)
-        status = refuse(t, "corrupt: data after the end");
-    fclose(f);
-    free(text);
+    const uLong want = crc;
+    if (status == USM_OK && (fread(&stored, sizeof stored, 1, f) != 1 ||
+                             fread(&order, sizeof order, 1, f) != 1 || order != ORDER))
+        status = refuse_path(t, path, "truncated");
+    else if (status == USM_OK && stored != (uint64_t)want) {
+        snprintf(why, sizeof why, "damaged: its CRC-32 is %08llx, its bytes give %08lx",
+                 (unsigned long long)stored, want);
+        status = refuse_path(t, path, why);
+    } else if (status == USM_OK && fgetc(f) != EOF)
+        status = refuse_path(t, path, "damaged: data after the end");
+    if (status != USM_OK)
+        for (uint64_t k = 0; k < nmine; ++k)
+            t->done[mine[k]] = 0;
+    *got = status == USM_OK ? nmine : 0;
+    free(skip);
+    free(mine);
+    return status;
+}
+
+int tol_checkpoint_load(usm_tolerance *t)
+{
+    char path[USM_OUTFILE_PATH + 16], why[USM_MSG_LEN];
+    int limit = t->size, status = USM_OK;
+    uint64_t resumed = 0;
+    /* this rank's own file must be writable later (or refused now) */
+    part_path(t, t->rank, path, sizeof path);
+    {
+        struct stat st;
+        if (lstat(path, &st) != 0) {
+            if (errno != ENOENT) {
+                snprintf(t->msg, USM_MSG_LEN, "checkpoint %.120s: %s", path, strerror(errno));
+                return USM_EINPUT;
+            }
+            if (usm_outfile_check(path, 1, why, sizeof why) != USM_OK) {
+                snprintf(t->msg, USM_MSG_LEN, "checkpoint %.200s", why);
+                return USM_EINPUT;
+            }
+        } else if (stat(path, &st) != 0) {
+            return refuse_path(t, path, "a symbolic link to nothing; refusing to write through it");
+        }
+    }
+    /* the files of the set (FILE's header says how many a run wrote): each one
+     * whose blocks overlap this rank's is read */
+    for (int k = 0; k < limit && status == USM_OK; ++k) {
+        FILE *f;
+        uLong crc;
+        int parts, missing;
+        uint64_t lo, hi, got = 0;
+        part_path(t, k, path, sizeof path);
+        status = read_header(t, path, k, &f, &crc, &parts, &missing);
+        if (status != USM_OK || missing)
+            continue;
+        if (k == 0 && parts > limit)
+            limit = parts;
+        tol_owned(t->nblocks, k, parts, &lo, &hi);
+        if (lo < t->bhi && t->blo < hi)
+            status = read_blocks(t, path, f, crc, &got);
+        resumed += got;
+        fclose(f);
+    }
     if (status != USM_OK) {
         memset(t->done, 0, t->nblocks);
         return status;
     }
-    t->sum.resumed_blocks = n;
+    t->sum.resumed_blocks = resumed;
     return USM_OK;
 }
 
 int tol_checkpoint_write(usm_tolerance *t)
 {
-    const char *path = t->opt.checkpoint;
-    char tmp[USM_OUTFILE_PATH], why[USM_MSG_LEN];
+    char path[USM_OUTFILE_PATH], tmp[USM_OUTFILE_PATH], why[USM_MSG_LEN], head[64];
     uint64_t n = 0;
     FILE *f;
     int bad, fd, status;
     const double start = tol_now();
+    part_path(t, t->rank, path, sizeof path);
     if ((fd = usm_outfile_open(path, 1, tmp, why, sizeof why, &status)) < 0) {
         snprintf(t->msg, USM_MSG_LEN, "checkpoint %.200s", why);
         return USM_EFAILED;
@@ -307,20 +464,30 @@ int tol_checkpoint_write(usm_tolerance *t)
             unlink(tmp);
         return USM_EFAILED;
     }
-    for (uint64_t b = 0; b < t->nblocks; ++b)
+    for (uint64_t b = t->blo; b < t->bhi; ++b)
         n += t->done[b];
-    bad = fputs(MAGIC, f) < 0 || fputs(t->config, f) < 0 || fputs("end\n", f) < 0 ||
-          fwrite(&ORDER, sizeof ORDER, 1, f) != 1 || fwrite(&n, sizeof n, 1, f) != 1;
-    uint64_t hash = fnv(FNV_START, &n, sizeof n);
-    for (uint64_t b = 0; !bad && b < t->nblocks; ++b) {
+    uLong crc = crc32(0L, Z_NULL, 0);
+    const int hl = snprintf(head, sizeof head, "usm %s\npart %d of %d\n", usm_version(), t->rank,
+                            t->size);
+    crc = crc32(crc, (const Bytef *)head, (uInt)hl);
+    crc = crc32(crc, (const Bytef *)t->config, (uInt)strlen(t->config));
+    crc = crc32(crc, (const Bytef *)"end\n", 4);
+    crc = crc32(crc, (const Bytef *)&ORDER, sizeof ORDER);
+    crc = crc32(crc, (const Bytef *)&n, sizeof n);
+    bad = fputs(MAGIC, f) < 0 || fputs(head, f) < 0 || fputs(t->config, f) < 0 ||
+          fputs("end\n", f) < 0 || fwrite(&ORDER, sizeof ORDER, 1, f) != 1 ||
+          fwrite(&n, sizeof n, 1, f) != 1;
+    for (uint64_t b = t->blo; !bad && b < t->bhi; ++b) {
         if (!t->done[b])
             continue;
         const size_t cnt = (size_t)(tol_block_size(t, b) * (uint64_t)t->width);
-        const double *rows = t->rows + b * USM_TOLERANCE_BLOCK * (uint64_t)t->width;
+        const double *rows = tol_block_rows(t, b);
         bad = fwrite(&b, sizeof b, 1, f) != 1 || fwrite(rows, sizeof(double), cnt, f) != cnt;
-        hash = fnv(fnv(hash, &b, sizeof b), rows, cnt * sizeof(double));
+        crc = crc32(crc32(crc, (const Bytef *)&b, sizeof b), (const Bytef *)rows,
+                    (uInt)(cnt * sizeof(double)));
     }
-    bad = bad || fwrite(&hash, sizeof hash, 1, f) != 1 ||
+    const uint64_t stored = crc;
+    bad = bad || fwrite(&stored, sizeof stored, 1, f) != 1 ||
           fwrite(&ORDER, sizeof ORDER, 1, f) != 1 || fflush(f) != 0 ||
           fsync(fileno(f)) != 0;
     if ((fclose(f) != 0) | bad) {
@@ -337,4 +504,10 @@ int tol_checkpoint_write(usm_tolerance *t)
     t->last_write = tol_now();
     t->write_seconds = t->last_write - start;
     return USM_OK;
+}
+
+const char *tol_checkpoint_path(const usm_tolerance *t, char *buf, size_t len)
+{
+    part_path(t, t->rank, buf, len);
+    return buf;
 }

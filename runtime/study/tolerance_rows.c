@@ -38,6 +38,25 @@ uint64_t tol_block_size(const usm_tolerance *t, uint64_t b)
     return n < USM_TOLERANCE_BLOCK ? n : USM_TOLERANCE_BLOCK;
 }
 
+void tol_owned(uint64_t nblocks, int r, int size, uint64_t *lo, uint64_t *hi)
+{
+    *lo = nblocks * (uint64_t)r / (uint64_t)size;
+    *hi = nblocks * (uint64_t)(r + 1) / (uint64_t)size;
+}
+
+double *tol_block_rows(const usm_tolerance *t, uint64_t b)
+{
+    return t->rows + (b - t->blo) * USM_TOLERANCE_BLOCK * (uint64_t)t->width;
+}
+
+uint64_t tol_local_samples(const usm_tolerance *t)
+{
+    const uint64_t first = t->blo * USM_TOLERANCE_BLOCK, end = t->bhi * USM_TOLERANCE_BLOCK;
+    if (t->bhi <= t->blo)
+        return 0;
+    return (end < t->opt.samples ? end : t->opt.samples) - first;
+}
+
 uint64_t tol_pack_size(const usm_tolerance *t, const uint64_t *blocks, size_t n)
 {
     uint64_t samples = 0;
@@ -50,7 +69,7 @@ void tol_unpack(usm_tolerance *t, const uint64_t *blocks, size_t n, const double
 {
     for (size_t k = 0; k < n; ++k) {
         const uint64_t cnt = tol_block_size(t, blocks[k]) * (uint64_t)t->width;
-        memcpy(t->rows + blocks[k] * USM_TOLERANCE_BLOCK * (uint64_t)t->width, pack,
+        memcpy(tol_block_rows(t, blocks[k]), pack,
                cnt * sizeof *pack);
         pack += cnt;
         t->done[blocks[k]] = 1;
@@ -60,7 +79,7 @@ void tol_unpack(usm_tolerance *t, const uint64_t *blocks, size_t n, const double
 size_t tol_pending(const usm_tolerance *t, uint64_t *list)
 {
     size_t n = 0;
-    for (uint64_t b = 0; b < t->nblocks; ++b)
+    for (uint64_t b = t->blo; b < t->bhi; ++b)
         if (!t->done[b])
             list[n++] = b;
     return n;

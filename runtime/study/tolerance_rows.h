@@ -3,6 +3,12 @@
  * tolerance_stats.c, ../mpi/tolerance_mpi.c) stand on.  Not installed; not
  * part of the API.
  *
+ * Under MPI (or any tol_comm of several ranks) every rank keeps the rows of
+ * its own blocks only: rank r of S owns the contiguous blocks [blo, bhi) =
+ * [nblocks r / S, nblocks (r + 1) / S) (tol_owned), so the memory per rank is
+ * O(samples / S) and the ranks' rows, concatenated in rank order, are the
+ * serial run's.  A serial run is rank 0 of 1.
+ *
  * The samples are kept as rows of doubles, one per sample, in sample order:
  *   [0, nvary)            the varied parameters' values
  *   nvary + k             output k (USM_TOL_NOUTPUTS; NaN where it does not exist)
@@ -34,20 +40,34 @@ struct usm_tolerance {
     usm_tolerance_options opt;
     int width;              /* doubles per row: nvary + USM_TOL_NOUTPUTS + 2 */
     uint64_t nblocks;
-    unsigned char *done;    /* per block: computed (or read from the checkpoint) */
-    double *rows;           /* samples x width */
+    unsigned char *done;    /* per block: computed (or read from the checkpoint); every
+                               rank knows its own blocks' */
+    int rank, size;         /* this rank of `size` (serial: 0 of 1) */
+    uint64_t blo, bhi;      /* the blocks this rank owns: [blo, bhi) */
+    double *rows;           /* the owned blocks' samples x width, from sample blo * BLOCK */
     char *config;           /* the study's configuration text (checkpoint header) */
     double last_write;      /* monotonic time of the last checkpoint write [s] */
     double write_seconds;   /* how long that write took */
     int lock_fd;            /* the checkpoint's lock (usm_outfile_lock), or -1 */
     uint64_t fail_block;    /* the block whose failure t->msg names (tol_compute), or
                                UINT64_MAX: under MPI the lowest one is reported */
+    /* wall seconds of each phase of the last run (usm_tolerance_timings) */
+    usm_tolerance_timings timings;
     /* the result */
     int have_result;
     usm_tolerance_summary sum;
     double influence[USM_TOL_NNUMERIC][USM_NPARAMS];
     char msg[USM_MSG_LEN];
 };
+
+/* The blocks [*lo, *hi) that rank r of size owns. */
+void tol_owned(uint64_t nblocks, int r, int size, uint64_t *lo, uint64_t *hi);
+
+/* The rows of block b (owned by this rank). */
+double *tol_block_rows(const usm_tolerance *t, uint64_t b);
+
+/* Samples this rank owns (the rows in t->rows). */
+uint64_t tol_local_samples(const usm_tolerance *t);
 
 /* Samples in block b. */
 uint64_t tol_block_size(const usm_tolerance *t, uint64_t b);
@@ -58,8 +78,8 @@ uint64_t tol_pack_size(const usm_tolerance *t, const uint64_t *blocks, size_t n)
 /* Copy the packed rows of the n blocks listed into t->rows; mark them done. */
 void tol_unpack(usm_tolerance *t, const uint64_t *blocks, size_t n, const double *pack);
 
-/* The blocks not done yet, in increasing order, into list (nblocks room);
- * returns how many. */
+/* This rank's blocks not done yet, in increasing order, into list (bhi - blo
+ * room); returns how many. */
 size_t tol_pending(const usm_tolerance *t, uint64_t *list);
 
 /* Whether the outputs out (USM_TOL_NOUTPUTS) meet every --spec. */

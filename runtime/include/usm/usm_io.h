@@ -118,6 +118,12 @@ void usm_io_dir_abort(usm_io_dir *out);
 
 /* ---- numbers and parameter files ------------------------------------------- */
 
+/* The text the CSV files write for a double: the first %.{P}g, P = 6 ... 17,
+ * that reads back as exactly v ("0.005", "1e+06", "-12.345678901234567"),
+ * computed with one print and one or two parses (runtime/io/csv_out.c).
+ * Returns its length (< 32). */
+int usm_format_shortest(char buf[32], double v);
+
 /* Parse the `len` characters at `text` as a finite double (strtod syntax,
  * the whole text used, no blanks).  Rejected, with "FIELD: \"text\" reason"
  * in msg and USM_EINPUT: not a number, nan/inf, overflow (|x| > DBL_MAX) and

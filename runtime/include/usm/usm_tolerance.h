@@ -9,10 +9,14 @@
  *     valid (the model describes the motor there: usm_validity), with its
  *     95 % Wilson score interval;
  *   - the 1, 5, 50, 95, 99 % quantiles of every numeric output (over the
- *     samples where it exists; gsl_stats_quantile_from_sorted_data);
+ *     samples where it exists; gsl_stats_quantile_from_sorted_data's
+ *     definition, from exact order statistics);
  *   - the influence of each varied parameter on each numeric output: the
  *     Spearman rank correlation over the samples where the output exists
- *     (gsl_stats_spearman).
+ *     (ties averaged; exact integer sums of the ranks, rounded once).
+ * The statistics need no gathering of the samples: under MPI
+ * (usm_tolerance_run_mpi, the command's) every rank keeps its own samples
+ * and the same statistics are computed by reductions and a sample sort.
  *
  * Determinism: sample i is a pure function of (seed, i): its random stream
  * is a splitmix64 generator started at a hash of (seed, i), so the result is
@@ -26,8 +30,10 @@
  * file, then rename) at most every `checkpoint_interval` seconds (and at
  * most 1/20 of the time: a write taking w seconds waits 20 w) and at the
  * end; a run with the same checkpoint file loads them and computes only the
- * rest.  The file records the study's configuration; a file of another
- * configuration is refused (USM_EINPUT, the message says what differs).
+ * rest.  The file records the library version, the study's configuration
+ * and a CRC-32 of its bytes; a file of another configuration or version, or
+ * a damaged or truncated one, is refused (USM_EINPUT, the message says
+ * what differs; docs/tolerance.md).
  *
  * Life cycle (GSL style): usm_tolerance_alloc, usm_tolerance_vary_add,
  * usm_tolerance_spec_add, usm_tolerance_run, accessors and writers,
@@ -211,6 +217,23 @@ double usm_tolerance_influence(const usm_tolerance *t, int k, int j);
 int usm_tolerance_sample(const usm_tolerance *t, uint64_t i, double *values, double *out,
                          int *good, int *redraws);
 
+/* Wall seconds of the phases of the last run (usm tolerance --json's
+ * "timings"; under MPI, rank 0's): compute, the samples; reduce, waiting
+ * for and agreeing with the other ranks (their load imbalance) and reducing
+ * the counts; statistics, the quantiles and Spearman correlations (sorts,
+ * selections and, under MPI, the exchange of ranks); output, the checkpoint
+ * writes plus what usm_tolerance_output_seconds_add adds (the command's
+ * files). */
+typedef struct usm_tolerance_timings {
+    double compute, reduce, statistics, output;
+} usm_tolerance_timings;
+/* The timings of the last run of t (NULL before one). */
+const usm_tolerance_timings *usm_tolerance_timings_get(const usm_tolerance *t);
+
+/* Add `seconds` to the output phase of the last run's timings (a writer's
+ * wall time, measured by its caller). */
+void usm_tolerance_output_seconds_add(usm_tolerance *t, double seconds);
+
 /* Why the last run failed, or "". */
 const char *usm_tolerance_message(const usm_tolerance *t);
 
@@ -232,7 +255,11 @@ int usm_tolerance_write_csv(const usm_tolerance *t, FILE *out);
  * operating_point {exists, no_stable_root, does_not_start, unknown},
  * invalid (samples whose solution the model does not describe),
  * invalid_reasons {contact_open, stick_not_admissible} (the same bytes after
- * a checkpoint resume).  0 or -1 on a write error. */
+ * a checkpoint resume, for any number of threads or MPI ranks), and last, on
+ * a line of its own, timings {compute, reduce, statistics, output}
+ * (usm_tolerance_timings_get: wall seconds, different in every run; compare
+ * two runs' output without the line that starts with `  "timings"`).  0 or -1
+ * on a write error. */
 int usm_tolerance_write_json(const usm_tolerance *t, FILE *out);
 
 /* summary.md: the study, the yield, quantiles and influence tables.
