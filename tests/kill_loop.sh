@@ -63,7 +63,7 @@ for i in $(seq $N); do
     sleep 0.$(printf %03d $((RANDOM % 1600)))
     kill -9 $pid 2>/dev/null; wait $pid 2>/dev/null
     now=$( (cd r && sha256sum -- *.csv) )
-    if [ "$now" = "$(cat old.sums)" ] && grep -q 'F0.*0.29999' r/report.json; then old_kept=$((old_kept+1))
+    if [ "$now" = "$(cat old.sums)" ] && grep -qE '"F0": 0\.3,|"F0": 0\.29999' r/report.json; then old_kept=$((old_kept+1))
     elif [ "$now" = "$(cat new.sums)" ] && grep -q '"F0": 0.4' r/report.json && [ -s r/report.md ]; then new_done=$((new_done+1))
     else mixed=$((mixed+1)); echo "MIXED at run $i"; fi
 done
