@@ -191,7 +191,12 @@ def test_tolerance(model, variant, params, vary, spec):
         with open(os.path.join(d, "out", "samples.csv")) as f:
             rows = list(csv.DictReader(f))
     got = usm.Model(model, variant, **params).tolerance(70, vary, spec, seed=5)
-    assert got.to_dict() == want and got.samples == 70
+    # wall-clock seconds per phase differ from run to run (issue 25): the
+    # keys are compared, the values are not
+    have = got.to_dict()
+    assert set(have.pop("timings")) == set(want.pop("timings")) == \
+        {"compute", "reduce", "statistics", "output"}
+    assert have == want and got.samples == 70
     # the samples are the command's samples.csv, number for number
     for col in ["theta [rad]", "rotor_speed [1/s]", "F_n [N]", "F_t [N]", "max_modulus [1]",
                 "efficiency [1]", "redraws"] + ["%s [%s]" % (k, usm.Model().parameters[k].unit)
