@@ -684,7 +684,8 @@ static void check_hybrid(const char *name, const char *imp, double value)
     usm_params_set(&p, imp, value, NULL);
     usm_hybrid_options o;
     usm_hybrid_options_default(&o);
-    o.rtol = 1e-13; /* the finite differences below need the map to 1e-13 */
+    o.rtol = 1e-13; /* the monodromy to about 1e-7 of its entries (against rtol 1e-14:
+                       5e-7 to 8e-7; below 1e-13 Adams' rounding grows) */
     const int rc = usm_hybrid_solve(h, &p, &o, &r);
     if (!CHECK(rc == USM_OK && r.converged, "%s %s = %g: %s", name, imp, value,
                usm_hybrid_message(h))) {
