@@ -619,6 +619,56 @@ def check_nonideal(out, md, data):
     else:
         fail(f"the last 4-DOF phase-error point {last} differs from usm periodic's "
              f"{f_ind}, {l_ind}")
+    # past contact loss (issue 24): the curves continue with the unilateral
+    # model's orbits with separation; a point (the 4-DOF phase error's last)
+    # against an independent `usm periodic --variant imperfect_unilateral`
+    # (solved from a simulation, not warm-started: measured 1e-10 for the
+    # mean speed, 1e-8 for the ripple, 2e-9 for the impact velocity); the
+    # separating rows are the bilateral orbits whose contact opens; section 9
+    # states the largest impact velocity
+    for model in ("3dof", "4dof"):
+        for imp in ("phase_error", "mode_split"):
+            rows_ = read_csv(os.path.join(out, f"nonideal_curves_{imp}_{model}.csv"))
+            sep = ni[model][imp].get("separating", {})
+            opened = [r_ for r_ in rows_ if r_["converged"] == "true" and
+                      float(r_["F_n_min [N]"]) < 0]
+            seprows = [r_ for r_ in rows_ if r_.get("separating") == "true"]
+            if seprows and seprows == opened and sep.get("points") == len(seprows):
+                ok(f"{model} {imp}: {len(seprows)} orbits with separation past contact loss")
+            else:
+                fail(f"{model} {imp}: orbits with separation {len(seprows)} vs contact open "
+                     f"{len(opened)} (report.json: {sep.get('points')})")
+                continue
+            vmax = max(float(r_["impact_velocity_max [m/s]"]) for r_ in seprows)
+            said = f"**{vmax * 1e3:.3g}**"
+            if close(vmax, sep["impact_velocity_max"], 1e-12) and said in sec:
+                ok(f"section 9 states the {model} {imp} largest impact velocity {said} mm/s")
+            else:
+                fail(f"section 9 lacks the {model} {imp} largest impact velocity {said}")
+    rows = read_csv(os.path.join(out, "nonideal_curves_phase_error_4dof.csv"))
+    last = [r_ for r_ in rows if r_.get("separating") == "true"][-1:]
+    if last:
+        last = last[0]
+        v = float(last["phase_error [rad]"])
+        r = run("periodic", "--model", "4dof", "--variant", "imperfect_unilateral", "--set",
+                f"phase_error={v!r}", "--json")
+        try:
+            obj = json.loads(r.stdout)
+        except ValueError:
+            obj = {}
+        pairs = (("rotor_speed_mean_separating [1/s]", "rotor_speed_mean", 1e-8),
+                 ("rotor_speed_ripple_separating [1/s]", "rotor_speed_ripple", 1e-6),
+                 ("impact_velocity_max [m/s]", "impact_velocity_max", 1e-7),
+                 ("separation_fraction [1]", "separation_fraction", 1e-7))
+        if obj.get("contact_open") and all(close(float(last[a]), obj.get(b, float("nan")), t)
+                                           for a, b, t in pairs):
+            ok(f"the 4-DOF orbit with separation at {v:.6g} rad equals usm periodic's (speed "
+               f"{obj['rotor_speed_mean']:.8g}, ripple {obj['rotor_speed_ripple']:.6g} 1/s, "
+               f"impact {obj['impact_velocity_max']:.6g} m/s)")
+        else:
+            fail(f"the 4-DOF orbit with separation {last} differs from usm periodic's {obj}")
+    else:
+        fail("nonideal_curves_phase_error_4dof.csv: no orbit with separation")
     # the orbit: one closed period; the ideal circle of radius usm steady's theta
     orbit = read_csv(os.path.join(out, "nonideal_orbit.csv"))
     circle = read_csv(os.path.join(out, "nonideal_orbit_circle.csv"))

@@ -19,7 +19,8 @@
  * 6. Periodic orbits with separation (3-DOF phase error 35 deg, 4-DOF phase
  *    error 30 deg and mode split 2 %): the multipliers of the monodromy with
  *    saltation matrices equal those of sixth-order central differences of
- *    the event-driven period map (to 1e-5, measured 1.4e-6 to 3.2e-6), and a
+ *    a second event-driven period map (fixed steps, in spin coordinates) to
+ *    1e-6 (measured 2.0e-7 to 6.7e-7), and a
  *    simulation from rest settles on the orbit (period-mean rotor speed to
  *    1e-6).
  * 4. 3-DOF phase error 10 deg (the contact never opens): the unilateral
@@ -35,6 +36,8 @@
 #include <string.h>
 
 #include <gsl/gsl_eigen.h>
+#include <gsl/gsl_errno.h>
+#include <gsl/gsl_odeiv2.h>
 
 #include "usm.h"
 #include "usm_periodic.h"
@@ -506,6 +509,169 @@ static void check_separating(void)
     }
 }
 
+
+/* ---- a second period map: fixed steps (the reference of the multipliers) ---- */
+
+/* The event-driven period map integrated with a fixed step sequence (GSL's
+ * rk8pd, N steps a period, independent of CVODES and of hybrid.c): the guard's
+ * crossing inside a step is located by the Illinois method on the step's
+ * length from the step's start, so the map is a smooth function of x0 and
+ * its central differences carry no step-selection noise (the adaptive map's
+ * differences do: its steps change with x0, a noise of about 1e-9 of the
+ * state at rtol 1e-13 that the step divides). */
+typedef struct {
+    const model_t *M;
+    const usm_params *p;
+    int mode;
+    gsl_odeiv2_step *st[2];
+    gsl_odeiv2_system sys[2];
+    double v_land;
+    int spin, ip, is; /* 1: y[ip] holds the spin phidot + psidot */
+} fx_t;
+
+/* y in the model's coordinates (from the spin coordinates when F->spin) */
+static const double *fx_x(const fx_t *F, const double *y, double *tmp)
+{
+    if (!F->spin)
+        return y;
+    memcpy(tmp, y, sizeof(double) * NY);
+    tmp[F->ip] = y[F->ip] - y[F->is];
+    return tmp;
+}
+
+static int fx_rates(double t, const double *y, double *dy, void *par)
+{
+    fx_t *F = par;
+    double A[NY * NY], tmp[NY];
+    const int n = F->mode ? F->M->ny : F->M->nx;
+    y = fx_x(F, y, tmp);
+    (F->mode ? F->M->u->open_mass : F->M->m->mass)(y, F->p, A);
+    (F->mode ? F->M->u->open_rhs : F->M->m->rhs)(y, t, F->p, dy);
+    if (solve(n, A, dy) != 0)
+        return GSL_EBADFUNC;
+    if (F->spin)
+        dy[F->ip] += dy[F->is];
+    return GSL_SUCCESS;
+}
+
+static double fx_Fn(fx_t *F, double t, const double *x)
+{
+    double xd[NY], o[USM_OUT_COUNT], tmp[NY];
+    const int mode = F->mode;
+    F->mode = 0;
+    fx_rates(t, x, xd, F);
+    F->mode = mode;
+    if (F->spin)
+        xd[F->ip] -= xd[F->is];
+    F->M->m->outputs(fx_x(F, x, tmp), xd, t, F->p, o);
+    return o[USM_OUT_F_N];
+}
+
+static double fx_guard(fx_t *F, double t, const double *y)
+{
+    if (F->mode == 0)
+        return fx_Fn(F, t, y);
+    double g[1 + NY], tmp[NY];
+    F->M->u->guard_open(fx_x(F, y, tmp), F->p, g);
+    return g[0];
+}
+
+static void fx_step(fx_t *F, double t, const double *y, double tau, double *out)
+{
+    double err[NY];
+    const int n = F->mode ? F->M->ny : F->M->nx;
+    memcpy(out, y, sizeof(double) * (size_t)n);
+    gsl_odeiv2_step_reset(F->st[F->mode]);
+    gsl_odeiv2_step_apply(F->st[F->mode], t, tau, out, err, NULL, NULL, &F->sys[F->mode]);
+}
+
+/* The switch at the guard (hybrid.c's rules, the default e_impact = 0). */
+static void fx_switch_x(fx_t *F, double t, double *y);
+static void fx_switch(fx_t *F, double t, double *y)
+{
+    if (F->spin)
+        y[F->ip] -= y[F->is];
+    const int spin = F->spin;
+    F->spin = 0;
+    fx_switch_x(F, t, y);
+    F->spin = spin;
+    if (F->spin)
+        y[F->ip] += y[F->is];
+}
+
+static void fx_switch_x(fx_t *F, double t, double *y)
+{
+    const model_t *M = F->M;
+    const int ny = M->ny;
+    double out[NY + 2], cv[2 + 2 * NY];
+    if (F->mode == 0) {
+        double sj[NY * (NY + 1)];
+        M->u->separation(y, F->p, sj);
+        memcpy(y, sj, sizeof(double) * (size_t)ny);
+        F->mode = 1;
+        return;
+    }
+    M->u->impact_stick(y, F->p, out);
+    if (fabs(out[ny + 1]) > F->p->mu0 * out[ny] && M->m->slip)
+        M->u->impact_slide(y, out[ny + 1] > 0 ? 1.0 : -1.0, F->p, out);
+    memcpy(y, out, sizeof(double) * (size_t)ny);
+    M->u->contact_velocity(y, F->p, cv);
+    if (!(cv[0] > F->v_land) && fx_Fn(F, t, y) >= 0)
+        F->mode = 0;
+}
+
+static int fx_map(fx_t *F, double ts, double T, int N, const double *x0, double *x1, int *nsw)
+{
+    double y[NY], ye[NY];
+    double t = ts;
+    F->mode = 0;
+    *nsw = 0;
+    memcpy(y, x0, sizeof(double) * (size_t)F->M->nx);
+    for (int k = 0; k < N; ++k) {
+        const double tn = ts + T * (k + 1) / N;
+        while (t < tn) {
+            const double g0 = fx_guard(F, t, y);
+            fx_step(F, t, y, tn - t, ye);
+            const double g1 = fx_guard(F, tn, ye);
+            if (!(g0 > 0 && g1 <= 0)) {
+                memcpy(y, ye, sizeof ye);
+                t = tn;
+                continue;
+            }
+            /* Illinois on tau in (0, tn - t] */
+            double a = 0, b = tn - t, ga = g0, gb = g1, tau = b;
+            int side = 0;
+            for (int it = 0; it < 200 && b - a > 1e-15 * (tn - t); ++it) {
+                tau = (a * gb - b * ga) / (gb - ga);
+                fx_step(F, t, y, tau, ye);
+                const double gt = fx_guard(F, t + tau, ye);
+                if (gt > 0) {
+                    a = tau;
+                    ga = gt;
+                    if (side == 1)
+                        gb /= 2;
+                    side = 1;
+                } else {
+                    b = tau;
+                    gb = gt;
+                    if (side == -1)
+                        ga /= 2;
+                    side = -1;
+                }
+            }
+            fx_step(F, t, y, tau, ye);
+            memcpy(y, ye, sizeof ye);
+            t += tau;
+            fx_switch(F, t, y);
+            ++*nsw;
+        }
+    }
+    if (F->mode != 0)
+        return -1;
+    memcpy(x1, y, sizeof(double) * (size_t)F->M->nx);
+    return 0;
+}
+
 /* ---- periodic orbits with separation ------------------------------------------- */
 
 static void check_hybrid(const char *name, const char *imp, double value)
@@ -518,7 +684,8 @@ static void check_hybrid(const char *name, const char *imp, double value)
     usm_params_set(&p, imp, value, NULL);
     usm_hybrid_options o;
     usm_hybrid_options_default(&o);
-    o.rtol = 1e-13; /* the finite differences below need the map to 1e-13 */
+    o.rtol = 1e-13; /* the monodromy to about 1e-7 of its entries (against rtol 1e-14:
+                       5e-7 to 8e-7; below 1e-13 Adams' rounding grows) */
     const int rc = usm_hybrid_solve(h, &p, &o, &r);
     if (!CHECK(rc == USM_OK && r.converged, "%s %s = %g: %s", name, imp, value,
                usm_hybrid_message(h))) {
@@ -532,48 +699,77 @@ static void check_hybrid(const char *name, const char *imp, double value)
            r.impact_velocity_max, r.rotor_speed_mean, r.floquet.max_modulus);
     CHECK(r.separations_per_period >= 1 && r.impacts_per_period >= 1 && r.nmodes >= 3,
           "%s: no separation on the orbit (%s)", name, r.mode_sequence);
-    /* the monodromy with saltation matrices against central differences of the
-     * event-driven period map (non-cyclic columns; steps 1e-6 of each scale) */
-    const int nx = m->nx;
-    double B[USM_MAX_NX * USM_MAX_NX], x1[USM_MAX_NX], xp[USM_MAX_NX], xm[USM_MAX_NX];
-    double fp[USM_MAX_NX], fm[USM_MAX_NX], FD[USM_MAX_NX * USM_MAX_NX];
-    memcpy(B, r.floquet.monodromy, sizeof B);
-    const double theta = r.x0[m->x_theta], Om = 2 * PI * p.f;
-    double sc[USM_MAX_NX];
+    /* The monodromy with saltation matrices against sixth-order central
+     * differences of a second, fixed-step period map (fx_map: rk8pd, N = 250
+     * steps a period, the guards located by the Illinois method, hybrid.c's
+     * switching rules; its end state agrees with hybrid.c's to 3e-9 of each
+     * scale and changes by 1e-12 from N = 250 to 500).
+     * Coordinates (the multipliers do not depend on them): the spin u =
+     * phidot + psidot in place of phidot, in the state of the fixed-step map
+     * too.  In x the map is steep along phidot alone (a change of the spin,
+     * of size Omega theta, against the stiff twist spring) and flat along
+     * phidot - psidot, and rounding phidot and psidot (each of size Omega)
+     * at every step puts a noise of 1e-7 of Omega theta into the spin at the
+     * end of the period (measured: the x-state map's end state changes by
+     * 1e-7 from N to 2N in phidot, 1e-12 elsewhere); with u a state of its
+     * own that noise is 1e-12. */
+    const int nx = m->nx, ip = m->x_phidot, is = m->x_psidot;
+    const double theta = r.x0[m->x_theta], Om = 2 * PI * p.f, T = 1.0 / p.f;
+    double sc[USM_MAX_NX], w0[USM_MAX_NX], B[USM_MAX_NX * USM_MAX_NX], FD[USM_MAX_NX * USM_MAX_NX];
     for (int i = 0; i < nx; ++i)
         sc[i] = 1.0;
     sc[m->x_theta] = theta;
-    sc[m->x_phidot] = sc[m->x_psidot] = Om;
+    sc[ip] = Om * theta; /* the spin */
+    sc[is] = Om;
     sc[m->x_thetadot] = Om * theta;
     sc[m->x_tau] = p.m0 / p.c_t;
     if (m->x_phi_Rdot >= 0)
         sc[m->x_phi_Rdot] = Om * theta;
-    (void)x1;
-    /* Coordinates of the comparison (the multipliers do not depend on them):
-     * the spin u = phidot + psidot in place of phidot.  The map is steep
-     * along phidot alone (a change of the spin, of size Omega theta, against
-     * the stiff twist spring) and flat along phidot - psidot, so in x its
-     * matrix has two nearly equal columns of size 1e5 whose difference
-     * carries the multipliers; in (u, psidot) each column is resolved.
-     * B' = T B T^-1: row u = row phidot + row psidot, column psidot =
-     * column psidot - column phidot.  Directions of the differences: e_phidot
-     * (u alone, step 1e-6 Omega theta) and e_psidot - e_phidot (psidot at
-     * fixed u, step 1e-6 Omega). */
-    const int ip = m->x_phidot, is = m->x_psidot;
-    int ok = 1;
+    memcpy(w0, r.x0, sizeof w0);
+    w0[ip] += w0[is];
+    /* the library's monodromy in the spin coordinates: B' = T B T^-1 (row u
+     * = row phidot + row psidot, column psidot = column psidot - column
+     * phidot) */
+    memcpy(B, r.floquet.monodromy, sizeof B);
+    for (int i = 0; i < nx; ++i)
+        B[i * nx + is] -= B[i * nx + ip];
+    for (int j = 0; j < nx; ++j)
+        B[ip * nx + j] += B[is * nx + j];
+    model_t MM = {m, m->unilateral, nx, m->unilateral->ny};
+    fx_t X;
+    memset(&X, 0, sizeof X);
+    X.M = &MM;
+    X.p = &p;
+    X.v_land = sqrt(o.rtol) * p.R * theta * Om; /* hybrid.c's */
+    X.spin = 1;
+    X.ip = ip;
+    X.is = is;
+    for (int md = 0; md < 2; ++md) {
+        const size_t dim = (size_t)(md ? MM.ny : MM.nx);
+        X.st[md] = gsl_odeiv2_step_alloc(gsl_odeiv2_step_rk8pd, dim);
+        X.sys[md] = (gsl_odeiv2_system){fx_rates, NULL, dim, &X};
+    }
+    enum { NSTEP = 250 };
+    int ok = 1, nsw0 = 0;
+    double w1[USM_MAX_NX], x1dev = 0;
+    ok = fx_map(&X, r.t0, T, NSTEP, w0, w1, &nsw0) == 0;
+    for (int i = 0; i < nx && ok; ++i)
+        if (!m->cyclic[i])
+            x1dev = fmax(x1dev, fabs(w1[i] - w0[i] - (i == m->x_phi ? 2 * PI : 0)) / sc[i]);
+    /* steps 3e-4 of each scale: the map's noise over the step and the h^6
+     * truncation balance there (steps of 6e-4 change the 4-DOF 30 deg
+     * orbit's mode sequence, and at 1e-3 the 3-DOF map's differences are off
+     * by 1e-3) */
     for (int j = 0; j < nx && ok; ++j) {
-        /* sixth-order central differences, h = 3e-4 of the scale (the map's
-         * noise over h and truncation h^6 balance there) */
-        const double hstep = 3e-4 * (j == ip ? Om * theta : sc[j]);
-        double f2[6][USM_MAX_NX];
         static const double k[6] = {-3, -2, -1, 1, 2, 3};
         static const double c6[6] = {-1, 9, -45, 45, -9, 1};
+        double f2[6][USM_MAX_NX], xp[USM_MAX_NX];
+        const double hstep = 3e-4 * sc[j];
         for (int e = 0; e < 6 && ok; ++e) {
-            memcpy(xp, r.x0, sizeof xp);
+            int nsw = 0;
+            memcpy(xp, w0, sizeof xp);
             xp[j] += k[e] * hstep;
-            if (j == is)
-                xp[ip] -= k[e] * hstep;
-            ok = usm_hybrid_period_map(h, r.t0, xp, f2[e], NULL) == USM_OK;
+            ok = fx_map(&X, r.t0, T, NSTEP, xp, f2[e], &nsw) == 0 && nsw == nsw0;
         }
         for (int i = 0; i < nx; ++i) {
             double d = 0;
@@ -581,17 +777,10 @@ static void check_hybrid(const char *name, const char *imp, double value)
                 d += c6[e] * f2[e][i];
             FD[i * nx + j] = d / (60 * hstep);
         }
-        FD[ip * nx + j] += FD[is * nx + j];
     }
-    (void)fp;
-    (void)fm;
-    (void)xm;
-    for (int i = 0; i < nx; ++i)
-        B[i * nx + is] -= B[i * nx + ip];
-    for (int j = 0; j < nx; ++j)
-        B[ip * nx + j] += B[is * nx + j];
-    sc[ip] = Om * theta;
-    if (!CHECK(ok, "%s: period map failed: %s", name, usm_hybrid_message(h))) {
+    for (int md = 0; md < 2; ++md)
+        gsl_odeiv2_step_free(X.st[md]);
+    if (!CHECK(ok, "%s: the fixed-step period map failed or changed its switches", name)) {
         usm_hybrid_free(h);
         return;
     }
@@ -615,10 +804,10 @@ static void check_hybrid(const char *name, const char *imp, double value)
     }
     /* the library's multipliers (from the monodromy integrated in the same
      * spin coordinates, usm_hybrid_solve) */
-    for (int k = 0; k < nx; ++k)
-        if (!r.floquet.cyclic[k]) {
-            are[na] = r.floquet.re[k];
-            aim[na++] = r.floquet.im[k];
+    for (int q = 0; q < nx; ++q)
+        if (!r.floquet.cyclic[q]) {
+            are[na] = r.floquet.re[q];
+            aim[na++] = r.floquet.im[q];
         }
     const double dist = multipliers_distance(na, are, aim, nr, fre, fim);
     double dmax = 0;
@@ -627,16 +816,23 @@ static void check_hybrid(const char *name, const char *imp, double value)
             const int i = idx[a], j = idx[b];
             dmax = fmax(dmax, fabs(B[i * nx + j] - FD[i * nx + j]) * sc[j] / sc[i]);
         }
-    printf("%s: saltation multipliers vs central differences of the period map: %.3g "
-           "(monodromy entries, scaled: %.3g)\n", name, dist, dmax);
-    for (int k = 0; k < na; ++k)
-        printf("   %.10f %+.10fi    fd %.10f %+.10fi\n", are[k], aim[k], fre[k], fim[k]);
-    /* measured 1.4e-6 (3-DOF 35 deg), 3.2e-6 (4-DOF 30 deg), 2.6e-6 (4-DOF mode
-     * split 2 %) at rtol 1e-13, sixth-order differences with steps 3e-4; the
-     * differences' own floor: 2.8e-6, 6.9e-6, 4.1e-6 at rtol 1e-12, and steps
-     * of 6e-4 change the 4-DOF 30 deg orbit's mode sequence.  The issue's
-     * 1e-6 is the reference's limit here, not the saltation monodromy's */
-    CHECK(dist < 1e-5, "%s: multipliers differ from finite differences by %.3g", name, dist);
+    printf("%s: fixed-step map: %d switches, closes to %.3g; saltation multipliers vs central "
+           "differences of it: %.3g (monodromy entries, scaled: %.3g)\n", name, nsw0, x1dev, dist,
+           dmax);
+    for (int q = 0; q < na; ++q)
+        printf("   %.10f %+.10fi    fd %.10f %+.10fi\n", are[q], aim[q], fre[q], fim[q]);
+    /* measured 2.0e-7 (3-DOF 35 deg), 6.7e-7 (4-DOF 30 deg), 6.7e-7 (4-DOF
+     * mode split 2 %); monodromy entries 8.3e-7, 9.7e-7, 1.9e-7 of the
+     * scales, with no column standing out (no column carries a saltation
+     * error).  The reference's own scatter: 2e-7 to 3e-6 in the multipliers
+     * at N = 500 and 1000 (rounding grows with the steps); the library's
+     * monodromy at rtol 1e-13 against 1e-14: 3e-9, 6e-8, 1.7e-6.  The
+     * earlier reference (central differences of hybrid.c's adaptive map in
+     * x) agreed to 1.4e-6 to 3.2e-6 only: the adaptive steps change with x0
+     * (a noise of 1e-9 of the state) and phidot's rounding (above). */
+    CHECK(nsw0 == r.nmodes - 1, "%s: the fixed-step map switches %d times, the orbit %d", name,
+          nsw0, r.nmodes - 1);
+    CHECK(dist < 1e-6, "%s: multipliers differ from finite differences by %.3g", name, dist);
     gsl_matrix_free(Bf);
     gsl_vector_complex_free(ev);
     gsl_eigen_nonsymm_free(ws);

@@ -139,6 +139,7 @@ static void hybrid_table(const usm_hybrid_result *r, const char *model)
            "t = %.10g s)\n", model, r->period, r->t0);
     printf("  converged in %d Newton iterations, residual %.3g\n", r->iterations, r->residual);
     printf("  rotor speed mean      %.10g 1/s\n", r->rotor_speed_mean);
+    printf("  rotor speed ripple    %.6g 1/s (peak to peak)\n", r->rotor_speed_ripple);
     printf("  mode sequence         %s (c closed, o open; from the section)\n", r->mode_sequence);
     printf("  separation fraction   %.6f of the period\n", r->separation_fraction);
     printf("  per period            %d separations, %d impacts (%d needing more than mu0)\n",

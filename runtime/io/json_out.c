@@ -252,6 +252,7 @@ json_t *usm_json_hybrid_result(const usm_hybrid_result *r, int slip)
     int ok = o != NULL;
     const int valid = slip || r->impacts_slipping == 0;
     usm_json_put(o, "rotor_speed_mean", usm_json_real(r->rotor_speed_mean), &ok);
+    usm_json_put(o, "rotor_speed_ripple", usm_json_real(r->rotor_speed_ripple), &ok);
     usm_json_put(o, "floquet", usm_json_floquet(&r->floquet), &ok);
     usm_json_put(o, "separation_fraction", usm_json_real(r->separation_fraction), &ok);
     usm_json_put(o, "separations_per_period", json_integer(r->separations_per_period), &ok);

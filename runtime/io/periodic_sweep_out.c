@@ -28,7 +28,8 @@ int usm_periodic_sweep_csv(const usm_periodic_sweep *s, FILE *out)
             const int valid = m->slip || h->impacts_slipping == 0;
             usm_csv_bool(out, 0, 1);
             usm_csv_num(out, 0, h->rotor_speed_mean);
-            fputs(",,,,,,,,,", out); /* ripple to F_n_harmonic_2: the bilateral orbit's */
+            usm_csv_num(out, 0, h->rotor_speed_ripple);
+            fputs(",,,,,,,,", out); /* F_n_min to F_n_harmonic_2: the bilateral orbit's */
             usm_csv_num(out, 0, h->floquet.max_modulus);
             usm_csv_bool(out, 0, h->floquet.stable);
             usm_csv_bool(out, 0, 1);

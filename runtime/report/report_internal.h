@@ -130,6 +130,11 @@ typedef struct usm_report_nonideal_point {
     double max_modulus;        /* largest non-cyclic |lambda| */
     double theta_h2;           /* 2 Omega amplitude of theta [rad] */
     usm_validity validity;     /* of the orbit (usm_periodic_result.validity) */
+    /* past contact loss: the orbit with separation of the unilateral model
+     * (usm_periodic_point.hybrid); NaN where separating = 0 */
+    int separating;
+    double sep_speed_mean, sep_ripple, sep_max_modulus; /* [1/s], [1/s], [1] */
+    double sep_fraction, impact_velocity_max;            /* [1], [m/s] */
 } usm_report_nonideal_point;
 
 /* A root of F_n_min (contact opens) or of max_modulus - 1 (stability lost)
@@ -151,6 +156,12 @@ typedef struct usm_report_nonideal_curve {
     usm_report_nonideal_root valid_to;  /* the model stops describing the motor
                                          * (validity: contact opens, stick lost):
                                          * found = 0 when valid over the curve */
+    /* past contact loss (the unilateral model): points with an orbit with
+     * separation; the largest value up to which every orbit with separation
+     * found drives the load (mean rotor speed of the ideal motor's sign);
+     * the largest impact velocity and where */
+    int sep_points, sep_drives_all;
+    double sep_drives_to, sep_impact_max, sep_impact_at;
     int tolerable_found;      /* the smaller of the two roots found */
     double tolerable;
     const char *tolerable_by; /* "contact" or "stability" */
@@ -160,6 +171,9 @@ typedef struct usm_report_nonideal {
     int ok;                   /* computed (else note says why) */
     char note[USM_MSG_LEN];
     const usm_model *model[REPORT_NMODELS]; /* the variant "imperfect" */
+    const usm_model *umodel[REPORT_NMODELS]; /* the variant "imperfect_unilateral" (the
+                                                sweeps; NULL: not built, no orbits past
+                                                contact loss) */
     double theta_ideal[REPORT_NMODELS];     /* stationary tilt of the ideal motor [rad] */
     usm_report_nonideal_curve curve[REPORT_NMODELS][REPORT_NIMP];
     /* the orbit drawn: 3-DOF at orbit_value of orbit_param */

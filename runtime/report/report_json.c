@@ -719,6 +719,29 @@ static json_t *nonideal_curve(const usm_report_nonideal_curve *cv, int j)
         strcmp(cv->tolerable_by, "contact") == 0 ? "the contact opening (F_n_min = 0)"
                                                 : "the loss of stability (max |λ| = 1)");
     json_object_set_new(o, "tolerable", t);
+    /* past contact loss: the unilateral model's orbits with separation */
+    {
+        json_t *sp = json_object();
+        const usm_report_nonideal_point *last = NULL;
+        for (int q = 0; q < cv->points; ++q)
+            if (cv->pt[q].separating)
+                last = &cv->pt[q];
+        integer(sp, "points", cv->sep_points);
+        flag(sp, "any", cv->sep_points > 0);
+        flag(sp, "drives_all", cv->sep_points > 0 && cv->sep_drives_all);
+        num(sp, "drives_to", cv->sep_drives_to);
+        num(sp, "drives_to_display", imp_display(j, cv->sep_drives_to));
+        num(sp, "impact_velocity_max", cv->sep_impact_max);
+        num(sp, "impact_velocity_max_mm_s", cv->sep_impact_max * 1e3);
+        num(sp, "impact_at", cv->sep_impact_at);
+        num(sp, "impact_at_display", imp_display(j, cv->sep_impact_at));
+        num(sp, "speed_at_end", last ? last->sep_speed_mean : NAN);
+        num(sp, "ripple_at_end", last ? last->sep_ripple : NAN);
+        num(sp, "fraction_at_end", last ? last->sep_fraction : NAN);
+        num(sp, "last", last ? last->value : NAN);
+        num(sp, "last_display", last ? imp_display(j, last->value) : NAN);
+        json_object_set_new(o, "separating", sp);
+    }
     return o;
 }
 
@@ -741,6 +764,7 @@ static json_t *nonideal(const usm_report_data *d)
     for (int k = 0; k < REPORT_NMODELS; ++k) {
         json_t *m = json_object();
         str(m, "model", ni->model[k]->name);
+        str(m, "unilateral_model", ni->umodel[k] ? ni->umodel[k]->name : "");
         num(m, "theta_ideal", ni->theta_ideal[k]);
         for (int j = 0; j < REPORT_NIMP; ++j)
             json_object_set_new(m, imp[j], nonideal_curve(&ni->curve[k][j], j));

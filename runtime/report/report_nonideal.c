@@ -1,6 +1,8 @@
 /* The non-ideal motor in the report (issue 14, item 4): periodic orbits of
- * the variant "imperfect" along the phase error (0 to 30 degrees) and the
- * mode split (0 to 2 %), each alone, followed by the library's periodic
+ * the variant "imperfect" along the phase error (0 to 36 degrees) and the
+ * mode split (0 to 2.4 %), each alone; past contact loss the orbits with
+ * separation of the variant "imperfect_unilateral" (issue 24: the sweep
+ * runs on that model, whose bilateral orbits are those of "imperfect"), followed by the library's periodic
  * sweep (usm_periodic_sweep.h, the computation of `usm sweep --periodic`);
  * the tolerable value, where the contact opens (F_n_min = 0) or stability is
  * lost (max |lambda| = 1), whichever comes first: the sweep's contact_loss or
@@ -48,7 +50,9 @@ static void *state_alloc(void *ctx)
     if (!s)
         return NULL;
     for (int k = 0; k < REPORT_NMODELS; ++k)
-        if (!(s->sweep[k] = usm_periodic_sweep_alloc(c->d->nonideal.model[k])) ||
+        if (!(s->sweep[k] = usm_periodic_sweep_alloc(c->d->nonideal.umodel[k]
+                                                         ? c->d->nonideal.umodel[k]
+                                                         : c->d->nonideal.model[k])) ||
             !(s->w[k] = usm_periodic_alloc(c->d->nonideal.model[k]))) {
             state_free(s);
             return NULL;
@@ -180,6 +184,9 @@ static int curve_task(void *ctx, void *state, size_t i)
         if (!pt->converged) {
             pt->speed_mean = pt->ripple = pt->F_n_min = pt->F_n_max = NAN;
             pt->max_modulus = pt->theta_h2 = NAN;
+            pt->separating = 0;
+            pt->sep_speed_mean = pt->sep_ripple = pt->sep_max_modulus = NAN;
+            pt->sep_fraction = pt->impact_velocity_max = NAN;
             pt->validity = USM_VALID;
             continue;
         }
@@ -190,6 +197,38 @@ static int curve_task(void *ctx, void *state, size_t i)
         pt->max_modulus = sp->orbit.floquet.max_modulus;
         pt->theta_h2 = sp->orbit.theta_harmonic_2;
         pt->validity = sp->orbit.validity;
+        pt->sep_speed_mean = pt->sep_ripple = pt->sep_max_modulus = NAN;
+        pt->sep_fraction = pt->impact_velocity_max = NAN;
+        pt->separating = sp->separating;
+        if (sp->separating) {
+            const usm_hybrid_result *hy = &sp->hybrid;
+            pt->sep_speed_mean = hy->rotor_speed_mean;
+            pt->sep_ripple = hy->rotor_speed_ripple;
+            pt->sep_max_modulus = hy->floquet.max_modulus;
+            pt->sep_fraction = hy->separation_fraction;
+            pt->impact_velocity_max = hy->impact_velocity_max;
+        }
+    }
+    /* past contact loss: how far the orbits with separation drive the load
+     * (their mean rotor speed has the ideal motor's sign, that of the first
+     * point), the largest impact velocity */
+    cv->sep_points = 0;
+    cv->sep_drives_all = 1;
+    cv->sep_drives_to = cv->sep_impact_max = cv->sep_impact_at = NAN;
+    for (int q = 0; q < cv->points; ++q) {
+        const usm_report_nonideal_point *pt = &cv->pt[q];
+        if (!pt->separating)
+            continue;
+        cv->sep_points++;
+        const int drives = cv->pt[0].converged && pt->sep_speed_mean * cv->pt[0].speed_mean > 0;
+        if (drives && cv->sep_drives_all)
+            cv->sep_drives_to = pt->value;
+        else
+            cv->sep_drives_all = 0;
+        if (!(pt->impact_velocity_max <= cv->sep_impact_max)) {
+            cv->sep_impact_max = pt->impact_velocity_max;
+            cv->sep_impact_at = pt->value;
+        }
     }
     root_from_sweep(sw, cv, 0, &cv->contact);
     root_from_sweep(sw, cv, 1, &cv->stability);
@@ -235,10 +274,13 @@ int usm_report_compute_nonideal(usm_report_data *d, char msg[USM_IO_MSG_LEN])
 {
     usm_report_nonideal *ni = &d->nonideal;
     const double t = usm_report_now();
-    /* quick: 7 points (5 degrees, 1/3 %); full: 21 (1.5 degrees, 0.1 %) */
-    const int points = d->opt.quick ? 7 : 21;
+    /* to 36 degrees and 2.4 %, past the contact loss (28.7 / 23.2 degrees,
+     * 1.64 / 1.33 %), where the unilateral model's orbits with separation
+     * continue the curves; quick: 7 points (6 degrees, 0.4 %); full: 25
+     * (1.5 degrees, 0.1 %) */
+    const int points = d->opt.quick ? 7 : 25;
     static const char *const param[REPORT_NIMP] = {"phase_error", "mode_split"};
-    static const double to[REPORT_NIMP] = {30.0 * PI / 180.0, 0.02};
+    static const double to[REPORT_NIMP] = {36.0 * PI / 180.0, 0.024};
     per_ctx ctx = {d};
     char pmsg[USM_MSG_LEN];
     memset(ni, 0, sizeof *ni);
@@ -257,6 +299,7 @@ int usm_report_compute_nonideal(usm_report_data *d, char msg[USM_IO_MSG_LEN])
     for (int k = 0; k < REPORT_NMODELS; ++k) {
         const usm_model *m = d->model[k].model;
         ni->model[k] = m ? usm_model_variant(m->base, "imperfect") : NULL;
+        ni->umodel[k] = m ? usm_model_variant(m->base, "imperfect_unilateral") : NULL;
         if (!ni->model[k]) {
             snprintf(ni->note, USM_MSG_LEN, "the variant imperfect of %s is not built",
                      m ? m->base : "?");

@@ -32,7 +32,7 @@ const usm_report_figure usm_report_figures[REPORT_NFIGURES] = {
     {"map_4dof", "Stability map f x T, 4-DOF slip model"},
     {"datasheet", "Motor datasheet: rotor speed, output power and efficiency vs load torque"},
     {"elasticity", "Elasticities of rotor speed and of the largest Floquet modulus at the paper's point"},
-    {"nonideal_curves", "The non-ideal motor: rotor-speed ripple, smallest contact force and largest |λ| vs phase error and mode split"},
+    {"nonideal_curves", "The non-ideal motor: rotor-speed ripple, smallest contact force, largest |λ|, mean rotor speed and largest impact velocity vs phase error and mode split; past contact loss (dashed) the orbits with separation"},
     {"nonideal_orbit", "One periodic orbit of the non-ideal motor: the tilt vector in the housing plane over a period, the ideal circle beside it"},
     {"squeal", "The squeal: the spectrum of the contact force just past the 4-DOF Neimark-Sacker point, and the parasitic vibration against the mode split"},
 };
@@ -268,7 +268,10 @@ static void write_nonideal_curve_csv(FILE *f, const usm_report_nonideal_curve *c
          j == REPORT_IMP_PHASE ? "deg" : "%"},
         {"converged", NULL}, {"rotor_speed_mean", "1/s"}, {"rotor_speed_ripple", "1/s"},
         {"F_n_min", "N"}, {"F_n_max", "N"}, {"max_modulus", "1"}, {"theta_harmonic_2", "rad"},
-        {"contact_open", NULL}, {"valid", NULL}, {"invalid_reason", NULL}};
+        {"contact_open", NULL}, {"valid", NULL}, {"invalid_reason", NULL},
+        {"separating", NULL}, {"rotor_speed_mean_separating", "1/s"},
+        {"rotor_speed_ripple_separating", "1/s"}, {"max_modulus_separating", "1"},
+        {"separation_fraction", "1"}, {"impact_velocity_max", "m/s"}};
     usm_csv_header(f, cols, (int)(sizeof cols / sizeof cols[0]));
     for (int q = 0; q < cv->points; ++q) {
         const usm_report_nonideal_point *pt = &cv->pt[q];
@@ -283,6 +286,12 @@ static void write_nonideal_curve_csv(FILE *f, const usm_report_nonideal_curve *c
         usm_csv_num(f, 0, pt->theta_h2);
         usm_csv_bool(f, 0, pt->converged && pt->F_n_min < 0);
         usm_csv_validity(f, pt->converged, pt->validity);
+        usm_csv_bool(f, 0, pt->separating);
+        usm_csv_num(f, 0, pt->sep_speed_mean);
+        usm_csv_num(f, 0, pt->sep_ripple);
+        usm_csv_num(f, 0, pt->sep_max_modulus);
+        usm_csv_num(f, 0, pt->sep_fraction);
+        usm_csv_num(f, 0, pt->impact_velocity_max);
         fputc('\n', f);
     }
 }

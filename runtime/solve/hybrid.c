@@ -60,6 +60,8 @@ struct usm_hybrid {
     SUNNonlinearSolver NLS;
     /* the last period map */
     double open_total, open_since, vmax;
+    int nsamp;                /* > 0: sample the rotor speed (min/max) this often a period */
+    double wmin, wmax;
     int nsep, nimp, nslip, nmodes;
     char seq[USM_HYBRID_MAX_SWITCHES + 1];
     char cvmsg[USM_MSG_LEN];
@@ -444,6 +446,17 @@ static int switch_at(usm_hybrid *h, double t, double *z)
 
 /* ---- the period map -------------------------------------------------------------- */
 
+/* The rotor speed at (t, z) of the current mode into wmin/wmax. */
+static void sample_speed(usm_hybrid *h, double t, const double *z)
+{
+    double xdot[NY], out[USM_OUT_COUNT];
+    if (rates(h, h->mode, t, z, xdot, NULL, NULL) != 0)
+        return;
+    (h->mode ? h->u->open_outputs : h->m->outputs)(z, xdot, t, &h->p, out);
+    h->wmin = fmin(h->wmin, out[USM_OUT_ROTOR_SPEED]);
+    h->wmax = fmax(h->wmax, out[USM_OUT_ROTOR_SPEED]);
+}
+
 static int period_map(usm_hybrid *h, double ts, const double *x0, double *x1, double *B,
                       double *speed_mean)
 {
@@ -473,12 +486,21 @@ static int period_map(usm_hybrid *h, double ts, const double *x0, double *x1, do
     if (h->ncol)
         z[nx + ip * nx + is] = -1.0;
     double q = 0.0, t = ts;
-    int rc = setup(h, t, z, q, t_end);
+    int rc = setup(h, t, z, q, t_end), ks = 0;
+    h->wmin = INFINITY;
+    h->wmax = -INFINITY;
+    if (h->nsamp > 0)
+        sample_speed(h, t, z);
     for (int events = 0; rc == USM_OK; ++events) {
         h->cvmsg[0] = '\0';
         if (t >= t_end) /* a switch at the end of the period */
             break;
-        const int flag = CVode(h->cv, t_end, h->z, &t, CV_NORMAL);
+        /* sampling: the next sample time (CVODES interpolates there) */
+        while (h->nsamp > 0 && ks < h->nsamp && ts + h->T * (ks + 1) / h->nsamp <= t)
+            ++ks;
+        const double tout = h->nsamp > 0 && ks + 1 < h->nsamp ? ts + h->T * (ks + 1) / h->nsamp
+                                                              : t_end;
+        const int flag = CVode(h->cv, tout, h->z, &t, CV_NORMAL);
         if (flag < 0) {
             rc = fail(h, "CVode", flag);
             break;
@@ -486,6 +508,12 @@ static int period_map(usm_hybrid *h, double ts, const double *x0, double *x1, do
         N_Vector qv = h->q;
         if (CVodeGetQuad(h->cv, &t, qv) == CV_SUCCESS)
             q = N_VGetArrayPointer(qv)[0];
+        if (h->nsamp > 0)
+            sample_speed(h, t, N_VGetArrayPointer(h->z));
+        if (flag != CV_ROOT_RETURN && t < t_end) {
+            --events;
+            continue;
+        }
         if (flag != CV_ROOT_RETURN)
             break;
         if (events > 4 * USM_HYBRID_MAX_SWITCHES) {
@@ -497,6 +525,8 @@ static int period_map(usm_hybrid *h, double ts, const double *x0, double *x1, do
         memcpy(z, N_VGetArrayPointer(h->z), sizeof(double) * (size_t)(h->n + h->n * h->ncol));
         if ((rc = switch_at(h, t, z)) == USM_OK)
             rc = setup(h, t, z, q, t_end);
+        if (rc == USM_OK && h->nsamp > 0)
+            sample_speed(h, t, z);
     }
     if (rc == USM_OK && h->mode != 0) {
         snprintf(h->msg, USM_MSG_LEN, "the contact is open at the end of the period (t = %.9g s): "
@@ -843,6 +873,18 @@ static int newton(usm_hybrid *h, const usm_hybrid_options *opt, double ts, doubl
     }
     if ((rc = multipliers(h, B, &out->floquet)) != USM_OK)
         return rc;
+    /* the ripple: one more period without the variational matrix, sampled */
+    {
+        double xs[USM_MAX_NX];
+        usm_floquet_result keep = out->floquet;
+        h->nsamp = 256;
+        rc = period_map(h, ts, x0, xs, NULL, NULL);
+        h->nsamp = 0;
+        if (rc != USM_OK)
+            return rc;
+        out->rotor_speed_ripple = h->wmax - h->wmin;
+        out->floquet = keep;
+    }
     out->floquet.t0 = ts;
     out->converged = 1;
     out->rotor_speed_mean = mean;

@@ -150,6 +150,8 @@ typedef struct usm_hybrid_result {
     double x0[USM_MAX_NX];      /* closed state at ts on the orbit */
     usm_floquet_result floquet; /* multipliers of the monodromy with saltation matrices */
     double rotor_speed_mean;    /* [1/s], the paper's sign */
+    double rotor_speed_ripple;  /* peak to peak over the period [1/s]: 256 samples
+                                   and both sides of every switch */
     double separation_fraction; /* time open per period / T */
     int separations_per_period, impacts_per_period;
     int impacts_slipping;       /* stick model: impacts per period needing more than mu0 */
