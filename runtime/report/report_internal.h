@@ -162,6 +162,11 @@ typedef struct usm_report_nonideal_curve {
      * the largest impact velocity and where */
     int sep_points, sep_drives_all;
     double sep_drives_to, sep_impact_max, sep_impact_at;
+    /* of these, the unstable ones (largest non-cyclic |lambda| >= 1: the
+     * motor does not stay on such an orbit), the first and last value where
+     * one is, and the largest |lambda| of all orbits with separation */
+    int sep_unstable;
+    double sep_unstable_from, sep_unstable_to, sep_modulus_max;
     int tolerable_found;      /* the smaller of the two roots found */
     double tolerable;
     const char *tolerable_by; /* "contact" or "stability" */

@@ -735,6 +735,11 @@ static json_t *nonideal_curve(const usm_report_nonideal_curve *cv, int j)
         num(sp, "impact_velocity_max_mm_s", cv->sep_impact_max * 1e3);
         num(sp, "impact_at", cv->sep_impact_at);
         num(sp, "impact_at_display", imp_display(j, cv->sep_impact_at));
+        integer(sp, "unstable", cv->sep_unstable);
+        flag(sp, "any_unstable", cv->sep_unstable > 0);
+        num(sp, "unstable_from_display", imp_display(j, cv->sep_unstable_from));
+        num(sp, "unstable_to_display", imp_display(j, cv->sep_unstable_to));
+        num(sp, "max_modulus", cv->sep_modulus_max);
         num(sp, "speed_at_end", last ? last->sep_speed_mean : NAN);
         num(sp, "ripple_at_end", last ? last->sep_ripple : NAN);
         num(sp, "fraction_at_end", last ? last->sep_fraction : NAN);

@@ -215,11 +215,20 @@ static int curve_task(void *ctx, void *state, size_t i)
     cv->sep_points = 0;
     cv->sep_drives_all = 1;
     cv->sep_drives_to = cv->sep_impact_max = cv->sep_impact_at = NAN;
+    cv->sep_unstable = 0;
+    cv->sep_unstable_from = cv->sep_unstable_to = cv->sep_modulus_max = NAN;
     for (int q = 0; q < cv->points; ++q) {
         const usm_report_nonideal_point *pt = &cv->pt[q];
         if (!pt->separating)
             continue;
         cv->sep_points++;
+        if (!(pt->sep_max_modulus <= cv->sep_modulus_max))
+            cv->sep_modulus_max = pt->sep_max_modulus;
+        if (!(pt->sep_max_modulus < 1.0)) { /* unstable, or no multipliers: not the motor's */
+            if (cv->sep_unstable++ == 0)
+                cv->sep_unstable_from = pt->value;
+            cv->sep_unstable_to = pt->value;
+        }
         const int drives = cv->pt[0].converged && pt->sep_speed_mean * cv->pt[0].speed_mean > 0;
         if (drives && cv->sep_drives_all)
             cv->sep_drives_to = pt->value;
