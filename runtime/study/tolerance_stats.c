@@ -38,8 +38,13 @@ __extension__ typedef __int128 i128;
 /* The Wilson score interval: unlike the normal (Wald) interval it stays in
  * [0, 1] and keeps its coverage near yields of 0 and 1, where a design
  * study's answers usually are. */
-static void wilson(uint64_t k, uint64_t n, double *lo, double *hi)
+void usm_tolerance_wilson(uint64_t k, uint64_t n, double *lo, double *hi)
 {
+    if (n == 0) {
+        *lo = 0;
+        *hi = 1;
+        return;
+    }
     const double nn = (double)n, ph = (double)k / nn, z2 = Z95 * Z95;
     const double denom = 1.0 + z2 / nn;
     const double center = (ph + z2 / (2.0 * nn)) / denom;
@@ -450,7 +455,7 @@ int tol_finish(usm_tolerance *t, const tol_comm *c)
     s->invalid_contact_open = v[C_INV_CONTACT];
     s->invalid_stick = v[C_INV_STICK];
     s->yield = (double)s->good / (double)n;
-    wilson(s->good, n, &s->yield_lo, &s->yield_hi);
+    usm_tolerance_wilson(s->good, n, &s->yield_lo, &s->yield_hi);
     t->timings.reduce += tol_now() - start;
     start = tol_now();
     /* outputs finite on the same samples share the varied parameters' ranks */

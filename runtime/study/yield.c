@@ -15,9 +15,6 @@
 #include "usm_robust.h"
 
 #define MAX_SAMPLES 10000000ULL
-/* Two-sided 95 % normal quantile, z = Phi^-1(0.975). */
-#define Z95 1.959963984540054
-
 struct usm_yield {
     const usm_model *m;
     int nscatter;
@@ -37,21 +34,6 @@ struct usm_yield {
     int have;
     char msg[USM_MSG_LEN];
 };
-
-void usm_yield_wilson(uint64_t k, uint64_t n, double *lo, double *hi)
-{
-    if (n == 0) {
-        *lo = 0;
-        *hi = 1;
-        return;
-    }
-    const double nn = (double)n, ph = (double)k / nn, z2 = Z95 * Z95;
-    const double denom = 1.0 + z2 / nn;
-    const double center = (ph + z2 / (2.0 * nn)) / denom;
-    const double half = Z95 * sqrt(ph * (1.0 - ph) / nn + z2 / (4.0 * nn * nn)) / denom;
-    *lo = k == 0 ? 0.0 : fmax(0.0, center - half);
-    *hi = k == n ? 1.0 : fmin(1.0, center + half);
-}
 
 usm_yield *usm_yield_alloc(const usm_model *m, const usm_tolerance_vary *scatter, int nscatter,
                            uint64_t samples, uint64_t seed, char msg[USM_MSG_LEN])
@@ -270,7 +252,7 @@ int usm_yield_eval(usm_yield *y, const usm_params *p, double t0, int threads, in
         }
     }
     r->yield = (double)r->good / (double)y->n;
-    usm_yield_wilson(r->good, y->n, &r->yield_lo, &r->yield_hi);
+    usm_tolerance_wilson(r->good, y->n, &r->yield_lo, &r->yield_hi);
     r->mean = track >= 0 && r->op ? sum / (double)r->op : NAN;
     y->have = 1;
     return USM_OK;

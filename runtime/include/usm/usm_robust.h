@@ -38,8 +38,6 @@ extern "C" {
 
 #define USM_ROBUST_MAX_SCATTER 16
 
-/* The 95 % Wilson score interval of k successes in n trials. */
-void usm_yield_wilson(uint64_t k, uint64_t n, double *lo, double *hi);
 
 /* ---- the common-random-numbers yield --------------------------------------------- */
 

@@ -83,6 +83,11 @@ typedef struct usm_tolerance_vary {
  * "DIST: reason") in msg. */
 int usm_tolerance_vary_parse(const char *text, usm_tolerance_vary *v, char msg[USM_MSG_LEN]);
 
+/* The 95 % Wilson score interval [lo, hi] of k good samples out of n (the
+ * yield's interval of usm tolerance and of usm optimize's yield; n = 0:
+ * [0, 1]). */
+void usm_tolerance_wilson(uint64_t k, uint64_t n, double *lo, double *hi);
+
 /* ---- outputs and specs ---------------------------------------------------------- */
 
 /* The recorded outputs of a sample: the numeric ones first.  They describe
