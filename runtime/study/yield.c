@@ -15,6 +15,7 @@
 #include "usm_robust.h"
 
 #define MAX_SAMPLES 10000000ULL
+
 struct usm_yield {
     const usm_model *m;
     int nscatter;
