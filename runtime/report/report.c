@@ -391,8 +391,11 @@ int usm_report_write(const char *dir, const usm_params *p, const usm_report_opti
         else
             remove_old_report(dir);
         status = usm_report_write_data(d, w, msg);
+        if (status == USM_OK) /* the sections' own data files */
+            status = usm_report_squeal_write_data(d, w, msg);
     }
     if (status != USM_OK) {
+        usm_report_design_free(d);
         usm_report_data_free(d);
         free(d);
         if (staged)
@@ -425,6 +428,7 @@ int usm_report_write(const char *dir, const usm_params *p, const usm_report_opti
         free(md);
         json_decref(data);
     }
+    usm_report_design_free(d);
     usm_report_data_free(d);
     free(d);
     /* complete (report.md written last): the stage replaces dir as a whole */

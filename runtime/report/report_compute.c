@@ -471,7 +471,6 @@ int usm_report_compute_maps(usm_report_data *d, char msg[USM_IO_MSG_LEN])
 
 void usm_report_data_free(usm_report_data *d)
 {
-    usm_report_design_free(d);
     for (int c = 0; c < REPORT_NCURVES; ++c)
         for (int k = 0; k < REPORT_NMODELS; ++k) {
             usm_sweep_free(d->curve[c][k].sweep);

@@ -292,6 +292,8 @@ typedef struct usm_report_data {
 int usm_report_compute(usm_report_data *d, char msg[USM_IO_MSG_LEN]);
 /* The stability maps.  USM_OK or an error status with msg. */
 int usm_report_compute_maps(usm_report_data *d, char msg[USM_IO_MSG_LEN]);
+/* Free what usm_report_compute and the maps allocated (the design section's
+ * results: usm_report_design_free). */
 void usm_report_data_free(usm_report_data *d);
 /* The non-ideal motor's curves, tolerable imperfections and orbit
  * (d->nonideal).  A failure of the periodic orbits is reported in
@@ -380,7 +382,8 @@ double usm_report_table_distance(const usm_report_published_multiplier *t, int n
 /* Every file name `usm report` writes into its directory (NULL-terminated). */
 extern const char *const usm_report_files[];
 
-/* Write every CSV file and gnuplot script into dir.  USM_OK or USM_EFAILED. */
+/* Write every CSV file and gnuplot script into dir but the squeal section's
+ * (usm_report_squeal_write_data).  USM_OK or USM_EFAILED. */
 int usm_report_write_data(const usm_report_data *d, const char *dir, char msg[USM_IO_MSG_LEN]);
 
 /* Run gnuplot on the scripts of the first nfigures figures (up to `jobs` at a

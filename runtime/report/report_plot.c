@@ -493,8 +493,6 @@ int usm_report_write_data(const usm_report_data *d, const char *dir, char msg[US
         st = write_data_file(d, dir, "nonideal_orbit.csv", DATA_ORBIT, 0, 0, msg);
     if (st == USM_OK && d->nonideal.ok && d->nonideal.orbit_ok)
         st = write_data_file(d, dir, "nonideal_orbit_circle.csv", DATA_CIRCLE, 0, 0, msg);
-    if (st == USM_OK)
-        st = usm_report_squeal_write_data(d, dir, msg);
     for (int i = 0; i < REPORT_NFIGURES && st == USM_OK; ++i)
         st = copy_script(dir, usm_report_figures[i].name, msg);
     return st;
