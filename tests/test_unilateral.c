@@ -534,7 +534,8 @@ static const double *fx_x(const fx_t *F, const double *y, double *tmp)
 {
     if (!F->spin)
         return y;
-    memcpy(tmp, y, sizeof(double) * NY);
+    /* y has the current mode's length only (GSL's buffers are sized by it) */
+    memcpy(tmp, y, sizeof(double) * (size_t)(F->mode ? F->M->ny : F->M->nx));
     tmp[F->ip] = y[F->ip] - y[F->is];
     return tmp;
 }
