@@ -723,12 +723,12 @@ static json_t *nonideal_curve(const usm_report_nonideal_curve *cv, int j)
     {
         json_t *sp = json_object();
         const usm_report_nonideal_point *last = NULL;
-        for (int q = 0; q < cv->points; ++q)
-            if (cv->pt[q].separating)
+        for (int q = 0; q < cv->points; ++q) /* the last stable one */
+            if (cv->pt[q].separating && cv->pt[q].sep_max_modulus < 1.0)
                 last = &cv->pt[q];
         integer(sp, "points", cv->sep_points);
         flag(sp, "any", cv->sep_points > 0);
-        flag(sp, "drives_all", cv->sep_points > 0 && cv->sep_drives_all);
+        flag(sp, "drives_all", cv->sep_points > cv->sep_unstable && cv->sep_drives_all);
         num(sp, "drives_to", cv->sep_drives_to);
         num(sp, "drives_to_display", imp_display(j, cv->sep_drives_to));
         num(sp, "impact_velocity_max", cv->sep_impact_max);

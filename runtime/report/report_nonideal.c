@@ -209,9 +209,10 @@ static int curve_task(void *ctx, void *state, size_t i)
             pt->impact_velocity_max = hy->impact_velocity_max;
         }
     }
-    /* past contact loss: how far the orbits with separation drive the load
-     * (their mean rotor speed has the ideal motor's sign, that of the first
-     * point), the largest impact velocity */
+    /* past contact loss: how far the stable orbits with separation drive the
+     * load (their mean rotor speed has the ideal motor's sign, that of the
+     * first point), their largest impact velocity; the unstable ones counted
+     * apart */
     cv->sep_points = 0;
     cv->sep_drives_all = 1;
     cv->sep_drives_to = cv->sep_impact_max = cv->sep_impact_at = NAN;
@@ -228,6 +229,7 @@ static int curve_task(void *ctx, void *state, size_t i)
             if (cv->sep_unstable++ == 0)
                 cv->sep_unstable_from = pt->value;
             cv->sep_unstable_to = pt->value;
+            continue; /* its speed and impacts are not what the motor does */
         }
         const int drives = cv->pt[0].converged && pt->sep_speed_mean * cv->pt[0].speed_mean > 0;
         if (drives && cv->sep_drives_all)
