@@ -23,7 +23,7 @@ fail() {
 }
 
 run() {
-    timeout 60 "$USM" "$@" >"$out" 2>"$err"
+    timeout "${USM_RUN_TIMEOUT:-60}" "$USM" "$@" >"$out" 2>"$err"
 }
 
 no_nan() {

@@ -13,6 +13,9 @@
 # usage: output_files_cli.sh PATH/TO/usm
 set -u
 USM=${1:?usage: output_files_cli.sh PATH/TO/usm}
+# a hang guard, not a speed check: its --quick reports take over 60 s under ASan
+# on a loaded 2-core machine
+USM_RUN_TIMEOUT=600
 . "$(dirname "$0")/cli_common.sh"
 
 d=$tmp/w

@@ -15,6 +15,10 @@
 set -u
 
 USM=${1:?usage: report_files.sh PATH/TO/usm}
+# a hang guard, not a speed check: a --quick report takes about 2 s in a
+# release build but over 60 s under ASan on a loaded 2-core machine (the
+# orbits with separation, the squeal's simulations, the design section)
+USM_RUN_TIMEOUT=600
 . "$(dirname "$0")/cli_common.sh"
 
 # a "gnuplot" that kills usm while it plots, like a Ctrl-C or a lost session
