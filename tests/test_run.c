@@ -123,6 +123,29 @@ int main(void)
     r = usm_run_map(m3, &p, &mo);
     CHECK(usm_run_status(r) == USM_EINPUT && !usm_run_has_json(r), "map nonsense: %d %s", usm_run_status(r), usm_run_message(r));
     usm_run_free(r);
+    usm_tolerance_options to;
+    usm_tolerance_vary tv;
+    usm_tolerance_spec ts;
+    char lib[USM_MSG_LEN];
+    usm_tolerance_options_default(&to);
+    to.samples = 20;
+    CHECK(usm_tolerance_vary_parse("F0=normal:5%", &tv, lib) == USM_OK, "%s", lib);
+    CHECK(usm_tolerance_spec_parse("theta<=1e-4", &ts, lib) == USM_OK, "%s", lib);
+    r = usm_run_tolerance(m3, &p, &tv, 1, &ts, 1, &to, NULL);
+    CHECK(usm_run_status(r) == USM_OK && json_object(r), "tolerance: %d %s",
+          usm_run_status(r), usm_run_message(r));
+    /* the rows, made when asked for: F0, the outputs, good, redraws */
+    rows = usm_run_rows(r, &nrows, &ncols);
+    CHECK(rows && nrows == 20 && ncols == 1 + USM_TOL_NOUTPUTS + 2, "rows %zu x %zu", nrows,
+          ncols);
+    CHECK(rows && rows[0] > 0.3 && rows[0] < 0.5, "F0 of sample 0: %g", rows ? rows[0] : 0.0);
+    usm_run_free(r);
+    ts.output = -1; /* a spec the study refuses: "spec ..." and no JSON */
+    r = usm_run_tolerance(m3, &p, &tv, 1, &ts, 1, &to, NULL);
+    CHECK(usm_run_status(r) == USM_EINPUT && !usm_run_has_json(r) &&
+          strncmp(usm_run_message(r), "spec ", 5) == 0, "bad spec: %s", usm_run_message(r));
+    usm_run_free(r);
+
     free(json);
     if (failures)
         printf("%d check(s) failed\n", failures);

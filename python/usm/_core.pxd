@@ -291,7 +291,7 @@ cdef extern from "usm_run.h" nogil:
     const char *usm_run_message(const usm_run *r)
     int usm_run_has_json(const usm_run *r)
     char *usm_run_json(const usm_run *r, size_t *len)
-    const double *usm_run_rows(const usm_run *r, size_t *nrows, size_t *ncols)
+    const double *usm_run_rows(usm_run *r, size_t *nrows, size_t *ncols)
     void usm_run_free(usm_run *r)
     usm_run *usm_run_steady(const usm_model *m, const usm_params *p, double t0,
                             const usm_floquet_options *fo, const usm_op_options *op)
@@ -312,4 +312,4 @@ cdef extern from "usm_run.h" nogil:
     usm_run *usm_run_tolerance(const usm_model *m, const usm_params *p,
                                const usm_tolerance_vary *vary, int nvary,
                                const usm_tolerance_spec *spec, int nspec,
-                               const usm_tolerance_options *opt)
+                               const usm_tolerance_options *opt, void *runner)

@@ -908,7 +908,7 @@ cdef object _run_tolerance(_Model self, list vary, list spec, samples, seed, thr
         if not (opt.op.periods >= 1 and opt.op.periods <= 1e7):
             raise ValueError("from_rest_periods: must be in [1, 1e7]")
     with nogil:
-        r = usm_run_tolerance(self.m, &self.p, v, nv, sp, ns, &opt)
+        r = usm_run_tolerance(self.m, &self.p, v, nv, sp, ns, &opt, NULL)
     return self._finish(r)
 
 

@@ -79,8 +79,12 @@ char *usm_run_json(const usm_run *r, size_t *len)
     return buf;
 }
 
-const double *usm_run_rows(const usm_run *r, size_t *nrows, size_t *ncols)
+const double *usm_run_rows(usm_run *r, size_t *nrows, size_t *ncols)
 {
+    if (r && !r->rows && r->make_rows && r->make_rows(r) != 0) {
+        free(r->rows);
+        r->rows = NULL;
+    }
     *nrows = r && r->rows ? r->nrows : 0;
     if (ncols)
         *ncols = r && r->rows ? r->ncols : 0;

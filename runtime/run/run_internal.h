@@ -19,6 +19,7 @@ struct usm_run {
     void *data;
     int kind;                   /* RUN_STEADY ...: which accessor may read data */
     double *rows;               /* usm_run_rows (malloc'd) */
+    int (*make_rows)(usm_run *r); /* makes rows at the first usm_run_rows, or NULL */
     size_t nrows, ncols;
 };
 

@@ -138,11 +138,17 @@ usm_run *usm_run_map(const usm_model *m, const usm_params *p, const usm_map_opti
     map->floquet = &d->opt.floquet;
     map->op = &d->opt.op;
     map->threads = opt->threads;
-    map->boundaries = 1; /* as --json */
+    map->boundaries = opt->boundaries; /* --json: 1 */
     int status = usm_report_map_run(map, r->msg);
     if (status != USM_OK)
         r->status = status;
     else
         d->filled = r->has_json = 1;
     return r;
+}
+
+const usm_report_map *usm_run_map_result(const usm_run *r)
+{
+    const map_data *d = run_data(r, RUN_MAP);
+    return d && d->filled ? &d->map : NULL;
 }

@@ -61,9 +61,10 @@ int usm_run_write_json(const usm_run *r, FILE *out);
 char *usm_run_json(const usm_run *r, size_t *len);
 /* Numbers of a run as rows: simulate's time history (usm_run_simulate with
  * no sample callback: USM_RUN_SIM_COLUMNS), tolerance's samples (the varied
- * parameters, the USM_TOL_NOUTPUTS outputs, good, redraws).  Row-major,
- * owned by r; NULL with *nrows = 0 where there are none. */
-const double *usm_run_rows(const usm_run *r, size_t *nrows, size_t *ncols);
+ * parameters, the USM_TOL_NOUTPUTS outputs, good, redraws; made at the
+ * first call).  Row-major, owned by r; NULL with *nrows = 0 where there are
+ * none (or out of memory). */
+const double *usm_run_rows(usm_run *r, size_t *nrows, size_t *ncols);
 /* Free r; NULL is allowed. */
 void usm_run_free(usm_run *r);
 
@@ -120,8 +121,11 @@ usm_run *usm_run_periodic_sweep(const usm_model *m, const usm_params *p,
                                 const usm_periodic_sweep_options *opt);
 const usm_periodic_sweep *usm_run_periodic_sweep_result(const usm_run *r);
 
-/* usm map --json (its boundaries included). */
+/* usm map: opt as usm_report_map_options makes it (opt->boundaries: 1 for
+ * --json); its strings are copied. */
 usm_run *usm_run_map(const usm_model *m, const usm_params *p, const usm_map_options *opt);
+/* The map for the writers of usm_report_map.h (NULL unless USM_OK). */
+const struct usm_report_map *usm_run_map_result(const usm_run *r);
 
 /* usm optimize: pb checked by the caller (usm_opt_problem_check); copied.
  * USM_ENOSOLUTION: JSON {"feasible": false, ...} and the message. */
@@ -137,12 +141,21 @@ usm_run *usm_run_pareto(const usm_model *m, const usm_params *p, const usm_opt_p
                         const int obj[2], const int minimize[2], int points);
 const usm_pareto_result *usm_run_pareto_result(const usm_run *r);
 
-/* usm tolerance (one process): the varied parameters and specs as
- * usm_tolerance_vary_parse / usm_tolerance_spec_parse made them. */
+/* usm tolerance: the varied parameters and specs as usm_tolerance_vary_parse
+ * / usm_tolerance_spec_parse made them (message "vary ..." or "spec ..."
+ * when the study refuses one); runner: NULL for usm_tolerance_run, or a
+ * function of its signature (the command's usm_tolerance_run_mpi).  Its rows
+ * (usm_run_rows, made when first asked for): per sample the varied
+ * parameters' values, the USM_TOL_NOUTPUTS outputs, good, redraws. */
+typedef int (*usm_tolerance_runner)(usm_tolerance *t, const usm_params *p,
+                                    const usm_tolerance_options *opt);
 usm_run *usm_run_tolerance(const usm_model *m, const usm_params *p,
                            const usm_tolerance_vary *vary, int nvary,
                            const usm_tolerance_spec *spec, int nspec,
-                           const usm_tolerance_options *opt);
+                           const usm_tolerance_options *opt, usm_tolerance_runner runner);
+/* The study (for its writers; usm_tolerance_output_seconds_add), or NULL
+ * when it was not made. */
+usm_tolerance *usm_run_tolerance_result(usm_run *r);
 
 #ifdef __cplusplus
 }
