@@ -146,6 +146,69 @@ int main(void)
           strncmp(usm_run_message(r), "spec ", 5) == 0, "bad spec: %s", usm_run_message(r));
     usm_run_free(r);
 
+    /* usm optimize (nominal, robust) and usm pareto on small problems */
+    usm_opt_problem pb;
+    usm_opt_problem_init(&pb);
+    pb.starts = 1;
+    CHECK(usm_opt_problem_add_vary(&pb, "F0", 0.3, 0.6, lib) == USM_OK, "%s", lib);
+    pb.objective = usm_opt_output_find("speed");
+    r = usm_run_optimize(m3, &p, &pb);
+    CHECK(usm_run_status(r) == USM_OK && json_object(r) && usm_run_optimize_result(r),
+          "optimize: %d %s", usm_run_status(r), usm_run_message(r));
+    usm_run_free(r);
+    usm_robust_problem rp;
+    char iomsg[USM_IO_MSG_LEN];
+    usm_robust_problem_init(&rp);
+    CHECK(usm_robust_objective_parse(&rp, "q10:speed", iomsg) == USM_OK, "%s", iomsg);
+    CHECK(usm_robust_constraint_parse(&rp, "speed>=1", iomsg) == 1, "an output's constraint");
+    CHECK(usm_robust_constraint_parse(&rp, "yield>=2", iomsg) == USM_EINPUT &&
+          strncmp(iomsg, "constraint: yield>=Y", 20) == 0, "%s", iomsg);
+    CHECK(usm_tolerance_vary_parse("c_r=normal:2%", &rp.scatter[0], lib) == USM_OK, "%s", lib);
+    rp.nscatter = 1;
+    rp.samples = 100;
+    rp.verify_samples = 100;
+    rp.max_evals = 4;
+    rp.nominal = pb;
+    CHECK(usm_robust_problem_is_robust(&rp) &&
+          usm_robust_problem_check(&rp, m3, &p, lib) == USM_OK, "robust problem: %s", lib);
+    r = usm_run_robust(m3, &p, &rp);
+    CHECK(usm_run_status(r) == USM_OK && json_object(r) && usm_run_robust_result(r),
+          "robust: %d %s", usm_run_status(r), usm_run_message(r));
+    usm_run_free(r);
+    const int obj[2] = {usm_opt_output_find("speed"), usm_opt_output_find("efficiency")};
+    const int mini[2] = {0, 0};
+    r = usm_run_pareto(m3, &p, &pb, obj, mini, 3);
+    CHECK(usm_run_status(r) == USM_OK && json_object(r) && usm_run_pareto_result(r) &&
+          usm_run_pareto_result(r)->npoints >= 1, "pareto: %d %s", usm_run_status(r),
+          usm_run_message(r));
+    usm_run_free(r);
+    bad = p;
+    bad.amp_imbalance = 0.05; /* an imperfect motor: refused as usm steady refuses it */
+    r = usm_run_pareto(m3, &bad, &pb, obj, mini, 3);
+    CHECK(usm_run_status(r) != USM_OK && !usm_run_has_json(r), "pareto imperfect: %d %s",
+          usm_run_status(r), usm_run_message(r));
+    usm_run_free(r);
+
+    /* the orbit with separation of a unilateral model (usm periodic chooses it) */
+    bad = p;
+    bad.phase_error = 35 * 3.14159265358979323846 / 180; /* 35 deg */
+    r = usm_run_periodic(usm_model_variant("3dof", "imperfect_unilateral"), &bad);
+    CHECK(usm_run_status(r) == USM_OK && json_object(r) && usm_run_hybrid_result(r) &&
+          !usm_run_periodic_result(r) && strstr(json, "\"mode_sequence\""),
+          "periodic with separation: %d %s", usm_run_status(r), usm_run_message(r));
+    usm_run_free(r);
+
+    /* the spectrum of a simulation's samples */
+    usm_sim_options_default(&sim);
+    sim.duration = 60.0 / p.f;
+    sim.rate = 10.0 * p.f;
+    r = usm_run_simulate(m3, &p, &sim, NULL, 0);
+    CHECK(usm_run_status(r) == USM_OK && usm_run_spectrum(r) &&
+          usm_run_spectrum_amplitudes(r, USM_SPECTRUM_THETA) && json_object(r) &&
+          strstr(json, "\"spectrum\""), "simulate spectrum: %d %s", usm_run_status(r),
+          usm_run_message(r));
+    usm_run_free(r);
+
     free(json);
     if (failures)
         printf("%d check(s) failed\n", failures);

@@ -269,7 +269,7 @@ class Model:
         --scatter (as tolerance's vary), --samples, --verify-samples, --seed,
         --threads, --max-evals, --over-range (name, lo, hi[, points]),
         --range-stat, --band-threshold).  A yield, a statistic, a range or a
-        datasheet quantity makes it the robust problem (docs/robust.md).  No
+        datasheet quantity makes it the robust problem (docs/design.md).  No
         feasible point raises NoSolution, its .result the {"feasible":
         false, ...} object."""
         constraints = _constraint_list(constraints)

@@ -207,6 +207,7 @@ int usm_robust_problem_check(const usm_robust_problem *rp, const usm_model *m,
  * reason", or 1 when TEXT is neither (an optimizer output's constraint:
  * usm_opt_problem_add_constraint on rp->nominal). */
 int usm_robust_objective_parse(usm_robust_problem *rp, const char *text, char msg[1024]);
+/* The constraint text, as described above. */
 int usm_robust_constraint_parse(usm_robust_problem *rp, const char *text, char msg[1024]);
 
 typedef struct usm_robust_design {

@@ -82,14 +82,15 @@ const usm_steady_report *usm_run_steady_report(const usm_run *r);
  * (copied). */
 usm_run *usm_run_sensitivity(const usm_model *m, const usm_params *p,
                              const int want[USM_SENS_COUNT]);
+/* The derivatives of a sensitivity run (NULL unless USM_OK). */
 const usm_sensitivity_result *usm_run_sensitivity_result(const usm_run *r);
 
 /* usm periodic: the shooting; for a unilateral model whose orbit opens the
  * contact (or has none), the orbit with separation (usm_hybrid_solve). */
 usm_run *usm_run_periodic(const usm_model *m, const usm_params *p);
-/* The bilateral orbit and its solver (for usm_periodic_write_orbit_csv), or
- * NULL (failed, or the orbit with separation). */
+/* The bilateral orbit, or NULL (failed, or the orbit with separation). */
 const usm_periodic_result *usm_run_periodic_result(const usm_run *r);
+/* The bilateral orbit's solver (for usm_periodic_write_orbit_csv), or NULL. */
 const usm_periodic *usm_run_periodic_solver(const usm_run *r);
 /* The orbit with separation, or NULL (failed, or bilateral). */
 const usm_hybrid_result *usm_run_hybrid_result(const usm_run *r);
@@ -105,20 +106,25 @@ const usm_hybrid_result *usm_run_hybrid_result(const usm_run *r);
  * Status: USM_OK; USM_EINPUT, USM_ENOSOLUTION (no JSON); USM_EFAILED (the
  * run stopped early: JSON and message). */
 #define USM_RUN_SIM_COLUMNS 15
+/* usm simulate, as described above. */
 usm_run *usm_run_simulate(const usm_model *m, const usm_params *p, const usm_sim_options *opt,
                           const usm_sim_callbacks *cb, long spectrum_periods);
+/* The summary of a simulate run that ran (USM_OK or stopped early), or NULL. */
 const usm_sim_summary *usm_run_sim_summary(const usm_run *r);
-/* The spectrum of a simulate run (NULL: none) and the amplitudes of channel
- * c (USM_SPECTRUM_*; spectrum->bins values, bin k at k df). */
+/* The spectrum of a simulate run (NULL: none); its amplitudes below
+ * (channel c: USM_SPECTRUM_*; spectrum->bins values, bin k at k df). */
 const usm_sim_spectrum_result *usm_run_spectrum(const usm_run *r);
+/* The amplitudes of channel c of a simulate run's spectrum, or NULL. */
 const double *usm_run_spectrum_amplitudes(const usm_run *r, int channel);
 
 /* usm sweep: opt's pointers (monitors) must outlive the call only. */
 usm_run *usm_run_sweep(const usm_model *m, const usm_params *p, const usm_sweep_options *opt);
+/* The sweep of a sweep run for its CSV and plot writers (NULL unless USM_OK). */
 const usm_sweep *usm_run_sweep_result(const usm_run *r);
 /* usm sweep --periodic */
 usm_run *usm_run_periodic_sweep(const usm_model *m, const usm_params *p,
                                 const usm_periodic_sweep_options *opt);
+/* The periodic sweep of such a run (NULL unless USM_OK). */
 const usm_periodic_sweep *usm_run_periodic_sweep_result(const usm_run *r);
 
 /* usm map: opt as usm_report_map_options makes it (opt->boundaries: 1 for
@@ -130,15 +136,18 @@ const struct usm_report_map *usm_run_map_result(const usm_run *r);
 /* usm optimize: pb checked by the caller (usm_opt_problem_check); copied.
  * USM_ENOSOLUTION: JSON {"feasible": false, ...} and the message. */
 usm_run *usm_run_optimize(const usm_model *m, const usm_params *p, const usm_opt_problem *pb);
+/* The optimum of an optimize run (NULL unless USM_OK). */
 const usm_opt_result *usm_run_optimize_result(const usm_run *r);
 /* usm optimize with a robust problem (usm_robust_problem_is_robust; checked
  * by the caller); copied. */
 usm_run *usm_run_robust(const usm_model *m, const usm_params *p, const usm_robust_problem *rp);
+/* The robust optimum (NULL unless it has JSON: USM_OK or no feasible design). */
 const usm_robust_result *usm_run_robust_result(const usm_run *r);
 
 /* usm pareto: pb as usm_pareto_run's (copied). */
 usm_run *usm_run_pareto(const usm_model *m, const usm_params *p, const usm_opt_problem *pb,
                         const int obj[2], const int minimize[2], int points);
+/* The front of a pareto run (NULL unless USM_OK). */
 const usm_pareto_result *usm_run_pareto_result(const usm_run *r);
 
 /* usm tolerance: the varied parameters and specs as usm_tolerance_vary_parse
@@ -149,6 +158,7 @@ const usm_pareto_result *usm_run_pareto_result(const usm_run *r);
  * parameters' values, the USM_TOL_NOUTPUTS outputs, good, redraws. */
 typedef int (*usm_tolerance_runner)(usm_tolerance *t, const usm_params *p,
                                     const usm_tolerance_options *opt);
+/* usm tolerance, as described above. */
 usm_run *usm_run_tolerance(const usm_model *m, const usm_params *p,
                            const usm_tolerance_vary *vary, int nvary,
                            const usm_tolerance_spec *spec, int nspec,
