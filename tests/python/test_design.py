@@ -157,3 +157,16 @@ def test_simulate_spectrum():
     assert np.array_equal(s["frequency"][1:], csv[:, 0])
     for c, name in enumerate(("rotor_speed", "theta", "F_n")):
         assert np.array_equal(s[name][1:], csv[:, 2 + c])
+
+
+def test_periodic_sweep_with_separation():
+    """usm sweep --periodic on the unilateral model past contact loss: the
+    separating rows' fraction, impacts and mode sequence as columns."""
+    want, _ = run_cli("sweep", "--periodic", "--model", "3dof", "--variant",
+                      "imperfect_unilateral", "--over", "phase_error", "--from", "30deg", "--to",
+                      "36deg", "--points", "3")
+    got = usm.Model("3dof", "imperfect_unilateral").sweep("phase_error", "30deg", "36deg",
+                                                          points=3)
+    assert got.to_dict() == want
+    assert got.columns["separation_fraction"].shape == (3,)
+    assert np.array_equal(got.separating, [p["separating"] for p in want["points"]])
