@@ -96,26 +96,40 @@ const usm_periodic *usm_run_periodic_solver(const usm_run *r);
 const usm_hybrid_result *usm_run_hybrid_result(const usm_run *r);
 
 /* usm simulate (--json's summary, its wall time measured around
- * usm_sim_run).  cb: the caller's callbacks, or NULL: then with opt->rate > 0
- * the time history is kept (usm_run_rows, USM_RUN_SIM_COLUMNS: t, phi,
- * theta, psi, phidot, thetadot, psidot, phi_R, phi_Rdot, F_n, F_t, v_rel,
- * theta_avg, phi_Rdot_avg (NaN before the first period), validity
- * (usm_validity)).  spectrum_periods >= 0 (cb NULL only): the spectrum of
- * the samples (usm_sim_spectrum_compute with periods = spectrum_periods, 0:
- * the default window), in the summary as --spectrum's without its CSV file.
- * Status: USM_OK; USM_EINPUT, USM_ENOSOLUTION (no JSON); USM_EFAILED (the
- * run stopped early: JSON and message). */
+ * usm_sim_run).  cb: the caller's callbacks (the command's CSV rows and
+ * progress bar), or NULL: then with opt->rate > 0 the time history is kept
+ * (usm_run_rows, USM_RUN_SIM_COLUMNS: t, phi, theta, psi, phidot,
+ * thetadot, psidot, phi_R, phi_Rdot, F_n, F_t, v_rel, theta_avg,
+ * phi_Rdot_avg (NaN before the first period), validity (usm_validity)).
+ * spectrum_periods >= 0: the spectrum of the samples (--spectrum:
+ * usm_sim_spectrum_compute with periods = spectrum_periods, 0: the default
+ * window), in the summary without its CSV file.  Status: USM_OK;
+ * USM_EINPUT, USM_ENOSOLUTION (no JSON); USM_EFAILED with JSON: the run
+ * stopped early, or the spectrum could not be computed ("spectrum_...";
+ * usm_run_spectrum_error says why).  Options that the library names
+ * ("duration: ...") are named so in the messages; the spectrum's options
+ * "spectrum_periods", "spectrum_rate" ... */
 #define USM_RUN_SIM_COLUMNS 15
-/* usm simulate, as described above. */
 usm_run *usm_run_simulate(const usm_model *m, const usm_params *p, const usm_sim_options *opt,
                           const usm_sim_callbacks *cb, long spectrum_periods);
-/* The summary of a simulate run that ran (USM_OK or stopped early), or NULL. */
+/* The summary of a simulate run that ran (USM_OK or USM_EFAILED), or NULL. */
 const usm_sim_summary *usm_run_sim_summary(const usm_run *r);
-/* The spectrum of a simulate run (NULL: none); its amplitudes below
- * (channel c: USM_SPECTRUM_*; spectrum->bins values, bin k at k df). */
+/* The summary's report for usm_sim_write_json / usm_sim_write_table: model,
+ * parameters, options, summary, wall time, spectrum (or its error); the
+ * caller adds what only it knows (from_file, out, spectrum_csv).  All zero
+ * for a run without summary. */
+void usm_run_sim_report(const usm_run *r, usm_sim_report *rep);
+/* The spectrum of a simulate run (NULL: none). */
 const usm_sim_spectrum_result *usm_run_spectrum(const usm_run *r);
-/* The amplitudes of channel c of a simulate run's spectrum, or NULL. */
+/* Why a simulate run asked for a spectrum has none (the library's reason,
+ * "periods: ..."; "out of memory recording the samples"), or NULL. */
+const char *usm_run_spectrum_error(const usm_run *r);
+/* The amplitudes of channel c (USM_SPECTRUM_*) of a simulate run's
+ * spectrum: spectrum->bins values, bin k at k df; NULL without one. */
 const double *usm_run_spectrum_amplitudes(const usm_run *r, int channel);
+/* The spectrum as usm_sim_spectrum_write_csv writes it: 0, or -1 (a write
+ * error, or no spectrum). */
+int usm_run_spectrum_write_csv(const usm_run *r, FILE *out);
 
 /* usm sweep: opt's pointers (monitors) must outlive the call only. */
 usm_run *usm_run_sweep(const usm_model *m, const usm_params *p, const usm_sweep_options *opt);
