@@ -410,17 +410,6 @@ static int parse(opt_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
     return USM_OK;
 }
 
-/* --json's object: also of no feasible point ({"feasible": false, ...}) */
-static int write_json(const usm_run *r)
-{
-    if (usm_run_write_json(r, stdout) != 0 || fflush(stdout) != 0 || ferror(stdout)) {
-        clearerr(stdout);
-        cli_error("stdout: write error");
-        return USM_EFAILED;
-    }
-    return USM_OK;
-}
-
 static void write_table(const opt_args *a, const usm_opt_result *res)
 {
     const usm_opt_problem *pb = &a->pb;
@@ -515,7 +504,8 @@ int cli_optimize_main(int argc, char **argv)
     if (status != USM_OK) /* no feasible point: the message, and --json's object */
         cli_error("%s", usm_run_message(r));
     if (a.common.json && usm_run_has_json(r)) {
-        if (write_json(r) != USM_OK)
+        /* also of no feasible point ({"feasible": false, ...}) */
+        if (cli_run_json(r) != USM_OK)
             status = USM_EFAILED;
     } else if (status == USM_OK && a.robust)
         robust_table(&a, usm_run_robust_result(r));

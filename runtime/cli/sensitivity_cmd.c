@@ -115,11 +115,8 @@ static int run(const sens_args *a)
     else if (!c->json)
         usm_sensitivity_write_table(c->model, &c->params, usm_run_sensitivity_result(r), a->want,
                                     stdout);
-    else if (usm_run_write_json(r, stdout) != 0 || fflush(stdout) != 0 || ferror(stdout)) {
-        clearerr(stdout);
-        cli_error("stdout: write error");
-        status = USM_EFAILED;
-    }
+    else
+        status = cli_run_json(r);
     usm_run_free(r);
     return status;
 }

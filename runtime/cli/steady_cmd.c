@@ -123,14 +123,9 @@ static int run(const steady_args *a)
     usm_run *r = usm_run_steady(c->model, &c->params, a->t0, &a->floquet, &a->op);
     int status = usm_run_status(r);
     if (c->json && usm_run_has_json(r)) {
-        /* also converged = false (no stationary solution: exit 3, no message).
-         * Flushed here so that a write error is reported once, by this
-         * function, and main's final check (after clearerr) does not repeat it. */
-        if (usm_run_write_json(r, stdout) != 0 || fflush(stdout) != 0 || ferror(stdout)) {
-            clearerr(stdout);
-            cli_error("stdout: write error");
+        /* also converged = false (no stationary solution: exit 3, no message) */
+        if (cli_run_json(r) != USM_OK)
             status = USM_EFAILED;
-        }
     } else if (status == USM_OK)
         usm_steady_table(usm_run_steady_report(r), stdout);
     else
