@@ -95,6 +95,9 @@ const usm_periodic *usm_run_periodic_solver(const usm_run *r);
 /* The orbit with separation, or NULL (failed, or bilateral). */
 const usm_hybrid_result *usm_run_hybrid_result(const usm_run *r);
 
+/* The columns of a simulation's kept history (usm_run_simulate). */
+#define USM_RUN_SIM_COLUMNS 15
+
 /* usm simulate (--json's summary, its wall time measured around
  * usm_sim_run).  cb: the caller's callbacks (the command's CSV rows and
  * progress bar), or NULL: then with opt->rate > 0 the time history is kept
@@ -109,7 +112,6 @@ const usm_hybrid_result *usm_run_hybrid_result(const usm_run *r);
  * usm_run_spectrum_error says why).  Options that the library names
  * ("duration: ...") are named so in the messages; the spectrum's options
  * "spectrum_periods", "spectrum_rate" ... */
-#define USM_RUN_SIM_COLUMNS 15
 usm_run *usm_run_simulate(const usm_model *m, const usm_params *p, const usm_sim_options *opt,
                           const usm_sim_callbacks *cb, long spectrum_periods);
 /* The summary of a simulate run that ran (USM_OK or USM_EFAILED), or NULL. */
