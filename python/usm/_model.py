@@ -223,7 +223,9 @@ class Model:
     def periodic(self):
         """The periodic orbit by shooting (`usm periodic --json`): of an
         imperfect model (variant "imperfect"), or the stationary orbit of an
-        ideal one."""
+        ideal one; of a unilateral model ("imperfect_unilateral") whose
+        orbit opens the contact, the orbit with separation (separation_fraction,
+        mode_sequence, impacts_per_period, ...), as the command chooses."""
         st, msg, doc, _ = self._c._periodic()
         res = PeriodicResult(doc) if doc is not None else None
         if st != 0:
