@@ -2,18 +2,19 @@
  * bench/bench_python.py prints the comparison).  Prints, one per line:
  *   rhs_loop_s N SECONDS      the generated rhs over N states in a C loop
  *                             (best of 5), the loop usm.Model.rhs runs
- *   steady_call_us US         usmpy_steady (python/usm/runs.c: the steady
- *                             analysis and its JSON text) per call
- *   steady_nojson_us US       usmpy_steady_run: the same library calls without
+ *   steady_call_us US         usm_run_steady and usm_run_json (usm_run.h: the
+ *                             steady analysis and its JSON text) per call
+ *   steady_nojson_us US       usm_run_steady: the same library calls without
  *                             the JSON, what usm.Model.steady() calls
  * Run: build/bench/bench_python [N] */
+#define _POSIX_C_SOURCE 200809L
 #include <gsl/gsl_errno.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <time.h>
 
-#include "runs.h"
+#include "usm_run.h"
 
 static double now(void)
 {
@@ -51,7 +52,6 @@ int main(int argc, char **argv)
 
     usm_floquet_options fo;
     usm_op_options op;
-    usmpy_out o;
     usm_floquet_options_default(&fo);
     usm_op_options_default(&op);
     /* per call: the best mean of 10 batches of 50 calls (the machine is shared) */
@@ -59,15 +59,15 @@ int main(int argc, char **argv)
     for (int b = 0; b < 10; ++b) {
         double t0 = now();
         for (int k = 0; k < 50; ++k) {
-            usmpy_steady(m, &p, 0.0, &fo, &op, &o);
-            usmpy_out_free(&o);
+            usm_run *r = usm_run_steady(m, &p, 0.0, &fo, &op);
+            free(usm_run_json(r, NULL));
+            usm_run_free(r);
         }
         double dt = (now() - t0) / 50;
         best_json = dt < best_json ? dt : best_json;
         t0 = now();
         for (int k = 0; k < 50; ++k) {
-            usmpy_steady_state *st = usmpy_steady_run(m, &p, 0.0, &fo, &op, &o);
-            usmpy_steady_state_free(st);
+            usm_run_free(usm_run_steady(m, &p, 0.0, &fo, &op));
         }
         dt = (now() - t0) / 50;
         best_bare = dt < best_bare ? dt : best_bare;

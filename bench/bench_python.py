@@ -2,7 +2,7 @@
 """The Python module's measures (issue 27), beside the same work in C
 (build/bench/bench_python):
   - usm.Model.rhs over N = 10^6 states (best of 5) vs the C loop;
-  - steady() per call vs the C call (python/usm/runs.c's usmpy_steady):
+  - steady() per call vs the C call (usm_run_steady, usm_run.h):
     the time Python adds;
   - the README example (examples/fig9.py), wall time.
 CPU time of this process for the first two (the machine is shared; the C

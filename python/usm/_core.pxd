@@ -1,5 +1,5 @@
 # _usm.pxd: the parts of libusm's public API (runtime/include/usm/, the
-# generated headers) and of runs.h that the extension calls.  The structs
+# generated headers) that the extension calls.  The structs
 # are declared with the fields the extension uses; Cython takes their
 # layout from the headers.
 
@@ -62,6 +62,7 @@ cdef extern from "usm.h" nogil:
     const usm_variant_info *usm_variant_find(const char *name)
     void usm_params_default(usm_params *p)
     const usm_param_info *usm_params_find(const char *name)
+    int usm_param_index(const usm_param_info *info)
     double usm_params_get(const usm_params *p, const usm_param_info *info)
     int usm_params_set(usm_params *p, const char *name, double value, char *msg)
     int usm_params_check(const usm_params *p, const usm_model *m, char *msg)
@@ -214,6 +215,7 @@ cdef extern from "usm_optimize.h" nogil:
     int usm_opt_problem_check(const usm_opt_problem *pb, const usm_model *m, const usm_params *p,
                               char *msg)
     int usm_opt_output_find(const char *name)
+    int usm_opt_output_analytic(int k)
     void usm_opt_output_list(char *buf, size_t len)
 
 cdef extern from "usm.h" nogil:
@@ -239,41 +241,75 @@ cdef extern from "usm_tolerance.h" nogil:
     int usm_tolerance_spec_parse(const char *text, usm_tolerance_spec *s, char *msg)
     const char *usm_tolerance_output_name(int k)
 
-cdef extern from "runs.h" nogil:
+cdef extern from "usm_robust.h" nogil:
     enum:
-        USMPY_SIM_COLUMNS
-    ctypedef struct usmpy_out:
-        int status
-        char msg[1024]
-        char *json
-        size_t len
-        double *rows
-        size_t nrows
-        size_t ncols
-    void usmpy_out_init(usmpy_out *o)
-    void usmpy_out_free(usmpy_out *o)
-    ctypedef struct usmpy_steady_state:
+        USM_ROBUST_MAX_SCATTER
+        USM_PARETO_MAX_POINTS
+    ctypedef struct usm_robust_range:
+        int param
+        double lo
+        double hi
+        int points
+        int stat
+    ctypedef struct usm_quantity_options:
+        usm_robust_range range
+        double band_threshold
+    ctypedef struct usm_robust_problem:
+        usm_opt_problem nominal
+        int objective
+        int nscatter
+        usm_tolerance_vary scatter[16]
+        uint64_t samples
+        uint64_t seed
+        uint64_t verify_samples
+        int threads
+        int max_evals
+        usm_quantity_options qopt
+    void usm_robust_problem_init(usm_robust_problem *rp)
+    int usm_robust_problem_is_robust(const usm_robust_problem *rp)
+    int usm_robust_problem_check(const usm_robust_problem *rp, const usm_model *m,
+                                 const usm_params *p, char *msg)
+    int usm_robust_objective_parse(usm_robust_problem *rp, const char *text, char *msg)
+    int usm_robust_constraint_parse(usm_robust_problem *rp, const char *text, char *msg)
+    int usm_range_stat_find(const char *name)
+
+cdef extern from "usm_spectrum.h" nogil:
+    enum:
+        USM_SPECTRUM_NCHANNELS
+    ctypedef struct usm_sim_spectrum_result:
+        double f
+        double df
+        size_t bins
+    const char *usm_spectrum_channel_name(int channel)
+
+cdef extern from "usm_run.h" nogil:
+    enum:
+        USM_RUN_SIM_COLUMNS
+    ctypedef struct usm_run:
         pass
-    usmpy_steady_state *usmpy_steady_run(const usm_model *m, const usm_params *p, double t0,
-                                         const usm_floquet_options *fo, const usm_op_options *op,
-                                         usmpy_out *o)
-    void usmpy_steady_json(const usmpy_steady_state *st, usmpy_out *o)
-    void usmpy_steady_state_free(usmpy_steady_state *st)
-    void usmpy_steady(const usm_model *m, const usm_params *p, double t0,
-                      const usm_floquet_options *fo, const usm_op_options *op, usmpy_out *o)
-    void usmpy_sweep(const usm_model *m, const usm_params *p, const usm_sweep_options *opt,
-                     usmpy_out *o)
-    void usmpy_periodic_sweep(const usm_model *m, const usm_params *p,
-                              const usm_periodic_sweep_options *opt, usmpy_out *o)
-    void usmpy_simulate(const usm_model *m, const usm_params *p, const usm_sim_options *opt,
-                        usmpy_out *o)
-    void usmpy_periodic(const usm_model *m, const usm_params *p, usmpy_out *o)
-    void usmpy_sensitivity(const usm_model *m, const usm_params *p, const int *want,
-                           usmpy_out *o)
-    void usmpy_optimize(const usm_model *m, const usm_params *p, const usm_opt_problem *pb,
-                        usmpy_out *o)
-    void usmpy_tolerance(const usm_model *m, const usm_params *p, const usm_tolerance_vary *vary,
-                         int nvary, const usm_tolerance_spec *spec, int nspec,
-                         const usm_tolerance_options *opt, usmpy_out *o)
-    void usmpy_map(const usm_model *m, const usm_params *p, const usm_map_options *opt,
-                   usmpy_out *o)
+    int usm_run_status(const usm_run *r)
+    const char *usm_run_message(const usm_run *r)
+    int usm_run_has_json(const usm_run *r)
+    char *usm_run_json(const usm_run *r, size_t *len)
+    const double *usm_run_rows(usm_run *r, size_t *nrows, size_t *ncols)
+    void usm_run_free(usm_run *r)
+    usm_run *usm_run_steady(const usm_model *m, const usm_params *p, double t0,
+                            const usm_floquet_options *fo, const usm_op_options *op)
+    usm_run *usm_run_sensitivity(const usm_model *m, const usm_params *p, const int *want)
+    usm_run *usm_run_periodic(const usm_model *m, const usm_params *p)
+    usm_run *usm_run_simulate(const usm_model *m, const usm_params *p, const usm_sim_options *opt,
+                              const void *cb, long spectrum_periods)
+    const usm_sim_spectrum_result *usm_run_spectrum(const usm_run *r)
+    const double *usm_run_spectrum_amplitudes(const usm_run *r, int channel)
+    usm_run *usm_run_sweep(const usm_model *m, const usm_params *p, const usm_sweep_options *opt)
+    usm_run *usm_run_periodic_sweep(const usm_model *m, const usm_params *p,
+                                    const usm_periodic_sweep_options *opt)
+    usm_run *usm_run_map(const usm_model *m, const usm_params *p, const usm_map_options *opt)
+    usm_run *usm_run_optimize(const usm_model *m, const usm_params *p, const usm_opt_problem *pb)
+    usm_run *usm_run_robust(const usm_model *m, const usm_params *p, const usm_robust_problem *rp)
+    usm_run *usm_run_pareto(const usm_model *m, const usm_params *p, const usm_opt_problem *pb,
+                            const int *obj, const int *minimize, int points)
+    usm_run *usm_run_tolerance(const usm_model *m, const usm_params *p,
+                               const usm_tolerance_vary *vary, int nvary,
+                               const usm_tolerance_spec *spec, int nspec,
+                               const usm_tolerance_options *opt, void *runner)

@@ -8,13 +8,14 @@
 # API call is made: numpy allocates the outputs, Cython indexes them.
 #
 # Everything is a call into libusm's public API: the kernels through the
-# model descriptor (usm_model), the analyses through runs.c, which repeats
-# the command's library calls and writes with the library's JSON writers.
+# model descriptor (usm_model), the analyses through usm_run.h, the same
+# library calls the command makes, written by the library's JSON writers.
 
 import json as _json
 import numpy as np
 
 from libc.math cimport isfinite
+from libc.stdlib cimport free
 from libc.string cimport memcpy, strlen
 
 gsl_set_error_handler_off()   # the library handles GSL's errors itself (usm.h)
@@ -322,30 +323,45 @@ cdef class _Model:
     def steady_jacobian(self, u, out=None):
         return self._kernel(K_RESJAC, u, None, self.m.nu, (self.m.nu, self.m.nu), "u", out)
 
-    # -- analyses (runs.c) ----------------------------------------------------------
+    # -- analyses (usm_run.h) ----------------------------------------------------------
 
-    cdef object _finish(self, usmpy_out *o):
-        """(status, message, parsed JSON or None, history or None); frees o."""
+    cdef object _finish(self, usm_run *r):
+        """(status, message, parsed JSON or None, rows or None) of a run
+        (usm_run.h); frees r."""
         cdef double[:, ::1] hv
+        cdef char *text = NULL
+        cdef size_t n = 0, nrows = 0, ncols = 0
+        cdef const double *rows
+        if r == NULL:
+            raise MemoryError("out of memory")
         try:
-            msg = o.msg.decode(errors="replace")
+            status = usm_run_status(r)
+            msg = usm_run_message(r).decode(errors="replace")
             doc = None
-            if o.json != NULL:
-                doc = _json.loads(o.json[:o.len].decode())
+            if usm_run_has_json(r):
+                with nogil:
+                    text = usm_run_json(r, &n)
+                if text == NULL:
+                    raise MemoryError("out of memory writing the JSON")
+                try:
+                    doc = _json.loads(text[:n].decode())
+                finally:
+                    free(text)
+            rows = usm_run_rows(r, &nrows, &ncols)
             hist = None
-            if o.rows != NULL:
-                hist = np.empty((o.nrows, o.ncols), dtype=np.float64)
-                if o.nrows > 0 and o.ncols > 0:
+            if rows != NULL:
+                hist = np.empty((nrows, ncols), dtype=np.float64)
+                if nrows > 0 and ncols > 0:
                     hv = hist
-                    memcpy(&hv[0, 0], o.rows, o.nrows * o.ncols * sizeof(double))
-            return o.status, msg, doc, hist
+                    memcpy(&hv[0, 0], rows, nrows * ncols * sizeof(double))
+            return status, msg, doc, hist
         finally:
-            usmpy_out_free(o)
+            usm_run_free(r)
 
     def _steady(self, double t0, method, rtol, steps, int from_rest, from_rest_periods):
         cdef usm_floquet_options fo
         cdef usm_op_options op
-        cdef usmpy_out o
+        cdef usm_run *r
         usm_floquet_options_default(&fo)
         usm_op_options_default(&op)
         _floquet_options(&fo, method, rtol, steps)
@@ -356,21 +372,26 @@ cdef class _Model:
                 raise ValueError("from_rest_periods: must be in [1, 1e7]")
         if not isfinite(t0):
             raise ValueError("t0: not finite")
-        cdef usmpy_steady_state *st
         with nogil:
-            st = usmpy_steady_run(self.m, &self.p, t0, &fo, &op, &o)
+            r = usm_run_steady(self.m, &self.p, t0, &fo, &op)
+        if r == NULL:
+            raise MemoryError("out of memory")
+        status = usm_run_status(r)
+        msg = usm_run_message(r).decode(errors="replace")
         cdef _SteadyState state = None
-        if st != NULL:
+        if usm_run_has_json(r):
             state = _SteadyState.__new__(_SteadyState)
-            state.st = st
-        return o.status, o.msg.decode(errors="replace"), state
+            state.r = r
+        else:
+            usm_run_free(r)
+        return status, msg, state
 
     def _sweep(self, str over, start, stop, int points, int floquet, double t0, method, rtol,
                steps, int threads, int from_rest, from_rest_periods, int periodic,
                list extremum, dict crossing):
         cdef usm_sweep_options so
         cdef usm_periodic_sweep_options po
-        cdef usmpy_out o
+        cdef usm_run *r
         cdef const usm_param_info *info
         cdef double a, b
         cdef const char *unit = NULL
@@ -390,8 +411,8 @@ cdef class _Model:
             po.to = b
             po.points = points
             with nogil:
-                usmpy_periodic_sweep(self.m, &self.p, &po, &o)
-            return self._finish(&o)
+                r = usm_run_periodic_sweep(self.m, &self.p, &po)
+            return self._finish(r)
         usm_sweep_options_default(&so)
         so.over = bover
         so.from_ = a
@@ -440,16 +461,26 @@ cdef class _Model:
         so.monitors = mons if names else NULL
         so.nmonitors = len(names)
         with nogil:
-            usmpy_sweep(self.m, &self.p, &so, &o)
-        return self._finish(&o)
+            r = usm_run_sweep(self.m, &self.p, &so)
+        return self._finish(r)
 
     def _simulate(self, dict opts):
         cdef usm_sim_options so
-        cdef usmpy_out o
+        cdef usm_run *r
         cdef const double[:] xv
         usm_sim_options_default(&so)
         so.rate = 10.0 * self.p.f          # the command's default, 10 f
         start = opts.pop("start", "rest")
+        spectrum = opts.pop("spectrum", None)
+        cdef long spectrum_periods = -1
+        if spectrum is True:
+            spectrum_periods = 0
+        elif spectrum is not None and spectrum is not False:
+            if isinstance(spectrum, bool) or not isinstance(spectrum, (int, np.integer)) \
+                    or not 2 <= spectrum <= 10**9:
+                raise ValueError("spectrum: True or a whole number of periods >= 2, got %r"
+                                 % (spectrum,))
+            spectrum_periods = int(spectrum)
         if isinstance(start, str):
             if start == "rest":
                 so.start = USM_SIM_FROM_REST
@@ -511,14 +542,21 @@ cdef class _Model:
             raise ValueError("rate: %g samples per second for %g s would give %.3g rows (at most 1e+08)"
                              % (so.rate, so.duration, so.rate * so.duration))
         with nogil:
-            usmpy_simulate(self.m, &self.p, &so, &o)
-        return self._finish(&o)
+            r = usm_run_simulate(self.m, &self.p, &so, NULL, spectrum_periods)
+        spec = _spectrum(r)
+        return self._finish(r) + (spec,)
 
     def _optimize(self, objective, dict vary, list constraints, int minimize, margin, starts,
                   t0, int allow_slip, int allow_driven, int no_flat, int from_rest,
-                  from_rest_periods):
+                  from_rest_periods, dict robust):
         return _run_optimize(self, objective, vary, constraints, minimize, margin, starts, t0,
-                             allow_slip, allow_driven, no_flat, from_rest, from_rest_periods)
+                             allow_slip, allow_driven, no_flat, from_rest, from_rest_periods,
+                             robust)
+
+    def _pareto(self, objectives, dict vary, list constraints, int points, margin, starts, t0,
+                int allow_slip, int allow_driven, int from_rest, from_rest_periods):
+        return _run_pareto(self, objectives, vary, constraints, points, margin, starts, t0,
+                           allow_slip, allow_driven, from_rest, from_rest_periods)
 
     def _tolerance(self, list vary, list spec, samples, seed, threads, double t0, method, rtol,
                    steps, int from_rest, from_rest_periods):
@@ -526,14 +564,14 @@ cdef class _Model:
                               from_rest, from_rest_periods)
 
     def _periodic(self):
-        cdef usmpy_out o
+        cdef usm_run *r
         with nogil:
-            usmpy_periodic(self.m, &self.p, &o)
-        return self._finish(&o)
+            r = usm_run_periodic(self.m, &self.p)
+        return self._finish(r)
 
     def _sensitivity(self, of):
         cdef int want[64]
-        cdef usmpy_out o
+        cdef usm_run *r
         cdef int k
         for k in range(USM_SENS_COUNT):
             want[k] = k < 7   # the command's default outputs (sensitivity_cmd.c)
@@ -548,13 +586,13 @@ cdef class _Model:
                         usm_sensitivity_output_name(j).decode() for j in range(USM_SENS_COUNT))))
                 want[k] = 1
         with nogil:
-            usmpy_sensitivity(self.m, &self.p, want, &o)
-        return self._finish(&o)
+            r = usm_run_sensitivity(self.m, &self.p, want)
+        return self._finish(r)
 
     def _map(self, x, y, double t0, method, rtol, steps, int threads, int from_rest,
              from_rest_periods):
         cdef usm_map_options mo
-        cdef usmpy_out o
+        cdef usm_run *r
         cdef const usm_param_info *info
         usm_map_options_default(&mo)
         keep = []
@@ -590,28 +628,26 @@ cdef class _Model:
         if from_rest_periods is not None:
             mo.op.periods = _number("from_rest_periods", from_rest_periods)
         with nogil:
-            usmpy_map(self.m, &self.p, &mo, &o)
-        return self._finish(&o)
+            r = usm_run_map(self.m, &self.p, &mo)
+        return self._finish(r)
 
 
-cdef object _run_optimize(_Model self, objective, dict vary, list constraints, int minimize,
-                          margin, starts, t0, int allow_slip, int allow_driven, int no_flat,
-                          int from_rest, from_rest_periods):
-    """usm optimize: the problem as optimize_cmd.c builds it from its options,
-    checked by the library, then run (runs.c)."""
-    cdef usm_opt_problem pb
-    cdef char msg[USM_MSG_LEN]
-    cdef char lst[1024]
-    cdef usmpy_out o
+cdef object _problem(_Model self, usm_opt_problem *pb, usm_robust_problem *rp, objective,
+                     dict vary, list constraints, int minimize, margin, starts, t0,
+                     int allow_slip, int allow_driven, int no_flat, int from_rest,
+                     from_rest_periods):
+    """The options usm optimize and usm pareto share, as the command reads
+    them into pb (and rp: the objective, yield and derived constraints)."""
+    cdef char msg[USM_IO_MSG_LEN]
     cdef const usm_param_info *info
     cdef const char *unit
     cdef double lo, hi, v
-    usm_opt_problem_init(&pb)
-    pb.objective = usm_opt_output_find(str(objective).encode())
-    if pb.objective < 0:
-        usm_opt_output_list(lst, sizeof(lst))
-        raise ValueError('objective: unknown output "%s" (one of: %s)'
-                         % (objective, lst.decode(errors="replace")))
+    cdef int rc
+    usm_opt_problem_init(pb)
+    usm_robust_problem_init(rp)
+    if objective is not None:
+        if usm_robust_objective_parse(rp, str(objective).encode(), msg) != USM_OK:
+            raise ValueError(msg.decode(errors="replace"))
     pb.minimize = minimize
     for name, bounds in vary.items():
         bname = str(name).encode()
@@ -623,23 +659,11 @@ cdef object _run_optimize(_Model self, objective, dict vary, list constraints, i
             raise ValueError("vary: %s: expected (lo, hi), got %r" % (name, bounds)) from None
         lo = _quantity("vary", unit, blo)
         hi = _quantity("vary", unit, bhi)
-        if usm_opt_problem_add_vary(&pb, bname, lo, hi, msg) != USM_OK:
+        if usm_opt_problem_add_vary(pb, bname, lo, hi, msg) != USM_OK:
             raise ValueError(msg.decode(errors="replace"))
     for c in constraints:
         if isinstance(c, str):
             text = c.replace(" ", "")
-            if ">=" in text:
-                out, val = text.split(">=", 1)
-                upper = 0
-            elif "<=" in text:
-                out, val = text.split("<=", 1)
-                upper = 1
-            else:
-                raise ValueError('constraint: expected "OUTPUT>=X" or "OUTPUT<=X", got "%s"' % c)
-            try:
-                v = float(val)
-            except ValueError:
-                raise ValueError('constraint: "%s" is not a number' % val) from None
         else:
             try:
                 out, rel, val = c
@@ -648,11 +672,28 @@ cdef object _run_optimize(_Model self, objective, dict vary, list constraints, i
                                  % (c,)) from None
             if rel not in (">=", "<="):
                 raise ValueError('constraint: the relation must be ">=" or "<=", got %r' % (rel,))
-            upper = rel == "<="
-            v = _number("constraint", val)
+            text = "%s%s%r" % (out, rel, _number("constraint", val))
+        # the yield's and the derived quantities' (library), else an output's
+        rc = usm_robust_constraint_parse(rp, text.encode(), msg)
+        if rc == USM_OK:
+            continue
+        if rc != 1:
+            raise ValueError(msg.decode(errors="replace"))
+        if ">=" in text:
+            out, val = text.split(">=", 1)
+            upper = 0
+        elif "<=" in text:
+            out, val = text.split("<=", 1)
+            upper = 1
+        else:
+            raise ValueError('constraint: expected "OUTPUT>=X" or "OUTPUT<=X", got "%s"' % c)
+        try:
+            v = float(val)
+        except ValueError:
+            raise ValueError('constraint: "%s" is not a number' % val) from None
         if not isfinite(v):
             raise ValueError('constraint: %s: not finite' % out)
-        if usm_opt_problem_add_constraint(&pb, str(out).encode(), upper, v, msg) != USM_OK:
+        if usm_opt_problem_add_constraint(pb, str(out).encode(), upper, v, msg) != USM_OK:
             raise ValueError(msg.decode(errors="replace"))
     if margin is not None:
         pb.margin = _number("stability_margin", margin)
@@ -672,11 +713,133 @@ cdef object _run_optimize(_Model self, objective, dict vary, list constraints, i
             raise ValueError("from_rest_periods: must be in [1, 1e7]")
     if usm_params_check_ideal(&self.p, msg) != USM_OK:
         raise ValueError(msg.decode(errors="replace"))
+
+
+cdef object _whole(str field, value, lo, hi):
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) \
+            or not lo <= value <= hi:
+        raise ValueError('%s: "%s" must be a whole number from %d to %d' % (field, value, lo, hi))
+    return int(value)
+
+
+cdef object _run_optimize(_Model self, objective, dict vary, list constraints, int minimize,
+                          margin, starts, t0, int allow_slip, int allow_driven, int no_flat,
+                          int from_rest, from_rest_periods, dict robust):
+    """usm optimize: the problem as optimize_cmd.c builds it from its
+    options, checked by the library, then run (usm_run_optimize, or
+    usm_run_robust for a robust problem)."""
+    cdef usm_opt_problem pb
+    cdef usm_robust_problem rp
+    cdef char msg[USM_IO_MSG_LEN]
+    cdef const usm_param_info *info
+    cdef usm_run *r
+    _problem(self, &pb, &rp, objective, vary, constraints, minimize, margin, starts, t0,
+             allow_slip, allow_driven, no_flat, from_rest, from_rest_periods)
+    scatter = robust.get("scatter")
+    if scatter is not None:
+        if isinstance(scatter, dict):
+            scatter = ["%s=%s" % kv for kv in scatter.items()]
+        elif isinstance(scatter, str):
+            scatter = [scatter]
+        if len(scatter) > USM_ROBUST_MAX_SCATTER:
+            raise ValueError("scatter: at most %d" % USM_ROBUST_MAX_SCATTER)
+        for text in scatter:
+            if usm_tolerance_vary_parse(_vary_in_si(str(text)).encode(),
+                                        &rp.scatter[rp.nscatter], msg) != USM_OK:
+                raise ValueError("scatter: " + msg.decode(errors="replace"))
+            rp.nscatter += 1
+    if robust.get("samples") is not None:
+        rp.samples = _whole("samples", robust["samples"], 1, 10000000)
+    if robust.get("verify_samples") is not None:
+        rp.verify_samples = _whole("verify_samples", robust["verify_samples"], 1, 10000000)
+    if robust.get("seed") is not None:
+        rp.seed = _whole("seed", robust["seed"], 0, 9007199254740992)
+    if robust.get("threads") is not None:
+        rp.threads = _whole("threads", robust["threads"], 1, 64)
+    if robust.get("max_evals") is not None:
+        rp.max_evals = _whole("max_evals", robust["max_evals"], 1, 100000)
+    rng = robust.get("over_range")
+    if rng is not None:
+        rng = tuple(rng)
+        if len(rng) not in (3, 4):
+            raise ValueError("over_range: expected (name, lo, hi) or (name, lo, hi, points)")
+        info = usm_params_find(str(rng[0]).encode())
+        if info == NULL:
+            raise ValueError('over_range: unknown parameter "%s"' % rng[0])
+        rp.qopt.range.lo = _quantity("over_range", info.unit, rng[1])
+        rp.qopt.range.hi = _quantity("over_range", info.unit, rng[2])
+        if len(rng) == 4:
+            rp.qopt.range.points = _whole("over_range", rng[3], 2, 100000)
+        if not rp.qopt.range.lo < rp.qopt.range.hi:
+            raise ValueError("over_range: needs LO < HI and 2 <= N <= 100000")
+        rp.qopt.range.param = usm_param_index(info)
+    if robust.get("range_stat") is not None:
+        k = usm_range_stat_find(str(robust["range_stat"]).encode())
+        if k < 0:
+            raise ValueError('range_stat: one of worst, mean, integral, got "%s"'
+                             % robust["range_stat"])
+        rp.qopt.range.stat = k
+    if robust.get("band_threshold") is not None:
+        rp.qopt.band_threshold = _number("band_threshold", robust["band_threshold"])
+    if usm_robust_problem_is_robust(&rp):
+        rp.nominal = pb
+        if usm_robust_problem_check(&rp, self.m, &self.p, msg) != USM_OK:
+            raise ValueError(msg.decode(errors="replace"))
+        with nogil:
+            r = usm_run_robust(self.m, &self.p, &rp)
+        return self._finish(r)
+    if rp.objective >= 0:
+        pb.objective = rp.objective
     if usm_opt_problem_check(&pb, self.m, &self.p, msg) != USM_OK:
         raise ValueError(msg.decode(errors="replace"))
     with nogil:
-        usmpy_optimize(self.m, &self.p, &pb, &o)
-    return self._finish(&o)
+        r = usm_run_optimize(self.m, &self.p, &pb)
+    return self._finish(r)
+
+
+cdef object _run_pareto(_Model self, objectives, dict vary, list constraints, int points,
+                        margin, starts, t0, int allow_slip, int allow_driven, int from_rest,
+                        from_rest_periods):
+    """usm pareto --objectives A,B (max:NAME or min:NAME): the problem as
+    pareto_cmd.c builds it, checked by the library, then run (usm_run_pareto)."""
+    cdef usm_opt_problem pb
+    cdef usm_robust_problem rp
+    cdef char msg[USM_IO_MSG_LEN]
+    cdef int obj[2]
+    cdef int mini[2]
+    cdef usm_run *r
+    cdef list objs
+    if isinstance(objectives, str):
+        objs = objectives.split(",")
+    else:
+        objs = list(objectives)
+    if len(objs) != 2:
+        raise ValueError("objectives: two needed (A,B), got %r" % (objectives,))
+    for i in range(2):
+        text = str(objs[i]).strip()
+        mini[i] = 0
+        if text.startswith("min:"):
+            mini[i] = 1
+            text = text[4:]
+        elif text.startswith("max:"):
+            text = text[4:]
+        obj[i] = usm_opt_output_find(text.encode())
+        if obj[i] < 0 or usm_opt_output_analytic(obj[i]) != 1:
+            raise ValueError('objectives: "%s": %s (see usm pareto --help)'
+                             % (text, "unknown output" if obj[i] < 0
+                                else "needs an analytic gradient"))
+    if obj[0] == obj[1]:
+        raise ValueError("objectives: two different outputs needed")
+    if not 2 <= points <= USM_PARETO_MAX_POINTS:
+        raise ValueError("points: must be 2 to %d" % USM_PARETO_MAX_POINTS)
+    _problem(self, &pb, &rp, None, vary, constraints, 0, margin, starts, t0, allow_slip,
+             allow_driven, 0, from_rest, from_rest_periods)
+    pb.objective = obj[0]
+    if usm_opt_problem_check(&pb, self.m, &self.p, msg) != USM_OK:
+        raise ValueError(msg.decode(errors="replace"))
+    with nogil:
+        r = usm_run_pareto(self.m, &self.p, &pb, obj, mini, points)
+    return self._finish(r)
 
 
 cdef object _vary_in_si(str text):
@@ -707,7 +870,7 @@ cdef object _run_tolerance(_Model self, list vary, list spec, samples, seed, thr
     cdef usm_tolerance_vary v[64]
     cdef usm_tolerance_spec sp[64]
     cdef char msg[USM_MSG_LEN]
-    cdef usmpy_out o
+    cdef usm_run *r
     cdef int nv = 0, ns = 0
     usm_tolerance_options_default(&opt)
     if len(vary) == 0:
@@ -745,8 +908,8 @@ cdef object _run_tolerance(_Model self, list vary, list spec, samples, seed, thr
         if not (opt.op.periods >= 1 and opt.op.periods <= 1e7):
             raise ValueError("from_rest_periods: must be in [1, 1e7]")
     with nogil:
-        usmpy_tolerance(self.m, &self.p, v, nv, sp, ns, &opt, &o)
-    return self._finish(&o)
+        r = usm_run_tolerance(self.m, &self.p, v, nv, sp, ns, &opt, NULL)
+    return self._finish(r)
 
 
 def tolerance_output_names():
@@ -754,31 +917,51 @@ def tolerance_output_names():
     return [usm_tolerance_output_name(k).decode() for k in range(USM_TOL_NOUTPUTS)]
 
 
+cdef object _spectrum(const usm_run *r):
+    """The amplitude spectrum of a simulate run: {"frequency": (bins,) [Hz],
+    CHANNEL: (bins,) amplitudes}, or None."""
+    cdef const usm_sim_spectrum_result *sr = usm_run_spectrum(r)
+    cdef const double *amp
+    cdef double[::1] v
+    if sr == NULL:
+        return None
+    out = {"frequency": np.arange(sr.bins, dtype=np.float64) * sr.df}
+    for c in range(USM_SPECTRUM_NCHANNELS):
+        amp = usm_run_spectrum_amplitudes(r, c)
+        a = np.empty(sr.bins, dtype=np.float64)
+        if amp != NULL and sr.bins > 0:
+            v = a
+            memcpy(&v[0], amp, sr.bins * sizeof(double))
+        out[usm_spectrum_channel_name(c).decode()] = a
+    return out
+
+
 cdef class _SteadyState:
-    """The library's objects of one steady analysis (runs.c), kept so that
-    the JSON text is written only when a result is read: .json() writes it
-    once (the library's writer, the GIL released) and keeps it."""
-    cdef usmpy_steady_state *st
+    """The run of one steady analysis (usm_run.h), kept so that the JSON
+    text is written only when a result is read: .json() writes it once (the
+    library's writer, the GIL released) and keeps it."""
+    cdef usm_run *r
     cdef object text
 
     def __cinit__(self):
-        self.st = NULL
+        self.r = NULL
         self.text = None
 
     def __dealloc__(self):
-        usmpy_steady_state_free(self.st)
+        usm_run_free(self.r)
 
     def json(self):
-        cdef usmpy_out o
+        cdef char *buf = NULL
+        cdef size_t n = 0
         if self.text is None:
             with nogil:
-                usmpy_steady_json(self.st, &o)
+                buf = usm_run_json(self.r, &n)
+            if buf == NULL:
+                raise NumericalError("out of memory or write error")
             try:
-                if o.status != USM_OK or o.json == NULL:
-                    raise NumericalError(o.msg.decode(errors="replace"))
-                text = o.json[:o.len].decode()
+                text = buf[:n].decode()
             finally:
-                usmpy_out_free(&o)
+                free(buf)
             if self.text is None:
                 self.text = text
         return self.text

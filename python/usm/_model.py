@@ -4,7 +4,7 @@ from typing import NamedTuple
 
 from . import _core
 from ._results import (SteadyResult, FloquetResult, SweepResult, SimulationResult,
-                       PeriodicResult, SensitivityResult, MapResult, OptimizeResult,
+                       PeriodicResult, SensitivityResult, MapResult, OptimizeResult, ParetoResult,
                        ToleranceResult)
 
 
@@ -206,13 +206,16 @@ class Model:
         "stationary" or a state (nx,).  Options as the command's, by their
         library names: rate (default 10 f), t0, tilt0, rotor_angle0, rtol,
         settle_tol, settle_periods, theta_limit, speed_limit, max_steps,
-        max_step, max_twist_growth, rest_fraction.  A run that stops early
-        raises NumericalError with the result in .result."""
+        max_step, max_twist_growth, rest_fraction; spectrum=True (or a
+        number of periods: --spectrum-periods) for the amplitude spectrum of
+        the samples (`--spectrum`: the summary's "spectrum" object, its
+        "csv" null, and .spectrum_arrays).  A run that stops early raises
+        NumericalError with the result in .result."""
         opts = dict(options)
         opts["duration"] = duration
         opts["start"] = start
-        st, msg, doc, hist = self._c._simulate(opts)
-        res = SimulationResult(doc, hist) if doc is not None else None
+        st, msg, doc, hist, spec = self._c._simulate(opts)
+        res = SimulationResult(doc, hist, spec) if doc is not None else None
         if st != 0:
             _raise(st, msg, res)
         return res
@@ -220,7 +223,9 @@ class Model:
     def periodic(self):
         """The periodic orbit by shooting (`usm periodic --json`): of an
         imperfect model (variant "imperfect"), or the stationary orbit of an
-        ideal one."""
+        ideal one; of a unilateral model ("imperfect_unilateral") whose
+        orbit opens the contact, the orbit with separation (separation_fraction,
+        mode_sequence, impacts_per_period, ...), as the command chooses."""
         st, msg, doc, _ = self._c._periodic()
         res = PeriodicResult(doc) if doc is not None else None
         if st != 0:
@@ -250,27 +255,58 @@ class Model:
 
     def optimize(self, objective, vary, constraints=(), minimize=False, stability_margin=None,
                  starts=None, t0=None, allow_slip=False, allow_driven=False, no_flat=False,
-                 from_rest=False, from_rest_periods=None):
+                 from_rest=False, from_rest_periods=None, scatter=None, samples=None,
+                 verify_samples=None, seed=None, threads=None, max_evals=None, over_range=None,
+                 range_stat=None, band_threshold=None):
         """Design optimisation (`usm optimize --json`): maximise (minimize=True:
-        minimise) output `objective` ("speed", "efficiency", "power_out", ...)
-        over the parameters of `vary`, {name: (lo, hi)} (SI, or texts with a
-        unit), subject to `constraints`: "OUTPUT>=X", "OUTPUT<=X",
-        "rootR.OUTPUT<=X", "roots<=1", or (output, ">=" | "<=", X).  The
-        other options as the command's (--stability-margin, --starts, --t0,
-        --allow-slip, --allow-driven, --no-flat, --from-rest).  No feasible
-        point raises NoSolution, its .result the {"feasible": false, ...}
-        object."""
-        if isinstance(constraints, str) or (isinstance(constraints, tuple) and len(constraints) == 3
-                                            and constraints[1] in (">=", "<=")):
-            constraints = [constraints]               # one constraint
-        st, msg, doc, _ = self._c._optimize(str(objective), dict(vary), list(constraints),
+        minimise) `objective` over the parameters of `vary`, {name: (lo, hi)}
+        (SI, or texts with a unit), subject to `constraints`: "OUTPUT>=X",
+        "OUTPUT<=X", "rootR.OUTPUT<=X", "roots<=1", "yield>=Y", a derived
+        quantity's "stall_torque>=X", or (output, ">=" | "<=", X).  objective:
+        an output ("speed", "efficiency", "power_out", ...), a datasheet
+        quantity ("stall_torque", "no_load_speed", "max_power",
+        "band_width"), "yield", "mean:NAME" or "qNN:NAME" (a statistic over
+        the scatter).  The other options as the command's (--stability-margin,
+        --starts, --t0, --allow-slip, --allow-driven, --no-flat, --from-rest,
+        --scatter (as tolerance's vary), --samples, --verify-samples, --seed,
+        --threads, --max-evals, --over-range (name, lo, hi[, points]),
+        --range-stat, --band-threshold).  A yield, a statistic, a range or a
+        datasheet quantity makes it the robust problem (docs/design.md).  No
+        feasible point raises NoSolution, its .result the {"feasible":
+        false, ...} object."""
+        constraints = _constraint_list(constraints)
+        robust = {"scatter": scatter, "samples": samples, "verify_samples": verify_samples,
+                  "seed": seed, "threads": threads, "max_evals": max_evals,
+                  "over_range": over_range, "range_stat": range_stat,
+                  "band_threshold": band_threshold}
+        st, msg, doc, _ = self._c._optimize(str(objective), dict(vary), constraints,
                                             bool(minimize), stability_margin, starts, t0,
                                             bool(allow_slip), bool(allow_driven), bool(no_flat),
-                                            bool(from_rest), from_rest_periods)
+                                            bool(from_rest), from_rest_periods, robust)
         res = OptimizeResult(doc) if doc is not None else None
         if st != 0:
             _raise(st, msg, res)
         return res
+
+    def pareto(self, objectives, vary, constraints=(), points=30, stability_margin=None,
+               starts=None, t0=None, allow_slip=False, allow_driven=False, from_rest=False,
+               from_rest_periods=None):
+        """The Pareto front of two outputs (`usm pareto --json`):
+        objectives "A,B" or (A, B), each maximised, "min:NAME" minimised
+        (outputs with analytic gradients: speed, theta, F_n, F_t,
+        efficiency, stick_margin, max_modulus, power_in, power_out, margin);
+        vary, constraints and the options as optimize's; points: epsilon
+        levels including the two ends (2 .. 1000).  .columns(): per key of
+        the points an array (A, B, design.NAME, ...)."""
+        if isinstance(points, bool) or not isinstance(points, int):
+            raise TypeError("points: must be an integer")
+        st, msg, doc, _ = self._c._pareto(objectives, dict(vary), _constraint_list(constraints),
+                                          points, stability_margin, starts, t0,
+                                          bool(allow_slip), bool(allow_driven), bool(from_rest),
+                                          from_rest_periods)
+        if st != 0:
+            _raise(st, msg)
+        return ParetoResult(doc)
 
     def tolerance(self, samples, vary, spec=(), seed=None, threads=None, t0=0.0, method=None,
                   rtol=None, steps=None, from_rest=False, from_rest_periods=None):
@@ -294,3 +330,11 @@ class Model:
         names = [v.split("=", 1)[0] for v in vary] + _core.tolerance_output_names() \
             + ["good", "redraws"]
         return ToleranceResult(doc, table, names)
+
+
+def _constraint_list(constraints):
+    """One constraint (a text or a (output, rel, value) tuple) or several, as a list."""
+    if isinstance(constraints, str) or (isinstance(constraints, tuple) and len(constraints) == 3
+                                        and constraints[1] in (">=", "<=")):
+        return [constraints]
+    return list(constraints)

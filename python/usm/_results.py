@@ -14,7 +14,8 @@ import math
 import numpy as np
 
 __all__ = ["Result", "SteadyResult", "FloquetResult", "SweepResult", "SimulationResult",
-           "PeriodicResult", "SensitivityResult", "MapResult", "OptimizeResult", "ToleranceResult"]
+           "PeriodicResult", "SensitivityResult", "MapResult", "OptimizeResult", "ToleranceResult",
+           "ParetoResult"]
 
 
 def _is_number(v):
@@ -236,6 +237,12 @@ class SweepResult(_Table):
     floquet.max_modulus, ...) and .events."""
 
 
+class ParetoResult(_Table):
+    """`usm pareto --json`: objectives [A, B], senses, .points (each A, B,
+    design {NAME: value}, active_constraints) sorted by B increasing,
+    .columns (A, B, design.NAME arrays), computed, seconds."""
+
+
 class MapResult(_Table):
     """`usm map --json`: .points (x fastest), .columns, .grid(name) as a
     (y points, x points) array, .boundaries."""
@@ -262,13 +269,18 @@ class SimulationResult(Result):
     the means nan before the first complete period; validity 0 where the
     model describes the motor, 1 contact open, 2 stick not admissible:
     the CSV's invalid_reason), and history["valid"] (bool).  .to_dict() is
-    the summary only, as the command prints it (its "out" is null)."""
+    the summary only, as the command prints it (its "out" is null).
+    With spectrum=...: .spectrum_arrays, the amplitude spectrum as arrays
+    of length bins: "frequency" [Hz] (k df), "rotor_speed" [1/s], "theta"
+    [rad], "F_n" [N] (the --spectrum CSV's columns, bin 0 included); None
+    without a spectrum."""
 
     def __reduce__(self):
-        return (type(self), (self._d, self._hist))
+        return (type(self), (self._d, self._hist, self.spectrum_arrays))
 
-    def __init__(self, d, history):
+    def __init__(self, d, history, spectrum=None):
         super().__init__(d)
+        object.__setattr__(self, "spectrum_arrays", spectrum)
         if history is None:
             history = np.empty((0, len(SIM_COLUMNS)))
         object.__setattr__(self, "_hist", history)

@@ -4,6 +4,8 @@
 #include <stdarg.h>
 #include <stdio.h>
 
+#include "usm_run.h"
+
 void cli_error(const char *fmt, ...)
 {
     char line[CLI_MSG_LEN];
@@ -23,4 +25,14 @@ void cli_msg(char msg[CLI_MSG_LEN], const char *fmt, ...)
     va_start(ap, fmt);
     vsnprintf(msg, CLI_MSG_LEN, fmt, ap);
     va_end(ap);
+}
+
+int cli_run_json(const usm_run *r)
+{
+    if (usm_run_write_json(r, stdout) != 0 || fflush(stdout) != 0 || ferror(stdout)) {
+        clearerr(stdout);
+        cli_error("stdout: write error");
+        return USM_EFAILED;
+    }
+    return USM_OK;
 }

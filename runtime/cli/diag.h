@@ -19,6 +19,12 @@
  * library messages) are replaced by spaces. */
 void cli_error(const char *fmt, ...) CLI_PRINTF(1, 2);
 
+/* The run's --json object (usm_run_write_json) on stdout, flushed: USM_OK,
+ * or USM_EFAILED after "stdout: write error", reported here once so that
+ * main's final check (after clearerr) does not repeat it. */
+struct usm_run;
+int cli_run_json(const struct usm_run *r);
+
 /* snprintf into a CLI_MSG_LEN buffer. */
 void cli_msg(char msg[CLI_MSG_LEN], const char *fmt, ...) CLI_PRINTF(2, 3);
 

@@ -16,6 +16,7 @@
 #include "usm_io.h"
 #include "usm_plot.h"
 #include "usm_report_map.h"
+#include "usm_run.h"
 #ifdef USM_HAVE_MPI
 #include "usm_mpi.h"
 #endif
@@ -253,6 +254,15 @@ static int plot(const map_args *a, const usm_report_map *map)
     return USM_OK;
 }
 
+/* The map's memory: the run's, or the gathered map's (MPI). */
+static void map_free(usm_report_map *map, usm_run *run)
+{
+    if (run)
+        usm_run_free(run);
+    else
+        usm_report_map_free(map);
+}
+
 int cli_map_main(int argc, char **argv)
 {
     map_args a;
@@ -261,6 +271,8 @@ int cli_map_main(int argc, char **argv)
     FILE *out = stdout;
     usm_io_file file;
     int status;
+    usm_run *run = NULL;           /* one process: the library's run of the map */
+    const usm_report_map *res = &map; /* the map written (the run's, or gathered) */
 #ifdef USM_HAVE_MPI
     int rank = 0, size = 1;
 #endif
@@ -323,20 +335,28 @@ int cli_map_main(int argc, char **argv)
         usm_map_gathered_free(&g);
     } else
 #endif
-        status = usm_report_map_run(&map, msg);
+    {
+        usm_map_options opt;
+        usm_report_map_options(&map, &opt);
+        run = usm_run_map(map.model, &map.params, &opt);
+        status = usm_run_status(run);
+        cli_msg(msg, "%s", usm_run_message(run));
+        res = usm_run_map_result(run);
+    }
     if (status != USM_OK) {
         cli_error("%s", msg);
+        usm_run_free(run);
         return status;
     }
     if (a.out && !(out = usm_io_create(&file, a.out, a.force, msg, &status))) {
         cli_error("--out %s", msg);
-        usm_report_map_free(&map);
+        map_free(&map, run);
         return status;
     }
     if (a.common.json) {
-        if (usm_report_map_write_json(&map, out) != 0)
+        if (usm_report_map_write_json(res, out) != 0)
             status = USM_EFAILED;
-    } else if (usm_report_map_write_csv(&map, out) != 0)
+    } else if (usm_report_map_write_csv(res, out) != 0)
         status = USM_EFAILED;
     if (out != stdout) {
         if (status != USM_OK) {
@@ -350,10 +370,10 @@ int cli_map_main(int argc, char **argv)
         status = USM_EFAILED;
     }
     if (status == USM_OK && a.plot)
-        status = plot(&a, &map);
-    if (map.floquet_failures > 0 && status == USM_OK)
+        status = plot(&a, res);
+    if (res->floquet_failures > 0 && status == USM_OK)
         fprintf(stderr, "usm: map: the Floquet computation failed at %zu point(s) (max_modulus nan)\n",
-                map.floquet_failures);
-    usm_report_map_free(&map);
+                res->floquet_failures);
+    map_free(&map, run);
     return status;
 }

@@ -9,8 +9,10 @@
 #include "diag.h"
 #include "optimize_args.h"
 #include "options.h"
+#include "usm_io.h"
 #include "usm_optimize.h"
 #include "usm_robust.h"
+#include "usm_run.h"
 
 typedef struct opt_args {
     cli_common common;
@@ -174,29 +176,9 @@ int cli_opt_parse_constraint(usm_opt_problem *pb, const char *text, char msg[CLI
 /* --objective NAME, yield, mean:NAME or qNN:NAME */
 static int parse_objective(opt_args *a, const char *value, char msg[CLI_MSG_LEN])
 {
-    const char *name = value;
-    if (strncmp(value, "mean:", 5) == 0) {
-        a->rp.stat = USM_ROBUST_STAT_MEAN;
-        name = value + 5;
-    } else if (value[0] == 'q' && value[1] >= '0' && value[1] <= '9') {
-        char *end;
-        const double q = strtod(value + 1, &end);
-        if (*end != ':' || !(q > 0 && q < 100)) {
-            cli_msg(msg, "--objective: \"%s\": a quantile is qNN:NAME with 0 < NN < 100 "
-                    "(q05:power_out)", value);
-            return USM_EINPUT;
-        }
-        a->rp.stat = USM_ROBUST_STAT_QUANTILE;
-        a->rp.quantile = q / 100;
-        name = end + 1;
-    }
-    a->rp.objective = usm_robust_quantity_find(name);
-    if (a->rp.objective < 0) {
-        cli_msg(msg, "--objective: unknown output \"%s\" (see usm optimize --help)", name);
-        return USM_EINPUT;
-    }
-    if (a->rp.objective == USM_ROBUST_YIELD && a->rp.stat != USM_ROBUST_STAT_NOMINAL) {
-        cli_msg(msg, "--objective: \"%s\": yield takes no statistic", value);
+    char lib[USM_IO_MSG_LEN];
+    if (usm_robust_objective_parse(&a->rp, value, lib) != USM_OK) {
+        cli_msg(msg, "--%.1000s", lib);
         return USM_EINPUT;
     }
     return USM_OK;
@@ -206,35 +188,13 @@ static int parse_objective(opt_args *a, const char *value, char msg[CLI_MSG_LEN]
  * an error), else CLI_OPT_NOT_MINE (an optimizer output: parse_constraint). */
 static int parse_robust_constraint(opt_args *a, const char *text, char msg[CLI_MSG_LEN])
 {
-    const char *op = strstr(text, ">=");
-    int upper = 0;
-    char name[64];
-    double value;
+    char lib[USM_IO_MSG_LEN];
     msg[0] = '\0';
-    if (!op) {
-        op = strstr(text, "<=");
-        upper = 1;
-    }
-    if (!op || op == text || (size_t)(op - text) >= sizeof name)
+    const int rc = usm_robust_constraint_parse(&a->rp, text, lib);
+    if (rc == 1)
         return CLI_OPT_NOT_MINE;
-    snprintf(name, sizeof name, "%.*s", (int)(op - text), text);
-    const int k = usm_robust_quantity_find(name);
-    if (k < USM_OPT_OUTPUT_COUNT)
-        return CLI_OPT_NOT_MINE;
-    if (cli_parse_double("--constraint", op + 2, &value, msg) != USM_OK)
-        return CLI_OPT_TAKEN;
-    if (k == USM_ROBUST_YIELD) {
-        if (upper || !(value > 0 && value < 1))
-            cli_msg(msg, "--constraint: yield>=Y with 0 < Y < 1, got \"%s\"", text);
-        else
-            a->rp.yield_min = value;
-        return CLI_OPT_TAKEN;
-    }
-    if (a->rp.nderived >= 8) {
-        cli_msg(msg, "--constraint: at most 8 on derived quantities");
-        return CLI_OPT_TAKEN;
-    }
-    a->rp.derived[a->rp.nderived++] = (usm_robust_constraint){k, upper, value};
+    if (rc != USM_OK)
+        cli_msg(msg, "--%.1000s", lib);
     return CLI_OPT_TAKEN;
 }
 
@@ -450,17 +410,6 @@ static int parse(opt_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
     return USM_OK;
 }
 
-static int write_json(const opt_args *a, const usm_optimize *o, const usm_opt_result *res)
-{
-    if (usm_optimize_write_json(o, a->common.model, &a->pb, res, stdout) != 0 ||
-        fflush(stdout) != 0 || ferror(stdout)) {
-        clearerr(stdout);
-        cli_error("stdout: write error");
-        return USM_EFAILED;
-    }
-    return USM_OK;
-}
-
 static void write_table(const opt_args *a, const usm_opt_result *res)
 {
     const usm_opt_problem *pb = &a->pb;
@@ -521,44 +470,19 @@ static void write_design(const opt_args *a, const char *title, const usm_robust_
                (unsigned long long)rp->samples);
 }
 
-static int robust_main(const opt_args *a)
+static void robust_table(const opt_args *a, const usm_robust_result *res)
 {
-    char msg[USM_MSG_LEN];
-    usm_robust_result *res = malloc(sizeof *res);
-    if (!res) {
-        cli_error("out of memory");
-        return USM_EFAILED;
-    }
-    int status = usm_robust_run(a->common.model, &a->common.params, &a->rp, res, msg);
-    if (status == USM_ENOSOLUTION)
-        cli_error("%s", msg);
-    else if (status != USM_OK) {
-        cli_error("optimize: %s", msg);
-        free(res);
-        return status;
-    }
-    if (a->common.json) {
-        if (usm_robust_write_json(a->common.model, &a->rp, res, stdout) != 0 ||
-            fflush(stdout) != 0 || ferror(stdout)) {
-            clearerr(stdout);
-            cli_error("stdout: write error");
-            status = USM_EFAILED;
-        }
-    } else if (status == USM_OK) {
-        printf("model %s: %s\n", a->common.model->name, a->common.model->description);
-        write_design(a, "robust optimum", &res->robust);
-        printf("  active:");
-        for (int i = 0; i < res->nactive; ++i)
-            printf("%s %s", i ? ";" : "", res->active[i]);
-        printf("%s\n", res->nactive ? "" : " none");
-        if (a->rp.nscatter > 0)
-            printf("  verified: %s\n", res->verified ? "yes" : "no");
-        if (res->nominal.feasible)
-            write_design(a, "nominal optimum (no scatter)", &res->nominal);
-        printf("\n%d designs evaluated in %.3g s\n", res->evaluations, res->seconds);
-    }
-    free(res);
-    return status;
+    printf("model %s: %s\n", a->common.model->name, a->common.model->description);
+    write_design(a, "robust optimum", &res->robust);
+    printf("  active:");
+    for (int i = 0; i < res->nactive; ++i)
+        printf("%s %s", i ? ";" : "", res->active[i]);
+    printf("%s\n", res->nactive ? "" : " none");
+    if (a->rp.nscatter > 0)
+        printf("  verified: %s\n", res->verified ? "yes" : "no");
+    if (res->nominal.feasible)
+        write_design(a, "nominal optimum (no scatter)", &res->nominal);
+    printf("\n%d designs evaluated in %.3g s\n", res->evaluations, res->seconds);
 }
 
 int cli_optimize_main(int argc, char **argv)
@@ -573,25 +497,20 @@ int cli_optimize_main(int argc, char **argv)
         usage(stdout);
         return USM_OK;
     }
-    if (a.robust)
-        return robust_main(&a);
-    usm_optimize *o = usm_optimize_alloc(a.common.model);
-    usm_opt_result *res = malloc(sizeof *res);
-    int status = o && res ? usm_optimize_run(o, &a.common.params, &a.pb, res) : USM_EFAILED;
-    if (!o || !res)
-        cli_error("out of memory");
-    else if (status == USM_ENOSOLUTION) {
-        cli_error("%s", usm_optimize_message(o));
-        if (a.common.json && write_json(&a, o, res) != USM_OK)
+    const usm_model *m = a.common.model;
+    usm_run *r = a.robust ? usm_run_robust(m, &a.common.params, &a.rp)
+                          : usm_run_optimize(m, &a.common.params, &a.pb);
+    int status = usm_run_status(r);
+    if (status != USM_OK) /* no feasible point: the message, and --json's object */
+        cli_error("%s", usm_run_message(r));
+    if (a.common.json && usm_run_has_json(r)) {
+        /* also of no feasible point ({"feasible": false, ...}) */
+        if (cli_run_json(r) != USM_OK)
             status = USM_EFAILED;
-    }
-    else if (status != USM_OK)
-        cli_error("optimize: %s", usm_optimize_message(o));
-    else if (a.common.json)
-        status = write_json(&a, o, res);
-    else
-        write_table(&a, res);
-    free(res);
-    usm_optimize_free(o);
+    } else if (status == USM_OK && a.robust)
+        robust_table(&a, usm_run_robust_result(r));
+    else if (status == USM_OK)
+        write_table(&a, usm_run_optimize_result(r));
+    usm_run_free(r);
     return status;
 }

@@ -10,6 +10,7 @@
 #include "options.h"
 #include "usm_plot.h"
 #include "usm_robust.h"
+#include "usm_run.h"
 
 typedef struct pareto_args {
     cli_common common;
@@ -227,7 +228,7 @@ static int plot(const pareto_args *a, const usm_pareto_result *res)
 int cli_pareto_main(int argc, char **argv)
 {
     pareto_args a;
-    char msg[CLI_MSG_LEN], lib[USM_MSG_LEN];
+    char msg[CLI_MSG_LEN];
     if (parse(&a, argc, argv, msg) != USM_OK) {
         cli_error("%s", msg);
         return USM_EINPUT;
@@ -236,22 +237,24 @@ int cli_pareto_main(int argc, char **argv)
         usage(stdout);
         return USM_OK;
     }
-    usm_pareto_result res;
-    int status = usm_pareto_run(a.common.model, &a.common.params, &a.pb, a.obj, a.minimize,
-                                a.points, &res, lib);
+    usm_run *r = usm_run_pareto(a.common.model, &a.common.params, &a.pb, a.obj, a.minimize,
+                                a.points);
+    int status = usm_run_status(r);
+    const usm_pareto_result *res = usm_run_pareto_result(r);
     if (status != USM_OK) {
-        cli_error("pareto: %s", lib);
+        cli_error("%s", usm_run_message(r));
+        usm_run_free(r);
         return status;
     }
-    int w = a.common.json ? usm_pareto_write_json(&a.pb, a.obj, a.minimize, &res, stdout)
-                          : usm_pareto_write_csv(&a.pb, a.obj, &res, stdout);
+    int w = a.common.json ? usm_run_write_json(r, stdout)
+                          : usm_pareto_write_csv(&a.pb, a.obj, res, stdout);
     if (w != 0 || fflush(stdout) != 0 || ferror(stdout)) {
         clearerr(stdout);
         cli_error("stdout: write error");
         status = USM_EFAILED;
     }
     if (status == USM_OK && a.plot)
-        status = plot(&a, &res);
-    usm_pareto_result_free(&res);
+        status = plot(&a, res);
+    usm_run_free(r);
     return status;
 }

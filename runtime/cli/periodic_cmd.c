@@ -10,6 +10,7 @@
 #include "options.h"
 #include "usm_io.h"
 #include "usm_periodic.h"
+#include "usm_run.h"
 
 static void usage(FILE *out)
 {
@@ -152,39 +153,10 @@ static void hybrid_table(const usm_hybrid_result *r, const char *model)
                r->floquet.cyclic[i] ? "  (cyclic coordinate)" : "");
 }
 
-/* A unilateral model whose orbit separates: the hybrid shooting. */
-static int solve_hybrid(const periodic_args *a)
-{
-    usm_hybrid *h = usm_hybrid_alloc(a->common.model);
-    usm_hybrid_result r;
-    if (!h) {
-        cli_error("out of memory");
-        return USM_EFAILED;
-    }
-    if (a->orbit)
-        cli_error("warning: --orbit is not written for an orbit with separation (not implemented)");
-    int status = usm_hybrid_solve(h, &a->common.params, NULL, &r);
-    if (status == USM_EINPUT)
-        cli_error("%s", usm_hybrid_message(h));
-    else if (a->common.json) {
-        if (usm_hybrid_write_json(a->common.model, &a->common.params, status ? NULL : &r,
-                                  usm_hybrid_message(h), stdout) != 0) {
-            cli_error("out of memory or write error");
-            status = USM_EFAILED;
-        }
-    } else if (status == USM_OK)
-        hybrid_table(&r, a->common.model->name);
-    else
-        cli_error("periodic: %s", usm_hybrid_message(h));
-    usm_hybrid_free(h);
-    return status;
-}
-
 int cli_periodic_main(int argc, char **argv)
 {
     periodic_args a;
     char msg[CLI_MSG_LEN];
-    usm_periodic_result r;
     if (parse(&a, argc, argv, msg) != USM_OK) {
         cli_error("%s", msg);
         return USM_EINPUT;
@@ -198,34 +170,27 @@ int cli_periodic_main(int argc, char **argv)
         cli_error("--orbit %s", msg);
         return USM_EINPUT;
     }
-    usm_periodic *w = usm_periodic_alloc(a.common.model);
-    if (!w) {
-        cli_error("out of memory");
-        return USM_EFAILED;
-    }
-    int status = usm_periodic_solve(w, &a.common.params, NULL, NULL, &r);
-    if (a.common.model->unilateral && status != USM_EINPUT &&
-        !(status == USM_OK && !r.contact_open)) {
-        /* the contact opens on the bilateral orbit (or there is none): the
-         * orbit with separation (docs/unilateral.md) */
-        usm_periodic_free(w);
-        return solve_hybrid(&a);
-    }
-    if (status == USM_OK && a.orbit && (status = write_orbit(&a, w, msg)) != USM_OK)
+    usm_run *run = usm_run_periodic(a.common.model, &a.common.params);
+    int status = usm_run_status(run);
+    const usm_hybrid_result *h = usm_run_hybrid_result(run);
+    if (a.orbit && a.common.model->unilateral && !usm_run_periodic_solver(run) &&
+        status != USM_EINPUT)
+        cli_error("warning: --orbit is not written for an orbit with separation (not implemented)");
+    if (status == USM_OK && a.orbit && !h &&
+        (status = write_orbit(&a, usm_run_periodic_solver(run), msg)) != USM_OK)
         cli_error("--orbit %s", msg);
-    else if (status == USM_EINPUT)
-        cli_error("%s", usm_periodic_message(w));
-    else if (status == USM_OK || a.common.json) {
-        if (a.common.json &&
-            usm_periodic_write_json(w, &a.common.params, status ? NULL : &r, stdout) != 0) {
+    else if (a.common.json && usm_run_has_json(run)) {
+        /* the object with "error" on a failure too */
+        if (usm_run_write_json(run, stdout) != 0) {
             cli_error("out of memory or write error");
             status = USM_EFAILED;
-        } else if (!a.common.json)
-            table(&r, a.common.model->name);
-        if (status != USM_OK && status != USM_EFAILED && status != USM_ENOSOLUTION)
-            status = USM_EFAILED;
-    } else
-        cli_error("periodic: %s", usm_periodic_message(w));
-    usm_periodic_free(w);
+        }
+    } else if (status != USM_OK)
+        cli_error("%s", usm_run_message(run));
+    else if (h)
+        hybrid_table(h, a.common.model->name);
+    else
+        table(usm_run_periodic_result(run), a.common.model->name);
+    usm_run_free(run);
     return status;
 }

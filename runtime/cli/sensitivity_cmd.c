@@ -11,6 +11,7 @@
 #include "options.h"
 #include "usm_design.h"
 #include "usm_io.h"
+#include "usm_run.h"
 
 /* The outputs of the list, the default of --of. */
 #define DEFAULT_OUTPUTS 7
@@ -107,51 +108,16 @@ static int parse(sens_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
 static int run(const sens_args *a)
 {
     const cli_common *c = &a->common;
-    usm_sensitivity_result res;
-    usm_sensitivity *sens = NULL;
-    int status;
-    usm_steady *s = usm_steady_alloc(c->model);
-    if (!s) {
-        cli_error("out of memory");
-        return USM_EFAILED;
-    }
-    status = usm_steady_solve(s, &c->params, NULL);
-    if (status == USM_ENOSOLUTION) {
-        cli_error("no stationary solution: %s", usm_steady_message(s));
-        goto done;
-    }
-    if (status == USM_EINPUT) {
-        cli_error("%s", usm_steady_message(s));
-        goto done;
-    }
-    if (status != USM_OK || usm_steady_count(s) == 0) {
-        cli_error("steady: %s", usm_steady_message(s));
-        status = USM_EFAILED;
-        goto done;
-    }
-    if (!(sens = usm_sensitivity_alloc(c->model))) {
-        cli_error("out of memory");
-        status = USM_EFAILED;
-        goto done;
-    }
-    status = usm_sensitivity_compute(sens, &c->params, usm_steady_root(s, 0),
-                                     a->want[USM_SENS_MAX_MODULUS], &res);
-    if (status != USM_OK) {
-        cli_error("sensitivity: %s", usm_sensitivity_message(sens));
-        status = status == USM_EINPUT ? USM_EINPUT : USM_EFAILED;
-        goto done;
-    }
-    if (!c->json)
-        usm_sensitivity_write_table(c->model, &c->params, &res, a->want, stdout);
-    else if (usm_sensitivity_write_json(c->model, &c->params, &res, a->want, stdout) != 0 ||
-             fflush(stdout) != 0 || ferror(stdout)) {
-        clearerr(stdout);
-        cli_error("stdout: write error");
-        status = USM_EFAILED;
-    }
-done:
-    usm_sensitivity_free(sens);
-    usm_steady_free(s);
+    usm_run *r = usm_run_sensitivity(c->model, &c->params, a->want);
+    int status = usm_run_status(r);
+    if (status != USM_OK)
+        cli_error("%s", usm_run_message(r));
+    else if (!c->json)
+        usm_sensitivity_write_table(c->model, &c->params, usm_run_sensitivity_result(r), a->want,
+                                    stdout);
+    else
+        status = cli_run_json(r);
+    usm_run_free(r);
     return status;
 }
 

@@ -17,6 +17,7 @@
 #include "usm.h"
 #include "usm_io.h"
 #include "usm_plot.h"
+#include "usm_run.h"
 #include "usm_simulate.h"
 #include "usm_spectrum.h"
 
@@ -238,10 +239,7 @@ static int parse(sim_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
 
 typedef struct run_io {
     FILE *csv;
-    usm_sim_spectrum *spec; /* --spectrum: the recorded samples */
-    int spec_failed;        /* out of memory recording them */
-    usm_sim_spectrum_result *spec_result;
-    int have_spec;          /* spec_result holds the spectrum */
+    int csv_failed;         /* a write error on it */
     int progress;          /* draw a progress bar on stderr */
     double last_draw;      /* wall time of the last redraw */
     int drawn;
@@ -259,17 +257,7 @@ static double now(void)
 static int on_sample(const usm_sim_sample *s, void *data)
 {
     run_io *io = data;
-    if (io->spec && usm_sim_spectrum_add(io->spec, s) != 0)
-        return io->spec_failed = 1;
-    return io->csv && usm_sim_csv_row(s, io->csv) != 0;
-}
-
-static void spectrum_free(run_io *io)
-{
-    usm_sim_spectrum_free(io->spec);
-    free(io->spec_result);
-    io->spec = NULL;
-    io->spec_result = NULL;
+    return io->csv_failed = usm_sim_csv_row(s, io->csv) != 0;
 }
 
 /* The message of usm_plot_csv_check / usm_plot_csv_write ("--plot ...") as
@@ -283,39 +271,35 @@ static void spectrum_msg(char msg[CLI_MSG_LEN])
     }
 }
 
-static int spectrum_csv(FILE *out, const void *data)
+static int spectrum_csv(FILE *out, const void *run)
 {
-    const run_io *io = data;
-    return usm_sim_spectrum_write_csv(io->spec, io->spec_result, out);
+    return usm_run_spectrum_write_csv(run, out);
 }
 
-/* --spectrum after the run: the spectrum of the samples (io->spec_result),
- * PREFIX.csv, and PREFIX.gp run by gnuplot.  USM_OK; otherwise msg says why
- * (USM_EINPUT: the run was too short for the window asked for). */
-static int spectrum_write(const sim_args *a, run_io *io, char msg[CLI_MSG_LEN])
+/* The message of a spectrum that the run could not compute (the library's
+ * reason: "periods: ..." is the option --spectrum-periods'). */
+static void spectrum_error(const char *lib, char msg[CLI_MSG_LEN])
 {
-    usm_sim_spectrum_options so;
-    char lib[USM_MSG_LEN];
-    usm_sim_spectrum_options_default(&so);
-    so.f = a->common.params.f;
-    so.periods = a->spectrum_periods;
-    so.rate = a->opt.rate;
-    int rc = usm_sim_spectrum_compute(io->spec, &so, io->spec_result, lib);
-    if (rc != USM_OK) {
-        /* "periods: ..." is the option's */
-        if (strncmp(lib, "periods:", 8) == 0)
-            cli_msg(msg, "--spectrum-periods:%s", lib + 8);
-        else
-            cli_msg(msg, "--spectrum: %s", lib);
-        return rc;
-    }
-    io->have_spec = 1;
-    if ((rc = usm_plot_csv_write(a->spectrum, a->force, spectrum_csv, io, msg)) != USM_OK) {
+    if (strncmp(lib, "periods:", 8) == 0)
+        cli_msg(msg, "--spectrum-periods:%s", lib + 8);
+    else if (strncmp(lib, "out of memory", 13) == 0)
+        cli_msg(msg, "%s", lib);
+    else
+        cli_msg(msg, "--spectrum: %s", lib);
+}
+
+/* --spectrum after the run: PREFIX.csv of the run's spectrum, and PREFIX.gp
+ * run by gnuplot.  USM_OK; otherwise msg says why (USM_ENOSOLUTION: no
+ * gnuplot, a warning). */
+static int spectrum_write(const sim_args *a, const usm_run *run, char msg[CLI_MSG_LEN])
+{
+    int rc;
+    if ((rc = usm_plot_csv_write(a->spectrum, a->force, spectrum_csv, run, msg)) != USM_OK) {
         spectrum_msg(msg);
         return rc;
     }
     char csv[4096], title[256], num[8][32];
-    const usm_sim_spectrum_result *r = io->spec_result;
+    const usm_sim_spectrum_result *r = usm_run_spectrum(run);
     snprintf(csv, sizeof csv, "%s.csv", a->spectrum);
     snprintf(title, sizeof title,
              "usm simulate, model %s: amplitude spectrum over t = %.4g to %.4g ms (%ld periods, "
@@ -399,7 +383,6 @@ static int run(sim_args *a, usm_sim *s)
     int status = USM_OK, rc;
     FILE *summary_out;
     usm_io_file csv_file;
-    double wall;
 
     if (!a->rate_set)
         a->opt.rate = 10.0 * p->f;
@@ -441,18 +424,11 @@ static int run(sim_args *a, usm_sim *s)
             cli_error("%s", msg);
             return USM_EINPUT;
         }
-        if (!(io.spec = usm_sim_spectrum_alloc()) ||
-            !(io.spec_result = malloc(sizeof *io.spec_result))) {
-            usm_sim_spectrum_free(io.spec);
-            cli_error("out of memory");
-            return USM_EFAILED;
-        }
     }
     if (a->opt.rate > 0) {
         if (a->out) {
             if (!(io.csv = usm_io_create(&csv_file, a->out, a->force, msg, &status))) {
                 cli_error("--out %s", msg);
-                spectrum_free(&io);
                 return status;
             }
         } else if (!a->spectrum)
@@ -463,13 +439,15 @@ static int run(sim_args *a, usm_sim *s)
     summary_out = io.csv == stdout ? stderr : stdout;
     io.progress = isatty(STDERR_FILENO);
     io.wall0 = io.last_draw = now();
-    cb.sample = io.csv || io.spec ? on_sample : NULL;
+    cb.sample = io.csv ? on_sample : NULL;
     cb.progress = on_progress;
     cb.data = &io;
     cb.warning = on_warning;
 
-    rc = usm_sim_run(s, p, &a->opt, &cb, &sum);
-    wall = now() - io.wall0;
+    /* the run, its spectrum and its summary: the library's (usm_run.h) */
+    usm_run *run = usm_run_simulate(a->common.model, p, &a->opt, &cb,
+                                    a->spectrum ? a->spectrum_periods : -1);
+    rc = run ? usm_run_status(run) : USM_EFAILED;
     if (io.drawn)
         fprintf(stderr, "\r%*s\r", 96, "");
     if (io.csv && io.csv != stdout) {
@@ -483,38 +461,38 @@ static int run(sim_args *a, usm_sim *s)
     } else if (io.csv && (fflush(stdout) != 0 || ferror(stdout))) {
         clearerr(stdout);
         cli_error("stdout: write error");
-        spectrum_free(&io);
+        usm_run_free(run);
         return USM_EFAILED;
     }
-    if (rc == USM_EINPUT || rc == USM_ENOSOLUTION) {
-        cli_error("%s", usm_sim_message(s));
-        spectrum_free(&io);
+    if (!usm_run_has_json(run)) {
+        cli_error("%s", usm_run_message(run));
+        usm_run_free(run);
         return rc;
     }
-    if (sum.stop == USM_SIM_STOPPED && io.spec_failed)
-        snprintf(sum.reason, sizeof sum.reason,
-                 "out of memory recording the samples of --spectrum at t = %.9g s", sum.t_reached);
-    else if (sum.stop == USM_SIM_STOPPED && io.csv)
+    usm_sim_report rep;
+    usm_run_sim_report(run, &rep);
+    rep.from_file = a->from_file;
+    rep.out = a->out;
+    sum = *rep.summary;
+    rep.summary = &sum;
+    if (sum.stop == USM_SIM_STOPPED && io.csv_failed)
         snprintf(sum.reason, sizeof sum.reason, "write error on the CSV output at t = %.9g s",
                  sum.t_reached);
-    /* the spectrum of what was simulated, also of a run that stopped early
-     * (its window is then the end of what exists) */
+    /* the run's spectrum (also of a run that stopped early): its files */
     char spec_msg[CLI_MSG_LEN] = "";
     int spec_rc = USM_OK;
-    if (io.spec && !io.spec_failed) {
-        spec_rc = spectrum_write(a, &io, spec_msg);
+    char spec_csv[4096];
+    if (usm_run_spectrum(run)) {
+        spec_rc = spectrum_write(a, run, spec_msg);
         if (spec_rc != USM_OK && spec_rc != USM_ENOSOLUTION && rc == USM_OK)
             rc = USM_EFAILED;
-    } else if (io.spec)
-        snprintf(spec_msg, sizeof spec_msg, "out of memory recording the samples");
-    usm_sim_report rep = {a->common.model, p, &a->opt, a->from_file, a->out, &sum, wall,
-                          io.have_spec ? io.spec_result : NULL, NULL, NULL};
-    char spec_csv[4096];
-    if (io.have_spec) {
         snprintf(spec_csv, sizeof spec_csv, "%s.csv", a->spectrum);
         rep.spectrum_csv = spec_csv;
-    } else if (io.spec)
+    } else if (a->spectrum) {
+        spectrum_error(usm_run_spectrum_error(run) ? usm_run_spectrum_error(run) : "none",
+                       spec_msg);
         rep.spectrum_error = spec_msg;
+    }
     if (!a->common.json)
         usm_sim_write_table(&rep, summary_out);
     else if (usm_sim_write_json(&rep, summary_out) != 0) {
@@ -565,7 +543,7 @@ static int run(sim_args *a, usm_sim *s)
     }
     if (spec_msg[0])
         cli_error("%s%s", spec_rc == USM_ENOSOLUTION ? "warning: " : "", spec_msg);
-    spectrum_free(&io);
+    usm_run_free(run);
     return rc == USM_OK ? USM_OK : USM_EFAILED;
 }
 

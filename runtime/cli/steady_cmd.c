@@ -11,6 +11,7 @@
 #include "usm_io.h"
 #include "usm.h"
 #include "usm_operating_point.h"
+#include "usm_run.h"
 
 static void usage(FILE *out)
 {
@@ -116,96 +117,20 @@ static int parse(steady_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
     return cli_common_finish(&a->common, msg);
 }
 
-static int emit_json(const usm_steady_report *rep)
-{
-    int rc = usm_steady_write_json(rep, stdout);
-    /* Flush here so that a write error is reported once, by this function,
-     * and main's final check (after clearerr) does not repeat it. */
-    if (rc != 0 || fflush(stdout) != 0 || ferror(stdout)) {
-        clearerr(stdout);
-        cli_error("stdout: write error");
-        return USM_EFAILED;
-    }
-    return USM_OK;
-}
-
 static int run(const steady_args *a)
 {
     const cli_common *c = &a->common;
-    usm_steady_report rep = {c->model, &c->params, NULL, NULL, NULL, NULL, NULL};
-    usm_floquet_result *res = NULL;
-    usm_op_result op;
-    usm_floquet *fl = NULL;
-    const char *bad;
-    int status;
-    usm_steady *s = usm_steady_alloc(c->model);
-    if (!s) {
-        cli_error("out of memory");
-        return USM_EFAILED;
-    }
-    rep.steady = s;
-    status = usm_steady_solve(s, &c->params, NULL);
-    if (status == USM_ENOSOLUTION) {
-        rep.error = usm_steady_message(s);
-        if (c->json) {
-            int rc = emit_json(&rep);
-            status = rc != USM_OK ? rc : status;
-        } else
-            cli_error("no stationary solution: %s", rep.error);
-        goto done;
-    }
-    if (status == USM_EINPUT) {
-        cli_error("%s", usm_steady_message(s));
-        goto done;
-    }
-    if (status != USM_OK || usm_steady_count(s) == 0) {
-        cli_error("steady: %s", usm_steady_message(s));
-        status = USM_EFAILED;
-        goto done;
-    }
-    if (!(fl = usm_floquet_alloc(c->model))) {
-        cli_error("out of memory");
-        status = USM_EFAILED;
-        goto done;
-    }
-    if (!(res = malloc(usm_steady_count(s) * sizeof *res))) {
-        cli_error("out of memory");
-        status = USM_EFAILED;
-        goto done;
-    }
-    /* every root's multipliers; the top level keeps describing root 0 */
-    status = usm_floquet_roots(fl, &c->params, s, a->t0, &a->floquet, res);
-    if (status != USM_OK) {
-        cli_error("floquet: %s", usm_floquet_message(fl));
-        status = status == USM_EINPUT ? USM_EINPUT : USM_EFAILED;
-        goto done;
-    }
-    for (size_t k = 0; k < usm_steady_count(s); ++k)
-        /* "never NaN in the output": a non-finite value is a numerical failure */
-        if ((bad = usm_steady_nonfinite(usm_steady_root(s, k), &res[k]))) {
-            cli_error("%s", bad);
+    usm_run *r = usm_run_steady(c->model, &c->params, a->t0, &a->floquet, &a->op);
+    int status = usm_run_status(r);
+    if (c->json && usm_run_has_json(r)) {
+        /* also converged = false (no stationary solution: exit 3, no message) */
+        if (cli_run_json(r) != USM_OK)
             status = USM_EFAILED;
-            goto done;
-        }
-    rep.floquet = &res[0];
-    rep.roots_floquet = res;
-    /* the operating point: cheap where one root is stable, a simulation from
-     * rest where asked (usm_operating_point.h) */
-    status = usm_operating_point(c->model, &c->params, s, res, &a->op, &op);
-    if (status != USM_OK) {
-        cli_error("%s", op.message);
-        goto done;
-    }
-    rep.op = &op;
-    if (c->json)
-        status = emit_json(&rep);
+    } else if (status == USM_OK)
+        usm_steady_table(usm_run_steady_report(r), stdout);
     else
-        usm_steady_table(&rep, stdout);
-done:
-    free(res);
-    if (fl)
-        usm_floquet_free(fl);
-    usm_steady_free(s);
+        cli_error("%s", usm_run_message(r));
+    usm_run_free(r);
     return status;
 }
 

@@ -15,6 +15,7 @@
 #include "usm_io.h"
 #include "usm_periodic_sweep.h"
 #include "usm_plot.h"
+#include "usm_run.h"
 #include "usm_sweep.h"
 
 static void usage(FILE *out)
@@ -305,14 +306,13 @@ static void draw(double fraction, void *ctx)
 
 /* ---- run ---------------------------------------------------------------------- */
 
-static int emit(const sweep_args *a, const usm_sweep *s)
+static int emit(const sweep_args *a, const usm_run *r)
 {
-    const cli_common *c = &a->common;
     int rc;
-    if (c->json)
-        rc = usm_sweep_write_json(s, c->model, &c->params, a->over, stdout);
+    if (a->common.json)
+        rc = usm_run_write_json(r, stdout);
     else
-        rc = usm_sweep_csv(s, a->over, a->floquet, stdout);
+        rc = usm_sweep_csv(usm_run_sweep_result(r), a->over, a->floquet, stdout);
     /* reported here once; main's final check then sees a clean stream */
     if (rc != 0 || fflush(stdout) != 0 || ferror(stdout)) {
         clearerr(stdout);
@@ -425,11 +425,6 @@ static int run_periodic(const sweep_args *a, bar *progress)
 {
     const cli_common *c = &a->common;
     usm_periodic_sweep_options opt;
-    usm_periodic_sweep *s = usm_periodic_sweep_alloc(c->model);
-    if (!s) {
-        cli_error("out of memory");
-        return USM_EFAILED;
-    }
     usm_periodic_sweep_options_default(&opt);
     opt.over = a->over;
     opt.from = a->from;
@@ -439,14 +434,14 @@ static int run_periodic(const sweep_args *a, bar *progress)
         opt.progress = draw;
         opt.progress_ctx = progress;
     }
-    int status = usm_periodic_sweep_run(s, &c->params, &opt);
+    usm_run *r = usm_run_periodic_sweep(c->model, &c->params, &opt);
+    const usm_periodic_sweep *s = usm_run_periodic_sweep_result(r);
+    int status = usm_run_status(r);
     if (progress->shown >= 0)
         fputc('\n', stderr);
     if (status != USM_OK) {
-        cli_error("sweep: %s", usm_periodic_sweep_message(s));
-        status = status == USM_EINPUT ? USM_EINPUT : USM_EFAILED;
-    } else if ((c->json ? usm_periodic_sweep_write_json(s, &c->params, stdout)
-                        : usm_periodic_sweep_csv(s, stdout)) != 0 ||
+        cli_error("%s", usm_run_message(r));
+    } else if ((c->json ? usm_run_write_json(r, stdout) : usm_periodic_sweep_csv(s, stdout)) != 0 ||
                fflush(stdout) != 0 || ferror(stdout)) {
         clearerr(stdout);
         cli_error("stdout: write error");
@@ -454,7 +449,7 @@ static int run_periodic(const sweep_args *a, bar *progress)
     } else if (a->plot) {
         status = plot_periodic(a, s);
     }
-    usm_periodic_sweep_free(s);
+    usm_run_free(r);
     return status;
 }
 
@@ -466,11 +461,6 @@ static int run(const sweep_args *a)
     int status;
     if (a->periodic)
         return run_periodic(a, &progress);
-    usm_sweep *s = usm_sweep_alloc(c->model);
-    if (!s) {
-        cli_error("out of memory");
-        return USM_EFAILED;
-    }
     usm_sweep_options_default(&opt);
     opt.over = a->over;
     opt.from = a->from;
@@ -487,20 +477,18 @@ static int run(const sweep_args *a)
         opt.progress = draw;
         opt.progress_ctx = &progress;
     }
-    status = usm_sweep_run(s, &c->params, &opt);
+    usm_run *r = usm_run_sweep(c->model, &c->params, &opt);
+    const usm_sweep *s = usm_run_sweep_result(r);
     if (progress.shown >= 0)
         fputc('\n', stderr);
-    if (status == USM_EINPUT)
-        cli_error("%s", usm_sweep_message(s));
-    else if (status != USM_OK) {
-        cli_error("sweep: %s", usm_sweep_message(s));
-        status = USM_EFAILED;
-    } else {
-        status = emit(a, s);
+    if ((status = usm_run_status(r)) != USM_OK)
+        cli_error("%s", usm_run_message(r));
+    else {
+        status = emit(a, r);
         if (status == USM_OK && a->plot)
             status = plot(a, s);
     }
-    usm_sweep_free(s);
+    usm_run_free(r);
     return status;
 }
 

@@ -13,6 +13,7 @@
 #include "commands.h"
 #include "options.h"
 #include "usm_plot.h"
+#include "usm_run.h"
 #include "usm_tolerance.h"
 #ifdef USM_HAVE_MPI
 #include "usm_mpi.h"
@@ -316,6 +317,7 @@ int cli_tolerance_main(int argc, char **argv)
     char msg[CLI_MSG_LEN];
     int rank = 0, size = 1, status;
     usm_tolerance *t = NULL;
+    usm_run *run = NULL;
 #ifdef USM_HAVE_MPI
     if (usm_mpi_launched() && usm_mpi_start(&rank, &size, msg) != USM_OK) {
         cli_error("mpi: %s", msg);
@@ -329,26 +331,23 @@ int cli_tolerance_main(int argc, char **argv)
     }
     if (status == USM_OK && a.out)
         status = check_out(&a, msg);
-    if (status == USM_OK && !(t = usm_tolerance_alloc(a.common.model))) {
-        cli_msg(msg, "out of memory");
-        status = USM_EFAILED;
-    }
-    for (int j = 0; status == USM_OK && j < a.nvary + a.nspec; ++j)
-        if ((j < a.nvary ? usm_tolerance_vary_add(t, &a.vary[j])
-                         : usm_tolerance_spec_add(t, &a.spec[j - a.nvary])) != USM_OK) {
-            cli_msg(msg, "--%s %s", j < a.nvary ? "vary" : "spec", usm_tolerance_message(t));
-            status = USM_EINPUT;
-        }
     if (status == USM_OK) {
+        usm_tolerance_runner runner = NULL;
 #ifdef USM_HAVE_MPI
         if (size > 1)
-            status = usm_tolerance_run_mpi(t, &a.common.params, &a.opt);
-        else
+            runner = usm_tolerance_run_mpi;
 #endif
-            status = usm_tolerance_run(t, &a.common.params, &a.opt);
-        /* the library names its option field "checkpoint"; the command's is --checkpoint */
-        cli_msg(msg, "%s%s", strncmp(usm_tolerance_message(t), "checkpoint ", 11) ? "" : "--",
-                usm_tolerance_message(t));
+        run = usm_run_tolerance(a.common.model, &a.common.params, a.vary, a.nvary, a.spec,
+                                a.nspec, &a.opt, runner);
+        t = usm_run_tolerance_result(run);
+        status = usm_run_status(run);
+        /* the library names its fields "vary", "spec" and "checkpoint"; the
+         * command's options are --vary, --spec and --checkpoint */
+        const char *lib = usm_run_message(run);
+        const int option = (status == USM_EINPUT && (strncmp(lib, "vary ", 5) == 0 ||
+                                                     strncmp(lib, "spec ", 5) == 0)) ||
+                           strncmp(lib, "checkpoint ", 11) == 0;
+        cli_msg(msg, "%s%s", option ? "--" : "", lib);
     }
     /* the files first: their time is in --json's timings.output */
     if (status == USM_OK && a.out) {
@@ -360,7 +359,7 @@ int cli_tolerance_main(int argc, char **argv)
         usm_tolerance_output_seconds_add(t, now() - t0);
     }
     if (status == USM_OK && rank == 0) {
-        if ((a.common.json ? usm_tolerance_write_json(t, stdout)
+        if ((a.common.json ? usm_run_write_json(run, stdout)
                            : usm_tolerance_write_summary(t, stdout, NULL)) != 0) {
             cli_msg(msg, "stdout: write error");
             status = USM_EFAILED;
@@ -368,7 +367,7 @@ int cli_tolerance_main(int argc, char **argv)
     }
     if (status != USM_OK && rank == 0)
         cli_error("%s", msg);
-    usm_tolerance_free(t);
+    usm_run_free(run);
     (void)size; /* used under MPI only */
     return status;
 }

@@ -2,8 +2,8 @@
 results read and dropped, failures included, leave the C heap (glibc's
 mallinfo2: bytes in use) where it was.  A leak of one solver, result or
 JSON text per call would grow it by megabytes.  (Under the sanitizer build,
-where ASan replaces malloc and mallinfo2 says nothing, runs.c's leaks are
-the C test python_runs's.)"""
+where ASan replaces malloc and mallinfo2 says nothing, the leaks of the
+library's runs (usm_run.h) are the C test run_analyses's.)"""
 import ctypes
 import gc
 import os

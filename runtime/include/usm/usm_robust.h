@@ -198,6 +198,18 @@ int usm_robust_problem_is_robust(const usm_robust_problem *rp);
 int usm_robust_problem_check(const usm_robust_problem *rp, const usm_model *m,
                              const usm_params *p, char msg[USM_MSG_LEN]);
 
+/* The texts of usm optimize's options (runtime/io/robust_args.c; msg has
+ * USM_IO_MSG_LEN = 1024 bytes).  --objective TEXT: NAME (an optimizer output
+ * or a derived quantity), yield, mean:NAME or qNN:NAME (0 < NN < 100) into
+ * rp->objective, stat, quantile: USM_OK, or USM_EINPUT with "objective:
+ * reason".  A constraint on the yield (yield>=Y, 0 < Y < 1) or on a derived
+ * quantity (NAME>=X, NAME<=X) into rp: USM_OK, USM_EINPUT with "constraint:
+ * reason", or 1 when TEXT is neither (an optimizer output's constraint:
+ * usm_opt_problem_add_constraint on rp->nominal). */
+int usm_robust_objective_parse(usm_robust_problem *rp, const char *text, char msg[1024]);
+/* The constraint text, as described above. */
+int usm_robust_constraint_parse(usm_robust_problem *rp, const char *text, char msg[1024]);
+
 typedef struct usm_robust_design {
     int feasible;
     usm_params params;
