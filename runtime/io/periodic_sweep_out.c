@@ -127,6 +127,12 @@ static json_t *sweep_json(const usm_periodic_sweep *s, const usm_params *p)
         usm_json_put(o, "what", json_string(e->what), &eok);
         if (e->has_orbit)
             usm_json_put(o, "orbit", usm_json_periodic_result(&e->orbit), &eok);
+        if (e->has_hybrid) { /* branch_switch: the orbit followed, the one left */
+            const int slip = usm_periodic_sweep_model(s)->slip;
+            usm_json_put(o, "orbit", usm_json_hybrid_result(&e->hybrid, slip), &eok);
+            usm_json_put(o, "unstable_orbit", usm_json_hybrid_result(&e->hybrid_unstable, slip),
+                         &eok);
+        }
         if (!eok || json_array_append_new(events, o) != 0)
             ok = 0;
     }

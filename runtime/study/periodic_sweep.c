@@ -53,6 +53,7 @@ const char *usm_pevent_name(usm_pevent_type type)
     case USM_PEVENT_FRICTION_SATURATION: return "friction_saturation";
     case USM_PEVENT_CONTACT_REGAINED: return "contact_regained";
     case USM_PEVENT_GRAZING: return "grazing";
+    case USM_PEVENT_BRANCH_SWITCH: return "branch_switch";
     }
     return "unknown";
 }
@@ -431,10 +432,44 @@ static int emit_saturation(usm_periodic_sweep *s, int dir_up)
                ? 0 : -1;
 }
 
+/* Point pt's continued orbit with separation is unstable: the orbit a
+ * simulation from rest settles on (usm_hybrid_solve), when that one is
+ * stable, replaces it, with a branch_switch event (usm_periodic_sweep.h).
+ * `cold`: pt->hybrid came from usm_hybrid_solve already (the same start: no
+ * second try).  1 switched, 0 not, -1 out of memory. */
+static int switch_branch(usm_periodic_sweep *s, const usm_params *q, usm_periodic_point *pt,
+                         int cold)
+{
+    usm_hybrid_result alt;
+    if (cold || pt->hybrid.floquet.max_modulus < 1 ||
+        usm_hybrid_solve(s->hy, q, NULL, &alt) != USM_OK || alt.nmodes < 2 ||
+        !(alt.floquet.max_modulus < 1))
+        return 0;
+    const usm_hybrid_result *u = &pt->hybrid;
+    char vt[96];
+    value_text(s, pt->value, vt);
+    usm_periodic_event *e = add_event(
+        s, USM_PEVENT_BRANCH_SWITCH, pt->value, NULL,
+        "the continued orbit with separation is unstable at %s (max |lambda| %.4f, speed %.6g "
+        "1/s); a start from rest settles on a stable one (%.4f, %.6g 1/s, open %.3f): the "
+        "motor's, followed from here", vt, u->floquet.max_modulus, u->rotor_speed_mean,
+        alt.floquet.max_modulus, alt.rotor_speed_mean, alt.separation_fraction);
+    if (!e)
+        return -1;
+    e->has_hybrid = 1;
+    e->hybrid = alt;
+    e->hybrid_unstable = *u;
+    pt->hybrid = alt;
+    pt->switched = 1;
+    return 1;
+}
+
 /* Unilateral models: the orbits with separation at the grid points whose
  * bilateral orbit's contact opens (or that have none after such a point),
- * each warm-started from the last; grazing events where the mode sequence
- * changes; then every event in sweep order.  0, or -1 when out of memory. */
+ * each warm-started from the last; where that one is unstable, the stable
+ * orbit a simulation settles on instead (branch_switch); grazing events where
+ * the mode sequence changes along a branch; then every event in sweep order.
+ * 0, or -1 when out of memory. */
 static int separating_pass(usm_periodic_sweep *s, double dir)
 {
     if (!s->hy && !(s->hy = usm_hybrid_alloc(s->m)))
@@ -445,7 +480,7 @@ static int separating_pass(usm_periodic_sweep *s, double dir)
     char seq[USM_HYBRID_MAX_SWITCHES + 1] = ""; /* the last orbit's mode sequence */
     for (size_t i = 0; i < s->npts; ++i) {
         usm_periodic_point *pt = &s->pts[i];
-        pt->separating = 0;
+        pt->separating = pt->switched = 0;
         if (pt->converged ? !pt->orbit.contact_open : !have) {
             have = 0;
             seq[0] = '\0';
@@ -455,6 +490,7 @@ static int separating_pass(usm_periodic_sweep *s, double dir)
         *usm_params_field(&q, s->info) = pt->value;
         int rc = have ? usm_hybrid_solve_from(s->hy, &q, NULL, prev.t0, prev.x0, &pt->hybrid)
                       : -1;
+        const int cold = rc != USM_OK;
         if (rc != USM_OK)
             rc = usm_hybrid_solve(s->hy, &q, NULL, &pt->hybrid);
         if (rc != USM_OK || pt->hybrid.nmodes < 2) {
@@ -468,7 +504,11 @@ static int separating_pass(usm_periodic_sweep *s, double dir)
             continue;
         }
         pt->separating = 1;
-        if (seq[0] && strcmp(seq, pt->hybrid.mode_sequence) != 0) {
+        const int sw = switch_branch(s, &q, pt, cold);
+        if (sw < 0)
+            return -1;
+        /* a branch switch changes the sequence with the orbit: no grazing */
+        if (!sw && seq[0] && strcmp(seq, pt->hybrid.mode_sequence) != 0) {
             char va[96], vb[96];
             value_text(s, vprev, va);
             value_text(s, pt->value, vb);

@@ -43,6 +43,18 @@
  *                      changes between two grid points (an orbit touches a
  *                      guard tangentially in between; located to the grid:
  *                      its value is the later point's)
+ *   branch_switch      the orbit with separation continued from the previous
+ *                      point is unstable (largest non-cyclic |lambda| >= 1)
+ *                      and usm_hybrid_solve (a simulation from rest, then
+ *                      Newton) finds a stable orbit there: the motor runs on
+ *                      that one (a coexisting orbit, the start-up's
+ *                      attractor), so the point carries it and the sweep
+ *                      continues from it; the event (at the grid point)
+ *                      carries both orbits (hybrid: the stable one,
+ *                      hybrid_unstable: the continued one).  Where the
+ *                      simulation's Newton finds no stable orbit either (it
+ *                      converges to the same unstable one, or fails) the
+ *                      point keeps the continued unstable orbit.
  * Events within one step are reported in sweep order; stick_loss is found
  * also in a step at whose end the contact is already open.
  * The points are the requested grid values in sweep order.
@@ -68,7 +80,10 @@ typedef enum {
     USM_PEVENT_STABILITY_CHANGE = 3,
     USM_PEVENT_FRICTION_SATURATION = 4,
     USM_PEVENT_CONTACT_REGAINED = 5, /* unilateral models: F_n_min = 0 closing */
-    USM_PEVENT_GRAZING = 6           /* unilateral models: the mode sequence changes */
+    USM_PEVENT_GRAZING = 6,          /* unilateral models: the mode sequence changes */
+    USM_PEVENT_BRANCH_SWITCH = 7     /* unilateral models: the continued orbit with separation
+                                        is unstable; the sweep follows the stable one a
+                                        simulation from rest settles on */
 } usm_pevent_type;
 
 /* How the critical multiplier crosses the unit circle. */
@@ -80,7 +95,7 @@ typedef enum {
 } usm_crossing_kind;
 
 /* "contact_loss", "stick_loss", "fold", "stability_change",
- * "friction_saturation", "contact_regained", "grazing". */
+ * "friction_saturation", "contact_regained", "grazing", "branch_switch". */
 const char *usm_pevent_name(usm_pevent_type type);
 /* "", "fold", "period_doubling", "neimark_sacker". */
 const char *usm_crossing_name(usm_crossing_kind kind);
@@ -98,6 +113,10 @@ typedef struct usm_periodic_event {
                                    usm_squeal_frequency(1 / orbit.period, multiplier_re,
                                    multiplier_im) in [0, f/2] (usm.h); NaN otherwise */
     char what[USM_MSG_LEN];     /* one sentence */
+    /* branch_switch only (has_hybrid 1): the stable orbit with separation the
+     * sweep follows from here, and the unstable one it replaced */
+    int has_hybrid;
+    usm_hybrid_result hybrid, hybrid_unstable;
 } usm_periodic_event;
 
 /* One requested grid value and the orbit there. */
@@ -112,6 +131,8 @@ typedef struct usm_periodic_point {
      * started from the last one; usm_hybrid_solve after a gap) */
     int separating;             /* 1: `hybrid` holds it */
     usm_hybrid_result hybrid;
+    int switched;               /* 1: `hybrid` is the stable orbit of a branch_switch at this
+                                   point, which replaced the unstable continued one */
 } usm_periodic_point;
 
 /* What to sweep (usm_periodic_sweep_options_default, then over/from/to/points). */
