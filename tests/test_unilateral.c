@@ -931,7 +931,7 @@ static void check_branch_switch(void)
         usm_periodic_sweep_free(sw);
         return;
     }
-    const usm_hybrid_result *u = &e->hybrid_unstable, *st = &e->hybrid;
+    const usm_hybrid_result *u = &e->hybrid_left, *st = &e->hybrid;
     CHECK(u->floquet.max_modulus > 1 && st->floquet.max_modulus < 1,
           "switch at %g: |lambda| %g -> %g", e->value, u->floquet.max_modulus,
           st->floquet.max_modulus);

@@ -228,7 +228,7 @@ static int curve_task(void *ctx, void *state, size_t i)
             continue;
         if (cv->sep_switches++ == 0) {
             cv->sep_switch_at = e->value;
-            cv->sep_switch_modulus = e->hybrid_unstable.floquet.max_modulus;
+            cv->sep_switch_modulus = e->branch_lost ? NAN : e->hybrid_left.floquet.max_modulus;
         }
     }
     for (int q = 0; q < cv->points; ++q) {

@@ -113,10 +113,14 @@ typedef struct usm_periodic_event {
                                    usm_squeal_frequency(1 / orbit.period, multiplier_re,
                                    multiplier_im) in [0, f/2] (usm.h); NaN otherwise */
     char what[USM_MSG_LEN];     /* one sentence */
-    /* branch_switch only (has_hybrid 1): the stable orbit with separation the
-     * sweep follows from here, and the unstable one it replaced */
+    /* branch_switch only (has_hybrid 1): the orbit with separation the sweep
+     * follows from here (hybrid), and the continued one it leaves
+     * (hybrid_left): unstable at `value`, or, when branch_lost, the last
+     * orbit of the branch, at branch_last */
     int has_hybrid;
-    usm_hybrid_result hybrid, hybrid_unstable;
+    usm_hybrid_result hybrid, hybrid_left;
+    int branch_lost;
+    double branch_last;
 } usm_periodic_event;
 
 /* One requested grid value and the orbit there. */

@@ -1,0 +1,314 @@
+/* The periodic sweep past contact loss: the orbits with separation of a
+ * unilateral model at the grid points (usm_periodic_sweep.h, "Unilateral
+ * models"; docs/unilateral.md).
+ *
+ * The orbits with separation are followed along the grid as a branch: each
+ * point's orbit is Newton's (usm_hybrid_solve_from) from the secant
+ * prediction of the branch's last two orbits (the last one's state when
+ * there is one, or the two have different section times).  A solution whose
+ * separation fraction or mean speed jumps (changes by more than JUMP_GROWTH
+ * times the last step's change, and more than JUMP_FRACTION / JUMP_SPEED)
+ * has left the branch: near a multiplier +1, B - I is nearly singular and
+ * Newton's first step may throw it onto a coexisting orbit.
+ * Then, and where Newton fails, paths of 2, 4, 8 substeps (each predicted
+ * alike) decide: the orbit at the point is the branch's where two successive
+ * paths (the direct step the first) end on the same orbit (a continuous
+ * branch, e.g. with a kink where an impact changes from sticking to
+ * sliding); if none do, the branch is lost there (it ends, or Newton
+ * fails).
+ *
+ * The orbit the motor runs on: where the followed orbit is unstable, or the
+ * branch was lost, usm_hybrid_solve (a simulation from rest, then Newton)
+ * gives the start-up's attractor; when that one is stable (or the branch was
+ * lost) the point takes it and the branch continues from it: a
+ * branch_switch event, with both orbits.  Where the mode sequence changes
+ * along the branch, the grazing event is located by bisection on the
+ * parameter (the mode sequence of the orbit continued from the bracket's
+ * ends) to the event tolerance. */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "periodic_sweep_state.h"
+
+#define JUMP_GROWTH 3.0
+#define JUMP_FRACTION 2e-3 /* of the period */
+#define JUMP_SPEED 1e-3    /* relative */
+#define MAX_HALVINGS 3     /* substeps 2, 4, 8 */
+#define MAX_BISECT 48
+#define SAME_TOL 1e-6    /* same_orbit */
+
+/* The branch followed: its last two orbits (r[1] the newer). */
+typedef struct branch {
+    int n;
+    double v[2];
+    usm_hybrid_result r[2];
+} branch;
+
+static void branch_push(branch *b, double v, const usm_hybrid_result *r)
+{
+    if (b->n > 0) {
+        b->v[0] = b->v[1];
+        b->r[0] = b->r[1];
+    }
+    b->v[1] = v;
+    b->r[1] = *r;
+    b->n = b->n < 2 ? b->n + 1 : 2;
+}
+
+static usm_params params_at(const usm_periodic_sweep *s, double v)
+{
+    usm_params q = s->p;
+    *usm_params_field(&q, s->info) = v;
+    return q;
+}
+
+/* r off the branch (see the header comment): its separation fraction or mean
+ * speed changed from the last orbit's by more than JUMP_GROWTH times the
+ * last step's change (scaled to the step) and more than JUMP_FRACTION /
+ * JUMP_SPEED.  Not the prediction's error: the branches have kinks (an
+ * impact changing from sticking to sliding), where the linear prediction
+ * is poor at any step while the change per step stays small. */
+static int off_branch(const branch *b, double v, const usm_hybrid_result *r)
+{
+    if (b->n < 2 || strcmp(b->r[1].mode_sequence, r->mode_sequence) != 0)
+        return 0; /* a new sequence: grazing, which the caller locates */
+    const double t = fabs((v - b->v[1]) / (b->v[1] - b->v[0]));
+    const usm_hybrid_result *a = &b->r[0], *c = &b->r[1];
+    const double df = fabs(c->separation_fraction - a->separation_fraction) * t;
+    const double dw = fabs(c->rotor_speed_mean - a->rotor_speed_mean) * t;
+    const double ef = fabs(r->separation_fraction - c->separation_fraction);
+    const double ew = fabs(r->rotor_speed_mean - c->rotor_speed_mean);
+    return (ef > JUMP_GROWTH * df && ef > JUMP_FRACTION) ||
+           (ew > JUMP_GROWTH * dw && ew > JUMP_SPEED * fabs(c->rotor_speed_mean));
+}
+
+/* One Newton solve at v from the branch's prediction (or its last state):
+ * 0 an orbit with separation (*jump: off the branch by off_branch), -1 none. */
+static int solve_on(usm_periodic_sweep *s, const branch *b, double v, usm_hybrid_result *out,
+                    int *jump)
+{
+    const usm_params q = params_at(s, v);
+    const usm_hybrid_result *c = &b->r[1];
+    double x[USM_MAX_NX];
+    int rc = -1;
+    if (b->n == 2 && b->r[0].t0 == c->t0) {
+        const double t = (v - b->v[1]) / (b->v[1] - b->v[0]);
+        for (int i = 0; i < c->nx; ++i)
+            x[i] = c->x0[i] + t * (c->x0[i] - b->r[0].x0[i]);
+        rc = usm_hybrid_solve_from(s->hy, &q, NULL, c->t0, x, out);
+    }
+    if (rc != USM_OK)
+        rc = usm_hybrid_solve_from(s->hy, &q, NULL, c->t0, c->x0, out);
+    if (rc != USM_OK || out->nmodes < 2)
+        return -1;
+    *jump = off_branch(b, v, out);
+    return 0;
+}
+
+/* The same orbit, to Newton's tolerance (1e-9 of the state) and far more. */
+static int same_orbit(const usm_hybrid_result *a, const usm_hybrid_result *b)
+{
+    return strcmp(a->mode_sequence, b->mode_sequence) == 0 &&
+           fabs(a->separation_fraction - b->separation_fraction) < SAME_TOL &&
+           fabs(a->rotor_speed_mean - b->rotor_speed_mean) < SAME_TOL * fabs(a->rotor_speed_mean);
+}
+
+/* Follow the branch b to v; on success b ends with the orbit at v (*out).
+ * A step whose orbit jumps (off_branch) or fails is checked by paths of 2,
+ * 4, 8 substeps: the orbit at v is accepted where two successive paths (the
+ * direct step the first) end on the same orbit, a continuous branch (with a
+ * kink, say); otherwise the branch is lost (-1). */
+static int follow(usm_periodic_sweep *s, branch *b, double v, usm_hybrid_result *out)
+{
+    int jump = 0, have;
+    usm_hybrid_result prev;
+    have = solve_on(s, b, v, out, &jump) == 0;
+    if (have && !jump) {
+        branch_push(b, v, out);
+        return 0;
+    }
+    prev = *out;
+    const double v0 = b->v[1];
+    for (int k = 1; k <= MAX_HALVINGS; ++k) {
+        const int m = 1 << k;
+        branch w = *b;
+        int j;
+        for (j = 1; j <= m; ++j) {
+            const double vj = j == m ? v : v0 + (v - v0) * j / m;
+            if (solve_on(s, &w, vj, out, &jump) != 0)
+                break;
+            branch_push(&w, vj, out);
+        }
+        if (j <= m) {
+            have = 0;
+            continue;
+        }
+        if (have && same_orbit(out, &prev)) {
+            *b = w;
+            return 0;
+        }
+        prev = *out;
+        have = 1;
+    }
+    return -1;
+}
+
+/* The value where the mode sequence changes from a's to c's between the
+ * orbits a (at va) and c (at vc) of one branch: bisection, each trial
+ * continued from the nearer bracket end.  *located: 1 to the event
+ * tolerance, 0 when a trial failed or met a third sequence. */
+static double locate_grazing(usm_periodic_sweep *s, double va, const usm_hybrid_result *a,
+                             double vc, const usm_hybrid_result *c, int *located)
+{
+    usm_hybrid_result lo = *a, hi = *c, r;
+    double vlo = va, vhi = vc;
+    *located = 0;
+    for (int it = 0; it < MAX_BISECT; ++it) {
+        if (fabs(vhi - vlo) <= s->tol) {
+            *located = 1;
+            break;
+        }
+        const double vm = 0.5 * (vlo + vhi);
+        const usm_hybrid_result *from = &lo;
+        const usm_params q = params_at(s, vm);
+        if (usm_hybrid_solve_from(s->hy, &q, NULL, from->t0, from->x0, &r) != USM_OK ||
+            r.nmodes < 2)
+            break;
+        if (strcmp(r.mode_sequence, a->mode_sequence) == 0) {
+            vlo = vm;
+            lo = r;
+        } else if (strcmp(r.mode_sequence, c->mode_sequence) == 0) {
+            vhi = vm;
+            hi = r;
+        } else
+            break;
+    }
+    (void)hi;
+    return 0.5 * (vlo + vhi);
+}
+
+/* The orbit a start from rest settles on at v (usm_hybrid_solve); 0 or -1. */
+static int solve_cold(usm_periodic_sweep *s, double v, usm_hybrid_result *out)
+{
+    const usm_params q = params_at(s, v);
+    return usm_hybrid_solve(s->hy, &q, NULL, out) == USM_OK && out->nmodes >= 2 ? 0 : -1;
+}
+
+/* The branch_switch event at pt: `to` the orbit followed from here, `from`
+ * the continued orbit it replaces (lost: the branch's last orbit, at
+ * v_last). */
+static int switch_event(usm_periodic_sweep *s, const usm_periodic_point *pt,
+                        const usm_hybrid_result *to, const usm_hybrid_result *from, int lost,
+                        double v_last)
+{
+    char vt[96], vl[96];
+    psweep_value_text(s, pt->value, vt);
+    psweep_value_text(s, v_last, vl);
+    usm_periodic_event *e =
+        lost ? psweep_event_add(
+                   s, USM_PEVENT_BRANCH_SWITCH, pt->value, NULL,
+                   "the orbit with separation followed to %s does not continue to %s (its "
+                   "branch ends, or Newton fails); from a start from rest: %s, max |lambda| "
+                   "%.4f, %.6g 1/s, open %.3f, followed on", vl, vt, to->mode_sequence,
+                   to->floquet.max_modulus, to->rotor_speed_mean, to->separation_fraction)
+             : psweep_event_add(
+                   s, USM_PEVENT_BRANCH_SWITCH, pt->value, NULL,
+                   "the continued orbit with separation is unstable at %s (max |lambda| %.4f, "
+                   "speed %.6g 1/s); a start from rest settles on a stable one (%.4f, %.6g 1/s, "
+                   "open %.3f): the motor's, followed from here", vt, from->floquet.max_modulus,
+                   from->rotor_speed_mean, to->floquet.max_modulus, to->rotor_speed_mean,
+                   to->separation_fraction);
+    if (!e)
+        return -1;
+    e->has_hybrid = 1;
+    e->hybrid = *to;
+    e->hybrid_left = *from;
+    e->branch_lost = lost;
+    e->branch_last = lost ? v_last : pt->value;
+    return 0;
+}
+
+static int grazing_event(usm_periodic_sweep *s, double va, const usm_hybrid_result *a,
+                         double vc, const usm_hybrid_result *c)
+{
+    int located;
+    const double vg = locate_grazing(s, va, a, vc, c, &located);
+    char vt[96], pa[96], pc[96];
+    psweep_value_text(s, vg, vt);
+    psweep_value_text(s, va, pa);
+    psweep_value_text(s, vc, pc);
+    usm_periodic_event *e =
+        located ? psweep_event_add(s, USM_PEVENT_GRAZING, vg, NULL,
+                                   "the orbit with separation changes its mode sequence from %s "
+                                   "to %s at %s: an orbit touches a guard tangentially there",
+                                   a->mode_sequence, c->mode_sequence, vt)
+                : psweep_event_add(s, USM_PEVENT_GRAZING, vg, NULL,
+                                   "the orbit with separation changes its mode sequence from %s "
+                                   "to %s between %s and %s (not located to tolerance: a trial "
+                                   "orbit failed)", a->mode_sequence, c->mode_sequence, pa, pc);
+    return e ? 0 : -1;
+}
+
+int psweep_separating(usm_periodic_sweep *s, double dir)
+{
+    if (!s->hy && !(s->hy = usm_hybrid_alloc(s->m)))
+        return -1;
+    branch b, gone;
+    b.n = gone.n = 0; /* gone: a branch lost at a point without any orbit since */
+    for (size_t i = 0; i < s->npts; ++i) {
+        usm_periodic_point *pt = &s->pts[i];
+        pt->separating = pt->switched = 0;
+        if (pt->converged ? !pt->orbit.contact_open : b.n == 0 && gone.n == 0) {
+            b.n = gone.n = 0; /* the contact closes: no orbit with separation to follow */
+            continue;
+        }
+        const branch before = b.n ? b : gone;
+        usm_hybrid_result r, alt;
+        const int on = b.n > 0 && follow(s, &b, pt->value, &r) == 0;
+        const int lost = before.n > 0 && !on;
+        if (!on && solve_cold(s, pt->value, &r) != 0) {
+            /* a converged point keeps its bilateral orbit (contact_open) and
+             * says why there is no orbit with separation in `error` */
+            const size_t len = strlen(pt->error);
+            snprintf(pt->error + len, sizeof pt->error - len, "%sno orbit with separation: %.100s",
+                     len ? "; " : "", usm_hybrid_message(s->hy)[0]
+                                          ? usm_hybrid_message(s->hy)
+                                          : "the contact does not open on it");
+            if (before.n)
+                gone = before;
+            b.n = 0;
+            continue;
+        }
+        pt->separating = 1;
+        pt->hybrid = r;
+        gone.n = 0;
+        if (lost) {
+            if (switch_event(s, pt, &r, &before.r[1], 1, before.v[1]) != 0)
+                return -1;
+            pt->switched = 1;
+            b.n = 0;
+            branch_push(&b, pt->value, &r);
+        } else if (on && !(r.floquet.max_modulus < 1) && solve_cold(s, pt->value, &alt) == 0 &&
+                   alt.floquet.max_modulus < 1) {
+            if (switch_event(s, pt, &alt, &r, 0, pt->value) != 0)
+                return -1;
+            pt->hybrid = alt;
+            pt->switched = 1;
+            b.n = 0;
+            branch_push(&b, pt->value, &alt);
+        } else if (on && strcmp(before.r[1].mode_sequence, r.mode_sequence) != 0 &&
+                   grazing_event(s, before.v[1], &before.r[1], pt->value, &r) != 0)
+            return -1;
+        if (!on && !lost)
+            branch_push(&b, pt->value, &r); /* the first orbit of a branch */
+    }
+    /* every event in sweep order (insertion sort: stable, few events) */
+    for (size_t i = 1; i < s->nev; ++i)
+        for (size_t j = i; j > 0 && dir * (s->ev[j].value - s->ev[j - 1].value) < 0; --j) {
+            usm_periodic_event t = s->ev[j];
+            s->ev[j] = s->ev[j - 1];
+            s->ev[j - 1] = t;
+        }
+    return 0;
+}
