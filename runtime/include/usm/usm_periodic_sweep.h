@@ -36,25 +36,40 @@
  * Unilateral models (variant imperfect_unilateral; docs/unilateral.md): the
  * branch is the bilateral orbit's; at every grid point where its contact
  * opens the point also carries the orbit with separation (separating,
- * hybrid), and
+ * hybrid).  Those are followed as a branch of their own
+ * (study/periodic_sweep_hybrid.c): Newton (usm_hybrid_solve_from) from the
+ * secant prediction of the last two; a result whose separation fraction or
+ * mean speed jumps (3 times the last step's change, and more than 2e-3 /
+ * 1e-3 relative) is checked by paths of 2, 4, 8 substeps, accepted where two
+ * successive paths end on the same orbit; the first orbit, and every one
+ * after a branch is lost, from usm_hybrid_solve (a simulation from rest).
+ * Events:
  *   contact_regained   F_n_min = 0 where the contact closes again (the
  *                      contact_loss crossing in the other direction)
- *   grazing            the mode sequence of the orbits with separation
- *                      changes between two grid points (an orbit touches a
- *                      guard tangentially in between; located to the grid:
- *                      its value is the later point's)
- *   branch_switch      the orbit with separation continued from the previous
- *                      point is unstable (largest non-cyclic |lambda| >= 1)
- *                      and usm_hybrid_solve (a simulation from rest, then
- *                      Newton) finds a stable orbit there: the motor runs on
- *                      that one (a coexisting orbit, the start-up's
- *                      attractor), so the point carries it and the sweep
- *                      continues from it; the event (at the grid point)
- *                      carries both orbits (hybrid: the stable one,
- *                      hybrid_unstable: the continued one).  Where the
- *                      simulation's Newton finds no stable orbit either (it
- *                      converges to the same unstable one, or fails) the
- *                      point keeps the continued unstable orbit.
+ *   grazing            the mode sequence of the followed orbit changes
+ *                      between two grid points (an orbit touches a guard
+ *                      tangentially there): located by bisection on the
+ *                      parameter (each trial continued from the bracket's
+ *                      end of the first sequence) to the event tolerance;
+ *                      its text says when a trial failed (then the value is
+ *                      the last bracket's middle)
+ *   branch_switch      the sweep leaves the followed orbit for the one the
+ *                      motor runs on: either the followed orbit is unstable
+ *                      (largest non-cyclic |lambda| >= 1) and
+ *                      usm_hybrid_solve (a simulation from rest, then
+ *                      Newton: the start-up's attractor) finds a stable
+ *                      orbit there, or the branch cannot be followed to the
+ *                      point (it ends, or Newton fails; branch_lost) and
+ *                      usm_hybrid_solve finds an orbit (at this point, or at
+ *                      a later one when none is found in between).  The
+ *                      point carries the new orbit (switched) and the sweep
+ *                      follows it from there; the event, at the grid point,
+ *                      carries both orbits (hybrid: the new one; hybrid_left:
+ *                      the unstable one, or the branch's last at
+ *                      branch_last).  Where the simulation's Newton finds no
+ *                      stable orbit (it converges to the same unstable one,
+ *                      e.g. when that is only weakly unstable, or fails) the
+ *                      point keeps the unstable followed orbit.
  * Events within one step are reported in sweep order; stick_loss is found
  * also in a step at whose end the contact is already open.
  * The points are the requested grid values in sweep order.
@@ -131,12 +146,12 @@ typedef struct usm_periodic_point {
     char error[USM_MSG_LEN];    /* why not converged; unilateral models: also why a converged
                                    point whose contact opens has no orbit with separation */
     /* unilateral models (usm_model.unilateral) where the contact opens on the
-     * bilateral orbit: the orbit with separation (usm_hybrid_solve_from, warm
-     * started from the last one; usm_hybrid_solve after a gap) */
+     * bilateral orbit: the orbit with separation (followed from the last
+     * one, or usm_hybrid_solve: see the header comment) */
     int separating;             /* 1: `hybrid` holds it */
     usm_hybrid_result hybrid;
-    int switched;               /* 1: `hybrid` is the stable orbit of a branch_switch at this
-                                   point, which replaced the unstable continued one */
+    int switched;               /* 1: `hybrid` is the new orbit of a branch_switch at this
+                                   point */
 } usm_periodic_point;
 
 /* What to sweep (usm_periodic_sweep_options_default, then over/from/to/points). */
