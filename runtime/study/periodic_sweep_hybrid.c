@@ -20,11 +20,13 @@
  * The orbit the motor runs on: where the followed orbit is unstable, or the
  * branch was lost, usm_hybrid_solve (a simulation from rest, then Newton)
  * gives the start-up's attractor; when that one is stable (or the branch was
- * lost) the point takes it and the branch continues from it: a
- * branch_switch event, with both orbits.  Where the mode sequence changes
- * along the branch, the grazing event is located by bisection on the
- * parameter (the mode sequence of the orbit continued from the bracket's
- * ends) to the event tolerance. */
+ * lost and it does not continue the branch) the point takes it and the
+ * branch continues from it: a branch_switch event, with both orbits.  Where
+ * the mode sequence changes along the branch, the change is located by
+ * bisection on the parameter (the mode sequence of the orbit continued from
+ * the bracket's end of the old sequence) to the event tolerance: a grazing
+ * where the two sequences' orbits meet there, else the old sequence's
+ * branch ended and Newton landed on another orbit (branch_switch). */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -37,6 +39,7 @@
 #define MAX_HALVINGS 3     /* substeps 2, 4, 8 */
 #define MAX_BISECT 48
 #define SAME_TOL 1e-6    /* same_orbit */
+#define GRAZE_GAP 1e-3   /* grazing: the two sequences' orbits meet (fraction, relative speed) */
 
 /* The branch followed: its last two orbits (r[1] the newer). */
 typedef struct branch {
@@ -155,37 +158,34 @@ static int follow(usm_periodic_sweep *s, branch *b, double v, usm_hybrid_result 
 }
 
 /* The value where the mode sequence changes from a's to c's between the
- * orbits a (at va) and c (at vc) of one branch: bisection, each trial
- * continued from the nearer bracket end.  *located: 1 to the event
- * tolerance, 0 when a trial failed or met a third sequence. */
-static double locate_grazing(usm_periodic_sweep *s, double va, const usm_hybrid_result *a,
-                             double vc, const usm_hybrid_result *c, int *located)
+ * orbits a (at va) and c (at vc): bisection, each trial continued from the
+ * bracket's end of a's sequence; *lo (at *vlo) and *hi (at *vhi): the last
+ * bracket's orbits.  1 when located to the event tolerance, 0 when a trial
+ * failed or met a third sequence. */
+static int locate_grazing(usm_periodic_sweep *s, double va, const usm_hybrid_result *a,
+                          double vc, const usm_hybrid_result *c, usm_hybrid_result *lo,
+                          double *vlo, usm_hybrid_result *hi, double *vhi)
 {
-    usm_hybrid_result lo = *a, hi = *c, r;
-    double vlo = va, vhi = vc;
-    *located = 0;
+    usm_hybrid_result r;
+    *lo = *a, *hi = *c, *vlo = va, *vhi = vc;
     for (int it = 0; it < MAX_BISECT; ++it) {
-        if (fabs(vhi - vlo) <= s->tol) {
-            *located = 1;
-            break;
-        }
-        const double vm = 0.5 * (vlo + vhi);
-        const usm_hybrid_result *from = &lo;
+        if (fabs(*vhi - *vlo) <= s->tol)
+            return 1;
+        const double vm = 0.5 * (*vlo + *vhi);
         const usm_params q = params_at(s, vm);
-        if (usm_hybrid_solve_from(s->hy, &q, NULL, from->t0, from->x0, &r) != USM_OK ||
+        if (usm_hybrid_solve_from(s->hy, &q, NULL, lo->t0, lo->x0, &r) != USM_OK ||
             r.nmodes < 2)
-            break;
+            return 0;
         if (strcmp(r.mode_sequence, a->mode_sequence) == 0) {
-            vlo = vm;
-            lo = r;
+            *vlo = vm;
+            *lo = r;
         } else if (strcmp(r.mode_sequence, c->mode_sequence) == 0) {
-            vhi = vm;
-            hi = r;
+            *vhi = vm;
+            *hi = r;
         } else
-            break;
+            return 0;
     }
-    (void)hi;
-    return 0.5 * (vlo + vhi);
+    return 0;
 }
 
 /* The orbit a start from rest settles on at v (usm_hybrid_solve); 0 or -1. */
@@ -195,49 +195,74 @@ static int solve_cold(usm_periodic_sweep *s, double v, usm_hybrid_result *out)
     return usm_hybrid_solve(s->hy, &q, NULL, out) == USM_OK && out->nmodes >= 2 ? 0 : -1;
 }
 
+/* How a branch_switch came about. */
+enum { SW_UNSTABLE, SW_LOST, SW_ENDS };
+
 /* The branch_switch event at pt: `to` the orbit followed from here, `from`
- * the continued orbit it replaces (lost: the branch's last orbit, at
- * v_last). */
+ * the followed orbit it replaces (SW_UNSTABLE: unstable at pt; SW_LOST: the
+ * branch's last orbit, at v_last, and `to` from a start from rest; SW_ENDS:
+ * the branch's last orbit of its mode sequence, at v_last, and `to` what
+ * Newton from it found at pt). */
 static int switch_event(usm_periodic_sweep *s, const usm_periodic_point *pt,
-                        const usm_hybrid_result *to, const usm_hybrid_result *from, int lost,
+                        const usm_hybrid_result *to, const usm_hybrid_result *from, int how,
                         double v_last)
 {
     char vt[96], vl[96];
     psweep_value_text(s, pt->value, vt);
     psweep_value_text(s, v_last, vl);
     usm_periodic_event *e =
-        lost ? psweep_event_add(
-                   s, USM_PEVENT_BRANCH_SWITCH, pt->value, NULL,
-                   "the orbit with separation followed to %s does not continue to %s (its "
-                   "branch ends, or Newton fails); from a start from rest: %s, max |lambda| "
-                   "%.4f, %.6g 1/s, open %.3f, followed on", vl, vt, to->mode_sequence,
-                   to->floquet.max_modulus, to->rotor_speed_mean, to->separation_fraction)
-             : psweep_event_add(
-                   s, USM_PEVENT_BRANCH_SWITCH, pt->value, NULL,
-                   "the continued orbit with separation is unstable at %s (max |lambda| %.4f, "
-                   "speed %.6g 1/s); a start from rest settles on a stable one (%.4f, %.6g 1/s, "
-                   "open %.3f): the motor's, followed from here", vt, from->floquet.max_modulus,
-                   from->rotor_speed_mean, to->floquet.max_modulus, to->rotor_speed_mean,
-                   to->separation_fraction);
+        how == SW_LOST
+            ? psweep_event_add(
+                  s, USM_PEVENT_BRANCH_SWITCH, pt->value, NULL,
+                  "the orbit with separation followed to %s does not continue to %s (its "
+                  "branch ends, or Newton fails); from a start from rest: %s, max |lambda| "
+                  "%.4f, %.6g 1/s, open %.3f, followed on", vl, vt, to->mode_sequence,
+                  to->floquet.max_modulus, to->rotor_speed_mean, to->separation_fraction)
+        : how == SW_ENDS
+            ? psweep_event_add(
+                  s, USM_PEVENT_BRANCH_SWITCH, pt->value, NULL,
+                  "the %s orbit with separation ends after %s (no grazing: the orbits of the "
+                  "two sequences do not meet); at %s another: %s, max |lambda| %.4f, %.6g 1/s, "
+                  "followed on", from->mode_sequence, vl, vt, to->mode_sequence,
+                  to->floquet.max_modulus, to->rotor_speed_mean)
+            : psweep_event_add(
+                  s, USM_PEVENT_BRANCH_SWITCH, pt->value, NULL,
+                  "the continued orbit with separation is unstable at %s (max |lambda| %.4f, "
+                  "speed %.6g 1/s); a start from rest settles on a stable one (%.4f, %.6g 1/s, "
+                  "open %.3f): the motor's, followed from here", vt, from->floquet.max_modulus,
+                  from->rotor_speed_mean, to->floquet.max_modulus, to->rotor_speed_mean,
+                  to->separation_fraction);
     if (!e)
         return -1;
     e->has_hybrid = 1;
     e->hybrid = *to;
     e->hybrid_left = *from;
-    e->branch_lost = lost;
-    e->branch_last = lost ? v_last : pt->value;
+    e->branch_lost = how != SW_UNSTABLE;
+    e->branch_last = how != SW_UNSTABLE ? v_last : pt->value;
     return 0;
 }
 
+/* The mode sequence changed from a's (at va) to c's (at pt) along the
+ * branch: a grazing where the two sequences' orbits meet (at the located
+ * value their separation fraction and mean speed agree to GRAZE_GAP), else
+ * the branch of a's sequence ended in between and Newton landed on another
+ * orbit (branch_switch, SW_ENDS).  0 grazing, 1 switch, -1 out of memory. */
 static int grazing_event(usm_periodic_sweep *s, double va, const usm_hybrid_result *a,
-                         double vc, const usm_hybrid_result *c)
+                         const usm_periodic_point *pt, const usm_hybrid_result *c)
 {
-    int located;
-    const double vg = locate_grazing(s, va, a, vc, c, &located);
+    usm_hybrid_result lo, hi;
+    double vlo, vhi;
+    const int located = locate_grazing(s, va, a, pt->value, c, &lo, &vlo, &hi, &vhi);
+    const int meet = fabs(lo.separation_fraction - hi.separation_fraction) <= GRAZE_GAP &&
+                     fabs(lo.rotor_speed_mean - hi.rotor_speed_mean) <=
+                         GRAZE_GAP * fabs(hi.rotor_speed_mean);
+    if (located && !meet)
+        return switch_event(s, pt, c, &lo, SW_ENDS, vlo) == 0 ? 1 : -1;
+    const double vg = 0.5 * (vlo + vhi);
     char vt[96], pa[96], pc[96];
     psweep_value_text(s, vg, vt);
-    psweep_value_text(s, va, pa);
-    psweep_value_text(s, vc, pc);
+    psweep_value_text(s, vlo, pa);
+    psweep_value_text(s, vhi, pc);
     usm_periodic_event *e =
         located ? psweep_event_add(s, USM_PEVENT_GRAZING, vg, NULL,
                                    "the orbit with separation changes its mode sequence from %s "
@@ -265,8 +290,8 @@ int psweep_separating(usm_periodic_sweep *s, double dir)
         }
         const branch before = b.n ? b : gone;
         usm_hybrid_result r, alt;
-        const int on = b.n > 0 && follow(s, &b, pt->value, &r) == 0;
-        const int lost = before.n > 0 && !on;
+        int on = b.n > 0 && follow(s, &b, pt->value, &r) == 0;
+        int lost = before.n > 0 && !on;
         if (!on && solve_cold(s, pt->value, &r) != 0) {
             /* a converged point keeps its bilateral orbit (contact_open) and
              * says why there is no orbit with separation in `error` */
@@ -280,26 +305,41 @@ int psweep_separating(usm_periodic_sweep *s, double dir)
             b.n = 0;
             continue;
         }
+        if (lost && b.n == 2 && strcmp(b.r[1].mode_sequence, r.mode_sequence) == 0 &&
+            !off_branch(&b, pt->value, &r)) {
+            /* Newton failed from the branch, but the start from rest found an
+             * orbit that continues it (its sequence, no jump) */
+            lost = 0;
+            on = 1;
+            branch_push(&b, pt->value, &r);
+        }
         pt->separating = 1;
         pt->hybrid = r;
         gone.n = 0;
         if (lost) {
-            if (switch_event(s, pt, &r, &before.r[1], 1, before.v[1]) != 0)
+            if (switch_event(s, pt, &r, &before.r[1], SW_LOST, before.v[1]) != 0)
                 return -1;
             pt->switched = 1;
             b.n = 0;
             branch_push(&b, pt->value, &r);
         } else if (on && !(r.floquet.max_modulus < 1) && solve_cold(s, pt->value, &alt) == 0 &&
                    alt.floquet.max_modulus < 1) {
-            if (switch_event(s, pt, &alt, &r, 0, pt->value) != 0)
+            if (switch_event(s, pt, &alt, &r, SW_UNSTABLE, pt->value) != 0)
                 return -1;
             pt->hybrid = alt;
             pt->switched = 1;
             b.n = 0;
             branch_push(&b, pt->value, &alt);
-        } else if (on && strcmp(before.r[1].mode_sequence, r.mode_sequence) != 0 &&
-                   grazing_event(s, before.v[1], &before.r[1], pt->value, &r) != 0)
-            return -1;
+        } else if (on && strcmp(before.r[1].mode_sequence, r.mode_sequence) != 0) {
+            const int g = grazing_event(s, before.v[1], &before.r[1], pt, &r);
+            if (g < 0)
+                return -1;
+            if (g == 1) { /* another branch from here */
+                pt->switched = 1;
+                b.n = 0;
+                branch_push(&b, pt->value, &r);
+            }
+        }
         if (!on && !lost)
             branch_push(&b, pt->value, &r); /* the first orbit of a branch */
     }
