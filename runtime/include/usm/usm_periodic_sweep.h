@@ -50,9 +50,12 @@
  *                      between two grid points (an orbit touches a guard
  *                      tangentially there): located by bisection on the
  *                      parameter (each trial continued from the bracket's
- *                      end of the first sequence) to the event tolerance;
- *                      its text says when a trial failed (then the value is
- *                      the last bracket's middle)
+ *                      end of the first sequence) to the event tolerance,
+ *                      where the two sequences' orbits meet there (their
+ *                      separation fractions and mean speeds agree to 1e-3;
+ *                      else the first sequence's branch ended in between:
+ *                      branch_switch); its text says when a trial failed
+ *                      (then the value is the last bracket's middle)
  *   branch_switch      the sweep leaves the followed orbit for the one the
  *                      motor runs on: either the followed orbit is unstable
  *                      (largest non-cyclic |lambda| >= 1) and
@@ -60,8 +63,11 @@
  *                      Newton: the start-up's attractor) finds a stable
  *                      orbit there, or the branch cannot be followed to the
  *                      point (it ends, or Newton fails; branch_lost) and
- *                      usm_hybrid_solve finds an orbit (at this point, or at
- *                      a later one when none is found in between).  The
+ *                      usm_hybrid_solve finds an orbit that does not
+ *                      continue it (at this point, or at a later one when
+ *                      none is found in between), or a change of mode
+ *                      sequence is no grazing (above; branch_lost, the
+ *                      other orbit Newton's).  The
  *                      point carries the new orbit (switched) and the sweep
  *                      follows it from there; the event, at the grid point,
  *                      carries both orbits (hybrid: the new one; hybrid_left:
