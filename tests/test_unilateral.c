@@ -937,6 +937,33 @@ static void check_branch_switch(void)
           st->floquet.max_modulus);
     /* measured: at 2.0 % (the grid's first unstable point) */
     CHECK(e->value > 0.0189 && e->value < 0.0201, "switch at %g", e->value);
+    /* where the followed orbit turned unstable (Brent on max |lambda| = 1):
+     * against the linear interpolation of max |lambda| between two orbits of
+     * that branch 1e-5 apart (Newton from the unstable orbit the event
+     * carries, then from the first) */
+    {
+        usm_hybrid *h = usm_hybrid_alloc(usm_model_find(name));
+        usm_hybrid_result r1, r2;
+        usm_params q = p;
+        q.mode_split = 0.01948;
+        int ok = usm_hybrid_solve_from(h, &q, NULL, u->t0, u->x0, &r1) == USM_OK;
+        q.mode_split = 0.01947;
+        ok = ok && usm_hybrid_solve_from(h, &q, NULL, r1.t0, r1.x0, &r2) == USM_OK;
+        if (CHECK(ok, "the followed branch near 1.947 %%: %s", usm_hybrid_message(h))) {
+            const double l1 = r1.floquet.max_modulus, l2 = r2.floquet.max_modulus;
+            const double lin = 0.01947 + 1e-5 * (1 - l2) / (l1 - l2);
+            printf("the followed orbit turns unstable at mode split %.10g (located); max |lambda| "
+                   "%.9f at 1.947 %% and %.9f at 1.948 %%: linear interpolation %.10g\n",
+                   e->unstable_from, l2, l1, lin);
+            /* measured 7.4e-9 (the location's tolerance 4e-9, 1e-6 of the
+             * range; its trial orbits to Newton's 1e-7 move |lambda| by about
+             * 1e-6, i.e. 6e-9 in mode split; the interpolation over 1e-5:
+             * curvature below 1e-10) */
+            CHECK(l2 < 1 && l1 > 1 && fabs(e->unstable_from - lin) < 5e-8,
+                  "located %.10g, interpolated %.10g", e->unstable_from, lin);
+        }
+        usm_hybrid_free(h);
+    }
     double worst_speed = 0, worst_open = 0;
     for (size_t i = 0; i < usm_periodic_sweep_count(sw); ++i) {
         const usm_periodic_point *pt = usm_periodic_sweep_point_at(sw, i);

@@ -134,9 +134,11 @@ static json_t *sweep_json(const usm_periodic_sweep *s, const usm_params *p)
             if (e->branch_lost) { /* the branch's last orbit, and where */
                 usm_json_put(o, "last_orbit", usm_json_hybrid_result(&e->hybrid_left, slip), &eok);
                 usm_json_put(o, "last_value", usm_json_real(e->branch_last), &eok);
-            } else
+            } else {
                 usm_json_put(o, "unstable_orbit", usm_json_hybrid_result(&e->hybrid_left, slip),
                              &eok);
+                usm_json_put(o, "unstable_from", usm_json_real(e->unstable_from), &eok);
+            }
         }
         if (!eok || json_array_append_new(events, o) != 0)
             ok = 0;

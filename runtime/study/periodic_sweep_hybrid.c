@@ -31,6 +31,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "core/root.h"
 #include "periodic_sweep_state.h"
 
 #define JUMP_GROWTH 3.0
@@ -157,35 +158,140 @@ static int follow(usm_periodic_sweep *s, branch *b, double v, usm_hybrid_result 
     return -1;
 }
 
-/* The value where the mode sequence changes from a's to c's between the
- * orbits a (at va) and c (at vc): bisection, each trial continued from the
- * bracket's end of a's sequence; *lo (at *vlo) and *hi (at *vhi): the last
- * bracket's orbits.  1 when located to the event tolerance, 0 when a trial
- * failed or met a third sequence. */
-static int locate_grazing(usm_periodic_sweep *s, double va, const usm_hybrid_result *a,
-                          double vc, const usm_hybrid_result *c, usm_hybrid_result *lo,
-                          double *vlo, usm_hybrid_result *hi, double *vhi)
+/* The bisection's indicator (core/root.h): 1 where the orbit continued from
+ * the latest orbit of a's sequence (the bracket's end on that side) has a's
+ * sequence, 0 where it has c's. */
+typedef struct graze_ctx {
+    usm_periodic_sweep *s;
+    const char *seq_a, *seq_c;
+    usm_hybrid_result lo, hi; /* the last bracket's orbits */
+    double vlo, vhi;
+} graze_ctx;
+
+static int graze_indicator(double v, void *ctx)
 {
+    graze_ctx *g = ctx;
     usm_hybrid_result r;
-    *lo = *a, *hi = *c, *vlo = va, *vhi = vc;
-    for (int it = 0; it < MAX_BISECT; ++it) {
-        if (fabs(*vhi - *vlo) <= s->tol)
-            return 1;
-        const double vm = 0.5 * (*vlo + *vhi);
-        const usm_params q = params_at(s, vm);
-        if (usm_hybrid_solve_from(s->hy, &q, NULL, lo->t0, lo->x0, &r) != USM_OK ||
-            r.nmodes < 2)
-            return 0;
-        if (strcmp(r.mode_sequence, a->mode_sequence) == 0) {
-            *vlo = vm;
-            *lo = r;
-        } else if (strcmp(r.mode_sequence, c->mode_sequence) == 0) {
-            *vhi = vm;
-            *hi = r;
-        } else
-            return 0;
+    const usm_params q = params_at(g->s, v);
+    if (usm_hybrid_solve_from(g->s->hy, &q, NULL, g->lo.t0, g->lo.x0, &r) != USM_OK ||
+        r.nmodes < 2)
+        return USM_ROOT_FAILED;
+    if (strcmp(r.mode_sequence, g->seq_a) == 0) {
+        g->lo = r;
+        g->vlo = v;
+        return 1;
     }
-    return 0;
+    if (strcmp(r.mode_sequence, g->seq_c) == 0) {
+        g->hi = r;
+        g->vhi = v;
+        return 0;
+    }
+    return USM_ROOT_UNDEFINED;
+}
+
+/* Where the mode sequence changes from a's (at va) to c's (at vc):
+ * usm_root_bisect to the event tolerance; g's lo and hi end as the last
+ * bracket's orbits.  1 located, 0 not (a trial failed or met a third
+ * sequence). */
+static int locate_grazing(usm_periodic_sweep *s, double va, const usm_hybrid_result *a,
+                          double vc, const usm_hybrid_result *c, graze_ctx *g)
+{
+    double x;
+    g->s = s;
+    g->seq_a = a->mode_sequence;
+    g->seq_c = c->mode_sequence;
+    g->lo = *a, g->hi = *c, g->vlo = va, g->vhi = vc;
+    return usm_root_bisect(graze_indicator, g, va, 1, vc, s->tol, MAX_BISECT, &x) == 1;
+}
+
+/* Brent's function (core/root.h) along the followed branch: max |lambda| - 1
+ * of the orbit at v, Newton from the bracket's orbits' interpolation, to
+ * STAB_NEWTON_TOL: near |lambda| = 1, B - I is nearly singular and
+ * amplifies the map's noise (1e-11) by 1 / (|lambda| - 1), so Newton's
+ * residual stalls above the default 1e-9 (measured 1.5e-8 at |lambda| =
+ * 1.001); an orbit to 1e-7 moves the multipliers by about that. */
+#define STAB_NEWTON_TOL 1e-7
+#define STAB_CACHE 8
+typedef struct stab_ctx {
+    usm_periodic_sweep *s;
+    usm_root *root;
+    int n; /* orbits evaluated; the last STAB_CACHE kept */
+    double v[STAB_CACHE];
+    usm_hybrid_result r[STAB_CACHE];
+} stab_ctx;
+
+static void stab_keep(stab_ctx *c, double v, const usm_hybrid_result *r)
+{
+    const int k = c->n++ % STAB_CACHE;
+    c->v[k] = v;
+    c->r[k] = *r;
+}
+
+/* The kept orbit at v, or NULL. */
+static const usm_hybrid_result *stab_at(const stab_ctx *c, double v)
+{
+    for (int i = 0; i < c->n && i < STAB_CACHE; ++i)
+        if (c->v[i] == v)
+            return &c->r[i];
+    return NULL;
+}
+
+static double stab_fn(double v, void *ctx)
+{
+    stab_ctx *c = ctx;
+    double lo, hi, x[USM_MAX_NX];
+    usm_root_bracket(c->root, &lo, &hi);
+    const usm_hybrid_result *a = stab_at(c, lo), *b = stab_at(c, hi);
+    if (!a || !b || a->t0 != b->t0)
+        return NAN;
+    /* Newton from the linear interpolation of the bracket's orbits; a result
+     * whose separation fraction leaves their span by more than its width
+     * jumped to another orbit */
+    const double t = (v - lo) / (hi - lo);
+    for (int i = 0; i < a->nx; ++i)
+        x[i] = a->x0[i] + t * (b->x0[i] - a->x0[i]);
+    usm_hybrid_result r;
+    usm_hybrid_options o;
+    usm_hybrid_options_default(&o);
+    o.tol = STAB_NEWTON_TOL;
+    const usm_params q = params_at(c->s, v);
+    const double fa = a->separation_fraction, fb = b->separation_fraction, w = fabs(fb - fa);
+    if (usm_hybrid_solve_from(c->s->hy, &q, &o, a->t0, x, &r) != USM_OK || r.nmodes < 2 ||
+        strcmp(r.mode_sequence, a->mode_sequence) != 0 ||
+        r.separation_fraction < fmin(fa, fb) - w || r.separation_fraction > fmax(fa, fb) + w)
+        return NAN;
+    stab_keep(c, v, &r);
+    return r.floquet.max_modulus - 1.0;
+}
+
+/* Where the followed orbit turns unstable between (va, a, stable) and (vb,
+ * b, unstable), by Brent's method to STAB_TOL of the range (the event
+ * tolerance is finer than the multipliers' own accuracy, about 1e-6: near
+ * |lambda| = 1 they scatter by that, and Newton, B - I nearly singular
+ * there, may fail); a failed trial ends it with the last bracket's middle
+ * when that is within 100 STAB_TOL; NaN otherwise. */
+#define STAB_TOL 1e-6
+static double locate_instability(usm_periodic_sweep *s, double va, const usm_hybrid_result *a,
+                                 double vb, const usm_hybrid_result *b)
+{
+    stab_ctx c;
+    double x = NAN, lo, hi;
+    c.s = s;
+    c.n = 0;
+    stab_keep(&c, va, a);
+    stab_keep(&c, vb, b);
+    usm_root *root = c.root = usm_root_alloc();
+    const double tol = fmax(s->tol, STAB_TOL * s->range);
+    const usm_root_stop stop = {tol, 0.0, MAX_BISECT};
+    if (!root)
+        return NAN;
+    if (usm_root_brent(root, stab_fn, &c, va, vb, a->floquet.max_modulus - 1.0,
+                       b->floquet.max_modulus - 1.0, &stop, &x) != 0) {
+        usm_root_bracket(root, &lo, &hi);
+        x = fabs(hi - lo) <= 100 * tol ? 0.5 * (lo + hi) : NAN;
+    }
+    usm_root_free(root);
+    return x;
 }
 
 /* The orbit a start from rest settles on at v (usm_hybrid_solve); 0 or -1. */
@@ -205,7 +311,7 @@ enum { SW_UNSTABLE, SW_LOST, SW_ENDS };
  * Newton from it found at pt). */
 static int switch_event(usm_periodic_sweep *s, const usm_periodic_point *pt,
                         const usm_hybrid_result *to, const usm_hybrid_result *from, int how,
-                        double v_last)
+                        double v_last, double unstable_from)
 {
     char vt[96], vl[96];
     psweep_value_text(s, pt->value, vt);
@@ -239,6 +345,7 @@ static int switch_event(usm_periodic_sweep *s, const usm_periodic_point *pt,
     e->hybrid_left = *from;
     e->branch_lost = how != SW_UNSTABLE;
     e->branch_last = how != SW_UNSTABLE ? v_last : pt->value;
+    e->unstable_from = how == SW_UNSTABLE ? unstable_from : NAN;
     return 0;
 }
 
@@ -250,14 +357,15 @@ static int switch_event(usm_periodic_sweep *s, const usm_periodic_point *pt,
 static int grazing_event(usm_periodic_sweep *s, double va, const usm_hybrid_result *a,
                          const usm_periodic_point *pt, const usm_hybrid_result *c)
 {
-    usm_hybrid_result lo, hi;
-    double vlo, vhi;
-    const int located = locate_grazing(s, va, a, pt->value, c, &lo, &vlo, &hi, &vhi);
-    const int meet = fabs(lo.separation_fraction - hi.separation_fraction) <= GRAZE_GAP &&
-                     fabs(lo.rotor_speed_mean - hi.rotor_speed_mean) <=
-                         GRAZE_GAP * fabs(hi.rotor_speed_mean);
+    graze_ctx g;
+    const int located = locate_grazing(s, va, a, pt->value, c, &g);
+    const usm_hybrid_result *lo = &g.lo, *hi = &g.hi;
+    const double vlo = g.vlo, vhi = g.vhi;
+    const int meet = fabs(lo->separation_fraction - hi->separation_fraction) <= GRAZE_GAP &&
+                     fabs(lo->rotor_speed_mean - hi->rotor_speed_mean) <=
+                         GRAZE_GAP * fabs(hi->rotor_speed_mean);
     if (located && !meet)
-        return switch_event(s, pt, c, &lo, SW_ENDS, vlo) == 0 ? 1 : -1;
+        return switch_event(s, pt, c, lo, SW_ENDS, vlo, NAN) == 0 ? 1 : -1;
     const double vg = 0.5 * (vlo + vhi);
     char vt[96], pa[96], pc[96];
     psweep_value_text(s, vg, vt);
@@ -280,6 +388,7 @@ int psweep_separating(usm_periodic_sweep *s, double dir)
     if (!s->hy && !(s->hy = usm_hybrid_alloc(s->m)))
         return -1;
     branch b, gone;
+    double unstable_from = NAN; /* where the followed orbit turned unstable */
     b.n = gone.n = 0; /* gone: a branch lost at a point without any orbit since */
     for (size_t i = 0; i < s->npts; ++i) {
         usm_periodic_point *pt = &s->pts[i];
@@ -316,15 +425,21 @@ int psweep_separating(usm_periodic_sweep *s, double dir)
         pt->separating = 1;
         pt->hybrid = r;
         gone.n = 0;
+        /* where the followed orbit turned unstable, located */
+        if (!on || r.floquet.max_modulus < 1)
+            unstable_from = NAN;
+        else if (before.n && before.r[1].floquet.max_modulus < 1 &&
+                 strcmp(before.r[1].mode_sequence, r.mode_sequence) == 0)
+            unstable_from = locate_instability(s, before.v[1], &before.r[1], pt->value, &r);
         if (lost) {
-            if (switch_event(s, pt, &r, &before.r[1], SW_LOST, before.v[1]) != 0)
+            if (switch_event(s, pt, &r, &before.r[1], SW_LOST, before.v[1], NAN) != 0)
                 return -1;
             pt->switched = 1;
             b.n = 0;
             branch_push(&b, pt->value, &r);
         } else if (on && !(r.floquet.max_modulus < 1) && solve_cold(s, pt->value, &alt) == 0 &&
                    alt.floquet.max_modulus < 1) {
-            if (switch_event(s, pt, &alt, &r, SW_UNSTABLE, pt->value) != 0)
+            if (switch_event(s, pt, &alt, &r, SW_UNSTABLE, pt->value, unstable_from) != 0)
                 return -1;
             pt->hybrid = alt;
             pt->switched = 1;

@@ -142,6 +142,9 @@ typedef struct usm_periodic_event {
     usm_hybrid_result hybrid, hybrid_left;
     int branch_lost;
     double branch_last;
+    double unstable_from;       /* not branch_lost: where the followed orbit turned unstable
+                                   (max |lambda| = 1 on it, located by Brent to the event
+                                   tolerance), NaN when not located */
 } usm_periodic_event;
 
 /* One requested grid value and the orbit there. */
