@@ -171,7 +171,7 @@ typedef struct usm_report_nonideal_curve {
      * how many, and the first's value and the continued orbit's |lambda|
      * there */
     int sep_switches;
-    double sep_switch_at, sep_switch_modulus;
+    double sep_switch_at, sep_switch_modulus, sep_switch_unstable_from;
     int tolerable_found;      /* the smaller of the two roots found */
     double tolerable;
     const char *tolerable_by; /* "contact" or "stability" */

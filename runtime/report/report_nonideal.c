@@ -221,7 +221,7 @@ static int curve_task(void *ctx, void *state, size_t i)
     cv->sep_unstable = 0;
     cv->sep_unstable_from = cv->sep_unstable_to = cv->sep_modulus_max = NAN;
     cv->sep_switches = 0;
-    cv->sep_switch_at = cv->sep_switch_modulus = NAN;
+    cv->sep_switch_at = cv->sep_switch_modulus = cv->sep_switch_unstable_from = NAN;
     for (size_t q = 0; swept && q < usm_periodic_sweep_event_count(sw); ++q) {
         const usm_periodic_event *e = usm_periodic_sweep_event_at(sw, q);
         if (e->type != USM_PEVENT_BRANCH_SWITCH)
@@ -229,6 +229,7 @@ static int curve_task(void *ctx, void *state, size_t i)
         if (cv->sep_switches++ == 0) {
             cv->sep_switch_at = e->value;
             cv->sep_switch_modulus = e->branch_lost ? NAN : e->hybrid_left.floquet.max_modulus;
+            cv->sep_switch_unstable_from = e->branch_lost ? NAN : e->unstable_from;
         }
     }
     for (int q = 0; q < cv->points; ++q) {

@@ -72,7 +72,10 @@
  *                      follows it from there; the event, at the grid point,
  *                      carries both orbits (hybrid: the new one; hybrid_left:
  *                      the unstable one, or the branch's last at
- *                      branch_last).  Where the simulation's Newton finds no
+ *                      branch_last; unstable_from: where the followed orbit
+ *                      turned unstable, located by Brent's method on
+ *                      max |lambda| = 1 along it to 1e-6 of the range).
+ *                      Where the simulation's Newton finds no
  *                      stable orbit (it converges to the same unstable one,
  *                      e.g. when that is only weakly unstable, or fails) the
  *                      point keeps the unstable followed orbit.
