@@ -21,7 +21,9 @@
  * branch was lost, usm_hybrid_solve (a simulation from rest, then Newton)
  * gives the start-up's attractor; when that one is stable (or the branch was
  * lost and it does not continue the branch) the point takes it and the
- * branch continues from it: a branch_switch event, with both orbits.  Where
+ * branch continues from it: a branch_switch event, with both orbits and,
+ * for an unstable one, where it turned unstable (Brent's method on
+ * max |lambda| = 1 between its last stable and first unstable point).  Where
  * the mode sequence changes along the branch, the change is located by
  * bisection on the parameter (the mode sequence of the orbit continued from
  * the bracket's end of the old sequence) to the event tolerance: a grazing
