@@ -1,7 +1,7 @@
 /* One periodic orbit with separation and its multipliers (usm_hybrid_solve,
  * issue 24), per model of the variant imperfect_unilateral past contact loss
- * (phase error 35 deg 3-DOF, 30 deg 4-DOF): the whole solve (the simulation
- * from rest over 10 ms that gives the section and start included), and one
+ * (phase error 35 deg 3-DOF, 30 deg 4-DOF): the whole solve (the start-up
+ * simulation from rest that gives the section and start included), and one
  * period map with the monodromy from the converged state (the cost of the
  * orbit and its multipliers once started near it; a Newton step is one).
  * Issue 24's goal: under 50 ms per orbit.

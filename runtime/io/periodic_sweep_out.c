@@ -127,6 +127,19 @@ static json_t *sweep_json(const usm_periodic_sweep *s, const usm_params *p)
         usm_json_put(o, "what", json_string(e->what), &eok);
         if (e->has_orbit)
             usm_json_put(o, "orbit", usm_json_periodic_result(&e->orbit), &eok);
+        if (e->has_hybrid) { /* branch_switch: the orbit followed, the one left */
+            const int slip = usm_periodic_sweep_model(s)->slip;
+            usm_json_put(o, "orbit", usm_json_hybrid_result(&e->hybrid, slip), &eok);
+            usm_json_put(o, "branch_lost", json_boolean(e->branch_lost), &eok);
+            if (e->branch_lost) { /* the branch's last orbit, and where */
+                usm_json_put(o, "last_orbit", usm_json_hybrid_result(&e->hybrid_left, slip), &eok);
+                usm_json_put(o, "last_value", usm_json_real(e->branch_last), &eok);
+            } else {
+                usm_json_put(o, "unstable_orbit", usm_json_hybrid_result(&e->hybrid_left, slip),
+                             &eok);
+                usm_json_put(o, "unstable_from", usm_json_real(e->unstable_from), &eok);
+            }
+        }
         if (!eok || json_array_append_new(events, o) != 0)
             ok = 0;
     }

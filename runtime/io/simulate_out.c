@@ -124,6 +124,9 @@ void usm_sim_write_table(const usm_sim_report *a, FILE *out)
         fprintf(out, "  %-22s %ld separations, %ld impacts (largest approach velocity %.4g m/s), "
                 "open %.6g of the time\n", "unilateral contact", s->separations, s->impacts,
                 s->impact_velocity_max, s->open_fraction);
+        if (s->periods > 0)
+            fprintf(out, "  %-22s %.6g of the last period open (on a settled run: the orbit's "
+                    "separation_fraction)\n", "", s->open_fraction_end);
         if (s->impacts_slipping)
             fprintf(out, "  %-22s %ld impacts needed a friction impulse above mu0 P_n (the stick "
                     "model sticks regardless: it does not describe them)\n", "impacts slipping",
@@ -234,6 +237,8 @@ static json_t *summary_json(const usm_sim_report *a)
         usm_json_put(o, "impacts_slipping", json_integer(s->impacts_slipping), &ok);
         usm_json_put(o, "impact_velocity_max", usm_json_real(s->impact_velocity_max), &ok);
         usm_json_put(o, "open_fraction", usm_json_real(s->open_fraction), &ok);
+        if (s->periods > 0)
+            usm_json_put(o, "open_fraction_end", usm_json_real(s->open_fraction_end), &ok);
         usm_json_put(o, "final_open", json_boolean(s->final_open), &ok);
     }
     if (s->stick_checked)

@@ -167,6 +167,11 @@ typedef struct usm_report_nonideal_curve {
      * one is, and the largest |lambda| of all orbits with separation */
     int sep_unstable;
     double sep_unstable_from, sep_unstable_to, sep_modulus_max;
+    /* the sweep's branch switches (usm_periodic_sweep.h, branch_switch):
+     * how many, and the first's value and the continued orbit's |lambda|
+     * there */
+    int sep_switches;
+    double sep_switch_at, sep_switch_modulus, sep_switch_unstable_from;
     int tolerable_found;      /* the smaller of the two roots found */
     double tolerable;
     const char *tolerable_by; /* "contact" or "stability" */

@@ -740,6 +740,13 @@ static json_t *nonideal_curve(const usm_report_nonideal_curve *cv, int j)
         num(sp, "unstable_from_display", imp_display(j, cv->sep_unstable_from));
         num(sp, "unstable_to_display", imp_display(j, cv->sep_unstable_to));
         num(sp, "max_modulus", cv->sep_modulus_max);
+        integer(sp, "switches", cv->sep_switches);
+        flag(sp, "any_switch", cv->sep_switches > 0);
+        num(sp, "switch_at", cv->sep_switch_at);
+        num(sp, "switch_at_display", imp_display(j, cv->sep_switch_at));
+        num(sp, "switch_unstable_modulus", cv->sep_switch_modulus);
+        num(sp, "switch_unstable_from", cv->sep_switch_unstable_from);
+        num(sp, "switch_unstable_from_display", imp_display(j, cv->sep_switch_unstable_from));
         num(sp, "speed_at_end", last ? last->sep_speed_mean : NAN);
         num(sp, "ripple_at_end", last ? last->sep_ripple : NAN);
         num(sp, "fraction_at_end", last ? last->sep_fraction : NAN);

@@ -212,12 +212,26 @@ static int curve_task(void *ctx, void *state, size_t i)
     /* past contact loss: how far the stable orbits with separation drive the
      * load (their mean rotor speed has the ideal motor's sign, that of the
      * first point), their largest impact velocity; the unstable ones counted
-     * apart */
+     * apart.  Where the continued orbit turned unstable and a start from
+     * rest settles on a stable one, the sweep switched to that (the motor's:
+     * branch_switch), and these are its numbers */
     cv->sep_points = 0;
     cv->sep_drives_all = 1;
     cv->sep_drives_to = cv->sep_impact_max = cv->sep_impact_at = NAN;
     cv->sep_unstable = 0;
     cv->sep_unstable_from = cv->sep_unstable_to = cv->sep_modulus_max = NAN;
+    cv->sep_switches = 0;
+    cv->sep_switch_at = cv->sep_switch_modulus = cv->sep_switch_unstable_from = NAN;
+    for (size_t q = 0; swept && q < usm_periodic_sweep_event_count(sw); ++q) {
+        const usm_periodic_event *e = usm_periodic_sweep_event_at(sw, q);
+        if (e->type != USM_PEVENT_BRANCH_SWITCH)
+            continue;
+        if (cv->sep_switches++ == 0) {
+            cv->sep_switch_at = e->value;
+            cv->sep_switch_modulus = e->branch_lost ? NAN : e->hybrid_left.floquet.max_modulus;
+            cv->sep_switch_unstable_from = e->branch_lost ? NAN : e->unstable_from;
+        }
+    }
     for (int q = 0; q < cv->points; ++q) {
         const usm_report_nonideal_point *pt = &cv->pt[q];
         if (!pt->separating)

@@ -40,6 +40,7 @@
 #include "usm_simulate.h"
 
 #define TWO_PI 6.283185307179586476925286766559
+#define RIPPLE_SAMPLES 256 /* rotor speed samples a period (and both sides of every switch) */
 #define NY USM_MAX_NY
 #define MAXZ (NY + NY * USM_MAX_NX)
 
@@ -613,11 +614,27 @@ int usm_hybrid_period_map(usm_hybrid *h, double ts, const double *x0, double *x1
 
 /* ---- the start: a simulation ---------------------------------------------------- */
 
-#define NSAMP 400
+#define SAMPLES_PER_PERIOD 50
+/* The quick start (usm_hybrid_solve): the simulation's tolerance, and its
+ * early end once the period means of tilt and rotor speed changed by less
+ * than CALM_TOL (relative; the rotor speed's at least to 1e-2 1/s) in
+ * CALM_PERIODS consecutive periods.  Measured (bench/bench_hybrid, 3-DOF 35
+ * deg, 4-DOF 30 deg): the start-up ends after about 50 of the 185 periods of
+ * settle, 25 to 35 ms of the old 230 to 280 ms, and Newton needs one map
+ * with the monodromy and three chord steps more. */
+#define QUICK_RTOL 1e-5
+#define CALM_TOL 3e-4
+#define CALM_PERIODS 5
+#define NSAMP (2 * SAMPLES_PER_PERIOD) /* two periods */
 typedef struct {
     int n, nx;
     double t[NSAMP], x[NSAMP][USM_MAX_NX];
     int open[NSAMP];
+    /* the early end: period means seen, the last ones, the calm periods */
+    double stol;
+    int speriods;
+    double theta_avg, speed_avg, w_floor;
+    int calm, stopped;
 } ring_t;
 
 static int keep_sample(const usm_sim_sample *s, void *data)
@@ -628,13 +645,26 @@ static int keep_sample(const usm_sim_sample *s, void *data)
     r->open[k] = s->open;
     memcpy(r->x[k], s->x, sizeof(double) * (size_t)r->nx);
     r->n++;
+    if (s->have_avg && (s->theta_avg != r->theta_avg || s->rotor_speed_avg != r->speed_avg)) {
+        /* a new period's means: calm when both moved by less than stol */
+        const double dth = fabs(s->theta_avg - r->theta_avg) / fabs(s->theta_avg);
+        const double dw = fabs(s->rotor_speed_avg - r->speed_avg) /
+                          fmax(fabs(s->rotor_speed_avg), r->w_floor);
+        r->calm = dth < r->stol && dw < r->stol ? r->calm + 1 : 0;
+        r->theta_avg = s->theta_avg;
+        r->speed_avg = s->rotor_speed_avg;
+        if (r->calm >= r->speriods && r->n >= NSAMP) {
+            r->stopped = 1;
+            return 1;
+        }
+    }
     return 0;
 }
 
 /* The section: the middle of the longest closed stretch among the last
- * samples (200 per period over two periods). */
-static int start_from_simulation(usm_hybrid *h, const usm_hybrid_options *o, double *ts,
-                                 double *x0, double *speed)
+ * samples (SAMPLES_PER_PERIOD per period over two periods). */
+static int start_from_simulation(usm_hybrid *h, const usm_hybrid_options *o, int quick,
+                                 double *ts, double *x0, double *speed)
 {
     usm_sim *s = usm_sim_alloc(h->m);
     usm_sim_options so;
@@ -648,11 +678,18 @@ static int start_from_simulation(usm_hybrid *h, const usm_hybrid_options *o, dou
     }
     usm_sim_options_default(&so);
     so.duration = o->settle;
-    so.rate = 200 * h->p.f;
-    so.rtol = 1e-8; /* a start near the orbit: Newton does the rest */
+    so.rate = SAMPLES_PER_PERIOD * h->p.f;
+    /* a start near the orbit: Newton does the rest */
+    so.rtol = quick ? QUICK_RTOL : 1e-8;
     r->nx = h->nx;
+    r->stol = quick ? CALM_TOL : 0.0;
+    r->speriods = CALM_PERIODS;
+    r->w_floor = 1e-2;
+    r->theta_avg = r->speed_avg = NAN;
     usm_sim_callbacks cb = {keep_sample, NULL, r, NULL};
     int rc = usm_sim_run(s, &h->p, &so, &cb, &sum);
+    if (r->stopped && sum.stop == USM_SIM_STOPPED)
+        rc = USM_OK; /* settled enough for Newton: the early end */
     if (rc != USM_OK)
         snprintf(h->msg, USM_MSG_LEN, "the simulation to start from failed: %.200s",
                  usm_sim_message(s));
@@ -789,10 +826,31 @@ int usm_hybrid_solve(usm_hybrid *h, const usm_params *p, const usm_hybrid_option
     if ((rc = check_start(h, p, opt, out)) != USM_OK)
         return rc;
     double ts, x0[USM_MAX_NX], speed;
-    if ((rc = start_from_simulation(h, opt, &ts, x0, &speed)) != USM_OK)
-        return rc;
-    set_scales(h, x0[h->m->x_theta], speed);
-    return newton(h, opt, ts, x0, out);
+    /* quick: the start-up at rtol 1e-5, ended once calm; Newton's chord
+     * steps take it from there.  Should Newton fail from it, or converge to
+     * an unstable orbit (a start-up lingers near a weakly unstable orbit,
+     * and calm there is not settled: 4-DOF mode split 2 %), the careful
+     * start: the whole settle at rtol 1e-8. */
+    usm_hybrid_result first;
+    int have_first = 0;
+    for (int quick = 1; quick >= 0; --quick) {
+        if ((rc = start_from_simulation(h, opt, quick, &ts, x0, &speed)) == USM_OK) {
+            set_scales(h, x0[h->m->x_theta], speed);
+            rc = newton(h, opt, ts, x0, out);
+        }
+        if (rc == USM_OK && (!quick || out->floquet.max_modulus < 1))
+            break;
+        if (rc == USM_OK) { /* unstable: kept should the careful start fail */
+            first = *out;
+            have_first = 1;
+        }
+    }
+    if (rc != USM_OK && have_first) {
+        *out = first;
+        h->msg[0] = '\0';
+        rc = USM_OK;
+    }
+    return rc;
 }
 
 int usm_hybrid_solve_from(usm_hybrid *h, const usm_params *p, const usm_hybrid_options *opt,
@@ -817,6 +875,28 @@ int usm_hybrid_solve_from(usm_hybrid *h, const usm_params *p, const usm_hybrid_o
     return newton(h, opt, ts, x0, out);
 }
 
+/* The residual r = x1 - x0 (less 2 pi in phi) on the non-cyclic components
+ * and its largest scaled entry. */
+static double residual(const usm_hybrid *h, const int *idx, int nr, const double *x0,
+                       const double *x1, double *r)
+{
+    double res = 0;
+    for (int a = 0; a < nr; ++a) {
+        const int i = idx[a];
+        r[a] = x1[i] - x0[i] - (i == h->m->x_phi ? TWO_PI : 0.0);
+        res = fmax(res, fabs(r[a]) / h->scale[i]);
+    }
+    return res;
+}
+
+/* Newton on x(ts + T) - x(ts) with chord steps: each map with the monodromy
+ * (9 ms, 4-DOF) is followed by steps with its LU and maps without it (2 ms)
+ * while they contract the residual at least by CHORD_RATE; the orbit's
+ * multipliers come from a map with the monodromy at the converged state.
+ * opt->max_iter counts the maps with the monodromy (out->iterations). */
+#define CHORD_RATE 0.25
+#define CHORD_MAX 8
+#define CHORD_NOISE 10.0
 static int newton(usm_hybrid *h, const usm_hybrid_options *opt, double ts, double *x0,
                   usm_hybrid_result *out)
 {
@@ -829,19 +909,23 @@ static int newton(usm_hybrid *h, const usm_hybrid_options *opt, double ts, doubl
             idx[nr++] = i;
     double res = INFINITY, mean = NAN;
     int it;
+    /* every map with the monodromy samples the rotor speed for the ripple
+     * (the converged one's counts): the samples are CVODES' interpolants,
+     * its steps the same */
     for (it = 0; it <= opt->max_iter; ++it) {
-        if ((rc = period_map(h, ts, x0, x1, B, &mean)) != USM_OK)
-            return rc;
         double r[USM_MAX_NX];
-        res = 0;
-        for (int a = 0; a < nr; ++a) {
-            const int i = idx[a];
-            r[a] = x1[i] - x0[i] - (i == h->m->x_phi ? TWO_PI : 0.0);
-            res = fmax(res, fabs(r[a]) / h->scale[i]);
-        }
-        if (res <= opt->tol)
+        h->nsamp = RIPPLE_SAMPLES;
+        rc = period_map(h, ts, x0, x1, B, &mean);
+        h->nsamp = 0;
+        if (rc != USM_OK)
+            return rc;
+        const double res_b = residual(h, idx, nr, x0, x1, r);
+        /* converged by a chord map: this map (other steps, as the monodromy
+         * is in the error control) agrees to its integration noise */
+        if (res <= opt->tol && res_b <= CHORD_NOISE * opt->tol)
             break;
-        if (it == opt->max_iter)
+        res = res_b;
+        if (res <= opt->tol || it == opt->max_iter)
             break;
         double J[USM_MAX_NX * USM_MAX_NX];
         size_t pdata[USM_MAX_NX];
@@ -851,14 +935,37 @@ static int newton(usm_hybrid *h, const usm_hybrid_options *opt, double ts, doubl
             for (int b = 0; b < nr; ++b)
                 J[a * nr + b] = B[idx[a] * nx + idx[b]] - (a == b);
         gsl_matrix_view Jm = gsl_matrix_view_array(J, (size_t)nr, (size_t)nr);
-        gsl_vector_view rv = gsl_vector_view_array(r, (size_t)nr);
-        if (gsl_linalg_LU_decomp(&Jm.matrix, &perm, &sign) != GSL_SUCCESS ||
-            gsl_linalg_LU_svx(&Jm.matrix, &perm, &rv.vector) != GSL_SUCCESS) {
+        if (gsl_linalg_LU_decomp(&Jm.matrix, &perm, &sign) != GSL_SUCCESS) {
             snprintf(h->msg, USM_MSG_LEN, "Newton: B - I is singular");
             return USM_EFAILED;
         }
-        for (int a = 0; a < nr; ++a)
-            x0[idx[a]] -= r[a];
+        /* the Newton step, then chord steps with the same LU */
+        for (int c = 0; c <= CHORD_MAX; ++c) {
+            gsl_vector_view rv = gsl_vector_view_array(r, (size_t)nr);
+            if (gsl_linalg_LU_svx(&Jm.matrix, &perm, &rv.vector) != GSL_SUCCESS) {
+                snprintf(h->msg, USM_MSG_LEN, "Newton: B - I is singular");
+                return USM_EFAILED;
+            }
+            double xt[USM_MAX_NX], rt[USM_MAX_NX];
+            memcpy(xt, x0, sizeof xt);
+            for (int a = 0; a < nr; ++a)
+                xt[idx[a]] -= r[a];
+            if (c == CHORD_MAX) { /* the last step: the next map has the monodromy */
+                memcpy(x0, xt, sizeof xt);
+                break;
+            }
+            double rest;
+            if (period_map(h, ts, xt, x1, NULL, NULL) != USM_OK ||
+                !((rest = residual(h, idx, nr, xt, x1, rt)) <= CHORD_RATE * res)) {
+                memcpy(x0, xt, sizeof xt); /* a Newton step that did not contract enough */
+                break;
+            }
+            memcpy(x0, xt, sizeof xt);
+            memcpy(r, rt, sizeof rt);
+            res = rest;
+            if (res <= opt->tol)
+                break; /* the map with the monodromy confirms it */
+        }
     }
     out->iterations = it;
     out->residual = res;
@@ -873,18 +980,7 @@ static int newton(usm_hybrid *h, const usm_hybrid_options *opt, double ts, doubl
     }
     if ((rc = multipliers(h, B, &out->floquet)) != USM_OK)
         return rc;
-    /* the ripple: one more period without the variational matrix, sampled */
-    {
-        double xs[USM_MAX_NX];
-        usm_floquet_result keep = out->floquet;
-        h->nsamp = 256;
-        rc = period_map(h, ts, x0, xs, NULL, NULL);
-        h->nsamp = 0;
-        if (rc != USM_OK)
-            return rc;
-        out->rotor_speed_ripple = h->wmax - h->wmin;
-        out->floquet = keep;
-    }
+    out->rotor_speed_ripple = h->wmax - h->wmin; /* of the converged map */
     out->floquet.t0 = ts;
     out->converged = 1;
     out->rotor_speed_mean = mean;

@@ -610,6 +610,7 @@ typedef struct run_state {
     double q_prev[2];         /* quadratures at the previous period end */
     int have_avg;
     double theta_avg, speed_avg;
+    double open_prev;         /* time open up to the previous period end */
     double last_out;          /* end of the last period outside the tolerance */
     long in_tol_run;          /* consecutive periods inside, at the end */
     int rest;                 /* the decay rule was met at the last period end */
@@ -690,6 +691,12 @@ static void end_of_period(usm_sim *s, run_state *r, double t, const double *q)
     sum->periods++;
     sum->theta_avg_end = r->theta_avg;
     sum->rotor_speed_avg_end = r->speed_avg;
+    if (s->u) {
+        /* the time open in this period, the window of rotor_speed_avg_end */
+        const double open = sum->contact_open.total + (s->in_open ? t - s->open_since : 0.0);
+        sum->open_fraction_end = (open - r->open_prev) / r->T;
+        r->open_prev = open;
+    }
     if (sum->have_steady) {
         sum->theta_rel_end = rel_diff(r->theta_avg, sum->steady.theta);
         sum->rotor_speed_rel_end = rel_diff(r->speed_avg, sum->steady.rotor_speed);

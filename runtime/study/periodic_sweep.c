@@ -1,6 +1,7 @@
 /* Continuation of the periodic orbit in one parameter, with its events
  * (usm_periodic_sweep.h). */
 #include "periodic_sweep_internal.h"
+#include "periodic_sweep_state.h"
 
 #include <float.h>
 #include <math.h>
@@ -24,24 +25,6 @@
 #define SAT_TRIGGER 0.999
 #define SAT_NEAR 0.99 /* where a lost branch is checked for saturation */
 
-struct usm_periodic_sweep {
-    const usm_model *m;
-    usm_periodic *w;
-    usm_periodic_point *pts;
-    size_t npts;
-    usm_periodic_event *ev;
-    size_t nev, cap;
-    const usm_param_info *info;
-    const char *unit;
-    char over[32];
-    usm_params p;
-    usm_periodic_options popt;
-    double range, tol;
-    int sat;            /* friction saturation: 0 not looked for, 1 located ahead, -1 not found */
-    double sat_value;   /* its parameter value when sat = 1 */
-    usm_hybrid *hy;     /* unilateral models: the orbits with separation */
-    char msg[USM_MSG_LEN];
-};
 
 const char *usm_pevent_name(usm_pevent_type type)
 {
@@ -53,6 +36,7 @@ const char *usm_pevent_name(usm_pevent_type type)
     case USM_PEVENT_FRICTION_SATURATION: return "friction_saturation";
     case USM_PEVENT_CONTACT_REGAINED: return "contact_regained";
     case USM_PEVENT_GRAZING: return "grazing";
+    case USM_PEVENT_BRANCH_SWITCH: return "branch_switch";
     }
     return "unknown";
 }
@@ -135,8 +119,8 @@ static void predict(const usm_periodic_result *a, double va, const usm_periodic_
         x[i] = b->x0[i] + t * (b->x0[i] - a->x0[i]);
 }
 
-static usm_periodic_event *add_event(usm_periodic_sweep *s, usm_pevent_type type, double v,
-                                     const usm_periodic_result *orbit, const char *fmt, ...)
+usm_periodic_event *psweep_event_add(usm_periodic_sweep *s, usm_pevent_type type, double v,
+                                      const usm_periodic_result *orbit, const char *fmt, ...)
 {
     if (s->nev == s->cap) {
         size_t cap = s->cap ? 2 * s->cap : 8;
@@ -265,7 +249,7 @@ static int locate(usm_periodic_sweep *s, int k, double va, const usm_periodic_re
     return rc;
 }
 
-static void value_text(const usm_periodic_sweep *s, double v, char buf[96])
+void psweep_value_text(const usm_periodic_sweep *s, double v, char buf[96])
 {
     /* no unit "1" after a ratio */
     snprintf(buf, 96, "%s = %.12g%s%s", s->over, v, strcmp(s->unit, "1") ? " " : "",
@@ -278,16 +262,16 @@ static int emit_located(usm_periodic_sweep *s, int k, double v, const usm_period
 {
     char vt[96];
     const char *how = located ? "" : " (not located to tolerance: a trial orbit failed)";
-    value_text(s, v, vt);
+    psweep_value_text(s, v, vt);
     const char *inc = dir_up ? "increases" : "decreases";
     if (k == G_CONTACT)
-        return add_event(s, rising && s->m->unilateral ? USM_PEVENT_CONTACT_REGAINED
+        return psweep_event_add(s, rising && s->m->unilateral ? USM_PEVENT_CONTACT_REGAINED
                                                        : USM_PEVENT_CONTACT_LOSS, v, r,
                          "F_n_min = 0 at %s: the contact %s once a period as %s %s%s", vt,
                          rising ? "closes again" : "opens", s->over, inc, how)
                    ? 0 : -1;
     if (k == G_STICK)
-        return add_event(s, USM_PEVENT_STICK_LOSS, v, r,
+        return psweep_event_add(s, USM_PEVENT_STICK_LOSS, v, r,
                          "friction_needed_max = mu0 = %g at %s: stick %s as %s %s%s", s->p.mu0,
                          vt, rising ? "fails somewhere on the orbit (intermittent slip)"
                                     : "holds again over the whole orbit",
@@ -307,7 +291,7 @@ static int emit_located(usm_periodic_sweep *s, int k, double v, const usm_period
     char sq[64] = "";
     if (isfinite(squeal))
         snprintf(sq, sizeof sq, ", squeal frequency %.6g Hz", squeal);
-    usm_periodic_event *e = add_event(
+    usm_periodic_event *e = psweep_event_add(
         s, USM_PEVENT_STABILITY_CHANGE, v, r,
         "max |lambda| = 1 at %s (%s: critical multiplier %.8f %+.8fi%s): the orbit %s as %s "
         "%s%s",
@@ -393,8 +377,8 @@ static int branch_end(usm_periodic_sweep *s, double vp, const usm_periodic_resul
         return 0;
     const double vf = va - ga * (va - vp) / (ga - gp);
     char vt[96];
-    value_text(s, vf, vt);
-    return add_event(s, USM_PEVENT_FOLD, vf, NULL,
+    psweep_value_text(s, vf, vt);
+    return psweep_event_add(s, USM_PEVENT_FOLD, vf, NULL,
                      "the branch turns back near %s: a real multiplier reaches +1 (extrapolated "
                      "from the last two orbits; natural-parameter continuation stops here)", vt)
                ? 0 : -1;
@@ -422,75 +406,13 @@ static void find_saturation(usm_periodic_sweep *s, double v, const usm_periodic_
 static int emit_saturation(usm_periodic_sweep *s, int dir_up)
 {
     char vt[96];
-    value_text(s, s->sat_value, vt);
-    return add_event(s, USM_PEVENT_FRICTION_SATURATION, s->sat_value, NULL,
+    psweep_value_text(s, s->sat_value, vt);
+    return psweep_event_add(s, USM_PEVENT_FRICTION_SATURATION, s->sat_value, NULL,
                      "F_t / F_n reaches the friction law's supremum %.6g over the whole orbit at "
                      "%s: the rotor speed diverges and no periodic orbit exists %s it",
                      usm_periodic_friction_supremum(s->m, &s->p), vt,
                      dir_up ? "above" : "below")
                ? 0 : -1;
-}
-
-/* Unilateral models: the orbits with separation at the grid points whose
- * bilateral orbit's contact opens (or that have none after such a point),
- * each warm-started from the last; grazing events where the mode sequence
- * changes; then every event in sweep order.  0, or -1 when out of memory. */
-static int separating_pass(usm_periodic_sweep *s, double dir)
-{
-    if (!s->hy && !(s->hy = usm_hybrid_alloc(s->m)))
-        return -1;
-    usm_hybrid_result prev;
-    double vprev = 0;
-    int have = 0;          /* prev is the last point's orbit: a warm start */
-    char seq[USM_HYBRID_MAX_SWITCHES + 1] = ""; /* the last orbit's mode sequence */
-    for (size_t i = 0; i < s->npts; ++i) {
-        usm_periodic_point *pt = &s->pts[i];
-        pt->separating = 0;
-        if (pt->converged ? !pt->orbit.contact_open : !have) {
-            have = 0;
-            seq[0] = '\0';
-            continue;
-        }
-        usm_params q = s->p;
-        *usm_params_field(&q, s->info) = pt->value;
-        int rc = have ? usm_hybrid_solve_from(s->hy, &q, NULL, prev.t0, prev.x0, &pt->hybrid)
-                      : -1;
-        if (rc != USM_OK)
-            rc = usm_hybrid_solve(s->hy, &q, NULL, &pt->hybrid);
-        if (rc != USM_OK || pt->hybrid.nmodes < 2) {
-            /* a converged point keeps its bilateral orbit (contact_open) and
-             * says why there is no orbit with separation in `error` */
-            const size_t len = strlen(pt->error);
-            snprintf(pt->error + len, sizeof pt->error - len, "%sno orbit with separation: %.100s",
-                     len ? "; " : "", rc == USM_OK ? "the contact does not open on it"
-                                                   : usm_hybrid_message(s->hy));
-            have = 0;
-            continue;
-        }
-        pt->separating = 1;
-        if (seq[0] && strcmp(seq, pt->hybrid.mode_sequence) != 0) {
-            char va[96], vb[96];
-            value_text(s, vprev, va);
-            value_text(s, pt->value, vb);
-            if (!add_event(s, USM_PEVENT_GRAZING, pt->value, NULL,
-                           "the orbit with separation changes its mode sequence from %s to %s "
-                           "between %s and %s (located to the grid): an orbit touches a guard "
-                           "tangentially in between", seq, pt->hybrid.mode_sequence, va, vb))
-                return -1;
-        }
-        prev = pt->hybrid;
-        vprev = pt->value;
-        have = 1;
-        snprintf(seq, sizeof seq, "%s", pt->hybrid.mode_sequence);
-    }
-    /* every event in sweep order (insertion sort: stable, few events) */
-    for (size_t i = 1; i < s->nev; ++i)
-        for (size_t j = i; j > 0 && dir * (s->ev[j].value - s->ev[j - 1].value) < 0; --j) {
-            usm_periodic_event t = s->ev[j];
-            s->ev[j] = s->ev[j - 1];
-            s->ev[j - 1] = t;
-        }
-    return 0;
 }
 
 int usm_periodic_sweep_run(usm_periodic_sweep *s, const usm_params *p,
@@ -615,7 +537,7 @@ int usm_periodic_sweep_run(usm_periodic_sweep *s, const usm_params *p,
         }
         if (lost && s->sat == 1 && (target - s->sat_value) * (opt->to - opt->from) >= 0) {
             char vt[96];
-            value_text(s, s->sat_value, vt);
+            psweep_value_text(s, s->sat_value, vt);
             snprintf(pt->error, sizeof pt->error,
                      "no orbit beyond friction_saturation at %s: the rotor speed diverges", vt);
         } else if (lost) {
@@ -633,7 +555,7 @@ int usm_periodic_sweep_run(usm_periodic_sweep *s, const usm_params *p,
         if (opt->progress)
             opt->progress((double)i / (n - 1), opt->progress_ctx);
     }
-    if (s->m->unilateral && separating_pass(s, opt->to - opt->from) != 0)
+    if (s->m->unilateral && psweep_separating(s, opt->to - opt->from) != 0)
         goto oom;
     return USM_OK;
 oom:

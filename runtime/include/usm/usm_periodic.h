@@ -132,8 +132,10 @@ const char *usm_periodic_message(const usm_periodic *w);
 typedef struct usm_hybrid_options {
     double rtol;     /* CVODES relative tolerance (default 1e-11: Newton's tol 1e-9 needs it) */
     double tol;      /* Newton: max |x(ts + T) - x(ts)| / scale (default 1e-9) */
-    int max_iter;    /* Newton iterations (default 12) */
-    double settle;   /* simulated time from rest before shooting [s] (default 0.005) */
+    int max_iter;    /* Newton iterations: period maps with the monodromy, each followed
+                        by chord steps (maps without it) while they contract (default 12) */
+    double settle;   /* simulated time from rest before shooting [s] (default 0.005): the
+                        careful start's; the quick start ends earlier (usm_hybrid_solve) */
 } usm_hybrid_options;
 
 /* Fill `opt` with the defaults listed above. */
@@ -143,7 +145,7 @@ void usm_hybrid_options_default(usm_hybrid_options *opt);
 #define USM_HYBRID_MAX_SWITCHES 32
 
 typedef struct usm_hybrid_result {
-    int converged, iterations;
+    int converged, iterations;  /* iterations: maps with the monodromy (max_iter) */
     double residual;            /* as usm_periodic_result's */
     double t0, period;          /* the section time ts and T [s] */
     int nx;
@@ -170,7 +172,13 @@ usm_hybrid *usm_hybrid_alloc(const usm_model *m);
 void usm_hybrid_free(usm_hybrid *h);
 
 /* The periodic orbit with separation for parameters p: a simulation from
- * rest over opt->settle gives the section time and the start, then Newton.
+ * rest gives the section time and the start, then Newton.  First the quick
+ * start (rtol 1e-5, ended once the period means of tilt and rotor speed
+ * changed by less than 3e-4 in 5 consecutive periods, at most opt->settle);
+ * should Newton fail from it or find an unstable orbit (a start-up may
+ * linger near a weakly unstable orbit: calm there is not settled), the
+ * careful start (rtol 1e-8 over the whole opt->settle), whose orbit is the
+ * result (the quick one's, unstable, should the careful one fail).
  * USM_OK (out->converged), USM_EINPUT (bad parameters or options),
  * USM_EFAILED (integration or Newton failed; usm_hybrid_message). */
 int usm_hybrid_solve(usm_hybrid *h, const usm_params *p, const usm_hybrid_options *opt,

@@ -36,13 +36,49 @@
  * Unilateral models (variant imperfect_unilateral; docs/unilateral.md): the
  * branch is the bilateral orbit's; at every grid point where its contact
  * opens the point also carries the orbit with separation (separating,
- * hybrid), and
+ * hybrid).  Those are followed as a branch of their own
+ * (study/periodic_sweep_hybrid.c): Newton (usm_hybrid_solve_from) from the
+ * secant prediction of the last two; a result whose separation fraction or
+ * mean speed jumps (3 times the last step's change, and more than 2e-3 /
+ * 1e-3 relative) is checked by paths of 2, 4, 8 substeps, accepted where two
+ * successive paths end on the same orbit; the first orbit, and every one
+ * after a branch is lost, from usm_hybrid_solve (a simulation from rest).
+ * Events:
  *   contact_regained   F_n_min = 0 where the contact closes again (the
  *                      contact_loss crossing in the other direction)
- *   grazing            the mode sequence of the orbits with separation
- *                      changes between two grid points (an orbit touches a
- *                      guard tangentially in between; located to the grid:
- *                      its value is the later point's)
+ *   grazing            the mode sequence of the followed orbit changes
+ *                      between two grid points (an orbit touches a guard
+ *                      tangentially there): located by bisection on the
+ *                      parameter (each trial continued from the bracket's
+ *                      end of the first sequence) to the event tolerance,
+ *                      where the two sequences' orbits meet there (their
+ *                      separation fractions and mean speeds agree to 1e-3;
+ *                      else the first sequence's branch ended in between:
+ *                      branch_switch); its text says when a trial failed
+ *                      (then the value is the last bracket's middle)
+ *   branch_switch      the sweep leaves the followed orbit for the one the
+ *                      motor runs on: either the followed orbit is unstable
+ *                      (largest non-cyclic |lambda| >= 1) and
+ *                      usm_hybrid_solve (a simulation from rest, then
+ *                      Newton: the start-up's attractor) finds a stable
+ *                      orbit there, or the branch cannot be followed to the
+ *                      point (it ends, or Newton fails; branch_lost) and
+ *                      usm_hybrid_solve finds an orbit that does not
+ *                      continue it (at this point, or at a later one when
+ *                      none is found in between), or a change of mode
+ *                      sequence is no grazing (above; branch_lost, the
+ *                      other orbit Newton's).  The
+ *                      point carries the new orbit (switched) and the sweep
+ *                      follows it from there; the event, at the grid point,
+ *                      carries both orbits (hybrid: the new one; hybrid_left:
+ *                      the unstable one, or the branch's last at
+ *                      branch_last; unstable_from: where the followed orbit
+ *                      turned unstable, located by Brent's method on
+ *                      max |lambda| = 1 along it to 1e-6 of the range).
+ *                      Where the simulation's Newton finds no
+ *                      stable orbit (it converges to the same unstable one,
+ *                      e.g. when that is only weakly unstable, or fails) the
+ *                      point keeps the unstable followed orbit.
  * Events within one step are reported in sweep order; stick_loss is found
  * also in a step at whose end the contact is already open.
  * The points are the requested grid values in sweep order.
@@ -68,7 +104,10 @@ typedef enum {
     USM_PEVENT_STABILITY_CHANGE = 3,
     USM_PEVENT_FRICTION_SATURATION = 4,
     USM_PEVENT_CONTACT_REGAINED = 5, /* unilateral models: F_n_min = 0 closing */
-    USM_PEVENT_GRAZING = 6           /* unilateral models: the mode sequence changes */
+    USM_PEVENT_GRAZING = 6,          /* unilateral models: the mode sequence changes */
+    USM_PEVENT_BRANCH_SWITCH = 7     /* unilateral models: the continued orbit with separation
+                                        is unstable; the sweep follows the stable one a
+                                        simulation from rest settles on */
 } usm_pevent_type;
 
 /* How the critical multiplier crosses the unit circle. */
@@ -80,7 +119,7 @@ typedef enum {
 } usm_crossing_kind;
 
 /* "contact_loss", "stick_loss", "fold", "stability_change",
- * "friction_saturation", "contact_regained", "grazing". */
+ * "friction_saturation", "contact_regained", "grazing", "branch_switch". */
 const char *usm_pevent_name(usm_pevent_type type);
 /* "", "fold", "period_doubling", "neimark_sacker". */
 const char *usm_crossing_name(usm_crossing_kind kind);
@@ -98,6 +137,17 @@ typedef struct usm_periodic_event {
                                    usm_squeal_frequency(1 / orbit.period, multiplier_re,
                                    multiplier_im) in [0, f/2] (usm.h); NaN otherwise */
     char what[USM_MSG_LEN];     /* one sentence */
+    /* branch_switch only (has_hybrid 1): the orbit with separation the sweep
+     * follows from here (hybrid), and the continued one it leaves
+     * (hybrid_left): unstable at `value`, or, when branch_lost, the last
+     * orbit of the branch, at branch_last */
+    int has_hybrid;
+    usm_hybrid_result hybrid, hybrid_left;
+    int branch_lost;
+    double branch_last;
+    double unstable_from;       /* not branch_lost: where the followed orbit turned unstable
+                                   (max |lambda| = 1 on it, located by Brent to the event
+                                   tolerance), NaN when not located */
 } usm_periodic_event;
 
 /* One requested grid value and the orbit there. */
@@ -108,10 +158,12 @@ typedef struct usm_periodic_point {
     char error[USM_MSG_LEN];    /* why not converged; unilateral models: also why a converged
                                    point whose contact opens has no orbit with separation */
     /* unilateral models (usm_model.unilateral) where the contact opens on the
-     * bilateral orbit: the orbit with separation (usm_hybrid_solve_from, warm
-     * started from the last one; usm_hybrid_solve after a gap) */
+     * bilateral orbit: the orbit with separation (followed from the last
+     * one, or usm_hybrid_solve: see the header comment) */
     int separating;             /* 1: `hybrid` holds it */
     usm_hybrid_result hybrid;
+    int switched;               /* 1: `hybrid` is the new orbit of a branch_switch at this
+                                   point */
 } usm_periodic_point;
 
 /* What to sweep (usm_periodic_sweep_options_default, then over/from/to/points). */

@@ -244,6 +244,11 @@ typedef struct usm_sim_summary {
     double rest_fraction;       /* of the options */
     double rest_theta_ref;      /* theta_ref of the decay rule [rad] */
     double t_rest;              /* [s] when the decay rule was met; NaN otherwise */
+    double open_fraction_end;   /* unilateral: time open in the last complete excitation
+                                   period / T (the window of rotor_speed_avg_end: on a
+                                   settled run the orbit's separation fraction, which
+                                   open_fraction, over the whole run with its start-up,
+                                   is not); 0 before the first complete period */
 } usm_sim_summary;
 
 /* A transient simulation of one model: integrator workspace and the

@@ -1,0 +1,41 @@
+/* periodic_sweep_state.h: the state of a periodic sweep, shared by the files
+ * of study/ that run it (periodic_sweep.c: the bilateral branch and its
+ * events; periodic_sweep_hybrid.c: the orbits with separation past contact
+ * loss).  Room-private: not installed, not for the writers. */
+#ifndef USM_PERIODIC_SWEEP_STATE_H
+#define USM_PERIODIC_SWEEP_STATE_H
+
+#include "usm_periodic_sweep.h"
+
+struct usm_periodic_sweep {
+    const usm_model *m;
+    usm_periodic *w;
+    usm_periodic_point *pts;
+    size_t npts;
+    usm_periodic_event *ev;
+    size_t nev, cap;
+    const usm_param_info *info;
+    const char *unit;
+    char over[32];
+    usm_params p;
+    usm_periodic_options popt;
+    double range, tol;
+    int sat;            /* friction saturation: 0 not looked for, 1 located ahead, -1 not found */
+    double sat_value;   /* its parameter value when sat = 1 */
+    usm_hybrid *hy;     /* unilateral models: the orbits with separation */
+    char msg[USM_MSG_LEN];
+};
+
+/* Append an event (value v, orbit NULL or the orbit there, `what` from fmt);
+ * NULL when out of memory. */
+usm_periodic_event *psweep_event_add(usm_periodic_sweep *s, usm_pevent_type type, double v,
+                                      const usm_periodic_result *orbit, const char *fmt, ...);
+/* "NAME = VALUE UNIT" of the swept parameter at v. */
+void psweep_value_text(const usm_periodic_sweep *s, double v, char buf[96]);
+
+/* Unilateral models, after the bilateral branch: the orbits with separation
+ * at the grid points and their events (branch_switch, grazing), then every
+ * event in sweep order (dir: to - from).  0, or -1 when out of memory. */
+int psweep_separating(usm_periodic_sweep *s, double dir);
+
+#endif /* USM_PERIODIC_SWEEP_STATE_H */
