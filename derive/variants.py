@@ -26,6 +26,12 @@ Assumptions and their choices:
                    housing) enter the equations of motion; the stationary
                    solution and its kernels are those of the ideal motor
                    (imperfections 0), the only case where it exists
+  coordinates      "euler_zxz" (default): the paper's z-x-z Euler angles
+                   "tilt_vector": the stator axis in the frame turning with
+                   Omega t and the spin angle phi + psi, regular at theta = 0
+                   (issue 21, docs/coordinates.md); needs the integrated twist
+                   law (the paper's twist angle phi + psi cos(theta) needs phi,
+                   which is singular at theta = 0); no imperfections
 """
 
 PAPER = {
@@ -47,7 +53,7 @@ COUPLINGS = {
 
 # Assumptions PAPER leaves unstated (so the paper's models keep their lists):
 # their value in the paper's models, e.g. for the documents' "(paper: none)".
-UNSTATED = {"imperfection": "none"}
+UNSTATED = {"imperfection": "none", "coordinates": "euler_zxz"}
 
 # Friction laws mu(v_rel) of the slip model, as formulas in v_rel, mu0, kappa.
 # The runtime needs mu continuous in v_rel; it may be non-monotone (then
@@ -91,6 +97,11 @@ VARIANTS = {
                   "a real motor: driver amplitude imbalance and phase error, stator mode "
                   "split (parameters amp_imbalance, phase_error, mode_split), integrated "
                   "twist law; periodic steady states by `usm periodic`"),
+    # After "imperfect" (see there): the models in regular coordinates.
+    "tilt": ({"twist": "integrated", "coordinates": "tilt_vector"}, ["3dof", "4dof"],
+             "twist_integrated in coordinates regular at theta = 0 (stator axis in the frame "
+             "turning with Omega t, spin angle phi + psi): the same motor and stationary "
+             "solution, better-conditioned equations (docs/coordinates.md)"),
 }
 
 
