@@ -43,6 +43,33 @@ void usm_coords_euler_angles(const usm_model *m, const double *x, double t,
     e[5] = x[m->x_chidot] - e[3];
 }
 
+void usm_coords_euler_rates(const usm_model *m, const double *x, const double *xdot,
+                            const usm_params *p, double ed[6])
+{
+    if (m->coordinates == 0) {
+        ed[0] = xdot[m->x_phi];
+        ed[1] = xdot[m->x_theta];
+        ed[2] = xdot[m->x_psi];
+        ed[3] = xdot[m->x_phidot];
+        ed[4] = xdot[m->x_thetadot];
+        ed[5] = xdot[m->x_psidot];
+        return;
+    }
+    const double Omega = TWO_PI * p->f;
+    const double a = x[m->x_a], b = x[m->x_b], ad = x[m->x_adot], bd = x[m->x_bdot];
+    const double add = xdot[m->x_adot], bdd = xdot[m->x_bdot];
+    const double s2 = a * a + b * b, s = sqrt(s2), c = sqrt(fmax(0.0, 1.0 - s2));
+    const double pr = a * ad + b * bd, sd = pr / s, q = a * bd - b * ad;
+    const double prd = ad * ad + bd * bd + a * add + b * bdd, sdd = (prd - sd * sd) / s;
+    const double qd = a * bdd - b * add;
+    ed[0] = Omega + q / s2;
+    ed[1] = sd / c;
+    ed[2] = x[m->x_chidot] - ed[0];
+    ed[3] = (qd * s2 - 2.0 * q * pr) / (s2 * s2);
+    ed[4] = sdd / c + s * sd * sd / (c * c * c);
+    ed[5] = xdot[m->x_chidot] - ed[3];
+}
+
 /* the tilt-vector coordinates from the Euler angles e = (phi, theta, psi, rates) */
 static void tilt_from_euler(const double e[6], double t, double Omega, double y[6])
 {

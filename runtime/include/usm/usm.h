@@ -96,6 +96,13 @@ const usm_variant_info *usm_variant_find(const char *name);
 void usm_coords_euler_angles(const usm_model *m, const double *x, double t,
                              const usm_params *p, double phi_near, double euler[6]);
 
+/* The time derivatives (phidot, thetadot, psidot, phiddot, thetaddot, psiddot)
+ * of the Euler angles along a motion of model m in state x with rate xdot
+ * (either coordinate set; the chain rule for the tilt vector, singular at
+ * theta = 0). */
+void usm_coords_euler_rates(const usm_model *m, const double *x, const double *xdot,
+                            const usm_params *p, double edot[6]);
+
 /* x_to (the state of model `to`) from x_from (the state of model `from`) at
  * time t, where `to` is `from` itself or from->other_coordinates (the same
  * assumptions in the other coordinate set): the same motion.  Every state but
@@ -319,8 +326,16 @@ typedef struct usm_floquet_result {
 /* Floquet solver of one model: integrator and eigen-solver workspace (opaque). */
 typedef struct usm_floquet usm_floquet;
 
-/* A Floquet solver for model m (not NULL), or NULL when out of memory. */
+/* A Floquet solver for model m (not NULL), or NULL when out of memory.  It
+ * computes in the coordinates usm_floquet_coordinates(m) (the result's
+ * monodromy is in those). */
 usm_floquet *usm_floquet_alloc(const usm_model *m);
+
+/* The model whose orientation coordinates the Floquet solver uses for m: m
+ * itself, or m->other_coordinates where those give more correct digits (the
+ * tilt vector for the stick model's twist_integrated variant; measured in
+ * docs/coordinates.md).  The same motor and stationary solution either way. */
+const usm_model *usm_floquet_coordinates(const usm_model *m);
 /* Free f; NULL is allowed. */
 void usm_floquet_free(usm_floquet *f);
 
