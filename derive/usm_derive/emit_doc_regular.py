@@ -14,7 +14,7 @@ others.
 """
 import sympy as sp
 
-from .model import P, t
+from .model import P
 
 
 def regular_model_data(m, Doc, Names):
@@ -45,42 +45,52 @@ def regular_model_data(m, Doc, Names):
            r"(docs/coordinates.md).", "frames")
     d.define(Om, 2 * sp.pi * P["f"])
     d.define("e_z2", show(e["e_z2"]), lhs_tex=r"\vec e_{z_2}^{\,C}")
-    d.define("C_tilt", show(e["C_tilt"]), lhs_tex=r"C_{\mathrm{tilt}}")
-    d.define("omega_C", show(e["omega"]), lhs_tex=r"\vec\omega^{\,C}")
-    d.define("r_c", show(e["r_c"]), lhs_tex=r"\vec r_c^{\,C}")
-    for key, tex, tag in (("R_star", "R^*", None), ("Z", "Z", "2.3"),
-                          ("v_c", r"v_c = (\vec\omega\times\vec r_c)\cdot\vec e_{x_1}", None)):
-        d.define(names.add(key, tex.split(" ")[0]), show(e[key]), tag=tag, lhs_tex=tex)
-    d.section("Rotor, contact and equations of motion (2.1)-(2.6)"
-              + (", (5.1)-(5.3)" if e["slip"] else ", (4.6)"))
+    d.define(names.add("Z", "Z"), show(e["Z"]), tag="2.3")
+    d.text(r"The angular velocity is $\vec\omega = \Omega(\vec e_Z - \vec e_{z_2}) + "
+           r"\mathrm{vee}(\dot C_{\mathrm{tilt}} C_{\mathrm{tilt}}^T) + \dot\chi\,\vec e_{z_2}$ "
+           r"(components in $C$), the contact point $\vec r_c = R\,\vec e_{y_2} + H\,\vec e_{z_2}$ "
+           r"with $\vec e_{y_2} = \vec e_{z_2}\times\vec e_{x_1}$, $R^* = \vec r_c\cdot"
+           r"\vec e_{y_1}$, $v_c = (\vec\omega\times\vec r_c)\cdot\vec e_{x_1}$; the force laws "
+           r"(2.1)-(2.5)" + (r", (5.1), (5.2)" if e["slip"] else "") + r" are the Euler-angle "
+           r"document's ($w_R = -\dot\varphi_R$ the rotor's speed in its driving direction), "
+           r"written out in these coordinates inside $M$ and $\mathbf{f}$ below.", "kinematics")
+    d.section("Equations of motion $M(\\mathbf{x})\\,\\dot{\\mathbf{x}} = "
+              "\\mathbf{f}(\\mathbf{x}, t)$" + (" (5.3)" if e["slip"] else " (4.6)"))
     d.define("xvec", sp.Matrix(m.states).T, lhs_tex=r"\mathbf{x}^T")
-    d.text(r"The force laws of the Euler-angle document in these coordinates "
-           r"($w_R = -\dot\varphi_R$ the rotor's speed in its driving direction), and the rows "
-           r"$M(\mathbf{x})\,\dot{\mathbf{x}} = \mathbf{f}(\mathbf{x}, t)$: Euler's "
-           r"equations (2.6) in frame $C$, $\dot{\vec L}^{C} + \Omega\,\vec e_Z\times\vec L = "
-           r"\vec M_E - \vec M_R - \vec M_D + \vec M_C$ with the torques (2.8)-(2.11) (the "
-           r"restoring moment $c_r\theta\,\vec e_{x_1}$ written $c_r (\vec e_Z\times"
-           r"\vec e_{z_2})/\mathrm{sinc}\,\theta$)"
+    d.text(r"The rows are Euler's equations (2.6) in frame $C$, $\dot{\vec L}^{C} + \Omega\,"
+           r"\vec e_Z\times\vec L = \vec M_E - \vec M_R - \vec M_D + \vec M_C$ with the torques "
+           r"(2.8)-(2.11) (the restoring moment $c_r\theta\,\vec e_{x_1}$ written $c_r (\vec e_Z"
+           r"\times\vec e_{z_2})/\mathrm{sinc}\,\theta$)"
            + (r", preceded by the rotor's moment balance (2.2)" if e["slip"] else "")
            + r"; the positions and the twist angle $\tau$ ($\dot\tau = \omega_Z$) have rate "
-           r"rows of their own.  All of them are stated through common subexpressions $q_k$.",
-           "rows")
+           r"rows of their own.  They are stated through common subexpressions $q_k$.", "rows")
     n = len(m.states)
-    contact = [(names.add("F_n", "F_n"), e["F_n"], "2.1"),
-               (names.add("w_R", "w_R"), e["w_R"], "5.1" if e["slip"] else "2.4"),
-               (names.add("F_t", "F_t"), e["F_t"], "5.1" if e["slip"] else "2.2")]
-    exprs = [show(x) for _, x, _ in contact] + \
-        [x.subs(to_om) for x in list(m.mass) + list(m.rhs)]
+    exprs = [x.subs(to_om) for x in list(m.mass) + list(m.rhs)]
     syms = (names.add(f"q{k}", f"q_{{{k}}}") for k in range(100000))
     repl, reduced = sp.cse(exprs, symbols=syms, order="none")
     for s_, x in repl:
         d.define(s_, x)
-    for (sym, _, tag), x in zip(contact, reduced):
-        d.define(sym, x, tag=tag)
-    reduced = reduced[len(contact):]
-    d.define("Mass", sp.Matrix(n, n, reduced[:n * n]), lhs_tex=r"M(\mathbf{x})", key="def:M")
-    d.define("fvec", sp.Matrix(reduced[n * n:]), lhs_tex=r"\mathbf{f}(\mathbf{x}, t)",
-             key="def:f")
+    Mred, fred = reduced[:n * n], reduced[n * n:]
+    msyms = sp.zeros(n, n)
+    for i in range(n):
+        for j in range(n):
+            x = Mred[i * n + j]
+            if x.is_Number:
+                msyms[i, j] = x
+            else:
+                sym = names.add(f"m_{i + 1}_{j + 1}", f"m_{{{i + 1},{j + 1}}}")
+                d.define(sym, x)
+                msyms[i, j] = sym
+    fsyms = []
+    for i, x in enumerate(fred):
+        if x.is_Atom:
+            fsyms.append(x)
+        else:
+            sym = names.add(f"f_{i + 1}", f"f_{{{i + 1}}}")
+            d.define(sym, x)
+            fsyms.append(sym)
+    d.define("Mass", msyms, lhs_tex=r"M(\mathbf{x})", key="def:M")
+    d.define("fvec", sp.Matrix(fsyms), lhs_tex=r"\mathbf{f}(\mathbf{x}, t)", key="def:f")
     d.display("display:eom", r"M(\mathbf{x})\,\dot{\mathbf{x}}", r"\mathbf{f}(\mathbf{x}, t)")
 
     d.section("Stationary solution (3.1)-(3.7)" + (", section 5" if e["slip"] else ""))
@@ -100,30 +110,37 @@ def regular_model_data(m, Doc, Names):
 
     def on(x):
         return sp.sympify(x).xreplace(bars).subs(to_om)
+    # everything on the orbit through common subexpressions g_k
+    items = [("res", k, r) for k, r in enumerate(m.residual)]
+    items += [("beta", 0, m.steady_outputs["beta"]), ("twist", 0, m.steady_outputs["twist"])]
+    if not e["slip"]:
+        items.append(("speed", 0, m.steady_outputs["rotor_speed"]))
+    sub_beta = {b: beta for b in beta_in}
+    pos = [(i, st) for i, st in enumerate(m.states)
+           if not st.name.endswith("dot") and st.name != "tau"]
+    items += [("ansatz", i, m.steady_state[i].xreplace(sub_beta)) for i, _ in pos]
+    gsyms = (names.add(f"g{k}", f"g_{{{k}}}") for k in range(100000))
+    grepl, gred = sp.cse([on(x) for _, _, x in items], symbols=gsyms, order="none")
+    red = {(kind, k): x for (kind, k, _), x in zip(items, gred)}
     res_keys = []
-    for k, r in enumerate(m.residual):
-        s = names.add(f"f_{k + 1}bar", f"f_{{{k + 1}}}")
-        d.define(s, on(r), tag="3.5" if k < 2 or not e["slip"] else None)
-        res_keys.append(s.name)
-    d.define(beta, on(m.steady_outputs["beta"]), tag="3.6")
+    for s_, x in grepl:
+        d.define(s_, x)
+    for k in range(len(m.residual)):
+        sym = names.add(f"f_{k + 1}bar", f"f_{{{k + 1}}}")
+        d.define(sym, red[("res", k)], tag="3.5" if k < 2 or not e["slip"] else None)
+        res_keys.append(sym.name)
+    d.define(beta, red[("beta", 0)], tag="3.6")
     tw = names.add("taubar", r"\bar\tau")
-    d.define(tw, on(m.steady_outputs["twist"]))
+    d.define(tw, red[("twist", 0)])
     steady = {"beta": beta.name, "twist": tw.name}
     if not e["slip"]:
         rs = names.add("phidot_R_bar", r"\bar{\dot\varphi}_R")
-        d.define(rs, on(m.steady_outputs["rotor_speed"]), tag="3.7")
+        d.define(rs, red[("speed", 0)], tag="3.7")
         steady["rotor_speed"] = rs.name
-    ansatz = {}
-    sub_beta = {b: beta for b in beta_in}
-    for i, st in enumerate(m.states):
-        if st.name.endswith("dot"):
-            continue
-        key = st.name + "bar"
-        if st.name == "tau":
-            ansatz["tau"] = tw.name
-            continue
-        sym = names.add(key, r"\bar{" + names.tex.get(st, st.name) + "}")
-        d.define(sym, on(m.steady_state[i].xreplace(sub_beta)), tag="3.1")
+    ansatz = {"tau": tw.name} if "tau" in [st.name for st in m.states] else {}
+    for i, st in pos:
+        sym = names.add(st.name + "bar", r"\bar{" + names.tex.get(st, st.name) + "}")
+        d.define(sym, red[("ansatz", i)], tag="3.1")
         ansatz[st.name] = sym.name
     return {
         "model": m.name,
