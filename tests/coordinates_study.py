@@ -16,9 +16,18 @@ and the reference of the test multipliers_reference:
 
     /usr/bin/python3 tests/coordinates_study.py build --reference tests/multipliers_reference.h
 
-model is 3dof_twist_integrated (default); only the twist_integrated models
-have a linearisation that is constant in frame A, so that the multipliers are
-exp(T eig(A)) and the 50-digit reference needs no ODE solver.
+and the paper's twist law (3dof, 4dof) at the six points, by Taylor steps of
+the variational equation in extended precision (a few minutes a model):
+
+    /usr/bin/python3 tests/coordinates_study.py build --paper [models]
+
+model is 3dof_twist_integrated (default); the twist_integrated models have a
+linearisation that is constant in frame A, so that their multipliers are
+exp(T eig(A)) and their 50-digit reference needs no ODE solver; under the
+paper's twist law it is affine in t (paper_points).  The reference file
+holds both (write_reference).  derive/ itself now derives the tilt-vector
+coordinates (assumption coordinates, variant tilt); the hand-written sympy
+derivation below (tilt_model) stays as a second, independent one.
 
 What it does, at the paper's parameters:
 1. Euler angles (derive/'s model, as the C kernels use it): the stationary
