@@ -218,7 +218,7 @@ def model_data(m):
     the keys the proof needs (tests/equations_proof.py), section by section."""
     if m.assumptions.get("coordinates", "euler_zxz") != "euler_zxz":
         from .emit_doc_regular import regular_model_data
-        return regular_model_data(m, Doc, Names)
+        return regular_model_data(m, Doc, Names, latex)
     doc = ModelDocument(m)
     doc.kinematics()
     doc.rotor_and_contact()

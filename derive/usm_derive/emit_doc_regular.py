@@ -17,7 +17,29 @@ import sympy as sp
 from .model import P
 
 
-def regular_model_data(m, Doc, Names):
+# A line longer than this many LaTeX characters has its long pieces named
+# (split_long): a product or a function argument cannot be broken across lines.
+LONG = 160
+
+
+def split_long(x, new_symbol, define, latex_of):
+    """x with every long non-atomic piece (a term's factor, a function's
+    argument) replaced by a new symbol defined before it, recursively, so that
+    no line needs more than about LONG characters of LaTeX."""
+    if x.is_Atom or len(latex_of(x)) <= LONG:
+        return x
+    args = []
+    for a in x.args:
+        a = split_long(a, new_symbol, define, latex_of)
+        if not a.is_Atom and len(latex_of(a)) > LONG // 3 and not a.is_Number:
+            sym = new_symbol()
+            define(sym, a)
+            a = sym
+        args.append(a)
+    return x.func(*args)
+
+
+def regular_model_data(m, Doc, Names, latex):
     e = m.equations
     names = Names()
     for nm, tex in (("a", "a"), ("b", "b"), ("chi", r"\chi")):
@@ -68,8 +90,13 @@ def regular_model_data(m, Doc, Names):
     exprs = [x.subs(to_om) for x in list(m.mass) + list(m.rhs)]
     syms = (names.add(f"q{k}", f"q_{{{k}}}") for k in range(100000))
     repl, reduced = sp.cse(exprs, symbols=syms, order="none")
+    extra = (names.add(f"r{k}", f"r_{{{k}}}") for k in range(100000))
+
+    def short(x):
+        return split_long(x, lambda: next(extra), d.define, lambda y: latex(y, names.tex))
     for s_, x in repl:
-        d.define(s_, x)
+        d.define(s_, short(x))
+    reduced = [short(x) for x in reduced]
     Mred, fred = reduced[:n * n], reduced[n * n:]
     msyms = sp.zeros(n, n)
     for i in range(n):
@@ -121,10 +148,11 @@ def regular_model_data(m, Doc, Names):
     items += [("ansatz", i, m.steady_state[i].xreplace(sub_beta)) for i, _ in pos]
     gsyms = (names.add(f"g{k}", f"g_{{{k}}}") for k in range(100000))
     grepl, gred = sp.cse([on(x) for _, _, x in items], symbols=gsyms, order="none")
-    red = {(kind, k): x for (kind, k, _), x in zip(items, gred)}
     res_keys = []
     for s_, x in grepl:
-        d.define(s_, x)
+        d.define(s_, short(x))
+    gred = [short(x) for x in gred]
+    red = {(kind, k): x for (kind, k, _), x in zip(items, gred)}
     for k in range(len(m.residual)):
         sym = names.add(f"f_{k + 1}bar", f"f_{{{k + 1}}}")
         d.define(sym, red[("res", k)], tag="3.5" if k < 2 or not e["slip"] else None)
