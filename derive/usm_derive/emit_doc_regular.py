@@ -42,6 +42,10 @@ def split_long(x, new_symbol, define, latex_of):
 def regular_model_data(m, Doc, Names, latex):
     e = m.equations
     names = Names()
+    # chi is the spin angle here; the integrated twist angle, which the
+    # Euler-angle documents call chi after the paper, is tau
+    for nm, tex in (("tau", r"\tau"), ("taudot", r"\dot\tau"), ("tauddot", r"\ddot\tau")):
+        names.tex[sp.Symbol(nm, real=True)] = tex
     for nm, tex in (("a", "a"), ("b", "b"), ("chi", r"\chi")):
         names.add(nm, tex)
         names.add(nm + "dot", r"\dot{" + tex + "}")
@@ -120,7 +124,7 @@ def regular_model_data(m, Doc, Names, latex):
     d.define("fvec", sp.Matrix(fsyms), lhs_tex=r"\mathbf{f}(\mathbf{x}, t)", key="def:f")
     d.display("display:eom", r"M(\mathbf{x})\,\dot{\mathbf{x}}", r"\mathbf{f}(\mathbf{x}, t)")
 
-    d.section("Stationary solution (3.1)-(3.7)" + (", section 5" if e["slip"] else ""))
+    d.section("Stationary solution (3.1)-(3.5)" + (", section 5" if e["slip"] else ", (3.7)"))
     d.text(r"The stationary problem is the Euler angles' (document of model "
            + e["euler_name"].replace("_", r"\_")
            + r"): the same unknowns, residuals, $\beta$ and twist angle, here written out; "

@@ -172,9 +172,23 @@ class Derivation:
         self.name = name
         self.assumptions = dict(assumptions)
 
+    # True in coordinates other than the Euler angles (_derive_regular): there
+    # the substitutions of symbols by expressions are structural (xreplace),
+    # which gives the same expressions as subs() without its search for
+    # matching subexpressions, minutes on the large tilt-vector Jacobians.
+    regular = False
+
     def plain(self, e):
         """q''(t), q'(t), q(t) -> the plain symbols qddot, qdot, q."""
+        if self.regular:
+            return sp.sympify(e).xreplace(dict(self.subs_lists))
         return e.subs(self.subs_lists)
+
+    def put(self, e, mapping):
+        """e with the symbols of mapping replaced at once (simultaneously)."""
+        if self.regular:
+            return e.xreplace(mapping)
+        return e.subs(mapping, simultaneous=True)
 
     def on_ansatz(self, e):
         """An expression of the motion on the stationary ansatz (3.1)."""
@@ -612,9 +626,15 @@ def linearisation(d):
     # phi - Omega t (the paper's twist angle phi + psi cos(theta) does).
     on_orbit = dict(zip(states, d.steady_state))
     jac_rhs_ideal, jac_mass_ideal = d.jac_rhs.xreplace(d.ideal), d.jac_mass.xreplace(d.ideal)
-    A_bar = (jac_rhs_ideal - jac_mass_ideal.subs(dict(zip(d.v, d.steady_rate)))).subs(on_orbit)
-    d.t0_independent = (t not in A_bar.free_symbols
-                        and t not in d.mass.subs(on_orbit).free_symbols)
+    if d.regular:
+        A_bar = d.put(jac_rhs_ideal - d.put(jac_mass_ideal, dict(zip(d.v, d.steady_rate))),
+                      on_orbit)
+        M_bar = d.put(d.mass, on_orbit)
+    else:
+        A_bar = (jac_rhs_ideal - jac_mass_ideal.subs(dict(zip(d.v, d.steady_rate)))
+                 ).subs(on_orbit)
+        M_bar = d.mass.subs(on_orbit)
+    d.t0_independent = (t not in A_bar.free_symbols and t not in M_bar.free_symbols)
     d.A_bar_t_entries = [(i, j) for i in range(n) for j in range(n)
                          if t in A_bar[i, j].free_symbols]
     # Directional derivative of the linearisation about the orbit: M(xbar)
@@ -624,8 +644,8 @@ def linearisation(d):
     # linearisation (second derivatives of the equations of motion).
     orbit_beta = {**on_orbit, **dict(zip(d.v, d.steady_rate))}
     orbit_beta = {k: sp.sympify(e).subs(d.beta, d.beta_expr) for k, e in orbit_beta.items()}
-    A_full = (jac_rhs_ideal - jac_mass_ideal).subs(orbit_beta, simultaneous=True)
-    M_full = d.mass.subs(orbit_beta, simultaneous=True)
+    A_full = d.put(jac_rhs_ideal - jac_mass_ideal, orbit_beta)
+    M_full = d.put(d.mass, orbit_beta)
     # (the imperfections are 0 here: their directions have no stationary orbit)
     d.dir_vars = list(d.unknowns) + [t] + [P[k] for k, *_ in PARAMETERS]
     d.dir_syms = [sp.Symbol("dir_" + s.name, real=True) for s in d.dir_vars]
@@ -921,8 +941,9 @@ def _equations(d, coordinates):
     motion_outputs(d)
 
 
-def _derive_euler(name, assumptions):
-    """The derivation in the paper's z-x-z Euler angles."""
+def _derive_euler(name, assumptions, stationary_only=False):
+    """The derivation in the paper's z-x-z Euler angles (with stationary_only,
+    up to the stationary problem: what _derive_regular takes from it)."""
     d = Derivation(name, assumptions)
     _equations(d, euler_coordinates)
     # what every variant derives from them
@@ -933,6 +954,8 @@ def _derive_euler(name, assumptions):
     stationary_power(d)
     stationary_orbit(d)
     stationary_seed(d)
+    if stationary_only:
+        return d
     tangent_map(d)
     linearisation(d)
     cyclic_states(d)
@@ -955,8 +978,9 @@ def _derive_regular(name, assumptions, coordinates):
     if assumptions.get("closure", "bilateral") != "bilateral":
         raise RuntimeError("the unilateral contact is derived in Euler angles only")
     euler = {k: v for k, v in assumptions.items() if k != "coordinates"}
-    e = _derive_euler(name, euler)
+    e = _derive_euler(name, euler, stationary_only=True)
     d = Derivation(name, assumptions)
+    d.regular = True
     _equations(d, coordinates)
     d.euler = e
     for key in ("unknowns", "unknown_names", "residual", "steady_outputs", "steady_power",
