@@ -70,7 +70,7 @@ def regular_model_data(m, Doc, Names, latex):
            r"$\theta = 0$: $\vec e_{x_1}$ is the unit vector of $\vec e_Z\times\vec e_{z_2}$ "
            r"(docs/coordinates.md).", "frames")
     d.define(Om, 2 * sp.pi * P["f"])
-    d.define("e_z2", show(e["e_z2"]), lhs_tex=r"\vec e_{z_2}^{\,C}")
+    d.define("e_z2", show(e["e_z2"]), lhs_tex=r"\vec e_{z_2}")
     d.define(names.add("Z", "Z"), show(e["Z"]), tag="2.3")
     d.text(r"The angular velocity is $\vec\omega = \Omega(\vec e_Z - \vec e_{z_2}) + "
            r"\mathrm{vee}(\dot C_{\mathrm{tilt}} C_{\mathrm{tilt}}^T) + \dot\chi\,\vec e_{z_2}$ "
