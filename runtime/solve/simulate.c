@@ -538,7 +538,7 @@ static int check_options(usm_sim *s, const usm_sim_options *o)
     if (o->start == USM_SIM_FROM_STATE) {
         for (int i = 0; i < s->n; ++i)
             if (!isfinite(o->x0[i])) {
-                snprintf(s->msg, USM_MSG_LEN, "x0: %s is not a finite number", s->m->state_names[i]);
+                snprintf(s->msg, USM_MSG_LEN, "x0: %s is not a finite number", s->user->state_names[i]);
                 return USM_EINPUT;
             }
         if (s->user != s->m) {
