@@ -219,8 +219,16 @@ def write_all(out_dir, only=None, verbose=True, jobs=2, cache=None):
     # fork of this process (PYTHONHASHSEED=0), so the output does not depend on
     # how the work is split.
     if jobs > 1 and len(work) > 1:
+        # the longest derivations first (those in coordinates other than the
+        # Euler angles also derive the Euler angles' stationary problem), so
+        # that the cores finish together; the results keep the order of work
+        cost = [0 if w[3].get("coordinates", "euler_zxz") == "euler_zxz" else -1 for w in work]
+        order = sorted(range(len(work)), key=lambda i: cost[i])
         with multiprocessing.get_context("fork").Pool(min(jobs, len(work))) as pool:
-            results = pool.map(_model_files, work, chunksize=1)
+            done = pool.map(_model_files, [work[i] for i in order], chunksize=1)
+        results = [None] * len(work)
+        for i, r in zip(order, done):
+            results[i] = r
     else:
         results = [_model_files(w) for w in work]
     for (name, model_files, t_derive, t_emit), job in zip(results, work):

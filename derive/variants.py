@@ -33,6 +33,12 @@ Assumptions and their choices:
                    of its own, and it closes again by an impact (Newton
                    restitution e_impact, friction impulse at most mu0 times
                    the normal one); see docs/unilateral.md
+  coordinates      "euler_zxz" (default): the paper's z-x-z Euler angles
+                   "tilt_vector": the stator axis in the frame turning with
+                   Omega t and the spin angle phi + psi, regular at theta = 0
+                   (issue 21, docs/coordinates.md); needs the integrated twist
+                   law (the paper's twist angle phi + psi cos(theta) needs phi,
+                   which is singular at theta = 0); no imperfections
 """
 
 PAPER = {
@@ -54,7 +60,7 @@ COUPLINGS = {
 
 # Assumptions PAPER leaves unstated (so the paper's models keep their lists):
 # their value in the paper's models, e.g. for the documents' "(paper: none)".
-UNSTATED = {"imperfection": "none", "closure": "bilateral"}
+UNSTATED = {"imperfection": "none", "closure": "bilateral", "coordinates": "euler_zxz"}
 
 # Friction laws mu(v_rel) of the slip model, as formulas in v_rel, mu0, kappa.
 # The runtime needs mu continuous in v_rel; it may be non-monotone (then
@@ -104,6 +110,11 @@ VARIANTS = {
                              "the variant imperfect with a contact that may open: the rotor "
                              "lifts off where F_n would turn negative and lands again by an "
                              "impact (restitution e_impact); `usm simulate` switches modes"),
+    # After imperfect_unilateral: the models in regular coordinates.
+    "tilt": ({"twist": "integrated", "coordinates": "tilt_vector"}, ["3dof", "4dof"],
+             "twist_integrated in coordinates regular at theta = 0 (stator axis in the frame "
+             "turning with Omega t, spin angle phi + psi): the same motor and stationary "
+             "solution, better-conditioned equations (docs/coordinates.md)"),
 }
 
 

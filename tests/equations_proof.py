@@ -144,7 +144,11 @@ def check_numbers(data, kernels, rng, fail):
     points, inputs = [], []
     for _ in range(POINTS):
         x = [rng.uniform(-1, 1) for _ in range(nx)]
-        x[data["states"].index("theta")] = rng.uniform(-0.2, 0.2)
+        if "theta" in data["states"]:
+            x[data["states"].index("theta")] = rng.uniform(-0.2, 0.2)
+        else:  # the tilt vector (a, b): |(a, b)| = sin(theta) < 1
+            for c in ("a", "b"):
+                x[data["states"].index(c)] = rng.uniform(-0.15, 0.15)
         p = [rng.uniform(0.5, 2.0) for _ in data["parameters"]]
         u = [rng.uniform(-0.2, 0.2), rng.uniform(0, 2 * math.pi)] + \
             [rng.uniform(-2, 2) for _ in range(nu - 2)]

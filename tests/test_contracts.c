@@ -251,7 +251,11 @@ static void check_outputs(void)
         const double th = 0.0123;
         for (int i = 0; i < m->nx; ++i)
             x[i] = 0.1 * (i + 1), xd[i] = 0.01 * (i + 2);
-        x[m->x_theta] = th;
+        if (m->coordinates == 1) { /* the tilt vector: a^2 + b^2 = sin(theta)^2 */
+            x[m->x_a] = 0.6 * sin(th);
+            x[m->x_b] = -0.8 * sin(th);
+        } else
+            x[m->x_theta] = th;
         m->outputs(x, xd, 0.0, &p, out);
         const double Rs = p.R * cos(th) - p.H * sin(th), Z = p.R * sin(th) + p.H * cos(th);
         CHECK(fabs(out[USM_OUT_R_STAR] - Rs) <= 1e-15 && fabs(out[USM_OUT_Z] - Z) <= 1e-15,

@@ -44,6 +44,12 @@
  *
  * Tolerances are stated where they are checked (ENERGY_TOL, MOMENTUM_FD_TOL,
  * MOMENTUM_PT_TOL).
+ *
+ * Models in the tilt-vector coordinates (issue 21: a, b, chi, m->coordinates
+ * = 1) are integrated in them; every check reads their states through the
+ * Euler angles of the same motion, written out here (euler_view: theta =
+ * asin |(a, b)|, phi = Omega t + atan2(a, -b), psi = chi - phi, the rates and
+ * accelerations by the chain rule), so the same references apply.
  */
 #define _POSIX_C_SOURCE 200809L
 
@@ -323,6 +329,8 @@ typedef struct ode {
     usm_params p;
     layout L;
     int n;        /* model states */
+    int tilt;     /* 1: the model's state is the tilt vector (a, b, chi), L the
+                     Euler angles of its counterpart (euler_view) */
     int work;     /* 1: one more state, the friction work W, W' = F_t v_rel */
     double M[USM_MAX_NX * USM_MAX_NX], f[USM_MAX_NX];
     gsl_permutation *perm;
@@ -352,6 +360,64 @@ static int solve_xdot(ode *d, const double *x, double t, double *xdot)
     return 0;
 }
 
+/* The state x (and x', if given) of a tilt-vector model as the Euler angles of
+ * the same motion at time t, in the layout L (a copy for Euler-angle models).
+ * a + i b = sin(theta) exp(i (phi - Omega t - pi/2)), chi = phi + psi. */
+static void euler_view(const ode *d, const double *x, const double *xd, double t, double *xe,
+                       double *xde)
+{
+    const int n = d->n;
+    memcpy(xe, x, sizeof(double) * (size_t)n);
+    if (xd)
+        memcpy(xde, xd, sizeof(double) * (size_t)n);
+    if (!d->tilt)
+        return;
+    const usm_model *m = d->m;
+    const layout *L = &d->L;
+    const double W = 2.0 * PI * d->p.f;
+    const double a = x[m->x_a], b = x[m->x_b], ad = x[m->x_adot], bd = x[m->x_bdot];
+    const double s2 = a * a + b * b, s = sqrt(s2), c = sqrt(1.0 - s2);
+    const double pr = a * ad + b * bd, sd = pr / s, q = a * bd - b * ad;
+    const double ph = W * t + atan2(a, -b), phd = W + q / s2;
+    const double th = atan2(s, c), thd = sd / c;
+    xe[L->phi] = ph;
+    xe[L->theta] = th;
+    xe[L->psi] = x[m->x_chi] - ph;
+    xe[L->phidot] = phd;
+    xe[L->thetadot] = thd;
+    xe[L->psidot] = x[m->x_chidot] - phd;
+    if (!xd)
+        return;
+    const double add = xd[m->x_adot], bdd = xd[m->x_bdot];
+    const double prd = ad * ad + bd * bd + a * add + b * bdd, sdd = (prd - sd * sd) / s;
+    const double qd = a * bdd - b * add, phdd = (qd * s2 - 2.0 * q * pr) / (s2 * s2);
+    xde[L->phi] = phd;
+    xde[L->theta] = thd;
+    xde[L->psi] = x[m->x_chidot] - phd;
+    xde[L->phidot] = phdd;
+    xde[L->thetadot] = sdd / c + s * sd * sd / (c * c * c);
+    xde[L->psidot] = xd[m->x_chidot] - phdd;
+}
+
+/* The inverse for a start state given in Euler angles: x in place. */
+static void from_euler(const ode *d, double *x, double t)
+{
+    if (!d->tilt)
+        return;
+    const usm_model *m = d->m;
+    const layout *L = &d->L;
+    const double W = 2.0 * PI * d->p.f;
+    const double ph = x[L->phi], th = x[L->theta], ps = x[L->psi], phd = x[L->phidot],
+                 thd = x[L->thetadot], psd = x[L->psidot];
+    const double al = ph - W * t;
+    x[m->x_a] = sin(th) * sin(al);
+    x[m->x_b] = -sin(th) * cos(al);
+    x[m->x_chi] = ph + ps;
+    x[m->x_adot] = cos(th) * thd * sin(al) + sin(th) * cos(al) * (phd - W);
+    x[m->x_bdot] = -cos(th) * thd * cos(al) + sin(th) * sin(al) * (phd - W);
+    x[m->x_chidot] = phd + psd;
+}
+
 static int ode_rhs(sunrealtype t, N_Vector y, N_Vector ydot, void *user_data)
 {
     ode *d = user_data;
@@ -361,9 +427,11 @@ static int ode_rhs(sunrealtype t, N_Vector y, N_Vector ydot, void *user_data)
     if (solve_xdot(d, x, t, xd))
         return -1;
     if (d->work) {
-        contact c = contact_of(&d->L, x, &d->p);
-        double v_rel = c.v_c + x[d->L.phi_Rdot] * c.R_star;
-        double F_t = friction_mu(&d->L, &d->p, v_rel) * normal_force(&d->L, x, xd, &d->p);
+        double xe[USM_MAX_NX], xde[USM_MAX_NX];
+        euler_view(d, x, xd, t, xe, xde);
+        contact c = contact_of(&d->L, xe, &d->p);
+        double v_rel = c.v_c + xe[d->L.phi_Rdot] * c.R_star;
+        double F_t = friction_mu(&d->L, &d->p, v_rel) * normal_force(&d->L, xe, xde, &d->p);
         xd[d->n] = F_t * v_rel;
     }
     return 0;
@@ -418,6 +486,12 @@ static int integrator_init(integrator *in, ode *d, const double *y0, double t0)
         at[i] = RTOL;
     at[L->theta] = RTOL * 1e-2;
     at[L->phidot] = at[L->psidot] = RTOL * W;
+    if (d->tilt) { /* a, b: the tilt; their rates: the tilt rate; chidot as phidot */
+        at[d->m->x_a] = at[d->m->x_b] = RTOL * 1e-2;
+        at[d->m->x_adot] = at[d->m->x_bdot] = RTOL * 1e-2 * W;
+        at[d->m->x_chi] = RTOL;
+        at[d->m->x_chidot] = RTOL * W;
+    }
     at[L->thetadot] = RTOL * 1e-2 * W;
     if (L->phi_Rdot >= 0)
         at[L->phi_Rdot] = RTOL * 10.0;
@@ -489,8 +563,10 @@ static int ode_init(ode *d, const usm_model *m, const usm_params *p, int work)
     d->p = *p;
     d->n = m->nx;
     d->work = work;
-    if (make_layout(m, &d->L))
+    d->tilt = m->coordinates == 1;
+    if (make_layout(d->tilt ? m->other_coordinates : m, &d->L))
         return 1;
+    d->L.m = m;
     d->perm = gsl_permutation_alloc((size_t)m->nx);
     if (check_retval(d->perm, "gsl_permutation_alloc", 0))
         return 1;
@@ -549,14 +625,17 @@ static int energy_run(const usm_model *m, int friction)
     /* with friction: the rotor turns at +1000 1/s against the contact point's
      * drive (-11 1/s at the stationary orbit), so slip does work */
     start_state(&d, x, friction ? 1000.0 : -11.0);
+    from_euler(&d, x, 0.0);
     const int N = d.n + d.work;
+    double xe[USM_MAX_NX];
     double t0 = now();
     if (integrator_init(&in, &d, x, 0.0)) {
         integrator_free(&in);
         gsl_permutation_free(d.perm);
         return 1;
     }
-    const double E0 = energy(&d.L, x, &p), T = 1.0 / p.f;
+    euler_view(&d, x, NULL, 0.0, xe, NULL);
+    const double E0 = energy(&d.L, xe, &p), T = 1.0 / p.f;
     double worst = 0.0, th_min = INFINITY, th_max = 0.0, t_worst = 0.0, W_max = 0.0;
     int fail = 0;
     const int nout = ENERGY_PERIODS * ENERGY_SAMPLES_PER_PERIOD;
@@ -567,13 +646,14 @@ static int energy_run(const usm_model *m, int friction)
             break;
         }
         double Wk = friction ? x[d.n] : 0.0;
-        double e = fabs(energy(&d.L, x, &p) + Wk - E0) / E0;
+        euler_view(&d, x, NULL, t, xe, NULL);
+        double e = fabs(energy(&d.L, xe, &p) + Wk - E0) / E0;
         if (e > worst) {
             worst = e;
             t_worst = t;
         }
-        th_min = fmin(th_min, x[d.L.theta]);
-        th_max = fmax(th_max, x[d.L.theta]);
+        th_min = fmin(th_min, xe[d.L.theta]);
+        th_max = fmax(th_max, xe[d.L.theta]);
         W_max = fmax(W_max, fabs(Wk));
     }
     long nst = integrator_steps(&in);
@@ -624,8 +704,9 @@ typedef struct torques {
     vec3 E, R, D, C, total;
 } torques;
 
+/* x: the Euler angles (euler_view); xm, xmdot: the model's own state and rate */
 static torques M_N(const usm_model *m, const usm_params *p, const layout *L, const double *x,
-                   const double *xdot, double t)
+                   const double *xm, const double *xmdot, double t)
 {
     torques q;
     const double W = 2.0 * PI * p->f;
@@ -640,7 +721,7 @@ static torques M_N(const usm_model *m, const usm_params *p, const layout *L, con
     q.R = vadd(vscale(p->c_r * th, e_x1), vscale(p->c_t * twist, e_Z));
     q.D = v3(p->d_r * wN.v[0], p->d_r * wN.v[1], p->d_t * wN.v[2]);
     double out[USM_OUT_COUNT];
-    m->outputs(x, xdot, t, p, out);
+    m->outputs(xm, xmdot, t, p, out);
     vec3 rc = mvec(mmul(CA, rot_x(th)), v3(0.0, p->R, p->H)); /* R e_y2 + H e_z2 */
     vec3 Fc = mvec(CA, v3(-out[USM_OUT_F_T], 0.0, -out[USM_OUT_F_N]));
     q.C = vcross(rc, Fc);
@@ -694,6 +775,7 @@ static int momentum_run(const usm_model *m)
         x[L->phi_Rdot] = -11.0;
     if (L->tau >= 0)
         x[L->tau] = p.T / p.c_t;
+    from_euler(&d, x, 0.0);
     double t0 = now();
     if (integrator_init(&in, &d, x, 0.0)) {
         integrator_free(&in);
@@ -716,7 +798,9 @@ static int momentum_run(const usm_model *m)
                 fail = 1;
                 break;
             }
-            Ls[s] = L_N(&p, L, xs);
+            double xse[USM_MAX_NX];
+            euler_view(&d, xs, NULL, tk + offs[s] * h, xse, NULL);
+            Ls[s] = L_N(&p, L, xse);
             if (offs[s] == 0)
                 memcpy(xk, xs, sizeof xk);
         }
@@ -730,15 +814,17 @@ static int momentum_run(const usm_model *m)
         vec3 dL_fd = vscale(1.0 / (12.0 * h),
                             vadd(vsub(Ls[0], vscale(8.0, Ls[1])), vsub(vscale(8.0, Ls[3]), Ls[4])));
         /* (b) pointwise, Euler's equations with x' = M^-1 f */
-        vec3 dL_pt = L_N_dot(&p, L, xk, xdot);
-        torques q = M_N(m, &p, L, xk, xdot, tk);
+        double xe[USM_MAX_NX], xde[USM_MAX_NX];
+        euler_view(&d, xk, xdot, tk, xe, xde);
+        vec3 dL_pt = L_N_dot(&p, L, xe, xde);
+        torques q = M_N(m, &p, L, xe, xk, xdot, tk);
         double sc = torque_scale(dL_pt, &q);
         double e_fd = vnorm(vsub(dL_fd, q.total)) / sc;
         double e_pt = vnorm(vsub(dL_pt, q.total)) / sc;
         scale_min = fmin(scale_min, sc);
         scale_max = fmax(scale_max, sc);
-        th_min = fmin(th_min, xk[L->theta]);
-        th_max = fmax(th_max, xk[L->theta]);
+        th_min = fmin(th_min, xe[L->theta]);
+        th_max = fmax(th_max, xe[L->theta]);
         if (e_fd > worst_fd) {
             worst_fd = e_fd;
             t_fd = tk;

@@ -161,6 +161,18 @@ static int random_state(const usm_model *m, const usm_params *p, double *x, doub
         } else if (strcmp(nm, "phi_Rdot") == 0) {
             x[i] = rng_range(&rng, -1000.0, 1000.0);
             s[i] = 100.0;
+        } else if (strcmp(nm, "a") == 0 || strcmp(nm, "b") == 0) { /* the tilt vector */
+            x[i] = (rng_uniform(&rng) < 0.5 ? -1 : 1) * rng_log_range(&rng, 1e-5, 0.2);
+            s[i] = THETA_SCALE;
+        } else if (strcmp(nm, "chi") == 0) {
+            x[i] = rng_range(&rng, -10.0 * PI, 10.0 * PI);
+            s[i] = 1.0;
+        } else if (strcmp(nm, "adot") == 0 || strcmp(nm, "bdot") == 0) {
+            x[i] = 0.05 * W * rng_range(&rng, -1.0, 1.0);
+            s[i] = 0.05 * W;
+        } else if (strcmp(nm, "chidot") == 0) {
+            x[i] = W * rng_range(&rng, -2.0, 2.0);
+            s[i] = W;
         } else if (strcmp(nm, "tau") == 0) { /* integrated twist angle */
             x[i] = rng_range(&rng, -0.1, 0.1);
             s[i] = 0.01;
@@ -171,7 +183,7 @@ static int random_state(const usm_model *m, const usm_params *p, double *x, doub
     }
     /* Slip models: half of the samples near v_rel = v_c + phidot_R R* = 0. */
     int iR = index_of(m->state_names, m->nx, "phi_Rdot");
-    if (iR >= 0 && rng_uniform(&rng) < 0.5) {
+    if (iR >= 0 && m->coordinates == 0 && rng_uniform(&rng) < 0.5) {
         int ith = index_of(m->state_names, m->nx, "theta");
         int iph = index_of(m->state_names, m->nx, "phidot");
         int ips = index_of(m->state_names, m->nx, "psidot");

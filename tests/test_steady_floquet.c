@@ -39,6 +39,8 @@
  * 0 for the kinematic rows q' = qdot and tau' = omega_Z. */
 static int torque_row(const usm_model *m, int i)
 {
+    if (m->coordinates == 1) /* the tilt vector's rates */
+        return i == m->x_adot || i == m->x_bdot || i == m->x_chidot || i == m->x_phi_Rdot;
     return i == m->x_phidot || i == m->x_thetadot || i == m->x_psidot || i == m->x_phi_Rdot;
 }
 
@@ -64,6 +66,7 @@ static void check_orbit_residual(const usm_model *m, const usm_params *p,
         m->mass(o, p, M);
         m->rhs(o, t, p, f);
         const double twist_terms =
+            m->coordinates == 1 ? p->c_t * (fabs(o[m->x_chi]) + fabs(o[m->x_tau])) :
             p->c_t * (fabs(o[m->x_phi]) + fabs(o[m->x_psi]) + (m->x_tau >= 0 ? fabs(o[m->x_tau]) : 0));
         for (int i = 0; i < n; ++i) {
             double r = -f[i], size = fabs(f[i]);
@@ -177,8 +180,11 @@ static void check_stays_on_orbit(const usm_model *m, const usm_params *p,
             break;
         const double *x = N_VGetArrayPointer(y);
         m->steady_state(sol->u, sol->beta, t, p, o);
-        const int it = m->x_theta, ir = m->x_phi_Rdot;
-        worst_theta = fmax(worst_theta, fabs(x[it] - o[it]) / sol->theta);
+        const int ir = m->x_phi_Rdot;
+        double ex[6], eo[6]; /* theta of either coordinate set */
+        usm_coords_euler_angles(m, x, t, p, 0.0, ex);
+        usm_coords_euler_angles(m, o, t, p, 0.0, eo);
+        worst_theta = fmax(worst_theta, fabs(ex[1] - eo[1]) / sol->theta);
         if (ir >= 0)
             worst_speed = fmax(worst_speed, fabs(x[ir] - o[ir]) / fabs(sol->rotor_speed));
         ++checked;

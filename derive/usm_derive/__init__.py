@@ -1,2 +1,2 @@
 """Symbolic derivation of the wobbling-disk ultrasonic motor model (build time only)."""
-GENERATOR_VERSION = "2.0.0"
+GENERATOR_VERSION = "2.1.0"

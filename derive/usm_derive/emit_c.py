@@ -112,6 +112,76 @@ def pythagoras(expr, memo=None):
     return new
 
 
+def _count_node(a):
+    """sympy's count_ops (sympy/core/function.py, 1.11) for one node of its
+    work list: (the operations it counts there, the nodes it goes on with)."""
+    from sympy.core.function import _coeff_isneg
+    from sympy.simplify.radsimp import fraction
+    ops = 0
+    if a.is_Rational:
+        if a is not sp.S.One:
+            return (a.p < 0) + (a.q != 1), ()
+    elif a.is_Mul:
+        if _coeff_isneg(a):
+            ops += 1
+            a = a.as_two_terms()[1] if a.args[0] is sp.S.NegativeOne else -a
+        n, d = fraction(a)
+        if n.is_Integer:
+            return ops + 1 + (1 if n.is_negative else 0), (d,)
+        if d is not sp.S.One:
+            return ops + 1, ((d, n) if not d.is_Integer else (n,))
+    elif a.is_Add:
+        terms = []
+        negs = 0
+        for i, ai in enumerate(a.args):
+            if _coeff_isneg(ai):
+                negs += 1
+                terms.append(-ai)
+            else:
+                terms.append(ai)
+            ops += i > 0                # ADD or SUB
+        if negs == len(a.args):
+            ops += 1                    # NEG
+        return ops, tuple(terms)        # (SUB - ADD counts 0)
+    if a.is_Pow and a.exp is sp.S.NegativeOne:
+        return ops + 1, (a.base,)
+    if a == sp.S.Exp1:
+        return ops + 1, ()
+    if a.is_Pow and a.base == sp.S.Exp1:
+        return ops + 1, (a.exp,)
+    if a.is_Mul:
+        ops += len(a.args) - 1
+    elif a.args and (a.is_Pow or a.is_Function):
+        ops += 1
+    return ops, (() if a.is_Symbol else a.args)
+
+
+def count_ops(expr, memo):
+    """sp.count_ops(expr) (visual=False) of an expression of the kernels'
+    kinds (no Derivative, Integral, Sum, lattice or relational nodes), the
+    same number, with the count of every distinct subexpression remembered in
+    memo: sympy walks the tree, which costs minutes on the large
+    tilt-vector expressions whose subtrees repeat."""
+    expr = sp.sympify(expr)
+    stack = [(expr, False)]
+    while stack:
+        node, expanded = stack.pop()
+        if node in memo:
+            continue
+        if not expanded:
+            ops, children = _count_node(node)
+            pending = [c for c in children if c not in memo]
+            if pending:
+                stack.append((node, True))
+                stack.extend((c, False) for c in pending)
+                continue
+            memo[node] = ops + sum(memo[c] for c in children)
+        else:
+            ops, children = _count_node(node)
+            memo[node] = ops + sum(memo[c] for c in children)
+    return memo[expr]
+
+
 def param_names():
     return {P[name]: f"p->{name}" for name, *_ in PARAMETERS}
 
@@ -151,9 +221,10 @@ class Kernel:
                                order="canonical")
         repl = _drop_unused(repl, reduced)
         printer = KernelPrinter(names)
-        ops_before = sum(sp.count_ops(e) for e in exprs)
-        ops_after = (sum(sp.count_ops(e) for _, e in repl)
-                     + sum(sp.count_ops(e) for e in reduced))
+        counted = {}
+        ops_before = sum(count_ops(e, counted) for e in exprs)
+        ops_after = (sum(count_ops(e, counted) for _, e in repl)
+                     + sum(count_ops(e, counted) for e in reduced))
         temps = [f"    const double {sym.name} = {printer.doprint(e)};"
                  for sym, e in repl]
         outs = [f"    out[{i}] = {printer.doprint(e)};"

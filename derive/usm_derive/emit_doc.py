@@ -226,6 +226,9 @@ def lhs_key(sym):
 def model_data(m):
     """The document of one model as data (JSON-able): its lines, symbols and
     the keys the proof needs (tests/equations_proof.py), section by section."""
+    if m.assumptions.get("coordinates", "euler_zxz") != "euler_zxz":
+        from .emit_doc_regular import regular_model_data
+        return regular_model_data(m, Doc, Names, latex)
     doc = ModelDocument(m)
     doc.kinematics()
     doc.rotor_and_contact()

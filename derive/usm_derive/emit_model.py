@@ -303,6 +303,21 @@ def _names_array(cname, names):
     return f"static const char *const {cname}[] = {{{items}}};\n"
 
 
+def _other_coordinates(name):
+    """The model whose assumptions are this one's in the other coordinate set
+    (derive/variants.py, assumption coordinates), or None."""
+    import variants
+    models = variants.generated_models()
+    spec = {mm[0]: mm[3] for mm in models}[name]
+    mine = spec.get("coordinates", "euler_zxz")
+    rest = {k: v for k, v in spec.items() if k != "coordinates"}
+    for other, _, _, ospec, _ in models:
+        if ospec.get("coordinates", "euler_zxz") != mine and \
+                {k: v for k, v in ospec.items() if k != "coordinates"} == rest:
+            return other
+    return None
+
+
 def model_files(m, description, stamp, base, variant):
     pre = f"usm_{m.name}"
     kernels = build_kernels(m)
@@ -400,6 +415,12 @@ def model_files(m, description, stamp, base, variant):
                ("steady_design_jacobian", f"{pre}_steady_design_jacobian"),
                ("floquet_direction", f"{pre}_floquet_direction"),
                ("imperfect", 1 if m.assumptions.get("imperfection", "none") != "none" else 0),
+               ("coordinates", 0 if m.assumptions.get("coordinates", "euler_zxz") == "euler_zxz"
+                else 1)]
+    fields += [(f"x_{nm}", index(m.state_names, nm))
+               for nm in ("a", "b", "chi", "adot", "bdot", "chidot")]
+    other = _other_coordinates(m.name)
+    fields += [("other_coordinates", f"&usm_model_{other}" if other else "0"),
                ("param_coupling", "param_coupling"),
                ("unilateral", unilateral)]
     c += (f"const usm_model {pre.replace('usm_', 'usm_model_')} = {{\n"
@@ -612,6 +633,14 @@ def common_files(models, variant_list, stamp):
           "       (the stationary-solution kernels are those of the ideal motor); 0: the\n"
           "       model is ideal and those parameters must be 0. */\n"
           "    int imperfect;\n"
+          "    /* Orientation coordinates of the stator (issue 21): 0 the z-x-z Euler angles\n"
+          "       (x_phi ...), 1 the tilt vector (x_a ...: the stator axis (a, b) in the frame\n"
+          "       turning with Omega t, the spin angle chi = phi + psi; regular at theta = 0). */\n"
+          "    int coordinates;\n"
+          "    int x_a, x_b, x_chi, x_adot, x_bdot, x_chidot;\n"
+          "    /* The model of the same assumptions in the other coordinates, NULL if none\n"
+          "       (solve/coords.h maps states between them). */\n"
+          "    const struct usm_model *other_coordinates;\n"
           + emit_contracts.DESCRIPTOR_MEMBER +
           "    /* closure = unilateral (the contact may open): its open mode, guards and\n"
           "       resets; NULL when the contact never opens (the paper's models) */\n"

@@ -16,7 +16,7 @@ vanishes on the solution.
 from dataclasses import dataclass, field
 import sympy as sp
 
-from .kinematics import Kinematics
+from .kinematics import Kinematics, TiltKinematics
 
 # The paper's parameter symbols in ASCII (Appendix A plus f, M, mu0, kappa),
 # with SI units.  Their order is the field order of the C struct usm_params.
@@ -172,9 +172,23 @@ class Derivation:
         self.name = name
         self.assumptions = dict(assumptions)
 
+    # True in coordinates other than the Euler angles (_derive_regular): there
+    # the substitutions of symbols by expressions are structural (xreplace),
+    # which gives the same expressions as subs() without its search for
+    # matching subexpressions, minutes on the large tilt-vector Jacobians.
+    regular = False
+
     def plain(self, e):
         """q''(t), q'(t), q(t) -> the plain symbols qddot, qdot, q."""
+        if self.regular:
+            return sp.sympify(e).xreplace(dict(self.subs_lists))
         return e.subs(self.subs_lists)
+
+    def put(self, e, mapping):
+        """e with the symbols of mapping replaced at once (simultaneously)."""
+        if self.regular:
+            return e.xreplace(mapping)
+        return e.subs(mapping, simultaneous=True)
 
     def on_ansatz(self, e):
         """An expression of the motion on the stationary ansatz (3.1)."""
@@ -195,15 +209,36 @@ def _choose(table, what, value):
 
 # --- kinematics ----------------------------------------------------------------
 
-def kinematics(d, rotor_angle):
+def euler_coordinates(d, rotor_angle):
     """The generalised coordinates: the stator's z-x-z Euler angles
     (kinematics.py), preceded by the rotor angle phi_R when the rotor turns
     freely (slip contact)."""
     d.phi_f, d.theta_f, d.psi_f = (sp.Function(n, real=True)(t)
                                    for n in ("phi", "theta", "psi"))
     d.kin = Kinematics(t, d.phi_f, d.theta_f, d.psi_f, P["R"], P["H"])
-    d.coords = [d.phi_f, d.theta_f, d.psi_f]
-    d.coord_names = ["phi", "theta", "psi"]
+    _coordinates(d, [d.phi_f, d.theta_f, d.psi_f], ["phi", "theta", "psi"], rotor_angle)
+
+
+def tilt_coordinates(d, rotor_angle):
+    """Coordinates regular at theta = 0 (issue 21): the stator axis e_z2 in
+    the co-rotating frame C (a, b), the spin angle chi = phi + psi
+    (kinematics.py, TiltKinematics), preceded by the rotor angle phi_R when
+    the rotor turns freely.  Frame C plays frame A's role: the rows are
+    Euler's equations in C, where the ideal motor's equations are free of t."""
+    a_f, b_f, chi_f = (sp.Function(n, real=True)(t) for n in ("a", "b", "chi"))
+    d.kin = TiltKinematics(t, a_f, b_f, chi_f, P["R"], P["H"], OMEGA)
+    d.phi_f = d.psi_f = None
+    d.theta_f = d.kin.theta
+    _coordinates(d, [a_f, b_f, chi_f], ["a", "b", "chi"], rotor_angle)
+
+
+# Assumption coordinates: the stator's orientation coordinates.
+COORDINATES = {"euler_zxz": euler_coordinates, "tilt_vector": tilt_coordinates}
+
+
+def _coordinates(d, coords, coord_names, rotor_angle):
+    d.coords = list(coords)
+    d.coord_names = list(coord_names)
     d.phiR_f = None
     if rotor_angle:
         d.phiR_f = sp.Function("phi_R", real=True)(t)
@@ -319,6 +354,10 @@ def excitation(d):
 
 def paper_twist(d):
     """The paper's twist angle phi + psi cos(theta) (2.9)."""
+    if d.phi_f is None:
+        raise RuntimeError("the paper's twist angle phi + psi cos(theta) needs the Euler "
+                           "angles phi and psi apart (phi is singular at theta = 0): "
+                           "regular coordinates take the integrated twist law")
     d.twist_angle = d.phi_f + d.psi_f * sp.cos(d.theta_f)
     d.extra_states, d.extra_names, d.extra_rates = [], [], []
 
@@ -340,7 +379,7 @@ def restoring_moment(d):
     enters through a placeholder, so that the stationary problem can solve the
     twisting balance for its value whatever the twist law."""
     d.Tw = sp.Symbol("twist", real=True)
-    d.M_R_A = sp.Matrix([P["c_r"] * d.theta_f, 0, P["c_t"] * d.Tw])
+    d.M_R_A = P["c_r"] * d.kin.tilt_vector_A + sp.Matrix([0, 0, P["c_t"] * d.Tw])
 
 
 def no_imperfection(d):
@@ -351,6 +390,8 @@ def driver_stator_imperfection(d):
     """A real driver (amplitude imbalance, phase error) and a stator tilt
     stiffness split fixed in the housing, added to the ideal excitation and
     restoring moment."""
+    if d.phi_f is None:
+        raise RuntimeError("the imperfections are derived in Euler angles only")
     d.M_E_A = d.M_E_A + imperfect_excitation_A(d.kin, OMEGA)
     d.M_R_A = d.M_R_A + mode_split_moment_A(d.kin, d.coords[-3:])
 
@@ -368,7 +409,7 @@ def euler_equations(d):
     d.ideal = {P[k]: sp.Integer(0) for k in IMPERFECTIONS}
     d.D_A = kin.tensor_in_A_from_N((P["d_r"], P["d_r"], P["d_t"]))
     d.M_D_A = d.D_A * kin.omega_A                                     # (2.10)
-    d.F_c_A = sp.Matrix([-d.Ft_s, 0, -d.Fn_s])                        # (2.5)
+    d.F_c_A = -d.Ft_s * kin.e_x1_A - d.Fn_s * sp.Matrix([0, 0, 1])      # (2.5)
     d.M_C_A = kin.r_c_A.cross(d.F_c_A)                                # (2.11)
     stator = d.dLdt_A - (d.M_E_A - d.M_R_A - d.M_D_A + d.M_C_A)       # (2.6), (2.7)
     d.stator_rows = list(stator.subs({d.Ft_s: d.F_t, d.Fn_s: d.F_n, d.Tw: d.twist_angle}))
@@ -585,9 +626,15 @@ def linearisation(d):
     # phi - Omega t (the paper's twist angle phi + psi cos(theta) does).
     on_orbit = dict(zip(states, d.steady_state))
     jac_rhs_ideal, jac_mass_ideal = d.jac_rhs.xreplace(d.ideal), d.jac_mass.xreplace(d.ideal)
-    A_bar = (jac_rhs_ideal - jac_mass_ideal.subs(dict(zip(d.v, d.steady_rate)))).subs(on_orbit)
-    d.t0_independent = (t not in A_bar.free_symbols
-                        and t not in d.mass.subs(on_orbit).free_symbols)
+    if d.regular:
+        A_bar = d.put(jac_rhs_ideal - d.put(jac_mass_ideal, dict(zip(d.v, d.steady_rate))),
+                      on_orbit)
+        M_bar = d.put(d.mass, on_orbit)
+    else:
+        A_bar = (jac_rhs_ideal - jac_mass_ideal.subs(dict(zip(d.v, d.steady_rate)))
+                 ).subs(on_orbit)
+        M_bar = d.mass.subs(on_orbit)
+    d.t0_independent = (t not in A_bar.free_symbols and t not in M_bar.free_symbols)
     d.A_bar_t_entries = [(i, j) for i in range(n) for j in range(n)
                          if t in A_bar[i, j].free_symbols]
     # Directional derivative of the linearisation about the orbit: M(xbar)
@@ -597,8 +644,8 @@ def linearisation(d):
     # linearisation (second derivatives of the equations of motion).
     orbit_beta = {**on_orbit, **dict(zip(d.v, d.steady_rate))}
     orbit_beta = {k: sp.sympify(e).subs(d.beta, d.beta_expr) for k, e in orbit_beta.items()}
-    A_full = (jac_rhs_ideal - jac_mass_ideal).subs(orbit_beta, simultaneous=True)
-    M_full = d.mass.subs(orbit_beta, simultaneous=True)
+    A_full = d.put(jac_rhs_ideal - jac_mass_ideal, orbit_beta)
+    M_full = d.put(d.mass, orbit_beta)
     # (the imperfections are 0 here: their directions have no stationary orbit)
     d.dir_vars = list(d.unknowns) + [t] + [P[k] for k, *_ in PARAMETERS]
     d.dir_syms = [sp.Symbol("dir_" + s.name, real=True) for s in d.dir_vars]
@@ -873,17 +920,15 @@ def document_pieces(d):
     }
 
 
-def derive_model(name, assumptions):
-    """The Model of one variant: assumptions as in derive/variants.py, each
-    choice a step of the tables above, applied in the order of the paper."""
-    d = Derivation(name, assumptions)
+def _equations(d, coordinates):
+    """The equations of motion, assumption by assumption, in the order of the
+    paper; ``coordinates`` is the step of the assumption coordinates."""
+    assumptions = d.assumptions
     rotor_coupling, rotor_angle = _choose(CONTACT, "contact law", assumptions["contact"])
     twist = _choose(TWIST, "twist law", assumptions["twist"])
     imperfection = _choose(IMPERFECTION, "imperfection",
                            assumptions.get("imperfection", "none"))
-    closure = _choose(CLOSURE, "closure", assumptions.get("closure", "bilateral"))
-    # the equations of motion, assumption by assumption
-    kinematics(d, rotor_angle)
+    coordinates(d, rotor_angle)
     normal_force(d, assumptions["spring_reference"])
     rotor_coupling(d)            # stick, or slip with its friction law
     stator_momentum(d, assumptions["stator_inertia"])
@@ -893,8 +938,15 @@ def derive_model(name, assumptions):
     imperfection(d)
     euler_equations(d)
     equations_of_motion(d)
-    # what every variant derives from them
     motion_outputs(d)
+
+
+def _derive_euler(name, assumptions, stationary_only=False):
+    """The derivation in the paper's z-x-z Euler angles (with stationary_only,
+    up to the stationary problem: what _derive_regular takes from it)."""
+    d = Derivation(name, assumptions)
+    _equations(d, euler_coordinates)
+    # what every variant derives from them
     stationary_ansatz(d)
     stationary_residual(d)
     twisting_balance(d)
@@ -902,10 +954,82 @@ def derive_model(name, assumptions):
     stationary_power(d)
     stationary_orbit(d)
     stationary_seed(d)
+    if stationary_only:
+        return d
     tangent_map(d)
     linearisation(d)
     cyclic_states(d)
-    closure(d)
+    _choose(CLOSURE, "closure", assumptions.get("closure", "bilateral"))(d)
+    d.document = document_pieces(d)
+    return d
+
+
+# --- regular coordinates: the stationary problem of the Euler angles ----------------
+
+def _derive_regular(name, assumptions, coordinates):
+    """The derivation in coordinates other than the Euler angles (issue 21).
+    The equations of motion are derived in them from the same kinematics and
+    force laws; the stationary problem (unknowns theta, alpha, phidot_R, its
+    residuals, seed, outputs and power) is the Euler angles' own, derived
+    alongside, and its orbit is mapped into the new coordinates
+    (``regular_orbit``).  So the stationary solution of both coordinate sets
+    is one and the same, and the tests check that the mapped orbit solves the
+    new equations (tests/test_steady_floquet.c, kernel residual)."""
+    if assumptions.get("closure", "bilateral") != "bilateral":
+        raise RuntimeError("the unilateral contact is derived in Euler angles only")
+    euler = {k: v for k, v in assumptions.items() if k != "coordinates"}
+    e = _derive_euler(name, euler, stationary_only=True)
+    d = Derivation(name, assumptions)
+    d.regular = True
+    _equations(d, coordinates)
+    d.euler = e
+    for key in ("unknowns", "unknown_names", "residual", "steady_outputs", "steady_power",
+                "seed", "beta", "beta_expr", "twist_bar"):
+        setattr(d, key, getattr(e, key))
+    regular_orbit(d, e)
+    d.tangent_map = sp.eye(d.n)   # the coordinates are regular: no tangent map needed
+    linearisation(d)
+    cyclic_states(d)
+    bilateral_closure(d)
+    kin = d.kin
+    d.document = {"plain": d.plain, "coords": d.coords, "slip": d.phiR_f is not None,
+                  "euler_name": _euler_name(name), "e_z2": kin.e_z2, "C_tilt": kin.C_tilt,
+                  "omega": kin.omega_A, "r_c": kin.r_c_A, "R_star": kin.R_star, "Z": kin.Z,
+                  "v_c": kin.v_c, "F_n": d.F_n, "w_R": d.w_R, "F_t": d.F_t}
+    return d
+
+
+def _euler_name(name):
+    import variants
+    models = variants.generated_models()
+    spec = {m[0]: m[3] for m in models}.get(name, {})
+    rest = {k: v for k, v in spec.items() if k != "coordinates"}
+    return next((m[0] for m in models if m[3] == rest), "?")
+
+
+def regular_orbit(d, e):
+    """The stationary orbit xbar(t) and its rate in the regular coordinates:
+    the Euler angles' orbit (3.1) mapped through the kinematics
+    (TiltKinematics.from_euler), simplified entry by entry (small)."""
+    mapped = d.kin.from_euler(e.kin, OMEGA, t)
+    if e.phiR_f is not None:
+        mapped = [e.phiR_f] + mapped
+    pos = [sp.simplify(e.on_ansatz(c)) for c in mapped]
+    vel = [sp.simplify(e.on_ansatz(c.diff(t))) for c in mapped]
+    xbar = pos + vel + [d.twist_bar for _ in d.extra_states]
+    d.steady_state = sp.Matrix(xbar)
+    d.steady_rate = sp.Matrix([sp.simplify(sp.diff(x, t)) for x in xbar])
+
+
+def derive_model(name, assumptions):
+    """The Model of one variant: assumptions as in derive/variants.py, each
+    choice a step of the tables above, applied in the order of the paper."""
+    coordinates = _choose(COORDINATES, "coordinates",
+                          assumptions.get("coordinates", "euler_zxz"))
+    if coordinates is euler_coordinates:
+        d = _derive_euler(name, assumptions)
+    else:
+        d = _derive_regular(name, assumptions, coordinates)
     return Model(name=name, assumptions=dict(assumptions), states=d.states,
                  state_names=d.state_names, mass=d.mass, rhs=d.rhs, v=d.v,
                  outputs=d.outputs, xdot=d.xdot, unknowns=d.unknowns,
@@ -914,7 +1038,7 @@ def derive_model(name, assumptions):
                  steady_rate=d.steady_rate, seed=d.seed, friction=d.mu_expr,
                  v_rel=d.v_sym, tangent_map=d.tangent_map, jac_rhs=d.jac_rhs,
                  jac_mass=d.jac_mass, t0_independent=d.t0_independent, cyclic=d.cyclic,
-                 equations=document_pieces(d), steady_power=d.steady_power,
+                 equations=d.document, steady_power=d.steady_power,
                  floquet_direction=d.floquet_direction,
                  direction_symbols=list(zip(d.dir_vars, d.dir_syms)),
                  unilateral=d.unilateral)

@@ -122,11 +122,25 @@ int usm_floquet_method_from_name(const char *name, usm_floquet_method *method,
     return USM_EINPUT;
 }
 
+/* The coordinates the multipliers are computed in (issue 21, docs/coordinates.md):
+ * the tilt vector for the stick model's twist_integrated variant, whose
+ * multipliers it gives to 14.1-15.0 correct digits where the Euler angles give
+ * 11.3-12.0 (tests/multipliers_reference.h, six points); the Euler angles
+ * everywhere else: under the paper's twist law there are no tilt-vector
+ * coordinates (its twist angle needs phi), and for the slip model the tilt
+ * vector is no better (11.8-12.7 digits against 11.9-14.7). */
+const usm_model *usm_floquet_coordinates(const usm_model *m)
+{
+    const usm_model *r = m->other_coordinates;
+    return r && r->coordinates == 1 && !m->slip ? r : m;
+}
+
 usm_floquet *usm_floquet_alloc(const usm_model *m)
 {
     usm_floquet *f = calloc(1, sizeof *f);
     if (!f)
         return NULL;
+    m = usm_floquet_coordinates(m);
     const size_t n = (size_t)m->nx;
     f->m = m;
     f->n = m->nx;

@@ -28,8 +28,15 @@ def c_params(model):
 
 def random_states(model, n, rng):
     x = rng.uniform(-1.0, 1.0, size=(n, model.nx))
-    th = model.state_names.index("theta")
-    x[:, th] = rng.uniform(1e-3, 0.3, size=n)       # away from the Euler angles' singularity
+    if "theta" in model.state_names:
+        th = model.state_names.index("theta")
+        x[:, th] = rng.uniform(1e-3, 0.3, size=n)   # away from the Euler angles' singularity
+    else:
+        # the tilt vector (variant tilt): a = sin(theta) sin(al), b = -sin(theta) cos(al),
+        # theta in the same range (its kernels are finite for theta > 0, docs/coordinates.md)
+        th, al = rng.uniform(1e-3, 0.3, size=n), rng.uniform(0.0, 2 * np.pi, size=n)
+        x[:, model.state_names.index("a")] = np.sin(th) * np.sin(al)
+        x[:, model.state_names.index("b")] = -np.sin(th) * np.cos(al)
     for k, name in enumerate(model.state_names):
         if name.endswith("dot"):
             x[:, k] *= 2e5                            # rates of the order of Omega

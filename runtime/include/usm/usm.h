@@ -84,6 +84,34 @@ const usm_model *usm_model_variant(const char *base, const char *variant);
 /* The variant called `name`, or NULL. */
 const usm_variant_info *usm_variant_find(const char *name);
 
+/* ---- orientation coordinates (issue 21, docs/coordinates.md) ------------------- */
+
+/* The stator's Euler angles (phi, theta, psi) and their rates from the state x
+ * of model m at time t, in either coordinate set (m->coordinates): copied for
+ * the z-x-z Euler angles; from the tilt vector (a, b, chi) by
+ * theta = asin(sqrt(a^2 + b^2)) in [0, pi/2), phi = Omega t + atan2(a, -b)
+ * taken within pi of phi_near (the branch: pass the previous value along a
+ * motion), psi = chi - phi.  At theta = 0 phi is undefined (this returns
+ * phi_near there) and phidot, thetadot are not finite.  Omega = 2 pi p->f. */
+void usm_coords_euler_angles(const usm_model *m, const double *x, double t,
+                             const usm_params *p, double phi_near, double euler[6]);
+
+/* The time derivatives (phidot, thetadot, psidot, phiddot, thetaddot, psiddot)
+ * of the Euler angles along a motion of model m in state x with rate xdot
+ * (either coordinate set; the chain rule for the tilt vector, singular at
+ * theta = 0). */
+void usm_coords_euler_rates(const usm_model *m, const double *x, const double *xdot,
+                            const usm_params *p, double edot[6]);
+
+/* x_to (the state of model `to`) from x_from (the state of model `from`) at
+ * time t, where `to` is `from` itself or from->other_coordinates (the same
+ * assumptions in the other coordinate set): the same motion.  Every state but
+ * the stator's orientation (phi_R, its rate, tau) is copied.  phi_near as for
+ * usm_coords_euler_angles.  USM_OK, or USM_EINPUT when the two models are not
+ * such a pair. */
+int usm_coords_map(const usm_model *from, const double *x_from, double t,
+                   const usm_params *p, double phi_near, const usm_model *to, double *x_to);
+
 /* ---- parameters ------------------------------------------------------------ */
 
 /* The paper's parameters: Appendix A, f = 37000 Hz, M = 2 I_R / R^2,
@@ -298,8 +326,16 @@ typedef struct usm_floquet_result {
 /* Floquet solver of one model: integrator and eigen-solver workspace (opaque). */
 typedef struct usm_floquet usm_floquet;
 
-/* A Floquet solver for model m (not NULL), or NULL when out of memory. */
+/* A Floquet solver for model m (not NULL), or NULL when out of memory.  It
+ * computes in the coordinates usm_floquet_coordinates(m) (the result's
+ * monodromy is in those). */
 usm_floquet *usm_floquet_alloc(const usm_model *m);
+
+/* The model whose orientation coordinates the Floquet solver uses for m: m
+ * itself, or m->other_coordinates where those give more correct digits (the
+ * tilt vector for the stick model's twist_integrated variant; measured in
+ * docs/coordinates.md).  The same motor and stationary solution either way. */
+const usm_model *usm_floquet_coordinates(const usm_model *m);
 /* Free f; NULL is allowed. */
 void usm_floquet_free(usm_floquet *f);
 

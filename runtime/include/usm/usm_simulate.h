@@ -121,6 +121,12 @@ typedef struct usm_sim_options {
                               * of the paper's motor, a minute of computing) */
     double rest_fraction;  /* the decay rule of settled_on (header comment; default
                               2e-2, in [0, 0.5]); 0: never decide that the wobble decayed */
+    int own_coordinates;   /* 1: integrate in the model's own orientation coordinates;
+                              0 (default): a model with a counterpart in the tilt
+                              vector (twist_integrated) is integrated in it, the
+                              same motion regular at theta = 0 (issue 21,
+                              docs/coordinates.md); states in and out are the
+                              model's either way */
 } usm_sim_options;
 
 /* Consecutive periods the decay rule must hold (see the header comment). */
