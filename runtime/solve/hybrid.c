@@ -407,8 +407,8 @@ static int switch_at(usm_hybrid *h, double t, double *z)
                     newmode = 0;
             }
         }
-        if (newmode && h->bounces++ == 0)
-            h->vfirst = -gd;
+        if (newmode && cv[0] > h->v_land && h->bounces++ == 0)
+            h->vfirst = -gd; /* a rebound (not a touch the closed mode would pull off) */
         if (!newmode && h->bounces > 0) {
             /* a landing after rebounds: at e_impact > 0 every impact throws
              * the rotor off again (gap'+ = -e gap'- > 0), so a contact that
