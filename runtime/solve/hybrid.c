@@ -64,6 +64,9 @@ struct usm_hybrid {
     int nsamp;                /* > 0: sample the rotor speed (min/max) this often a period */
     double wmin, wmax;
     int nsep, nimp, nslip, nmodes;
+    int bounces;       /* impacts with rebound since the last separation */
+    double vfirst;     /* their first approach velocity */
+    int chatter;       /* a landing after rebounds was met (message set) */
     char seq[USM_HYBRID_MAX_SWITCHES + 1];
     char cvmsg[USM_MSG_LEN];
     char msg[USM_MSG_LEN];
@@ -365,6 +368,7 @@ static int switch_at(usm_hybrid *h, double t, double *z)
         newmode = 1;
         h->nsep++;
         h->open_since = t;
+        h->bounces = 0;
     } else {
         double gg[1 + NY], cv[2 + 2 * NY], out[NY + 2];
         h->u->guard_open(x, &h->p, gg);
@@ -402,6 +406,24 @@ static int switch_at(usm_hybrid *h, double t, double *z)
                 if (o[USM_OUT_F_N] >= 0)
                     newmode = 0;
             }
+        }
+        if (newmode && cv[0] > h->v_land && h->bounces++ == 0)
+            h->vfirst = -gd; /* a rebound (not a touch the closed mode would pull off) */
+        if (!newmode && h->bounces > 0) {
+            /* a landing after rebounds: at e_impact > 0 every impact throws
+             * the rotor off again (gap'+ = -e gap'- > 0), so a contact that
+             * closes does so only at the end of an accumulation of ever
+             * shorter bounces (Zeno: infinitely many impacts in a finite
+             * time), which the landing rule cuts at v_land after a number of
+             * bounces that jumps with the state: the period map is not
+             * smooth there, and no such orbit is computed */
+            snprintf(h->msg, USM_MSG_LEN,
+                     "chattering at e_impact = %g: the bounces accumulate (Zeno: %d rebounds from %.3g "
+                     "m/s, landing at t = %.9g s below v_land = %.3g m/s); orbits that land "
+                     "again at e_impact > 0 are not computed",
+                     h->p.e_impact, h->bounces, h->vfirst, t, h->v_land);
+            h->chatter = 1;
+            return USM_EFAILED;
         }
         nb = newmode ? ny : nx; /* landing: the first nx rows of R */
         if (newmode == 0)
@@ -470,6 +492,7 @@ static int period_map(usm_hybrid *h, double ts, const double *x0, double *x1, do
     h->open_total = 0;
     h->vmax = 0;
     h->nsep = h->nimp = h->nslip = h->nmodes = 0;
+    h->bounces = 0;
     h->seq[0] = '\0';
     note_mode(h, 0);
     memcpy(z, x0, sizeof(double) * (size_t)nx);
@@ -717,7 +740,8 @@ static int start_from_simulation(usm_hybrid *h, const usm_hybrid_options *o, int
         }
         if (best < 0) {
             snprintf(h->msg, USM_MSG_LEN, "the contact stays open in the simulation: no section "
-                     "in a closed phase");
+                     "in a closed phase%s", h->p.e_impact > 0 ? " (the rotor bounces on the "
+                     "stator without landing: such orbits of impacts only are not computed)" : "");
             rc = USM_EFAILED;
         } else {
             const int k = (r->n + best) % NSAMP;
@@ -805,6 +829,7 @@ static int check_start(usm_hybrid *h, const usm_params *p, const usm_hybrid_opti
     int rc;
     memset(out, 0, sizeof *out);
     memset(h->scale, 0, sizeof h->scale);
+    h->chatter = 0;
     if ((rc = usm_hybrid_set(h, p, opt->rtol)) != USM_OK)
         return rc;
     if (!(opt->tol > 0) || opt->max_iter < 1 || !(opt->settle > 0) || !isfinite(opt->settle)) {
@@ -838,8 +863,8 @@ int usm_hybrid_solve(usm_hybrid *h, const usm_params *p, const usm_hybrid_option
             set_scales(h, x0[h->m->x_theta], speed);
             rc = newton(h, opt, ts, x0, out);
         }
-        if (rc == USM_OK && (!quick || out->floquet.max_modulus < 1))
-            break;
+        if ((rc == USM_OK && (!quick || out->floquet.max_modulus < 1)) || h->chatter)
+            break; /* chattering: a careful start would meet it again */
         if (rc == USM_OK) { /* unstable: kept should the careful start fail */
             first = *out;
             have_first = 1;
