@@ -119,33 +119,6 @@ static void predict(const usm_periodic_result *a, double va, const usm_periodic_
         x[i] = b->x0[i] + t * (b->x0[i] - a->x0[i]);
 }
 
-usm_periodic_event *psweep_event_add(usm_periodic_sweep *s, usm_pevent_type type, double v,
-                                      const usm_periodic_result *orbit, const char *fmt, ...)
-{
-    if (s->nev == s->cap) {
-        size_t cap = s->cap ? 2 * s->cap : 8;
-        usm_periodic_event *e = realloc(s->ev, cap * sizeof *e);
-        if (!e)
-            return NULL;
-        s->ev = e;
-        s->cap = cap;
-    }
-    usm_periodic_event *e = &s->ev[s->nev++];
-    memset(e, 0, sizeof *e);
-    e->type = type;
-    e->value = v;
-    e->squeal_frequency = NAN;
-    if (orbit) {
-        e->has_orbit = 1;
-        e->orbit = *orbit;
-    }
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(e->what, sizeof e->what, fmt, ap);
-    va_end(ap);
-    return e;
-}
-
 /* ---- events ------------------------------------------------------------------- */
 
 enum { G_CONTACT, G_STICK, G_STABILITY, NG };
@@ -247,13 +220,6 @@ static int locate(usm_periodic_sweep *s, int k, double va, const usm_periodic_re
     if (pos)
         *pos = c.t[a].g > 0 ? c.t[a] : c.t[b];
     return rc;
-}
-
-void psweep_value_text(const usm_periodic_sweep *s, double v, char buf[96])
-{
-    /* no unit "1" after a ratio */
-    snprintf(buf, 96, "%s = %.12g%s%s", s->over, v, strcmp(s->unit, "1") ? " " : "",
-             strcmp(s->unit, "1") ? s->unit : "");
 }
 
 /* rising: g_k > 0 after the event (in sweep order). */
