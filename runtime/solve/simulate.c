@@ -1182,6 +1182,24 @@ static void collect_stats(usm_sim *s)
         sum->newton_fails = v + done[4];
 }
 
+/* Why CVODES gave up, where it is the model's own motion: a tilt far below
+ * the stationary one circles the axis ever faster (the paper's contact point
+ * makes the contact height a cone at theta = 0; docs/coordinates.md), so the
+ * steps per period grow without bound.  Appended to the reason. */
+static void cone_hint(usm_sim *s, double t, const double *y)
+{
+    double x[USM_MAX_NY];
+    to_x(s, t, y, x);
+    const double theta = theta_of(s, x);
+    const double theta_c = s->sum->have_steady ? s->sum->steady.theta : 1e-4;
+    if (!(theta < 1e-3 * theta_c))
+        return;
+    const size_t n = strlen(s->sum->reason);
+    snprintf(s->sum->reason + n, USM_MSG_LEN - n,
+             " (tilt %.2g rad: it circles the axis, where the contact is a cone; "
+             "docs/coordinates.md)", theta);
+}
+
 static int integrate(usm_sim *s, run_state *r)
 {
     usm_sim_summary *sum = s->sum;
@@ -1213,6 +1231,7 @@ static int integrate(usm_sim *s, run_state *r)
             snprintf(sum->reason, USM_MSG_LEN, "CVODES failed at t = %.9g s: %s%s%.140s", t,
                      usm_cvode_flag_name(flag, name, sizeof name), s->cvmsg[0] ? " -- " : "",
                      s->cvmsg);
+            cone_hint(s, t, y);
             return USM_EFAILED;
         }
         if (CVodeGetQuad(s->cv, &t, s->q) == CV_SUCCESS)
@@ -1255,6 +1274,7 @@ static int integrate(usm_sim *s, run_state *r)
                      "step cap: %ld internal steps used by t = %.9g s (max_steps); "
                      "the motion needs far more work than a motor start-up",
                      nst, t);
+            cone_hint(s, t, y);
             return USM_EFAILED;
         }
     }
