@@ -837,7 +837,15 @@ static void check_hybrid(const char *name, const char *imp, double value)
      * monodromy at rtol 1e-13 against 1e-14: 3e-9, 6e-8, 1.7e-6.  The
      * earlier reference (central differences of hybrid.c's adaptive map in
      * x) agreed to 1.4e-6 to 3.2e-6 only: the adaptive steps change with x0
-     * (a noise of 1e-9 of the state) and phidot's rounding (above). */
+     * (a noise of 1e-9 of the state) and phidot's rounding (above).
+     * The margin is thin, and that is the reference's, in double precision:
+     * differences of 1e-4, 5e-5, 2e-5 of each scale (instead of 3e-4) give
+     * 0.9e-6..8.7e-6 (noise over the step: the map's rounding, about 1e-10
+     * of the state after the monodromy's amplification), and moving the
+     * reference's start by a rounding-sized shift gives 6e-7..3e-6 (measured
+     * 26 Nov 2026).  A change of the library's arithmetic that moves the
+     * orbit by 1e-10 can therefore move this figure across 1e-6; a reference
+     * in extended precision is what would give the check a margin. */
     CHECK(nsw0 == r.nmodes - 1, "%s: the fixed-step map switches %d times, the orbit %d", name,
           nsw0, r.nmodes - 1);
     CHECK(dist < 1e-6, "%s: multipliers differ from finite differences by %.3g", name, dist);
