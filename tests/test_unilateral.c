@@ -843,7 +843,9 @@ static void check_hybrid(const char *name, const char *imp, double value)
      * 0.9e-6..8.7e-6 (noise over the step: the map's rounding, about 1e-10
      * of the state after the monodromy's amplification), and moving the
      * reference's start by a rounding-sized shift gives 6e-7..3e-6 (measured
-     * 26 Nov 2026).  A change of the library's arithmetic that moves the
+     * 26 Nov 2026); averaging the reference over 8 or 16 starts shifted by
+     * 1e-9 of each scale does not settle it (3e-8..2.3e-6 over three seeds).
+     * A change of the library's arithmetic that moves the
      * orbit by 1e-10 can therefore move this figure across 1e-6; a reference
      * in extended precision is what would give the check a margin. */
     CHECK(nsw0 == r.nmodes - 1, "%s: the fixed-step map switches %d times, the orbit %d", name,
