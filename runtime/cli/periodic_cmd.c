@@ -181,10 +181,8 @@ int cli_periodic_main(int argc, char **argv)
         cli_error("--orbit %s", msg);
     else if (a.common.json && usm_run_has_json(run)) {
         /* the object with "error" on a failure too */
-        if (usm_run_write_json(run, stdout) != 0) {
-            cli_error("out of memory or write error");
+        if (cli_run_json(run) != USM_OK)
             status = USM_EFAILED;
-        }
     } else if (status != USM_OK)
         cli_error("%s", usm_run_message(run));
     else if (h)

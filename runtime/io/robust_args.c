@@ -70,8 +70,9 @@ int usm_robust_constraint_parse(usm_robust_problem *rp, const char *text,
         rp->yield_min = value;
         return USM_OK;
     }
-    if (rp->nderived >= 8) {
-        snprintf(msg, USM_IO_MSG_LEN, "constraint: at most 8 on derived quantities");
+    if (rp->nderived >= USM_ROBUST_MAX_DERIVED) {
+        snprintf(msg, USM_IO_MSG_LEN, "constraint: at most %d on derived quantities",
+                 USM_ROBUST_MAX_DERIVED);
         return USM_EINPUT;
     }
     rp->derived[rp->nderived++] = (usm_robust_constraint){k, upper, value};

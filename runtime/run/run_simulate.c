@@ -139,7 +139,7 @@ usm_run *usm_run_simulate(const usm_model *m, const usm_params *p, const usm_sim
         so.periods = spectrum_periods;
         so.rate = d->opt.rate;
         if (usm_sim_spectrum_check(&so, d->opt.duration, lib) != USM_OK) {
-            run_fail(r, USM_EINPUT, "spectrum_%s", lib);
+            run_fail(r, USM_EINPUT, "spectrum: %s", lib);
             return r;
         }
         if (!(d->spec = usm_sim_spectrum_alloc())) {
@@ -181,7 +181,7 @@ usm_run *usm_run_simulate(const usm_model *m, const usm_params *p, const usm_sim
     else {
         snprintf(d->spec_error, sizeof d->spec_error, "%s", lib);
         if (r->status == USM_OK)
-            run_fail(r, USM_EFAILED, "spectrum_%s", lib);
+            run_fail(r, USM_EFAILED, "spectrum: %s", lib);
     }
     return r;
 }

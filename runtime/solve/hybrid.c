@@ -547,7 +547,15 @@ static int period_map(usm_hybrid *h, double ts, const double *x0, double *x1, do
             break;
         }
         memcpy(z, N_VGetArrayPointer(h->z), sizeof(double) * (size_t)(h->n + h->n * h->ncol));
-        if ((rc = switch_at(h, t, z)) == USM_OK)
+        rc = switch_at(h, t, z);
+        if (rc == USM_OK && h->nmodes > USM_HYBRID_MAX_SWITCHES) {
+            /* the mode sequence names the orbit (the sweep compares it):
+             * never a truncated one */
+            snprintf(h->msg, USM_MSG_LEN, "more than %d contact modes in one period",
+                     USM_HYBRID_MAX_SWITCHES);
+            rc = USM_EFAILED;
+        }
+        if (rc == USM_OK)
             rc = setup(h, t, z, q, t_end);
         if (rc == USM_OK && h->nsamp > 0)
             sample_speed(h, t, z);

@@ -37,6 +37,7 @@ extern "C" {
 #endif
 
 #define USM_ROBUST_MAX_SCATTER 16
+#define USM_ROBUST_MAX_DERIVED 8 /* constraints on derived quantities */
 
 
 /* ---- the common-random-numbers yield --------------------------------------------- */
@@ -174,7 +175,7 @@ typedef struct usm_robust_problem {
     usm_robust_stat stat;
     double quantile;          /* USM_ROBUST_STAT_QUANTILE: in (0, 1) */
     int nderived;             /* constraints on derived quantities (nominal design) */
-    usm_robust_constraint derived[8];
+    usm_robust_constraint derived[USM_ROBUST_MAX_DERIVED];
     double yield_min;         /* yield >= yield_min; NaN: no yield constraint */
     int nscatter;
     usm_tolerance_vary scatter[USM_ROBUST_MAX_SCATTER];
