@@ -208,6 +208,38 @@ static void test_quantities(void)
            dense, (pmax - dense) / dense);
     CHECK(fabs(pmax - dense) <= 1e-6 * fabs(dense), "max_power %.12g vs dense %.12g", pmax, dense);
     CHECK(pmax >= dense * (1 - 1e-12), "max_power %.15g below a grid value %.15g", pmax, dense);
+    /* the stick model past its stick limit (0.602 N mm at the paper's point):
+     * its power grows on with T, the motor slips there; max_power over 0..1
+     * N mm is the largest over the loads where |F_t| <= mu0 F_n, recomputed
+     * here from each point's forces (a dense sweep of 2001 values: the
+     * maximum sits at the limit, so the grid is below it by at most one
+     * step's power change, 8e-4 relative; measured 3.8e-4) */
+    {
+        const usm_model *m3 = usm_model_find("3dof");
+        usm_sweep *s3 = usm_sweep_alloc(m3);
+        double p3 = NAN, held = -INFINITY, end = NAN;
+        qo.range.hi = 0.001;
+        CHECK(usm_robust_quantity_eval(m3, &p, USM_ROBUST_MAX_POWER, &qo, 1, &p3, msg) == USM_OK,
+              "3dof max_power: %s", msg);
+        so.to = 0.001;
+        so.points = 2001;
+        if (CHECK(usm_sweep_run(s3, &p, &so) == USM_OK, "3dof sweep: %s", usm_sweep_message(s3)))
+            for (size_t i = 0; i < usm_sweep_count(s3); ++i) {
+                const usm_sweep_point *pt = usm_sweep_point_at(s3, i);
+                if (!pt->converged)
+                    continue;
+                end = pt->sol.power_out;
+                if (fabs(pt->sol.F_t) <= p.mu0 * pt->sol.F_n && pt->sol.power_out > held)
+                    held = pt->sol.power_out;
+            }
+        printf("3dof max_power %.15g W, within the stick limit %.15g W, at T = 1 N mm %.15g W\n",
+               p3, held, end);
+        CHECK(p3 >= held * (1 - 1e-12) && p3 <= held * (1 + 1e-3),
+              "3dof max_power %.12g, the stick-limited maximum %.12g", p3, held);
+        CHECK(end > 1.2 * held, "the test's premise: the stick model's power grows past the limit "
+              "(%.3g vs %.3g)", end, held);
+        usm_sweep_free(s3);
+    }
     /* stall_torque needs a slip model */
     CHECK(usm_robust_quantity_eval(usm_model_find("3dof"), &p, USM_ROBUST_STALL_TORQUE, &qo, 1,
                                    &stall, msg) == USM_EINPUT,

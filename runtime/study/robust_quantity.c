@@ -181,18 +181,25 @@ static int max_power(const usm_model *m, const usm_params *p, const usm_quantity
     double best = -INFINITY;
     for (size_t i = 0; i < usm_sweep_count(s); ++i) {
         const usm_sweep_point *pt = usm_sweep_point_at(s, i);
-        if (pt->converged && pt->sol.power_out > best)
+        /* only where the model describes the motor (3-DOF: past the stick
+         * limit the power of the stick model grows on, but the motor slips) */
+        if (pt->converged && pt->sol.validity == USM_VALID && pt->sol.power_out > best)
             best = pt->sol.power_out;
     }
     for (size_t i = 0; i < usm_sweep_event_count(s); ++i) {
         const usm_sweep_event *e = usm_sweep_event_at(s, i);
-        if (e->type == USM_EVENT_MAXIMUM && e->monitor_value > best)
+        if (e->type == USM_EVENT_MAXIMUM && e->has_sol && e->sol.validity == USM_VALID &&
+            e->monitor_value > best)
             best = e->monitor_value;
+        /* the stick limit, located: where the stick model's power is largest
+         * when it grows up to the limit */
+        if (e->type == USM_EVENT_STICK_LIMIT && e->has_sol && e->sol.power_out > best)
+            best = e->sol.power_out;
     }
     usm_sweep_free(s);
     if (!isfinite(best)) {
-        snprintf(msg, USM_MSG_LEN, "max_power: no stationary solution between T = %g and %g N m",
-                 lo, hi);
+        snprintf(msg, USM_MSG_LEN, "max_power: no stationary solution the model holds for "
+                 "between T = %g and %g N m", lo, hi);
         return USM_ENOSOLUTION;
     }
     *value = best;
@@ -249,13 +256,15 @@ static int band_width(const usm_model *m, const usm_params *p, const usm_quantit
         for (size_t i = 0; i < np && state < 0; ++i) {
             const usm_sweep_point *pt = usm_sweep_point_at(s, i);
             if (pt->value > cut[c] && pt->value < cut[c + 1])
-                state = pt->converged && -pt->sol.rotor_speed >= opt->band_threshold;
+                state = pt->converged && pt->sol.validity == USM_VALID &&
+                        -pt->sol.rotor_speed >= opt->band_threshold;
         }
         if (state < 0) /* no grid value inside: the ends' grid values, else flip */
             for (size_t i = 0; i < np && state < 0; ++i) {
                 const usm_sweep_point *pt = usm_sweep_point_at(s, i);
                 if ((c == 0 && pt->value == cut[0]) || (c + 2 == nc && pt->value == cut[nc - 1]))
-                    state = pt->converged && -pt->sol.rotor_speed >= opt->band_threshold;
+                    state = pt->converged && pt->sol.validity == USM_VALID &&
+                            -pt->sol.rotor_speed >= opt->band_threshold;
             }
         if (state < 0)
             state = above < 0 ? 0 : !above;
