@@ -19,8 +19,10 @@
  * 6. Periodic orbits with separation (3-DOF phase error 35 deg, 4-DOF phase
  *    error 30 deg and mode split 2 %): the multipliers of the monodromy with
  *    saltation matrices equal those of sixth-order central differences of
- *    a second event-driven period map (fixed steps, in spin coordinates) to
- *    1e-6 (measured 2.0e-7 to 6.7e-7), and a
+ *    a second event-driven period map in extended precision (the program
+ *    hybrid_reference, argv[1]: fixed steps, long double, spin coordinates)
+ *    to 1e-6 (measured 2.4e-9 to 9.6e-9; the reference converged to 1e-7
+ *    between two step sizes), the orbit closes under that map, and a
  *    simulation from rest settles on the orbit (period-mean rotor speed to
  *    1e-6, the time fraction open in its last period, open_fraction_end, to
  *    the orbit's separation_fraction to 1e-4).
@@ -36,6 +38,7 @@
  *    settle on the sweep's orbits, and one started on the unstable orbit
  *    leaves it for the stable one (mean speed 1e-6, open fraction 1e-4).
  */
+#define _POSIX_C_SOURCE 200809L /* popen */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -43,7 +46,6 @@
 
 #include <gsl/gsl_eigen.h>
 #include <gsl/gsl_errno.h>
-#include <gsl/gsl_odeiv2.h>
 
 #include "usm.h"
 #include "usm_periodic.h"
@@ -517,167 +519,69 @@ static void check_separating(void)
 }
 
 
-/* ---- a second period map: fixed steps (the reference of the multipliers) ---- */
+/* ---- the reference in extended precision (hybrid_reference.c) ------------------- */
 
-/* The event-driven period map integrated with a fixed step sequence (GSL's
- * rk8pd, N steps a period, independent of CVODES and of hybrid.c): the guard's
- * crossing inside a step is located by the Illinois method on the step's
- * length from the step's start, so the map is a smooth function of x0 and
- * its central differences carry no step-selection noise (the adaptive map's
- * differences do: its steps change with x0, a noise of about 1e-9 of the
- * state at rtol 1e-13 that the step divides). */
-typedef struct {
-    const model_t *M;
-    const usm_params *p;
-    int mode;
-    gsl_odeiv2_step *st[2];
-    gsl_odeiv2_system sys[2];
-    double v_land;
-    int spin, ip, is; /* 1: y[ip] holds the spin phidot + psidot */
-} fx_t;
+static const char *g_reference_exe; /* argv[1] */
 
-/* y in the model's coordinates (from the spin coordinates when F->spin) */
-static const double *fx_x(const fx_t *F, const double *y, double *tmp)
+/* The period map of hybrid_reference (long double, N steps a period) from
+ * x0 at t0: its end state x1 (model coordinates), its Jacobian J in spin
+ * coordinates (differences of H s_j) and its number of switches; 0 on
+ * success. */
+static int ld_jacobian(const usm_model *m, const usm_params *p, double t0, double v_land,
+                       const double *x0, const double *sc, int N, double H, double *x1, double *J,
+                       int *nsw)
 {
-    if (!F->spin)
-        return y;
-    /* y has the current mode's length only (GSL's buffers are sized by it) */
-    memcpy(tmp, y, sizeof(double) * (size_t)(F->mode ? F->M->ny : F->M->nx));
-    tmp[F->ip] = y[F->ip] - y[F->is];
-    return tmp;
-}
-
-static int fx_rates(double t, const double *y, double *dy, void *par)
-{
-    fx_t *F = par;
-    double A[NY * NY], tmp[NY];
-    const int n = F->mode ? F->M->ny : F->M->nx;
-    y = fx_x(F, y, tmp);
-    (F->mode ? F->M->u->open_mass : F->M->m->mass)(y, F->p, A);
-    (F->mode ? F->M->u->open_rhs : F->M->m->rhs)(y, t, F->p, dy);
-    if (solve(n, A, dy) != 0)
-        return GSL_EBADFUNC;
-    if (F->spin)
-        dy[F->ip] += dy[F->is];
-    return GSL_SUCCESS;
-}
-
-static double fx_Fn(fx_t *F, double t, const double *x)
-{
-    double xd[NY], o[USM_OUT_COUNT], tmp[NY];
-    const int mode = F->mode;
-    F->mode = 0;
-    fx_rates(t, x, xd, F);
-    F->mode = mode;
-    if (F->spin)
-        xd[F->ip] -= xd[F->is];
-    F->M->m->outputs(fx_x(F, x, tmp), xd, t, F->p, o);
-    return o[USM_OUT_F_N];
-}
-
-static double fx_guard(fx_t *F, double t, const double *y)
-{
-    if (F->mode == 0)
-        return fx_Fn(F, t, y);
-    double g[1 + NY], tmp[NY];
-    F->M->u->guard_open(fx_x(F, y, tmp), F->p, g);
-    return g[0];
-}
-
-static void fx_step(fx_t *F, double t, const double *y, double tau, double *out)
-{
-    double err[NY];
-    const int n = F->mode ? F->M->ny : F->M->nx;
-    memcpy(out, y, sizeof(double) * (size_t)n);
-    gsl_odeiv2_step_reset(F->st[F->mode]);
-    gsl_odeiv2_step_apply(F->st[F->mode], t, tau, out, err, NULL, NULL, &F->sys[F->mode]);
-}
-
-/* The switch at the guard (hybrid.c's rules, the default e_impact = 0). */
-static void fx_switch_x(fx_t *F, double t, double *y);
-static void fx_switch(fx_t *F, double t, double *y)
-{
-    if (F->spin)
-        y[F->ip] -= y[F->is];
-    const int spin = F->spin;
-    F->spin = 0;
-    fx_switch_x(F, t, y);
-    F->spin = spin;
-    if (F->spin)
-        y[F->ip] += y[F->is];
-}
-
-static void fx_switch_x(fx_t *F, double t, double *y)
-{
-    const model_t *M = F->M;
-    const int ny = M->ny;
-    double out[NY + 2], cv[2 + 2 * NY];
-    if (F->mode == 0) {
-        double sj[NY * (NY + 1)];
-        M->u->separation(y, F->p, sj);
-        memcpy(y, sj, sizeof(double) * (size_t)ny);
-        F->mode = 1;
-        return;
-    }
-    M->u->impact_stick(y, F->p, out);
-    if (fabs(out[ny + 1]) > F->p->mu0 * out[ny] && M->m->slip)
-        M->u->impact_slide(y, out[ny + 1] > 0 ? 1.0 : -1.0, F->p, out);
-    memcpy(y, out, sizeof(double) * (size_t)ny);
-    M->u->contact_velocity(y, F->p, cv);
-    if (!(cv[0] > F->v_land) && fx_Fn(F, t, y) >= 0)
-        F->mode = 0;
-}
-
-static int fx_map(fx_t *F, double ts, double T, int N, const double *x0, double *x1, int *nsw)
-{
-    double y[NY], ye[NY];
-    double t = ts;
-    F->mode = 0;
-    *nsw = 0;
-    memcpy(y, x0, sizeof(double) * (size_t)F->M->nx);
-    for (int k = 0; k < N; ++k) {
-        const double tn = ts + T * (k + 1) / N;
-        while (t < tn) {
-            const double g0 = fx_guard(F, t, y);
-            fx_step(F, t, y, tn - t, ye);
-            const double g1 = fx_guard(F, tn, ye);
-            if (!(g0 > 0 && g1 <= 0)) {
-                memcpy(y, ye, sizeof ye);
-                t = tn;
-                continue;
-            }
-            /* Illinois on tau in (0, tn - t] */
-            double a = 0, b = tn - t, ga = g0, gb = g1, tau = b;
-            int side = 0;
-            for (int it = 0; it < 200 && b - a > 1e-15 * (tn - t); ++it) {
-                tau = (a * gb - b * ga) / (gb - ga);
-                fx_step(F, t, y, tau, ye);
-                const double gt = fx_guard(F, t + tau, ye);
-                if (gt > 0) {
-                    a = tau;
-                    ga = gt;
-                    if (side == 1)
-                        gb /= 2;
-                    side = 1;
-                } else {
-                    b = tau;
-                    gb = gt;
-                    if (side == -1)
-                        ga /= 2;
-                    side = -1;
-                }
-            }
-            fx_step(F, t, y, tau, ye);
-            memcpy(y, ye, sizeof ye);
-            t += tau;
-            fx_switch(F, t, y);
-            ++*nsw;
-        }
-    }
-    if (F->mode != 0)
+    const int nx = m->nx;
+    char cmd[8192];
+    int len = snprintf(cmd, sizeof cmd, "'%s' %s %d %a %a %a %a", g_reference_exe, m->name, N,
+                       H, t0, 1.0 / p->f, v_land);
+    const double *pv = &p->m0;
+    for (int i = 0; i < USM_NPARAMS; ++i)
+        len += snprintf(cmd + len, sizeof cmd - (size_t)len, " %a", pv[i]);
+    for (int i = 0; i < nx; ++i)
+        len += snprintf(cmd + len, sizeof cmd - (size_t)len, " %a", x0[i]);
+    for (int i = 0; i < nx; ++i)
+        len += snprintf(cmd + len, sizeof cmd - (size_t)len, " %a", sc[i]);
+    if (len >= (int)sizeof cmd)
         return -1;
-    memcpy(x1, y, sizeof(double) * (size_t)F->M->nx);
-    return 0;
+    FILE *f = popen(cmd, "r");
+    if (!f)
+        return -1;
+    char word[64];
+    int ok = fscanf(f, "switches %d end", nsw) == 1;
+    for (int i = 0; i < nx && ok; ++i)
+        ok = fscanf(f, "%lf", &x1[i]) == 1;
+    ok = ok && fscanf(f, "%63s", word) == 1 && !strcmp(word, "fd");
+    for (int i = 0; i < nx * nx && ok; ++i)
+        ok = fscanf(f, "%lf", &J[i]) == 1 && isfinite(J[i]);
+    const int st = pclose(f);
+    return ok && st == 0 ? 0 : -1;
+}
+
+/* the multipliers of a period map's Jacobian on the non-cyclic block */
+static int jacobian_multipliers(const usm_model *m, const double *J, double *re, double *im)
+{
+    const int nx = m->nx;
+    int idx[USM_MAX_NX], nr = 0;
+    for (int i = 0; i < nx; ++i)
+        if (!m->cyclic[i])
+            idx[nr++] = i;
+    gsl_matrix *B = gsl_matrix_alloc((size_t)nr, (size_t)nr);
+    gsl_vector_complex *ev = gsl_vector_complex_alloc((size_t)nr);
+    gsl_eigen_nonsymm_workspace *ws = gsl_eigen_nonsymm_alloc((size_t)nr);
+    for (int a = 0; a < nr; ++a)
+        for (int b = 0; b < nr; ++b)
+            gsl_matrix_set(B, (size_t)a, (size_t)b, J[idx[a] * nx + idx[b]]);
+    gsl_eigen_nonsymm_params(0, 1, ws); /* balanced: the multipliers' condition is about 300 */
+    gsl_eigen_nonsymm(B, ev, ws);
+    for (int a = 0; a < nr; ++a) {
+        re[a] = GSL_REAL(gsl_vector_complex_get(ev, (size_t)a));
+        im[a] = GSL_IMAG(gsl_vector_complex_get(ev, (size_t)a));
+    }
+    gsl_matrix_free(B);
+    gsl_vector_complex_free(ev);
+    gsl_eigen_nonsymm_free(ws);
+    return nr;
 }
 
 /* ---- periodic orbits with separation ------------------------------------------- */
@@ -692,8 +596,7 @@ static void check_hybrid(const char *name, const char *imp, double value)
     usm_params_set(&p, imp, value, NULL);
     usm_hybrid_options o;
     usm_hybrid_options_default(&o);
-    o.rtol = 1e-13; /* the monodromy to about 1e-7 of its entries (against rtol 1e-14:
-                       5e-7 to 8e-7; below 1e-13 Adams' rounding grows) */
+    /* the default tolerance (rtol 1e-11): what a user gets */
     const int rc = usm_hybrid_solve(h, &p, &o, &r);
     if (!CHECK(rc == USM_OK && r.converged, "%s %s = %g: %s", name, imp, value,
                usm_hybrid_message(h))) {
@@ -708,22 +611,33 @@ static void check_hybrid(const char *name, const char *imp, double value)
     CHECK(r.separations_per_period >= 1 && r.impacts_per_period >= 1 && r.nmodes >= 3,
           "%s: no separation on the orbit (%s)", name, r.mode_sequence);
     /* The monodromy with saltation matrices against sixth-order central
-     * differences of a second, fixed-step period map (fx_map: rk8pd, N = 250
+     * differences of a second event-driven period map, in extended precision
+     * (hybrid_reference.c: long double, classical Runge-Kutta with N fixed
      * steps a period, the guards located by the Illinois method, hybrid.c's
-     * switching rules; its end state agrees with hybrid.c's to 3e-9 of each
-     * scale and changes by 1e-12 from N = 250 to 500).
+     * switching rules; no CVODES, no saltation matrix).
      * Coordinates (the multipliers do not depend on them): the spin u =
-     * phidot + psidot in place of phidot, in the state of the fixed-step map
-     * too.  In x the map is steep along phidot alone (a change of the spin,
-     * of size Omega theta, against the stiff twist spring) and flat along
-     * phidot - psidot, and rounding phidot and psidot (each of size Omega)
-     * at every step puts a noise of 1e-7 of Omega theta into the spin at the
-     * end of the period (measured: the x-state map's end state changes by
-     * 1e-7 from N to 2N in phidot, 1e-12 elsewhere); with u a state of its
-     * own that noise is 1e-12. */
+     * phidot + psidot in place of phidot, in both maps.  In x the map is
+     * steep along phidot alone (a change of the spin, of size Omega theta,
+     * against the stiff twist spring) and rounding phidot and psidot (each
+     * of size Omega) at every step puts noise of eps Omega into the spin.
+     * Why extended precision: the differences divide the map's rounding by
+     * the step.  In double (GSL's rk8pd, steps 3e-4 of each scale, the
+     * reference until 26 Nov 2026) that rounding, about 1e-10 of the state
+     * after the monodromy's amplification, scattered the multipliers by
+     * 0.9e-6 to 8.7e-6 over the difference step, the very tolerance it was to
+     * judge.  In long double (2^11 finer) two references with other N and
+     * H agree to 1e-8 (asserted 1e-7 below): measured over N = 1000..4000
+     * and H = 1e-4..3e-4 (5e-4 changes the 4-DOF 30 deg orbit's switches;
+     * below 1e-4 the rounding shows again, 4e-8 at 5e-5).
+     * What it found: GSL's eigensolver without balancing lost up to 1.6e-6
+     * of the multipliers whose condition number is about 300 (the pair
+     * 0.344, 0.231 at 4-DOF 30 deg), jumping between 3e-8 and 1.5e-6 with
+     * rtol; hybrid.c now balances (solve/multipliers.h), and the library
+     * agrees with the reference to 1e-9..2e-8 at every rtol from 1e-10 to
+     * 1e-14. */
     const int nx = m->nx, ip = m->x_phidot, is = m->x_psidot;
-    const double theta = r.x0[m->x_theta], Om = 2 * PI * p.f, T = 1.0 / p.f;
-    double sc[USM_MAX_NX], w0[USM_MAX_NX], B[USM_MAX_NX * USM_MAX_NX], FD[USM_MAX_NX * USM_MAX_NX];
+    const double theta = r.x0[m->x_theta], Om = 2 * PI * p.f;
+    double sc[USM_MAX_NX], B[USM_MAX_NX * USM_MAX_NX];
     for (int i = 0; i < nx; ++i)
         sc[i] = 1.0;
     sc[m->x_theta] = theta;
@@ -733,8 +647,6 @@ static void check_hybrid(const char *name, const char *imp, double value)
     sc[m->x_tau] = p.m0 / p.c_t;
     if (m->x_phi_Rdot >= 0)
         sc[m->x_phi_Rdot] = Om * theta;
-    memcpy(w0, r.x0, sizeof w0);
-    w0[ip] += w0[is];
     /* the library's monodromy in the spin coordinates: B' = T B T^-1 (row u
      * = row phidot + row psidot, column psidot = column psidot - column
      * phidot) */
@@ -743,117 +655,57 @@ static void check_hybrid(const char *name, const char *imp, double value)
         B[i * nx + is] -= B[i * nx + ip];
     for (int j = 0; j < nx; ++j)
         B[ip * nx + j] += B[is * nx + j];
-    model_t MM = {m, m->unilateral, nx, m->unilateral->ny};
-    fx_t X;
-    memset(&X, 0, sizeof X);
-    X.M = &MM;
-    X.p = &p;
-    X.v_land = sqrt(o.rtol) * p.R * theta * Om; /* hybrid.c's */
-    X.spin = 1;
-    X.ip = ip;
-    X.is = is;
-    for (int md = 0; md < 2; ++md) {
-        const size_t dim = (size_t)(md ? MM.ny : MM.nx);
-        X.st[md] = gsl_odeiv2_step_alloc(gsl_odeiv2_step_rk8pd, dim);
-        X.sys[md] = (gsl_odeiv2_system){fx_rates, NULL, dim, &X};
+    const double v_land = sqrt(o.rtol) * p.R * theta * Om; /* hybrid.c's */
+    static const int NREF[2] = {2000, 1000};
+    static const double HREF[2] = {1e-4, 2e-4};
+    double J[2][USM_MAX_NX * USM_MAX_NX], x1[2][USM_MAX_NX];
+    double fre[2][USM_MAX_NX], fim[2][USM_MAX_NX], are[USM_MAX_NX], aim[USM_MAX_NX];
+    int nf[2], nsw[2], ok = 1;
+    for (int k = 0; k < 2 && ok; ++k) {
+        ok = ld_jacobian(m, &p, r.t0, v_land, r.x0, sc, NREF[k], HREF[k], x1[k], J[k],
+                         &nsw[k]) == 0;
+        nf[k] = ok ? jacobian_multipliers(m, J[k], fre[k], fim[k]) : 0;
     }
-    enum { NSTEP = 250 };
-    int ok = 1, nsw0 = 0;
-    double w1[USM_MAX_NX], x1dev = 0;
-    ok = fx_map(&X, r.t0, T, NSTEP, w0, w1, &nsw0) == 0;
-    for (int i = 0; i < nx && ok; ++i)
-        if (!m->cyclic[i])
-            x1dev = fmax(x1dev, fabs(w1[i] - w0[i] - (i == m->x_phi ? 2 * PI : 0)) / sc[i]);
-    /* steps 3e-4 of each scale: the map's noise over the step and the h^6
-     * truncation balance there (steps of 6e-4 change the 4-DOF 30 deg
-     * orbit's mode sequence, and at 1e-3 the 3-DOF map's differences are off
-     * by 1e-3) */
-    for (int j = 0; j < nx && ok; ++j) {
-        static const double k[6] = {-3, -2, -1, 1, 2, 3};
-        static const double c6[6] = {-1, 9, -45, 45, -9, 1};
-        double f2[6][USM_MAX_NX], xp[USM_MAX_NX];
-        const double hstep = 3e-4 * sc[j];
-        for (int e = 0; e < 6 && ok; ++e) {
-            int nsw = 0;
-            memcpy(xp, w0, sizeof xp);
-            xp[j] += k[e] * hstep;
-            ok = fx_map(&X, r.t0, T, NSTEP, xp, f2[e], &nsw) == 0 && nsw == nsw0;
-        }
-        for (int i = 0; i < nx; ++i) {
-            double d = 0;
-            for (int e = 0; e < 6; ++e)
-                d += c6[e] * f2[e][i];
-            FD[i * nx + j] = d / (60 * hstep);
-        }
-    }
-    for (int md = 0; md < 2; ++md)
-        gsl_odeiv2_step_free(X.st[md]);
-    if (!CHECK(ok, "%s: the fixed-step period map failed or changed its switches", name)) {
+    if (!CHECK(ok, "%s: hybrid_reference failed, or its map changed its switches", name)) {
         usm_hybrid_free(h);
         return;
     }
-    /* multipliers of the FD monodromy on the non-cyclic block */
-    int idx[USM_MAX_NX], nr = 0;
+    /* closure in the spin coordinates (the scales sc are theirs) */
+    double closes = 0;
     for (int i = 0; i < nx; ++i)
-        if (!m->cyclic[i])
-            idx[nr++] = i;
-    gsl_matrix *Bf = gsl_matrix_alloc((size_t)nr, (size_t)nr);
-    gsl_vector_complex *ev = gsl_vector_complex_alloc((size_t)nr);
-    gsl_eigen_nonsymm_workspace *ws = gsl_eigen_nonsymm_alloc((size_t)nr);
-    for (int a = 0; a < nr; ++a)
-        for (int b = 0; b < nr; ++b)
-            gsl_matrix_set(Bf, (size_t)a, (size_t)b, FD[idx[a] * nx + idx[b]]);
-    gsl_eigen_nonsymm(Bf, ev, ws);
-    double fre[USM_MAX_NX], fim[USM_MAX_NX], are[USM_MAX_NX], aim[USM_MAX_NX];
+        if (!m->cyclic[i]) {
+            const double d = x1[0][i] - r.x0[i] + (i == ip ? x1[0][is] - r.x0[is] : 0);
+            closes = fmax(closes, fabs(d - (i == m->x_phi ? 2 * PI : 0)) / sc[i]);
+        }
     int na = 0;
-    for (int a = 0; a < nr; ++a) {
-        fre[a] = GSL_REAL(gsl_vector_complex_get(ev, (size_t)a));
-        fim[a] = GSL_IMAG(gsl_vector_complex_get(ev, (size_t)a));
-    }
-    /* the library's multipliers (from the monodromy integrated in the same
-     * spin coordinates, usm_hybrid_solve) */
     for (int q = 0; q < nx; ++q)
         if (!r.floquet.cyclic[q]) {
             are[na] = r.floquet.re[q];
             aim[na++] = r.floquet.im[q];
         }
-    const double dist = multipliers_distance(na, are, aim, nr, fre, fim);
+    const double dist = multipliers_distance(na, are, aim, nf[0], fre[0], fim[0]);
+    const double spread = multipliers_distance(nf[1], fre[1], fim[1], nf[0], fre[0], fim[0]);
     double dmax = 0;
-    for (int a = 0; a < nr; ++a)
-        for (int b = 0; b < nr; ++b) {
-            const int i = idx[a], j = idx[b];
-            dmax = fmax(dmax, fabs(B[i * nx + j] - FD[i * nx + j]) * sc[j] / sc[i]);
-        }
-    printf("%s: fixed-step map: %d switches, closes to %.3g; saltation multipliers vs central "
-           "differences of it: %.3g (monodromy entries, scaled: %.3g)\n", name, nsw0, x1dev, dist,
-           dmax);
+    for (int i = 0; i < nx; ++i)
+        for (int j = 0; j < nx; ++j)
+            if (!m->cyclic[i] && !m->cyclic[j])
+                dmax = fmax(dmax, fabs(B[i * nx + j] - J[0][i * nx + j]) * sc[j] / sc[i]);
+    printf("%s: reference map in long double: %d switches, the orbit closes in it to %.3g; "
+           "saltation multipliers vs its central differences: %.3g (monodromy entries, scaled: "
+           "%.3g); the reference at N = %d, H = %g against N = %d, H = %g: %.3g\n", name,
+           nsw[0], closes, dist, dmax, NREF[0], HREF[0], NREF[1], HREF[1], spread);
     for (int q = 0; q < na; ++q)
-        printf("   %.10f %+.10fi    fd %.10f %+.10fi\n", are[q], aim[q], fre[q], fim[q]);
-    /* measured 2.0e-7 (3-DOF 35 deg), 6.7e-7 (4-DOF 30 deg), 6.7e-7 (4-DOF
-     * mode split 2 %); monodromy entries 8.3e-7, 9.7e-7, 1.9e-7 of the
-     * scales, with no column standing out (no column carries a saltation
-     * error).  The reference's own scatter: 2e-7 to 3e-6 in the multipliers
-     * at N = 500 and 1000 (rounding grows with the steps); the library's
-     * monodromy at rtol 1e-13 against 1e-14: 3e-9, 6e-8, 1.7e-6.  The
-     * earlier reference (central differences of hybrid.c's adaptive map in
-     * x) agreed to 1.4e-6 to 3.2e-6 only: the adaptive steps change with x0
-     * (a noise of 1e-9 of the state) and phidot's rounding (above).
-     * The margin is thin, and that is the reference's, in double precision:
-     * differences of 1e-4, 5e-5, 2e-5 of each scale (instead of 3e-4) give
-     * 0.9e-6..8.7e-6 (noise over the step: the map's rounding, about 1e-10
-     * of the state after the monodromy's amplification), and moving the
-     * reference's start by a rounding-sized shift gives 6e-7..3e-6 (measured
-     * 26 Nov 2026); averaging the reference over 8 or 16 starts shifted by
-     * 1e-9 of each scale does not settle it (3e-8..2.3e-6 over three seeds).
-     * A change of the library's arithmetic that moves the
-     * orbit by 1e-10 can therefore move this figure across 1e-6; a reference
-     * in extended precision is what would give the check a margin. */
-    CHECK(nsw0 == r.nmodes - 1, "%s: the fixed-step map switches %d times, the orbit %d", name,
-          nsw0, r.nmodes - 1);
+        printf("   %.10f %+.10fi    fd %.10f %+.10fi\n", are[q], aim[q], fre[0][q], fim[0][q]);
+    CHECK(nsw[0] == r.nmodes - 1 && nsw[1] == nsw[0], "%s: the reference map switches %d and "
+          "%d times, the orbit %d", name, nsw[0], nsw[1], r.nmodes - 1);
+    /* a second integrator in a second precision: the library's orbit (rtol
+     * 1e-11) is periodic under the reference map to 1.1e-9, 4.7e-10, 3.9e-11
+     * of the scales (measured) */
+    CHECK(closes < 1e-7, "%s: the orbit does not close under the reference map (%.3g)", name,
+          closes);
+    CHECK(spread < 1e-7, "%s: the reference is not converged (%.3g between N, H)", name, spread);
+    /* the tolerance; measured 7.9e-9, 9.6e-9, 2.4e-9 */
     CHECK(dist < 1e-6, "%s: multipliers differ from finite differences by %.3g", name, dist);
-    gsl_matrix_free(Bf);
-    gsl_vector_complex_free(ev);
-    gsl_eigen_nonsymm_free(ws);
 
     /* a simulation from rest settles on the orbit */
     usm_sim_summary sum;
@@ -1019,8 +871,13 @@ static void check_branch_switch(void)
     usm_periodic_sweep_free(sw);
 }
 
-int main(void)
+int main(int argc, char **argv)
 {
+    if (argc != 2) {
+        fprintf(stderr, "usage: test_unilateral PATH_OF_hybrid_reference\n");
+        return 2;
+    }
+    g_reference_exe = argv[1];
     check_kernels("3dof_imperfect_unilateral");
     check_kernels("4dof_imperfect_unilateral");
     check_never_opens();

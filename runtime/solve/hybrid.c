@@ -26,7 +26,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <gsl/gsl_eigen.h>
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_linalg.h>
 #include <gsl/gsl_matrix.h>
@@ -36,6 +35,7 @@
 #include <sunnonlinsol/sunnonlinsol_fixedpoint.h>
 
 #include "core/cvode_msg.h"
+#include "multipliers.h"
 #include "usm_periodic.h"
 #include "usm_simulate.h"
 
@@ -53,6 +53,7 @@ struct usm_hybrid {
     double scale[NY];
     double colscale[USM_MAX_NX]; /* of Phi's columns: the spin coordinates (below) */
     double Bspin[USM_MAX_NX * USM_MAX_NX]; /* the last monodromy in spin coordinates */
+    usm_multipliers *mult; /* its eigenvalues (solve/multipliers.h) */
     /* the integration */
     int mode, n, ncol; /* mode (0 closed, 1 open), its state length, columns of Phi */
     SUNContext ctx;
@@ -106,6 +107,7 @@ void usm_hybrid_free(usm_hybrid *h)
     free_integrator(h);
     if (h->ctx)
         SUNContext_Free(&h->ctx);
+    usm_multipliers_free(h->mult);
     free(h);
 }
 
@@ -120,7 +122,15 @@ usm_hybrid *usm_hybrid_alloc(const usm_model *m)
     h->u = m->unilateral;
     h->nx = m->nx;
     h->ny = m->unilateral->ny;
-    if (SUNContext_Create(NULL, &h->ctx) != 0) {
+    /* the monodromy is integrated in the spin coordinates themselves: the
+     * basis of the cyclic directions is that of the identity */
+    double I[USM_MAX_NX * USM_MAX_NX] = {0};
+    for (int i = 0; i < h->nx; ++i)
+        I[i * h->nx + i] = 1.0;
+    h->mult = usm_multipliers_alloc(m);
+    if (!h->mult || usm_multipliers_basis(h->mult, I) != 0 ||
+        SUNContext_Create(NULL, &h->ctx) != 0) {
+        usm_multipliers_free(h->mult);
         free(h);
         return NULL;
     }
@@ -764,68 +774,23 @@ static int start_from_simulation(usm_hybrid *h, const usm_hybrid_options *o, int
 
 /* ---- Newton and the multipliers -------------------------------------------------- */
 
+/* The multipliers: the eigenvalues of the monodromy in the coordinates
+ * (spin phidot + psidot, psidot) for phidot (in x the monodromy has two
+ * nearly equal columns of size Omega / (Omega theta) whose difference
+ * carries the multipliers, and an eigensolver loses 1e-5 of them to it;
+ * T B T^-1 has the same eigenvalues), by the path of every monodromy
+ * (solve/multipliers.h), balanced before QR: unbalanced, GSL's eigensolver
+ * lost up to 1.6e-6 of the multipliers whose condition number is about 300
+ * (4-DOF, phase error 30 deg: against test_unilateral's reference in
+ * extended precision, and jumping between 3e-8 and 1.5e-6 with rtol). */
 static int multipliers(usm_hybrid *h, const double *B, usm_floquet_result *f)
 {
-    const int nx = h->nx;
-    int idx[USM_MAX_NX], nr = 0;
-    for (int i = 0; i < nx; ++i)
-        if (!h->m->cyclic[i])
-            idx[nr++] = i;
-    gsl_matrix *Br = gsl_matrix_alloc((size_t)nr, (size_t)nr);
-    gsl_vector_complex *ev = gsl_vector_complex_alloc((size_t)nr);
-    gsl_eigen_nonsymm_workspace *ws = gsl_eigen_nonsymm_alloc((size_t)nr);
-    int rc = USM_EFAILED;
-    if (Br && ev && ws) {
-        /* in the coordinates (spin phidot + psidot, psidot) for phidot: in x
-         * the monodromy has two nearly equal columns of size Omega / (Omega
-         * theta) whose difference carries the multipliers, and an eigensolver
-         * loses 1e-5 of them to it; T B T^-1 has the same eigenvalues */
-        (void)B;
-        const double *Bt = h->Bspin; /* T B T^-1, integrated so (period_map) */
-        for (int a = 0; a < nr; ++a)
-            for (int b = 0; b < nr; ++b)
-                gsl_matrix_set(Br, (size_t)a, (size_t)b, Bt[idx[a] * nx + idx[b]]);
-        if (gsl_eigen_nonsymm(Br, ev, ws) == GSL_SUCCESS) {
-            memset(f, 0, sizeof *f);
-            f->n = nx;
-            int k = 0;
-            for (int a = 0; a < nr; ++a, ++k) {
-                f->re[k] = GSL_REAL(gsl_vector_complex_get(ev, (size_t)a));
-                f->im[k] = GSL_IMAG(gsl_vector_complex_get(ev, (size_t)a));
-            }
-            for (; k < nx; ++k) {
-                f->re[k] = 1.0;
-                f->cyclic[k] = 1;
-            }
-            /* by decreasing modulus */
-            for (int i = 1; i < nx; ++i)
-                for (int j = i; j > 0 && hypot(f->re[j], f->im[j]) > hypot(f->re[j - 1], f->im[j - 1]);
-                     --j) {
-                    double t = f->re[j];
-                    f->re[j] = f->re[j - 1];
-                    f->re[j - 1] = t;
-                    t = f->im[j];
-                    f->im[j] = f->im[j - 1];
-                    f->im[j - 1] = t;
-                    int c = f->cyclic[j];
-                    f->cyclic[j] = f->cyclic[j - 1];
-                    f->cyclic[j - 1] = c;
-                }
-            f->max_modulus = 0;
-            for (int i = 0; i < nx; ++i)
-                if (!f->cyclic[i])
-                    f->max_modulus = fmax(f->max_modulus, hypot(f->re[i], f->im[i]));
-            f->stable = f->max_modulus < 1;
-            memcpy(f->monodromy, B, sizeof(double) * (size_t)(nx * nx));
-            rc = USM_OK;
-        } else
-            snprintf(h->msg, USM_MSG_LEN, "the eigenvalues of the monodromy did not converge");
-    } else
-        snprintf(h->msg, USM_MSG_LEN, "out of memory");
-    gsl_matrix_free(Br);
-    gsl_vector_complex_free(ev);
-    gsl_eigen_nonsymm_free(ws);
-    return rc;
+    if (usm_multipliers_eigen(h->mult, h->Bspin, h->msg) != 0)
+        return USM_EFAILED;
+    memset(f, 0, sizeof *f);
+    usm_multipliers_result(h->mult, f);
+    memcpy(f->monodromy, B, sizeof(double) * (size_t)(h->nx * h->nx));
+    return USM_OK;
 }
 
 static int newton(usm_hybrid *h, const usm_hybrid_options *opt, double ts, double *x0,
