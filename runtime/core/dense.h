@@ -34,7 +34,7 @@ int usm_expm_frechet_dense(int n, const double *A, const double *C, double *E, d
 void usm_matmul_dense(int n, const double *A, const double *B, double *C);
 
 /* The one dense LU of libusm.  A = P^T L U with partial pivoting, in place
- * (n x n row-major, n <= USM_EXPM_MAX_N): L (unit diagonal) below the
+ * (n x n row-major, any n): L (unit diagonal) below the
  * diagonal, U on and above it, the row exchanged with row k at step k in
  * piv[k].  0, or -1 when a pivot is zero or not finite. */
 int usm_lu_factor_dense(int n, double *A, int *piv);

@@ -35,6 +35,7 @@
 #include <sunnonlinsol/sunnonlinsol_fixedpoint.h>
 
 #include "core/cvode_msg.h"
+#include "core/dense.h"
 #include "multipliers.h"
 #include "usm_periodic.h"
 #include "usm_simulate.h"
@@ -50,6 +51,7 @@ struct usm_hybrid {
     int nx, ny;
     usm_params p;
     double rtol, Omega, T, v_land;
+    double map_rtol; /* the integration's: rtol, or ROUGH_RTOL for a cold start's first Jacobian */
     double scale[NY];
     double colscale[USM_MAX_NX]; /* of Phi's columns: the spin coordinates (below) */
     double Bspin[USM_MAX_NX * USM_MAX_NX]; /* the last monodromy in spin coordinates */
@@ -139,32 +141,16 @@ usm_hybrid *usm_hybrid_alloc(const usm_model *m)
 
 /* ---- the modes ------------------------------------------------------------------- */
 
-/* LU of the mode's mass matrix at x into lu/perm; 0 or -1. */
-static int mass_lu(const usm_hybrid *h, int mode, const double *x, double *lu, size_t *pdata,
-                   gsl_permutation *perm)
+/* LU of the mode's mass matrix at x into lu/piv (core/dense.h: plain loops,
+ * a fifth of GSL's cost at these sizes); 0 or -1. */
+static int mass_lu(const usm_hybrid *h, int mode, const double *x, double *lu, int *piv)
 {
     const int n = mode ? h->ny : h->nx;
-    int sign;
     (mode ? h->u->open_mass : h->m->mass)(x, &h->p, lu);
     for (int i = 0; i < n * n; ++i)
         if (!isfinite(lu[i]))
             return -1;
-    perm->size = (size_t)n;
-    perm->data = pdata;
-    gsl_matrix_view A = gsl_matrix_view_array(lu, (size_t)n, (size_t)n);
-    if (gsl_linalg_LU_decomp(&A.matrix, perm, &sign) != GSL_SUCCESS)
-        return -1;
-    for (int i = 0; i < n; ++i)
-        if (lu[i * n + i] == 0.0)
-            return -1;
-    return 0;
-}
-
-static int lu_solve(int n, double *lu, gsl_permutation *perm, double *b)
-{
-    gsl_matrix_view A = gsl_matrix_view_array(lu, (size_t)n, (size_t)n);
-    gsl_vector_view v = gsl_vector_view_array(b, (size_t)n);
-    return gsl_linalg_LU_svx(&A.matrix, perm, &v.vector) == GSL_SUCCESS ? 0 : -1;
+    return usm_lu_factor_dense(n, lu, piv);
 }
 
 /* x' of the mode, and when A is not NULL the flow's Jacobian
@@ -175,30 +161,21 @@ static int rates(const usm_hybrid *h, int mode, double t, const double *x, doubl
 {
     const int n = mode ? h->ny : h->nx;
     double lu[NY * NY], Jf[NY * NY], Jm[NY * NY];
-    size_t pdata[NY];
-    gsl_permutation perm;
-    if (mass_lu(h, mode, x, lu, pdata, &perm) != 0)
+    int piv[NY];
+    if (mass_lu(h, mode, x, lu, piv) != 0)
         return -1;
     (mode ? h->u->open_rhs : h->m->rhs)(x, t, &h->p, xdot);
-    if (lu_solve(n, lu, &perm, xdot) != 0)
-        return -1;
+    usm_lu_solve_dense(n, lu, piv, xdot, 1);
     if (A) {
         (mode ? h->u->open_jac_rhs : h->m->jac_rhs)(x, t, &h->p, Jf);
         (mode ? h->u->open_jac_mass : h->m->jac_mass)(x, xdot, &h->p, Jm);
-        double col[NY];
-        for (int j = 0; j < n; ++j) {
-            for (int i = 0; i < n; ++i)
-                col[i] = Jf[i * n + j] - Jm[i * n + j];
-            if (lu_solve(n, lu, &perm, col) != 0)
-                return -1;
-            for (int i = 0; i < n; ++i)
-                A[i * n + j] = col[i];
-        }
+        for (int i = 0; i < n * n; ++i)
+            A[i] = Jf[i] - Jm[i];
+        usm_lu_solve_dense(n, lu, piv, A, n);
     }
     if (ft) {
         (mode ? h->u->open_rhs_t : h->u->closed_rhs_t)(x, t, &h->p, ft);
-        if (lu_solve(n, lu, &perm, ft) != 0)
-            return -1;
+        usm_lu_solve_dense(n, lu, piv, ft, 1);
     }
     for (int i = 0; i < n; ++i)
         if (!isfinite(xdot[i]))
@@ -292,9 +269,9 @@ static int setup(usm_hybrid *h, double t, const double *z, double q0, double t_e
     memcpy(N_VGetArrayPointer(h->z), z, sizeof(double) * (size_t)len);
     double *a = N_VGetArrayPointer(h->atol);
     for (int i = 0; i < n; ++i) {
-        a[i] = h->rtol * h->scale[i];
+        a[i] = h->map_rtol * h->scale[i];
         for (int j = 0; j < c; ++j)
-            a[n + i * c + j] = h->rtol * h->scale[i] / h->colscale[j];
+            a[n + i * c + j] = h->map_rtol * h->scale[i] / h->colscale[j];
     }
     N_VGetArrayPointer(h->q)[0] = q0;
     h->NLS = SUNNonlinSol_FixedPoint(h->z, 0, h->ctx);
@@ -306,7 +283,7 @@ static int setup(usm_hybrid *h, double t, const double *z, double q0, double t_e
         return fail(h, "CVodeInit", flag);
     if ((flag = CVodeSetUserData(h->cv, h)) != CV_SUCCESS)
         return fail(h, "CVodeSetUserData", flag);
-    if ((flag = CVodeSVtolerances(h->cv, h->rtol, h->atol)) != CV_SUCCESS)
+    if ((flag = CVodeSVtolerances(h->cv, h->map_rtol, h->atol)) != CV_SUCCESS)
         return fail(h, "CVodeSVtolerances", flag);
     if ((flag = CVodeSetNonlinearSolver(h->cv, h->NLS)) != CV_SUCCESS)
         return fail(h, "CVodeSetNonlinearSolver", flag);
@@ -637,6 +614,7 @@ int usm_hybrid_set(usm_hybrid *h, const usm_params *p, double rtol)
     }
     h->p = *p;
     h->rtol = rtol;
+    h->map_rtol = rtol;
     h->Omega = TWO_PI * p->f;
     h->T = 1.0 / p->f;
     if (!(h->scale[h->m->x_theta] > 0))
@@ -794,7 +772,7 @@ static int multipliers(usm_hybrid *h, const double *B, usm_floquet_result *f)
 }
 
 static int newton(usm_hybrid *h, const usm_hybrid_options *opt, double ts, double *x0,
-                  usm_hybrid_result *out);
+                  int rough, usm_hybrid_result *out);
 
 static int check_start(usm_hybrid *h, const usm_params *p, const usm_hybrid_options *opt,
                        usm_hybrid_result *out)
@@ -834,7 +812,7 @@ int usm_hybrid_solve(usm_hybrid *h, const usm_params *p, const usm_hybrid_option
     for (int quick = 1; quick >= 0; --quick) {
         if ((rc = start_from_simulation(h, opt, quick, &ts, x0, &speed)) == USM_OK) {
             set_scales(h, x0[h->m->x_theta], speed);
-            rc = newton(h, opt, ts, x0, out);
+            rc = newton(h, opt, ts, x0, 1, out);
         }
         if ((rc == USM_OK && (!quick || out->floquet.max_modulus < 1)) || h->chatter)
             break; /* chattering: a careful start would meet it again */
@@ -870,7 +848,7 @@ int usm_hybrid_solve_from(usm_hybrid *h, const usm_params *p, const usm_hybrid_o
     }
     const int ird = h->m->x_phi_Rdot;
     set_scales(h, x0[h->m->x_theta], ird >= 0 ? x0[ird] : h->Omega * x0[h->m->x_theta]);
-    return newton(h, opt, ts, x0, out);
+    return newton(h, opt, ts, x0, 0, out);
 }
 
 /* The residual r = x1 - x0 (less 2 pi in phi) on the non-cyclic components
@@ -888,15 +866,20 @@ static double residual(const usm_hybrid *h, const int *idx, int nr, const double
 }
 
 /* Newton on x(ts + T) - x(ts) with chord steps: each map with the monodromy
- * (9 ms, 4-DOF) is followed by steps with its LU and maps without it (2 ms)
- * while they contract the residual at least by CHORD_RATE; the orbit's
- * multipliers come from a map with the monodromy at the converged state.
+ * (6.5 ms, 4-DOF) is followed by steps with its LU and maps without it (1.3
+ * ms) while they contract the residual at least by CHORD_RATE (or reach
+ * opt->tol); the orbit's multipliers come from a map with the monodromy at
+ * the converged state.  rough (a cold start, 1e-4 off the orbit): the first
+ * map with the monodromy at ROUGH_RTOL and without the ripple samples (2 ms
+ * instead of 6.5): its errors of 1e-7 in the step are far below the step's
+ * own quadratic error, the chord maps and the last map run at opt->rtol.
  * opt->max_iter counts the maps with the monodromy (out->iterations). */
+#define ROUGH_RTOL 1e-7
 #define CHORD_RATE 0.25
 #define CHORD_MAX 8
 #define CHORD_NOISE 10.0
 static int newton(usm_hybrid *h, const usm_hybrid_options *opt, double ts, double *x0,
-                  usm_hybrid_result *out)
+                  int rough, usm_hybrid_result *out)
 {
     const int nx = h->nx;
     int rc;
@@ -912,8 +895,20 @@ static int newton(usm_hybrid *h, const usm_hybrid_options *opt, double ts, doubl
      * its steps the same */
     for (it = 0; it <= opt->max_iter; ++it) {
         double r[USM_MAX_NX];
-        h->nsamp = RIPPLE_SAMPLES;
+        int rough_map = rough && it == 0;
+        h->nsamp = rough_map ? 0 : RIPPLE_SAMPLES;
+        if (rough_map)
+            h->map_rtol = fmax(h->rtol, ROUGH_RTOL);
         rc = period_map(h, ts, x0, x1, B, &mean);
+        h->map_rtol = h->rtol;
+        if (rc != USM_OK && rough_map) {
+            /* a failure (chattering: its bounces counted at the loose
+             * tolerance) is judged at opt->rtol */
+            rough_map = 0;
+            h->chatter = 0;
+            h->nsamp = RIPPLE_SAMPLES;
+            rc = period_map(h, ts, x0, x1, B, &mean);
+        }
         h->nsamp = 0;
         if (rc != USM_OK)
             return rc;
@@ -923,7 +918,7 @@ static int newton(usm_hybrid *h, const usm_hybrid_options *opt, double ts, doubl
         if (res <= opt->tol && res_b <= CHORD_NOISE * opt->tol)
             break;
         res = res_b;
-        if (res <= opt->tol || it == opt->max_iter)
+        if ((res <= opt->tol && !rough_map) || it == opt->max_iter)
             break;
         double J[USM_MAX_NX * USM_MAX_NX];
         size_t pdata[USM_MAX_NX];
@@ -953,8 +948,8 @@ static int newton(usm_hybrid *h, const usm_hybrid_options *opt, double ts, doubl
                 break;
             }
             double rest;
-            if (period_map(h, ts, xt, x1, NULL, NULL) != USM_OK ||
-                !((rest = residual(h, idx, nr, xt, x1, rt)) <= CHORD_RATE * res)) {
+            if (period_map(h, ts, xt, x1, NULL, NULL) != USM_OK || !((rest = residual(h, idx, nr, xt, x1, rt)) <= CHORD_RATE * res ||
+                                   rest <= opt->tol)) {
                 memcpy(x0, xt, sizeof xt); /* a Newton step that did not contract enough */
                 break;
             }
