@@ -52,8 +52,15 @@ int usm_report_compute_design(usm_report_data *d, char msg[USM_IO_MSG_LEN])
     g->evals = REPORT_DESIGN_EVALS;
     usm_opt_problem pb;
     usm_opt_problem_init(&pb);
-    usm_opt_problem_add_vary(&pb, "f", F_LO, F_HI, why);
-    usm_opt_problem_add_vary(&pb, "F0", P_LO, P_HI, why);
+    /* the section's problem is fixed text, but a renamed parameter or output
+     * must not leave it silently smaller: a failure ends the section with the
+     * library's message */
+    if (usm_opt_problem_add_vary(&pb, "f", F_LO, F_HI, why) != USM_OK ||
+        usm_opt_problem_add_vary(&pb, "F0", P_LO, P_HI, why) != USM_OK) {
+        snprintf(g->note, sizeof g->note, "the design problem: %.200s", why);
+        g->seconds = usm_report_now() - t;
+        return USM_OK;
+    }
     /* fewer starts than the command's 8: the front's ends and the nominal
      * optimum are the same to 1e-5 with them (measured), at a quarter of the cost */
     pb.starts = quick ? 2 : 4;
@@ -66,11 +73,17 @@ int usm_report_compute_design(usm_report_data *d, char msg[USM_IO_MSG_LEN])
     usm_robust_problem_init(&rp);
     rp.nominal = pb;
     rp.nominal.starts = quick ? 1 : 2;
-    usm_opt_problem_add_constraint(&rp.nominal, "speed", 0, REPORT_DESIGN_SPEED, why);
     rp.objective = USM_SENS_EFFICIENCY;
     rp.yield_min = REPORT_DESIGN_YIELD;
-    usm_tolerance_vary_parse("c_r=normal:2%", &rp.scatter[0], why);
-    usm_tolerance_vary_parse("f=normal:1%", &rp.scatter[1], why);
+    const int set = usm_opt_problem_add_constraint(&rp.nominal, "speed", 0, REPORT_DESIGN_SPEED,
+                                                   why) == USM_OK &&
+                    usm_tolerance_vary_parse("c_r=normal:2%", &rp.scatter[0], why) == USM_OK &&
+                    usm_tolerance_vary_parse("f=normal:1%", &rp.scatter[1], why) == USM_OK;
+    if (!set && !quick) {
+        snprintf(g->note, sizeof g->note, "the robust problem: %.200s", why);
+        g->seconds = usm_report_now() - t;
+        return USM_OK;
+    }
     rp.nscatter = 2;
     rp.samples = (uint64_t)g->samples;
     rp.verify_samples = (uint64_t)g->verify;
