@@ -1,5 +1,6 @@
-/* The event list and value text of a periodic sweep, shared by the bilateral
- * branch (periodic_sweep.c) and the orbits with separation
+/* The event list, value text and stability_change builder (kind, critical
+ * multiplier, squeal frequency, text) of a periodic sweep, shared by the
+ * bilateral branch (periodic_sweep.c) and the orbits with separation
  * (periodic_sweep_hybrid.c): both append events, neither calls the other for it. */
 #include "periodic_sweep_state.h"
 

@@ -48,7 +48,8 @@ usm_periodic_event *psweep_stability_add(usm_periodic_sweep *s, double v,
 void psweep_value_text(const usm_periodic_sweep *s, double v, char buf[96]);
 
 /* Unilateral models, after the bilateral branch: the orbits with separation
- * at the grid points and their events (branch_switch, grazing), then every
+ * at the grid points and their events (branch_switch, grazing,
+ * stability_change), then every
  * event in sweep order (dir: to - from).  0, or -1 when out of memory. */
 int psweep_separating(usm_periodic_sweep *s, double dir);
 
