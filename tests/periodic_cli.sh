@@ -196,5 +196,19 @@ pts = o['points']
 assert [p['mode_sequence'] for p in pts[:2]] == ['cococ', 'cococ'], pts
 assert all(p['mode_sequence'] == 'coc' for p in pts[3:]), pts"
 fi
+# the followed orbit with separation becomes stable (4-DOF, one-impact orbit
+# coc, mode split 3.373 %, a real multiplier through -1): a stability_change
+# with the bilateral ones' keys and the located orbit with separation under
+# `orbit` (numbers: test_unilateral_stability.c)
+if expect_rc 0 sweep --periodic --model 4dof --variant imperfect_unilateral --over mode_split \
+    --from 0.032 --to 0.034 --points 3 --json; then
+    py "s = [x for x in o['events'] if x['type'] == 'stability_change']
+assert len(s) == 1, o['events']
+s = s[0]
+assert sorted(s) == ['kind', 'mode_split', 'multiplier', 'orbit', 'type', 'what'], s
+assert s['kind'] == 'period_doubling' and 0.033 < s['mode_split'] < 0.034, s
+assert abs(s['multiplier'][0] + 1) < 1e-3 and 'becomes stable' in s['what'], s
+assert s['orbit']['mode_sequence'] == 'coc' and abs(s['orbit']['floquet']['max_modulus'] - 1) < 1e-6"
+fi
 
 finish periodic_cli

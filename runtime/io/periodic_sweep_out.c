@@ -127,9 +127,12 @@ static json_t *sweep_json(const usm_periodic_sweep *s, const usm_params *p)
         usm_json_put(o, "what", json_string(e->what), &eok);
         if (e->has_orbit)
             usm_json_put(o, "orbit", usm_json_periodic_result(&e->orbit), &eok);
-        if (e->has_hybrid) { /* branch_switch: the orbit followed, the one left */
-            const int slip = usm_periodic_sweep_model(s)->slip;
+        /* branch_switch: the orbit followed, the one left; stability_change
+         * of an orbit with separation: the located orbit */
+        const int slip = usm_periodic_sweep_model(s)->slip;
+        if (e->has_hybrid)
             usm_json_put(o, "orbit", usm_json_hybrid_result(&e->hybrid, slip), &eok);
+        if (e->has_hybrid && e->type == USM_PEVENT_BRANCH_SWITCH) {
             usm_json_put(o, "branch_lost", json_boolean(e->branch_lost), &eok);
             if (e->branch_lost) { /* the branch's last orbit, and where */
                 usm_json_put(o, "last_orbit", usm_json_hybrid_result(&e->hybrid_left, slip), &eok);

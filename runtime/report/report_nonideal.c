@@ -99,7 +99,9 @@ static void root_from_sweep(const usm_periodic_sweep *sw, const usm_report_nonid
         const double a = cv->pt[i - 1].value, b = pt->value;
         for (size_t q = 0; q < usm_periodic_sweep_event_count(sw); ++q) {
             const usm_periodic_event *e = usm_periodic_sweep_event_at(sw, q);
-            if (e->type != type || !(e->value >= a && e->value <= b))
+            /* the bilateral orbit's crossing (an orbit with separation's
+             * stability_change carries has_hybrid) */
+            if (e->type != type || e->has_hybrid || !(e->value >= a && e->value <= b))
                 continue;
             out->found = 1;
             out->value = e->value;

@@ -133,16 +133,6 @@ static double gfun(const usm_periodic_sweep *s, int k, const usm_periodic_result
     }
 }
 
-/* The non-cyclic multiplier of largest modulus. */
-static int critical(const usm_floquet_result *f)
-{
-    int c = -1;
-    for (int i = 0; i < f->n; ++i)
-        if (!f->cyclic[i] && (c < 0 || hypot(f->re[i], f->im[i]) > hypot(f->re[c], f->im[c])))
-            c = i;
-    return c;
-}
-
 /* One trial orbit of the locator: the parameter value, the orbit, g_k there. */
 typedef struct trial {
     double v, g;
@@ -243,33 +233,9 @@ static int emit_located(usm_periodic_sweep *s, int k, double v, const usm_period
                                     : "holds again over the whole orbit",
                          s->over, inc, how)
                    ? 0 : -1;
-    const int c = critical(&r->floquet);
-    const double re = c >= 0 ? r->floquet.re[c] : NAN, im = c >= 0 ? r->floquet.im[c] : NAN;
-    usm_crossing_kind kind = fabs(im) > USM_COMPLEX_PAIR_TOL * hypot(re, im)
-                                 ? USM_CROSSING_NEIMARK_SACKER
-                             : re > 0 ? USM_CROSSING_FOLD
-                                      : USM_CROSSING_PERIOD_DOUBLING;
-    /* the emerging vibration's frequency, of the orbit's period there (a
-     * sweep over f changes it) */
-    const double squeal = kind == USM_CROSSING_NEIMARK_SACKER
-                              ? usm_squeal_frequency(1.0 / r->period, re, im)
-                              : NAN;
-    char sq[64] = "";
-    if (isfinite(squeal))
-        snprintf(sq, sizeof sq, ", squeal frequency %.6g Hz", squeal);
-    usm_periodic_event *e = psweep_event_add(
-        s, USM_PEVENT_STABILITY_CHANGE, v, r,
-        "max |lambda| = 1 at %s (%s: critical multiplier %.8f %+.8fi%s): the orbit %s as %s "
-        "%s%s",
-        vt, usm_crossing_name(kind), re, fabs(im), sq,
-        rising ? "loses stability" : "becomes stable", s->over, inc, how);
-    if (!e)
-        return -1;
-    e->kind = kind;
-    e->squeal_frequency = squeal;
-    e->multiplier_re = re;
-    e->multiplier_im = fabs(im);
-    return 0;
+    return psweep_stability_add(s, v, r, &r->floquet, r->period, "the orbit", located, dir_up,
+                                rising)
+               ? 0 : -1;
 }
 
 /* Events between the accepted orbits (va, ra) and (vb, rb), in sweep order.

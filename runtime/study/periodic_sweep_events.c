@@ -1,5 +1,6 @@
-/* The event list and value text of a periodic sweep, shared by the bilateral
- * branch (periodic_sweep.c) and the orbits with separation
+/* The event list, value text and stability_change builder (kind, critical
+ * multiplier, squeal frequency, text) of a periodic sweep, shared by the
+ * bilateral branch (periodic_sweep.c) and the orbits with separation
  * (periodic_sweep_hybrid.c): both append events, neither calls the other for it. */
 #include "periodic_sweep_state.h"
 
@@ -41,4 +42,51 @@ void psweep_value_text(const usm_periodic_sweep *s, double v, char buf[96])
     /* no unit "1" after a ratio */
     snprintf(buf, 96, "%s = %.12g%s%s", s->over, v, strcmp(s->unit, "1") ? " " : "",
              strcmp(s->unit, "1") ? s->unit : "");
+}
+
+/* The non-cyclic multiplier of largest modulus, or -1. */
+static int critical(const usm_floquet_result *f)
+{
+    int c = -1;
+    for (int i = 0; i < f->n; ++i)
+        if (!f->cyclic[i] && (c < 0 || hypot(f->re[i], f->im[i]) > hypot(f->re[c], f->im[c])))
+            c = i;
+    return c;
+}
+
+usm_periodic_event *psweep_stability_add(usm_periodic_sweep *s, double v,
+                                         const usm_periodic_result *orbit,
+                                         const usm_floquet_result *fl, double period,
+                                         const char *subject, int located, int dir_up, int rising)
+{
+    char vt[96];
+    const char *how = located ? "" : " (not located to tolerance: a trial orbit failed)";
+    psweep_value_text(s, v, vt);
+    const int c = critical(fl);
+    const double re = c >= 0 ? fl->re[c] : NAN, im = c >= 0 ? fl->im[c] : NAN;
+    const usm_crossing_kind kind = fabs(im) > USM_COMPLEX_PAIR_TOL * hypot(re, im)
+                                       ? USM_CROSSING_NEIMARK_SACKER
+                                   : re > 0 ? USM_CROSSING_FOLD
+                                            : USM_CROSSING_PERIOD_DOUBLING;
+    /* the emerging vibration's frequency, of the orbit's period there (a
+     * sweep over f changes it) */
+    const double squeal = kind == USM_CROSSING_NEIMARK_SACKER
+                              ? usm_squeal_frequency(1.0 / period, re, im)
+                              : NAN;
+    char sq[64] = "";
+    if (isfinite(squeal))
+        snprintf(sq, sizeof sq, ", squeal frequency %.6g Hz", squeal);
+    usm_periodic_event *e = psweep_event_add(
+        s, USM_PEVENT_STABILITY_CHANGE, v, orbit,
+        "max |lambda| = 1 at %s (%s: critical multiplier %.8f %+.8fi%s): %s %s as %s %s%s", vt,
+        usm_crossing_name(kind), re, fabs(im), sq, subject,
+        rising ? "loses stability" : "becomes stable", s->over,
+        dir_up ? "increases" : "decreases", how);
+    if (!e)
+        return NULL;
+    e->kind = kind;
+    e->squeal_frequency = squeal;
+    e->multiplier_re = re;
+    e->multiplier_im = fabs(im);
+    return e;
 }

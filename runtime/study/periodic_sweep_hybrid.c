@@ -23,7 +23,11 @@
  * lost and it does not continue the branch) the point takes it and the
  * branch continues from it: a branch_switch event, with both orbits and,
  * for an unstable one, where it turned unstable (Brent's method on
- * max |lambda| = 1 between its last stable and first unstable point).  Where
+ * max |lambda| = 1 between its last stable and first unstable point).
+ * Wherever the followed orbit's max |lambda| crosses 1 between two grid
+ * points of one branch and mode sequence (continued, in either direction),
+ * that crossing, located so, is a stability_change event carrying the
+ * located orbit (its kind and text as the bilateral ones').  Where
  * the mode sequence changes along the branch, the change is located by
  * bisection on the parameter (the mode sequence of the orbit continued from
  * the bracket's end of the old sequence) to the event tolerance: a grazing
@@ -278,18 +282,35 @@ static double stab_fn(double v, void *ctx)
     return r.floquet.max_modulus - 1.0;
 }
 
-/* Where the followed orbit turns unstable between (va, a, stable) and (vb,
- * b, unstable), by Brent's method to STAB_TOL of the range (the event
- * tolerance is finer than the multipliers' own accuracy, about 1e-6: near
- * |lambda| = 1 they scatter by that, and Newton, B - I nearly singular
- * there, may fail); a failed trial ends it with the last bracket's middle
- * when that is within 100 STAB_TOL; NaN otherwise. */
+/* The kept orbit at v, else the kept one nearest |lambda| = 1. */
+static const usm_hybrid_result *stab_best(const stab_ctx *c, double v)
+{
+    const usm_hybrid_result *r = stab_at(c, v);
+    if (r)
+        return r;
+    r = &c->r[0];
+    for (int i = 1; i < c->n && i < STAB_CACHE; ++i)
+        if (fabs(c->r[i].floquet.max_modulus - 1) < fabs(r->floquet.max_modulus - 1))
+            r = &c->r[i];
+    return r;
+}
+
+/* Where the followed orbit's stability changes (max |lambda| = 1) between
+ * (va, a) and (vb, b), on either side of 1, by Brent's method to STAB_TOL
+ * of the range (the event tolerance is finer than the multipliers' own
+ * accuracy, about 1e-6: near |lambda| = 1 they scatter by that, and Newton,
+ * B - I nearly singular there, may fail).  1: *v Brent's zero; 0: a failed
+ * trial ended it and *v is the last bracket's middle, within 100 STAB_TOL;
+ * -1: not located, *v the trial orbit nearest |lambda| = 1.  *at: the
+ * trial orbit at *v, else (0, -1) the one nearest |lambda| = 1. */
 #define STAB_TOL 1e-6
-static double locate_instability(usm_periodic_sweep *s, double va, const usm_hybrid_result *a,
-                                 double vb, const usm_hybrid_result *b)
+static int locate_stability(usm_periodic_sweep *s, double va, const usm_hybrid_result *a,
+                            double vb, const usm_hybrid_result *b, double *v,
+                            usm_hybrid_result *at)
 {
     stab_ctx c;
     double x = NAN, lo, hi;
+    int rc = 1;
     c.s = s;
     c.n = 0;
     stab_keep(&c, va, a);
@@ -297,15 +318,23 @@ static double locate_instability(usm_periodic_sweep *s, double va, const usm_hyb
     usm_root *root = c.root = usm_root_alloc();
     const double tol = fmax(s->tol, STAB_TOL * s->range);
     const usm_root_stop stop = {tol, 0.0, MAX_BISECT};
-    if (!root)
-        return NAN;
-    if (usm_root_brent(root, stab_fn, &c, va, vb, a->floquet.max_modulus - 1.0,
-                       b->floquet.max_modulus - 1.0, &stop, &x) != 0) {
-        usm_root_bracket(root, &lo, &hi);
-        x = fabs(hi - lo) <= 100 * tol ? 0.5 * (lo + hi) : NAN;
+    if (!root || usm_root_brent(root, stab_fn, &c, va, vb, a->floquet.max_modulus - 1.0,
+                                b->floquet.max_modulus - 1.0, &stop, &x) != 0) {
+        rc = -1;
+        if (root) {
+            usm_root_bracket(root, &lo, &hi);
+            if (fabs(hi - lo) <= 100 * tol)
+                rc = 0, x = 0.5 * (lo + hi);
+        }
     }
     usm_root_free(root);
-    return x;
+    const usm_hybrid_result *r = stab_best(&c, x);
+    for (int i = 0; rc < 0 && i < c.n && i < STAB_CACHE; ++i)
+        if (&c.r[i] == r)
+            x = c.v[i];
+    *v = x;
+    *at = *r;
+    return rc;
 }
 
 /* The orbit a start from rest settles on at v (usm_hybrid_solve); 0 or -1. */
@@ -397,6 +426,27 @@ static int grazing_event(usm_periodic_sweep *s, double va, const usm_hybrid_resu
     return e ? 0 : -1;
 }
 
+/* The stability_change of the followed orbit with separation at v (the
+ * located orbit `at`): the bilateral events' kind and text
+ * (psweep_stability_add), the orbit with separation in `hybrid` (the
+ * bilateral orbit there has an open contact: has_orbit 0).  0, or -1 when
+ * out of memory. */
+static int stability_event(usm_periodic_sweep *s, double v, const usm_hybrid_result *at,
+                           int located, int dir_up, int rising)
+{
+    char subject[48 + USM_HYBRID_MAX_SWITCHES + 1];
+    snprintf(subject, sizeof subject, "the followed orbit with separation (%s)",
+             at->mode_sequence);
+    usm_periodic_event *e = psweep_stability_add(s, v, NULL, &at->floquet, at->period, subject,
+                                                 located, dir_up, rising);
+    if (!e)
+        return -1;
+    e->has_hybrid = 1;
+    e->hybrid = *at;
+    e->branch_last = e->unstable_from = NAN;
+    return 0;
+}
+
 int psweep_separating(usm_periodic_sweep *s, double dir)
 {
     if (!s->hy && !(s->hy = usm_hybrid_alloc(s->m)))
@@ -439,12 +489,24 @@ int psweep_separating(usm_periodic_sweep *s, double dir)
         pt->separating = 1;
         pt->hybrid = r;
         gone.n = 0;
-        /* where the followed orbit turned unstable, located */
-        if (!on || r.floquet.max_modulus < 1)
+        /* where the followed orbit's stability changed since the last
+         * point (the same branch and mode sequence), located: a
+         * stability_change, and where it turned unstable (unstable_from) */
+        const double m0 = before.n ? before.r[1].floquet.max_modulus : NAN;
+        const double m1 = r.floquet.max_modulus;
+        if (!on || m1 < 1)
             unstable_from = NAN;
-        else if (before.n && before.r[1].floquet.max_modulus < 1 &&
-                 strcmp(before.r[1].mode_sequence, r.mode_sequence) == 0)
-            unstable_from = locate_instability(s, before.v[1], &before.r[1], pt->value, &r);
+        if (on && before.n && strcmp(before.r[1].mode_sequence, r.mode_sequence) == 0 &&
+            isfinite(m0) && isfinite(m1) && (m0 < 1) != (m1 < 1)) {
+            double vx;
+            usm_hybrid_result at;
+            const int located = locate_stability(s, before.v[1], &before.r[1], pt->value, &r,
+                                                 &vx, &at);
+            if (m1 >= 1)
+                unstable_from = located >= 0 ? vx : NAN;
+            if (stability_event(s, vx, &at, located == 1, dir > 0, m1 >= 1) != 0)
+                return -1;
+        }
         if (lost) {
             if (switch_event(s, pt, &r, &before.r[1], SW_LOST, before.v[1], NAN) != 0)
                 return -1;

@@ -30,11 +30,26 @@ struct usm_periodic_sweep {
  * NULL when out of memory. */
 usm_periodic_event *psweep_event_add(usm_periodic_sweep *s, usm_pevent_type type, double v,
                                       const usm_periodic_result *orbit, const char *fmt, ...);
+/* Append the stability_change event at v (max |lambda| = 1): its kind from
+ * the critical multiplier of fl (the non-cyclic one of largest modulus:
+ * +1 fold, -1 period_doubling, a complex pair, |Im| > USM_COMPLEX_PAIR_TOL
+ * |lambda|, neimark_sacker with its squeal frequency of 1 / period), the
+ * text naming `subject` ("the orbit", ...) that loses stability (rising:
+ * max |lambda| > 1 after the event in sweep order) or becomes stable;
+ * orbit as psweep_event_add's; located 0 says the location failed.  NULL
+ * when out of memory.  Shared by the bilateral branch and the orbits with
+ * separation. */
+usm_periodic_event *psweep_stability_add(usm_periodic_sweep *s, double v,
+                                         const usm_periodic_result *orbit,
+                                         const usm_floquet_result *fl, double period,
+                                         const char *subject, int located, int dir_up,
+                                         int rising);
 /* "NAME = VALUE UNIT" of the swept parameter at v. */
 void psweep_value_text(const usm_periodic_sweep *s, double v, char buf[96]);
 
 /* Unilateral models, after the bilateral branch: the orbits with separation
- * at the grid points and their events (branch_switch, grazing), then every
+ * at the grid points and their events (branch_switch, grazing,
+ * stability_change), then every
  * event in sweep order (dir: to - from).  0, or -1 when out of memory. */
 int psweep_separating(usm_periodic_sweep *s, double dir);
 

@@ -79,6 +79,19 @@
  *                      stable orbit (it converges to the same unstable one,
  *                      e.g. when that is only weakly unstable, or fails) the
  *                      point keeps the unstable followed orbit.
+ *   stability_change   also where the followed orbit with separation
+ *                      crosses max |lambda| = 1 between two grid points of
+ *                      one branch and mode sequence (continued; not across a
+ *                      branch_switch, a lost branch or a grazing), losing
+ *                      stability or becoming stable: located by Brent's
+ *                      method as unstable_from (the same value where a
+ *                      branch_switch follows at the next point; both events
+ *                      are reported), its kind, multiplier and squeal
+ *                      frequency by the bilateral rule from the located
+ *                      orbit's multipliers; has_orbit 0 (the bilateral
+ *                      orbit's contact is open there), has_hybrid 1 with the
+ *                      located orbit with separation in `hybrid` (JSON:
+ *                      `orbit`, as the branch_switch's new orbit).
  * Events within one step are reported in sweep order; stick_loss is found
  * also in a step at whose end the contact is already open.
  * The points are the requested grid values in sweep order.
@@ -101,7 +114,8 @@ typedef enum {
     USM_PEVENT_CONTACT_LOSS = 0,
     USM_PEVENT_STICK_LOSS = 1,
     USM_PEVENT_FOLD = 2,
-    USM_PEVENT_STABILITY_CHANGE = 3,
+    USM_PEVENT_STABILITY_CHANGE = 3, /* also of the followed orbit with separation
+                                        (has_hybrid) on unilateral models */
     USM_PEVENT_FRICTION_SATURATION = 4,
     USM_PEVENT_CONTACT_REGAINED = 5, /* unilateral models: F_n_min = 0 closing */
     USM_PEVENT_GRAZING = 6,          /* unilateral models: the mode sequence changes */
@@ -129,18 +143,23 @@ typedef struct usm_periodic_event {
     usm_pevent_type type;
     usm_crossing_kind kind;     /* stability_change only, else USM_CROSSING_NONE */
     double value;               /* parameter value of the event */
-    int has_orbit;              /* 0 for fold (no orbit at the turning point) and
-                                   friction_saturation (infinite rotor speed) */
+    int has_orbit;              /* 0 for fold (no orbit at the turning point),
+                                   friction_saturation (infinite rotor speed) and the
+                                   events of the orbits with separation */
     usm_periodic_result orbit;  /* the orbit at `value` when has_orbit */
     double multiplier_re, multiplier_im; /* stability_change: the critical multiplier */
     double squeal_frequency;    /* neimark_sacker: the emerging vibration's frequency [Hz],
-                                   usm_squeal_frequency(1 / orbit.period, multiplier_re,
-                                   multiplier_im) in [0, f/2] (usm.h); NaN otherwise */
+                                   usm_squeal_frequency(1 / orbit.period (hybrid.period
+                                   when has_hybrid), multiplier_re, multiplier_im) in
+                                   [0, f/2] (usm.h); NaN otherwise */
     char what[USM_MSG_LEN];     /* one sentence */
-    /* branch_switch only (has_hybrid 1): the orbit with separation the sweep
+    /* branch_switch (has_hybrid 1): the orbit with separation the sweep
      * follows from here (hybrid), and the continued one it leaves
      * (hybrid_left): unstable at `value`, or, when branch_lost, the last
-     * orbit of the branch, at branch_last */
+     * orbit of the branch, at branch_last.  stability_change of an orbit
+     * with separation (has_hybrid 1): hybrid the located orbit; the other
+     * fields below unset (hybrid_left zero, branch_last and unstable_from
+     * NaN) */
     int has_hybrid;
     usm_hybrid_result hybrid, hybrid_left;
     int branch_lost;
