@@ -63,6 +63,9 @@ assert pt['converged'] and pt['mode_split'] == 0.08 and 'floquet' in pt and 'F_n
 e = [e for e in o['events'] if e['type'] == 'stability_change']
 assert len(e) == 1 and e[0]['kind'] == 'neimark_sacker' and abs(e[0]['mode_split'] - 0.0862) < 1e-4, e
 assert abs(e[0]['orbit']['floquet']['max_modulus'] - 1) < 1e-8 and e[0]['multiplier'][1] > 0
+# the bilateral orbit's contact is open there (F_n_min < 0): the event says so in its text too
+assert e[0]['orbit']['F_n_min'] < 0 and not e[0]['orbit']['valid'], e[0]['orbit']['F_n_min']
+assert e[0]['what'].endswith('; model invalid: contact_open'), e[0]['what']
 assert o['points'][0]['floquet']['stable'] and not o['points'][2]['floquet']['stable']"
 fi
 # every event within a step, in order (issue 20): one step of 0.02 holds the

@@ -84,6 +84,14 @@ usm_periodic_event *psweep_stability_add(usm_periodic_sweep *s, double v,
         dir_up ? "increases" : "decreases", how);
     if (!e)
         return NULL;
+    if (orbit && orbit->validity != USM_VALID) {
+        /* e.g. the 4-DOF Neimark-Sacker point at 8.62 % mode split, where
+         * the bilateral orbit's contact has long opened: the text says so,
+         * not only the orbit's `valid` */
+        const size_t len = strlen(e->what);
+        snprintf(e->what + len, sizeof e->what - len, "; model invalid: %s",
+                 usm_validity_name(orbit->validity));
+    }
     e->kind = kind;
     e->squeal_frequency = squeal;
     e->multiplier_re = re;
