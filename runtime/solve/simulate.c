@@ -12,8 +12,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <gsl/gsl_errno.h>
-#include <gsl/gsl_linalg.h>
 
 #include <cvodes/cvodes.h>
 #include <nvector/nvector_serial.h>
@@ -21,6 +19,7 @@
 #include <sunmatrix/sunmatrix_dense.h>
 
 #include "core/cvode_msg.h"
+#include "core/dense.h"
 #include "usm_simulate.h"
 
 #define TWO_PI 6.283185307179586476925286766559
@@ -60,8 +59,6 @@ struct usm_sim {
     void (*k_jac_mass)(const double *x, const double *v, const usm_params *p, double *out);
     void (*k_outputs)(const double *x, const double *xdot, double t, const usm_params *p,
                       double *out);
-    gsl_matrix *Mxs[2], *Gs[2];
-    gsl_permutation *perms[2];
     long stats_done[5];  /* steps, rhs, jac, error test and Newton failures of the
                           * integrators of earlier modes (each switch makes a new one) */
     double v_land;       /* a bounce slower than this lands (usm_simulate.h) */
@@ -71,10 +68,10 @@ struct usm_sim {
     N_Vector y, q;
     SUNMatrix A;
     SUNLinearSolver LS;
-    /* linear algebra */
-    gsl_matrix *Mx;
-    gsl_matrix *G;
-    gsl_permutation *perm;
+    /* the LU of the current mass matrix (core/dense.h: at 7 x 7 to 12 x 12
+     * GSL's LU, a BLAS call per column, was a quarter of a simulation's time) */
+    double lu[USM_MAX_NY * USM_MAX_NY];
+    int piv[USM_MAX_NY];
     usm_steady *steady;
     /* running diagnostics, updated by the root function at every step */
     usm_sim_summary *sum;
@@ -140,9 +137,6 @@ const char *usm_sim_message(const usm_sim *s) { return s->msg; }
 static void set_mode(usm_sim *s, int mode)
 {
     s->mode = mode;
-    s->Mx = s->Mxs[mode];
-    s->G = s->Gs[mode];
-    s->perm = s->perms[mode];
     if (mode == 0) {
         s->n = s->m->nx;
         s->k_mass = s->m->mass;
@@ -190,8 +184,7 @@ static void use_model(usm_sim *s, const usm_model *m)
     }
     s->nx = m->nx;
     s->u = m->unilateral;
-    if (s->Mxs[0])
-        set_mode(s, 0);
+    set_mode(s, 0);
 }
 
 /* Coordinates (issue 21, docs/coordinates.md): unless the options ask for the
@@ -216,17 +209,9 @@ usm_sim *usm_sim_alloc(const usm_model *m)
         return NULL;
     s->user = m;
     use_model(s, m);
-    int ok = 1;
-    for (int k = 0; k < (s->u ? 2 : 1); ++k) {
-        const size_t n = (size_t)(k ? s->u->ny : m->nx);
-        s->Mxs[k] = gsl_matrix_alloc(n, n);
-        s->Gs[k] = gsl_matrix_alloc(n, n);
-        s->perms[k] = gsl_permutation_alloc(n);
-        ok = ok && s->Mxs[k] && s->Gs[k] && s->perms[k];
-    }
     set_mode(s, 0);
     s->steady = usm_steady_alloc(m);
-    if (!ok || !s->steady || SUNContext_Create(NULL, &s->ctx) != 0) {
+    if (!s->steady || SUNContext_Create(NULL, &s->ctx) != 0) {
         s->ctx = NULL;
         usm_sim_free(s);
         return NULL;
@@ -259,11 +244,6 @@ void usm_sim_free(usm_sim *s)
     free_integrator(s);
     if (s->ctx)
         SUNContext_Free(&s->ctx);
-    for (int k = 0; k < 2; ++k) {
-        gsl_matrix_free(s->Mxs[k]);
-        gsl_matrix_free(s->Gs[k]);
-        gsl_permutation_free(s->perms[k]);
-    }
     usm_steady_free(s->steady);
     free(s->root_run);
     free(s);
@@ -317,26 +297,15 @@ static void to_zdot(const usm_sim *s, const double *xdot, double *zdot)
     zdot[s->iphid] += xdot[s->ipsid];
 }
 
-/* LU of M(x) into s->Mx; 0, or -1 when singular or not finite (theta -> 0). */
+/* LU of M(x) into s->lu; 0, or -1 when singular or not finite (theta -> 0). */
 static int factor_mass(usm_sim *s, const double *x)
 {
     const int n = s->n;
-    double M[USM_MAX_NY * USM_MAX_NY];
-    int sign;
-    s->k_mass(x, &s->p, M);
-    for (int i = 0; i < n * n; ++i) {
-        if (!isfinite(M[i]))
+    s->k_mass(x, &s->p, s->lu);
+    for (int i = 0; i < n * n; ++i)
+        if (!isfinite(s->lu[i]))
             return -1;
-        s->Mx->data[i] = M[i];
-    }
-    if (gsl_linalg_LU_decomp(s->Mx, s->perm, &sign) != GSL_SUCCESS)
-        return -1;
-    /* GSL's LU does not fail on an exactly singular matrix; its solve would
-     * return inf.  Reject a zero pivot here. */
-    for (int i = 0; i < n; ++i)
-        if (gsl_matrix_get(s->Mx, (size_t)i, (size_t)i) == 0.0)
-            return -1;
-    return 0;
+    return usm_lu_factor_dense(n, s->lu, s->piv);
 }
 
 /* x and xdot = M^{-1} f at (t, y).  0, or -1 (recoverable for CVODES). */
@@ -346,9 +315,7 @@ static int evaluate(usm_sim *s, double t, const double *y, double *x, double *xd
     if (factor_mass(s, x) != 0)
         return -1;
     s->k_rhs(x, t, &s->p, xdot);
-    gsl_vector_view v = gsl_vector_view_array(xdot, (size_t)s->n);
-    if (gsl_linalg_LU_svx(s->Mx, s->perm, &v.vector) != GSL_SUCCESS)
-        return -1;
+    usm_lu_solve_dense(s->n, s->lu, s->piv, xdot, 1);
     for (int i = 0; i < s->n; ++i)
         if (!isfinite(xdot[i]))
             return -1;
@@ -383,7 +350,7 @@ static int cv_jac(sunrealtype t, N_Vector yv, N_Vector fy, SUNMatrix J, void *da
     usm_sim *s = data;
     const int n = s->n;
     double x[USM_MAX_NY], xdot[USM_MAX_NY];
-    double Jf[USM_MAX_NY * USM_MAX_NY], Jm[USM_MAX_NY * USM_MAX_NY];
+    double Jf[USM_MAX_NY * USM_MAX_NY], Jm[USM_MAX_NY * USM_MAX_NY], G[USM_MAX_NY * USM_MAX_NY];
     const double *f = N_VGetArrayPointer(fy);
     (void)tmp1;
     (void)tmp2;
@@ -395,23 +362,19 @@ static int cv_jac(sunrealtype t, N_Vector yv, N_Vector fy, SUNMatrix J, void *da
     s->k_jac_rhs(x, t, &s->p, Jf);
     s->k_jac_mass(x, xdot, &s->p, Jm);
     for (int i = 0; i < n * n; ++i)
-        s->G->data[i] = Jf[i] - Jm[i];
-    for (int j = 0; j < n; ++j) {
-        gsl_vector_view col = gsl_matrix_column(s->G, (size_t)j);
-        if (gsl_linalg_LU_svx(s->Mx, s->perm, &col.vector) != GSL_SUCCESS)
-            return 1;
-    }
+        G[i] = Jf[i] - Jm[i];
+    usm_lu_solve_dense(n, s->lu, s->piv, G, n);
     /* T^{-1} on the right: column psi -= column phi; T on the left: row phi += row psi */
     for (int k = 0; k < (s->tilt ? 0 : 2); ++k) {
         const int a = k ? s->iphid : s->iphi, b = k ? s->ipsid : s->ipsi;
         for (int i = 0; i < n; ++i)
-            s->G->data[i * n + b] -= s->G->data[i * n + a];
+            G[i * n + b] -= G[i * n + a];
         for (int j = 0; j < n; ++j)
-            s->G->data[a * n + j] += s->G->data[b * n + j];
+            G[a * n + j] += G[b * n + j];
     }
     for (int i = 0; i < n; ++i)
         for (int j = 0; j < n; ++j) {
-            const double g = gsl_matrix_get(s->G, (size_t)i, (size_t)j);
+            const double g = G[i * n + j];
             if (!isfinite(g))
                 return 1;
             SM_ELEMENT_D(J, i, j) = g;
@@ -921,12 +884,10 @@ static double closed_Fn(usm_sim *s, double t, const double *x, double *Ft)
     set_mode(s, 0);
     if (factor_mass(s, x) == 0) {
         s->k_rhs(x, t, &s->p, xdot);
-        gsl_vector_view v = gsl_vector_view_array(xdot, (size_t)s->n);
-        if (gsl_linalg_LU_svx(s->Mx, s->perm, &v.vector) == GSL_SUCCESS) {
-            s->k_outputs(x, xdot, t, &s->p, out);
-            Fn = out[USM_OUT_F_N];
-            *Ft = out[USM_OUT_F_T];
-        }
+        usm_lu_solve_dense(s->n, s->lu, s->piv, xdot, 1);
+        s->k_outputs(x, xdot, t, &s->p, out);
+        Fn = out[USM_OUT_F_N];
+        *Ft = out[USM_OUT_F_T];
     }
     set_mode(s, mode);
     return Fn;
