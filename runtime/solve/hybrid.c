@@ -36,6 +36,7 @@
 
 #include "core/cvode_msg.h"
 #include "core/dense.h"
+#include "impact.h"
 #include "multipliers.h"
 #include "usm_periodic.h"
 #include "usm_simulate.h"
@@ -313,15 +314,15 @@ static void note_mode(usm_hybrid *h, int mode)
     h->seq[h->nmodes < USM_HYBRID_MAX_SWITCHES ? h->nmodes : USM_HYBRID_MAX_SWITCHES] = '\0';
 }
 
-/* A touch slower than v_land while the closed mode would pull (F_n < 0):
- * the rotor grazes the stator and stays off (simulate.c decides the same). */
-static int grazing_touch(const usm_hybrid *h, double t, const double *y, double gd)
+/* F_n of the closed mode at y (the impact rule's, solve/impact.h). */
+static double closed_Fn(void *ctx, double t, const double *y)
 {
+    const usm_hybrid *h = ctx;
     double xd[NY], o[USM_OUT_COUNT];
-    if (!(-gd <= h->v_land) || rates(h, 0, t, y, xd, NULL, NULL) != 0)
-        return 0;
+    if (rates(h, 0, t, y, xd, NULL, NULL) != 0)
+        return NAN;
     h->m->outputs(y, xd, t, &h->p, o);
-    return o[USM_OUT_F_N] < 0;
+    return o[USM_OUT_F_N];
 }
 
 /* The guard crossed at t: reset the state and the variational matrix in z
@@ -357,45 +358,28 @@ static int switch_at(usm_hybrid *h, double t, double *z)
         h->open_since = t;
         h->bounces = 0;
     } else {
-        double gg[1 + NY], cv[2 + 2 * NY], out[NY + 2];
+        double gg[1 + NY];
+        usm_impact_outcome io;
         h->u->guard_open(x, &h->p, gg);
         memcpy(Gx, gg + 1, sizeof(double) * (size_t)ny);
-        h->u->contact_velocity(x, &h->p, cv);
-        const double gd = cv[0];
-        if (grazing_touch(h, t, x, gd)) {
-            /* no impact: the rotor touches and the closed mode would pull it
-             * off again; the same mode, no reset, S = I */
+        /* the simulation's rule (solve/impact.h) */
+        if (usm_impact_resolve(h->m, &h->p, h->v_land, t, x, closed_Fn, h, xp, R, &io) != 0) {
+            snprintf(h->msg, USM_MSG_LEN, "the impact at t = %.9g s gave a state that is not "
+                     "finite", t);
+            return USM_EFAILED;
+        }
+        if (!io.impact) {
+            /* the rotor grazes and the closed mode would pull it off again:
+             * the same mode, no reset, S = I */
             h->n = na;
             return USM_OK;
         }
         h->nimp++;
-        h->vmax = fmax(h->vmax, -gd);
-        h->u->impact_stick(x, &h->p, out);
-        const double Pn = out[ny], Pt = out[ny + 1];
-        int slide = 0;
-        if (fabs(Pt) > h->p.mu0 * Pn) {
-            if (h->m->slip) {
-                slide = 1;
-                h->u->impact_slide(x, Pt > 0 ? 1.0 : -1.0, &h->p, out);
-                h->u->impact_slide_jac(x, Pt > 0 ? 1.0 : -1.0, &h->p, R);
-            } else
-                h->nslip++;
-        }
-        if (!slide)
-            h->u->impact_stick_jac(x, &h->p, R);
-        memcpy(xp, out, sizeof(double) * (size_t)ny);
-        h->u->contact_velocity(xp, &h->p, cv);
-        newmode = 1;
-        if (!(cv[0] > h->v_land)) {
-            double xd[NY], o[USM_OUT_COUNT];
-            if (rates(h, 0, t, xp, xd, NULL, NULL) == 0) {
-                h->m->outputs(xp, xd, t, &h->p, o);
-                if (o[USM_OUT_F_N] >= 0)
-                    newmode = 0;
-            }
-        }
-        if (newmode && cv[0] > h->v_land && h->bounces++ == 0)
-            h->vfirst = -gd; /* a rebound (not a touch the closed mode would pull off) */
+        h->vmax = fmax(h->vmax, io.v);
+        h->nslip += io.slipping;
+        newmode = !io.lands;
+        if (newmode && io.v_after > h->v_land && h->bounces++ == 0)
+            h->vfirst = io.v; /* a rebound (not a touch the closed mode would pull off) */
         if (!newmode && h->bounces > 0) {
             /* a landing after rebounds: at e_impact > 0 every impact throws
              * the rotor off again (gap'+ = -e gap'- > 0), so a contact that

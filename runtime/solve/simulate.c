@@ -20,6 +20,7 @@
 
 #include "core/cvode_msg.h"
 #include "core/dense.h"
+#include "impact.h"
 #include "usm_simulate.h"
 
 #define TWO_PI 6.283185307179586476925286766559
@@ -893,45 +894,36 @@ static double closed_Fn(usm_sim *s, double t, const double *x, double *Ft)
     return Fn;
 }
 
-/* The rotor lands (open mode, the gap fell through 0) at t: the impact map
- * (usm_simulate.h, "Unilateral contact"); then the closed mode, unless the
- * rotor bounces (gap' after above v_land) or the closed mode would pull
- * (F_n < 0: it lifts off again at once).  yv: the open state. */
+static double closed_Fn_at(void *ctx, double t, const double *y)
+{
+    double Ft;
+    return closed_Fn(ctx, t, y, &Ft);
+}
+
+/* The rotor reaches the stator (open mode, the gap fell through 0) at t:
+ * the impact rule shared with the shooting (solve/impact.h).  yv: the open
+ * state. */
 static int impact(usm_sim *s, double t, const double *yv, const double *q)
 {
-    const int ny = s->u->ny;
-    double cv[2 + 2 * USM_MAX_NY], out[USM_MAX_NY + 2];
+    double out[USM_MAX_NY];
     usm_sim_summary *sum = s->sum;
-    s->u->contact_velocity(yv, &s->p, cv);
-    const double gd = cv[0];
-    double Ft0;
-    if (!(gd < 0) || (-gd <= s->v_land && closed_Fn(s, t, yv, &Ft0) < 0))
-        /* touching without approach, or grazing slower than v_land while the
-         * closed mode would pull the rotor off again: no impact */
+    usm_impact_outcome o;
+    if (usm_impact_resolve(s->m, &s->p, s->v_land, t, yv, closed_Fn_at, s, out, NULL, &o) != 0) {
+        sum->stop = USM_SIM_INTEGRATOR;
+        snprintf(sum->reason, USM_MSG_LEN, "the impact at t = %.9g s gave a state that is "
+                 "not finite", t);
+        return USM_EFAILED;
+    }
+    if (!o.impact)
         return switch_mode(s, 1, t, yv, q);
     sum->impacts++;
-    sum->impact_velocity_max = fmax(sum->impact_velocity_max, -gd);
-    s->u->impact_stick(yv, &s->p, out);
-    const double Pn = out[ny], Pt = out[ny + 1];
-    if (fabs(Pt) > s->p.mu0 * Pn) {
-        if (s->m->slip)
-            s->u->impact_slide(yv, Pt > 0 ? 1.0 : -1.0, &s->p, out);
-        else
-            sum->impacts_slipping++; /* the stick model sticks regardless */
-    }
-    for (int i = 0; i < ny; ++i)
-        if (!isfinite(out[i])) {
-            sum->stop = USM_SIM_INTEGRATOR;
-            snprintf(sum->reason, USM_MSG_LEN, "the impact at t = %.9g s gave a state that is "
-                     "not finite", t);
-            return USM_EFAILED;
-        }
-    s->u->contact_velocity(out, &s->p, cv);
-    double Ft;
-    const double Fn = cv[0] > s->v_land ? NAN : closed_Fn(s, t, out, &Ft);
-    if (!(Fn >= 0))
+    sum->impact_velocity_max = fmax(sum->impact_velocity_max, o.v);
+    sum->impacts_slipping += o.slipping;
+    if (!o.lands)
         return switch_mode(s, 1, t, out, q);
     episode_end(&s->in_open, s->open_since, &sum->contact_open, t);
+    double Ft;
+    const double Fn = closed_Fn(s, t, out, &Ft);
     if (s->nroots > ROOT_STICK && s->p.mu0 * Fn - fabs(Ft) < 0)
         episode_begin(&s->in_stick, &s->stick_since, &sum->stick_exceeded, t);
     return switch_mode(s, 0, t, out, q);
