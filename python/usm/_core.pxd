@@ -270,6 +270,7 @@ cdef extern from "usm_robust.h" nogil:
     int usm_robust_problem_check(const usm_robust_problem *rp, const usm_model *m,
                                  const usm_params *p, char *msg)
     int usm_robust_objective_parse(usm_robust_problem *rp, const char *text, char *msg)
+    int usm_pareto_objectives_parse(const char *text, int *output, int *minimize, char *msg)
     int usm_robust_constraint_parse(usm_robust_problem *rp, const char *text, char *msg)
     int usm_range_stat_find(const char *name)
 

@@ -808,28 +808,12 @@ cdef object _run_pareto(_Model self, objectives, dict vary, list constraints, in
     cdef int obj[2]
     cdef int mini[2]
     cdef usm_run *r
-    cdef list objs
     if isinstance(objectives, str):
-        objs = objectives.split(",")
+        text = objectives
     else:
-        objs = list(objectives)
-    if len(objs) != 2:
-        raise ValueError("objectives: two needed (A,B), got %r" % (objectives,))
-    for i in range(2):
-        text = str(objs[i]).strip()
-        mini[i] = 0
-        if text.startswith("min:"):
-            mini[i] = 1
-            text = text[4:]
-        elif text.startswith("max:"):
-            text = text[4:]
-        obj[i] = usm_opt_output_find(text.encode())
-        if obj[i] < 0 or usm_opt_output_analytic(obj[i]) != 1:
-            raise ValueError('objectives: "%s": %s (see usm pareto --help)'
-                             % (text, "unknown output" if obj[i] < 0
-                                else "needs an analytic gradient"))
-    if obj[0] == obj[1]:
-        raise ValueError("objectives: two different outputs needed")
+        text = ",".join(str(o).strip() for o in objectives)
+    if usm_pareto_objectives_parse(text.encode(), obj, mini, msg) != USM_OK:
+        raise ValueError(msg.decode(errors="replace"))
     if not 2 <= points <= USM_PARETO_MAX_POINTS:
         raise ValueError("points: must be 2 to %d" % USM_PARETO_MAX_POINTS)
     _problem(self, &pb, &rp, None, vary, constraints, 0, margin, starts, t0, allow_slip,

@@ -8,6 +8,7 @@
 #include "diag.h"
 #include "optimize_args.h"
 #include "options.h"
+#include "usm_io.h"
 #include "usm_plot.h"
 #include "usm_robust.h"
 #include "usm_run.h"
@@ -61,22 +62,6 @@ static void usage(FILE *out)
             "             3 no feasible design\n");
 }
 
-static int parse_objective(const char *text, int *k, int *minimize, char msg[CLI_MSG_LEN])
-{
-    *minimize = strncmp(text, "min:", 4) == 0;
-    if (*minimize)
-        text += 4;
-    else if (strncmp(text, "max:", 4) == 0)
-        text += 4;
-    *k = usm_opt_output_find(text);
-    if (*k < 0 || usm_opt_output_analytic(*k) != 1) {
-        cli_msg(msg, "--objectives: \"%s\": %s (see usm pareto --help)", text,
-                *k < 0 ? "unknown output" : "needs an analytic gradient");
-        return USM_EINPUT;
-    }
-    return USM_OK;
-}
-
 static int parse(pareto_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
 {
     static const char *const opts[] = {"--objectives", "--vary", "--constraint",
@@ -121,16 +106,11 @@ static int parse(pareto_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
                 which = o;
         }
         if (which == 0) {
-            char first[64];
-            const char *comma = strchr(value, ',');
-            if (!comma || (size_t)(comma - value) >= sizeof first || strchr(comma + 1, ',')) {
-                cli_msg(msg, "--objectives: expected A,B (two outputs), got \"%s\"", value);
+            char lib[USM_IO_MSG_LEN];
+            if (usm_pareto_objectives_parse(value, a->obj, a->minimize, lib) != USM_OK) {
+                cli_msg(msg, "--%.1000s", lib);
                 return USM_EINPUT;
             }
-            snprintf(first, sizeof first, "%.*s", (int)(comma - value), value);
-            if (parse_objective(first, &a->obj[0], &a->minimize[0], msg) != USM_OK ||
-                parse_objective(comma + 1, &a->obj[1], &a->minimize[1], msg) != USM_OK)
-                return USM_EINPUT;
             have_obj = 1;
         } else if (which == 1 || which == 2) {
             if ((which == 1 ? cli_opt_parse_vary : cli_opt_parse_constraint)(&a->pb, value, msg) !=
@@ -163,10 +143,6 @@ static int parse(pareto_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
         return rc;
     if (!have_obj) {
         cli_msg(msg, "--objectives: required (A,B)");
-        return USM_EINPUT;
-    }
-    if (a->obj[0] == a->obj[1]) {
-        cli_msg(msg, "--objectives: two different outputs needed");
         return USM_EINPUT;
     }
     if (a->force && !a->plot) {

@@ -1,7 +1,7 @@
 /* robust_args.c: the texts of a robust problem (usm_robust.h) as usm
  * optimize's options and the Python package's arguments give them:
  * --objective yield|NAME|mean:NAME|qNN:NAME and the constraints on the yield
- * and the derived quantities. */
+ * and the derived quantities; and usm pareto's --objectives A,B. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -76,5 +76,41 @@ int usm_robust_constraint_parse(usm_robust_problem *rp, const char *text,
         return USM_EINPUT;
     }
     rp->derived[rp->nderived++] = (usm_robust_constraint){k, upper, value};
+    return USM_OK;
+}
+
+/* One objective of a front: [max:|min:]NAME. */
+static int pareto_objective(const char *text, int *output, int *minimize, char msg[USM_IO_MSG_LEN])
+{
+    *minimize = strncmp(text, "min:", 4) == 0;
+    if (*minimize || strncmp(text, "max:", 4) == 0)
+        text += 4;
+    *output = usm_opt_output_find(text);
+    if (*output < 0 || usm_opt_output_analytic(*output) != 1) {
+        snprintf(msg, USM_IO_MSG_LEN, "objectives: \"%s\": %s (see usm pareto --help)", text,
+                 *output < 0 ? "unknown output" : "needs an analytic gradient");
+        return USM_EINPUT;
+    }
+    return USM_OK;
+}
+
+int usm_pareto_objectives_parse(const char *text, int output[2], int minimize[2],
+                                char msg[USM_IO_MSG_LEN])
+{
+    char first[64];
+    const char *comma = strchr(text, ',');
+    if (!comma || (size_t)(comma - text) >= sizeof first || strchr(comma + 1, ',')) {
+        snprintf(msg, USM_IO_MSG_LEN, "objectives: expected A,B (two outputs), got \"%.200s\"",
+                 text);
+        return USM_EINPUT;
+    }
+    snprintf(first, sizeof first, "%.*s", (int)(comma - text), text);
+    if (pareto_objective(first, &output[0], &minimize[0], msg) != USM_OK ||
+        pareto_objective(comma + 1, &output[1], &minimize[1], msg) != USM_OK)
+        return USM_EINPUT;
+    if (output[0] == output[1]) {
+        snprintf(msg, USM_IO_MSG_LEN, "objectives: two different outputs needed");
+        return USM_EINPUT;
+    }
     return USM_OK;
 }

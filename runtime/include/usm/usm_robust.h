@@ -210,6 +210,12 @@ int usm_robust_problem_check(const usm_robust_problem *rp, const usm_model *m,
 int usm_robust_objective_parse(usm_robust_problem *rp, const char *text, char msg[1024]);
 /* The constraint text, as described above. */
 int usm_robust_constraint_parse(usm_robust_problem *rp, const char *text, char msg[1024]);
+/* usm pareto's --objectives TEXT: "A,B", each an optimizer output with an
+ * analytic gradient (usm_opt_output_analytic), prefixed max: (the default)
+ * or min:, the two different, into output[2] and minimize[2]: USM_OK, or
+ * USM_EINPUT with "objectives: reason". */
+int usm_pareto_objectives_parse(const char *text, int output[2], int minimize[2],
+                                char msg[1024]);
 
 typedef struct usm_robust_design {
     int feasible;
