@@ -152,6 +152,39 @@ assert o['separation_fraction'] == 0 and o['impacts_per_period'] == 0"
 fi
 expect_rc 0 periodic --model 4dof --variant imperfect_unilateral --set phase_error=30deg && \
     { grep -q 'mode sequence  *cococ' "$out" || fail "the table has no mode sequence"; }
+# --orbit of an orbit with separation: a second run of the period map,
+# sampled; its rows alone give the JSON's mode sequence, time open, mean
+# speed and the orbit's closing
+hcsv=$tmp/hybrid_orbit.csv
+if expect_rc 0 periodic --model 4dof --variant imperfect_unilateral --set phase_error=30deg \
+        --orbit "$hcsv" --json; then
+    py "import csv
+rows = list(csv.reader(open('$hcsv')))
+head, d = rows[0], [[float(v) for v in r] for r in rows[1:]]
+assert head[:2] == ['t [s]', 'open [1]'] and head[-4:] == ['gap [m]', 'F_n [N]', 'F_t [N]', 'rotor_speed [1/s]'], head
+assert len(head) == 9 + 6 and head[2] == 'phi_R [rad]' and head[8] == 'thetadot [rad/s]', head
+t, op, T = [r[0] for r in d], [int(r[1]) for r in d], 1 / o['parameters']['f']
+assert t[0] == o['section_t'] and abs(t[-1] - t[0] - T) < 1e-15 * t[-1] * 8, (t[0], t[-1])
+assert all(b >= a for a, b in zip(t, t[1:])) and len(d) >= 201 + 2 * 4, len(d)
+seq = ''.join('o' if m else 'c' for i, m in enumerate(op) if i == 0 or m != op[i - 1])
+assert seq == o['mode_sequence'], (seq, o['mode_sequence'])
+opent = sum(t[i + 1] - t[i] for i in range(len(d) - 1) if op[i] and op[i + 1])
+# measured 5.7e-10 (two runs of the map at rtol 1e-11)
+assert abs(opent / T - o['separation_fraction']) < 1e-8, (opent / T, o['separation_fraction'])
+# no contact force while open, no gap while closed, never a negative gap
+assert all(r[12] == 0 and r[13] == 0 and r[11] >= -1e-15 for r in d if r[1] == 1)
+assert all(r[11] == 0 and r[12] >= -1e-9 for r in d if r[1] == 0)
+# the orbit closes: theta, its rate, the spin rates and tau come back
+# (measured 1.3e-12 to 4.1e-10 of their largest values, tau 2.2e-8)
+for k in (4, 6, 7, 8, 9, 10):
+    sc = max(abs(r[k]) for r in d)
+    assert abs(d[-1][k] - d[0][k]) < 1e-7 * sc, (head[k], d[0][k], d[-1][k])
+# the mean rotor speed by the trapezoidal rule over the rows (both sides of
+# every switch: exact where the speed jumps) against the orbit's quadrature
+w = sum((t[i + 1] - t[i]) * (d[i][14] + d[i + 1][14]) / 2 for i in range(len(d) - 1)) / T
+# measured 2.2e-10
+assert abs(w / o['rotor_speed_mean'] - 1) < 1e-6, (w, o['rotor_speed_mean'])"
+fi
 
 # sweep --periodic on a unilateral model continues past contact loss: the
 # points carry the orbit with separation (the same as usm periodic's, started

@@ -29,6 +29,8 @@ static void usage(FILE *out)
     cli_common_usage(out);
     fprintf(out,
             "  --orbit FILE.csv    write one period at %d points: t, state, F_n, F_t, rotor speed\n"
+            "                      (an orbit with separation: t, open, state, gap, F_n, F_t,\n"
+            "                      rotor speed, at %d + 1 points and both sides of every switch)\n"
             "  --force             overwrite --orbit if it exists\n"
             "  -h, --help          print this help\n"
             "\n"
@@ -36,7 +38,7 @@ static void usage(FILE *out)
             "             prints converged=false), 2 bad input or a twist law without\n"
             "             periodic orbit, 3 no stationary solution of the ideal motor to\n"
             "             start from (as usm steady)\n",
-            USM_PERIODIC_SAMPLES);
+            USM_PERIODIC_SAMPLES, USM_PERIODIC_SAMPLES);
 }
 
 typedef struct periodic_args {
@@ -97,6 +99,26 @@ static int write_orbit(const periodic_args *a, const usm_periodic *w, char msg[C
         usm_io_abort(&file);
         cli_msg(msg, "%s: write error", a->orbit);
         return USM_EFAILED;
+    }
+    return usm_io_commit(&file, msg);
+}
+
+/* the orbit with separation: USM_PERIODIC_SAMPLES a period and both sides
+ * of every switch */
+static int write_hybrid_orbit(const periodic_args *a, const usm_hybrid_result *h,
+                              char msg[CLI_MSG_LEN])
+{
+    usm_io_file file;
+    int status;
+    char lib[USM_MSG_LEN];
+    FILE *f = usm_io_create(&file, a->orbit, a->force, msg, &status);
+    if (!f)
+        return status;
+    if ((status = usm_hybrid_write_orbit_csv(a->common.model, &a->common.params, h,
+                                             USM_PERIODIC_SAMPLES, f, lib)) != USM_OK) {
+        usm_io_abort(&file);
+        cli_msg(msg, "%s: %s", a->orbit, lib);
+        return status;
     }
     return usm_io_commit(&file, msg);
 }
@@ -173,11 +195,9 @@ int cli_periodic_main(int argc, char **argv)
     usm_run *run = usm_run_periodic(a.common.model, &a.common.params);
     int status = usm_run_status(run);
     const usm_hybrid_result *h = usm_run_hybrid_result(run);
-    if (a.orbit && a.common.model->unilateral && !usm_run_periodic_solver(run) &&
-        status != USM_EINPUT)
-        cli_error("warning: --orbit is not written for an orbit with separation (not implemented)");
-    if (status == USM_OK && a.orbit && !h &&
-        (status = write_orbit(&a, usm_run_periodic_solver(run), msg)) != USM_OK)
+    if (status == USM_OK && a.orbit &&
+        (status = h ? write_hybrid_orbit(&a, h, msg)
+                    : write_orbit(&a, usm_run_periodic_solver(run), msg)) != USM_OK)
         cli_error("--orbit %s", msg);
     else if (a.common.json && usm_run_has_json(run)) {
         /* the object with "error" on a failure too */

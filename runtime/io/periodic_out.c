@@ -1,6 +1,7 @@
 /* A periodic steady state: its orbit as CSV, the `usm periodic --json`
  * object (usm_periodic.h). */
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "csv_out.h"
@@ -60,6 +61,47 @@ int usm_periodic_write_json(const usm_periodic *w, const usm_params *p,
         o = NULL;
     }
     return usm_json_write(o, out);
+}
+
+int usm_hybrid_write_orbit_csv(const usm_model *m, const usm_params *p,
+                               const usm_hybrid_result *r, int n, FILE *out, char *msg)
+{
+    const int nx = m->nx, ncol = USM_HYBRID_SAMPLE_COLS(nx);
+    usm_hybrid *h = usm_hybrid_alloc(m);
+    double *rows = malloc(sizeof(double) * (size_t)ncol *
+                          (size_t)(n + 2 * USM_HYBRID_MAX_SWITCHES + 1));
+    int nrows = 0, rc = h && rows ? usm_hybrid_orbit_samples(h, p, r, n, rows, &nrows)
+                                  : USM_EFAILED;
+    if (rc != USM_OK)
+        snprintf(msg, USM_MSG_LEN, "%s", h && rows ? usm_hybrid_message(h) : "out of memory");
+    usm_hybrid_free(h);
+    if (rc == USM_OK) {
+        usm_csv_column cols[USM_HYBRID_SAMPLE_COLS(USM_MAX_NX)];
+        cols[0] = (usm_csv_column){"t", "s"};
+        cols[1] = (usm_csv_column){"open", "1"};
+        for (int i = 0; i < nx; ++i) { /* angles and their rates */
+            const char *nm = m->state_names[i];
+            const size_t len = strlen(nm);
+            cols[i + 2] = (usm_csv_column){
+                nm, len > 3 && strcmp(nm + len - 3, "dot") == 0 ? "rad/s" : "rad"};
+        }
+        cols[nx + 2] = (usm_csv_column){"gap", "m"};
+        cols[nx + 3] = (usm_csv_column){"F_n", "N"};
+        cols[nx + 4] = (usm_csv_column){"F_t", "N"};
+        cols[nx + 5] = (usm_csv_column){"rotor_speed", "1/s"};
+        usm_csv_header(out, cols, ncol);
+        for (int k = 0; k < nrows; ++k) {
+            for (int j = 0; j < ncol; ++j)
+                usm_csv_num(out, j == 0, rows[(size_t)k * (size_t)ncol + (size_t)j]);
+            fputc('\n', out);
+        }
+        if (ferror(out)) {
+            snprintf(msg, USM_MSG_LEN, "write error");
+            rc = USM_EFAILED;
+        }
+    }
+    free(rows);
+    return rc;
 }
 
 int usm_hybrid_write_json(const usm_model *m, const usm_params *p, const usm_hybrid_result *r,

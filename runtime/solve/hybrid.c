@@ -67,6 +67,8 @@ struct usm_hybrid {
     double open_total, open_since, vmax;
     int nsamp;                /* > 0: sample the rotor speed (min/max) this often a period */
     double wmin, wmax;
+    double *rows;             /* not NULL: the samples' rows too (usm_hybrid_orbit_samples) */
+    int nrows, rows_max;
     int nsep, nimp, nslip, nmodes;
     int bounces;       /* impacts with rebound since the last separation */
     double vfirst;     /* their first approach velocity */
@@ -440,7 +442,8 @@ static int switch_at(usm_hybrid *h, double t, double *z)
 
 /* ---- the period map -------------------------------------------------------------- */
 
-/* The rotor speed at (t, z) of the current mode into wmin/wmax. */
+/* The rotor speed at (t, z) of the current mode into wmin/wmax, and, when
+ * h->rows is set, the sample's row (usm_hybrid_orbit_samples). */
 static void sample_speed(usm_hybrid *h, double t, const double *z)
 {
     double xdot[NY], out[USM_OUT_COUNT];
@@ -449,6 +452,20 @@ static void sample_speed(usm_hybrid *h, double t, const double *z)
     (h->mode ? h->u->open_outputs : h->m->outputs)(z, xdot, t, &h->p, out);
     h->wmin = fmin(h->wmin, out[USM_OUT_ROTOR_SPEED]);
     h->wmax = fmax(h->wmax, out[USM_OUT_ROTOR_SPEED]);
+    if (h->rows && h->nrows < h->rows_max) {
+        const int nx = h->nx;
+        double *row = h->rows + (size_t)h->nrows++ * (size_t)USM_HYBRID_SAMPLE_COLS(nx);
+        double g[1 + NY] = {0};
+        if (h->mode)
+            h->u->guard_open(z, &h->p, g);
+        row[0] = t;
+        row[1] = h->mode;
+        memcpy(row + 2, z, sizeof(double) * (size_t)nx);
+        row[nx + 2] = g[0];
+        row[nx + 3] = out[USM_OUT_F_N];
+        row[nx + 4] = out[USM_OUT_F_T];
+        row[nx + 5] = out[USM_OUT_ROTOR_SPEED];
+    }
 }
 
 static int period_map(usm_hybrid *h, double ts, const double *x0, double *x1, double *B,
@@ -613,6 +630,33 @@ int usm_hybrid_period_map(usm_hybrid *h, double ts, const double *x0, double *x1
 {
     h->msg[0] = '\0';
     return period_map(h, ts, x0, x1, B, NULL);
+}
+
+int usm_hybrid_orbit_samples(usm_hybrid *h, const usm_params *p, const usm_hybrid_result *r,
+                             int n, double *rows, int *nrows)
+{
+    usm_hybrid_options o;
+    usm_hybrid_options_default(&o);
+    *nrows = 0;
+    if (!(n >= 2 && n <= USM_HYBRID_MAX_SAMPLES)) {
+        snprintf(h->msg, USM_MSG_LEN, "samples: must be 2 to %d", USM_HYBRID_MAX_SAMPLES);
+        return USM_EINPUT;
+    }
+    int rc = usm_hybrid_set(h, p, o.rtol);
+    if (rc != USM_OK)
+        return rc;
+    /* the orbit's own scales (the solve's) */
+    set_scales(h, r->x0[h->m->x_theta], r->rotor_speed_mean);
+    double x1[USM_MAX_NX];
+    h->rows = rows;
+    h->nrows = 0;
+    h->rows_max = n + 2 * USM_HYBRID_MAX_SWITCHES + 1;
+    h->nsamp = n;
+    rc = period_map(h, r->t0, r->x0, x1, NULL, NULL);
+    h->nsamp = 0;
+    h->rows = NULL;
+    *nrows = h->nrows;
+    return rc;
 }
 
 /* ---- the start: a simulation ---------------------------------------------------- */

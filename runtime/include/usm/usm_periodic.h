@@ -200,8 +200,33 @@ int usm_hybrid_period_map(usm_hybrid *h, double ts, const double *x0, double *x1
 /* Set parameters and tolerance for usm_hybrid_period_map without solving. */
 int usm_hybrid_set(usm_hybrid *h, const usm_params *p, double rtol);
 
+/* Columns of an orbit sample: t [s], open (0 closed, 1 open), the first nx
+ * states of the current mode (the closed state x; in the open mode the same
+ * coordinates of y), gap [m] (0 while closed), F_n [N], F_t [N] (0 while
+ * open), rotor_speed [1/s]. */
+#define USM_HYBRID_SAMPLE_COLS(nx) ((nx) + 6)
+/* Most samples a period (usm_hybrid_orbit_samples's n). */
+#define USM_HYBRID_MAX_SAMPLES 100000
+
+/* One period of the orbit with separation r (from r->x0 at r->t0) for
+ * parameters p, at the default rtol (1e-11): samples at the n + 1 times t0
+ * + k T / n (k = 0 .. n) and on both sides of every switch, in time order,
+ * into rows (room for n + 2 USM_HYBRID_MAX_SWITCHES + 1 rows
+ * of USM_HYBRID_SAMPLE_COLS(nx) columns, row-major); their number in
+ * *nrows.  USM_OK, USM_EINPUT (n, p) or USM_EFAILED (usm_hybrid_message). */
+int usm_hybrid_orbit_samples(usm_hybrid *h, const usm_params *p, const usm_hybrid_result *r,
+                             int n, double *rows, int *nrows);
+
 /* Why the last call failed, or "".  Owned by h. */
 const char *usm_hybrid_message(const usm_hybrid *h);
+
+/* The orbit with separation r of model m at parameters p as CSV (`usm
+ * periodic --orbit`): the header with units (t [s], open [1], the states,
+ * gap [m], F_n [N], F_t [N], rotor_speed [1/s]) and the rows of
+ * usm_hybrid_orbit_samples with n samples a period.  USM_OK, or
+ * USM_EINPUT/USM_EFAILED with msg (USM_MSG_LEN bytes). */
+int usm_hybrid_write_orbit_csv(const usm_model *m, const usm_params *p,
+                               const usm_hybrid_result *r, int n, FILE *out, char *msg);
 
 /* The `usm periodic --json` object of an orbit with separation of model m
  * (keys: docs/unilateral.md), or with r NULL "converged": false and "error":
