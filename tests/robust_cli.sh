@@ -145,6 +145,28 @@ if expect_rc 0 "${P[@]}" --plot "$tmp/front"; then
     fi
 fi
 
+# --scatter takes units as --vary and Python's scatter do (usm_tolerance_vary_parse_units):
+# the same problem written in SI gives the same JSON, bit for bit but the timings
+U=(optimize --objective yield --vary f=34000:42000 --samples 200 --verify-samples 400 --max-evals 4 --json)
+if expect_rc 0 "${U[@]}" --scatter F0=normal:20mN --scatter f=uniform:37.9kHz:38.1kHz; then
+    cp "$out" "$tmp/units.json"
+    if expect_rc 0 "${U[@]}" --scatter F0=normal:0.02 --scatter f=uniform:37900:38100; then
+        checks=$((checks + 1))
+        "$PY" - "$tmp/units.json" "$out" <<'PYEOF' || fail "--scatter with units differs from SI"
+import json, sys
+def strip(o):
+    if isinstance(o, dict):
+        return {k: strip(v) for k, v in o.items() if 'seconds' not in k and k != 'timings'}
+    if isinstance(o, list):
+        return [strip(v) for v in o]
+    return o
+a, b = (strip(json.load(open(f))) for f in sys.argv[1:3])
+assert a == b, (a, b)
+PYEOF
+    fi
+fi
+expect_bad "--scatter: F0" "unit" optimize --objective yield "${BOX[@]}" --scatter F0=normal:20parsec
+
 # ---- bad input ---------------------------------------------------------------------------
 expect_bad "--scatter" "neither" optimize --objective speed "${BOX[@]}" "${SCATTER[@]}"
 expect_bad "--scatter" "needs" optimize --objective yield "${BOX[@]}"

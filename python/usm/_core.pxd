@@ -238,6 +238,8 @@ cdef extern from "usm_tolerance.h" nogil:
         usm_op_options op
     void usm_tolerance_options_default(usm_tolerance_options *opt)
     int usm_tolerance_vary_parse(const char *text, usm_tolerance_vary *v, char *msg)
+    int usm_tolerance_vary_parse_units(const char *field, const char *text,
+                                       usm_tolerance_vary *v, char *msg)
     int usm_tolerance_spec_parse(const char *text, usm_tolerance_spec *s, char *msg)
     const char *usm_tolerance_output_name(int k)
 

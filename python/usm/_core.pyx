@@ -744,9 +744,9 @@ cdef object _run_optimize(_Model self, objective, dict vary, list constraints, i
         if len(scatter) > USM_ROBUST_MAX_SCATTER:
             raise ValueError("scatter: at most %d" % USM_ROBUST_MAX_SCATTER)
         for text in scatter:
-            if usm_tolerance_vary_parse(_vary_in_si(str(text)).encode(),
-                                        &rp.scatter[rp.nscatter], msg) != USM_OK:
-                raise ValueError("scatter: " + msg.decode(errors="replace"))
+            if usm_tolerance_vary_parse_units(b"scatter:", str(text).encode(),
+                                              &rp.scatter[rp.nscatter], msg) != USM_OK:
+                raise ValueError(msg.decode(errors="replace"))
             rp.nscatter += 1
     if robust.get("samples") is not None:
         rp.samples = _whole("samples", robust["samples"], 1, 10000000)
@@ -826,34 +826,12 @@ cdef object _run_pareto(_Model self, objectives, dict vary, list constraints, in
     return self._finish(r)
 
 
-cdef object _vary_in_si(str text):
-    """NAME=DIST with a unit in its absolute numbers (normal:SIGMA,
-    uniform:LO:HI) written in SI for usm_tolerance_vary_parse, as the
-    command's --vary; other forms pass as they are (the library says what is
-    wrong with them)."""
-    cdef const usm_param_info *info
-    if "=" not in text:
-        return text
-    name, d = text.split("=", 1)
-    info = usm_params_find(name.encode())
-    if info == NULL or not d or d.endswith("%") or ":" not in d:
-        return text
-    field = "vary " + name
-    if d.startswith("uniform:") and ":" in d[8:]:
-        lo, hi = d[8:].split(":", 1)
-        return "%s=uniform:%.17g:%.17g" % (name, _quantity(field, info.unit, lo),
-                                            _quantity(field, info.unit, hi))
-    if d.startswith("normal:"):
-        return "%s=normal:%.17g" % (name, _quantity(field, info.unit, d[7:]))
-    return text
-
-
 cdef object _run_tolerance(_Model self, list vary, list spec, samples, seed, threads,
                            double t0, method, rtol, steps, int from_rest, from_rest_periods):
     cdef usm_tolerance_options opt
     cdef usm_tolerance_vary v[64]
     cdef usm_tolerance_spec sp[64]
-    cdef char msg[USM_MSG_LEN]
+    cdef char msg[USM_IO_MSG_LEN]
     cdef usm_run *r
     cdef int nv = 0, ns = 0
     usm_tolerance_options_default(&opt)
@@ -864,9 +842,8 @@ cdef object _run_tolerance(_Model self, list vary, list spec, samples, seed, thr
     if len(spec) > 64:
         raise ValueError("spec: at most 64")
     for text in vary:
-        si = _vary_in_si(str(text)).encode()
-        if usm_tolerance_vary_parse(si, &v[nv], msg) != USM_OK:
-            raise ValueError("vary " + msg.decode(errors="replace"))
+        if usm_tolerance_vary_parse_units(b"vary", str(text).encode(), &v[nv], msg) != USM_OK:
+            raise ValueError(msg.decode(errors="replace"))
         nv += 1
     for text in spec:
         if usm_tolerance_spec_parse(str(text).replace(" ", "").encode(), &sp[ns], msg) != USM_OK:

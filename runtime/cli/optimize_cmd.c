@@ -84,7 +84,8 @@ static void usage(FILE *out)
             "                      spec of each sample\n"
             "  --scatter NAME=DIST the manufacturing scatter of a parameter, DIST as usm\n"
             "                      tolerance --vary: normal:2%%, normal:SIGMA, uniform:P%%,\n"
-            "                      uniform:LO:HI (repeatable)\n"
+            "                      uniform:LO:HI, numbers with units (F0=normal:20mN)\n"
+            "                      (repeatable)\n"
             "  --samples N         common-random-number samples per design (default 10000): the\n"
             "                      same seed and draws at every design\n"
             "  --verify-samples N  the final check: a fresh sample (seed S + 1) at the chosen\n"
@@ -249,14 +250,15 @@ static int parse_robust_option(opt_args *a, const char *opt, const char *value,
                                char msg[CLI_MSG_LEN])
 {
     usm_robust_problem *rp = &a->rp;
-    char lib[USM_MSG_LEN];
     if (strcmp(opt, "--scatter") == 0) {
         if (rp->nscatter >= USM_ROBUST_MAX_SCATTER) {
             cli_msg(msg, "--scatter: at most %d", USM_ROBUST_MAX_SCATTER);
             return USM_EINPUT;
         }
-        if (usm_tolerance_vary_parse(value, &rp->scatter[rp->nscatter], lib) != USM_OK) {
-            cli_msg(msg, "--scatter: %s", lib);
+        char vmsg[USM_IO_MSG_LEN];
+        if (usm_tolerance_vary_parse_units("--scatter:", value, &rp->scatter[rp->nscatter],
+                                           vmsg) != USM_OK) {
+            cli_msg(msg, "%.1000s", vmsg);
             return USM_EINPUT;
         }
         rp->nscatter++;

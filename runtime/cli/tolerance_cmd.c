@@ -91,43 +91,8 @@ static int parse_count(const char *field, const char *text, uint64_t lo, uint64_
     return USM_OK;
 }
 
-/* --vary NAME=DIST with a unit in its absolute numbers (normal:SIGMA,
- * uniform:LO:HI, e.g. F0=uniform:350mN:450mN): written in SI for
- * usm_tolerance_vary_parse.  Relative widths (P%), unknown names and other
- * forms pass as they are (the library says what is wrong with them). */
-static int vary_in_si(const char *text, char *si, size_t len, char msg[CLI_MSG_LEN])
-{
-    const char *eq = strchr(text, '=');
-    char name[64], field[96], lo_text[64];
-    double lo, hi;
-    snprintf(si, len, "%s", text);
-    if (!eq || (size_t)(eq - text) >= sizeof name)
-        return USM_OK;
-    snprintf(name, sizeof name, "%.*s", (int)(eq - text), text);
-    const usm_param_info *info = usm_params_find(name);
-    const char *d = eq + 1, *colon = strchr(d, ':');
-    const size_t dl = strlen(d);
-    if (!info || dl == 0 || d[dl - 1] == '%' || !colon)
-        return USM_OK;
-    snprintf(field, sizeof field, "--vary %s", name);
-    if (strncmp(d, "uniform:", 8) == 0 && (colon = strchr(d + 8, ':')) &&
-        (size_t)(colon - d - 8) < sizeof lo_text) {
-        snprintf(lo_text, sizeof lo_text, "%.*s", (int)(colon - d - 8), d + 8);
-        if (cli_parse_quantity(field, info->unit, lo_text, &lo, msg) != USM_OK ||
-            cli_parse_quantity(field, info->unit, colon + 1, &hi, msg) != USM_OK)
-            return USM_EINPUT;
-        snprintf(si, len, "%s=uniform:%.17g:%.17g", name, lo, hi);
-    } else if (strncmp(d, "normal:", 7) == 0) {
-        if (cli_parse_quantity(field, info->unit, d + 7, &lo, msg) != USM_OK)
-            return USM_EINPUT;
-        snprintf(si, len, "%s=normal:%.17g", name, lo);
-    }
-    return USM_OK;
-}
-
 static int option(tol_args *a, int argc, char **argv, int *i, char msg[CLI_MSG_LEN])
 {
-    char si[256];
     const char *v = NULL;
     char lib[USM_MSG_LEN];
     uint64_t n = 0;
@@ -141,11 +106,14 @@ static int option(tol_args *a, int argc, char **argv, int *i, char msg[CLI_MSG_L
         rc = parse_count("--seed", v, 0, UINT64_MAX, &a->opt.seed, msg);
     else if (OPT("--threads") && (rc = parse_count("--threads", v, 1, 64, &n, msg)) == USM_OK)
         a->opt.threads = (int)n;
-    else if (OPT("--vary") && (rc = vary_in_si(v, si, sizeof si, msg)) == USM_OK &&
-             (a->nvary > USM_NPARAMS ||
-              usm_tolerance_vary_parse(si, &a->vary[a->nvary++], lib) != USM_OK))
-        rc = USM_EINPUT, cli_msg(msg, "--vary %s", a->nvary > USM_NPARAMS ? "too many" : lib);
-    else if (OPT("--spec") && (a->nspec >= 64 ||
+    else if (OPT("--vary")) {
+        char vmsg[USM_IO_MSG_LEN];
+        if (a->nvary > USM_NPARAMS)
+            rc = USM_EINPUT, cli_msg(msg, "--vary too many");
+        else if (usm_tolerance_vary_parse_units("--vary", v, &a->vary[a->nvary++], vmsg) !=
+                 USM_OK)
+            rc = USM_EINPUT, cli_msg(msg, "%.1000s", vmsg);
+    } else if (OPT("--spec") && (a->nspec >= 64 ||
                                usm_tolerance_spec_parse(v, &a->spec[a->nspec++], lib) != USM_OK))
         rc = USM_EINPUT, cli_msg(msg, "--spec %s", a->nspec >= 64 ? "at most 64" : lib);
     else if (OPT("--out"))

@@ -82,6 +82,14 @@ typedef struct usm_tolerance_vary {
 /* Parse "NAME=DIST" into v.  USM_OK or USM_EINPUT with "NAME: reason" (or
  * "DIST: reason") in msg. */
 int usm_tolerance_vary_parse(const char *text, usm_tolerance_vary *v, char msg[USM_MSG_LEN]);
+/* The same with a unit allowed in the absolute numbers (normal:SIGMA,
+ * uniform:LO:HI, e.g. F0=uniform:350mN:450mN; usm_parse_quantity in the
+ * parameter's unit), as usm tolerance's --vary, usm optimize's --scatter and
+ * the Python package's vary and scatter take it (runtime/io/vary_text.c;
+ * msg has USM_IO_MSG_LEN = 1024 bytes).  USM_OK, or USM_EINPUT with "FIELD
+ * NAME: reason" in msg (FIELD e.g. "--vary"). */
+int usm_tolerance_vary_parse_units(const char *field, const char *text, usm_tolerance_vary *v,
+                                   char msg[1024]);
 
 /* The 95 % Wilson score interval [lo, hi] of k good samples out of n (the
  * yield's interval of usm tolerance and of usm optimize's yield; n = 0:
