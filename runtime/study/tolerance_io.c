@@ -20,7 +20,8 @@
  * that the study could not have computed (check_row: the varied parameters
  * physical, the outputs finite or NaN as a computed row has them, the yes/no
  * values 0 or 1, stick_admissible and the validity as the row's own F_n, F_t
- * and mu0 imply, `good` as the study would compute it, the redraws a whole
+ * and mu0 imply, `good` as the study would compute it (a 0 where the outputs
+ * allow a 1 only without allow_driven: the row holds no power_out), the redraws a whole
  * number below TOL_MAX_REDRAWS; never an out-of-range float-to-integer
  * conversion).  Each file is written to a temporary beside it (core/outfile.c:
  * a fresh name, created with O_EXCL|O_NOFOLLOW, so never through a symlink)
@@ -133,12 +134,13 @@ static const char *check_row(const usm_tolerance *t, uint64_t i, const double *r
         }
     }
     /* good: an operating point (whose max_modulus the row holds) that meets the
-     * specs and is valid */
-    const int computed = !isnan(out[USM_TOL_OPERATING_POINT]) && isfinite(mm) && mm < 1.0 &&
-                         tol_meets_specs(t, out) && out[USM_TOL_VALIDITY] == (double)USM_VALID;
-    if (good != (double)computed) {
+     * specs, is valid and drives its load; the row holds no power_out, so a 0
+     * where the outputs allow a 1 is a sample the load drives -- which
+     * allow_driven rules out */
+    const int allows = tol_row_allows_good(t, row);
+    if (good > (double)allows || (t->opt.allow_driven && good != (double)allows)) {
         snprintf(why, USM_MSG_LEN, "sample %llu: good is %g but its outputs say %d",
-                 (unsigned long long)i, good, computed);
+                 (unsigned long long)i, good, allows);
         return why;
     }
     return NULL;

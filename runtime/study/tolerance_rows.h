@@ -12,7 +12,8 @@
  * The samples are kept as rows of doubles, one per sample, in sample order:
  *   [0, nvary)            the varied parameters' values
  *   nvary + k             output k (USM_TOL_NOUTPUTS; NaN where it does not exist)
- *   nvary + NOUTPUTS      good (1: counts for the yield)
+ *   nvary + NOUTPUTS      good (1: counts for the yield; 0 where the outputs allow
+ *                         it: the load drives the rotor, tol_row_allows_good)
  *   nvary + NOUTPUTS + 1  redraws of this sample
  * A row of plain doubles is what the checkpoint and MPI move, bit for bit. */
 #ifndef USM_TOLERANCE_ROWS_H
@@ -84,6 +85,13 @@ size_t tol_pending(const usm_tolerance *t, uint64_t *list);
 
 /* Whether the outputs out (USM_TOL_NOUTPUTS) meet every --spec. */
 int tol_meets_specs(const usm_tolerance *t, const double *out);
+
+/* Whether a row's outputs allow it to be good: every part of the rule of
+ * yield_rule.h (the operating point exists, is stable, valid and meets the
+ * specs) but the last, the sign of power_out, which the row does not hold.
+ * A row that allows it and is not good is a sample the load drives
+ * (power_out < 0): the summary's `driven`. */
+int tol_row_allows_good(const usm_tolerance *t, const double *row);
 
 /* Seconds on a monotonic clock. */
 double tol_now(void);
