@@ -270,9 +270,10 @@ int usm_tolerance_write_csv(const usm_tolerance *t, FILE *out);
  * {OUTPUT: {PARAM: Spearman}}, failed, redrawn, exists, stable, good,
  * operating_point {exists, no_stable_root, does_not_start, unknown},
  * invalid (samples whose solution the model does not describe),
- * invalid_reasons {contact_open, stick_not_admissible}, driven (the samples
- * not good only because the load drives them: usm_tolerance_summary's) (the same bytes after
- * a checkpoint resume, for any number of threads or MPI ranks), and last, on
+ * invalid_reasons {contact_open, stick_not_admissible}, driven (samples not
+ * good only because the load drives them: usm_tolerance_summary's) (the
+ * same bytes after a checkpoint resume, for any number of threads or MPI
+ * ranks), and last, on
  * a line of its own, timings {compute, reduce, statistics, output}
  * (usm_tolerance_timings_get: wall seconds, different in every run; compare
  * two runs' output without the line that starts with `  "timings"`).  0 or -1
