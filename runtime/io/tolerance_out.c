@@ -84,7 +84,7 @@ size_t tol_csv_row(const usm_tolerance *t, uint64_t i, const double *row, char *
     for (int c = 0; c < NORDER; ++c)
         o = csv_order[c] >= USM_TOL_NNUMERIC ? yesno(o, row[t->nvary + csv_order[c]])
                                              : num(o, row[t->nvary + csv_order[c]]);
-    o = yesno(o, row[TOL_ROW_GOOD(t)]);
+    o = yesno(o, row[TOL_ROW_GOOD(t)] == 1.0); /* TOL_GOOD_DRIVEN: not good */
     *o++ = ',';
     o = whole(o, (uint64_t)row[TOL_ROW_REDRAWS(t)]); /* checked on load: 0 ... 9999 */
     *o++ = ',';

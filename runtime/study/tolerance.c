@@ -268,7 +268,7 @@ int usm_tolerance_sample(const usm_tolerance *t, uint64_t i, double *values, dou
     if (out)
         memcpy(out, row + t->nvary, USM_TOL_NOUTPUTS * sizeof *out);
     if (good)
-        *good = row[TOL_ROW_GOOD(t)] != 0.0;
+        *good = row[TOL_ROW_GOOD(t)] == 1.0; /* TOL_GOOD_DRIVEN: not good */
     if (redraws)
         *redraws = (int)row[TOL_ROW_REDRAWS(t)];
     return USM_OK;
@@ -418,11 +418,12 @@ static int sample(usm_tolerance *t, worker *w, uint64_t i, double *row, char msg
     /* good: the operating point exists (a stable root), meets the specs, the
      * model describes the motor there and the motor drives its load (the
      * rule of yield_rule.h, the robust yield's too) */
-    row[TOL_ROW_GOOD(t)] = yield_sample_good(op, op ? pt.op.floquet.max_modulus : NAN,
-                                             out[USM_TOL_VALIDITY] == (double)USM_VALID,
-                                             tol_meets_specs(t, out),
-                                             op ? pt.op.sol.power_out : NAN,
-                                             t->opt.allow_driven, NULL);
+    int driven;
+    const int good = yield_sample_good(op, op ? pt.op.floquet.max_modulus : NAN,
+                                       out[USM_TOL_VALIDITY] == (double)USM_VALID,
+                                       tol_meets_specs(t, out), op ? pt.op.sol.power_out : NAN,
+                                       t->opt.allow_driven, &driven);
+    row[TOL_ROW_GOOD(t)] = good ? 1.0 : driven ? TOL_GOOD_DRIVEN : 0.0;
     row[TOL_ROW_REDRAWS(t)] = redraws;
     return USM_OK;
 }

@@ -357,7 +357,7 @@ static int counts(usm_tolerance *t, const tol_comm *c, u64 *v)
     memset(v, 0, C_N * sizeof *v);
     for (uint64_t i = 0; i < n; ++i) {
         const double *row = t->rows + i * (uint64_t)w, *out = row + t->nvary;
-        v[C_GOOD] += row[TOL_ROW_GOOD(t)] != 0.0;
+        v[C_GOOD] += row[TOL_ROW_GOOD(t)] == 1.0;
         /* a count, checked on load (tolerance_io.c); never an out-of-range conversion */
         const double r = row[TOL_ROW_REDRAWS(t)];
         v[C_REDRAWN] += r >= 0.0 && r < (double)TOL_MAX_REDRAWS ? (uint64_t)r : 0;
@@ -372,8 +372,8 @@ static int counts(usm_tolerance *t, const tol_comm *c, u64 *v)
         v[C_INVALID] += out[USM_TOL_VALIDITY] > (double)USM_VALID;
         v[C_INV_CONTACT] += out[USM_TOL_VALIDITY] == (double)USM_INVALID_CONTACT_OPEN;
         v[C_INV_STICK] += out[USM_TOL_VALIDITY] == (double)USM_INVALID_STICK;
-        /* not good although the outputs allow it: the load drives the rotor */
-        v[C_DRIVEN] += row[TOL_ROW_GOOD(t)] == 0.0 && tol_row_allows_good(t, row);
+        /* not good only because the load drives the rotor backwards */
+        v[C_DRIVEN] += row[TOL_ROW_GOOD(t)] == TOL_GOOD_DRIVEN;
         for (int k = 0; k < USM_TOL_NNUMERIC; ++k) {
             const int fk = isfinite(out[k]);
             v[C_COUNT0 + k] += (u64)fk;
