@@ -42,7 +42,15 @@ for np in 2 3 4; do
     mpi $T --json || fail "mpirun -np $np tolerance --json: exit $?"
     same "tolerance --json (np $np)" "$out" "$tmp/serial.json"
 done
+# samples the load drives backwards (4-DOF across its stall torque): the same
+# good and driven counts and rows under 3 ranks
+D="tolerance --model 4dof --samples 400 --seed 9 --vary T=uniform:0.0002:0.0008 --vary F0=normal:5% --spec max_modulus<=0.95 --threads 1"
+expect_rc 0 $D --json --out "$tmp/dserial" && cp "$out" "$tmp/dserial.json" &&
+    py 'assert o["driven"] > 0, o["driven"]'
 np=3
+mpi $D --json --out "$tmp/dmpi" || fail "mpirun -np 3 tolerance (driven) --json: exit $?"
+same "tolerance --json, samples driven (np 3)" "$out" "$tmp/dserial.json"
+same "tolerance samples.csv, samples driven (np 3)" "$tmp/dmpi/samples.csv" "$tmp/dserial/samples.csv"
 mpi $T --out "$tmp/mpi" || fail "mpirun tolerance --out: exit $?"
 same "tolerance summary" "$out" "$tmp/serial.md"
 same "tolerance samples.csv" "$tmp/mpi/samples.csv" "$tmp/serial/samples.csv"

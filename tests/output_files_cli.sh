@@ -229,5 +229,42 @@ if expect_rc 0 $T --checkpoint "$d/good.ck" --json; then
     { cat "$d/good.ck"; echo x; } >"$d/tail.ck"
     expect_bad "--checkpoint $d/tail.ck" "after the end" $T --checkpoint "$d/tail.ck"
 fi
+# `good` of a sample the load drives backwards (4-DOF past its stall torque; the rule's
+# condition 5) is -1 (TOL_GOOD_DRIVEN) in the row, a value the row check knows: changed
+# to 0 or 2 it is refused, and -1 in a study with --allow-driven (its configuration line
+# changed and the CRC-32 recomputed, so that the row check itself is tested) is refused
+D="tolerance --model 4dof --samples 40 --seed 9 --vary T=uniform:0.0002:0.0008"
+if expect_rc 0 $D --checkpoint "$d/drv.ck" --out "$d/drv" --json; then
+    # a driven sample: good in every other respect, power_out = -T rotor_speed < 0
+    drv=$("$PY" - "$d/drv/samples.csv" <<'PYEOF'
+import csv, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+print(next(i for i, r in enumerate(rows) if r["op_class"] == "operating_point" and
+           r["stable"] == "true" and r["valid"] == "true" and r["good"] == "false" and
+           -float(r["T [N m]"]) * float(r["rotor_speed [1/s]"]) < 0))
+PYEOF
+    )
+    bad_drv() { # NAME REASON VALUE [--allow-driven]
+        corrupt "$d/drv.ck" "$d/$1.ck" "$drv" 13 "$3" || { fail "corrupt $1"; return; }
+        if [ -n "${4:-}" ]; then
+            "$PY" -c 'import sys, zlib, struct
+p = sys.argv[1]; b = bytearray(open(p, "rb").read())
+k = b.index(b"allow_driven 0\n"); b[k + 13] = ord("1")
+end = len(b) - 16
+struct.pack_into("<Q", b, end, zlib.crc32(bytes(b[b.index(b"\n") + 1:end])))
+open(p, "wb").write(b)' "$d/$1.ck"
+        fi
+        expect_bad "--checkpoint $d/$1.ck" "$2" $D ${4:-} --checkpoint "$d/$1.ck" --json
+    }
+    if [ -n "$drv" ]; then
+        bad_drv drv_zero "sample $drv: good is 0 but its outputs say 1 \\(or -1: driven\\)" 0
+        bad_drv drv_two "sample $drv: good 2 is not 0 or 1 \\(or -1: driven\\)" 2
+        bad_drv drv_allowed "sample $drv: good is -1 but its outputs say 1\$" -1 --allow-driven
+        # the unchanged row resumes to the same result
+        expect_rc 0 $D --checkpoint "$d/drv.ck" --json
+    else
+        fail "no driven sample in the 4-DOF study"
+    fi
+fi
 
 finish output_files_cli

@@ -11,7 +11,13 @@
  *    maximum of a dense sweep to 1e-6;
  *  - every Pareto point (speed vs efficiency over f, F0) is non-dominated
  *    among the points computed and lies within 1e-4 (normalised objectives)
- *    of the front of an independent grid search over both parameters.
+ *    of the front of an independent grid search over both parameters;
+ *  - the yield's rule "drives its load" (one rule with usm tolerance): a
+ *    4-DOF yield whose load torque scatters across the stall torque, every
+ *    sample's good against the rule recomputed here from its own draw (the
+ *    documented mt19937 variates, reproduced with GSL) and operating point,
+ *    power_out = -T rotor_speed computed here; the driven count; the old
+ *    rule with usm_yield_allow_driven; agreement with usm tolerance's yield.
  */
 #include <math.h>
 #include <stdio.h>
@@ -19,6 +25,8 @@
 #include <string.h>
 
 #include <gsl/gsl_errno.h>
+#include <gsl/gsl_randist.h>
+#include <gsl/gsl_rng.h>
 
 #include "check.h"
 #include "usm.h"
@@ -92,6 +100,117 @@ static void test_crn(const usm_model *m)
     usm_tolerance_free(t);
     usm_yield_free(a);
     usm_yield_free(b);
+}
+
+/* ---- the rule "drives its load" ---------------------------------------------------- */
+
+static void test_driven(void)
+{
+    const usm_model *m = usm_model_find("4dof");
+    static const char *const text[2] = {"T=uniform:0.0002:0.0008", "F0=normal:5%"};
+    usm_tolerance_vary v[2];
+    char msg[USM_MSG_LEN];
+    usm_params p;
+    const uint64_t n = 640, seed = 11;
+    const double mm_max = 0.95; /* a spec some driven samples fail (max_modulus grows with T) */
+    usm_params_default(&p);
+    for (int j = 0; j < 2; ++j)
+        CHECK(usm_tolerance_vary_parse(text[j], &v[j], msg) == USM_OK, "%s", msg);
+    usm_yield *y = usm_yield_alloc(m, v, 2, n, seed, msg);
+    if (!CHECK(y, "usm_yield_alloc: %s", msg))
+        return;
+    usm_yield_spec_add(y, USM_SENS_MAX_MODULUS, 1, mm_max);
+    /* the rule by brute force: the draws as usm_robust.h documents them (mt19937
+     * seeded with seed ^ (seed >> 32); uniform 2 u - 1, normal by the
+     * ziggurat), each sample's operating point, power_out = -T rotor_speed
+     * (the paper's signs: rotor_speed < 0 when the motor drives) */
+    gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+    gsl_rng_set(r, (unsigned long)(seed ^ (seed >> 32)));
+    usm_steady *st = usm_steady_alloc(m);
+    usm_floquet *fl = usm_floquet_alloc(m);
+    usm_floquet_options fo;
+    usm_op_options oo;
+    usm_floquet_options_default(&fo);
+    usm_op_options_default(&oo);
+    unsigned char *rest = malloc(n), *drives = malloc(n);
+    uint64_t negative = 0;
+    for (uint64_t i = 0; i < n; ++i) {
+        const double zT = 2.0 * gsl_rng_uniform(r) - 1.0, zF = gsl_ran_gaussian_ziggurat(r, 1.0);
+        usm_params q = p;
+        usm_point pt;
+        q.T = 0.0002 + (0.0008 - 0.0002) * 0.5 * (zT + 1.0);
+        q.F0 = p.F0 * (1.0 + 0.05 * zF);
+        rest[i] = drives[i] = 0;
+        if (usm_point_evaluate_op(st, fl, m, &q, 0, &fo, &oo, &pt) != USM_OK ||
+            pt.op.index < 0)
+            continue;
+        const double mm = pt.op.floquet.max_modulus, power_out = -q.T * pt.op.sol.rotor_speed;
+        rest[i] = mm < 1.0 && mm <= mm_max && pt.op.sol.validity == USM_VALID;
+        drives[i] = power_out >= 0.0;
+        negative += power_out < 0.0;
+    }
+    gsl_rng_free(r);
+    usm_steady_free(st);
+    usm_floquet_free(fl);
+    usm_yield_result yr[2];
+    for (int allow = 0; allow < 2; ++allow) {
+        usm_yield_allow_driven(y, allow);
+        if (!CHECK(usm_yield_eval(y, &p, 0, 2, -1, &yr[allow]) == USM_OK, "%s",
+                   usm_yield_message(y)))
+            break;
+        uint64_t wrong = 0, good = 0, driven = 0;
+        for (uint64_t i = 0; i < n; ++i) {
+            int g;
+            const int want = rest[i] && (allow || drives[i]);
+            usm_yield_sample(y, i, NULL, &g);
+            wrong += g != want;
+            good += (uint64_t)want;
+            driven += (uint64_t)(rest[i] && !want);
+        }
+        CHECK(wrong == 0, "allow_driven %d: %llu samples' good differ from the rule", allow,
+              (unsigned long long)wrong);
+        CHECK(yr[allow].good == good && yr[allow].driven == driven,
+              "allow_driven %d: good %llu driven %llu, the rule %llu and %llu", allow,
+              (unsigned long long)yr[allow].good, (unsigned long long)yr[allow].driven,
+              (unsigned long long)good, (unsigned long long)driven);
+    }
+    printf("yield with the drives rule: %llu of %llu samples with power_out < 0; yield %.4f "
+           "(driven %llu), with allow_driven %.4f\n", (unsigned long long)negative,
+           (unsigned long long)n, yr[0].yield, (unsigned long long)yr[0].driven, yr[1].yield);
+    /* the scatter crosses the stall torque (usm sweep, 4-DOF: 4.95e-4 N m) on
+     * both sides, and the spec bites some driven samples */
+    CHECK(negative > n / 4 && negative < 3 * n / 4 && yr[0].driven > 0 &&
+              yr[0].driven < negative && yr[1].driven == 0 &&
+              yr[1].good == yr[0].good + yr[0].driven,
+          "power_out < 0 in %llu samples; driven %llu; good %llu / %llu",
+          (unsigned long long)negative, (unsigned long long)yr[0].driven,
+          (unsigned long long)yr[0].good, (unsigned long long)yr[1].good);
+    /* usm tolerance (its own sampler) over the same scatter and spec, by the
+     * same rule: the two estimate one probability, within 4 standard errors
+     * of a difference of two binomial means */
+    usm_tolerance *t = usm_tolerance_alloc(m);
+    usm_tolerance_options to;
+    const usm_tolerance_spec spec = {USM_TOL_MAX_MODULUS, 1, mm_max};
+    usm_tolerance_options_default(&to);
+    to.samples = n;
+    usm_tolerance_vary_add(t, &v[0]);
+    usm_tolerance_vary_add(t, &v[1]);
+    usm_tolerance_spec_add(t, &spec);
+    for (int allow = 0; allow < 2; ++allow) {
+        to.allow_driven = allow;
+        if (!CHECK(usm_tolerance_run(t, &p, &to) == USM_OK, "%s", usm_tolerance_message(t)))
+            break;
+        const double yt = usm_tolerance_result(t)->yield, yc = yr[allow].yield;
+        const double se = sqrt(yt * (1 - yt) / (double)n + yc * (1 - yc) / (double)n);
+        printf("allow_driven %d: usm tolerance yield %.4f, CRN %.4f: %.2g standard errors\n",
+               allow, yt, yc, fabs(yt - yc) / se);
+        CHECK(fabs(yt - yc) <= 4 * se, "allow_driven %d: CRN yield %.4f vs usm tolerance %.4f",
+              allow, yc, yt);
+    }
+    usm_tolerance_free(t);
+    free(rest);
+    free(drives);
+    usm_yield_free(y);
 }
 
 /* ---- the robust optimum against the nominal one ------------------------------------ */
@@ -384,6 +503,8 @@ int main(int argc, char **argv)
         test_pareto(m);
     if (!only || strcmp(only, "robust") == 0)
         test_robust(m);
+    if (!only || strcmp(only, "driven") == 0)
+        test_driven();
     printf("%s: %d failure(s)\n", failures ? "FAILED" : "passed", failures);
     return failures ? 1 : 0;
 }

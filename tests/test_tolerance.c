@@ -13,7 +13,14 @@
  *   - determinism over threads, and a checkpointed run stopped after two
  *     blocks and resumed equals an uninterrupted run bit for bit; a
  *     checkpoint of another study is refused;
- *   - parsing of DIST and specs. */
+ *   - parsing of DIST and specs;
+ *   - the rule's "drives its load": a 4-DOF study whose load torque scatters
+ *     across the stall torque (usm sweep: 4.95e-4 N m; stable and valid up
+ *     to friction saturation at 9.46e-4 N m): every sample's good recomputed
+ *     from its own row, power_out = -T rotor_speed computed here (the
+ *     paper's sign), so good is 0 wherever power_out < 0; `driven` counts
+ *     the samples good but for that sign; allow_driven restores the old rule;
+ *     a checkpoint of the other rule is refused. */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <stdio.h>
@@ -229,10 +236,109 @@ static void test_determinism_checkpoint(const usm_model *m)
               strstr(usm_tolerance_message(t), "not a usm tolerance checkpoint"),
           "foreign file: %s", usm_tolerance_message(t));
     unlink(path);
+    snprintf(path, sizeof path, "%s/.ck.usm-lock", dir); /* the lock file, kept by design */
+    unlink(path);
     rmdir(dir);
     free(ref);
     free(three);
     free(resumed);
+    usm_tolerance_free(t);
+}
+
+/* The rule with condition 5 (docs/tolerance.md): op, stable, valid, specs,
+ * and power_out >= 0 -- recomputed from the row alone. */
+static void test_driven(const usm_model *m)
+{
+    static const char *const vary[] = {"T=uniform:0.0002:0.0008", "F0=normal:5%"};
+    char dir[] = "/tmp/usm_drvXXXXXX", path[64];
+    usm_params p;
+    usm_tolerance_options opt;
+    const uint64_t n = 640;
+    /* a spec that some driven samples fail (max_modulus grows towards the
+     * friction saturation): they are not good for another reason, so not
+     * `driven` */
+    const usm_tolerance_spec spec = {USM_TOL_MAX_MODULUS, 1, 0.95};
+    usm_params_default(&p);
+    usm_tolerance_options_default(&opt);
+    opt.samples = n;
+    opt.seed = 3;
+    usm_tolerance *t = study(m, vary, 2, &spec);
+    uint64_t good[2] = {0, 0}, driven[2] = {0, 0}, negative = 0;
+    for (int allow = 0; allow < 2; ++allow) {
+        opt.allow_driven = allow;
+        if (!CHECK(usm_tolerance_run(t, &p, &opt) == USM_OK, "run: %s",
+                   usm_tolerance_message(t)))
+            break;
+        const usm_tolerance_summary *r = usm_tolerance_result(t);
+        uint64_t want_good = 0, want_driven = 0, wrong = 0, neg = 0;
+        for (uint64_t i = 0; i < n; ++i) {
+            double val[2], out[USM_TOL_NOUTPUTS];
+            int g;
+            usm_tolerance_sample(t, i, val, out, &g, NULL);
+            /* the paper's signs: phidot_R < 0 when driving, so the power given
+             * to the load is -T phidot_R */
+            const double power_out = -val[0] * out[USM_TOL_ROTOR_SPEED];
+            const int rest = !isnan(out[USM_TOL_OPERATING_POINT]) &&
+                             out[USM_TOL_MAX_MODULUS] < 1.0 &&
+                             out[USM_TOL_VALIDITY] == (double)USM_VALID &&
+                             out[USM_TOL_MAX_MODULUS] <= spec.bound;
+            const int want = rest && (allow || power_out >= 0.0);
+            neg += !isnan(out[USM_TOL_OPERATING_POINT]) && power_out < 0.0;
+            want_good += (uint64_t)want;
+            want_driven += (uint64_t)(rest && !want);
+            wrong += (uint64_t)(g != want);
+            if (g != want && wrong <= 3)
+                fprintf(stderr, "sample %llu: T %g rotor_speed %g power_out %g good %d, the "
+                        "rule says %d\n", (unsigned long long)i, val[0],
+                        out[USM_TOL_ROTOR_SPEED], power_out, g, want);
+        }
+        CHECK(wrong == 0, "allow_driven %d: %llu samples' good differ from the rule", allow,
+              (unsigned long long)wrong);
+        CHECK(r->good == want_good && r->driven == want_driven,
+              "allow_driven %d: good %llu driven %llu, the rows say %llu and %llu", allow,
+              (unsigned long long)r->good, (unsigned long long)r->driven,
+              (unsigned long long)want_good, (unsigned long long)want_driven);
+        good[allow] = r->good;
+        driven[allow] = r->driven;
+        negative = neg;
+    }
+    printf("driven: %llu samples of %llu with power_out < 0; good %llu, driven %llu (good with "
+           "allow_driven %llu)\n", (unsigned long long)negative, (unsigned long long)n,
+           (unsigned long long)good[0], (unsigned long long)driven[0],
+           (unsigned long long)good[1]);
+    /* the study crosses the stall torque on both sides, and the spec bites
+     * some driven samples (measured: 319 of 640 with power_out < 0, 121 of
+     * them driven and within the spec) */
+    CHECK(negative > n / 4 && negative < 3 * n / 4 && driven[0] > 0 && driven[0] < negative,
+          "power_out < 0 in %llu samples, driven %llu", (unsigned long long)negative,
+          (unsigned long long)driven[0]);
+    CHECK(driven[1] == 0 && good[1] == good[0] + driven[0],
+          "allow_driven: good %llu driven %llu, without: %llu + %llu",
+          (unsigned long long)good[1], (unsigned long long)driven[1],
+          (unsigned long long)good[0], (unsigned long long)driven[0]);
+    /* a checkpoint of one rule is another study for the other */
+    CHECK(mkdtemp(dir) != NULL, "mkdtemp");
+    snprintf(path, sizeof path, "%s/ck", dir);
+    opt.checkpoint = path;
+    opt.allow_driven = 0;
+    opt.stop_after_blocks = 4;
+    CHECK(usm_tolerance_run(t, &p, &opt) == USM_EFAILED, "stop hook: %s",
+          usm_tolerance_message(t));
+    opt.stop_after_blocks = 0;
+    opt.allow_driven = 1;
+    CHECK(usm_tolerance_run(t, &p, &opt) == USM_EINPUT &&
+              strstr(usm_tolerance_message(t), "allow_driven"),
+          "a checkpoint of the other rule: %s", usm_tolerance_message(t));
+    /* the same rule resumes to the uninterrupted counts, driven samples and all */
+    opt.allow_driven = 0;
+    CHECK(usm_tolerance_run(t, &p, &opt) == USM_OK && usm_tolerance_result(t)->good == good[0] &&
+              usm_tolerance_result(t)->driven == driven[0] &&
+              usm_tolerance_result(t)->resumed_blocks == 4,
+          "resumed: %s", usm_tolerance_message(t));
+    unlink(path);
+    snprintf(path, sizeof path, "%s/.ck.usm-lock", dir); /* the lock file, kept by design */
+    unlink(path);
+    rmdir(dir);
     usm_tolerance_free(t);
 }
 
@@ -272,6 +378,7 @@ int main(void)
     test_linear_spread(m);
     test_redraws(m);
     test_determinism_checkpoint(m);
+    test_driven(usm_model_find("4dof"));
     printf("%s (%d failures)\n", failures ? "FAIL" : "ok", failures);
     return failures != 0;
 }

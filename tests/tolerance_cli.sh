@@ -202,4 +202,49 @@ PYEOF
     } && cat "$tmp/valid.out"
 fi
 
+# ---- the motor drives its load: power_out >= 0 (rule, condition 5) ----------------------
+# A 4-DOF (slip) study whose load torque scatters across the stall torque (4.95e-4 N m,
+# `usm sweep --model 4dof --over T`; past it the rotor turns backwards, stable and valid up
+# to the friction saturation at 9.46e-4 N m): from samples.csv alone, with power_out =
+# -T rotor_speed computed here (the paper's sign), good is the rule -- 0 wherever
+# power_out < 0 -- and the JSON's driven counts the samples good but for that sign; with
+# --allow-driven good is the old rule and driven 0; at T = 0 (power_out 0) nothing is
+# driven.
+D="tolerance --model 4dof --samples 200 --seed 9 --vary T=uniform:0.0002:0.0008 --vary F0=normal:5% --spec max_modulus<=0.95"
+for allow in "" --allow-driven; do
+    expect_rc 0 $D $allow --json --out "$tmp/drv$allow" || continue
+    cp "$out" "$tmp/drv$allow.json"
+    checks=$((checks + 1))
+    "$PY" - "$tmp/drv$allow/samples.csv" "$tmp/drv$allow.json" "$allow" >"$tmp/drv.out" 2>&1 <<'PYEOF' || {
+import csv, json, sys
+rows, summary, allow = list(csv.DictReader(open(sys.argv[1]))), json.load(open(sys.argv[2])), sys.argv[3] != ""
+driven = negative = 0
+for r in rows:
+    rest = (r["op_class"] == "operating_point" and r["stable"] == "true" and r["valid"] == "true"
+            and float(r["max_modulus [1]"]) <= 0.95)
+    power_out = -float(r["T [N m]"]) * float(r["rotor_speed [1/s]"]) if r["exists"] == "true" else None
+    negative += power_out is not None and power_out < 0
+    good = rest and (allow or power_out >= 0)
+    assert (r["good"] == "true") == good, (r, power_out)
+    driven += rest and not good
+assert summary["driven"] == driven, (summary["driven"], driven)
+assert summary["good"] == sum(r["good"] == "true" for r in rows)
+assert 50 < negative < 150 and (allow or 0 < driven < negative), (negative, driven)
+print("drives%s: %d rows, power_out < 0 in %d, driven %d, good %d" % (
+    " (--allow-driven)" if allow else "", len(rows), negative, driven, summary["good"]))
+PYEOF
+        failures=$((failures + 1))
+        echo "FAIL: tolerance drives$allow: $(tail -n 3 "$tmp/drv.out")"
+    } && cat "$tmp/drv.out"
+done
+py_file "$tmp/drv.json" 'assert o["driven"] > 0, o["driven"]'
+py_file "$tmp/drv--allow-driven.json" 'assert o["driven"] == 0, o["driven"]'
+# the summary says why they do not count
+expect_rc 0 $D && { grep -q '^Driven backwards by the load.*: [1-9][0-9]*\.$' "$out" || fail "summary: no driven count"; }
+expect_rc 0 tolerance --model 4dof --samples 64 --set T=0 --vary F0=normal:5% --json &&
+    py 'assert o["driven"] == 0 and o["good"] == o["operating_point"]["exists"] == 64, o'
+# a checkpoint of one rule is another study for the other
+USM_TOLERANCE_STOP_AFTER_BLOCKS=1 timeout 60 "$USM" $D --checkpoint "$tmp/ckd" >"$out" 2>"$err"
+expect_bad 'checkpoint' 'another study.*allow_driven 0.*allow_driven 1' $D --allow-driven --checkpoint "$tmp/ckd"
+
 finish tolerance_cli

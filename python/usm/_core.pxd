@@ -236,6 +236,7 @@ cdef extern from "usm_tolerance.h" nogil:
         double t0
         usm_floquet_options floquet
         usm_op_options op
+        int allow_driven
     void usm_tolerance_options_default(usm_tolerance_options *opt)
     int usm_tolerance_vary_parse(const char *text, usm_tolerance_vary *v, char *msg)
     int usm_tolerance_vary_parse_units(const char *field, const char *text,

@@ -559,9 +559,9 @@ cdef class _Model:
                            allow_slip, allow_driven, from_rest, from_rest_periods)
 
     def _tolerance(self, list vary, list spec, samples, seed, threads, double t0, method, rtol,
-                   steps, int from_rest, from_rest_periods):
+                   steps, int from_rest, from_rest_periods, int allow_driven=0):
         return _run_tolerance(self, vary, spec, samples, seed, threads, t0, method, rtol, steps,
-                              from_rest, from_rest_periods)
+                              from_rest, from_rest_periods, allow_driven)
 
     def _periodic(self):
         cdef usm_run *r
@@ -827,7 +827,8 @@ cdef object _run_pareto(_Model self, objectives, dict vary, list constraints, in
 
 
 cdef object _run_tolerance(_Model self, list vary, list spec, samples, seed, threads,
-                           double t0, method, rtol, steps, int from_rest, from_rest_periods):
+                           double t0, method, rtol, steps, int from_rest, from_rest_periods,
+                           int allow_driven):
     cdef usm_tolerance_options opt
     cdef usm_tolerance_vary v[64]
     cdef usm_tolerance_spec sp[64]
@@ -868,6 +869,7 @@ cdef object _run_tolerance(_Model self, list vary, list spec, samples, seed, thr
         opt.op.periods = _number("from_rest_periods", from_rest_periods)
         if not (opt.op.periods >= 1 and opt.op.periods <= 1e7):
             raise ValueError("from_rest_periods: must be in [1, 1e7]")
+    opt.allow_driven = allow_driven
     with nogil:
         r = usm_run_tolerance(self.m, &self.p, v, nv, sp, ns, &opt, NULL)
     return self._finish(r)

@@ -309,13 +309,16 @@ class Model:
         return ParetoResult(doc)
 
     def tolerance(self, samples, vary, spec=(), seed=None, threads=None, t0=0.0, method=None,
-                  rtol=None, steps=None, from_rest=False, from_rest_periods=None):
+                  rtol=None, steps=None, from_rest=False, from_rest_periods=None,
+                  allow_driven=False):
         """Monte Carlo tolerance study (`usm tolerance --json --samples N
         --vary ... --spec ...`): `samples` draws of the parameters of
         `vary` ({name: dist} or ["NAME=DIST", ...]; dist "normal:5%",
         "normal:0.01", "uniform:2%", "uniform:LO:HI", numbers in SI or with
         a unit), the yield against `spec` (["theta<=1e-4", ...]); seed
-        (default 1), threads (default 2: the results do not depend on it)."""
+        (default 1), threads (default 2: the results do not depend on it);
+        allow_driven (--allow-driven): a sample the load drives backwards
+        (power_out < 0) may count."""
         if isinstance(vary, dict):
             vary = ["%s=%s" % kv for kv in vary.items()]
         elif isinstance(vary, str):
@@ -324,7 +327,7 @@ class Model:
             spec = [spec]
         st, msg, doc, table = self._c._tolerance(list(vary), list(spec), samples, seed, threads,
                                                  float(t0), method, rtol, steps, bool(from_rest),
-                                                 from_rest_periods)
+                                                 from_rest_periods, bool(allow_driven))
         if st != 0:
             _raise(st, msg)
         names = [v.split("=", 1)[0] for v in vary] + _core.tolerance_output_names() \

@@ -29,7 +29,8 @@ static double now(void)
 static void usage(FILE *out)
 {
     fputs("usage: usm tolerance --samples N --vary NAME=DIST [--vary ...]\n"
-          "         [--spec OUTPUT>=X | --spec OUTPUT<=X]... [--seed S] [--threads N]\n"
+          "         [--spec OUTPUT>=X | --spec OUTPUT<=X]... [--allow-driven]\n"
+          "         [--seed S] [--threads N]\n"
           "         [--model M] [--variant V] [--params F] [--set N=V]...\n"
           "         [--floquet-method NAME] [--rtol R] [--from-rest]\n"
           "         [--out DIR [--force]] [--checkpoint FILE] [--json]\n\n"
@@ -38,9 +39,11 @@ static void usage(FILE *out)
           "95 % Wilson interval, quantiles, and the Spearman rank correlation of each\n"
           "output with each varied parameter.  A sample is good (counts for the yield) only\n"
           "if its operating point (the stable root the motor runs at) exists, is stable,\n"
-          "meets every spec and is valid (the model describes the motor there: contact\n"
-          "closed, and for the 3-DOF stick model |F_t| <= mu0 F_n).  Where several roots\n"
-          "exist the operating point is unknown, and does not count, unless --from-rest.\n\noptions:\n",
+          "meets every spec, is valid (the model describes the motor there: contact\n"
+          "closed, and for the 3-DOF stick model |F_t| <= mu0 F_n) and the motor drives its\n"
+          "load (power_out >= 0, as usm optimize asks), unless --allow-driven.  Where several\n"
+          "roots exist the operating point is unknown, and does not count, unless --from-rest.\n"
+          "\noptions:\n",
           out);
     cli_common_usage(out);
     cli_floquet_usage(out);
@@ -51,6 +54,8 @@ static void usage(FILE *out)
           "                      absolute values in SI or with a unit: F0=uniform:350mN:450mN\n"
           "  --spec OUT>=X, OUT<=X  a bound on theta, rotor_speed (< 0 when driving), F_n,\n"
           "                      F_t, max_modulus or efficiency (repeatable)\n"
+          "  --allow-driven      a sample the load drives backwards (power_out < 0) may be\n"
+          "                      good (default: it is not, and is counted as driven)\n"
           "  --seed S            random seed (default 1); sample i depends only on (S, i)\n"
           "  --threads N         worker threads (default 2)\n"
           "  --out DIR           DIR/samples.csv, summary.md, histograms.png/svg (--force:\n"
@@ -59,7 +64,8 @@ static void usage(FILE *out)
           "                      rank R); the same command resumes, with any number of ranks\n\n"
           "Output: a Markdown summary; --json: {samples, seed, yield, yield_ci, quantiles,\n"
           "influence, failed, redrawn, exists, stable, good, operating_point, invalid,\n"
-          "invalid_reasons, timings: {compute, reduce, statistics, output} (wall seconds)};\n"
+          "invalid_reasons, driven, timings: {compute, reduce, statistics, output} (wall\n"
+          "seconds)};\n"
           "samples.csv ends with valid, invalid_reason.  Under mpirun the samples are shared\n"
           "out over the ranks and stay there (statistics by reductions, samples.csv written\n"
           "by every rank with MPI-IO), with the same output.\n"
@@ -149,6 +155,10 @@ static int parse(tol_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
         }
         if (strcmp(argv[i], "--force") == 0) {
             a->force = 1;
+            continue;
+        }
+        if (strcmp(argv[i], "--allow-driven") == 0) {
+            a->opt.allow_driven = 1;
             continue;
         }
         if ((r = cli_common_option(&a->common, argc, argv, &i, msg)) == CLI_OPT_NOT_MINE &&

@@ -84,7 +84,7 @@ size_t tol_csv_row(const usm_tolerance *t, uint64_t i, const double *row, char *
     for (int c = 0; c < NORDER; ++c)
         o = csv_order[c] >= USM_TOL_NNUMERIC ? yesno(o, row[t->nvary + csv_order[c]])
                                              : num(o, row[t->nvary + csv_order[c]]);
-    o = yesno(o, row[TOL_ROW_GOOD(t)]);
+    o = yesno(o, row[TOL_ROW_GOOD(t)] == 1.0); /* TOL_GOOD_DRIVEN: not good */
     *o++ = ',';
     o = whole(o, (uint64_t)row[TOL_ROW_REDRAWS(t)]); /* checked on load: 0 ... 9999 */
     *o++ = ',';
@@ -168,8 +168,11 @@ int usm_tolerance_write_summary(const usm_tolerance *t, FILE *out, const char *h
             (unsigned long long)s->redrawn);
     fputs("\n## Yield\n\nA sample counts when its operating point exists (the stable root "
           "the motor runs at: the only root and stable, or the one reached from rest with "
-          "--from-rest) and is valid (the model describes the motor there: the contact closed "
+          "--from-rest), is valid (the model describes the motor there: the contact closed "
           "and, for a stick model, |F_t| <= mu0 F_n)", out);
+    fputs(t->opt.allow_driven ? " (whether or not the motor drives its load: --allow-driven)"
+                              : " and drives its load (power_out >= 0: the load does not drive "
+                                "the rotor backwards)", out);
     for (int k = 0; k < t->nspec; ++k)
         fprintf(out, "%s %s %s %.6g", k ? "," : " and", usm_tolerance_output_name(t->spec[k].output),
                 t->spec[k].upper ? "<=" : ">=", t->spec[k].bound);
@@ -189,6 +192,10 @@ int usm_tolerance_write_summary(const usm_tolerance *t, FILE *out, const char *h
             "so they do not count): %llu (contact open: %llu; past the stick limit: %llu).\n",
             (unsigned long long)s->invalid, (unsigned long long)s->invalid_contact_open,
             (unsigned long long)s->invalid_stick);
+    if (!t->opt.allow_driven)
+        fprintf(out, "Driven backwards by the load (power_out < 0; good in every other "
+                "respect, so they do not count only for this): %llu.\n",
+                (unsigned long long)s->driven);
     fputs("\n## Quantiles\n\n| output | samples | 1 % | 5 % | 50 % | 95 % | 99 % |\n"
           "|---|---|---|---|---|---|---|\n", out);
     for (int k = 0; k < USM_TOL_NNUMERIC; ++k) {
@@ -270,13 +277,14 @@ int usm_tolerance_write_json(const usm_tolerance *t, FILE *out)
             "  \"stable\": %llu,\n  \"good\": %llu,\n  \"operating_point\": {\"exists\": %llu, "
             "\"no_stable_root\": %llu, \"does_not_start\": %llu, \"unknown\": %llu},\n"
             "  \"invalid\": %llu,\n  \"invalid_reasons\": {\"contact_open\": %llu, "
-            "\"stick_not_admissible\": %llu},\n",
+            "\"stick_not_admissible\": %llu},\n  \"driven\": %llu,\n",
             (unsigned long long)s->failed, (unsigned long long)s->redrawn,
             (unsigned long long)s->exists, (unsigned long long)s->stable,
             (unsigned long long)s->good, (unsigned long long)s->op_exists,
             (unsigned long long)s->op_no_stable_root, (unsigned long long)s->op_does_not_start,
             (unsigned long long)s->op_unknown, (unsigned long long)s->invalid,
-            (unsigned long long)s->invalid_contact_open, (unsigned long long)s->invalid_stick);
+            (unsigned long long)s->invalid_contact_open, (unsigned long long)s->invalid_stick,
+            (unsigned long long)s->driven);
     /* wall seconds, different in every run: on a line of their own, last */
     fprintf(out, "  \"timings\": {\"compute\": %.6f, \"reduce\": %.6f, \"statistics\": %.6f, "
             "\"output\": %.6f}\n}\n", t->timings.compute, t->timings.reduce,

@@ -483,6 +483,8 @@ int usm_robust_run(const usm_model *m, const usm_params *p, const usm_robust_pro
             free(c);
             return USM_EINPUT;
         }
+        usm_yield_allow_driven(c->crn, rp->nominal.allow_driven);
+        usm_yield_allow_driven(fresh, rp->nominal.allow_driven);
         for (int i = 0; i < rp->nominal.ncons; ++i) {
             usm_yield_spec_add(c->crn, rp->nominal.cons[i].output, rp->nominal.cons[i].upper,
                                rp->nominal.cons[i].value);
@@ -545,6 +547,7 @@ int usm_robust_run(const usm_model *m, const usm_params *p, const usm_robust_pro
                 status = USM_EFAILED;
                 goto done;
             }
+            usm_yield_allow_driven(set, rp->nominal.allow_driven);
             for (int i = 0; i < rp->nominal.ncons; ++i)
                 usm_yield_spec_add(set, rp->nominal.cons[i].output, rp->nominal.cons[i].upper,
                                    rp->nominal.cons[i].value);

@@ -17,6 +17,7 @@
 #include "core/pool_internal.h"
 #include "tolerance_internal.h"
 #include "usm_map.h"
+#include "yield_rule.h"
 
 /* A sample whose draw is refused this often is a distribution that is almost
  * never physical: an input error, not a rare event. */
@@ -267,7 +268,7 @@ int usm_tolerance_sample(const usm_tolerance *t, uint64_t i, double *values, dou
     if (out)
         memcpy(out, row + t->nvary, USM_TOL_NOUTPUTS * sizeof *out);
     if (good)
-        *good = row[TOL_ROW_GOOD(t)] != 0.0;
+        *good = row[TOL_ROW_GOOD(t)] == 1.0; /* TOL_GOOD_DRIVEN: not good */
     if (redraws)
         *redraws = (int)row[TOL_ROW_REDRAWS(t)];
     return USM_OK;
@@ -414,10 +415,15 @@ static int sample(usm_tolerance *t, worker *w, uint64_t i, double *row, char msg
         out[USM_TOL_MAX_MODULUS] = fl->max_modulus;
         out[USM_TOL_STABLE] = fl->max_modulus < 1.0;
     }
-    /* good: the operating point exists (a stable root), meets the specs and
-     * the model describes the motor there */
-    row[TOL_ROW_GOOD(t)] = op && pt.op.floquet.max_modulus < 1.0 && tol_meets_specs(t, out) &&
-                           out[USM_TOL_VALIDITY] == (double)USM_VALID;
+    /* good: the operating point exists (a stable root), meets the specs, the
+     * model describes the motor there and the motor drives its load (the
+     * rule of yield_rule.h, the robust yield's too) */
+    int driven;
+    const int good = yield_sample_good(op, op ? pt.op.floquet.max_modulus : NAN,
+                                       out[USM_TOL_VALIDITY] == (double)USM_VALID,
+                                       tol_meets_specs(t, out), op ? pt.op.sol.power_out : NAN,
+                                       t->opt.allow_driven, &driven);
+    row[TOL_ROW_GOOD(t)] = good ? 1.0 : driven ? TOL_GOOD_DRIVEN : 0.0;
     row[TOL_ROW_REDRAWS(t)] = redraws;
     return USM_OK;
 }
@@ -511,6 +517,8 @@ static int build_config(usm_tolerance *t)
                   o->floquet.steps);
     bad |= append(&t->config, &len, "operating_point from_rest %d periods %a\n",
                   o->op.from_rest, o->op.periods);
+    /* the rule of a good sample: a checkpoint of the other rule holds other `good`s */
+    bad |= append(&t->config, &len, "allow_driven %d\n", o->allow_driven != 0);
     /* the row's layout: a file of rows laid out otherwise is another study's */
     bad |= append(&t->config, &len, "outputs");
     for (int k = 0; k < USM_TOL_NOUTPUTS; ++k)

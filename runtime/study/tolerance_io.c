@@ -20,7 +20,9 @@
  * that the study could not have computed (check_row: the varied parameters
  * physical, the outputs finite or NaN as a computed row has them, the yes/no
  * values 0 or 1, stick_admissible and the validity as the row's own F_n, F_t
- * and mu0 imply, `good` as the study would compute it, the redraws a whole
+ * and mu0 imply, `good` as the study would compute it (1, or -1 for a sample
+ * the load drives, TOL_GOOD_DRIVEN, only where the outputs allow it; -1 never
+ * with allow_driven), the redraws a whole
  * number below TOL_MAX_REDRAWS; never an out-of-range float-to-integer
  * conversion).  Each file is written to a temporary beside it (core/outfile.c:
  * a fresh name, created with O_EXCL|O_NOFOLLOW, so never through a symlink)
@@ -81,9 +83,10 @@ static const char *check_row(const usm_tolerance *t, uint64_t i, const double *r
                  (unsigned long long)i, redraws, TOL_MAX_REDRAWS - 1);
         return why;
     }
-    if (!yes_no(exists) || !yes_no(good)) {
-        snprintf(why, USM_MSG_LEN, "sample %llu: %s %g is not 0 or 1", (unsigned long long)i,
-                 yes_no(exists) ? "good" : "exists", yes_no(exists) ? good : exists);
+    if (!yes_no(exists) || !(yes_no(good) || good == TOL_GOOD_DRIVEN)) {
+        snprintf(why, USM_MSG_LEN, "sample %llu: %s %g is not 0 or 1%s", (unsigned long long)i,
+                 yes_no(exists) ? "good" : "exists", yes_no(exists) ? good : exists,
+                 yes_no(exists) ? " (or -1: driven)" : "");
         return why;
     }
     for (int k = 0; k < USM_TOL_NOUTPUTS; ++k) {
@@ -133,12 +136,14 @@ static const char *check_row(const usm_tolerance *t, uint64_t i, const double *r
         }
     }
     /* good: an operating point (whose max_modulus the row holds) that meets the
-     * specs and is valid */
-    const int computed = !isnan(out[USM_TOL_OPERATING_POINT]) && isfinite(mm) && mm < 1.0 &&
-                         tol_meets_specs(t, out) && out[USM_TOL_VALIDITY] == (double)USM_VALID;
-    if (good != (double)computed) {
-        snprintf(why, USM_MSG_LEN, "sample %llu: good is %g but its outputs say %d",
-                 (unsigned long long)i, good, computed);
+     * specs, is valid and drives its load; the row holds no power_out, so 1 and
+     * TOL_GOOD_DRIVEN (not good for that alone, never with allow_driven) are
+     * the two values where the outputs allow it, 0 the one where they do not */
+    const int allows = tol_row_allows_good(t, row);
+    if ((good != 0.0) != allows || (good == TOL_GOOD_DRIVEN && t->opt.allow_driven)) {
+        snprintf(why, USM_MSG_LEN, "sample %llu: good is %g but its outputs say %s",
+                 (unsigned long long)i, good,
+                 !allows ? "0" : t->opt.allow_driven ? "1" : "1 (or -1: driven)");
         return why;
     }
     return NULL;

@@ -1,10 +1,12 @@
 /* The rows of a tolerance study (tolerance_rows.h): what their columns are
  * called, how many samples each block holds, and moving blocks of rows. */
 #define _POSIX_C_SOURCE 200809L
+#include <math.h>
 #include <string.h>
 #include <time.h>
 
 #include "tolerance_rows.h"
+#include "yield_rule.h"
 
 static const char *const output_names[USM_TOL_NOUTPUTS] = {
     "theta", "rotor_speed", "F_n", "F_t", "max_modulus", "efficiency",
@@ -101,4 +103,13 @@ int tol_meets_specs(const usm_tolerance *t, const double *out)
             return 0; /* NaN (the output does not exist) fails every spec */
     }
     return 1;
+}
+
+int tol_row_allows_good(const usm_tolerance *t, const double *row)
+{
+    const double *out = row + t->nvary;
+    /* yield_rule.h without its last part (the row holds no power_out) */
+    return yield_sample_good(!isnan(out[USM_TOL_OPERATING_POINT]), out[USM_TOL_MAX_MODULUS],
+                             out[USM_TOL_VALIDITY] == (double)USM_VALID,
+                             tol_meets_specs(t, out), NAN, 1, NULL);
 }

@@ -12,7 +12,9 @@
  * The samples are kept as rows of doubles, one per sample, in sample order:
  *   [0, nvary)            the varied parameters' values
  *   nvary + k             output k (USM_TOL_NOUTPUTS; NaN where it does not exist)
- *   nvary + NOUTPUTS      good (1: counts for the yield)
+ *   nvary + NOUTPUTS      good: 1 counts for the yield; 0 does not; TOL_GOOD_DRIVEN
+ *                         (-1) does not for one reason alone, the load drives the
+ *                         rotor backwards (power_out < 0; the summary's `driven`)
  *   nvary + NOUTPUTS + 1  redraws of this sample
  * A row of plain doubles is what the checkpoint and MPI move, bit for bit. */
 #ifndef USM_TOLERANCE_ROWS_H
@@ -28,6 +30,10 @@
 #define TOL_MAX_REDRAWS 10000
 #define TOL_ROW_GOOD(t) ((t)->nvary + USM_TOL_NOUTPUTS)
 #define TOL_ROW_REDRAWS(t) ((t)->nvary + USM_TOL_NOUTPUTS + 1)
+/* The `good` of a sample good in every other respect whose load drives its
+ * rotor backwards (yield_rule.h: *driven): a row holds no power_out, so it
+ * keeps this fact itself, for the count and the checkpoint's check. */
+#define TOL_GOOD_DRIVEN (-1.0)
 
 struct usm_tolerance {
     const usm_model *m;
@@ -84,6 +90,12 @@ size_t tol_pending(const usm_tolerance *t, uint64_t *list);
 
 /* Whether the outputs out (USM_TOL_NOUTPUTS) meet every --spec. */
 int tol_meets_specs(const usm_tolerance *t, const double *out);
+
+/* Whether a row's outputs allow it to be good: every part of the rule of
+ * yield_rule.h (the operating point exists, is stable, valid and meets the
+ * specs) but the last, the sign of power_out, which the row does not hold
+ * (its `good` says it: TOL_GOOD_DRIVEN). */
+int tol_row_allows_good(const usm_tolerance *t, const double *row);
 
 /* Seconds on a monotonic clock. */
 double tol_now(void);

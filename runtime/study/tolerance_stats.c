@@ -346,7 +346,7 @@ static double spearman(u64 m, u128 uv, u128 uu, u128 vv)
 /* ---- the statistics --------------------------------------------------------------------- */
 
 enum { C_GOOD, C_REDRAWN, C_EXISTS, C_STABLE, C_FAILED, C_OP_EXISTS, C_OP_NSR, C_OP_DNS,
-       C_OP_UNKNOWN, C_INVALID, C_INV_CONTACT, C_INV_STICK, C_COUNT0,
+       C_OP_UNKNOWN, C_INVALID, C_INV_CONTACT, C_INV_STICK, C_DRIVEN, C_COUNT0,
        C_DIFFER = C_COUNT0 + USM_TOL_NNUMERIC, /* [k][k'] where finite(k) != finite(k') */
        C_N = C_DIFFER + USM_TOL_NNUMERIC * USM_TOL_NNUMERIC };
 
@@ -357,7 +357,7 @@ static int counts(usm_tolerance *t, const tol_comm *c, u64 *v)
     memset(v, 0, C_N * sizeof *v);
     for (uint64_t i = 0; i < n; ++i) {
         const double *row = t->rows + i * (uint64_t)w, *out = row + t->nvary;
-        v[C_GOOD] += row[TOL_ROW_GOOD(t)] != 0.0;
+        v[C_GOOD] += row[TOL_ROW_GOOD(t)] == 1.0;
         /* a count, checked on load (tolerance_io.c); never an out-of-range conversion */
         const double r = row[TOL_ROW_REDRAWS(t)];
         v[C_REDRAWN] += r >= 0.0 && r < (double)TOL_MAX_REDRAWS ? (uint64_t)r : 0;
@@ -372,6 +372,8 @@ static int counts(usm_tolerance *t, const tol_comm *c, u64 *v)
         v[C_INVALID] += out[USM_TOL_VALIDITY] > (double)USM_VALID;
         v[C_INV_CONTACT] += out[USM_TOL_VALIDITY] == (double)USM_INVALID_CONTACT_OPEN;
         v[C_INV_STICK] += out[USM_TOL_VALIDITY] == (double)USM_INVALID_STICK;
+        /* not good only because the load drives the rotor backwards */
+        v[C_DRIVEN] += row[TOL_ROW_GOOD(t)] == TOL_GOOD_DRIVEN;
         for (int k = 0; k < USM_TOL_NNUMERIC; ++k) {
             const int fk = isfinite(out[k]);
             v[C_COUNT0 + k] += (u64)fk;
@@ -454,6 +456,7 @@ int tol_finish(usm_tolerance *t, const tol_comm *c)
     s->invalid = v[C_INVALID];
     s->invalid_contact_open = v[C_INV_CONTACT];
     s->invalid_stick = v[C_INV_STICK];
+    s->driven = v[C_DRIVEN];
     s->yield = (double)s->good / (double)n;
     usm_tolerance_wilson(s->good, n, &s->yield_lo, &s->yield_hi);
     t->timings.reduce += tol_now() - start;

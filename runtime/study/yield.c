@@ -1,6 +1,7 @@
 /* The yield of a design with common random numbers (usm_robust.h): one fixed
  * set of standard variates, scaled to each design's nominal values, each
- * sample's operating point by usm_point_evaluate_op on the worker pool. */
+ * sample's operating point by usm_point_evaluate_op on the worker pool,
+ * judged by the rule of `usm tolerance` (yield_rule.h). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -13,6 +14,7 @@
 #include "core/pool_internal.h"
 #include "usm_map.h"
 #include "usm_robust.h"
+#include "yield_rule.h"
 
 #define MAX_SAMPLES 10000000ULL
 
@@ -24,12 +26,14 @@ struct usm_yield {
     double *z;           /* n x nscatter standard variates: the common random numbers */
     int nspec;
     usm_opt_constraint spec[USM_OPT_MAX_CONSTRAINTS];
+    int allow_driven;    /* a sample the load drives (power_out < 0) may be good */
     /* the last evaluation */
     usm_params p;
     double t0;
     int track;
     double *value;       /* the tracked output per sample (NaN: no operating point) */
     unsigned char *good;
+    unsigned char *driven; /* not good only because the load drives the rotor */
     unsigned char *unphysical;
     double *sorted;      /* work for the quantiles */
     int have;
@@ -74,9 +78,11 @@ usm_yield *usm_yield_alloc(const usm_model *m, const usm_tolerance_vary *scatter
         y->value = malloc(samples * sizeof *y->value);
         y->sorted = malloc(samples * sizeof *y->sorted);
         y->good = malloc(samples);
+        y->driven = malloc(samples);
         y->unphysical = malloc(samples);
     }
-    if (!y || !r || !y->z || !y->value || !y->sorted || !y->good || !y->unphysical) {
+    if (!y || !r || !y->z || !y->value || !y->sorted || !y->good || !y->driven ||
+        !y->unphysical) {
         gsl_rng_free(r);
         usm_yield_free(y);
         snprintf(msg, USM_MSG_LEN, "samples: out of memory for %llu samples",
@@ -107,6 +113,7 @@ void usm_yield_free(usm_yield *y)
     free(y->value);
     free(y->sorted);
     free(y->good);
+    free(y->driven);
     free(y->unphysical);
     free(y);
 }
@@ -120,6 +127,8 @@ int usm_yield_spec_add(usm_yield *y, int k, int upper, double bound)
     y->spec[y->nspec++] = (usm_opt_constraint){k, upper != 0, bound, 0};
     return USM_OK;
 }
+
+void usm_yield_allow_driven(usm_yield *y, int allow) { y->allow_driven = allow != 0; }
 
 const char *usm_yield_message(const usm_yield *y) { return y->msg; }
 
@@ -185,7 +194,7 @@ static int task(void *ctx, void *state, size_t t)
             usm_params_couple(y->m, &q, usm_param_index(v->param));
         }
         y->value[i] = NAN;
-        y->good[i] = 0;
+        y->good[i] = y->driven[i] = 0;
         y->unphysical[i] = usm_params_check(&q, y->m, why) != USM_OK;
         if (y->unphysical[i])
             continue;
@@ -199,12 +208,15 @@ static int task(void *ctx, void *state, size_t t)
         const double mm = pt.op.floquet.max_modulus;
         /* untracked: 0 marks a sample with an operating point */
         y->value[i] = y->track >= 0 ? usm_opt_output_value(y->track, sol, &q, mm) : 0.0;
-        int good = sol->validity == USM_VALID;
-        for (int s = 0; s < y->nspec && good; ++s) {
+        int meets = 1, driven;
+        for (int s = 0; s < y->nspec && meets; ++s) {
             const double v = usm_opt_output_value(y->spec[s].output, sol, &q, mm);
-            good = y->spec[s].upper ? v <= y->spec[s].value : v >= y->spec[s].value;
+            meets = y->spec[s].upper ? v <= y->spec[s].value : v >= y->spec[s].value;
         }
-        y->good[i] = (unsigned char)good;
+        /* the rule of `usm tolerance` (yield_rule.h) */
+        y->good[i] = (unsigned char)yield_sample_good(1, mm, sol->validity == USM_VALID, meets,
+                                                      sol->power_out, y->allow_driven, &driven);
+        y->driven[i] = (unsigned char)driven;
     }
     return USM_OK;
 }
@@ -246,6 +258,7 @@ int usm_yield_eval(usm_yield *y, const usm_params *p, double t0, int threads, in
     r->samples = y->n;
     for (uint64_t i = 0; i < y->n; ++i) {
         r->good += y->good[i];
+        r->driven += y->driven[i];
         r->unphysical += y->unphysical[i];
         if (!isnan(y->value[i])) {
             r->op++;

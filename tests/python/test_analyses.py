@@ -175,6 +175,20 @@ def test_optimize(model, variant, params, args, kw):
     assert got.feasible is True and got.value == want["value"]
 
 
+@pytest.mark.parametrize("allow", [False, True])
+def test_tolerance_allow_driven(allow):
+    # a 4-DOF study across the stall torque: samples the load drives backwards
+    vary = ["T=uniform:0.0002:0.0008", "F0=normal:5%"]
+    want, _ = run_cli("tolerance", "--model", "4dof", "--samples", "128", "--seed", "3",
+                      *sum([["--vary", v] for v in vary], []),
+                      *(["--allow-driven"] if allow else []))
+    got = usm.Model("4dof").tolerance(128, vary, seed=3, allow_driven=allow).to_dict()
+    got.pop("timings")
+    want.pop("timings")
+    assert got == want
+    assert (want["driven"] == 0) == allow, want["driven"]
+
+
 @pytest.mark.parametrize("model,variant,params,vary,spec", [
     ("3dof", "paper", {}, {"F0": "normal:5%", "f": "uniform:36.9kHz:37.1kHz"}, ["theta<=1e-4"]),
     ("4dof", "paper", {"T": 5e-5}, {"F0": "uniform:350mN:450mN", "c_r": "normal:2%"},

@@ -14,9 +14,11 @@
  * Every design sees the same z: the yield is a deterministic function of the
  * design (bit for bit reproducible for a seed, equal across thread counts)
  * and differences between designs carry no sampling noise of their own.  A
- * sample is good as in `usm tolerance`: its operating point
- * (usm_point_evaluate_op) exists, is stable (max_modulus < 1), valid
- * (usm_validity) and meets every spec.  A sample outside a parameter's
+ * sample is good as in `usm tolerance` (one rule for both): its operating
+ * point (usm_point_evaluate_op) exists, is stable (max_modulus < 1), valid
+ * (usm_validity), meets every spec and drives its load (power_out >= 0, the
+ * optimizer's constraint "drives"; unless usm_yield_allow_driven, which the
+ * robust optimizer sets from the problem's allow_driven).  A sample outside a parameter's
  * physical range (usm_params_check) is not redrawn (that would break the
  * common numbers): it counts as not good ("unphysical").
  *
@@ -52,6 +54,8 @@ typedef struct usm_yield_result {
     uint64_t op;               /* samples with a stable operating point (the output exists) */
     uint64_t unphysical;       /* samples outside a parameter's physical range */
     double mean;               /* the tracked output's mean over the `op` samples (NaN: none) */
+    uint64_t driven;           /* samples not good only because the load drives the rotor
+                                  backwards (power_out < 0; 0 with usm_yield_allow_driven) */
 } usm_yield_result;
 
 /* A sample set of `samples` (1 .. 10^7) draws of the scatter (nscatter of
@@ -66,6 +70,10 @@ void usm_yield_free(usm_yield *y);
  * margin, ...): k <= bound (upper) or >= bound, judged at each sample's
  * operating point.  USM_OK or USM_EINPUT (at most USM_OPT_MAX_CONSTRAINTS). */
 int usm_yield_spec_add(usm_yield *y, int k, int upper, double bound);
+/* allow != 0: a sample whose load drives its rotor backwards (power_out < 0)
+ * may be good, as usm_opt_problem's allow_driven drops the constraint
+ * "drives" (default 0: it is not good, as in `usm tolerance`). */
+void usm_yield_allow_driven(usm_yield *y, int allow);
 /* Evaluate the set at design p: Floquet from t0 (usm_floquet_options_default),
  * `threads` workers (1 .. 64), tracking optimizer output `track` (-1: none)
  * for usm_yield_mean/quantile.  USM_OK or USM_EINPUT / USM_EFAILED with the

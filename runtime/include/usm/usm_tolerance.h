@@ -5,9 +5,11 @@
  * stationary solution (full search, primary root) and its Floquet multipliers
  * are computed by usm_point_evaluate (usm_map.h).  The study reports
  *   - the yield: the fraction of samples whose operating point exists, is
- *     stable (largest non-cyclic multiplier < 1), meets every spec and is
- *     valid (the model describes the motor there: usm_validity), with its
- *     95 % Wilson score interval;
+ *     stable (largest non-cyclic multiplier < 1), meets every spec, is
+ *     valid (the model describes the motor there: usm_validity) and drives
+ *     its load (power_out >= 0, as usm_optimize's constraint "drives";
+ *     unless allow_driven), with its 95 % Wilson score interval -- the rule
+ *     of usm_yield_eval (usm_robust.h) too;
  *   - the 1, 5, 50, 95, 99 % quantiles of every numeric output (over the
  *     samples where it exists; gsl_stats_quantile_from_sorted_data's
  *     definition, from exact order statistics);
@@ -154,6 +156,8 @@ typedef struct usm_tolerance_options {
     usm_op_options op;       /* the operating point's rule (usm_op_options_default: no
                                 simulation from rest, so a sample with several roots has
                                 an unknown operating point and does not count) */
+    int allow_driven;        /* 1: a sample whose load drives its rotor backwards
+                                (power_out < 0) may count; 0 (default): it does not */
 } usm_tolerance_options;
 
 /* Fill `opt` with the defaults listed above. */
@@ -187,7 +191,8 @@ typedef struct usm_tolerance_summary {
     uint64_t samples;
     uint64_t seed;
     uint64_t good;          /* samples whose operating point exists (a stable root),
-                               meets every spec and is valid (USM_VALID) */
+                               meets every spec, is valid (USM_VALID) and drives its
+                               load (power_out >= 0, unless allow_driven) */
     double yield;           /* good / samples */
     double yield_lo, yield_hi; /* 95 % Wilson score interval */
     uint64_t exists, stable; /* samples with a solution; with stable multipliers */
@@ -201,6 +206,10 @@ typedef struct usm_tolerance_summary {
     /* samples with a solution that the model does not describe (usm_validity
      * != USM_VALID): in all, with the contact open, past the stick limit */
     uint64_t invalid, invalid_contact_open, invalid_stick;
+    /* samples that meet every other part of the rule but whose load drives the
+     * rotor backwards (power_out < 0): not good for that alone (0 with
+     * allow_driven; good + driven is the count allow_driven gives) */
+    uint64_t driven;
     /* quantiles[k][q] of numeric output k at USM_TOLERANCE_QUANTILES[q] (NaN
      * when no sample has the output); count[k] samples have it */
     double quantile[USM_TOL_NNUMERIC][5];
@@ -226,7 +235,9 @@ double usm_tolerance_influence(const usm_tolerance *t, int k, int j);
 /* Sample i of the last run: the varied parameters' values (vary_count of
  * them) into `values` (may be NULL), the outputs into `out`
  * (USM_TOL_NOUTPUTS; NaN where an output does not exist, 0/1 for yes/no), and
- * whether it counts for the yield.  USM_OK or USM_EINPUT (i out of range). */
+ * whether it counts for the yield (a sample whose outputs allow it but is
+ * not good is one the load drives: power_out < 0).  USM_OK or USM_EINPUT (i
+ * out of range). */
 int usm_tolerance_sample(const usm_tolerance *t, uint64_t i, double *values, double *out,
                          int *good, int *redraws);
 
@@ -267,8 +278,10 @@ int usm_tolerance_write_csv(const usm_tolerance *t, FILE *out);
  * {OUTPUT: {PARAM: Spearman}}, failed, redrawn, exists, stable, good,
  * operating_point {exists, no_stable_root, does_not_start, unknown},
  * invalid (samples whose solution the model does not describe),
- * invalid_reasons {contact_open, stick_not_admissible} (the same bytes after
- * a checkpoint resume, for any number of threads or MPI ranks), and last, on
+ * invalid_reasons {contact_open, stick_not_admissible}, driven (samples not
+ * good only because the load drives them: usm_tolerance_summary's) (the
+ * same bytes after a checkpoint resume, for any number of threads or MPI
+ * ranks), and last, on
  * a line of its own, timings {compute, reduce, statistics, output}
  * (usm_tolerance_timings_get: wall seconds, different in every run; compare
  * two runs' output without the line that starts with `  "timings"`).  0 or -1
