@@ -26,32 +26,6 @@
 #define SAT_NEAR 0.99 /* where a lost branch is checked for saturation */
 
 
-const char *usm_pevent_name(usm_pevent_type type)
-{
-    switch (type) {
-    case USM_PEVENT_CONTACT_LOSS: return "contact_loss";
-    case USM_PEVENT_STICK_LOSS: return "stick_loss";
-    case USM_PEVENT_FOLD: return "fold";
-    case USM_PEVENT_STABILITY_CHANGE: return "stability_change";
-    case USM_PEVENT_FRICTION_SATURATION: return "friction_saturation";
-    case USM_PEVENT_CONTACT_REGAINED: return "contact_regained";
-    case USM_PEVENT_GRAZING: return "grazing";
-    case USM_PEVENT_BRANCH_SWITCH: return "branch_switch";
-    }
-    return "unknown";
-}
-
-const char *usm_crossing_name(usm_crossing_kind kind)
-{
-    switch (kind) {
-    case USM_CROSSING_FOLD: return "fold";
-    case USM_CROSSING_PERIOD_DOUBLING: return "period_doubling";
-    case USM_CROSSING_NEIMARK_SACKER: return "neimark_sacker";
-    case USM_CROSSING_NONE: break;
-    }
-    return "";
-}
-
 void usm_periodic_sweep_options_default(usm_periodic_sweep_options *opt)
 {
     memset(opt, 0, sizeof *opt);

@@ -1,5 +1,5 @@
-/* The event list, value text and stability_change builder (kind, critical
- * multiplier, squeal frequency, text) of a periodic sweep, shared by the
+/* The event names, the event list, value text and stability_change builder
+ * (kind, critical multiplier, squeal frequency, text) of a periodic sweep, shared by the
  * bilateral branch (periodic_sweep.c) and the orbits with separation
  * (periodic_sweep_hybrid.c): both append events, neither calls the other for it. */
 #include "periodic_sweep_state.h"
@@ -9,6 +9,32 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+
+const char *usm_pevent_name(usm_pevent_type type)
+{
+    switch (type) {
+    case USM_PEVENT_CONTACT_LOSS: return "contact_loss";
+    case USM_PEVENT_STICK_LOSS: return "stick_loss";
+    case USM_PEVENT_FOLD: return "fold";
+    case USM_PEVENT_STABILITY_CHANGE: return "stability_change";
+    case USM_PEVENT_FRICTION_SATURATION: return "friction_saturation";
+    case USM_PEVENT_CONTACT_REGAINED: return "contact_regained";
+    case USM_PEVENT_GRAZING: return "grazing";
+    case USM_PEVENT_BRANCH_SWITCH: return "branch_switch";
+    }
+    return "unknown";
+}
+
+const char *usm_crossing_name(usm_crossing_kind kind)
+{
+    switch (kind) {
+    case USM_CROSSING_FOLD: return "fold";
+    case USM_CROSSING_PERIOD_DOUBLING: return "period_doubling";
+    case USM_CROSSING_NEIMARK_SACKER: return "neimark_sacker";
+    case USM_CROSSING_NONE: break;
+    }
+    return "";
+}
 
 usm_periodic_event *psweep_event_add(usm_periodic_sweep *s, usm_pevent_type type, double v,
                                       const usm_periodic_result *orbit, const char *fmt, ...)
