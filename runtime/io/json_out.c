@@ -246,11 +246,11 @@ json_t *usm_json_periodic_result(const usm_periodic_result *r)
     return o;
 }
 
-json_t *usm_json_hybrid_result(const usm_hybrid_result *r, int slip)
+json_t *usm_json_hybrid_result(const usm_hybrid_result *r)
 {
     json_t *o = json_object();
     int ok = o != NULL;
-    const int valid = slip || r->impacts_slipping == 0;
+    const int valid = r->validity == USM_VALID;
     usm_json_put(o, "rotor_speed_mean", usm_json_real(r->rotor_speed_mean), &ok);
     usm_json_put(o, "rotor_speed_ripple", usm_json_real(r->rotor_speed_ripple), &ok);
     usm_json_put(o, "floquet", usm_json_floquet(&r->floquet), &ok);
@@ -262,10 +262,9 @@ json_t *usm_json_hybrid_result(const usm_hybrid_result *r, int slip)
     usm_json_put(o, "mode_sequence", json_string(r->mode_sequence), &ok);
     usm_json_put(o, "section_t", usm_json_real(r->t0), &ok);
     usm_json_put(o, "contact_open", json_true(), &ok);
-    /* the stick model does not describe an impact that needs more than mu0 */
     usm_json_put(o, "valid", json_boolean(valid), &ok);
     usm_json_put(o, "invalid_reason",
-                 valid ? json_null() : json_string(usm_validity_name(USM_INVALID_STICK)), &ok);
+                 valid ? json_null() : json_string(usm_validity_name(r->validity)), &ok);
     usm_json_put(o, "newton_iterations", json_integer(r->iterations), &ok);
     usm_json_put(o, "residual", usm_json_real(r->residual), &ok);
     if (!ok) {

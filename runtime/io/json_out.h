@@ -43,7 +43,7 @@ void usm_json_put_squeal(json_t *obj, const usm_floquet_result *r, double f, int
 json_t *usm_json_periodic_result(const usm_periodic_result *r);
 /* The keys of an orbit with separation (usm periodic --json on a unilateral
  * model, docs/unilateral.md); slip: the model's (its impacts may slide). */
-json_t *usm_json_hybrid_result(const usm_hybrid_result *r, int slip);
+json_t *usm_json_hybrid_result(const usm_hybrid_result *r);
 
 /* Print `value` and a newline, then release it (NULL, a builder's "out of
  * memory", gives -1).  0, or -1. */

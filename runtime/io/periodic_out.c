@@ -115,7 +115,7 @@ int usm_hybrid_write_json(const usm_model *m, const usm_params *p, const usm_hyb
     if (!r) {
         usm_json_put(o, "error", json_string(error ? error : ""), &ok);
     } else {
-        json_t *orbit = usm_json_hybrid_result(r, m->slip);
+        json_t *orbit = usm_json_hybrid_result(r);
         ok = ok && orbit && json_object_update(o, orbit) == 0;
         json_decref(orbit);
     }

@@ -25,7 +25,7 @@ int usm_periodic_sweep_csv(const usm_periodic_sweep *s, FILE *out)
         if (pt->separating) {
             /* the orbit with separation: its speed, multipliers and contact */
             const usm_hybrid_result *h = &pt->hybrid;
-            const int valid = m->slip || h->impacts_slipping == 0;
+            const int valid = h->validity == USM_VALID;
             usm_csv_bool(out, 0, 1);
             usm_csv_num(out, 0, h->rotor_speed_mean);
             usm_csv_num(out, 0, h->rotor_speed_ripple);
@@ -89,7 +89,7 @@ static json_t *sweep_json(const usm_periodic_sweep *s, const usm_params *p)
         const usm_periodic_point *pt = usm_periodic_sweep_point_at(s, i);
         const usm_model *m = usm_periodic_sweep_model(s);
         /* a unilateral model's point past contact loss: the orbit with separation */
-        json_t *o = pt->separating ? usm_json_hybrid_result(&pt->hybrid, m->slip)
+        json_t *o = pt->separating ? usm_json_hybrid_result(&pt->hybrid)
                     : pt->converged ? usm_json_periodic_result(&pt->orbit)
                                     : json_object();
         int pok = o != NULL;
@@ -129,16 +129,15 @@ static json_t *sweep_json(const usm_periodic_sweep *s, const usm_params *p)
             usm_json_put(o, "orbit", usm_json_periodic_result(&e->orbit), &eok);
         /* branch_switch: the orbit followed, the one left; stability_change
          * of an orbit with separation: the located orbit */
-        const int slip = usm_periodic_sweep_model(s)->slip;
         if (e->has_hybrid)
-            usm_json_put(o, "orbit", usm_json_hybrid_result(&e->hybrid, slip), &eok);
+            usm_json_put(o, "orbit", usm_json_hybrid_result(&e->hybrid), &eok);
         if (e->has_hybrid && e->type == USM_PEVENT_BRANCH_SWITCH) {
             usm_json_put(o, "branch_lost", json_boolean(e->branch_lost), &eok);
             if (e->branch_lost) { /* the branch's last orbit, and where */
-                usm_json_put(o, "last_orbit", usm_json_hybrid_result(&e->hybrid_left, slip), &eok);
+                usm_json_put(o, "last_orbit", usm_json_hybrid_result(&e->hybrid_left), &eok);
                 usm_json_put(o, "last_value", usm_json_real(e->branch_last), &eok);
             } else {
-                usm_json_put(o, "unstable_orbit", usm_json_hybrid_result(&e->hybrid_left, slip),
+                usm_json_put(o, "unstable_orbit", usm_json_hybrid_result(&e->hybrid_left),
                              &eok);
                 usm_json_put(o, "unstable_from", usm_json_real(e->unstable_from), &eok);
             }

@@ -1009,6 +1009,8 @@ static int newton(usm_hybrid *h, const usm_hybrid_options *opt, double ts, doubl
     out->separations_per_period = h->nsep;
     out->impacts_per_period = h->nimp;
     out->impacts_slipping = h->nslip;
+    /* the stick model does not describe an impact that needs more than mu0 */
+    out->validity = h->m->slip || h->nslip == 0 ? USM_VALID : USM_INVALID_STICK;
     out->impact_velocity_max = h->vmax;
     out->nmodes = h->nmodes;
     memcpy(out->mode_sequence, h->seq, sizeof h->seq);

@@ -60,7 +60,25 @@ usm_periodic_event *psweep_event_add(usm_periodic_sweep *s, usm_pevent_type type
     va_start(ap, fmt);
     vsnprintf(e->what, sizeof e->what, fmt, ap);
     va_end(ap);
+    /* not the limits of validity themselves: at stick_loss, contact_loss and
+     * contact_regained the orbit sits on such a boundary, its validity on
+     * either side by rounding (and a contact loss past the stick limit
+     * would say either reason) */
+    if (orbit && type != USM_PEVENT_STICK_LOSS && type != USM_PEVENT_CONTACT_LOSS &&
+        type != USM_PEVENT_CONTACT_REGAINED)
+        psweep_event_mark(e, orbit->validity);
     return e;
+}
+
+void psweep_event_mark(usm_periodic_event *e, usm_validity v)
+{
+    /* e.g. the 4-DOF Neimark-Sacker point at 8.62 % mode split, where the
+     * bilateral orbit's contact has long opened: the text says so, not only
+     * the orbit's `valid` */
+    if (v == USM_VALID)
+        return;
+    const size_t len = strlen(e->what);
+    snprintf(e->what + len, sizeof e->what - len, "; model invalid: %s", usm_validity_name(v));
 }
 
 void psweep_value_text(const usm_periodic_sweep *s, double v, char buf[96])
@@ -110,14 +128,6 @@ usm_periodic_event *psweep_stability_add(usm_periodic_sweep *s, double v,
         dir_up ? "increases" : "decreases", how);
     if (!e)
         return NULL;
-    if (orbit && orbit->validity != USM_VALID) {
-        /* e.g. the 4-DOF Neimark-Sacker point at 8.62 % mode split, where
-         * the bilateral orbit's contact has long opened: the text says so,
-         * not only the orbit's `valid` */
-        const size_t len = strlen(e->what);
-        snprintf(e->what + len, sizeof e->what - len, "; model invalid: %s",
-                 usm_validity_name(orbit->validity));
-    }
     e->kind = kind;
     e->squeal_frequency = squeal;
     e->multiplier_re = re;

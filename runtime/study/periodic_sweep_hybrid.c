@@ -386,6 +386,7 @@ static int switch_event(usm_periodic_sweep *s, const usm_periodic_point *pt,
     e->has_hybrid = 1;
     e->hybrid = *to;
     e->hybrid_left = *from;
+    psweep_event_mark(e, to->validity);
     e->branch_lost = how != SW_UNSTABLE;
     e->branch_last = how != SW_UNSTABLE ? v_last : pt->value;
     e->unstable_from = how == SW_UNSTABLE ? unstable_from : NAN;
@@ -443,6 +444,7 @@ static int stability_event(usm_periodic_sweep *s, double v, const usm_hybrid_res
         return -1;
     e->has_hybrid = 1;
     e->hybrid = *at;
+    psweep_event_mark(e, at->validity);
     e->branch_last = e->unstable_from = NAN;
     return 0;
 }

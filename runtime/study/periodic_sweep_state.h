@@ -26,10 +26,15 @@ struct usm_periodic_sweep {
     char msg[USM_MSG_LEN];
 };
 
-/* Append an event (value v, orbit NULL or the orbit there, `what` from fmt);
- * NULL when out of memory. */
+/* Append an event (value v, orbit NULL or the orbit there, `what` from fmt,
+ * ending in "; model invalid: REASON" where the orbit is not valid, but for
+ * the validity limits stick_loss, contact_loss, contact_regained); NULL
+ * when out of memory. */
 usm_periodic_event *psweep_event_add(usm_periodic_sweep *s, usm_pevent_type type, double v,
                                       const usm_periodic_result *orbit, const char *fmt, ...);
+/* Say in e's `what` that the model does not describe the motor on the orbit
+ * it carries (validity v not USM_VALID): "; model invalid: REASON". */
+void psweep_event_mark(usm_periodic_event *e, usm_validity v);
 /* Append the stability_change event at v (max |lambda| = 1): its kind from
  * the critical multiplier of fl (the non-cyclic one of largest modulus:
  * +1 fold, -1 period_doubling, a complex pair, |Im| > USM_COMPLEX_PAIR_TOL

@@ -157,6 +157,8 @@ typedef struct usm_hybrid_result {
     double separation_fraction; /* time open per period / T */
     int separations_per_period, impacts_per_period;
     int impacts_slipping;       /* stick model: impacts per period needing more than mu0 */
+    usm_validity validity;      /* USM_VALID, or USM_INVALID_STICK in the stick model where
+                                   an impact needs more than mu0 (impacts_slipping > 0) */
     double impact_velocity_max; /* largest approach velocity -gap' [m/s] */
     int nmodes;                 /* modes in mode_sequence (the switches + 1) */
     char mode_sequence[USM_HYBRID_MAX_SWITCHES + 1]; /* 'c' closed, 'o' open, from ts */
