@@ -114,7 +114,8 @@ static int write_hybrid_orbit(const periodic_args *a, const usm_hybrid_result *h
     FILE *f = usm_io_create(&file, a->orbit, a->force, msg, &status);
     if (!f)
         return status;
-    if ((status = usm_hybrid_write_orbit_csv(a->common.model, &a->common.params, h,
+    /* the solve's tolerance: usm_run_periodic's default */
+    if ((status = usm_hybrid_write_orbit_csv(a->common.model, &a->common.params, h, 0.0,
                                              USM_PERIODIC_SAMPLES, f, lib)) != USM_OK) {
         usm_io_abort(&file);
         cli_msg(msg, "%s: %s", a->orbit, lib);

@@ -64,13 +64,17 @@ int usm_periodic_write_json(const usm_periodic *w, const usm_params *p,
 }
 
 int usm_hybrid_write_orbit_csv(const usm_model *m, const usm_params *p,
-                               const usm_hybrid_result *r, int n, FILE *out, char *msg)
+                               const usm_hybrid_result *r, double rtol, int n, FILE *out,
+                               char *msg)
 {
     const int nx = m->nx, ncol = USM_HYBRID_SAMPLE_COLS(nx);
+    if (!(n >= 2 && n <= USM_HYBRID_MAX_SAMPLES)) {
+        snprintf(msg, USM_MSG_LEN, "samples: must be 2 to %d", USM_HYBRID_MAX_SAMPLES);
+        return USM_EINPUT;
+    }
     usm_hybrid *h = usm_hybrid_alloc(m);
-    double *rows = malloc(sizeof(double) * (size_t)ncol *
-                          (size_t)(n + 2 * USM_HYBRID_MAX_SWITCHES + 1));
-    int nrows = 0, rc = h && rows ? usm_hybrid_orbit_samples(h, p, r, n, rows, &nrows)
+    double *rows = malloc(sizeof(double) * (size_t)ncol * (size_t)USM_HYBRID_SAMPLE_ROWS(n));
+    int nrows = 0, rc = h && rows ? usm_hybrid_orbit_samples(h, p, r, rtol, n, rows, &nrows)
                                   : USM_EFAILED;
     if (rc != USM_OK)
         snprintf(msg, USM_MSG_LEN, "%s", h && rows ? usm_hybrid_message(h) : "out of memory");

@@ -68,7 +68,7 @@ struct usm_hybrid {
     int nsamp;                /* > 0: sample the rotor speed (min/max) this often a period */
     double wmin, wmax;
     double *rows;             /* not NULL: the samples' rows too (usm_hybrid_orbit_samples) */
-    int nrows, rows_max;
+    int nrows, rows_max, rows_lost;
     int nsep, nimp, nslip, nmodes;
     int bounces;       /* impacts with rebound since the last separation */
     double vfirst;     /* their first approach velocity */
@@ -452,7 +452,9 @@ static void sample_speed(usm_hybrid *h, double t, const double *z)
     (h->mode ? h->u->open_outputs : h->m->outputs)(z, xdot, t, &h->p, out);
     h->wmin = fmin(h->wmin, out[USM_OUT_ROTOR_SPEED]);
     h->wmax = fmax(h->wmax, out[USM_OUT_ROTOR_SPEED]);
-    if (h->rows && h->nrows < h->rows_max) {
+    if (h->rows && h->nrows >= h->rows_max)
+        h->rows_lost = 1;
+    else if (h->rows) {
         const int nx = h->nx;
         double *row = h->rows + (size_t)h->nrows++ * (size_t)USM_HYBRID_SAMPLE_COLS(nx);
         double g[1 + NY] = {0};
@@ -633,29 +635,45 @@ int usm_hybrid_period_map(usm_hybrid *h, double ts, const double *x0, double *x1
 }
 
 int usm_hybrid_orbit_samples(usm_hybrid *h, const usm_params *p, const usm_hybrid_result *r,
-                             int n, double *rows, int *nrows)
+                             double rtol, int n, double *rows, int *nrows)
 {
     usm_hybrid_options o;
     usm_hybrid_options_default(&o);
     *nrows = 0;
+    h->msg[0] = '\0';
     if (!(n >= 2 && n <= USM_HYBRID_MAX_SAMPLES)) {
         snprintf(h->msg, USM_MSG_LEN, "samples: must be 2 to %d", USM_HYBRID_MAX_SAMPLES);
         return USM_EINPUT;
     }
-    int rc = usm_hybrid_set(h, p, o.rtol);
+    if (!r->converged || r->nx != h->nx) {
+        snprintf(h->msg, USM_MSG_LEN, "the orbit: %s", r->converged ? "of another model"
+                                                                     : "not converged");
+        return USM_EINPUT;
+    }
+    int rc = usm_hybrid_set(h, p, rtol == 0 ? o.rtol : rtol);
     if (rc != USM_OK)
         return rc;
-    /* the orbit's own scales (the solve's) */
+    /* the orbit's own scales (the solve's, but for its start's theta) */
     set_scales(h, r->x0[h->m->x_theta], r->rotor_speed_mean);
     double x1[USM_MAX_NX];
     h->rows = rows;
-    h->nrows = 0;
-    h->rows_max = n + 2 * USM_HYBRID_MAX_SWITCHES + 1;
+    h->nrows = h->rows_lost = 0;
+    h->rows_max = USM_HYBRID_SAMPLE_ROWS(n);
     h->nsamp = n;
     rc = period_map(h, r->t0, r->x0, x1, NULL, NULL);
     h->nsamp = 0;
     h->rows = NULL;
     *nrows = h->nrows;
+    if (rc == USM_OK && h->rows_lost) {
+        snprintf(h->msg, USM_MSG_LEN, "more switches and touches in the period than rows");
+        rc = USM_EFAILED;
+    }
+    if (rc == USM_OK && strcmp(h->seq, r->mode_sequence) != 0) {
+        /* another tolerance (the landing threshold), or not this orbit */
+        snprintf(h->msg, USM_MSG_LEN, "the sampled period's modes %.40s are not the orbit's %.40s "
+                 "(solved at another rtol?)", h->seq, r->mode_sequence);
+        rc = USM_EFAILED;
+    }
     return rc;
 }
 

@@ -334,6 +334,15 @@ static int locate_stability(usm_periodic_sweep *s, double va, const usm_hybrid_r
             x = c.v[i];
     *v = x;
     *at = *r;
+    if (rc >= 0 && !stab_at(&c, x)) {
+        /* Brent's zero can be an older trial's abscissa than the cache
+         * keeps: the orbit there, from the nearest kept one */
+        const usm_params q = params_at(s, x);
+        usm_hybrid_result rx;
+        if (usm_hybrid_solve_from(s->hy, &q, NULL, r->t0, r->x0, &rx) == USM_OK &&
+            rx.nmodes >= 2)
+            *at = rx;
+    }
     return rc;
 }
 

@@ -209,15 +209,23 @@ int usm_hybrid_set(usm_hybrid *h, const usm_params *p, double rtol);
 #define USM_HYBRID_SAMPLE_COLS(nx) ((nx) + 6)
 /* Most samples a period (usm_hybrid_orbit_samples's n). */
 #define USM_HYBRID_MAX_SAMPLES 100000
+/* Rows room for n samples a period: the n + 1 times and both sides of every
+ * root the period map may meet (4 USM_HYBRID_MAX_SWITCHES + 1: switches and
+ * touches without impact). */
+#define USM_HYBRID_SAMPLE_ROWS(n) ((n) + 1 + 2 * (4 * USM_HYBRID_MAX_SWITCHES + 1))
 
-/* One period of the orbit with separation r (from r->x0 at r->t0) for
- * parameters p, at the default rtol (1e-11): samples at the n + 1 times t0
- * + k T / n (k = 0 .. n) and on both sides of every switch, in time order,
- * into rows (room for n + 2 USM_HYBRID_MAX_SWITCHES + 1 rows
- * of USM_HYBRID_SAMPLE_COLS(nx) columns, row-major); their number in
- * *nrows.  USM_OK, USM_EINPUT (n, p) or USM_EFAILED (usm_hybrid_message). */
+/* One period of the converged orbit with separation r of this model (from
+ * r->x0 at r->t0) for parameters p at rtol (0: the default, 1e-11; give the
+ * solve's: the landing threshold depends on it): samples at the n + 1 times
+ * t0 + k T / n (k = 0 .. n) and on both sides of every switch, in time
+ * order, into rows (room for USM_HYBRID_SAMPLE_ROWS(n) rows of
+ * USM_HYBRID_SAMPLE_COLS(nx) columns, row-major); their number in *nrows.
+ * Afterwards h holds p, rtol and the orbit's scales, as after
+ * usm_hybrid_set.  USM_OK; USM_EINPUT (n, p, rtol, r not converged or of
+ * another model); USM_EFAILED (usm_hybrid_message), also where the sampled
+ * period's mode sequence is not r's. */
 int usm_hybrid_orbit_samples(usm_hybrid *h, const usm_params *p, const usm_hybrid_result *r,
-                             int n, double *rows, int *nrows);
+                             double rtol, int n, double *rows, int *nrows);
 
 /* Why the last call failed, or "".  Owned by h. */
 const char *usm_hybrid_message(const usm_hybrid *h);
@@ -225,10 +233,12 @@ const char *usm_hybrid_message(const usm_hybrid *h);
 /* The orbit with separation r of model m at parameters p as CSV (`usm
  * periodic --orbit`): the header with units (t [s], open [1], the states,
  * gap [m], F_n [N], F_t [N], rotor_speed [1/s]) and the rows of
- * usm_hybrid_orbit_samples with n samples a period.  USM_OK, or
- * USM_EINPUT/USM_EFAILED with msg (USM_MSG_LEN bytes). */
+ * usm_hybrid_orbit_samples with n samples a period, at rtol (0: the
+ * default).  USM_OK, or USM_EINPUT/USM_EFAILED with msg (USM_MSG_LEN
+ * bytes). */
 int usm_hybrid_write_orbit_csv(const usm_model *m, const usm_params *p,
-                               const usm_hybrid_result *r, int n, FILE *out, char *msg);
+                               const usm_hybrid_result *r, double rtol, int n, FILE *out,
+                               char *msg);
 
 /* The `usm periodic --json` object of an orbit with separation of model m
  * (keys: docs/unilateral.md), or with r NULL "converged": false and "error":
