@@ -16,9 +16,11 @@
  * unit never meets libusm's), and test_unilateral runs it.
  *
  * The map: the closed mode M(x) x' = f(x, t) until F_n = 0, the open mode
- * M(y) y' = f(y, t) until the gap is 0, hybrid.c's resets (separation;
- * impact sticking, or sliding where sticking needs |P_t| > mu0 P_n; landing
- * unless the rotor leaves faster than v_land, and only where F_n >= 0).
+ * M(y) y' = f(y, t) until the gap is 0, the library's resets (solve/impact.h:
+ * separation; no impact where the rotor does not approach or touches slower
+ * than v_land while the closed mode would pull it off; else the impact,
+ * sticking, or sliding where sticking needs |P_t| > mu0 P_n; landing unless
+ * the rotor leaves faster than v_land, and only where F_n >= 0).
  * Fixed steps (classical Runge-Kutta, N a period: the map is a smooth
  * function of the start, no step selection); a guard's sign change inside a
  * step is located by the Illinois method on the step's length from the
@@ -37,6 +39,7 @@
  * open at the period's end, or the switches change with the start).
  */
 #include <errno.h>
+#include <float.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -49,6 +52,9 @@
 #undef double
 
 typedef long double real;
+/* the x87 format's 64-bit significand (2^11 finer than double's): where long
+ * double is double this program would be no reference */
+_Static_assert(LDBL_MANT_DIG >= 64, "long double must be wider than double");
 
 enum { NMAX = USM_MAX_NY };
 
@@ -84,7 +90,8 @@ typedef struct {
     const kernels *k;
     usm_params p;
     real v_land;
-    int mode; /* 0 closed (state length nx), 1 open (ny) */
+    int mode;   /* 0 closed (state length nx), 1 open (ny) */
+    int failed; /* a singular mass matrix was met */
 } map_t;
 
 /* A x = b, Gaussian elimination with partial pivoting; A is destroyed */
@@ -130,8 +137,9 @@ static void to_x(const map_t *F, const real *w, real *x)
     x[F->k->x_phidot] = w[F->k->x_phidot] - w[F->k->x_psidot];
 }
 
-/* rates in the spin coordinates, in mode F->mode */
-static int rates(const map_t *F, real t, const real *w, real *dw)
+/* rates in the spin coordinates, in mode F->mode; -1 (and F->failed) where
+ * the mass matrix is singular */
+static int rates(map_t *F, real t, const real *w, real *dw)
 {
     real A[NMAX * NMAX], x[NMAX];
     const int n = F->mode ? F->k->ny : F->k->nx;
@@ -143,8 +151,10 @@ static int rates(const map_t *F, real t, const real *w, real *dw)
         F->k->mass(x, &F->p, A);
         F->k->rhs(x, t, &F->p, dw);
     }
-    if (solve(n, A, dw) != 0)
+    if (solve(n, A, dw) != 0) {
+        F->failed = 1;
         return -1;
+    }
     dw[F->k->x_phidot] += dw[F->k->x_psidot];
     return 0;
 }
@@ -154,8 +164,10 @@ static real normal_force(map_t *F, real t, const real *w)
     real x[NMAX], xd[NMAX], o[USM_OUT_COUNT];
     const int mode = F->mode;
     F->mode = 0;
-    rates(F, t, w, xd);
+    const int rc = rates(F, t, w, xd);
     F->mode = mode;
+    if (rc != 0)
+        return NAN;
     xd[F->k->x_phidot] -= xd[F->k->x_psidot];
     to_x(F, w, x);
     F->k->outputs(x, xd, t, &F->p, o);
@@ -181,14 +193,16 @@ static void step(map_t *F, real t, const real *w, real h, real *out)
     for (int s = 0; s < 4; ++s) {
         for (int i = 0; i < n; ++i)
             z[i] = w[i] + (s ? c[s] * h * k[s - 1][i] : 0);
-        rates(F, t + c[s] * h, z, k[s]);
+        if (rates(F, t + c[s] * h, z, k[s]) != 0)
+            memset(k[s], 0, sizeof k[s]); /* F->failed: the map fails */
     }
     for (int i = 0; i < n; ++i)
         out[i] = w[i] + h * (k[0][i] + 2 * k[1][i] + 2 * k[2][i] + k[3][i]) / 6;
 }
 
-/* the reset at a guard (hybrid.c's rules at e_impact as given) */
-static void reset(map_t *F, real t, real *w)
+/* the reset at a guard (the library's rules, solve/impact.h, at e_impact as
+ * given): 1 a switch, 0 a touch without impact (no reset) */
+static int reset(map_t *F, real t, real *w)
 {
     const kernels *K = F->k;
     const int ip = K->x_phidot, is = K->x_psidot, ny = K->ny;
@@ -199,6 +213,12 @@ static void reset(map_t *F, real t, real *w)
         memcpy(w, sj, sizeof(real) * (size_t)ny);
         F->mode = 1;
     } else {
+        /* no impact where the rotor does not approach, or touches slower
+         * than v_land while the closed mode would pull it off */
+        K->contact_velocity(x, &F->p, cv);
+        const real v = -cv[0];
+        if (!(v > 0) || (v <= F->v_land && normal_force(F, t, w) < 0))
+            return 0;
         K->impact_stick(x, &F->p, out);
         if (K->slip && fabsl(out[ny + 1]) > F->p.mu0 * out[ny])
             K->impact_slide(x, out[ny + 1] > 0 ? 1.0L : -1.0L, &F->p, out);
@@ -207,9 +227,10 @@ static void reset(map_t *F, real t, real *w)
         w[ip] += w[is];
         if (!(cv[0] > F->v_land) && normal_force(F, t, w) >= 0)
             F->mode = 0;
-        return;
+        return 1;
     }
     w[ip] += w[is];
+    return 1;
 }
 
 /* w0 -> w1 over [t0, t0 + T] in N steps; the number of switches in *nsw */
@@ -218,6 +239,7 @@ static int period_map(map_t *F, real t0, real T, int N, const real *w0, real *w1
     real w[NMAX], we[NMAX];
     real t = t0;
     F->mode = 0;
+    F->failed = 0;
     *nsw = 0;
     memcpy(w, w0, sizeof(real) * (size_t)F->k->nx);
     for (int k = 0; k < N; ++k) {
@@ -254,12 +276,11 @@ static int period_map(map_t *F, real t0, real T, int N, const real *w0, real *w1
             step(F, t, w, tau, we);
             memcpy(w, we, sizeof we);
             t += tau;
-            reset(F, t, w);
-            if (++*nsw > 64)
+            if (reset(F, t, w) && ++*nsw > 64)
                 return -1;
         }
     }
-    if (F->mode != 0)
+    if (F->mode != 0 || F->failed)
         return -1;
     memcpy(w1, w, sizeof(real) * (size_t)F->k->nx);
     return 0;

@@ -6,7 +6,9 @@
  *    contact loss turns unstable near 1.94717 % through a real multiplier +1
  *    and the sweep switches to the coexisting stable orbit at 2 %
  *    (branch_switch).  Exactly one stability_change on the separating
- *    branch, kind fold, at the branch_switch's unstable_from.
+ *    branch, kind fold (the kind names the multiplier, a real one through
+ *    +1; the branch goes on through it, unstable: not a turning point), at
+ *    the branch_switch's unstable_from.
  * 2. 4-DOF, mode split 3.2 to 3.4 % (3 points): the one-impact orbit (coc)
  *    found from rest at 3.2 % is unstable and becomes stable near 3.373 %
  *    through a real multiplier -1 (no branch_switch: no stable orbit
@@ -112,7 +114,7 @@ static void check_event(const usm_periodic_event *e, double mu_crit)
         printf("  located %.10g; max |lambda| %.9f at %.5f %%, %.9f at %.5f %%: linear "
                "interpolation %.10g (%.2g apart)\n", e->value, l1, 100 * v1, l2, 100 * v2, lin,
                fabs(e->value - lin));
-        /* measured 7.4e-9 (fold) and 1.3e-8 (period doubling): the
+        /* measured 6.6e-9 (fold) and 4.7e-9 (period doubling): the
          * location's tolerance (1e-6 of the range: 4e-9, 2e-9), its trial
          * orbits to Newton's 1e-7 (|lambda| moves by about 1e-6: 6e-9 and
          * 3e-8 of mode split at the slopes 175 and 33 per unit); the
