@@ -8,6 +8,16 @@
 #include "json_out.h"
 #include "solve/periodic_internal.h"
 
+/* The state columns of an orbit file: every state an angle or its rate. */
+static void state_columns(const usm_model *m, usm_csv_column *cols)
+{
+    for (int i = 0; i < m->nx; ++i) {
+        const char *nm = m->state_names[i];
+        const size_t len = strlen(nm);
+        cols[i] = (usm_csv_column){nm, len > 3 && strcmp(nm + len - 3, "dot") == 0 ? "rad/s" : "rad"};
+    }
+}
+
 int usm_periodic_write_orbit_csv(const usm_periodic *w, FILE *out)
 {
     const usm_model *m = usm_periodic_model_of(w);
@@ -17,11 +27,7 @@ int usm_periodic_write_orbit_csv(const usm_periodic *w, FILE *out)
     if (!samples)
         return -1;
     cols[0] = (usm_csv_column){"t", "s"};
-    for (int i = 0; i < n; ++i) { /* angles and their rates */
-        const char *nm = m->state_names[i];
-        const size_t len = strlen(nm);
-        cols[i + 1] = (usm_csv_column){nm, len > 3 && strcmp(nm + len - 3, "dot") == 0 ? "rad/s" : "rad"};
-    }
+    state_columns(m, cols + 1);
     cols[n + 1] = (usm_csv_column){"F_n", "N"};
     cols[n + 2] = (usm_csv_column){"F_t", "N"};
     cols[n + 3] = (usm_csv_column){"rotor_speed", "1/s"};
@@ -83,12 +89,7 @@ int usm_hybrid_write_orbit_csv(const usm_model *m, const usm_params *p,
         usm_csv_column cols[USM_HYBRID_SAMPLE_COLS(USM_MAX_NX)];
         cols[0] = (usm_csv_column){"t", "s"};
         cols[1] = (usm_csv_column){"open", "1"};
-        for (int i = 0; i < nx; ++i) { /* angles and their rates */
-            const char *nm = m->state_names[i];
-            const size_t len = strlen(nm);
-            cols[i + 2] = (usm_csv_column){
-                nm, len > 3 && strcmp(nm + len - 3, "dot") == 0 ? "rad/s" : "rad"};
-        }
+        state_columns(m, cols + 2);
         cols[nx + 2] = (usm_csv_column){"gap", "m"};
         cols[nx + 3] = (usm_csv_column){"F_n", "N"};
         cols[nx + 4] = (usm_csv_column){"F_t", "N"};
