@@ -9,7 +9,7 @@
 #    every design drives the load (power_out >= 0) unless --allow-driven;
 #  - against truths the optimizer does not compute: an interior optimum (KKT
 #    residual < 1e-6) against the maximum `usm sweep --extremum speed` locates;
-#    the flat parameter F0 of the README's example against the efficiency where
+#    the flat parameter F0 of docs/design.md's worked example against the efficiency where
 #    `usm sweep --crossing speed=8` puts the speed at 8 at F0 = 0.8; the
 #    multiplier of speed >= 8 against a central difference of re-optimising
 #    with the bound moved; the multiplier of power_out >= 0 at the stall

@@ -5,7 +5,7 @@
 
 The paper's values come from data/paper_values.json, the one file that holds
 them (usm report reads it too); every computed value comes from the program.  Where the paper is known to be
-misprinted (see README, "Where the paper and the model disagree"), the
+misprinted (see docs/model.md, "Where the paper and the model disagree"), the
 corrected reading is checked and the printed value is reported beside it.
 """
 import cmath
@@ -74,7 +74,7 @@ stick = run("--model", "3dof")
 slip = run("--model", "4dof")
 
 # Section 3: theta = 0.81836e-4; alpha "5.16 degrees" is 5.126 rad (misprint,
-# see README); beta "-1.98" equals pi - 5.1256 (a branch taken modulo pi), the
+# see docs/model.md); beta "-1.98" equals pi - 5.1256 (a branch taken modulo pi), the
 # twisting balance gives beta = (T/c_t - alpha)/cos(theta) = -5.126.
 P = {k: v for k, v in PAPER.items() if isinstance(v, dict)}
 # Tolerances from what the reference (the paper's printed numbers) delivers:
@@ -85,7 +85,7 @@ P = {k: v for k, v in PAPER.items() if isinstance(v, dict)}
 # 1e-3; section 5 prints 5.12 and -10.34 (ours 5.6e-3 and 9e-4 away, half a unit
 # 5e-3): 0.01 and 0.005.  Tables 3 and 4 print 4 decimals (half a unit 5e-5 in
 # each part); the paper's multipliers are up to 7.5e-4 from ours (the 4dof pair
-# near 0.26 +- 0.49i, 8e-3 away, is reported, not checked: see README): 2e-3.
+# near 0.26 +- 0.49i, 8e-3 away, is reported, not checked: see docs/results.md): 2e-3.
 check("3dof theta", stick["theta"], P["theta3"]["value"], 1e-4, relative=True)
 check("3dof alpha [rad] (printed 5.16)", stick["alpha"], P["alpha3"]["reading"], 5e-4)
 check("3dof beta [rad] (printed -1.98)", stick["beta"], P["beta3"]["reading"], 5e-4)

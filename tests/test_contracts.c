@@ -8,7 +8,7 @@
  *   column USM_P_<name> of steady_jacobian_params must be the derivative in the
  *   field <name> (central differences in the field offsetof finds).
  * - Outputs: names and units as docs/cli.md's JSON keys state them; R* and Z
- *   (README, "The derivation": R* = R cos(theta) - H sin(theta),
+ *   (docs/derivation.md: R* = R cos(theta) - H sin(theta),
  *   Z = R sin(theta) + H cos(theta)) at the indices USM_OUT_R_STAR, USM_OUT_Z,
  *   USM_STEADY_R_STAR and USM_STEADY_Z.
  * - Couplings: a model assuming an axisymmetric stator (its assumptions

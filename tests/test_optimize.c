@@ -32,7 +32,7 @@
  *    1e-5 of the speed per box width; the near-optimal interval's ends
  *    checked by re-solving (inside: within 1e-4; 2 Hz = 1e-3 of the box
  *    beyond them: not), f not flat.
- *  - a flat parameter (the README's worked example: efficiency over F0 and f
+ *  - a flat parameter (docs/design.md's worked example: efficiency over F0 and f
  *    with speed >= 8): at F0 = 0.2 ... 0.8 the frequency where the speed is 8
  *    (bisection on usm_steady_solve) gives an efficiency within 1e-4 of the
  *    optimum, stable and sticking: F0 is flat over its whole box and listed

@@ -227,7 +227,7 @@ static void check_no_solution(const usm_model *m, const char *field, double valu
 /* ---- 0. the paper's stationary values make the residuals vanish ------------- */
 
 /* The paper gives theta = 0.81836e-4 (5 digits) and alpha = 5.126 rad (read as
- * radians, see README).  At those values each residual must be no larger than
+ * radians, see docs/model.md).  At those values each residual must be no larger than
  * what half a unit in their last digits can change it by. */
 static void check_paper_point(const usm_model *m, const usm_params *p)
 {

@@ -1,4 +1,4 @@
-"""examples/fig9.py (README, "Python") runs and writes its figure; its speed
+"""examples/fig9.py (docs/python.md) runs and writes its figure; its speed
 maximum is the sweep's, near the 37.45 kHz of README's comparison table."""
 import os
 import re
