@@ -7,7 +7,7 @@
 # peak resident memory of each rank (/usr/bin/time), the statistics per
 # sample and the CSV cost per row; then the projection for 10^8 samples on
 # 1,000 ranks derived from those figures (see the end of this script and
-# README.md, "Large studies").
+# docs/tolerance.md, "Large studies and the projection to 1,000 ranks").
 #
 # The study is bench_tolerance's: 3dof, F0 normal 10 %, c_t normal 5 %, T
 # uniform 0..4 mN m, every sample the full stationary search + Floquet.
@@ -58,7 +58,7 @@ PYEOF
 done
 cat <<'EOF2'
 
-The projection (README.md, "Large studies") from these figures, for 10^8 samples on P = 1,000
+The projection (docs/tolerance.md, "Large studies") from these figures, for 10^8 samples on P = 1,000
 ranks of one thread each, n/P = 10^5 samples per rank:
   compute    = (1-rank compute seconds / samples) x 10^5           (the samples are independent)
   statistics = (1-rank statistics seconds per sample) x 10^5        (the local sorts and searches)
