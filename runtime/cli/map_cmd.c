@@ -322,7 +322,8 @@ int cli_map_main(int argc, char **argv)
     }
     if (a.out && a.plot) { /* --out m.csv --plot m: PREFIX.csv would replace --out's file */
         char files[USM_PLOT_MAX_FILES][USM_IO_PATH_LEN];
-        const char *paths[1 + USM_PLOT_MAX_FILES] = {a.out}, *opts[1 + USM_PLOT_MAX_FILES] = {"--out"};
+        const char *paths[1 + USM_PLOT_MAX_FILES] = {a.out};
+        const char *opts[1 + USM_PLOT_MAX_FILES] = {"--out"};
         const int m = usm_plot_files(a.plot, 1, files);
         for (int i = 0; i < m; ++i)
             paths[1 + i] = files[i], opts[1 + i] = "--plot";

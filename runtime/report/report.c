@@ -7,12 +7,14 @@
  * a stage beside it (PARENT/.NAME.usm-new-PID), and only when complete the
  * stage and DIR are exchanged (renameat2 RENAME_EXCHANGE, one step) and the
  * old report removed, so that no interruption mixes two runs: a reader sees
- * the old report or the new one.  A DIR holding files that are not the
- * report's (allowed with --force), a DIR that is a symlink, or a parent that
- * is not writable is written in place instead, its old report.md/.html/.json
- * removed first, so that an interrupted run leaves no complete-looking
- * report beside new data.  flock(2) on DIR makes a second run into the same
- * directory fail at once. */
+ * the old report or the new one.  A DIR that is a symlink is refused
+ * without --force; with it the link itself is replaced by the stage (its
+ * target is never written).  A DIR holding files that are not the report's
+ * (allowed with --force) or a parent that is not writable is written in
+ * place instead, its old report.md/.html/.json removed first, so that an
+ * interrupted run leaves no complete-looking report beside new data.
+ * flock(2) on DIR (on .DIR.usm-lock beside a symlink) makes a second run
+ * into the same directory fail at once. */
 #define _GNU_SOURCE /* renameat2 */
 
 #include "usm_report.h"
