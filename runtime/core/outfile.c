@@ -364,12 +364,18 @@ void usm_outfile_clean_stages(const char *path, int (*drop)(const char *name))
 
 int usm_outfile_replace_link(const char *from, const char *link)
 {
+    struct stat st;
     if (renameat2(AT_FDCWD, from, AT_FDCWD, link, RENAME_EXCHANGE) == 0) {
-        unlink(from); /* the link, now at from: a name only, its target untouched */
-        return 0;
+        if (lstat(from, &st) == 0 && S_ISLNK(st.st_mode)) {
+            unlink(from); /* the link, now at from: a name only, its target untouched */
+            return 0;
+        }
+        /* not a link any more (replaced meanwhile): put both back, refuse */
+        renameat2(AT_FDCWD, from, AT_FDCWD, link, RENAME_EXCHANGE);
+        errno = EEXIST;
+        return -1;
     }
     /* a file system without the exchange: a moment without the name */
-    struct stat st;
     if (lstat(link, &st) != 0 || !S_ISLNK(st.st_mode)) {
         errno = EEXIST;
         return -1;

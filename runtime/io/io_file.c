@@ -180,6 +180,7 @@ int usm_io_dir_create(usm_io_dir *out, const char *path, int force, char msg[USM
     /* a non-empty directory (force): in place; never a symlink's target */
     if (lstat(path, &st) == 0 && S_ISDIR(st.st_mode) && dir_empty(path) == 0)
         return USM_OK;
+    out->replace_link = force && lstat(path, &st) == 0 && S_ISLNK(st.st_mode);
     usm_outfile_clean_stages(path, NULL);
     snprintf(suffix, sizeof suffix, "%s%ld", USM_OUTFILE_STAGE, (long)getpid());
     if (usm_outfile_beside(out->stage, path, suffix) != 0) {
@@ -211,8 +212,9 @@ int usm_io_dir_commit(usm_io_dir *out, char msg[USM_IO_MSG_LEN])
     if (!out->stage[0])
         return USM_OK;
     /* a symlink at path (allowed with force only, usm_io_dir_check): the link
-     * itself is replaced, its target never written */
-    if (lstat(out->path, &st) == 0 && S_ISLNK(st.st_mode)) {
+     * itself is replaced, its target never written; one that appeared
+     * meanwhile is kept (rename fails, below) */
+    if (out->replace_link && lstat(out->path, &st) == 0 && S_ISLNK(st.st_mode)) {
         if (usm_outfile_replace_link(out->stage, out->path) != 0) {
             const int e = errno;
             usm_io_msg(msg, "%s: cannot replace the symbolic link: %s", out->path, strerror(e));

@@ -412,7 +412,11 @@ int usm_report_write(const char *dir, const usm_params *p, const usm_report_opti
         status = usm_report_compute_design(d, msg);
     if (status == USM_OK) {
         usm_outfile_clean_stages(dir, report_name);
-        if (make_stage(dir, stage, msg) == 0)
+        if (is_link(dir) && !opt->force) { /* appeared since usm_report_prepare_dir */
+            usm_io_msg(msg, "%s: is a symbolic link; refusing to write through it (use --force "
+                       "to replace the link itself)", dir);
+            status = USM_EINPUT;
+        } else if (make_stage(dir, stage, msg) == 0)
             staged = 1, w = stage;
         else if (is_link(dir)) {
             usm_io_msg(msg, "%s: cannot make the directory that replaces the symbolic link: %s",

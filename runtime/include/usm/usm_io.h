@@ -102,6 +102,7 @@ typedef struct usm_io_dir {
     char path[USM_IO_PATH_LEN];  /* the final directory */
     char stage[USM_IO_PATH_LEN]; /* the stage ("" when writing in place) */
     const char *work;            /* where to write: stage or path */
+    int replace_link;            /* path was a symlink (force): the link is replaced */
 } usm_io_dir;
 
 /* USM_OK when a directory can be written at path now: it does not exist
