@@ -108,7 +108,7 @@ checks=$((checks + 1))
 M="map --x-points 3 --y-points 2"
 mkfifo pipe
 ln -s pipe plink.csv
-USM_RUN_TIMEOUT=30
+USM_RUN_TIMEOUT=60
 if expect_rc 0 $M --out plink.csv --force; then
     checks=$((checks + 1))
     [ -f plink.csv ] && [ ! -L plink.csv ] && [ -p pipe ] ||
@@ -131,7 +131,7 @@ intact victim keep1 samples.csv summary.md
 mkdir .ck2.usm-lock
 expect_bad "--checkpoint ck2" "lock file .ck2.usm-lock is a directory" $T --checkpoint ck2
 mkfifo ck3
-USM_RUN_TIMEOUT=30
+USM_RUN_TIMEOUT=60
 expect_bad "--checkpoint ck3" "not a regular file" $T --checkpoint ck3
 USM_RUN_TIMEOUT=120
 
