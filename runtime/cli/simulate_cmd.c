@@ -373,6 +373,33 @@ static void warnings(const usm_sim_summary *s, double mu0)
                   s->stick_exceeded.worst);
 }
 
+/* --out, --plot's and --spectrum's files: one run's outputs, each its own
+ * file (--out X.csv --spectrum X would write the spectrum over the time
+ * history), refused before the run. */
+static int check_outputs(const sim_args *a, char msg[CLI_MSG_LEN])
+{
+    char files[2][USM_PLOT_MAX_FILES][USM_IO_PATH_LEN], why[USM_IO_MSG_LEN];
+    const char *paths[1 + 2 * USM_PLOT_MAX_FILES], *opts[1 + 2 * USM_PLOT_MAX_FILES];
+    int n = 0;
+    if (a->out)
+        paths[n] = a->out, opts[n++] = "--out";
+    for (int k = 0; k < 2; ++k) {
+        const char *prefix = k ? a->spectrum : a->plot;
+        const int m = prefix ? usm_plot_files(prefix, k, files[k]) : 0;
+        if (m < 0) {
+            cli_msg(msg, "%s %.200s: path too long", k ? "--spectrum" : "--plot", prefix);
+            return USM_EINPUT;
+        }
+        for (int i = 0; i < m; ++i)
+            paths[n] = files[k][i], opts[n++] = k ? "--spectrum" : "--plot";
+    }
+    if (usm_io_check_distinct(paths, opts, n, why) != USM_OK) {
+        cli_msg(msg, "%s", why);
+        return USM_EINPUT;
+    }
+    return USM_OK;
+}
+
 static int run(sim_args *a, usm_sim *s)
 {
     char msg[CLI_MSG_LEN];
@@ -400,7 +427,8 @@ static int run(sim_args *a, usm_sim *s)
                   a->opt.rate, a->opt.duration, a->opt.rate * a->opt.duration, MAX_ROWS);
         return USM_EINPUT;
     }
-    if (a->plot && usm_plot_check(a->plot, a->force, msg) != USM_OK) {
+    if (check_outputs(a, msg) != USM_OK ||
+        (a->plot && usm_plot_check(a->plot, a->force, msg) != USM_OK)) {
         cli_error("%s", msg);
         return USM_EINPUT;
     }

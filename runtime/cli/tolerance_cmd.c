@@ -243,6 +243,7 @@ static int write_out(const tol_args *a, const usm_tolerance *t, int mpi, char ms
     if (rc == USM_OK)
         rc = write_file(dir.work, "summary.md", t, 1, a->force, 0, msg);
     if (rc != USM_OK) {
+        usm_io_dir_msg(&dir, msg); /* DIR/samples.csv, not the hidden stage's */
         usm_io_dir_abort(&dir);
         return rc;
     }

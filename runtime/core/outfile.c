@@ -1,5 +1,5 @@
 /* Files that appear whole or not at all (outfile.h). */
-#define _POSIX_C_SOURCE 200809L
+#define _GNU_SOURCE /* renameat2 */
 
 #include "outfile.h"
 
@@ -39,6 +39,18 @@ static int split(const char *path, char dir[USM_OUTFILE_PATH], const char **base
     return 0;
 }
 
+/* What a directory entry of mode m is, for a message: usm writes regular
+ * files only, never into a pipe (the open would block until a reader came,
+ * the data go to whoever reads) or a device. */
+static const char *not_regular(mode_t m)
+{
+    return S_ISFIFO(m)   ? "is a named pipe (FIFO)"
+           : S_ISCHR(m)  ? "is a character device"
+           : S_ISBLK(m)  ? "is a block device"
+           : S_ISSOCK(m) ? "is a socket"
+                         : "is not a regular file";
+}
+
 int usm_outfile_check(const char *path, int force, char *why, size_t len)
 {
     char dir[USM_OUTFILE_PATH];
@@ -50,22 +62,29 @@ int usm_outfile_check(const char *path, int force, char *why, size_t len)
         return USM_EINPUT;
     }
     if (lstat(path, &st) == 0) {
-        const char *r = S_ISDIR(st.st_mode) ? "is a directory"
-                        : force             ? NULL
-                        : S_ISLNK(st.st_mode)
-                            ? "is a symbolic link; refusing to write through it (use --force "
-                              "to replace the link itself)"
-                            : "exists; refusing to overwrite it (use --force)";
-        if (r) {
-            snprintf(why, len, "%.900s: %s", path, r);
+        if (S_ISDIR(st.st_mode)) {
+            snprintf(why, len, "%.900s: is a directory", path);
             return USM_EINPUT;
         }
+        if (!S_ISREG(st.st_mode) && !S_ISLNK(st.st_mode)) {
+            /* with --force too: replacing a pipe or device node is never what was meant */
+            snprintf(why, len, "%.900s: %s; usm writes regular files only (refusing to write "
+                     "to it or replace it)", path, not_regular(st.st_mode));
+            return USM_EINPUT;
+        }
+        if (!force) {
+            snprintf(why, len, "%.900s: %s", path,
+                     S_ISLNK(st.st_mode)
+                         ? "is a symbolic link; refusing to write through it (use --force to "
+                           "replace the link itself)"
+                         : "exists; refusing to overwrite it (use --force)");
+            return USM_EINPUT;
+        }
+        /* force: a symlink is replaced by the new file, whatever it points to */
     } else if (errno != ENOENT) {
         snprintf(why, len, "%.900s: %s", path, strerror(errno));
         return USM_EINPUT;
     }
-    if (force && stat(path, &st) == 0 && (S_ISCHR(st.st_mode) || S_ISFIFO(st.st_mode)))
-        return USM_OK; /* a device or pipe, written as it is */
     if (stat(dir, &st) != 0 || !S_ISDIR(st.st_mode) || access(dir, W_OK | X_OK) != 0) {
         const int e = errno;
         snprintf(why, len, "%.900s: directory %s: %s", path, dir,
@@ -78,7 +97,9 @@ int usm_outfile_check(const char *path, int force, char *why, size_t len)
 static int dead_pid(const char *s, int old_too);
 
 /* Remove the temporaries of base in dir whose process is gone (a killed
- * run's); a live process's are left alone. */
+ * run's); a live process's are left alone, and so is anything usm cannot
+ * have made: not a regular file, or another user's.  unlinkat removes the
+ * name itself, never a symlink's target. */
 static void clean_stale(const char *dir, const char *base)
 {
     DIR *d = opendir(dir);
@@ -89,6 +110,7 @@ static void clean_stale(const char *dir, const char *base)
     while ((e = readdir(d))) {
         const char *n = e->d_name;
         const size_t nlen = strlen(n);
+        struct stat st;
         if (n[0] != '.' || nlen < 1 + blen + strlen(TMP_MID) + strlen(TMP_END) + 2 ||
             strncmp(n + 1, base, blen) != 0 ||
             strncmp(n + 1 + blen, TMP_MID, strlen(TMP_MID)) != 0 ||
@@ -101,11 +123,10 @@ static void clean_stale(const char *dir, const char *base)
             continue;
         memcpy(num, at, digits);
         num[digits] = '\0';
-        if (!dead_pid(num, 0))
+        if (!dead_pid(num, 0) || fstatat(dirfd(d), n, &st, AT_SYMLINK_NOFOLLOW) != 0 ||
+            !S_ISREG(st.st_mode) || st.st_uid != geteuid())
             continue;
-        char p[USM_OUTFILE_PATH];
-        if (snprintf(p, sizeof p, "%s/%s", dir, n) < (int)sizeof p)
-            unlink(p);
+        unlinkat(dirfd(d), n, 0);
     }
     closedir(d);
 }
@@ -116,20 +137,9 @@ int usm_outfile_open(const char *path, int force, char tmp[USM_OUTFILE_PATH], ch
     char dir[USM_OUTFILE_PATH];
     const char *base;
     struct timespec ts;
-    struct stat st;
     *status = usm_outfile_check(path, force, why, len);
     if (*status != USM_OK)
         return -1;
-    /* a device or pipe (--force --out /dev/null): written as it is, nothing to place */
-    if (force && stat(path, &st) == 0 && (S_ISCHR(st.st_mode) || S_ISFIFO(st.st_mode))) {
-        const int fd = open(path, O_WRONLY | O_NOCTTY | O_CLOEXEC);
-        tmp[0] = '\0';
-        if (fd < 0) {
-            snprintf(why, len, "%.900s: %s", path, strerror(errno));
-            *status = USM_EINPUT;
-        }
-        return fd;
-    }
     split(path, dir, &base);
     clean_stale(dir, base);
     clock_gettime(CLOCK_REALTIME, &ts);
@@ -161,8 +171,6 @@ int usm_outfile_open(const char *path, int force, char tmp[USM_OUTFILE_PATH], ch
 int usm_outfile_place(const char *tmp, const char *path, int force, char *why, size_t len)
 {
     int status = USM_OK;
-    if (!tmp[0])
-        return USM_OK; /* a device, written in place */
     if (force) {
         if (rename(tmp, path) != 0) {
             snprintf(why, len, "%.900s: %s", path, strerror(errno));
@@ -197,27 +205,43 @@ int usm_outfile_place(const char *tmp, const char *path, int force, char *why, s
     return status;
 }
 
-int usm_outfile_lock(const char *path, char *why, size_t len, int *busy)
+int usm_outfile_lock(const char *path, char *why, size_t len, int *input)
 {
     char dir[USM_OUTFILE_PATH], lock[USM_OUTFILE_PATH];
     const char *base;
+    struct stat st;
     int fd;
-    *busy = 0;
+    *input = 1;
     if (split(path, dir, &base) != 0 ||
         snprintf(lock, sizeof lock, "%.*s.%s.usm-lock", (int)(base - path), path, base) >=
             (int)sizeof lock) {
         snprintf(why, len, "%.200s: path too long", path);
         return -1;
     }
-    if ((fd = open(lock, O_RDWR | O_CREAT | O_NOFOLLOW | O_CLOEXEC, 0666)) < 0) {
-        snprintf(why, len, "%.900s: %s", lock, strerror(errno));
+    /* O_NONBLOCK: a pipe planted there must not hang the run */
+    if ((fd = open(lock, O_RDWR | O_CREAT | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC, 0666)) < 0) {
+        const int e = errno;
+        const char *r = e == ELOOP    ? "is a symbolic link, not followed (remove it)"
+                        : e == EISDIR ? "is a directory (remove it)"
+                                      : strerror(e);
+        *input = !(e == ENOSPC || e == EIO || e == EMFILE || e == ENFILE || e == ENOMEM);
+        snprintf(why, len, "%.900s: its lock file %s%s%s", path, lock + (base - path),
+                 e == ELOOP || e == EISDIR ? " " : ": ", r);
+        return -1;
+    }
+    if (fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+        const int bad = errno;
+        snprintf(why, len, "%.900s: its lock file %s %s (remove it)", path, lock + (base - path),
+                 fstat(fd, &st) != 0 ? strerror(bad) : not_regular(st.st_mode));
+        close(fd);
         return -1;
     }
     if (flock(fd, LOCK_EX | LOCK_NB) != 0) {
-        *busy = errno == EWOULDBLOCK;
+        const int busy = errno == EWOULDBLOCK;
+        *input = busy;
         snprintf(why, len, "%.900s: %s", path,
-                 *busy ? "another run is using it (wait for it to end, or use another file)"
-                       : strerror(errno));
+                 busy ? "another run is using it (wait for it to end, or use another file)"
+                      : strerror(errno));
         close(fd);
         return -1;
     }
@@ -249,40 +273,133 @@ int usm_outfile_beside(char buf[USM_OUTFILE_PATH], const char *path, const char 
     return n == plen || w < 0 || w >= USM_OUTFILE_PATH ? -1 : 0;
 }
 
-void usm_outfile_remove_dir(const char *dir, int (*drop)(const char *name))
+/* Remove the directory name in the directory open at pfd, as
+ * usm_outfile_remove_dir.  Entered only through a descriptor opened with
+ * O_DIRECTORY|O_NOFOLLOW, so a symlink is never followed (its target's
+ * contents stay as they are): a symlink is itself removed, another kind of
+ * file left.  mine: only a directory of ours (st_uid), for a stage found by
+ * its name rather than made by this run. */
+static void remove_dir_at(int pfd, const char *name, int (*drop)(const char *name), int mine)
 {
-    DIR *d = opendir(dir);
-    struct dirent *e;
-    if (!d)
+    struct stat st;
+    const int fd = openat(pfd, name, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
+    if (fd < 0) {
+        if (fstatat(pfd, name, &st, AT_SYMLINK_NOFOLLOW) == 0 && S_ISLNK(st.st_mode))
+            unlinkat(pfd, name, 0);
         return;
+    }
+    DIR *d = fstat(fd, &st) == 0 && (!mine || st.st_uid == geteuid()) ? fdopendir(fd) : NULL;
+    struct dirent *e;
+    if (!d) {
+        close(fd);
+        return;
+    }
+    /* usm puts regular files there (and the temporaries that become them); a
+     * symlink is unlinked as a name, a directory or pipe is not usm's */
     while ((e = readdir(d)))
         if (strcmp(e->d_name, ".") != 0 && strcmp(e->d_name, "..") != 0 &&
-            (!drop || drop(e->d_name)))
+            (!drop || drop(e->d_name)) &&
+            fstatat(dirfd(d), e->d_name, &st, AT_SYMLINK_NOFOLLOW) == 0 &&
+            (S_ISREG(st.st_mode) || S_ISLNK(st.st_mode)))
             unlinkat(dirfd(d), e->d_name, 0);
     closedir(d);
-    rmdir(dir);
+    unlinkat(pfd, name, AT_REMOVEDIR); /* fails, keeping it, when anything is left */
+}
+
+/* Open path's parent directory (its last component in *base); -1 when
+ * path has none. */
+static int open_parent(const char *path, char parent[USM_OUTFILE_PATH], const char **base)
+{
+    size_t n = strlen(path);
+    while (n > 1 && path[n - 1] == '/')
+        --n;
+    if (n >= USM_OUTFILE_PATH)
+        return -1;
+    memcpy(parent, path, n);
+    parent[n] = '\0';
+    char *slash = strrchr(parent, '/');
+    if (!slash) {
+        *base = parent;
+        return open(".", O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    }
+    *slash = '\0';
+    *base = slash + 1;
+    if (!**base)
+        return -1;
+    return open(slash == parent ? "/" : parent, O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+}
+
+void usm_outfile_remove_dir(const char *dir, int (*drop)(const char *name))
+{
+    char buf[USM_OUTFILE_PATH];
+    const char *base;
+    const int pfd = open_parent(dir, buf, &base);
+    if (pfd < 0)
+        return;
+    if (strcmp(base, ".") != 0 && strcmp(base, "..") != 0)
+        remove_dir_at(pfd, base, drop, 0);
+    close(pfd);
 }
 
 void usm_outfile_clean_stages(const char *path, int (*drop)(const char *name))
 {
-    char prefix[USM_OUTFILE_PATH], parent[USM_OUTFILE_PATH], p[USM_OUTFILE_PATH];
+    char prefix[USM_OUTFILE_PATH], buf[USM_OUTFILE_PATH];
+    const char *base;
     if (usm_outfile_beside(prefix, path, USM_OUTFILE_STAGE) != 0)
         return;
-    const char *slash = strrchr(prefix, '/');
-    const char *base = slash ? slash + 1 : prefix;
-    if (slash)
-        snprintf(parent, sizeof parent, "%.*s", slash == prefix ? 1 : (int)(slash - prefix),
-                 prefix);
-    else
-        snprintf(parent, sizeof parent, ".");
-    DIR *d = opendir(parent);
+    const int pfd = open_parent(prefix, buf, &base);
+    DIR *d = pfd < 0 ? NULL : fdopendir(pfd);
     struct dirent *e;
-    if (!d)
+    if (!d) {
+        if (pfd >= 0)
+            close(pfd);
         return;
+    }
+    const size_t blen = strlen(base);
     while ((e = readdir(d)))
-        if (strncmp(e->d_name, base, strlen(base)) == 0 &&
-            dead_pid(e->d_name + strlen(base), 1) &&
-            snprintf(p, sizeof p, "%s/%s", parent, e->d_name) < (int)sizeof p)
-            usm_outfile_remove_dir(p, drop);
+        if (strncmp(e->d_name, base, blen) == 0 && dead_pid(e->d_name + blen, 1))
+            remove_dir_at(dirfd(d), e->d_name, drop, 1);
     closedir(d);
+}
+
+int usm_outfile_replace_link(const char *from, const char *link)
+{
+    struct stat st;
+    if (renameat2(AT_FDCWD, from, AT_FDCWD, link, RENAME_EXCHANGE) == 0) {
+        if (lstat(from, &st) == 0 && S_ISLNK(st.st_mode)) {
+            unlink(from); /* the link, now at from: a name only, its target untouched */
+            return 0;
+        }
+        /* not a link any more (replaced meanwhile): put both back, refuse */
+        renameat2(AT_FDCWD, from, AT_FDCWD, link, RENAME_EXCHANGE);
+        errno = EEXIST;
+        return -1;
+    }
+    /* a file system without the exchange: a moment without the name */
+    if (lstat(link, &st) != 0 || !S_ISLNK(st.st_mode)) {
+        errno = EEXIST;
+        return -1;
+    }
+    if (unlink(link) != 0)
+        return -1;
+    return rename(from, link);
+}
+
+void usm_outfile_unstage(char *msg, size_t len, const char *stage, const char *path)
+{
+    char out[USM_OUTFILE_PATH];
+    size_t o = 0;
+    const size_t fl = strlen(stage), tl = strlen(path);
+    if (!fl || len == 0)
+        return;
+    for (const char *s = msg; *s && o + 1 < sizeof out && o + 1 < len;) {
+        if (strncmp(s, stage, fl) == 0 && o + tl + 1 < sizeof out && o + tl + 1 < len) {
+            memcpy(out + o, path, tl);
+            o += tl;
+            s += fl;
+        } else
+            out[o++] = *s++;
+    }
+    out[o] = '\0';
+    memcpy(msg, out, o + 1);
 }

@@ -136,6 +136,16 @@ int usm_plot_check(const char *prefix, int force, char msg[USM_IO_MSG_LEN])
         usm_io_msg(msg, "--plot: \"%.200s\" is not usable as a file prefix", prefix);
         return USM_EINPUT;
     }
+    {
+        const char *slash = strrchr(prefix, '/'), *base = slash ? slash + 1 : prefix;
+        struct stat st;
+        if (!base[0] || strcmp(base, ".") == 0 || strcmp(base, "..") == 0 ||
+            (stat(prefix, &st) == 0 && S_ISDIR(st.st_mode))) {
+            usm_io_msg(msg, "--plot %.900s: names a directory, not a file prefix (PREFIX.gp, "
+                       "PREFIX.png, ... are written beside it: give DIR/NAME)", prefix);
+            return USM_EINPUT;
+        }
+    }
     /* lstat, not stat: a dangling symlink is refused too */
     for (size_t k = 0; k < sizeof ext / sizeof ext[0]; ++k) {
         snprintf(path, sizeof path, "%s%s", prefix, ext[k]);
@@ -212,6 +222,19 @@ int usm_plot_render(const char *script, const char *prefix, const char *const *n
         const char *stems[1] = {prefix};
         return usm_gnuplot_run(".", stems, 1, 1, log, msg);
     }
+}
+
+int usm_plot_files(const char *prefix, int csv,
+                   char files[USM_PLOT_MAX_FILES][USM_IO_PATH_LEN])
+{
+    static const char *const ext[] = {".csv", ".gp", ".png", ".svg", ".log"};
+    int n = 0;
+    for (size_t k = csv ? 0 : 1; k < sizeof ext / sizeof ext[0]; ++k) {
+        const int w = snprintf(files[n++], USM_IO_PATH_LEN, "%s%s", prefix, ext[k]);
+        if (w < 0 || w >= USM_IO_PATH_LEN)
+            return -1;
+    }
+    return n;
 }
 
 int usm_plot_csv_check(const char *prefix, int force, char msg[USM_IO_MSG_LEN])

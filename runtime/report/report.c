@@ -7,12 +7,14 @@
  * a stage beside it (PARENT/.NAME.usm-new-PID), and only when complete the
  * stage and DIR are exchanged (renameat2 RENAME_EXCHANGE, one step) and the
  * old report removed, so that no interruption mixes two runs: a reader sees
- * the old report or the new one.  A DIR holding files that are not the
- * report's (allowed with --force), a DIR that is a symlink, or a parent that
- * is not writable is written in place instead, its old report.md/.html/.json
- * removed first, so that an interrupted run leaves no complete-looking
- * report beside new data.  flock(2) on DIR makes a second run into the same
- * directory fail at once. */
+ * the old report or the new one.  A DIR that is a symlink is refused
+ * without --force; with it the link itself is replaced by the stage (its
+ * target is never written).  A DIR holding files that are not the report's
+ * (allowed with --force) or a parent that is not writable is written in
+ * place instead, its old report.md/.html/.json removed first, so that an
+ * interrupted run leaves no complete-looking report beside new data.
+ * flock(2) on DIR (on .DIR.usm-lock beside a symlink) makes a second run
+ * into the same directory fail at once. */
 #define _GNU_SOURCE /* renameat2 */
 
 #include "usm_report.h"
@@ -72,14 +74,20 @@ static int make_dir(const char *dir, char msg[USM_IO_MSG_LEN])
     return USM_OK;
 }
 
-/* 1 when the file at path starts with the line `marker`. */
+/* 1 when the file at path is a regular file (not a symlink: never followed;
+ * not a pipe: the open must not block) that starts with the line `marker`. */
 static int starts_with_line(const char *path, const char *marker)
 {
     char line[512];
-    FILE *f = fopen(path, "r");
+    struct stat st;
+    const int fd = open(path, O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
+    FILE *f = fd >= 0 && fstat(fd, &st) == 0 && S_ISREG(st.st_mode) ? fdopen(fd, "r") : NULL;
     int own = 0;
-    if (!f)
+    if (!f) {
+        if (fd >= 0)
+            close(fd);
         return 0;
+    }
     if (fgets(line, sizeof line, f)) {
         line[strcspn(line, "\r\n")] = '\0';
         own = strcmp(line, marker) == 0;
@@ -106,10 +114,18 @@ static int check_dir(const char *dir, int force, char msg[USM_IO_MSG_LEN])
 {
     char path[4096];
     struct stat st;
-    if (stat(dir, &st) != 0) {
+    if (lstat(dir, &st) != 0) {
         if (errno == ENOENT)
             return USM_OK; /* created later */
         usm_io_msg(msg, "%s: %s", dir, strerror(errno));
+        return USM_EINPUT;
+    }
+    if (S_ISLNK(st.st_mode)) {
+        /* with --force the link itself is replaced by the new report's directory */
+        if (force)
+            return USM_OK;
+        usm_io_msg(msg, "%s: is a symbolic link; refusing to write through it (use --force to "
+                   "replace the link itself)", dir);
         return USM_EINPUT;
     }
     if (!S_ISDIR(st.st_mode)) {
@@ -239,11 +255,27 @@ static int only_report_files(const char *dir)
     return only;
 }
 
+/* Whether dir is a symlink (with --force: replaced by the new directory). */
+static int is_link(const char *dir)
+{
+    struct stat st;
+    return lstat(dir, &st) == 0 && S_ISLNK(st.st_mode);
+}
+
 /* Lock dir for this run: a descriptor (close it to unlock), or -1 with msg
- * when another run holds it. */
+ * when another run holds it.  A symlink is not followed: the lock is then
+ * the file .DIR.usm-lock beside it. */
 static int lock_dir(const char *dir, char msg[USM_IO_MSG_LEN])
 {
-    const int fd = open(dir, O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (is_link(dir)) {
+        char why[USM_IO_MSG_LEN];
+        int input;
+        const int fd = usm_outfile_lock(dir, why, sizeof why, &input);
+        if (fd < 0)
+            usm_io_msg(msg, "--out %s", why);
+        return fd;
+    }
+    const int fd = open(dir, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
     if (fd < 0) {
         usm_io_msg(msg, "--out %s: %s", dir, strerror(errno));
         return -1;
@@ -259,20 +291,24 @@ static int lock_dir(const char *dir, char msg[USM_IO_MSG_LEN])
     return fd;
 }
 
-/* A stage for dir (stage: 4096 bytes), when dir can be replaced as a whole;
- * 0 with the stage made, else -1 (write in place). */
+/* A stage for dir (stage: 4096 bytes), when dir can be replaced as a whole
+ * (a symlink always is: the link, never its target); 0 with the stage made,
+ * else -1 (write in place). */
 static int make_stage(const char *dir, char *stage, char msg[USM_IO_MSG_LEN])
 {
     char suffix[64];
     struct stat st;
     snprintf(suffix, sizeof suffix, "%s%ld", USM_OUTFILE_STAGE, (long)getpid());
-    if (lstat(dir, &st) != 0 || !S_ISDIR(st.st_mode) || !only_report_files(dir) ||
+    if (lstat(dir, &st) != 0 ||
+        !(S_ISLNK(st.st_mode) || (S_ISDIR(st.st_mode) && only_report_files(dir))) ||
         usm_outfile_beside(stage, dir, suffix) != 0)
         return -1;
+    const mode_t mode = S_ISLNK(st.st_mode) ? 0777 : st.st_mode & 07777;
     usm_outfile_remove_dir(stage, report_name); /* a stage of a run with our pid, long gone */
-    if (mkdir(stage, st.st_mode & 07777) != 0)
+    if (mkdir(stage, mode) != 0)
         return -1;
-    chmod(stage, st.st_mode & 07777);
+    if (!S_ISLNK(st.st_mode))
+        chmod(stage, mode);
     if (write_manifest(stage, msg) != USM_OK) {
         usm_outfile_remove_dir(stage, report_name);
         return -1;
@@ -284,6 +320,12 @@ static int make_stage(const char *dir, char *stage, char msg[USM_IO_MSG_LEN])
 static int swap_in(const char *dir, const char *stage, char msg[USM_IO_MSG_LEN])
 {
     char old[4096];
+    if (is_link(dir)) {
+        if (usm_outfile_replace_link(stage, dir) == 0)
+            return USM_OK;
+        usm_io_msg(msg, "%s: cannot replace the symbolic link: %s", dir, strerror(errno));
+        return USM_EFAILED;
+    }
     if (renameat2(AT_FDCWD, stage, AT_FDCWD, dir, RENAME_EXCHANGE) == 0) {
         usm_outfile_remove_dir(stage, report_name); /* now the old report */
         return USM_OK;
@@ -297,25 +339,6 @@ static int swap_in(const char *dir, const char *stage, char msg[USM_IO_MSG_LEN])
     }
     usm_outfile_remove_dir(old, report_name);
     return USM_OK;
-}
-
-/* Every occurrence of from in msg replaced by to (the stage's path by the
- * directory's in gnuplot's messages, which outlive the stage). */
-static void replace_all(char msg[USM_IO_MSG_LEN], const char *from, const char *to)
-{
-    char out[USM_IO_MSG_LEN];
-    size_t o = 0;
-    const size_t fl = strlen(from), tl = strlen(to);
-    for (const char *s = msg; *s && o + 1 < sizeof out;) {
-        if (fl && strncmp(s, from, fl) == 0 && o + tl + 1 < sizeof out) {
-            memcpy(out + o, to, tl);
-            o += tl;
-            s += fl;
-        } else
-            out[o++] = *s++;
-    }
-    out[o] = '\0';
-    memcpy(msg, out, o + 1);
 }
 
 /* In place: the old report's marker files go first, so that an interrupted
@@ -343,8 +366,11 @@ int usm_report_prepare_dir(const char *dir, const usm_report_options *opt,
 {
     if (usm_report_options_check(opt, msg) != USM_OK)
         return USM_EINPUT;
-    if (check_dir(dir, opt->force, msg) != USM_OK || make_dir(dir, msg) != USM_OK ||
-        write_manifest(dir, msg) != USM_OK)
+    if (check_dir(dir, opt->force, msg) != USM_OK)
+        return USM_EINPUT;
+    if (is_link(dir)) /* --force: the link is replaced, nothing written into its target */
+        return USM_OK;
+    if (make_dir(dir, msg) != USM_OK || write_manifest(dir, msg) != USM_OK)
         return USM_EINPUT;
     return USM_OK;
 }
@@ -386,11 +412,20 @@ int usm_report_write(const char *dir, const usm_params *p, const usm_report_opti
         status = usm_report_compute_design(d, msg);
     if (status == USM_OK) {
         usm_outfile_clean_stages(dir, report_name);
-        if (make_stage(dir, stage, msg) == 0)
+        if (is_link(dir) && !opt->force) { /* appeared since usm_report_prepare_dir */
+            usm_io_msg(msg, "%s: is a symbolic link; refusing to write through it (use --force "
+                       "to replace the link itself)", dir);
+            status = USM_EINPUT;
+        } else if (make_stage(dir, stage, msg) == 0)
             staged = 1, w = stage;
-        else
+        else if (is_link(dir)) {
+            usm_io_msg(msg, "%s: cannot make the directory that replaces the symbolic link: %s",
+                       dir, strerror(errno));
+            status = USM_EFAILED;
+        } else
             remove_old_report(dir);
-        status = usm_report_write_data(d, w, msg);
+        if (status == USM_OK)
+            status = usm_report_write_data(d, w, msg);
         if (status == USM_OK) /* the sections' own data files */
             status = usm_report_squeal_write_data(d, w, msg);
     }
@@ -398,8 +433,10 @@ int usm_report_write(const char *dir, const usm_params *p, const usm_report_opti
         usm_report_design_free(d);
         usm_report_data_free(d);
         free(d);
-        if (staged)
+        if (staged) {
+            usm_outfile_unstage(msg, USM_IO_MSG_LEN, stage, dir);
             usm_outfile_remove_dir(stage, report_name); /* the old report stays as it was */
+        }
         close(lock);
         return status == USM_EINPUT || status == USM_ENOSOLUTION ? status : USM_EFAILED;
     }
@@ -407,8 +444,8 @@ int usm_report_write(const char *dir, const usm_params *p, const usm_report_opti
     if (opt->plots && usm_report_run_gnuplot(w, opt->threads, usm_report_figure_count(d),
                                           plot_note) == USM_OK)
         plots_ok = 1;
-    if (staged)
-        replace_all(plot_note, stage, dir);
+    if (staged) /* gnuplot's messages outlive the stage */
+        usm_outfile_unstage(plot_note, sizeof plot_note, stage, dir);
     d->seconds[3] = usm_report_now() - t;
     d->opt.plots = plots_ok; /* the report links figures only when they exist */
     {
@@ -434,8 +471,10 @@ int usm_report_write(const char *dir, const usm_params *p, const usm_report_opti
     /* complete (report.md written last): the stage replaces dir as a whole */
     if (staged && status == USM_OK)
         status = swap_in(dir, stage, msg);
-    else if (staged)
+    else if (staged) {
+        usm_outfile_unstage(msg, USM_IO_MSG_LEN, stage, dir);
         usm_outfile_remove_dir(stage, report_name);
+    }
     close(lock);
     if (status != USM_OK)
         return USM_EFAILED;

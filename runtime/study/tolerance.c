@@ -627,13 +627,13 @@ int tol_prepare(usm_tolerance *t, const usm_params *p, const usm_tolerance_optio
     }
     if (opt->checkpoint) {
         /* one run per checkpoint: a second one fails at once, not at a rename */
-        int status = tol_checkpoint_load(t), busy;
+        int status = tol_checkpoint_load(t), input;
         char why[USM_MSG_LEN], own[USM_OUTFILE_PATH + 16];
         if (status == USM_OK &&
             (t->lock_fd = usm_outfile_lock(tol_checkpoint_path(t, own, sizeof own), why,
-                                           sizeof why, &busy)) < 0) {
+                                           sizeof why, &input)) < 0) {
             snprintf(t->msg, USM_MSG_LEN, "checkpoint %.200s", why);
-            status = busy ? USM_EINPUT : USM_EFAILED;
+            status = input ? USM_EINPUT : USM_EFAILED;
         }
         return status;
     }

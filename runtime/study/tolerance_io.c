@@ -31,6 +31,7 @@
  * run's files too); remove them after the run. */
 #define _POSIX_C_SOURCE 200809L
 #include <errno.h>
+#include <fcntl.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -238,7 +239,17 @@ static int read_header(usm_tolerance *t, const char *path, int k, FILE **fp, uLo
     size_t have = 0;
     char *text;
     int ended = 0, r = -1, s = 0, status = USM_OK;
-    FILE *f = fopen(path, "rb");
+    struct stat st;
+    /* O_NONBLOCK: a pipe at path must be refused, not hang the run in open */
+    const int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+    if (fd >= 0 && fstat(fd, &st) == 0 && !S_ISREG(st.st_mode) && !S_ISDIR(st.st_mode)) {
+        close(fd);
+        return refuse_path(t, path, "not a regular file (a pipe, device or socket); "
+                                    "usm reads and writes a checkpoint as a file");
+    }
+    FILE *f = fd >= 0 ? fdopen(fd, "rb") : NULL;
+    if (fd >= 0 && !f)
+        close(fd);
     *missing = 0;
     *fp = NULL;
     if (!f) {

@@ -48,10 +48,11 @@ extern "C" {
  * file nor a symlink (dangling or not); the final step is link(2), which
  * cannot replace a name that appeared meanwhile.  With force, rename(2)
  * replaces the name path itself: a symlink there is replaced by the file,
- * its target is never written.  A device or pipe at path (--force --out
- * /dev/null) is written directly.  A killed run leaves at most a
- * temporary; the next usm_io_create of the same path removes those whose
- * process is gone. */
+ * its target is never written.  A pipe, device or socket at path is
+ * refused, with force too (USM_EINPUT): usm never opens one for writing.
+ * A killed run leaves at most a temporary; the next usm_io_create of the
+ * same path removes those whose process is gone (its own user's regular
+ * files only). */
 typedef struct usm_io_file {
     FILE *f;                    /* write here */
     int force;
@@ -61,8 +62,8 @@ typedef struct usm_io_file {
 
 /* USM_OK when a file can be written at path now (called before a
  * computation, so that it does not fail late): its directory exists and is
- * writable, path is not a directory and, unless force, nothing exists
- * there (a file, or a symlink even dangling).  Else USM_EINPUT with
+ * writable, path is not a directory, pipe, device or socket and, unless
+ * force, nothing exists there (a file, or a symlink even dangling).  Else USM_EINPUT with
  * "PATH: reason" in msg. */
 int usm_io_check(const char *path, int force, char msg[USM_IO_MSG_LEN]);
 
@@ -90,17 +91,23 @@ void usm_io_abort(usm_io_file *out);
  * the stage to path when all are written -- a reader sees no DIR or the
  * complete one.  With force and an existing, non-empty directory the files
  * are written into it (out->work is path; each file still whole through
- * usm_io_create).  A stage left by a killed run is removed by the next
- * usm_io_dir_create of the same path once its process is gone. */
+ * usm_io_create).  A symlink at path is refused without force; with force
+ * the link itself is replaced by the new directory (its target is never
+ * written).  A stage left by a killed run is removed by the next
+ * usm_io_dir_create of the same path once its process is gone: only its
+ * regular files and symlinks (names, never followed), and only when it is
+ * a real directory of this user's -- a symlink under a stage's name is
+ * removed as a link, never entered. */
 typedef struct usm_io_dir {
     char path[USM_IO_PATH_LEN];  /* the final directory */
     char stage[USM_IO_PATH_LEN]; /* the stage ("" when writing in place) */
     const char *work;            /* where to write: stage or path */
+    int replace_link;            /* path was a symlink (force): the link is replaced */
 } usm_io_dir;
 
 /* USM_OK when a directory can be written at path now: it does not exist
  * (its parent a writable directory) or is an empty directory, or force and
- * a writable directory; not a dangling symlink nor a file.  Else USM_EINPUT
+ * a writable directory or a symlink (to be replaced); not a file.  Else USM_EINPUT
  * with "PATH: reason" in msg.  Called before the computation. */
 int usm_io_dir_check(const char *path, int force, char msg[USM_IO_MSG_LEN]);
 
@@ -115,6 +122,21 @@ int usm_io_dir_commit(usm_io_dir *out, char msg[USM_IO_MSG_LEN]);
 
 /* Remove the stage and its files (nothing in place). */
 void usm_io_dir_abort(usm_io_dir *out);
+
+/* USM_OK when the n files paths[k] one run writes (each named by the option
+ * options[k], for the message) are n distinct files; else USM_EINPUT with
+ * "OPTION_A A and OPTION_B B are the same file", refused before anything is
+ * computed or written -- one output would replace the other.  The same
+ * file: the same last component in the same directory, directories
+ * compared by device and inode when they exist ("a.csv", "./a.csv" and
+ * "d/../a.csv" are one). */
+int usm_io_check_distinct(const char *const *paths, const char *const *options, int n,
+                          char msg[USM_IO_MSG_LEN]);
+
+/* A message about a file written in out->work named by the user's path:
+ * every occurrence of the hidden stage in msg becomes out->path ("DIR/
+ * samples.csv: No space left on device", not ".DIR.usm-new-PID/..."). */
+void usm_io_dir_msg(const usm_io_dir *out, char msg[USM_IO_MSG_LEN]);
 
 /* ---- numbers and parameter files ------------------------------------------- */
 

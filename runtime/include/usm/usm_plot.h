@@ -25,10 +25,24 @@ extern "C" {
 
 /* USM_OK when PREFIX is usable, its directory writable, and none of
  * PREFIX.gp/.png/.svg/.log exists, not even as a dangling symlink (or force);
- * USM_EINPUT with "--plot FILE: exists..." otherwise.  Every file is
+ * USM_EINPUT with "--plot FILE: exists..." otherwise.  PREFIX names files,
+ * so a PREFIX whose last component is empty, "." or "..", or that is an
+ * existing directory ("--plot ." would write the hidden ..gp; "--plot dir"
+ * means files in dir, which PREFIX does not do) is refused: "--plot PREFIX:
+ * names a directory...".  Every file is
  * written whole or not at all (usm_io_create), and with force a symlink is
  * replaced, never written through. */
 int usm_plot_check(const char *prefix, int force, char msg[USM_IO_MSG_LEN]);
+
+/* The most files one PREFIX names (usm_plot_files). */
+#define USM_PLOT_MAX_FILES 5
+
+/* The files `--plot PREFIX` writes into files[0..]: PREFIX.csv when csv
+ * (usm sweep, map, simulate --spectrum), then PREFIX.gp, .png, .svg and
+ * .log; their count, or -1 when PREFIX is too long.  For
+ * usm_io_check_distinct against a run's other outputs. */
+int usm_plot_files(const char *prefix, int csv,
+                   char files[USM_PLOT_MAX_FILES][USM_IO_PATH_LEN]);
 
 /* `--plot PREFIX` of usm simulate, sweep and map (call usm_plot_check first,
  * then write the data).  Writes PREFIX.gp: the n assignments NAME = VALUE

@@ -42,7 +42,9 @@ int usm_report_options_check(const usm_report_options *opt, char msg[USM_IO_MSG_
  * writable directory holding no file of the report's names that an earlier
  * `usm report` did not write (unless opt->force).  Then dir is created (with
  * its parents) and marked as the report's (the file .usm-report, so that an
- * interrupted run is replaced by the next).  USM_OK, or USM_EINPUT with
+ * interrupted run is replaced by the next).  A symlink at dir is refused
+ * unless opt->force, and then left as it is (usm_report_write replaces the
+ * link; nothing is written into its target).  USM_OK, or USM_EINPUT with
  * "DIR: reason" in msg (or as usm_report_options_check). */
 int usm_report_prepare_dir(const char *dir, const usm_report_options *opt,
                            char msg[USM_IO_MSG_LEN]);
@@ -55,9 +57,10 @@ int usm_report_prepare_dir(const char *dir, const usm_report_options *opt,
  * figures); with a one-line msg.  The report is written into a stage beside
  * dir and exchanged with it only when complete, so that dir holds the old
  * report or the new one, never a mix (in place, the old report.md/.html/.json
- * removed first, when dir holds other files, is a symlink, or its parent is
- * not writable); every file through usm_io_create (no write through a
- * symlink). */
+ * removed first, when dir holds other files or its parent is not writable);
+ * every file through usm_io_create (no write through a symlink).  A dir
+ * that is a symlink (accepted by usm_report_prepare_dir with force only) is
+ * replaced as a link by the new directory, its target never written. */
 int usm_report_write(const char *dir, const usm_params *p, const usm_report_options *opt,
                      char msg[USM_IO_MSG_LEN]);
 
