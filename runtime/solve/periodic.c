@@ -695,8 +695,10 @@ static int admissible(const usm_model *m, const double *x)
  * are the tilt itself (scale theta), their rates Omega theta; the spin rate
  * chidot = phidot + psidot is what the rotor speed and the twist spring see,
  * of size Omega theta^2 on the orbit: stated as the tilt rates, Omega theta
- * (simulate.c weights it so too), which asks of it no more than the Euler
- * angles' Omega asks of phidot and psidot apart.  Needs
+ * (simulate.c weights it so too).  That is tighter than the Euler angles'
+ * Omega on phidot and psidot apart, and within reach: no cancellation forms
+ * it here, the residual of the stationary orbit's period map is 2e-12
+ * (3dof) and 4e-11 (4dof) of the scales at rtol 1e-11.  Needs
  * usm_coords_layout_ok(m) and m->x_tau >= 0 (checked by the callers). */
 static void set_scales(usm_periodic *w, double theta, double speed)
 {
@@ -736,7 +738,7 @@ int usm_periodic_solve(usm_periodic *w, const usm_params *p, const double *x_sta
         snprintf(w->msg, USM_MSG_LEN,
                  "model %s: the paper's twist angle phi + psi cos(theta) grows without bound "
                  "near the stationary motion, so no motion is periodic in (phi - Omega t, "
-                 "theta, rates); use the variant imperfect or twist_integrated", m->name);
+                 "theta, rates); use the variant imperfect, twist_integrated or tilt", m->name);
         return USM_EINPUT;
     }
     if ((rc = layout_check(w)) != USM_OK)
