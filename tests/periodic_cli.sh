@@ -251,4 +251,64 @@ assert abs(s['multiplier'][0] + 1) < 1e-3 and 'becomes stable' in s['what'], s
 assert s['orbit']['mode_sequence'] == 'coc' and abs(s['orbit']['floquet']['max_modulus'] - 1) < 1e-6"
 fi
 
+# The variant tilt is twist_integrated in the tilt vector (docs/coordinates.md):
+# one motor, one orbit.  Before the shooting handled those coordinates it wrote
+# its tilt scale into scale[-1], the period, and failed after 100,000 steps
+# ("CVODES failed at t = 0.054 s of the period").  Its orbit here equals
+# twist_integrated's: the mean rotor speed and theta to 1e-9 relative (the
+# Newton tolerance, of the state scales), the multipliers as sets to 2e-8
+# (each orbit's are 1e-9 .. 8e-9 from usm_floquet's at the default rtol 1e-11;
+# test_periodic_tilt.c).  Paper's point and T = 0, f = 38.5 kHz.
+for base in 3dof 4dof; do
+    for point in "" "--set T=0 --set f=38500"; do
+        # shellcheck disable=SC2086
+        if expect_rc 0 periodic --model $base --variant twist_integrated $point --json; then
+            cp "$out" "$tmp/euler.json"
+            # shellcheck disable=SC2086
+            if expect_rc 0 periodic --model $base --variant tilt $point --json \
+                    --orbit "$tmp/tilt-$base.csv" --force; then
+                py "e = json.load(open('$tmp/euler.json'))
+assert o['converged'] and o['model'] == '${base}_tilt', o['model']
+for k in ('rotor_speed_mean', 'theta_mean', 'theta_min', 'theta_max', 'F_n_min', 'F_n_max'):
+    assert abs(o[k] / e[k] - 1) <= 1e-9, (k, o[k], e[k])
+a = [complex(*z) for z in o['floquet']['multipliers']]
+b = [complex(*z) for z in e['floquet']['multipliers']]
+assert len(a) == len(b)
+worst = 0
+while a:
+    i, j = min(((i, j) for i in range(len(a)) for j in range(len(b))), key=lambda ij: abs(a[ij[0]] - b[ij[1]]))
+    worst = max(worst, abs(a.pop(i) - b.pop(j)))
+assert worst <= 2e-8, worst
+assert o['valid'] == e['valid'] and abs(o['squeal_frequency'] / e['squeal_frequency'] - 1) <= 1e-8
+import csv, math
+rows = list(csv.DictReader(open('$tmp/tilt-$base.csv')))
+assert len(rows) == 200 and 'a [1]' in rows[0] and 'adot [1/s]' in rows[0], list(rows[0])
+th = [math.asin(math.hypot(float(r['a [1]']), float(r['b [1]']))) for r in rows]
+assert abs(sum(th) / len(th) / o['theta_mean'] - 1) <= 1e-12, (sum(th) / len(th), o['theta_mean'])"
+            fi
+        fi
+    done
+done
+# the sweep follows it too, to the 4-DOF friction saturation (against twist_integrated's)
+if expect_rc 0 sweep --periodic --model 4dof --variant twist_integrated --over T --from 0 --to 0.002 --points 5; then
+    cp "$out" "$tmp/euler.csv"
+    if expect_rc 0 sweep --periodic --model 4dof --variant tilt --over T --from 0 --to 0.002 --points 5; then
+        checks=$((checks + 1))
+        a=$(sed -n 's/^# friction_saturation at T = \([0-9.e+-]*\):.*/\1/p' "$out")
+        b=$(sed -n 's/^# friction_saturation at T = \([0-9.e+-]*\):.*/\1/p' "$tmp/euler.csv")
+        { [ -n "$a" ] && [ -n "$b" ] && [ "$(grep -c '^[0-9.e-]*,true,' "$out")" -eq 2 ] && \
+          "$PY" -c "import sys; a, b = float(sys.argv[1]), float(sys.argv[2]); assert abs(a / b - 1) <= 1e-9" "$a" "$b"; } \
+            || fail "4dof tilt periodic load sweep: friction_saturation '$a', twist_integrated '$b'"
+    fi
+fi
+# periodic's help states its default variant once, and it is the one it uses
+if expect_rc 0 periodic --help; then
+    checks=$((checks + 1))
+    [ "$(grep -ciE 'default (variant|paper|imperfect)|variant is imperfect unless' "$out")" -eq 1 ] && \
+        grep -q -- '--variant NAME .*(default imperfect;' "$out" || fail "periodic --help: the variant's default"
+fi
+# a simulation from a tilt-vector state on the axis: refused, named
+echo '{"a": 0, "b": 0, "chi": 0, "adot": 0, "bdot": 0, "chidot": 0, "tau": 0}' > "$tmp/axis.json"
+expect_bad "a^2 + b^2" "theta = 0" simulate --variant tilt --duration 1e-4 --from "$tmp/axis.json" --out "$tmp/axis.csv"
+
 finish periodic_cli

@@ -41,6 +41,9 @@ cdef extern from "usm.h" nogil:
         const char *const *unknown_names
         int slip
         int imperfect
+        int coordinates
+        int x_a
+        int x_b
         void (*mass)(const double *x, const usm_params *p, double *out) nogil
         void (*rhs)(const double *x, double t, const usm_params *p, double *out) nogil
         void (*jac_rhs)(const double *x, double t, const usm_params *p, double *out) nogil

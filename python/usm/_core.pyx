@@ -95,17 +95,27 @@ cdef enum Kernel:
     K_MASS, K_RHS, K_JAC, K_RES, K_RESJAC
 
 
+cdef enum Bad:
+    BAD_INPUT, BAD_AXIS, BAD_SPHERE, BAD_OUTPUT
+
+
 cdef Py_ssize_t _eval(Kernel kind, const usm_model *m, const usm_params *p,
                       const double[:, :] x, const double[:] t, int tscalar, double t1,
-                      double *out, Py_ssize_t rowlen) nogil:
+                      double *out, Py_ssize_t rowlen, Bad *why) nogil:
     """Evaluate kernel `kind` at every row of x into out (rowlen doubles a
-    row).  Returns -1, or the first row with a non-finite value (nothing is
-    evaluated at or after it)."""
+    row).  Returns -1, or the first row where a value is not finite or the
+    state lies outside the model's domain, *why saying which (nothing is
+    evaluated after it).  The tilt vector's domain is 0 < a^2 + b^2 < 1: on
+    the axis the contact point is undefined and the kernels have no limit
+    (docs/coordinates.md), beyond it (a, b) is no unit vector's tilt."""
     cdef double buf[USM_MAX_NX]
     cdef const double *row
+    cdef double *o
     cdef Py_ssize_t N = x.shape[0], n = x.shape[1], i, j
-    cdef double ti
+    cdef double ti, s2
     cdef int contiguous = x.strides[1] == sizeof(double)
+    cdef int tilt = m.coordinates == 1 and (kind == K_MASS or kind == K_RHS or kind == K_JAC)
+    why[0] = BAD_INPUT
     for i in range(N):
         if contiguous:
             row = &x[i, 0]
@@ -121,16 +131,29 @@ cdef Py_ssize_t _eval(Kernel kind, const usm_model *m, const usm_params *p,
         ti = t1 if tscalar else t[i]
         if not tscalar and not isfinite(ti):
             return i
+        if tilt:
+            s2 = row[m.x_a] * row[m.x_a] + row[m.x_b] * row[m.x_b]
+            if not s2 > 0:
+                why[0] = BAD_AXIS
+                return i
+            if not s2 < 1:
+                why[0] = BAD_SPHERE
+                return i
+        o = out + i * rowlen
         if kind == K_RHS:
-            m.rhs(row, ti, p, out + i * rowlen)
+            m.rhs(row, ti, p, o)
         elif kind == K_MASS:
-            m.mass(row, p, out + i * rowlen)
+            m.mass(row, p, o)
         elif kind == K_JAC:
-            m.jac_rhs(row, ti, p, out + i * rowlen)
+            m.jac_rhs(row, ti, p, o)
         elif kind == K_RES:
-            m.steady_residual(row, p, out + i * rowlen)
+            m.steady_residual(row, p, o)
         else:
-            m.steady_jacobian(row, p, out + i * rowlen)
+            m.steady_jacobian(row, p, o)
+        for j in range(rowlen):
+            if not isfinite(o[j]):
+                why[0] = BAD_OUTPUT
+                return i
     return -1
 
 
@@ -260,6 +283,7 @@ cdef class _Model:
         cdef double t1 = 0.0
         cdef int tscalar = 1
         cdef Py_ssize_t bad, rowlen, N
+        cdef Bad why = BAD_INPUT
         cdef double[::1] ov
         arr = _checked_array(x, what)
         single = arr.ndim == 1
@@ -300,10 +324,26 @@ cdef class _Model:
         xv = x2
         with nogil:
             bad = _eval(kind, self.m, &self.p, xv, tv, tscalar, t1,
-                        &ov[0] if N > 0 else NULL, rowlen)
+                        &ov[0] if N > 0 else NULL, rowlen, &why)
         if bad >= 0:
-            raise ValueError("%s: row %d is not finite (%s)" % (what, bad, x2[bad] if tscalar else
-                             "x %s, t %r" % (x2[bad], tv[bad])))
+            # one line, every digit: the row as the caller can find it
+            row_text = "[%s]" % ", ".join(repr(float(v)) for v in x2[bad])
+            state = row_text if tscalar else "x %s, t %r" % (row_text, tv[bad])
+            if why == BAD_AXIS:
+                raise ValueError("%s: row %d lies on the stator's axis, a^2 + b^2 = 0 (theta = 0; %s): "
+                                 "the contact point of "
+                                 "model %s is not defined on the stator's axis and its kernels "
+                                 "have no limit there (docs/coordinates.md)"
+                                 % (what, bad, state, self.name))
+            if why == BAD_SPHERE:
+                raise ValueError("%s: row %d has a^2 + b^2 >= 1 (%s): (a, b) is the tilt of the "
+                                 "stator's unit axis, a^2 + b^2 = sin(theta)^2 < 1"
+                                 % (what, bad, state))
+            if why == BAD_OUTPUT:
+                raise ValueError("%s: row %d: the kernel is not finite at this state (%s) of "
+                                 "model %s (a singular state: theta near 0 in the tilt vector, "
+                                 "or near pi/2; docs/coordinates.md)" % (what, bad, state, self.name))
+            raise ValueError("%s: row %d is not finite (%s)" % (what, bad, state))
         if given is not None:
             return given
         return out[0] if single else out

@@ -184,19 +184,21 @@ int cli_common_finish(cli_common *c, char msg[CLI_MSG_LEN])
     return USM_OK;
 }
 
-void cli_common_usage(FILE *out)
+void cli_common_usage(FILE *out) { cli_common_usage_variant(out, "paper"); }
+
+void cli_common_usage_variant(FILE *out, const char *variant_default)
 {
     char known[128];
     list_models(known, sizeof known);
     fprintf(out,
             "  --model NAME        model to use: %s (default 3dof)\n"
-            "  --variant NAME      modelling assumptions (default paper; see usm variants)\n"
+            "  --variant NAME      modelling assumptions (default %s; see usm variants)\n"
             "  --params FILE.json  parameter values, a JSON object {\"NAME\": number, ...}\n"
             "  --set NAME=VALUE    set one parameter (repeatable; applied after --params);\n"
             "                      VALUE in SI or with a unit: f=37.5kHz, T=0.5mNm,\n"
             "                      phase_error=10deg (see usm steady --help)\n"
             "  --json              print one JSON object instead of a table\n",
-            known);
+            known, variant_default);
 }
 
 int cli_parse_int(const char *field, const char *text, int *out, char msg[CLI_MSG_LEN])

@@ -46,8 +46,13 @@ int cli_common_option(cli_common *c, int argc, char **argv, int *i, char msg[CLI
  * model.  USM_OK, or USM_EINPUT with "FIELD: reason" in msg. */
 int cli_common_finish(cli_common *c, char msg[CLI_MSG_LEN]);
 
-/* Print the shared options' lines of a usage text. */
+/* Print the shared options' lines of a usage text (--variant's default:
+ * paper). */
 void cli_common_usage(FILE *out);
+
+/* The same with --variant's default stated as `variant_default`, for a
+ * command whose default is not paper: the help states each default once. */
+void cli_common_usage_variant(FILE *out, const char *variant_default);
 
 /* If argv[*i] is option `name` ("--name VALUE" or "--name=VALUE"), store its
  * value and return CLI_OPT_TAKEN; CLI_OPT_ERROR when the value is missing. */

@@ -12,6 +12,16 @@
 #include "usm_periodic.h"
 #include "usm_run.h"
 
+/* The default variant of base `base`: the one of a real motor (m->imperfect),
+ * whose integrated twist law has a periodic orbit; "paper" if none. */
+static const char *default_variant(const char *base)
+{
+    for (int k = 0; k < USM_NMODELS; ++k)
+        if (usm_models[k]->imperfect && strcmp(usm_models[k]->base, base) == 0)
+            return usm_models[k]->variant;
+    return "paper";
+}
+
 static void usage(FILE *out)
 {
     fprintf(out,
@@ -21,12 +31,13 @@ static void usage(FILE *out)
             "The periodic steady state of a motor with driver amplitude imbalance\n"
             "(amp_imbalance), phase error (phase_error [rad]) and stator mode split\n"
             "(mode_split): shooting over one excitation period from the ideal stationary\n"
-            "solution, with its Floquet multipliers.  The variant is imperfect unless\n"
-            "--variant says otherwise (it has the integrated twist law; the paper's twist\n"
-            "law has no periodic orbit).\n"
+            "solution, with its Floquet multipliers.  The variant needs the integrated\n"
+            "twist law (the paper's has no periodic orbit): imperfect,\n"
+            "imperfect_unilateral, twist_integrated or tilt (twist_integrated in the tilt\n"
+            "vector; docs/coordinates.md).\n"
             "\n"
             "options:\n");
-    cli_common_usage(out);
+    cli_common_usage_variant(out, default_variant("3dof"));
     fprintf(out,
             "  --orbit FILE.csv    write one period at %d points: t, state, F_n, F_t, rotor speed\n"
             "                      (an orbit with separation: t, open, state, gap, F_n, F_t,\n"
@@ -50,13 +61,8 @@ typedef struct periodic_args {
 static int parse(periodic_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
 {
     cli_common_init(&a->common);
-    /* the default variant: the one of a real motor (m->imperfect), whose
-     * integrated twist law has a periodic orbit; --variant overrides it */
-    for (int k = 0; k < USM_NMODELS; ++k)
-        if (usm_models[k]->imperfect && strcmp(usm_models[k]->base, a->common.base) == 0) {
-            a->common.variant = usm_models[k]->variant;
-            break;
-        }
+    /* default_variant; --variant overrides it */
+    a->common.variant = default_variant(a->common.base);
     a->orbit = NULL;
     a->force = a->help = 0;
     for (int i = 1; i < argc; ++i) {

@@ -8,13 +8,18 @@
 #include "json_out.h"
 #include "solve/periodic_internal.h"
 
-/* The state columns of an orbit file: every state an angle or its rate. */
+/* The state columns of an orbit file: every state an angle or its rate, but
+ * the tilt vector's (a, b), components of the stator's unit axis, and their
+ * rates. */
 static void state_columns(const usm_model *m, usm_csv_column *cols)
 {
     for (int i = 0; i < m->nx; ++i) {
         const char *nm = m->state_names[i];
         const size_t len = strlen(nm);
-        cols[i] = (usm_csv_column){nm, len > 3 && strcmp(nm + len - 3, "dot") == 0 ? "rad/s" : "rad"};
+        const int rate = len > 3 && strcmp(nm + len - 3, "dot") == 0;
+        const int unit_vector = m->coordinates == 1 && (i == m->x_a || i == m->x_b ||
+                                                        i == m->x_adot || i == m->x_bdot);
+        cols[i] = (usm_csv_column){nm, unit_vector ? (rate ? "1/s" : "1") : rate ? "rad/s" : "rad"};
     }
 }
 

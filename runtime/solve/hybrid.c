@@ -598,10 +598,29 @@ static void set_scales(usm_hybrid *h, double theta, double speed)
     h->colscale[m->x_phidot] = h->Omega * theta; /* the spin */
 }
 
+/* The guard of every read of an orientation index here: the orbit with
+ * separation is built in the Euler angles (its spin coordinates are phidot,
+ * psidot) with the twist angle tau; a model whose descriptor lacks one (-1)
+ * is refused instead of indexing a state with it.  The unilateral models are
+ * all such; no tilt-vector model has an open mode. */
+static int layout_check(usm_hybrid *h)
+{
+    const usm_model *m = h->m;
+    if (m->coordinates == 0 && usm_coords_layout_ok(m) && m->x_tau >= 0 && m->x_tau < m->nx &&
+        m->x_phi_Rdot < m->nx)
+        return USM_OK;
+    snprintf(h->msg, USM_MSG_LEN,
+             "model %s: the orbit with separation needs the Euler angles phi, theta, psi, "
+             "their rates and the twist angle tau, which its state lacks", m->name);
+    return USM_EINPUT;
+}
+
 int usm_hybrid_set(usm_hybrid *h, const usm_params *p, double rtol)
 {
     char why[USM_MSG_LEN];
     h->msg[0] = '\0';
+    if (layout_check(h) != USM_OK)
+        return USM_EINPUT;
     if (usm_params_check(p, h->m, why) != USM_OK) {
         snprintf(h->msg, USM_MSG_LEN, "%s", why);
         return USM_EINPUT;
@@ -631,6 +650,8 @@ int usm_hybrid_set(usm_hybrid *h, const usm_params *p, double rtol)
 int usm_hybrid_period_map(usm_hybrid *h, double ts, const double *x0, double *x1, double *B)
 {
     h->msg[0] = '\0';
+    if (layout_check(h) != USM_OK)
+        return USM_EINPUT;
     return period_map(h, ts, x0, x1, B, NULL);
 }
 

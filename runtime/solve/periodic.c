@@ -8,6 +8,10 @@
  *     r_i = x_i(t0 + T) - x_i(t0) - 2 pi [i = phi] = 0.
  * (The imperfections force frame A at 2 Omega, so an orbit of period T/2 also
  * solves this; T is the period of the issue and of `usm steady`'s multipliers.)
+ * In the tilt vector (a, b, chi; variant tilt, docs/coordinates.md) a and b
+ * are already in the frame turning with Omega t: no component shifts by 2 pi
+ * (m->x_phi is -1 there, which the test i == m->x_phi never matches), and
+ * theta, wherever it is reported, is usm_coords_theta of the state.
  *
  * Start: the ideal stationary solution plus its linear forced response
  * (linear_predictor).
@@ -312,7 +316,7 @@ static int period_map(usm_periodic *w, const double *x0, double rtol, double *x1
     char name[32];
     if (coordinates(w, x0) != 0) {
         snprintf(w->msg, USM_MSG_LEN, "the linearisation at the start state is singular or "
-                                      "not finite (theta = %g)", x0[w->m->x_theta]);
+                                      "not finite (theta = %g)", usm_coords_theta(w->m, x0));
         return USM_EFAILED;
     }
     double *Y = N_VGetArrayPointer(w->y), *A = N_VGetArrayPointer(w->atol);
@@ -383,7 +387,7 @@ static double sample_quantity(const usm_periodic *w, int q, const double *row)
 {
     const int n = w->n;
     switch (q) {
-    case Q_THETA: return row[1 + w->m->x_theta];
+    case Q_THETA: return usm_coords_theta(w->m, row + 1);
     case Q_F_N: return row[n + 1];
     case Q_RATIO: return fabs(row[n + 2]) / row[n + 1];
     default: return row[n + 3];
@@ -396,7 +400,7 @@ static double quantity(const usm_periodic *w, int q, double t, const double *x)
 {
     double row[USM_MAX_NX + 4];
     if (q == Q_THETA)
-        return x[w->m->x_theta];
+        return usm_coords_theta(w->m, x);
     if (sample(w, t, x, row) != 0)
         return NAN;
     return sample_quantity(w, q, row);
@@ -408,7 +412,8 @@ static double quantity(const usm_periodic *w, int q, double t, const double *x)
  * the 1e-5 of T/(4 pi) at which the extreme's value would change by 1e-10. */
 #define RATE_STEP 1e-5
 
-/* dq/dt along the motion at (t, x): theta' from the equations of motion;
+/* dq/dt along the motion at (t, x): theta' from the equations of motion
+ * (through the chain rule in the tilt vector);
  * the others by the central difference of q along the tangent (x', 1) of
  * the motion, exact to O(eps^2) (no integration). */
 static double rate(const usm_periodic *w, int q, double t, const double *x)
@@ -418,7 +423,7 @@ static double rate(const usm_periodic *w, int q, double t, const double *x)
     if (motion(w, t, x, xdot, NULL) != 0)
         return NAN;
     if (q == Q_THETA)
-        return xdot[w->m->x_theta];
+        return usm_coords_theta_rate(w->m, x, xdot);
     const double e = RATE_STEP / w->Omega;
     for (int i = 0; i < n; ++i) {
         xp[i] = x[i] + e * xdot[i];
@@ -527,12 +532,13 @@ static void orbit_outputs(usm_periodic *w, usm_periodic_result *r)
 {
     const int n = w->n, nc = n + 4; /* samples: nc columns (usm_periodic_samples) */
     const double *s = w->samples;
-    const double *th = s + 1 + w->m->x_theta, *Fn = s + n + 1, *wr = s + n + 3;
-    double sum_w = 0, sum_th = 0;
+    const double *Fn = s + n + 1, *wr = s + n + 3;
+    double th[NS], sum_w = 0, sum_th = 0;
     int open = 0;
     for (int i = 0; i < NS; ++i) {
+        th[i] = usm_coords_theta(w->m, s + i * nc + 1);
         sum_w += wr[i * nc];
-        sum_th += th[i * nc];
+        sum_th += th[i];
         open |= !(Fn[i * nc] > 0.0);
     }
     r->rotor_speed_mean = sum_w / NS; /* trapezoid rule: spectral on a periodic function */
@@ -544,7 +550,7 @@ static void orbit_outputs(usm_periodic *w, usm_periodic_result *r)
     r->theta_mean = sum_th / NS;
     r->theta_min = exact_extreme(w, Q_THETA, -1.0);
     r->theta_max = exact_extreme(w, Q_THETA, 1.0);
-    r->theta_harmonic_2 = harmonic(th, nc, 2);
+    r->theta_harmonic_2 = harmonic(th, 1, 2);
     r->F_n_harmonic_2 = harmonic(Fn, nc, 2);
     r->validity = open || !(r->F_n_min > 0.0) ? USM_INVALID_CONTACT_OPEN
                   : !w->m->slip && r->friction_needed_max > w->p.mu0 ? USM_INVALID_STICK
@@ -664,14 +670,49 @@ static int ideal_start(usm_periodic *w, const usm_params *p, double *x0, double 
     return USM_OK;
 }
 
+/* The guard of every read of an orientation index below: a model whose
+ * descriptor lacks one (-1) is refused here instead of indexing x with it. */
+static int layout_check(usm_periodic *w)
+{
+    const usm_model *m = w->m;
+    if (usm_coords_layout_ok(m) && m->x_tau >= 0 && m->x_tau < m->nx &&
+        m->x_phi_Rdot < m->nx)
+        return USM_OK;
+    snprintf(w->msg, USM_MSG_LEN,
+             "model %s: its state lacks the stator's orientation (phi, theta, psi or a, b, chi, "
+             "with their rates) or the twist angle tau, which the shooting needs", m->name);
+    return USM_EINPUT;
+}
+
+/* theta > 0 (in the tilt vector: 0 < a^2 + b^2 < 1): the contact point is
+ * singular on the axis in both coordinate sets (docs/coordinates.md). */
+static int admissible(const usm_model *m, const double *x)
+{
+    return usm_coords_theta(m, x) > 0;
+}
+
+/* The state scales (see the top of this file).  In the tilt vector (a, b)
+ * are the tilt itself (scale theta), their rates Omega theta; the spin rate
+ * chidot = phidot + psidot is what the rotor speed and the twist spring see,
+ * of size Omega theta^2 on the orbit: stated as the tilt rates, Omega theta
+ * (simulate.c weights it so too).  That is tighter than the Euler angles'
+ * Omega on phidot and psidot apart, and within reach: no cancellation forms
+ * it here, the residual of the stationary orbit's period map is 2e-12
+ * (3dof) and 4e-11 (4dof) of the scales at rtol 1e-11.  Needs
+ * usm_coords_layout_ok(m) and m->x_tau >= 0 (checked by the callers). */
 static void set_scales(usm_periodic *w, double theta, double speed)
 {
     const usm_model *m = w->m;
     for (int i = 0; i < w->n; ++i)
         w->scale[i] = 1.0;
-    w->scale[m->x_theta] = theta;
-    w->scale[m->x_phidot] = w->scale[m->x_psidot] = w->Omega;
-    w->scale[m->x_thetadot] = w->Omega * theta;
+    if (m->coordinates == 1) {
+        w->scale[m->x_a] = w->scale[m->x_b] = theta;
+        w->scale[m->x_adot] = w->scale[m->x_bdot] = w->scale[m->x_chidot] = w->Omega * theta;
+    } else {
+        w->scale[m->x_theta] = theta;
+        w->scale[m->x_phidot] = w->scale[m->x_psidot] = w->Omega;
+        w->scale[m->x_thetadot] = w->Omega * theta;
+    }
     w->scale[m->x_tau] = w->p.m0 / w->p.c_t;
     if (!(w->scale[m->x_tau] > 0 && isfinite(w->scale[m->x_tau])))
         w->scale[m->x_tau] = theta;
@@ -685,6 +726,7 @@ int usm_periodic_solve(usm_periodic *w, const usm_params *p, const double *x_sta
     usm_periodic_options def;
     const usm_model *m = w->m;
     const int n = w->n;
+    int rc;
     if (!opt) {
         usm_periodic_options_default(&def);
         opt = &def;
@@ -696,9 +738,11 @@ int usm_periodic_solve(usm_periodic *w, const usm_params *p, const double *x_sta
         snprintf(w->msg, USM_MSG_LEN,
                  "model %s: the paper's twist angle phi + psi cos(theta) grows without bound "
                  "near the stationary motion, so no motion is periodic in (phi - Omega t, "
-                 "theta, rates); use the variant imperfect or twist_integrated", m->name);
+                 "theta, rates); use the variant imperfect, twist_integrated or tilt", m->name);
         return USM_EINPUT;
     }
+    if ((rc = layout_check(w)) != USM_OK)
+        return rc;
     if (usm_params_check(p, m, w->msg) != USM_OK)
         return USM_EINPUT;
     if (!(opt->rtol >= 1e-14 && opt->rtol <= 1e-6) || !(opt->tol > 0 && opt->tol < 1) ||
@@ -713,10 +757,10 @@ int usm_periodic_solve(usm_periodic *w, const usm_params *p, const double *x_sta
     w->t0 = opt->t0;
     w->rtol = opt->rtol;
     double x0[USM_MAX_NX], x1[USM_MAX_NX], Psi[NN], theta = 0, speed = 0;
-    int rc = ideal_start(w, p, x0, &theta, &speed);
+    rc = ideal_start(w, p, x0, &theta, &speed);
     if (x_start) {
         if (rc != USM_OK) { /* the scales only: take them from the given start */
-            theta = x_start[m->x_theta];
+            theta = usm_coords_theta(m, x_start);
             speed = m->x_phi_Rdot >= 0 ? x_start[m->x_phi_Rdot] : 0.0;
         }
         memcpy(x0, x_start, sizeof(double) * (size_t)n);
@@ -786,8 +830,11 @@ int usm_periodic_solve(usm_periodic *w, const usm_params *p, const double *x_sta
         usm_lu_solve_dense(k, J, piv, r, 1);
         for (int a = 0; a < k; ++a)
             x0[idx[a]] -= r[a] * w->scale[idx[a]];
-        if (!(x0[m->x_theta] > 0)) {
-            snprintf(w->msg, USM_MSG_LEN, "Newton left the admissible states (theta <= 0)");
+        if (!admissible(m, x0)) {
+            snprintf(w->msg, USM_MSG_LEN, "Newton left the admissible states (%s)",
+                     m->coordinates == 1 ? "a^2 + b^2 not in (0, 1): theta = 0, where the "
+                                           "contact point is singular, or beyond pi/2"
+                                         : "theta <= 0");
             return USM_EFAILED;
         }
     }
@@ -857,6 +904,9 @@ int usm_periodic_saturation(usm_periodic *w, const usm_params *p, const usm_para
         snprintf(w->msg, USM_MSG_LEN, "model %s: no friction law to saturate", m->name);
         return USM_EINPUT;
     }
+    int rc = layout_check(w);
+    if (rc != USM_OK)
+        return rc;
     w->p = *p;
     double *field = usm_params_field(&w->p, info);
     double lam = *field;
@@ -869,7 +919,7 @@ int usm_periodic_saturation(usm_periodic *w, const usm_params *p, const usm_para
     if (motion(w, w->t0, x0, xdot, NULL) != 0)
         return USM_EFAILED;
     m->outputs(x0, xdot, w->t0, &w->p, out);
-    const double v = out[USM_OUT_V_REL], theta = x0[m->x_theta];
+    const double v = out[USM_OUT_V_REL], theta = usm_coords_theta(m, x0);
     if (!(fabs(v) > 0) || !(fabs(x0[iw]) > 0) || !(theta > 0)) {
         snprintf(w->msg, USM_MSG_LEN, "saturation: no slip to start from");
         return USM_EFAILED;
@@ -888,7 +938,7 @@ int usm_periodic_saturation(usm_periodic *w, const usm_params *p, const usm_para
     for (int it = 0; it <= 2 * opt->max_iter; ++it) {
         double r[USM_MAX_NX], r2[USM_MAX_NX], J[NN], B[NN], Wm[NN], res = 0;
         *field = lam;
-        int rc = period_map(w, x0, opt->rtol, x1, Psi);
+        rc = period_map(w, x0, opt->rtol, x1, Psi);
         if (rc != USM_OK)
             return rc;
         if (saturation_residual(w, x0, x1, sw, r) != 0)
@@ -932,7 +982,7 @@ int usm_periodic_saturation(usm_periodic *w, const usm_params *p, const usm_para
                 x0[idx[b]] -= r[c++] * w->scale[idx[b]];
         const double dlam = r[c] * lambda_scale;
         lam -= dlam;
-        if (!(x0[m->x_theta] > 0) || !isfinite(lam)) {
+        if (!admissible(m, x0) || !isfinite(lam)) {
             snprintf(w->msg, USM_MSG_LEN, "saturation: Newton left the admissible states");
             return USM_EFAILED;
         }

@@ -183,6 +183,9 @@ static void use_model(usm_sim *s, const usm_model *m)
         s->layout_ok = m->x_a >= 0 && m->x_b >= 0 && m->x_chi >= 0 && m->x_adot >= 0 &&
                        m->x_bdot >= 0 && m->x_chidot >= 0 && m->other_coordinates;
     }
+    /* the asked-for model's own indices are read too (x0 in, samples out):
+     * a -1 among them is refused by check_options, never used */
+    s->layout_ok = s->layout_ok && usm_coords_layout_ok(m) && usm_coords_layout_ok(s->user);
     s->nx = m->nx;
     s->u = m->unilateral;
     set_mode(s, 0);
@@ -470,7 +473,8 @@ static int input_error(usm_sim *s, const char *what)
 static int check_options(usm_sim *s, const usm_sim_options *o)
 {
     if (!s->layout_ok)
-        return input_error(s, "model: the state has no phi, theta, psi and their rates");
+        return input_error(s, "model: the state has no phi, theta, psi (or a, b, chi) and "
+                              "their rates");
     if (!isfinite(o->t0))
         return input_error(s, "t0: must be a finite number");
     if (!(o->duration > 0) || !isfinite(o->duration))
@@ -512,6 +516,9 @@ static int check_options(usm_sim *s, const usm_sim_options *o)
         } else if (s->tilt && !(theta_of(s, o->x0) < o->theta_limit && o->x0[s->iphi] * o->x0[s->iphi] +
                                      o->x0[s->ith] * o->x0[s->ith] < 1))
             return input_error(s, "x0: a^2 + b^2 must be below sin(theta_limit)^2");
+        else if (s->tilt && !(theta_of(s, o->x0) > 0))
+            return input_error(s, "x0: a^2 + b^2 must be > 0 (theta = 0: the contact point is "
+                                  "not defined on the stator's axis, docs/coordinates.md)");
         if (!s->tilt && !(o->x0[s->ith] > 0 && o->x0[s->ith] < o->theta_limit))
             return input_error(s, "x0: theta must be > 0 (the z-x-z angles are singular at 0) "
                                   "and below theta_limit");

@@ -219,3 +219,25 @@ def test_tolerance(model, variant, params, vary, spec):
         want_col = [float(r[col]) if r[col] != "" else np.nan for r in rows]
         assert np.array_equal(got.table[name], want_col, equal_nan=True), col
     assert np.array_equal(got.table["good"], [r["good"] == "true" for r in rows])
+
+
+@pytest.mark.parametrize("model", ["3dof", "4dof"])
+def test_periodic_tilt(model):
+    """The variant tilt's periodic orbit (the tilt vector) is twist_integrated's
+    (the Euler angles): the same motor, one orbit; before, the shooting wrote
+    its tilt scale outside its array in the tilt vector and failed."""
+    got = usm.Model(model, "tilt").periodic()
+    want = usm.Model(model, "twist_integrated").periodic()
+    assert got.converged and got.to_dict() == run_cli("periodic", "--model", model, "--variant",
+                                                      "tilt")[0]
+    assert abs(got.rotor_speed_mean / want.rotor_speed_mean - 1) < 1e-9
+    assert abs(got.theta_mean / want.theta_mean - 1) < 1e-9
+    # the multipliers as sets, nearest pairs first (tests/check.h's distance)
+    a, b = list(got.floquet.multipliers), list(want.floquet.multipliers)
+    assert len(a) == len(b)
+    worst = 0.0
+    while a:
+        i, j = min(((i, j) for i in range(len(a)) for j in range(len(b))),
+                   key=lambda ij: abs(a[ij[0]] - b[ij[1]]))
+        worst = max(worst, abs(a.pop(i) - b.pop(j)))
+    assert worst < 2e-8, worst

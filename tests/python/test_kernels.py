@@ -116,3 +116,33 @@ def test_empty_and_strided():
     col = np.asfortranarray(np.array([[1e-4, 1.0, -10.0], [2e-4, 2.0, -12.0]]))
     assert not col.flags.c_contiguous
     assert bits_equal(m.steady_residual(col), m.steady_residual(np.ascontiguousarray(col)))
+
+
+@pytest.mark.parametrize("base", ["3dof", "4dof"])
+def test_tilt_vector_domain(base):
+    """The tilt vector's kernels are not finite on the stator's axis (the
+    contact point is undefined there and has no limit: docs/coordinates.md)
+    nor beyond a^2 + b^2 = 1: each kernel of the state refuses such a row
+    with a ValueError naming it and the reason, never a silent inf or NaN
+    (before, mass_matrix, rhs and jacobian returned inf and NaN at
+    a = b = 0)."""
+    m = usm.Model(base, "tilt")
+    ia, ib = m.state_names.index("a"), m.state_names.index("b")
+    x = random_states(m, 4, np.random.default_rng(5))
+    for kernel in (m.mass_matrix, m.rhs, m.jacobian):
+        assert np.all(np.isfinite(kernel(x)))
+        on_axis = x.copy()
+        on_axis[2, ia] = on_axis[2, ib] = 0.0
+        with pytest.raises(ValueError, match=r"x: row 2 lies on the stator's axis, "
+                                             r"a\^2 \+ b\^2 = 0 .*not defined on the stator's axis"):
+            kernel(on_axis)
+        tiny = x[1].copy()
+        tiny[ia], tiny[ib] = 1e-170, 0.0        # a^2 + b^2 is 0 in double: theta = 0
+        with pytest.raises(ValueError, match=r"x: row 0 lies on the stator's axis"):
+            kernel(tiny)
+        out = x.copy()
+        out[0, ia], out[0, ib] = 0.8, 0.6
+        with pytest.raises(ValueError, match=r"x: row 0 has a\^2 \+ b\^2 >= 1"):
+            kernel(out)
+    # the stationary kernels take (theta, alpha): finite at theta = 0
+    assert np.all(np.isfinite(m.steady_residual(np.zeros(m.nu))))

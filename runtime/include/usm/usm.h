@@ -92,23 +92,43 @@ const usm_variant_info *usm_variant_find(const char *name);
  * theta = asin(sqrt(a^2 + b^2)) in [0, pi/2), phi = Omega t + atan2(a, -b)
  * taken within pi of phi_near (the branch: pass the previous value along a
  * motion), psi = chi - phi.  At theta = 0 phi is undefined (this returns
- * phi_near there) and phidot, thetadot are not finite.  Omega = 2 pi p->f. */
-void usm_coords_euler_angles(const usm_model *m, const double *x, double t,
-                             const usm_params *p, double phi_near, double euler[6]);
+ * phi_near there) and phidot, thetadot are not finite.  Omega = 2 pi p->f.
+ * USM_OK, or USM_EINPUT (euler all NaN) when m lacks its orientation indices
+ * (usm_coords_layout_ok). */
+int usm_coords_euler_angles(const usm_model *m, const double *x, double t,
+                            const usm_params *p, double phi_near, double euler[6]);
 
 /* The time derivatives (phidot, thetadot, psidot, phiddot, thetaddot, psiddot)
  * of the Euler angles along a motion of model m in state x with rate xdot
  * (either coordinate set; the chain rule for the tilt vector, singular at
  * theta = 0). */
-void usm_coords_euler_rates(const usm_model *m, const double *x, const double *xdot,
-                            const usm_params *p, double edot[6]);
+int usm_coords_euler_rates(const usm_model *m, const double *x, const double *xdot,
+                           const usm_params *p, double edot[6]);
+
+/* 1 when every orientation index of m's coordinate set (x_phi ... x_psidot for
+ * the Euler angles, x_a ... x_chidot for the tilt vector) is a state of m,
+ * else 0.  The functions of this section return USM_EINPUT (the angles NaN)
+ * or NaN for a model without them instead of reading outside x; code that
+ * reads those indices itself checks this first. */
+int usm_coords_layout_ok(const usm_model *m);
+
+/* The stator tilt theta [rad] of the state x of model m in either coordinate
+ * set: x[m->x_theta], or asin(sqrt(a^2 + b^2)) from the tilt vector (0 on the
+ * axis, where the Euler angles are singular).  NaN when m has neither layout
+ * or a^2 + b^2 >= 1. */
+double usm_coords_theta(const usm_model *m, const double *x);
+
+/* d theta/dt [rad/s] along a motion through x with rate xdot (either set; in
+ * the tilt vector (a a' + b b') / (sin theta cos theta)).  NaN where it does
+ * not exist: at a = b = 0 (theta has a kink there), or as usm_coords_theta. */
+double usm_coords_theta_rate(const usm_model *m, const double *x, const double *xdot);
 
 /* x_to (the state of model `to`) from x_from (the state of model `from`) at
  * time t, where `to` is `from` itself or from->other_coordinates (the same
  * assumptions in the other coordinate set): the same motion.  Every state but
  * the stator's orientation (phi_R, its rate, tau) is copied.  phi_near as for
  * usm_coords_euler_angles.  USM_OK, or USM_EINPUT when the two models are not
- * such a pair. */
+ * such a pair or either lacks its orientation indices (usm_coords_layout_ok). */
 int usm_coords_map(const usm_model *from, const double *x_from, double t,
                    const usm_params *p, double phi_near, const usm_model *to, double *x_to);
 
