@@ -239,8 +239,8 @@ int usm_operating_point(const usm_model *m, const usm_params *p, const usm_stead
         out->reason = USM_OP_DOES_NOT_START;
         snprintf(out->message, USM_MSG_LEN,
                  "the motor does not start from rest: the wobble decays (period-mean tilt "
-                 "below %g of %.3g rad for %d periods by t = %.6g s)",
-                 sum->rest_fraction, sum->rest_theta_ref, USM_SIM_REST_PERIODS, sum->t_rest);
+                 "held below %g of %.3g rad by t = %.6g s)",
+                 sum->rest_fraction, sum->rest_theta_ref, sum->t_rest);
         return USM_OK;
     }
     if (sum->settled_on < 0) {

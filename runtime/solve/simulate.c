@@ -88,6 +88,8 @@ struct usm_sim {
     size_t root_cap;
     long rest_run;
     double rest_prev;
+    long trap_run;   /* periods held below rest_fraction trap_ref */
+    double trap_ref; /* the smallest root's tilt when that root is unstable, else 0 */
     char cvmsg[USM_MSG_LEN];
     char msg[USM_MSG_LEN];
 };
@@ -782,10 +784,17 @@ static void end_of_period(usm_sim *s, run_state *r, double t, const double *q)
             s->rest_run++;
         else
             s->rest_run = 0;
+        /* held far below an unstable smallest root: trapped at the axis */
+        if (s->trap_ref > 0 && r->theta_avg < sum->rest_fraction * s->trap_ref)
+            s->trap_run++;
+        else
+            s->trap_run = 0;
         s->rest_prev = r->theta_avg;
-        if (s->rest_run >= USM_SIM_REST_PERIODS) {
+        if (s->rest_run >= USM_SIM_REST_PERIODS || s->trap_run >= USM_SIM_TRAP_PERIODS) {
             r->rest = 1;
             sum->t_rest = t;
+            if (s->rest_run < USM_SIM_REST_PERIODS)
+                sum->rest_theta_ref = s->trap_ref;
         }
     }
 }
@@ -1027,6 +1036,8 @@ static int rest_start(usm_sim *s)
         }
     }
     const double th_u = sum->theta_unstable;
+    if (n > 0 && th_u == usm_steady_root(s->steady, 0)->theta)
+        s->trap_ref = th_u;
     char root[96] = "";
     if (th_u > 0)
         snprintf(root, sizeof root, "root #%zu at %.4g rad%s", k_u + 1, th_u,
@@ -1285,9 +1296,12 @@ static int integrate(usm_sim *s, run_state *r)
                 sum->stop = USM_SIM_REST;
                 snprintf(sum->reason, USM_MSG_LEN,
                          "the wobble decayed: the period-mean tilt %.3g rad fell below %g of "
-                         "%.3g rad for %d periods by t = %.9g s; the motor does not start",
+                         "%.3g rad (%s) for %ld periods by t = %.9g s; the motor does not start",
                          r->theta_avg, sum->rest_fraction, sum->rest_theta_ref,
-                         USM_SIM_REST_PERIODS, t);
+                         s->rest_run >= USM_SIM_REST_PERIODS ? "the start tilt or the smallest "
+                                                               "root's"
+                                                             : "the unstable smallest root's",
+                         s->rest_run >= USM_SIM_REST_PERIODS ? s->rest_run : s->trap_run, t);
                 return USM_OK;
             }
         }
@@ -1409,6 +1423,8 @@ int usm_sim_run(usm_sim *s, const usm_params *p, const usm_sim_options *opt,
         s->root_run[k] = 0;
     s->rest_run = 0;
     s->rest_prev = INFINITY;
+    s->trap_run = 0;
+    s->trap_ref = 0.0;
 
     if (opt->start == USM_SIM_FROM_REST && (rc = rest_start(s)) != USM_OK)
         return rc;

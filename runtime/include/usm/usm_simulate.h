@@ -45,17 +45,26 @@
  *    this is `settled`); should two roots qualify (roots closer than
  *    settle_tol), the one nearer at the end wins.  The wobble decayed (the
  *    motor does not start) when, for USM_SIM_REST_PERIODS consecutive
- *    periods, the period-mean tilt is below rest_fraction theta_ref and the
- *    period-mean |rotor speed| below rest_fraction Omega theta_ref;
- *    theta_ref is the smaller of the start tilt and the smallest stationary
- *    tilt (the start tilt when there is no stationary solution).  A tilt 50
- *    times below where it started and below every stationary tilt, held for
- *    5 periods, is decay, not an approach to a root (the start-ups that reach
- *    a root dip by less than a factor 2; those that decay fall towards about
- *    1e-8 rad, where they creep on); the run then stops (USM_SIM_REST) instead of
- *    integrating on towards theta = 0, where the z-x-z angles are singular
- *    and the steps shrink without end.  Otherwise the run has not settled
- *    (USM_SIM_SETTLED_NONE), e.g. when it was too short or stopped early.
+ *    periods, the period-mean tilt is below rest_fraction theta_ref, with
+ *    theta_ref the smaller of the start tilt and the smallest stationary tilt
+ *    (the start tilt when there is no stationary solution): a tilt 10 times
+ *    below where it started and below every stationary tilt, held for 5
+ *    periods, is decay, not an approach to a root (the start-ups that reach
+ *    a root dip by less than a factor 2).  Or, from rest with the smallest
+ *    root unstable (the threshold the wobble must cross to grow), when for
+ *    USM_SIM_TRAP_PERIODS consecutive periods the period-mean tilt is below
+ *    rest_fraction times that root's tilt (rest_theta_ref then says so): the
+ *    motion held near the axis does not die out but circles the apex at a
+ *    level of its own (1e-9 .. 1e-8 rad, docs/coordinates.md), which a start
+ *    below that level never falls 1/rest_fraction beneath.  The rule asks
+ *    nothing of the rotor: under a load the slip model's stopped rotor is
+ *    back-driven at the friction law's creep speed
+ *    tan(T / (R F0 mu0)) / (kappa R) (0.39 1/s at F0 = 1.1 N) while the
+ *    wobble dies out, and the stick model's rotor speed follows the tilt.
+ *    The run then stops (USM_SIM_REST) instead of integrating on towards
+ *    theta = 0, where the contact law is singular and the steps shrink
+ *    without end.  Otherwise the run has not settled (USM_SIM_SETTLED_NONE),
+ *    e.g. when it was too short or stopped early.
  *  - The paper's twist law.  Its linearisation grows with psi(t) (the twist
  *    torque's theta-derivative c_t psi sin(theta), psi ~ -Omega t): the fastest
  *    linearised mode gets faster as the run goes on, the steps shorter, and the
@@ -146,6 +155,8 @@ typedef struct usm_sim_options {
 
 /* Consecutive periods the decay rule must hold (see the header comment). */
 #define USM_SIM_REST_PERIODS 5
+/* Consecutive periods the trapped form of the decay rule must hold. */
+#define USM_SIM_TRAP_PERIODS 25
 
 /* usm_sim_summary.settled_on when the wobble decayed: the motor does not start. */
 #define USM_SIM_SETTLED_REST (-1)
