@@ -28,6 +28,21 @@ const char *usm_op_reason_name(usm_op_reason reason)
     return NULL;
 }
 
+const char *usm_op_rule_text(const usm_op_options *o)
+{
+    const int fr = o ? o->from_rest : 0;
+    if (fr == USM_OP_FROM_REST_ALWAYS)
+        return "every point with a stable root is decided by a start-up from rest, below every "
+               "unstable root";
+    if (fr)
+        return "ambiguous points (several roots with a stable one, or one stable root while the "
+               "preload holds the stator at rest) are decided by a start-up from rest, below "
+               "every unstable root; the others without a simulation";
+    return "ambiguous points (several roots with a stable one, or one stable root while the "
+           "preload holds the stator at rest) are not simulated: their operating point is "
+           "unknown (--from-rest simulates them); the others are decided without a simulation";
+}
+
 void usm_op_options_default(usm_op_options *opt)
 {
     memset(opt, 0, sizeof *opt);

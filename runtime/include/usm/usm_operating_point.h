@@ -97,6 +97,11 @@ typedef struct usm_op_result {
     const usm_model *sim_model; /* the model simulated (NULL: none) */
 } usm_op_result;
 
+/* The rule a study applies to its points under options o (NULL: the
+ * defaults), in words, for its output: which points a start-up from rest
+ * decides and what the others get.  A static string. */
+const char *usm_op_rule_text(const usm_op_options *o);
+
 /* The start margin of parameters p under model m (header comment): m0 over
  * the excitation amplitude that keeps a stationary solution at theta = 0,
  * minus 1, by Newton on the model's stationary residuals with theta fixed at
