@@ -246,7 +246,7 @@ static void operating_point(FILE *out, const usm_op_result *op, size_t n)
                 op->sim.steps, op->sim.periods, op->sim.t_reached,
                 usm_sim_stop_name(op->sim.stop), op->wall);
         if (op->sim.settled_on < 0 && op->sim.settled_on != USM_SIM_SETTLED_REST &&
-            op->sim.reason[0])
+            op->sim.reason[0] && !strstr(op->message, op->sim.reason))
             fprintf(out, "  why:               %s\n", op->sim.reason);
     }
 }
