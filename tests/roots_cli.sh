@@ -12,7 +12,7 @@ USM=${1:?usage: roots_cli.sh PATH/TO/usm}
 . "$(dirname "$0")/cli_common.sh"
 
 # ---- steady: every root's multipliers ------------------------------------------
-if expect_rc 0 steady --set F0=1.2 --set f=38000 --json; then
+if expect_rc 0 steady --set F0=1.2 --set f=38000 --no-from-rest --json; then
     cp "$out" "$tmp/steady12.json"
     py "
 r = o['roots']
@@ -41,14 +41,14 @@ assert o['starts_from_rest'] is None and 'from_rest' not in o"
 fi
 py_file "$tmp/steady12.json" "
 assert o['operating_point'] is None and o['operating_point_reason'] is None
-assert o['starts_from_rest'] is None and 'simulation from rest' in o['operating_point_message']"
+assert o['starts_from_rest'] is None and 'start-up from rest' in o['operating_point_message']"
+# F0 = 1.001 N is above the start threshold (0.99997 N): from rest, below root #1,
+# the motor does not start (docs/operating-point.md)
 if expect_rc 0 steady --set F0=1.001 --set f=38000 --from-rest --json; then
     py "
-assert o['operating_point'] == 1 and o['operating_point_reason'] == 'reached_from_rest'
-assert o['starts_from_rest'] is True and o['from_rest']['settled_on'] == 1
-r = o['roots'][1]
-assert o['theta'] == r['theta'] and o['rotor_speed'] == r['rotor_speed']
-assert o['floquet'] == r['floquet'] and o['floquet']['stable']"
+assert o['operating_point'] is None and o['operating_point_reason'] == 'does_not_start'
+assert o['starts_from_rest'] is False and o['from_rest']['settled_on'] == 'rest'
+assert o['from_rest']['tilt_start'] <= 1e-2 * o['roots'][0]['theta'] and o['start_margin'] < 0"
 fi
 if expect_rc 0 steady --set F0=1.2 --set f=38000 --from-rest --json; then
     py "
@@ -69,7 +69,8 @@ expect_bad --from-rest-periods 'must be in' steady --from-rest --from-rest-perio
 if expect_rc 0 steady --set F0=1.001 --set f=38000 --json; then
     cp "$out" "$tmp/steady1001.json"
 fi
-if expect_rc 0 simulate --set F0=1.001 --set f=38000 --duration 6e-3 --rate 0 --json; then
+# from 1e-6 rad, above root #1 (not a start at rest): root #2
+if expect_rc 0 simulate --set F0=1.001 --set f=38000 --tilt0 1e-6 --duration 6e-3 --rate 0 --json; then
     py "
 s = json.load(open('$tmp/steady1001.json'))
 assert o['settled_on'] == 1 and o['roots'] == 2, (o['settled_on'], o['roots'])
@@ -81,7 +82,7 @@ assert abs(o['theta_avg_end'] / r['theta'] - 1) < 1e-3
 assert abs(o['rotor_speed_avg_end'] / r['rotor_speed'] - 1) < 1e-3
 assert not s['roots'][0]['floquet']['stable'] and s['roots'][1]['floquet']['stable']"
 fi
-if expect_rc 0 simulate --set F0=1.001 --set f=38000 --duration 6e-3 --rate 0; then
+if expect_rc 0 simulate --set F0=1.001 --set f=38000 --tilt0 1e-6 --duration 6e-3 --rate 0; then
     grep -q 'settled on  *root #2 of 2 (theta = 8.635042134e-05 rad' "$out" ||
         fail "table: does not say it settled on root #2"
 fi

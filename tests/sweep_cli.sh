@@ -118,7 +118,9 @@ for f in csv.reader(rows):
                    for i, j in ((21, 1), (22, 3), (23, 7))), f
     else:
         assert f[19] == "" and f[20] == "no_stable_root", f
-events = lines[12:]
+events = lines[12:-1]
+# the last line states the operating point's rule (usm_op_rule_text)
+assert lines[-1].startswith("# operating point rule: ambiguous points"), lines[-1]
 assert [e.split()[1] for e in events] == ["stick_limit", "stability_change", "tilt_zero"], events
 assert all(e.startswith("# ") and " at T = " in e for e in events), events
 EOF

@@ -146,7 +146,7 @@ class Model:
 
     # ---- analyses ------------------------------------------------------------------
 
-    def steady(self, t0=0.0, method=None, rtol=None, steps=None, from_rest=False,
+    def steady(self, t0=0.0, method=None, rtol=None, steps=None, from_rest=True,
                from_rest_periods=None):
         """Every stationary solution, the Floquet multipliers of each and the
         operating point (`usm steady --json`).  NoSolution when none exists

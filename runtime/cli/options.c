@@ -277,6 +277,10 @@ int cli_from_rest_option(usm_op_options *o, int argc, char **argv, int *i,
         o->from_rest = 1;
         return CLI_OPT_TAKEN;
     }
+    if (strcmp(argv[*i], "--no-from-rest") == 0) {
+        o->from_rest = 0;
+        return CLI_OPT_TAKEN;
+    }
     if ((r = cli_option_value(argc, argv, i, "--from-rest-periods", &value, msg)) !=
         CLI_OPT_TAKEN)
         return r;
@@ -292,9 +296,12 @@ int cli_from_rest_option(usm_op_options *o, int argc, char **argv, int *i,
 void cli_from_rest_usage(FILE *out)
 {
     fprintf(out,
-            "  --from-rest         where several roots exist, simulate the start-up from rest\n"
-            "                      to find the operating point (0.2 .. 1.2 s a point); without\n"
-            "                      it such points have no operating point (unknown)\n"
+            "  --from-rest         at the ambiguous points (several roots, or one stable root\n"
+            "                      while the preload's moment holds the stator at rest)\n"
+            "                      simulate the start-up from rest, below every unstable\n"
+            "                      root, to find the operating point (0.1 .. 2 s a point);\n"
+            "                      without it (the default here) such points have no\n"
+            "                      operating point (unknown); other points are never simulated\n"
             "  --from-rest-periods N  length of that simulation in excitation periods\n"
             "                      (default 400)\n");
 }

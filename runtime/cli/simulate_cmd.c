@@ -43,7 +43,7 @@ static void usage(FILE *out)
     fprintf(out,
             "  --duration S        simulated time [s] (required)\n"
             "  --from rest         start at rest: tilt tilt0 about the excitation torque's axis,\n"
-            "                      zero rates (default)\n"
+            "                      zero rates (default); the summary says which tilt\n"
             "  --from stationary   start on the stationary orbit (usm steady's primary root)\n"
             "  --from FILE         start from a state: a CSV with a header naming the state\n"
             "                      variables (its last row is used, so an --out file continues)\n"
@@ -51,7 +51,9 @@ static void usage(FILE *out)
             "  --out FILE.csv      write the time history there (default: stdout)\n"
             "  --force             overwrite --out and --plot files that exist\n"
             "  --rate HZ           samples per second (default 10 f; 0: no time history)\n"
-            "  --tilt0 RAD         initial tilt when starting at rest (default 1e-6)\n"
+            "  --tilt0 RAD         initial tilt when starting at rest, > 0 (default: at rest,\n"
+            "                      below every unstable root: 1e-2 of the smallest unstable\n"
+            "                      root's tilt, at most 1e-6; docs/operating-point.md)\n"
             "  --rtol R            relative tolerance of the integrator (default 1e-8)\n"
             "  --settle-tol X      relative settling tolerance (default 1e-3)\n"
             "  --settle-periods N  periods the settled state must last (default 100)\n"
@@ -161,6 +163,12 @@ static int parse(sim_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
                                                    "1/s", NULL, NULL, NULL, NULL};
             if (cli_parse_quantity(num_opt[which], num_unit[which], sv, &v, msg) != USM_OK)
                 return USM_EINPUT;
+            if (which == 2 && !(v > 0)) {
+                /* 0 is the library's start at rest: reached by omitting the option */
+                cli_msg(msg, "--tilt0: must be > 0 (omit it for the start at rest, below every "
+                             "unstable root)");
+                return USM_EINPUT;
+            }
             if (which < 8)
                 *num[which] = v;
             else if (v != floor(v) || v < 1 || v > (which == 9 ? 1e15 : 1e8)) {

@@ -18,17 +18,24 @@ static void usage(FILE *out)
     fprintf(out,
             "usage: usm steady [--model 3dof|4dof] [--variant NAME] [--params FILE.json]\n"
             "                  [--set NAME=VALUE]... [--t0 S] [--floquet-method NAME] [--rtol R]\n"
-            "                  [--from-rest [--from-rest-periods N]] [--json]\n"
+            "                  [--no-from-rest | --from-rest-periods N] [--json]\n"
             "\n"
-            "Find every stationary solution (paper, eq. 3.1) and the Floquet multipliers of\n"
-            "each; the summary at the top is the one with the smallest tilt.\n"
+            "Find every stationary solution (paper, eq. 3.1), the Floquet multipliers of\n"
+            "each, and the operating point: the stable root the motor reaches from rest.\n"
+            "The summary at the top is the operating point (else the root with the\n"
+            "smallest tilt, said so).\n"
             "\n"
             "options:\n");
     cli_common_usage(out);
     fprintf(out,
             "  --t0 S              start of the Floquet period [s] (default 0, the paper's)\n"
-            "  --from-rest         simulate the start-up from rest to find the operating point\n"
-            "                      (the stable root the motor reaches) where several roots exist\n"
+            "  --no-from-rest      skip the start-up simulation: an ambiguous point then has\n"
+            "                      no operating point (undecided).  By default a point is\n"
+            "                      simulated from rest (below every unstable root) only when\n"
+            "                      it is ambiguous: several roots with a stable one, or one\n"
+            "                      stable root while the preload's moment holds the stator at\n"
+            "                      rest (start margin <= 0); 0.1 .. 2 s.  --from-rest is\n"
+            "                      accepted (the default)\n"
             "  --from-rest-periods N  length of that simulation in excitation periods\n"
             "                      (default 400)\n");
     cli_floquet_usage(out);
@@ -80,6 +87,7 @@ static int parse(steady_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
     cli_common_init(&a->common);
     usm_floquet_options_default(&a->floquet);
     usm_op_options_default(&a->op);
+    a->op.from_rest = 1; /* one point: decide it */
     a->t0 = 0.0;
     a->help = 0;
     for (int i = 1; i < argc; ++i) {

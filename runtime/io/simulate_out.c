@@ -41,8 +41,8 @@ static const char *start_text(const usm_sim_report *a, char *buf, size_t len)
 {
     switch (a->opt->start) {
     case USM_SIM_FROM_REST:
-        snprintf(buf, len, "rest (tilt0 = %g rad about the excitation axis, zero rates)",
-                 a->opt->tilt0);
+        snprintf(buf, len, "rest (%s; about the excitation axis, zero rates)",
+                 a->summary->start_message);
         break;
     case USM_SIM_FROM_STATIONARY:
         snprintf(buf, len, "the stationary orbit");
@@ -114,9 +114,9 @@ void usm_sim_write_table(const usm_sim_report *a, FILE *out)
                 s->settled_root.rotor_speed, s->settle_tol, s->settle_periods);
     else if (s->settled_on == USM_SIM_SETTLED_REST)
         fprintf(out,
-                "  %-22s rest: the wobble decayed (tilt below %g of %.3g rad for %d periods by "
-                "t = %.6g s); the motor does not start\n",
-                "settled on", s->rest_fraction, s->rest_theta_ref, USM_SIM_REST_PERIODS, s->t_rest);
+                "  %-22s rest: the wobble decayed (period-mean tilt held below %g of %.3g rad "
+                "by t = %.6g s); the motor does not start\n",
+                "settled on", s->rest_fraction, s->rest_theta_ref, s->t_rest);
     else
         fprintf(out, "  %-22s none of the %zu stationary solution%s, and no decay to rest\n",
                 "settled on", s->roots, s->roots == 1 ? "" : "s");
@@ -170,8 +170,10 @@ static json_t *summary_json(const usm_sim_report *a)
     usm_json_put(o, "model", json_string(m->name), &ok);
     usm_json_put(o, "parameters", usm_json_params(a->params), &ok);
     usm_json_put(o, "start", json_string(start[a->opt->start]), &ok);
-    if (a->opt->start == USM_SIM_FROM_REST)
-        usm_json_put(o, "tilt0", usm_json_real(a->opt->tilt0), &ok);
+    if (a->opt->start == USM_SIM_FROM_REST) {
+        usm_json_put(o, "tilt0", usm_json_real(a->summary->tilt_start), &ok);
+        usm_json_put(o, "start_message", json_string(a->summary->start_message), &ok);
+    }
     if (a->from_file)
         usm_json_put(o, "from", json_string(a->from_file), &ok);
     usm_json_put(o, "out", a->out ? json_string(a->out) : json_null(), &ok);

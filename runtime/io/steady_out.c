@@ -30,6 +30,9 @@ static void put_operating_point(json_t *obj, const usm_op_result *op, int *ok)
     usm_json_put(obj, "operating_point_message", json_string(op->message), ok);
     usm_json_put(obj, "starts_from_rest",
                  op->starts_from_rest < 0 ? json_null() : json_boolean(op->starts_from_rest), ok);
+    usm_json_put(obj, "start_margin",
+                 isfinite(op->start_margin) ? usm_json_real(op->start_margin) : json_null(), ok);
+    usm_json_put(obj, "operating_point_ambiguous", json_boolean(op->ambiguous), ok);
     if (op->simulated) {
         const usm_sim_summary *s = &op->sim;
         json_t *fr = json_object();
@@ -46,6 +49,11 @@ static void put_operating_point(json_t *obj, const usm_op_result *op, int *ok)
         usm_json_put(fr, "theta_avg_end", usm_json_real(s->theta_avg_end), &fok);
         usm_json_put(fr, "rotor_speed_avg_end", usm_json_real(s->rotor_speed_avg_end), &fok);
         usm_json_put(fr, "wall_time", usm_json_real(op->wall), &fok);
+        usm_json_put(fr, "periods", json_integer(s->periods), &fok);
+        usm_json_put(fr, "tilt_start", usm_json_real(s->tilt_start), &fok);
+        usm_json_put(fr, "start", json_string(s->start_message), &fok);
+        usm_json_put(fr, "model", json_string(op->sim_model ? op->sim_model->name : ""), &fok);
+        usm_json_put(fr, "reason", json_string(s->reason), &fok);
         if (!fok) {
             json_decref(fr);
             fr = NULL;
@@ -208,42 +216,60 @@ static void parameters(FILE *out, const usm_params *p)
     }
 }
 
-/* The operating point in words. */
-static void operating_point(FILE *out, const usm_op_result *op)
+/* The operating point in words: first, since it is the answer. */
+static void operating_point(FILE *out, const usm_op_result *op, size_t n)
 {
     fprintf(out, "\noperating point      ");
     if (op->index >= 0)
-        fprintf(out, "#%d (%s)\n", op->index + 1, usm_op_reason_name(op->reason));
+        fprintf(out, "root #%d of %zu (%s)\n", op->index + 1, n, usm_op_reason_name(op->reason));
     else
-        fprintf(out, "none (%s)\n", op->reason == USM_OP_UNDECIDED
-                                        ? "undecided"
-                                        : usm_op_reason_name(op->reason));
+        fprintf(out, "none (%s)\n", usm_op_reason_name(op->reason));
     fprintf(out, "  %s\n", op->message);
+    if (isfinite(op->start_margin))
+        fprintf(out, "  start margin:      %.6g (m0 over the excitation that keeps the stator at "
+                     "theta = 0, minus 1: %s)\n",
+                op->start_margin,
+                op->start_margin > 0 ? "the excitation overcomes the preload's moment at rest"
+                                     : "the preload's moment holds the stator at rest");
     fprintf(out, "  starts from rest:  %s\n",
-            op->starts_from_rest < 0 ? "not known (usm steady --from-rest simulates it)"
-            : op->starts_from_rest   ? "yes"
-                                     : "no: the wobble decays");
-    if (op->simulated)
-        fprintf(out, "  from rest:         %ld steps to t = %.6g s (stop: %s), %.3g s\n",
-                op->sim.steps, op->sim.t_reached, usm_sim_stop_name(op->sim.stop), op->wall);
+            op->starts_from_rest > 0    ? "yes"
+            : op->starts_from_rest == 0 ? "no: the wobble decays"
+            : op->simulated             ? "not decided by the simulation"
+            : op->ambiguous             ? "not simulated (--no-from-rest)"
+            : op->reason == USM_OP_NO_STABLE_ROOT ? "not simulated: no stable root to reach"
+                                        : "not simulated: not needed (one stable root, and the "
+                                          "excitation overcomes the preload at rest)");
+    if (op->simulated) {
+        fprintf(out, "  start:             %s%s%s\n", op->sim.start_message,
+                op->sim_model ? ", simulated as " : "", op->sim_model ? op->sim_model->name : "");
+        fprintf(out, "  from rest:         %ld steps, %ld periods to t = %.6g s (stop: %s), %.3g s\n",
+                op->sim.steps, op->sim.periods, op->sim.t_reached,
+                usm_sim_stop_name(op->sim.stop), op->wall);
+        if (op->sim.settled_on < 0 && op->sim.settled_on != USM_SIM_SETTLED_REST &&
+            op->sim.reason[0] && !strstr(op->message, op->sim.reason))
+            fprintf(out, "  why:               %s\n", op->sim.reason);
+    }
 }
 
 void usm_steady_table(const usm_steady_report *r, FILE *out)
 {
-    const size_t top = top_root(r);
+    const size_t top = top_root(r), n = usm_steady_count(r->steady);
+    const int is_op = r->op && r->op->index >= 0 && (size_t)r->op->index == top;
     fprintf(out, "model %s: %s\n", r->model->name, r->model->description);
-    if (top > 0)
-        fprintf(out, "\nstationary solution #%zu of %zu (the operating point)\n", top + 1,
-                usm_steady_count(r->steady));
+    if (r->op)
+        operating_point(out, r->op, n);
+    if (is_op)
+        fprintf(out, "\nstationary solution #%zu of %zu: the operating point\n", top + 1, n);
     else
-        fprintf(out, "\nstationary solution #1 of %zu (smallest tilt)\n",
-                usm_steady_count(r->steady));
+        fprintf(out, "\nstationary solution #%zu of %zu (smallest tilt%s)\n", top + 1, n,
+                !r->roots_floquet          ? ""
+                : !r->roots_floquet[top].stable ? "; unstable: not an operating point"
+                : r->op                    ? "; not the operating point"
+                                           : "");
     solution(out, usm_steady_root(r->steady, top));
     if (r->floquet)
         multipliers(out, top > 0 ? &r->roots_floquet[top] : r->floquet, r->params->f);
     other_roots(out, r->steady, r->roots_floquet);
-    if (r->op)
-        operating_point(out, r->op);
     parameters(out, r->params);
 }
 

@@ -116,6 +116,8 @@ json_t *usm_sweep_json(const usm_sweep *s, const usm_model *m, const usm_params 
     for (size_t i = 0; i < usm_sweep_event_count(s); ++i)
         if (json_array_append_new(events, event_json(usm_sweep_event_at(s, i), over)) != 0)
             ok = 0;
+    if (usm_sweep_op_rule(s))
+        usm_json_put(obj, "operating_point_rule", json_string(usm_sweep_op_rule(s)), &ok);
     usm_json_put(obj, "points", points, &ok);
     usm_json_put(obj, "events", events, &ok);
     if (!ok) {
@@ -201,6 +203,8 @@ int usm_sweep_csv(const usm_sweep *s, const char *over, int floquet, FILE *out)
         fprintf(out, "# %s at %s = %s: %s\n", usm_event_name(e->type), over,
                 usm_shortest(buf, e->value), e->what);
     }
+    if (usm_sweep_op_rule(s))
+        fprintf(out, "# operating point rule: %s\n", usm_sweep_op_rule(s));
     return ferror(out) ? -1 : 0;
 }
 

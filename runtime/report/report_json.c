@@ -526,6 +526,7 @@ static json_t *map_summary(const usm_report_map *m, int fig)
     integer(o, "several_roots", (long long)several);
     integer(o, "invalid", (long long)invalid);
     flag(o, "from_rest", m->op && m->op->from_rest);
+    str(o, "operating_point_rule", usm_op_rule_text(m->op));
     return o;
 }
 

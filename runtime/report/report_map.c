@@ -286,6 +286,7 @@ json_t *usm_report_map_json(const usm_report_map *map)
     usm_json_put(obj, "t0", usm_json_real(map->t0), &ok);
     usm_json_put(obj, "x", axis_json(&map->x), &ok);
     usm_json_put(obj, "y", axis_json(&map->y), &ok);
+    usm_json_put(obj, "operating_point_rule", json_string(usm_op_rule_text(map->op)), &ok);
     for (size_t q = 0; q < n && ok; ++q) {
         const usm_report_map_cell *c = &map->cells[q];
         json_t *pt = json_object();

@@ -29,8 +29,10 @@
 enum { ROOT_TILT_ZERO, ROOT_TILT_LIMIT, ROOT_SPEED, ROOT_FN, ROOT_STICK, NROOTS };
 
 /* A step count per CVode call (at most one excitation period) that no sane
- * motion needs: the paper's parameters take about 30 to 60. */
-#define STEPS_PER_CALL 20000
+ * motion needs: the paper's parameters take about 30 to 60; a start at rest
+ * below a small unstable root (3e-11 rad at F0 = 1.0 N, f = 38 kHz) circles the
+ * axis at some 60,000 a period (docs/operating-point.md). */
+#define STEPS_PER_CALL 200000
 
 struct usm_sim {
     const usm_model *m;    /* the model integrated */
@@ -74,6 +76,9 @@ struct usm_sim {
     double lu[USM_MAX_NY * USM_MAX_NY];
     int piv[USM_MAX_NY];
     usm_steady *steady;
+    usm_floquet *floquet;  /* the roots' stability, for the start at rest */
+    usm_floquet_result *fl;
+    size_t fl_cap;
     /* running diagnostics, updated by the root function at every step */
     usm_sim_summary *sum;
     double Fn_min, excess_max;
@@ -85,6 +90,8 @@ struct usm_sim {
     size_t root_cap;
     long rest_run;
     double rest_prev;
+    long trap_run;   /* periods held below rest_fraction trap_ref */
+    double trap_ref; /* the smallest root's tilt when that root is unstable, else 0 */
     char cvmsg[USM_MSG_LEN];
     char msg[USM_MSG_LEN];
 };
@@ -95,7 +102,7 @@ void usm_sim_options_default(usm_sim_options *opt)
     opt->start = USM_SIM_FROM_REST;
     opt->t0 = 0.0;
     opt->duration = 0.0;
-    opt->tilt0 = 1e-6;
+    opt->tilt0 = 0.0;
     opt->rotor_angle0 = 0.0;
     opt->rate = 0.0;
     opt->rtol = 1e-8;
@@ -106,7 +113,7 @@ void usm_sim_options_default(usm_sim_options *opt)
     opt->max_steps = 0;
     opt->max_step = 0.0;
     opt->max_twist_growth = 400.0;
-    opt->rest_fraction = 2e-2;
+    opt->rest_fraction = 0.1;
 }
 
 const char *usm_sim_stop_name(usm_sim_stop stop)
@@ -215,7 +222,8 @@ usm_sim *usm_sim_alloc(const usm_model *m)
     use_model(s, m);
     set_mode(s, 0);
     s->steady = usm_steady_alloc(m);
-    if (!s->steady || SUNContext_Create(NULL, &s->ctx) != 0) {
+    s->floquet = usm_floquet_alloc(m);
+    if (!s->steady || !s->floquet || SUNContext_Create(NULL, &s->ctx) != 0) {
         s->ctx = NULL;
         usm_sim_free(s);
         return NULL;
@@ -249,6 +257,8 @@ void usm_sim_free(usm_sim *s)
     if (s->ctx)
         SUNContext_Free(&s->ctx);
     usm_steady_free(s->steady);
+    usm_floquet_free(s->floquet);
+    free(s->fl);
     free(s->root_run);
     free(s);
 }
@@ -499,8 +509,9 @@ static int check_options(usm_sim *s, const usm_sim_options *o)
         return input_error(s, "max_step: must be >= 0 seconds");
     if (!(o->max_twist_growth >= 0) || !isfinite(o->max_twist_growth))
         return input_error(s, "max_twist_growth: must be >= 0 (0: no limit)");
-    if (o->start == USM_SIM_FROM_REST && !(o->tilt0 > 0 && o->tilt0 < o->theta_limit))
-        return input_error(s, "tilt0: must be > 0 and below theta_limit");
+    if (o->start == USM_SIM_FROM_REST && !(o->tilt0 >= 0 && o->tilt0 < o->theta_limit))
+        return input_error(s, "tilt0: must be >= 0 (0: the start at rest, below every unstable "
+                              "root) and below theta_limit");
     if (!isfinite(o->rotor_angle0))
         return input_error(s, "rotor_angle0: must be a finite number");
     if (o->start == USM_SIM_FROM_STATE) {
@@ -774,17 +785,25 @@ static void end_of_period(usm_sim *s, run_state *r, double t, const double *q)
         else
             s->root_run[k] = 0;
     }
-    /* the decay rule */
+    /* the decay rule: on the tilt alone (usm_simulate.h: a loaded slip
+     * model's rotor creeps backwards while the wobble dies out) */
     if (sum->rest_fraction > 0) {
         const double lim = sum->rest_fraction * sum->rest_theta_ref;
-        if (r->theta_avg < lim && fabs(r->speed_avg) < lim * s->Omega)
+        if (r->theta_avg < lim)
             s->rest_run++;
         else
             s->rest_run = 0;
+        /* held far below an unstable smallest root: trapped at the axis */
+        if (s->trap_ref > 0 && r->theta_avg < sum->rest_fraction * s->trap_ref)
+            s->trap_run++;
+        else
+            s->trap_run = 0;
         s->rest_prev = r->theta_avg;
-        if (s->rest_run >= USM_SIM_REST_PERIODS) {
+        if (s->rest_run >= USM_SIM_REST_PERIODS || s->trap_run >= USM_SIM_TRAP_PERIODS) {
             r->rest = 1;
             sum->t_rest = t;
+            if (s->rest_run < USM_SIM_REST_PERIODS)
+                sum->rest_theta_ref = s->trap_ref;
         }
     }
 }
@@ -961,7 +980,8 @@ static int handle_roots(usm_sim *s, double t, const double *y, const double *q)
         sum->stop = USM_SIM_TILT_ZERO;
         snprintf(sum->reason, USM_MSG_LEN,
                  "the tilt reached 0 at t = %.9g s (theta = %.3g rad): the z-x-z Euler angles "
-                 "are singular there; start from a larger tilt0",
+                 "are singular there (a variant in the tilt vector, e.g. twist_integrated, "
+                 "is regular there)",
                  t, theta_of(s, x));
         return 1;
     }
@@ -994,6 +1014,80 @@ static int handle_roots(usm_sim *s, double t, const double *y, const double *q)
     return 0;
 }
 
+/* The start at rest (usm_simulate.h, "Start from rest"): sum->tilt_start,
+ * theta_unstable and start_message.  USM_OK, or USM_EFAILED when out of
+ * memory. */
+static int rest_start(usm_sim *s)
+{
+    usm_sim_summary *sum = s->sum;
+    const size_t n = sum->roots;
+    size_t k_u = 0;
+    int fl_ok = 0;
+    sum->theta_unstable = 0.0;
+    if (n > 0) {
+        if (n > s->fl_cap) {
+            usm_floquet_result *fl = realloc(s->fl, n * sizeof *fl);
+            if (!fl) {
+                snprintf(s->msg, USM_MSG_LEN, "out of memory");
+                return USM_EFAILED;
+            }
+            s->fl = fl;
+            s->fl_cap = n;
+        }
+        fl_ok = usm_floquet_roots(s->floquet, &s->p, s->steady, 0.0, NULL, s->fl) == USM_OK;
+        for (size_t k = 0; k < n; ++k) {
+            const double th = usm_steady_root(s->steady, k)->theta;
+            if ((!fl_ok || !s->fl[k].stable) &&
+                (sum->theta_unstable == 0.0 || th < sum->theta_unstable)) {
+                sum->theta_unstable = th;
+                k_u = k;
+            }
+        }
+    }
+    const double th_u = sum->theta_unstable;
+    if (n > 0 && th_u == usm_steady_root(s->steady, 0)->theta)
+        s->trap_ref = th_u;
+    char root[96] = "";
+    if (th_u > 0)
+        snprintf(root, sizeof root, "root #%zu at %.4g rad%s", k_u + 1, th_u,
+                 fl_ok ? "" : ", the multipliers having failed");
+    if (s->o.tilt0 > 0) {
+        sum->tilt_start = s->o.tilt0;
+        if (th_u > 0 && s->o.tilt0 >= th_u)
+            snprintf(sum->start_message, USM_MSG_LEN,
+                     "tilt0 = %.4g rad as given: at or above the smallest unstable tilt (%s), "
+                     "so not a start at rest (omit tilt0 for one)",
+                     s->o.tilt0, root);
+        else
+            snprintf(sum->start_message, USM_MSG_LEN, "tilt0 = %.4g rad as given%s%s%s",
+                     s->o.tilt0, th_u > 0 ? ", below the smallest unstable tilt (" : "", root,
+                     th_u > 0 ? ")" : "");
+        return USM_OK;
+    }
+    if (th_u > 0 && USM_SIM_REST_START_FRACTION * th_u < USM_SIM_TILT0_DEFAULT) {
+        sum->tilt_start = USM_SIM_REST_START_FRACTION * th_u;
+        snprintf(sum->start_message, USM_MSG_LEN,
+                 "at rest: tilt0 = %.4g rad, %g of the smallest unstable tilt (%s)",
+                 sum->tilt_start, USM_SIM_REST_START_FRACTION, root);
+    } else {
+        sum->tilt_start = USM_SIM_TILT0_DEFAULT;
+        if (th_u > 0)
+            snprintf(sum->start_message, USM_MSG_LEN,
+                     "at rest: tilt0 = %g rad, below %g of the smallest unstable tilt (%s)",
+                     USM_SIM_TILT0_DEFAULT, USM_SIM_REST_START_FRACTION, root);
+        else
+            snprintf(sum->start_message, USM_MSG_LEN,
+                     "at rest: tilt0 = %g rad (no unstable stationary solution to stay below)",
+                     USM_SIM_TILT0_DEFAULT);
+    }
+    if (!(sum->tilt_start < s->o.theta_limit)) {
+        snprintf(s->msg, USM_MSG_LEN, "tilt0: the start at rest, %g rad, is not below "
+                 "theta_limit", sum->tilt_start);
+        return USM_EINPUT;
+    }
+    return USM_OK;
+}
+
 /* Initial state from the options; USM_OK, or USM_ENOSOLUTION. */
 static int initial_state(usm_sim *s, double *x0, double *rotor_angle0)
 {
@@ -1009,7 +1103,7 @@ static int initial_state(usm_sim *s, double *x0, double *rotor_angle0)
             double xe[USM_MAX_NX] = {0};
             xe[e->x_phi] = s->Omega * o->t0;
             xe[e->x_psi] = -s->Omega * o->t0;
-            xe[e->x_theta] = o->tilt0;
+            xe[e->x_theta] = s->sum->tilt_start;
             if (e->x_phi_R >= 0)
                 xe[e->x_phi_R] = o->rotor_angle0;
             usm_coords_map(e, xe, o->t0, &s->p, 0.0, s->m, x0);
@@ -1017,7 +1111,7 @@ static int initial_state(usm_sim *s, double *x0, double *rotor_angle0)
         }
         x0[s->iphi] = s->Omega * o->t0;
         x0[s->ipsi] = -s->Omega * o->t0;
-        x0[s->ith] = o->tilt0;
+        x0[s->ith] = s->sum->tilt_start;
         if (s->irot >= 0)
             x0[s->irot] = o->rotor_angle0;
         break;
@@ -1211,9 +1305,12 @@ static int integrate(usm_sim *s, run_state *r)
                 sum->stop = USM_SIM_REST;
                 snprintf(sum->reason, USM_MSG_LEN,
                          "the wobble decayed: the period-mean tilt %.3g rad fell below %g of "
-                         "%.3g rad for %d periods by t = %.9g s; the motor does not start",
+                         "%.3g rad (%s) for %ld periods by t = %.9g s; the motor does not start",
                          r->theta_avg, sum->rest_fraction, sum->rest_theta_ref,
-                         USM_SIM_REST_PERIODS, t);
+                         s->rest_run >= USM_SIM_REST_PERIODS ? "the start tilt or the smallest "
+                                                               "root's"
+                                                             : "the unstable smallest root's",
+                         s->rest_run >= USM_SIM_REST_PERIODS ? s->rest_run : s->trap_run, t);
                 return USM_OK;
             }
         }
@@ -1335,7 +1432,11 @@ int usm_sim_run(usm_sim *s, const usm_params *p, const usm_sim_options *opt,
         s->root_run[k] = 0;
     s->rest_run = 0;
     s->rest_prev = INFINITY;
+    s->trap_run = 0;
+    s->trap_ref = 0.0;
 
+    if (opt->start == USM_SIM_FROM_REST && (rc = rest_start(s)) != USM_OK)
+        return rc;
     if ((rc = initial_state(s, x0, &rotor_angle0)) != USM_OK ||
         (rc = check_twist_growth(s, x0, cb)) != USM_OK)
         return rc;

@@ -450,7 +450,9 @@ static void evaluate(usm_optimize *o, const double *x)
             return;
         if (o->op.index < 0) {
             ++o->no_op;
-            snprintf(o->op_msg, USM_MSG_LEN, "no operating point: %.200s", o->op.message);
+            /* the reason's name: whole within the refusal message's room */
+            snprintf(o->op_msg, USM_MSG_LEN, "no operating point: %s",
+                     usm_op_reason_name(o->op.reason));
             return;
         }
         pick = (size_t)o->op.index;

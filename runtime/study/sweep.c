@@ -26,11 +26,14 @@ struct usm_sweep {
     usm_sweep_event *ev;
     size_t nev, evcap;
     char msg[USM_MSG_LEN];
+    const char *op_rule;  /* usm_op_rule_text of the run's options, or NULL */
     /* progress: the continuation's share of the run, then the Floquet part's */
     const usm_sweep_options *opt;
     double progress_split;
     size_t done;          /* grid points settled by the continuation phase */
 };
+
+const char *usm_sweep_op_rule(const usm_sweep *s) { return s->op_rule; }
 
 void usm_sweep_options_default(usm_sweep_options *opt)
 {
@@ -281,6 +284,7 @@ int usm_sweep_run(usm_sweep *s, const usm_params *p, const usm_sweep_options *op
     if ((status = setup_points(s, opt)) != USM_OK)
         return status;
     s->opt = opt;
+    s->op_rule = opt->operating_point ? usm_op_rule_text(&opt->op) : NULL;
     s->done = 0;
     s->progress_split = opt->floquet ? 0.05 : 1.0;
     progress(s, 0.0);

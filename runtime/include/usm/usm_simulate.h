@@ -18,10 +18,19 @@
  *    phi + psi is controlled absolutely at rtol * theta_c (theta_c the
  *    stationary tilt), since the twisting torque c_t (phi + psi cos theta)
  *    is a small difference of two large angles.
- *  - Start from rest.  The z-x-z angles are singular at theta = 0.  The motor
- *    "at rest" starts from theta = tilt0 (default 1e-6 rad) with zero rates and
- *    phi = Omega t0, psi = -Omega t0: the tilt is a rotation about the axis of
- *    the excitation torque at t0, the twist angle is zero.
+ *  - Start from rest.  A motor at rest has no tilt, but the contact law is
+ *    singular at theta = 0 in every coordinate set (docs/coordinates.md), so
+ *    the run starts from theta = tilt0 with zero rates and phi = Omega t0,
+ *    psi = -Omega t0: the tilt is a rotation about the axis of the excitation
+ *    torque at t0, the twist angle is zero.  Below the smallest unstable
+ *    stationary tilt theta_u the motion falls back to the axis where the
+ *    preload's moment holds the stator, above it the wobble may grow: a start
+ *    above theta_u is not a start at rest.  So tilt0 = 0 (the default) starts
+ *    at min(USM_SIM_TILT0_DEFAULT, USM_SIM_REST_START_FRACTION theta_u)
+ *    (theta_u from the roots' Floquet multipliers at t0; with multipliers that
+ *    fail, every root counts as unstable), and the summary says which start
+ *    was used (tilt_start, start_message).  A tilt0 > 0 is used as given; the
+ *    message says when it lies at or above theta_u.
  *  - Settling.  At the end of every excitation period T = 1/f the mean tilt and
  *    the mean rotor speed over that period (quadratures) are compared with the
  *    primary stationary solution of usm_steady_solve.  The motion has settled
@@ -36,17 +45,26 @@
  *    this is `settled`); should two roots qualify (roots closer than
  *    settle_tol), the one nearer at the end wins.  The wobble decayed (the
  *    motor does not start) when, for USM_SIM_REST_PERIODS consecutive
- *    periods, the period-mean tilt is below rest_fraction theta_ref and the
- *    period-mean |rotor speed| below rest_fraction Omega theta_ref;
- *    theta_ref is the smaller of the start tilt and the smallest stationary
- *    tilt (the start tilt when there is no stationary solution).  A tilt 50
- *    times below where it started and below every stationary tilt, held for
- *    5 periods, is decay, not an approach to a root (the start-ups that reach
- *    a root dip by less than a factor 2; those that decay fall towards about
- *    1e-8 rad, where they creep on); the run then stops (USM_SIM_REST) instead of
- *    integrating on towards theta = 0, where the z-x-z angles are singular
- *    and the steps shrink without end.  Otherwise the run has not settled
- *    (USM_SIM_SETTLED_NONE), e.g. when it was too short or stopped early.
+ *    periods, the period-mean tilt is below rest_fraction theta_ref, with
+ *    theta_ref the smaller of the start tilt and the smallest stationary tilt
+ *    (the start tilt when there is no stationary solution): a tilt 10 times
+ *    below where it started and below every stationary tilt, held for 5
+ *    periods, is decay, not an approach to a root (the start-ups that reach
+ *    a root dip by less than a factor 2).  Or, from rest with the smallest
+ *    root unstable (the threshold the wobble must cross to grow), when for
+ *    USM_SIM_TRAP_PERIODS consecutive periods the period-mean tilt is below
+ *    rest_fraction times that root's tilt (rest_theta_ref then says so): the
+ *    motion held near the axis does not die out but circles the apex at a
+ *    level of its own (1e-9 .. 1e-8 rad, docs/coordinates.md), which a start
+ *    below that level never falls 1/rest_fraction beneath.  The rule asks
+ *    nothing of the rotor: under a load the slip model's stopped rotor is
+ *    back-driven at the friction law's creep speed
+ *    tan(T / (R F0 mu0)) / (kappa R) (0.39 1/s at F0 = 1.1 N) while the
+ *    wobble dies out, and the stick model's rotor speed follows the tilt.
+ *    The run then stops (USM_SIM_REST) instead of integrating on towards
+ *    theta = 0, where the contact law is singular and the steps shrink
+ *    without end.  Otherwise the run has not settled (USM_SIM_SETTLED_NONE),
+ *    e.g. when it was too short or stopped early.
  *  - The paper's twist law.  Its linearisation grows with psi(t) (the twist
  *    torque's theta-derivative c_t psi sin(theta), psi ~ -Omega t): the fastest
  *    linearised mode gets faster as the run goes on, the steps shorter, and the
@@ -105,7 +123,8 @@ typedef struct usm_sim_options {
     usm_sim_start start;
     double t0;             /* start time [s] (the excitation is m0 (cos Omega t, sin Omega t)) */
     double duration;       /* [s], > 0 */
-    double tilt0;          /* FROM_REST: initial tilt [rad] (default 1e-6) */
+    double tilt0;          /* FROM_REST: initial tilt [rad]; 0 (default): at rest, below
+                              every unstable root (header comment, "Start from rest") */
     double x0[USM_MAX_NX]; /* FROM_STATE: the state, in the model's state order */
     double rotor_angle0;   /* initial rotor angle phi_R [rad] of the stick model (default 0) */
     double rate;           /* samples per second passed to the callback; 0: none (default) */
@@ -120,7 +139,7 @@ typedef struct usm_sim_options {
                               * header comment); 0: no limit (default 400: about 2 s
                               * of the paper's motor, a minute of computing) */
     double rest_fraction;  /* the decay rule of settled_on (header comment; default
-                              2e-2, in [0, 0.5]); 0: never decide that the wobble decayed */
+                              0.1, in [0, 0.5]); 0: never decide that the wobble decayed */
     int own_coordinates;   /* 1: integrate in the model's own orientation coordinates;
                               0 (default): a model with a counterpart in the tilt
                               vector (twist_integrated) is integrated in it, the
@@ -129,8 +148,15 @@ typedef struct usm_sim_options {
                               model's either way */
 } usm_sim_options;
 
+/* The start at rest (tilt0 = 0, header comment): at most this tilt [rad] ... */
+#define USM_SIM_TILT0_DEFAULT 1e-6
+/* ... and at most this fraction of the smallest unstable stationary tilt. */
+#define USM_SIM_REST_START_FRACTION 1e-2
+
 /* Consecutive periods the decay rule must hold (see the header comment). */
 #define USM_SIM_REST_PERIODS 5
+/* Consecutive periods the trapped form of the decay rule must hold. */
+#define USM_SIM_TRAP_PERIODS 25
 
 /* usm_sim_summary.settled_on when the wobble decayed: the motor does not start. */
 #define USM_SIM_SETTLED_REST (-1)
@@ -141,8 +167,9 @@ typedef struct usm_sim_options {
  * of the paper's motor under its twist law). */
 #define USM_SIM_TWIST_GROWTH_WARN 40.0
 
-/* Defaults: start from rest at t0 = 0, tilt0 = 1e-6 rad, duration 0 (must be
- * set), no samples, the tolerances and limits stated above. */
+/* Defaults: start from rest at t0 = 0, tilt0 = 0 (at rest, below every unstable
+ * root), duration 0 (must be set), no samples, the tolerances and limits
+ * stated above. */
 void usm_sim_options_default(usm_sim_options *opt);
 
 /* One point of the time history. */
@@ -255,6 +282,10 @@ typedef struct usm_sim_summary {
                                    settled run the orbit's separation fraction, which
                                    open_fraction, over the whole run with its start-up,
                                    is not); 0 before the first complete period */
+    double tilt_start;          /* FROM_REST: the start tilt used [rad] (tilt0, or the one
+                                   tilt0 = 0 chose); 0 for the other starts */
+    double theta_unstable;      /* the smallest unstable stationary tilt [rad]; 0: none */
+    char start_message[USM_MSG_LEN]; /* FROM_REST: which start was used and why */
 } usm_sim_summary;
 
 /* A transient simulation of one model: integrator workspace and the

@@ -192,6 +192,10 @@ const usm_sweep_event *usm_sweep_event_at(const usm_sweep *s, size_t i);
  * next run or usm_sweep_free. */
 const char *usm_sweep_message(const usm_sweep *s);
 
+/* The operating point's rule of the last run (usm_op_rule_text of its
+ * options), or NULL when the run judged no operating point. */
+const char *usm_sweep_op_rule(const usm_sweep *s);
+
 #ifdef __cplusplus
 }
 #endif
