@@ -352,8 +352,10 @@ static int plot_event_add(plot_events *ev, const char *name, double value)
     const size_t ln = strlen(ev->names), lx = strlen(ev->values);
     if (ln + 64 >= sizeof ev->names || lx + 32 >= sizeof ev->values)
         return -1;
-    snprintf(ev->names + ln, sizeof ev->names - ln, "%s%s", ln ? " " : "", name);
-    snprintf(ev->values + lx, sizeof ev->values - lx, "%s%.17g", lx ? " " : "", value);
+    /* each word followed by its space: one value alone must not read as a
+     * number, which the script's word() refuses ("non-STRING argument") */
+    snprintf(ev->names + ln, sizeof ev->names - ln, "%s ", name);
+    snprintf(ev->values + lx, sizeof ev->values - lx, "%.17g ", value);
     return 0;
 }
 
