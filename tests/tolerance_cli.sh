@@ -87,6 +87,26 @@ key("rotor_speed [1/s]", -5, "spec <=")
 key("max_modulus [1]", 1, "stability limit")
 PY
     fi
+    # the figure's counts (histograms.csv, binned by the library) against the
+    # samples binned here: 40 bins of equal width over each output's range,
+    # the maximum in the last bin
+    python3 - "$tmp/full" <<'PY' || fail "histograms.csv: not the samples' counts"
+import csv, math, sys
+rows = list(csv.DictReader(open(sys.argv[1] + "/samples.csv")))
+bins = list(csv.DictReader(open(sys.argv[1] + "/histograms.csv")))
+assert len(bins) == 40, len(bins)
+for name, unit in (("rotor_speed", "1/s"), ("max_modulus", "1")):
+    v = [float(r["%s [%s]" % (name, unit)]) for r in rows if r["%s [%s]" % (name, unit)]]
+    lo, hi = min(v), max(v)
+    got_lo = float(bins[0]["%s_lo [%s]" % (name, unit)])
+    got_hi = float(bins[-1]["%s_hi [%s]" % (name, unit)])
+    assert got_lo == lo and got_hi == hi, (name, got_lo, lo, got_hi, hi)
+    want = [0] * 40
+    for x in v:
+        want[min(39, int(math.floor((x - lo) / ((hi - lo) / 40))))] += 1
+    got = [int(b["%s_count" % name]) for b in bins]
+    assert got == want and sum(got) == len(v), (name, got, want)
+PY
     cp "$out" "$tmp/full.stdout"
 fi
 

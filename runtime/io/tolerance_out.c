@@ -129,6 +129,33 @@ int usm_tolerance_write_csv(const usm_tolerance *t, FILE *out)
     return ferror(out) ? -1 : 0;
 }
 
+int usm_tolerance_write_histograms(const usm_tolerance *t, FILE *out)
+{
+    static const int k[2] = {USM_TOL_ROTOR_SPEED, USM_TOL_MAX_MODULUS};
+    if (!t->have_result)
+        return -1;
+    fputs("bin", out);
+    for (int h = 0; h < 2; ++h) {
+        const char *name = usm_tolerance_output_name(k[h]), *unit = usm_tolerance_output_unit(k[h]);
+        fprintf(out, ",%s_lo [%s],%s_hi [%s],%s_count", name, unit, name, unit, name);
+    }
+    fputc('\n', out);
+    for (int b = 0; b < TOL_HIST_BINS; ++b) {
+        fprintf(out, "%d", b);
+        for (int h = 0; h < 2; ++h) {
+            const double lo = t->hist[h].lo, w = (t->hist[h].hi - lo) / TOL_HIST_BINS;
+            /* no sample has the output: no range, no bin */
+            usm_csv_num(out, 0, t->hist[h].total ? lo + w * b : NAN);
+            usm_csv_num(out, 0, t->hist[h].total ? (b + 1 == TOL_HIST_BINS ? t->hist[h].hi
+                                                                            : lo + w * (b + 1))
+                                                 : NAN);
+            fprintf(out, ",%llu", (unsigned long long)t->hist[h].count[b]);
+        }
+        fputc('\n', out);
+    }
+    return ferror(out) ? -1 : 0;
+}
+
 static void dist_text(const usm_tolerance_vary *v, char buf[96])
 {
     if (v->kind == USM_DIST_UNIFORM && !v->relative)
