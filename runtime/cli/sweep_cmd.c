@@ -416,7 +416,16 @@ static int plot_periodic(const sweep_args *a, const usm_periodic_sweep *s)
     plot_events ev = {"", ""};
     for (size_t i = 0; i < usm_periodic_sweep_event_count(s); ++i) {
         const usm_periodic_event *e = usm_periodic_sweep_event_at(s, i);
-        if (plot_event_add(&ev, usm_pevent_name(e->type), e->value) != 0)
+        /* the label of an event on an orbit the model does not describe says so */
+        char name[64];
+        const int limit = e->type == USM_PEVENT_CONTACT_LOSS ||
+                          e->type == USM_PEVENT_STICK_LOSS || e->type == USM_PEVENT_CONTACT_REGAINED;
+        const usm_validity v = limit ? USM_VALID
+                               : e->has_hybrid ? e->hybrid.validity
+                               : e->has_orbit ? e->orbit.validity : USM_VALID;
+        snprintf(name, sizeof name, "%s%s%s", usm_pevent_name(e->type),
+                 v == USM_VALID ? "" : ":model_invalid:", v == USM_VALID ? "" : usm_validity_name(v));
+        if (plot_event_add(&ev, name, e->value) != 0)
             break;
     }
     return plot_render("sweep_periodic", a->plot, xcol, &ev);
