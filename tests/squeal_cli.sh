@@ -74,6 +74,15 @@ if expect_rc 0 periodic --model 4dof --set mode_split=0.0862; then
         fail "usm periodic: the squeal frequency of an invalid orbit has no flag: $(grep -i 'squeal\|invalid' "$out")"
 fi
 
+# usm steady past the stick limit (0.602 N mm): the root's squeal line flagged
+if expect_rc 0 steady --set T=0.005; then
+    grep -q '^  squeal frequency = .*MODEL INVALID here: stick_not_admissible' "$out" ||
+        fail "usm steady: the squeal frequency of an invalid root has no flag: $(grep -i squeal "$out")"
+fi
+if expect_rc 0 steady --set T=0.0002; then
+    ! grep -q 'MODEL INVALID' "$out" || fail "usm steady: a valid root flagged"
+fi
+
 # ---- usm periodic and usm steady: the dominant complex pair --------------------
 dominant='
 import cmath, math
