@@ -511,6 +511,27 @@ def check_squeal_validity(out, md, data):
         ok("report.md: the contact opens twice a period along the mode split (counted)")
     else:
         fail(f"report.md: openings not counted: {opened}")
+    # the orbits with separation: the last stable one's speed carries its flag,
+    # judged by an independent usm periodic at that value
+    for model in ("3dof", "4dof"):
+        for imp in ("phase_error", "mode_split"):
+            sp = data["nonideal"][model][imp].get("separating", {})
+            if sp.get("last") is None:
+                continue
+            r = run("periodic", "--model", model, "--variant", "imperfect_unilateral",
+                    "--set", f"{imp}={sp['last']!r}", "--json")
+            try:
+                valid = json.loads(r.stdout)["valid"]
+            except (ValueError, KeyError):
+                valid = None
+            cell = re.search(r"1/s at [0-9.]+( \(\*\*model invalid\*\*: ([a-z_]+)\))?",
+                             md[md.find(f"({data['nonideal'][model]['unilateral_model']})"):]) \
+                if imp == "phase_error" else None
+            if valid is not None and sp.get("last_valid") == valid and \
+                    (cell is None or (cell.group(1) is None) == valid):
+                ok(f"{model} {imp}: the last stable orbit with separation, valid {valid}, so flagged")
+            else:
+                fail(f"{model} {imp}: last_valid {sp.get('last_valid')}, usm periodic valid {valid}")
     e = [p_ for p_ in data["parameters"] if p_["name"] == "e_impact"]
     if e and "not in the paper" in e[0]["source"] and "Table 5" not in e[0]["source"]:
         ok("e_impact: usm's assumption, not Table 5")

@@ -395,7 +395,13 @@ static int plot(const sweep_args *a, const usm_sweep *s)
     plot_events ev = {"", ""};
     for (size_t i = 0; i < usm_sweep_event_count(s); ++i) {
         const usm_sweep_event *e = usm_sweep_event_at(s, i);
-        if (plot_event_add(&ev, usm_event_name(e->type), e->value) != 0)
+        /* the label of an event on a root the model does not describe says so */
+        char name[64];
+        const int flagged = e->has_sol && e->type != USM_EVENT_STICK_LIMIT &&
+                            e->sol.validity != USM_VALID;
+        snprintf(name, sizeof name, "%s%s%s", usm_event_name(e->type),
+                 flagged ? ":model_invalid:" : "", flagged ? usm_validity_name(e->sol.validity) : "");
+        if (plot_event_add(&ev, name, e->value) != 0)
             break;
     }
     return plot_render("sweep", a->plot, xcol, &ev);

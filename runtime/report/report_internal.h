@@ -136,6 +136,8 @@ typedef struct usm_report_nonideal_point {
     int separating;
     double sep_speed_mean, sep_ripple, sep_max_modulus; /* [1/s], [1/s], [1] */
     double sep_fraction, impact_velocity_max;            /* [1], [m/s] */
+    usm_validity sep_validity;  /* of the orbit with separation (a stick model's impacts
+                                   may need more than mu0: stick_not_admissible) */
 } usm_report_nonideal_point;
 
 /* A root of F_n_min (contact opens) or of max_modulus - 1 (stability lost)

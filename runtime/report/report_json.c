@@ -763,6 +763,9 @@ static json_t *nonideal_curve(const usm_report_nonideal_curve *cv, int j)
         num(sp, "fraction_at_end", last ? last->sep_fraction : NAN);
         num(sp, "last", last ? last->value : NAN);
         num(sp, "last_display", last ? imp_display(j, last->value) : NAN);
+        /* the last stable orbit's speed and ripple carry their flag */
+        flag(sp, "last_valid", last && last->sep_validity == USM_VALID);
+        str(sp, "last_invalid_reason", last ? usm_validity_name(last->sep_validity) : "");
         json_object_set_new(o, "separating", sp);
     }
     return o;

@@ -211,6 +211,7 @@ static int curve_task(void *ctx, void *state, size_t i)
             pt->sep_ripple = hy->rotor_speed_ripple;
             pt->sep_max_modulus = hy->floquet.max_modulus;
             pt->sep_fraction = hy->separation_fraction;
+            pt->sep_validity = hy->validity;
             pt->impact_velocity_max = hy->impact_velocity_max;
         }
     }
