@@ -437,7 +437,8 @@ static int histograms(usm_tolerance *t, const tol_comm *c)
     const uint64_t local = tol_local_samples(t);
     double mine[4], *all = malloc((size_t)c->size * sizeof mine);
     u64 counts[2 * (TOL_HIST_BINS + 1)];
-    int rc = all ? 0 : -1;
+    /* every rank takes part in the collectives below, or none does */
+    int rc = all_ok(c, all != NULL) == 1 ? 0 : -1;
     for (int h = 0; h < 2; ++h) {
         mine[2 * h] = HUGE_VAL, mine[2 * h + 1] = -HUGE_VAL;
         for (uint64_t i = 0; i < local; ++i) {
