@@ -54,6 +54,8 @@ same "tolerance samples.csv, samples driven (np 3)" "$tmp/dmpi/samples.csv" "$tm
 mpi $T --out "$tmp/mpi" || fail "mpirun tolerance --out: exit $?"
 same "tolerance summary" "$out" "$tmp/serial.md"
 same "tolerance samples.csv" "$tmp/mpi/samples.csv" "$tmp/serial/samples.csv"
+# the figure's counts, binned over the ranks: the serial run's
+same "tolerance histograms.csv" "$tmp/mpi/histograms.csv" "$tmp/serial/histograms.csv"
 
 # stopped under MPI after 3 blocks (one file per rank), resumed by a serial run
 stopped() { # NP FILE: mpirun -np NP stopped after 3 blocks with --checkpoint FILE

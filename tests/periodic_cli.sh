@@ -13,7 +13,7 @@ USM=${1:?usage: periodic_cli.sh PATH/TO/usm}
 
 KEYS="['model','parameters','converged','rotor_speed_mean','rotor_speed_ripple','F_n_min','F_n_max',
 'friction_needed_max','theta_mean','theta_min','theta_max','harmonic_2','floquet','contact_open',
-'newton_iterations','residual','valid','invalid_reason','squeal_frequency','squeal_multiplier',
+'openings_per_period','newton_iterations','residual','valid','invalid_reason','squeal_frequency','squeal_multiplier',
 'squeal_reason']"
 
 # the paper's twist law has no periodic orbit in these coordinates: exit 2, the reason
@@ -140,6 +140,30 @@ assert o['friction_needed_max'] is None"
 fi
 expect_rc 0 periodic --variant imperfect --set amp_imbalance=0.3 && \
     { grep -q 'CONTACT OPENS' "$out" || fail "the table does not say that the contact opens"; }
+# how often it opens is counted on the orbit, not stated: the --orbit file's
+# stretches of F_n < 0 around the period (a mode split's 2 Omega wobble
+# opens it twice), in the JSON, the table and the
+# sweep's contact_loss event (which said "once a period" whatever the orbit)
+if expect_rc 0 periodic --model 4dof --variant imperfect --set mode_split=0.02 --orbit "$tmp/ms.csv" --json; then
+    py "import csv
+Fn = [float(r['F_n [N]']) for r in csv.DictReader(open('$tmp/ms.csv'))]  # one period
+n = sum(1 for i in range(len(Fn)) if Fn[i] < 0 and not Fn[i - 1] < 0)
+assert n == 2, n
+assert o['openings_per_period'] == n, (o['openings_per_period'], n)"
+fi
+expect_rc 0 periodic --model 4dof --variant imperfect --set mode_split=0.02 && \
+    { grep -q 'CONTACT OPENS *2 times a period' "$out" || fail "the table does not count the openings: $(grep -i contact "$out")"; }
+if expect_rc 0 sweep --periodic --model 4dof --variant imperfect --over mode_split --from 0 --to 0.02 --points 3 --json; then
+    py "c = [e for e in o['events'] if e['type'] == 'contact_loss']
+assert len(c) == 1 and 'opens twice a period' in c[0]['what'] and 'once' not in c[0]['what'], c
+assert o['points'][-1]['openings_per_period'] == 2 and o['points'][0]['openings_per_period'] == 0"
+fi
+# an orbit with separation: its table says whether the model describes it
+# (only --json did): stick_not_admissible at 35 deg (below), valid in 4-DOF
+expect_rc 0 periodic --model 3dof --variant imperfect_unilateral --set phase_error=35deg && \
+    { grep -q '^  valid  *no: stick_not_admissible' "$out" || fail "hybrid table: no validity line"; }
+expect_rc 0 periodic --model 4dof --variant imperfect_unilateral --set phase_error=30deg && \
+    { grep -q '^  valid  *yes' "$out" || fail "hybrid table (4-DOF): no validity line"; }
 
 # a contact that may open (docs/unilateral.md): the orbit with separation past
 # contact loss (28.73 deg), the bilateral orbit with the keys at 0 before it
@@ -245,7 +269,9 @@ if expect_rc 0 sweep --periodic --model 4dof --variant imperfect_unilateral --ov
     py "s = [x for x in o['events'] if x['type'] == 'stability_change']
 assert len(s) == 1, o['events']
 s = s[0]
-assert sorted(s) == ['kind', 'mode_split', 'multiplier', 'orbit', 'type', 'what'], s
+assert sorted(s) == ['invalid_reason', 'kind', 'mode_split', 'multiplier', 'orbit', 'type', 'valid',
+                     'what'], s
+assert s['valid'] is s['orbit']['valid'], s
 assert s['kind'] == 'period_doubling' and 0.033 < s['mode_split'] < 0.034, s
 assert abs(s['multiplier'][0] + 1) < 1e-3 and 'becomes stable' in s['what'], s
 assert s['orbit']['mode_sequence'] == 'coc' and abs(s['orbit']['floquet']['max_modulus'] - 1) < 1e-6"

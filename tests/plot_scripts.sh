@@ -67,7 +67,7 @@ checks=$((checks + 1))
     >/dev/null 2>"$tmp/s4.err") || fail "usm sweep --model 4dof --plot: exit $?: $(head -c 300 "$tmp/s4.err")"
 plotted s4
 checks=$((checks + 1))
-grep -q "^events = 'stall friction_saturation'" "$tmp/s4.gp" &&
+grep -qE "^events = 'stall friction_saturation ?'" "$tmp/s4.gp" &&
     grep -q 'friction_saturation: speed diverges' "$tmp/s4.svg" && grep -q '>stall<' "$tmp/s4.svg" ||
     fail "usm sweep --model 4dof --plot: the events are not drawn as labelled lines"
 checks=$((checks + 1))
@@ -83,9 +83,32 @@ checks=$((checks + 1))
     fail "usm sweep --periodic --plot: exit $?: $(head -c 300 "$tmp/pe.err")"
 plotted pe
 checks=$((checks + 1))
-grep -q "^events = 'stick_loss contact_loss'" "$tmp/pe.gp" && grep -q '>contact_loss<' "$tmp/pe.svg" &&
+grep -qE "^events = 'stick_loss contact_loss ?'" "$tmp/pe.gp" && grep -q '>contact_loss<' "$tmp/pe.svg" &&
     grep -q 'sweep_periodic.gp' "$tmp/pe.gp" ||
     fail "usm sweep --periodic --plot: not the periodic script, or the events not drawn"
+# exactly one event: its value alone is still a word list (gnuplot's word()
+# refused a bare number: "non-STRING argument", exit 1 after the sweep)
+checks=$((checks + 1))
+(cd "$tmp" && "$USM" sweep --periodic --model 4dof --variant imperfect --over mode_split \
+    --from 0 --to 0.02 --points 3 --plot one >/dev/null 2>"$tmp/one.err") ||
+    fail "usm sweep --periodic --plot with one event: exit $?: $(head -c 300 "$tmp/one.err")"
+plotted one
+checks=$((checks + 1))
+grep -qE "^events = 'contact_loss ?'" "$tmp/one.gp" && grep -q '>contact_loss<' "$tmp/one.svg" ||
+    fail "usm sweep --periodic --plot with one event: the event is not drawn"
+# a channel zero throughout (usm simulate --spectrum): its panel says so, the
+# others are drawn (a log scale of no positive value was gnuplot's error,
+# exit 1 after a complete run)
+checks=$((checks + 1))
+if (cd "$tmp" && "$USM" simulate --from stationary --duration 0.0005 --spectrum sz >/dev/null 2>"$tmp/sz.err"); then
+    awk -F, 'NR == 1 { for (i = 1; i <= NF; ++i) if ($i == "theta [rad]") c = i; print; next }
+             { $c = 0; print }' OFS=, "$tmp/sz.csv" >"$tmp/zero.csv"
+    draw zero spectrum.gp "prefix='zero'; csv='zero.csv'; title='one channel zero'; f=37000; nh_rotor_speed=0; nh_theta=0; nh_F_n=0; nh_rotor_speed_amp=0; nh_theta_amp=0; nh_F_n_amp=0; fmax=180000; peak_rotor_speed=1; peak_theta=0; peak_F_n=1"
+    grep -q 'an empty spectrum' "$tmp/zero.svg" || fail "spectrum.gp: a zero channel's panel does not say so"
+    grep -q '^peak_theta = ' "$tmp/sz.gp" || fail "usm simulate --spectrum: no peak_theta in sz.gp"
+else
+    fail "usm simulate --spectrum: exit $?: $(head -c 300 "$tmp/sz.err")"
+fi
 # a file of the user's is never overwritten without --force (exit 2, one line,
 # checked before the computation), and is with --force
 for cmd in sweep map; do

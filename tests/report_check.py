@@ -167,6 +167,7 @@ def check_report(out):
         check_design(out, md, data)
         check_nonideal(out, md, data)
         check_validity(out, md, data)
+        check_squeal_validity(out, md, data)
         check_maps(out, md, data)
 
     images = re.findall(r"!\[[^\]]*\]\(([^)\s]+)\)", md)
@@ -457,6 +458,85 @@ def check_validity(out, md, data):
                 ok(f"nonideal_curves_{imp}_{model}.csv: valid up to {v['value'] if v['found'] else 'the end'}")
             else:
                 fail(f"nonideal_curves_{imp}_{model}.csv: valid rows vs valid_to {v}")
+
+
+def check_squeal_validity(out, md, data):
+    """A value of an orbit the model does not describe is printed with its
+    flag in every output: the squeal frequency of the Neimark-Sacker point
+    (8.6 % mode split, far past contact loss at 1.33 %) in report.json,
+    squeal_values.csv, report.md (hence report.html) and the figure; the
+    bilateral orbit there judged by an independent `usm periodic` run.  The
+    openings are counted on the orbit (twice a period for the mode split's
+    2 Omega wobble; the text said "once"), and e_impact is usm's assumption,
+    not the paper's Table 5."""
+    sq = data.get("squeal", {})
+    if not sq.get("ok"):
+        fail(f"squeal not computed: {sq.get('note')}")
+        return
+    r = run("periodic", "--model", "4dof", "--set", f"mode_split={sq['ns_value']!r}", "--json")
+    try:
+        orbit = json.loads(r.stdout)
+    except ValueError:
+        orbit = {}
+    invalid = orbit.get("F_n_min", 0) < 0
+    if invalid and sq.get("ns_valid") is False and sq.get("ns_invalid_reason") == "contact_open":
+        ok(f"squeal at {sq['ns_percent']:.4g} %: report.json flags it (F_n_min {orbit['F_n_min']:.3g} N)")
+    else:
+        fail(f"squeal: ns_valid {sq.get('ns_valid')}, the orbit's F_n_min {orbit.get('F_n_min')}")
+    vals = read_csv(os.path.join(out, "squeal_values.csv"))
+    if vals and vals[0].get("valid") == ("false" if invalid else "true") and \
+            vals[0].get("invalid_reason") == ("contact_open" if invalid else ""):
+        ok("squeal_values.csv: the squeal frequency with its validity")
+    else:
+        fail(f"squeal_values.csv: {vals[:1]}")
+    amp = read_csv(os.path.join(out, "squeal_amplitude.csv"))
+    if amp and all(a.get("valid") in ("true", "false") for a in amp):
+        ok("squeal_amplitude.csv: every orbit's row with its validity")
+    else:
+        fail(f"squeal_amplitude.csv: no validity column: {list(amp[0]) if amp else None}")
+    m = re.search(r"\*\*f_s = [0-9.]+ kHz\*\*([^(]*\([^)]*\))?", md)
+    if m and (("**model invalid** there: contact_open" in m.group(0)) == invalid):
+        ok("report.md: the squeal frequency carries its flag")
+    else:
+        fail(f"report.md: the squeal frequency's text: {m.group(0) if m else None}")
+    svg = os.path.join(out, "squeal.svg")
+    if os.path.exists(svg):
+        if ("model invalid: contact_open" in open(svg).read()) == invalid:
+            ok("squeal.svg: the labels carry the flag")
+        else:
+            fail("squeal.svg: the squeal frequency's labels have no flag")
+    opened = data["nonideal"]["4dof"]["mode_split"]["contact_open"]
+    if "opens once a" not in md and "once a cycle" not in md and opened.get("openings") == 2 and \
+            "opens twice a period" in md:
+        ok("report.md: the contact opens twice a period along the mode split (counted)")
+    else:
+        fail(f"report.md: openings not counted: {opened}")
+    # the orbits with separation: the last stable one's speed carries its flag,
+    # judged by an independent usm periodic at that value
+    for model in ("3dof", "4dof"):
+        for imp in ("phase_error", "mode_split"):
+            sp = data["nonideal"][model][imp].get("separating", {})
+            if sp.get("last") is None:
+                continue
+            r = run("periodic", "--model", model, "--variant", "imperfect_unilateral",
+                    "--set", f"{imp}={sp['last']!r}", "--json")
+            try:
+                valid = json.loads(r.stdout)["valid"]
+            except (ValueError, KeyError):
+                valid = None
+            cell = re.search(r"1/s at [0-9.]+( \(\*\*model invalid\*\*: ([a-z_]+)\))?",
+                             md[md.find(f"({data['nonideal'][model]['unilateral_model']})"):]) \
+                if imp == "phase_error" else None
+            if valid is not None and sp.get("last_valid") == valid and \
+                    (cell is None or (cell.group(1) is None) == valid):
+                ok(f"{model} {imp}: the last stable orbit with separation, valid {valid}, so flagged")
+            else:
+                fail(f"{model} {imp}: last_valid {sp.get('last_valid')}, usm periodic valid {valid}")
+    e = [p_ for p_ in data["parameters"] if p_["name"] == "e_impact"]
+    if e and "not in the paper" in e[0]["source"] and "Table 5" not in e[0]["source"]:
+        ok("e_impact: usm's assumption, not Table 5")
+    else:
+        fail(f"e_impact's source: {e}")
 
 
 def periodic(model, name, value):

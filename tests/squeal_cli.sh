@@ -44,6 +44,45 @@ assert all('squeal_frequency' not in x for x in o['events'] if x is not e)
 "
 fi
 
+# ---- the flag of validity beside every squeal frequency ------------------------
+# The Neimark-Sacker point at 8.62 % lies far past contact loss (1.33 %): the
+# bilateral orbit has F_n_min near -2 N there, so the model does not describe
+# the motor and its squeal frequency is a prediction only with that flag, in
+# every output: the event's JSON beside squeal_frequency, its text (the CSV's
+# '#' line), the figure's label, and usm periodic's table on its line.
+if expect_rc 0 sweep --periodic --model 4dof --variant imperfect --over mode_split --from 0.08 \
+    --to 0.09 --points 3 --json; then
+    py "
+e = [e for e in o['events'] if e['type'] == 'stability_change'][0]
+assert e['orbit']['F_n_min'] < -1, e['orbit']['F_n_min']
+assert e['valid'] is False and e['invalid_reason'] == 'contact_open', e
+assert 'model invalid: contact_open' in e['what'], e['what']"
+fi
+if expect_rc 0 sweep --periodic --model 4dof --variant imperfect --over mode_split --from 0.08 \
+    --to 0.09 --points 3; then
+    grep -q '^# stability_change (neimark_sacker) .*squeal frequency .*model invalid: contact_open' "$out" ||
+        fail "sweep CSV: the squeal frequency's event line has no flag: $(grep '^#' "$out")"
+fi
+checks=$((checks + 1))
+(cd "$tmp" && USM_GNUPLOT=/nonexistent "$USM" sweep --periodic --model 4dof --variant imperfect \
+    --over mode_split --from 0.08 --to 0.09 --points 3 --plot nsplot >/dev/null 2>&1)
+grep -q "^events = 'stability_change:model_invalid:contact_open" "$tmp/nsplot.gp" ||
+    fail "sweep --plot: the event's label has no flag: $(grep '^events' "$tmp/nsplot.gp")"
+if expect_rc 0 periodic --model 4dof --set mode_split=0.0862; then
+    grep -q '^  squeal frequency .*MODEL INVALID here: contact_open' "$out" &&
+        grep -q '^  MODEL INVALID on this orbit (contact_open)' "$out" ||
+        fail "usm periodic: the squeal frequency of an invalid orbit has no flag: $(grep -i 'squeal\|invalid' "$out")"
+fi
+
+# usm steady past the stick limit (0.602 N mm): the root's squeal line flagged
+if expect_rc 0 steady --set T=0.005; then
+    grep -q '^  squeal frequency = .*MODEL INVALID here: stick_not_admissible' "$out" ||
+        fail "usm steady: the squeal frequency of an invalid root has no flag: $(grep -i squeal "$out")"
+fi
+if expect_rc 0 steady --set T=0.0002; then
+    ! grep -q 'MODEL INVALID' "$out" || fail "usm steady: a valid root flagged"
+fi
+
 # ---- usm periodic and usm steady: the dominant complex pair --------------------
 dominant='
 import cmath, math

@@ -239,4 +239,23 @@ expect_bad '--frobnicate' 'unknown option' sweep --over f "${R[@]}" --frobnicate
 expect_bad '--set m0' 'not a number' sweep --over f "${R[@]}" --set m0=abc
 expect_bad '--from' 'missing argument' sweep --over f --from
 
+# An event on a root the model does not describe carries the flag: the 3-DOF
+# stick model loses stability at 3.577 N mm, past its stick limit (0.602 N mm),
+# where |F_t| > mu0 F_n (judged here from the event's own root); the stick
+# limit itself, the boundary, carries none
+if expect_rc 0 sweep --over T --from 0 --to 0.005 --points 11 --json; then
+    py "s = [e for e in o['events'] if e['type'] == 'stability_change']
+assert len(s) == 1, o['events']
+e, r = s[0], s[0]['solution']
+assert abs(r['F_t']) > o['parameters']['mu0'] * r['F_n'], r
+assert e['valid'] is False and e['invalid_reason'] == 'stick_not_admissible', e
+assert e['what'].endswith('; model invalid: stick_not_admissible'), e['what']
+k = [e for e in o['events'] if e['type'] == 'stick_limit'][0]
+assert 'valid' not in k and 'model invalid' not in k['what'], k"
+fi
+if expect_rc 0 sweep --over T --from 0 --to 0.005 --points 11; then
+    grep -q '^# stability_change at .*; model invalid: stick_not_admissible$' "$out" ||
+        fail "sweep CSV: the invalid root's event has no flag: $(grep '^#' "$out")"
+fi
+
 finish sweep_cli

@@ -280,12 +280,48 @@ static void test_squeal(void)
           "f = -1 accepted");
 }
 
+/* A channel that is zero throughout (here theta, F_n 0 while the rotor
+ * speed carries the signal): its spectrum is empty, peak 0 and no line,
+ * and the others are unaffected (`usm simulate --spectrum` draws and says
+ * "an empty spectrum" from peak 0, where gnuplot's log scale failed). */
+static void test_zero_channel(void)
+{
+    usm_sim_spectrum *s = usm_sim_spectrum_alloc();
+    usm_sim_spectrum_options opt;
+    usm_sim_spectrum_result r;
+    char msg[USM_MSG_LEN];
+    double xs[1] = {0};
+    usm_sim_sample smp;
+    if (!CHECK(s != NULL, "alloc"))
+        return;
+    memset(&smp, 0, sizeof smp);
+    smp.nx = 1;
+    smp.x = smp.xdot = xs;
+    for (long j = 0; j <= 400; ++j) {
+        smp.t = (double)j / (10 * F);
+        smp.rotor_speed = signal(smp.t);
+        CHECK(usm_sim_spectrum_add(s, &smp) == 0, "add: out of memory");
+    }
+    usm_sim_spectrum_options_default(&opt);
+    opt.f = F;
+    CHECK(usm_sim_spectrum_compute(s, &opt, &r, msg) == USM_OK, "zero channel: %s", msg);
+    CHECK(r.peak[USM_SPECTRUM_THETA] == 0 && r.nlines[USM_SPECTRUM_THETA] == 0 &&
+              r.peak[USM_SPECTRUM_F_N] == 0 && r.nlines[USM_SPECTRUM_F_N] == 0,
+          "zero channels: peak %g, %zu lines", r.peak[USM_SPECTRUM_THETA],
+          r.nlines[USM_SPECTRUM_THETA]);
+    CHECK(fabs(r.peak[USM_SPECTRUM_ROTOR_SPEED] / A[0] - 1) < 1e-3 &&
+              r.nlines[USM_SPECTRUM_ROTOR_SPEED] > 0,
+          "rotor_speed: peak %g, want %g", r.peak[USM_SPECTRUM_ROTOR_SPEED], A[0]);
+    usm_sim_spectrum_free(s);
+}
+
 int main(void)
 {
     gsl_set_error_handler_off();
     test_direct();
     test_recorder();
     test_squeal();
+    test_zero_channel();
     printf("test_spectrum: %d failures\n", failures);
     return failures != 0;
 }

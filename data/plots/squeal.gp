@@ -11,7 +11,9 @@ set datafile separator ","
 set encoding utf8
 set grid lc rgb "#dddddd"
 vals = "squeal_values.csv"
-stats vals using (ns = column("ns_percent [%]"), fs = column("squeal_frequency_kHz [kHz]"), f = column("f_kHz [kHz]"), sp = column("spectrum_percent [%]"), 0) nooutput
+stats vals using (ns = column("ns_percent [%]"), fs = column("squeal_frequency_kHz [kHz]"), f = column("f_kHz [kHz]"), sp = column("spectrum_percent [%]"), nsbad = strcol("invalid_reason"), 0) nooutput
+# a squeal frequency of an orbit the model does not describe is labelled so
+flag = strlen(nsbad) > 0 ? sprintf(" (model invalid: %s)", nsbad) : ""
 pos(v) = v > 0 ? v : NaN
 do for [fmt in "png svg"] {
   if (fmt eq "png") {
@@ -35,8 +37,8 @@ do for [fmt in "png svg"] {
   }
   set arrow 11 from f - fs, graph 0 to f - fs, graph 1 nohead dt 2 lc rgb "#c0392b"
   set arrow 12 from f + fs, graph 0 to f + fs, graph 1 nohead dt 2 lc rgb "#c0392b"
-  set label 1 sprintf("f - f_s = %.4g kHz", f - fs) at f - fs, graph 0.95 right offset -0.5, 0 tc rgb "#c0392b" font ",9"
-  set label 2 sprintf("f + f_s = %.4g kHz", f + fs) at f + fs, graph 0.95 left offset 0.5, 0 tc rgb "#c0392b" font ",9"
+  set label 1 sprintf("f - f_s = %.4g kHz%s", f - fs, flag) at f - fs, graph 0.95 right offset -0.5, 0 tc rgb "#c0392b" font ",9" noenhanced
+  set label 2 sprintf("f + f_s = %.4g kHz%s", f + fs, flag) at f + fs, graph 0.95 left offset 0.5, 0 tc rgb "#c0392b" font ",9" noenhanced
   plot "squeal_spectrum.csv" using (column("frequency_kHz [kHz]")):(pos(column("F_n [N]"))) with lines lw 1.2 lc rgb "#1f5fa8" title "F_n [N]", \
        "" using (column("frequency_kHz [kHz]")):(pos(column("rotor_speed [1/s]"))) with lines lw 1 lc rgb "#e08214" title "rotor speed [1/s]"
   unset label
@@ -53,7 +55,7 @@ do for [fmt in "png svg"] {
   set autoscale x
   set key top left font ",9"
   set arrow 1 from ns, graph 0 to ns, graph 1 nohead dt 2 lc rgb "#c0392b"
-  set label 1 sprintf(" Neimark-Sacker %.4g %%", ns) at ns, graph 0.08 left tc rgb "#c0392b" font ",9"
+  set label 1 sprintf(" Neimark-Sacker %.4g %%%s", ns, flag) at ns, graph 0.08 left tc rgb "#c0392b" font ",9" noenhanced
   plot "squeal_amplitude.csv" using (column("mode_split_percent [%]")):(pos(column("rms_theta [rad]"))) with linespoints pt 7 lw 1.5 lc rgb "#1f5fa8" title "tilt θ", \
        "" using (column("mode_split_percent [%]")):(pos(column("rms_rotor_speed [1/s]"))) axes x1y2 with linespoints pt 5 lw 1.5 lc rgb "#e08214" title "rotor speed"
   unset multiplot

@@ -3,14 +3,16 @@
 # below, then this text; `gnuplot DIR/histograms.gp` (from where usm ran)
 # re-plots.
 #   prefix   output prefix: writes PREFIX.png and PREFIX.svg
-#   csv      the samples, DIR/samples.csv (columns by name, docs/cli.md
-#            "CSV files"; empty fields, where an output does not exist, are
-#            left out)
+#   csv      the samples, DIR/samples.csv (named in the title only)
+#   bins     the histograms, DIR/histograms.csv: 40 bins of rotor_speed and
+#            max_modulus counted by usm over every sample that has the output
+#            (columns by name, docs/tolerance.md); gnuplot reads these 40
+#            rows, never the samples, so the figure costs the same at 10^8
 #   speed_lo, speed_hi    the --spec bounds on rotor_speed (absent: none)
 #   modulus_hi            the bound on max_modulus: 1 (stability), or a
 #                         tighter --spec max_modulus<=X
 # Top: the rotor speed of the samples; bottom: the largest non-cyclic
-# |lambda|.  40 bins over the data's range.  A bound is drawn (dashed) where
+# |lambda|.  A bound is drawn (dashed) where
 # it lies within one data span of the data, the axis widened to show it;
 # a bound farther away is named in the key as off the axis, with the side
 # the samples are on, so the key never names a line the reader cannot see.
@@ -18,20 +20,17 @@ set datafile separator ','
 set datafile columnheaders
 set encoding utf8
 set grid lc rgb '#dddddd'
-nbins = 40
-scol = 'rotor_speed [1/s]'
-mcol = 'max_modulus [1]'
-# how many samples have each output (an empty field: none), then the range
-# of each column; a constant column gets a small bin
-ns = 0; nm = 0
-stats csv using (ns = ns + (strlen(strcol(scol)) > 0), nm = nm + (strlen(strcol(mcol)) > 0), 0) nooutput
+slo = 'rotor_speed_lo [1/s]'; shi = 'rotor_speed_hi [1/s]'; scnt = 'rotor_speed_count'
+mlo = 'max_modulus_lo [1]'; mhi = 'max_modulus_hi [1]'; mcnt = 'max_modulus_count'
+# how many samples have each output, and the range of the bins
+stats bins using (column(scnt)) nooutput name 'SC'
+stats bins using (column(mcnt)) nooutput name 'MC'
+ns = SC_sum; nm = MC_sum
 S_min = 0; S_max = 1; M_min = 0; M_max = 1
-if (ns > 0) { stats csv using (column(scol)) nooutput name 'S' }
-if (nm > 0) { stats csv using (column(mcol)) nooutput name 'M' }
-sw = S_max > S_min ? (S_max - S_min) / nbins : (abs(S_min) + 1e-300) * 1e-9
-mw = M_max > M_min ? (M_max - M_min) / nbins : (abs(M_min) + 1e-300) * 1e-9
-sbin(x) = S_min + sw * (floor((x - S_min) / sw) + 0.5)
-mbin(x) = M_min + mw * (floor((x - M_min) / mw) + 0.5)
+if (ns > 0) { stats bins using (column(slo)):(column(shi)) nooutput name 'SB'; S_min = SB_min_x; S_max = SB_max_y }
+if (nm > 0) { stats bins using (column(mlo)):(column(mhi)) nooutput name 'MB'; M_min = MB_min_x; M_max = MB_max_y }
+sw = (S_max - S_min) / SC_records
+mw = (M_max - M_min) / MC_records
 # bound_text(b, lo, hi, what): the key's words for bound b against data
 # [lo, hi]; near(b, lo, hi): whether b is drawn
 near(b, lo, hi) = b >= lo - (hi - lo) && b <= hi + (hi - lo)
@@ -56,6 +55,7 @@ M_lo = widen_lo(M_min, mb, M_max); M_hi = widen_hi(M_max, mb, M_min)
 spad = (S_hi > S_lo ? S_hi - S_lo : abs(S_lo) + 1) * 0.03
 mpad = (M_hi > M_lo ? M_hi - M_lo : abs(M_lo) + 1e-9) * 0.03
 set style fill solid 0.6 border lc rgb '#333333'
+set yrange [0:*]
 set ylabel 'samples'
 set key top right
 do for [fmt in 'png svg'] {
@@ -76,7 +76,7 @@ do for [fmt in 'png svg'] {
   }
   set boxwidth sw
   if (ns > 0) {
-    plot [S_lo - spad : S_hi + spad] csv using (sbin(column(scol))):(1.0) smooth frequency with boxes lc rgb '#1f5fa8' title stitle
+    plot [S_lo - spad : S_hi + spad] bins using ((column(slo) + column(shi)) / 2):(column(scnt)) with boxes lc rgb '#1f5fa8' title stitle
   } else {
     set label 1 'no sample has a stationary solution' at graph 0.5, 0.5 center
     plot [0:1] [0:1] 2 notitle
@@ -89,7 +89,7 @@ do for [fmt in 'png svg'] {
   }
   set boxwidth mw
   if (nm > 0) {
-    plot [M_lo - mpad : M_hi + mpad] csv using (mbin(column(mcol))):(1.0) smooth frequency with boxes lc rgb '#ff8c00' title mtitle
+    plot [M_lo - mpad : M_hi + mpad] bins using ((column(mlo) + column(mhi)) / 2):(column(mcnt)) with boxes lc rgb '#ff8c00' title mtitle
   } else {
     set label 1 'no sample has Floquet multipliers' at graph 0.5, 0.5 center
     plot [0:1] [0:1] 2 notitle

@@ -96,11 +96,15 @@ class Result:
 
     def __repr__(self):
         shown = []
+        # a result the model does not describe says so first: its values (a
+        # squeal frequency too) are predictions only with this flag
+        if self._d.get("valid") is False:
+            shown.append("MODEL_INVALID=%r" % (self._d.get("invalid_reason"),))
         for k, v in self._d.items():
             if isinstance(v, (dict, list)):
                 continue
             shown.append("%s=%r" % (k, v))
-            if len(shown) == 6:
+            if len(shown) == 6 + (self._d.get("valid") is False):
                 break
         return "<%s %s%s>" % (type(self).__name__, " ".join(shown),
                               " ..." if len(self._d) > len(shown) else "")

@@ -132,15 +132,24 @@ static int write_hybrid_orbit(const periodic_args *a, const usm_hybrid_result *h
 
 static void table(const usm_periodic_result *r, const char *model)
 {
+    const int valid = r->validity == USM_VALID;
     printf("model %s: periodic orbit (%d Newton iterations, residual %.3g)\n", model, r->iterations,
            r->residual);
+    /* first, not only in its own line below: every value that follows is of
+     * an orbit the model does not describe */
+    if (!valid)
+        printf("  MODEL INVALID on this orbit (%s): the values below are the model's beyond its "
+               "validity, not the motor's\n", usm_validity_name(r->validity));
     printf("  rotor speed        mean %.10g 1/s, ripple (peak to peak) %.6g 1/s\n",
            r->rotor_speed_mean, r->rotor_speed_ripple);
     printf("  theta              mean %.10g rad, min %.10g, max %.10g, 2 Omega amplitude %.6g\n",
            r->theta_mean, r->theta_min, r->theta_max, r->theta_harmonic_2);
-    printf("  F_n                min %.10g N, max %.10g N, 2 Omega amplitude %.6g N%s\n",
-           r->F_n_min, r->F_n_max, r->F_n_harmonic_2,
-           r->contact_open ? "  CONTACT OPENS: the bilateral-contact model is not valid" : "");
+    printf("  F_n                min %.10g N, max %.10g N, 2 Omega amplitude %.6g N\n",
+           r->F_n_min, r->F_n_max, r->F_n_harmonic_2);
+    if (r->contact_open)
+        printf("  CONTACT OPENS      %d time%s a period (F_n < 0 on the orbit): the "
+               "bilateral-contact model is not valid\n",
+               r->openings_per_period, r->openings_per_period == 1 ? "" : "s");
     if (isfinite(r->friction_needed_max))
         printf("  friction needed    max |F_t|/F_n %.6g\n", r->friction_needed_max);
     else
@@ -157,8 +166,9 @@ static void table(const usm_periodic_result *r, const char *model)
     usm_floquet_squeal(&r->floquet, 1.0 / r->period, &sq);
     if (sq.found)
         printf("  squeal frequency   %.8g Hz (%.6f f): the dominant complex pair %.10f +-%.10fi "
-               "(|lambda| %.10g)\n",
-               sq.frequency, sq.frequency * r->period, sq.re, sq.im, sq.modulus);
+               "(|lambda| %.10g)%s%s\n",
+               sq.frequency, sq.frequency * r->period, sq.re, sq.im, sq.modulus,
+               valid ? "" : "; MODEL INVALID here: ", valid ? "" : usm_validity_name(r->validity));
     else
         printf("  squeal frequency   none: %s\n", sq.reason);
 }
@@ -175,6 +185,13 @@ static void hybrid_table(const usm_hybrid_result *r, const char *model)
     printf("  per period            %d separations, %d impacts (%d needing more than mu0)\n",
            r->separations_per_period, r->impacts_per_period, r->impacts_slipping);
     printf("  impact velocity max   %.6g m/s\n", r->impact_velocity_max);
+    printf("  valid                 %s\n",
+           r->validity == USM_VALID
+               ? "yes: the model (contact that may open) describes the motor on this orbit"
+               : r->validity == USM_INVALID_STICK
+                   ? "no: stick_not_admissible (an impact needs more friction than mu0: the "
+                     "stick model does not describe it)"
+                   : usm_validity_name(r->validity));
     printf("  Floquet multipliers (with saltation matrices; max |lambda| %.10g, %s):\n",
            r->floquet.max_modulus, r->floquet.stable ? "stable" : "UNSTABLE");
     for (int i = 0; i < r->floquet.n; ++i)

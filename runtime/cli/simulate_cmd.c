@@ -306,7 +306,7 @@ static int spectrum_write(const sim_args *a, const usm_run *run, char msg[CLI_MS
         spectrum_msg(msg);
         return rc;
     }
-    char csv[4096], title[256], num[8][32];
+    char csv[4096], title[256], num[11][32];
     const usm_sim_spectrum_result *r = usm_run_spectrum(run);
     snprintf(csv, sizeof csv, "%s.csv", a->spectrum);
     snprintf(title, sizeof title,
@@ -314,16 +314,18 @@ static int spectrum_write(const sim_args *a, const usm_run *run, char msg[CLI_MS
              "Hann window)", a->common.model->name, r->t_from * 1e3, r->t_to * 1e3, r->periods);
     static const char *const names[] = {"csv", "title", "f", "nh_rotor_speed", "nh_theta",
                                         "nh_F_n", "nh_rotor_speed_amp", "nh_theta_amp",
-                                        "nh_F_n_amp", "fmax"};
-    const char *values[10] = {csv, title, num[0], num[1], num[2], num[3], num[4], num[5], num[6],
-                              num[7]};
+                                        "nh_F_n_amp", "fmax", "peak_rotor_speed",
+                                        "peak_theta", "peak_F_n"};
+    const char *values[13] = {csv, title, num[0], num[1], num[2], num[3], num[4], num[5], num[6],
+                              num[7], num[8], num[9], num[10]};
     snprintf(num[0], 32, "%.17g", r->f);
     for (int c = 0; c < USM_SPECTRUM_NCHANNELS; ++c) {
         snprintf(num[1 + c], 32, "%.17g", r->have_nonharmonic[c] ? r->nonharmonic[c].frequency : 0.0);
         snprintf(num[4 + c], 32, "%.17g", r->have_nonharmonic[c] ? r->nonharmonic[c].amplitude : 0.0);
+        snprintf(num[8 + c], 32, "%.17g", r->peak[c]);
     }
     snprintf(num[7], 32, "%.17g", (double)(r->bins - 1) * r->df);
-    rc = usm_plot_render("spectrum", a->spectrum, names, values, 10, msg);
+    rc = usm_plot_render("spectrum", a->spectrum, names, values, 13, msg);
     if (rc != USM_OK)
         spectrum_msg(msg);
     return rc;

@@ -354,8 +354,10 @@ static int plot_event_add(plot_events *ev, const char *name, double value)
     const size_t ln = strlen(ev->names), lx = strlen(ev->values);
     if (ln + 64 >= sizeof ev->names || lx + 32 >= sizeof ev->values)
         return -1;
-    snprintf(ev->names + ln, sizeof ev->names - ln, "%s%s", ln ? " " : "", name);
-    snprintf(ev->values + lx, sizeof ev->values - lx, "%s%.17g", lx ? " " : "", value);
+    /* each word followed by its space: one value alone must not read as a
+     * number, which the script's word() refuses ("non-STRING argument") */
+    snprintf(ev->names + ln, sizeof ev->names - ln, "%s ", name);
+    snprintf(ev->values + lx, sizeof ev->values - lx, "%.17g ", value);
     return 0;
 }
 
@@ -395,7 +397,13 @@ static int plot(const sweep_args *a, const usm_sweep *s)
     plot_events ev = {"", ""};
     for (size_t i = 0; i < usm_sweep_event_count(s); ++i) {
         const usm_sweep_event *e = usm_sweep_event_at(s, i);
-        if (plot_event_add(&ev, usm_event_name(e->type), e->value) != 0)
+        /* the label of an event on a root the model does not describe says so */
+        char name[64];
+        const int flagged = e->has_sol && e->type != USM_EVENT_STICK_LIMIT &&
+                            e->sol.validity != USM_VALID;
+        snprintf(name, sizeof name, "%s%s%s", usm_event_name(e->type),
+                 flagged ? ":model_invalid:" : "", flagged ? usm_validity_name(e->sol.validity) : "");
+        if (plot_event_add(&ev, name, e->value) != 0)
             break;
     }
     return plot_render("sweep", a->plot, xcol, &ev);
@@ -416,7 +424,16 @@ static int plot_periodic(const sweep_args *a, const usm_periodic_sweep *s)
     plot_events ev = {"", ""};
     for (size_t i = 0; i < usm_periodic_sweep_event_count(s); ++i) {
         const usm_periodic_event *e = usm_periodic_sweep_event_at(s, i);
-        if (plot_event_add(&ev, usm_pevent_name(e->type), e->value) != 0)
+        /* the label of an event on an orbit the model does not describe says so */
+        char name[64];
+        const int limit = e->type == USM_PEVENT_CONTACT_LOSS ||
+                          e->type == USM_PEVENT_STICK_LOSS || e->type == USM_PEVENT_CONTACT_REGAINED;
+        const usm_validity v = limit ? USM_VALID
+                               : e->has_hybrid ? e->hybrid.validity
+                               : e->has_orbit ? e->orbit.validity : USM_VALID;
+        snprintf(name, sizeof name, "%s%s%s", usm_pevent_name(e->type),
+                 v == USM_VALID ? "" : ":model_invalid:", v == USM_VALID ? "" : usm_validity_name(v));
+        if (plot_event_add(&ev, name, e->value) != 0)
             break;
     }
     return plot_render("sweep_periodic", a->plot, xcol, &ev);

@@ -233,6 +233,7 @@ json_t *usm_json_periodic_result(const usm_periodic_result *r)
     usm_json_put(o, "floquet", usm_json_floquet(&r->floquet), &ok);
     usm_json_put_squeal(o, &r->floquet, 1.0 / r->period, &ok);
     usm_json_put(o, "contact_open", json_boolean(r->contact_open), &ok);
+    usm_json_put(o, "openings_per_period", json_integer(r->openings_per_period), &ok);
     usm_json_put(o, "valid", json_boolean(r->validity == USM_VALID), &ok);
     usm_json_put(o, "invalid_reason",
                  r->validity == USM_VALID ? json_null() : json_string(usm_validity_name(r->validity)),

@@ -125,6 +125,17 @@ static json_t *sweep_json(const usm_periodic_sweep *s, const usm_params *p)
         }
         usm_json_put(o, over, usm_json_real(e->value), &eok);
         usm_json_put(o, "what", json_string(e->what), &eok);
+        /* beside squeal_frequency and the multiplier, not only inside "orbit":
+         * a value of an orbit the model does not describe carries its flag */
+        if ((e->has_orbit || e->has_hybrid) && e->type != USM_PEVENT_CONTACT_LOSS &&
+            e->type != USM_PEVENT_STICK_LOSS && e->type != USM_PEVENT_CONTACT_REGAINED) {
+            /* (not at a limit of validity itself: there the orbit is on either side
+             * by rounding, as psweep_event_add says) */
+            const usm_validity v = e->has_hybrid ? e->hybrid.validity : e->orbit.validity;
+            usm_json_put(o, "valid", json_boolean(v == USM_VALID), &eok);
+            usm_json_put(o, "invalid_reason",
+                         v == USM_VALID ? json_null() : json_string(usm_validity_name(v)), &eok);
+        }
         if (e->has_orbit)
             usm_json_put(o, "orbit", usm_json_periodic_result(&e->orbit), &eok);
         /* branch_switch: the orbit followed, the one left; stability_change

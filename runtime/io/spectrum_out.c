@@ -70,6 +70,8 @@ json_t *usm_json_sim_spectrum(const usm_sim_spectrum_result *r, const char *csv)
         int cok = co && lines;
         usm_json_put(co, "unit", json_string(usm_spectrum_channel_unit(c)), &cok);
         usm_json_put(co, "parasitic_rms", usm_json_real(r->parasitic_rms[c]), &cok);
+        usm_json_put(co, "peak", usm_json_real(r->peak[c]), &cok);
+        usm_json_put(co, "empty", json_boolean(!(r->peak[c] > 0)), &cok);
         for (size_t q = 0; q < r->nlines[c] && cok; ++q)
             if (json_array_append_new(lines, line_json(&r->lines[c][q])) != 0)
                 cok = 0;
@@ -111,6 +113,12 @@ void usm_sim_spectrum_write_table(const usm_sim_spectrum_result *r, const char *
                          : "", r->df, r->seconds);
     for (int c = 0; c < USM_SPECTRUM_NCHANNELS; ++c) {
         const char *unit = usm_spectrum_channel_unit(c);
+        if (!(r->peak[c] > 0)) {
+            fprintf(out, "  %s [%s]: constant over the window (zero after its mean): an empty "
+                         "spectrum, no line\n",
+                    usm_spectrum_channel_name(c), unit);
+            continue;
+        }
         fprintf(out, "  %s [%s]: not repeating with the excitation period (RMS) %.4g %s; "
                      "strongest lines\n",
                 usm_spectrum_channel_name(c), unit, r->parasitic_rms[c], unit);

@@ -143,7 +143,10 @@ static void solution(FILE *out, const usm_steady_solution *s)
                 "power_in <= 0: no power taken in");
 }
 
-static void multipliers(FILE *out, const usm_floquet_result *f, double freq)
+/* validity: of the root the multipliers belong to; a squeal frequency of a
+ * root the model does not describe is a prediction only with this flag */
+static void multipliers(FILE *out, const usm_floquet_result *f, double freq,
+                        usm_validity validity)
 {
     usm_squeal sq;
     fprintf(out, "\nFloquet multipliers over [t0, t0 + 2 pi / Omega], t0 = %.10g s\n", f->t0);
@@ -156,8 +159,10 @@ static void multipliers(FILE *out, const usm_floquet_result *f, double freq)
     usm_floquet_squeal(f, freq, &sq);
     if (sq.found)
         fprintf(out, "  squeal frequency = %.8g Hz (%.6f f): the dominant complex pair %.10g "
-                     "+-%.10gi (|lambda| %.10g)\n",
-                sq.frequency, sq.frequency / freq, sq.re, sq.im, sq.modulus);
+                     "+-%.10gi (|lambda| %.10g)%s%s\n",
+                sq.frequency, sq.frequency / freq, sq.re, sq.im, sq.modulus,
+                validity == USM_VALID ? "" : "; MODEL INVALID here: ",
+                validity == USM_VALID ? "" : usm_validity_name(validity));
     else
         fprintf(out, "  squeal frequency: none (%s)\n", sq.reason);
     if (f->t0_dependent)
@@ -268,7 +273,8 @@ void usm_steady_table(const usm_steady_report *r, FILE *out)
                                            : "");
     solution(out, usm_steady_root(r->steady, top));
     if (r->floquet)
-        multipliers(out, top > 0 ? &r->roots_floquet[top] : r->floquet, r->params->f);
+        multipliers(out, top > 0 ? &r->roots_floquet[top] : r->floquet, r->params->f,
+                    usm_steady_root(r->steady, top)->validity);
     other_roots(out, r->steady, r->roots_floquet);
     parameters(out, r->params);
 }

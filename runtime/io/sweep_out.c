@@ -93,6 +93,15 @@ static json_t *event_json(const usm_sweep_event *e, const char *over)
     }
     if (e->has_sol)
         usm_json_put(obj, "solution", usm_json_root(&e->sol), &ok);
+    /* beside the event's values, not only inside "solution" (not at the stick
+     * limit, the boundary itself) */
+    if (e->has_sol && e->type != USM_EVENT_STICK_LIMIT) {
+        usm_json_put(obj, "valid", json_boolean(e->sol.validity == USM_VALID), &ok);
+        usm_json_put(obj, "invalid_reason",
+                     e->sol.validity == USM_VALID ? json_null()
+                                                  : json_string(usm_validity_name(e->sol.validity)),
+                     &ok);
+    }
     if (!ok) {
         json_decref(obj);
         return NULL;

@@ -127,6 +127,7 @@ typedef struct usm_report_nonideal_point {
     int converged;             /* the periodic orbit was found (else the fields are NaN) */
     double speed_mean, ripple; /* rotor speed mean and peak to peak [1/s] */
     double F_n_min, F_n_max;   /* [N] */
+    int openings;              /* the bilateral orbit's openings_per_period */
     double max_modulus;        /* largest non-cyclic |lambda| */
     double theta_h2;           /* 2 Omega amplitude of theta [rad] */
     usm_validity validity;     /* of the orbit (usm_periodic_result.validity) */
@@ -135,6 +136,8 @@ typedef struct usm_report_nonideal_point {
     int separating;
     double sep_speed_mean, sep_ripple, sep_max_modulus; /* [1/s], [1/s], [1] */
     double sep_fraction, impact_velocity_max;            /* [1], [m/s] */
+    usm_validity sep_validity;  /* of the orbit with separation (a stick model's impacts
+                                   may need more than mu0: stick_not_admissible) */
 } usm_report_nonideal_point;
 
 /* A root of F_n_min (contact opens) or of max_modulus - 1 (stability lost)
@@ -143,6 +146,8 @@ typedef struct usm_report_nonideal_point {
 typedef struct usm_report_nonideal_root {
     int found;
     double value;
+    int openings;               /* contact: the times a period the contact opens, counted
+                                   on the first grid orbit past the root (0: unknown) */
     char note[USM_MSG_LEN];
 } usm_report_nonideal_root;
 
@@ -231,6 +236,8 @@ typedef struct usm_report_squeal {
     double ns_value;            /* the Neimark-Sacker point's mode split */
     double ns_re, ns_im;        /* its critical multiplier (im > 0) */
     double ns_frequency;        /* its squeal_frequency [Hz] */
+    usm_validity ns_validity;   /* of the orbit there: a squeal frequency of an orbit the
+                                   model does not describe is printed with this flag */
     double f;                   /* excitation frequency [Hz] */
     double duration;            /* of each simulation [s] */
     long periods;               /* the spectrum's window [periods] */

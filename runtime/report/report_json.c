@@ -241,6 +241,10 @@ static json_t *params(const usm_report_data *d)
             : k == USM_P_f ? "**not in the paper**: chosen, see below"
             : k == USM_P_M ? "**not in the paper**: 2 I_R / R^2, see below"
             : k == USM_P_mu0 || k == USM_P_kappa ? "Sec. 5 text"
+            : k == USM_P_e_impact
+                ? "**not in the paper**: usm's assumption (the restitution of the impacts of "
+                  "the unilateral contact, variant `imperfect_unilateral`; the paper's contact "
+                  "never opens)"
             : "Appendix A, Table 5";
         str(o, "name", info->name);
         num(o, "value", v);
@@ -676,6 +680,13 @@ static json_t *nonideal_root(const usm_report_nonideal_root *r, int j)
     num(o, "value", r->found ? r->value : NAN);
     num(o, "display", r->found ? imp_display(j, r->value) : NAN);
     str(o, "note", r->note);
+    /* the times a period, as words for the text: counted on the orbit */
+    json_object_set_new(o, "openings", json_integer(r->openings));
+    str(o, "openings_text", r->openings == 1   ? "once"
+                            : r->openings == 2 ? "twice"
+                            : r->openings == 3 ? "three times"
+                            : r->openings == 4 ? "four times"
+                                               : "several times");
     return o;
 }
 
@@ -753,6 +764,9 @@ static json_t *nonideal_curve(const usm_report_nonideal_curve *cv, int j)
         num(sp, "fraction_at_end", last ? last->sep_fraction : NAN);
         num(sp, "last", last ? last->value : NAN);
         num(sp, "last_display", last ? imp_display(j, last->value) : NAN);
+        /* the last stable orbit's speed and ripple carry their flag */
+        flag(sp, "last_valid", last && last->sep_validity == USM_VALID);
+        str(sp, "last_invalid_reason", last ? usm_validity_name(last->sep_validity) : "");
         json_object_set_new(o, "separating", sp);
     }
     return o;

@@ -90,6 +90,8 @@ static void root_from_sweep(const usm_periodic_sweep *sw, const usm_report_nonid
         const double g = stability ? 1.0 - pt->max_modulus : pt->F_n_min;
         if (g > 0)
             continue;
+        if (!stability)
+            out->openings = pt->openings;
         if (i == 0) {
             out->found = 1;
             out->value = pt->value;
@@ -195,6 +197,7 @@ static int curve_task(void *ctx, void *state, size_t i)
         pt->speed_mean = sp->orbit.rotor_speed_mean;
         pt->ripple = sp->orbit.rotor_speed_ripple;
         pt->F_n_min = sp->orbit.F_n_min;
+        pt->openings = sp->orbit.openings_per_period;
         pt->F_n_max = sp->orbit.F_n_max;
         pt->max_modulus = sp->orbit.floquet.max_modulus;
         pt->theta_h2 = sp->orbit.theta_harmonic_2;
@@ -208,6 +211,7 @@ static int curve_task(void *ctx, void *state, size_t i)
             pt->sep_ripple = hy->rotor_speed_ripple;
             pt->sep_max_modulus = hy->floquet.max_modulus;
             pt->sep_fraction = hy->separation_fraction;
+            pt->sep_validity = hy->validity;
             pt->impact_velocity_max = hy->impact_velocity_max;
         }
     }

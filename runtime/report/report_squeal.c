@@ -171,6 +171,7 @@ static int locate_ns(usm_report_data *d)
         sq->ns_re = e->multiplier_re;
         sq->ns_im = fabs(e->multiplier_im);
         sq->ns_frequency = e->squeal_frequency;
+        sq->ns_validity = e->has_orbit ? e->orbit.validity : USM_VALID;
         rc = 0;
     }
     if (rc != 0)
@@ -252,8 +253,9 @@ static int write_file(const usm_report_data *d, const char *dir, const char *nam
             {"mode_split_percent", "%"},        {"max_modulus", "1"},
             {"squeal_frequency_kHz", "kHz"},    {"line_frequency_kHz", "kHz"},
             {"line_folded_kHz", "kHz"},         {"rms_rotor_speed", "1/s"},
-            {"rms_theta", "rad"},               {"rms_F_n", "N"}};
-        usm_csv_header(f, cols, 8);
+            {"rms_theta", "rad"},               {"rms_F_n", "N"},
+            {"valid", NULL},                    {"invalid_reason", NULL}};
+        usm_csv_header(f, cols, 10);
         for (int i = 0; i < sq->npts; ++i) {
             const usm_report_squeal_point *pt = &sq->pt[i];
             usm_csv_num(f, 1, 100 * pt->mode_split);
@@ -263,17 +265,20 @@ static int write_file(const usm_report_data *d, const char *dir, const char *nam
             usm_csv_num(f, 0, pt->has_line ? 1e-3 * pt->line.folded : NAN);
             for (int c = 0; c < USM_SPECTRUM_NCHANNELS; ++c)
                 usm_csv_num(f, 0, pt->sim_ok ? pt->parasitic_rms[c] : NAN);
+            /* of the orbit, whose max_modulus and squeal frequency the row holds */
+            usm_csv_validity(f, pt->orbit_ok, pt->valid ? USM_VALID : USM_INVALID_CONTACT_OPEN);
             fputc('\n', f);
         }
     } else { /* the values the figure marks */
         static const usm_csv_column cols[] = {
             {"ns_percent", "%"}, {"squeal_frequency_kHz", "kHz"}, {"f_kHz", "kHz"},
-            {"spectrum_percent", "%"}};
-        usm_csv_header(f, cols, 4);
+            {"spectrum_percent", "%"}, {"valid", NULL}, {"invalid_reason", NULL}};
+        usm_csv_header(f, cols, 6);
         usm_csv_num(f, 1, 100 * sq->ns_value);
         usm_csv_num(f, 0, 1e-3 * sq->ns_frequency);
         usm_csv_num(f, 0, 1e-3 * sq->f);
         usm_csv_num(f, 0, 100 * sq->pt[sq->spectrum_pt].mode_split);
+        usm_csv_validity(f, 1, sq->ns_validity); /* of the orbit at the point */
         fputc('\n', f);
     }
     return usm_report_close(&out, msg);
@@ -320,6 +325,11 @@ json_t *usm_report_squeal_json(const usm_report_data *d)
     num(o, "ns_im", sq->ns_im);
     num(o, "squeal_frequency", sq->ns_frequency);
     num(o, "squeal_frequency_kHz", 1e-3 * sq->ns_frequency);
+    /* the flag of the squeal frequency: the bilateral orbit at the point */
+    json_object_set_new(o, "ns_valid", json_boolean(sq->ns_validity == USM_VALID));
+    json_object_set_new(o, "ns_invalid_reason",
+                        sq->ns_validity == USM_VALID ? json_null()
+                                                     : json_string(usm_validity_name(sq->ns_validity)));
     num(o, "squeal_order", sq->ns_frequency / sq->f);
     num(o, "lower_kHz", 1e-3 * (sq->f - sq->ns_frequency));
     num(o, "upper_kHz", 1e-3 * (sq->f + sq->ns_frequency));
@@ -331,6 +341,7 @@ json_t *usm_report_squeal_json(const usm_report_data *d)
         num(s, "line_folded_kHz", sp->has_line ? 1e-3 * sp->line.folded : NAN);
         num(s, "line_amplitude", sp->has_line ? sp->line.amplitude : NAN);
         num(s, "squeal_frequency_kHz", sp->has_pair ? 1e-3 * sp->squeal_frequency : NAN);
+        json_object_set_new(s, "valid", json_boolean(sp->orbit_ok && sp->valid));
         num(s, "deviation_percent", sp->has_line && sp->has_pair
                                         ? 100 * (sp->line.folded / sp->squeal_frequency - 1)
                                         : NAN);

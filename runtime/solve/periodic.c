@@ -552,6 +552,12 @@ static void orbit_outputs(usm_periodic *w, usm_periodic_result *r)
     r->theta_max = exact_extreme(w, Q_THETA, 1.0);
     r->theta_harmonic_2 = harmonic(th, 1, 2);
     r->F_n_harmonic_2 = harmonic(Fn, nc, 2);
+    /* the closed-to-open switches around the period (cyclic) */
+    r->openings_per_period = 0;
+    for (int i = 0; i < NS; ++i)
+        r->openings_per_period += Fn[i * nc] < 0.0 && !(Fn[((i + NS - 1) % NS) * nc] < 0.0);
+    if (r->openings_per_period == 0 && (r->contact_open || Fn[0] < 0.0))
+        r->openings_per_period = 1; /* between two samples, or never closed */
     r->validity = open || !(r->F_n_min > 0.0) ? USM_INVALID_CONTACT_OPEN
                   : !w->m->slip && r->friction_needed_max > w->p.mu0 ? USM_INVALID_STICK
                                                                      : USM_VALID;

@@ -449,6 +449,9 @@ int usm_sim_spectrum_compute(usm_sim_spectrum *s, const usm_sim_spectrum_options
             snprintf(msg, USM_MSG_LEN, "%s: %s", usm_spectrum_channel_name(c), why);
             break;
         }
+        out->peak[c] = 0.0;
+        for (size_t k = 1; k < nb; ++k)
+            out->peak[c] = fmax(out->peak[c], s->amp[c][k]);
         usm_spectrum_line *l = all_lines(s->amp[c], nb, out->df, f, &nl);
         if (!l && nl) {
             snprintf(msg, USM_MSG_LEN, "out of memory (the lines of a spectrum)");

@@ -187,9 +187,19 @@ static int locate(usm_periodic_sweep *s, int k, double va, const usm_periodic_re
 }
 
 /* rising: g_k > 0 after the event (in sweep order). */
+/* openings: the times a period the contact opens on the step's open end,
+ * at open_v (G_CONTACT only), counted there, not assumed */
 static int emit_located(usm_periodic_sweep *s, int k, double v, const usm_periodic_result *r,
-                        int located, int dir_up, int rising)
+                        int located, int dir_up, int rising, int openings, double open_v)
 {
+    char times[32], ot[96];
+    psweep_value_text(s, open_v, ot);
+    if (openings == 1)
+        snprintf(times, sizeof times, "once");
+    else if (openings == 2)
+        snprintf(times, sizeof times, "twice");
+    else
+        snprintf(times, sizeof times, "%d times", openings);
     char vt[96];
     const char *how = located ? "" : " (not located to tolerance: a trial orbit failed)";
     psweep_value_text(s, v, vt);
@@ -197,8 +207,10 @@ static int emit_located(usm_periodic_sweep *s, int k, double v, const usm_period
     if (k == G_CONTACT)
         return psweep_event_add(s, rising && s->m->unilateral ? USM_PEVENT_CONTACT_REGAINED
                                                        : USM_PEVENT_CONTACT_LOSS, v, r,
-                         "F_n_min = 0 at %s: the contact %s once a period as %s %s%s", vt,
-                         rising ? "closes again" : "opens", s->over, inc, how)
+                         "F_n_min = 0 at %s: the contact %s %s a period as %s %s (counted on "
+                         "the orbit at %s)%s", vt,
+                         rising ? "closes again, where it opened" : "opens", times, s->over, inc,
+                         ot, how)
                    ? 0 : -1;
     if (k == G_STICK)
         return psweep_event_add(s, USM_PEVENT_STICK_LOSS, v, r,
@@ -224,7 +236,8 @@ static int step_events(usm_periodic_sweep *s, double va, const usm_periodic_resu
     static const int order[NG] = {G_CONTACT, G_STABILITY, G_STICK};
     double vs[NG];
     usm_periodic_result rs[NG];
-    int ks[NG], located[NG], rising[NG], n = 0, have_closed = 0;
+    int ks[NG], located[NG], rising[NG], opens[NG], n = 0, have_closed = 0;
+    double openv[NG];
     trial closed; /* the contact loss's last bracket end with F_n_min > 0 */
     for (int o = 0; o < NG; ++o) {
         const int k = order[o];
@@ -244,6 +257,10 @@ static int step_events(usm_periodic_sweep *s, double va, const usm_periodic_resu
             continue;
         located[n] = locate(s, k, v0, r0, v1, r1, &vs[n], &rs[n],
                             k == G_CONTACT ? &closed : NULL) == 0;
+        /* on the step's open end: at the located orbit F_n_min is 0 to rounding,
+         * too close to count its dips as openings */
+        opens[n] = k == G_CONTACT ? (g0 < 0 ? r0 : r1)->openings_per_period : 0;
+        openv[n] = g0 < 0 ? v0 : v1;
         if (k == G_CONTACT)
             have_closed = isfinite(closed.v);
         rising[n] = g1 > 0;
@@ -256,10 +273,10 @@ static int step_events(usm_periodic_sweep *s, double va, const usm_periodic_resu
             if (fabs(vs[j] - va) < fabs(vs[best] - va))
                 best = j;
         if (emit_located(s, ks[best], vs[best], &rs[best], located[best], vb > va,
-                         rising[best]) != 0)
+                         rising[best], opens[best], openv[best]) != 0)
             return -1;
         vs[best] = vs[i], rs[best] = rs[i], ks[best] = ks[i], located[best] = located[i];
-        rising[best] = rising[i];
+        rising[best] = rising[i], opens[best] = opens[i], openv[best] = openv[i];
     }
     return 0;
 }

@@ -26,6 +26,8 @@
 #include "usm_tolerance.h"
 
 #define TOL_MAX_SPECS 64
+/* Bins of each histogram of `usm tolerance --out`'s figure */
+#define TOL_HIST_BINS 40
 /* Draws of one sample before the study gives up; a row's redraws are below. */
 #define TOL_MAX_REDRAWS 10000
 #define TOL_ROW_GOOD(t) ((t)->nvary + USM_TOL_NOUTPUTS)
@@ -61,6 +63,14 @@ struct usm_tolerance {
     usm_tolerance_timings timings;
     /* the result */
     int have_result;
+    /* the figure's histograms (tol_finish): TOL_HIST_BINS bins of equal width over
+     * [lo, hi], the range of every rank's samples, of rotor_speed (0) and
+     * max_modulus (1); the figure reads these counts, not the samples */
+    struct {
+        double lo, hi;
+        uint64_t total;
+        uint64_t count[TOL_HIST_BINS];
+    } hist[2];
     usm_tolerance_summary sum;
     double influence[USM_TOL_NNUMERIC][USM_NPARAMS];
     char msg[USM_MSG_LEN];

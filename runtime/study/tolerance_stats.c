@@ -426,6 +426,61 @@ static int quantiles(usm_tolerance *t, const tol_comm *c, int k, const u64 *sort
     return 0;
 }
 
+/* The histograms of rotor_speed and max_modulus over every rank's samples
+ * (t->hist): the range by an allgather of each rank's extremes, then the
+ * bins' counts summed over the ranks, exact integers as every count here.
+ * A constant output gets one narrow bin (width 1e-9 of its size) at its
+ * value.  0, or -1 when a collective fails or out of memory. */
+static int histograms(usm_tolerance *t, const tol_comm *c)
+{
+    static const int out[2] = {USM_TOL_ROTOR_SPEED, USM_TOL_MAX_MODULUS};
+    const uint64_t local = tol_local_samples(t);
+    double mine[4], *all = malloc((size_t)c->size * sizeof mine);
+    u64 counts[2 * (TOL_HIST_BINS + 1)];
+    /* every rank takes part in the collectives below, or none does */
+    int rc = all_ok(c, all != NULL) == 1 ? 0 : -1;
+    for (int h = 0; h < 2; ++h) {
+        mine[2 * h] = HUGE_VAL, mine[2 * h + 1] = -HUGE_VAL;
+        for (uint64_t i = 0; i < local; ++i) {
+            const double v = t->rows[i * (uint64_t)t->width + (uint64_t)(t->nvary + out[h])];
+            if (isfinite(v))
+                mine[2 * h] = fmin(mine[2 * h], v), mine[2 * h + 1] = fmax(mine[2 * h + 1], v);
+        }
+    }
+    if (rc == 0 && c->allgather(c->ctx, mine, sizeof mine, all) != 0)
+        rc = -1;
+    memset(counts, 0, sizeof counts);
+    for (int h = 0; h < 2 && rc == 0; ++h) {
+        double lo = HUGE_VAL, hi = -HUGE_VAL;
+        for (int r = 0; r < c->size; ++r)
+            lo = fmin(lo, all[4 * r + 2 * h]), hi = fmax(hi, all[4 * r + 2 * h + 1]);
+        if (!(lo <= hi)) /* no sample has this output */
+            lo = hi = 0.0;
+        else if (!(hi > lo))
+            hi = lo + fmax(fabs(lo), 1e-300) * 1e-9 * TOL_HIST_BINS;
+        t->hist[h].lo = lo, t->hist[h].hi = hi;
+        const double w = (hi - lo) / TOL_HIST_BINS;
+        u64 *cnt = counts + h * (TOL_HIST_BINS + 1);
+        for (uint64_t i = 0; i < local && w > 0; ++i) {
+            const double v = t->rows[i * (uint64_t)t->width + (uint64_t)(t->nvary + out[h])];
+            if (!isfinite(v))
+                continue;
+            long b = (long)floor((v - lo) / w);
+            b = b < 0 ? 0 : b >= TOL_HIST_BINS ? TOL_HIST_BINS - 1 : b; /* hi in the last */
+            ++cnt[b];
+            ++cnt[TOL_HIST_BINS];
+        }
+    }
+    if (rc == 0 && c->sum_u64(c->ctx, counts, sizeof counts / sizeof counts[0]) != 0)
+        rc = -1;
+    for (int h = 0; h < 2 && rc == 0; ++h) {
+        memcpy(t->hist[h].count, counts + h * (TOL_HIST_BINS + 1), TOL_HIST_BINS * sizeof(u64));
+        t->hist[h].total = counts[h * (TOL_HIST_BINS + 1) + TOL_HIST_BINS];
+    }
+    free(all);
+    return rc;
+}
+
 int tol_finish(usm_tolerance *t, const tol_comm *c)
 {
     usm_tolerance_summary *s = &t->sum;
@@ -506,6 +561,8 @@ int tol_finish(usm_tolerance *t, const tol_comm *c)
         for (int j = 0; j < nv; ++j)
             t->influence[k][j] = spearman(total, sums[1 + 3 * j], sums[2 + 3 * j], sums[0]);
     }
+    if (rc == USM_OK && histograms(t, c) != 0)
+        rc = USM_EFAILED;
 done:
     if (rc != USM_OK)
         snprintf(t->msg, USM_MSG_LEN, "out of memory for the statistics%s",

@@ -111,6 +111,18 @@ def test_periodic(model, params):
     assert got.to_dict() == want
 
 
+def test_periodic_invalid_flagged():
+    """An orbit the model does not describe (8.62 % mode split, past contact
+    loss at 1.33 %): the command's JSON says valid false, and the result's
+    repr, what an interactive user sees, names it before any value (its
+    squeal frequency is a prediction only with that flag)."""
+    got = usm.Model("4dof", "imperfect", mode_split=0.0862).periodic()
+    assert got.valid is False and got.invalid_reason == "contact_open" and got.F_n_min < 0
+    assert repr(got).startswith("<PeriodicResult MODEL_INVALID='contact_open' "), repr(got)
+    ok = usm.Model("4dof", "imperfect", mode_split=0.01).periodic()
+    assert ok.valid is True and "MODEL_INVALID" not in repr(ok)
+
+
 def simulate_cli(args):
     """The command's summary (its "out" and wall time set aside) and its CSV."""
     with tempfile.TemporaryDirectory() as d:

@@ -70,6 +70,11 @@ typedef struct usm_periodic_result {
                                    then not valid (the rotor would lift off) */
     usm_validity validity;      /* USM_VALID: F_n_min > 0 and, for stick models,
                                    friction_needed_max <= mu0 (usm.h) */
+    int openings_per_period;    /* the separate stretches of one period with F_n < 0 on
+                                   the samples (1 where F_n_min < 0 falls between them): the
+                                   times a period the bilateral contact opens, counted on
+                                   the orbit (2 for the 2 Omega wobble of a mode split, whose
+                                   F_n(t + T/2) = F_n(t)); 0 while it stays closed */
 } usm_periodic_result;
 
 /* Shooting solver of one model (opaque). */

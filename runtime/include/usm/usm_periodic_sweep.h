@@ -11,7 +11,9 @@
  * a real multiplier was approaching +1 (below).
  * Between consecutive accepted orbits the sweep locates, by Brent's method
  * on lambda (each trial a warm-started shooting), to 1e-11 of the range:
- *   contact_loss       F_n_min = 0: the contact opens once a period
+ *   contact_loss       F_n_min = 0: the contact opens (the times a period
+ *                      counted on the orbit just past: openings_per_period,
+ *                      twice for a mode split's 2 Omega wobble)
  *   stick_loss         stick models (3dof): friction_needed_max = mu0
  *   stability_change   the largest non-cyclic multiplier modulus = 1; its kind
  *                      from the critical multiplier there: +1 fold, -1

@@ -136,6 +136,9 @@ typedef struct usm_sim_spectrum_result {
     double parasitic_rms[USM_SPECTRUM_NCHANNELS]; /* RMS of the part that does not
                                    repeat with the excitation period (header comment) */
     double seconds;             /* wall time of usm_sim_spectrum_compute [s] */
+    double peak[USM_SPECTRUM_NCHANNELS]; /* largest amplitude of the bins k >= 1; 0 when the
+                                   channel is constant over the window (zero throughout
+                                   after its mean): its spectrum is empty, nlines 0 */
 } usm_sim_spectrum_result;
 
 /* The recorded samples of one run and the spectrum of the last compute

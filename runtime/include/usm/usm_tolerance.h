@@ -272,6 +272,17 @@ const char *usm_tolerance_message(const usm_tolerance *t);
  * a write error. */
 int usm_tolerance_write_csv(const usm_tolerance *t, FILE *out);
 
+/* The histograms that `usm tolerance --out DIR` draws (DIR/histograms.csv):
+ * 40 bins of equal width over the range of every sample's rotor_speed and
+ * max_modulus (the samples that have the output; a constant output: one
+ * narrow bin), counted by the library over every thread and MPI rank, so
+ * that a figure of 10^8 samples reads 40 rows.  CSV in the usm command's
+ * dialect: bin, rotor_speed_lo [1/s], rotor_speed_hi [1/s],
+ * rotor_speed_count, max_modulus_lo [1], max_modulus_hi [1],
+ * max_modulus_count (lo, hi empty where no sample has the output).  0, or
+ * -1 on a write error or without a result. */
+int usm_tolerance_write_histograms(const usm_tolerance *t, FILE *out);
+
 /* The result as one JSON object (2-space indent, numbers with 17 digits,
  * null where a value does not exist): samples, seed, yield, yield_ci [lo,
  * hi], quantiles {OUTPUT: {count, p1, p5, p50, p95, p99}}, influence
