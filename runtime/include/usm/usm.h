@@ -128,10 +128,23 @@ double *usm_params_field(usm_params *p, const usm_param_info *info);
 double usm_params_get(const usm_params *p, const usm_param_info *info);
 
 /* Set parameter `name` to `value`.  Returns USM_OK, or USM_EINPUT with a
- * message "NAME: reason" in msg (unknown name, value not finite). */
+ * message naming the parameter and the reason in msg (unknown name, value not
+ * finite, of the wrong sign or outside the parameter's range:
+ * usm_param_check_value). */
 int usm_params_set(usm_params *p, const char *name, double value, char msg[USM_MSG_LEN]);
 
-/* Check that every value is finite and physical for model m (NULL: any model):
+/* Check value v of parameter k (USM_P_<name>) alone: finite, of its sign
+ * (usm_param_constraints) and inside its physical range (usm_param_ranges,
+ * derive/usm_derive/defaults.py, docs/cli.md "Parameters"; generous for this
+ * motor class, so that a value outside is one typed in the wrong unit).
+ * USM_OK, or USM_EINPUT with "NAME: reason", or for a value outside the
+ * range "f = 38 Hz is outside 1 kHz..1 MHz (...); did you mean 38 kHz?"
+ * (the unit of the table that brings the number into the range; an angle
+ * outside -pi..pi is one in degrees). */
+int usm_param_check_value(int k, double v, char msg[USM_MSG_LEN]);
+
+/* Check that every value is finite and physical for model m (NULL: any model),
+ * each inside its range (usm_param_check_value):
  * positive inertias, radii, frequency; non-negative stiffnesses and damping;
  * the axisymmetric-stator assumption's I_yy == I_xx; H, R such that the
  * contact radius is positive.  USM_OK or USM_EINPUT with "NAME: reason". */
