@@ -59,13 +59,15 @@ DEFAULTS = {
 # refuses a value outside (usm_params_set, usm_params_check, the studies'
 # ranges and scatters) naming the range and the unit the user likely meant.
 # An angle spans one turn, -pi .. pi: a larger one is a value in degrees.
+# d_R reaches far up: a rigid axial dashpot is the stiff limit against which
+# the Floquet integrators' failures are tested (1e12 N s/m).
 _PI = 3.141592653589793
 RANGES = {
     "m0": (1e-9, 1.0),
     "T": (-1.0, 1.0),
     "F0": (0.0, 100.0),
     "c_R": (0.0, 1e8),
-    "d_R": (0.0, 1e4),
+    "d_R": (0.0, 1e12),
     "c_t": (0.0, 1e7),
     "c_r": (0.0, 1e7),
     "d_t": (0.0, 10.0),
