@@ -749,15 +749,17 @@ cdef object _run_optimize(_Model self, objective, dict vary, list constraints, i
                 raise ValueError(msg.decode(errors="replace"))
             rp.nscatter += 1
     if robust.get("samples") is not None:
-        rp.samples = _whole("samples", robust["samples"], 1, 10000000)
+        rp.samples = _whole("samples", robust["samples"], USM_ROBUST_MIN_SAMPLES,
+                            USM_ROBUST_MAX_SAMPLES)
     if robust.get("verify_samples") is not None:
-        rp.verify_samples = _whole("verify_samples", robust["verify_samples"], 1, 10000000)
+        rp.verify_samples = _whole("verify_samples", robust["verify_samples"],
+                                   USM_ROBUST_MIN_SAMPLES, USM_ROBUST_MAX_SAMPLES)
     if robust.get("seed") is not None:
-        rp.seed = _whole("seed", robust["seed"], 0, 9007199254740992)
+        rp.seed = _whole("seed", robust["seed"], 0, USM_SEED_MAX)
     if robust.get("threads") is not None:
         rp.threads = _whole("threads", robust["threads"], 1, 64)
     if robust.get("max_evals") is not None:
-        rp.max_evals = _whole("max_evals", robust["max_evals"], 1, 100000)
+        rp.max_evals = _whole("max_evals", robust["max_evals"], 4, 100000)
     rng = robust.get("over_range")
     if rng is not None:
         rng = tuple(rng)
@@ -850,7 +852,8 @@ cdef object _run_tolerance(_Model self, list vary, list spec, samples, seed, thr
         if usm_tolerance_spec_parse(str(text).replace(" ", "").encode(), &sp[ns], msg) != USM_OK:
             raise ValueError("spec " + msg.decode(errors="replace"))
         ns += 1
-    for field, value, lo, hi in (("samples", samples, 1, 1000000000), ("seed", seed, 0, 2**64 - 1),
+    for field, value, lo, hi in (("samples", samples, 1, USM_TOLERANCE_MAX_SAMPLES),
+                                 ("seed", seed, 0, USM_SEED_MAX),
                                  ("threads", threads, 1, 64)):
         if value is None:
             continue
