@@ -10,6 +10,7 @@ cdef extern from "usm.h" nogil:
         USM_EINPUT
         USM_ENOSOLUTION
         USM_MSG_LEN
+        USM_FLOQUET_MAX_STEPS
         USM_NPARAMS
         USM_NMODELS
         USM_NVARIANTS

@@ -99,8 +99,9 @@ cdef Py_ssize_t _eval(Kernel kind, const usm_model *m, const usm_params *p,
                       const double[:, :] x, const double[:] t, int tscalar, double t1,
                       double *out, Py_ssize_t rowlen) nogil:
     """Evaluate kernel `kind` at every row of x into out (rowlen doubles a
-    row).  Returns -1, or the first row with a non-finite value (nothing is
-    evaluated at or after it)."""
+    row).  Returns -1, the first row i with a non-finite value (nothing is
+    evaluated at or after it), or N + i where row i's result is not finite
+    (finite inputs too large for double precision)."""
     cdef double buf[USM_MAX_NX]
     cdef const double *row
     cdef Py_ssize_t N = x.shape[0], n = x.shape[1], i, j
@@ -131,6 +132,9 @@ cdef Py_ssize_t _eval(Kernel kind, const usm_model *m, const usm_params *p,
             m.steady_residual(row, p, out + i * rowlen)
         else:
             m.steady_jacobian(row, p, out + i * rowlen)
+        for j in range(rowlen):
+            if not isfinite(out[i * rowlen + j]):
+                return N + i
     return -1
 
 
@@ -183,6 +187,8 @@ cdef class _Model:
         new.p = self.p
         for name, value in values.items():
             bname = str(name).encode()
+            if b"\0" in bname:   # C would read the name up to it: another parameter
+                raise ValueError("%r: unknown parameter (a name with a NUL character)" % (name,))
             info = usm_params_find(bname)
             if info == NULL:   # the library's message ("NAME: unknown parameter")
                 usm_params_set(&new.p, bname, 0.0, msg)
@@ -195,7 +201,12 @@ cdef class _Model:
                 raise TypeError("%s: expected a number or a text with a unit, got %s"
                                 % (name, type(value).__name__))
             else:
-                v = float(value)
+                try:
+                    v = float(value)
+                except OverflowError:
+                    text = str(value)
+                    raise ValueError("%s: %s is out of range for a double (overflow)"
+                                     % (name, text if len(text) < 40 else text[:20] + "...")) from None
             if usm_params_set(&new.p, bname, v, msg) != USM_OK:
                 raise ValueError(msg.decode(errors="replace"))
         if usm_params_check(&new.p, new.m, msg) != USM_OK:
@@ -301,6 +312,11 @@ cdef class _Model:
         with nogil:
             bad = _eval(kind, self.m, &self.p, xv, tv, tscalar, t1,
                         &ov[0] if N > 0 else NULL, rowlen)
+        if bad >= N:
+            bad -= N
+            raise ValueError("%s: row %d gives a result that is not finite (%s): a value too "
+                             "large for double precision" % (what, bad, x2[bad] if tscalar else
+                             "x %s, t %r" % (x2[bad], tv[bad])))
         if bad >= 0:
             raise ValueError("%s: row %d is not finite (%s)" % (what, bad, x2[bad] if tscalar else
                              "x %s, t %r" % (x2[bad], tv[bad])))
@@ -987,6 +1003,8 @@ cdef int _floquet_options(usm_floquet_options *fo, method, rtol, steps) except -
     if steps is not None:
         if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)):
             raise TypeError("steps: must be an integer")
+        if not 1 <= steps <= USM_FLOQUET_MAX_STEPS:
+            raise ValueError("steps: must be 1 to %d, got %d" % (USM_FLOQUET_MAX_STEPS, steps))
         fo.steps = int(steps)
     return 0
 

@@ -1,4 +1,5 @@
 /* Parameter defaults, lookup by name and validation. */
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -124,6 +125,12 @@ int usm_param_check_value(int k, double v, char msg[USM_MSG_LEN])
     char val[64], lo[64], hi[64], hint[96] = "";
     if (!isfinite(v)) {
         snprintf(msg, USM_MSG_LEN, "%s: value must be a finite number", info->name);
+        return USM_EINPUT;
+    }
+    /* a subnormal value is refused as the parsers refuse it (usm_parse_number) */
+    if (v != 0.0 && fabs(v) < DBL_MIN) {
+        snprintf(msg, USM_MSG_LEN, "%s: %g is out of range for a double (underflow: its "
+                 "magnitude is below %.3g, the smallest normal double)", info->name, v, DBL_MIN);
         return USM_EINPUT;
     }
     if (usm_param_constraints[k] == USM_CONSTRAINT_POSITIVE && !(v > 0.0)) {

@@ -312,11 +312,15 @@ int usm_floquet_method_from_name(const char *name, usm_floquet_method *method,
                                  char msg[USM_MSG_LEN]);
 
 /* Method and tolerances of usm_floquet_compute (usm_floquet_options_default). */
+/* The most sub-intervals per period of the exponential Floquet method. */
+#define USM_FLOQUET_MAX_STEPS 1000000
+
 typedef struct usm_floquet_options {
     usm_floquet_method method; /* default USM_FLOQUET_AUTO */
     double rtol, atol;   /* CVODES tolerances in the scaled coordinates (default 1e-8, 1e-12);
                             the Magnus method takes its number of steps from rtol */
-    int steps;           /* exponential method: sub-intervals per period (default 64) */
+    int steps;           /* exponential method: sub-intervals per period (default 64;
+                            1 .. USM_FLOQUET_MAX_STEPS) */
 } usm_floquet_options;
 
 /* Fill `opt` with the defaults listed above. */
