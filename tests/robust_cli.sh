@@ -207,6 +207,13 @@ checks=$((checks + 1))
 "$USM" optimize --help | grep -q -- "--samples N .*100 to 10000000" ||
     "$USM" optimize --help | grep -A1 -- "--samples N" | grep -q "100 to 10000000" ||
     fail "optimize --help does not state the sample limit"
+# exit 3 says why in a sentence (it said "... an operating point exists cannot be met")
+if expect_rc 3 optimize --objective speed --vary F0=0.2:1.0 --constraint 'yield>=0.9' \
+        --scatter c_r=normal:2% --set T=0.1 --samples 100 --verify-samples 100 --max-evals 4; then
+    checks=$((checks + 1))
+    grep -q '^usm: constraint: no feasible design found: no design tried has a stationary solution with an operating point$' "$err" &&
+        ! grep -q 'exists cannot be met' "$err" || fail "exit 3 message: $(cat "$err")"
+fi
 expect_bad "--objectives" "A,B" pareto --objectives speed "${BOX[@]}"
 expect_bad "--objectives" "unknown output" pareto --objectives speed,nope "${BOX[@]}"
 expect_bad "--objectives" "two different" pareto --objectives speed,speed "${BOX[@]}"

@@ -642,20 +642,24 @@ int usm_robust_run(const usm_model *m, const usm_params *p, const usm_robust_pro
         res->verified = 1;
     res->evaluations = c->evaluations;
     if (!res->robust.feasible) {
-        char worst[USM_OPT_TEXT_LEN] = "a stationary solution with an operating point exists";
+        char worst[USM_OPT_TEXT_LEN] = "";
         double wv = -INFINITY;
         for (int i = 0; i < c->ncons && c->ok; ++i)
             if (c->cons[i] > wv) {
                 wv = c->cons[i];
                 snprintf(worst, sizeof worst, "%s", c->text[i]);
             }
+        /* each reason a sentence of its own: a constraint, a missing objective, no point */
         if (c->ok && isnan(c->obj))
             snprintf(msg, USM_MSG_LEN, "constraint: no feasible design found: the objective %s "
                      "has no value (no operating point) at the best design",
                      usm_robust_quantity_name(rp->objective));
-        else
+        else if (worst[0])
             snprintf(msg, USM_MSG_LEN, "constraint: no feasible design found: %s cannot be met",
                      worst);
+        else
+            snprintf(msg, USM_MSG_LEN, "constraint: no feasible design found: no design tried "
+                     "has a stationary solution with an operating point");
         status = USM_ENOSOLUTION;
     }
 done:
