@@ -59,12 +59,15 @@ DEFAULTS = {
 # refuses a value outside (usm_params_set, usm_params_check, the studies'
 # ranges and scatters) naming the range and the unit the user likely meant.
 # An angle spans one turn, -pi .. pi: a larger one is a value in degrees.
-# d_R reaches far up: a rigid axial dashpot is the stiff limit against which
-# the Floquet integrators' failures are tested (1e12 N s/m).
+# Four ranges reach far, to the limits the solvers are tested at: d_R to a
+# rigid axial dashpot (1e12 N s/m, where the Floquet integrators fail), T to
+# +-10 N m and m0 to 100 N m (the folds of the root branch under a load that
+# drives the rotor hard, or an excitation far above the paper's), mu0 to 1e4
+# (a slip model that emulates the stick model).
 _PI = 3.141592653589793
 RANGES = {
-    "m0": (1e-9, 1.0),
-    "T": (-1.0, 1.0),
+    "m0": (1e-9, 100.0),
+    "T": (-10.0, 10.0),
     "F0": (0.0, 100.0),
     "c_R": (0.0, 1e8),
     "d_R": (0.0, 1e12),
@@ -80,7 +83,7 @@ RANGES = {
     "I_zz": (1e-14, 1e-2),
     "M": (0.0, 10.0),
     "f": (1e3, 1e6),
-    "mu0": (0.0, 2.0),
+    "mu0": (0.0, 1e4),
     "kappa": (1e-3, 1e6),
     "amp_imbalance": (-1.0, 1.0),
     "phase_error": (-_PI, _PI),

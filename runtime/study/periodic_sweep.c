@@ -350,7 +350,7 @@ int usm_periodic_sweep_run(usm_periodic_sweep *s, const usm_params *p,
         char why[USM_MSG_LEN];
         if (usm_param_check_value(usm_param_index(s->info), end ? opt->to : opt->from, why) !=
             USM_OK) {
-            snprintf(s->msg, sizeof s->msg, "%s: %.200s", end ? "to" : "from", why);
+            snprintf(s->msg, sizeof s->msg, "%.200s (the sweep's %s)", why, end ? "to" : "from");
             return USM_EINPUT;
         }
     }

@@ -178,7 +178,7 @@ static int check_options(usm_sweep *s, const usm_params *p, const usm_sweep_opti
         char why[USM_MSG_LEN];
         if (usm_param_check_value(usm_param_index(info), end ? opt->to : opt->from, why) !=
             USM_OK) {
-            snprintf(s->msg, USM_MSG_LEN, "%s: %.200s", end ? "to" : "from", why);
+            snprintf(s->msg, USM_MSG_LEN, "%.200s (the sweep's %s)", why, end ? "to" : "from");
             return USM_EINPUT;
         }
     }
