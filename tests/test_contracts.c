@@ -431,6 +431,14 @@ static void check_ranges(void)
               strstr(msg, "ideal motor"), "amp_imbalance on an ideal model: \"%s\"", msg);
     CHECK(usm_tolerance_vary_check(&v, imperfect, &p, msg) == USM_OK,
           "amp_imbalance on the imperfect model: %s", msg);
+    CHECK(usm_tolerance_vary_parse("phase_error=normal:5", &v, msg) == USM_OK &&
+              usm_tolerance_vary_check(&v, imperfect, &p, msg) == USM_EINPUT &&
+              strstr(msg, "did you mean 5 deg?"), "phase_error=normal:5 (5 rad): \"%s\"", msg);
+    char long_msg[1024];
+    CHECK(usm_tolerance_vary_parse_units("--vary", "phase_error=normal:5deg", &v, long_msg) ==
+                  USM_OK &&
+              usm_tolerance_vary_check(&v, imperfect, &p, msg) == USM_OK,
+          "phase_error=normal:5deg refused: %s / %s", long_msg, msg);
     CHECK(usm_tolerance_vary_parse("I_yy=normal:1%", &v, msg) == USM_OK &&
               usm_tolerance_vary_check(&v, ideal, &p, msg) == USM_EINPUT && strstr(msg, "I_xx"),
           "I_yy, tied to I_xx: \"%s\"", msg);

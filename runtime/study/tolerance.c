@@ -170,10 +170,13 @@ int usm_tolerance_vary_check(const usm_tolerance_vary *v, const usm_model *m,
     /* a width wider than the whole range, or (a parameter of one sign) than
      * the value itself: a number typed in the wrong unit, most draws redrawn */
     const double width = v->relative ? v->width * fabs(nominal) : v->width;
-    if (width > r->hi - r->lo) {
-        snprintf(msg, USM_MSG_LEN, "%s: the %s %g %s is wider than the parameter's whole "
-                 "range %g..%g %s", info->name, kind, width, info->unit, r->lo, r->hi,
-                 info->unit);
+    if (width > 0.5 * (r->hi - r->lo)) {
+        char hint[64] = "";
+        if (!v->relative && strcmp(info->unit, "rad") == 0)
+            snprintf(hint, sizeof hint, "; did you mean %g deg?", v->width);
+        snprintf(msg, USM_MSG_LEN, "%s: the %s %g %s is wider than half the parameter's "
+                 "range %g..%g %s%s", info->name, kind, width, info->unit, r->lo, r->hi,
+                 info->unit, hint);
         return USM_EINPUT;
     }
     if (sign != USM_CONSTRAINT_ANY && width > fabs(nominal)) {

@@ -96,8 +96,9 @@ int usm_tolerance_vary_parse(const char *text, usm_tolerance_vary *v, char msg[U
  * imperfection of an ideal model, a parameter its assumptions tie to
  * another); a relative width of a nominal 0; uniform:LO:HI wholly outside the
  * parameter's range (usm_param_ranges; one that overlaps it is drawn, the
- * draws outside redrawn); a standard deviation or half-width wider than the
- * whole range, or, for a parameter of one sign, than its nominal value
+ * draws outside redrawn); a standard deviation or half-width wider than half
+ * the range (phase_error=normal:5: 5 rad), or, for a parameter of one sign,
+ * than its nominal value
  * (F0=normal:5 on 0.4 N: a width typed as a number meant in %).  USM_OK or
  * USM_EINPUT with "NAME: reason" in msg. */
 int usm_tolerance_vary_check(const usm_tolerance_vary *v, const usm_model *m,
