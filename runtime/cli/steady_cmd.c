@@ -35,8 +35,8 @@ static void usage(FILE *out)
     fprintf(out,
             "  -h, --help          print this help\n"
             "\n"
-            "parameters (SI units; defaults from the paper, Appendix A; the physical range:\n"
-            "a value outside it is refused as typed in the wrong unit, docs/cli.md):\n");
+            "a value outside its range is refused as one typed in the wrong unit (docs/cli.md)\n"
+            "parameters (SI units; defaults from the paper, Appendix A; range):\n");
     {
         usm_params def;
         int width = 0;
