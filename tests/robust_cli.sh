@@ -146,11 +146,12 @@ if expect_rc 0 "${P[@]}" --plot "$tmp/front"; then
 fi
 
 # --scatter takes units as --vary and Python's scatter do (usm_tolerance_vary_parse_units):
+# (an absolute uniform range of a parameter that is not designed: one of f would be refused)
 # the same problem written in SI gives the same JSON, bit for bit but the timings
 U=(optimize --objective yield --vary f=34000:42000 --samples 200 --verify-samples 400 --max-evals 4 --json)
-if expect_rc 0 "${U[@]}" --scatter F0=normal:20mN --scatter f=uniform:37.9kHz:38.1kHz; then
+if expect_rc 0 "${U[@]}" --scatter F0=normal:20mN --scatter T=uniform:0.05mNm:0.07mNm; then
     cp "$out" "$tmp/units.json"
-    if expect_rc 0 "${U[@]}" --scatter F0=normal:0.02 --scatter f=uniform:37900:38100; then
+    if expect_rc 0 "${U[@]}" --scatter F0=normal:0.02 --scatter T=uniform:5e-05:7e-05; then
         checks=$((checks + 1))
         "$PY" - "$tmp/units.json" "$out" <<'PYEOF' || fail "--scatter with units differs from SI"
 import json, sys
@@ -181,6 +182,38 @@ expect_bad "--over-range" "NAME=LO:HI" optimize --objective speed --vary F0=0.3:
     --over-range T=1
 expect_bad "--samples" "whole number" optimize --objective yield "${BOX[@]}" "${SCATTER[@]}" \
     --samples 0.5
+# an absolute uniform scatter of a designed parameter ignores the design (it gave yield 1.0
+# at f = 36.6 kHz); a scatter the model does not have, or a width in the wrong unit
+expect_bad "--scatter: f: uniform:37550:37650 is absolute, but f is designed" "about the design" \
+    optimize --objective yield --vary f=34000:42000 --scatter f=uniform:37.55kHz:37.65kHz
+expect_bad "--scatter: amp_imbalance" "ideal motor" optimize --objective yield "${BOX[@]}" \
+    --scatter amp_imbalance=normal:0.01
+expect_bad "--scatter: mode_split" "ideal motor" optimize --objective yield "${BOX[@]}" \
+    --scatter mode_split=normal:1%
+expect_bad "--scatter: F0: the standard deviation 5 N exceeds the value 0.4 N" "did you mean 5%" \
+    optimize --objective yield "${BOX[@]}" --scatter F0=normal:5
+expect_bad "--minimize" "yield is maximized" optimize --objective yield --minimize "${BOX[@]}" \
+    "${SCATTER[@]}"
+# each limit named as itself, and one sample and one seed limit everywhere
+expect_bad "--max-evals" "4 to 100000" optimize --objective yield "${BOX[@]}" "${SCATTER[@]}" \
+    --max-evals 3
+expect_bad "--samples" "100 to 10000000" optimize --objective yield "${BOX[@]}" "${SCATTER[@]}" \
+    --samples 50
+expect_bad "--seed" "0 to 9007199254740991" optimize --objective yield "${BOX[@]}" \
+    "${SCATTER[@]}" --seed 9007199254740992
+expect_bad "--seed" "0 to 9007199254740991" tolerance --samples 3 --vary F0=normal:5% \
+    --seed 9007199254740992
+checks=$((checks + 1))
+"$USM" optimize --help | grep -q -- "--samples N .*100 to 10000000" ||
+    "$USM" optimize --help | grep -A1 -- "--samples N" | grep -q "100 to 10000000" ||
+    fail "optimize --help does not state the sample limit"
+# exit 3 says why in a sentence (it said "... an operating point exists cannot be met")
+if expect_rc 3 optimize --objective speed --vary F0=0.2:1.0 --constraint 'yield>=0.9' \
+        --scatter c_r=normal:2% --set T=0.1 --samples 100 --verify-samples 100 --max-evals 4; then
+    checks=$((checks + 1))
+    grep -q '^usm: constraint: no feasible design found: no design tried has a stationary solution with an operating point$' "$err" &&
+        ! grep -q 'exists cannot be met' "$err" || fail "exit 3 message: $(cat "$err")"
+fi
 expect_bad "--objectives" "A,B" pareto --objectives speed "${BOX[@]}"
 expect_bad "--objectives" "unknown output" pareto --objectives speed,nope "${BOX[@]}"
 expect_bad "--objectives" "two different" pareto --objectives speed,speed "${BOX[@]}"

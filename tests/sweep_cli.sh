@@ -235,6 +235,16 @@ expect_bad '--to' 'required' sweep --over f --from 36000
 expect_bad 'to:' 'must differ' sweep --over f --from 36000 --to 36000
 expect_bad 'threads:' 'between 1 and' sweep --over f "${R[@]}" --threads 0
 expect_bad 'usm: f:' 'must be positive' sweep --over f --from -1000 --to 1000 --points 3
+# a range in the wrong unit is refused before the first point, naming the end
+# and the unit it was likely meant in (a sweep of f from 36 to 38 ran in Hz;
+# --periodic --over phase_error --to 36 ran to 36 rad)
+expect_bad 'f = 36 Hz is outside 1 kHz..1 MHz' "did you mean 36 kHz\\? \\(the sweep's from\\)" \
+    sweep --over f --from 36 --to 38 --points 3
+expect_bad 'phase_error = 36 rad is outside' "did you mean 36 deg\\? \\(the sweep's to\\)" \
+    sweep --periodic --over phase_error --from 0 --to 36 --points 3
+expect_bad 'f = 1e+300 Hz' "outside.*the sweep's to" sweep --over f --from 36000 --to 1e300 --points 3
+# --from and --to are read in --over's unit: an unknown --over is the fault
+expect_bad '--over: unknown parameter "freq"' '' sweep --over freq --from 36kHz --to 38kHz
 expect_bad '--frobnicate' 'unknown option' sweep --over f "${R[@]}" --frobnicate
 expect_bad '--set m0' 'not a number' sweep --over f "${R[@]}" --set m0=abc
 expect_bad '--from' 'missing argument' sweep --over f --from

@@ -25,6 +25,7 @@
 
 #include "check.h"
 #include "usm.h"
+#include "usm_tolerance.h"
 
 typedef struct expected {
     int index;       /* the enumerator */
@@ -83,9 +84,9 @@ static void check_documented(const char *path)
             continue;
         if (line[0] != '|')
             break;
-        char *cell[6] = {0};
+        char *cell[7] = {0};
         int n = 0;
-        for (char *tok = strtok(line + 1, "|"); tok && n < 6; tok = strtok(NULL, "|"))
+        for (char *tok = strtok(line + 1, "|"); tok && n < 7; tok = strtok(NULL, "|"))
             cell[n++] = trim(tok);
         CHECK(n >= 5, "docs table row with %d cells", n);
         if (n < 5)
@@ -106,6 +107,15 @@ static void check_documented(const char *path)
                                    : strcmp(cell[4], "any") == 0     ? USM_CONSTRAINT_ANY
                                                                      : USM_CONSTRAINT_COUNT;
         CHECK(c == doc, "%s: constraint %d, documented \"%s\"", cell[0], (int)c, cell[4]);
+        /* the range column: "LO .. HI" in SI */
+        char *dots = n >= 6 ? strstr(cell[5], "..") : NULL;
+        CHECK(dots != NULL, "%s: no documented range", cell[0]);
+        if (dots) {
+            const double lo = strtod(cell[5], NULL), hi = strtod(dots + 2, NULL);
+            const usm_param_range *r = &usm_param_ranges[e->index];
+            CHECK(lo == r->lo && hi == r->hi, "%s: range %g .. %g, documented %g .. %g",
+                  cell[0], r->lo, r->hi, lo, hi);
+        }
     }
     fclose(f);
     CHECK(rows == 19, "docs/cli.md: %d parameter rows, expected the 19 of the ideal motor", rows);
@@ -368,6 +378,72 @@ static void check_couplings(void)
     }
 }
 
+/* The ranges (docs/cli.md, "Ranges"): every default inside its range; a value
+ * typed in the wrong unit refused by the setter and the check with the range
+ * and the unit it was meant in (the reproducers: f = 38 solved at 38 Hz,
+ * phase_error = 35 taken as 35 rad); a scatter in the wrong unit or of a
+ * parameter the model does not read refused by usm_tolerance_vary_check. */
+static void check_ranges(void)
+{
+    char msg[USM_MSG_LEN];
+    usm_params p;
+    usm_params_default(&p);
+    for (int k = 0; k < USM_NPARAMS; ++k) {
+        const double v = usm_param_defaults[k];
+        CHECK(usm_param_ranges[k].lo <= v && v <= usm_param_ranges[k].hi,
+              "%s: default %g outside its range", usm_param_table[k].name, v);
+        CHECK(usm_param_check_value(k, v, msg) == USM_OK, "%s: default refused: %s",
+              usm_param_table[k].name, msg);
+    }
+    CHECK(usm_params_set(&p, "f", 38.0, msg) == USM_EINPUT && p.f == 37000.0,
+          "f = 38 Hz accepted by usm_params_set");
+    CHECK(strcmp(msg, "f = 38 Hz is outside 1 kHz..1 MHz; did you mean 38 kHz?") == 0,
+          "f = 38: \"%s\"", msg);
+    CHECK(usm_params_set(&p, "f", 38000.0, msg) == USM_OK, "f = 38 kHz refused: %s", msg);
+    usm_params_default(&p);
+    p.phase_error = 35.0;
+    CHECK(usm_params_check(&p, usm_model_variant("3dof", "imperfect"), msg) == USM_EINPUT &&
+              strstr(msg, "phase_error = 35 rad is outside") && strstr(msg, "did you mean 35 deg?"),
+          "phase_error = 35: \"%s\"", msg);
+    p.phase_error = 35.0 * 3.14159265358979 / 180.0;
+    CHECK(usm_params_check(&p, usm_model_variant("3dof", "imperfect"), msg) == USM_OK,
+          "phase_error = 35 deg refused: %s", msg);
+    CHECK(usm_param_check_value(USM_P_F0, 400.0, msg) == USM_EINPUT &&
+              strstr(msg, "did you mean 400 mN?"), "F0 = 400: \"%s\"", msg);
+    CHECK(usm_param_check_value(USM_P_T, 1e-310, msg) == USM_EINPUT && strstr(msg, "underflow"),
+          "T = 1e-310 (subnormal): \"%s\"", msg);
+
+    usm_tolerance_vary v;
+    usm_params_default(&p);
+    const usm_model *ideal = usm_model_find("3dof");
+    const usm_model *imperfect = usm_model_variant("3dof", "imperfect");
+    CHECK(usm_tolerance_vary_parse("F0=normal:5", &v, msg) == USM_OK &&
+              usm_tolerance_vary_check(&v, ideal, &p, msg) == USM_EINPUT &&
+              strstr(msg, "F0: the standard deviation 5 N exceeds the value 0.4 N"),
+          "F0=normal:5 (sigma 5 N on 0.4 N): \"%s\"", msg);
+    CHECK(usm_tolerance_vary_parse("F0=normal:5%", &v, msg) == USM_OK &&
+              usm_tolerance_vary_check(&v, ideal, &p, msg) == USM_OK, "F0=normal:5%%: %s", msg);
+    CHECK(usm_tolerance_vary_parse("f=uniform:37.5:38.5", &v, msg) == USM_OK &&
+              usm_tolerance_vary_check(&v, ideal, &p, msg) == USM_EINPUT &&
+              strstr(msg, "did you mean 38.5 kHz?"), "f=uniform:37.5:38.5: \"%s\"", msg);
+    CHECK(usm_tolerance_vary_parse("amp_imbalance=normal:0.01", &v, msg) == USM_OK &&
+              usm_tolerance_vary_check(&v, ideal, &p, msg) == USM_EINPUT &&
+              strstr(msg, "ideal motor"), "amp_imbalance on an ideal model: \"%s\"", msg);
+    CHECK(usm_tolerance_vary_check(&v, imperfect, &p, msg) == USM_OK,
+          "amp_imbalance on the imperfect model: %s", msg);
+    CHECK(usm_tolerance_vary_parse("phase_error=normal:5", &v, msg) == USM_OK &&
+              usm_tolerance_vary_check(&v, imperfect, &p, msg) == USM_EINPUT &&
+              strstr(msg, "did you mean 5 deg?"), "phase_error=normal:5 (5 rad): \"%s\"", msg);
+    char long_msg[1024];
+    CHECK(usm_tolerance_vary_parse_units("--vary", "phase_error=normal:5deg", &v, long_msg) ==
+                  USM_OK &&
+              usm_tolerance_vary_check(&v, imperfect, &p, msg) == USM_OK,
+          "phase_error=normal:5deg refused: %s / %s", long_msg, msg);
+    CHECK(usm_tolerance_vary_parse("I_yy=normal:1%", &v, msg) == USM_OK &&
+              usm_tolerance_vary_check(&v, ideal, &p, msg) == USM_EINPUT && strstr(msg, "I_xx"),
+          "I_yy, tied to I_xx: \"%s\"", msg);
+}
+
 int main(int argc, char **argv)
 {
     if (argc != 2) {
@@ -380,6 +456,7 @@ int main(int argc, char **argv)
         check_columns(usm_models[k]);
     check_outputs();
     check_couplings();
+    check_ranges();
     printf("%s: %d failures\n", argv[0], failures);
     return failures != 0;
 }

@@ -19,6 +19,13 @@ expect_bad '--vary c_t' 'unknown distribution' tolerance --samples 10 --vary c_t
 expect_bad '--vary c_t' 'not a distribution' tolerance --samples 10 --vary c_t=normal:5%%
 expect_bad '--vary c_t' 'LO < HI' tolerance --samples 10 --vary c_t=uniform:2:1
 expect_bad '--vary c_t' 'positive' tolerance --samples 10 --vary c_t=normal:-1
+# a width in the wrong unit (sigma 5 N on 0.4 N: 189 of 200 draws were redrawn), a range
+# in the wrong unit, a scatter the model does not have
+expect_bad 'F0: the standard deviation 5 N exceeds the value 0.4 N' 'did you mean 5%' \
+    tolerance --samples 10 --vary F0=normal:5
+expect_bad "f: uniform:37.5:38.5 lies outside the parameter's range" 'did you mean 38.5 kHz' \
+    tolerance --samples 10 --vary f=uniform:37.5:38.5
+expect_bad 'amp_imbalance' 'ideal motor' tolerance --samples 10 --vary amp_imbalance=normal:0.01
 expect_bad '--vary F0' 'smallest normal' tolerance --samples 10 --vary 'F0=normal:0x1p-1074%'
 expect_bad '--vary F0' 'smallest normal' tolerance --samples 10 --vary 'F0=uniform:1e-307%'
 expect_bad '--vary' 'expected NAME=DIST' tolerance --samples 10 --vary c_t

@@ -51,6 +51,63 @@ DEFAULTS = {
 }
 
 
+# name -> (lo, hi): the physical range of the parameter in its SI unit, both
+# ends included.  Chosen generously, wide around every wobbling-disk motor of
+# a few millimetres to a few centimetres (this motor: R = 5 mm, 37 kHz), yet
+# narrow enough that a value typed in the wrong unit falls outside it: f = 38
+# (meant kHz), F0 = 400 (meant mN), phase_error = 35 (meant deg).  The library
+# refuses a value outside (usm_params_set, usm_params_check, the studies'
+# ranges and scatters) naming the range and the unit the user likely meant.
+# An angle spans one turn, -pi .. pi: a larger one is a value in degrees.
+# Four ranges reach far, to the limits the solvers are tested at: d_R to a
+# rigid axial dashpot (1e12 N s/m, where the Floquet integrators fail), T to
+# +-10 N m and m0 to 100 N m (the folds of the root branch under a load that
+# drives the rotor hard, or an excitation far above the paper's), mu0 to 1e4
+# (a slip model that emulates the stick model).
+_PI = 3.141592653589793
+RANGES = {
+    "m0": (1e-9, 100.0),
+    "T": (-10.0, 10.0),
+    "F0": (0.0, 100.0),
+    "c_R": (0.0, 1e8),
+    "d_R": (0.0, 1e12),
+    "c_t": (0.0, 1e7),
+    "c_r": (0.0, 1e7),
+    "d_t": (0.0, 10.0),
+    "d_r": (0.0, 10.0),
+    "R": (1e-4, 0.1),
+    "H": (1e-5, 0.1),
+    "I_R": (1e-14, 1e-2),
+    "I_xx": (1e-14, 1e-2),
+    "I_yy": (1e-14, 1e-2),
+    "I_zz": (1e-14, 1e-2),
+    "M": (0.0, 10.0),
+    "f": (1e3, 1e6),
+    "mu0": (0.0, 1e4),
+    "kappa": (1e-3, 1e6),
+    "amp_imbalance": (-1.0, 1.0),
+    "phase_error": (-_PI, _PI),
+    "mode_split": (-1.0, 1.0),
+    "e_impact": (0.0, 1.0),
+}
+
+
+def ranges():
+    """[(name, unit, lo, hi)] in PARAMETERS order; every default lies inside its range."""
+    table = []
+    for name, unit, _, value, _, _ in defaults():
+        if name not in RANGES:
+            raise ValueError(f"derive/usm_derive/defaults.py: no range for {name}")
+        lo, hi = RANGES[name]
+        if not lo <= value <= hi:
+            raise ValueError(f"derive/usm_derive/defaults.py: the default {name} = {value} "
+                             f"lies outside its range {lo} .. {hi}")
+        table.append((name, unit, lo, hi))
+    if set(RANGES) - {row[0] for row in table}:
+        raise ValueError(f"a range for unknown {sorted(set(RANGES) - {r[0] for r in table})}")
+    return table
+
+
 def defaults():
     """[(name, unit, meaning, value, source, reason)] in PARAMETERS order."""
     missing = [name for name, *_ in PARAMETERS if name not in DEFAULTS]

@@ -20,7 +20,7 @@ Naming (also in the header's comment):
 """
 import re
 
-from .defaults import defaults
+from .defaults import defaults, ranges
 from .model import IMPERFECTIONS, PARAMETERS
 from .outputs import (DESIGN_NAMES, OUTPUT_NAMES, OUTPUT_UNITS, POWER_NAMES, SEED_NAMES,
                       STEADY_NAMES)
@@ -147,6 +147,12 @@ def contracts_h(banner):
           "   (derive/usm_derive/defaults.py: the paper's Appendix A and the values it\n"
           "   leaves out; usm_params_default copies them). */\n"
           "extern const double usm_param_defaults[USM_NPARAMS];\n\n")
+    h += ("/* The physical range of a parameter in its SI unit, both ends included. */\n"
+          "typedef struct usm_param_range {\n    double lo;\n    double hi;\n} usm_param_range;\n\n"
+          "/* The range of each parameter, by USM_P_<name> (derive/usm_derive/defaults.py,\n"
+          "   RANGES: generous for this motor class, so that a value outside is one typed\n"
+          "   in the wrong unit; usm_params_set and usm_params_check refuse it). */\n"
+          "extern const usm_param_range usm_param_ranges[USM_NPARAMS];\n\n")
     h += ("/* The imperfections of a real motor (0 in every ideal model), in table order. */\n"
           f"#define USM_NIMPERFECTIONS {len(IMPERFECTIONS)}\n"
           "extern const int usm_param_imperfections[USM_NIMPERFECTIONS];\n\n")
@@ -188,6 +194,9 @@ def contracts_c(banner):
     c += "const double usm_param_defaults[USM_NPARAMS] = {\n"
     c += "".join(f"    {value!r}, /* {name} [{unit}]: {source} */\n"
                  for name, unit, _, value, source, _ in defaults()) + "};\n\n"
+    c += "const usm_param_range usm_param_ranges[USM_NPARAMS] = {\n"
+    c += "".join(f"    {{{lo!r}, {hi!r}}}, /* {name} [{unit}] */\n"
+                 for name, unit, lo, hi in ranges()) + "};\n\n"
     c += ("const int usm_param_imperfections[USM_NIMPERFECTIONS] = {"
           + ", ".join(f"USM_P_{nm}" for nm in IMPERFECTIONS) + "};\n\n")
     c += f"const usm_param_coupling usm_param_couplings[{max(len(cs), 1)}] = {{\n"

@@ -10,6 +10,7 @@ cdef extern from "usm.h" nogil:
         USM_EINPUT
         USM_ENOSOLUTION
         USM_MSG_LEN
+        USM_FLOQUET_MAX_STEPS
         USM_NPARAMS
         USM_NMODELS
         USM_NVARIANTS
@@ -228,6 +229,8 @@ cdef extern from "usm_tolerance.h" nogil:
     enum:
         USM_TOL_NOUTPUTS
     ctypedef unsigned long long uint64_t
+    const uint64_t USM_SEED_MAX
+    const uint64_t USM_TOLERANCE_MAX_SAMPLES
     ctypedef struct usm_tolerance_vary:
         pass
     ctypedef struct usm_tolerance_spec:
@@ -248,6 +251,8 @@ cdef extern from "usm_tolerance.h" nogil:
     const char *usm_tolerance_output_name(int k)
 
 cdef extern from "usm_robust.h" nogil:
+    const uint64_t USM_ROBUST_MIN_SAMPLES
+    const uint64_t USM_ROBUST_MAX_SAMPLES
     enum:
         USM_ROBUST_MAX_SCATTER
         USM_PARETO_MAX_POINTS

@@ -206,6 +206,8 @@ cdef class _Model:
         new.p = self.p
         for name, value in values.items():
             bname = str(name).encode()
+            if b"\0" in bname:   # C would read the name up to it: another parameter
+                raise ValueError("%r: unknown parameter (a name with a NUL character)" % (name,))
             info = usm_params_find(bname)
             if info == NULL:   # the library's message ("NAME: unknown parameter")
                 usm_params_set(&new.p, bname, 0.0, msg)
@@ -218,7 +220,12 @@ cdef class _Model:
                 raise TypeError("%s: expected a number or a text with a unit, got %s"
                                 % (name, type(value).__name__))
             else:
-                v = float(value)
+                try:
+                    v = float(value)
+                except OverflowError:
+                    text = str(value)
+                    raise ValueError("%s: %s is out of range for a double (overflow)"
+                                     % (name, text if len(text) < 40 else text[:20] + "...")) from None
             if usm_params_set(&new.p, bname, v, msg) != USM_OK:
                 raise ValueError(msg.decode(errors="replace"))
         if usm_params_check(&new.p, new.m, msg) != USM_OK:
@@ -340,9 +347,10 @@ cdef class _Model:
                                  "stator's unit axis, a^2 + b^2 = sin(theta)^2 < 1"
                                  % (what, bad, state))
             if why == BAD_OUTPUT:
-                raise ValueError("%s: row %d: the kernel is not finite at this state (%s) of "
-                                 "model %s (a singular state: theta near 0 in the tilt vector, "
-                                 "or near pi/2; docs/coordinates.md)" % (what, bad, state, self.name))
+                raise ValueError("%s: row %d gives a result that is not finite (%s) of model %s: "
+                                 "a value too large for double precision, or a singular state "
+                                 "(theta near 0 in the tilt vector, or near pi/2; "
+                                 "docs/coordinates.md)" % (what, bad, state, self.name))
             raise ValueError("%s: row %d is not finite (%s)" % (what, bad, state))
         if given is not None:
             return given
@@ -789,15 +797,17 @@ cdef object _run_optimize(_Model self, objective, dict vary, list constraints, i
                 raise ValueError(msg.decode(errors="replace"))
             rp.nscatter += 1
     if robust.get("samples") is not None:
-        rp.samples = _whole("samples", robust["samples"], 1, 10000000)
+        rp.samples = _whole("samples", robust["samples"], USM_ROBUST_MIN_SAMPLES,
+                            USM_ROBUST_MAX_SAMPLES)
     if robust.get("verify_samples") is not None:
-        rp.verify_samples = _whole("verify_samples", robust["verify_samples"], 1, 10000000)
+        rp.verify_samples = _whole("verify_samples", robust["verify_samples"],
+                                   USM_ROBUST_MIN_SAMPLES, USM_ROBUST_MAX_SAMPLES)
     if robust.get("seed") is not None:
-        rp.seed = _whole("seed", robust["seed"], 0, 9007199254740992)
+        rp.seed = _whole("seed", robust["seed"], 0, USM_SEED_MAX)
     if robust.get("threads") is not None:
         rp.threads = _whole("threads", robust["threads"], 1, 64)
     if robust.get("max_evals") is not None:
-        rp.max_evals = _whole("max_evals", robust["max_evals"], 1, 100000)
+        rp.max_evals = _whole("max_evals", robust["max_evals"], 4, 100000)
     rng = robust.get("over_range")
     if rng is not None:
         rng = tuple(rng)
@@ -890,7 +900,8 @@ cdef object _run_tolerance(_Model self, list vary, list spec, samples, seed, thr
         if usm_tolerance_spec_parse(str(text).replace(" ", "").encode(), &sp[ns], msg) != USM_OK:
             raise ValueError("spec " + msg.decode(errors="replace"))
         ns += 1
-    for field, value, lo, hi in (("samples", samples, 1, 1000000000), ("seed", seed, 0, 2**64 - 1),
+    for field, value, lo, hi in (("samples", samples, 1, USM_TOLERANCE_MAX_SAMPLES),
+                                 ("seed", seed, 0, USM_SEED_MAX),
                                  ("threads", threads, 1, 64)):
         if value is None:
             continue
@@ -1024,6 +1035,8 @@ cdef int _floquet_options(usm_floquet_options *fo, method, rtol, steps) except -
     if steps is not None:
         if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)):
             raise TypeError("steps: must be an integer")
+        if not 1 <= steps <= USM_FLOQUET_MAX_STEPS:
+            raise ValueError("steps: must be 1 to %d, got %d" % (USM_FLOQUET_MAX_STEPS, steps))
         fo.steps = int(steps)
     return 0
 

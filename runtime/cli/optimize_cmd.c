@@ -86,11 +86,13 @@ static void usage(FILE *out)
             "                      tolerance --vary: normal:2%%, normal:SIGMA, uniform:P%%,\n"
             "                      uniform:LO:HI, numbers with units (F0=normal:20mN)\n"
             "                      (repeatable)\n"
-            "  --samples N         common-random-number samples per design (default 10000): the\n"
-            "                      same seed and draws at every design\n"
+            "  --samples N         common-random-number samples per design (default 10000;\n"
+            "                      " USM_ROBUST_SAMPLES_TEXT "): the same seed and draws at every\n"
+            "                      design\n"
             "  --verify-samples N  the final check: a fresh sample (seed S + 1) at the chosen\n"
-            "                      design with its 95 %% Wilson interval (default 100000)\n"
-            "  --seed S            seed of the samples (default 1)\n"
+            "                      design with its 95 %% Wilson interval (default 100000;\n"
+            "                      " USM_ROBUST_SAMPLES_TEXT ")\n"
+            "  --seed S            seed of the samples (default 1; 0 to " USM_SEED_MAX_TEXT ")\n"
             "  --threads N         worker threads for the samples (default 2)\n"
             "  --max-evals N       designs per COBYLA run (default 40)\n"
             "operating ranges and datasheet quantities (objective or constraint):\n"
@@ -238,8 +240,11 @@ static int parse_count(const char *opt, const char *value, uint64_t *out, char m
     double v;
     if (cli_parse_double(opt, value, &v, msg) != USM_OK)
         return USM_EINPUT;
-    if (!(v >= 1 && v <= 1e7) || v != floor(v)) {
-        cli_msg(msg, "%s: a whole number 1 ... 10000000, got \"%s\"", opt, value);
+    if (!(v >= (double)USM_ROBUST_MIN_SAMPLES && v <= (double)USM_ROBUST_MAX_SAMPLES) ||
+        v != floor(v)) {
+        cli_msg(msg, "%s: a whole number %llu to %llu, got \"%s\"", opt,
+                (unsigned long long)USM_ROBUST_MIN_SAMPLES,
+                (unsigned long long)USM_ROBUST_MAX_SAMPLES, value);
         return USM_EINPUT;
     }
     *out = (uint64_t)v;
@@ -272,8 +277,9 @@ static int parse_robust_option(opt_args *a, const char *opt, const char *value,
         double v;
         if (cli_parse_double(opt, value, &v, msg) != USM_OK)
             return USM_EINPUT;
-        if (!(v >= 0 && v <= 9007199254740992.0) || v != floor(v)) {
-            cli_msg(msg, "--seed: a whole number >= 0, got \"%s\"", value);
+        if (!(v >= 0 && v <= (double)USM_SEED_MAX) || v != floor(v)) {
+            cli_msg(msg, "--seed: a whole number 0 to %llu, got \"%s\"",
+                    (unsigned long long)USM_SEED_MAX, value);
             return USM_EINPUT;
         }
         rp->seed = (uint64_t)v;

@@ -42,7 +42,8 @@ static void usage(FILE *out)
     fprintf(out,
             "  -h, --help          print this help\n"
             "\n"
-            "parameters (SI units; defaults from the paper, Appendix A):\n");
+            "a value outside its range is refused as one typed in the wrong unit (docs/cli.md)\n"
+            "parameters (SI units; defaults from the paper, Appendix A; range):\n");
     {
         usm_params def;
         int width = 0;
@@ -52,8 +53,11 @@ static void usage(FILE *out)
                 width = (int)strlen(usm_param_table[k].name);
         for (int k = 0; k < USM_NPARAMS; ++k) {
             const usm_param_info *info = &usm_param_table[k];
-            fprintf(out, "  %-*s %-12.7g %-10s %s\n", width, info->name,
-                    usm_params_get(&def, info), info->unit, info->description);
+            char range[48];
+            snprintf(range, sizeof range, "%g..%g", usm_param_ranges[k].lo,
+                     usm_param_ranges[k].hi);
+            fprintf(out, "  %-*s %-12.7g %-10s %-18s %s\n", width, info->name,
+                    usm_params_get(&def, info), info->unit, range, info->description);
         }
     }
     /* the units table of usm_parse_quantity, one line per SI unit in use */

@@ -264,6 +264,11 @@ static int parse(sweep_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
     {
         const usm_param_info *over = usm_params_find(a->over);
         const char *unit = over ? over->unit : NULL;
+        /* --from and --to are read in --over's unit: an unknown name is the fault */
+        if (!over) {
+            cli_msg(msg, "--over: unknown parameter \"%s\" (see usm steady --help)", a->over);
+            return USM_EINPUT;
+        }
         if (cli_parse_quantity("--from", unit, a->from_text, &a->from, msg) != USM_OK ||
             cli_parse_quantity("--to", unit, a->to_text, &a->to, msg) != USM_OK)
             return USM_EINPUT;

@@ -56,7 +56,8 @@ static void usage(FILE *out)
           "                      F_t, max_modulus or efficiency (repeatable)\n"
           "  --allow-driven      a sample the load drives backwards (power_out < 0) may be\n"
           "                      good (default: it is not, and is counted as driven)\n"
-          "  --seed S            random seed (default 1); sample i depends only on (S, i)\n"
+          "  --seed S            random seed (default 1; 0 to " USM_SEED_MAX_TEXT "); sample i\n"
+          "                      depends only on (S, i)\n"
           "  --threads N         worker threads (default 2)\n"
           "  --out DIR           DIR/samples.csv, summary.md, histograms.csv (the figure's\n"
           "                      binned counts), histograms.png/svg (--force: write into an\n"
@@ -110,7 +111,7 @@ static int option(tol_args *a, int argc, char **argv, int *i, char msg[CLI_MSG_L
     if (OPT("--samples") && (a->have_samples = 1))
         rc = parse_count("--samples", v, 1, USM_TOLERANCE_MAX_SAMPLES, &a->opt.samples, msg);
     else if (OPT("--seed"))
-        rc = parse_count("--seed", v, 0, UINT64_MAX, &a->opt.seed, msg);
+        rc = parse_count("--seed", v, 0, USM_SEED_MAX, &a->opt.seed, msg);
     else if (OPT("--threads") && (rc = parse_count("--threads", v, 1, 64, &n, msg)) == USM_OK)
         a->opt.threads = (int)n;
     else if (OPT("--vary")) {

@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "usm.h"
+#include "core/units.h"
 
 int usm_parse_number(const char *field, const char *text, size_t len, double *out,
                      char msg[USM_IO_MSG_LEN])
@@ -49,62 +50,7 @@ int usm_parse_number(const char *field, const char *text, size_t len, double *ou
     return status;
 }
 
-/* ---- values with units --------------------------------------------------------- */
-
-/* The units a value may be typed in, by physical dimension: `si` is the
- * unit a contract gives (usm_param_table[].unit, the outputs' units), `name`
- * what the user types (compared with blanks removed and a micro sign read as
- * u), the value in SI = number x 10^exp10 x factor.  The SI unit itself is the
- * first row of its dimension.  README.md and docs/cli.md show this table. */
-#define USM_PI 3.14159265358979323846
-
-typedef struct unit_row {
-    const char *si;
-    const char *name;
-    int exp10;
-    double factor;
-} unit_row;
-
-static const unit_row unit_table[] = {
-    {"N m", "Nm", 0, 1},          {"N m", "mNm", -3, 1},     {"N m", "Nmm", -3, 1},
-    {"N m", "uNm", -6, 1},        {"N", "N", 0, 1},          {"N", "kN", 3, 1},
-    {"N", "mN", -3, 1},           {"N", "uN", -6, 1},        {"N/m", "N/m", 0, 1},
-    {"N/m", "kN/m", 3, 1},        {"N/m", "MN/m", 6, 1},     {"N/m", "N/mm", 3, 1},
-    {"N/m", "N/um", 6, 1},        {"N s/m", "Ns/m", 0, 1},   {"N s/m", "Ns/mm", 3, 1},
-    {"N m/rad", "Nm/rad", 0, 1},  {"N m/rad", "mNm/rad", -3, 1},
-    {"N m/rad", "Nmm/rad", -3, 1}, {"N m s/rad", "Nms/rad", 0, 1},
-    {"N m s/rad", "mNms/rad", -3, 1}, {"N m s/rad", "uNms/rad", -6, 1},
-    {"m", "m", 0, 1},             {"m", "cm", -2, 1},        {"m", "mm", -3, 1},
-    {"m", "um", -6, 1},           {"m", "nm", -9, 1},        {"kg m^2", "kgm^2", 0, 1},
-    {"kg m^2", "kgmm^2", -6, 1},  {"kg m^2", "gcm^2", -7, 1}, {"kg m^2", "gmm^2", -9, 1},
-    {"kg", "kg", 0, 1},           {"kg", "g", -3, 1},        {"kg", "mg", -6, 1},
-    {"Hz", "Hz", 0, 1},           {"Hz", "kHz", 3, 1},       {"Hz", "MHz", 6, 1},
-    {"1", "%", -2, 1},            {"s/m", "s/m", 0, 1},      {"s/m", "s/mm", 3, 1},
-    {"s/m", "ms/m", -3, 1},       {"rad", "rad", 0, 1},      {"rad", "mrad", -3, 1},
-    {"rad", "urad", -6, 1},       {"rad", "deg", 0, USM_PI / 180}, {"rad", "\xc2\xb0", 0, USM_PI / 180},
-    {"s", "s", 0, 1},             {"s", "ms", -3, 1},        {"s", "us", -6, 1},
-    {"1/s", "1/s", 0, 1},         {"1/s", "rad/s", 0, 1},    {"1/s", "rpm", 0, 2 * USM_PI / 60},
-    {"W", "W", 0, 1},             {"W", "mW", -3, 1},
-};
-#define NUNITS ((int)(sizeof unit_table / sizeof unit_table[0]))
-
-int usm_unit_count(void)
-{
-    return NUNITS;
-}
-
-int usm_unit_at(int k, const char **si, const char **name, double *scale)
-{
-    if (k < 0 || k >= NUNITS)
-        return USM_EINPUT;
-    if (si)
-        *si = unit_table[k].si;
-    if (name)
-        *name = unit_table[k].name;
-    if (scale)
-        *scale = pow(10.0, unit_table[k].exp10) * unit_table[k].factor;
-    return USM_OK;
-}
+/* ---- values with units (the table: core/units.c) ------------------------------ */
 
 /* `text` (len bytes) without blanks, the micro signs (U+00B5, U+03BC) as u:
  * 0 when it does not fit `out`. */
@@ -126,24 +72,6 @@ static int unit_key(const char *text, size_t len, char *out, size_t size)
     }
     out[n] = '\0';
     return 1;
-}
-
-int usm_units_accepted(const char *si, char *buf, size_t len)
-{
-    size_t used = 0;
-    int n = 0;
-    if (len)
-        buf[0] = '\0';
-    for (int k = 0; si && k < NUNITS; ++k) {
-        if (strcmp(unit_table[k].si, si) != 0)
-            continue;
-        int w = snprintf(buf + used, used < len ? len - used : 0, "%s%s", n ? ", " : "",
-                         unit_table[k].name);
-        if (w > 0 && used + (size_t)w < len)
-            used += (size_t)w;
-        ++n;
-    }
-    return n;
 }
 
 int usm_parse_quantity(const char *field, const char *unit, const char *text, size_t len,
@@ -174,14 +102,14 @@ int usm_parse_quantity(const char *field, const char *unit, const char *text, si
         return usm_parse_number(field, text, len, out, msg);
     if (!unit_key(text + numlen, len - numlen, key, sizeof key) || key[0] == '\0')
         return usm_parse_number(field, text, len, out, msg);
-    for (int k = 0; k < NUNITS && row < 0; ++k)
-        if (strcmp(unit_table[k].si, unit) == 0 && strcmp(unit_table[k].name, key) == 0)
+    for (int k = 0; k < usm_unit_rows && row < 0; ++k)
+        if (strcmp(usm_unit_table[k].si, unit) == 0 && strcmp(usm_unit_table[k].name, key) == 0)
             row = k;
     if (row < 0) {
         char known[512];
         int is_unit = 0;
-        for (int k = 0; k < NUNITS; ++k)
-            is_unit |= strcmp(unit_table[k].name, key) == 0;
+        for (int k = 0; k < usm_unit_rows; ++k)
+            is_unit |= strcmp(usm_unit_table[k].name, key) == 0;
         if (usm_units_accepted(unit, known, sizeof known) == 0)
             snprintf(known, sizeof known, "none, a number in %s", unit);
         if (is_unit)
@@ -196,7 +124,7 @@ int usm_parse_quantity(const char *field, const char *unit, const char *text, si
      * one scaled in its exponent (400mN reads as 400e-3, the double nearest
      * 0.4); a hexadecimal one by multiplication */
     double v;
-    const unit_row *u = &unit_table[row];
+    const usm_unit_row *u = &usm_unit_table[row];
     if (usm_parse_number(field, text, numlen, &v, msg) != USM_OK)
         return USM_EINPUT;
     const int decimal = memchr(text, 'x', numlen) == NULL && memchr(text, 'X', numlen) == NULL;

@@ -685,6 +685,11 @@ int usm_floquet_compute(usm_floquet *f, const usm_params *p, const usm_steady_so
         snprintf(f->msg, USM_MSG_LEN, "rtol: must be in [1e-14, 1e-3], got %g", opt->rtol);
         return USM_EINPUT;
     }
+    if (opt->steps < 1 || opt->steps > USM_FLOQUET_MAX_STEPS) {
+        snprintf(f->msg, USM_MSG_LEN, "steps: must be 1 to %d, got %d", USM_FLOQUET_MAX_STEPS,
+                 opt->steps);
+        return USM_EINPUT;
+    }
     if (!(opt->atol >= 0 && opt->atol < 1)) {
         snprintf(f->msg, USM_MSG_LEN, "atol: must be in [0, 1), got %g", opt->atol);
         return USM_EINPUT;

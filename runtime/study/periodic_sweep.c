@@ -362,6 +362,15 @@ int usm_periodic_sweep_run(usm_periodic_sweep *s, const usm_params *p,
                  "at most %g)", opt->from, opt->to, DBL_MAX);
         return USM_EINPUT;
     }
+    /* both ends inside the parameter's range, named in its unit (36 meant in deg) */
+    for (int end = 0; end < 2; ++end) {
+        char why[USM_MSG_LEN];
+        if (usm_param_check_value(usm_param_index(s->info), end ? opt->to : opt->from, why) !=
+            USM_OK) {
+            snprintf(s->msg, sizeof s->msg, "%.200s (the sweep's %s)", why, end ? "to" : "from");
+            return USM_EINPUT;
+        }
+    }
     if (opt->points < 2 || opt->points > 1000000) {
         snprintf(s->msg, sizeof s->msg, "points: %d, must be 2 to 1000000", opt->points);
         return USM_EINPUT;

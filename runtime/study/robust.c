@@ -84,13 +84,31 @@ int usm_robust_problem_check(const usm_robust_problem *rp, const usm_model *m,
         snprintf(msg, USM_MSG_LEN, "constraint: yield>=Y needs 0 < Y < 1");
         return USM_EINPUT;
     }
-    if (rp->samples < 100 || rp->samples > 10000000 || rp->verify_samples < 100 ||
-        rp->verify_samples > 10000000) {
-        snprintf(msg, USM_MSG_LEN, "samples: --samples and --verify-samples must be 100 to 1e7");
+    if (rp->samples < USM_ROBUST_MIN_SAMPLES || rp->samples > USM_ROBUST_MAX_SAMPLES ||
+        rp->verify_samples < USM_ROBUST_MIN_SAMPLES || rp->verify_samples > USM_ROBUST_MAX_SAMPLES) {
+        const int v = rp->samples >= USM_ROBUST_MIN_SAMPLES && rp->samples <= USM_ROBUST_MAX_SAMPLES;
+        snprintf(msg, USM_MSG_LEN, "%s: must be %llu to %llu, got %llu",
+                 v ? "verify-samples" : "samples", (unsigned long long)USM_ROBUST_MIN_SAMPLES,
+                 (unsigned long long)USM_ROBUST_MAX_SAMPLES,
+                 (unsigned long long)(v ? rp->verify_samples : rp->samples));
         return USM_EINPUT;
     }
-    if (rp->threads < 1 || rp->threads > 64 || rp->max_evals < 4 || rp->max_evals > 100000) {
-        snprintf(msg, USM_MSG_LEN, "threads: 1 to 64 (max-evals: 4 to 100000)");
+    if (rp->seed > USM_SEED_MAX) {
+        snprintf(msg, USM_MSG_LEN, "seed: must be 0 to %llu, got %llu",
+                 (unsigned long long)USM_SEED_MAX, (unsigned long long)rp->seed);
+        return USM_EINPUT;
+    }
+    if (rp->threads < 1 || rp->threads > 64) {
+        snprintf(msg, USM_MSG_LEN, "threads: must be 1 to 64, got %d", rp->threads);
+        return USM_EINPUT;
+    }
+    if (rp->max_evals < 4 || rp->max_evals > 100000) {
+        snprintf(msg, USM_MSG_LEN, "max-evals: must be 4 to 100000, got %d", rp->max_evals);
+        return USM_EINPUT;
+    }
+    if (rp->objective == USM_ROBUST_YIELD && rp->nominal.minimize) {
+        snprintf(msg, USM_MSG_LEN, "minimize: the objective yield is maximized (a design "
+                 "of least yield is no design); drop --minimize");
         return USM_EINPUT;
     }
     for (int i = 0; i < rp->nominal.ncons; ++i)
@@ -140,11 +158,24 @@ int usm_robust_problem_check(const usm_robust_problem *rp, const usm_model *m,
     pb.objective = USM_OPT_SPEED;
     if (usm_opt_problem_check(&pb, m, p, msg) != USM_OK)
         return USM_EINPUT;
-    for (int j = 0; j < rp->nscatter; ++j)
-        if (!rp->scatter[j].param) {
-            snprintf(msg, USM_MSG_LEN, "scatter: %d: no parameter", j);
+    for (int j = 0; j < rp->nscatter; ++j) {
+        const usm_tolerance_vary *v = &rp->scatter[j];
+        char why[USM_MSG_LEN];
+        if (usm_tolerance_vary_check(v, m, p, why) != USM_OK) {
+            snprintf(msg, USM_MSG_LEN, "scatter: %.230s", why);
             return USM_EINPUT;
         }
+        /* uniform:LO:HI draws the same values at every design: the design of
+         * that parameter would be judged by numbers that ignore it */
+        for (int i = 0; v->kind == USM_DIST_UNIFORM && !v->relative && i < pb.nvary; ++i)
+            if (pb.vary[i] == usm_param_index(v->param)) {
+                snprintf(msg, USM_MSG_LEN, "scatter: %s: uniform:%g:%g is absolute, but %s is "
+                         "designed (--vary): every design would see the same %s; give its "
+                         "scatter about the design (uniform:P%% or normal:SIGMA)",
+                         v->param->name, v->lo, v->hi, v->param->name, v->param->name);
+                return USM_EINPUT;
+            }
+    }
     return USM_OK;
 }
 
@@ -611,18 +642,24 @@ int usm_robust_run(const usm_model *m, const usm_params *p, const usm_robust_pro
         res->verified = 1;
     res->evaluations = c->evaluations;
     if (!res->robust.feasible) {
-        char worst[USM_OPT_TEXT_LEN] = "a stationary solution with an operating point exists";
+        char worst[USM_OPT_TEXT_LEN] = "";
         double wv = -INFINITY;
         for (int i = 0; i < c->ncons && c->ok; ++i)
             if (c->cons[i] > wv) {
                 wv = c->cons[i];
                 snprintf(worst, sizeof worst, "%s", c->text[i]);
             }
+        /* each reason a sentence of its own: a constraint, a missing objective, no point */
         if (c->ok && isnan(c->obj))
-            snprintf(worst, sizeof worst, "the objective %s exists",
+            snprintf(msg, USM_MSG_LEN, "constraint: no feasible design found: the objective %s "
+                     "has no value (no operating point) at the best design",
                      usm_robust_quantity_name(rp->objective));
-        snprintf(msg, USM_MSG_LEN, "constraint: no feasible design found: %s cannot be met",
-                 worst);
+        else if (worst[0])
+            snprintf(msg, USM_MSG_LEN, "constraint: no feasible design found: %s cannot be met",
+                     worst);
+        else
+            snprintf(msg, USM_MSG_LEN, "constraint: no feasible design found: no design tried "
+                     "has a stationary solution with an operating point");
         status = USM_ENOSOLUTION;
     }
 done:

@@ -185,6 +185,15 @@ static int check_options(usm_sweep *s, const usm_params *p, const usm_sweep_opti
                  "at most %g)", opt->from, opt->to, DBL_MAX);
         return USM_EINPUT;
     }
+    /* both ends inside the parameter's range, named in its unit (38 meant in kHz) */
+    for (int end = 0; end < 2; ++end) {
+        char why[USM_MSG_LEN];
+        if (usm_param_check_value(usm_param_index(info), end ? opt->to : opt->from, why) !=
+            USM_OK) {
+            snprintf(s->msg, USM_MSG_LEN, "%.200s (the sweep's %s)", why, end ? "to" : "from");
+            return USM_EINPUT;
+        }
+    }
     if (opt->points < 2 || opt->points > SWEEP_MAX_POINTS) {
         snprintf(s->msg, USM_MSG_LEN, "points: must be at least 2 and at most %d, got %d",
                  SWEEP_MAX_POINTS, opt->points);

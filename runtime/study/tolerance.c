@@ -116,6 +116,81 @@ int usm_tolerance_vary_parse(const char *text, usm_tolerance_vary *v, char msg[U
     return USM_OK;
 }
 
+int usm_tolerance_vary_check(const usm_tolerance_vary *v, const usm_model *m,
+                             const usm_params *p, char msg[USM_MSG_LEN])
+{
+    if (!v || !v->param || !p) {
+        snprintf(msg, USM_MSG_LEN, "scatter: %s", !p ? "no parameters" : "no parameter");
+        return USM_EINPUT;
+    }
+    const usm_param_info *info = v->param;
+    const int k = usm_param_index(info);
+    const double nominal = usm_params_get(p, info);
+    const usm_constraint sign = usm_param_constraints[k];
+    const usm_param_range *r = &usm_param_ranges[k];
+    const char *kind = v->kind == USM_DIST_NORMAL ? "standard deviation" : "half-width";
+    char why[USM_MSG_LEN];
+    /* a parameter the model does not read: its scatter would change nothing */
+    for (int j = 0; m && !m->imperfect && j < USM_NIMPERFECTIONS; ++j)
+        if (usm_param_imperfections[j] == k) {
+            snprintf(msg, USM_MSG_LEN, "%s: model %s is an ideal motor, without %s (%s); "
+                     "its scatter changes nothing (the variant imperfect models it)",
+                     info->name, m->name, info->name, info->description);
+            return USM_EINPUT;
+        }
+    const usm_param_coupling *c = m ? usm_param_coupled(m, k) : NULL;
+    if (c) {
+        snprintf(msg, USM_MSG_LEN, "%s: model %s ties it to %s (%s); scatter %s", info->name,
+                 m->name, usm_param_table[c->equals].name, c->because,
+                 usm_param_table[c->equals].name);
+        return USM_EINPUT;
+    }
+    if (v->relative && nominal == 0.0) {
+        snprintf(msg, USM_MSG_LEN, "%s: a relative (%%) width of a parameter whose "
+                 "nominal value is 0; give it in %s", info->name, info->unit);
+        return USM_EINPUT;
+    }
+    if (v->kind == USM_DIST_UNIFORM && !v->relative) {
+        /* a range wholly outside the physical one would only redraw forever;
+         * one that overlaps it is drawn, the draws outside redrawn */
+        if ((sign == USM_CONSTRAINT_POSITIVE && !(v->hi > 0.0)) ||
+            (sign == USM_CONSTRAINT_NONNEGATIVE && !(v->hi >= 0.0))) {
+            snprintf(msg, USM_MSG_LEN, "%s: uniform:%g:%g lies outside the physical range "
+                     "(%s)", info->name, v->lo, v->hi, info->constraint);
+            return USM_EINPUT;
+        }
+        if (v->hi < r->lo || v->lo > r->hi) {
+            usm_param_check_value(k, v->hi < r->lo ? v->hi : v->lo, why);
+            snprintf(msg, USM_MSG_LEN, "%s: uniform:%g:%g lies outside the parameter's range: "
+                     "%.180s", info->name, v->lo, v->hi, why);
+            return USM_EINPUT;
+        }
+        return USM_OK;
+    }
+    /* a width wider than the whole range, or (a parameter of one sign) than
+     * the value itself: a number typed in the wrong unit, most draws redrawn */
+    const double width = v->relative ? v->width * fabs(nominal) : v->width;
+    if (width > 0.5 * (r->hi - r->lo)) {
+        char hint[64] = "";
+        if (!v->relative && strcmp(info->unit, "rad") == 0)
+            snprintf(hint, sizeof hint, "; did you mean %g deg?", v->width);
+        snprintf(msg, USM_MSG_LEN, "%s: the %s %g %s is wider than half the parameter's "
+                 "range %g..%g %s%s", info->name, kind, width, info->unit, r->lo, r->hi,
+                 info->unit, hint);
+        return USM_EINPUT;
+    }
+    if (sign != USM_CONSTRAINT_ANY && width > fabs(nominal)) {
+        char hint[64] = "";
+        if (!v->relative)
+            snprintf(hint, sizeof hint, "; did you mean %g%%?", v->width);
+        snprintf(msg, USM_MSG_LEN, "%s: the %s %g %s exceeds the value %g %s itself (most "
+                 "draws would leave the physical range)%s", info->name, kind, width,
+                 info->unit, nominal, info->unit, hint);
+        return USM_EINPUT;
+    }
+    return USM_OK;
+}
+
 int usm_tolerance_spec_parse(const char *text, usm_tolerance_spec *s, char msg[USM_MSG_LEN])
 {
     const char *op = text ? strpbrk(text, "<>") : NULL;
@@ -551,6 +626,11 @@ static int check(usm_tolerance *t, const usm_params *p, const usm_tolerance_opti
                  (unsigned long long)USM_TOLERANCE_MAX_SAMPLES, (unsigned long long)opt->samples);
         return USM_EINPUT;
     }
+    if (opt->seed > USM_SEED_MAX) {
+        snprintf(t->msg, USM_MSG_LEN, "seed: must be 0 to %llu, got %llu",
+                 (unsigned long long)USM_SEED_MAX, (unsigned long long)opt->seed);
+        return USM_EINPUT;
+    }
     if (opt->threads < 1 || opt->threads > POOL_MAX_THREADS) {
         snprintf(t->msg, USM_MSG_LEN, "threads: must be between 1 and %d, got %d",
                  POOL_MAX_THREADS, opt->threads);
@@ -575,25 +655,9 @@ static int check(usm_tolerance *t, const usm_params *p, const usm_tolerance_opti
         snprintf(t->msg, USM_MSG_LEN, "%s", why);
         return USM_EINPUT;
     }
-    for (int j = 0; j < t->nvary; ++j) {
-        const usm_tolerance_vary *v = &t->vary[j];
-        const double nominal = usm_params_get(p, v->param);
-        const char *c = v->param->constraint;
-        const usm_constraint sign = usm_param_constraints[usm_param_index(v->param)];
-        if (v->relative && nominal == 0.0) {
-            snprintf(t->msg, USM_MSG_LEN, "%s: a relative (%%) width of a parameter whose "
-                     "nominal value is 0; give it in %s", v->param->name, v->param->unit);
+    for (int j = 0; j < t->nvary; ++j)
+        if (usm_tolerance_vary_check(&t->vary[j], t->m, p, t->msg) != USM_OK)
             return USM_EINPUT;
-        }
-        /* a range wholly outside the physical one would only redraw forever */
-        if (v->kind == USM_DIST_UNIFORM && !v->relative &&
-            ((sign == USM_CONSTRAINT_POSITIVE && !(v->hi > 0.0)) ||
-             (sign == USM_CONSTRAINT_NONNEGATIVE && !(v->hi >= 0.0)))) {
-            snprintf(t->msg, USM_MSG_LEN, "%s: uniform:%g:%g lies outside the physical range "
-                     "(%s)", v->param->name, v->lo, v->hi, c);
-            return USM_EINPUT;
-        }
-    }
     return USM_OK;
 }
 

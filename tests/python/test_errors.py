@@ -158,3 +158,70 @@ def test_tolerance_errors():
         m.tolerance(0, {"F0": "normal:5%"})
     with pytest.raises(ValueError, match="vary: required"):
         m.tolerance(10, {})
+
+
+def test_values_in_the_wrong_unit_are_refused_by_the_library():
+    """A parameter outside its physical range (derive/usm_derive/defaults.py)
+    is refused with the command's message, naming the unit it was likely
+    meant in: f = 38 was solved at 38 Hz, phase_error = 35 was 35 rad."""
+    m = usm.Model()
+    with pytest.raises(ValueError) as e:
+        m.with_params(f=38)
+    assert str(e.value) == "f = 38 Hz is outside 1 kHz..1 MHz; did you mean 38 kHz?"
+    assert str(e.value) == cli_error("steady", "--set", "f=38", expect=2)
+    with pytest.raises(ValueError, match=r"phase_error = 35 rad is outside .*did you mean 35 deg\?"):
+        usm.Model("3dof", "imperfect", phase_error=35)
+    assert usm.Model("3dof", "imperfect", phase_error="35deg").params["phase_error"] > 0.6
+    with pytest.raises(ValueError, match=r"F0: the standard deviation 5 N exceeds the value 0.4 N"):
+        m.tolerance(10, {"F0": "normal:5"})
+    with pytest.raises(ValueError, match=r"f: uniform:37\.5:38\.5 lies outside the parameter's range"):
+        m.tolerance(10, {"f": "uniform:37.5:38.5"})
+
+
+def test_scatter_rules_of_robust_optimize():
+    m = usm.Model()
+    box = {"f": (34000, 42000)}
+    with pytest.raises(ValueError, match="f: uniform:37550:37650 is absolute, but f is designed"):
+        m.optimize("yield", box, scatter={"f": "uniform:37.55kHz:37.65kHz"}, samples=100,
+                   verify_samples=100)
+    with pytest.raises(ValueError, match="amp_imbalance: model 3dof is an ideal motor"):
+        m.optimize("yield", box, scatter={"amp_imbalance": "normal:0.01"}, samples=100,
+                   verify_samples=100)
+    with pytest.raises(ValueError, match="minimize: the objective yield is maximized"):
+        m.optimize("yield", box, minimize=True, scatter={"F0": "normal:5%"}, samples=100,
+                   verify_samples=100)
+    # one sample limit, one seed limit: the library's, as the command states them
+    with pytest.raises(ValueError, match="samples: \"50\" must be a whole number from 100 to 10000000"):
+        m.optimize("yield", box, scatter={"F0": "normal:5%"}, samples=50)
+    with pytest.raises(ValueError, match="max_evals: \"3\" must be a whole number from 4"):
+        m.optimize("yield", box, scatter={"F0": "normal:5%"}, samples=100, max_evals=3)
+    for call in (lambda s: m.tolerance(3, {"F0": "normal:5%"}, seed=s),
+                 lambda s: m.optimize("yield", box, scatter={"F0": "normal:5%"}, samples=100,
+                                      seed=s)):
+        with pytest.raises(ValueError, match="seed: .* from 0 to 9007199254740991"):
+            call(2**53)
+
+
+def test_python_inputs_raise_value_or_type_error():
+    m = usm.Model()
+    with pytest.raises(ValueError, match="unknown parameter"):
+        m.with_params(**{"f\0oo": 37000.0})        # C would read "f"
+    with pytest.raises(ValueError, match="f: .* out of range for a double"):
+        m.with_params(f=10**400)                    # not OverflowError
+    for v in (1e-310, 5e-324, -1e-310):
+        with pytest.raises(ValueError, match="underflow"):
+            m.with_params(T=v)                      # as --set T=1e-310
+    for steps in (0, -1, 10**30):
+        with pytest.raises(ValueError, match="steps: must be 1 to 1000000"):
+            m.steady(steps=steps)                   # not NumericalError nor OverflowError
+
+
+def test_kernels_never_return_inf_or_nan_for_finite_input():
+    m = usm.Model()
+    with pytest.raises(ValueError, match="x: row 0 gives a result that is not finite"):
+        m.rhs(np.full(6, 1e300))
+    x = np.full((3, 6), 0.01)
+    x[2] = 1e300
+    with pytest.raises(ValueError, match="x: row 2 gives a result that is not finite"):
+        m.jacobian(x)
+    assert np.all(np.isfinite(m.rhs(np.full(6, 0.01))))

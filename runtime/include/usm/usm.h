@@ -148,10 +148,23 @@ double *usm_params_field(usm_params *p, const usm_param_info *info);
 double usm_params_get(const usm_params *p, const usm_param_info *info);
 
 /* Set parameter `name` to `value`.  Returns USM_OK, or USM_EINPUT with a
- * message "NAME: reason" in msg (unknown name, value not finite). */
+ * message naming the parameter and the reason in msg (unknown name, value not
+ * finite, of the wrong sign or outside the parameter's range:
+ * usm_param_check_value). */
 int usm_params_set(usm_params *p, const char *name, double value, char msg[USM_MSG_LEN]);
 
-/* Check that every value is finite and physical for model m (NULL: any model):
+/* Check value v of parameter k (USM_P_<name>) alone: finite, of its sign
+ * (usm_param_constraints) and inside its physical range (usm_param_ranges,
+ * derive/usm_derive/defaults.py, docs/cli.md "Parameters"; generous for this
+ * motor class, so that a value outside is one typed in the wrong unit).
+ * USM_OK, or USM_EINPUT with "NAME: reason", or for a value outside the
+ * range "f = 38 Hz is outside 1 kHz..1 MHz (...); did you mean 38 kHz?"
+ * (the unit of the table that brings the number into the range; an angle
+ * outside -pi..pi is one in degrees). */
+int usm_param_check_value(int k, double v, char msg[USM_MSG_LEN]);
+
+/* Check that every value is finite and physical for model m (NULL: any model),
+ * each inside its range (usm_param_check_value):
  * positive inertias, radii, frequency; non-negative stiffnesses and damping;
  * the axisymmetric-stator assumption's I_yy == I_xx; H, R such that the
  * contact radius is positive.  USM_OK or USM_EINPUT with "NAME: reason". */
@@ -319,11 +332,15 @@ int usm_floquet_method_from_name(const char *name, usm_floquet_method *method,
                                  char msg[USM_MSG_LEN]);
 
 /* Method and tolerances of usm_floquet_compute (usm_floquet_options_default). */
+/* The most sub-intervals per period of the exponential Floquet method. */
+#define USM_FLOQUET_MAX_STEPS 1000000
+
 typedef struct usm_floquet_options {
     usm_floquet_method method; /* default USM_FLOQUET_AUTO */
     double rtol, atol;   /* CVODES tolerances in the scaled coordinates (default 1e-8, 1e-12);
                             the Magnus method takes its number of steps from rtol */
-    int steps;           /* exponential method: sub-intervals per period (default 64) */
+    int steps;           /* exponential method: sub-intervals per period (default 64;
+                            1 .. USM_FLOQUET_MAX_STEPS) */
 } usm_floquet_options;
 
 /* Fill `opt` with the defaults listed above. */

@@ -39,6 +39,13 @@ extern "C" {
 #endif
 
 #define USM_ROBUST_MAX_SCATTER 16
+/* The samples of a robust problem's common-random-number set and of its
+ * verification (usm_robust_problem's samples, verify_samples; usm_yield_alloc):
+ * USM_ROBUST_MIN_SAMPLES .. USM_ROBUST_MAX_SAMPLES (a yield judged on fewer
+ * than 100 motors is no estimate). */
+#define USM_ROBUST_MIN_SAMPLES 100ULL
+#define USM_ROBUST_MAX_SAMPLES 10000000ULL
+#define USM_ROBUST_SAMPLES_TEXT "100 to 10000000" /* the same, for help texts */
 #define USM_ROBUST_MAX_DERIVED 8 /* constraints on derived quantities */
 
 
@@ -58,7 +65,7 @@ typedef struct usm_yield_result {
                                   backwards (power_out < 0; 0 with usm_yield_allow_driven) */
 } usm_yield_result;
 
-/* A sample set of `samples` (1 .. 10^7) draws of the scatter (nscatter of
+/* A sample set of `samples` (1 .. USM_ROBUST_MAX_SAMPLES) draws of the scatter (nscatter of
  * them, each parsed by usm_tolerance_vary_parse; distinct parameters) from
  * `seed`, for model m.  NULL with msg ("scatter: ..." / "samples: ...") on
  * bad input or when out of memory. */

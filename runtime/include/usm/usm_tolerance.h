@@ -60,6 +60,12 @@ extern "C" {
 
 /* Most samples of one study. */
 #define USM_TOLERANCE_MAX_SAMPLES 1000000000ULL
+/* The largest seed of a study (usm tolerance, usm optimize's scatter and its
+ * verification's seed + 1, the Python package): 2^53 - 1, so that every seed
+ * written into a JSON file (a double) reads back exactly.  Seeds are
+ * 0 .. USM_SEED_MAX. */
+#define USM_SEED_MAX 9007199254740991ULL
+#define USM_SEED_MAX_TEXT "9007199254740991" /* the same, for help texts */
 
 /* ---- distributions ------------------------------------------------------------ */
 
@@ -84,6 +90,19 @@ typedef struct usm_tolerance_vary {
 /* Parse "NAME=DIST" into v.  USM_OK or USM_EINPUT with "NAME: reason" (or
  * "DIST: reason") in msg. */
 int usm_tolerance_vary_parse(const char *text, usm_tolerance_vary *v, char msg[USM_MSG_LEN]);
+/* Whether scatter v suits model m at nominal parameters p: the one check of
+ * usm tolerance's --vary, usm optimize's --scatter (usm_robust_problem_check)
+ * and the Python package.  Refused: a parameter model m does not read (an
+ * imperfection of an ideal model, a parameter its assumptions tie to
+ * another); a relative width of a nominal 0; uniform:LO:HI wholly outside the
+ * parameter's range (usm_param_ranges; one that overlaps it is drawn, the
+ * draws outside redrawn); a standard deviation or half-width wider than half
+ * the range (phase_error=normal:5: 5 rad), or, for a parameter of one sign,
+ * than its nominal value
+ * (F0=normal:5 on 0.4 N: a width typed as a number meant in %).  USM_OK or
+ * USM_EINPUT with "NAME: reason" in msg. */
+int usm_tolerance_vary_check(const usm_tolerance_vary *v, const usm_model *m,
+                             const usm_params *p, char msg[USM_MSG_LEN]);
 /* The same with a unit allowed in the absolute numbers (normal:SIGMA,
  * uniform:LO:HI, e.g. F0=uniform:350mN:450mN; usm_parse_quantity in the
  * parameter's unit), as usm tolerance's --vary, usm optimize's --scatter and
