@@ -48,7 +48,7 @@ sys.path.insert(0, HERE)
 
 from usm_derive import digests  # noqa: E402  (no sympy)
 
-MANIFEST = "DIGESTS"   # usm_derive/pipeline.py, MANIFEST
+MANIFEST = "DIGESTS"   # usm_derive/assemble.py, MANIFEST
 
 
 def file_list():
@@ -122,15 +122,15 @@ def up_to_date(committed, out_dir, verbose):
 
 PINNED_PYTHON = "/usr/bin/python3"
 PINNED_SYMPY = "1.11.1"
-sp = emit_model = pipeline = variants = None
+sp = assemble = emit_model = pipeline = variants = None
 
 
 def _import_derivation():
     """sympy and the derivation: only once something is to be derived or
     rendered (seconds to import; the fast path needs none of it)."""
-    global sp, emit_model, pipeline, variants
+    global sp, assemble, emit_model, pipeline, variants
     import sympy as sp
-    from usm_derive import emit_model, pipeline
+    from usm_derive import assemble, emit_model, pipeline
     import variants
 
 
@@ -171,22 +171,26 @@ def _derive(work, keys, jobs, cache, verbose):
             results = pool.imap_unordered(pipeline.model_files,
                                           [jobs_of[i] for i in order], chunksize=1)
             out = {}
-            for name, files, t_derive, t_emit in results:
+            for name, files, *times in results:
                 out[name] = files
                 _cache_write(cache, keys[name], files)
-                if verbose:
-                    print(f"  {name}: derived in {t_derive:.1f} s, emitted in {t_emit:.1f} s",
-                          file=sys.stderr, flush=True)
+                _said(name, times, verbose)
             return out
     out = {}
     for j in jobs_of:
-        name, files, t_derive, t_emit = pipeline.model_files(j)
+        name, files, *times = pipeline.model_files(j)
         out[name] = files
         _cache_write(cache, keys[name], files)
-        if verbose:
-            print(f"  {name}: derived in {t_derive:.1f} s, emitted in {t_emit:.1f} s",
-                  file=sys.stderr, flush=True)
+        _said(name, times, verbose)
     return out
+
+
+def _said(name, times, verbose):
+    """The build log's line of one derived model."""
+    if verbose:
+        t_derive, t_emit, cpu = times
+        print(f"  {name}: derived in {t_derive:.1f} s, emitted in {t_emit:.1f} s "
+              f"(CPU {cpu:.1f} s)", file=sys.stderr, flush=True)
 
 
 def _same_sharing(name, owners, old, keys):
@@ -242,7 +246,7 @@ def write_all(out_dir, only=None, verbose=True, jobs=2, cache=None, committed=No
         for m in work:
             del src[m[0]]
             if verbose:
-                print(f"  {m[0]}: a kernel it calls in another model changed: derived again",
+                print(f"  {m[0]}: calls a kernel of a model that changed: derived again",
                       file=sys.stderr)
     for m in every:
         if m[0] not in src:
@@ -256,10 +260,10 @@ def write_all(out_dir, only=None, verbose=True, jobs=2, cache=None, committed=No
                 if m in models and src[m[0]][0] != "generated/" else None)
                for m in every if m[0] in src]
     owners = emit_model.share_kernels(entries, files)
-    diffs = pipeline.render_docs(models, files, out_dir)
+    diffs = assemble.render_docs(models, files, out_dir)
     if not only:
-        files.update(pipeline.common_files(models, files, code, diffs))
-        files[MANIFEST] = pipeline.manifest(models, keys, owners,
+        files.update(assemble.common_files(models, files, code, diffs))
+        files[MANIFEST] = assemble.manifest(models, keys, owners,
                                             {m[0]: src[m[0]][2] for m in models})
     changed = [f for f, text in files.items()
                if _write_if_changed(os.path.join(out_dir, f), text)]

@@ -12,7 +12,8 @@ What each digest covers, and why:
                      own files (usm_<name>.{h,c}, usm_<name>_equations.json) are
                      computed by.  derive/generate.py is not in it: it only
                      chooses which models to derive and where to read and write
-                     them; the output is computed in usm_derive/ (pipeline.py).
+                     them; the output is computed in usm_derive/ (pipeline.py,
+                     assemble.py).
   input_digest       model_code_digest's files, NOT_IN_MODELS and variants.py:
                      everything any file of generated/ depends on.
 """
@@ -25,11 +26,12 @@ from . import GENERATOR_VERSION
 PACKAGE = os.path.dirname(os.path.abspath(__file__))
 DERIVE = os.path.dirname(PACKAGE)
 
-# Read by the documents' parameter tables and usm_contracts.c only, never by a
-# model's own files: changing a default re-renders the documents and derives
+# Never read while a model's own files are made: the defaults reach the
+# documents' parameter tables and usm_contracts.c only, assemble.py makes the
+# files of all models together.  Changing them renders those again and derives
 # nothing.  (defaults.defaults() refuses to run while a model is derived, so
 # that a use there fails instead of leaving a stale model.)
-NOT_IN_MODELS = ("defaults.py",)
+NOT_IN_MODELS = ("defaults.py", "assemble.py")
 
 
 def sha(*parts):
