@@ -72,12 +72,15 @@ if(USM_REGENERATE)
   if(USM_DERIVE_ALL)
     set(_derive_all --no-cache --no-reuse)
   endif()
+  # rewritten only when the option changes: turning it on derives again
+  file(CONFIGURE OUTPUT ${PROJECT_BINARY_DIR}/generate_options.txt CONTENT "${_derive_all}\n")
   add_custom_command(
     OUTPUT ${_stamp}
     BYPRODUCTS ${_outs}
     COMMAND ${USM_PYTHON} ${USM_DERIVE_DIR}/generate.py --out ${USM_GENERATED_DIR}
             --committed ${USM_COMMITTED_GENERATED_DIR} ${_derive_all} --stamp ${_stamp}
     DEPENDS ${USM_DERIVE_INPUTS} ${USM_COMMITTED_GENERATED_DIR}/DIGESTS
+            ${PROJECT_BINARY_DIR}/generate_options.txt
     COMMENT "Deriving the model kernels that changed (derive/ -> build/generated)"
     VERBATIM)
   add_custom_target(usm_kernels_generated DEPENDS ${_stamp})
