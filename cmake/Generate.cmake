@@ -1,9 +1,16 @@
 # Where the model kernels come from.
 #
-# With Python 3 and sympy, the kernels are regenerated from derive/ into the
-# build tree whenever a file of derive/ changes, and the library is built from
-# them; the test `generated_in_sync` then fails if the committed generated/
-# differs.  Without sympy the committed generated/ is compiled as it is.
+# With Python 3 and the pinned sympy, the kernels are regenerated from derive/
+# into the build tree (build/generated) whenever a file of derive/ changes, and
+# the library is built from them.  Only what changed is derived
+# (derive/generate.py): when derive/ has the digest that the committed
+# generated/DIGESTS records, generated/ is copied and no sympy runs; else a
+# model whose inputs are unchanged is taken from derive/.cache or generated/,
+# and only the others are derived (one log line each, with its time).
+# -DUSM_DERIVE_ALL=ON derives every model from scratch instead.  The test
+# `generated_current` fails if the committed generated/ differs from the
+# build's, `generated_in_sync` if it differs from a derivation from scratch.
+# Without sympy the committed generated/ is compiled as it is.
 # `cmake --build build --target generate` rewrites the committed generated/.
 
 set(USM_DERIVE_DIR ${PROJECT_SOURCE_DIR}/derive)
@@ -30,6 +37,8 @@ if(USM_REGENERATE AND NOT USM_HAVE_SYMPY)
                       "with python3-sympy); ${USM_PYTHON} has sympy '${USM_SYMPY_VERSION}'")
 endif()
 
+option(USM_DERIVE_ALL "Derive every model from scratch at build time (no cache, nothing from generated/)" OFF)
+
 file(GLOB_RECURSE USM_DERIVE_INPUTS CONFIGURE_DEPENDS ${USM_DERIVE_DIR}/*.py)
 if(USM_REGENERATE)
   # The generator says which files it writes (a new variant adds some);
@@ -55,17 +64,24 @@ if(USM_REGENERATE)
   foreach(f IN LISTS USM_GENERATED_NAMES)
     list(APPEND _outs ${USM_GENERATED_DIR}/${f})
   endforeach()
-  # generate.py derives only the models whose inputs changed (its cache,
-  # derive/.cache) and rewrites only the files whose text changed, so that
-  # only their objects are rebuilt; the stamp records the run.
+  # generate.py derives only the models whose inputs changed (nothing when
+  # derive/ matches generated/DIGESTS) and rewrites only the files whose text
+  # changed, so that only their objects are rebuilt; the stamp records the run.
   set(_stamp ${PROJECT_BINARY_DIR}/generated.stamp)
+  set(_derive_all "")
+  if(USM_DERIVE_ALL)
+    set(_derive_all --no-cache --no-reuse)
+  endif()
+  # rewritten only when the option changes: turning it on derives again
+  file(CONFIGURE OUTPUT ${PROJECT_BINARY_DIR}/generate_options.txt CONTENT "${_derive_all}\n")
   add_custom_command(
     OUTPUT ${_stamp}
     BYPRODUCTS ${_outs}
-    COMMAND ${USM_PYTHON} ${USM_DERIVE_DIR}/generate.py --quiet --out ${USM_GENERATED_DIR}
-            --stamp ${_stamp}
-    DEPENDS ${USM_DERIVE_INPUTS}
-    COMMENT "Deriving the model kernels (derive/ -> build/generated)"
+    COMMAND ${USM_PYTHON} ${USM_DERIVE_DIR}/generate.py --out ${USM_GENERATED_DIR}
+            --committed ${USM_COMMITTED_GENERATED_DIR} ${_derive_all} --stamp ${_stamp}
+    DEPENDS ${USM_DERIVE_INPUTS} ${USM_COMMITTED_GENERATED_DIR}/DIGESTS
+            ${PROJECT_BINARY_DIR}/generate_options.txt
+    COMMENT "Deriving the model kernels that changed (derive/ -> build/generated)"
     VERBATIM)
   add_custom_target(usm_kernels_generated DEPENDS ${_stamp})
   # The committed generated/ from the files the build derived (no second derivation).

@@ -1,7 +1,7 @@
 # Fails when directory A (regenerated from derive/) and B (committed generated/)
 # differ in any file: the committed kernels are then out of date.
-file(GLOB _a RELATIVE ${A} ${A}/*.c ${A}/*.h ${A}/*.md ${A}/*.tex)
-file(GLOB _b RELATIVE ${B} ${B}/*.c ${B}/*.h ${B}/*.md ${B}/*.tex)
+file(GLOB _a RELATIVE ${A} ${A}/*.c ${A}/*.h ${A}/*.md ${A}/*.tex ${A}/*.json ${A}/DIGESTS)
+file(GLOB _b RELATIVE ${B} ${B}/*.c ${B}/*.h ${B}/*.md ${B}/*.tex ${B}/*.json ${B}/DIGESTS)
 list(SORT _a)
 list(SORT _b)
 if(NOT _a STREQUAL _b)

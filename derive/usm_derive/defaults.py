@@ -108,8 +108,18 @@ def ranges():
     return table
 
 
+# Set while a model is derived and emitted (pipeline.model_files): a model's
+# own files must not depend on the defaults, which are not in its digest
+# (digests.NOT_IN_MODELS), so that a changed default derives nothing.
+IN_MODEL = False
+
+
 def defaults():
     """[(name, unit, meaning, value, source, reason)] in PARAMETERS order."""
+    if IN_MODEL:
+        raise RuntimeError("derive/usm_derive/defaults.py read while a model is derived: "
+                           "a model's files would depend on a file not in their digest "
+                           "(usm_derive/digests.py, NOT_IN_MODELS)")
     missing = [name for name, *_ in PARAMETERS if name not in DEFAULTS]
     extra = [name for name in DEFAULTS if name not in [p[0] for p in PARAMETERS]]
     if missing or extra:

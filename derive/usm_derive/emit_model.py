@@ -1,4 +1,6 @@
 """Turn a derived Model into C source text (one header and one source per model)."""
+import hashlib
+
 import sympy as sp
 
 from . import emit_contracts
@@ -462,34 +464,55 @@ def _differences(spec, other):
     return "independent of " + ", ".join(keys)
 
 
+def kernel_hashes(name, parts):
+    """[kind, sha256 of the kernel's text with its own name replaced] of each
+    kernel of one model (parts from model_files): all that the sharing compares,
+    so that it can be decided for a model whose files are taken from the
+    committed generated/ (its DIGESTS) without deriving the model again."""
+    pre = f"usm_{name}"
+    return [[kind, hashlib.sha256(_normalised(pre, kind, text).encode()).hexdigest()]
+            for kind, text in parts["kernels"]]
+
+
+def kernel_owners(entries):
+    """{name: [(kind, owner model)]}: the model whose source holds each kernel,
+    the first model (the paper's first, then in the order of ``entries``) that
+    has a kernel of that kind and text.  entries: (model, kernel_hashes) in
+    derive/variants.py order, model = (name, base, variant, spec, description)."""
+    order = sorted(range(len(entries)), key=lambda i: (entries[i][0][2] != "paper", i))
+    owner_of, out = {}, {}   # (kind, hash) -> model of the first such kernel
+    for i in order:
+        model, hashes = entries[i]
+        out[model[0]] = [(kind, owner_of.setdefault((kind, h), model)) for kind, h in hashes]
+    return out
+
+
 def share_kernels(entries, files):
-    """Assemble every model's source (usm_<name>.c, in parts from model_files)
+    """Assemble the models' sources (usm_<name>.c, in parts from model_files)
     with each kernel emitted once: a kernel whose C text equals one of another
     model's (its name aside) is, in the later model, a function that calls the
-    earlier one; the paper's models come first, then the others in the order
-    of ``entries``.  The arithmetic is the same code, so the numbers are the
-    same bit for bit.  entries: (model, parts, written) in derive/variants.py
-    order, model = (name, base, variant, spec, description); the sources of
-    the written ones go to ``files``."""
-    order = sorted(range(len(entries)), key=lambda i: (entries[i][0][2] != "paper", i))
-    owner_of = {}   # (kind, normalised text) -> model of the first such kernel
-    for i in order:
-        model, parts, written = entries[i]
+    earlier one (kernel_owners).  The arithmetic is the same code, so the
+    numbers are the same bit for bit.  entries: (model, kernel_hashes, parts)
+    in derive/variants.py order; the sources of those with parts (not None)
+    go to ``files``.  Returns kernel_owners."""
+    owners_of = kernel_owners([(model, hashes) for model, hashes, _ in entries])
+    for model, _, parts in entries:
+        if parts is None:
+            continue
         name, spec = model[0], model[3]
         pre = f"usm_{name}"
         owners, texts = [], []
-        for kind, text in parts["kernels"]:
-            owner = owner_of.setdefault((kind, _normalised(pre, kind, text)), model)
+        for (kind, text), (_, owner) in zip(parts["kernels"], owners_of[name]):
             if owner[0] == name:
                 texts.append(text)
                 continue
             texts.append(_forwarder(pre, kind, text, owner[0], _differences(spec, owner[3])))
             if owner[0] not in owners:
                 owners.append(owner[0])
-        if written:
-            includes = "".join(f'#include "usm_{o}.h"\n' for o in owners)
-            files[f"{pre}.c"] = (parts["banner"] + f'#include <math.h>\n\n#include "{pre}.h"\n'
-                                 + includes + "\n" + "\n".join(texts) + "\n" + parts["tail"])
+        includes = "".join(f'#include "usm_{o}.h"\n' for o in owners)
+        files[f"{pre}.c"] = (parts["banner"] + f'#include <math.h>\n\n#include "{pre}.h"\n'
+                             + includes + "\n" + "\n".join(texts) + "\n" + parts["tail"])
+    return owners_of
 
 
 UNILATERAL_STRUCT = (
