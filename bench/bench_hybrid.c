@@ -1,14 +1,14 @@
 /* One periodic orbit with separation and its multipliers (usm_hybrid_solve,
- * issue 24), per model of the variant imperfect_unilateral past contact loss
+ * docs/unilateral.md), per model of the variant imperfect_unilateral past contact loss
  * (phase error 35 deg 3-DOF, 30 deg 4-DOF): the whole solve (the start-up
  * simulation from rest that gives the section and start included), and one
  * period map with the monodromy from the converged state (the cost of the
  * orbit and its multipliers once started near it; a Newton step is one).
- * Issue 24's goal: under 50 ms per orbit.
+ * Goal: under 50 ms per orbit.
  * With an argument (3dof or 4dof, and optionally "mode_split"): the orbits with
  * separation from contact loss on, each warm-started from the last
  * (usm_hybrid_solve_from; a simulation when that fails), with their cost and
- * the measures of issue 24.  Run: build/bench/bench_hybrid [3dof|4dof [mode_split]] */
+ * the measures of the orbits with separation.  Run: build/bench/bench_hybrid [3dof|4dof [mode_split]] */
 #define _POSIX_C_SOURCE 200809L
 #include <stdio.h>
 #include <string.h>

@@ -1,7 +1,7 @@
 /* One periodic orbit with its multipliers (usm_periodic_solve), per model of
  * the variant imperfect, phase error 0.1 rad and mode split 1 %: the ideal
  * start (usm_steady) included, and the shooting alone from the converged
- * state.  Issue 14's goal: <= 20 ms per orbit.  Run: build/bench/bench_periodic */
+ * state.  Goal: <= 20 ms per orbit.  Run: build/bench/bench_periodic */
 #define _POSIX_C_SOURCE 200809L
 #include <stdio.h>
 #include <time.h>

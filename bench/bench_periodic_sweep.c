@@ -1,6 +1,6 @@
 /* A 200-point phase-error sweep (0 to 30 degrees) of the periodic orbit with
  * its events (usm_periodic_sweep_run), per model of the variant imperfect.
- * Issue 14's goal: <= 5 s.  Run: build/bench/bench_periodic_sweep [points] */
+ * Goal: <= 5 s.  Run: build/bench/bench_periodic_sweep [points] */
 #define _POSIX_C_SOURCE 200809L
 #include <stdio.h>
 #include <stdlib.h>

@@ -1,5 +1,4 @@
-/* bench_python: the C side of the Python module's measures (issue 27;
- * bench/bench_python.py prints the comparison).  Prints, one per line:
+/* bench_python: the C side of the Python module's measures (bench/bench_python.py prints the comparison).  Prints, one per line:
  *   rhs_loop_s N SECONDS      the generated rhs over N states in a C loop
  *                             (best of 5), the loop usm.Model.rhs runs
  *   steady_call_us US         usm_run_steady and usm_run_json (usm_run.h: the

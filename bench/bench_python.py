@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The Python module's measures (issue 27), beside the same work in C
+"""The Python module's measures, beside the same work in C
 (build/bench/bench_python):
   - usm.Model.rhs over N = 10^6 states (best of 5) vs the C loop;
   - steady() per call vs the C call (usm_run_steady, usm_run.h):

@@ -1,4 +1,4 @@
-/* bench_robust: the measures of issue 26.
+/* bench_robust: the measures of robust design (yield, datasheet quantities, robust optimum, Pareto front).
  *  - a robust 2-parameter optimization (f, F0 of the paper's 3-DOF motor:
  *    maximize efficiency, speed >= 6 1/s, yield >= 0.99 under 2 % c_r and 1 %
  *    f scatter) with 10^4 common-random-number samples per design and the

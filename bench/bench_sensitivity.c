@@ -4,7 +4,7 @@
  * usm_sensitivity_compute for every output and every parameter, without and
  * with max_modulus (the Floquet part dominates), and of the stationary solve
  * it starts from, for comparison; each the best of 5 batches (the machine may
- * be shared).  Target (issue 13): <= 5 ms per point, printed beside it.
+ * be shared).  Target: <= 5 ms per point, printed beside it.
  *
  * Usage: bench_sensitivity [repetitions]   (default 20)
  */

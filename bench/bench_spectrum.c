@@ -1,4 +1,4 @@
-/* bench_spectrum: the cost of `usm simulate --spectrum` (issue 24) beside the
+/* bench_spectrum: the cost of `usm simulate --spectrum` beside the
  * simulation it analyses.  For windows of 185, 370, 3700 and 37000
  * excitation periods at 10 samples per period (the default rate): the
  * recorder's usm_sim_spectrum_compute (grid, three FFTs, lines, the

@@ -1,5 +1,5 @@
 /* bench_sweep: wall time of a frequency sweep with Floquet stability at every
- * point, the motor-characteristics use case.  Targets (issue 12): the
+ * point, the motor-characteristics use case.  Targets: the
  * 1000-point sweep with stability <= 0.1 s, stationary solution + Floquet
  * <= 50 us per point; printed beside the 2-thread row.  The CPU time per
  * point (all threads) is printed too: on a shared machine it shows the work

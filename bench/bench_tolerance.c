@@ -1,5 +1,4 @@
-/* bench_tolerance: throughput of a Monte Carlo tolerance study (issue 12;
- * target: 10^5 samples with Floquet <= 10 s on this 2-core machine).
+/* bench_tolerance: throughput of a Monte Carlo tolerance study (target: 10^5 samples with Floquet <= 10 s on this 2-core machine).
  *
  * The study varies F0, c_t and T around the paper's point (3dof, default
  * Floquet method); every sample is the full stationary search and the
@@ -7,7 +6,7 @@
  * per second and per CPU-second (per core), and the time 10^5 samples take.
  * The CPU time shows the work when other processes share the cores.  Then
  * the cost of writing samples.csv (usm_tolerance_write_csv into /dev/null,
- * CPU microseconds per row; issue 25's goal: under 5).
+ * CPU microseconds per row; the goal: under 5).
  *
  * Usage: bench_tolerance [samples [model]]   (default 100000 3dof)
  */

@@ -1,5 +1,5 @@
 #!/bin/bash
-# bench/tolerance_phases.sh: where a large tolerance study's time goes (issue 25).
+# bench/tolerance_phases.sh: where a large tolerance study's time goes.
 # Runs `usm tolerance` at 10^6 and 10^7 samples on 1, 2 and 4 MPI ranks
 # (oversubscribed where there are fewer cores; 1 rank is the serial run) with
 # --json --out, and prints per run: the wall time, the phases of --json's

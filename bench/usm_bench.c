@@ -10,7 +10,7 @@
  * "digits" is -log10 of the largest distance between corresponding
  * multipliers, the worst over the points.  The reference itself is good to
  * about 11 digits: the line "variational rtol 1e-13" shows how far CVODES at
- * 1e-13 is from it.  The targets of issue 12 are printed beside the default
+ * 1e-13 is from it.  The targets set for the library are printed beside the default
  * method's figures.
  *
  * Usage: usm_bench [repetitions]   (default 200; each Floquet time is the best

@@ -36,7 +36,7 @@ Assumptions and their choices:
   coordinates      "euler_zxz" (default): the paper's z-x-z Euler angles
                    "tilt_vector": the stator axis in the frame turning with
                    Omega t and the spin angle phi + psi, regular at theta = 0
-                   (issue 21, docs/coordinates.md); needs the integrated twist
+                   (docs/coordinates.md); needs the integrated twist
                    law (the paper's twist angle phi + psi cos(theta) needs phi,
                    which is singular at theta = 0); no imperfections
 """

@@ -54,7 +54,7 @@ expect_bad 'overflow.json: m0' 'out of range.*overflow' steady --params "$tmp/ov
 expect_bad 'nan.json:1:' 'malformed JSON' steady --params "$tmp/nan.json"
 
 # ---- one number parser: --set and the parameter file agree -------------------
-# (issue 11) a subnormal, an underflow to 0 and an overflow are rejected by
+# a subnormal, an underflow to 0 and an overflow are rejected by
 # both, naming the field; an integer beyond 2^63 is read by both as a double.
 for v in 1e-310 -1e-310 1e-400 4.9e-324; do
     printf '{"T": %s}\n' "$v" >"$tmp/num.json"

@@ -1,4 +1,4 @@
-/* Issue 21 measurement (not a ctest): the multipliers of the constant
+/* A measurement of the coordinates (not a ctest): the multipliers of the constant
    linearisation of 3dof_twist_integrated at the paper's point, in double, as
    eig(exp(T G)) (GSL exponential_ss) and as exp(T eig(G)), G in the generated
    tangent-map coordinates.  Compare with the 50-digit reference of

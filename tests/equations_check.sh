@@ -33,7 +33,7 @@ for model in $models; do
     else
         tags="$tags 3.6"
     fi
-    # a model in the tilt-vector coordinates (issue 21, docs/coordinates.md) states the
+    # a model in the tilt-vector coordinates (docs/coordinates.md) states the
     # paper's physics in other variables: Z (2.3), M and f through subexpressions, and the
     # stationary problem ((3.1) its orbit, (3.5), (3.7)); the force laws and torques
     # are named in its prose, not tagged line by line (the numbers are the paper's

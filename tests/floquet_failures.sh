@@ -1,5 +1,5 @@
 #!/bin/bash
-# Floquet failures from the command line (issue 11, "Messages"):
+# Floquet failures from the command line ("Messages"):
 #  - where the variational integration (CVODES) fails, `usm` exits 1 with
 #    exactly one stderr line "usm: floquet: ..." naming CVODES' reason, and
 #    nothing of CVODES' own printing; so does the Magnus method where its

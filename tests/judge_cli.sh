@@ -1,5 +1,5 @@
 #!/bin/bash
-# The studies judge a design by its operating point (issue 20, item 2),
+# The studies judge a design by its operating point,
 # each checked against `usm steady` (the operating point's definition, with
 # --from-rest: a simulation from rest) at the same parameters:
 #  - map: every cell's operating-point class and index equal steady's;

@@ -1,5 +1,5 @@
 #!/bin/bash
-# The kill-at-random measure of issue 22 (not a ctest test: it takes about a minute):
+# The kill-at-random measure of the tolerance checkpoints (not a ctest test: it takes about a minute):
 # kill -9 at random times during map --out, simulate --out, tolerance --out/--checkpoint,
 # sweep --plot (N rounds of 4 kills) and during re-runs of usm report (N kills); count the
 # runs that left a partial file under a final name, or a report directory mixing two runs,

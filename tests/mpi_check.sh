@@ -1,5 +1,5 @@
 #!/bin/bash
-# MPI (issue 12, part 3; issue 25): `mpirun -np 2/3/4 --oversubscribe usm
+# MPI: `mpirun -np 2/3/4 --oversubscribe usm
 # tolerance` and `mpirun -np 2 usm map` print and write exactly what the
 # serial run does (a map's columns gathered on rank 0; a tolerance study's
 # rows kept by their ranks: distributed statistics, samples.csv by MPI-IO),
@@ -95,7 +95,7 @@ mpi $M || fail "mpirun map: exit $?"
 same "map csv" "$out" "$tmp/map.csv"
 
 # a failing study names the same sample under MPI as serially: the lowest failing one
-# (issue 22: seed 5 fails at sample 74 in block 1, on rank 1, and again on rank 0 in a
+# (seed 5 fails at sample 74 in block 1, on rank 1, and again on rank 0 in a
 # later block of the same round; mpirun named sample 295, the lowest rank's)
 F="tolerance --samples 2000 --vary c_t=uniform:-1:0.0006 --threads 1"
 for seed in 5 7; do

@@ -1,6 +1,6 @@
 #!/bin/bash
 # usm optimize from the command line:
-#  - --json has the keys of issues 13 and 20 (feasible, objective, sense, value,
+#  - --json has the documented keys (feasible, objective, sense, value,
 #    varied, parameters, active_constraints, multipliers, kkt_residual, flat,
 #    near_optimal, evaluations, solution = a usm steady object);
 #  - the optimum meets every constraint (a user constraint, the stability margin)
@@ -94,7 +94,7 @@ assert abs(m - fd) <= 1e-4 * abs(fd), (m, fd)
 assert o['near_optimal']['F0'] == [None, None] and o['flat'] == []"
 
 # 4-DOF, the speed as rotor_speed: the fastest design in the driving direction; it
-# drives the load. (Before issue 20: |rotor_speed| 38.7 1/s driven backwards, -31 mW.)
+# drives the load. (Before the optimizer required driving: |rotor_speed| 38.7 1/s driven backwards, -31 mW.)
 expect_rc 0 optimize --model 4dof --objective rotor_speed --vary T=1e-5:1e-3 \
     --vary f=36000:38000 --json
 py "
@@ -166,7 +166,7 @@ py "
 assert o['value'] == o['solution']['floquet']['max_modulus'], (o['value'], o['solution']['floquet'])"
 
 # the speed grows with m0, so the optimum is the upper bound, exactly: 0.001 + (0.01 - 0.001)
-# rounds to 0.010000000000000002 (issue 22)
+# rounds to 0.010000000000000002
 expect_rc 0 optimize --objective rotor_speed --vary m0=0.001:0.01 --starts 2 --json
 py "
 assert o['varied']['m0'] == 0.01, repr(o['varied']['m0'])
@@ -224,7 +224,7 @@ expect_bad --constraint "unknown output" optimize --objective efficiency --vary 
 expect_bad --stability-margin "0, 1" optimize --objective efficiency --vary F0=0.2:0.8 --stability-margin 1.5
 expect_bad --starts "integer" optimize --objective efficiency --vary F0=0.2:0.8 --starts 0
 
-# constraints on the other outputs of steady (issue 20, item 5): alpha (central
+# constraints on the other outputs of steady: alpha (central
 # differences in f) stops the speed where alpha = 5; the truth is `usm steady` at the
 # optimum and 0.5 Hz either side: alpha = 5 there, the faster side has alpha < 5, and the
 # multiplier is d speed / d alpha along f from those two solutions
@@ -265,7 +265,7 @@ expect_bad --objective "may be a constraint" optimize --objective v_rel --vary F
 expect_bad --constraint "one of: theta, speed, .*v_rel, R_star, Z, power_damping, power_slip, margin" \
     optimize --objective efficiency --vary F0=0.2:0.8 --constraint 'stable<=1'
 
-# per-root constraints (issue 20, item 5): rootR.NAME names root R as usm steady lists them
+# per-root constraints: rootR.NAME names root R as usm steady lists them
 # (from 1). At F0 = 0.99 N under T = 2 mN m, 37.75..38 kHz two roots exist: #1 unstable
 # (theta 4.3e-6 .. 2.7e-6), #2 stable and reached from rest (the load pumps the wobble
 # past root #1: docs/operating-point.md; without the load, above the start threshold

@@ -1,5 +1,5 @@
 #!/bin/bash
-# Outputs whole or absent (issue 22): every single-file output of the command
+# Outputs whole or absent: every single-file output of the command
 # (map --out, simulate --out, periodic --orbit, the --plot files, the
 # tolerance checkpoint and --out files) is written to a temporary beside it
 # and renamed into place only when whole; nothing is written through a

@@ -1,5 +1,5 @@
 #!/bin/bash
-# `usm periodic` (issue 14): the contract of its options, JSON keys, exit
+# `usm periodic`: the contract of its options, JSON keys, exit
 # codes and --orbit file; its numbers are tested against independent truths in
 # test_periodic.c.  Here: the --orbit samples against the JSON summary (the
 # extremes and means the command derives from them), the contact check
@@ -18,7 +18,7 @@ KEYS="['model','parameters','converged','rotor_speed_mean','rotor_speed_ripple',
 
 # the paper's twist law has no periodic orbit in these coordinates: exit 2, the reason
 expect_bad "model 3dof" "twist" periodic --variant paper
-# the default variant of periodic is imperfect (issue 23)
+# the default variant of periodic is imperfect
 if expect_rc 0 periodic --json; then
     grep -q '"model": "3dof_imperfect"' "$out" || fail "usm periodic: default variant is not imperfect"
 fi
@@ -44,7 +44,7 @@ if expect_rc 0 sweep --variant imperfect --over phase_error --from 0 --to 0.6 --
     # lie on that boundary, on either side by rounding)
     checks=$((checks + 1))
     ! grep -q '^# .*model invalid' "$out" || fail "periodic sweep: a limit event marked invalid"
-    # valid (issue 20, item 4): false exactly where the contact opens (F_n_min <= 0)
+    # valid: false exactly where the contact opens (F_n_min <= 0)
     # or the stick model needs more than mu0 = 0.3; invalid from past stick_loss on
     checks=$((checks + 1))
     "$PY" - "$out" <<'EOF' || fail "periodic sweep: valid and invalid_reason"
@@ -72,7 +72,7 @@ assert e[0]['orbit']['F_n_min'] < 0 and not e[0]['orbit']['valid'], e[0]['orbit'
 assert e[0]['what'].endswith('; model invalid: contact_open'), e[0]['what']
 assert o['points'][0]['floquet']['stable'] and not o['points'][2]['floquet']['stable']"
 fi
-# every event within a step, in order (issue 20): one step of 0.02 holds the
+# every event within a step, in order: one step of 0.02 holds the
 # stick loss and the contact loss
 if expect_rc 0 sweep --periodic --variant imperfect --over mode_split --from 0 --to 0.5 --points 26; then
     checks=$((checks + 1))

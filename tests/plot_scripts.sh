@@ -59,7 +59,7 @@ checks=$((checks + 1))
 (cd "$tmp" && "$USM" "${map_plot[@]}" --plot mp >/dev/null 2>"$tmp/mp.err") ||
     fail "usm map --plot: exit $?: $(head -c 300 "$tmp/mp.err")"
 plotted mp
-# the 4-DOF load sweep (issue 23): speed in the driving direction, the events
+# the 4-DOF load sweep: speed in the driving direction, the events
 # as labelled lines, the speed axis clipped before the divergence at the
 # friction saturation (the speed reaches hundreds of 1/s there)
 checks=$((checks + 1))
@@ -76,7 +76,7 @@ read -r ymin ymax dlo dhi <<<"$range"
 awk -v a="$ymin" -v b="$ymax" -v lo="$dlo" -v hi="$dhi" \
     'BEGIN { exit !(a > -100 && b < 100 && b > 10 && lo < -200 && hi > 10) }' ||
     fail "usm sweep --model 4dof --plot: speed axis [$ymin, $ymax] for data [$dlo, $dhi]: not clipped, or not the driving direction"
-# usm sweep --periodic --plot (issue 23): its own script, the events labelled
+# usm sweep --periodic --plot: its own script, the events labelled
 checks=$((checks + 1))
 (cd "$tmp" && "$USM" sweep --periodic --variant imperfect --over phase_error --from 0 --to 0.6 \
     --points 7 --plot pe >/dev/null 2>"$tmp/pe.err") ||

@@ -13,13 +13,13 @@ Builds the report (--quick) into a temporary directory and checks that
  - a report usm wrote is overwritten, anything else only with --force;
  - `usm map` writes its CSV/JSON, the same for 1 and 2 threads, and rejects
    bad options (exit 2, one line);
- - the design figures (issue 13): the datasheet (speed, power, efficiency vs
+ - the design figures: the datasheet (speed, power, efficiency vs
    T) and the elasticity chart are linked and valid; report.json's power
    numbers equal an independent `usm steady --json`, its sensitivities an
    independent `usm sensitivity --json`; the datasheet CSV obeys
    P_out = T w_R, eta = P_out / P_in and the power balance; the chart's CSV
    holds the nonzero elasticities sorted by magnitude; section 8 quotes them.
- - the non-ideal motor (issue 14, section 9): each tolerable phase error
+ - the non-ideal motor (section 9): each tolerable phase error
    and mode split of report.json is bracketed by independent `usm periodic
    --variant imperfect --set NAME=X` runs (F_n_min > 0 and max |lambda| < 1
    just below it, F_n_min < 0 or max |lambda| > 1 just above, whichever the
@@ -102,14 +102,14 @@ def check_report(out):
         ok("report.md starts with the usm marker")
     else:
         fail("report.md lacks the marker line")
-    # the contents list every section, in order (issue 23)
+    # the contents list every section, in order
     sections = re.findall(r"^## (\d+)\. (.+)$", md, re.M)
     listed = re.findall(r"^(\d+)\. \[([^\]]+)\]\(#[^)]+\)$", md, re.M)
     if sections and sections == listed:
         ok(f"the contents list all {len(sections)} sections")
     else:
         fail(f"contents {listed} differ from the sections {sections}")
-    # keys outside the plots they would cover (issue 23)
+    # keys outside the plots they would cover
     for name in ("fig11_speed_amplitude", "datasheet", "nonideal_curves", "nonideal_orbit"):
         with open(os.path.join(out, name + ".gp"), encoding="utf-8") as f:
             keys = re.findall(r"^\s*set key (.*)$", f.read(), re.M)
@@ -124,7 +124,7 @@ def check_report(out):
         ok("fig11: the existence lines end inside the frame, the ranges padded")
     else:
         fail("fig11: the existence lines run from frame to frame")
-    # the imperfections are usm's choice, not the paper's (issue 23)
+    # the imperfections are usm's choice, not the paper's
     for name in ("amp_imbalance", "phase_error", "mode_split"):
         row = re.search(rf"^\| `{name}` \|.*$", md, re.M)
         if row and "Table 5" not in row.group(0) and "chosen by usm" in row.group(0):
@@ -153,7 +153,7 @@ def check_report(out):
         else:
             fail("report.json: the paper's values differ from data/paper_values.json")
         # the maps' largest |lambda| printed with enough digits that a value
-        # below 1 does not read as 1 (issue 23: 0.99999 was printed "1")
+        # below 1 does not read as 1 (0.99999 was printed "1")
         for m in data["maps"]:
             t = re.search(rf"Judged by the smallest-tilt root alone, {m['unstable']} cells are "
                           r"unstable \(largest \|λ\| ([^)]+)\); where F_t <= mu0 F_n, \d+ "
@@ -273,7 +273,7 @@ def num_or_none(x):
 
 
 def check_design(out, md, data):
-    """The datasheet and the elasticity chart (issue 13 parts 1 and 2)."""
+    """The datasheet and the elasticity chart."""
     images = set(re.findall(r"!\[[^\]]*\]\(([^)\s]+)\)", md))
     for fig in ("datasheet", "elasticity"):
         if f"{fig}.png" in images and f"{fig}.svg" in md:
@@ -391,7 +391,7 @@ def check_design(out, md, data):
 
 
 def check_validity(out, md, data):
-    """Validity (issue 20, item 4): every data row says whether the model
+    """Validity: every data row says whether the model
     describes the motor, and the stated valid range of the 3-DOF load curve is
     the stick_limit event of an independent `usm sweep` over the same grid."""
     rows = read_csv(os.path.join(out, "fig10_speed_load_3dof.csv"))
@@ -566,7 +566,7 @@ def svg_texts(path):
 
 
 def check_maps(out, md, data):
-    """The stability maps by the operating point (issue 20): report.json's class
+    """The stability maps by the operating point: report.json's class
     counts are the CSV's; report.md states them and says the maps are computed
     without --from-rest; every class the figure's legend names exists in the CSV
     with the count it gives, every class absent from the CSV is stated absent
@@ -640,7 +640,7 @@ def check_maps(out, md, data):
 
 
 def check_nonideal(out, md, data):
-    """Section 9: the non-ideal motor (issue 14 part 4)."""
+    """Section 9: the non-ideal motor."""
     ni = data.get("nonideal", {})
     if not ni.get("ok"):
         fail(f"report.json: the non-ideal motor not computed: {ni.get('note')}")
@@ -699,7 +699,7 @@ def check_nonideal(out, md, data):
     else:
         fail(f"the last 4-DOF phase-error point {last} differs from usm periodic's "
              f"{f_ind}, {l_ind}")
-    # past contact loss (issue 24): the curves continue with the unilateral
+    # past contact loss: the curves continue with the unilateral
     # model's orbits with separation; a point (the 4-DOF phase error's last)
     # against an independent `usm periodic --variant imperfect_unilateral`
     # (solved from a simulation, not warm-started: measured 1e-10 for the
@@ -784,7 +784,7 @@ def check_nonideal(out, md, data):
         ok(f"the ideal circle's radius is usm steady's theta {theta:.6g} rad")
     else:
         fail(f"the ideal circle's radius {radii[:2]} is not usm steady's theta {theta}")
-    # the circle is drawn where the orbit is, centred at the origin (issue 23):
+    # the circle is drawn where the orbit is, centred at the origin:
     # its points' mean is ~0 against the radius, and the script adds no shift
     cx = sum(float(c["rho_X [rad]"]) for c in circle) / len(circle)
     cy = sum(float(c["rho_Y [rad]"]) for c in circle) / len(circle)
@@ -887,7 +887,7 @@ def main():
             ok("usm map --json: 9 points, boundaries")
         else:
             fail(f"usm map --json: exit {r.returncode}: {r.stdout[:200]} {r.stderr}")
-        # --out writes what stdout shows, and says nothing (issue 22: it exited 1
+        # --out writes what stdout shows, and says nothing (it exited 1
         # with "write error" although the file was complete)
         grid = ["map", "--x-points", "2", "--y-points", "2"]
         shown = run(*grid)

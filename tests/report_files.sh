@@ -1,10 +1,10 @@
 #!/bin/bash
-# usm report and its output directory (issue 11 "Files"):
+# usm report and its output directory:
 #  - a report interrupted while plotting leaves no report and no data under
 #    DIR (they are in a stage beside it); the next run replaces it without
 #    --force (the .usm-report manifest is written first) and removes the stage;
 #  - a re-run interrupted leaves the old report intact, byte for byte (the
-#    directory is replaced as a whole: issue 22); a second run into the same
+#    directory is replaced as a whole); a second run into the same
 #    directory at once fails at once with one line;
 #  - a symlink planted in the directory is replaced, its target never written;
 #  - files the user wrote are still never overwritten without --force;

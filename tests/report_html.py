@@ -133,7 +133,7 @@ def main():
             figures = len(set(re.findall(r"!\[[^\]]*\]\(([^)\s]+\.png)\)", f.read())))
         with open(os.path.join(out, "report.html"), encoding="utf-8") as f:
             html = f.read()
-        # the design figures of issue 13 and the non-ideal motor's of issue 14
+        # the design figures and the non-ideal motor's
         # are inlined like the others
         for cap in ("Motor datasheet: rotor speed, output power and efficiency",
                     "Elasticities of rotor speed and of the largest Floquet modulus",
@@ -144,7 +144,7 @@ def main():
                 ok(f"report.html inlines the figure {cap!r}")
             else:
                 fail(f"report.html lacks the figure {cap!r}")
-        # each caption once (issue 23): the caption paragraph report.md puts
+        # each caption once: the caption paragraph report.md puts
         # under each figure is the figure's <figcaption>, not repeated beside it
         with open(os.path.join(out, "report.md"), encoding="utf-8") as f:
             alts = re.findall(r"^!\[([^\]]*)\]\([^)\s]+\.png\)$", f.read(), re.M)

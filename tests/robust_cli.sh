@@ -1,5 +1,5 @@
 #!/bin/bash
-# Robust design from the command line (issue 26):
+# Robust design from the command line:
 #  - usm optimize --constraint yield>=0.99 --scatter ...: --json has yield,
 #    yield_ci, samples, verified (and crn, nominal_optimum); the verified yield
 #    meets the constraint, the nominal optimum's is reported and lower; the

@@ -1,5 +1,5 @@
 #!/bin/bash
-# Every root with its stability, and where a start-up ends (issue 20), from
+# Every root with its stability, and where a start-up ends, from
 # the command line: `usm steady --json` gives each root its own "floquet"
 # with the top level's keys (root 0's equal to the top level's), the table
 # one line per root with its stability; `usm simulate` names the root it

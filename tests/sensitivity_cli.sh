@@ -1,6 +1,6 @@
 #!/bin/bash
 # usm sensitivity and the power fields of usm steady from the command line:
-#  - --json has exactly the shape of issue 13: {"model", "parameters",
+#  - --json has exactly the documented shape: {"model", "parameters",
 #    "outputs": {NAME: {"value", "d": {PARAM}, "elasticity": {PARAM}}}} with all
 #    23 parameters, the default outputs, and elasticity = (p / value) d;
 #  - the values equal `usm steady --json` (theta, rotor_speed, F_n, F_t,

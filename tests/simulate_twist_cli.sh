@@ -1,5 +1,5 @@
 #!/bin/bash
-# `usm simulate` and the paper's twist law (issue 11): a run it would slow down
+# `usm simulate` and the paper's twist law: a run it would slow down
 # for minutes is refused at once with one line naming the remedy; a shorter run
 # that slows down warns (before it starts on a terminal, else in its one stop line or after it); twist_integrated runs silently.
 #

@@ -1,5 +1,5 @@
 #!/bin/bash
-# The squeal (issue 24, item 4) from the command line:
+# The squeal from the command line:
 #  - the periodic sweep's neimark_sacker event of the 4-DOF imperfect motor
 #    along the mode split: where the issue puts it (8.62 %, critical pair
 #    -0.9348 +- 0.3552i) and its squeal_frequency = f arg(lambda) / (2 pi),

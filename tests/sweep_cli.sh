@@ -132,7 +132,7 @@ else
     fail "usm sweep --over T --from 0 --to 0.01: exit $?, want 0 (points without solution are not an error)"
 fi
 
-# ---- validity (issue 20, item 4) ------------------------------------------------------
+# ---- validity ------------------------------------------------------
 # 3dof over T: valid is exactly stick_admissible (independent: F_t <= mu0 F_n from
 # the point's own forces), the reason names the stick, and the first invalid
 # point lies past the stick_limit event, the last valid one before it.

@@ -1,4 +1,4 @@
-/* Orientation coordinates (issue 21): the models in the tilt-vector
+/* Orientation coordinates: the models in the tilt-vector
  * coordinates (variant tilt) against their Euler-angle counterparts.
  *
  * 1. The stationary solution: the one found in the tilt-vector model, its

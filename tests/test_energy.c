@@ -45,7 +45,7 @@
  * Tolerances are stated where they are checked (ENERGY_TOL, MOMENTUM_FD_TOL,
  * MOMENTUM_PT_TOL).
  *
- * Models in the tilt-vector coordinates (issue 21: a, b, chi, m->coordinates
+ * Models in the tilt-vector coordinates (a, b, chi, m->coordinates
  * = 1) are integrated in them; every check reads their states through the
  * Euler angles of the same motion, written out here (euler_view: theta =
  * asin |(a, b)|, phi = Omega t + atan2(a, -b), psi = chi - phi, the rates and

@@ -1,4 +1,4 @@
-/* The default Floquet method against CVODES (issue 12, part 1).
+/* The default Floquet method against CVODES.
  *
  * The default (USM_FLOQUET_AUTO: the Magnus integrator, one matrix exponential
  * under the integrated twist law) must give the multipliers of CVODES on the
@@ -22,7 +22,7 @@
 #include "check.h"
 
 /* Tolerances, from what the reference delivers (measured at the points of
- * check_model; issue 19).  The reference is CVODES on the variational
+ * check_model).  The reference is CVODES on the variational
  * equations at rtol 1e-12: it is within 3.7e-11 of CVODES at rtol 1e-13 (the
  * multipliers, matched by nearest pairs) and 2.9e-13 in max |lambda|; the
  * default method is within 3.9e-11 and 9e-13 of it.  A last-bit change of
@@ -30,7 +30,7 @@
  * (4dof at 30 kHz, T = 0) and 6.9e-12 in max |lambda|, and the default with
  * it; a last-bit change of the kernels (the fused `linearisation` kernel in
  * place of mass, jac_rhs, jac_mass) moved every method by up to 4.1e-8
- * (before issue 21 formed G without inverting M alone: test
+ * (before the coordinates work formed G without inverting M alone: test
  * multipliers_reference)
  * (3dof: M(xbar) is ill-conditioned near theta = 1e-4), all of them alike:
  * the two still agree to 4e-11.  Both compute the same coefficient matrix

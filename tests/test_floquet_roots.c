@@ -1,4 +1,4 @@
-/* Every stationary root with its own stability (issue 20, item 1):
+/* Every stationary root with its own stability:
  * usm_floquet_roots against an independent computation.
  *
  * Truth: CVODES on the variational equations (USM_FLOQUET_VARIATIONAL,

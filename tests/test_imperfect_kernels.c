@@ -1,4 +1,4 @@
-/* test_imperfect_kernels: the imperfect variant (issue 14) with its three
+/* test_imperfect_kernels: the imperfect variant with its three
  * imperfections at 0 is the integrated-twist model it is built on.
  *
  * The two models are derived separately (derive/variants.py: "imperfect" adds

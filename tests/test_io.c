@@ -340,7 +340,7 @@ static void units(void)
           "units: a bad unit in a file: %s", msg);
 }
 
-/* usm_format_shortest (issue 25: one print, one or two parses) against its
+/* usm_format_shortest (one print, one or two parses) against its
  * definition, the first %.{P}g, P = 6 ... 17, that strtod reads back as v:
  * the same text for random bit patterns (every exponent, subnormals),
  * short decimals, whole numbers around the %g style switch, and decimals of

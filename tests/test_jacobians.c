@@ -39,7 +39,7 @@
  *                 rates, 1/kappa in v_rel for the friction law),
  *     rounding    ~ eps * xhat_j / h_j = 2.2e-16 / 1e-6 = 2.2e-10, times the
  *                 cancellation inside g_i and a factor 3 from Richardson,
- * so a correct kernel is expected at 1e-10 ... 1e-8 (measured, issue 19:
+ * so a correct kernel is expected at 1e-10 ... 1e-8 (measured:
  * 1.0e-7 worst for the paper's models (4dof steady_jac_params), 3.2e-7 for
  * friction_stribeck, whose Stribeck peak varies on 0.01 m/s, below the 1/kappa
  * on which the slip caps place the steps).  TOL = 1e-6 keeps a factor 10 over

@@ -1,4 +1,4 @@
-/* The Floquet multipliers against an extended-precision reference (issue 21).
+/* The Floquet multipliers against an extended-precision reference.
  *
  * 1. At six points (the paper's; T, f, m0 varied) of 3dof, 4dof and both
  *    twist_integrated models, every multiplier of the default method agrees

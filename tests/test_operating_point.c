@@ -1,4 +1,4 @@
-/* The operating point (issue 20): usm_operating_point's rule checked against
+/* The operating point: usm_operating_point's rule checked against
  * simulations from rest, and usm_sim_run's settled_on.
  *
  * 1. One stable root (the paper's point): only_stable_root, root 0, no

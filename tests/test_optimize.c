@@ -1,5 +1,5 @@
 /* test_optimize: the optimizer (usm_optimize.h, and `usm optimize` on top of
- * it) against a dense grid search (issue 13, part 3).
+ * it) against a dense grid search.
  *
  * Problem (3dof, the paper's other parameters): maximize efficiency over the
  * load T in [1e-5, 1e-3] N m and the preload F0 in [0.2, 0.6] N, subject to the
@@ -19,7 +19,7 @@
  * constraint; a box with an inadmissible corner, an unknown or repeated
  * parameter, LO >= HI, an unknown output are USM_EINPUT.
  *
- * Issue 20's semantics, each against a truth the optimizer does not compute:
+ * The per-root and operating-point semantics, each against a truth the optimizer does not compute:
  *  - speed in the driving direction (4dof, speed over T and f): the optimum
  *    drives the load (power_out >= 0) and is at least the best point of a
  *    41 x 201 grid of stationary solutions that drive the load and are stable
@@ -121,7 +121,7 @@ static void check_optimum(usm_steady *st, usm_floquet *fl, cand g, const char *w
           "%s: max_modulus %.10g above 1 - margin", who, r.max_modulus);
 }
 
-/* ---- issue 20 ----------------------------------------------------------------------- */
+/* ---- per-root constraints and the operating point -------------------------------- */
 
 /* Run the optimizer on pb around p; USM_OK or the failure reported. */
 static int optimize(const usm_model *m, const usm_params *p, const usm_opt_problem *pb,
@@ -572,7 +572,7 @@ static void test_max_modulus_and_refusals(void)
     free(res);
 }
 
-/* ---- constraints on the further outputs of steady (issue 20, item 5) ---------------- */
+/* ---- constraints on the further outputs of steady ---------------- */
 
 /* v_rel and power_out of the primary root at p (NaN without one) */
 static int vrel_at(usm_steady *st, const usm_params *p, double *v_rel, double *power_out)

@@ -1,4 +1,4 @@
-/* test_periodic: the shooting solver of usm_periodic.h (issue 14) against
+/* test_periodic: the shooting solver of usm_periodic.h against
  * independent truths, for both bases of the variant imperfect.
  *
  * 1. Zero imperfection.  Started 1e-6 away (in units of the state scales)
@@ -130,7 +130,7 @@ static void zero_imperfection(const char *base, usm_periodic *w, const ideal *id
         cyc_steady += fr.cyclic[i];
     for (int i = 0; i < r.floquet.n; ++i)
         cyc_orbit += r.floquet.cyclic[i];
-    /* What the two sides deliver (issue 19): usm_floquet here is within 7e-11
+    /* What the two sides deliver: usm_floquet here is within 7e-11
      * of the orbit's multipliers at rtol 1e-13 (2e-11 at 1e-12); the orbit's
      * at its default rtol 1e-11 differ from those by 3e-9 .. 5e-9 depending on
      * the start (1e-9 .. 2e-9 for 4dof), by 4e-8 at rtol 1e-10.  So 2e-8 (was

@@ -14,13 +14,13 @@
  *    period obeys d_{k+2} = a d_{k+1} + b d_k in the 2-dimensional unstable
  *    subspace, so |lambda|^2 = -b (least squares over all states and
  *    periods), within 5 %.
- * 3. Events within one step, in order (issue 20): the 3dof mode-split sweep
+ * 3. Events within one step, in order: the 3dof mode-split sweep
  *    over 0..0.5 with 26 points (a step of 0.02 holds both events) reports
  *    stick_loss, then contact_loss, at the values of 1. (0.0089799 and
  *    0.0164256, to 1e-7: the docs' 4 decimals and the bisection's 1e-8 hold
  *    there already), stick_loss's orbit with friction_needed_max = mu0 to
  *    1e-9; and sweeping down 0.03..0 the same two in reverse order.
- * 4. Friction saturation (issue 20): the 4dof twist_integrated periodic load
+ * 4. Friction saturation: the 4dof twist_integrated periodic load
  *    sweep T = 0..0.002 N m, 5 points, reports friction_saturation and no
  *    fold, at the stationary sweep's friction_saturation (usm_sweep,
  *    pseudo-arclength continuation of the stationary solution, which with

@@ -1,4 +1,4 @@
-/* test_power: the power balance on stationary solutions (issue 13, part 1).
+/* test_power: the power balance on stationary solutions.
  *
  * On a stationary solution the stator's kinetic energy and every spring's
  * energy are constant, so the power put in by the excitation must leave as

@@ -1,4 +1,4 @@
-/* Robust design (issue 26), against independent truth:
+/* Robust design, against independent truth:
  *  - the common-random-number (CRN) yield: bit for bit the same for a seed,
  *    for 1 and 2 threads; and in statistical agreement with `usm tolerance`'s
  *    own sampler (another generator, another code path) at the same design;

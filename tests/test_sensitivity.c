@@ -1,5 +1,5 @@
 /* test_sensitivity: every derivative of usm_sensitivity_compute against central
- * finite differences of the solvers themselves (issue 13, part 2).
+ * finite differences of the solvers themselves.
  *
  * For parameter p_j the solution is re-solved at p_j +- h_j, p_j +- 2 h_j with
  * usm_steady_solve_from (Newton from the nominal root: the same branch) and
@@ -44,7 +44,7 @@
 #define FLOOR_MOD 1e-7 /* and max_modulus */
 /* |max_modulus - usm_floquet_compute's| (its eigenvalues are taken in the
    ill-conditioned Euler-angle coordinates).  What the reference delivers
-   (issue 19): usm_floquet_compute at its default rtol 1e-8 (CVODES) is within
+: usm_floquet_compute at its default rtol 1e-8 (CVODES) is within
    1.3e-7 of CVODES at rtol 1e-12 and moves by up to 2.1e-7 under a last-bit
    change of the tilt (tests/test_steady_floquet.c); the exponential method is
    within 2e-11; measured here (printed at the end): up to 1.1e-7 */
@@ -125,13 +125,13 @@ static int check_point(const usm_model *m, usm_steady *st, usm_sensitivity *sens
     }
     for (int j = 0; j < USM_NPARAMS; ++j) {
         const char *pname = usm_param_table[j].name;
-        /* an ideal model does not contain the imperfections (issue 14), nor a
-         * bilateral one e_impact (issue 24): its
+        /* an ideal model does not contain the imperfections, nor a
+         * bilateral one e_impact: its
          * equations, and so every derivative, are independent of them */
         const int imperfection = strcmp(pname, "amp_imbalance") == 0 ||
                                  strcmp(pname, "phase_error") == 0 ||
                                  strcmp(pname, "mode_split") == 0 ||
-                                 /* only the impact of a contact that opens (issue 24) */
+                                 /* only the impact of a contact that opens */
                                  strcmp(pname, "e_impact") == 0;
         if ((m->axisymmetric_stator && strcmp(pname, "I_yy") == 0) || imperfection) {
             for (int k = 0; k < USM_SENS_COUNT; ++k)

@@ -1,4 +1,4 @@
-/* The paper's twist law slows simulations down; usm_sim_run says so (issue 11).
+/* The paper's twist law slows simulations down; usm_sim_run says so.
  *
  * 1. The premise, measured: CVODES' steps for 100 excitation periods on the
  *    stationary orbit grow with the start time t0 under the paper's twist law

@@ -106,7 +106,7 @@ static void check_floquet_methods(const usm_model *m, const usm_params *p,
     CHECK(rc == USM_OK, "%s: exponential Floquet failed: %s", m->name, usm_floquet_message(f));
     /* Both at their default accuracy (CVODES rtol 1e-8, 64 exponentials),
      * multipliers matched by nearest pairs.  Measured against CVODES at rtol
-     * 1e-12 (issue 19): the exponential method is within 1.8e-11, CVODES at
+     * 1e-12: the exponential method is within 1.8e-11, CVODES at
      * rtol 1e-8 within 1.3e-7 (4dof_twist_integrated) and it moves by up to
      * 2.1e-7 under a last-bit change of the tilt (its step sequence changes):
      * so 1e-6, 5 times that. */
@@ -192,7 +192,7 @@ static void check_stays_on_orbit(const usm_model *m, const usm_params *p,
     CHECK(checked == 20, "%s: integration stopped after %d periods", m->name, checked);
     printf("%s: 20 periods from xbar(0): theta drift %.2e, rotor speed drift %.2e (relative)\n",
            m->name, worst_theta, worst_speed);
-    /* CVODES at rtol 1e-11 from xbar(0) delivers (issue 19): theta 1.7e-9
+    /* CVODES at rtol 1e-11 from xbar(0) delivers: theta 1.7e-9
      * (3dof: the paper's twist torque is a difference of terms that grow with
      * t), 2e-11 elsewhere, the rotor speed 1.5e-10; so 1e-7, 60 times the
      * largest (it was 1e-5). */
@@ -300,7 +300,7 @@ static void check_t0(const usm_model *m, const usm_params *p, const usm_steady_s
     printf("%s: t0 = 0 vs 100 T: monodromy differs by %.2e (relative), multipliers by %.2e\n",
            m->name, dB, dl);
     if (m->t0_independent) {
-        /* What the two runs deliver (issue 19): the same method on the same
+        /* What the two runs deliver: the same method on the same
          * M(theta) (it does not depend on the angles), only the angles' rounding
          * at t0 = 100 T differs: monodromy 9.7e-14 of its scale, multipliers
          * 4.3e-14 (matched by nearest pairs), so 1e-10 (a last-bit change of

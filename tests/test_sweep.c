@@ -176,7 +176,7 @@ static void check_speed_maximum(void)
            "f = %.4f Hz, difference %.3g Hz\n",
            f_sweep, yb, f_golden, f_sweep - f_golden);
     /* the golden section brackets the maximum to 1e-3 Hz; the parabola through
-     * grid points 10 Hz apart delivers 0.018 Hz (issue 19): 0.1 Hz (was 1 Hz) */
+     * grid points 10 Hz apart delivers 0.018 Hz: 0.1 Hz (was 1 Hz) */
     CHECK(fabs(f_sweep - f_golden) < 0.1, "speed maximum: sweep %.4f Hz, golden section %.4f Hz",
           f_sweep, f_golden);
     usm_steady_free(s);

@@ -1,5 +1,5 @@
 /* The report's template engine (runtime/io/template.c, compiled in: it is
- * internal) is linear in its input (issue 22): a false branch or an empty
+ * internal) is linear in its input: a false branch or an empty
  * array is parsed once, its nested {{#each}} bodies once, not once per
  * element (22 elements nested 8 deep under a false {{#if}} took 8 s per 176
  * bytes and grows 22x per level); {{@row}} counts written rows only; and

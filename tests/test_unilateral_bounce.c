@@ -1,4 +1,4 @@
-/* Orbits with bouncing (e_impact > 0, issue 24, docs/unilateral.md "Bouncing").
+/* Orbits with bouncing (e_impact > 0, docs/unilateral.md "Bouncing").
  *
  * At e_impact > 0 every impact throws the rotor off again (gap'+ = -e
  * gap'-), so a contact that closes again does so only at the end of an

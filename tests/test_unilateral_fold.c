@@ -1,5 +1,4 @@
-/* sweep --periodic past a fold early in a grid step (issue 24,
- * docs/unilateral.md "Continuation past contact loss").
+/* sweep --periodic past a fold early in a grid step (docs/unilateral.md "Continuation past contact loss").
  *
  * 4-DOF, mode split swept down 2.06, 1.93, 1.80 %: the stable orbit with
  * separation found at 2.06 % (the second of the hysteresis) ends at a fold

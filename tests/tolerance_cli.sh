@@ -1,5 +1,5 @@
 #!/bin/bash
-# usm tolerance (issue 12): bad input exits 2 with one stderr line naming the
+# usm tolerance: bad input exits 2 with one stderr line naming the
 # field; the --json object's keys and ranges; the result is byte-identical
 # for any number of threads; a run stopped after one block
 # (USM_TOLERANCE_STOP_AFTER_BLOCKS) and resumed from its --checkpoint prints
@@ -42,7 +42,7 @@ expect_bad '--seed' 'whole number' tolerance --samples 10 --seed -1 --vary c_t=n
 expect_bad 'T' 'nominal value is 0' tolerance --samples 10 --set T=0 --vary T=normal:5%
 expect_bad 'c_t' 'outside the physical range' tolerance --samples 10 --vary c_t=uniform:-2:-1
 expect_bad '--bogus' 'unknown option' tolerance --samples 10 --vary c_t=normal:1% --bogus
-mkdir "$tmp/exists" && echo keep >"$tmp/exists/keep" # an empty DIR is taken (issue 22)
+mkdir "$tmp/exists" && echo keep >"$tmp/exists/keep" # an empty DIR is taken
 expect_bad '--out' 'exists' tolerance --samples 10 --vary c_t=normal:1% --out "$tmp/exists"
 
 # ---- the result -------------------------------------------------------------------
@@ -155,7 +155,7 @@ if expect_rc 0 $T --checkpoint "$tmp/ck" --out "$tmp/resumed" --force; then
 fi
 expect_bad 'checkpoint' 'another study.*seed' $T --seed 2 --checkpoint "$tmp/ck"
 
-# ---- checkpoints that cannot lie (issue 25): each refused with one line, exit 2 ------------
+# ---- checkpoints that cannot lie: each refused with one line, exit 2 ------------
 # a checkpoint of 3 of the 5 blocks (the last in-place run left all of them): damaged copies
 USM_TOLERANCE_STOP_AFTER_BLOCKS=3 timeout 60 "$USM" $T --checkpoint "$tmp/ck3" >"$out" 2>"$err"
 size=$(stat -c %s "$tmp/ck3")
@@ -186,7 +186,7 @@ printf 'my notes\n' >"$tmp/notes"
 expect_bad 'checkpoint' 'not a usm tolerance checkpoint' $T --checkpoint "$tmp/notes"
 grep -qx 'my notes' "$tmp/notes" || fail "a foreign file was overwritten"
 
-# ---- validity (issue 20): each sample's valid flag is what the model says there -----
+# ---- validity: each sample's valid flag is what the model says there -----
 # A 3-DOF (stick) study across the stick limit (the load T and the friction scale mu0
 # varied): every row's valid/invalid_reason recomputed from its own F_n, F_t and mu0
 # (steady.c's definition: contact closed, |F_t| <= mu0 F_n); good only when the operating

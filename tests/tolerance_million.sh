@@ -1,5 +1,5 @@
 #!/bin/bash
-# usm tolerance at 10^6 samples (issue 25): the statistics of a million rows
+# usm tolerance at 10^6 samples: the statistics of a million rows
 #   - against numpy/scipy: every quantile (numpy.quantile, linear, the same
 #     definition as GSL's) and every Spearman correlation (scipy.stats.rankdata's
 #     ranks, correlated in exact integer arithmetic) from the run's own

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Values with units on the command line, JSON numbers in the shortest form,
-# grid values as typed, and the usage lines (issue 23, items 4 and 5).
+# grid values as typed, and the usage lines (items 4 and 5).
 # Usage: units_cli.sh PATH/TO/usm
 USM=$1
 # shellcheck source=cli_common.sh

@@ -6,7 +6,7 @@
 #                CSV header, docs/cli.md "CSV files")
 #   mcol         the modulus column (default 'op_max_modulus [1]': the
 #                operating point's)
-# Each grid point by its operating point (issue 20; column op_class): the
+# Each grid point by its operating point (column op_class): the
 # largest non-cyclic |lambda| of the operating point where there is one
 # (op_max_modulus), and as classes of their own: no stable root (dark red),
 # does not start from rest (black), unknown -- several roots and no

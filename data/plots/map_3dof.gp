@@ -4,7 +4,7 @@
 # boundaries, located by bisection in T) and report_values.csv, columns by
 # name; writes map_3dof.png and .svg.  The axes span the grid's cells, from the data.
 #
-# Each cell by its operating point (issue 20; column op_class), as `usm map
+# Each cell by its operating point (column op_class), as `usm map
 # --plot` draws it (map.gp): the colour is the largest non-cyclic |lambda| of
 # the operating point where there is one; no stable root, does not start from
 # rest and unknown (several roots, one of them stable: only a start-up from

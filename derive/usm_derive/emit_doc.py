@@ -806,7 +806,7 @@ class ModelDocument:
                r"about 9 to 12 digits in double precision (docs/coordinates.md).", "cond")
 
     def unilateral(self):
-        """closure = unilateral (issue 24): the two modes, the guards, the resets
+        """closure = unilateral: the two modes, the guards, the resets
         (typeset only; the kernels are checked by tests/test_unilateral.c)."""
         d, u = self.d, self.m.unilateral
         tex = dict(self.names.tex)
@@ -1149,7 +1149,7 @@ NOTATION = [
 ]
 NOTATION_SLIP = [(r"\bar{\dot\varphi}_R", "rotor speed of the stationary solution (unknown)")]
 NOTATION_TWIST = [(r"\chi", r"twist angle, a state: $\dot\chi = \omega_{z_1}$")]
-# the unilateral contact's section (closure = unilateral, issue 24)
+# the unilateral contact's section (closure = unilateral)
 NOTATION_UNILATERAL = [
     (r"Z_R", r"height of the rotor's contact face, a state while the contact is open"),
     (r"\mathbf{y}", r"state of the open mode: $\mathbf{x}$ with the rotor's own coordinates"),

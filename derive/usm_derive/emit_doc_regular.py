@@ -1,5 +1,4 @@
-"""The equations document of a model in regular coordinates (issue 21,
-assumption coordinates = tilt_vector; derive/usm_derive/model.py,
+"""The equations document of a model in regular coordinates (assumption coordinates = tilt_vector; derive/usm_derive/model.py,
 _derive_regular).
 
 The Euler-angle documents (emit_doc.py, ModelDocument) state the rows in the
@@ -58,7 +57,7 @@ def regular_model_data(m, Doc, Names, latex):
     def show(x):
         return sp.sympify(plain(x)).subs(to_om)
 
-    d.section("Kinematics: tilt-vector coordinates (issue 21)")
+    d.section("Kinematics: tilt-vector coordinates")
     d.text(r"Frames: $N$ inertial, $C$ turned by $\Omega t$ about $Z$.  The stator axis "
            r"$\vec e_{z_2}$ has the components $(a, b, \sqrt{1 - a^2 - b^2})$ in $C$ "
            r"($a + i b = \sin\theta\, e^{i(\varphi - \Omega t - \pi/2)}$ in the paper's Euler "

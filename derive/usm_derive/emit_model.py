@@ -178,7 +178,7 @@ def build_kernels(m):
 
 def build_unilateral_kernels(m):
     """The open mode, guards and reset of a model whose contact may open
-    (closure = unilateral, issue 24): model.py, unilateral_closure."""
+    (closure = unilateral): model.py, unilateral_closure."""
     u = m.unilateral
     pre = f"usm_{m.name}"
     n, ny = len(m.states), u["ny"]
@@ -516,7 +516,7 @@ def share_kernels(entries, files):
 
 
 UNILATERAL_STRUCT = (
-    "/* A contact that may open (closure = unilateral, issue 24; docs/unilateral.md).\n"
+    "/* A contact that may open (closure = unilateral; docs/unilateral.md).\n"
     " * Closed mode: the model's own kernels, state x (nx).  Open mode: state\n"
     " * y = (x, Z_R, Z_Rdot[, w_R]) (ny), the rotor's axial position and rate (and\n"
     " * in the stick model its speed in the driving direction) states of their own;\n"
@@ -646,7 +646,7 @@ def common_files(models, variant_list, stamp):
           "    int u_phidot_R;            /* stationary rotor speed (slip models) */\n"
           "    /* M(x), df/dx and d(M v)/dx at once: out = [M, df/dx, d(Mv)/dx], nx*nx each. */\n"
           "    void (*linearisation)(const double *USM_RESTRICT x, const double *USM_RESTRICT v, double t, const usm_params *USM_RESTRICT p, double *USM_RESTRICT out);\n"
-          "    /* Design kernels (issue 13): power on the stationary solution, the partial\n"
+          "    /* Design kernels: power on the stationary solution, the partial\n"
           "       derivatives of the design quantities, and the directional derivative\n"
           "       of the linearisation about the orbit (for Floquet sensitivities). */\n"
           "    void (*steady_power)(const double *USM_RESTRICT u, const usm_params *USM_RESTRICT p, double *USM_RESTRICT out);\n"
@@ -656,7 +656,7 @@ def common_files(models, variant_list, stamp):
           "       (the stationary-solution kernels are those of the ideal motor); 0: the\n"
           "       model is ideal and those parameters must be 0. */\n"
           "    int imperfect;\n"
-          "    /* Orientation coordinates of the stator (issue 21): 0 the z-x-z Euler angles\n"
+          "    /* Orientation coordinates of the stator: 0 the z-x-z Euler angles\n"
           "       (x_phi ...), 1 the tilt vector (x_a ...: the stator axis (a, b) in the frame\n"
           "       turning with Omega t, the spin angle chi = phi + psi; regular at theta = 0). */\n"
           "    int coordinates;\n"

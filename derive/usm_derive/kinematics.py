@@ -88,7 +88,7 @@ def skew(v):
 
 
 class TiltKinematics:
-    """Tilt-vector kinematics of the stator, regular at theta = 0 (issue 21).
+    """Tilt-vector kinematics of the stator, regular at theta = 0.
 
     The same stator as ``Kinematics``, described without Euler angles.  Frame
     A's role (the frame whose components the rows are written in) is played by

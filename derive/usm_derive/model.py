@@ -40,13 +40,13 @@ PARAMETERS = [
     ("f", "Hz", "excitation frequency (Omega = 2 pi f)", "positive"),
     ("mu0", "1", "friction law scale", "nonnegative"),
     ("kappa", "s/m", "friction law slope", "positive"),
-    # Imperfections of a real motor (issue 14); they enter only the models
+    # Imperfections of a real motor; they enter only the models
     # whose assumption imperfection is "driver_stator" (variant imperfect).
     ("amp_imbalance", "1", "amplitude imbalance e of the two excitation phases", "any"),
     ("phase_error", "rad", "phase error delta of the second excitation phase", "any"),
     ("mode_split", "1", "tilt stiffness split s: c_r (1 + s) about X, c_r (1 - s) about Y", "any"),
     # Newton's restitution coefficient of the impact that closes an open
-    # contact (issue 24); it enters only the models whose assumption closure
+    # contact; it enters only the models whose assumption closure
     # is "unilateral".  0: the rotor lands and stays.
     ("e_impact", "1", "restitution coefficient of the rotor's impact on the stator", "unit_interval"),
 ]
@@ -220,7 +220,7 @@ def euler_coordinates(d, rotor_angle):
 
 
 def tilt_coordinates(d, rotor_angle):
-    """Coordinates regular at theta = 0 (issue 21): the stator axis e_z2 in
+    """Coordinates regular at theta = 0: the stator axis e_z2 in
     the co-rotating frame C (a, b), the spin angle chi = phi + psi
     (kinematics.py, TiltKinematics), preceded by the rotor angle phi_R when
     the rotor turns freely.  Frame C plays frame A's role: the rows are
@@ -536,7 +536,7 @@ def stationary_outputs(d):
 
 
 def stationary_power(d):
-    """Power on the stationary solution (issue 13), from the same torques and
+    """Power on the stationary solution, from the same torques and
     forces as the equations of motion: the excitation torque (2.8) and the
     damping torque (2.10) times the stator's angular velocity, the rotor's
     axial damping force times Z', the load times the rotor's speed in its
@@ -617,7 +617,7 @@ def tangent_map(d):
 def linearisation(d):
     """Jacobians df/dx and d(M v)/dx; whether the linearisation about the
     stationary orbit depends on time; and its directional derivative along
-    (du, dt, dp) for the sensitivity of the Floquet multipliers (issue 13)."""
+    (du, dt, dp) for the sensitivity of the Floquet multipliers."""
     states, n = d.states, d.n
     d.jac_rhs = d.rhs.jacobian(states)
     d.jac_mass = (d.mass * sp.Matrix(d.v)).jacobian(states)
@@ -662,7 +662,7 @@ def cyclic_states(d):
                 if s not in d.rhs.free_symbols and s not in d.mass.free_symbols]
 
 
-# --- closure: whether the contact may open (issue 24) ------------------------------
+# --- closure: whether the contact may open ------------------------------
 
 def bilateral_closure(d):
     """The paper's contact (2.3): the rotor rides on the stator's contact
@@ -725,7 +725,7 @@ def _total_jacobian(exprs, y, back):
 
 
 def unilateral_closure(d):
-    """The contact may open (issue 24).  Two modes:
+    """The contact may open.  Two modes:
 
     closed: the model above (the rotor rides on the contact point, (2.3));
       it holds while F_n >= 0; its guard is F_n = 0 (F_n falling).
@@ -967,7 +967,7 @@ def _derive_euler(name, assumptions, stationary_only=False):
 # --- regular coordinates: the stationary problem of the Euler angles ----------------
 
 def _derive_regular(name, assumptions, coordinates):
-    """The derivation in coordinates other than the Euler angles (issue 21).
+    """The derivation in coordinates other than the Euler angles.
     The equations of motion are derived in them from the same kinematics and
     force laws; the stationary problem (unknowns theta, alpha, phidot_R, its
     residuals, seed, outputs and power) is the Euler angles' own, derived

@@ -7,7 +7,7 @@ OUTPUT_NAMES = ["R_star", "Z", "v_c", "F_n", "F_t", "v_rel", "rotor_speed"]
 STEADY_NAMES = ["beta", "rotor_speed", "F_n", "F_t", "v_c", "v_rel", "R_star", "Z", "twist"]
 SEED_NAMES = ["amplitude_mismatch", "cos_alpha", "sin_alpha", "F_t", "F_n"]
 POWER_NAMES = ["power_in", "power_out", "power_damping", "power_slip"]
-# Stationary quantities whose derivatives the sensitivities need (issue 13).
+# Stationary quantities whose derivatives the sensitivities need.
 DESIGN_NAMES = ["rotor_speed", "F_n", "F_t"] + POWER_NAMES
 
 # Units of the outputs of the kernels, by name (the enums of usm_kernels.h).

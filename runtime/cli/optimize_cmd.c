@@ -17,7 +17,7 @@
 typedef struct opt_args {
     cli_common common;
     usm_opt_problem pb;
-    usm_robust_problem rp;   /* the robust options (issue 26); rp.nominal = pb at the end */
+    usm_robust_problem rp;   /* the robust options; rp.nominal = pb at the end */
     int robust;              /* usm_robust_problem_is_robust */
     int help;
 } opt_args;

@@ -1,4 +1,4 @@
-/* usm pareto: the Pareto front of two outputs (usm_robust.h, issue 26);
+/* usm pareto: the Pareto front of two outputs (usm_robust.h);
  * this file reads the problem and writes the front. */
 #include <stdio.h>
 #include <stdlib.h>

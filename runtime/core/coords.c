@@ -1,4 +1,4 @@
-/* States between the two orientation coordinate sets (issue 21).
+/* States between the two orientation coordinate sets.
  *
  * The z-x-z Euler angles (phi, theta, psi) and the tilt vector (a, b, chi) of
  * derive/usm_derive/kinematics.py (TiltKinematics): the stator axis e_z2 in

@@ -9,7 +9,7 @@
 
 /* The text of usm_shortest, defined as the first %.{P}g with P = 6, 7, ...,
  * 17 that reads back as v, computed with one print and one or two parses
- * (issue 25; the definition's loop took up to 12 of each): v printed once
+ * (the definition's loop took up to 12 of each): v printed once
  * with 17 significant digits (%.16e, exact), rounded from those digits to 16
  * and to 15 (where the dropped digits are exactly 5, 50, the rounding of v
  * itself is printed instead), each candidate parsed back.  A P-digit decimal

@@ -8,7 +8,7 @@
 #include "json_out.h"
 #include "steady_out.h"
 
-/* The operating point of a point (issue 20): operating_point (index into
+/* The operating point of a point: operating_point (index into
  * the full search's roots, or null), operating_point_class,
  * operating_point_reason (null when undecided), operating_point_message,
  * starts_from_rest, and operating_point_solution (the root, when there is

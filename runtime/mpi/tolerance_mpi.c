@@ -1,4 +1,4 @@
-/* Tolerance studies over MPI ranks (usm_mpi.h; issue 25).
+/* Tolerance studies over MPI ranks (usm_mpi.h).
  *
  * Every rank knows the whole study (the same command line) and owns a
  * contiguous range of blocks (tol_owned: rank r of S the blocks [nblocks r /

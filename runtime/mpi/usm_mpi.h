@@ -1,4 +1,4 @@
-/* usm_mpi.h: tolerance studies and maps over MPI ranks (issue 12, part 3):
+/* usm_mpi.h: tolerance studies and maps over MPI ranks:
  * the API of the usm_mpi library, which the usm command links when CMake
  * finds MPI (USM_HAVE_MPI); not part of libusm (which has no MPI) and not
  * installed.
@@ -6,8 +6,7 @@
  * The command initialises MPI only when an MPI launcher started it (mpirun,
  * srun: usm_mpi_launched), so a plain `usm ...` never touches MPI.  The ranks
  * share the work out in a fixed order; a map's results are gathered on rank
- * 0, a tolerance study's rows stay on the ranks that computed them (issue 25:
- * statistics by reductions and a sample sort, samples.csv by MPI-IO), and
+ * 0, a tolerance study's rows stay on the ranks that computed them (statistics by reductions and a sample sort, samples.csv by MPI-IO), and
  * rank 0's output is byte-identical to a serial run's; only rank 0 prints.
  */
 #ifndef USM_MPI_H

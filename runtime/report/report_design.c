@@ -1,4 +1,4 @@
-/* The report's section "Design under scatter" (issue 26): on the paper's
+/* The report's section "Design under scatter": on the paper's
  * 3-DOF motor, the Pareto front of speed against efficiency over the drive
  * frequency f and the preload F0 (usm_pareto_run), and the most efficient
  * design with speed >= REPORT_DESIGN_SPEED nominally (usm_optimize) beside

@@ -115,7 +115,7 @@ enum { REPORT_3DOF = 0, REPORT_4DOF = 1, REPORT_NMODELS = 2 };
 /* A nearly vanishing preload [N], to show what the contact moment does. */
 #define REPORT_SMALL_F0 0.01
 
-/* ---- the non-ideal motor (report_nonideal.c, issue 14) -------------------------- */
+/* ---- the non-ideal motor (report_nonideal.c) -------------------------- */
 
 /* The imperfections swept, each alone from 0: phase_error 0 to 30 degrees,
  * mode_split 0 to 2 %. */
@@ -205,7 +205,7 @@ typedef struct usm_report_nonideal {
     double seconds;
 } usm_report_nonideal;
 
-/* ---- the squeal (report_squeal.c, issue 24) ------------------------------------ */
+/* ---- the squeal (report_squeal.c) ------------------------------------ */
 
 #define REPORT_SQUEAL_MAXPTS 8
 #define REPORT_SQUEAL_MAXBINS 2048
@@ -286,7 +286,7 @@ typedef struct usm_report_data {
     usm_report_map map[REPORT_NMODELS];
     int have_map[REPORT_NMODELS];
 
-    /* sensitivities of the primary solution at the paper's point (issue 13):
+    /* sensitivities of the primary solution at the paper's point:
      * have_sens[k] = 0 when usm_sensitivity_compute failed (sens_note says why) */
     usm_sensitivity_result sens[REPORT_NMODELS];
     int have_sens[REPORT_NMODELS];
@@ -324,7 +324,7 @@ int usm_report_squeal_write_data(const usm_report_data *d, const char *dir,
 /* Its numbers in report.json ("squeal"; keys: docs/report.md). */
 json_t *usm_report_squeal_json(const usm_report_data *d);
 
-/* ---- design under scatter (report_design.c, issue 26) ---------------------------- */
+/* ---- design under scatter (report_design.c) ---------------------------- */
 
 /* The speed-efficiency front over (f, F0) and the robust optimum beside the
  * nominal one on the paper's 3-DOF motor, into d->design (allocated).  A

@@ -516,7 +516,7 @@ static json_t *map_summary(const usm_report_map *m, int fig)
     integer(o, "unstable_stick", (long long)unstable_stick);
     num(o, "max_modulus_stick", maxmod_stick);
     flag(o, "floquet_failures", m->floquet_failures != 0);
-    /* by the operating point (issue 20): cells per class, and the absent ones */
+    /* by the operating point: cells per class, and the absent ones */
     for (size_t k = 0; k < NMAP_CLASS; ++k) {
         integer(classes, usm_point_op_class_name(map_class[k].cls), (long long)count[k]);
         if (!count[k])

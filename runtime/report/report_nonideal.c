@@ -1,7 +1,7 @@
-/* The non-ideal motor in the report (issue 14, item 4): periodic orbits of
+/* The non-ideal motor in the report: periodic orbits of
  * the variant "imperfect" along the phase error (0 to 36 degrees) and the
  * mode split (0 to 2.4 %), each alone; past contact loss the orbits with
- * separation of the variant "imperfect_unilateral" (issue 24: the sweep
+ * separation of the variant "imperfect_unilateral" (the sweep
  * runs on that model, whose bilateral orbits are those of "imperfect"), followed by the library's periodic
  * sweep (usm_periodic_sweep.h, the computation of `usm sweep --periodic`);
  * the tolerable value, where the contact opens (F_n_min = 0) or stability is

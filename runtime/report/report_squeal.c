@@ -1,4 +1,4 @@
-/* The squeal in the report (issue 24, item 4): where the 4-DOF periodic orbit
+/* The squeal in the report: where the 4-DOF periodic orbit
  * of the variant "imperfect" loses stability along the mode split (the
  * Neimark-Sacker event of the library's periodic sweep, usm_periodic_sweep.h,
  * with its squeal_frequency), and a few simulations from rest around it

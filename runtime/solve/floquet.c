@@ -122,7 +122,7 @@ int usm_floquet_method_from_name(const char *name, usm_floquet_method *method,
     return USM_EINPUT;
 }
 
-/* The coordinates the multipliers are computed in (issue 21, docs/coordinates.md):
+/* The coordinates the multipliers are computed in (docs/coordinates.md):
  * the tilt vector for the stick model's twist_integrated variant, whose
  * multipliers it gives to 14.1-15.0 correct digits where the Euler angles give
  * 11.3-12.0 (tests/multipliers_reference.h, six points); the Euler angles
@@ -189,7 +189,7 @@ void usm_floquet_free(usm_floquet *f)
  * is formed in the coordinates S only (balanced_coefficient_matrix below).
  *
  * From the three kernels, not the fused `linearisation` kernel [M, df/dx,
- * d(Mv)/dx], measured again (issue 19): the fused kernel agrees with the three
+ * d(Mv)/dx], measured again: the fused kernel agrees with the three
  * to 7e-16 of a row and takes 16-24 % less time per evaluation (20-28 ns of
  * 83-135 ns with steady_state), but a method makes few evaluations (Magnus 2-3
  * per period, the exponential method 193, CVODES ~350), so it saves under 1 %
@@ -202,12 +202,12 @@ void usm_floquet_free(usm_floquet *f)
  * free: M(xbar) is ill-conditioned near theta = 1e-4 (2-norm condition 9e11
  * at the paper's point), so the last bits move every method's multipliers
  * together by up to 4.1e-8 (3dof; 4dof 3e-11; the methods still agree with
- * each other to 4e-11; measured while G was formed with M^{-1} alone, before
- * issue 21: see balanced_coefficient_matrix).  Not faster: not used. */
+ * each other to 4e-11; measured while G was formed with M^{-1} alone, before the balanced
+ * form: see balanced_coefficient_matrix).  Not faster: not used. */
 
 /* ---- variational equations with CVODES ----------------------------------- */
 
-/* G <- S G(t) S^{-1}, formed as (M S^{-1})^{-1} (A S^{-1}) (issue 21): the same
+/* G <- S G(t) S^{-1}, formed as (M S^{-1})^{-1} (A S^{-1}): the same
  * matrix, but M(xbar) is never inverted alone.  Its 2-norm condition number
  * is 9e11 at the paper's point (the Euler angles' phi/psi degeneracy near
  * theta = 0); M S^{-1}, the mass matrix acting on small-rotation-vector

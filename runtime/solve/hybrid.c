@@ -1,5 +1,5 @@
 /* Periodic orbits with separation (usm_periodic.h, "periodic orbits with
- * separation"; issue 24, docs/unilateral.md).
+ * separation"; docs/unilateral.md).
  *
  * One CVODES integration (Adams, fixed-point iteration: over a period the
  * motion is not stiff, as in periodic.c) carries the state of the current

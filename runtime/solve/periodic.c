@@ -1,4 +1,4 @@
-/* Periodic steady states by shooting (see usm_periodic.h; issue 14).
+/* Periodic steady states by shooting (see usm_periodic.h).
  *
  * Unknowns.  The state x0 at t0 without its cyclic components (psi, phi_R:
  * they appear in neither M nor f, their start values are a free gauge and
@@ -206,7 +206,7 @@ usm_periodic *usm_periodic_alloc(const usm_model *m)
 
 /* x' = M^{-1} f and, when G is not NULL, G = M^{-1} (df/dx - d(M v)/dx |_{v = x'}).
  * Three kernels, not the fused `linearisation`: it needs x' first, so M would
- * be evaluated twice, and it was measured slower (issue 19, bench_periodic:
+ * be evaluated twice, and it was measured slower (bench_periodic:
  * one period map 2.5 -> 2.6 ms (3dof), 4.2 -> 4.4 ms (4dof); the last-bit
  * change took 3dof's Newton from 2 to 3 iterations, 7.8 -> 10.8 ms per orbit).
  * Nor in linear_predictor (one evaluation per solve: no measurable change). */

@@ -198,7 +198,7 @@ static void use_model(usm_sim *s, const usm_model *m)
     set_mode(s, 0);
 }
 
-/* Coordinates (issue 21, docs/coordinates.md): unless the options ask for the
+/* Coordinates (docs/coordinates.md): unless the options ask for the
  * model's own, a model with a counterpart in the tilt vector is integrated in
  * it -- the same motion, regular at theta = 0, where the start-up at
  * F0 = 1.4 N, f = 38.8 kHz (wobble decaying to zero) took 108,369 steps in

@@ -1,6 +1,6 @@
 /* The checkpoint files of a tolerance study (usm_tolerance.h).
  *
- * One file per rank (issue 25): rank 0's is FILE itself (the serial run's
+ * One file per rank: rank 0's is FILE itself (the serial run's
  * only one), rank r's FILE.r; each holds the blocks its rank owns
  * (tol_owned).  Layout (format 3): the text line MAGIC; "usm VERSION" (the
  * library's version: another version's file is refused, since another build

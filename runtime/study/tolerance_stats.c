@@ -1,5 +1,5 @@
 /* The statistics of a tolerance study (usm_tolerance.h; its writers:
- * io/tolerance_out.c), computed where the rows are (issue 25): every rank
+ * io/tolerance_out.c), computed where the rows are: every rank
  * holds the rows of its own samples and the ranks exchange counts, order
  * statistics and ranks, never rows (tolerance_comm.h: a serial run is one
  * rank).  Every figure is exact or computed from exact integers, so it does

@@ -1,7 +1,7 @@
 """Every wrapped analysis returns the command's JSON object, bit for bit
 (json.loads of both texts: the writers print the shortest text that reads
 back exactly, so equal objects are equal doubles), on the paper's parameters
-and three other points: both models, a variant (issue 27)."""
+and three other points: both models, a variant."""
 import json
 import os
 import subprocess
@@ -217,7 +217,7 @@ def test_tolerance(model, variant, params, vary, spec):
         with open(os.path.join(d, "out", "samples.csv")) as f:
             rows = list(csv.DictReader(f))
     got = usm.Model(model, variant, **params).tolerance(70, vary, spec, seed=5)
-    # wall-clock seconds per phase differ from run to run (issue 25): the
+    # wall-clock seconds per phase differ from run to run: the
     # keys are compared, the values are not
     have = got.to_dict()
     assert set(have.pop("timings")) == set(want.pop("timings")) == \

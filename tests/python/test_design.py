@@ -1,4 +1,4 @@
-"""The analyses merged after the package was first written (issue 27, item
+"""The analyses merged after the package was first written (item
 1): usm pareto, the robust options of usm optimize, the orbit with
 separation of usm periodic and the spectrum of usm simulate.  Each result's
 .to_dict() equals the command's --json object bit for bit (json.loads of

@@ -1,6 +1,6 @@
 """Bad inputs raise the documented exceptions with the library's message
 (the text the command prints after "usm: ", where the command has the
-same input); no crash, no silent NaN (issue 27)."""
+same input); no crash, no silent NaN."""
 import numpy as np
 import pytest
 

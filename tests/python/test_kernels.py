@@ -2,7 +2,7 @@
 for bit: the reference calls the generated functions of libusm.so
 (usm_<model>_rhs, ...) through ctypes, one state per call, for 10^4 random
 states of every model; N = 0, non-contiguous, reversed, Fortran-ordered and
-read-only arrays, and a time per state (issue 27)."""
+read-only arrays, and a time per state."""
 import ctypes
 import os
 

@@ -1,6 +1,6 @@
 """Four Python threads computing steady states at once give the results of
 one thread (the calls release the GIL; the library keeps no shared state:
-each call has its own solver objects), and so do the kernels (issue 27).
+each call has its own solver objects), and so do the kernels.
 Models and results pickle, so a process pool gives the same results too."""
 import pickle
 from concurrent.futures import ProcessPoolExecutor, ThreadPoolExecutor

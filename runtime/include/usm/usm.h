@@ -84,7 +84,7 @@ const usm_model *usm_model_variant(const char *base, const char *variant);
 /* The variant called `name`, or NULL. */
 const usm_variant_info *usm_variant_find(const char *name);
 
-/* ---- orientation coordinates (issue 21, docs/coordinates.md) ------------------- */
+/* ---- orientation coordinates (docs/coordinates.md) ------------------- */
 
 /* The stator's Euler angles (phi, theta, psi) and their rates from the state x
  * of model m at time t, in either coordinate set (m->coordinates): copied for
@@ -402,7 +402,7 @@ const char *usm_floquet_message(const usm_floquet *f);
 int usm_floquet_roots(usm_floquet *f, const usm_params *p, const usm_steady *s, double t0,
                       const usm_floquet_options *opt, usm_floquet_result *out);
 
-/* ---- the squeal frequency (solve/squeal.c, issue 24) --------------------------
+/* ---- the squeal frequency (solve/squeal.c) --------------------------
  *
  * A Floquet multiplier lambda of a motion of period T = 1/f (a stationary
  * solution's multipliers are over one excitation period too) is exp(mu T)

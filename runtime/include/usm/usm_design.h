@@ -1,4 +1,4 @@
-/* usm_design.h: design answers on a stationary solution (issue 13):
+/* usm_design.h: design answers on a stationary solution:
  * parameter sensitivities of the stationary outputs and of the largest
  * Floquet modulus.  (Power and efficiency are fields of usm_steady_solution.)
  *

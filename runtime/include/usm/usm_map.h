@@ -35,7 +35,7 @@ extern "C" {
 /* ---- one point ----------------------------------------------------------------- */
 
 /* The class of a point by its operating point (usm_operating_point.h), how
- * the studies judge a design (issue 20): */
+ * the studies judge a design: */
 typedef enum {
     USM_POINT_OP_NOT_EVALUATED = 0, /* not asked (usm_point.has_op == 0) */
     USM_POINT_OP_STABLE = 1,        /* an operating point exists (a stable root, op.index) */

@@ -1,4 +1,4 @@
-/* usm_operating_point.h: the point the motor runs at (issue 20).
+/* usm_operating_point.h: the point the motor runs at.
  *
  * Definition: the operating point is the stable stationary root that the
  * motor reaches when it is started from rest.  When no root is stable, or

@@ -1,4 +1,4 @@
-/* usm_optimize.h: the best design over parameter bounds (issues 13, 20).
+/* usm_optimize.h: the best design over parameter bounds (20).
  *
  * Maximize (or minimize) one output of the primary stationary solution over
  * chosen parameters within bounds, subject to: a stationary solution exists;
@@ -112,7 +112,7 @@ int usm_opt_output_find(const char *name);
 
 /* A user constraint: output (USM_OPT outputs) <= value (upper = 1) or >= value.
  *
- * Per-root constraints (issue 20): root = r >= 1 names output k of the r-th
+ * Per-root constraints: root = r >= 1 names output k of the r-th
  * stationary root as `usm steady` numbers them (from 1, in its order),
  * written "rootR.NAME" (root2.theta); root = 0 is the judged root (the
  * operating point), written NAME.  Every output but max_modulus and margin
@@ -163,7 +163,7 @@ typedef struct usm_opt_problem {
      * and judges the root it reaches (none: refused). */
     int from_rest;                 /* default 0 */
     double from_rest_periods;      /* its length in excitation periods (0: 400) */
-    /* A warm start (issue 26): with has_start = 1 the first start is the
+    /* A warm start: with has_start = 1 the first start is the
      * design start[i] (the value of varied parameter pb->vary[i], clamped
      * to its bounds) instead of the lattice's first point. */
     int has_start;

@@ -1,4 +1,4 @@
-/* usm_periodic.h: periodic steady states of a real motor by shooting (issue 14).
+/* usm_periodic.h: periodic steady states of a real motor by shooting.
  *
  * A motor with driver amplitude imbalance, phase error or a stator mode split
  * (parameters amp_imbalance, phase_error, mode_split of the variant
@@ -117,7 +117,7 @@ int usm_periodic_write_json(const usm_periodic *w, const usm_params *p,
 /* Why the last solve failed, or "".  Owned by w. */
 const char *usm_periodic_message(const usm_periodic *w);
 
-/* ---- periodic orbits with separation (issue 24; docs/unilateral.md) -------------
+/* ---- periodic orbits with separation (docs/unilateral.md) -------------
  *
  * For a model whose contact may open (m->unilateral, the variant
  * imperfect_unilateral).  The orbit is a fixed point of the event-driven

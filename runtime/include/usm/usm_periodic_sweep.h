@@ -1,5 +1,5 @@
 /* usm_periodic_sweep.h: continuation of the periodic orbit of a real motor
- * (issue 14, item 3).
+ *.
  *
  * The orbit of usm_periodic_solve is followed in one parameter lambda (any
  * field of usm_params) by natural-parameter continuation: each

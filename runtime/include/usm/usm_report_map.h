@@ -46,7 +46,7 @@ typedef struct usm_report_map_cell {
      * exists; efficiency NaN also when power_in <= 0) */
     double power_in, power_out, power_damping, power_slip, efficiency;
     char error[USM_MSG_LEN]; /* why no solution, or why the multipliers failed */
-    /* the operating point (usm_point_evaluate_op; issue 20) */
+    /* the operating point (usm_point_evaluate_op) */
     int op_class;      /* usm_point_op_class */
     int op_index;      /* root index of the operating point, or -1 */
     int op_reason;     /* usm_op_reason */

@@ -1,4 +1,4 @@
-/* usm_robust.h: robust design (issue 26): the yield of a design under
+/* usm_robust.h: robust design: the yield of a design under
  * manufacturing scatter with common random numbers, datasheet quantities
  * over an operating range, the robust optimum and the Pareto front of two
  * outputs.

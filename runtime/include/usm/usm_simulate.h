@@ -143,8 +143,7 @@ typedef struct usm_sim_options {
     int own_coordinates;   /* 1: integrate in the model's own orientation coordinates;
                               0 (default): a model with a counterpart in the tilt
                               vector (twist_integrated) is integrated in it, the
-                              same motion regular at theta = 0 (issue 21,
-                              docs/coordinates.md); states in and out are the
+                              same motion regular at theta = 0 (docs/coordinates.md); states in and out are the
                               model's either way */
 } usm_sim_options;
 

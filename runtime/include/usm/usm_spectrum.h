@@ -1,4 +1,4 @@
-/* usm_spectrum.h: amplitude spectra of a simulation (issue 24: the squeal).
+/* usm_spectrum.h: amplitude spectra of a simulation (the squeal).
  *
  * Math (solve/spectrum.c).  n uniformly spaced samples x_j, j = 0..n-1, of a
  * window of length L = n dt: the mean is removed, the periodic Hann window

@@ -1,4 +1,4 @@
-/* usm_tolerance.h: Monte Carlo tolerance (yield) studies (issue 12).
+/* usm_tolerance.h: Monte Carlo tolerance (yield) studies.
  *
  * Every manufactured motor scatters around the nominal design: each varied
  * parameter is drawn from its distribution, and at that parameter point the
