@@ -61,7 +61,7 @@ assert o["influence"]["rotor_speed"]["T"] > 0.5, o["influence"]'
 fi
 # "timings" (wall seconds, last, on a line of its own) differ between runs: compared without it
 py_file "$tmp/t1.json" 't = o["timings"]
-assert set(t) == {"compute", "reduce", "statistics", "output"} and all(v >= 0 for v in t.values()), t
+assert set(t) == {"compute", "reduce", "statistics", "output", "compute_cpu", "output_cpu"} and all(v >= 0 for v in t.values()), t
 assert list(o)[-1] == "timings", list(o)'
 notimings() { grep -v '^  "timings": ' "$1"; }
 expect_rc 0 $T --json --threads 2 &&

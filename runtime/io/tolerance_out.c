@@ -367,7 +367,8 @@ int usm_tolerance_write_json(const usm_tolerance *t, FILE *out)
             (unsigned long long)s->driven);
     /* wall seconds, different in every run: on a line of their own, last */
     fprintf(out, "  \"timings\": {\"compute\": %.6f, \"reduce\": %.6f, \"statistics\": %.6f, "
-            "\"output\": %.6f}\n}\n", t->timings.compute, t->timings.reduce,
-            t->timings.statistics, t->timings.output);
+            "\"output\": %.6f, \"compute_cpu\": %.6f, \"output_cpu\": %.6f}\n}\n",
+            t->timings.compute, t->timings.reduce, t->timings.statistics, t->timings.output,
+            t->timings.compute_cpu, t->timings.output_cpu);
     return ferror(out) ? -1 : 0;
 }

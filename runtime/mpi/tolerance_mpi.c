@@ -187,9 +187,10 @@ int usm_tolerance_run_mpi(usm_tolerance *t, const usm_params *p, const usm_toler
         }
         if (n == 0)
             break;
-        double t0 = tol_now();
+        double t0 = tol_now(), c0 = tol_cpu();
         const int st = tol_compute(t, list + taken[rank], (size_t)take[rank], pack);
         t->timings.compute += tol_now() - t0;
+        t->timings.compute_cpu += tol_cpu() - c0;
         t0 = tol_now();
         status = agree_key(t, st, t->fail_block, rank, comm);
         t->timings.reduce += tol_now() - t0;
@@ -205,6 +206,7 @@ int usm_tolerance_run_mpi(usm_tolerance *t, const usm_params *p, const usm_toler
         /* rank 0's clock decides; every rank writes its own file */
         int due = rank == 0 && tol_checkpoint_due(t, last, stop), wst = USM_OK;
         t0 = tol_now();
+        c0 = tol_cpu();
         if (MPI_Bcast(&due, 1, MPI_INT, 0, comm) != MPI_SUCCESS) {
             snprintf(t->msg, USM_MSG_LEN, "MPI_Bcast failed");
             wst = USM_EFAILED;
@@ -212,6 +214,7 @@ int usm_tolerance_run_mpi(usm_tolerance *t, const usm_params *p, const usm_toler
             wst = tol_checkpoint_write(t);
         status = agree(t, wst, rank, comm);
         t->timings.output += tol_now() - t0;
+        t->timings.output_cpu += tol_cpu() - c0;
         if (status == USM_OK && stop)
             status = tol_stopped(t, computed);
         if (last)

@@ -310,6 +310,11 @@ void usm_tolerance_output_seconds_add(usm_tolerance *t, double seconds)
     t->timings.output += seconds;
 }
 
+void usm_tolerance_output_cpu_seconds_add(usm_tolerance *t, double seconds)
+{
+    t->timings.output_cpu += seconds;
+}
+
 int usm_tolerance_vary_count(const usm_tolerance *t) { return t->nvary; }
 
 const usm_tolerance_vary *usm_tolerance_vary_at(const usm_tolerance *t, int j)
@@ -726,9 +731,10 @@ int usm_tolerance_run(usm_tolerance *t, const usm_params *p, const usm_tolerance
         size_t n = pending - at < round ? pending - at : round;
         if (opt->stop_after_blocks && n > opt->stop_after_blocks - computed)
             n = (size_t)(opt->stop_after_blocks - computed);
-        double t0 = tol_now();
+        double t0 = tol_now(), c0 = tol_cpu();
         status = tol_compute(t, list + at, n, pack);
         t->timings.compute += tol_now() - t0;
+        t->timings.compute_cpu += tol_cpu() - c0;
         if (status != USM_OK)
             break;
         tol_unpack(t, list + at, n, pack);
@@ -737,9 +743,11 @@ int usm_tolerance_run(usm_tolerance *t, const usm_params *p, const usm_tolerance
         const int stop = opt->stop_after_blocks && computed >= opt->stop_after_blocks &&
                          at < pending;
         t0 = tol_now();
+        c0 = tol_cpu();
         if (tol_checkpoint_due(t, at == pending, stop))
             status = tol_checkpoint_write(t);
         t->timings.output += tol_now() - t0;
+        t->timings.output_cpu += tol_cpu() - c0;
         if (status == USM_OK && stop)
             status = tol_stopped(t, computed);
     }

@@ -87,6 +87,14 @@ size_t tol_pending(const usm_tolerance *t, uint64_t *list)
     return n;
 }
 
+double tol_cpu(void)
+{
+    struct timespec ts;
+    if (clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts) != 0)
+        return 0.0;
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
 double tol_now(void)
 {
     struct timespec ts;

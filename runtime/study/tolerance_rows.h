@@ -109,5 +109,7 @@ int tol_row_allows_good(const usm_tolerance *t, const double *row);
 
 /* Seconds on a monotonic clock. */
 double tol_now(void);
+/* The process's CPU seconds so far (every thread). */
+double tol_cpu(void);
 
 #endif /* USM_TOLERANCE_ROWS_H */

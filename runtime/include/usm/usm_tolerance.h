@@ -266,9 +266,12 @@ int usm_tolerance_sample(const usm_tolerance *t, uint64_t i, double *values, dou
  * the counts; statistics, the quantiles and Spearman correlations (sorts,
  * selections and, under MPI, the exchange of ranks); output, the checkpoint
  * writes plus what usm_tolerance_output_seconds_add adds (the command's
- * files). */
+ * files).  compute_cpu and output_cpu: the process's CPU seconds (every
+ * thread) in the compute and output phases, the figure to compare the two
+ * by: unlike wall seconds it hardly moves with other processes' load. */
 typedef struct usm_tolerance_timings {
     double compute, reduce, statistics, output;
+    double compute_cpu, output_cpu;
 } usm_tolerance_timings;
 /* The timings of the last run of t (NULL before one). */
 const usm_tolerance_timings *usm_tolerance_timings_get(const usm_tolerance *t);
@@ -276,6 +279,8 @@ const usm_tolerance_timings *usm_tolerance_timings_get(const usm_tolerance *t);
 /* Add `seconds` to the output phase of the last run's timings (a writer's
  * wall time, measured by its caller). */
 void usm_tolerance_output_seconds_add(usm_tolerance *t, double seconds);
+/* The same for the output phase's process CPU seconds (timings.output_cpu). */
+void usm_tolerance_output_cpu_seconds_add(usm_tolerance *t, double seconds);
 
 /* Why the last run failed, or "". */
 const char *usm_tolerance_message(const usm_tolerance *t);
@@ -312,7 +317,7 @@ int usm_tolerance_write_histograms(const usm_tolerance *t, FILE *out);
  * good only because the load drives them: usm_tolerance_summary's) (the
  * same bytes after a checkpoint resume, for any number of threads or MPI
  * ranks), and last, on
- * a line of its own, timings {compute, reduce, statistics, output}
+ * a line of its own, timings {compute, reduce, statistics, output, compute_cpu, output_cpu}
  * (usm_tolerance_timings_get: wall seconds, different in every run; compare
  * two runs' output without the line that starts with `  "timings"`).  0 or -1
  * on a write error. */
