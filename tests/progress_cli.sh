@@ -65,7 +65,7 @@ check_cmd tolerance 20000 samples tolerance --samples 20000 --vary F0=normal:5% 
 check_cmd map 96 points map --x-points 12 --y-points 8 --threads 2
 
 # --help names --quiet
-for c in map tolerance; do
+for c in map tolerance report; do
     checks=$((checks + 1))
     run $c --help
     grep -q -- '--quiet' "$out" || fail "usm $c --help does not name --quiet"
