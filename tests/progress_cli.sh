@@ -1,5 +1,6 @@
 #!/bin/bash
-# The progress line of the long commands (map, tolerance): on a terminal
+# The progress line of the long commands (map, tolerance, pareto; report's
+# --help): on a terminal
 # (a pseudo-terminal from util-linux `script`) stderr shows "usm CMD:
 # DONE/TOTAL UNIT" lines rewritten with \r, the last one erased; with stderr
 # redirected to a file, or with --quiet, stderr stays empty; stdout is the
@@ -63,9 +64,10 @@ check_cmd() {
 # about a second of samples: lines between the first and the last
 check_cmd tolerance 20000 samples tolerance --samples 20000 --vary F0=normal:5% --threads 2
 check_cmd map 96 points map --x-points 12 --y-points 8 --threads 2
+check_cmd pareto 6 'front points' pareto --objectives speed,efficiency --vary F0=0.3:0.6 --points 6
 
 # --help names --quiet
-for c in map tolerance report; do
+for c in map tolerance report pareto; do
     checks=$((checks + 1))
     run $c --help
     grep -q -- '--quiet' "$out" || fail "usm $c --help does not name --quiet"

@@ -7,6 +7,7 @@
  * 2. the calls are rate-limited: at most the first, the last and one per
  *    0.1 s of wall time;
  * 3. a resumed tolerance study's first call counts the checkpoint's samples;
+ *    a Pareto front counts its points (usm_opt_problem.progress);
  * 4. the results are bit for bit those of the same run without a callback.
  */
 #define _POSIX_C_SOURCE 200809L
@@ -17,6 +18,7 @@
 #include <unistd.h>
 
 #include "usm_map.h"
+#include "usm_robust.h"
 #include "usm_tolerance.h"
 
 #include "check.h"
@@ -209,10 +211,39 @@ static void test_tolerance(void)
     usm_tolerance_free(t);
 }
 
+static void test_pareto(void)
+{
+    const usm_model *m = usm_model_find("3dof");
+    const int obj[2] = {USM_OPT_SPEED, USM_SENS_EFFICIENCY}, minimize[2] = {0, 0};
+    char msg[USM_MSG_LEN];
+    usm_params p;
+    usm_opt_problem pb;
+    usm_pareto_result plain, watched;
+    record r;
+    usm_params_default(&p);
+    usm_opt_problem_init(&pb);
+    CHECK(usm_opt_problem_add_vary(&pb, "F0", 0.3, 0.6, msg) == USM_OK, "vary: %s", msg);
+    CHECK(usm_pareto_run(m, &p, &pb, obj, minimize, 6, &plain, msg) == USM_OK, "pareto: %s",
+          msg);
+    record_init(&r);
+    pb.progress = (usm_progress){on_progress, &r};
+    const double t0 = mono();
+    CHECK(usm_pareto_run(m, &p, &pb, obj, minimize, 6, &watched, msg) == USM_OK, "pareto: %s",
+          msg);
+    check_record("pareto", &r, 6, 0, "front points", mono() - t0);
+    int same = plain.npoints == watched.npoints && plain.computed == watched.computed;
+    for (int i = 0; same && i < plain.npoints; ++i)
+        same = memcmp(plain.points[i].f, watched.points[i].f, sizeof plain.points[i].f) == 0;
+    CHECK(same, "pareto: the front differs with the callback");
+    usm_pareto_result_free(&plain);
+    usm_pareto_result_free(&watched);
+}
+
 int main(void)
 {
     test_map();
     test_tolerance();
+    test_pareto();
     if (failures)
         printf("%d check(s) failed\n", failures);
     else

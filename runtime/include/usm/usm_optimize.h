@@ -38,6 +38,7 @@
 #include <stdio.h>
 
 #include "usm.h"
+#include "usm_progress.h"
 #include "usm_design.h"
 #include "usm_operating_point.h"
 
@@ -168,6 +169,10 @@ typedef struct usm_opt_problem {
      * to its bounds) instead of the lattice's first point. */
     int has_start;
     double start[USM_NPARAMS];
+    /* Read by usm_pareto_run only: the front's optimizations as they finish
+     * ("front points", total = its points).  usm_optimize_run and
+     * usm_robust_run do not report.  Default silent. */
+    usm_progress progress;
 } usm_opt_problem;
 
 /* No objective, nothing varied, no constraint, margin 0.01, power_out >= 0
