@@ -1,6 +1,6 @@
 #!/bin/bash
-# The progress line of the long commands (map, tolerance, pareto; report's
-# --help): on a terminal
+# The progress line of the long commands (map, tolerance, pareto, robust
+# optimize; report's --help): on a terminal
 # (a pseudo-terminal from util-linux `script`) stderr shows "usm CMD:
 # DONE/TOTAL UNIT" lines rewritten with \r, the last one erased; with stderr
 # redirected to a file, or with --quiet, stderr stays empty; stdout is the
@@ -25,6 +25,11 @@ on_tty() {
     timeout 120 script -qec "$cmd >'$o'" /dev/null >"$tty" 2>&1
 }
 
+# the same stdout but for the wall-clock "seconds" of a --json object
+same_out() {
+    cmp -s <(grep -v '"seconds"' "$1") <(grep -v '"seconds"' "$2")
+}
+
 check_cmd() {
     local name=$1 total=$2 unit=$3
     shift 3
@@ -42,14 +47,14 @@ check_cmd() {
         fail "usm $* on a terminal: no 'usm $name: N/$total $unit' line: $(head -c 300 "$tmp/tty.lines")"
         return
     fi
-    if ! grep -qE "^usm $name: $total/$total $unit \(100%\)" "$tmp/tty.lines"; then
-        fail "usm $* on a terminal: the line never reached $total/$total"; return
+    if ! grep -qE "^usm $name: ($total)/\1 $unit \(100%\)" "$tmp/tty.lines"; then
+        fail "usm $* on a terminal: the line never reached its total"; return
     fi
     # erased at the end: the terminal's last bytes are blanks and a \r
     if [ -n "$(tail -n 1 "$tmp/tty.lines" | tr -d ' ')" ] || [ "$(tail -c 1 "$tmp/tty" | od -An -c | tr -d ' ')" != '\r' ]; then
         fail "usm $* on a terminal: the progress line is not erased at the end"; return
     fi
-    if ! cmp -s "$tmp/piped.out" "$tmp/tty.out"; then
+    if ! same_out "$tmp/piped.out" "$tmp/tty.out"; then
         fail "usm $*: stdout differs on a terminal"; return
     fi
 
@@ -58,16 +63,21 @@ check_cmd() {
     if [ -s "$tmp/quiet" ]; then
         fail "usm $* --quiet on a terminal: $(head -c 200 "$tmp/quiet" | od -c | head -3)"; return
     fi
-    if ! cmp -s "$tmp/piped.out" "$tmp/quiet.out"; then fail "usm $* --quiet: stdout differs"; fi
+    if ! same_out "$tmp/piped.out" "$tmp/quiet.out"; then fail "usm $* --quiet: stdout differs"; fi
 }
 
 # about a second of samples: lines between the first and the last
 check_cmd tolerance 20000 samples tolerance --samples 20000 --vary F0=normal:5% --threads 2
 check_cmd map 96 points map --x-points 12 --y-points 8 --threads 2
 check_cmd pareto 6 'front points' pareto --objectives speed,efficiency --vary F0=0.3:0.6 --points 6
+# robust design: the designs against the searches' budgets (a total that may grow)
+check_cmd optimize '[0-9]+' designs optimize --objective efficiency --vary f=34000:42000 \
+    --vary F0=0.2:1.0 --constraint 'speed>=6' --constraint 'yield>=0.99' \
+    --scatter c_r=normal:2% --scatter f=normal:1% --samples 600 --verify-samples 1200 \
+    --max-evals 6 --starts 1 --json
 
 # --help names --quiet
-for c in map tolerance report pareto; do
+for c in map tolerance report pareto optimize; do
     checks=$((checks + 1))
     run $c --help
     grep -q -- '--quiet' "$out" || fail "usm $c --help does not name --quiet"

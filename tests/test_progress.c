@@ -7,7 +7,9 @@
  * 2. the calls are rate-limited: at most the first, the last and one per
  *    0.1 s of wall time;
  * 3. a resumed tolerance study's first call counts the checkpoint's samples;
- *    a Pareto front counts its points (usm_opt_problem.progress);
+ *    a Pareto front counts its points (usm_opt_problem.progress); a robust
+ *    search its designs, against a total that may grow when a search starts
+ *    again, and ends at the final total;
  * 4. the results are bit for bit those of the same run without a callback.
  */
 #define _POSIX_C_SOURCE 200809L
@@ -25,7 +27,7 @@
 
 typedef struct record {
     pthread_mutex_t inside;
-    long calls, first, last, total, decreases, overlaps, total_changes;
+    long calls, first, last, total, decreases, overlaps, total_changes, shrinks;
     char what[32];
 } record;
 
@@ -52,6 +54,8 @@ static void on_progress(void *ctx, long done, long total, const char *what)
     } else {
         r->decreases += done < r->last;
         r->total_changes += total != r->total || strcmp(what, r->what) != 0;
+        r->shrinks += total < r->total;
+        r->total = total;
     }
     r->last = done;
     ++r->calls;
@@ -158,7 +162,7 @@ static double *rows_of(const usm_tolerance *t, uint64_t n)
 static void test_tolerance(void)
 {
     const usm_model *m = usm_model_find("3dof");
-    const uint64_t n = 20000;
+    const uint64_t n = 8000;
     const size_t bytes = n * (2 + USM_TOL_NOUTPUTS + 2) * sizeof(double);
     usm_params p;
     usm_tolerance_options opt;
@@ -239,11 +243,60 @@ static void test_pareto(void)
     usm_pareto_result_free(&watched);
 }
 
+static void test_robust(void)
+{
+    const usm_model *m = usm_model_find("3dof");
+    char msg[USM_MSG_LEN];
+    usm_params p;
+    usm_robust_problem rp;
+    usm_robust_result *plain = malloc(sizeof *plain), *watched = malloc(sizeof *watched);
+    record r;
+    usm_params_default(&p);
+    usm_robust_problem_init(&rp);
+    CHECK(usm_opt_problem_add_vary(&rp.nominal, "f", 34000, 42000, msg) == USM_OK, "%s", msg);
+    CHECK(usm_opt_problem_add_vary(&rp.nominal, "F0", 0.2, 1.0, msg) == USM_OK, "%s", msg);
+    CHECK(usm_opt_problem_add_constraint(&rp.nominal, "speed", 0, 6.0, msg) == USM_OK, "%s", msg);
+    rp.objective = USM_SENS_EFFICIENCY;
+    rp.yield_min = 0.99;
+    CHECK(usm_tolerance_vary_parse("c_r=normal:2%", &rp.scatter[0], msg) == USM_OK &&
+              usm_tolerance_vary_parse("f=normal:1%", &rp.scatter[1], msg) == USM_OK,
+          "%s", msg);
+    rp.nscatter = 2;
+    rp.samples = 600;
+    rp.verify_samples = 1200;
+    rp.max_evals = 6;
+    rp.nominal.starts = 1; /* the nominal optimum is not what is checked here */
+    CHECK(usm_robust_run(m, &p, &rp, plain, msg) == USM_OK, "robust: %s", msg);
+    record_init(&r);
+    rp.nominal.progress = (usm_progress){on_progress, &r};
+    const double t0 = mono();
+    CHECK(usm_robust_run(m, &p, &rp, watched, msg) == USM_OK, "robust: %s", msg);
+    const double seconds = mono() - t0;
+    CHECK(r.calls >= 2 && r.first == 0 && r.last == r.total && r.total > 0,
+          "robust: %ld calls, first %ld, last %ld of %ld", r.calls, r.first, r.last, r.total);
+    CHECK(r.decreases == 0 && r.shrinks == 0 && r.overlaps == 0 && strcmp(r.what, "designs") == 0,
+          "robust: %ld decreases, %ld shrinks, %ld overlaps, unit %s", r.decreases, r.shrinks,
+          r.overlaps, r.what);
+    /* the designs and the 2 x 2 designs' worth of verification samples */
+    CHECK(r.total >= watched->evaluations + 4, "robust: total %ld for %d designs", r.total,
+          watched->evaluations);
+    CHECK(r.calls <= 3 + (long)(seconds / 0.1) + 1, "robust: %ld calls in %.2f s", r.calls,
+          seconds);
+    CHECK(plain->evaluations == watched->evaluations &&
+              memcmp(&plain->robust.value, &watched->robust.value, sizeof(double)) == 0 &&
+              memcmp(&plain->robust.yield, &watched->robust.yield, sizeof(double)) == 0 &&
+              memcmp(&plain->robust.params, &watched->robust.params, sizeof(usm_params)) == 0,
+          "robust: the optimum differs with the callback");
+    free(plain);
+    free(watched);
+}
+
 int main(void)
 {
     test_map();
     test_tolerance();
     test_pareto();
+    test_robust();
     if (failures)
         printf("%d check(s) failed\n", failures);
     else

@@ -46,3 +46,15 @@ void progress_add(progress_meter *m, long n)
     if (m->done == m->total || mono() - m->last >= PROGRESS_INTERVAL)
         report(m);
 }
+
+void progress_extend(progress_meter *m, long n)
+{
+    m->total += n;
+}
+
+void progress_finish(progress_meter *m)
+{
+    m->done = m->total;
+    if (m->cb.fn && m->done != m->shown)
+        report(m);
+}

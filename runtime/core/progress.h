@@ -19,5 +19,9 @@ void progress_start(progress_meter *m, const usm_progress *cb, long total, long 
                     const char *what);
 /* n more units done; a call when 0.1 s passed since the last one, or at total. */
 void progress_add(progress_meter *m, long n);
+/* n more units planned (a search that starts again); no call. */
+void progress_extend(progress_meter *m, long n);
+/* The work ended before its planned total: done = total, reported. */
+void progress_finish(progress_meter *m);
 
 #endif /* USM_CORE_PROGRESS_H */

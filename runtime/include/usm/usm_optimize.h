@@ -169,9 +169,12 @@ typedef struct usm_opt_problem {
      * to its bounds) instead of the lattice's first point. */
     int has_start;
     double start[USM_NPARAMS];
-    /* Read by usm_pareto_run only: the front's optimizations as they finish
-     * ("front points", total = its points).  usm_optimize_run and
-     * usm_robust_run do not report.  Default silent. */
+    /* Read by usm_pareto_run, the front's optimizations as they finish
+     * ("front points", total = its points), and by usm_robust_run (as
+     * rp->nominal.progress), the designs evaluated ("designs": total = the
+     * searches' budgets plus the verification sample in designs' worth; it
+     * grows when a search starts again, and the last call has done = total).
+     * usm_optimize_run does not report.  Default silent. */
     usm_progress progress;
 } usm_opt_problem;
 
