@@ -184,6 +184,12 @@ cdef extern from "usm_periodic_sweep.h" nogil:
         usm_periodic_options periodic
     void usm_periodic_sweep_options_default(usm_periodic_sweep_options *opt)
 
+cdef extern from "usm_progress.h" nogil:
+    ctypedef void (*usm_progress_fn)(void *ctx, long done, long total, const char *what)
+    ctypedef struct usm_progress:
+        usm_progress_fn fn
+        void *ctx
+
 cdef extern from "usm_map.h" nogil:
     ctypedef struct usm_map_axis:
         const char *name
@@ -197,6 +203,7 @@ cdef extern from "usm_map.h" nogil:
         usm_floquet_options floquet
         int threads
         usm_op_options op
+        usm_progress progress
     void usm_map_options_default(usm_map_options *opt)
 
 cdef extern from "usm_optimize.h" nogil:
@@ -243,6 +250,7 @@ cdef extern from "usm_tolerance.h" nogil:
         usm_floquet_options floquet
         usm_op_options op
         int allow_driven
+        usm_progress progress
     void usm_tolerance_options_default(usm_tolerance_options *opt)
     int usm_tolerance_vary_parse(const char *text, usm_tolerance_vary *v, char *msg)
     int usm_tolerance_vary_parse_units(const char *field, const char *text,

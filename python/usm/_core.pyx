@@ -607,9 +607,9 @@ cdef class _Model:
                            allow_slip, allow_driven, from_rest, from_rest_periods)
 
     def _tolerance(self, list vary, list spec, samples, seed, threads, double t0, method, rtol,
-                   steps, int from_rest, from_rest_periods, int allow_driven=0):
+                   steps, int from_rest, from_rest_periods, int allow_driven=0, progress=None):
         return _run_tolerance(self, vary, spec, samples, seed, threads, t0, method, rtol, steps,
-                              from_rest, from_rest_periods, allow_driven)
+                              from_rest, from_rest_periods, allow_driven, progress)
 
     def _periodic(self):
         cdef usm_run *r
@@ -638,7 +638,7 @@ cdef class _Model:
         return self._finish(r)
 
     def _map(self, x, y, double t0, method, rtol, steps, int threads, int from_rest,
-             from_rest_periods):
+             from_rest_periods, progress=None):
         cdef usm_map_options mo
         cdef usm_run *r
         cdef const usm_param_info *info
@@ -675,9 +675,49 @@ cdef class _Model:
         mo.op.from_rest = from_rest
         if from_rest_periods is not None:
             mo.op.periods = _number("from_rest_periods", from_rest_periods)
+        state = _progress_state(progress)
+        _progress_set(&mo.progress, state)
         with nogil:
             r = usm_run_map(self.m, &self.p, &mo)
-        return self._finish(r)
+        out = self._finish(r)
+        _progress_raise(state)
+        return out
+
+
+cdef void _progress_call(void *ctx, long done, long total, const char *what) with gil:
+    """The library's progress callback (usm_progress.h) into a Python
+    callable: called one call at a time, from whichever thread of the study;
+    the first exception it raises is kept (the study goes on: it cannot be
+    stopped from here) and raised when the study returns."""
+    state = <list>ctx
+    if state[1] is not None:
+        return
+    try:
+        state[0](done, total, what.decode())
+    except BaseException as e:
+        state[1] = e
+
+
+cdef list _progress_state(progress):
+    """[callable, first exception] for _progress_call, or None."""
+    if progress is None:
+        return None
+    if not callable(progress):
+        raise TypeError("progress: must be callable as progress(done, total, what)")
+    return [progress, None]
+
+
+cdef void _progress_set(usm_progress *p, list state):
+    p.fn = NULL
+    p.ctx = NULL
+    if state is not None:
+        p.fn = _progress_call
+        p.ctx = <void *>state
+
+
+cdef object _progress_raise(list state):
+    if state is not None and state[1] is not None:
+        raise state[1]
 
 
 cdef object _problem(_Model self, usm_opt_problem *pb, usm_robust_problem *rp, objective,
@@ -878,7 +918,7 @@ cdef object _run_pareto(_Model self, objectives, dict vary, list constraints, in
 
 cdef object _run_tolerance(_Model self, list vary, list spec, samples, seed, threads,
                            double t0, method, rtol, steps, int from_rest, from_rest_periods,
-                           int allow_driven):
+                           int allow_driven, progress=None):
     cdef usm_tolerance_options opt
     cdef usm_tolerance_vary v[64]
     cdef usm_tolerance_spec sp[64]
@@ -921,9 +961,13 @@ cdef object _run_tolerance(_Model self, list vary, list spec, samples, seed, thr
         if not (opt.op.periods >= 1 and opt.op.periods <= 1e7):
             raise ValueError("from_rest_periods: must be in [1, 1e7]")
     opt.allow_driven = allow_driven
+    state = _progress_state(progress)
+    _progress_set(&opt.progress, state)
     with nogil:
         r = usm_run_tolerance(self.m, &self.p, v, nv, sp, ns, &opt, NULL)
-    return self._finish(r)
+    out = self._finish(r)
+    _progress_raise(state)
+    return out
 
 
 def tolerance_output_names():

@@ -241,14 +241,17 @@ class Model:
         return SensitivityResult(doc)
 
     def stability_map(self, x=None, y=None, t0=0.0, method=None, rtol=None, steps=None,
-                      threads=2, from_rest=False, from_rest_periods=None):
+                      threads=2, from_rest=False, from_rest_periods=None, progress=None):
         """The stability map over two parameters (`usm map --json`).  x, y:
         (name, from, to, points), or (name, points) for the default axis'
-        range; default f 30-46 kHz x T 0-8 mN m, 33 x 33."""
+        range; default f 30-46 kHz x T 0-8 mN m, 33 x 33.  progress: None
+        or a callable progress(done, total, "points"), called about ten
+        times a second and at the end (one call at a time; the first
+        exception it raises is raised when the map is done)."""
         if isinstance(threads, bool) or not isinstance(threads, int):
             raise TypeError("threads: must be an integer")
         st, msg, doc, _ = self._c._map(x, y, float(t0), method, rtol, steps, threads,
-                                       bool(from_rest), from_rest_periods)
+                                       bool(from_rest), from_rest_periods, progress)
         if st != 0:
             _raise(st, msg)
         return MapResult(doc)
@@ -310,7 +313,7 @@ class Model:
 
     def tolerance(self, samples, vary, spec=(), seed=None, threads=None, t0=0.0, method=None,
                   rtol=None, steps=None, from_rest=False, from_rest_periods=None,
-                  allow_driven=False):
+                  allow_driven=False, progress=None):
         """Monte Carlo tolerance study (`usm tolerance --json --samples N
         --vary ... --spec ...`): `samples` draws of the parameters of
         `vary` ({name: dist} or ["NAME=DIST", ...]; dist "normal:5%",
@@ -318,7 +321,8 @@ class Model:
         a unit), the yield against `spec` (["theta<=1e-4", ...]); seed
         (default 1), threads (default 2: the results do not depend on it);
         allow_driven (--allow-driven): a sample the load drives backwards
-        (power_out < 0) may count."""
+        (power_out < 0) may count.  progress: None or a callable
+        progress(done, total, "samples"), as stability_map's."""
         if isinstance(vary, dict):
             vary = ["%s=%s" % kv for kv in vary.items()]
         elif isinstance(vary, str):
@@ -327,7 +331,8 @@ class Model:
             spec = [spec]
         st, msg, doc, table = self._c._tolerance(list(vary), list(spec), samples, seed, threads,
                                                  float(t0), method, rtol, steps, bool(from_rest),
-                                                 from_rest_periods, bool(allow_driven))
+                                                 from_rest_periods, bool(allow_driven),
+                                                 progress)
         if st != 0:
             _raise(st, msg)
         names = [v.split("=", 1)[0] for v in vary] + _core.tolerance_output_names() \

@@ -12,6 +12,7 @@
 #include "commands.h"
 #include "diag.h"
 #include "options.h"
+#include "progress.h"
 #include "usm.h"
 #include "usm_io.h"
 #include "usm_plot.h"
@@ -30,7 +31,7 @@ static void usage(FILE *out)
             "               [--set NAME=VALUE]...\n"
             "               [--t0 S] [--floquet-method NAME] [--rtol R] [--threads N] [--json]\n"
             "               [--from-rest [--from-rest-periods N]]\n"
-            "               [--out FILE] [--plot PREFIX] [--force]\n"
+            "               [--out FILE] [--plot PREFIX] [--force] [--quiet]\n"
             "\n"
             "Stability map: at every point of a grid over two parameters, the stationary\n"
             "solution (full search) and the largest modulus of its Floquet multipliers.\n"
@@ -54,7 +55,9 @@ static void usage(FILE *out)
             "  --plot PREFIX       also write the CSV to PREFIX.csv and draw the map with\n"
             "                      gnuplot: PREFIX.gp, PREFIX.png, PREFIX.svg; existing\n"
             "                      files are kept unless --force is given\n"
-            "  --force             overwrite FILE and the --plot files\n"
+            "  --force             overwrite FILE and the --plot files\n");
+    cli_quiet_usage(out);
+    fprintf(out,
             "  -h, --help          print this help\n"
             "\n"
             "Output: CSV (default), header\n"
@@ -88,7 +91,7 @@ typedef struct map_args {
     double t0;
     const char *out;
     const char *plot; /* --plot PREFIX, or NULL */
-    int force, help;
+    int force, help, quiet;
 } map_args;
 
 static int parse(map_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
@@ -118,6 +121,8 @@ static int parse(map_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
             a->force = 1;
             continue;
         }
+        if (cli_quiet_option(&a->quiet, argc, argv, &i) == CLI_OPT_TAKEN)
+            continue;
         if ((r = cli_common_option(&a->common, argc, argv, &i, msg)) == CLI_OPT_TAKEN)
             continue;
         if (r == CLI_OPT_ERROR)
@@ -349,8 +354,12 @@ int cli_map_main(int argc, char **argv)
 #endif
     {
         usm_map_options opt;
+        cli_progress bar;
+        cli_progress_init(&bar, "usm map", a.quiet);
+        map.progress = cli_progress_callback(&bar);
         usm_report_map_options(&map, &opt);
         run = usm_run_map(map.model, &map.params, &opt);
+        cli_progress_end(&bar);
         status = usm_run_status(run);
         cli_msg(msg, "%s", usm_run_message(run));
         res = usm_run_map_result(run);

@@ -9,6 +9,7 @@
 #include "diag.h"
 #include "optimize_args.h"
 #include "options.h"
+#include "progress.h"
 #include "usm_io.h"
 #include "usm_optimize.h"
 #include "usm_robust.h"
@@ -20,6 +21,7 @@ typedef struct opt_args {
     usm_robust_problem rp;   /* the robust options; rp.nominal = pb at the end */
     int robust;              /* usm_robust_problem_is_robust */
     int help;
+    int quiet;               /* --quiet: no progress line (robust design) */
 } opt_args;
 
 static void usage(FILE *out)
@@ -32,7 +34,7 @@ static void usage(FILE *out)
             "                    [--set N=V]... [--from-rest [--from-rest-periods N]] [--json]\n"
             "       usm optimize --objective yield|mean:NAME|qNN:NAME|NAME --scatter NAME=DIST...\n"
             "                    [--constraint yield>=Y] [--samples N] [--verify-samples N]\n"
-            "                    [--seed S] [--threads N] [--max-evals N] (robust design)\n"
+            "                    [--seed S] [--threads N] [--max-evals N] [--quiet] (robust design)\n"
             "       usm optimize --objective NAME --over-range P=LO:HI[:N] [--range-stat S]\n"
             "                    [--band-threshold X] ... (ranges, datasheet quantities)\n"
             "\n"
@@ -105,7 +107,9 @@ static void usage(FILE *out)
             "                      stall event of usm sweep --over T)\n"
             "  no_load_speed       the speed at T = 0;  max_power: the largest power_out over\n"
             "                      the load range;  band_width: the length of the frequency\n"
-            "                      range where speed >= --band-threshold X [1/s]\n"
+            "                      range where speed >= --band-threshold X [1/s]\n");
+    cli_quiet_usage(out);
+    fprintf(out,
             "  -h, --help          print this help\n"
             "\n"
             "exit status: 0 optimum found, 1 numerical failure, 2 bad specification,\n"
@@ -339,6 +343,8 @@ static int parse(opt_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
             a->pb.no_flat = 1;
             continue;
         }
+        if (cli_quiet_option(&a->quiet, argc, argv, &i) == CLI_OPT_TAKEN)
+            continue;
         if ((r = cli_common_option(&a->common, argc, argv, &i, msg)) == CLI_OPT_TAKEN)
             continue;
         if (r == CLI_OPT_ERROR)
@@ -506,8 +512,12 @@ int cli_optimize_main(int argc, char **argv)
         return USM_OK;
     }
     const usm_model *m = a.common.model;
+    cli_progress bar; /* the robust search only: the nominal one takes seconds */
+    cli_progress_init(&bar, "usm optimize", a.quiet || !a.robust);
+    a.rp.nominal.progress = cli_progress_callback(&bar);
     usm_run *r = a.robust ? usm_run_robust(m, &a.common.params, &a.rp)
                           : usm_run_optimize(m, &a.common.params, &a.pb);
+    cli_progress_end(&bar);
     int status = usm_run_status(r);
     if (status != USM_OK) /* no feasible point: the message, and --json's object */
         cli_error("%s", usm_run_message(r));

@@ -8,6 +8,7 @@
 #include "diag.h"
 #include "optimize_args.h"
 #include "options.h"
+#include "progress.h"
 #include "usm_io.h"
 #include "usm_plot.h"
 #include "usm_robust.h"
@@ -21,6 +22,7 @@ typedef struct pareto_args {
     const char *plot;
     int force;
     int help;
+    int quiet;
 } pareto_args;
 
 static void usage(FILE *out)
@@ -30,7 +32,7 @@ static void usage(FILE *out)
             "                  [--constraint OUTPUT>=X | OUTPUT<=X]... [--points N]\n"
             "                  [--stability-margin D] [--allow-slip] [--allow-driven]\n"
             "                  [--starts N] [--t0 S] [--model M] [--variant V] [--params F]\n"
-            "                  [--set N=V]... [--json] [--plot PREFIX [--force]]\n"
+            "                  [--set N=V]... [--json] [--plot PREFIX [--force]] [--quiet]\n"
             "\n"
             "The Pareto front of two outputs of the operating point (the trade-off: no\n"
             "design is better in both) over the --vary parameters, under the constraints\n"
@@ -55,7 +57,9 @@ static void usage(FILE *out)
             "  --stability-margin D, --starts N, --t0 S, --allow-slip, --allow-driven:\n"
             "                      as usm optimize\n"
             "  --plot PREFIX       also PREFIX.csv and the figure PREFIX.png/svg (gnuplot)\n"
-            "  --force             overwrite the --plot files\n"
+            "  --force             overwrite the --plot files\n");
+    cli_quiet_usage(out);
+    fprintf(out,
             "  -h, --help          print this help\n"
             "\n"
             "exit status: 0 front found, 1 numerical failure, 2 bad specification,\n"
@@ -91,6 +95,8 @@ static int parse(pareto_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
             a->force = 1;
             continue;
         }
+        if (cli_quiet_option(&a->quiet, argc, argv, &i) == CLI_OPT_TAKEN)
+            continue;
         if ((r = cli_plot_option(argc, argv, &i, &a->plot, msg)) == CLI_OPT_TAKEN)
             continue;
         if (r == CLI_OPT_ERROR)
@@ -213,8 +219,12 @@ int cli_pareto_main(int argc, char **argv)
         usage(stdout);
         return USM_OK;
     }
+    cli_progress bar;
+    cli_progress_init(&bar, "usm pareto", a.quiet);
+    a.pb.progress = cli_progress_callback(&bar);
     usm_run *r = usm_run_pareto(a.common.model, &a.common.params, &a.pb, a.obj, a.minimize,
                                 a.points);
+    cli_progress_end(&bar);
     int status = usm_run_status(r);
     const usm_pareto_result *res = usm_run_pareto_result(r);
     if (status != USM_OK) {

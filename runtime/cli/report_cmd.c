@@ -6,6 +6,7 @@
 #include "commands.h"
 #include "diag.h"
 #include "options.h"
+#include "progress.h"
 #include "usm.h"
 #include "usm_report.h"
 
@@ -13,7 +14,7 @@ static void usage(FILE *out)
 {
     fprintf(out,
             "usage: usm report --out DIR [--quick] [--force] [--no-plots] [--threads N]\n"
-            "                  [--params FILE.json] [--set NAME=VALUE]...\n"
+            "                  [--params FILE.json] [--set NAME=VALUE]... [--quiet]\n"
             "\n"
             "Reproduce the paper: compute the stationary solutions, Floquet multipliers,\n"
             "motor characteristics (speed vs f, T, m0) and stability maps of both models and\n"
@@ -30,7 +31,9 @@ static void usage(FILE *out)
             "  --no-plots          write data and gnuplot scripts but do not run gnuplot\n"
             "  --threads N         worker threads (default 2)\n"
             "  --params FILE.json  parameter values (default: the paper's)\n"
-            "  --set NAME=VALUE    set one parameter (repeatable; applied after --params)\n"
+            "  --set NAME=VALUE    set one parameter (repeatable; applied after --params)\n");
+    cli_quiet_usage(out);
+    fprintf(out,
             "  -h, --help          print this help\n"
             "\n"
             "gnuplot is taken from $USM_GNUPLOT, else \"gnuplot\" on the PATH.\n"
@@ -43,7 +46,7 @@ static void usage(FILE *out)
 typedef struct report_args {
     cli_common common;
     const char *out;
-    int quick, force, plots, threads, help;
+    int quick, force, plots, threads, help, quiet;
 } report_args;
 
 static int parse(report_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
@@ -63,6 +66,8 @@ static int parse(report_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
             a->quick = 1;
             continue;
         }
+        if (cli_quiet_option(&a->quiet, argc, argv, &i) == CLI_OPT_TAKEN)
+            continue;
         if (strcmp(argv[i], "--force") == 0) {
             a->force = 1;
             continue;
@@ -145,7 +150,12 @@ int cli_report_main(int argc, char **argv)
         cli_error("--out %s", msg);
         return USM_EINPUT;
     }
-    if ((status = usm_report_write(a.out, &a.common.params, &opt, msg)) != USM_OK) {
+    cli_progress bar;
+    cli_progress_init(&bar, "usm report", a.quiet);
+    opt.progress = cli_progress_callback(&bar);
+    status = usm_report_write(a.out, &a.common.params, &opt, msg);
+    cli_progress_end(&bar);
+    if (status != USM_OK) {
         cli_error("%s", msg);
         return status;
     }

@@ -12,6 +12,7 @@
 
 #include "commands.h"
 #include "options.h"
+#include "progress.h"
 #include "usm_plot.h"
 #include "usm_run.h"
 #include "usm_tolerance.h"
@@ -33,7 +34,7 @@ static void usage(FILE *out)
           "         [--seed S] [--threads N]\n"
           "         [--model M] [--variant V] [--params F] [--set N=V]...\n"
           "         [--floquet-method NAME] [--rtol R] [--from-rest]\n"
-          "         [--out DIR [--force]] [--checkpoint FILE] [--json]\n\n"
+          "         [--out DIR [--force]] [--checkpoint FILE] [--json] [--quiet]\n\n"
           "Monte Carlo tolerance study: at N parameter points drawn around the nominal\n"
           "design, the stationary solution and its Floquet multipliers; the yield with its\n"
           "95 % Wilson interval, quantiles, and the Spearman rank correlation of each\n"
@@ -63,8 +64,10 @@ static void usage(FILE *out)
           "                      binned counts), histograms.png/svg (--force: write into an\n"
           "                      existing DIR)\n"
           "  --checkpoint FILE   keep completed blocks in FILE (under mpirun also FILE.R for\n"
-          "                      rank R); the same command resumes, with any number of ranks\n\n"
-          "Output: a Markdown summary; --json: {samples, seed, yield, yield_ci, quantiles,\n"
+          "                      rank R); the same command resumes, with any number of ranks\n",
+          out);
+    cli_quiet_usage(out);
+    fputs("\nOutput: a Markdown summary; --json: {samples, seed, yield, yield_ci, quantiles,\n"
           "influence, failed, redrawn, exists, stable, good, operating_point, invalid,\n"
           "invalid_reasons, driven, timings: {compute, reduce, statistics, output (wall seconds),\n"
           "compute_cpu, output_cpu (CPU seconds)}};\n"
@@ -79,7 +82,7 @@ typedef struct tol_args {
     usm_tolerance_options opt;
     usm_tolerance_vary vary[USM_NPARAMS + 1];
     usm_tolerance_spec spec[64];
-    int nvary, nspec, have_samples, force, help;
+    int nvary, nspec, have_samples, force, help, quiet;
     const char *out;
 } tol_args;
 
@@ -163,6 +166,8 @@ static int parse(tol_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
             a->opt.allow_driven = 1;
             continue;
         }
+        if (cli_quiet_option(&a->quiet, argc, argv, &i) == CLI_OPT_TAKEN)
+            continue;
         if ((r = cli_common_option(&a->common, argc, argv, &i, msg)) == CLI_OPT_NOT_MINE &&
             (r = cli_floquet_option(&a->opt.floquet, argc, argv, &i, msg)) == CLI_OPT_NOT_MINE &&
             (r = cli_from_rest_option(&a->opt.op, argc, argv, &i, msg)) == CLI_OPT_NOT_MINE)
@@ -322,12 +327,17 @@ int cli_tolerance_main(int argc, char **argv)
         status = check_out(&a, msg);
     if (status == USM_OK) {
         usm_tolerance_runner runner = NULL;
+        cli_progress bar;
+        /* under mpirun the ranks' shares are not one count to draw */
+        cli_progress_init(&bar, "usm tolerance", a.quiet || size > 1);
+        a.opt.progress = cli_progress_callback(&bar);
 #ifdef USM_HAVE_MPI
         if (size > 1)
             runner = usm_tolerance_run_mpi;
 #endif
         run = usm_run_tolerance(a.common.model, &a.common.params, a.vary, a.nvary, a.spec,
                                 a.nspec, &a.opt, runner);
+        cli_progress_end(&bar);
         t = usm_run_tolerance_result(run);
         status = usm_run_status(run);
         /* the library names its fields "vary", "spec" and "checkpoint"; the

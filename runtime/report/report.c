@@ -31,6 +31,7 @@
 #include <unistd.h>
 
 #include "core/outfile.h"
+#include "core/progress.h"
 #include "io/data_dir.h"
 #include "io/io_msg.h"
 #include "io/json_out.h"
@@ -43,6 +44,7 @@ void usm_report_options_default(usm_report_options *opt)
     opt->threads = 2;
     opt->plots = 1;
     opt->force = 0;
+    opt->progress = (usm_progress){NULL, NULL};
 }
 
 /* mkdir -p */
@@ -401,15 +403,16 @@ int usm_report_write(const char *dir, const usm_params *p, const usm_report_opti
     }
     d->params = *p;
     d->opt = *opt;
-    status = usm_report_compute(d, msg);
-    if (status == USM_OK)
-        status = usm_report_compute_maps(d, msg);
-    if (status == USM_OK)
-        status = usm_report_compute_nonideal(d, msg);
-    if (status == USM_OK)
-        status = usm_report_compute_squeal(d, msg);
-    if (status == USM_OK)
-        status = usm_report_compute_design(d, msg);
+    int (*const section[])(usm_report_data *, char *) = {
+        usm_report_compute, usm_report_compute_maps, usm_report_compute_nonideal,
+        usm_report_compute_squeal, usm_report_compute_design};
+    const long nsection = (long)(sizeof section / sizeof section[0]);
+    progress_meter meter; /* the files are the last section */
+    progress_start(&meter, &opt->progress, nsection + 1, 0, "sections");
+    status = USM_OK;
+    for (long k = 0; k < nsection && status == USM_OK; ++k)
+        if ((status = section[k](d, msg)) == USM_OK)
+            progress_add(&meter, 1);
     if (status == USM_OK) {
         usm_outfile_clean_stages(dir, report_name);
         if (is_link(dir) && !opt->force) { /* appeared since usm_report_prepare_dir */
@@ -478,6 +481,7 @@ int usm_report_write(const char *dir, const usm_params *p, const usm_report_opti
     close(lock);
     if (status != USM_OK)
         return USM_EFAILED;
+    progress_add(&meter, 1);
     if (opt->plots && !plots_ok) {
         usm_io_msg(msg, "%s", plot_note);
         return USM_EFAILED;

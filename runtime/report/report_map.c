@@ -70,6 +70,7 @@ void usm_report_map_options(const usm_report_map *map, usm_map_options *opt)
     opt->boundaries = map->boundaries;
     if (map->op)
         opt->op = *map->op;
+    opt->progress = map->progress;
 }
 
 int usm_report_map_fill(usm_report_map *map, const usm_map_cell *cells,

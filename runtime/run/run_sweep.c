@@ -139,6 +139,7 @@ usm_run *usm_run_map(const usm_model *m, const usm_params *p, const usm_map_opti
     map->op = &d->opt.op;
     map->threads = opt->threads;
     map->boundaries = opt->boundaries; /* --json: 1 */
+    map->progress = opt->progress;
     int status = usm_report_map_run(map, r->msg);
     if (status != USM_OK)
         r->status = status;

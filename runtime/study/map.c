@@ -7,6 +7,7 @@
 
 #include "core/grid.h"
 #include "core/pool_internal.h"
+#include "core/progress.h"
 #include "core/root.h"
 #include "point_worker.h"
 #include "usm_map.h"
@@ -226,6 +227,7 @@ struct usm_map {
     int *col_count[USM_MAP_NBOUNDARY];
     int *col_failures;
     char *col_msg;             /* per column: why it stopped (USM_EINPUT) */
+    progress_meter meter;      /* the grid's points, by column (under the pool's lock) */
 };
 
 usm_map *usm_map_alloc(const usm_model *m)
@@ -445,6 +447,13 @@ static int column_task(void *ctx, void *state, size_t i)
 
 /* ---- the run ------------------------------------------------------------------------ */
 
+static void column_done(void *ctx, size_t i)
+{
+    usm_map *map = ctx;
+    (void)i;
+    progress_add(&map->meter, (long)map->opt.y.points);
+}
+
 static int cmp_boundary(const void *pa, const void *pb)
 {
     const usm_map_boundary_point *a = pa, *b = pb;
@@ -492,7 +501,9 @@ int usm_map_run(usm_map *map, const usm_params *p, const usm_map_options *opt)
         snprintf(map->msg, USM_MSG_LEN, "out of memory for a %zu x %zu map", nx, ny);
         return USM_EFAILED;
     }
-    pool_job job = {nx, opt->threads, map, worker_alloc, point_worker_free, column_task, NULL};
+    progress_start(&map->meter, &opt->progress, (long)(nx * ny), 0, "points");
+    pool_job job = {nx, opt->threads, map, worker_alloc, point_worker_free, column_task,
+                    column_done};
     int status = pool_run(&job, map->msg);
     if (status == USM_EINPUT)
         for (size_t i = 0; i < nx; ++i)

@@ -9,6 +9,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "core/progress.h"
 #include "usm_robust.h"
 
 static double now(void)
@@ -41,6 +42,7 @@ static int solve(usm_optimize *o, const usm_params *p, const usm_opt_problem *pb
     q.objective = objective;
     q.minimize = minimize;
     q.no_flat = 1;
+    q.progress = (usm_progress){NULL, NULL}; /* the front reports, not each optimization */
     if (start) {
         q.has_start = 1;
         q.starts = 1;
@@ -103,10 +105,13 @@ int usm_pareto_run(const usm_model *m, const usm_params *p, const usm_opt_proble
         status = USM_EFAILED;
         goto done;
     }
+    progress_meter meter;
+    progress_start(&meter, &pb->progress, points, 0, "front points");
     /* the two single optima bound the front */
     for (int i = 0; i < 2; ++i) {
         const int got = solve(o, p, pb, obj[i], minimize[i], obj, NULL, r, &anchor[i], msg);
         res->computed++;
+        progress_add(&meter, 1);
         if (got <= 0) {
             if (got == 0)
                 snprintf(msg, USM_MSG_LEN, "no feasible design for %s alone: %.200s",
@@ -141,6 +146,7 @@ int usm_pareto_run(const usm_model *m, const usm_params *p, const usm_opt_proble
                 status = USM_EFAILED;
                 goto done;
             }
+            progress_add(&meter, 1);
             if (got == 0)
                 continue;
             all[n++] = pt;

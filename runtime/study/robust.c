@@ -13,6 +13,7 @@
 
 #include <nlopt.h>
 
+#include "core/progress.h"
 #include "usm_map.h"
 #include "usm_robust.h"
 
@@ -202,6 +203,7 @@ typedef struct ctx {
     double best_x[USM_NPARAMS], best_obj, best_viol;
     char msg[USM_MSG_LEN];
     int failed;
+    progress_meter meter;    /* designs evaluated, against the searches' budgets */
 } ctx;
 
 static void design(const ctx *c, const double *x, usm_params *p)
@@ -247,7 +249,18 @@ static int cons_texts(ctx *c)
 
 /* The design at box point x: c->obj (the objective, NaN when undefined),
  * c->cons (scaled, <= 0 when met), c->ok (a design with an operating point). */
+static void evaluate_design(ctx *c, const double *x);
+
+/* A design; a new one counts for the progress. */
 static void evaluate(ctx *c, const double *x)
+{
+    const int before = c->evaluations;
+    evaluate_design(c, x);
+    if (c->evaluations != before)
+        progress_add(&c->meter, 1);
+}
+
+static void evaluate_design(ctx *c, const double *x)
 {
     const usm_robust_problem *rp = c->rp;
     const usm_opt_problem *pb = &rp->nominal;
@@ -425,6 +438,12 @@ static double now(void)
 
 /* The design at box point x described, with a fresh sample's yield when
  * there is scatter (fresh: the verification set, NULL: none). */
+/* The fresh verification sample in designs' worth of CRN samples: its cost. */
+static long verify_weight(const usm_robust_problem *rp)
+{
+    return rp->nscatter > 0 ? (long)((rp->verify_samples + rp->samples - 1) / rp->samples) : 0;
+}
+
 static int describe(ctx *c, const double *x, usm_yield *fresh, usm_robust_design *d)
 {
     const usm_robust_problem *rp = c->rp;
@@ -477,6 +496,7 @@ static int describe(ctx *c, const double *x, usm_yield *fresh, usm_robust_design
         d->yield_lo = yr.yield_lo;
         d->yield_hi = yr.yield_hi;
         d->verify_samples = yr.samples;
+        progress_add(&c->meter, verify_weight(rp));
     }
     return USM_OK;
 }
@@ -534,8 +554,20 @@ int usm_robust_run(const usm_model *m, const usm_params *p, const usm_robust_pro
     int have_nominal = 0;
     for (int j = 0; j < c->n; ++j)
         x0[j] = 0.5;
-    if (rp->objective < USM_OPT_OUTPUT_COUNT && rp->qopt.range.param < 0 &&
-        usm_opt_output_analytic(rp->objective) == 1 && rp->nderived == 0) {
+    const int try_nominal = rp->objective < USM_OPT_OUTPUT_COUNT && rp->qopt.range.param < 0 &&
+                            usm_opt_output_analytic(rp->objective) == 1 && rp->nderived == 0;
+    {
+        /* the planned designs: each phase's start and budget, and the
+         * described designs with their verification samples; a search that
+         * starts again adds its budget */
+        const int coarse = rp->samples >= 4000 && c->crn;
+        const long describe_cost = 1 + verify_weight(rp);
+        long total = 1 + rp->max_evals + describe_cost * (try_nominal ? 2 : 1);
+        if (coarse)
+            total += 1 + (rp->max_evals + 1) / 2;
+        progress_start(&c->meter, &rp->nominal.progress, total, 0, "designs");
+    }
+    if (try_nominal) {
         usm_optimize *o = usm_optimize_alloc(m);
         usm_opt_result *r = malloc(sizeof *r);
         usm_opt_problem pb = rp->nominal;
@@ -599,12 +631,14 @@ int usm_robust_run(const usm_model *m, const usm_params *p, const usm_robust_pro
              * search from its best point */
             if (c->best_have)
                 memcpy(x, c->best_x, sizeof x);
+            progress_extend(&c->meter, rp->max_evals);
             bad = cobyla(c, x, rp->max_evals, RHO_BEGIN) != 0 || c->failed;
         }
         if (!bad && !(c->best_have && c->best_viol <= 0) && have_nominal &&
             (phase == 0 || !coarse)) {
             for (int j = 0; j < c->n; ++j)
                 x[j] = 0.5;
+            progress_extend(&c->meter, budget);
             bad = cobyla(c, x, budget, RHO_BEGIN) != 0 || c->failed;
         }
         if (phase == 0)
@@ -662,6 +696,7 @@ int usm_robust_run(const usm_model *m, const usm_params *p, const usm_robust_pro
                      "has a stationary solution with an operating point");
         status = USM_ENOSOLUTION;
     }
+    progress_finish(&c->meter); /* the searches converged within their budgets */
 done:
     res->seconds = now() - t_start;
     usm_yield_free(c->crn);

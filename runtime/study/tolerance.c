@@ -508,6 +508,12 @@ static int sample(usm_tolerance *t, worker *w, uint64_t i, double *row, char msg
     return USM_OK;
 }
 
+static void block_done(void *ctx, size_t k)
+{
+    run_ctx *c = ctx;
+    progress_add(&c->t->meter, (long)tol_block_size(c->t, c->blocks[k]));
+}
+
 static int block_task(void *ctx, void *state, size_t k)
 {
     run_ctx *c = ctx;
@@ -537,7 +543,7 @@ int tol_compute(usm_tolerance *t, const uint64_t *blocks, size_t n, double *pack
     for (size_t k = 1; k < n; ++k)
         c.offset[k] = c.offset[k - 1] + tol_block_size(t, blocks[k - 1]);
     t->fail_block = UINT64_MAX;
-    pool_job job = {n, t->opt.threads, &c, worker_alloc, worker_free, block_task, NULL};
+    pool_job job = {n, t->opt.threads, &c, worker_alloc, worker_free, block_task, block_done};
     status = pool_run(&job, t->msg);
     /* the first failing block in list order names the sample: independent of threads */
     for (size_t k = 0; status != USM_OK && k < n; ++k)
@@ -679,6 +685,7 @@ int tol_prepare(usm_tolerance *t, const usm_params *p, const usm_tolerance_optio
     t->nblocks = (opt->samples + USM_TOLERANCE_BLOCK - 1) / USM_TOLERANCE_BLOCK;
     memset(&t->sum, 0, sizeof t->sum);
     memset(&t->timings, 0, sizeof t->timings);
+    memset(&t->meter, 0, sizeof t->meter);
     t->write_seconds = 0.0;
     t->last_write = tol_now();
     t->rank = rank;
@@ -727,6 +734,11 @@ int usm_tolerance_run(usm_tolerance *t, const usm_params *p, const usm_tolerance
         return USM_EFAILED;
     }
     const size_t pending = tol_pending(t, list);
+    uint64_t left = 0;
+    for (size_t k = 0; k < pending; ++k)
+        left += tol_block_size(t, list[k]);
+    progress_start(&t->meter, &opt->progress, (long)opt->samples, (long)(opt->samples - left),
+                   "samples");
     for (size_t at = 0; at < pending && status == USM_OK;) {
         size_t n = pending - at < round ? pending - at : round;
         if (opt->stop_after_blocks && n > opt->stop_after_blocks - computed)

@@ -23,6 +23,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "core/progress.h"
 #include "usm_tolerance.h"
 
 #define TOL_MAX_SPECS 64
@@ -61,6 +62,7 @@ struct usm_tolerance {
                                UINT64_MAX: under MPI the lowest one is reported */
     /* wall seconds of each phase of the last run (usm_tolerance_timings) */
     usm_tolerance_timings timings;
+    progress_meter meter;   /* samples done (serial run only: under MPI it stays silent) */
     /* the result */
     int have_result;
     /* the figure's histograms (tol_finish): TOL_HIST_BINS bins of equal width over

@@ -233,6 +233,33 @@ def test_tolerance(model, variant, params, vary, spec):
     assert np.array_equal(got.table["good"], [r["good"] == "true" for r in rows])
 
 
+def test_progress():
+    # progress=: done never decreases, ends at total, the unit is the
+    # study's; the result is the one without a callback; the callable's
+    # exception is raised when the study returns
+    m = usm.Model("3dof")
+    for study, total, unit in (
+            (lambda **kw: m.tolerance(3000, {"F0": "normal:5%"}, seed=2, **kw), 3000,
+             "samples"),
+            (lambda **kw: m.stability_map(x=("f", 6), y=("T", 5), **kw), 30, "points")):
+        calls = []
+        got = study(progress=lambda d, t, w: calls.append((d, t, w)))
+        done = [c[0] for c in calls]
+        assert calls and done == sorted(done) and done[-1] == total, calls
+        assert {(c[1], c[2]) for c in calls} == {(total, unit)}
+        have, want = got.to_dict(), study().to_dict()
+        have.pop("timings", None)
+        want.pop("timings", None)
+        assert have == want
+
+    def stop(done, total, what):
+        raise KeyboardInterrupt("stop")
+    with pytest.raises(KeyboardInterrupt):
+        m.tolerance(200, {"F0": "normal:5%"}, progress=stop)
+    with pytest.raises(TypeError, match="progress"):
+        m.tolerance(200, {"F0": "normal:5%"}, progress=3)
+
+
 @pytest.mark.parametrize("model", ["3dof", "4dof"])
 def test_periodic_tilt(model):
     """The variant tilt's periodic orbit (the tilt vector) is twist_integrated's

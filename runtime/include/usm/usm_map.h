@@ -27,6 +27,7 @@
 
 #include "usm.h"
 #include "usm_operating_point.h"
+#include "usm_progress.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -143,6 +144,8 @@ typedef struct usm_map_options {
                               full search, warm_start ignored for the cells); default 1 */
     usm_op_options op;     /* how (usm_op_options_default: no simulation from rest, so
                               cells with several roots are USM_POINT_OP_UNKNOWN) */
+    usm_progress progress; /* the grid's points as their columns finish ("points"; the
+                              boundaries' bisections are not counted); default silent */
 } usm_map_options;
 
 /* Fill `opt` with the defaults listed above. */

@@ -38,6 +38,7 @@
 #include <stdio.h>
 
 #include "usm.h"
+#include "usm_progress.h"
 #include "usm_design.h"
 #include "usm_operating_point.h"
 
@@ -168,6 +169,13 @@ typedef struct usm_opt_problem {
      * to its bounds) instead of the lattice's first point. */
     int has_start;
     double start[USM_NPARAMS];
+    /* Read by usm_pareto_run, the front's optimizations as they finish
+     * ("front points", total = its points), and by usm_robust_run (as
+     * rp->nominal.progress), the designs evaluated ("designs": total = the
+     * searches' budgets plus the verification sample in designs' worth; it
+     * grows when a search starts again, and the last call has done = total).
+     * usm_optimize_run does not report.  Default silent. */
+    usm_progress progress;
 } usm_opt_problem;
 
 /* No objective, nothing varied, no constraint, margin 0.01, power_out >= 0

@@ -18,6 +18,7 @@
 
 #include "usm.h"
 #include "usm_io.h" /* USM_IO_MSG_LEN */
+#include "usm_progress.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -29,9 +30,12 @@ typedef struct usm_report_options {
     int threads;  /* worker threads, 1 to 64 */
     int plots;    /* run gnuplot on the scripts */
     int force;    /* replace files in dir that usm report did not write */
+    usm_progress progress; /* the sections as they finish ("sections": the stationary
+                              curves, the maps, the non-ideal motors, squeal, the
+                              design, the files); {NULL}: silent */
 } usm_report_options;
 
-/* quick 0, threads 2, plots 1, force 0. */
+/* quick 0, threads 2, plots 1, force 0, progress silent. */
 void usm_report_options_default(usm_report_options *opt);
 
 /* USM_OK when opt is usable, else USM_EINPUT with "FIELD: reason" in msg

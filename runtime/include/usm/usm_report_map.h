@@ -87,6 +87,7 @@ typedef struct usm_report_map {
     int boundaries;  /* locate the boundaries (1) or not (0) */
     const usm_op_options *op; /* the operating point's rule (NULL: usm_op_options_default,
                                  no simulation from rest) */
+    usm_progress progress; /* the map's progress (usm_map_options); {NULL}: silent */
     /* output: cells[j * x.points + i] is (x_i, y_j) */
     usm_report_map_cell *cells;
     usm_report_boundary_point *bnd[USM_REPORT_NBOUNDARY];
@@ -99,7 +100,7 @@ typedef struct usm_report_map {
 void usm_report_map_cell_copy(const usm_map_cell *in, usm_report_map_cell *c);
 
 /* The usm_map_options of map: its axes by name, t0, Floquet options,
- * threads, boundaries. */
+ * threads, boundaries, progress. */
 void usm_report_map_options(const usm_report_map *map, usm_map_options *opt);
 
 /* Fill map's cells and boundaries from a map computed elsewhere, as arrays:

@@ -49,6 +49,7 @@
 
 #include "usm.h"
 #include "usm_operating_point.h"
+#include "usm_progress.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -177,6 +178,8 @@ typedef struct usm_tolerance_options {
                                 an unknown operating point and does not count) */
     int allow_driven;        /* 1: a sample whose load drives its rotor backwards
                                 (power_out < 0) may count; 0 (default): it does not */
+    usm_progress progress;   /* the samples as their blocks finish ("samples"; a resumed
+                                checkpoint's count first); default silent */
 } usm_tolerance_options;
 
 /* Fill `opt` with the defaults listed above. */
