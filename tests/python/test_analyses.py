@@ -221,7 +221,7 @@ def test_tolerance(model, variant, params, vary, spec):
     # keys are compared, the values are not
     have = got.to_dict()
     assert set(have.pop("timings")) == set(want.pop("timings")) == \
-        {"compute", "reduce", "statistics", "output"}
+        {"compute", "reduce", "statistics", "output", "compute_cpu", "output_cpu"}
     assert have == want and got.samples == 70
     # the samples are the command's samples.csv, number for number
     for col in ["theta [rad]", "rotor_speed [1/s]", "F_n [N]", "F_t [N]", "max_modulus [1]",
