@@ -160,7 +160,10 @@ int usm_param_check_value(int k, double v, char msg[USM_MSG_LEN])
     show(val, sizeof val, v, info->unit);
     show(lo, sizeof lo, r->lo, info->unit);
     show(hi, sizeof hi, r->hi, info->unit);
-    snprintf(msg, USM_MSG_LEN, "%s = %s is outside %s..%s%s", info->name, val, lo, hi, hint);
+    /* a hint cut short at the message's length still names the field first */
+    if (snprintf(msg, USM_MSG_LEN, "%s = %s is outside %s..%s%s", info->name, val, lo, hi, hint) >=
+        USM_MSG_LEN)
+        msg[USM_MSG_LEN - 1] = '\0';
     return USM_EINPUT;
 }
 
