@@ -1,25 +1,25 @@
-/* Pseudo-arclength continuation of the stationary solution, and the events
- * on the branch (fold, tilt-range boundary, stick limit, friction saturation).
+/* The stationary solution followed in one parameter, posed to the
+ * continuation engine (cont/, usm_cont.h), and the events on its branch.
  *
- * Math: with z = (u / su, lambda / Lambda) the branch is F(z) = r(u; lambda) = 0,
- * one equation short of a square system.  Keller's bordered system adds one
- * linear row c.z = c0:
- *   tangent    [F_z; t_prev] t = e_n            (F_z from steady_jacobian and the
- *                                                 swept column of steady_jacobian_params)
- *   step       predictor z + h t, corrector Newton on [F; t.(z - z_k) - h] = 0
- *   landing    Newton on [F; z_lambda - g / Lambda] = 0   (a grid value g)
- *   saturation Newton on [F; z_rotor - W / su]     = 0   (rotor speed "infinite")
- * The bordered matrix stays regular at a fold, where F_u alone is singular, so
- * the branch is followed through points where lambda turns.
- *
- * An accepted step from z_k is the arc s -> z(s), s in [0, h], each z(s)
- * corrected onto the branch in the hyperplane t_k.(z - z_k) = s.  Events are
- * roots of scalar functions of s located by Brent's method on that arc:
- *   fold      the lambda component of the tangent (lambda is extremal there, so
- *             the error in lambda is quadratic in the error in s)
- *   boundary  theta(s) - theta_min, theta_max - theta(s)
- *   stick     |F_t| - mu0 F_n
- *   grid      lambda(s) - g, then the landing correction at exactly g.
+ * The zero problem: x = (u, lambda), F(x) = r(u; lambda) (steady_residual),
+ * its Jacobian [r_u, r_lambda] from steady_jacobian and the swept column of
+ * steady_jacobian_params; the engine works in z = (u / su, lambda / Lambda)
+ * (the components differ by ten orders of magnitude: theta ~ 1e-4 rad,
+ * f ~ 4e4 Hz), the scales growing with the unknowns (rescale).  The engine
+ * predicts, corrects, controls the step and locates the zeros of the test
+ * functions on each step's arc to 1e-15 in the scaled arclength:
+ *   fold      its own (d lambda/ds; lambda is extremal there, so its error is
+ *             quadratic in the error of s); the branch ends there
+ *   boundary  theta - theta_min, theta_max - theta: the branch ends there
+ *   stick     |F_t| - mu0 F_n (stick models)
+ *   stall     the rotor speed phidot_R (slip models), then Newton with it
+ *             fixed at 0 exactly
+ *   monitors  y - level for each level, dy/ds for extrema
+ * This file keeps what is the sweep's own: the grid values landed on (the
+ * arc's point at the value's share of the step, then Newton with lambda
+ * fixed), the full searches where a branch starts or is lost, the tilt's
+ * zero and the friction saturation (Newton with theta or the rotor speed
+ * fixed: usm_cont_correct_fixed), and the points and events passed on.
  */
 #include <math.h>
 #include <stdarg.h>
@@ -28,16 +28,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <gsl/gsl_errno.h>
-
 #include "sweep_branch.h"
 
-#define NEWTON_MAX 12
-#define NEWTON_TOL 1e-10      /* max |dz| of the last Newton step (scaled units) */
 #define H_MAX 0.05            /* longest step: 1/20 of the sweep range in lambda */
 #define H_MIN 1e-13
-#define COS_MAX_TURN 0.9      /* successive tangents at most ~25 degrees apart */
-#define MAX_STEPS 2000000
 /* Once F_t / F_n is this close to the friction law's supremum the saturation
  * point is computed directly instead of following the diverging rotor speed. */
 #define SAT_TRIGGER 0.999
@@ -46,32 +40,19 @@
 
 int sweep_branch_alloc(sweep_branch *b, const usm_model *m)
 {
-    const size_t n = (size_t)m->nu + 1;
     memset(b, 0, sizeof *b);
     b->m = m;
     b->nu = m->nu;
     b->n = m->nu + 1;
     b->rotor = m->friction ? m->u_phidot_R : -1;
-    b->A = gsl_matrix_alloc(n, n);
-    b->perm = gsl_permutation_alloc(n);
-    b->b = gsl_vector_alloc(n);
-    b->x = gsl_vector_alloc(n);
-    b->root = usm_root_alloc();
     b->steady = usm_steady_alloc(m);
-    return b->A && b->perm && b->b && b->x && b->root && b->steady ? 0 : -1;
+    return b->steady ? 0 : -1;
 }
 
 void sweep_branch_free(sweep_branch *b)
 {
-    if (b->A)
-        gsl_matrix_free(b->A);
-    if (b->perm)
-        gsl_permutation_free(b->perm);
-    if (b->b)
-        gsl_vector_free(b->b);
-    if (b->x)
-        gsl_vector_free(b->x);
-    usm_root_free(b->root);
+    usm_cont_free(b->cont);
+    free(b->tests);
     usm_steady_free(b->steady);
     free(b->pev);
     free(b->ppt);
@@ -167,23 +148,9 @@ static void flush(sweep_branch *b)
 
 static void discard(sweep_branch *b) { b->nppt = b->npev = 0; }
 
-/* ---- the bordered system ------------------------------------------------------ */
+/* ---- the problem posed to the engine ---------------------------------------------- */
 
-static double dot(const sweep_branch *b, const double *x, const double *y)
-{
-    double d = 0;
-    for (int j = 0; j < b->n; ++j)
-        d += x[j] * y[j];
-    return d;
-}
-
-static double lambda_of(const sweep_branch *b, const double *z) { return z[b->nu] * b->scale[b->nu]; }
-
-static void unscale(const sweep_branch *b, const double *z, double *u)
-{
-    for (int i = 0; i < b->nu; ++i)
-        u[i] = z[i] * b->scale[i];
-}
+static double lambda_of(const sweep_branch *b, const double *x) { return x[b->nu]; }
 
 static void set_lambda(sweep_branch *b, double lambda) { *usm_params_field(&b->p, b->info) = lambda; }
 
@@ -199,110 +166,42 @@ static int admissible(const sweep_branch *b, double lambda)
     return isfinite(lambda);
 }
 
-/* F(z) into F[0..nu-1]; with jac, the scaled F_z into rows 0..nu-1 of A. */
-static int eval(sweep_branch *b, const double *z, double *F, int jac)
+/* The engine's residual: r(u; lambda) and [r_u, r_lambda] from the generated
+ * kernels, x = (u, lambda). */
+static int branch_residual(const double *x, double *F, double *Jx, void *ctx)
 {
-    const int nu = b->nu;
-    double u[USM_MAX_NU], J[USM_MAX_NU * USM_MAX_NU], Jp[USM_MAX_NU * USM_NPARAMS];
-    if (!admissible(b, lambda_of(b, z)))
+    sweep_branch *b = ctx;
+    const int nu = b->nu, N = b->n;
+    double J[USM_MAX_NU * USM_MAX_NU], Jp[USM_MAX_NU * USM_NPARAMS];
+    if (!admissible(b, lambda_of(b, x)))
         return -1;
-    unscale(b, z, u);
-    set_lambda(b, lambda_of(b, z));
-    b->m->steady_residual(u, &b->p, F);
-    for (int i = 0; i < nu; ++i)
-        if (!isfinite(F[i]))
-            return -1;
-    if (!jac)
+    set_lambda(b, lambda_of(b, x));
+    b->m->steady_residual(x, &b->p, F);
+    if (!Jx)
         return 0;
-    b->m->steady_jacobian(u, &b->p, J);
-    b->m->steady_jacobian_params(u, &b->p, Jp);
+    b->m->steady_jacobian(x, &b->p, J);
+    b->m->steady_jacobian_params(x, &b->p, Jp);
     for (int i = 0; i < nu; ++i) {
         for (int j = 0; j < nu; ++j)
-            gsl_matrix_set(b->A, (size_t)i, (size_t)j, J[i * nu + j] * b->scale[j]);
-        gsl_matrix_set(b->A, (size_t)i, (size_t)nu, Jp[i * USM_NPARAMS + b->col] * b->scale[nu]);
+            Jx[i * N + j] = J[i * nu + j];
+        Jx[i * N + nu] = Jp[i * USM_NPARAMS + b->col];
     }
-    /* rows 0..nu-1 only: the last row is the border, set by solve_bordered */
-    for (size_t k = 0; k < (size_t)nu * b->A->size2; ++k)
-        if (!isfinite(b->A->data[k]))
-            return -1;
-    return 0;
-}
-
-/* x = A^{-1} rhs with the last row of A replaced by c (rows 0..nu-1 from eval). */
-static int solve_bordered(sweep_branch *b, const double *c, const double *rhs, double *x)
-{
-    int sign;
-    for (int j = 0; j < b->n; ++j) {
-        gsl_matrix_set(b->A, (size_t)b->nu, (size_t)j, c[j]);
-        gsl_vector_set(b->b, (size_t)j, rhs[j]);
-    }
-    if (gsl_linalg_LU_decomp(b->A, b->perm, &sign) != GSL_SUCCESS ||
-        gsl_linalg_LU_solve(b->A, b->perm, b->b, b->x) != GSL_SUCCESS)
-        return -1;
-    for (int j = 0; j < b->n; ++j) {
-        x[j] = gsl_vector_get(b->x, (size_t)j);
-        if (!isfinite(x[j]))
-            return -1;
-    }
-    return 0;
-}
-
-/* Newton on [F(z); c.z - c0] = 0 from z, in place.  Iterations used, or -1. */
-static int correct(sweep_branch *b, double *z, const double *c, double c0)
-{
-    double F[SWEEP_MAX_N], dz[SWEEP_MAX_N], prev = INFINITY;
-    for (int it = 1; it <= NEWTON_MAX; ++it) {
-        if (eval(b, z, F, 1) != 0)
-            return -1;
-        F[b->nu] = dot(b, c, z) - c0;
-        for (int j = 0; j < b->n; ++j)
-            F[j] = -F[j];
-        if (solve_bordered(b, c, F, dz) != 0)
-            return -1;
-        double norm = 0;
-        for (int j = 0; j < b->n; ++j) {
-            z[j] += dz[j];
-            norm = fmax(norm, fabs(dz[j]));
-        }
-        if (norm <= NEWTON_TOL)
-            return it;
-        /* a growing update means the start lies outside Newton's basin of this
-         * branch; giving up early lets the step control shorten the step */
-        if (it >= 2 && norm > prev)
-            return -1;
-        prev = norm;
-    }
-    return -1;
-}
-
-/* Unit tangent at z (on the branch), oriented so that c.t > 0. */
-static int tangent(sweep_branch *b, const double *z, const double *c, double *t)
-{
-    double F[SWEEP_MAX_N], rhs[SWEEP_MAX_N] = {0};
-    rhs[b->nu] = 1.0;
-    if (eval(b, z, F, 1) != 0 || solve_bordered(b, c, rhs, t) != 0)
-        return -1;
-    const double len = sqrt(dot(b, t, t));
-    for (int j = 0; j < b->n; ++j)
-        t[j] /= len;
     return 0;
 }
 
 /* ---- quantities along the branch --------------------------------------------- */
 
-static void outputs(sweep_branch *b, const double *z, double *y)
+static void outputs(sweep_branch *b, const double *x, double *y)
 {
-    double u[USM_MAX_NU];
-    unscale(b, z, u);
-    set_lambda(b, lambda_of(b, z));
-    b->m->steady_outputs(u, &b->p, y);
+    set_lambda(b, lambda_of(b, x));
+    b->m->steady_outputs(x, &b->p, y);
 }
 
 /* |F_t| - mu0 F_n: negative where stick is admissible (as usm_steady_evaluate). */
-static double stick_gap(sweep_branch *b, const double *z)
+static double stick_gap(sweep_branch *b, const double *x)
 {
     double y[USM_STEADY_COUNT];
-    outputs(b, z, y);
+    outputs(b, x, y);
     return fabs(y[USM_STEADY_F_T]) - b->p.mu0 * y[USM_STEADY_F_N];
 }
 
@@ -316,122 +215,121 @@ static double friction_limit(const sweep_branch *b, double v)
     return fabs(mu[0]);
 }
 
-static void solution_at(sweep_branch *b, const double *z, usm_steady_solution *sol)
+static void solution_at(sweep_branch *b, const double *x, usm_steady_solution *sol)
 {
     memset(sol, 0, sizeof *sol);
-    unscale(b, z, sol->u);
-    set_lambda(b, lambda_of(b, z));
+    memcpy(sol->u, x, sizeof(double) * (size_t)b->nu);
+    set_lambda(b, lambda_of(b, x));
     usm_steady_evaluate(b->m, &b->p, sol);
 }
 
-/* ---- events on the arc of one step ---------------------------------------------- */
-
-typedef struct arc {
-    double za[SWEEP_MAX_N], ta[SWEEP_MAX_N]; /* start and tangent of the step */
-} arc;
-
-enum { FN_LAMBDA, FN_TANGENT, FN_THETA_LOW, FN_THETA_HIGH, FN_STICK, FN_ROTOR, FN_MONITOR,
-       FN_SLOPE };
-
-typedef struct arc_fn {
-    sweep_branch *b;
-    const arc *a;
-    int kind;
-    double arg;
-    const usm_sweep_monitor *mo;
-} arc_fn;
-
-/* ---- user monitors ---------------------------------------------------------------- */
-
-static void solution_at(sweep_branch *b, const double *z, usm_steady_solution *sol);
-
-static double monitor_at(sweep_branch *b, const usm_sweep_monitor *mo, const double *z)
+static double monitor_at(sweep_branch *b, const usm_sweep_monitor *mo, const double *x)
 {
     usm_steady_solution sol;
-    solution_at(b, z, &sol);
+    solution_at(b, x, &sol);
     return mo->fn(&sol, &b->p, mo->ctx);
 }
 
-/* Step of the central differences along the tangent (scaled units, where the
- * components of z are of order one): truncation ~1e-12, rounding ~1e-10. */
+/* Step of the central differences along the direction (scaled units, where
+ * the components are of order one): truncation ~1e-12, rounding ~1e-10. */
 #define SLOPE_STEP 1e-6
 
-/* dy/ds at z on the branch with unit tangent t: the derivative of y along t,
- * by central differences (y is a smooth function of z off the branch too). */
-static double monitor_slope(sweep_branch *b, const usm_sweep_monitor *mo, const double *z,
-                            const double *t)
+/* dy/ds at x on the branch with direction dx: by central differences (y is a
+ * smooth function of x off the branch too). */
+static double monitor_slope(sweep_branch *b, const usm_sweep_monitor *mo, const double *x,
+                            const double *dx)
 {
-    double zp[SWEEP_MAX_N], zm[SWEEP_MAX_N];
+    double xp[SWEEP_MAX_N], xm[SWEEP_MAX_N];
     for (int j = 0; j < b->n; ++j) {
-        zp[j] = z[j] + SLOPE_STEP * t[j];
-        zm[j] = z[j] - SLOPE_STEP * t[j];
+        xp[j] = x[j] + SLOPE_STEP * dx[j];
+        xm[j] = x[j] - SLOPE_STEP * dx[j];
     }
-    return (monitor_at(b, mo, zp) - monitor_at(b, mo, zm)) / (2.0 * SLOPE_STEP);
+    return (monitor_at(b, mo, xp) - monitor_at(b, mo, xm)) / (2.0 * SLOPE_STEP);
 }
 
-static int arc_point(sweep_branch *b, const arc *a, double s, double *z)
-{
-    for (int j = 0; j < b->n; ++j)
-        z[j] = a->za[j] + s * a->ta[j];
-    return correct(b, z, a->ta, dot(b, a->ta, a->za) + s) >= 0 ? 0 : -1;
-}
+/* ---- the sweep's test functions ------------------------------------------------- */
 
-static double arc_value(double s, void *ctx)
+static double test_value(const double *x, const double *dx, void *ctx)
 {
-    arc_fn *f = ctx;
-    sweep_branch *b = f->b;
-    double z[SWEEP_MAX_N], t[SWEEP_MAX_N];
-    if (arc_point(b, f->a, s, z) != 0)
-        return NAN; /* failed: the locator stops */
-    switch (f->kind) {
-    case FN_LAMBDA:
-        return z[b->nu] - f->arg;
-    case FN_TANGENT:
-        if (tangent(b, z, f->a->ta, t) != 0)
-            return NAN;
-        return t[b->nu] * b->dir;
-    case FN_THETA_LOW:
-        return z[0] * b->scale[0] - f->arg;
-    case FN_THETA_HIGH:
-        return f->arg - z[0] * b->scale[0];
-    case FN_ROTOR:
-        return z[b->rotor];
-    case FN_MONITOR:
-        return monitor_at(b, f->mo, z) - f->arg;
-    case FN_SLOPE:
-        if (tangent(b, z, f->a->ta, t) != 0)
-            return NAN;
-        return monitor_slope(b, f->mo, z, t);
+    sweep_test *st = ctx;
+    sweep_branch *b = st->b;
+    switch (st->kind) {
+    case SWEEP_TEST_THETA_LOW:
+        return x[0] - b->theta_min;
+    case SWEEP_TEST_THETA_HIGH:
+        return b->theta_max - x[0];
+    case SWEEP_TEST_ROTOR:
+        return x[b->rotor];
+    case SWEEP_TEST_MONITOR:
+        return monitor_at(b, st->mo, x) - st->level;
+    case SWEEP_TEST_SLOPE:
+        return monitor_slope(b, st->mo, x, dx);
     default:
-        return stick_gap(b, z);
+        return stick_gap(b, x);
     }
 }
 
-/* Root in s of function `kind` on [lo, hi], where its values are flo and fhi
- * of opposite sign (or one of them zero).  0 and *s, or -1. */
-static int arc_root_fn(sweep_branch *b, const arc *a, int kind, const usm_sweep_monitor *mo,
-                       double arg, double lo, double hi, double flo, double fhi, double epsabs,
-                       double *s)
+/* One test function of the engine; 0 or -1. */
+static int add_test(sweep_branch *b, int kind, const usm_sweep_monitor *mo, double level,
+                    int flags)
 {
-    arc_fn f = {b, a, kind, arg, mo};
-    const usm_root_stop stop = {epsabs, 0.0, 200};
-    if (flo == 0.0 || fhi == 0.0) {
-        *s = flo == 0.0 ? lo : hi;
-        return 0;
-    }
-    if ((flo < 0) == (fhi < 0))
+    sweep_test *st = &b->tests[b->ntests];
+    *st = (sweep_test){b, kind, mo, level, 0};
+    st->index = usm_cont_add_test(b->cont, test_value, st, flags);
+    if (st->index < 0)
         return -1;
-    /* FN_LAMBDA: the values at the ends are not evaluated again (that would
-     * be two corrections per grid value, a third of landing on it); the
-     * other functions are evaluated at the ends afresh */
-    return kind == FN_LAMBDA ? usm_root_brent(b->root, arc_value, &f, lo, hi, flo, fhi, &stop, s)
-                             : usm_root_brent_eval(b->root, arc_value, &f, lo, hi, &stop, s);
+    b->ntests++;
+    return 0;
 }
 
-static int arc_root(sweep_branch *b, const arc *a, int kind, double arg, double lo, double hi,
-                    double flo, double fhi, double epsabs, double *s)
+/* The engine for one run and the test functions of its branch: the ends of
+ * the tilt range (the branch ends there), the stick limit (stick models) or
+ * the stall (slip models), the user monitors' levels and extrema.  The fold
+ * is the engine's own; the branch ends there (across_fold 0). */
+static int setup_engine(sweep_branch *b, size_t npts)
 {
-    return arc_root_fn(b, a, kind, NULL, arg, lo, hi, flo, fhi, epsabs, s);
+    const usm_sweep_options *opt = b->opt;
+    usm_cont_options o;
+    size_t ntests = 3;
+    for (int k = 0; k < opt->nmonitors; ++k)
+        ntests += (size_t)opt->monitors[k].nlevels + 1;
+    usm_cont_free(b->cont);
+    free(b->tests);
+    b->ntests = 0;
+    b->cont = usm_cont_alloc(b->nu);
+    b->tests = calloc(ntests, sizeof *b->tests);
+    if (!b->cont || !b->tests)
+        return -1;
+    usm_cont_set_problem(b->cont, branch_residual, b);
+    usm_cont_options_default(&o);
+    o.h_max = H_MAX;
+    o.h_min = H_MIN;
+    o.h0 = fmin(H_MAX, 0.5 / (double)(npts > 1 ? npts - 1 : 1));
+    o.event_tol = 1e-15;
+    o.across_fold = 0;
+    if (usm_cont_set_options(b->cont, &o) != 0 ||
+        add_test(b, SWEEP_TEST_THETA_LOW, NULL, 0, USM_CONT_TEST_STOP) != 0 ||
+        add_test(b, SWEEP_TEST_THETA_HIGH, NULL, 0, USM_CONT_TEST_STOP) != 0 ||
+        add_test(b, b->rotor >= 0 ? SWEEP_TEST_ROTOR : SWEEP_TEST_STICK, NULL, 0,
+                 USM_CONT_TEST_MONITOR) != 0)
+        return -1;
+    for (int k = 0; k < opt->nmonitors; ++k) {
+        const usm_sweep_monitor *mo = &opt->monitors[k];
+        for (int l = 0; l < mo->nlevels; ++l)
+            if (add_test(b, SWEEP_TEST_MONITOR, mo, mo->levels[l], USM_CONT_TEST_MONITOR) != 0)
+                return -1;
+        if (mo->extrema && add_test(b, SWEEP_TEST_SLOPE, mo, 0, USM_CONT_TEST_MONITOR) != 0)
+            return -1;
+    }
+    return 0;
+}
+
+static const sweep_test *test_of(const sweep_branch *b, int index)
+{
+    for (int k = 0; k < b->ntests; ++k)
+        if (b->tests[k].index == index)
+            return &b->tests[k];
+    return NULL;
 }
 
 /* ---- following the branch -------------------------------------------------------- */
@@ -497,20 +395,19 @@ static const usm_steady_solution *same_root(sweep_branch *b, const usm_params *q
     return NULL;
 }
 
-/* Grid point i from a point on the branch at (nearly) its value. */
-static void finish_point(trace *tr, size_t i, double *z)
+/* Grid point i from a point x on the branch at (nearly) its value. */
+static void finish_point(trace *tr, size_t i, double *x)
 {
     sweep_branch *b = tr->b;
     const double value = b->grid[i];
     usm_steady_solution sol;
     int roots;
-    double e[SWEEP_MAX_N] = {0}, u[USM_MAX_NU];
-    e[b->nu] = 1.0;
+    double u[USM_MAX_NU] = {0};
     /* on the branch at the grid value itself: the start of the polish below,
-     * and the result where the polish fails (a failed Newton leaves z as it
+     * and the result where the polish fails (a failed Newton leaves x as it
      * was, already on the branch near the value) */
-    correct(b, z, e, value / b->scale[b->nu]);
-    unscale(b, z, u);
+    usm_cont_correct_fixed(b->cont, x, b->nu, value);
+    memcpy(u, x, sizeof(double) * (size_t)b->nu);
     if (b->defer) {
         /* the full search below is independent of the continuation: done
          * for every point at once by sweep_finish_points, on the workers */
@@ -541,21 +438,23 @@ static void finish_point(trace *tr, size_t i, double *z)
     emit_point(b, i, &sol, roots, "");
 }
 
-/* Land on every grid value reached by the arc [0, s_end] (zend = z(s_end)). */
-static int land_on_grid(trace *tr, const arc *a, double s_end, const double *zend)
+/* Land on every grid value reached by the last step (from xa to xend, arc
+ * length s_end): from the step's arc at the value's share of the step in
+ * lambda, then on the value exactly (finish_point). */
+static int land_on_grid(trace *tr, const double *xa, double s_end, const double *xend)
 {
     sweep_branch *b = tr->b;
     const int nu = b->nu;
+    const double la = xa[nu], lb = xend[nu];
     while (pending(tr)) {
-        const double g = b->grid[tr->next] / b->scale[nu];
-        double z[SWEEP_MAX_N], sg;
-        if ((g - zend[nu]) * b->dir > 0)
+        const double g = b->grid[tr->next];
+        double x[SWEEP_MAX_N];
+        if ((g - lb) * b->dir > 0)
             break;
-        if (arc_root(b, a, FN_LAMBDA, g, 0.0, s_end, a->za[nu] - g, zend[nu] - g,
-                     1e-10 * s_end, &sg) != 0 ||
-            arc_point(b, a, sg, z) != 0)
+        const double w = lb != la ? (g - la) / (lb - la) : 1.0;
+        if (usm_cont_arc_point(b->cont, fmin(fmax(w, 0.0), 1.0) * s_end, x, NULL) != 0)
             return -1;
-        finish_point(tr, (size_t)tr->next, z);
+        finish_point(tr, (size_t)tr->next, x);
         tr->next += tr->step;
     }
     return 0;
@@ -568,66 +467,74 @@ static void end_text(const trace *tr, char *buf, size_t len, const char *what, d
              side(tr->b->dir), sweep_value_text(tr->b->info, value, v));
 }
 
-/* Slip model: the rotor speed phidot_R changes sign inside the arc (the rotor
- * stops: the load equals the torque the motor can hold at rest). */
-static int arc_stall(trace *tr, const arc *a, double s_end, const double *zend)
+/* Slip model: the rotor speed phidot_R changed sign at x0 (before: its sign
+ * before; the rotor stops: the load equals the torque the motor can hold at
+ * rest).  The point on the branch at rotor speed 0 exactly. */
+static int stall_event(trace *tr, const double *x0, double before)
 {
     sweep_branch *b = tr->b;
-    const double w0 = a->za[b->rotor], w1 = zend[b->rotor];
-    double s, z[SWEEP_MAX_N];
+    double x[SWEEP_MAX_N];
     char v[64];
-    if ((w0 < 0) == (w1 < 0) || w0 == 0.0)
-        return 0;
-    if (arc_root(b, a, FN_ROTOR, 0.0, 0.0, s_end, w0, w1, 1e-15, &s) != 0 ||
-        arc_point(b, a, s, z) != 0)
+    memcpy(x, x0, sizeof(double) * (size_t)b->n);
+    if (usm_cont_correct_fixed(b->cont, x, b->rotor, 0.0) < 0)
         return -1;
-    /* on the branch at rotor speed 0 exactly: Newton on [F; z_rotor = 0] */
-    double e[SWEEP_MAX_N] = {0};
-    e[b->rotor] = 1.0;
-    if (correct(b, z, e, 0.0) < 0)
-        return -1;
-    const double lambda = lambda_of(b, z);
+    const double lambda = lambda_of(b, x);
     if (!within(tr, lambda))
         return 0;
     usm_steady_solution sol;
-    solution_at(b, z, &sol);
+    solution_at(b, x, &sol);
     /* driving is phidot_R < 0 (the paper's sign) */
-    const int driving_dir = w0 < 0 ? -b->dir : b->dir;
+    const int driving_dir = before < 0 ? -b->dir : b->dir;
     return emit_event(b, USM_EVENT_STALL, lambda, &sol,
-                           "the rotor stands still (phidot_R = 0) at %s: it turns in the driving "
-                           "direction %s it and is driven backwards by the load %s it",
-                           sweep_value_text(b->info, lambda, v), side(driving_dir),
-                           side(-driving_dir))
+                      "the rotor stands still (phidot_R = 0) at %s: it turns in the driving "
+                      "direction %s it and is driven backwards by the load %s it",
+                      sweep_value_text(b->info, lambda, v), side(driving_dir), side(-driving_dir))
                ? 0
                : -1;
 }
 
-/* Events of the arc [0, s_end] other than its end: the stick limit of a stick
- * model (with slip built in, F_t = mu(v) F_n holds by construction and stick
- * has no meaning), the stall of a slip model. */
-static int monitor_event(trace *tr, const arc *a, const usm_sweep_monitor *mo, int kind,
-                         double level, double s_end, double g0, double g1, usm_event_type type)
+/* Stick model: |F_t| - mu0 F_n changed sign at x (with slip built in,
+ * F_t = mu(v) F_n holds by construction and stick has no meaning). */
+static int stick_event(trace *tr, const double *x, double before)
 {
     sweep_branch *b = tr->b;
-    double s, z[SWEEP_MAX_N];
     char v[64];
-    if (arc_root_fn(b, a, kind, mo, level, 0.0, s_end, g0, g1, 1e-15, &s) != 0 ||
-        arc_point(b, a, s, z) != 0)
-        return -1;
-    const double lambda = lambda_of(b, z);
+    const double lambda = lambda_of(b, x);
     if (!within(tr, lambda))
         return 0;
     usm_steady_solution sol;
-    solution_at(b, z, &sol);
+    solution_at(b, x, &sol);
+    /* admissible on the side where the gap is negative */
+    const int admissible_dir = before < 0 ? -b->dir : b->dir;
+    return emit_event(b, USM_EVENT_STICK_LIMIT, lambda, &sol,
+                      "F_t = mu0 F_n (mu0 = %g) at %s: stick is admissible %s it, not %s",
+                      b->p.mu0, sweep_value_text(b->info, lambda, v), side(admissible_dir),
+                      side(-admissible_dir))
+               ? 0
+               : -1;
+}
+
+/* A user monitor's level crossing (level) or extremum (slope test, before
+ * the slope's sign before) at x. */
+static int monitor_event(trace *tr, const sweep_test *st, const double *x, double before)
+{
+    sweep_branch *b = tr->b;
+    const usm_sweep_monitor *mo = st->mo;
+    char v[64];
+    const double lambda = lambda_of(b, x);
+    if (!within(tr, lambda))
+        return 0;
+    usm_steady_solution sol;
+    solution_at(b, x, &sol);
     const double y = mo->fn(&sol, &b->p, mo->ctx);
     usm_sweep_event *e;
-    if (type == USM_EVENT_CROSSING)
-        e = emit_event(b, type, lambda, &sol, "%s crosses %.10g at %s", mo->name, level,
-                       sweep_value_text(b->info, lambda, v));
+    if (st->kind == SWEEP_TEST_MONITOR)
+        e = emit_event(b, USM_EVENT_CROSSING, lambda, &sol, "%s crosses %.10g at %s", mo->name,
+                       st->level, sweep_value_text(b->info, lambda, v));
     else
-        e = emit_event(b, type, lambda, &sol, "%s has a %s %.10g at %s", mo->name,
-                       type == USM_EVENT_MAXIMUM ? "maximum" : "minimum", y,
-                       sweep_value_text(b->info, lambda, v));
+        e = emit_event(b, before > 0 ? USM_EVENT_MAXIMUM : USM_EVENT_MINIMUM, lambda, &sol,
+                       "%s has a %s %.10g at %s", mo->name, before > 0 ? "maximum" : "minimum",
+                       y, sweep_value_text(b->info, lambda, v));
     if (!e)
         return -1;
     snprintf(e->monitor, sizeof e->monitor, "%s", mo->name);
@@ -635,143 +542,69 @@ static int monitor_event(trace *tr, const arc *a, const usm_sweep_monitor *mo, i
     return 0;
 }
 
-/* The user monitors' events inside the arc [0, s_end]: level crossings (sign
- * changes of y - level) and extrema (sign changes of dy/ds), each by Brent. */
-static int arc_monitors(trace *tr, const arc *a, double s_end, const double *zend)
+/* The events the engine located in its last step, but the branch's end:
+ * 0, or -1 when one could not be completed. */
+static int step_events(trace *tr)
 {
     sweep_branch *b = tr->b;
-    const usm_sweep_options *opt = b->opt;
-    double tend[SWEEP_MAX_N];
-    int have_tend = 0;
-    for (int k = 0; k < opt->nmonitors; ++k) {
-        const usm_sweep_monitor *mo = &opt->monitors[k];
-        const double y0 = monitor_at(b, mo, a->za), y1 = monitor_at(b, mo, zend);
-        for (int l = 0; l < mo->nlevels; ++l) {
-            const double g0 = y0 - mo->levels[l], g1 = y1 - mo->levels[l];
-            if ((g0 < 0) != (g1 < 0) && g0 != 0.0 &&
-                monitor_event(tr, a, mo, FN_MONITOR, mo->levels[l], s_end, g0, g1,
-                              USM_EVENT_CROSSING) != 0)
-                return -1;
-        }
-        if (!mo->extrema)
+    for (int k = 0; k < usm_cont_event_count(b->cont); ++k) {
+        const usm_cont_event *e = usm_cont_event_at(b->cont, k);
+        const sweep_test *st = test_of(b, e->test);
+        int rc = 0;
+        if (e->stop || !st)
             continue;
-        if (!have_tend) {
-            if (tangent(b, zend, a->ta, tend) != 0)
-                return -1;
-            have_tend = 1;
-        }
-        const double d0 = monitor_slope(b, mo, a->za, a->ta), d1 = monitor_slope(b, mo, zend, tend);
-        if ((d0 < 0) != (d1 < 0) && d0 != 0.0 &&
-            monitor_event(tr, a, mo, FN_SLOPE, 0.0, s_end, d0, d1,
-                          d0 > 0 ? USM_EVENT_MAXIMUM : USM_EVENT_MINIMUM) != 0)
+        if (st->kind == SWEEP_TEST_ROTOR)
+            rc = stall_event(tr, e->x, e->before);
+        else if (st->kind == SWEEP_TEST_STICK)
+            rc = stick_event(tr, e->x, e->before);
+        else
+            rc = monitor_event(tr, st, e->x, e->before);
+        if (rc != 0)
             return -1;
     }
     return 0;
 }
 
-static int arc_events(trace *tr, const arc *a, double s_end, const double *zend)
+/* How the last step ended the branch: END_FOLD or END_BOUNDARY. */
+static int end_kind(const sweep_branch *b)
 {
-    sweep_branch *b = tr->b;
-    if (b->opt->nmonitors > 0 && arc_monitors(tr, a, s_end, zend) != 0)
-        return -1;
-    if (b->rotor >= 0)
-        return arc_stall(tr, a, s_end, zend);
-    const double g0 = stick_gap(b, a->za), g1 = stick_gap(b, zend);
-    double s, z[SWEEP_MAX_N];
-    char v[64];
-    if ((g0 < 0) == (g1 < 0))
-        return 0;
-    if (arc_root(b, a, FN_STICK, 0.0, 0.0, s_end, g0, g1, 1e-15, &s) != 0 ||
-        arc_point(b, a, s, z) != 0)
-        return -1;
-    const double lambda = lambda_of(b, z);
-    if (!within(tr, lambda))
-        return 0;
-    usm_steady_solution sol;
-    solution_at(b, z, &sol);
-    /* admissible on the side where the gap is negative */
-    const int admissible_dir = g0 < 0 ? -b->dir : b->dir;
-    return emit_event(b, USM_EVENT_STICK_LIMIT, lambda, &sol,
-                           "F_t = mu0 F_n (mu0 = %g) at %s: stick is admissible %s it, "
-                           "not %s",
-                           b->p.mu0, sweep_value_text(b->info, lambda, v), side(admissible_dir),
-                           side(-admissible_dir))
-               ? 0
-               : -1;
+    const usm_cont_event *e = usm_cont_event_at(b->cont, usm_cont_event_count(b->cont) - 1);
+    return e && e->test == USM_CONT_FOLD ? END_FOLD : END_BOUNDARY;
 }
 
-/* The end of the branch inside the arc [0, h] ending at z1 (tangent t1): a fold
- * or the tilt leaving [theta_min, theta_max].  *s_end = h when neither. */
-static int arc_end(trace *tr, const arc *a, double h, const double *z1, const double *t1,
-                   double *s_end, int *end)
-{
-    sweep_branch *b = tr->b;
-    const double th0 = a->za[0] * b->scale[0], th1 = z1[0] * b->scale[0];
-    double s;
-    *s_end = h;
-    *end = END_STOP;
-    if (t1[b->nu] * b->dir <= 0) {
-        if (arc_root(b, a, FN_TANGENT, 0.0, 0.0, h, a->ta[b->nu] * b->dir, t1[b->nu] * b->dir,
-                     1e-15, &s) != 0)
-            return -1;
-        *s_end = s;
-        *end = END_FOLD;
-    }
-    if (th1 < b->theta_min) {
-        if (arc_root(b, a, FN_THETA_LOW, b->theta_min, 0.0, h, th0 - b->theta_min,
-                     th1 - b->theta_min, 1e-15, &s) != 0)
-            return -1;
-        if (s <= *s_end) {
-            *s_end = s;
-            *end = END_BOUNDARY;
-        }
-    } else if (th1 > b->theta_max) {
-        if (arc_root(b, a, FN_THETA_HIGH, b->theta_max, 0.0, h, b->theta_max - th0,
-                     b->theta_max - th1, 1e-15, &s) != 0)
-            return -1;
-        if (s <= *s_end) {
-            *s_end = s;
-            *end = END_BOUNDARY;
-        }
-    }
-    return 0;
-}
-
-/* The branch left the tilt range at its lower end zb (theta = theta_min): the
+/* The branch left the tilt range at its lower end xb (theta = theta_min): the
  * residuals are regular at theta = 0 (R* -> R, Z -> H), so the branch runs on
  * through the limit where the tilt vanishes.  That limit, on the branch at
- * theta = 0 exactly: Newton on [F; z_theta = 0] from zb.  0 and zt, or -1
- * when the branch does not reach theta = 0 next to zb. */
-static int tilt_zero(trace *tr, const double *zb, double *zt)
+ * theta = 0 exactly: Newton on [F; theta = 0] from xb.  0 and xt, or -1
+ * when the branch does not reach theta = 0 next to xb. */
+static int tilt_zero(trace *tr, const double *xb, double *xt)
 {
     sweep_branch *b = tr->b;
-    double e[SWEEP_MAX_N] = {0};
-    e[0] = 1.0;
-    memcpy(zt, zb, sizeof(double) * (size_t)b->n);
-    if (correct(b, zt, e, 0.0) < 0)
+    memcpy(xt, xb, sizeof(double) * (size_t)b->n);
+    if (usm_cont_correct_fixed(b->cont, xt, 0, 0.0) < 0)
         return -1;
     /* next to the boundary point: within the tilt's own size of the step */
-    const double dl = fabs(zt[b->nu] - zb[b->nu]);
+    const double dl = fabs(xt[b->nu] - xb[b->nu]) / b->scale[b->nu];
     return dl <= 1e-3 ? 0 : -1;
 }
 
-static int report_end(trace *tr, const double *z)
+static int report_end(trace *tr, const double *x)
 {
     sweep_branch *b = tr->b;
     usm_steady_solution sol;
     char what[USM_MSG_LEN];
-    double lambda = lambda_of(b, z);
+    double lambda = lambda_of(b, x);
     usm_event_type type = USM_EVENT_FOLD;
-    solution_at(b, z, &sol);
+    solution_at(b, x, &sol);
     if (tr->end == END_FOLD)
         end_text(tr, what, sizeof what, "fold: the branch turns back (d lambda/ds = 0)", lambda);
     else {
         const int low = sol.theta < 0.5 * (b->theta_min + b->theta_max);
-        double zt[SWEEP_MAX_N];
+        double xt[SWEEP_MAX_N];
         char head[200];
-        if (low && tilt_zero(tr, z, zt) == 0) {
-            lambda = lambda_of(b, zt);
-            solution_at(b, zt, &sol);
+        if (low && tilt_zero(tr, x, xt) == 0) {
+            lambda = lambda_of(b, xt);
+            solution_at(b, xt, &sol);
             type = USM_EVENT_TILT_ZERO;
             end_text(tr, what, sizeof what,
                      "the tilt vanishes (theta = 0): the stator no longer wobbles and the "
@@ -793,46 +626,44 @@ static int report_end(trace *tr, const double *z)
 
 /* Slip model: F_t / F_n approaches the friction law's supremum and the rotor
  * speed diverges.  The limit is the branch point at a rotor speed W so large
- * that the law equals its supremum to rounding: Newton on [F; z_rotor = W]. */
-static int saturation(trace *tr, const double *z1, double *zs)
+ * that the law equals its supremum to rounding: Newton on [F; rotor = W]. */
+static int saturation(trace *tr, const double *x1, double *xs)
 {
     sweep_branch *b = tr->b;
     const int r = b->rotor;
-    double y[USM_STEADY_COUNT], e[SWEEP_MAX_N] = {0};
-    outputs(b, z1, y);
-    const double v = y[USM_STEADY_V_REL], w = z1[r] * b->scale[r];
+    double y[USM_STEADY_COUNT];
+    outputs(b, x1, y);
+    const double v = y[USM_STEADY_V_REL], w = x1[r];
     if (!(fabs(v) > 0) || !(fabs(w) > 0))
         return -1;
     const double W = w * (V_HUGE / fabs(v));
-    memcpy(zs, z1, sizeof(double) * (size_t)b->n);
-    zs[r] = W / b->scale[r];
-    e[r] = 1.0;
-    return correct(b, zs, e, zs[r]) >= 0 ? 0 : -1;
+    memcpy(xs, x1, sizeof(double) * (size_t)b->n);
+    xs[r] = W;
+    return usm_cont_correct_fixed(b->cont, xs, r, W) >= 0 ? 0 : -1;
 }
 
-static double mu_ratio(sweep_branch *b, const double *z)
+static double mu_ratio(sweep_branch *b, const double *x)
 {
     double y[USM_STEADY_COUNT];
-    outputs(b, z, y);
+    outputs(b, x, y);
     const double lim = friction_limit(b, y[USM_STEADY_V_REL]);
     return lim > 0 ? fabs(y[USM_STEADY_F_T] / y[USM_STEADY_F_N]) / lim : 0.0;
 }
 
-/* Grid points between the branch at z1 and the saturation point zs: the
+/* Grid points between the branch at x1 and the saturation point xs: the
  * rotor speed diverges like 1/(lambda_sat - lambda), which continuation would
  * approach in ever shorter steps; the full search brackets the rotor speed
  * directly.  Of its roots the one nearest the branch's tilt is taken. */
-static void land_before_saturation(trace *tr, const double *z1, const double *zs)
+static void land_before_saturation(trace *tr, const double *x1, const double *xs)
 {
     sweep_branch *b = tr->b;
     const int nu = b->nu;
     while (pending(tr)) {
         const double value = b->grid[tr->next];
-        const double g = value / b->scale[nu];
-        if ((g - zs[nu]) * b->dir >= 0)
+        if ((value - xs[nu]) * b->dir >= 0)
             break;
-        const double w = (g - z1[nu]) / (zs[nu] - z1[nu]);
-        const double theta = (z1[0] + w * (zs[0] - z1[0])) * b->scale[0];
+        const double w = (value - x1[nu]) / (xs[nu] - x1[nu]);
+        const double theta = x1[0] + w * (xs[0] - x1[0]);
         usm_params q = b->p;
         *usm_params_field(&q, b->info) = value;
         if (usm_steady_solve(b->steady, &q, &b->opt->steady) == USM_OK) {
@@ -880,148 +711,99 @@ static int in_tail(const sweep_branch *b, double v)
 }
 
 /* Returns 1 when the branch ended in saturation within the trace. */
-static int check_saturation(trace *tr, const double *z1)
+static int check_saturation(trace *tr, const double *x1)
 {
     sweep_branch *b = tr->b;
-    double zs[SWEEP_MAX_N], y[USM_STEADY_COUNT];
+    double xs[SWEEP_MAX_N], y[USM_STEADY_COUNT];
     char v[64];
-    if (b->rotor < 0 || tr->sat_checked || mu_ratio(b, z1) < SAT_TRIGGER)
+    if (b->rotor < 0 || tr->sat_checked || mu_ratio(b, x1) < SAT_TRIGGER)
         return 0;
-    outputs(b, z1, y);
+    outputs(b, x1, y);
     if (!in_tail(b, y[USM_STEADY_V_REL]))
         return 0;
-    if (saturation(tr, z1, zs) != 0)
+    if (saturation(tr, x1, xs) != 0)
         return 0; /* keep following the branch; the step control decides */
-    const double lambda = lambda_of(b, zs);
-    if (!within(tr, lambda) || (lambda - lambda_of(b, z1)) * b->dir <= 0) {
+    const double lambda = lambda_of(b, xs);
+    if (!within(tr, lambda) || (lambda - lambda_of(b, x1)) * b->dir <= 0) {
         tr->sat_checked = 1;
         return 0;
     }
-    land_before_saturation(tr, z1, zs);
-    double u[USM_MAX_NU];
-    outputs(b, zs, y);
-    unscale(b, zs, u);
+    land_before_saturation(tr, x1, xs);
+    outputs(b, xs, y);
     tr->end = END_SATURATION;
     tr->end_value = lambda;
     tr->end_type = USM_EVENT_FRICTION_SATURATION;
     emit_event(b, USM_EVENT_FRICTION_SATURATION, lambda, NULL,
-                    "F_t / F_n reaches the friction law's supremum %.6g at %s (theta = %.6g rad): "
-                    "the rotor speed diverges and no stationary solution exists %s it",
-                    fabs(y[USM_STEADY_F_T] / y[USM_STEADY_F_N]), sweep_value_text(b->info, lambda, v),
-                    u[0], side(b->dir));
+               "F_t / F_n reaches the friction law's supremum %.6g at %s (theta = %.6g rad): "
+               "the rotor speed diverges and no stationary solution exists %s it",
+               fabs(y[USM_STEADY_F_T] / y[USM_STEADY_F_N]), sweep_value_text(b->info, lambda, v),
+               xs[0], side(b->dir));
     return 1;
 }
 
 /* Scale each unknown by the largest size it has had: the rotor speed may grow
  * by many orders of magnitude towards friction saturation. */
-static void rescale(sweep_branch *b, double *z, double *t)
+static int rescale(sweep_branch *b, const double *x)
 {
     int changed = 0;
     for (int i = 0; i < b->nu; ++i) {
-        const double size = fabs(z[i] * b->scale[i]);
+        const double size = fabs(x[i]);
         /* the tilt by its own size in both directions: it may fall by decades
          * (theta ~ 1/c_r), and a step measured in the first size would then
          * jump across theta = 0 */
         if (size > b->scale[i] || (i == 0 && size < 0.25 * b->scale[i] && size > 0)) {
-            const double f = b->scale[i] / size;
-            z[i] *= f;
-            t[i] *= f;
             b->scale[i] = size;
             changed = 1;
         }
     }
-    if (changed) {
-        const double len = sqrt(dot(b, t, t));
-        for (int j = 0; j < b->n; ++j)
-            t[j] /= len;
-    }
-}
-
-/* The arc of one accepted step [0, h] to z1: its end (s_end, zend), its events
- * and the grid points on it.  0 or -1. */
-static int step_arc(trace *tr, const arc *a, double h, const double *z1, const double *t1,
-                    double *s_end, double *zend)
-{
-    sweep_branch *b = tr->b;
-    if (arc_end(tr, a, h, z1, t1, s_end, &tr->end) != 0)
-        return -1;
-    if (tr->end == END_STOP)
-        memcpy(zend, z1, sizeof(double) * (size_t)b->n);
-    else if (arc_point(b, a, *s_end, zend) != 0)
-        return -1;
-    if (arc_events(tr, a, *s_end, zend) != 0 || land_on_grid(tr, a, *s_end, zend) != 0)
-        return -1;
-    return 0;
+    return changed ? usm_cont_set_scale(b->cont, b->scale) : 0;
 }
 
 /* Follow the branch from the solution u0 at lambda0 in direction b->dir until
  * lambda passes tr->stop or the branch ends.  0, or -1 when it is lost. */
-static int follow(trace *tr, const double *u0, double lambda0, double h)
+static int follow(trace *tr, const double *u0, double lambda0)
 {
     sweep_branch *b = tr->b;
-    const int nu = b->nu, n = b->n;
-    double z[SWEEP_MAX_N], t[SWEEP_MAX_N], z1[SWEEP_MAX_N], t1[SWEEP_MAX_N];
-    double e[SWEEP_MAX_N] = {0};
-    arc a;
+    const int nu = b->nu;
+    double x0[SWEEP_MAX_N];
     tr->end = END_STOP;
-    for (int i = 0; i < nu; ++i)
-        z[i] = u0[i] / b->scale[i];
-    z[nu] = lambda0 / b->scale[nu];
-    e[nu] = b->dir;
-    if (tangent(b, z, e, t) != 0)
+    memcpy(x0, u0, sizeof(double) * (size_t)nu);
+    x0[nu] = lambda0;
+    if (usm_cont_set_scale(b->cont, b->scale) != 0 || usm_cont_start(b->cont, x0, b->dir) != 0)
         return -1;
-    for (long step = 0; step < MAX_STEPS; ++step) {
-        for (int j = 0; j < n; ++j)
-            z1[j] = z[j] + h * t[j];
-        const int its = correct(b, z1, t, dot(b, t, z) + h);
-        double turn = -1;
-        if (its >= 0 && tangent(b, z1, t, t1) == 0)
-            turn = dot(b, t, t1);
-        if (turn < COS_MAX_TURN) {
-            if ((h *= 0.5) < H_MIN)
-                return -1;
-            continue;
-        }
-        memcpy(a.za, z, sizeof z);
-        memcpy(a.ta, t, sizeof t);
-        double s_end, zend[SWEEP_MAX_N];
-        /* A Newton correction inside the arc may fail where the branch curves
-         * strongly (a parameter over decades): the step is then retried
-         * shorter, with what the failed attempt found dropped. */
-        const ptrdiff_t next = tr->next;
-        if (step_arc(tr, &a, h, z1, t1, &s_end, zend) != 0) {
+    for (;;) {
+        const int rc = usm_cont_step(b->cont);
+        if (rc != USM_CONT_STEP && rc != USM_CONT_END)
+            return -1;
+        const double *xa;
+        const double s_end = usm_cont_step_arc(b->cont, &xa);
+        double xstart[SWEEP_MAX_N], x1[SWEEP_MAX_N];
+        memcpy(xstart, xa, sizeof(double) * (size_t)b->n);
+        memcpy(x1, usm_cont_point(b->cont), sizeof(double) * (size_t)b->n);
+        if (step_events(tr) != 0 || land_on_grid(tr, xstart, s_end, x1) != 0) {
             discard(b);
-            tr->next = next;
-            tr->end = END_STOP;
-            if ((h *= 0.5) < H_MIN)
-                return -1;
-            continue;
+            return -1;
         }
         flush(b);
-        if (tr->end != END_STOP) {
-            if (within(tr, lambda_of(b, zend))) {
-                const int rc = report_end(tr, zend);
+        if (rc == USM_CONT_END) {
+            tr->end = end_kind(b);
+            if (within(tr, lambda_of(b, x1))) {
+                const int r = report_end(tr, x1);
                 flush(b);
-                return rc;
+                return r;
             }
             tr->end = END_STOP; /* the branch ends beyond the range asked for */
             return 0;
         }
-        if (!within(tr, lambda_of(b, z1)))
+        if (!within(tr, lambda_of(b, x1)))
             return 0;
-        if (check_saturation(tr, z1)) {
+        if (check_saturation(tr, x1)) {
             flush(b);
             return 0;
         }
-        memcpy(z, z1, sizeof z1);
-        memcpy(t, t1, sizeof t1);
-        rescale(b, z, t);
-        if (its <= 3 && turn > 0.995)
-            h = fmin(2.0 * h, H_MAX);
-        else if (its >= 6)
-            h *= 0.5;
+        if (rescale(b, x1) != 0)
+            return -1;
     }
-    return -1;
 }
 
 /* ---- the grid ------------------------------------------------------------------- */
@@ -1124,7 +906,10 @@ int sweep_trace_grid(sweep_branch *b, const usm_params *p, const usm_sweep_optio
     if (i == n)
         return status;
     setup_branch(b, start.u);
-    const double h0 = fmin(H_MAX, 0.5 / (double)(n - 1));
+    if (setup_engine(b, n) != 0) {
+        snprintf(msg, USM_MSG_LEN, "out of memory for the continuation");
+        return USM_EFAILED;
+    }
 
     if (i > 0) {
         /* Where does the solution appear?  Follow the branch back to `from`:
@@ -1132,14 +917,14 @@ int sweep_trace_grid(sweep_branch *b, const usm_params *p, const usm_sweep_optio
          * the full search missed are landed on. */
         trace back = {b, (ptrdiff_t)i - 1, -1, opt->from, 0, END_STOP, 0, USM_EVENT_FOLD};
         b->dir = -dir;
-        follow(&back, start.u, grid[i], h0);
+        follow(&back, start.u, grid[i]);
         discard(b);
     }
     for (;;) {
         trace tr = {b, (ptrdiff_t)i + 1, 1, opt->to, 0, END_STOP, 0, USM_EVENT_FOLD};
         b->dir = dir;
         setup_branch(b, start.u);
-        if (follow(&tr, start.u, grid[i], h0) == 0) {
+        if (follow(&tr, start.u, grid[i]) == 0) {
             if (tr.end != END_STOP) {
                 char why[USM_MSG_LEN];
                 snprintf(why, sizeof why, "no stationary solution on the branch beyond %s at %s",

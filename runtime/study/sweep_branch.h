@@ -3,14 +3,26 @@
 #ifndef USM_SWEEP_BRANCH_H
 #define USM_SWEEP_BRANCH_H
 
-#include <gsl/gsl_linalg.h>
-
-#include "core/root.h"
 #include "sweep_sink.h"
+#include "usm_cont.h"
 
-/* The branch r(u; lambda) = 0 in scaled coordinates z = (u / su, lambda / Lambda):
- * the components differ by ten orders of magnitude (theta ~ 1e-4 rad, f ~ 4e4 Hz),
- * and both the arclength and the Newton tolerances need them comparable. */
+struct sweep_branch;
+
+/* A test function of the branch, handed to the engine. */
+enum { SWEEP_TEST_THETA_LOW, SWEEP_TEST_THETA_HIGH, SWEEP_TEST_STICK, SWEEP_TEST_ROTOR,
+       SWEEP_TEST_MONITOR, SWEEP_TEST_SLOPE };
+typedef struct sweep_test {
+    struct sweep_branch *b;
+    int kind;
+    const usm_sweep_monitor *mo; /* SWEEP_TEST_MONITOR, SWEEP_TEST_SLOPE */
+    double level;                /* SWEEP_TEST_MONITOR */
+    int index;                   /* the engine's */
+} sweep_test;
+
+/* The branch r(u; lambda) = 0 posed to the continuation engine, with the
+ * scales su, Lambda of its unknowns: the components differ by ten orders of
+ * magnitude (theta ~ 1e-4 rad, f ~ 4e4 Hz), and both the arclength and the
+ * Newton tolerances need them comparable. */
 typedef struct sweep_branch {
     const usm_model *m;
     const usm_param_info *info; /* the swept parameter */
@@ -21,10 +33,9 @@ typedef struct sweep_branch {
     double scale[SWEEP_MAX_N];
     double theta_min, theta_max;
     int dir;                    /* +1: lambda increases along the trace, -1: decreases */
-    gsl_matrix *A;
-    gsl_permutation *perm;
-    gsl_vector *b, *x;
-    usm_root *root;             /* events located along a step's arclength */
+    usm_cont *cont;             /* the engine, one a run */
+    sweep_test *tests;          /* its test functions but the fold */
+    int ntests;
     /* the run */
     usm_steady *steady;         /* full searches and polishing at grid values */
     const usm_sweep_options *opt;
