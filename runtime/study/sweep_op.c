@@ -14,8 +14,20 @@
  *    loses its stability and the stability_change event says so).
  * A point whose operating point is unknown (several roots and no simulation
  * from rest, or undecided) or that has no solution makes no event: nothing is
- * known there.  The event is not located: its value is the midpoint, its text
- * names both grid values.
+ * known there.
+ *
+ * The jump is located between a and b:
+ *  - the motor starts on one side and not on the other, and the start margin
+ *    (usm_op_start_margin: smooth in the parameter, zero where the preload's
+ *    moment at rest equals the excitation's reach) changes sign between them:
+ *    its zero, by Brent on the parameter (core/root.h) to 1e-12 relative;
+ *  - otherwise the operating point is a yes/no property ("the same operating
+ *    point as at a": the same class and, for a stable root, Newton from either
+ *    root at the other's value reaches it, as above) with no value to
+ *    interpolate: bisection (usm_root_bisect) to 1e-10 relative, each step the
+ *    rule at the midpoint.  Where the rule is undecided at a midpoint the
+ *    value stays the midpoint of the last bracket and the text says "not
+ *    located".
  */
 #include <math.h>
 #include <stdio.h>
@@ -23,6 +35,7 @@
 #include <string.h>
 
 #include "core/pool_internal.h"
+#include "core/root.h"
 #include "point_worker.h"
 #include "sweep_op.h"
 #include "usm_map.h"
@@ -101,16 +114,100 @@ static void op_text(const usm_point_op *op, char buf[96])
         snprintf(buf, 96, "none (%s)", usm_point_op_class_name(op->cls));
 }
 
+/* Relative accuracy of a located jump. */
+#define JUMP_RTOL 1e-10
+
+typedef struct jump_loc {
+    const usm_model *m;
+    usm_params q;
+    const usm_param_info *info;
+    const usm_sweep_options *opt;
+    point_worker *w;
+    usm_steady *s;           /* continues()'s polish */
+    const usm_point_op *ref; /* the operating point on the side where the indicator is 1 */
+    double ref_value;
+    int failed;
+} jump_loc;
+
+static double margin_at(double value, void *ctx)
+{
+    jump_loc *j = ctx;
+    double mg;
+    *usm_params_field(&j->q, j->info) = value;
+    return usm_op_start_margin(j->m, &j->q, &mg) == USM_OK ? mg : NAN;
+}
+
+/* 1: the operating point at value is ref's, 0: it is not, or
+ * USM_ROOT_UNDEFINED / USM_ROOT_FAILED. */
+static int same_op_at(double value, void *ctx)
+{
+    jump_loc *j = ctx;
+    usm_point res;
+    *usm_params_field(&j->q, j->info) = value;
+    if (usm_point_evaluate_op(j->w->steady, j->w->floquet, j->m, &j->q, j->opt->t0,
+                              &j->opt->floquet_options, &j->opt->op, &res) != USM_OK)
+        return USM_ROOT_FAILED;
+    if (!res.has_op || !decided(&res.op))
+        return USM_ROOT_UNDEFINED;
+    if (res.op.cls != j->ref->cls)
+        return 0;
+    if (res.op.cls != USM_POINT_OP_STABLE)
+        return 1;
+    usm_params base = j->q;
+    return continues(j->s, &base, j->info, value, &j->ref->sol, &res.op.sol) &&
+           continues(j->s, &base, j->info, j->ref_value, &res.op.sol, &j->ref->sol);
+}
+
+/* Where the operating point changes between grid points a and b (a jump
+ * between them): 1 and *at located, 0 and *at the midpoint; *how says by
+ * what. */
+static int locate_jump(jump_loc *j, const usm_sweep_point *a, const usm_sweep_point *b,
+                       double *at, const char **how)
+{
+    *at = 0.5 * (a->value + b->value);
+    *how = "not located: the rule is undecided";
+    const int start_a = a->op.cls == USM_POINT_OP_DOES_NOT_START,
+              start_b = b->op.cls == USM_POINT_OP_DOES_NOT_START;
+    if (start_a != start_b) {
+        const double ma = margin_at(a->value, j), mb = margin_at(b->value, j);
+        usm_root *r = usm_root_alloc();
+        const usm_root_stop stop = {0.0, 1e-12, 200};
+        double x;
+        if (r && isfinite(ma) && isfinite(mb) && (ma <= 0) != (mb <= 0) &&
+            usm_root_brent(r, margin_at, j, a->value, b->value, ma, mb, &stop, &x) == 0) {
+            usm_root_free(r);
+            *at = x;
+            *how = "located: the start margin is 0";
+            return 1;
+        }
+        usm_root_free(r);
+    }
+    j->ref = &a->op;
+    j->ref_value = a->value;
+    double x;
+    const double tol = JUMP_RTOL * fmax(fabs(a->value), fabs(b->value));
+    const int rc = usm_root_bisect(same_op_at, j, a->value, 1, b->value, tol, 200, &x);
+    if (rc == 1) {
+        *at = x;
+        *how = "located by bisection";
+        return 1;
+    }
+    return 0;
+}
+
 static int jump_events(const usm_model *m, const usm_params *p, const usm_sweep_options *opt,
                        const usm_param_info *info, const usm_sweep_point *pts, size_t n,
                        const sweep_sink *sink, char msg[USM_MSG_LEN])
 {
     usm_steady *s = usm_steady_alloc(m);
-    if (!s) {
+    point_worker *w = point_worker_alloc(m);
+    if (!s || !w) {
+        usm_steady_free(s);
+        point_worker_free(w);
         snprintf(msg, USM_MSG_LEN, "out of memory");
         return USM_EFAILED;
     }
-    (void)opt;
+    jump_loc loc = {m, *p, info, opt, w, s, NULL, 0.0, 0};
     for (size_t i = 0; i + 1 < n; ++i) {
         const usm_sweep_point *a = &pts[i], *b = &pts[i + 1];
         if (!a->has_op || !b->has_op || !decided(&a->op) || !decided(&b->op))
@@ -128,25 +225,30 @@ static int jump_events(const usm_model *m, const usm_params *p, const usm_sweep_
             continue;
         usm_sweep_event e;
         char va[64], vb[64], ta[96], tb[96];
+        const char *how;
+        double at;
         memset(&e, 0, sizeof e);
         e.type = USM_EVENT_OPERATING_POINT_JUMP;
-        e.value = 0.5 * (a->value + b->value);
+        locate_jump(&loc, a, b, &at, &how);
+        e.value = at;
         e.has_sol = b->op.cls == USM_POINT_OP_STABLE;
         if (e.has_sol)
             e.sol = b->op.sol;
         op_text(&a->op, ta);
         op_text(&b->op, tb);
         snprintf(e.what, USM_MSG_LEN,
-                 "the operating point moves between %s and %s (not located): %s -> %s",
-                 sweep_value_text(info, a->value, va), sweep_value_text(info, b->value, vb), ta,
-                 tb);
+                 "the operating point moves between %.26s and %.26s (%.36s): %.58s -> %.58s",
+                 sweep_value_text(info, a->value, va), sweep_value_text(info, b->value, vb), how,
+                 ta, tb);
         if (sink->event(sink->ctx, &e) != 0) {
             usm_steady_free(s);
+            point_worker_free(w);
             snprintf(msg, USM_MSG_LEN, "out of memory for the events");
             return USM_EFAILED;
         }
     }
     usm_steady_free(s);
+    point_worker_free(w);
     return USM_OK;
 }
 
