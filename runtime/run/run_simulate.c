@@ -8,6 +8,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "core/grow.h"
 #include "run_internal.h"
 
 typedef struct sim_data {
@@ -69,14 +70,9 @@ static double now(void)
 static int keep_row(sim_data *d, const usm_sim_sample *s)
 {
     usm_run *r = d->run;
-    if (r->nrows == d->cap) {
-        size_t cap = d->cap ? 2 * d->cap : 1024;
-        double *rows = realloc(r->rows, cap * USM_RUN_SIM_COLUMNS * sizeof *rows);
-        if (!rows)
-            return d->history_oom = 1;
-        r->rows = rows;
-        d->cap = cap;
-    }
+    if (usm_grow((void **)&r->rows, &d->cap, r->nrows + 1,
+                 USM_RUN_SIM_COLUMNS * sizeof *r->rows) != 0)
+        return d->history_oom = 1;
     const double v[USM_RUN_SIM_COLUMNS] = {
         s->t, s->phi, s->theta, s->psi, s->phidot, s->thetadot, s->psidot, s->rotor_angle,
         s->rotor_speed, s->out[USM_OUT_F_N], s->out[USM_OUT_F_T], s->out[USM_OUT_V_REL],

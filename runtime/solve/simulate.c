@@ -21,6 +21,7 @@
 #include "core/cvode_msg.h"
 #include "core/cvodes.h"
 #include "core/dense.h"
+#include "core/grow.h"
 #include "contact_mode.h"
 #include "impact.h"
 #include "usm_simulate.h"
@@ -945,14 +946,9 @@ static int rest_start(usm_sim *s)
     int fl_ok = 0;
     sum->theta_unstable = 0.0;
     if (n > 0) {
-        if (n > s->fl_cap) {
-            usm_floquet_result *fl = realloc(s->fl, n * sizeof *fl);
-            if (!fl) {
-                snprintf(s->msg, USM_MSG_LEN, "out of memory");
-                return USM_EFAILED;
-            }
-            s->fl = fl;
-            s->fl_cap = n;
+        if (usm_grow((void **)&s->fl, &s->fl_cap, n, sizeof *s->fl) != 0) {
+            snprintf(s->msg, USM_MSG_LEN, "out of memory");
+            return USM_EFAILED;
         }
         fl_ok = usm_floquet_roots(s->floquet, &s->p, s->steady, 0.0, NULL, s->fl) == USM_OK;
         for (size_t k = 0; k < n; ++k) {
@@ -1339,14 +1335,9 @@ int usm_sim_run(usm_sim *s, const usm_params *p, const usm_sim_options *opt,
         sum->roots = usm_steady_count(s->steady);
     } else
         snprintf(sum->steady_message, USM_MSG_LEN, "%s", usm_steady_message(s->steady));
-    if (sum->roots > s->root_cap) {
-        long *run = realloc(s->root_run, sum->roots * sizeof *run);
-        if (!run) {
-            snprintf(s->msg, USM_MSG_LEN, "out of memory");
-            return USM_EFAILED;
-        }
-        s->root_run = run;
-        s->root_cap = sum->roots;
+    if (usm_grow((void **)&s->root_run, &s->root_cap, sum->roots, sizeof *s->root_run) != 0) {
+        snprintf(s->msg, USM_MSG_LEN, "out of memory");
+        return USM_EFAILED;
     }
     for (size_t k = 0; k < sum->roots; ++k)
         s->root_run[k] = 0;
