@@ -19,7 +19,7 @@
 typedef struct cli_command {
     size_t size;             /* of the command's options */
     void (*usage)(FILE *out);
-    /* defaults; NULL: cli_common_init.  USM_OK or USM_EINPUT with msg. */
+    /* defaults, after cli_common_init; NULL: none.  USM_OK or USM_EINPUT with msg. */
     int (*init)(void *a, char msg[CLI_MSG_LEN]);
     /* argv[*i] offered: CLI_OPT_TAKEN, CLI_OPT_ERROR with msg, or
      * CLI_OPT_NOT_MINE ("unknown option"/"unexpected argument") */

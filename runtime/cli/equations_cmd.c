@@ -38,7 +38,6 @@ static int init(void *p, char msg[CLI_MSG_LEN])
 {
     eq_args *a = p;
     (void)msg;
-    cli_common_init(&a->common);
     a->format = "markdown";
     return USM_OK;
 }

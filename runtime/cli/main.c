@@ -115,10 +115,8 @@ static int run(const cli_entry *e, int argc, char **argv)
         cli_error("out of memory");
         return USM_EFAILED;
     }
-    if (e->cmd->init)
-        status = e->cmd->init(a, msg);
-    else
-        cli_common_init(a), status = USM_OK;
+    cli_common_init(a);
+    status = e->cmd->init ? e->cmd->init(a, msg) : USM_OK;
     if (e->cmd->mpi && mpi_start(a) != USM_OK) {
         free(a);
         return USM_EFAILED;

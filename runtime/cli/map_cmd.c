@@ -101,7 +101,6 @@ static int init(void *p, char msg[CLI_MSG_LEN])
 {
     map_args *a = p;
     (void)msg;
-    cli_common_init(&a->common);
     usm_floquet_options_default(&a->floquet);
     usm_op_options_default(&a->op);
     usm_map_options def; /* the library's default grid */

@@ -332,7 +332,6 @@ static int init(void *p, char msg[CLI_MSG_LEN])
 {
     opt_args *a = p;
     (void)msg;
-    cli_common_init(&a->common);
     usm_opt_problem_init(&a->pb);
     usm_robust_problem_init(&a->rp);
     return USM_OK;

@@ -70,7 +70,6 @@ static int init(void *p, char msg[CLI_MSG_LEN])
 {
     pareto_args *a = p;
     (void)msg;
-    cli_common_init(&a->common);
     usm_opt_problem_init(&a->pb);
     a->points = 30;
     return USM_OK;

@@ -62,7 +62,6 @@ static int init(void *p, char msg[CLI_MSG_LEN])
 {
     periodic_args *a = p;
     (void)msg;
-    cli_common_init(&a->common);
     /* default_variant; --variant overrides it */
     a->common.variant = default_variant(a->common.base);
     return USM_OK;

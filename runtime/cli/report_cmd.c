@@ -53,7 +53,6 @@ static int init(void *p, char msg[CLI_MSG_LEN])
 {
     report_args *a = p;
     (void)msg;
-    cli_common_init(&a->common);
     a->plots = 1;
     a->threads = 2;
     return USM_OK;

@@ -72,7 +72,6 @@ static int init(void *p, char msg[CLI_MSG_LEN])
 {
     sens_args *a = p;
     (void)msg;
-    cli_common_init(&a->common);
     usm_sensitivity_outputs_default(a->want);
     return USM_OK;
 }

@@ -124,7 +124,6 @@ static int init(void *p, char msg[CLI_MSG_LEN])
 {
     sim_args *a = p;
     (void)msg;
-    cli_common_init(&a->common);
     usm_sim_options_default(&a->opt);
     return USM_OK;
 }

@@ -89,7 +89,6 @@ static int init(void *p, char msg[CLI_MSG_LEN])
 {
     steady_args *a = p;
     (void)msg;
-    cli_common_init(&a->common);
     usm_floquet_options_default(&a->floquet);
     usm_op_options_default(&a->op);
     a->op.from_rest = 1; /* one point: decide it */

@@ -167,7 +167,6 @@ static int init(void *p, char msg[CLI_MSG_LEN])
 {
     sweep_args *a = p;
     (void)msg;
-    cli_common_init(&a->common);
     a->points = 101;
     a->threads = 2;
     a->floquet = 1;

@@ -145,7 +145,6 @@ static int init(void *p, char msg[CLI_MSG_LEN])
 {
     tol_args *a = p;
     const char *stop = getenv("USM_TOLERANCE_STOP_AFTER_BLOCKS"); /* test hook, docs/tolerance.md */
-    cli_common_init(&a->common);
     usm_tolerance_options_default(&a->opt);
     if (stop && stop[0] &&
         parse_count("USM_TOLERANCE_STOP_AFTER_BLOCKS", stop, 1, UINT64_MAX,
