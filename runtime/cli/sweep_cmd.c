@@ -275,22 +275,16 @@ static int write_csv(const void *p, const usm_run *r, FILE *out)
     return usm_sweep_csv(usm_run_sweep_result(r), a->over, a->floquet, out);
 }
 
-/* The CSV files of --plot (usm_plot_csv_write's writers). */
-typedef struct sweep_csv_data {
-    const usm_sweep *s;
-    const char *over;
-    int floquet;
-} sweep_csv_data;
+/* PREFIX.csv of --plot: the CSV of stdout */
+typedef struct plot_data {
+    const sweep_args *a;
+    const usm_run *r;
+} plot_data;
 
-static int write_sweep_csv(FILE *out, const void *data)
+static int plot_csv(FILE *out, const void *data)
 {
-    const sweep_csv_data *d = data;
-    return usm_sweep_csv(d->s, d->over, d->floquet, out);
-}
-
-static int write_periodic_csv(FILE *out, const void *s)
-{
-    return usm_periodic_sweep_csv(s, out);
+    const plot_data *d = data;
+    return write_csv(d->a, d->r, out);
 }
 
 /* The events of a sweep as the word lists its gnuplot script reads (names,
@@ -312,79 +306,64 @@ static int plot_event_add(plot_events *ev, const char *name, double value)
     return 0;
 }
 
-/* gnuplot on data/plots/SCRIPT.gp for PREFIX; a missing gnuplot is a warning. */
-static int plot_render(const char *script, const char *prefix, const char *xcol,
-                       const plot_events *ev)
+/* The label of event i: its name, and on a root or orbit the model does not
+ * describe ":model_invalid:" and the reason; its value in *x. */
+static void event_label(const sweep_args *a, const usm_run *r, size_t i, char name[64], double *x)
 {
-    char msg[CLI_MSG_LEN];
-    const char *names[] = {"xcol", "events", "event_x"};
-    const char *values[] = {xcol, ev->names, ev->values};
-    return cli_plot_status(usm_plot_render(script, prefix, names, values, 3, msg), msg);
+    usm_validity v = USM_VALID;
+    if (a->periodic) {
+        const usm_periodic_event *e = usm_periodic_sweep_event_at(usm_run_periodic_sweep_result(r), i);
+        const int limit = e->type == USM_PEVENT_CONTACT_LOSS ||
+                          e->type == USM_PEVENT_STICK_LOSS || e->type == USM_PEVENT_CONTACT_REGAINED;
+        v = limit ? USM_VALID
+            : e->has_hybrid ? e->hybrid.validity
+            : e->has_orbit ? e->orbit.validity : USM_VALID;
+        snprintf(name, 64, "%s", usm_pevent_name(e->type));
+        *x = e->value;
+    } else {
+        const usm_sweep_event *e = usm_sweep_event_at(usm_run_sweep_result(r), i);
+        if (e->has_sol && e->type != USM_EVENT_STICK_LIMIT)
+            v = e->sol.validity;
+        snprintf(name, 64, "%s", usm_event_name(e->type));
+        *x = e->value;
+    }
+    if (v != USM_VALID)
+        snprintf(name + strlen(name), 64 - strlen(name), ":model_invalid:%s", usm_validity_name(v));
 }
-/* --plot: PREFIX.csv, then gnuplot on data/plots/sweep.gp.  A missing
- * gnuplot is a warning (the CSV and PREFIX.gp are there to plot later). */
-static int plot(const sweep_args *a, const usm_sweep *s)
+
+/* --plot: PREFIX.csv, then gnuplot on data/plots/sweep.gp (sweep_periodic.gp
+ * with --periodic), the events as word lists for their labelled lines.  A
+ * missing gnuplot is a warning (the CSV and PREFIX.gp are there to plot later). */
+static int plot(const sweep_args *a, const usm_run *r)
 {
-    char msg[CLI_MSG_LEN], xcol[128];
+    char msg[CLI_MSG_LEN], xcol[128], name[64];
     const usm_param_info *info = usm_params_find(a->over);
-    const sweep_csv_data data = {s, a->over, a->floquet};
-    int rc = usm_plot_csv_write(a->plot, a->force, write_sweep_csv, &data, msg);
+    const plot_data data = {a, r};
+    int rc = usm_plot_csv_write(a->plot, a->force, plot_csv, &data, msg);
     if (rc != USM_OK) {
         cli_error("%s", msg);
         return rc;
     }
     /* the header's first column (sweep_out.c) */
     snprintf(xcol, sizeof xcol, "%s [%s]", a->over, info ? info->unit : "");
-    /* the events, for their labelled lines: names and values as word lists */
     plot_events ev = {"", ""};
-    for (size_t i = 0; i < usm_sweep_event_count(s); ++i) {
-        const usm_sweep_event *e = usm_sweep_event_at(s, i);
-        /* the label of an event on a root the model does not describe says so */
-        char name[64];
-        const int flagged = e->has_sol && e->type != USM_EVENT_STICK_LIMIT &&
-                            e->sol.validity != USM_VALID;
-        snprintf(name, sizeof name, "%s%s%s", usm_event_name(e->type),
-                 flagged ? ":model_invalid:" : "", flagged ? usm_validity_name(e->sol.validity) : "");
-        if (plot_event_add(&ev, name, e->value) != 0)
+    const size_t n = a->periodic ? usm_periodic_sweep_event_count(usm_run_periodic_sweep_result(r))
+                                 : usm_sweep_event_count(usm_run_sweep_result(r));
+    double x;
+    for (size_t i = 0; i < n; ++i) {
+        event_label(a, r, i, name, &x);
+        if (plot_event_add(&ev, name, x) != 0)
             break;
     }
-    return plot_render("sweep", a->plot, xcol, &ev);
-}
-
-/* --plot with --periodic: PREFIX.csv, then gnuplot on data/plots/sweep_periodic.gp
- * with the events as word lists.  A missing gnuplot is a warning. */
-static int plot_periodic(const sweep_args *a, const usm_periodic_sweep *s)
-{
-    char msg[CLI_MSG_LEN], xcol[128];
-    const usm_param_info *info = usm_params_find(a->over);
-    int rc = usm_plot_csv_write(a->plot, a->force, write_periodic_csv, s, msg);
-    if (rc != USM_OK) {
-        cli_error("%s", msg);
-        return rc;
-    }
-    snprintf(xcol, sizeof xcol, "%s [%s]", a->over, info ? info->unit : "");
-    plot_events ev = {"", ""};
-    for (size_t i = 0; i < usm_periodic_sweep_event_count(s); ++i) {
-        const usm_periodic_event *e = usm_periodic_sweep_event_at(s, i);
-        /* the label of an event on an orbit the model does not describe says so */
-        char name[64];
-        const int limit = e->type == USM_PEVENT_CONTACT_LOSS ||
-                          e->type == USM_PEVENT_STICK_LOSS || e->type == USM_PEVENT_CONTACT_REGAINED;
-        const usm_validity v = limit ? USM_VALID
-                               : e->has_hybrid ? e->hybrid.validity
-                               : e->has_orbit ? e->orbit.validity : USM_VALID;
-        snprintf(name, sizeof name, "%s%s%s", usm_pevent_name(e->type),
-                 v == USM_VALID ? "" : ":model_invalid:", v == USM_VALID ? "" : usm_validity_name(v));
-        if (plot_event_add(&ev, name, e->value) != 0)
-            break;
-    }
-    return plot_render("sweep_periodic", a->plot, xcol, &ev);
+    const char *names[] = {"xcol", "events", "event_x"};
+    const char *values[] = {xcol, ev.names, ev.values};
+    rc = usm_plot_render(a->periodic ? "sweep_periodic" : "sweep", a->plot, names, values, 3, msg);
+    return cli_plot_status(rc, msg);
 }
 
 /* --periodic: the orbit's continuation (usm_periodic_sweep.h). */
-static int run_periodic(const sweep_args *a, bar *progress)
+static usm_run *run_periodic(const sweep_args *a, bar *progress)
 {
-    const cli_common *c = &a->common;
     usm_periodic_sweep_options opt;
     usm_periodic_sweep_options_default(&opt);
     opt.over = a->over;
@@ -395,25 +374,12 @@ static int run_periodic(const sweep_args *a, bar *progress)
         opt.progress = draw;
         opt.progress_ctx = progress;
     }
-    usm_run *r = usm_run_periodic_sweep(c->model, &c->params, &opt);
-    if (progress->shown >= 0)
-        fputc('\n', stderr);
-    int status = cli_run_output(r, c->json, 0, write_csv, a);
-    if (status == USM_OK && a->plot)
-        status = plot_periodic(a, usm_run_periodic_sweep_result(r));
-    usm_run_free(r);
-    return status;
+    return usm_run_periodic_sweep(a->common.model, &a->common.params, &opt);
 }
 
-static int run(void *p)
+static usm_run *run_stationary(const sweep_args *a, bar *progress)
 {
-    const sweep_args *a = p;
-    const cli_common *c = &a->common;
     usm_sweep_options opt;
-    bar progress = {-1};
-    int status;
-    if (a->periodic)
-        return run_periodic(a, &progress);
     usm_sweep_options_default(&opt);
     opt.over = a->over;
     opt.from = a->from;
@@ -428,14 +394,21 @@ static int run(void *p)
     opt.op = a->op;
     if (isatty(STDERR_FILENO)) {
         opt.progress = draw;
-        opt.progress_ctx = &progress;
+        opt.progress_ctx = progress;
     }
-    usm_run *r = usm_run_sweep(c->model, &c->params, &opt);
+    return usm_run_sweep(a->common.model, &a->common.params, &opt);
+}
+
+static int run(void *p)
+{
+    const sweep_args *a = p;
+    bar progress = {-1};
+    usm_run *r = a->periodic ? run_periodic(a, &progress) : run_stationary(a, &progress);
     if (progress.shown >= 0)
         fputc('\n', stderr);
-    status = cli_run_output(r, c->json, 0, write_csv, a);
+    int status = cli_run_output(r, a->common.json, 0, write_csv, a);
     if (status == USM_OK && a->plot)
-        status = plot(a, usm_run_sweep_result(r));
+        status = plot(a, r);
     usm_run_free(r);
     return status;
 }
