@@ -44,6 +44,12 @@ int cli_run_output(const usm_run *r, int json, int flags, cli_write write, const
     return status;
 }
 
+int cli_csv_write(FILE *out, const void *data)
+{
+    const cli_csv *c = data;
+    return c->write(c->a, c->r, out);
+}
+
 int cli_plot_status(int rc, const char *msg)
 {
     if (rc == USM_ENOSOLUTION) {

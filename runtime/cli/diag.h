@@ -30,6 +30,15 @@ enum { CLI_JSON_ON_FAILURE = 1, CLI_MESSAGE_ALWAYS = 2 };
 typedef int (*cli_write)(const void *a, const struct usm_run *r, FILE *out);
 int cli_run_output(const struct usm_run *r, int json, int flags, cli_write write, const void *a);
 
+/* The table or CSV of stdout again into a file: usm_plot_csv_write's writer
+ * for PREFIX.csv of --plot, with data a cli_csv. */
+typedef struct cli_csv {
+    cli_write write;
+    const void *a;
+    const struct usm_run *r;
+} cli_csv;
+int cli_csv_write(FILE *out, const void *data);
+
 /* The status of usm_plot_render: no gnuplot (USM_ENOSOLUTION) is a warning
  * (the data and script are there to plot later); another failure is msg and
  * USM_EINPUT or USM_EFAILED. */

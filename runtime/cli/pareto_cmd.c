@@ -132,22 +132,17 @@ static int finish(void *p, char msg[CLI_MSG_LEN])
     return a->plot ? usm_plot_csv_check(a->plot, a->force, msg) : USM_OK;
 }
 
-typedef struct csv_data {
-    const pareto_args *a;
-    const usm_pareto_result *res;
-} csv_data;
-
-static int write_csv(FILE *out, const void *data)
+static int front_csv(const void *p, const usm_run *r, FILE *out)
 {
-    const csv_data *d = data;
-    return usm_pareto_write_csv(&d->a->pb, d->a->obj, d->res, out);
+    const pareto_args *a = p;
+    return usm_pareto_write_csv(&a->pb, a->obj, usm_run_pareto_result(r), out);
 }
 
-static int plot(const pareto_args *a, const usm_pareto_result *res)
+static int plot(const pareto_args *a, const usm_run *r)
 {
     char msg[CLI_MSG_LEN], xcol[96], ycol[96];
-    const csv_data data = {a, res};
-    int rc = usm_plot_csv_write(a->plot, a->force, write_csv, &data, msg);
+    const cli_csv csv = {front_csv, a, r};
+    int rc = usm_plot_csv_write(a->plot, a->force, cli_csv_write, &csv, msg);
     if (rc != USM_OK) {
         cli_error("%s", msg);
         return rc;
@@ -161,12 +156,6 @@ static int plot(const pareto_args *a, const usm_pareto_result *res)
     return cli_plot_status(usm_plot_render("pareto", a->plot, names, values, 2, msg), msg);
 }
 
-static int front_csv(const void *p, const usm_run *r, FILE *out)
-{
-    const pareto_args *a = p;
-    return usm_pareto_write_csv(&a->pb, a->obj, usm_run_pareto_result(r), out);
-}
-
 static int run(void *p)
 {
     pareto_args *a = p;
@@ -178,7 +167,7 @@ static int run(void *p)
     cli_progress_end(&bar);
     int status = cli_run_output(r, a->common.json, 0, front_csv, a);
     if (status == USM_OK && a->plot)
-        status = plot(a, usm_run_pareto_result(r));
+        status = plot(a, r);
     usm_run_free(r);
     return status;
 }

@@ -275,18 +275,6 @@ static int write_csv(const void *p, const usm_run *r, FILE *out)
     return usm_sweep_csv(usm_run_sweep_result(r), a->over, a->floquet, out);
 }
 
-/* PREFIX.csv of --plot: the CSV of stdout */
-typedef struct plot_data {
-    const sweep_args *a;
-    const usm_run *r;
-} plot_data;
-
-static int plot_csv(FILE *out, const void *data)
-{
-    const plot_data *d = data;
-    return write_csv(d->a, d->r, out);
-}
-
 /* The events of a sweep as the word lists its gnuplot script reads (names,
  * values), for labelled lines. */
 typedef struct plot_events {
@@ -338,8 +326,8 @@ static int plot(const sweep_args *a, const usm_run *r)
 {
     char msg[CLI_MSG_LEN], xcol[128], name[64];
     const usm_param_info *info = usm_params_find(a->over);
-    const plot_data data = {a, r};
-    int rc = usm_plot_csv_write(a->plot, a->force, plot_csv, &data, msg);
+    const cli_csv csv = {write_csv, a, r};
+    int rc = usm_plot_csv_write(a->plot, a->force, cli_csv_write, &csv, msg);
     if (rc != USM_OK) {
         cli_error("%s", msg);
         return rc;
