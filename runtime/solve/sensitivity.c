@@ -52,6 +52,12 @@ int usm_sensitivity_output_find(const char *name)
     return -1;
 }
 
+void usm_sensitivity_outputs_default(int want[USM_SENS_COUNT])
+{
+    for (int k = 0; k < USM_SENS_COUNT; ++k)
+        want[k] = k <= USM_SENS_MAX_MODULUS;
+}
+
 /* One sub-interval of the product. */
 typedef struct step {
     double t;                 /* midpoint */

@@ -108,6 +108,11 @@ void usm_sim_options_default(usm_sim_options *opt)
     opt->rest_fraction = 0.1;
 }
 
+double usm_sim_default_rate(const usm_params *p)
+{
+    return 10.0 * p->f;
+}
+
 const char *usm_sim_stop_name(usm_sim_stop stop)
 {
     switch (stop) {
