@@ -23,6 +23,10 @@ MPIEXEC=${2:-}
 . "$(dirname "$0")/../cli_common.sh"
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 export OMPI_MCA_btl=self,vader OMPI_MCA_btl_vader_single_copy_mechanism=none
+# the ranks outnumber the cores: a rank waiting in a collective yields its core
+# instead of spinning on it (at 10^5 samples, -np 4 on 2 busy cores took 22.9
+# CPU-seconds spinning, 4.6 yielding; the output is the same bytes)
+export OMPI_MCA_mpi_yield_when_idle=1
 mpi_env="ASAN_OPTIONS=${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0"
 
 N=${USM_MILLION_SAMPLES:-1000000} # a smaller N only to try the script out
