@@ -19,6 +19,7 @@
 #include <string.h>
 
 #include "core/dense.h"
+#include "core/grow.h"
 #include "core/root.h"
 #include "usm_cont.h"
 
@@ -36,7 +37,8 @@ struct usm_cont {
     usm_cont_options o;
     double *scale;
     cont_test *tests;
-    int ntests, testcap;
+    int ntests;
+    size_t testcap;
     /* the branch */
     int started, ended, its;
     long steps;
@@ -213,14 +215,8 @@ int usm_cont_add_test(usm_cont *c, usm_cont_test_fn fn, void *ctx, int flags)
     if ((flags != USM_CONT_TEST_MONITOR && flags != USM_CONT_TEST_STOP) || c->started ||
         (c->ntests > 0 && !fn))
         return USM_CONT_EUSAGE;
-    if (c->ntests == c->testcap) {
-        const int cap = c->testcap ? 2 * c->testcap : 8;
-        cont_test *q = realloc(c->tests, (size_t)cap * sizeof *q);
-        if (!q)
-            return USM_CONT_EUSAGE;
-        c->tests = q;
-        c->testcap = cap;
-    }
+    if (usm_grow((void **)&c->tests, &c->testcap, (size_t)c->ntests + 1, sizeof *c->tests) != 0)
+        return USM_CONT_EUSAGE;
     c->tests[c->ntests] = (cont_test){fn, ctx, flags, NAN};
     return c->ntests++;
 }

@@ -28,6 +28,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/grow.h"
 #include "sweep_branch.h"
 
 #define H_MAX 0.05            /* longest step: 1/20 of the sweep range in lambda */
@@ -71,15 +72,9 @@ struct sweep_pending_point {
 static void emit_point(sweep_branch *b, size_t i, const usm_steady_solution *sol, int roots,
                        const char *error)
 {
-    if (b->nppt == b->pptcap) {
-        const size_t cap = b->pptcap ? 2 * b->pptcap : 16;
-        struct sweep_pending_point *q = realloc(b->ppt, cap * sizeof *q);
-        if (!q) {
-            b->oom = 1;
-            return;
-        }
-        b->ppt = q;
-        b->pptcap = cap;
+    if (usm_grow((void **)&b->ppt, &b->pptcap, b->nppt + 1, sizeof *b->ppt) != 0) {
+        b->oom = 1;
+        return;
     }
     struct sweep_pending_point *pp = &b->ppt[b->nppt++];
     pp->i = i;
@@ -101,15 +96,9 @@ static usm_sweep_event *emit_event(sweep_branch *b, usm_event_type type, double 
 static usm_sweep_event *emit_event(sweep_branch *b, usm_event_type type, double value,
                                    const usm_steady_solution *sol, const char *fmt, ...)
 {
-    if (b->npev == b->pevcap) {
-        const size_t cap = b->pevcap ? 2 * b->pevcap : 8;
-        usm_sweep_event *q = realloc(b->pev, cap * sizeof *q);
-        if (!q) {
-            b->oom = 1;
-            return NULL;
-        }
-        b->pev = q;
-        b->pevcap = cap;
+    if (usm_grow((void **)&b->pev, &b->pevcap, b->npev + 1, sizeof *b->pev) != 0) {
+        b->oom = 1;
+        return NULL;
     }
     usm_sweep_event *e = &b->pev[b->npev++];
     memset(e, 0, sizeof *e);
