@@ -1,11 +1,13 @@
 /* root.h: the one bracketing root locator of libusm (internal; not
  * installed).  Every sign change the runtime locates goes through it: the
  * tilt angles, the friction law's extrema and the slip speeds of the
- * stationary solutions (solve/steady.c), the events on a sweep's
- * branch (study/sweep_branch.c), the stability changes along a sweep
- * (study/sweep_stability.c), the events of the periodic-orbit sweep
- * (study/periodic_sweep.c); a boundary of a map (study/map.c), where only a
- * yes/no indicator is known, by its bisection.
+ * stationary solutions (solve/steady.c), the test functions' zeros along
+ * a continued branch (cont/cont.c: a sweep's fold, stick limit, stall,
+ * monitors), the stability changes along a sweep (study/sweep_stability.c),
+ * the start threshold of a sweep's operating-point jump (study/sweep_op.c),
+ * the events of the periodic-orbit sweep (study/periodic_sweep.c); a
+ * boundary of a map (study/map.c) and the other operating-point jumps, where
+ * only a yes/no indicator is known, by its bisection.
  *
  * Brent's method is GSL's gsl_root_fsolver_brent (inverse quadratic
  * interpolation, secant and bisection steps; the bracket always holds the
