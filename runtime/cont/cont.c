@@ -54,6 +54,8 @@ struct usm_cont {
     int nev;
     /* work */
     double *A, *LU, *J, *F, *w, *z1, *t1, *g1;
+    double *wk; /* 5 N: the locations (usm_cont_arc_locate, locate_events) */
+    double *wp; /* 2 N: usm_cont_arc_point, usm_cont_correct_fixed */
     int *piv;
     usm_root *root;
 };
@@ -100,10 +102,12 @@ usm_cont *usm_cont_alloc(int n)
     c->w = calloc(N, sizeof(double));
     c->z1 = calloc(N, sizeof(double));
     c->t1 = calloc(N, sizeof(double));
+    c->wk = calloc(5 * N, sizeof(double));
+    c->wp = calloc(2 * N, sizeof(double));
     c->piv = calloc(N, sizeof(int));
     c->root = usm_root_alloc();
     if (!c->scale || !c->z || !c->t || !c->x || !c->dx || !c->za || !c->ta || !c->zb || !c->xa || !c->A ||
-        !c->LU || !c->J || !c->F || !c->w || !c->z1 || !c->t1 || !c->piv || !c->root ||
+        !c->LU || !c->J || !c->F || !c->w || !c->z1 || !c->t1 || !c->wk || !c->wp || !c->piv || !c->root ||
         usm_cont_add_test(c, NULL, NULL, USM_CONT_TEST_MONITOR) != USM_CONT_FOLD) {
         usm_cont_free(c);
         return NULL;
@@ -137,6 +141,8 @@ void usm_cont_free(usm_cont *c)
     free(c->z1);
     free(c->t1);
     free(c->g1);
+    free(c->wk);
+    free(c->wp);
     free(c->piv);
     usm_root_free(c->root);
     free(c);
@@ -344,17 +350,14 @@ static int arc_point_z(usm_cont *c, double s, double *z, double *t)
 int usm_cont_arc_point(usm_cont *c, double s, double *x, double *dx)
 {
     const int N = c->N;
-    double *z = malloc(2 * sizeof(double) * (size_t)N);
-    int rc = -1;
-    if (z && c->have_arc && s >= 0.0 && s <= c->s_end &&
-        arc_point_z(c, s, z, dx ? z + N : NULL) == 0) {
-        unscale(c, z, x);
-        if (dx)
-            unscale(c, z + N, dx);
-        rc = 0;
-    }
-    free(z);
-    return rc;
+    double *z = c->wp;
+    if (!c->have_arc || !(s >= 0.0 && s <= c->s_end) ||
+        arc_point_z(c, s, z, dx ? z + N : NULL) != 0)
+        return -1;
+    unscale(c, z, x);
+    if (dx)
+        unscale(c, z + N, dx);
+    return 0;
 }
 
 typedef struct arc_fn {
@@ -397,15 +400,11 @@ int usm_cont_arc_locate(usm_cont *c, usm_cont_test_fn fn, void *ctx, double f0, 
                         double *s, double *x)
 {
     const size_t N = (size_t)c->N;
+    double *work = c->wk;
     if (!c->have_arc || !fn)
         return -1;
-    double *work = malloc(5 * N * sizeof(double));
-    if (!work)
-        return -1;
     arc_fn a = {c, -1, fn, ctx, work, work + N, work + 2 * N, work + 3 * N};
-    const int rc = arc_zero(&a, f0, f1, s, x, work + 4 * N);
-    free(work);
-    return rc;
+    return arc_zero(&a, f0, f1, s, x, work + 4 * N);
 }
 
 int usm_cont_correct_fixed(usm_cont *c, double *x, int k, double value)
@@ -413,9 +412,7 @@ int usm_cont_correct_fixed(usm_cont *c, double *x, int k, double value)
     const int N = c->N;
     if (k < 0 || k >= N)
         return -1;
-    double *z = malloc(2 * sizeof(double) * (size_t)N), *b = z ? z + N : NULL;
-    if (!z)
-        return -1;
+    double *z = c->wp, *b = c->wp + N;
     for (int j = 0; j < N; ++j) {
         z[j] = x[j] / c->scale[j];
         b[j] = j == k ? 1.0 : 0.0;
@@ -423,7 +420,6 @@ int usm_cont_correct_fixed(usm_cont *c, double *x, int k, double value)
     const int its = correct(c, z, b, value / c->scale[k]);
     if (its >= 0)
         unscale(c, z, x);
-    free(z);
     return its;
 }
 
@@ -489,9 +485,7 @@ static int event_cmp(const void *a, const void *b)
 static int locate_events(usm_cont *c)
 {
     const size_t N = (size_t)c->N;
-    double *work = malloc(2 * N * sizeof(double));
-    if (!work)
-        return -1;
+    double *work = c->wk;
     c->nev = 0;
     for (int k = 0; k < c->ntests; ++k) {
         const double g0 = c->tests[k].g, g1 = c->g1[k];
@@ -500,10 +494,8 @@ static int locate_events(usm_cont *c)
         usm_cont_event *e = &c->ev[c->nev];
         double *x = c->evbuf + 2 * N * (size_t)c->nev;
         arc_fn a = {c, k, NULL, NULL, work, work + N, x, x + N};
-        if (arc_zero(&a, g0, g1, &e->s, x, x + N) != 0) {
-            free(work);
+        if (arc_zero(&a, g0, g1, &e->s, x, x + N) != 0)
             return -1;
-        }
         e->test = k;
         e->stop = is_stop(c, k);
         e->before = g0;
@@ -511,7 +503,6 @@ static int locate_events(usm_cont *c)
         e->dx = x + N;
         c->nev++;
     }
-    free(work);
     qsort(c->ev, (size_t)c->nev, sizeof *c->ev, event_cmp);
     return 0;
 }
