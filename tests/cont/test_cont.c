@@ -3,7 +3,8 @@
  *  - the circle u^2 / a^2 + p^2 = 1: folds at p = +-1 (u = 0), located to
  *    1e-12; followed across them when asked, the branch comes back on the
  *    other side (u changes sign) and closes after one turn (arclength 2 pi
- *    for a = 1); ended at the first fold by default.  With a = 1e-4 and the
+ *    for a = 1); ended at the first fold by default, also when the fold
+ *    lies inside the first step.  With a = 1e-4 and the
  *    scale (a, 1) the same folds are found, the unknowns ten thousand times
  *    apart in size.
  *  - a monitor u - 1/2 on the circle crosses at p = sqrt(3)/2; a stopping
@@ -146,6 +147,21 @@ static void test_circle(void)
               usm_cont_point(c)[1]);
         CHECK(usm_cont_step(c) == USM_CONT_EUSAGE, "a step after the end was taken");
     }
+    usm_cont_free(c);
+
+    /* a fold inside the branch's first step: the start is 0.05 of arclength
+     * before it, the first step 0.08 long */
+    usm_cont_options o;
+    const double x1[2] = {0.05, sqrt(1 - 0.05 * 0.05)};
+    c = usm_cont_alloc(1);
+    usm_cont_set_problem(c, circle, &a);
+    usm_cont_options_default(&o);
+    o.h0 = o.h_max = 0.08;
+    CHECK(usm_cont_set_options(c, &o) == 0, "options refused");
+    CHECK(usm_cont_start(c, x1, 1) == 0, "start failed");
+    rc = usm_cont_step(c);
+    CHECK(rc == USM_CONT_END && fabs(usm_cont_point(c)[1] - 1.0) <= 1e-12,
+          "a fold in the first step: %d, p = %.17g", rc, usm_cont_point(c)[1]);
     usm_cont_free(c);
 }
 
