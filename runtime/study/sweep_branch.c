@@ -795,6 +795,75 @@ static int follow(trace *tr, const double *u0, double lambda0)
     }
 }
 
+/* ---- whether two roots lie on one branch ------------------------------------------ */
+
+typedef struct reach_stop {
+    int k;        /* the unknown */
+    double value; /* where the branch is stopped */
+} reach_stop;
+
+static double reach_test(const double *x, const double *dx, void *ctx)
+{
+    const reach_stop *r = ctx;
+    (void)dx;
+    return x[r->k] - r->value;
+}
+
+int sweep_branch_connects(const usm_model *m, const usm_params *p, const usm_param_info *info,
+                          double va, const double *ua, double vb, const double *ub)
+{
+    sweep_branch b;
+    memset(&b, 0, sizeof b);
+    b.m = m;
+    b.info = info;
+    b.col = (int)(info - usm_param_table);
+    b.nu = m->nu;
+    b.n = m->nu + 1;
+    b.p = *p;
+    const int nu = b.nu;
+    reach_stop at_vb = {nu, vb}, at_zero = {0, 0.0};
+    double x[SWEEP_MAX_N];
+    usm_cont_options o;
+    usm_cont *c = usm_cont_alloc(nu);
+    int result = -1, k_vb = -1;
+    if (!c || va == vb)
+        goto done;
+    b.cont = c;
+    b.scale[0] = fabs(ua[0]);
+    for (int i = 1; i < nu; ++i)
+        b.scale[i] = fmax(1.0, fabs(ua[i]));
+    b.scale[nu] = fabs(vb - va);
+    memcpy(x, ua, sizeof(double) * (size_t)nu);
+    x[nu] = va;
+    usm_cont_options_default(&o);
+    o.h_max = o.h0 = H_MAX;
+    o.h_min = H_MIN;
+    o.max_steps = 100000;
+    usm_cont_set_problem(c, branch_residual, &b);
+    /* the branch ends at the other value, at a fold or where the tilt vanishes */
+    if (usm_cont_set_options(c, &o) != 0 || usm_cont_set_scale(c, b.scale) != 0 ||
+        (k_vb = usm_cont_add_test(c, reach_test, &at_vb, USM_CONT_TEST_STOP)) < 0 ||
+        usm_cont_add_test(c, reach_test, &at_zero, USM_CONT_TEST_STOP) < 0 ||
+        usm_cont_start(c, x, vb > va ? 1 : -1) != 0)
+        goto done;
+    for (;;) {
+        const int rc = usm_cont_step(c);
+        if (rc == USM_CONT_END) {
+            const usm_cont_event *e = usm_cont_event_at(c, usm_cont_event_count(c) - 1);
+            result = 0;
+            memcpy(x, usm_cont_point(c), sizeof(double) * (size_t)b.n);
+            if (e && e->test == k_vb && usm_cont_correct_fixed(c, x, nu, vb) >= 0)
+                result = same_unknowns_nu(nu, x, ub);
+            break;
+        }
+        if (rc != USM_CONT_STEP || rescale(&b, usm_cont_point(c)) != 0)
+            break;
+    }
+done:
+    usm_cont_free(c);
+    return result;
+}
+
 /* ---- the grid ------------------------------------------------------------------- */
 
 /* The grid points a trace did not reach, from tr->next on in its direction

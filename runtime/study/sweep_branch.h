@@ -68,6 +68,14 @@ int sweep_trace_grid(sweep_branch *b, const usm_params *p, const usm_sweep_optio
                      const double *grid, size_t n, const sweep_sink *sink,
                      char msg[USM_MSG_LEN]);
 
+/* Whether root ub at value vb of the swept parameter (info) lies on the
+ * stationary branch of root ua at va: the branch continued from (ua, va) by
+ * the engine reaches vb (no fold and no zero tilt before it) at ub (every
+ * unknown within 1e-6, as the sweep's rows).  1 or 0; -1 when the branch was
+ * lost on the way (the answer is unknown). */
+int sweep_branch_connects(const usm_model *m, const usm_params *p, const usm_param_info *info,
+                          double va, const double *ua, double vb, const double *ub);
+
 /* The deferred part of every grid point passed on with SWEEP_ROOTS_PENDING
  * (sol.u the branch's root): the full search at its value, the root that
  * is the branch's (or the polish from u where the search misses it) and the

@@ -4,10 +4,13 @@
  * of usm_operating_point (usm_point_evaluate_op, the map's point evaluator):
  * the points are independent, so the worker pool hands them out.  Then, between
  * neighbouring grid points a and b, an operating_point_jump event where:
- *  - both have an operating point, and they are not one branch: the root at a,
- *    polished by Newton at b's value (usm_steady_solve_from), is not b's
- *    operating point, or b's polished at a's value is not a's (tilt within
- *    1e-6 relative);
+ *  - both have an operating point, and they are not one branch: the branch of
+ *    a's root continued by the engine (sweep_branch_connects) ends (a fold,
+ *    the tilt's zero) before b's value or arrives at another root there (every
+ *    unknown within 1e-6).  Newton from one grid value's root at the next
+ *    (usm_steady_solve_from, both ways, tilt within 1e-6 relative) only where
+ *    the continuation is lost: across a coarse grid it misses a root of the
+ *    same branch and reported a jump that a finer grid did not;
  *  - one has an operating point and the other does not start from rest;
  *  - one has an operating point and at the other no root is stable, unless
  *    the operating point is the sweep's branch root there (then the branch
@@ -22,8 +25,8 @@
  *    moment at rest equals the excitation's reach) changes sign between them:
  *    its zero, by Brent on the parameter (core/root.h) to 1e-12 relative;
  *  - otherwise the operating point is a yes/no property ("the same operating
- *    point as at a": the same class and, for a stable root, Newton from either
- *    root at the other's value reaches it, as above) with no value to
+ *    point as at a": the same class and, for a stable root, on one branch with
+ *    a's, as above) with no value to
  *    interpolate: bisection (usm_root_bisect) to 1e-10 relative, each step the
  *    rule at the midpoint.  Where the rule is undecided at a midpoint the
  *    value stays the midpoint of the last bracket and the text says "not
@@ -37,6 +40,7 @@
 #include "core/pool_internal.h"
 #include "core/root.h"
 #include "point_worker.h"
+#include "sweep_branch.h"
 #include "sweep_op.h"
 #include "usm_map.h"
 
@@ -88,6 +92,20 @@ static int continues(usm_steady *s, const usm_params *p, const usm_param_info *i
         return 0;
     const double th = usm_steady_root(s, 0)->theta;
     return fabs(th - to->theta) <= SAME_ROOT_RTOL * fmax(fabs(th), fabs(to->theta));
+}
+
+/* Whether root `from` at va and root `to` at vb lie on one stationary branch:
+ * the branch of `from` continued to vb arrives at `to`.  Where the
+ * continuation is lost, Newton from either root at the other's value reaches
+ * it. */
+static int one_branch(usm_steady *s, const usm_model *m, const usm_params *p,
+                      const usm_param_info *info, double va, const usm_steady_solution *from,
+                      double vb, const usm_steady_solution *to)
+{
+    const int c = sweep_branch_connects(m, p, info, va, from->u, vb, to->u);
+    if (c >= 0)
+        return c;
+    return continues(s, p, info, vb, from, to) && continues(s, p, info, va, to, from);
 }
 
 /* Whether the operating point of pt is the sweep's branch root there. */
@@ -153,9 +171,8 @@ static int same_op_at(double value, void *ctx)
         return 0;
     if (res.op.cls != USM_POINT_OP_STABLE)
         return 1;
-    usm_params base = j->q;
-    return continues(j->s, &base, j->info, value, &j->ref->sol, &res.op.sol) &&
-           continues(j->s, &base, j->info, j->ref_value, &res.op.sol, &j->ref->sol);
+    return one_branch(j->s, j->m, &j->q, j->info, j->ref_value, &j->ref->sol, value,
+                      &res.op.sol);
 }
 
 /* Where the operating point changes between grid points a and b (a jump
@@ -214,8 +231,7 @@ static int jump_events(const usm_model *m, const usm_params *p, const usm_sweep_
             continue;
         int jump = 0;
         if (a->op.cls == USM_POINT_OP_STABLE && b->op.cls == USM_POINT_OP_STABLE)
-            jump = !continues(s, p, info, b->value, &a->op.sol, &b->op.sol) ||
-                   !continues(s, p, info, a->value, &b->op.sol, &a->op.sol);
+            jump = !one_branch(s, m, p, info, a->value, &a->op.sol, b->value, &b->op.sol);
         else if (a->op.cls == USM_POINT_OP_STABLE || b->op.cls == USM_POINT_OP_STABLE) {
             const usm_sweep_point *on = a->op.cls == USM_POINT_OP_STABLE ? a : b;
             const usm_sweep_point *off = on == a ? b : a;
