@@ -539,6 +539,11 @@ static void check_model_offsets(const usm_model *m)
             scaleM = fmax(scaleM, fabs(Mp[i] - Mm[i]) / (2 * h));
             scaleA = fmax(scaleA, fabs(Ap[i] - Am[i]) / (2 * h));
         }
+        /* the differences' rounding, where the linearisation is constant in t */
+        for (int i = 0; i < nn; ++i) {
+            scaleM = fmax(scaleM, 1e-9 * fabs(Mp[i]) / h);
+            scaleA = fmax(scaleA, 1e-9 * fabs(Ap[i]) / h);
+        }
         bad = 0;
         for (int i = 0; i < nn; ++i)
             bad += fabs(d[m->floquet_direction_out.dM + i] - (Mp[i] - Mm[i]) / (2 * h)) >
