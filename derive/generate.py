@@ -28,7 +28,8 @@ content is unchanged are not rewritten.
 checks) and exits 1 (listing the files) when the committed generated/
 differs, 0 when it is up to date.
 Output is byte-identical for the same inputs and sympy version: the hash seed
-is pinned (the script re-executes itself with PYTHONHASHSEED=0).
+is pinned (the script re-executes itself with PYTHONHASHSEED=0, and a larger
+SYMPY_CACHE_SIZE unless one is set).
 """
 import argparse
 import filecmp
@@ -39,8 +40,12 @@ import sys
 import tempfile
 import time
 
-if os.environ.get("PYTHONHASHSEED") != "0":
+# sympy's cache holds 1000 results by default; the Jacobians and directional
+# derivatives of the large tilt-vector expressions evict what they reuse.  A
+# larger one saves CPU (about 7 % on 3dof_tilt) and changes no output byte.
+if os.environ.get("PYTHONHASHSEED") != "0" or "SYMPY_CACHE_SIZE" not in os.environ:
     os.environ["PYTHONHASHSEED"] = "0"
+    os.environ.setdefault("SYMPY_CACHE_SIZE", "200000")
     os.execv(sys.executable, [sys.executable] + sys.argv)
 
 HERE = os.path.dirname(os.path.abspath(__file__))
