@@ -545,7 +545,7 @@ def stationary_power(d):
     frame A every one of them is constant on the orbit (checked below), so
     the mean over a period is the value itself.  Their balance
     power_in = power_out + power_damping + power_slip is not built in: it
-    holds only where the residuals vanish (tests/test_power.c)."""
+    holds only where the residuals vanish (tests/solve/test_steady_power.c)."""
     kin = d.kin
     power_exprs = {
         "power_in": (d.M_E_A_ideal.T * kin.omega_A)[0],
@@ -1010,7 +1010,7 @@ def _derive_regular(name, assumptions, coordinates):
     alongside, and its orbit is mapped into the new coordinates
     (``regular_orbit``).  So the stationary solution of both coordinate sets
     is one and the same, and the tests check that the mapped orbit solves the
-    new equations (tests/test_steady_floquet.c, kernel residual)."""
+    new equations (tests/solve/test_steady_floquet.c, kernel residual)."""
     if assumptions.get("closure", "bilateral") != "bilateral":
         raise RuntimeError("the unilateral contact is derived in Euler angles only")
     euler = {k: v for k, v in assumptions.items() if k != "coordinates"}
