@@ -1,7 +1,7 @@
 /* outfile.h: files that appear whole or not at all (internal; not
  * installed).  The one mechanism behind every single-file output of libusm
  * and the command: usm_io_create/usm_io_commit (io/io_file.c, usm_io.h) and
- * the tolerance checkpoint (study/tolerance_io.c).
+ * the tolerance checkpoint (write/tolerance_checkpoint.c).
  *
  * A file FINAL is written to a temporary beside it, DIR/.BASE.usm-PID-XXXXXX.part,
  * created with O_CREAT|O_EXCL|O_NOFOLLOW (never through a symlink, never

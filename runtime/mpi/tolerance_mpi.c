@@ -4,10 +4,10 @@
  * contiguous range of blocks (tol_owned: rank r of S the blocks [nblocks r /
  * S, nblocks (r + 1) / S)), computes them in rounds of 8 x threads blocks
  * with its threads, keeps their rows and writes its own checkpoint file
- * (tolerance_io.c).  No row travels: after every round the ranks agree on
+ * (write/tolerance_checkpoint.c).  No row travels: after every round the ranks agree on
  * the status (MPI_Allreduce) and, on rank 0's clock, whether to checkpoint;
  * the statistics are reductions, exact order statistics and a sample sort
- * (study/tolerance_stats.c over the collectives below), and samples.csv is
+ * (design/tolerance_stats.c over the collectives below), and samples.csv is
  * written by all ranks into one file with MPI-IO, each at the offset of its
  * rows (usm_tolerance_write_csv_mpi).  A sample is a pure function of (seed,
  * i) and every statistic is exact, so the output is the serial run's, byte
@@ -18,8 +18,9 @@
 #include <string.h>
 
 #include "usm_mpi.h"
-#include "io/tolerance_csv.h"
-#include "study/tolerance_internal.h"
+#include "design/tolerance_internal.h"
+#include "write/tolerance_checkpoint.h"
+#include "write/tolerance_csv.h"
 
 int usm_mpi_launched(void)
 {
@@ -94,7 +95,7 @@ static int agree(usm_tolerance *t, int status, int rank, MPI_Comm comm)
     return agree_key(t, status, 0, rank, comm);
 }
 
-/* ---- the collectives of the statistics (study/tolerance_comm.h) ------------------------ */
+/* ---- the collectives of the statistics (design/tolerance_comm.h) ------------------------ */
 
 static int m_sum(void *ctx, uint64_t *v, size_t n)
 {
@@ -153,7 +154,10 @@ int usm_tolerance_run_mpi(usm_tolerance *t, const usm_params *p, const usm_toler
         snprintf(t->msg, USM_MSG_LEN, "MPI_Comm_rank/size failed");
         return USM_EFAILED;
     }
-    status = agree(t, tol_prepare(t, p, opt, rank, size), rank, comm);
+    status = tol_prepare(t, p, opt, rank, size);
+    if (status == USM_OK)
+        status = tol_checkpoint_open(t);
+    status = agree(t, status, rank, comm);
     if (status != USM_OK)
         return status;
     const tol_comm c = {rank, size, &comm, m_sum, m_allgather, m_alltoallv};

@@ -1,4 +1,4 @@
-/* periodic_internal.h: what the writers of a periodic orbit (io/periodic_out.c)
+/* periodic_internal.h: what the writers of a periodic orbit (write/periodic_out.c)
  * need of the shooting solver beyond usm_periodic.h.  Not installed; not part
  * of the API. */
 #ifndef USM_PERIODIC_INTERNAL_H

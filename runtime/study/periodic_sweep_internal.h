@@ -1,5 +1,5 @@
 /* periodic_sweep_internal.h: what the writers of a periodic sweep
- * (io/periodic_sweep_out.c) need of it beyond usm_periodic_sweep.h.  Not
+ * (write/periodic_sweep_out.c) need of it beyond usm_periodic_sweep.h.  Not
  * installed; not part of the API. */
 #ifndef USM_PERIODIC_SWEEP_INTERNAL_H
 #define USM_PERIODIC_SWEEP_INTERNAL_H

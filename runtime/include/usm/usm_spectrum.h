@@ -176,7 +176,7 @@ int usm_sim_spectrum_compute(usm_sim_spectrum *s, const usm_sim_spectrum_options
 const double *usm_sim_spectrum_amplitudes(const usm_sim_spectrum *s, int channel);
 
 /* The last compute's spectrum (r: its result) as CSV in the project's
- * dialect (io/spectrum_out.c): frequency [Hz], order [1] (frequency / f),
+ * dialect (write/spectrum_out.c): frequency [Hz], order [1] (frequency / f),
  * rotor_speed [1/s], theta [rad], F_n [N] (the amplitudes), one row per bin
  * from k = 1 (the removed mean left out).  0, or -1 before a compute or on a
  * write error. */

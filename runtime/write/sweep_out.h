@@ -7,7 +7,7 @@
 
 #include <jansson.h>
 
-#include "io_msg.h"
+#include "io/io_msg.h"
 #include "usm_io.h"
 #include "usm_sweep.h"
 

@@ -1,5 +1,5 @@
 /* tolerance_csv.h: the samples.csv of a tolerance study as text in memory
- * (io/tolerance_out.c): its header and its rows, for usm_tolerance_write_csv
+ * (tolerance_out.c): its header and its rows, for usm_tolerance_write_csv
  * and for the MPI writer (mpi/tolerance_mpi.c), which writes every rank's
  * rows into one file.  Not installed; not part of the API. */
 #ifndef USM_TOLERANCE_CSV_H

@@ -1,5 +1,5 @@
 /* The statistics of a tolerance study (usm_tolerance.h; its writers:
- * io/tolerance_out.c), computed where the rows are: every rank
+ * write/tolerance_out.c), computed where the rows are: every rank
  * holds the rows of its own samples and the ranks exchange counts, order
  * statistics and ranks, never rows (tolerance_comm.h: a serial run is one
  * rank).  Every figure is exact or computed from exact integers, so it does
@@ -358,7 +358,7 @@ static int counts(usm_tolerance *t, const tol_comm *c, u64 *v)
     for (uint64_t i = 0; i < n; ++i) {
         const double *row = t->rows + i * (uint64_t)w, *out = row + t->nvary;
         v[C_GOOD] += row[TOL_ROW_GOOD(t)] == 1.0;
-        /* a count, checked on load (tolerance_io.c); never an out-of-range conversion */
+        /* a count, checked on load (write/tolerance_checkpoint.c); never an out-of-range conversion */
         const double r = row[TOL_ROW_REDRAWS(t)];
         v[C_REDRAWN] += r >= 0.0 && r < (double)TOL_MAX_REDRAWS ? (uint64_t)r : 0;
         v[C_EXISTS] += out[USM_TOL_EXISTS] != 0.0;

@@ -5,8 +5,8 @@
 
 #include <jansson.h>
 
-#include "csv_out.h"
-#include "json_out.h"
+#include "io/csv_out.h"
+#include "io/json_out.h"
 #include "spectrum_out.h"
 #include "usm_io.h"
 

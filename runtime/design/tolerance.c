@@ -13,7 +13,6 @@
 #include <gsl/gsl_randist.h>
 #include <gsl/gsl_rng.h>
 
-#include "core/outfile.h"
 #include "core/pool_internal.h"
 #include "tolerance_internal.h"
 #include "usm_map.h"
@@ -701,71 +700,7 @@ int tol_prepare(usm_tolerance *t, const usm_params *p, const usm_tolerance_optio
                  (unsigned long long)opt->samples);
         return USM_EFAILED;
     }
-    if (opt->checkpoint) {
-        /* one run per checkpoint: a second one fails at once, not at a rename */
-        int status = tol_checkpoint_load(t), input;
-        char why[USM_MSG_LEN], own[USM_OUTFILE_PATH + 16];
-        if (status == USM_OK &&
-            (t->lock_fd = usm_outfile_lock(tol_checkpoint_path(t, own, sizeof own), why,
-                                           sizeof why, &input)) < 0) {
-            snprintf(t->msg, USM_MSG_LEN, "checkpoint %.200s", why);
-            status = input ? USM_EINPUT : USM_EFAILED;
-        }
-        return status;
-    }
     return USM_OK;
-}
-
-/* ---- the serial run --------------------------------------------------------------------- */
-
-int usm_tolerance_run(usm_tolerance *t, const usm_params *p, const usm_tolerance_options *opt)
-{
-    int status = tol_prepare(t, p, opt, 0, 1);
-    uint64_t *list = NULL, computed = 0;
-    double *pack = NULL;
-    if (status != USM_OK)
-        return status;
-    /* rounds of a few blocks per thread: a checkpoint between rounds */
-    const size_t round = 8 * (size_t)opt->threads;
-    if (!(list = malloc(t->nblocks * sizeof *list)) ||
-        !(pack = malloc(round * USM_TOLERANCE_BLOCK * (size_t)t->width * sizeof *pack))) {
-        free(list);
-        snprintf(t->msg, USM_MSG_LEN, "out of memory");
-        return USM_EFAILED;
-    }
-    const size_t pending = tol_pending(t, list);
-    uint64_t left = 0;
-    for (size_t k = 0; k < pending; ++k)
-        left += tol_block_size(t, list[k]);
-    progress_start(&t->meter, &opt->progress, (long)opt->samples, (long)(opt->samples - left),
-                   "samples");
-    for (size_t at = 0; at < pending && status == USM_OK;) {
-        size_t n = pending - at < round ? pending - at : round;
-        if (opt->stop_after_blocks && n > opt->stop_after_blocks - computed)
-            n = (size_t)(opt->stop_after_blocks - computed);
-        double t0 = tol_now(), c0 = tol_cpu();
-        status = tol_compute(t, list + at, n, pack);
-        t->timings.compute += tol_now() - t0;
-        t->timings.compute_cpu += tol_cpu() - c0;
-        if (status != USM_OK)
-            break;
-        tol_unpack(t, list + at, n, pack);
-        at += n;
-        computed += n;
-        const int stop = opt->stop_after_blocks && computed >= opt->stop_after_blocks &&
-                         at < pending;
-        t0 = tol_now();
-        c0 = tol_cpu();
-        if (tol_checkpoint_due(t, at == pending, stop))
-            status = tol_checkpoint_write(t);
-        t->timings.output += tol_now() - t0;
-        t->timings.output_cpu += tol_cpu() - c0;
-        if (status == USM_OK && stop)
-            status = tol_stopped(t, computed);
-    }
-    free(list);
-    free(pack);
-    return status == USM_OK ? tol_finish(t, &tol_comm_serial) : status;
 }
 
 int tol_stopped(usm_tolerance *t, uint64_t computed)

@@ -2,7 +2,7 @@
  * USM_ENOSOLUTION the point of least violation. */
 #include <stdio.h>
 
-#include "json_out.h"
+#include "io/json_out.h"
 #include "optimize_json.h"
 #include "steady_out.h"
 #include "usm_optimize.h"

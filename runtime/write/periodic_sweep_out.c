@@ -2,8 +2,8 @@
  * (usm_periodic_sweep.h). */
 #include <stdio.h>
 
-#include "csv_out.h"
-#include "json_out.h"
+#include "io/csv_out.h"
+#include "io/json_out.h"
 #include "study/periodic_sweep_internal.h"
 
 int usm_periodic_sweep_csv(const usm_periodic_sweep *s, FILE *out)

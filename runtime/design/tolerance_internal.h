@@ -1,20 +1,21 @@
 /* tolerance_internal.h: the parts of a tolerance study shared by its files
- * (tolerance.c: parsing, sampling, the serial run; tolerance_io.c:
- * checkpoint; tolerance_stats.c: statistics; io/tolerance_out.c: the
- * writers; mpi/tolerance_mpi.c: the MPI run).  Not installed; not part of
- * the API.
+ * (tolerance.c: parsing, sampling, the rounds of blocks; tolerance_stats.c:
+ * statistics) and by the layers above it (write/tolerance_run.c: the serial
+ * run; write/tolerance_checkpoint.c: the checkpoint; write/tolerance_out.c:
+ * the writers; mpi/tolerance_mpi.c: the MPI run).  Not installed; not part
+ * of the API.
  */
 #ifndef USM_TOLERANCE_INTERNAL_H
 #define USM_TOLERANCE_INTERNAL_H
 
-#include "tolerance_io.h"
 #include "tolerance_rows.h"
 #include "tolerance_stats.h"
 
 /* Check the options and nominal parameters, build the configuration text;
  * as rank `rank` of `size`, allocate the rows of the blocks this rank owns
- * (tol_owned) and read them from the checkpoint files where they hold them
- * (tolerance_io.c).  USM_OK or a status with t->msg. */
+ * (tol_owned); a checkpoint is read above the study, by the run that
+ * keeps one (write/tolerance_checkpoint.c: tol_checkpoint_open).  USM_OK or
+ * a status with t->msg. */
 int tol_prepare(usm_tolerance *t, const usm_params *p, const usm_tolerance_options *opt,
                 int rank, int size);
 

@@ -4,8 +4,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "csv_out.h"
-#include "json_out.h"
+#include "io/csv_out.h"
+#include "io/json_out.h"
 #include "solve/periodic_internal.h"
 
 /* The state columns of an orbit file: every state an angle or its rate, but

@@ -1,5 +1,5 @@
 /* tolerance_rows.h: the state of a tolerance study and its rows of samples,
- * the floor that the other parts of the study (tolerance.c, tolerance_io.c,
+ * the floor that the other parts of the study (tolerance.c, write/tolerance_checkpoint.c,
  * tolerance_stats.c, ../mpi/tolerance_mpi.c) stand on.  Not installed; not
  * part of the API.
  *

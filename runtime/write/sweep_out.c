@@ -4,8 +4,8 @@
 #include <math.h>
 #include <string.h>
 
-#include "csv_out.h"
-#include "json_out.h"
+#include "io/csv_out.h"
+#include "io/json_out.h"
 #include "steady_out.h"
 
 /* The operating point of a point: operating_point (index into

@@ -4,8 +4,8 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "csv_out.h"
-#include "json_out.h"
+#include "io/csv_out.h"
+#include "io/json_out.h"
 #include "optimize_json.h"
 #include "usm_robust.h"
 

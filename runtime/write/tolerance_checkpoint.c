@@ -43,7 +43,7 @@
 #include <zlib.h>
 
 #include "core/outfile.h"
-#include "tolerance_io.h"
+#include "tolerance_checkpoint.h"
 #include "usm_map.h" /* usm_point_op_class */
 
 static const char MAGIC[] = "usm tolerance checkpoint 3\n";
@@ -526,4 +526,20 @@ const char *tol_checkpoint_path(const usm_tolerance *t, char *buf, size_t len)
 {
     part_path(t, t->rank, buf, len);
     return buf;
+}
+
+int tol_checkpoint_open(usm_tolerance *t)
+{
+    if (!t->opt.checkpoint)
+        return USM_OK;
+    /* one run per checkpoint: a second one fails at once, not at a rename */
+    int status = tol_checkpoint_load(t), input;
+    char why[USM_MSG_LEN], own[USM_OUTFILE_PATH + 16];
+    if (status == USM_OK &&
+        (t->lock_fd = usm_outfile_lock(tol_checkpoint_path(t, own, sizeof own), why,
+                                       sizeof why, &input)) < 0) {
+        snprintf(t->msg, USM_MSG_LEN, "checkpoint %.200s", why);
+        status = input ? USM_EINPUT : USM_EFAILED;
+    }
+    return status;
 }

@@ -1,5 +1,5 @@
 /* spectrum_out.h: the simulation's spectrum in `usm simulate`'s summary
- * (io/spectrum_out.c; the CSV writer is public: usm_spectrum.h).  Internal
+ * (spectrum_out.c; the CSV writer is public: usm_spectrum.h).  Internal
  * to io/. */
 #ifndef USM_SPECTRUM_OUT_H
 #define USM_SPECTRUM_OUT_H

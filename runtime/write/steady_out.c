@@ -5,7 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "json_out.h"
+#include "io/json_out.h"
 
 /* The root the top level describes: the operating point when there is one
  * (and every root's multipliers are known), else root 0. */

@@ -5,8 +5,8 @@
 #include <math.h>
 #include <stdio.h>
 
-#include "csv_out.h"
-#include "json_out.h"
+#include "io/csv_out.h"
+#include "io/json_out.h"
 
 int usm_sim_spectrum_write_csv(const usm_sim_spectrum *s, const usm_sim_spectrum_result *r,
                                FILE *out)

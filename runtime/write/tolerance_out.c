@@ -6,9 +6,9 @@
 #include <string.h>
 
 #include "core/pool_internal.h"
-#include "csv_out.h"
+#include "io/csv_out.h"
 #include "tolerance_csv.h"
-#include "study/tolerance_rows.h"
+#include "design/tolerance_rows.h"
 #include "usm_map.h"
 
 static const int csv_order[] = {USM_TOL_EXISTS, USM_TOL_STABLE, USM_TOL_STICK_ADMISSIBLE,

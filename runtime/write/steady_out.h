@@ -7,7 +7,7 @@
 
 #include <jansson.h>
 
-#include "csv_out.h" /* usm_shortest */
+#include "io/csv_out.h" /* usm_shortest */
 
 #include "usm.h"
 #include "usm_io.h"

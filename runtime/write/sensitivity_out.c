@@ -7,7 +7,7 @@
 
 #include <jansson.h>
 
-#include "json_out.h"
+#include "io/json_out.h"
 #include "usm_design.h"
 #include "usm_io.h"
 

@@ -1,7 +1,7 @@
 /* The robust optimum (usm_robust.h): NLopt's COBYLA (derivative-free) over
  * the box in normalised variables, the yield and the scatter statistics from
- * one common-random-numbers sample set (study/yield.c), derived quantities
- * from sweeps (study/robust_quantity.c); started from the nominal optimum
+ * one common-random-numbers sample set (yield.c), derived quantities
+ * from sweeps (robust_quantity.c); started from the nominal optimum
  * (usm_optimize_run) when there is one; the chosen design verified with a
  * fresh, larger sample. */
 #define _POSIX_C_SOURCE 200809L
