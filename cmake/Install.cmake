@@ -113,12 +113,28 @@ file(GLOB USM_PUBLIC_RUNTIME_HEADERS CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/run
 list(SORT USM_PUBLIC_RUNTIME_HEADERS)
 set(USM_PUBLIC_GENERATED_HEADERS "")
 foreach(f IN LISTS USM_GENERATED_NAMES)
-  if(f MATCHES "\\.h$" AND NOT f STREQUAL "usm_equations.h")  # the command's, not libusm's
+  # usm_equations.h: usm_equations' (below), not libusm's
+  if(f MATCHES "\\.h$" AND (NOT f STREQUAL "usm_equations.h" OR TARGET usm_equations))
     list(APPEND USM_PUBLIC_GENERATED_HEADERS ${USM_GENERATED_DIR}/${f})
   endif()
 endforeach()
 install(FILES ${USM_PUBLIC_RUNTIME_HEADERS} ${USM_PUBLIC_GENERATED_HEADERS}
   DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/usm)
+
+# The command's two further libraries, installed so that it includes installed
+# headers only and a program can do what it does: usm::usm_equations (the
+# equations documents, usm_equations.h) and, where MPI was found, usm::usm_mpi
+# (the studies over MPI ranks, usm_mpi.h; usmConfig.cmake then finds MPI).
+set(USM_CONFIG_FIND_MPI "")
+foreach(_t usm_equations usm_mpi)
+  if(TARGET ${_t})
+    install(TARGETS ${_t} EXPORT usmTargets ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
+  endif()
+endforeach()
+if(TARGET usm_mpi)
+  install(FILES ${PROJECT_SOURCE_DIR}/runtime/mpi/usm_mpi.h DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/usm)
+  set(USM_CONFIG_FIND_MPI "find_dependency(MPI COMPONENTS C)")
+endif()
 
 # CMake package.
 install(EXPORT usmTargets NAMESPACE usm:: DESTINATION ${USM_INSTALL_CMAKEDIR})

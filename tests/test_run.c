@@ -14,7 +14,9 @@
 #include <gsl/gsl_errno.h>
 
 #include "check.h"
+#include "usm_design.h"
 #include "usm_run.h"
+#include "usm_simulate.h"
 
 static char *json;
 static size_t len;
@@ -105,6 +107,23 @@ int main(void)
     CHECK(usm_run_status(r) == USM_OK && json_object(r), "periodic: %d %s", usm_run_status(r), usm_run_message(r));
     usm_run_free(r);
 
+    /* The clients' defaults are the library's, as docs/cli.md states them:
+     * --rate 10 f; --of the first seven outputs, theta .. max_modulus. */
+    {
+        static const char *const seven[] = {"theta", "rotor_speed", "F_n", "F_t", "efficiency",
+                                            "stick_margin", "max_modulus"};
+        int def[USM_SENS_COUNT], n = 0;
+        usm_params q = p;
+        q.f = 40e3;
+        CHECK(usm_sim_default_rate(&p) == 10.0 * p.f && usm_sim_default_rate(&q) == 4e5,
+              "default rate %g", usm_sim_default_rate(&p));
+        usm_sensitivity_outputs_default(def);
+        for (int k = 0; k < USM_SENS_COUNT; ++k)
+            n += def[k];
+        for (int k = 0; k < 7; ++k)
+            n -= def[usm_sensitivity_output_find(seven[k])];
+        CHECK(n == 0, "default outputs: %d beyond the seven", n);
+    }
     int want[USM_SENS_COUNT];
     for (int k = 0; k < USM_SENS_COUNT; ++k)
         want[k] = 1;

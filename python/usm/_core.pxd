@@ -117,6 +117,7 @@ cdef extern from "usm_simulate.h" nogil:
         double max_twist_growth
         double rest_fraction
     void usm_sim_options_default(usm_sim_options *opt)
+    double usm_sim_default_rate(const usm_params *p)
 
 cdef extern from "usm_operating_point.h" nogil:
     ctypedef struct usm_op_options:
@@ -130,6 +131,7 @@ cdef extern from "usm_design.h" nogil:
         USM_SENS_COUNT
     const char *usm_sensitivity_output_name(int k)
     int usm_sensitivity_output_find(const char *name)
+    void usm_sensitivity_outputs_default(int *want)
 
 cdef extern from "usm_sweep.h" nogil:
     ctypedef struct usm_steady_options:

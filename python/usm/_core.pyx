@@ -517,7 +517,7 @@ cdef class _Model:
         cdef usm_run *r
         cdef const double[:] xv
         usm_sim_options_default(&so)
-        so.rate = 10.0 * self.p.f          # the command's default, 10 f
+        so.rate = usm_sim_default_rate(&self.p)
         start = opts.pop("start", "rest")
         spectrum = opts.pop("spectrum", None)
         cdef long spectrum_periods = -1
@@ -621,8 +621,7 @@ cdef class _Model:
         cdef int want[64]
         cdef usm_run *r
         cdef int k
-        for k in range(USM_SENS_COUNT):
-            want[k] = k < 7   # the command's default outputs (sensitivity_cmd.c)
+        usm_sensitivity_outputs_default(want)
         if of is not None:
             names = [of] if isinstance(of, str) else list(of)
             for k in range(USM_SENS_COUNT):

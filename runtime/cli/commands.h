@@ -1,26 +1,36 @@
-/* commands.h: the usm subcommands.
+/* commands.h: the usm subcommands, run the same way by main.c.
  *
- * Each subcommand lives in its own <name>_cmd.c and has one entry point
- *     int cli_<name>_main(int argc, char **argv);
- * called with argv[0] = the subcommand's name.  It returns the exit status
- * (USM_OK, USM_EFAILED, USM_EINPUT, USM_ENOSOLUTION) and prints its usage on
- * stdout for "--help".  To add one, declare it here and add a line to the
- * table in main.c.
+ * A command is a row of the table in main.c (its name and the line of `usm
+ * --help`) pointing at a cli_command of its <name>_cmd.c.  main.c allocates
+ * the command's options (`size` bytes, zeroed), calls init, offers every
+ * argument to `option` after --help/-h, calls finish, then prints the usage
+ * (for --help) or calls run, and maps a refused argument to its one line and
+ * exit 2.  run returns the exit status (USM_OK, USM_EFAILED, USM_EINPUT,
+ * USM_ENOSOLUTION).  Every command's options start with a cli_common.
  */
 #ifndef USM_CLI_COMMANDS_H
 #define USM_CLI_COMMANDS_H
 
-int cli_steady_main(int argc, char **argv);
-int cli_sweep_main(int argc, char **argv);
-int cli_variants_main(int argc, char **argv);
-int cli_equations_main(int argc, char **argv);
-int cli_report_main(int argc, char **argv);
-int cli_map_main(int argc, char **argv);
-int cli_simulate_main(int argc, char **argv);
-int cli_sensitivity_main(int argc, char **argv);
-int cli_optimize_main(int argc, char **argv);
-int cli_tolerance_main(int argc, char **argv);
-int cli_periodic_main(int argc, char **argv);
-int cli_pareto_main(int argc, char **argv);
+#include <stddef.h>
+#include <stdio.h>
+
+#include "diag.h"
+
+typedef struct cli_command {
+    size_t size;             /* of the command's options */
+    void (*usage)(FILE *out);
+    /* defaults, after cli_common_init; NULL: none.  USM_OK or USM_EINPUT with msg. */
+    int (*init)(void *a, char msg[CLI_MSG_LEN]);
+    /* argv[*i] offered: CLI_OPT_TAKEN, CLI_OPT_ERROR with msg, or
+     * CLI_OPT_NOT_MINE ("unknown option"/"unexpected argument") */
+    int (*option)(void *a, int argc, char **argv, int *i, char msg[CLI_MSG_LEN]);
+    /* after the last argument; NULL: cli_common_finish.  USM_OK or USM_EINPUT. */
+    int (*finish)(void *a, char msg[CLI_MSG_LEN]);
+    int (*run)(void *a);
+    int mpi;                 /* shares its work over MPI ranks under mpirun */
+} cli_command;
+
+extern const cli_command cli_steady, cli_periodic, cli_sweep, cli_variants, cli_equations,
+    cli_report, cli_map, cli_simulate, cli_sensitivity, cli_optimize, cli_tolerance, cli_pareto;
 
 #endif /* USM_CLI_COMMANDS_H */

@@ -27,12 +27,38 @@ void cli_msg(char msg[CLI_MSG_LEN], const char *fmt, ...)
     va_end(ap);
 }
 
-int cli_run_json(const usm_run *r)
+int cli_run_output(const usm_run *r, int json, int flags, cli_write write, const void *a)
 {
-    if (usm_run_write_json(r, stdout) != 0 || fflush(stdout) != 0 || ferror(stdout)) {
+    const int status = usm_run_status(r);
+    const int json_anyway = json && (flags & CLI_JSON_ON_FAILURE) && usm_run_has_json(r);
+    if (status != USM_OK && (!json_anyway || (flags & CLI_MESSAGE_ALWAYS)))
+        cli_error("%s", usm_run_message(r));
+    if (status != USM_OK && !json_anyway)
+        return status;
+    if ((json ? usm_run_write_json(r, stdout) : write(a, r, stdout)) != 0 || fflush(stdout) != 0 ||
+        ferror(stdout)) {
         clearerr(stdout);
         cli_error("stdout: write error");
         return USM_EFAILED;
+    }
+    return status;
+}
+
+int cli_csv_write(FILE *out, const void *data)
+{
+    const cli_csv *c = data;
+    return c->write(c->a, c->r, out);
+}
+
+int cli_plot_status(int rc, const char *msg)
+{
+    if (rc == USM_ENOSOLUTION) {
+        cli_error("warning: %s", msg);
+        return USM_OK;
+    }
+    if (rc != USM_OK) {
+        cli_error("%s", msg);
+        return rc == USM_EINPUT ? USM_EINPUT : USM_EFAILED;
     }
     return USM_OK;
 }

@@ -28,60 +28,53 @@ static void usage(FILE *out)
             "The LaTeX output is a complete document (pdflatex builds it).\n");
 }
 
-int cli_equations_main(int argc, char **argv)
+typedef struct eq_args {
+    cli_common common;
+    const char *format;
+    int diff;
+} eq_args;
+
+static int init(void *p, char msg[CLI_MSG_LEN])
 {
-    cli_common c;
-    char msg[CLI_MSG_LEN];
-    const char *format = "markdown";
+    eq_args *a = p;
+    (void)msg;
+    a->format = "markdown";
+    return USM_OK;
+}
+
+static int option(void *p, int argc, char **argv, int *i, char msg[CLI_MSG_LEN])
+{
+    eq_args *a = p;
+    int r = cli_option_value(argc, argv, i, "--format", &a->format, msg);
+    if (r == CLI_OPT_TAKEN && strcmp(a->format, "markdown") != 0 &&
+        strcmp(a->format, "latex") != 0) {
+        cli_msg(msg, "--format: \"%s\" is not markdown or latex", a->format);
+        return CLI_OPT_ERROR;
+    }
+    if (r != CLI_OPT_NOT_MINE)
+        return r;
+    CLI_TRY(cli_flag_option(argv, i, "--diff", &a->diff));
+    if (strncmp(argv[*i], "--model", 7) == 0 || strncmp(argv[*i], "--variant", 9) == 0)
+        CLI_TRY(cli_common_option(&a->common, argc, argv, i, msg));
+    cli_msg(msg, "%s: unknown option (usm equations --help lists them)", argv[*i]);
+    return CLI_OPT_ERROR;
+}
+
+static int run(void *p)
+{
+    const eq_args *a = p;
     char key[32];
-    int diff = 0;
-    cli_common_init(&c);
-    for (int i = 1; i < argc; ++i) {
-        const char *value;
-        int r;
-        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
-            usage(stdout);
-            return USM_OK;
-        }
-        if ((r = cli_option_value(argc, argv, &i, "--format", &value, msg)) != CLI_OPT_NOT_MINE) {
-            if (r == CLI_OPT_ERROR) {
-                cli_error("%s", msg);
-                return USM_EINPUT;
-            }
-            if (strcmp(value, "markdown") != 0 && strcmp(value, "latex") != 0) {
-                cli_error("--format: \"%s\" is not markdown or latex", value);
-                return USM_EINPUT;
-            }
-            format = value;
-            continue;
-        }
-        if (strcmp(argv[i], "--diff") == 0) {
-            diff = 1;
-            continue;
-        }
-        if (strncmp(argv[i], "--model", 7) == 0 || strncmp(argv[i], "--variant", 9) == 0) {
-            if (cli_common_option(&c, argc, argv, &i, msg) != CLI_OPT_TAKEN) {
-                cli_error("%s", msg);
-                return USM_EINPUT;
-            }
-            continue;
-        }
-        cli_error("%s: unknown option (usm equations --help lists them)", argv[i]);
-        return USM_EINPUT;
-    }
-    if (cli_common_finish(&c, msg) != USM_OK) {
-        cli_error("%s", msg);
-        return USM_EINPUT;
-    }
-    snprintf(key, sizeof key, "%s%s", format, diff ? "-diff" : "");
+    snprintf(key, sizeof key, "%s%s", a->format, a->diff ? "-diff" : "");
     for (int k = 0; k < USM_NEQUATION_DOCS; ++k) {
         const usm_equation_doc *d = &usm_equation_docs[k];
-        if (strcmp(d->model, c.model->name) == 0 && strcmp(d->format, key) == 0) {
+        if (strcmp(d->model, a->common.model->name) == 0 && strcmp(d->format, key) == 0) {
             for (const char *const *line = d->lines; *line; ++line)
                 puts(*line);
             return USM_OK;
         }
     }
-    cli_error("--model: no %s equations generated for %s", key, c.model->name);
+    cli_error("--model: no %s equations generated for %s", key, a->common.model->name);
     return USM_EFAILED;
 }
+
+const cli_command cli_equations = {sizeof(eq_args), usage, init, option, NULL, run, 0};

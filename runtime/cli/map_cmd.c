@@ -91,18 +91,16 @@ typedef struct map_args {
     double t0;
     const char *out;
     const char *plot; /* --plot PREFIX, or NULL */
-    int force, help, quiet;
+    int force, quiet;
+    const char *dbl_text[5]; /* the ranges are parsed once --x and --y are known, in their units */
 } map_args;
 
-static int parse(map_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
+static const char *const dbl_names[] = {"--x-from", "--x-to", "--y-from", "--y-to", "--t0"};
+
+static int init(void *p, char msg[CLI_MSG_LEN])
 {
-    static const char *const dbl_names[] = {"--x-from", "--x-to", "--y-from", "--y-to", "--t0"};
-    double *dbl_dest[] = {&a->xfrom, &a->xto, &a->yfrom, &a->yto, &a->t0};
-    int *dbl_flag[] = {&a->have_xfrom, &a->have_xto, &a->have_yfrom, &a->have_yto, NULL};
-    /* the ranges are parsed once --x and --y are known, in their units */
-    const char *dbl_text[sizeof dbl_names / sizeof dbl_names[0]] = {NULL};
-    memset(a, 0, sizeof *a);
-    cli_common_init(&a->common);
+    map_args *a = p;
+    (void)msg;
     usm_floquet_options_default(&a->floquet);
     usm_op_options_default(&a->op);
     usm_map_options def; /* the library's default grid */
@@ -110,99 +108,51 @@ static int parse(map_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
     a->xpoints = def.x.points;
     a->ypoints = def.y.points;
     a->threads = 2;
-    for (int i = 1; i < argc; ++i) {
-        const char *value;
-        int r, done = 0;
-        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
-            a->help = 1;
-            return USM_OK;
+    return USM_OK;
+}
+
+static int option(void *p, int argc, char **argv, int *i, char msg[CLI_MSG_LEN])
+{
+    map_args *a = p;
+    int *dbl_flag[] = {&a->have_xfrom, &a->have_xto, &a->have_yfrom, &a->have_yto, NULL};
+    const char *value;
+    int r;
+    CLI_TRY(cli_flag_option(argv, i, "--force", &a->force));
+    CLI_TRY(cli_quiet_option(&a->quiet, argc, argv, i));
+    CLI_TRY(cli_common_option(&a->common, argc, argv, i, msg));
+    CLI_TRY(cli_floquet_option(&a->floquet, argc, argv, i, msg));
+    CLI_TRY(cli_from_rest_option(&a->op, argc, argv, i, msg));
+    for (size_t k = 0; k < sizeof dbl_names / sizeof dbl_names[0]; ++k) {
+        if ((r = cli_option_value(argc, argv, i, dbl_names[k], &value, msg)) == CLI_OPT_ERROR)
+            return r;
+        if (r == CLI_OPT_TAKEN) {
+            if (!dbl_flag[k] && cli_parse_quantity(dbl_names[k], "s", value, &a->t0, msg))
+                return CLI_OPT_ERROR;
+            a->dbl_text[k] = value;
+            if (dbl_flag[k])
+                *dbl_flag[k] = 1;
+            return r;
         }
-        if (strcmp(argv[i], "--force") == 0) {
-            a->force = 1;
-            continue;
-        }
-        if (cli_quiet_option(&a->quiet, argc, argv, &i) == CLI_OPT_TAKEN)
-            continue;
-        if ((r = cli_common_option(&a->common, argc, argv, &i, msg)) == CLI_OPT_TAKEN)
-            continue;
-        if (r == CLI_OPT_ERROR)
-            return USM_EINPUT;
-        if ((r = cli_floquet_option(&a->floquet, argc, argv, &i, msg)) == CLI_OPT_TAKEN)
-            continue;
-        if (r == CLI_OPT_ERROR)
-            return USM_EINPUT;
-        if ((r = cli_from_rest_option(&a->op, argc, argv, &i, msg)) == CLI_OPT_TAKEN)
-            continue;
-        if (r == CLI_OPT_ERROR)
-            return USM_EINPUT;
-        for (size_t k = 0; k < sizeof dbl_names / sizeof dbl_names[0] && !done; ++k) {
-            if ((r = cli_option_value(argc, argv, &i, dbl_names[k], &value, msg)) == CLI_OPT_ERROR)
-                return USM_EINPUT;
-            if (r == CLI_OPT_TAKEN) {
-                if (!dbl_flag[k] && cli_parse_quantity(dbl_names[k], "s", value, dbl_dest[k], msg))
-                    return USM_EINPUT;
-                dbl_text[k] = value;
-                if (dbl_flag[k])
-                    *dbl_flag[k] = 1;
-                done = 1;
-            }
-        }
-        if (done)
-            continue;
-        if ((r = cli_option_value(argc, argv, &i, "--x-points", &value, msg)) != CLI_OPT_NOT_MINE) {
-            if (r == CLI_OPT_ERROR || cli_parse_int("--x-points", value, &a->xpoints, msg))
-                return USM_EINPUT;
-            continue;
-        }
-        if ((r = cli_option_value(argc, argv, &i, "--y-points", &value, msg)) != CLI_OPT_NOT_MINE) {
-            if (r == CLI_OPT_ERROR || cli_parse_int("--y-points", value, &a->ypoints, msg))
-                return USM_EINPUT;
-            continue;
-        }
-        if ((r = cli_option_value(argc, argv, &i, "--threads", &value, msg)) != CLI_OPT_NOT_MINE) {
-            if (r == CLI_OPT_ERROR || cli_parse_int("--threads", value, &a->threads, msg))
-                return USM_EINPUT;
-            continue;
-        }
-        if ((r = cli_option_value(argc, argv, &i, "--x", &value, msg)) != CLI_OPT_NOT_MINE) {
-            if (r == CLI_OPT_ERROR)
-                return USM_EINPUT;
-            a->xname = value;
-            continue;
-        }
-        if ((r = cli_option_value(argc, argv, &i, "--y", &value, msg)) != CLI_OPT_NOT_MINE) {
-            if (r == CLI_OPT_ERROR)
-                return USM_EINPUT;
-            a->yname = value;
-            continue;
-        }
-        if ((r = cli_plot_option(argc, argv, &i, &a->plot, msg)) != CLI_OPT_NOT_MINE) {
-            if (r == CLI_OPT_ERROR)
-                return USM_EINPUT;
-            continue;
-        }
-        if ((r = cli_option_value(argc, argv, &i, "--out", &value, msg)) != CLI_OPT_NOT_MINE) {
-            if (r == CLI_OPT_ERROR)
-                return USM_EINPUT;
-            if (value[0] == '\0') {
-                cli_msg(msg, "--out: empty file name");
-                return USM_EINPUT;
-            }
-            a->out = value;
-            continue;
-        }
-        if (argv[i][0] == '-')
-            cli_msg(msg, "%s: unknown option (see usm map --help)", argv[i]);
-        else
-            cli_msg(msg, "%s: unexpected argument (see usm map --help)", argv[i]);
-        return USM_EINPUT;
     }
+    CLI_TRY(cli_int_option(argc, argv, i, "--x-points", &a->xpoints, msg));
+    CLI_TRY(cli_int_option(argc, argv, i, "--y-points", &a->ypoints, msg));
+    CLI_TRY(cli_int_option(argc, argv, i, "--threads", &a->threads, msg));
+    CLI_TRY(cli_option_value(argc, argv, i, "--x", &a->xname, msg));
+    CLI_TRY(cli_option_value(argc, argv, i, "--y", &a->yname, msg));
+    CLI_TRY(cli_plot_option(argc, argv, i, &a->plot, msg));
+    return cli_path_option(argc, argv, i, "--out", "file name", &a->out, msg);
+}
+
+static int finish(void *p, char msg[CLI_MSG_LEN])
+{
+    map_args *a = p;
+    double *dbl_dest[] = {&a->xfrom, &a->xto, &a->yfrom, &a->yto};
     for (int k = 0; k < 4; ++k) {
         const char *name = k < 2 ? a->xname : a->yname;
         const usm_param_info *axis =
             usm_params_find(name ? name : usm_param_table[k < 2 ? USM_P_f : USM_P_T].name);
-        if (dbl_text[k] &&
-            cli_parse_quantity(dbl_names[k], axis ? axis->unit : NULL, dbl_text[k], dbl_dest[k],
+        if (a->dbl_text[k] &&
+            cli_parse_quantity(dbl_names[k], axis ? axis->unit : NULL, a->dbl_text[k], dbl_dest[k],
                                msg) != USM_OK)
             return USM_EINPUT;
     }
@@ -248,15 +198,7 @@ static int plot(const map_args *a, const usm_report_map *map)
     snprintf(ycol, sizeof ycol, "%s [%s]", map->y.param->name, map->y.param->unit);
     const char *names[] = {"xcol", "ycol", "mcol"}, *values[] = {xcol, ycol, "op_max_modulus [1]"};
     rc = usm_plot_render("map", a->plot, names, values, 3, msg);
-    if (rc == USM_ENOSOLUTION) {
-        cli_error("warning: %s", msg);
-        return USM_OK;
-    }
-    if (rc != USM_OK) {
-        cli_error("%s", msg);
-        return rc == USM_EINPUT ? USM_EINPUT : USM_EFAILED;
-    }
-    return USM_OK;
+    return cli_plot_status(rc, msg);
 }
 
 /* The map's memory: the run's, or the gathered map's (MPI). */
@@ -268,9 +210,9 @@ static void map_free(usm_report_map *map, usm_run *run)
         usm_report_map_free(map);
 }
 
-int cli_map_main(int argc, char **argv)
+static int run(void *p)
 {
-    map_args a;
+    const map_args *a = p;
     usm_report_map map;
     char msg[CLI_MSG_LEN];
     FILE *out = stdout;
@@ -278,58 +220,38 @@ int cli_map_main(int argc, char **argv)
     int status;
     usm_run *run = NULL;           /* one process: the library's run of the map */
     const usm_report_map *res = &map; /* the map written (the run's, or gathered) */
-#ifdef USM_HAVE_MPI
-    int rank = 0, size = 1;
-#endif
 
-#ifdef USM_HAVE_MPI
-    /* under mpirun: the columns are shared out; only rank 0 reports and writes */
-    if (usm_mpi_launched() && usm_mpi_start(&rank, &size, msg) != USM_OK) {
-        cli_error("mpi: %s", msg);
-        return USM_EFAILED;
-    }
-    if (rank != 0 && (!freopen("/dev/null", "w", stdout) || !freopen("/dev/null", "w", stderr)))
-        return USM_EFAILED;
-#endif
-    if (parse(&a, argc, argv, msg) != USM_OK) {
-        cli_error("%s", msg);
-        return USM_EINPUT;
-    }
-    if (a.help) {
-        usage(stdout);
-        return USM_OK;
-    }
     memset(&map, 0, sizeof map);
     usm_map_options def; /* the library's default grid */
     usm_map_options_default(&def);
-    if (make_axis(&map.x, "--x", a.xname, &def.x, a.have_xfrom, a.xfrom, a.have_xto, a.xto,
-                  a.xpoints, msg) != USM_OK ||
-        make_axis(&map.y, "--y", a.yname, &def.y, a.have_yfrom, a.yfrom, a.have_yto, a.yto,
-                  a.ypoints, msg) != USM_OK) {
+    if (make_axis(&map.x, "--x", a->xname, &def.x, a->have_xfrom, a->xfrom, a->have_xto, a->xto,
+                  a->xpoints, msg) != USM_OK ||
+        make_axis(&map.y, "--y", a->yname, &def.y, a->have_yfrom, a->yfrom, a->have_yto, a->yto,
+                  a->ypoints, msg) != USM_OK) {
         cli_error("%s", msg);
         return USM_EINPUT;
     }
-    map.model = a.common.model;
-    map.params = a.common.params;
-    map.t0 = a.t0;
-    map.floquet = &a.floquet;
-    map.op = &a.op;
-    map.threads = a.threads;
-    map.boundaries = a.common.json;
+    map.model = a->common.model;
+    map.params = a->common.params;
+    map.t0 = a->t0;
+    map.floquet = &a->floquet;
+    map.op = &a->op;
+    map.threads = a->threads;
+    map.boundaries = a->common.json;
     /* Refuse an --out that cannot be written before the (long) computation. */
-    if (a.out && usm_io_check(a.out, a.force, msg) != USM_OK) {
+    if (a->out && usm_io_check(a->out, a->force, msg) != USM_OK) {
         cli_error("--out %s", msg);
         return USM_EINPUT;
     }
-    if (a.plot && usm_plot_csv_check(a.plot, a.force, msg) != USM_OK) {
+    if (a->plot && usm_plot_csv_check(a->plot, a->force, msg) != USM_OK) {
         cli_error("%s", msg);
         return USM_EINPUT;
     }
-    if (a.out && a.plot) { /* --out m.csv --plot m: PREFIX.csv would replace --out's file */
+    if (a->out && a->plot) { /* --out m.csv --plot m: PREFIX.csv would replace --out's file */
         char files[USM_PLOT_MAX_FILES][USM_IO_PATH_LEN];
-        const char *paths[1 + USM_PLOT_MAX_FILES] = {a.out};
+        const char *paths[1 + USM_PLOT_MAX_FILES] = {a->out};
         const char *opts[1 + USM_PLOT_MAX_FILES] = {"--out"};
-        const int m = usm_plot_files(a.plot, 1, files);
+        const int m = usm_plot_files(a->plot, 1, files);
         for (int i = 0; i < m; ++i)
             paths[1 + i] = files[i], opts[1 + i] = "--plot";
         if (m < 0 || usm_io_check_distinct(paths, opts, 1 + m, msg) != USM_OK) {
@@ -338,12 +260,12 @@ int cli_map_main(int argc, char **argv)
         }
     }
 #ifdef USM_HAVE_MPI
-    if (size > 1) { /* the ranks share the columns; rank 0 gathers the map */
+    if (a->common.size > 1) { /* the ranks share the columns; rank 0 gathers the map */
         usm_map_options opt;
         usm_map_gathered g;
         usm_report_map_options(&map, &opt);
         status = usm_map_run_mpi(map.model, &map.params, &opt, &g);
-        if (rank != 0)
+        if (a->common.rank != 0)
             return status;
         if (status != USM_OK)
             cli_msg(msg, "%s%s", g.msg[0] == 'x' || g.msg[0] == 'y' ? "--" : "map: ", g.msg);
@@ -355,7 +277,7 @@ int cli_map_main(int argc, char **argv)
     {
         usm_map_options opt;
         cli_progress bar;
-        cli_progress_init(&bar, "usm map", a.quiet);
+        cli_progress_init(&bar, "usm map", a->quiet);
         map.progress = cli_progress_callback(&bar);
         usm_report_map_options(&map, &opt);
         run = usm_run_map(map.model, &map.params, &opt);
@@ -369,12 +291,12 @@ int cli_map_main(int argc, char **argv)
         usm_run_free(run);
         return status;
     }
-    if (a.out && !(out = usm_io_create(&file, a.out, a.force, msg, &status))) {
+    if (a->out && !(out = usm_io_create(&file, a->out, a->force, msg, &status))) {
         cli_error("--out %s", msg);
         map_free(&map, run);
         return status;
     }
-    if (a.common.json) {
+    if (a->common.json) {
         if (usm_report_map_write_json(res, out) != 0)
             status = USM_EFAILED;
     } else if (usm_report_map_write_csv(res, out) != 0)
@@ -382,7 +304,7 @@ int cli_map_main(int argc, char **argv)
     if (out != stdout) {
         if (status != USM_OK) {
             usm_io_abort(&file);
-            cli_error("--out %s: write error", a.out);
+            cli_error("--out %s: write error", a->out);
         } else if ((status = usm_io_commit(&file, msg)) != USM_OK)
             cli_error("--out %s", msg);
     } else if (fflush(stdout) != 0 || ferror(stdout)) {
@@ -390,11 +312,13 @@ int cli_map_main(int argc, char **argv)
         cli_error("stdout: write error");
         status = USM_EFAILED;
     }
-    if (status == USM_OK && a.plot)
-        status = plot(&a, res);
+    if (status == USM_OK && a->plot)
+        status = plot(a, res);
     if (res->floquet_failures > 0 && status == USM_OK)
         fprintf(stderr, "usm: map: the Floquet computation failed at %zu point(s) (max_modulus nan)\n",
                 res->floquet_failures);
     map_free(&map, run);
     return status;
 }
+
+const cli_command cli_map = {sizeof(map_args), usage, init, option, finish, run, 1};

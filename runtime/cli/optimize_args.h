@@ -6,9 +6,10 @@
 #include "options.h"
 #include "usm_optimize.h"
 
-/* --vary NAME=LO:HI into pb.  USM_OK or USM_EINPUT with msg. */
-int cli_opt_parse_vary(usm_opt_problem *pb, const char *text, char msg[CLI_MSG_LEN]);
-/* --constraint OUTPUT>=X or OUTPUT<=X into pb.  USM_OK or USM_EINPUT with msg. */
-int cli_opt_parse_constraint(usm_opt_problem *pb, const char *text, char msg[CLI_MSG_LEN]);
+/* --vary NAME=LO:HI, --constraint OUTPUT>=X|OUTPUT<=X, --stability-margin D,
+ * --starts N, --t0 S, --allow-slip, --allow-driven into pb: offer argv[*i]
+ * as to cli_common_option. */
+int cli_opt_problem_option(usm_opt_problem *pb, int argc, char **argv, int *i,
+                           char msg[CLI_MSG_LEN]);
 
 #endif /* USM_CLI_OPTIMIZE_ARGS_H */

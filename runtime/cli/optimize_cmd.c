@@ -20,7 +20,6 @@ typedef struct opt_args {
     usm_opt_problem pb;
     usm_robust_problem rp;   /* the robust options; rp.nominal = pb at the end */
     int robust;              /* usm_robust_problem_is_robust */
-    int help;
     int quiet;               /* --quiet: no progress line (robust design) */
 } opt_args;
 
@@ -117,8 +116,8 @@ static void usage(FILE *out)
             "             {\"feasible\": false, ...} on stdout)\n");
 }
 
-/* NAME=LO:HI (optimize_args.h) */
-int cli_opt_parse_vary(usm_opt_problem *pb, const char *text, char msg[CLI_MSG_LEN])
+/* NAME=LO:HI */
+static int parse_vary(usm_opt_problem *pb, const char *text, char msg[CLI_MSG_LEN])
 {
     char name[64], lo_text[64], lib[USM_MSG_LEN];
     const char *eq = strchr(text, '='), *colon = eq ? strchr(eq, ':') : NULL;
@@ -146,7 +145,7 @@ int cli_opt_parse_vary(usm_opt_problem *pb, const char *text, char msg[CLI_MSG_L
 }
 
 /* OUTPUT>=X or OUTPUT<=X (optimize_args.h) */
-int cli_opt_parse_constraint(usm_opt_problem *pb, const char *text, char msg[CLI_MSG_LEN])
+static int parse_constraint(usm_opt_problem *pb, const char *text, char msg[CLI_MSG_LEN])
 {
     const char *op = strstr(text, ">=");
     int upper = 0;
@@ -308,94 +307,77 @@ static int parse_robust_option(opt_args *a, const char *opt, const char *value,
     return cli_parse_double(opt, value, &rp->qopt.band_threshold, msg);
 }
 
-static int parse(opt_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
+/* optimize_args.h */
+int cli_opt_problem_option(usm_opt_problem *pb, int argc, char **argv, int *i,
+                           char msg[CLI_MSG_LEN])
 {
-    static const char *const opts[] = {"--objective",      "--vary",       "--constraint",
-                                       "--stability-margin", "--starts",  "--t0",
-                                       "--scatter",        "--samples",    "--verify-samples",
-                                       "--seed",           "--threads",    "--max-evals",
-                                       "--over-range",     "--range-stat", "--band-threshold"};
-    enum { NOPTS = sizeof opts / sizeof opts[0] };
-    memset(a, 0, sizeof *a);
-    cli_common_init(&a->common);
+    const char *v;
+    int r;
+    CLI_TRY(cli_flag_option(argv, i, "--allow-slip", &pb->allow_slip));
+    CLI_TRY(cli_flag_option(argv, i, "--allow-driven", &pb->allow_driven));
+    if ((r = cli_option_value(argc, argv, i, "--vary", &v, msg)) == CLI_OPT_NOT_MINE &&
+        (r = cli_option_value(argc, argv, i, "--constraint", &v, msg)) == CLI_OPT_TAKEN)
+        return parse_constraint(pb, v, msg) == USM_OK ? r : CLI_OPT_ERROR;
+    if (r != CLI_OPT_NOT_MINE)
+        return r == CLI_OPT_TAKEN && parse_vary(pb, v, msg) != USM_OK ? CLI_OPT_ERROR : r;
+    if ((r = cli_option_value(argc, argv, i, "--stability-margin", &v, msg)) == CLI_OPT_TAKEN)
+        return cli_parse_double("--stability-margin", v, &pb->margin, msg) ? CLI_OPT_ERROR : r;
+    if (r != CLI_OPT_NOT_MINE)
+        return r;
+    CLI_TRY(cli_int_option(argc, argv, i, "--starts", &pb->starts, msg));
+    return cli_quantity_option(argc, argv, i, "--t0", "s", &pb->t0, msg);
+}
+
+static int init(void *p, char msg[CLI_MSG_LEN])
+{
+    opt_args *a = p;
+    (void)msg;
     usm_opt_problem_init(&a->pb);
     usm_robust_problem_init(&a->rp);
-    for (int i = 1; i < argc; ++i) {
-        const char *value;
-        int r, which = -1;
-        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
-            a->help = 1;
-            return USM_OK;
-        }
-        if (strcmp(argv[i], "--minimize") == 0) {
-            a->pb.minimize = 1;
-            continue;
-        }
-        if (strcmp(argv[i], "--allow-slip") == 0) {
-            a->pb.allow_slip = 1;
-            continue;
-        }
-        if (strcmp(argv[i], "--allow-driven") == 0) {
-            a->pb.allow_driven = 1;
-            continue;
-        }
-        if (strcmp(argv[i], "--no-flat") == 0) {
-            a->pb.no_flat = 1;
-            continue;
-        }
-        if (cli_quiet_option(&a->quiet, argc, argv, &i) == CLI_OPT_TAKEN)
-            continue;
-        if ((r = cli_common_option(&a->common, argc, argv, &i, msg)) == CLI_OPT_TAKEN)
-            continue;
-        if (r == CLI_OPT_ERROR)
-            return USM_EINPUT;
-        {
-            usm_op_options op;
-            usm_op_options_default(&op);
-            op.periods = a->pb.from_rest_periods > 0 ? a->pb.from_rest_periods : op.periods;
-            op.from_rest = a->pb.from_rest;
-            if ((r = cli_from_rest_option(&op, argc, argv, &i, msg)) == CLI_OPT_ERROR)
-                return USM_EINPUT;
-            if (r == CLI_OPT_TAKEN) {
-                a->pb.from_rest = op.from_rest;
-                a->pb.from_rest_periods = op.periods;
-                continue;
-            }
-        }
-        for (int o = 0; o < NOPTS && which < 0; ++o) {
-            if ((r = cli_option_value(argc, argv, &i, opts[o], &value, msg)) == CLI_OPT_ERROR)
-                return USM_EINPUT;
-            if (r == CLI_OPT_TAKEN)
-                which = o;
-        }
-        if (which == 0) {
-            if (parse_objective(a, value, msg) != USM_OK)
-                return USM_EINPUT;
-        } else if (which == 2 && parse_robust_constraint(a, value, msg) == CLI_OPT_TAKEN) {
-            if (msg[0])
-                return USM_EINPUT;
-        } else if (which >= 6) {
-            if (parse_robust_option(a, opts[which], value, msg) != USM_OK)
-                return USM_EINPUT;
-        } else if (which == 1 || which == 2) {
-            if ((which == 1 ? cli_opt_parse_vary : cli_opt_parse_constraint)(&a->pb, value, msg) !=
-                USM_OK)
-                return USM_EINPUT;
-        } else if (which == 3) {
-            if (cli_parse_double(opts[which], value, &a->pb.margin, msg) != USM_OK)
-                return USM_EINPUT;
-        } else if (which == 4) {
-            if (cli_parse_int(opts[which], value, &a->pb.starts, msg) != USM_OK)
-                return USM_EINPUT;
-        } else if (which == 5) {
-            if (cli_parse_quantity(opts[which], "s", value, &a->pb.t0, msg) != USM_OK)
-                return USM_EINPUT;
-        } else {
-            cli_msg(msg, "%s: %s (see usm optimize --help)", argv[i],
-                    argv[i][0] == '-' ? "unknown option" : "unexpected argument");
-            return USM_EINPUT;
-        }
+    return USM_OK;
+}
+
+static int option(void *p, int argc, char **argv, int *i, char msg[CLI_MSG_LEN])
+{
+    static const char *const robust_opts[] = {"--scatter", "--samples", "--verify-samples",
+                                              "--seed", "--threads", "--max-evals",
+                                              "--over-range", "--range-stat", "--band-threshold"};
+    opt_args *a = p;
+    const char *value;
+    int r, j = *i;
+    CLI_TRY(cli_flag_option(argv, i, "--minimize", &a->pb.minimize));
+    CLI_TRY(cli_flag_option(argv, i, "--no-flat", &a->pb.no_flat));
+    CLI_TRY(cli_quiet_option(&a->quiet, argc, argv, i));
+    CLI_TRY(cli_common_option(&a->common, argc, argv, i, msg));
+    usm_op_options op;
+    usm_op_options_default(&op);
+    op.periods = a->pb.from_rest_periods > 0 ? a->pb.from_rest_periods : op.periods;
+    op.from_rest = a->pb.from_rest;
+    if ((r = cli_from_rest_option(&op, argc, argv, i, msg)) == CLI_OPT_TAKEN) {
+        a->pb.from_rest = op.from_rest;
+        a->pb.from_rest_periods = op.periods;
     }
+    if (r != CLI_OPT_NOT_MINE)
+        return r;
+    if ((r = cli_option_value(argc, argv, i, "--objective", &value, msg)) != CLI_OPT_NOT_MINE)
+        return r == CLI_OPT_TAKEN && parse_objective(a, value, msg) != USM_OK ? CLI_OPT_ERROR : r;
+    /* a robust constraint (yield, a derived quantity) before an optimizer output's */
+    if (cli_option_value(argc, argv, &j, "--constraint", &value, msg) == CLI_OPT_TAKEN &&
+        parse_robust_constraint(a, value, msg) == CLI_OPT_TAKEN) {
+        *i = j;
+        return msg[0] ? CLI_OPT_ERROR : CLI_OPT_TAKEN;
+    }
+    for (size_t k = 0; k < sizeof robust_opts / sizeof robust_opts[0]; ++k)
+        if ((r = cli_option_value(argc, argv, i, robust_opts[k], &value, msg)) != CLI_OPT_NOT_MINE)
+            return r == CLI_OPT_TAKEN && parse_robust_option(a, robust_opts[k], value, msg)
+                       ? CLI_OPT_ERROR
+                       : r;
+    return cli_opt_problem_option(&a->pb, argc, argv, i, msg);
+}
+
+static int finish(void *p, char msg[CLI_MSG_LEN])
+{
+    opt_args *a = p;
     int rc = cli_common_finish(&a->common, msg);
     if (rc != USM_OK)
         return rc;
@@ -499,36 +481,32 @@ static void robust_table(const opt_args *a, const usm_robust_result *res)
     printf("\n%d designs evaluated in %.3g s\n", res->evaluations, res->seconds);
 }
 
-int cli_optimize_main(int argc, char **argv)
+static int write_result(const void *p, const usm_run *r, FILE *out)
 {
-    opt_args a;
-    char msg[CLI_MSG_LEN];
-    if (parse(&a, argc, argv, msg) != USM_OK) {
-        cli_error("%s", msg);
-        return USM_EINPUT;
-    }
-    if (a.help) {
-        usage(stdout);
-        return USM_OK;
-    }
-    const usm_model *m = a.common.model;
+    const opt_args *a = p;
+    (void)out;
+    if (a->robust)
+        robust_table(a, usm_run_robust_result(r));
+    else
+        write_table(a, usm_run_optimize_result(r));
+    return 0;
+}
+
+static int run(void *p)
+{
+    opt_args *a = p;
+    const usm_model *m = a->common.model;
     cli_progress bar; /* the robust search only: the nominal one takes seconds */
-    cli_progress_init(&bar, "usm optimize", a.quiet || !a.robust);
-    a.rp.nominal.progress = cli_progress_callback(&bar);
-    usm_run *r = a.robust ? usm_run_robust(m, &a.common.params, &a.rp)
-                          : usm_run_optimize(m, &a.common.params, &a.pb);
+    cli_progress_init(&bar, "usm optimize", a->quiet || !a->robust);
+    a->rp.nominal.progress = cli_progress_callback(&bar);
+    usm_run *r = a->robust ? usm_run_robust(m, &a->common.params, &a->rp)
+                           : usm_run_optimize(m, &a->common.params, &a->pb);
     cli_progress_end(&bar);
-    int status = usm_run_status(r);
-    if (status != USM_OK) /* no feasible point: the message, and --json's object */
-        cli_error("%s", usm_run_message(r));
-    if (a.common.json && usm_run_has_json(r)) {
-        /* also of no feasible point ({"feasible": false, ...}) */
-        if (cli_run_json(r) != USM_OK)
-            status = USM_EFAILED;
-    } else if (status == USM_OK && a.robust)
-        robust_table(&a, usm_run_robust_result(r));
-    else if (status == USM_OK)
-        write_table(&a, usm_run_optimize_result(r));
+    /* no feasible point: the message, and --json's {"feasible": false, ...} */
+    int status = cli_run_output(r, a->common.json, CLI_JSON_ON_FAILURE | CLI_MESSAGE_ALWAYS,
+                                write_result, a);
     usm_run_free(r);
     return status;
 }
+
+const cli_command cli_optimize = {sizeof(opt_args), usage, init, option, finish, run, 0};

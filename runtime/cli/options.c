@@ -13,6 +13,7 @@ void cli_common_init(cli_common *c)
     memset(c, 0, sizeof *c);
     c->base = "3dof";
     c->variant = "paper";
+    c->size = 1;
     c->model = usm_model_find("3dof");
     usm_params_default(&c->params);
 }
@@ -256,16 +257,7 @@ void cli_floquet_usage(FILE *out)
 
 int cli_plot_option(int argc, char **argv, int *i, const char **prefix, char msg[CLI_MSG_LEN])
 {
-    const char *value;
-    int r = cli_option_value(argc, argv, i, "--plot", &value, msg);
-    if (r != CLI_OPT_TAKEN)
-        return r;
-    if (value[0] == '\0') {
-        cli_msg(msg, "--plot: empty file prefix");
-        return CLI_OPT_ERROR;
-    }
-    *prefix = value;
-    return CLI_OPT_TAKEN;
+    return cli_path_option(argc, argv, i, "--plot", "file prefix", prefix, msg);
 }
 
 int cli_from_rest_option(usm_op_options *o, int argc, char **argv, int *i,
@@ -304,4 +296,43 @@ void cli_from_rest_usage(FILE *out)
             "                      operating point (unknown); other points are never simulated\n"
             "  --from-rest-periods N  length of that simulation in excitation periods\n"
             "                      (default 400)\n");
+}
+
+int cli_flag_option(char **argv, const int *i, const char *name, int *flag)
+{
+    if (strcmp(argv[*i], name) != 0)
+        return CLI_OPT_NOT_MINE;
+    *flag = 1;
+    return CLI_OPT_TAKEN;
+}
+
+int cli_int_option(int argc, char **argv, int *i, const char *name, int *out,
+                   char msg[CLI_MSG_LEN])
+{
+    const char *value;
+    int r = cli_option_value(argc, argv, i, name, &value, msg);
+    if (r == CLI_OPT_TAKEN && cli_parse_int(name, value, out, msg) != USM_OK)
+        return CLI_OPT_ERROR;
+    return r;
+}
+
+int cli_quantity_option(int argc, char **argv, int *i, const char *name, const char *unit,
+                        double *out, char msg[CLI_MSG_LEN])
+{
+    const char *value;
+    int r = cli_option_value(argc, argv, i, name, &value, msg);
+    if (r == CLI_OPT_TAKEN && cli_parse_quantity(name, unit, value, out, msg) != USM_OK)
+        return CLI_OPT_ERROR;
+    return r;
+}
+
+int cli_path_option(int argc, char **argv, int *i, const char *name, const char *what,
+                    const char **out, char msg[CLI_MSG_LEN])
+{
+    int r = cli_option_value(argc, argv, i, name, out, msg);
+    if (r == CLI_OPT_TAKEN && (*out)[0] == '\0') {
+        cli_msg(msg, "%s: empty %s", name, what);
+        return CLI_OPT_ERROR;
+    }
+    return r;
 }

@@ -27,6 +27,7 @@ typedef struct cli_common {
     /* --set values, already parsed; applied after the file. */
     double set_value[USM_NPARAMS];
     unsigned char is_set[USM_NPARAMS];
+    int rank, size;              /* this MPI rank and the ranks (0, 1 without mpirun) */
 } cli_common;
 
 /* Outcome of offering an argument to an option parser. */
@@ -97,5 +98,30 @@ int cli_from_rest_option(usm_op_options *o, int argc, char **argv, int *i,
 
 /* Print the lines of those options in a usage text. */
 void cli_from_rest_usage(FILE *out);
+
+/* The small parsers of a command's option function, each CLI_OPT_TAKEN,
+ * CLI_OPT_NOT_MINE or CLI_OPT_ERROR with msg; CLI_TRY returns from the
+ * option function unless the argument was not the parser's. */
+#define CLI_TRY(expr)                      \
+    do {                                   \
+        const int cli_r_ = (expr);         \
+        if (cli_r_ != CLI_OPT_NOT_MINE)    \
+            return cli_r_;                 \
+    } while (0)
+
+/* argv[*i] is exactly `name`: *flag = 1. */
+int cli_flag_option(char **argv, const int *i, const char *name, int *flag);
+
+/* "--name N": a whole number (cli_parse_int). */
+int cli_int_option(int argc, char **argv, int *i, const char *name, int *out,
+                   char msg[CLI_MSG_LEN]);
+
+/* "--name Q": a quantity in `unit` (cli_parse_quantity). */
+int cli_quantity_option(int argc, char **argv, int *i, const char *name, const char *unit,
+                        double *out, char msg[CLI_MSG_LEN]);
+
+/* "--name PATH": a path, refused when empty ("--name: empty WHAT"). */
+int cli_path_option(int argc, char **argv, int *i, const char *name, const char *what,
+                    const char **out, char msg[CLI_MSG_LEN]);
 
 #endif /* USM_CLI_OPTIONS_H */

@@ -21,8 +21,8 @@ typedef struct pareto_args {
     int points;
     const char *plot;
     int force;
-    int help;
     int quiet;
+    int have_obj;
 } pareto_args;
 
 static void usage(FILE *out)
@@ -66,88 +66,51 @@ static void usage(FILE *out)
             "             3 no feasible design\n");
 }
 
-static int parse(pareto_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
+static int init(void *p, char msg[CLI_MSG_LEN])
 {
-    static const char *const opts[] = {"--objectives", "--vary", "--constraint",
-                                       "--stability-margin", "--starts", "--t0", "--points"};
-    enum { NOPTS = sizeof opts / sizeof opts[0] };
-    int have_obj = 0;
-    memset(a, 0, sizeof *a);
-    cli_common_init(&a->common);
+    pareto_args *a = p;
+    (void)msg;
     usm_opt_problem_init(&a->pb);
     a->points = 30;
-    for (int i = 1; i < argc; ++i) {
-        const char *value;
-        int r, which = -1;
-        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
-            a->help = 1;
-            return USM_OK;
+    return USM_OK;
+}
+
+static int option(void *p, int argc, char **argv, int *i, char msg[CLI_MSG_LEN])
+{
+    pareto_args *a = p;
+    const char *value;
+    char lib[USM_IO_MSG_LEN];
+    int r;
+    CLI_TRY(cli_flag_option(argv, i, "--force", &a->force));
+    CLI_TRY(cli_quiet_option(&a->quiet, argc, argv, i));
+    CLI_TRY(cli_plot_option(argc, argv, i, &a->plot, msg));
+    CLI_TRY(cli_common_option(&a->common, argc, argv, i, msg));
+    if ((r = cli_option_value(argc, argv, i, "--objectives", &value, msg)) == CLI_OPT_TAKEN) {
+        if (usm_pareto_objectives_parse(value, a->obj, a->minimize, lib) != USM_OK) {
+            cli_msg(msg, "--%.1000s", lib);
+            return CLI_OPT_ERROR;
         }
-        if (strcmp(argv[i], "--allow-slip") == 0) {
-            a->pb.allow_slip = 1;
-            continue;
-        }
-        if (strcmp(argv[i], "--allow-driven") == 0) {
-            a->pb.allow_driven = 1;
-            continue;
-        }
-        if (strcmp(argv[i], "--force") == 0) {
-            a->force = 1;
-            continue;
-        }
-        if (cli_quiet_option(&a->quiet, argc, argv, &i) == CLI_OPT_TAKEN)
-            continue;
-        if ((r = cli_plot_option(argc, argv, &i, &a->plot, msg)) == CLI_OPT_TAKEN)
-            continue;
-        if (r == CLI_OPT_ERROR)
-            return USM_EINPUT;
-        if ((r = cli_common_option(&a->common, argc, argv, &i, msg)) == CLI_OPT_TAKEN)
-            continue;
-        if (r == CLI_OPT_ERROR)
-            return USM_EINPUT;
-        for (int o = 0; o < NOPTS && which < 0; ++o) {
-            if ((r = cli_option_value(argc, argv, &i, opts[o], &value, msg)) == CLI_OPT_ERROR)
-                return USM_EINPUT;
-            if (r == CLI_OPT_TAKEN)
-                which = o;
-        }
-        if (which == 0) {
-            char lib[USM_IO_MSG_LEN];
-            if (usm_pareto_objectives_parse(value, a->obj, a->minimize, lib) != USM_OK) {
-                cli_msg(msg, "--%.1000s", lib);
-                return USM_EINPUT;
-            }
-            have_obj = 1;
-        } else if (which == 1 || which == 2) {
-            if ((which == 1 ? cli_opt_parse_vary : cli_opt_parse_constraint)(&a->pb, value, msg) !=
-                USM_OK)
-                return USM_EINPUT;
-        } else if (which == 3) {
-            if (cli_parse_double(opts[which], value, &a->pb.margin, msg) != USM_OK)
-                return USM_EINPUT;
-        } else if (which == 4) {
-            if (cli_parse_int(opts[which], value, &a->pb.starts, msg) != USM_OK)
-                return USM_EINPUT;
-        } else if (which == 5) {
-            if (cli_parse_quantity(opts[which], "s", value, &a->pb.t0, msg) != USM_OK)
-                return USM_EINPUT;
-        } else if (which == 6) {
-            if (cli_parse_int(opts[which], value, &a->points, msg) != USM_OK)
-                return USM_EINPUT;
-            if (a->points < 2 || a->points > USM_PARETO_MAX_POINTS) {
-                cli_msg(msg, "--points: must be 2 to %d", USM_PARETO_MAX_POINTS);
-                return USM_EINPUT;
-            }
-        } else {
-            cli_msg(msg, "%s: %s (see usm pareto --help)", argv[i],
-                    argv[i][0] == '-' ? "unknown option" : "unexpected argument");
-            return USM_EINPUT;
-        }
+        a->have_obj = 1;
     }
+    if (r != CLI_OPT_NOT_MINE)
+        return r;
+    if ((r = cli_int_option(argc, argv, i, "--points", &a->points, msg)) == CLI_OPT_TAKEN &&
+        (a->points < 2 || a->points > USM_PARETO_MAX_POINTS)) {
+        cli_msg(msg, "--points: must be 2 to %d", USM_PARETO_MAX_POINTS);
+        return CLI_OPT_ERROR;
+    }
+    if (r != CLI_OPT_NOT_MINE)
+        return r;
+    return cli_opt_problem_option(&a->pb, argc, argv, i, msg);
+}
+
+static int finish(void *p, char msg[CLI_MSG_LEN])
+{
+    pareto_args *a = p;
     int rc = cli_common_finish(&a->common, msg);
     if (rc != USM_OK)
         return rc;
-    if (!have_obj) {
+    if (!a->have_obj) {
         cli_msg(msg, "--objectives: required (A,B)");
         return USM_EINPUT;
     }
@@ -169,22 +132,17 @@ static int parse(pareto_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
     return a->plot ? usm_plot_csv_check(a->plot, a->force, msg) : USM_OK;
 }
 
-typedef struct csv_data {
-    const pareto_args *a;
-    const usm_pareto_result *res;
-} csv_data;
-
-static int write_csv(FILE *out, const void *data)
+static int front_csv(const void *p, const usm_run *r, FILE *out)
 {
-    const csv_data *d = data;
-    return usm_pareto_write_csv(&d->a->pb, d->a->obj, d->res, out);
+    const pareto_args *a = p;
+    return usm_pareto_write_csv(&a->pb, a->obj, usm_run_pareto_result(r), out);
 }
 
-static int plot(const pareto_args *a, const usm_pareto_result *res)
+static int plot(const pareto_args *a, const usm_run *r)
 {
     char msg[CLI_MSG_LEN], xcol[96], ycol[96];
-    const csv_data data = {a, res};
-    int rc = usm_plot_csv_write(a->plot, a->force, write_csv, &data, msg);
+    const cli_csv csv = {front_csv, a, r};
+    int rc = usm_plot_csv_write(a->plot, a->force, cli_csv_write, &csv, msg);
     if (rc != USM_OK) {
         cli_error("%s", msg);
         return rc;
@@ -195,52 +153,23 @@ static int plot(const pareto_args *a, const usm_pareto_result *res)
              usm_opt_output_unit(a->obj[1]));
     const char *names[] = {"xcol", "ycol"};
     const char *values[] = {xcol, ycol};
-    rc = usm_plot_render("pareto", a->plot, names, values, 2, msg);
-    if (rc == USM_ENOSOLUTION) {
-        cli_error("warning: %s", msg);
-        return USM_OK;
-    }
-    if (rc != USM_OK) {
-        cli_error("%s", msg);
-        return rc == USM_EINPUT ? USM_EINPUT : USM_EFAILED;
-    }
-    return USM_OK;
+    return cli_plot_status(usm_plot_render("pareto", a->plot, names, values, 2, msg), msg);
 }
 
-int cli_pareto_main(int argc, char **argv)
+static int run(void *p)
 {
-    pareto_args a;
-    char msg[CLI_MSG_LEN];
-    if (parse(&a, argc, argv, msg) != USM_OK) {
-        cli_error("%s", msg);
-        return USM_EINPUT;
-    }
-    if (a.help) {
-        usage(stdout);
-        return USM_OK;
-    }
+    pareto_args *a = p;
     cli_progress bar;
-    cli_progress_init(&bar, "usm pareto", a.quiet);
-    a.pb.progress = cli_progress_callback(&bar);
-    usm_run *r = usm_run_pareto(a.common.model, &a.common.params, &a.pb, a.obj, a.minimize,
-                                a.points);
+    cli_progress_init(&bar, "usm pareto", a->quiet);
+    a->pb.progress = cli_progress_callback(&bar);
+    usm_run *r = usm_run_pareto(a->common.model, &a->common.params, &a->pb, a->obj, a->minimize,
+                                a->points);
     cli_progress_end(&bar);
-    int status = usm_run_status(r);
-    const usm_pareto_result *res = usm_run_pareto_result(r);
-    if (status != USM_OK) {
-        cli_error("%s", usm_run_message(r));
-        usm_run_free(r);
-        return status;
-    }
-    int w = a.common.json ? usm_run_write_json(r, stdout)
-                          : usm_pareto_write_csv(&a.pb, a.obj, res, stdout);
-    if (w != 0 || fflush(stdout) != 0 || ferror(stdout)) {
-        clearerr(stdout);
-        cli_error("stdout: write error");
-        status = USM_EFAILED;
-    }
-    if (status == USM_OK && a.plot)
-        status = plot(&a, res);
+    int status = cli_run_output(r, a->common.json, 0, front_csv, a);
+    if (status == USM_OK && a->plot)
+        status = plot(a, r);
     usm_run_free(r);
     return status;
 }
+
+const cli_command cli_pareto = {sizeof(pareto_args), usage, init, option, finish, run, 0};

@@ -55,38 +55,29 @@ static void usage(FILE *out)
 typedef struct periodic_args {
     cli_common common;
     const char *orbit;
-    int force, help;
+    int force;
 } periodic_args;
 
-static int parse(periodic_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
+static int init(void *p, char msg[CLI_MSG_LEN])
 {
-    cli_common_init(&a->common);
+    periodic_args *a = p;
+    (void)msg;
     /* default_variant; --variant overrides it */
     a->common.variant = default_variant(a->common.base);
-    a->orbit = NULL;
-    a->force = a->help = 0;
-    for (int i = 1; i < argc; ++i) {
-        int r;
-        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
-            a->help = 1;
-            return USM_OK;
-        }
-        if (strcmp(argv[i], "--force") == 0) {
-            a->force = 1;
-            continue;
-        }
-        if ((r = cli_common_option(&a->common, argc, argv, &i, msg)) == CLI_OPT_TAKEN)
-            continue;
-        if (r == CLI_OPT_ERROR)
-            return USM_EINPUT;
-        if ((r = cli_option_value(argc, argv, &i, "--orbit", &a->orbit, msg)) == CLI_OPT_TAKEN)
-            continue;
-        if (r == CLI_OPT_ERROR)
-            return USM_EINPUT;
-        cli_msg(msg, "%s: %s (see usm periodic --help)", argv[i],
-                argv[i][0] == '-' ? "unknown option" : "unexpected argument");
-        return USM_EINPUT;
-    }
+    return USM_OK;
+}
+
+static int option(void *p, int argc, char **argv, int *i, char msg[CLI_MSG_LEN])
+{
+    periodic_args *a = p;
+    CLI_TRY(cli_flag_option(argv, i, "--force", &a->force));
+    CLI_TRY(cli_common_option(&a->common, argc, argv, i, msg));
+    return cli_option_value(argc, argv, i, "--orbit", &a->orbit, msg);
+}
+
+static int finish(void *p, char msg[CLI_MSG_LEN])
+{
+    periodic_args *a = p;
     if (a->force && !a->orbit) {
         cli_msg(msg, "--force: only with --orbit");
         return USM_EINPUT;
@@ -94,38 +85,28 @@ static int parse(periodic_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
     return cli_common_finish(&a->common, msg);
 }
 
-static int write_orbit(const periodic_args *a, const usm_periodic *w, char msg[CLI_MSG_LEN])
-{
-    usm_io_file file;
-    int status;
-    FILE *f = usm_io_create(&file, a->orbit, a->force, msg, &status);
-    if (!f)
-        return status;
-    if (usm_periodic_write_orbit_csv(w, f) != 0) {
-        usm_io_abort(&file);
-        cli_msg(msg, "%s: write error", a->orbit);
-        return USM_EFAILED;
-    }
-    return usm_io_commit(&file, msg);
-}
-
-/* the orbit with separation: USM_PERIODIC_SAMPLES a period and both sides
- * of every switch */
-static int write_hybrid_orbit(const periodic_args *a, const usm_hybrid_result *h,
-                              char msg[CLI_MSG_LEN])
+/* --orbit: the orbit's CSV; with separation (h) USM_PERIODIC_SAMPLES a
+ * period and both sides of every switch */
+static int write_orbit(const periodic_args *a, const usm_run *run, char msg[CLI_MSG_LEN])
 {
     usm_io_file file;
     int status;
     char lib[USM_MSG_LEN];
+    const usm_hybrid_result *h = usm_run_hybrid_result(run);
     FILE *f = usm_io_create(&file, a->orbit, a->force, msg, &status);
     if (!f)
         return status;
     /* the solve's tolerance: usm_run_periodic's default */
-    if ((status = usm_hybrid_write_orbit_csv(a->common.model, &a->common.params, h, 0.0,
-                                             USM_PERIODIC_SAMPLES, f, lib)) != USM_OK) {
+    if (h && (status = usm_hybrid_write_orbit_csv(a->common.model, &a->common.params, h, 0.0,
+                                                  USM_PERIODIC_SAMPLES, f, lib)) != USM_OK) {
         usm_io_abort(&file);
         cli_msg(msg, "%s: %s", a->orbit, lib);
         return status;
+    }
+    if (!h && usm_periodic_write_orbit_csv(usm_run_periodic_solver(run), f) != 0) {
+        usm_io_abort(&file);
+        cli_msg(msg, "%s: write error", a->orbit);
+        return USM_EFAILED;
     }
     return usm_io_commit(&file, msg);
 }
@@ -199,40 +180,35 @@ static void hybrid_table(const usm_hybrid_result *r, const char *model)
                r->floquet.cyclic[i] ? "  (cyclic coordinate)" : "");
 }
 
-int cli_periodic_main(int argc, char **argv)
+static int write_table(const void *p, const usm_run *run, FILE *out)
 {
-    periodic_args a;
-    char msg[CLI_MSG_LEN];
-    if (parse(&a, argc, argv, msg) != USM_OK) {
-        cli_error("%s", msg);
-        return USM_EINPUT;
-    }
-    if (a.help) {
-        usage(stdout);
-        return USM_OK;
-    }
-    /* an --orbit that cannot be written fails now, not after the shooting */
-    if (a.orbit && usm_io_check(a.orbit, a.force, msg) != USM_OK) {
-        cli_error("--orbit %s", msg);
-        return USM_EINPUT;
-    }
-    usm_run *run = usm_run_periodic(a.common.model, &a.common.params);
-    int status = usm_run_status(run);
+    const periodic_args *a = p;
     const usm_hybrid_result *h = usm_run_hybrid_result(run);
-    if (status == USM_OK && a.orbit &&
-        (status = h ? write_hybrid_orbit(&a, h, msg)
-                    : write_orbit(&a, usm_run_periodic_solver(run), msg)) != USM_OK)
-        cli_error("--orbit %s", msg);
-    else if (a.common.json && usm_run_has_json(run)) {
-        /* the object with "error" on a failure too */
-        if (cli_run_json(run) != USM_OK)
-            status = USM_EFAILED;
-    } else if (status != USM_OK)
-        cli_error("%s", usm_run_message(run));
-    else if (h)
-        hybrid_table(h, a.common.model->name);
+    (void)out;
+    if (h)
+        hybrid_table(h, a->common.model->name);
     else
-        table(usm_run_periodic_result(run), a.common.model->name);
+        table(usm_run_periodic_result(run), a->common.model->name);
+    return 0;
+}
+
+static int run(void *p)
+{
+    const periodic_args *a = p;
+    char msg[CLI_MSG_LEN];
+    /* an --orbit that cannot be written fails now, not after the shooting */
+    if (a->orbit && usm_io_check(a->orbit, a->force, msg) != USM_OK) {
+        cli_error("--orbit %s", msg);
+        return USM_EINPUT;
+    }
+    usm_run *run = usm_run_periodic(a->common.model, &a->common.params);
+    int status = usm_run_status(run);
+    if (status == USM_OK && a->orbit && (status = write_orbit(a, run, msg)) != USM_OK)
+        cli_error("--orbit %s", msg);
+    else /* the --json object with "error" on a failure too */
+        status = cli_run_output(run, a->common.json, CLI_JSON_ON_FAILURE, write_table, a);
     usm_run_free(run);
     return status;
 }
+
+const cli_command cli_periodic = {sizeof(periodic_args), usage, init, option, finish, run, 0};

@@ -46,75 +46,49 @@ static void usage(FILE *out)
 typedef struct report_args {
     cli_common common;
     const char *out;
-    int quick, force, plots, threads, help, quiet;
+    int quick, force, plots, threads, quiet;
 } report_args;
 
-static int parse(report_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
+static int init(void *p, char msg[CLI_MSG_LEN])
 {
-    memset(a, 0, sizeof *a);
-    cli_common_init(&a->common);
+    report_args *a = p;
+    (void)msg;
     a->plots = 1;
     a->threads = 2;
-    for (int i = 1; i < argc; ++i) {
-        const char *value;
-        int r;
-        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
-            a->help = 1;
-            return USM_OK;
-        }
-        if (strcmp(argv[i], "--quick") == 0) {
-            a->quick = 1;
-            continue;
-        }
-        if (cli_quiet_option(&a->quiet, argc, argv, &i) == CLI_OPT_TAKEN)
-            continue;
-        if (strcmp(argv[i], "--force") == 0) {
-            a->force = 1;
-            continue;
-        }
-        if (strcmp(argv[i], "--no-plots") == 0) {
-            a->plots = 0;
-            continue;
-        }
-        {
-            /* The report always covers the paper's two models; --json has no
-             * meaning for a directory of files. */
-            static const char *const not_here[] = {"--json", "--model", "--variant"};
-            for (size_t k = 0; k < sizeof not_here / sizeof not_here[0]; ++k) {
-                size_t len = strlen(not_here[k]);
-                if (strncmp(argv[i], not_here[k], len) == 0 &&
-                    (argv[i][len] == '\0' || argv[i][len] == '=')) {
-                    cli_msg(msg, "%s: not an option of usm report (it covers the paper's 3dof "
-                                 "and 4dof models; see usm report --help)", not_here[k]);
-                    return USM_EINPUT;
-                }
-            }
-        }
-        if ((r = cli_common_option(&a->common, argc, argv, &i, msg)) == CLI_OPT_TAKEN)
-            continue;
-        if (r == CLI_OPT_ERROR)
-            return USM_EINPUT;
-        if ((r = cli_option_value(argc, argv, &i, "--out", &value, msg)) != CLI_OPT_NOT_MINE) {
-            if (r == CLI_OPT_ERROR)
-                return USM_EINPUT;
-            if (value[0] == '\0') {
-                cli_msg(msg, "--out: empty directory name");
-                return USM_EINPUT;
-            }
-            a->out = value;
-            continue;
-        }
-        if ((r = cli_option_value(argc, argv, &i, "--threads", &value, msg)) != CLI_OPT_NOT_MINE) {
-            if (r == CLI_OPT_ERROR || cli_parse_int("--threads", value, &a->threads, msg) != USM_OK)
-                return USM_EINPUT;
-            continue;
-        }
-        if (argv[i][0] == '-')
-            cli_msg(msg, "%s: unknown option (see usm report --help)", argv[i]);
-        else
-            cli_msg(msg, "%s: unexpected argument (see usm report --help)", argv[i]);
-        return USM_EINPUT;
+    return USM_OK;
+}
+
+static int option(void *p, int argc, char **argv, int *i, char msg[CLI_MSG_LEN])
+{
+    report_args *a = p;
+    int no_plots = 0;
+    CLI_TRY(cli_flag_option(argv, i, "--quick", &a->quick));
+    CLI_TRY(cli_quiet_option(&a->quiet, argc, argv, i));
+    CLI_TRY(cli_flag_option(argv, i, "--force", &a->force));
+    if (cli_flag_option(argv, i, "--no-plots", &no_plots) == CLI_OPT_TAKEN) {
+        a->plots = 0;
+        return CLI_OPT_TAKEN;
     }
+    /* The report always covers the paper's two models; --json has no
+     * meaning for a directory of files. */
+    static const char *const not_here[] = {"--json", "--model", "--variant"};
+    for (size_t k = 0; k < sizeof not_here / sizeof not_here[0]; ++k) {
+        size_t len = strlen(not_here[k]);
+        if (strncmp(argv[*i], not_here[k], len) == 0 &&
+            (argv[*i][len] == '\0' || argv[*i][len] == '=')) {
+            cli_msg(msg, "%s: not an option of usm report (it covers the paper's 3dof "
+                         "and 4dof models; see usm report --help)", not_here[k]);
+            return CLI_OPT_ERROR;
+        }
+    }
+    CLI_TRY(cli_common_option(&a->common, argc, argv, i, msg));
+    CLI_TRY(cli_path_option(argc, argv, i, "--out", "directory name", &a->out, msg));
+    return cli_int_option(argc, argv, i, "--threads", &a->threads, msg);
+}
+
+static int finish(void *p, char msg[CLI_MSG_LEN])
+{
+    report_args *a = p;
     if (!a->out) {
         cli_msg(msg, "--out: missing, the output directory is required");
         return USM_EINPUT;
@@ -122,43 +96,37 @@ static int parse(report_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
     return cli_common_finish(&a->common, msg);
 }
 
-int cli_report_main(int argc, char **argv)
+static int run(void *p)
 {
-    report_args a;
+    const report_args *a = p;
     usm_report_options opt;
     char msg[CLI_MSG_LEN];
     int status;
 
-    if (parse(&a, argc, argv, msg) != USM_OK) {
-        cli_error("%s", msg);
-        return USM_EINPUT;
-    }
-    if (a.help) {
-        usage(stdout);
-        return USM_OK;
-    }
     usm_report_options_default(&opt);
-    opt.quick = a.quick;
-    opt.threads = a.threads;
-    opt.plots = a.plots;
-    opt.force = a.force;
+    opt.quick = a->quick;
+    opt.threads = a->threads;
+    opt.plots = a->plots;
+    opt.force = a->force;
     if (usm_report_options_check(&opt, msg) != USM_OK) {
         cli_error("--%s", msg);
         return USM_EINPUT;
     }
-    if (usm_report_prepare_dir(a.out, &opt, msg) != USM_OK) {
+    if (usm_report_prepare_dir(a->out, &opt, msg) != USM_OK) {
         cli_error("--out %s", msg);
         return USM_EINPUT;
     }
     cli_progress bar;
-    cli_progress_init(&bar, "usm report", a.quiet);
+    cli_progress_init(&bar, "usm report", a->quiet);
     opt.progress = cli_progress_callback(&bar);
-    status = usm_report_write(a.out, &a.common.params, &opt, msg);
+    status = usm_report_write(a->out, &a->common.params, &opt, msg);
     cli_progress_end(&bar);
     if (status != USM_OK) {
         cli_error("%s", msg);
         return status;
     }
-    printf("%s/report.md\n", a.out);
+    printf("%s/report.md\n", a->out);
     return USM_OK;
 }
+
+const cli_command cli_report = {sizeof(report_args), usage, init, option, finish, run, 0};

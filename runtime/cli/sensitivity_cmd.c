@@ -13,9 +13,6 @@
 #include "usm_io.h"
 #include "usm_run.h"
 
-/* The outputs of the list, the default of --of. */
-#define DEFAULT_OUTPUTS 7
-
 static void usage(FILE *out)
 {
     fprintf(out,
@@ -48,7 +45,6 @@ static void usage(FILE *out)
 typedef struct sens_args {
     cli_common common;
     int want[USM_SENS_COUNT];
-    int help;
 } sens_args;
 
 static int parse_of(sens_args *a, const char *text, char msg[CLI_MSG_LEN])
@@ -72,66 +68,38 @@ static int parse_of(sens_args *a, const char *text, char msg[CLI_MSG_LEN])
     return USM_OK;
 }
 
-static int parse(sens_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
+static int init(void *p, char msg[CLI_MSG_LEN])
 {
-    cli_common_init(&a->common);
-    a->help = 0;
-    for (int k = 0; k < USM_SENS_COUNT; ++k)
-        a->want[k] = k < DEFAULT_OUTPUTS;
-    for (int i = 1; i < argc; ++i) {
-        const char *value;
-        int r;
-        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
-            a->help = 1;
-            return USM_OK;
-        }
-        if ((r = cli_common_option(&a->common, argc, argv, &i, msg)) == CLI_OPT_TAKEN)
-            continue;
-        if (r == CLI_OPT_ERROR)
-            return USM_EINPUT;
-        if ((r = cli_option_value(argc, argv, &i, "--of", &value, msg)) == CLI_OPT_ERROR)
-            return USM_EINPUT;
-        if (r == CLI_OPT_TAKEN) {
-            if (parse_of(a, value, msg) != USM_OK)
-                return USM_EINPUT;
-            continue;
-        }
-        if (argv[i][0] == '-')
-            cli_msg(msg, "%s: unknown option (see usm sensitivity --help)", argv[i]);
-        else
-            cli_msg(msg, "%s: unexpected argument (see usm sensitivity --help)", argv[i]);
-        return USM_EINPUT;
-    }
-    return cli_common_finish(&a->common, msg);
+    sens_args *a = p;
+    (void)msg;
+    usm_sensitivity_outputs_default(a->want);
+    return USM_OK;
 }
 
-static int run(const sens_args *a)
+static int option(void *p, int argc, char **argv, int *i, char msg[CLI_MSG_LEN])
 {
-    const cli_common *c = &a->common;
-    usm_run *r = usm_run_sensitivity(c->model, &c->params, a->want);
-    int status = usm_run_status(r);
-    if (status != USM_OK)
-        cli_error("%s", usm_run_message(r));
-    else if (!c->json)
-        usm_sensitivity_write_table(c->model, &c->params, usm_run_sensitivity_result(r), a->want,
-                                    stdout);
-    else
-        status = cli_run_json(r);
+    sens_args *a = p;
+    const char *value;
+    CLI_TRY(cli_common_option(&a->common, argc, argv, i, msg));
+    int r = cli_option_value(argc, argv, i, "--of", &value, msg);
+    return r == CLI_OPT_TAKEN && parse_of(a, value, msg) != USM_OK ? CLI_OPT_ERROR : r;
+}
+
+static int table(const void *p, const usm_run *r, FILE *out)
+{
+    const sens_args *a = p;
+    usm_sensitivity_write_table(a->common.model, &a->common.params,
+                                usm_run_sensitivity_result(r), a->want, out);
+    return 0;
+}
+
+static int run(void *p)
+{
+    const sens_args *a = p;
+    usm_run *r = usm_run_sensitivity(a->common.model, &a->common.params, a->want);
+    int status = cli_run_output(r, a->common.json, 0, table, a);
     usm_run_free(r);
     return status;
 }
 
-int cli_sensitivity_main(int argc, char **argv)
-{
-    sens_args a;
-    char msg[CLI_MSG_LEN];
-    if (parse(&a, argc, argv, msg) != USM_OK) {
-        cli_error("%s", msg);
-        return USM_EINPUT;
-    }
-    if (a.help) {
-        usage(stdout);
-        return USM_OK;
-    }
-    return run(&a);
-}
+const cli_command cli_sensitivity = {sizeof(sens_args), usage, init, option, NULL, run, 0};

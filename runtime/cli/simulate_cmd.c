@@ -96,7 +96,6 @@ typedef struct sim_args {
     int force;
     int rate_set;
     int duration_set;
-    int help;
 } sim_args;
 
 /* ---- parsing ------------------------------------------------------------------ */
@@ -121,101 +120,92 @@ static void option_message(const char *lib, char msg[CLI_MSG_LEN])
     cli_msg(msg, "%s", lib);
 }
 
-static int parse(sim_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
+static int init(void *p, char msg[CLI_MSG_LEN])
+{
+    sim_args *a = p;
+    (void)msg;
+    usm_sim_options_default(&a->opt);
+    return USM_OK;
+}
+
+/* --from rest|stationary|FILE */
+static void start_option(sim_args *a, const char *sv)
 {
     usm_sim_options *o = &a->opt;
+    a->from_file = NULL;
+    if (strcmp(sv, "rest") == 0)
+        o->start = USM_SIM_FROM_REST;
+    else if (strcmp(sv, "stationary") == 0)
+        o->start = USM_SIM_FROM_STATIONARY;
+    else {
+        o->start = USM_SIM_FROM_STATE;
+        a->from_file = sv;
+    }
+}
+
+static int option(void *p, int argc, char **argv, int *i, char msg[CLI_MSG_LEN])
+{
+    sim_args *a = p;
+    usm_sim_options *o = &a->opt;
     /* numbers: the library checks their ranges (usm_sim_check) */
-    const char *const num_opt[] = {"--duration",    "--rate",         "--tilt0",
-                                   "--rtol",        "--settle-tol",   "--theta-limit",
-                                   "--speed-limit", "--max-twist-growth", "--settle-periods",
-                                   "--max-steps",   "--spectrum-periods"};
-    memset(a, 0, sizeof *a);
-    cli_common_init(&a->common);
-    usm_sim_options_default(o);
+    static const char *const num_opt[] = {"--duration",    "--rate",         "--tilt0",
+                                          "--rtol",        "--settle-tol",   "--theta-limit",
+                                          "--speed-limit", "--max-twist-growth", "--settle-periods",
+                                          "--max-steps",   "--spectrum-periods"};
+    /* the units of --duration, --rate, --tilt0, --theta-limit, --speed-limit */
+    static const char *const num_unit[] = {"s", "Hz", "rad", NULL, NULL, "rad",
+                                           "1/s", NULL, NULL, NULL, NULL};
     double *const num[] = {&o->duration,    &o->rate,        &o->tilt0,
                            &o->rtol,        &o->settle_tol,  &o->theta_limit,
                            &o->speed_limit, &o->max_twist_growth};
-    for (int i = 1; i < argc; ++i) {
-        const char *sv;
-        int r, which = -1;
-        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
-            a->help = 1;
-            return USM_OK;
-        }
-        if ((r = cli_common_option(&a->common, argc, argv, &i, msg)) == CLI_OPT_TAKEN)
-            continue;
-        if (r == CLI_OPT_ERROR)
-            return USM_EINPUT;
-        if (strcmp(argv[i], "--force") == 0) {
-            a->force = 1;
-            continue;
-        }
-        for (int k = 0; k < 11 && which < 0; ++k) {
-            if ((r = cli_option_value(argc, argv, &i, num_opt[k], &sv, msg)) == CLI_OPT_ERROR)
-                return USM_EINPUT;
-            if (r == CLI_OPT_TAKEN)
-                which = k;
-        }
-        if (which >= 0) {
-            double v;
-            /* the units of --duration, --rate, --tilt0, --theta-limit, --speed-limit */
-            static const char *const num_unit[] = {"s", "Hz", "rad", NULL, NULL, "rad",
-                                                   "1/s", NULL, NULL, NULL, NULL};
-            if (cli_parse_quantity(num_opt[which], num_unit[which], sv, &v, msg) != USM_OK)
-                return USM_EINPUT;
-            if (which == 2 && !(v > 0)) {
-                /* 0 is the library's start at rest: reached by omitting the option */
-                cli_msg(msg, "--tilt0: must be > 0 (omit it for the start at rest, below every "
-                             "unstable root)");
-                return USM_EINPUT;
-            }
-            if (which < 8)
-                *num[which] = v;
-            else if (v != floor(v) || v < 1 || v > (which == 9 ? 1e15 : 1e8)) {
-                cli_msg(msg, "%s: must be a whole number in [1, %.0f]", num_opt[which],
-                        which == 9 ? 1e15 : 1e8);
-                return USM_EINPUT;
-            } else if (which == 8)
-                o->settle_periods = (int)v;
-            else if (which == 9)
-                o->max_steps = (long)v;
-            else
-                a->spectrum_periods = (long)v;
-            a->duration_set |= which == 0;
-            a->rate_set |= which == 1;
-            continue;
-        }
-        const char *const str_opt[] = {"--from", "--out", "--plot", "--spectrum"};
-        for (int k = 0; k < 4 && which < 0; ++k) {
-            if ((r = cli_option_value(argc, argv, &i, str_opt[k], &sv, msg)) == CLI_OPT_ERROR)
-                return USM_EINPUT;
-            if (r == CLI_OPT_TAKEN)
-                which = k;
-        }
-        if (which >= 0 && sv[0] == '\0') {
-            cli_msg(msg, "%s: empty value", str_opt[which]);
-            return USM_EINPUT;
-        }
-        if (which == 0) {
-            a->from_file = NULL;
-            if (strcmp(sv, "rest") == 0)
-                o->start = USM_SIM_FROM_REST;
-            else if (strcmp(sv, "stationary") == 0)
-                o->start = USM_SIM_FROM_STATIONARY;
-            else {
-                o->start = USM_SIM_FROM_STATE;
-                a->from_file = sv;
-            }
-        } else if (which == 1 || which == 2) {
-            *(which == 1 ? &a->out : &a->plot) = sv;
-        } else if (which == 3) {
-            a->spectrum = sv;
-        } else {
-            cli_msg(msg, "%s: %s (see usm simulate --help)", argv[i],
-                    argv[i][0] == '-' ? "unknown option" : "unexpected argument");
-            return USM_EINPUT;
-        }
+    const char *sv;
+    double v;
+    int r, which = -1;
+    CLI_TRY(cli_common_option(&a->common, argc, argv, i, msg));
+    CLI_TRY(cli_flag_option(argv, i, "--force", &a->force));
+    for (int k = 0; k < 11 && which < 0; ++k) {
+        if ((r = cli_quantity_option(argc, argv, i, num_opt[k], num_unit[k], &v, msg)) ==
+            CLI_OPT_ERROR)
+            return r;
+        if (r == CLI_OPT_TAKEN)
+            which = k;
     }
+    if (which >= 0) {
+        if (which == 2 && !(v > 0)) {
+            /* 0 is the library's start at rest: reached by omitting the option */
+            cli_msg(msg, "--tilt0: must be > 0 (omit it for the start at rest, below every "
+                         "unstable root)");
+            return CLI_OPT_ERROR;
+        }
+        if (which < 8)
+            *num[which] = v;
+        else if (v != floor(v) || v < 1 || v > (which == 9 ? 1e15 : 1e8)) {
+            cli_msg(msg, "%s: must be a whole number in [1, %.0f]", num_opt[which],
+                    which == 9 ? 1e15 : 1e8);
+            return CLI_OPT_ERROR;
+        } else if (which == 8)
+            o->settle_periods = (int)v;
+        else if (which == 9)
+            o->max_steps = (long)v;
+        else
+            a->spectrum_periods = (long)v;
+        a->duration_set |= which == 0;
+        a->rate_set |= which == 1;
+        return CLI_OPT_TAKEN;
+    }
+    if ((r = cli_path_option(argc, argv, i, "--from", "value", &sv, msg)) == CLI_OPT_TAKEN)
+        start_option(a, sv);
+    if (r != CLI_OPT_NOT_MINE)
+        return r;
+    CLI_TRY(cli_path_option(argc, argv, i, "--out", "value", &a->out, msg));
+    CLI_TRY(cli_path_option(argc, argv, i, "--plot", "value", &a->plot, msg));
+    return cli_path_option(argc, argv, i, "--spectrum", "value", &a->spectrum, msg);
+}
+
+static int finish(void *p, char msg[CLI_MSG_LEN])
+{
+    sim_args *a = p;
+    usm_sim_options *o = &a->opt;
     if (!a->duration_set) {
         cli_msg(msg, "--duration: missing (the simulated time in seconds)");
         return USM_EINPUT;
@@ -410,7 +400,7 @@ static int check_outputs(const sim_args *a, char msg[CLI_MSG_LEN])
     return USM_OK;
 }
 
-static int run(sim_args *a, usm_sim *s)
+static int simulate(sim_args *a, usm_sim *s)
 {
     char msg[CLI_MSG_LEN];
     const usm_params *p = &a->common.params;
@@ -422,7 +412,7 @@ static int run(sim_args *a, usm_sim *s)
     usm_io_file csv_file;
 
     if (!a->rate_set)
-        a->opt.rate = 10.0 * p->f;
+        a->opt.rate = usm_sim_default_rate(p);
     if (a->opt.start == USM_SIM_FROM_STATE && (rc = usm_sim_read_start(a->from_file, a->common.model, &a->opt, msg)) != USM_OK) {
         cli_error("--from %s", msg);
         return rc;
@@ -585,24 +575,17 @@ static int run(sim_args *a, usm_sim *s)
     return rc == USM_OK ? USM_OK : USM_EFAILED;
 }
 
-int cli_simulate_main(int argc, char **argv)
+static int run(void *p)
 {
-    sim_args a;
-    char msg[CLI_MSG_LEN];
-    if (parse(&a, argc, argv, msg) != USM_OK) {
-        cli_error("%s", msg);
-        return USM_EINPUT;
-    }
-    if (a.help) {
-        usage(stdout);
-        return USM_OK;
-    }
-    usm_sim *s = usm_sim_alloc(a.common.model);
+    sim_args *a = p;
+    usm_sim *s = usm_sim_alloc(a->common.model);
     if (!s) {
         cli_error("out of memory");
         return USM_EFAILED;
     }
-    int rc = run(&a, s);
+    int rc = simulate(a, s);
     usm_sim_free(s);
     return rc;
 }
+
+const cli_command cli_simulate = {sizeof(sim_args), usage, init, option, finish, run, 0};

@@ -83,80 +83,43 @@ typedef struct steady_args {
     usm_floquet_options floquet;
     usm_op_options op;
     double t0;
-    int help;
 } steady_args;
 
-static int parse(steady_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
+static int init(void *p, char msg[CLI_MSG_LEN])
 {
-    cli_common_init(&a->common);
+    steady_args *a = p;
+    (void)msg;
     usm_floquet_options_default(&a->floquet);
     usm_op_options_default(&a->op);
     a->op.from_rest = 1; /* one point: decide it */
-    a->t0 = 0.0;
-    a->help = 0;
-    for (int i = 1; i < argc; ++i) {
-        const char *value;
-        int r;
-        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
-            a->help = 1;
-            return USM_OK;
-        }
-        if ((r = cli_common_option(&a->common, argc, argv, &i, msg)) == CLI_OPT_TAKEN)
-            continue;
-        if (r == CLI_OPT_ERROR)
-            return USM_EINPUT;
-        if ((r = cli_floquet_option(&a->floquet, argc, argv, &i, msg)) == CLI_OPT_TAKEN)
-            continue;
-        if (r == CLI_OPT_ERROR)
-            return USM_EINPUT;
-        if ((r = cli_from_rest_option(&a->op, argc, argv, &i, msg)) == CLI_OPT_TAKEN)
-            continue;
-        if (r == CLI_OPT_ERROR)
-            return USM_EINPUT;
-        if ((r = cli_option_value(argc, argv, &i, "--t0", &value, msg)) == CLI_OPT_ERROR)
-            return USM_EINPUT;
-        if (r == CLI_OPT_TAKEN) {
-            if (cli_parse_quantity("--t0", "s", value, &a->t0, msg) != USM_OK)
-                return USM_EINPUT;
-            continue;
-        }
-        if (argv[i][0] == '-')
-            cli_msg(msg, "%s: unknown option (see usm steady --help)", argv[i]);
-        else
-            cli_msg(msg, "%s: unexpected argument (see usm steady --help)", argv[i]);
-        return USM_EINPUT;
-    }
-    return cli_common_finish(&a->common, msg);
+    return USM_OK;
 }
 
-static int run(const steady_args *a)
+static int option(void *p, int argc, char **argv, int *i, char msg[CLI_MSG_LEN])
 {
+    steady_args *a = p;
+    CLI_TRY(cli_common_option(&a->common, argc, argv, i, msg));
+    CLI_TRY(cli_floquet_option(&a->floquet, argc, argv, i, msg));
+    CLI_TRY(cli_from_rest_option(&a->op, argc, argv, i, msg));
+    return cli_quantity_option(argc, argv, i, "--t0", "s", &a->t0, msg);
+}
+
+static int table(const void *p, const usm_run *r, FILE *out)
+{
+    (void)p;
+    usm_steady_table(usm_run_steady_report(r), out);
+    return 0;
+}
+
+static int run(void *p)
+{
+    const steady_args *a = p;
     const cli_common *c = &a->common;
     usm_run *r = usm_run_steady(c->model, &c->params, a->t0, &a->floquet, &a->op);
-    int status = usm_run_status(r);
-    if (c->json && usm_run_has_json(r)) {
-        /* also converged = false (no stationary solution: exit 3, no message) */
-        if (cli_run_json(r) != USM_OK)
-            status = USM_EFAILED;
-    } else if (status == USM_OK)
-        usm_steady_table(usm_run_steady_report(r), stdout);
-    else
-        cli_error("%s", usm_run_message(r));
+    /* also converged = false (no stationary solution: exit 3, no message) */
+    int status = cli_run_output(r, c->json, CLI_JSON_ON_FAILURE, table, a);
     usm_run_free(r);
     return status;
 }
 
-int cli_steady_main(int argc, char **argv)
-{
-    steady_args a;
-    char msg[CLI_MSG_LEN];
-    if (parse(&a, argc, argv, msg) != USM_OK) {
-        cli_error("%s", msg);
-        return USM_EINPUT;
-    }
-    if (a.help) {
-        usage(stdout);
-        return USM_OK;
-    }
-    return run(&a);
-}
+const cli_command cli_steady = {sizeof(steady_args), usage, init, option, NULL, run, 0};

@@ -107,7 +107,7 @@ typedef struct sweep_args {
     double from, to, t0;
     int have_from, have_to;
     const char *from_text, *to_text; /* parsed in --over's unit once it is known */
-    int points, threads, floquet, help, force, periodic;
+    int points, threads, floquet, force, periodic;
     int others; /* options of the stationary sweep only, for --periodic's refusal */
     const char *plot; /* --plot PREFIX, or NULL */
     usm_floquet_options floquet_opt;
@@ -163,99 +163,53 @@ static int monitor_option(sweep_args *a, int crossing, const char *value, char m
     return CLI_OPT_TAKEN;
 }
 
-/* One of this command's own options, or CLI_OPT_NOT_MINE. */
-static int own_option(sweep_args *a, int argc, char **argv, int *i, char msg[CLI_MSG_LEN])
+static int init(void *p, char msg[CLI_MSG_LEN])
 {
-    const char *value;
-    int r;
-    if (strcmp(argv[*i], "--periodic") == 0) {
-        a->periodic = 1;
-        return CLI_OPT_TAKEN;
-    }
-    if (strcmp(argv[*i], "--no-floquet") == 0) {
-        a->floquet = 0;
-        a->others = 1;
-        return CLI_OPT_TAKEN;
-    }
-    if (strcmp(argv[*i], "--force") == 0) {
-        a->force = 1;
-        return CLI_OPT_TAKEN;
-    }
-    if ((r = cli_plot_option(argc, argv, i, &a->plot, msg)) != CLI_OPT_NOT_MINE)
-        return r;
-    if ((r = cli_option_value(argc, argv, i, "--over", &value, msg)) != CLI_OPT_NOT_MINE) {
-        if (r == CLI_OPT_TAKEN)
-            a->over = value;
-        return r;
-    }
-    if ((r = cli_option_value(argc, argv, i, "--from", &value, msg)) != CLI_OPT_NOT_MINE) {
-        a->have_from = 1;
-        a->from_text = value;
-        return r;
-    }
-    if ((r = cli_option_value(argc, argv, i, "--to", &value, msg)) != CLI_OPT_NOT_MINE) {
-        a->have_to = 1;
-        a->to_text = value;
-        return r;
-    }
-    if ((r = cli_option_value(argc, argv, i, "--extremum", &value, msg)) != CLI_OPT_NOT_MINE)
-        return r == CLI_OPT_TAKEN ? monitor_option(a, 0, value, msg) : r;
-    if ((r = cli_option_value(argc, argv, i, "--crossing", &value, msg)) != CLI_OPT_NOT_MINE)
-        return r == CLI_OPT_TAKEN ? monitor_option(a, 1, value, msg) : r;
-    if ((r = cli_option_value(argc, argv, i, "--t0", &value, msg)) != CLI_OPT_NOT_MINE)
-        return r == CLI_OPT_TAKEN && cli_parse_quantity("--t0", "s", value, &a->t0, msg) ? CLI_OPT_ERROR : r;
-    if ((r = cli_option_value(argc, argv, i, "--points", &value, msg)) != CLI_OPT_NOT_MINE)
-        return r == CLI_OPT_TAKEN && cli_parse_int("--points", value, &a->points, msg)
-                   ? CLI_OPT_ERROR
-                   : r;
-    if ((r = cli_option_value(argc, argv, i, "--threads", &value, msg)) != CLI_OPT_NOT_MINE)
-        return a->others = 1, r == CLI_OPT_TAKEN && cli_parse_int("--threads", value, &a->threads, msg)
-                   ? CLI_OPT_ERROR
-                   : r;
-    return CLI_OPT_NOT_MINE;
-}
-
-static int parse(sweep_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
-{
-    memset(a, 0, sizeof *a);
-    cli_common_init(&a->common);
+    sweep_args *a = p;
+    (void)msg;
     a->points = 101;
     a->threads = 2;
     a->floquet = 1;
     usm_floquet_options_default(&a->floquet_opt);
     usm_op_options_default(&a->op);
-    for (int i = 1; i < argc; ++i) {
-        int r;
-        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
-            a->help = 1;
-            return USM_OK;
-        }
-        if ((r = cli_common_option(&a->common, argc, argv, &i, msg)) == CLI_OPT_TAKEN)
-            continue;
-        if (r == CLI_OPT_ERROR)
-            return USM_EINPUT;
-        if ((r = cli_floquet_option(&a->floquet_opt, argc, argv, &i, msg)) == CLI_OPT_TAKEN) {
-            a->others = 1;
-            continue;
-        }
-        if (r == CLI_OPT_ERROR)
-            return USM_EINPUT;
-        if ((r = cli_from_rest_option(&a->op, argc, argv, &i, msg)) == CLI_OPT_TAKEN) {
-            a->others = 1;
-            continue;
-        }
-        if (r == CLI_OPT_ERROR)
-            return USM_EINPUT;
-        if ((r = own_option(a, argc, argv, &i, msg)) == CLI_OPT_TAKEN)
-            continue;
-        if (r == CLI_OPT_ERROR)
-            return USM_EINPUT;
-        if (argv[i][0] == '-')
-            cli_msg(msg, "%s: unknown option (see usm sweep --help)", argv[i]);
-        else
-            cli_msg(msg, "%s: unexpected argument (see usm sweep --help)", argv[i]);
-        return USM_EINPUT;
+    return USM_OK;
+}
+
+static int option(void *p, int argc, char **argv, int *i, char msg[CLI_MSG_LEN])
+{
+    sweep_args *a = p;
+    const char *value;
+    int r, no_floquet = 0;
+    CLI_TRY(cli_common_option(&a->common, argc, argv, i, msg));
+    if ((r = cli_floquet_option(&a->floquet_opt, argc, argv, i, msg)) == CLI_OPT_NOT_MINE)
+        r = cli_from_rest_option(&a->op, argc, argv, i, msg);
+    if (r == CLI_OPT_NOT_MINE && (r = cli_flag_option(argv, i, "--no-floquet", &no_floquet)))
+        a->floquet = 0;
+    if (r == CLI_OPT_NOT_MINE && (r = cli_int_option(argc, argv, i, "--threads", &a->threads, msg)))
+        a->others = 1;
+    if (r != CLI_OPT_NOT_MINE) {
+        a->others |= r == CLI_OPT_TAKEN;
+        return r;
     }
+    CLI_TRY(cli_flag_option(argv, i, "--periodic", &a->periodic));
+    CLI_TRY(cli_flag_option(argv, i, "--force", &a->force));
+    CLI_TRY(cli_plot_option(argc, argv, i, &a->plot, msg));
+    CLI_TRY(cli_option_value(argc, argv, i, "--over", &a->over, msg));
+    if ((r = cli_option_value(argc, argv, i, "--from", &a->from_text, msg)) != CLI_OPT_NOT_MINE)
+        return a->have_from = 1, r;
+    if ((r = cli_option_value(argc, argv, i, "--to", &a->to_text, msg)) != CLI_OPT_NOT_MINE)
+        return a->have_to = 1, r;
+    if ((r = cli_option_value(argc, argv, i, "--extremum", &value, msg)) != CLI_OPT_NOT_MINE)
+        return r == CLI_OPT_TAKEN ? monitor_option(a, 0, value, msg) : r;
+    if ((r = cli_option_value(argc, argv, i, "--crossing", &value, msg)) != CLI_OPT_NOT_MINE)
+        return r == CLI_OPT_TAKEN ? monitor_option(a, 1, value, msg) : r;
+    CLI_TRY(cli_quantity_option(argc, argv, i, "--t0", "s", &a->t0, msg));
+    return cli_int_option(argc, argv, i, "--points", &a->points, msg);
+}
+
+static int finish(void *p, char msg[CLI_MSG_LEN])
+{
+    sweep_args *a = p;
     if (!a->over || !a->have_from || !a->have_to) {
         cli_msg(msg, "%s: required (see usm sweep --help)",
                 !a->over ? "--over" : !a->have_from ? "--from" : "--to");
@@ -313,38 +267,12 @@ static void draw(double fraction, void *ctx)
 
 /* ---- run ---------------------------------------------------------------------- */
 
-static int emit(const sweep_args *a, const usm_run *r)
+static int write_csv(const void *p, const usm_run *r, FILE *out)
 {
-    int rc;
-    if (a->common.json)
-        rc = usm_run_write_json(r, stdout);
-    else
-        rc = usm_sweep_csv(usm_run_sweep_result(r), a->over, a->floquet, stdout);
-    /* reported here once; main's final check then sees a clean stream */
-    if (rc != 0 || fflush(stdout) != 0 || ferror(stdout)) {
-        clearerr(stdout);
-        cli_error("stdout: write error");
-        return USM_EFAILED;
-    }
-    return USM_OK;
-}
-
-/* The CSV files of --plot (usm_plot_csv_write's writers). */
-typedef struct sweep_csv_data {
-    const usm_sweep *s;
-    const char *over;
-    int floquet;
-} sweep_csv_data;
-
-static int write_sweep_csv(FILE *out, const void *data)
-{
-    const sweep_csv_data *d = data;
-    return usm_sweep_csv(d->s, d->over, d->floquet, out);
-}
-
-static int write_periodic_csv(FILE *out, const void *s)
-{
-    return usm_periodic_sweep_csv(s, out);
+    const sweep_args *a = p;
+    if (a->periodic)
+        return usm_periodic_sweep_csv(usm_run_periodic_sweep_result(r), out);
+    return usm_sweep_csv(usm_run_sweep_result(r), a->over, a->floquet, out);
 }
 
 /* The events of a sweep as the word lists its gnuplot script reads (names,
@@ -366,88 +294,64 @@ static int plot_event_add(plot_events *ev, const char *name, double value)
     return 0;
 }
 
-/* gnuplot on data/plots/SCRIPT.gp for PREFIX; a missing gnuplot is a warning. */
-static int plot_render(const char *script, const char *prefix, const char *xcol,
-                       const plot_events *ev)
+/* The label of event i: its name, and on a root or orbit the model does not
+ * describe ":model_invalid:" and the reason; its value in *x. */
+static void event_label(const sweep_args *a, const usm_run *r, size_t i, char name[64], double *x)
 {
-    char msg[CLI_MSG_LEN];
-    const char *names[] = {"xcol", "events", "event_x"};
-    const char *values[] = {xcol, ev->names, ev->values};
-    int rc = usm_plot_render(script, prefix, names, values, 3, msg);
-    if (rc == USM_ENOSOLUTION) {
-        cli_error("warning: %s", msg);
-        return USM_OK;
+    usm_validity v = USM_VALID;
+    if (a->periodic) {
+        const usm_periodic_event *e = usm_periodic_sweep_event_at(usm_run_periodic_sweep_result(r), i);
+        const int limit = e->type == USM_PEVENT_CONTACT_LOSS ||
+                          e->type == USM_PEVENT_STICK_LOSS || e->type == USM_PEVENT_CONTACT_REGAINED;
+        v = limit ? USM_VALID
+            : e->has_hybrid ? e->hybrid.validity
+            : e->has_orbit ? e->orbit.validity : USM_VALID;
+        snprintf(name, 64, "%s", usm_pevent_name(e->type));
+        *x = e->value;
+    } else {
+        const usm_sweep_event *e = usm_sweep_event_at(usm_run_sweep_result(r), i);
+        if (e->has_sol && e->type != USM_EVENT_STICK_LIMIT)
+            v = e->sol.validity;
+        snprintf(name, 64, "%s", usm_event_name(e->type));
+        *x = e->value;
     }
-    if (rc != USM_OK) {
-        cli_error("%s", msg);
-        return rc == USM_EINPUT ? USM_EINPUT : USM_EFAILED;
-    }
-    return USM_OK;
+    if (v != USM_VALID)
+        snprintf(name + strlen(name), 64 - strlen(name), ":model_invalid:%s", usm_validity_name(v));
 }
-/* --plot: PREFIX.csv, then gnuplot on data/plots/sweep.gp.  A missing
- * gnuplot is a warning (the CSV and PREFIX.gp are there to plot later). */
-static int plot(const sweep_args *a, const usm_sweep *s)
+
+/* --plot: PREFIX.csv, then gnuplot on data/plots/sweep.gp (sweep_periodic.gp
+ * with --periodic), the events as word lists for their labelled lines.  A
+ * missing gnuplot is a warning (the CSV and PREFIX.gp are there to plot later). */
+static int plot(const sweep_args *a, const usm_run *r)
 {
-    char msg[CLI_MSG_LEN], xcol[128];
+    char msg[CLI_MSG_LEN], xcol[128], name[64];
     const usm_param_info *info = usm_params_find(a->over);
-    const sweep_csv_data data = {s, a->over, a->floquet};
-    int rc = usm_plot_csv_write(a->plot, a->force, write_sweep_csv, &data, msg);
+    const cli_csv csv = {write_csv, a, r};
+    int rc = usm_plot_csv_write(a->plot, a->force, cli_csv_write, &csv, msg);
     if (rc != USM_OK) {
         cli_error("%s", msg);
         return rc;
     }
     /* the header's first column (sweep_out.c) */
     snprintf(xcol, sizeof xcol, "%s [%s]", a->over, info ? info->unit : "");
-    /* the events, for their labelled lines: names and values as word lists */
     plot_events ev = {"", ""};
-    for (size_t i = 0; i < usm_sweep_event_count(s); ++i) {
-        const usm_sweep_event *e = usm_sweep_event_at(s, i);
-        /* the label of an event on a root the model does not describe says so */
-        char name[64];
-        const int flagged = e->has_sol && e->type != USM_EVENT_STICK_LIMIT &&
-                            e->sol.validity != USM_VALID;
-        snprintf(name, sizeof name, "%s%s%s", usm_event_name(e->type),
-                 flagged ? ":model_invalid:" : "", flagged ? usm_validity_name(e->sol.validity) : "");
-        if (plot_event_add(&ev, name, e->value) != 0)
+    const size_t n = a->periodic ? usm_periodic_sweep_event_count(usm_run_periodic_sweep_result(r))
+                                 : usm_sweep_event_count(usm_run_sweep_result(r));
+    double x;
+    for (size_t i = 0; i < n; ++i) {
+        event_label(a, r, i, name, &x);
+        if (plot_event_add(&ev, name, x) != 0)
             break;
     }
-    return plot_render("sweep", a->plot, xcol, &ev);
-}
-
-/* --plot with --periodic: PREFIX.csv, then gnuplot on data/plots/sweep_periodic.gp
- * with the events as word lists.  A missing gnuplot is a warning. */
-static int plot_periodic(const sweep_args *a, const usm_periodic_sweep *s)
-{
-    char msg[CLI_MSG_LEN], xcol[128];
-    const usm_param_info *info = usm_params_find(a->over);
-    int rc = usm_plot_csv_write(a->plot, a->force, write_periodic_csv, s, msg);
-    if (rc != USM_OK) {
-        cli_error("%s", msg);
-        return rc;
-    }
-    snprintf(xcol, sizeof xcol, "%s [%s]", a->over, info ? info->unit : "");
-    plot_events ev = {"", ""};
-    for (size_t i = 0; i < usm_periodic_sweep_event_count(s); ++i) {
-        const usm_periodic_event *e = usm_periodic_sweep_event_at(s, i);
-        /* the label of an event on an orbit the model does not describe says so */
-        char name[64];
-        const int limit = e->type == USM_PEVENT_CONTACT_LOSS ||
-                          e->type == USM_PEVENT_STICK_LOSS || e->type == USM_PEVENT_CONTACT_REGAINED;
-        const usm_validity v = limit ? USM_VALID
-                               : e->has_hybrid ? e->hybrid.validity
-                               : e->has_orbit ? e->orbit.validity : USM_VALID;
-        snprintf(name, sizeof name, "%s%s%s", usm_pevent_name(e->type),
-                 v == USM_VALID ? "" : ":model_invalid:", v == USM_VALID ? "" : usm_validity_name(v));
-        if (plot_event_add(&ev, name, e->value) != 0)
-            break;
-    }
-    return plot_render("sweep_periodic", a->plot, xcol, &ev);
+    const char *names[] = {"xcol", "events", "event_x"};
+    const char *values[] = {xcol, ev.names, ev.values};
+    rc = usm_plot_render(a->periodic ? "sweep_periodic" : "sweep", a->plot, names, values, 3, msg);
+    return cli_plot_status(rc, msg);
 }
 
 /* --periodic: the orbit's continuation (usm_periodic_sweep.h). */
-static int run_periodic(const sweep_args *a, bar *progress)
+static usm_run *run_periodic(const sweep_args *a, bar *progress)
 {
-    const cli_common *c = &a->common;
     usm_periodic_sweep_options opt;
     usm_periodic_sweep_options_default(&opt);
     opt.over = a->over;
@@ -458,33 +362,12 @@ static int run_periodic(const sweep_args *a, bar *progress)
         opt.progress = draw;
         opt.progress_ctx = progress;
     }
-    usm_run *r = usm_run_periodic_sweep(c->model, &c->params, &opt);
-    const usm_periodic_sweep *s = usm_run_periodic_sweep_result(r);
-    int status = usm_run_status(r);
-    if (progress->shown >= 0)
-        fputc('\n', stderr);
-    if (status != USM_OK) {
-        cli_error("%s", usm_run_message(r));
-    } else if ((c->json ? usm_run_write_json(r, stdout) : usm_periodic_sweep_csv(s, stdout)) != 0 ||
-               fflush(stdout) != 0 || ferror(stdout)) {
-        clearerr(stdout);
-        cli_error("stdout: write error");
-        status = USM_EFAILED;
-    } else if (a->plot) {
-        status = plot_periodic(a, s);
-    }
-    usm_run_free(r);
-    return status;
+    return usm_run_periodic_sweep(a->common.model, &a->common.params, &opt);
 }
 
-static int run(const sweep_args *a)
+static usm_run *run_stationary(const sweep_args *a, bar *progress)
 {
-    const cli_common *c = &a->common;
     usm_sweep_options opt;
-    bar progress = {-1};
-    int status;
-    if (a->periodic)
-        return run_periodic(a, &progress);
     usm_sweep_options_default(&opt);
     opt.over = a->over;
     opt.from = a->from;
@@ -499,34 +382,23 @@ static int run(const sweep_args *a)
     opt.op = a->op;
     if (isatty(STDERR_FILENO)) {
         opt.progress = draw;
-        opt.progress_ctx = &progress;
+        opt.progress_ctx = progress;
     }
-    usm_run *r = usm_run_sweep(c->model, &c->params, &opt);
-    const usm_sweep *s = usm_run_sweep_result(r);
+    return usm_run_sweep(a->common.model, &a->common.params, &opt);
+}
+
+static int run(void *p)
+{
+    const sweep_args *a = p;
+    bar progress = {-1};
+    usm_run *r = a->periodic ? run_periodic(a, &progress) : run_stationary(a, &progress);
     if (progress.shown >= 0)
         fputc('\n', stderr);
-    if ((status = usm_run_status(r)) != USM_OK)
-        cli_error("%s", usm_run_message(r));
-    else {
-        status = emit(a, r);
-        if (status == USM_OK && a->plot)
-            status = plot(a, s);
-    }
+    int status = cli_run_output(r, a->common.json, 0, write_csv, a);
+    if (status == USM_OK && a->plot)
+        status = plot(a, r);
     usm_run_free(r);
     return status;
 }
 
-int cli_sweep_main(int argc, char **argv)
-{
-    sweep_args a;
-    char msg[CLI_MSG_LEN];
-    if (parse(&a, argc, argv, msg) != USM_OK) {
-        cli_error("%s", msg);
-        return USM_EINPUT;
-    }
-    if (a.help) {
-        usage(stdout);
-        return USM_OK;
-    }
-    return run(&a);
-}
+const cli_command cli_sweep = {sizeof(sweep_args), usage, init, option, finish, run, 0};

@@ -82,7 +82,7 @@ typedef struct tol_args {
     usm_tolerance_options opt;
     usm_tolerance_vary vary[USM_NPARAMS + 1];
     usm_tolerance_spec spec[64];
-    int nvary, nspec, have_samples, force, help, quiet;
+    int nvary, nspec, have_samples, force, quiet;
     const char *out;
 } tol_args;
 
@@ -102,7 +102,7 @@ static int parse_count(const char *field, const char *text, uint64_t lo, uint64_
     return USM_OK;
 }
 
-static int option(tol_args *a, int argc, char **argv, int *i, char msg[CLI_MSG_LEN])
+static int own_option(tol_args *a, int argc, char **argv, int *i, char msg[CLI_MSG_LEN])
 {
     const char *v = NULL;
     char lib[USM_MSG_LEN];
@@ -132,49 +132,42 @@ static int option(tol_args *a, int argc, char **argv, int *i, char msg[CLI_MSG_L
     else if (OPT("--checkpoint"))
         a->opt.checkpoint = v;
 #undef OPT
-    if (r == CLI_OPT_NOT_MINE)
-        cli_msg(msg, "%s: %s (see usm tolerance --help)", argv[*i],
-                argv[*i][0] == '-' ? "unknown option" : "unexpected argument");
-    else if (r == CLI_OPT_TAKEN && rc == USM_OK && !v[0] && (v == a->out || v == a->opt.checkpoint))
+    if (r != CLI_OPT_TAKEN || rc != USM_OK)
+        return rc != USM_OK ? CLI_OPT_ERROR : r;
+    if (!v[0] && (v == a->out || v == a->opt.checkpoint))
         cli_msg(msg, "%s: empty file name", v == a->out ? "--out" : "--checkpoint");
     else
-        return r == CLI_OPT_ERROR ? USM_EINPUT : rc;
-    return USM_EINPUT;
+        return CLI_OPT_TAKEN;
+    return CLI_OPT_ERROR;
 }
 
-static int parse(tol_args *a, int argc, char **argv, char msg[CLI_MSG_LEN])
+static int init(void *p, char msg[CLI_MSG_LEN])
 {
+    tol_args *a = p;
     const char *stop = getenv("USM_TOLERANCE_STOP_AFTER_BLOCKS"); /* test hook, docs/tolerance.md */
-    memset(a, 0, sizeof *a);
-    cli_common_init(&a->common);
     usm_tolerance_options_default(&a->opt);
     if (stop && stop[0] &&
         parse_count("USM_TOLERANCE_STOP_AFTER_BLOCKS", stop, 1, UINT64_MAX,
                     &a->opt.stop_after_blocks, msg))
         return USM_EINPUT;
-    for (int i = 1; i < argc; ++i) {
-        int r;
-        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
-            a->help = 1;
-            return USM_OK;
-        }
-        if (strcmp(argv[i], "--force") == 0) {
-            a->force = 1;
-            continue;
-        }
-        if (strcmp(argv[i], "--allow-driven") == 0) {
-            a->opt.allow_driven = 1;
-            continue;
-        }
-        if (cli_quiet_option(&a->quiet, argc, argv, &i) == CLI_OPT_TAKEN)
-            continue;
-        if ((r = cli_common_option(&a->common, argc, argv, &i, msg)) == CLI_OPT_NOT_MINE &&
-            (r = cli_floquet_option(&a->opt.floquet, argc, argv, &i, msg)) == CLI_OPT_NOT_MINE &&
-            (r = cli_from_rest_option(&a->opt.op, argc, argv, &i, msg)) == CLI_OPT_NOT_MINE)
-            r = option(a, argc, argv, &i, msg) == USM_OK ? CLI_OPT_TAKEN : CLI_OPT_ERROR;
-        if (r == CLI_OPT_ERROR)
-            return USM_EINPUT;
-    }
+    return USM_OK;
+}
+
+static int option(void *p, int argc, char **argv, int *i, char msg[CLI_MSG_LEN])
+{
+    tol_args *a = p;
+    CLI_TRY(cli_flag_option(argv, i, "--force", &a->force));
+    CLI_TRY(cli_flag_option(argv, i, "--allow-driven", &a->opt.allow_driven));
+    CLI_TRY(cli_quiet_option(&a->quiet, argc, argv, i));
+    CLI_TRY(cli_common_option(&a->common, argc, argv, i, msg));
+    CLI_TRY(cli_floquet_option(&a->opt.floquet, argc, argv, i, msg));
+    CLI_TRY(cli_from_rest_option(&a->opt.op, argc, argv, i, msg));
+    return own_option(a, argc, argv, i, msg);
+}
+
+static int finish(void *p, char msg[CLI_MSG_LEN])
+{
+    tol_args *a = p;
     if (!a->have_samples || a->nvary == 0) {
         cli_msg(msg, "%s: required (see usm tolerance --help)", a->have_samples ? "--vary"
                                                                                 : "--samples");
@@ -305,38 +298,28 @@ static int check_out(const tol_args *a, char msg[CLI_MSG_LEN])
     return USM_EINPUT;
 }
 
-int cli_tolerance_main(int argc, char **argv)
+static int run(void *p)
 {
-    tol_args a;
+    tol_args *a = p;
     char msg[CLI_MSG_LEN];
-    int rank = 0, size = 1, status;
+    const int rank = a->common.rank, size = a->common.size;
+    int status = USM_OK;
     usm_tolerance *t = NULL;
     usm_run *run = NULL;
-#ifdef USM_HAVE_MPI
-    if (usm_mpi_launched() && usm_mpi_start(&rank, &size, msg) != USM_OK) {
-        cli_error("mpi: %s", msg);
-        return USM_EFAILED;
-    }
-#endif
-    if ((status = parse(&a, argc, argv, msg)) == USM_OK && a.help) {
-        if (rank == 0)
-            usage(stdout);
-        return USM_OK;
-    }
-    if (status == USM_OK && a.out)
-        status = check_out(&a, msg);
+    if (status == USM_OK && a->out)
+        status = check_out(a, msg);
     if (status == USM_OK) {
         usm_tolerance_runner runner = NULL;
         cli_progress bar;
         /* under mpirun the ranks' shares are not one count to draw */
-        cli_progress_init(&bar, "usm tolerance", a.quiet || size > 1);
-        a.opt.progress = cli_progress_callback(&bar);
+        cli_progress_init(&bar, "usm tolerance", a->quiet || size > 1);
+        a->opt.progress = cli_progress_callback(&bar);
 #ifdef USM_HAVE_MPI
         if (size > 1)
             runner = usm_tolerance_run_mpi;
 #endif
-        run = usm_run_tolerance(a.common.model, &a.common.params, a.vary, a.nvary, a.spec,
-                                a.nspec, &a.opt, runner);
+        run = usm_run_tolerance(a->common.model, &a->common.params, a->vary, a->nvary, a->spec,
+                                a->nspec, &a->opt, runner);
         cli_progress_end(&bar);
         t = usm_run_tolerance_result(run);
         status = usm_run_status(run);
@@ -349,18 +332,18 @@ int cli_tolerance_main(int argc, char **argv)
         cli_msg(msg, "%s%s", option ? "--" : "", lib);
     }
     /* the files first: their time is in --json's timings.output */
-    if (status == USM_OK && a.out) {
+    if (status == USM_OK && a->out) {
         const double t0 = clock_seconds(CLOCK_MONOTONIC);
         const double c0 = clock_seconds(CLOCK_PROCESS_CPUTIME_ID);
         if (rank == 0)
-            status = write_out(&a, t, size > 1, msg);
+            status = write_out(a, t, size > 1, msg);
         else
             status = csv_mpi(t, NULL, msg);
         usm_tolerance_output_seconds_add(t, clock_seconds(CLOCK_MONOTONIC) - t0);
         usm_tolerance_output_cpu_seconds_add(t, clock_seconds(CLOCK_PROCESS_CPUTIME_ID) - c0);
     }
     if (status == USM_OK && rank == 0) {
-        if ((a.common.json ? usm_run_write_json(run, stdout)
+        if ((a->common.json ? usm_run_write_json(run, stdout)
                            : usm_tolerance_write_summary(t, stdout, NULL)) != 0) {
             cli_msg(msg, "stdout: write error");
             status = USM_EFAILED;
@@ -369,6 +352,7 @@ int cli_tolerance_main(int argc, char **argv)
     if (status != USM_OK && rank == 0)
         cli_error("%s", msg);
     usm_run_free(run);
-    (void)size; /* used under MPI only */
     return status;
 }
+
+const cli_command cli_tolerance = {sizeof(tol_args), usage, init, option, finish, run, 1};

@@ -3,22 +3,34 @@
 #include <string.h>
 
 #include "commands.h"
+#include "options.h"
 #include "usm.h"
 
-int cli_variants_main(int argc, char **argv)
+static void usage(FILE *out)
 {
-    if (argc > 1 && (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0)) {
-        printf("usage: usm variants\n\n"
-               "Lists the modelling variants: name, the base models it is generated for,\n"
-               "and what it assumes.  Select one with --variant NAME in steady, sweep,\n"
-               "map, simulate, periodic, sensitivity, optimize, tolerance and equations;\n"
-               "the paper's (\"paper\") is the default (periodic: imperfect).\n");
-        return USM_OK;
-    }
-    if (argc > 1) {
-        fprintf(stderr, "usm: variants: unexpected argument \"%s\"\n", argv[1]);
-        return USM_EINPUT;
-    }
+    fprintf(out, "usage: usm variants\n\n"
+                 "Lists the modelling variants: name, the base models it is generated for,\n"
+                 "and what it assumes.  Select one with --variant NAME in steady, sweep,\n"
+                 "map, simulate, periodic, sensitivity, optimize, tolerance and equations;\n"
+                 "the paper's (\"paper\") is the default (periodic: imperfect).\n");
+}
+
+static int option(void *a, int argc, char **argv, int *i, char msg[CLI_MSG_LEN])
+{
+    (void)a, (void)argc;
+    cli_msg(msg, "variants: unexpected argument \"%s\"", argv[*i]);
+    return CLI_OPT_ERROR;
+}
+
+static int finish(void *a, char msg[CLI_MSG_LEN])
+{
+    (void)a, (void)msg;
+    return USM_OK;
+}
+
+static int run(void *a)
+{
+    (void)a;
     for (int v = 0; v < USM_NVARIANTS; ++v) {
         char models[64] = "";
         size_t used = 0;
@@ -33,3 +45,5 @@ int cli_variants_main(int argc, char **argv)
     }
     return USM_OK;
 }
+
+const cli_command cli_variants = {sizeof(cli_common), usage, NULL, option, finish, run, 0};

@@ -161,6 +161,18 @@ void usm_lu_solve_dense(int n, const double *LU, const int *piv, double *B, int 
         }
 }
 
+int usm_invert_dense(int n, double *A, int *piv, double *Ainv)
+{
+    if (usm_lu_factor_dense(n, A, piv) != 0)
+        return -1;
+    for (int i = 0; i < n * n; ++i)
+        Ainv[i] = 0.0;
+    for (int i = 0; i < n; ++i)
+        Ainv[i * n + i] = 1.0;
+    usm_lu_solve_dense(n, A, piv, Ainv, n);
+    return 0;
+}
+
 int usm_solve_dense(int n, double *Q, double *X)
 {
     int piv[USM_EXPM_MAX_N];

@@ -43,6 +43,12 @@ int usm_lu_factor_dense(int n, double *A, int *piv);
  * row-major (cols = 1: a vector). */
 void usm_lu_solve_dense(int n, const double *LU, const int *piv, double *B, int cols);
 
+/* Ainv = A^{-1}, both n x n row-major (Ainv may not alias A): A is
+ * overwritten by its factors and piv (n entries) by its pivots, as
+ * usm_lu_factor_dense; the columns of the identity solved for with
+ * usm_lu_solve_dense.  0, or -1 as the factorisation. */
+int usm_invert_dense(int n, double *A, int *piv, double *Ainv);
+
 /* X <- Q^{-1} X, both n x n row-major: usm_lu_factor_dense (Q is
  * overwritten by its factors) and usm_lu_solve_dense.  0, or -1 as the
  * factorisation. */

@@ -14,6 +14,7 @@
 #include <nlopt.h>
 
 #include "core/dense.h"
+#include "core/grow.h"
 #include "core/root.h"
 
 #define FEAS_TOL 1e-6   /* constraint violation accepted, in the scaled units */
@@ -371,15 +372,10 @@ static int operating_point(usm_optimize *o, const usm_floquet_options *fo)
 {
     const usm_opt_problem *pb = o->pb;
     const size_t n = usm_steady_count(o->steady);
-    if (n > o->flcap) {
-        usm_floquet_result *fl = realloc(o->fl, n * sizeof *fl);
-        if (!fl) {
-            o->failed = 1;
-            snprintf(o->msg, USM_MSG_LEN, "out of memory");
-            return -1;
-        }
-        o->fl = fl;
-        o->flcap = n;
+    if (usm_grow((void **)&o->fl, &o->flcap, n, sizeof *o->fl) != 0) {
+        o->failed = 1;
+        snprintf(o->msg, USM_MSG_LEN, "out of memory");
+        return -1;
     }
     if (usm_floquet_roots(o->floquet, &o->p, o->steady, pb->t0, fo, o->fl) != USM_OK) {
         o->failed = 1;

@@ -13,6 +13,7 @@
 #include <gsl/gsl_randist.h>
 #include <gsl/gsl_rng.h>
 
+#include "core/grow.h"
 #include "core/pool_internal.h"
 #include "tolerance_internal.h"
 #include "usm_map.h"
@@ -577,10 +578,10 @@ static int append(char **text, size_t *len, const char *fmt, ...)
     va_end(ap);
     if (n < 0)
         return -1;
-    char *grown = realloc(*text, *len + (size_t)n + 1);
-    if (!grown)
+    /* what is held is at least *len + 1 bytes */
+    size_t cap = *text ? *len + 1 : 0;
+    if (usm_grow((void **)text, &cap, *len + (size_t)n + 1, 1) != 0)
         return -1;
-    *text = grown;
     va_start(ap, fmt);
     vsnprintf(*text + *len, (size_t)n + 1, fmt, ap);
     va_end(ap);

@@ -26,7 +26,7 @@ static void push(json_t *arr, json_t *value, int *ok)
         *ok = 0;
 }
 
-static json_t *finish(json_t *obj, int ok)
+json_t *usm_json_finish(json_t *obj, int ok)
 {
     if (!ok) {
         json_decref(obj);
@@ -42,7 +42,7 @@ json_t *usm_json_params(const usm_params *p)
     for (int k = 0; k < USM_NPARAMS; ++k)
         usm_json_put(obj, usm_param_table[k].name,
                      usm_json_real(usm_params_get(p, &usm_param_table[k])), &ok);
-    return finish(obj, ok);
+    return usm_json_finish(obj, ok);
 }
 
 json_t *usm_json_root(const usm_steady_solution *s)
@@ -71,7 +71,7 @@ json_t *usm_json_root(const usm_steady_solution *s)
     usm_json_put(obj, "invalid_reason",
                  s->validity == USM_VALID ? json_null() : json_string(usm_validity_name(s->validity)),
                  &ok);
-    return finish(obj, ok);
+    return usm_json_finish(obj, ok);
 }
 
 json_t *usm_json_floquet(const usm_floquet_result *r)
@@ -93,7 +93,7 @@ json_t *usm_json_floquet(const usm_floquet_result *r)
     usm_json_put(obj, "cyclic", cyclic, &ok);
     usm_json_put(obj, "max_modulus", usm_json_real(r->max_modulus), &ok);
     usm_json_put(obj, "stable", json_boolean(r->stable), &ok);
-    return finish(obj, ok);
+    return usm_json_finish(obj, ok);
 }
 
 /* jansson (2.14) prints a real with a fixed number of digits; 17 read back
@@ -240,11 +240,7 @@ json_t *usm_json_periodic_result(const usm_periodic_result *r)
                  &ok);
     usm_json_put(o, "newton_iterations", json_integer(r->iterations), &ok);
     usm_json_put(o, "residual", usm_json_real(r->residual), &ok);
-    if (!ok) {
-        json_decref(o);
-        return NULL;
-    }
-    return o;
+    return usm_json_finish(o, ok);
 }
 
 json_t *usm_json_hybrid_result(const usm_hybrid_result *r)
@@ -268,9 +264,5 @@ json_t *usm_json_hybrid_result(const usm_hybrid_result *r)
                  valid ? json_null() : json_string(usm_validity_name(r->validity)), &ok);
     usm_json_put(o, "newton_iterations", json_integer(r->iterations), &ok);
     usm_json_put(o, "residual", usm_json_real(r->residual), &ok);
-    if (!ok) {
-        json_decref(o);
-        return NULL;
-    }
-    return o;
+    return usm_json_finish(o, ok);
 }

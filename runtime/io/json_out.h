@@ -14,6 +14,10 @@
 #include "usm.h"
 #include "usm_periodic.h"
 
+/* The end of a builder that put with usm_json_put: obj when every put
+ * succeeded, else NULL after releasing obj (the builders' "out of memory"). */
+json_t *usm_json_finish(json_t *obj, int ok);
+
 /* A JSON number, or null for a non-finite value (JSON has no NaN/inf). */
 json_t *usm_json_real(double v);
 

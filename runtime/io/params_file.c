@@ -20,6 +20,7 @@
  *     usm_parse_number refuses (not finite, overflow, underflow).
  * A number is in the parameter's SI unit; a string is a value with a unit,
  * as --set takes it ("f": "37.5 kHz", usm_parse_quantity). */
+#include "core/grow.h"
 #include "usm_io.h"
 #include "io_msg.h"
 
@@ -82,18 +83,11 @@ static int in_number(char c) { return c != '\0' && (is_digit(c) || strchr(".eE+-
 
 static int keep(numbers *nums, size_t at, size_t len)
 {
-    if (nums->n == nums->cap) {
-        const size_t cap = nums->cap ? 2 * nums->cap : 32;
-        size_t *a = realloc(nums->at, cap * sizeof *a);
-        if (!a)
-            return -1;
-        nums->at = a;
-        size_t *l = realloc(nums->len, cap * sizeof *l);
-        if (!l)
-            return -1;
-        nums->len = l;
-        nums->cap = cap;
-    }
+    /* two arrays of one capacity: the same doubling for each */
+    size_t cap_len = nums->cap;
+    if (usm_grow((void **)&nums->len, &cap_len, nums->n + 1, sizeof *nums->len) != 0 ||
+        usm_grow((void **)&nums->at, &nums->cap, nums->n + 1, sizeof *nums->at) != 0)
+        return -1;
     nums->at[nums->n] = at;
     nums->len[nums->n++] = len;
     return 0;
@@ -300,15 +294,12 @@ int usm_params_read_file(const char *path, usm_params *p, char msg[USM_IO_MSG_LE
     for (;;) {
         size_t got;
         if (len == cap) {
-            char *more = cap < (1u << 24) ? realloc(text, cap ? 2 * cap : 4096) : NULL;
-            if (!more) {
+            if (cap >= (1u << 24) || usm_grow((void **)&text, &cap, len + 4096, 1) != 0) {
                 usm_io_msg(msg, "%s: parameter file too large", path);
                 free(text);
                 fclose(fp);
                 return USM_EINPUT;
             }
-            text = more;
-            cap = cap ? 2 * cap : 4096;
         }
         errno = 0;
         got = fread(text + len, 1, cap - len, fp);

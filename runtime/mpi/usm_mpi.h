@@ -1,7 +1,8 @@
 /* usm_mpi.h: tolerance studies and maps over MPI ranks:
- * the API of the usm_mpi library, which the usm command links when CMake
- * finds MPI (USM_HAVE_MPI); not part of libusm (which has no MPI) and not
- * installed.
+ * the API of the usm_mpi library (usm::usm_mpi, libusm_mpi.a), built and
+ * installed beside libusm when CMake finds MPI (the usm command then links
+ * it: USM_HAVE_MPI); not part of libusm, which has no MPI.  No MPI type is
+ * in this header.
  *
  * The command initialises MPI only when an MPI launcher started it (mpirun,
  * srun: usm_mpi_launched), so a plain `usm ...` never touches MPI.  The ranks

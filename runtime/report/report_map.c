@@ -270,11 +270,7 @@ static json_t *axis_json(const usm_report_axis *a)
     usm_json_put(obj, "from", usm_json_real(a->from), &ok);
     usm_json_put(obj, "to", usm_json_real(a->to), &ok);
     usm_json_put(obj, "points", json_integer(a->points), &ok);
-    if (!ok) {
-        json_decref(obj);
-        return NULL;
-    }
-    return obj;
+    return usm_json_finish(obj, ok);
 }
 
 json_t *usm_report_map_json(const usm_report_map *map)
@@ -357,11 +353,7 @@ json_t *usm_report_map_json(const usm_report_map *map)
     pts = NULL;
     usm_json_put(obj, "boundaries", bnds, &ok);
     bnds = NULL;
-    if (!ok) {
-        json_decref(obj);
-        return NULL;
-    }
-    return obj;
+    return usm_json_finish(obj, ok);
 }
 
 int usm_report_map_write_json(const usm_report_map *map, FILE *out)

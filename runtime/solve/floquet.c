@@ -47,10 +47,8 @@
 #include <gsl/gsl_matrix.h>
 
 #include <cvodes/cvodes.h>
-#include <nvector/nvector_serial.h>
-#include <sunnonlinsol/sunnonlinsol_fixedpoint.h>
-
 #include "core/cvode_msg.h"
+#include "core/cvodes.h"
 #include "core/dense.h"
 #include "multipliers.h"
 #include "usm.h"
@@ -66,10 +64,7 @@ struct usm_floquet {
     double u[USM_MAX_NU];
     double beta;
     /* CVODES */
-    SUNContext ctx;
-    void *cvode;
-    N_Vector y;
-    SUNNonlinearSolver NLS;
+    usm_cvodes cv;
     int cvode_ready;
     double t0; /* start of the period being integrated */
     /* work space */
@@ -87,7 +82,6 @@ struct usm_floquet {
     int magnus_steps;    /* steps of the last Magnus result (0: one exponential) */
     int eval_valid;      /* mult already holds the eigenvalues of Psi */
     double magnus_error; /* its estimated relative error */
-    char cvmsg[USM_MSG_LEN]; /* CVODES' last message (see cv_errors) */
     char msg[USM_MSG_LEN];
 };
 
@@ -154,7 +148,7 @@ usm_floquet *usm_floquet_alloc(const usm_model *m)
     f->dscale = gsl_vector_alloc(n);
     f->mult = usm_multipliers_alloc(m);
     if (!f->G || !f->E || !f->P || !f->Q || !f->W || !f->S || !f->Sinv || !f->dscale ||
-        !f->mult || SUNContext_Create(NULL, &f->ctx) != 0) {
+        !f->mult) {
         usm_floquet_free(f);
         return NULL;
     }
@@ -165,14 +159,7 @@ void usm_floquet_free(usm_floquet *f)
 {
     if (!f)
         return;
-    if (f->cvode)
-        CVodeFree(&f->cvode);
-    if (f->NLS)
-        SUNNonlinSolFree(f->NLS);
-    if (f->y)
-        N_VDestroy(f->y);
-    if (f->ctx)
-        SUNContext_Free(&f->ctx);
+    usm_cvodes_free(&f->cv);
     gsl_matrix_free(f->G);
     gsl_matrix_free(f->E);
     gsl_matrix_free(f->P);
@@ -281,63 +268,29 @@ static int variational_rhs(sunrealtype tau, N_Vector y, N_Vector ydot, void *dat
     return 0;
 }
 
-/* CVODES' error handler: the message goes into f->cvmsg instead of stderr
- * (the library never prints; the command's errors are one line). */
-static void cv_errors(int code, const char *module, const char *function, char *text, void *data)
-{
-    usm_floquet *f = data;
-    (void)code;
-    (void)module;
-    snprintf(f->cvmsg, sizeof f->cvmsg, "%s: %s", function, text);
-}
-
-static int cvode_fail(usm_floquet *f, const char *call, int flag)
-{
-    char name[32];
-    snprintf(f->msg, USM_MSG_LEN, "CVODES %s failed: %s%s%.150s", call,
-             usm_cvode_flag_name(flag, name, sizeof name), f->cvmsg[0] ? " -- " : "", f->cvmsg);
-    return USM_EFAILED;
-}
-
 static int setup_cvode(usm_floquet *f, double t0, const usm_floquet_options *opt)
 {
-    const sunindextype N = (sunindextype)f->n * f->n;
-    int flag;
+    usm_cvodes *c = &f->cv;
+    int rc;
     if (!f->cvode_ready) {
-        f->y = N_VNew_Serial(N, f->ctx);
-        f->cvode = CVodeCreate(CV_ADAMS, f->ctx);
-        if (!f->y || !f->cvode) {
-            snprintf(f->msg, USM_MSG_LEN, "CVODES: out of memory");
-            return USM_EFAILED;
-        }
-        N_VConst(0.0, f->y);
-        if ((flag = CVodeSetErrHandlerFn(f->cvode, cv_errors, f)) != CV_SUCCESS)
-            return cvode_fail(f, "CVodeSetErrHandlerFn", flag);
-        if ((flag = CVodeInit(f->cvode, variational_rhs, 0.0, f->y)) != CV_SUCCESS)
-            return cvode_fail(f, "CVodeInit", flag);
-        f->NLS = SUNNonlinSol_FixedPoint(f->y, 0, f->ctx);
-        if (!f->NLS) {
-            snprintf(f->msg, USM_MSG_LEN, "CVODES: cannot create the fixed-point solver");
-            return USM_EFAILED;
-        }
-        if ((flag = CVodeSetNonlinearSolver(f->cvode, f->NLS)) != CV_SUCCESS)
-            return cvode_fail(f, "CVodeSetNonlinearSolver", flag);
-        if ((flag = CVodeSetUserData(f->cvode, f)) != CV_SUCCESS)
-            return cvode_fail(f, "CVodeSetUserData", flag);
-        if ((flag = CVodeSetMaxNumSteps(f->cvode, 200000)) != CV_SUCCESS)
-            return cvode_fail(f, "CVodeSetMaxNumSteps", flag);
+        const usm_cvodes_spec spec = {.lmm = CV_ADAMS,
+                                      .n = (sunindextype)f->n * f->n,
+                                      .rhs = variational_rhs,
+                                      .data = f,
+                                      .max_steps = 200000};
+        if ((rc = usm_cvodes_init(c, &spec, f->msg)) != USM_OK)
+            return rc;
         f->cvode_ready = 1;
     }
-    double *Y = N_VGetArrayPointer(f->y);
-    N_VConst(0.0, f->y);
+    double *Y = N_VGetArrayPointer(c->y);
+    N_VConst(0.0, c->y);
     for (int i = 0; i < f->n; ++i)
         Y[i * f->n + i] = 1.0;
     f->t0 = t0;
-    if ((flag = CVodeReInit(f->cvode, 0.0, f->y)) != CV_SUCCESS)
-        return cvode_fail(f, "CVodeReInit", flag);
-    if ((flag = CVodeSStolerances(f->cvode, opt->rtol, opt->atol)) != CV_SUCCESS)
-        return cvode_fail(f, "CVodeSStolerances", flag);
-    return USM_OK;
+    if ((rc = usm_cvodes_check(c, "CVodeReInit", CVodeReInit(c->mem, 0.0, c->y))) != USM_OK)
+        return rc;
+    return usm_cvodes_check(c, "CVodeSStolerances",
+                            CVodeSStolerances(c->mem, opt->rtol, opt->atol));
 }
 
 static int monodromy_variational(usm_floquet *f, double t0, double period,
@@ -347,15 +300,16 @@ static int monodromy_variational(usm_floquet *f, double t0, double period,
         snprintf(f->msg, USM_MSG_LEN, "linearisation at t0 is singular or not finite");
         return USM_EFAILED;
     }
+    usm_cvodes *c = &f->cv;
     int rc = setup_cvode(f, t0, opt), flag;
     if (rc != USM_OK)
         return rc;
-    if ((flag = CVodeSetStopTime(f->cvode, period)) != CV_SUCCESS)
-        return cvode_fail(f, "CVodeSetStopTime", flag);
+    if ((rc = usm_cvodes_check(c, "CVodeSetStopTime", CVodeSetStopTime(c->mem, period))) != USM_OK)
+        return rc;
     double s = 0;
     char name[32];
-    f->cvmsg[0] = '\0';
-    flag = CVode(f->cvode, period, f->y, &s, CV_NORMAL);
+    c->cvmsg[0] = '\0';
+    flag = CVode(c->mem, period, c->y, &s, CV_NORMAL);
     if (flag < 0) {
         /* CV_TOO_MUCH_WORK: Adams with fixed-point iteration is meant for a
          * non-stiff linearisation; CVODES' own text adds nothing then */
@@ -368,13 +322,13 @@ static int monodromy_variational(usm_floquet *f, double t0, double period,
                      "%s: %s (stiff linearisation: use an exponential method)",
                      where, name);
         else
-            snprintf(f->msg, USM_MSG_LEN, "%s: %s%s%.100s", where, name, f->cvmsg[0] ? " -- " : "",
-                     f->cvmsg);
+            snprintf(f->msg, USM_MSG_LEN, "%s: %s%s%.100s", where, name, c->cvmsg[0] ? " -- " : "",
+                     c->cvmsg);
         return USM_EFAILED;
     }
     /* B = S^{-1} Psi S, with Psi stored column by column */
     const int n = f->n;
-    const double *Y = N_VGetArrayPointer(f->y);
+    const double *Y = N_VGetArrayPointer(c->y);
     for (int i = 0; i < n; ++i)
         for (int j = 0; j < n; ++j)
             gsl_matrix_set(f->P, (size_t)i, (size_t)j, Y[j * n + i]);

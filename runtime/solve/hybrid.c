@@ -26,16 +26,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <gsl/gsl_errno.h>
-#include <gsl/gsl_linalg.h>
-#include <gsl/gsl_matrix.h>
-
-#include <cvodes/cvodes.h>
-#include <nvector/nvector_serial.h>
-#include <sunnonlinsol/sunnonlinsol_fixedpoint.h>
-
-#include "core/cvode_msg.h"
+#include "core/cvodes.h"
 #include "core/dense.h"
+#include "contact_mode.h"
 #include "impact.h"
 #include "multipliers.h"
 #include "usm_periodic.h"
@@ -59,10 +52,8 @@ struct usm_hybrid {
     usm_multipliers *mult; /* its eigenvalues (solve/multipliers.h) */
     /* the integration */
     int mode, n, ncol; /* mode (0 closed, 1 open), its state length, columns of Phi */
-    SUNContext ctx;
-    void *cv;
-    N_Vector z, atol, q;
-    SUNNonlinearSolver NLS;
+    usm_mode k[2];     /* the kernels of the closed and the open mode */
+    usm_cvodes cv;     /* z = [state, Phi row by row], quadrature: the rotor angle */
     /* the last period map */
     double open_total, open_since, vmax;
     int nsamp;                /* > 0: sample the rotor speed (min/max) this often a period */
@@ -74,7 +65,6 @@ struct usm_hybrid {
     double vfirst;     /* their first approach velocity */
     int chatter;       /* a landing after rebounds was met (message set) */
     char seq[USM_HYBRID_MAX_SWITCHES + 1];
-    char cvmsg[USM_MSG_LEN];
     char msg[USM_MSG_LEN];
 };
 
@@ -88,30 +78,11 @@ void usm_hybrid_options_default(usm_hybrid_options *opt)
 
 const char *usm_hybrid_message(const usm_hybrid *h) { return h->msg; }
 
-static void free_integrator(usm_hybrid *h)
-{
-    if (h->cv)
-        CVodeFree(&h->cv);
-    if (h->NLS)
-        SUNNonlinSolFree(h->NLS);
-    if (h->z)
-        N_VDestroy(h->z);
-    if (h->atol)
-        N_VDestroy(h->atol);
-    if (h->q)
-        N_VDestroy(h->q);
-    h->cv = NULL;
-    h->NLS = NULL;
-    h->z = h->atol = h->q = NULL;
-}
-
 void usm_hybrid_free(usm_hybrid *h)
 {
     if (!h)
         return;
-    free_integrator(h);
-    if (h->ctx)
-        SUNContext_Free(&h->ctx);
+    usm_cvodes_free(&h->cv);
     usm_multipliers_free(h->mult);
     free(h);
 }
@@ -127,14 +98,15 @@ usm_hybrid *usm_hybrid_alloc(const usm_model *m)
     h->u = m->unilateral;
     h->nx = m->nx;
     h->ny = m->unilateral->ny;
+    usm_mode_kernels(m, 0, &h->k[0]);
+    usm_mode_kernels(m, 1, &h->k[1]);
     /* the monodromy is integrated in the spin coordinates themselves: the
      * basis of the cyclic directions is that of the identity */
     double I[USM_MAX_NX * USM_MAX_NX] = {0};
     for (int i = 0; i < h->nx; ++i)
         I[i * h->nx + i] = 1.0;
     h->mult = usm_multipliers_alloc(m);
-    if (!h->mult || usm_multipliers_basis(h->mult, I) != 0 ||
-        SUNContext_Create(NULL, &h->ctx) != 0) {
+    if (!h->mult || usm_multipliers_basis(h->mult, I) != 0) {
         usm_multipliers_free(h->mult);
         free(h);
         return NULL;
@@ -148,8 +120,9 @@ usm_hybrid *usm_hybrid_alloc(const usm_model *m)
  * a fifth of GSL's cost at these sizes); 0 or -1. */
 static int mass_lu(const usm_hybrid *h, int mode, const double *x, double *lu, int *piv)
 {
-    const int n = mode ? h->ny : h->nx;
-    (mode ? h->u->open_mass : h->m->mass)(x, &h->p, lu);
+    const usm_mode *k = &h->k[mode];
+    const int n = k->n;
+    k->mass(x, &h->p, lu);
     for (int i = 0; i < n * n; ++i)
         if (!isfinite(lu[i]))
             return -1;
@@ -162,22 +135,23 @@ static int mass_lu(const usm_hybrid *h, int mode, const double *x, double *lu, i
 static int rates(const usm_hybrid *h, int mode, double t, const double *x, double *xdot,
                  double *A, double *ft)
 {
-    const int n = mode ? h->ny : h->nx;
+    const usm_mode *k = &h->k[mode];
+    const int n = k->n;
     double lu[NY * NY], Jf[NY * NY], Jm[NY * NY];
     int piv[NY];
     if (mass_lu(h, mode, x, lu, piv) != 0)
         return -1;
-    (mode ? h->u->open_rhs : h->m->rhs)(x, t, &h->p, xdot);
+    k->rhs(x, t, &h->p, xdot);
     usm_lu_solve_dense(n, lu, piv, xdot, 1);
     if (A) {
-        (mode ? h->u->open_jac_rhs : h->m->jac_rhs)(x, t, &h->p, Jf);
-        (mode ? h->u->open_jac_mass : h->m->jac_mass)(x, xdot, &h->p, Jm);
+        k->jac_rhs(x, t, &h->p, Jf);
+        k->jac_mass(x, xdot, &h->p, Jm);
         for (int i = 0; i < n * n; ++i)
             A[i] = Jf[i] - Jm[i];
         usm_lu_solve_dense(n, lu, piv, A, n);
     }
     if (ft) {
-        (mode ? h->u->open_rhs_t : h->u->closed_rhs_t)(x, t, &h->p, ft);
+        k->rhs_t(x, t, &h->p, ft);
         usm_lu_solve_dense(n, lu, piv, ft, 1);
     }
     for (int i = 0; i < n; ++i)
@@ -216,7 +190,7 @@ static int cv_quad(sunrealtype t, N_Vector zv, N_Vector qdot, void *data)
     double xdot[NY], out[USM_OUT_COUNT];
     if (rates(h, h->mode, t, z, xdot, NULL, NULL) != 0)
         return 1;
-    (h->mode ? h->u->open_outputs : h->m->outputs)(z, xdot, t, &h->p, out);
+    h->k[h->mode].outputs(z, xdot, t, &h->p, out);
     N_VGetArrayPointer(qdot)[0] = out[USM_OUT_ROTOR_SPEED];
     return 0;
 }
@@ -239,71 +213,34 @@ static int cv_root(sunrealtype t, N_Vector zv, sunrealtype *g, void *data)
     return isfinite(g[0]) ? 0 : -1;
 }
 
-static void cv_errors(int code, const char *module, const char *function, char *text, void *data)
-{
-    usm_hybrid *h = data;
-    (void)code;
-    (void)module;
-    snprintf(h->cvmsg, sizeof h->cvmsg, "%s: %s", function, text);
-}
-
-static int fail(usm_hybrid *h, const char *what, int flag)
-{
-    char name[32];
-    snprintf(h->msg, USM_MSG_LEN, "CVODES %s: %s%s%.150s", what,
-             usm_cvode_flag_name(flag, name, sizeof name), h->cvmsg[0] ? " -- " : "", h->cvmsg);
-    return USM_EFAILED;
-}
-
 /* A new integrator for the current mode from z at t to t_end, quadrature q0. */
 static int setup(usm_hybrid *h, double t, const double *z, double q0, double t_end)
 {
     const int n = h->n, c = h->ncol, len = n + n * c;
-    int flag;
-    free_integrator(h);
-    h->z = N_VNew_Serial(len, h->ctx);
-    h->atol = N_VNew_Serial(len, h->ctx);
-    h->q = N_VNew_Serial(1, h->ctx);
-    h->cv = CVodeCreate(CV_ADAMS, h->ctx);
-    if (!h->z || !h->atol || !h->q || !h->cv) {
-        snprintf(h->msg, USM_MSG_LEN, "out of memory");
-        return USM_EFAILED;
-    }
-    memcpy(N_VGetArrayPointer(h->z), z, sizeof(double) * (size_t)len);
-    double *a = N_VGetArrayPointer(h->atol);
+    double a[MAXZ];
     for (int i = 0; i < n; ++i) {
         a[i] = h->map_rtol * h->scale[i];
         for (int j = 0; j < c; ++j)
             a[n + i * c + j] = h->map_rtol * h->scale[i] / h->colscale[j];
     }
-    N_VGetArrayPointer(h->q)[0] = q0;
-    h->NLS = SUNNonlinSol_FixedPoint(h->z, 0, h->ctx);
-    if (!h->NLS)
-        return fail(h, "SUNNonlinSol_FixedPoint", 0);
-    if ((flag = CVodeSetErrHandlerFn(h->cv, cv_errors, h)) != CV_SUCCESS)
-        return fail(h, "CVodeSetErrHandlerFn", flag);
-    if ((flag = CVodeInit(h->cv, cv_rhs, t, h->z)) != CV_SUCCESS)
-        return fail(h, "CVodeInit", flag);
-    if ((flag = CVodeSetUserData(h->cv, h)) != CV_SUCCESS)
-        return fail(h, "CVodeSetUserData", flag);
-    if ((flag = CVodeSVtolerances(h->cv, h->map_rtol, h->atol)) != CV_SUCCESS)
-        return fail(h, "CVodeSVtolerances", flag);
-    if ((flag = CVodeSetNonlinearSolver(h->cv, h->NLS)) != CV_SUCCESS)
-        return fail(h, "CVodeSetNonlinearSolver", flag);
-    if ((flag = CVodeSetMaxNumSteps(h->cv, 200000)) != CV_SUCCESS)
-        return fail(h, "CVodeSetMaxNumSteps", flag);
-    if ((flag = CVodeSetStopTime(h->cv, t_end)) != CV_SUCCESS)
-        return fail(h, "CVodeSetStopTime", flag);
-    if ((flag = CVodeQuadInit(h->cv, cv_quad, h->q)) != CV_SUCCESS)
-        return fail(h, "CVodeQuadInit", flag);
-    if ((flag = CVodeRootInit(h->cv, 1, cv_root)) != CV_SUCCESS)
-        return fail(h, "CVodeRootInit", flag);
-    int dir = -1;
-    if ((flag = CVodeSetRootDirection(h->cv, &dir)) != CV_SUCCESS)
-        return fail(h, "CVodeSetRootDirection", flag);
-    if ((flag = CVodeSetNoInactiveRootWarn(h->cv)) != CV_SUCCESS)
-        return fail(h, "CVodeSetNoInactiveRootWarn", flag);
-    return USM_OK;
+    static const int dir = -1; /* the guards fall through zero */
+    const usm_cvodes_spec spec = {.lmm = CV_ADAMS,
+                                  .n = len,
+                                  .t0 = t,
+                                  .y0 = z,
+                                  .rhs = cv_rhs,
+                                  .data = h,
+                                  .max_steps = 200000,
+                                  .rtol = h->map_rtol,
+                                  .atol_v = a,
+                                  .t_stop = t_end,
+                                  .nq = 1,
+                                  .quad = cv_quad,
+                                  .q0 = &q0,
+                                  .nroots = 1,
+                                  .roots = cv_root,
+                                  .root_dir = &dir};
+    return usm_cvodes_init(&h->cv, &spec, h->msg);
 }
 
 /* ---- the switches ----------------------------------------------------------------- */
@@ -449,7 +386,7 @@ static void sample_speed(usm_hybrid *h, double t, const double *z)
     double xdot[NY], out[USM_OUT_COUNT];
     if (rates(h, h->mode, t, z, xdot, NULL, NULL) != 0)
         return;
-    (h->mode ? h->u->open_outputs : h->m->outputs)(z, xdot, t, &h->p, out);
+    h->k[h->mode].outputs(z, xdot, t, &h->p, out);
     h->wmin = fmin(h->wmin, out[USM_OUT_ROTOR_SPEED]);
     h->wmax = fmax(h->wmax, out[USM_OUT_ROTOR_SPEED]);
     if (h->rows && h->nrows >= h->rows_max)
@@ -506,7 +443,7 @@ static int period_map(usm_hybrid *h, double ts, const double *x0, double *x1, do
     if (h->nsamp > 0)
         sample_speed(h, t, z);
     for (int events = 0; rc == USM_OK; ++events) {
-        h->cvmsg[0] = '\0';
+        h->cv.cvmsg[0] = '\0';
         if (t >= t_end) /* a switch at the end of the period */
             break;
         /* sampling: the next sample time (CVODES interpolates there) */
@@ -514,16 +451,15 @@ static int period_map(usm_hybrid *h, double ts, const double *x0, double *x1, do
             ++ks;
         const double tout = h->nsamp > 0 && ks + 1 < h->nsamp ? ts + h->T * (ks + 1) / h->nsamp
                                                               : t_end;
-        const int flag = CVode(h->cv, tout, h->z, &t, CV_NORMAL);
+        const int flag = CVode(h->cv.mem, tout, h->cv.y, &t, CV_NORMAL);
         if (flag < 0) {
-            rc = fail(h, "CVode", flag);
+            rc = usm_cvodes_fail(&h->cv, "CVode", flag);
             break;
         }
-        N_Vector qv = h->q;
-        if (CVodeGetQuad(h->cv, &t, qv) == CV_SUCCESS)
-            q = N_VGetArrayPointer(qv)[0];
+        if (CVodeGetQuad(h->cv.mem, &t, h->cv.q) == CV_SUCCESS)
+            q = N_VGetArrayPointer(h->cv.q)[0];
         if (h->nsamp > 0)
-            sample_speed(h, t, N_VGetArrayPointer(h->z));
+            sample_speed(h, t, N_VGetArrayPointer(h->cv.y));
         if (flag != CV_ROOT_RETURN && t < t_end) {
             --events;
             continue;
@@ -536,7 +472,7 @@ static int period_map(usm_hybrid *h, double ts, const double *x0, double *x1, do
             rc = USM_EFAILED;
             break;
         }
-        memcpy(z, N_VGetArrayPointer(h->z), sizeof(double) * (size_t)(h->n + h->n * h->ncol));
+        memcpy(z, N_VGetArrayPointer(h->cv.y), sizeof(double) * (size_t)(h->n + h->n * h->ncol));
         rc = switch_at(h, t, z);
         if (rc == USM_OK && h->nmodes > USM_HYBRID_MAX_SWITCHES) {
             /* the mode sequence names the orbit (the sweep compares it):
@@ -556,7 +492,7 @@ static int period_map(usm_hybrid *h, double ts, const double *x0, double *x1, do
         rc = USM_EFAILED;
     }
     if (rc == USM_OK) {
-        const double *zz = N_VGetArrayPointer(h->z);
+        const double *zz = N_VGetArrayPointer(h->cv.y);
         memcpy(x1, zz, sizeof(double) * (size_t)nx);
         if (B) {
             /* x coordinates: B = Phi T (column psidot = Phi's phidot + psidot
@@ -571,7 +507,7 @@ static int period_map(usm_hybrid *h, double ts, const double *x0, double *x1, do
         if (speed_mean)
             *speed_mean = q / h->T;
     }
-    free_integrator(h);
+    usm_cvodes_release(&h->cv);
     return rc;
 }
 
@@ -988,24 +924,17 @@ static int newton(usm_hybrid *h, const usm_hybrid_options *opt, double ts, doubl
         if ((res <= opt->tol && !rough_map) || it == opt->max_iter)
             break;
         double J[USM_MAX_NX * USM_MAX_NX];
-        size_t pdata[USM_MAX_NX];
-        gsl_permutation perm = {(size_t)nr, pdata};
-        int sign;
+        int piv[USM_MAX_NX];
         for (int a = 0; a < nr; ++a)
             for (int b = 0; b < nr; ++b)
                 J[a * nr + b] = B[idx[a] * nx + idx[b]] - (a == b);
-        gsl_matrix_view Jm = gsl_matrix_view_array(J, (size_t)nr, (size_t)nr);
-        if (gsl_linalg_LU_decomp(&Jm.matrix, &perm, &sign) != GSL_SUCCESS) {
+        if (usm_lu_factor_dense(nr, J, piv) != 0) {
             snprintf(h->msg, USM_MSG_LEN, "Newton: B - I is singular");
             return USM_EFAILED;
         }
         /* the Newton step, then chord steps with the same LU */
         for (int c = 0; c <= CHORD_MAX; ++c) {
-            gsl_vector_view rv = gsl_vector_view_array(r, (size_t)nr);
-            if (gsl_linalg_LU_svx(&Jm.matrix, &perm, &rv.vector) != GSL_SUCCESS) {
-                snprintf(h->msg, USM_MSG_LEN, "Newton: B - I is singular");
-                return USM_EFAILED;
-            }
+            usm_lu_solve_dense(nr, J, piv, r, 1);
             double xt[USM_MAX_NX], rt[USM_MAX_NX];
             memcpy(xt, x0, sizeof xt);
             for (int a = 0; a < nr; ++a)

@@ -57,11 +57,8 @@
 #include <gsl/gsl_linalg.h>
 #include <gsl/gsl_matrix.h>
 
-#include <cvodes/cvodes.h>
-#include <nvector/nvector_serial.h>
-#include <sunnonlinsol/sunnonlinsol_fixedpoint.h>
-
 #include "core/cvode_msg.h"
+#include "core/cvodes.h"
 #include "core/dense.h"
 #include "core/root.h"
 #include "multipliers.h"
@@ -79,14 +76,8 @@ struct usm_periodic {
     double scale[USM_MAX_NX];
     double S[NN], Sinv[NN];
     /* CVODES */
-    SUNContext ctx;
-    void *cv;
-    N_Vector y, atol;
-    SUNNonlinearSolver NLS;
-    /* the state alone, re-integrated from a sample (the extremes) */
-    void *cv2;
-    N_Vector y2, atol2;
-    SUNNonlinearSolver NLS2;
+    usm_cvodes cv;  /* the state and its variational equations over a period */
+    usm_cvodes cv2; /* the state alone, re-integrated from a sample (the extremes) */
     usm_root *root;
     double rtol;
     /* eigenproblem without the cyclic directions (solve/multipliers.h) */
@@ -94,7 +85,6 @@ struct usm_periodic {
     usm_steady *steady;
     double samples[NS * (USM_MAX_NX + 4)];
     int have_samples;
-    char cvmsg[USM_MSG_LEN];
     char msg[USM_MSG_LEN];
 };
 
@@ -119,36 +109,12 @@ void usm_periodic_free(usm_periodic *w)
 {
     if (!w)
         return;
-    if (w->cv)
-        CVodeFree(&w->cv);
-    if (w->NLS)
-        SUNNonlinSolFree(w->NLS);
-    if (w->y)
-        N_VDestroy(w->y);
-    if (w->atol)
-        N_VDestroy(w->atol);
-    if (w->cv2)
-        CVodeFree(&w->cv2);
-    if (w->NLS2)
-        SUNNonlinSolFree(w->NLS2);
-    if (w->y2)
-        N_VDestroy(w->y2);
-    if (w->atol2)
-        N_VDestroy(w->atol2);
+    usm_cvodes_free(&w->cv2); /* first: it borrows cv's context */
+    usm_cvodes_free(&w->cv);
     usm_root_free(w->root);
-    if (w->ctx)
-        SUNContext_Free(&w->ctx);
     usm_multipliers_free(w->mult);
     usm_steady_free(w->steady);
     free(w);
-}
-
-static void cv_errors(int code, const char *module, const char *function, char *text, void *data)
-{
-    usm_periodic *w = data;
-    (void)code;
-    (void)module;
-    snprintf(w->cvmsg, sizeof w->cvmsg, "%s: %s", function, text);
 }
 
 static int cv_rhs(sunrealtype tau, N_Vector yv, N_Vector ydot, void *data);
@@ -164,38 +130,18 @@ usm_periodic *usm_periodic_alloc(const usm_model *m)
     const size_t n = (size_t)w->n, N = n + n * n;
     w->mult = usm_multipliers_alloc(m);
     w->steady = usm_steady_alloc(m);
-    if (!w->mult || !w->steady || SUNContext_Create(NULL, &w->ctx) != 0) {
-        w->ctx = NULL;
-        usm_periodic_free(w);
-        return NULL;
-    }
-    w->y = N_VNew_Serial((sunindextype)N, w->ctx);
-    w->atol = N_VNew_Serial((sunindextype)N, w->ctx);
-    w->cv = CVodeCreate(CV_ADAMS, w->ctx);
-    if (w->y)
-        N_VConst(0.0, w->y);
-    if (!w->y || !w->atol || !w->cv || CVodeSetErrHandlerFn(w->cv, cv_errors, w) != CV_SUCCESS ||
-        CVodeInit(w->cv, cv_rhs, 0.0, w->y) != CV_SUCCESS ||
-        !(w->NLS = SUNNonlinSol_FixedPoint(w->y, 0, w->ctx)) ||
-        CVodeSetNonlinearSolver(w->cv, w->NLS) != CV_SUCCESS ||
-        CVodeSetUserData(w->cv, w) != CV_SUCCESS ||
-        CVodeSetMaxNumSteps(w->cv, 100000) != CV_SUCCESS) {
-        usm_periodic_free(w);
-        return NULL;
-    }
-    w->y2 = N_VNew_Serial((sunindextype)n, w->ctx);
-    w->atol2 = N_VNew_Serial((sunindextype)n, w->ctx);
-    w->cv2 = CVodeCreate(CV_ADAMS, w->ctx);
     w->root = usm_root_alloc();
-    if (w->y2)
-        N_VConst(0.0, w->y2);
-    if (!w->y2 || !w->atol2 || !w->cv2 || !w->root ||
-        CVodeSetErrHandlerFn(w->cv2, cv_errors, w) != CV_SUCCESS ||
-        CVodeInit(w->cv2, cv_rhs_state, 0.0, w->y2) != CV_SUCCESS ||
-        !(w->NLS2 = SUNNonlinSol_FixedPoint(w->y2, 0, w->ctx)) ||
-        CVodeSetNonlinearSolver(w->cv2, w->NLS2) != CV_SUCCESS ||
-        CVodeSetUserData(w->cv2, w) != CV_SUCCESS ||
-        CVodeSetMaxNumSteps(w->cv2, 100000) != CV_SUCCESS) {
+    /* tolerances after each CVodeReInit (period_map, state_at) */
+    usm_cvodes_spec spec = {.lmm = CV_ADAMS, .n = (sunindextype)N, .rhs = cv_rhs, .data = w,
+                            .max_steps = 100000};
+    if (!w->mult || !w->steady || !w->root || usm_cvodes_init(&w->cv, &spec, w->msg) != USM_OK) {
+        usm_periodic_free(w);
+        return NULL;
+    }
+    usm_cvodes_share(&w->cv2, &w->cv);
+    spec.n = (sunindextype)n;
+    spec.rhs = cv_rhs_state;
+    if (usm_cvodes_init(&w->cv2, &spec, w->msg) != USM_OK) {
         usm_periodic_free(w);
         return NULL;
     }
@@ -319,8 +265,9 @@ static int period_map(usm_periodic *w, const double *x0, double rtol, double *x1
                                       "not finite (theta = %g)", usm_coords_theta(w->m, x0));
         return USM_EFAILED;
     }
-    double *Y = N_VGetArrayPointer(w->y), *A = N_VGetArrayPointer(w->atol);
-    N_VConst(0.0, w->y);
+    usm_cvodes *c = &w->cv;
+    double *Y = N_VGetArrayPointer(c->y), *A = N_VGetArrayPointer(c->atol);
+    N_VConst(0.0, c->y);
     memcpy(Y, x0, sizeof(double) * (size_t)n);
     for (int i = 0; i < n; ++i) {
         Y[n + i * n + i] = 1.0;
@@ -328,14 +275,13 @@ static int period_map(usm_periodic *w, const double *x0, double rtol, double *x1
     }
     for (int i = n; i < n + n * n; ++i)
         A[i] = rtol;
-    w->cvmsg[0] = '\0';
-    if ((flag = CVodeReInit(w->cv, 0.0, w->y)) != CV_SUCCESS ||
-        (flag = CVodeSVtolerances(w->cv, rtol, w->atol)) != CV_SUCCESS ||
-        (flag = CVodeSetStopTime(w->cv, w->T)) != CV_SUCCESS) {
-        snprintf(w->msg, USM_MSG_LEN, "CVODES set-up failed: %s",
-                 usm_cvode_flag_name(flag, name, sizeof name));
-        return USM_EFAILED;
-    }
+    c->cvmsg[0] = '\0';
+    int rc;
+    if ((rc = usm_cvodes_check(c, "CVodeReInit", CVodeReInit(c->mem, 0.0, c->y))) != USM_OK ||
+        (rc = usm_cvodes_check(c, "CVodeSVtolerances", CVodeSVtolerances(c->mem, rtol, c->atol))) !=
+            USM_OK ||
+        (rc = usm_cvodes_check(c, "CVodeSetStopTime", CVodeSetStopTime(c->mem, w->T))) != USM_OK)
+        return rc;
     if (sample(w, w->t0, x0, w->samples) != 0) {
         snprintf(w->msg, USM_MSG_LEN, "the start state is singular (mass matrix)");
         return USM_EFAILED;
@@ -343,11 +289,11 @@ static int period_map(usm_periodic *w, const double *x0, double rtol, double *x1
     for (int k = 1; k <= NS; ++k) {
         double reached = 0;
         const double tout = k == NS ? w->T : w->T * k / NS;
-        flag = CVode(w->cv, tout, w->y, &reached, CV_NORMAL);
+        flag = CVode(c->mem, tout, c->y, &reached, CV_NORMAL);
         if (flag < 0) {
             snprintf(w->msg, USM_MSG_LEN, "CVODES failed at t = %.6g s of the period: %s%s%.100s",
                      w->t0 + reached, usm_cvode_flag_name(flag, name, sizeof name),
-                     w->cvmsg[0] ? " -- " : "", w->cvmsg);
+                     c->cvmsg[0] ? " -- " : "", c->cvmsg);
             return USM_EFAILED;
         }
         if (k < NS && sample(w, w->t0 + tout, Y, w->samples + k * (n + 4)) != 0) {
@@ -458,14 +404,16 @@ static int state_at(usm_periodic *w, double t, double *x)
             x[i] = row[1 + i] + (tau - tj) * xdot[i];
         return 0;
     }
-    double *Y = N_VGetArrayPointer(w->y2), *A = N_VGetArrayPointer(w->atol2);
+    usm_cvodes *c = &w->cv2;
+    double *Y = N_VGetArrayPointer(c->y), *A = N_VGetArrayPointer(c->atol);
     memcpy(Y, row + 1, sizeof(double) * (size_t)n);
     for (int i = 0; i < n; ++i)
         A[i] = w->rtol * w->scale[i];
-    if (CVodeReInit(w->cv2, tj, w->y2) != CV_SUCCESS ||
-        CVodeSVtolerances(w->cv2, w->rtol, w->atol2) != CV_SUCCESS ||
-        CVodeSetStopTime(w->cv2, tau) != CV_SUCCESS ||
-        CVode(w->cv2, tau, w->y2, &reached, CV_NORMAL) < 0)
+    /* a failure is the caller's NaN (the extreme is then the sample's) */
+    if (CVodeReInit(c->mem, tj, c->y) != CV_SUCCESS ||
+        CVodeSVtolerances(c->mem, w->rtol, c->atol) != CV_SUCCESS ||
+        CVodeSetStopTime(c->mem, tau) != CV_SUCCESS ||
+        CVode(c->mem, tau, c->y, &reached, CV_NORMAL) < 0)
         return -1;
     memcpy(x, Y, sizeof(double) * (size_t)n);
     return 0;

@@ -25,7 +25,6 @@
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_linalg.h>
 #include <gsl/gsl_matrix.h>
-#include <gsl/gsl_permutation.h>
 
 #include "core/dense.h"
 #include "usm_design.h"
@@ -53,6 +52,12 @@ int usm_sensitivity_output_find(const char *name)
     return -1;
 }
 
+void usm_sensitivity_outputs_default(int want[USM_SENS_COUNT])
+{
+    for (int k = 0; k < USM_SENS_COUNT; ++k)
+        want[k] = k <= USM_SENS_MAX_MODULUS;
+}
+
 /* One sub-interval of the product. */
 typedef struct step {
     double t;                 /* midpoint */
@@ -73,8 +78,7 @@ struct usm_sensitivity {
     double complex *alpha, *beta;     /* MAX_STEPS x n */
     double T[NN], Tinv[NN]; /* tangent map on the orbit and its inverse */
     double d[NMAX];         /* balancing: Gh = D^-1 Gy D */
-    gsl_matrix *work, *inv;
-    gsl_permutation *perm, *perm2;
+    gsl_matrix *work;
     gsl_vector *dscale;
     gsl_eigen_nonsymmv_workspace *eig;
     gsl_vector_complex *evalr, *evall;
@@ -96,9 +100,6 @@ usm_sensitivity *usm_sensitivity_alloc(const usm_model *m)
     s->alpha = malloc(sizeof *s->alpha * MAX_STEPS * NMAX);
     s->beta = malloc(sizeof *s->beta * MAX_STEPS * NMAX);
     s->work = gsl_matrix_alloc(n, n);
-    s->inv = gsl_matrix_alloc(n, n);
-    s->perm = gsl_permutation_alloc(n);
-    s->perm2 = gsl_permutation_alloc(USM_MAX_NU);
     s->dscale = gsl_vector_alloc(n);
     s->eig = gsl_eigen_nonsymmv_alloc(n);
     s->evalr = gsl_vector_complex_alloc(n);
@@ -106,7 +107,7 @@ usm_sensitivity *usm_sensitivity_alloc(const usm_model *m)
     s->evecr = gsl_matrix_complex_alloc(n, n);
     s->evecl = gsl_matrix_complex_alloc(n, n);
     if (!s->steps || !s->WA || !s->WM || !s->wh || !s->alpha || !s->beta || !s->work ||
-        !s->inv || !s->perm || !s->perm2 || !s->dscale ||
+        !s->dscale ||
         !s->eig || !s->evalr || !s->evall || !s->evecr || !s->evecl) {
         usm_sensitivity_free(s);
         return NULL;
@@ -125,9 +126,6 @@ void usm_sensitivity_free(usm_sensitivity *s)
     free(s->alpha);
     free(s->beta);
     gsl_matrix_free(s->work);
-    gsl_matrix_free(s->inv);
-    gsl_permutation_free(s->perm);
-    gsl_permutation_free(s->perm2);
     gsl_vector_free(s->dscale);
     if (s->eig)
         gsl_eigen_nonsymmv_free(s->eig);
@@ -148,20 +146,18 @@ const char *usm_sensitivity_message(const usm_sensitivity *s)
     return s->msg;
 }
 
-/* out = A^-1 (row-major n x n) with GSL LU. */
+/* out = A^-1 (row-major n x n) with core/dense.h's LU. */
 static int invert(usm_sensitivity *s, const double *A, double *out)
 {
     const int n = s->n;
-    int sign;
-    memcpy(s->work->data, A, sizeof(double) * (size_t)(n * n));
-    if (gsl_linalg_LU_decomp(s->work, s->perm, &sign) != GSL_SUCCESS ||
-        gsl_linalg_LU_invert(s->work, s->perm, s->inv) != GSL_SUCCESS)
+    double lu[NN];
+    int piv[NMAX];
+    memcpy(lu, A, sizeof(double) * (size_t)(n * n));
+    if (usm_invert_dense(n, lu, piv, out) != 0)
         return -1;
-    for (int i = 0; i < n * n; ++i) {
-        out[i] = s->inv->data[i];
+    for (int i = 0; i < n * n; ++i)
         if (!isfinite(out[i]))
             return -1;
-    }
     return 0;
 }
 
@@ -177,38 +173,30 @@ static int steady_part(usm_sensitivity *s, const usm_params *p, const usm_steady
     m->steady_jacobian(sol->u, p, J);
     m->steady_jacobian_params(sol->u, p, Jp);
     m->steady_design_jacobian(sol->u, p, D);
-    gsl_matrix_view Jv = gsl_matrix_view_array(J, (size_t)nu, (size_t)nu);
-    int sign;
-    gsl_permutation *perm = gsl_permutation_alloc((size_t)nu);
-    if (!perm) {
-        snprintf(s->msg, USM_MSG_LEN, "out of memory");
-        return USM_EFAILED;
-    }
-    int bad = gsl_linalg_LU_decomp(&Jv.matrix, perm, &sign) != GSL_SUCCESS;
+    int piv[USM_MAX_NU];
+    int bad = usm_lu_factor_dense(nu, J, piv) != 0;
     /* a fold: the root does not move smoothly with the parameters */
     if (!bad) {
         double umin = INFINITY, umax = 0;
         for (int i = 0; i < nu; ++i) {
-            const double d = fabs(gsl_matrix_get(&Jv.matrix, (size_t)i, (size_t)i));
+            const double d = fabs(J[i * nu + i]);
             umin = fmin(umin, d);
             umax = fmax(umax, d);
         }
         bad = !(umin > 1e-14 * umax);
     }
-    for (int k = 0; k < USM_NPARAMS && !bad; ++k) {
-        double rhs[USM_MAX_NU];
+    if (!bad) {
+        /* every parameter's right-hand side in one solve */
+        for (int i = 0; i < nu * USM_NPARAMS; ++i)
+            Jp[i] = -Jp[i];
+        usm_lu_solve_dense(nu, J, piv, Jp, USM_NPARAMS);
         for (int i = 0; i < nu; ++i)
-            rhs[i] = -Jp[i * USM_NPARAMS + k];
-        gsl_vector_view b = gsl_vector_view_array(rhs, (size_t)nu);
-        if (gsl_linalg_LU_svx(&Jv.matrix, perm, &b.vector) != GSL_SUCCESS)
-            bad = 1;
-        for (int i = 0; i < nu; ++i) {
-            dudp[i][k] = rhs[i];
-            if (!isfinite(rhs[i]))
-                bad = 1;
-        }
+            for (int k = 0; k < USM_NPARAMS; ++k) {
+                dudp[i][k] = Jp[i * USM_NPARAMS + k];
+                if (!isfinite(dudp[i][k]))
+                    bad = 1;
+            }
     }
-    gsl_permutation_free(perm);
     if (bad) {
         snprintf(s->msg, USM_MSG_LEN,
                  "the residual Jacobian dr/du is singular at this solution (a fold): "

@@ -19,7 +19,10 @@
 #include <sunmatrix/sunmatrix_dense.h>
 
 #include "core/cvode_msg.h"
+#include "core/cvodes.h"
 #include "core/dense.h"
+#include "core/grow.h"
+#include "contact_mode.h"
 #include "impact.h"
 #include "usm_simulate.h"
 
@@ -56,21 +59,11 @@ struct usm_sim {
      * n = nx), 1 open (the open mode's kernels, n = ny) */
     const usm_unilateral *u;  /* NULL: the contact never opens */
     int nx, mode;
-    void (*k_mass)(const double *x, const usm_params *p, double *out);
-    void (*k_rhs)(const double *x, double t, const usm_params *p, double *out);
-    void (*k_jac_rhs)(const double *x, double t, const usm_params *p, double *out);
-    void (*k_jac_mass)(const double *x, const double *v, const usm_params *p, double *out);
-    void (*k_outputs)(const double *x, const double *xdot, double t, const usm_params *p,
-                      double *out);
+    usm_mode k;               /* the current mode's kernels */
     long stats_done[5];  /* steps, rhs, jac, error test and Newton failures of the
                           * integrators of earlier modes (each switch makes a new one) */
     double v_land;       /* a bounce slower than this lands (usm_simulate.h) */
-    /* SUNDIALS */
-    SUNContext ctx;
-    void *cv;
-    N_Vector y, q;
-    SUNMatrix A;
-    SUNLinearSolver LS;
+    usm_cvodes cv;        /* BDF, Newton with a dense LU; quadratures int theta, rotor angle */
     /* the LU of the current mass matrix (core/dense.h: at 7 x 7 to 12 x 12
      * GSL's LU, a BLAS call per column, was a quarter of a simulation's time) */
     double lu[USM_MAX_NY * USM_MAX_NY];
@@ -92,7 +85,6 @@ struct usm_sim {
     double rest_prev;
     long trap_run;   /* periods held below rest_fraction trap_ref */
     double trap_ref; /* the smallest root's tilt when that root is unstable, else 0 */
-    char cvmsg[USM_MSG_LEN];
     char msg[USM_MSG_LEN];
 };
 
@@ -114,6 +106,11 @@ void usm_sim_options_default(usm_sim_options *opt)
     opt->max_step = 0.0;
     opt->max_twist_growth = 400.0;
     opt->rest_fraction = 0.1;
+}
+
+double usm_sim_default_rate(const usm_params *p)
+{
+    return 10.0 * p->f;
 }
 
 const char *usm_sim_stop_name(usm_sim_stop stop)
@@ -145,21 +142,8 @@ const char *usm_sim_message(const usm_sim *s) { return s->msg; }
 static void set_mode(usm_sim *s, int mode)
 {
     s->mode = mode;
-    if (mode == 0) {
-        s->n = s->m->nx;
-        s->k_mass = s->m->mass;
-        s->k_rhs = s->m->rhs;
-        s->k_jac_rhs = s->m->jac_rhs;
-        s->k_jac_mass = s->m->jac_mass;
-        s->k_outputs = s->m->outputs;
-    } else {
-        s->n = s->u->ny;
-        s->k_mass = s->u->open_mass;
-        s->k_rhs = s->u->open_rhs;
-        s->k_jac_rhs = s->u->open_jac_rhs;
-        s->k_jac_mass = s->u->open_jac_mass;
-        s->k_outputs = s->u->open_outputs;
-    }
+    usm_mode_kernels(s->m, mode, &s->k);
+    s->n = s->k.n;
 }
 
 /* Integrate model m (s->user, or s->user in the other coordinates: the same
@@ -223,39 +207,18 @@ usm_sim *usm_sim_alloc(const usm_model *m)
     set_mode(s, 0);
     s->steady = usm_steady_alloc(m);
     s->floquet = usm_floquet_alloc(m);
-    if (!s->steady || !s->floquet || SUNContext_Create(NULL, &s->ctx) != 0) {
-        s->ctx = NULL;
+    if (!s->steady || !s->floquet) {
         usm_sim_free(s);
         return NULL;
     }
     return s;
 }
 
-static void free_integrator(usm_sim *s)
-{
-    if (s->cv)
-        CVodeFree(&s->cv);
-    if (s->LS)
-        SUNLinSolFree(s->LS);
-    if (s->A)
-        SUNMatDestroy(s->A);
-    if (s->y)
-        N_VDestroy(s->y);
-    if (s->q)
-        N_VDestroy(s->q);
-    s->cv = NULL;
-    s->LS = NULL;
-    s->A = NULL;
-    s->y = s->q = NULL;
-}
-
 void usm_sim_free(usm_sim *s)
 {
     if (!s)
         return;
-    free_integrator(s);
-    if (s->ctx)
-        SUNContext_Free(&s->ctx);
+    usm_cvodes_free(&s->cv);
     usm_steady_free(s->steady);
     usm_floquet_free(s->floquet);
     free(s->fl);
@@ -315,7 +278,7 @@ static void to_zdot(const usm_sim *s, const double *xdot, double *zdot)
 static int factor_mass(usm_sim *s, const double *x)
 {
     const int n = s->n;
-    s->k_mass(x, &s->p, s->lu);
+    s->k.mass(x, &s->p, s->lu);
     for (int i = 0; i < n * n; ++i)
         if (!isfinite(s->lu[i]))
             return -1;
@@ -328,7 +291,7 @@ static int evaluate(usm_sim *s, double t, const double *y, double *x, double *xd
     to_x(s, t, y, x);
     if (factor_mass(s, x) != 0)
         return -1;
-    s->k_rhs(x, t, &s->p, xdot);
+    s->k.rhs(x, t, &s->p, xdot);
     usm_lu_solve_dense(s->n, s->lu, s->piv, xdot, 1);
     for (int i = 0; i < s->n; ++i)
         if (!isfinite(xdot[i]))
@@ -373,8 +336,8 @@ static int cv_jac(sunrealtype t, N_Vector yv, N_Vector fy, SUNMatrix J, void *da
     to_xdot(s, f, xdot);
     if (factor_mass(s, x) != 0)
         return 1;
-    s->k_jac_rhs(x, t, &s->p, Jf);
-    s->k_jac_mass(x, xdot, &s->p, Jm);
+    s->k.jac_rhs(x, t, &s->p, Jf);
+    s->k.jac_mass(x, xdot, &s->p, Jm);
     for (int i = 0; i < n * n; ++i)
         G[i] = Jf[i] - Jm[i];
     usm_lu_solve_dense(n, s->lu, s->piv, G, n);
@@ -404,7 +367,7 @@ static int cv_quad(sunrealtype t, N_Vector yv, N_Vector qdot, void *data)
     double *d = N_VGetArrayPointer(qdot);
     if (evaluate(s, t, N_VGetArrayPointer(yv), x, xdot) != 0)
         return 1;
-    s->k_outputs(x, xdot, t, &s->p, out);
+    s->k.outputs(x, xdot, t, &s->p, out);
     d[0] = theta_of(s, x);
     d[1] = out[USM_OUT_ROTOR_SPEED];
     return isfinite(d[1]) ? 0 : 1;
@@ -419,7 +382,7 @@ static int cv_roots(sunrealtype t, N_Vector yv, sunrealtype *g, void *data)
     double x[USM_MAX_NY], xdot[USM_MAX_NY], out[USM_OUT_COUNT];
     if (evaluate(s, t, N_VGetArrayPointer(yv), x, xdot) != 0)
         return -1;
-    s->k_outputs(x, xdot, t, &s->p, out);
+    s->k.outputs(x, xdot, t, &s->p, out);
     const double theta = theta_of(s, x), Fn = out[USM_OUT_F_N], Ft = out[USM_OUT_F_T];
     const double speed = out[USM_OUT_ROTOR_SPEED];
     g[ROOT_TILT_ZERO] = s->tilt ? 1.0 : theta; /* a singularity of the Euler angles only */
@@ -446,14 +409,6 @@ static int cv_roots(sunrealtype t, N_Vector yv, sunrealtype *g, void *data)
         s->excess_max = fmax(s->excess_max, fabs(Ft) - s->p.mu0 * Fn);
     }
     return 0;
-}
-
-static void cv_errors(int code, const char *module, const char *function, char *text, void *data)
-{
-    usm_sim *s = data;
-    (void)code;
-    (void)module;
-    snprintf(s->cvmsg, sizeof s->cvmsg, "%s: %s", function, text);
 }
 
 /* Error weights.  phi and psi are absolute (see usm_simulate.h): their size,
@@ -570,80 +525,51 @@ int usm_sim_check(usm_sim *s, const usm_params *p, const usm_sim_options *opt)
     return check_params(s, p);
 }
 
-static int cv_setup_fail(usm_sim *s, const char *call, int flag)
-{
-    char name[32];
-    snprintf(s->msg, USM_MSG_LEN, "CVODES %s failed: %s%s%.150s", call,
-             usm_cvode_flag_name(flag, name, sizeof name), s->cvmsg[0] ? " -- " : "", s->cvmsg);
-    return USM_EFAILED;
-}
-
 /* A new integrator for the current mode from state x at time t, quadratures
  * q0 (int theta dt) and q1 (the rotor angle).  A switch of the contact mode
  * restarts the integration (a new state length, a discontinuous derivative). */
 static int setup_integrator(usm_sim *s, double t, const double *x0, double q0, double q1)
 {
-    const int n = s->n;
-    int flag;
-    free_integrator(s);
-    s->y = N_VNew_Serial(n, s->ctx);
-    s->q = N_VNew_Serial(2, s->ctx);
-    s->A = SUNDenseMatrix(n, n, s->ctx);
-    s->cv = CVodeCreate(CV_BDF, s->ctx);
-    if (!s->y || !s->q || !s->A || !s->cv) {
-        snprintf(s->msg, USM_MSG_LEN, "CVODES: out of memory");
-        return USM_EFAILED;
-    }
-    s->LS = SUNLinSol_Dense(s->y, s->A, s->ctx);
-    if (!s->LS) {
-        snprintf(s->msg, USM_MSG_LEN, "CVODES: out of memory");
-        return USM_EFAILED;
-    }
-    to_z(s, t, x0, N_VGetArrayPointer(s->y));
-    double *q = N_VGetArrayPointer(s->q);
-    q[0] = q0;
-    q[1] = q1;
+    double y0[USM_MAX_NY];
+    const double q[2] = {q0, q1};
+    to_z(s, t, x0, y0);
     /* F_n: both ways for the episodes; a unilateral contact opens where F_n
      * falls through 0 and closes where the gap does */
-    int dir[NROOTS] = {-1, -1, -1, s->u ? -1 : 0, 0};
-    if ((flag = CVodeSetErrHandlerFn(s->cv, cv_errors, s)) != CV_SUCCESS)
-        return cv_setup_fail(s, "CVodeSetErrHandlerFn", flag);
-    if ((flag = CVodeInit(s->cv, cv_rhs, t, s->y)) != CV_SUCCESS)
-        return cv_setup_fail(s, "CVodeInit", flag);
-    if ((flag = CVodeSetUserData(s->cv, s)) != CV_SUCCESS)
-        return cv_setup_fail(s, "CVodeSetUserData", flag);
-    if ((flag = CVodeWFtolerances(s->cv, cv_ewt)) != CV_SUCCESS)
-        return cv_setup_fail(s, "CVodeWFtolerances", flag);
-    if ((flag = CVodeSetLinearSolver(s->cv, s->LS, s->A)) != CVLS_SUCCESS)
-        return cv_setup_fail(s, "CVodeSetLinearSolver", flag);
-    if ((flag = CVodeSetJacFn(s->cv, cv_jac)) != CVLS_SUCCESS)
-        return cv_setup_fail(s, "CVodeSetJacFn", flag);
-    if ((flag = CVodeSetMaxNumSteps(s->cv, STEPS_PER_CALL)) != CV_SUCCESS)
-        return cv_setup_fail(s, "CVodeSetMaxNumSteps", flag);
+    const int dir[NROOTS] = {-1, -1, -1, s->u ? -1 : 0, 0};
+    const usm_cvodes_spec spec = {.lmm = CV_BDF,
+                                  .n = s->n,
+                                  .t0 = t,
+                                  .y0 = y0,
+                                  .rhs = cv_rhs,
+                                  .jac = cv_jac,
+                                  .data = s,
+                                  .max_steps = STEPS_PER_CALL,
+                                  .rtol = s->o.rtol,
+                                  .ewt = cv_ewt,
+                                  .t_stop = s->t1,
+                                  .nq = 2,
+                                  .quad = cv_quad,
+                                  .q0 = q,
+                                  .nroots = s->nroots,
+                                  .roots = cv_roots,
+                                  .root_dir = dir};
+    usm_cvodes *c = &s->cv;
+    int rc;
+    if ((rc = usm_cvodes_init(c, &spec, s->msg)) != USM_OK)
+        return rc;
     /* every mode is an oscillator with a few percent damping: eigenvalues
      * close to the imaginary axis, where BDF orders 3 to 5 are unstable */
-    if ((flag = CVodeSetStabLimDet(s->cv, SUNTRUE)) != CV_SUCCESS)
-        return cv_setup_fail(s, "CVodeSetStabLimDet", flag);
+    if ((rc = usm_cvodes_check(c, "CVodeSetStabLimDet", CVodeSetStabLimDet(c->mem, SUNTRUE))) !=
+        USM_OK)
+        return rc;
     /* Near the stationary orbit z hardly changes, and CVODES would step over
      * hundreds of excitation periods at once: blind to a perturbation that
      * grows from one period to the next (the 3-DOF orbit does, after about
      * 20 ms: docs/simulate.md).  A quarter period keeps it visible. */
-    if ((flag = CVodeSetMaxStep(s->cv, s->o.max_step > 0 ? s->o.max_step : 0.25 / s->p.f)) !=
-        CV_SUCCESS)
-        return cv_setup_fail(s, "CVodeSetMaxStep", flag);
-    if ((flag = CVodeSetStopTime(s->cv, s->t1)) != CV_SUCCESS)
-        return cv_setup_fail(s, "CVodeSetStopTime", flag);
-    if ((flag = CVodeQuadInit(s->cv, cv_quad, s->q)) != CV_SUCCESS)
-        return cv_setup_fail(s, "CVodeQuadInit", flag);
-    if ((flag = CVodeSetQuadErrCon(s->cv, SUNFALSE)) != CV_SUCCESS)
-        return cv_setup_fail(s, "CVodeSetQuadErrCon", flag);
-    if ((flag = CVodeRootInit(s->cv, s->nroots, cv_roots)) != CV_SUCCESS)
-        return cv_setup_fail(s, "CVodeRootInit", flag);
-    if ((flag = CVodeSetRootDirection(s->cv, dir)) != CV_SUCCESS)
-        return cv_setup_fail(s, "CVodeSetRootDirection", flag);
-    if ((flag = CVodeSetNoInactiveRootWarn(s->cv)) != CV_SUCCESS)
-        return cv_setup_fail(s, "CVodeSetNoInactiveRootWarn", flag);
-    return USM_OK;
+    const double hmax = s->o.max_step > 0 ? s->o.max_step : 0.25 / s->p.f;
+    if ((rc = usm_cvodes_check(c, "CVodeSetMaxStep", CVodeSetMaxStep(c->mem, hmax))) != USM_OK)
+        return rc;
+    return usm_cvodes_check(c, "CVodeSetQuadErrCon", CVodeSetQuadErrCon(c->mem, SUNFALSE));
 }
 
 /* ---- the run ------------------------------------------------------------------------ */
@@ -690,7 +616,7 @@ static int emit_sample(usm_sim *s, run_state *r, double t, const double *y, cons
         for (int i = 0; i < s->n; ++i)
             xdot[i] = NAN;
     }
-    s->k_outputs(x, xdot, t, &s->p, smp.out);
+    s->k.outputs(x, xdot, t, &s->p, smp.out);
     smp.t = t;
     smp.nx = s->nx; /* the open mode's y begins with x */
     smp.open = s->mode;
@@ -863,11 +789,11 @@ static void callback_stop(usm_sim *s, double t)
 static void bank_stats(usm_sim *s)
 {
     long v[5] = {0, 0, 0, 0, 0};
-    CVodeGetNumSteps(s->cv, &v[0]);
-    CVodeGetNumRhsEvals(s->cv, &v[1]);
-    CVodeGetNumJacEvals(s->cv, &v[2]);
-    CVodeGetNumErrTestFails(s->cv, &v[3]);
-    CVodeGetNumNonlinSolvConvFails(s->cv, &v[4]);
+    CVodeGetNumSteps(s->cv.mem, &v[0]);
+    CVodeGetNumRhsEvals(s->cv.mem, &v[1]);
+    CVodeGetNumJacEvals(s->cv.mem, &v[2]);
+    CVodeGetNumErrTestFails(s->cv.mem, &v[3]);
+    CVodeGetNumNonlinSolvConvFails(s->cv.mem, &v[4]);
     for (int k = 0; k < 5; ++k)
         s->stats_done[k] += v[k];
 }
@@ -875,7 +801,7 @@ static void bank_stats(usm_sim *s)
 /* Continue in mode `mode` from state x (that mode's layout) at t. */
 static int switch_mode(usm_sim *s, int mode, double t, const double *x, const double *q)
 {
-    if (s->cv)
+    if (s->cv.mem)
         bank_stats(s);
     set_mode(s, mode);
     int rc = setup_integrator(s, t, x, q[0], q[1]);
@@ -910,9 +836,9 @@ static double closed_Fn(usm_sim *s, double t, const double *x, double *Ft)
     *Ft = NAN;
     set_mode(s, 0);
     if (factor_mass(s, x) == 0) {
-        s->k_rhs(x, t, &s->p, xdot);
+        s->k.rhs(x, t, &s->p, xdot);
         usm_lu_solve_dense(s->n, s->lu, s->piv, xdot, 1);
-        s->k_outputs(x, xdot, t, &s->p, out);
+        s->k.outputs(x, xdot, t, &s->p, out);
         Fn = out[USM_OUT_F_N];
         *Ft = out[USM_OUT_F_T];
     }
@@ -961,7 +887,7 @@ static int handle_roots(usm_sim *s, double t, const double *y, const double *q)
     int found[NROOTS] = {0};
     double x[USM_MAX_NY], xdot[USM_MAX_NY], out[USM_OUT_COUNT];
     usm_sim_summary *sum = s->sum;
-    CVodeGetRootInfo(s->cv, found);
+    CVodeGetRootInfo(s->cv.mem, found);
     if (!s->u && found[ROOT_FN] < 0)
         episode_begin(&s->in_open, &s->open_since, &sum->contact_open, t);
     else if (!s->u && found[ROOT_FN] > 0)
@@ -973,7 +899,7 @@ static int handle_roots(usm_sim *s, double t, const double *y, const double *q)
             episode_end(&s->in_stick, s->stick_since, &sum->stick_exceeded, t);
     }
     if (evaluate(s, t, y, x, xdot) == 0)
-        s->k_outputs(x, xdot, t, &s->p, out);
+        s->k.outputs(x, xdot, t, &s->p, out);
     else
         out[USM_OUT_ROTOR_SPEED] = NAN;
     if (found[ROOT_TILT_ZERO]) {
@@ -1025,14 +951,9 @@ static int rest_start(usm_sim *s)
     int fl_ok = 0;
     sum->theta_unstable = 0.0;
     if (n > 0) {
-        if (n > s->fl_cap) {
-            usm_floquet_result *fl = realloc(s->fl, n * sizeof *fl);
-            if (!fl) {
-                snprintf(s->msg, USM_MSG_LEN, "out of memory");
-                return USM_EFAILED;
-            }
-            s->fl = fl;
-            s->fl_cap = n;
+        if (usm_grow((void **)&s->fl, &s->fl_cap, n, sizeof *s->fl) != 0) {
+            snprintf(s->msg, USM_MSG_LEN, "out of memory");
+            return USM_EFAILED;
         }
         fl_ok = usm_floquet_roots(s->floquet, &s->p, s->steady, 0.0, NULL, s->fl) == USM_OK;
         for (size_t k = 0; k < n; ++k) {
@@ -1224,15 +1145,15 @@ static void collect_stats(usm_sim *s)
     long v;
     usm_sim_summary *sum = s->sum;
     const long *done = s->stats_done;
-    if (CVodeGetNumSteps(s->cv, &v) == CV_SUCCESS)
+    if (CVodeGetNumSteps(s->cv.mem, &v) == CV_SUCCESS)
         sum->steps = v + done[0];
-    if (CVodeGetNumRhsEvals(s->cv, &v) == CV_SUCCESS)
+    if (CVodeGetNumRhsEvals(s->cv.mem, &v) == CV_SUCCESS)
         sum->rhs_evals = v + done[1];
-    if (CVodeGetNumJacEvals(s->cv, &v) == CV_SUCCESS)
+    if (CVodeGetNumJacEvals(s->cv.mem, &v) == CV_SUCCESS)
         sum->jac_evals = v + done[2];
-    if (CVodeGetNumErrTestFails(s->cv, &v) == CV_SUCCESS)
+    if (CVodeGetNumErrTestFails(s->cv.mem, &v) == CV_SUCCESS)
         sum->error_test_fails = v + done[3];
-    if (CVodeGetNumNonlinSolvConvFails(s->cv, &v) == CV_SUCCESS)
+    if (CVodeGetNumNonlinSolvConvFails(s->cv.mem, &v) == CV_SUCCESS)
         sum->newton_fails = v + done[4];
 }
 
@@ -1257,7 +1178,7 @@ static void cone_hint(usm_sim *s, double t, const double *y)
 static int integrate(usm_sim *s, run_state *r)
 {
     usm_sim_summary *sum = s->sum;
-    double *y = N_VGetArrayPointer(s->y);
+    double *y = N_VGetArrayPointer(s->cv.y);
     double q[2] = {0.0, s->o.rotor_angle0};
     double t = s->t0;
     const long max_steps = s->o.max_steps > 0
@@ -1274,26 +1195,26 @@ static int integrate(usm_sim *s, run_state *r)
     for (;;) {
         const double ts = sample_time(s, r), tp = period_end(s, r);
         const double tout = fmin(fmin(ts, tp), s->t1);
-        s->cvmsg[0] = '\0';
+        s->cv.cvmsg[0] = '\0';
         /* a contact switch that landed on tout restarted the integrator there:
          * the state at tout is at hand */
-        int flag = tout <= t ? CV_SUCCESS : CVode(s->cv, tout, s->y, &t, CV_NORMAL);
+        int flag = tout <= t ? CV_SUCCESS : CVode(s->cv.mem, tout, s->cv.y, &t, CV_NORMAL);
         sum->t_reached = t;
         if (flag < 0) {
             char name[32];
             sum->stop = USM_SIM_INTEGRATOR;
             snprintf(sum->reason, USM_MSG_LEN, "CVODES failed at t = %.9g s: %s%s%.140s", t,
-                     usm_cvode_flag_name(flag, name, sizeof name), s->cvmsg[0] ? " -- " : "",
-                     s->cvmsg);
+                     usm_cvode_flag_name(flag, name, sizeof name), s->cv.cvmsg[0] ? " -- " : "",
+                     s->cv.cvmsg);
             cone_hint(s, t, y);
             return USM_EFAILED;
         }
-        if (CVodeGetQuad(s->cv, &t, s->q) == CV_SUCCESS)
-            memcpy(q, N_VGetArrayPointer(s->q), sizeof q);
+        if (CVodeGetQuad(s->cv.mem, &t, s->cv.q) == CV_SUCCESS)
+            memcpy(q, N_VGetArrayPointer(s->cv.q), sizeof q);
         if (flag == CV_ROOT_RETURN) {
             if (handle_roots(s, t, y, q))
                 return USM_EFAILED;
-            y = N_VGetArrayPointer(s->y); /* a contact switch makes a new integrator */
+            y = N_VGetArrayPointer(s->cv.y); /* a contact switch makes a new integrator */
             continue;
         }
         if (tout == tp) {
@@ -1324,7 +1245,7 @@ static int integrate(usm_sim *s, run_state *r)
         if (tout >= s->t1)
             return USM_OK;
         long nst = 0;
-        if (CVodeGetNumSteps(s->cv, &nst) == CV_SUCCESS && nst + s->stats_done[0] >= max_steps) {
+        if (CVodeGetNumSteps(s->cv.mem, &nst) == CV_SUCCESS && nst + s->stats_done[0] >= max_steps) {
             nst += s->stats_done[0];
             sum->stop = USM_SIM_MAX_STEPS;
             snprintf(sum->reason, USM_MSG_LEN,
@@ -1419,14 +1340,9 @@ int usm_sim_run(usm_sim *s, const usm_params *p, const usm_sim_options *opt,
         sum->roots = usm_steady_count(s->steady);
     } else
         snprintf(sum->steady_message, USM_MSG_LEN, "%s", usm_steady_message(s->steady));
-    if (sum->roots > s->root_cap) {
-        long *run = realloc(s->root_run, sum->roots * sizeof *run);
-        if (!run) {
-            snprintf(s->msg, USM_MSG_LEN, "out of memory");
-            return USM_EFAILED;
-        }
-        s->root_run = run;
-        s->root_cap = sum->roots;
+    if (usm_grow((void **)&s->root_run, &s->root_cap, sum->roots, sizeof *s->root_run) != 0) {
+        snprintf(s->msg, USM_MSG_LEN, "out of memory");
+        return USM_EFAILED;
     }
     for (size_t k = 0; k < sum->roots; ++k)
         s->root_run[k] = 0;
@@ -1462,7 +1378,7 @@ int usm_sim_run(usm_sim *s, const usm_params *p, const usm_sim_options *opt,
         goto done;
     {
         double g[NROOTS];
-        if (cv_roots(s->t0, s->y, g, s) != 0) {
+        if (cv_roots(s->t0, s->cv.y, g, s) != 0) {
             snprintf(s->msg, USM_MSG_LEN,
                      "the initial state is not valid: the mass matrix is singular or a value "
                      "is not finite");
@@ -1504,13 +1420,13 @@ int usm_sim_run(usm_sim *s, const usm_params *p, const usm_sim_options *opt,
     collect_stats(s);
     {
         double x[USM_MAX_NY];
-        to_x(s, sum->t_reached, N_VGetArrayPointer(s->y), x);
+        to_x(s, sum->t_reached, N_VGetArrayPointer(s->cv.y), x);
         if (s->user == s->m)
             memcpy(sum->final_x, x, sizeof(double) * (size_t)s->nx);
         else
             usm_coords_map(s->m, x, sum->t_reached, &s->p, s->phi_prev, s->user, sum->final_x);
         sum->final_open = s->mode;
-        sum->final_rotor_angle = s->irot >= 0 ? x[s->irot] : N_VGetArrayPointer(s->q)[1];
+        sum->final_rotor_angle = s->irot >= 0 ? x[s->irot] : N_VGetArrayPointer(s->cv.q)[1];
     }
     episode_end(&s->in_open, s->open_since, &sum->contact_open, sum->t_reached);
     episode_end(&s->in_stick, s->stick_since, &sum->stick_exceeded, sum->t_reached);
@@ -1529,6 +1445,6 @@ int usm_sim_run(usm_sim *s, const usm_params *p, const usm_sim_options *opt,
     if (rc != USM_OK)
         snprintf(s->msg, USM_MSG_LEN, "%s", sum->reason);
 done:
-    free_integrator(s);
+    usm_cvodes_release(&s->cv);
     return rc;
 }

@@ -13,6 +13,7 @@
 #include <gsl/gsl_fft_real.h>
 #include <gsl/gsl_spline.h>
 
+#include "core/grow.h"
 #include "usm_spectrum.h"
 
 #define PI 3.14159265358979323846264338327950
@@ -118,15 +119,10 @@ static usm_spectrum_line *all_lines(const double *amp, size_t nb, double df, dou
         const double a = amp[k - 1], b = amp[k], c = amp[k + 1];
         if (!(b > a && b >= c && b > LINE_FLOOR * top))
             continue;
-        if (n == cap) {
-            cap = cap ? 2 * cap : 64;
-            usm_spectrum_line *nl = realloc(l, cap * sizeof *nl);
-            if (!nl) {
-                free(l);
-                *count = (size_t)-1;
-                return NULL;
-            }
-            l = nl;
+        if (usm_grow((void **)&l, &cap, n + 1, sizeof *l) != 0) {
+            free(l);
+            *count = (size_t)-1;
+            return NULL;
         }
         /* Grandke's estimator for the Hann window (header comment) */
         const int up = c >= a;
@@ -233,18 +229,14 @@ int usm_sim_spectrum_add(usm_sim_spectrum *s, const usm_sim_sample *smp)
             return 0; /* not after the last: ignored */
         --i;          /* the same time again: replaced */
     } else if (i == s->cap) {
-        const size_t cap = s->cap ? 2 * s->cap : 4096;
-        double *t = realloc(s->t, cap * sizeof *t);
-        if (!t)
-            return -1;
-        s->t = t;
+        /* the channels first, each from the times' capacity */
         for (int c = 0; c < USM_SPECTRUM_NCHANNELS; ++c) {
-            double *y = realloc(s->y[c], cap * sizeof *y);
-            if (!y)
+            size_t cap = s->cap;
+            if (usm_grow((void **)&s->y[c], &cap, i + 1, sizeof *s->y[c]) != 0)
                 return -1;
-            s->y[c] = y;
         }
-        s->cap = cap;
+        if (usm_grow((void **)&s->t, &s->cap, i + 1, sizeof *s->t) != 0)
+            return -1;
     }
     s->t[i] = smp->t;
     s->y[USM_SPECTRUM_ROTOR_SPEED][i] = smp->rotor_speed;

@@ -79,6 +79,7 @@
 #include <gsl/gsl_min.h>
 #include <gsl/gsl_multiroots.h>
 
+#include "core/grow.h"
 #include "core/root.h"
 #include "usm.h"
 
@@ -355,14 +356,8 @@ static int sgn(double x) { return (x > 0) - (x < 0); }
 
 static int add_break(usm_steady *s, double v)
 {
-    if (s->nbrk == s->brk_cap) {
-        size_t cap = s->brk_cap ? 2 * s->brk_cap : 16;
-        double *b = realloc(s->brk, cap * sizeof *b);
-        if (!b)
-            return -1;
-        s->brk = b;
-        s->brk_cap = cap;
-    }
+    if (usm_grow((void **)&s->brk, &s->brk_cap, s->nbrk + 1, sizeof *s->brk) != 0)
+        return -1;
     s->brk[s->nbrk++] = v;
     return 0;
 }
@@ -725,14 +720,8 @@ static int add_root(usm_steady *s, const double *u, double key)
     for (size_t k = 0; k < s->count; ++k)
         if (same_root(&s->roots[k].sol, u, s->m->nu))
             return 0;
-    if (s->count == s->cap) {
-        size_t cap = s->cap ? 2 * s->cap : 16;
-        root_entry *r = realloc(s->roots, cap * sizeof *r);
-        if (!r)
-            return -1;
-        s->roots = r;
-        s->cap = cap;
-    }
+    if (usm_grow((void **)&s->roots, &s->cap, s->count + 1, sizeof *s->roots) != 0)
+        return -1;
     root_entry *e = &s->roots[s->count++];
     memset(e, 0, sizeof *e);
     memcpy(e->sol.u, u, sizeof(double) * (size_t)s->m->nu);
@@ -848,33 +837,20 @@ static int tilt_grid(usm_steady *s, const usm_steady_options *opt, size_t *n)
     s->ngrid = 0;
     const size_t need = (size_t)opt->grid + 2 * END_REFINEMENTS;
     if (need > s->grid_cap) {
-        double *th = realloc(s->th, need * sizeof *th);
-        if (th)
-            s->th = th;
-        double *ca = realloc(s->ca, need * sizeof *ca);
-        if (ca)
-            s->ca = ca;
-        double *sa = realloc(s->sa, need * sizeof *sa);
-        if (sa)
-            s->sa = sa;
-        double *g = realloc(s->g, need * sizeof *g);
-        if (g)
-            s->g = g;
-        unsigned char *gd = realloc(s->gdone, need * sizeof *gd);
-        if (gd)
-            s->gdone = gd;
-        double *q = realloc(s->q, need * sizeof *q);
-        if (q)
-            s->q = q;
-        signed char *qs = realloc(s->qsign, need * sizeof *qs);
-        if (qs)
-            s->qsign = qs;
-        double *tr = realloc(s->trig, 3 * need * sizeof *tr);
-        if (tr)
-            s->trig = tr;
-        if (!th || !ca || !sa || !g || !gd || !q || !qs || !tr)
-            return -1;
-        s->grid_cap = need;
+        /* eight arrays of one capacity: each grown from the same one */
+        void **arr[] = {(void **)&s->th, (void **)&s->ca, (void **)&s->sa, (void **)&s->g,
+                        (void **)&s->gdone, (void **)&s->q, (void **)&s->qsign,
+                        (void **)&s->trig};
+        const size_t elem[] = {sizeof *s->th, sizeof *s->ca, sizeof *s->sa, sizeof *s->g,
+                               sizeof *s->gdone, sizeof *s->q, sizeof *s->qsign,
+                               3 * sizeof *s->trig};
+        size_t cap = s->grid_cap;
+        for (size_t k = 0; k < sizeof elem / sizeof elem[0]; ++k) {
+            cap = s->grid_cap;
+            if (usm_grow(arr[k], &cap, need, elem[k]) != 0)
+                return -1;
+        }
+        s->grid_cap = cap;
     }
     const double l0 = log(opt->theta_min), l1 = log(opt->theta_max);
     const double dl = (l1 - l0) / (opt->grid - 1);

@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "core/grid.h"
+#include "core/grow.h"
 #include "core/root.h"
 #include "solve/periodic_internal.h"
 
@@ -391,12 +392,10 @@ int usm_periodic_sweep_run(usm_periodic_sweep *s, const usm_params *p,
     s->sat = 0;
     const int slip = s->m->friction != NULL && s->m->x_phi_Rdot >= 0;
     const double mu_sup = slip ? usm_periodic_friction_supremum(s->m, p) : NAN;
-    usm_periodic_point *pts = realloc(s->pts, (size_t)opt->points * sizeof *pts);
-    if (!pts) {
+    if (usm_grow((void **)&s->pts, &s->pts_cap, (size_t)opt->points, sizeof *s->pts) != 0) {
         snprintf(s->msg, sizeof s->msg, "out of memory");
         return USM_EFAILED;
     }
-    s->pts = pts;
     const int n = opt->points;
     const double hmax = (opt->to - opt->from) / (n - 1);
     usm_periodic_result ra, rp, rb;

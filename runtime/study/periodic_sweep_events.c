@@ -2,6 +2,7 @@
  * (kind, critical multiplier, squeal frequency, text) of a periodic sweep, shared by the
  * bilateral branch (periodic_sweep.c) and the orbits with separation
  * (periodic_sweep_hybrid.c): both append events, neither calls the other for it. */
+#include "core/grow.h"
 #include "periodic_sweep_state.h"
 
 #include <math.h>
@@ -39,14 +40,8 @@ const char *usm_crossing_name(usm_crossing_kind kind)
 usm_periodic_event *psweep_event_add(usm_periodic_sweep *s, usm_pevent_type type, double v,
                                       const usm_periodic_result *orbit, const char *fmt, ...)
 {
-    if (s->nev == s->cap) {
-        size_t cap = s->cap ? 2 * s->cap : 8;
-        usm_periodic_event *e = realloc(s->ev, cap * sizeof *e);
-        if (!e)
-            return NULL;
-        s->ev = e;
-        s->cap = cap;
-    }
+    if (usm_grow((void **)&s->ev, &s->cap, s->nev + 1, sizeof *s->ev) != 0)
+        return NULL;
     usm_periodic_event *e = &s->ev[s->nev++];
     memset(e, 0, sizeof *e);
     e->type = type;

@@ -11,7 +11,7 @@ struct usm_periodic_sweep {
     const usm_model *m;
     usm_periodic *w;
     usm_periodic_point *pts;
-    size_t npts;
+    size_t npts, pts_cap;
     usm_periodic_event *ev;
     size_t nev, cap;
     const usm_param_info *info;

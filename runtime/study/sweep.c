@@ -12,6 +12,7 @@
 #include <string.h>
 
 #include "core/grid.h"
+#include "core/grow.h"
 #include "sweep_branch.h"
 #include "sweep_op.h"
 #include "sweep_stability.h"
@@ -122,14 +123,8 @@ static void sink_point(void *ctx, size_t i, const usm_steady_solution *sol, int 
 static int sink_event(void *ctx, const usm_sweep_event *e)
 {
     usm_sweep *s = ctx;
-    if (s->nev == s->evcap) {
-        size_t cap = s->evcap ? 2 * s->evcap : 8;
-        usm_sweep_event *ev = realloc(s->ev, cap * sizeof *ev);
-        if (!ev)
-            return -1;
-        s->ev = ev;
-        s->evcap = cap;
-    }
+    if (usm_grow((void **)&s->ev, &s->evcap, s->nev + 1, sizeof *s->ev) != 0)
+        return -1;
     usm_sweep_event *x = &s->ev[s->nev++];
     *x = *e;
     /* an event on a root the model does not describe says so in its text
@@ -260,20 +255,13 @@ static int check_options(usm_sweep *s, const usm_params *p, const usm_sweep_opti
 static int setup_points(usm_sweep *s, const usm_sweep_options *opt)
 {
     const size_t n = (size_t)opt->points;
-    if (n > s->cap) {
-        usm_sweep_point *pts = realloc(s->pts, n * sizeof *pts);
-        double *grid = pts ? realloc(s->grid, n * sizeof *grid) : NULL;
-        unsigned char *settled = grid ? realloc(s->settled, n) : NULL;
-        if (pts)
-            s->pts = pts;
-        if (grid)
-            s->grid = grid;
-        if (!settled) {
-            snprintf(s->msg, USM_MSG_LEN, "out of memory for %zu sweep points", n);
-            return USM_EFAILED;
-        }
-        s->settled = settled;
-        s->cap = n;
+    /* three arrays of one capacity: each grown from the same one */
+    size_t cap_grid = s->cap, cap_settled = s->cap;
+    if (usm_grow((void **)&s->grid, &cap_grid, n, sizeof *s->grid) != 0 ||
+        usm_grow((void **)&s->settled, &cap_settled, n, sizeof *s->settled) != 0 ||
+        usm_grow((void **)&s->pts, &s->cap, n, sizeof *s->pts) != 0) {
+        snprintf(s->msg, USM_MSG_LEN, "out of memory for %zu sweep points", n);
+        return USM_EFAILED;
     }
     s->npts = n;
     memset(s->pts, 0, n * sizeof *s->pts);

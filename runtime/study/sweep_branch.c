@@ -28,8 +28,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <gsl/gsl_errno.h>
-
+#include "core/dense.h"
+#include "core/grow.h"
 #include "sweep_branch.h"
 
 #define NEWTON_MAX 12
@@ -46,31 +46,18 @@
 
 int sweep_branch_alloc(sweep_branch *b, const usm_model *m)
 {
-    const size_t n = (size_t)m->nu + 1;
     memset(b, 0, sizeof *b);
     b->m = m;
     b->nu = m->nu;
     b->n = m->nu + 1;
     b->rotor = m->friction ? m->u_phidot_R : -1;
-    b->A = gsl_matrix_alloc(n, n);
-    b->perm = gsl_permutation_alloc(n);
-    b->b = gsl_vector_alloc(n);
-    b->x = gsl_vector_alloc(n);
     b->root = usm_root_alloc();
     b->steady = usm_steady_alloc(m);
-    return b->A && b->perm && b->b && b->x && b->root && b->steady ? 0 : -1;
+    return b->root && b->steady ? 0 : -1;
 }
 
 void sweep_branch_free(sweep_branch *b)
 {
-    if (b->A)
-        gsl_matrix_free(b->A);
-    if (b->perm)
-        gsl_permutation_free(b->perm);
-    if (b->b)
-        gsl_vector_free(b->b);
-    if (b->x)
-        gsl_vector_free(b->x);
     usm_root_free(b->root);
     usm_steady_free(b->steady);
     free(b->pev);
@@ -90,15 +77,9 @@ struct sweep_pending_point {
 static void emit_point(sweep_branch *b, size_t i, const usm_steady_solution *sol, int roots,
                        const char *error)
 {
-    if (b->nppt == b->pptcap) {
-        const size_t cap = b->pptcap ? 2 * b->pptcap : 16;
-        struct sweep_pending_point *q = realloc(b->ppt, cap * sizeof *q);
-        if (!q) {
-            b->oom = 1;
-            return;
-        }
-        b->ppt = q;
-        b->pptcap = cap;
+    if (usm_grow((void **)&b->ppt, &b->pptcap, b->nppt + 1, sizeof *b->ppt) != 0) {
+        b->oom = 1;
+        return;
     }
     struct sweep_pending_point *pp = &b->ppt[b->nppt++];
     pp->i = i;
@@ -120,15 +101,9 @@ static usm_sweep_event *emit_event(sweep_branch *b, usm_event_type type, double 
 static usm_sweep_event *emit_event(sweep_branch *b, usm_event_type type, double value,
                                    const usm_steady_solution *sol, const char *fmt, ...)
 {
-    if (b->npev == b->pevcap) {
-        const size_t cap = b->pevcap ? 2 * b->pevcap : 8;
-        usm_sweep_event *q = realloc(b->pev, cap * sizeof *q);
-        if (!q) {
-            b->oom = 1;
-            return NULL;
-        }
-        b->pev = q;
-        b->pevcap = cap;
+    if (usm_grow((void **)&b->pev, &b->pevcap, b->npev + 1, sizeof *b->pev) != 0) {
+        b->oom = 1;
+        return NULL;
     }
     usm_sweep_event *e = &b->pev[b->npev++];
     memset(e, 0, sizeof *e);
@@ -216,14 +191,15 @@ static int eval(sweep_branch *b, const double *z, double *F, int jac)
         return 0;
     b->m->steady_jacobian(u, &b->p, J);
     b->m->steady_jacobian_params(u, &b->p, Jp);
+    const int n = b->n;
     for (int i = 0; i < nu; ++i) {
         for (int j = 0; j < nu; ++j)
-            gsl_matrix_set(b->A, (size_t)i, (size_t)j, J[i * nu + j] * b->scale[j]);
-        gsl_matrix_set(b->A, (size_t)i, (size_t)nu, Jp[i * USM_NPARAMS + b->col] * b->scale[nu]);
+            b->A[i * n + j] = J[i * nu + j] * b->scale[j];
+        b->A[i * n + nu] = Jp[i * USM_NPARAMS + b->col] * b->scale[nu];
     }
     /* rows 0..nu-1 only: the last row is the border, set by solve_bordered */
-    for (size_t k = 0; k < (size_t)nu * b->A->size2; ++k)
-        if (!isfinite(b->A->data[k]))
+    for (int k = 0; k < nu * n; ++k)
+        if (!isfinite(b->A[k]))
             return -1;
     return 0;
 }
@@ -231,19 +207,17 @@ static int eval(sweep_branch *b, const double *z, double *F, int jac)
 /* x = A^{-1} rhs with the last row of A replaced by c (rows 0..nu-1 from eval). */
 static int solve_bordered(sweep_branch *b, const double *c, const double *rhs, double *x)
 {
-    int sign;
-    for (int j = 0; j < b->n; ++j) {
-        gsl_matrix_set(b->A, (size_t)b->nu, (size_t)j, c[j]);
-        gsl_vector_set(b->b, (size_t)j, rhs[j]);
+    const int n = b->n;
+    for (int j = 0; j < n; ++j) {
+        b->A[b->nu * n + j] = c[j];
+        x[j] = rhs[j];
     }
-    if (gsl_linalg_LU_decomp(b->A, b->perm, &sign) != GSL_SUCCESS ||
-        gsl_linalg_LU_solve(b->A, b->perm, b->b, b->x) != GSL_SUCCESS)
+    if (usm_lu_factor_dense(n, b->A, b->piv) != 0)
         return -1;
-    for (int j = 0; j < b->n; ++j) {
-        x[j] = gsl_vector_get(b->x, (size_t)j);
+    usm_lu_solve_dense(n, b->A, b->piv, x, 1);
+    for (int j = 0; j < n; ++j)
         if (!isfinite(x[j]))
             return -1;
-    }
     return 0;
 }
 

@@ -3,8 +3,6 @@
 #ifndef USM_SWEEP_BRANCH_H
 #define USM_SWEEP_BRANCH_H
 
-#include <gsl/gsl_linalg.h>
-
 #include "core/root.h"
 #include "sweep_sink.h"
 
@@ -21,9 +19,8 @@ typedef struct sweep_branch {
     double scale[SWEEP_MAX_N];
     double theta_min, theta_max;
     int dir;                    /* +1: lambda increases along the trace, -1: decreases */
-    gsl_matrix *A;
-    gsl_permutation *perm;
-    gsl_vector *b, *x;
+    double A[SWEEP_MAX_N * SWEEP_MAX_N]; /* the bordered matrix (n x n), then its LU */
+    int piv[SWEEP_MAX_N];
     usm_root *root;             /* events located along a step's arclength */
     /* the run */
     usm_steady *steady;         /* full searches and polishing at grid values */

@@ -46,11 +46,7 @@ int usm_optimize_write_json(const usm_optimize *o, const usm_model *m, const usm
         usm_json_put(obj, "varied", usm_opt_json_varied(pb, &res->params, &ok), &ok);
         usm_json_put(obj, "parameters", usm_json_params(&res->params), &ok);
         usm_json_put(obj, "evaluations", json_integer(res->evaluations), &ok);
-        if (!ok) {
-            json_decref(obj);
-            obj = NULL;
-        }
-        return usm_json_write(obj, out);
+        return usm_json_write(usm_json_finish(obj, ok), out);
     }
     json_t *mult = json_object(), *flat = json_array(), *near = json_object();
     ok = ok && mult && flat && near;
@@ -82,9 +78,5 @@ int usm_optimize_write_json(const usm_optimize *o, const usm_model *m, const usm
                                                     usm_optimize_roots_floquet(o),
                                                     usm_optimize_op(o)}),
                  &ok);
-    if (!ok) {
-        json_decref(obj);
-        obj = NULL;
-    }
-    return usm_json_write(obj, out);
+    return usm_json_write(usm_json_finish(obj, ok), out);
 }

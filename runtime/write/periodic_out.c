@@ -67,11 +67,7 @@ int usm_periodic_write_json(const usm_periodic *w, const usm_params *p,
             usm_json_put(o, "mode_sequence", json_string("c"), &ok);
         }
     }
-    if (!ok) {
-        json_decref(o);
-        o = NULL;
-    }
-    return usm_json_write(o, out);
+    return usm_json_write(usm_json_finish(o, ok), out);
 }
 
 int usm_hybrid_write_orbit_csv(const usm_model *m, const usm_params *p,
@@ -129,9 +125,5 @@ int usm_hybrid_write_json(const usm_model *m, const usm_params *p, const usm_hyb
         ok = ok && orbit && json_object_update(o, orbit) == 0;
         json_decref(orbit);
     }
-    if (!ok) {
-        json_decref(o);
-        o = NULL;
-    }
-    return usm_json_write(o, out);
+    return usm_json_write(usm_json_finish(o, ok), out);
 }

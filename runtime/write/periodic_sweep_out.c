@@ -158,11 +158,7 @@ static json_t *sweep_json(const usm_periodic_sweep *s, const usm_params *p)
     }
     usm_json_put(obj, "points", points, &ok);
     usm_json_put(obj, "events", events, &ok);
-    if (!ok) {
-        json_decref(obj);
-        return NULL;
-    }
-    return obj;
+    return usm_json_finish(obj, ok);
 }
 
 int usm_periodic_sweep_write_json(const usm_periodic_sweep *s, const usm_params *p, FILE *out)

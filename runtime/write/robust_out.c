@@ -100,11 +100,7 @@ int usm_robust_write_json(const usm_model *m, const usm_robust_problem *rp,
         usm_json_put(obj, "nominal_optimum", nom, &ok);
     }
     usm_json_put(obj, "seconds", usm_json_real(res->seconds), &ok);
-    if (!ok) {
-        json_decref(obj);
-        obj = NULL;
-    }
-    return usm_json_write(obj, out);
+    return usm_json_write(usm_json_finish(obj, ok), out);
 }
 
 /* ---- the Pareto front ------------------------------------------------------------ */
@@ -170,9 +166,5 @@ int usm_pareto_write_json(const usm_opt_problem *pb, const int obj[2], const int
     usm_json_put(o, "points", pts, &ok);
     usm_json_put(o, "computed", json_integer(res->computed), &ok);
     usm_json_put(o, "seconds", usm_json_real(res->seconds), &ok);
-    if (!ok) {
-        json_decref(o);
-        o = NULL;
-    }
-    return usm_json_write(o, out);
+    return usm_json_write(usm_json_finish(o, ok), out);
 }

@@ -36,11 +36,7 @@ static json_t *output_json(const usm_params *p, const usm_sensitivity_result *r,
     usm_json_put(obj, "elasticity", e, &ok);
     if (!r->defined[k])
         usm_json_put(obj, "undefined", json_string(r->why[k]), &ok);
-    if (!ok) {
-        json_decref(obj);
-        return NULL;
-    }
-    return obj;
+    return usm_json_finish(obj, ok);
 }
 
 int usm_sensitivity_write_json(const usm_model *m, const usm_params *p,
@@ -59,11 +55,7 @@ int usm_sensitivity_write_json(const usm_model *m, const usm_params *p,
             usm_json_put(outs, usm_sensitivity_output_name(k), o, &ok);
         }
     usm_json_put(obj, "outputs", outs, &ok);
-    if (!ok) {
-        json_decref(obj);
-        return -1;
-    }
-    return usm_json_write(obj, out);
+    return usm_json_write(usm_json_finish(obj, ok), out);
 }
 
 typedef struct ranked {

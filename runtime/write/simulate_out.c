@@ -171,11 +171,7 @@ static json_t *episodes_json(const usm_sim_episodes *e, const char *worst_key)
         usm_json_put(o, "total", usm_json_real(e->total), &ok);
         usm_json_put(o, worst_key, usm_json_real(e->worst), &ok);
     }
-    if (!ok) {
-        json_decref(o);
-        return NULL;
-    }
-    return o;
+    return usm_json_finish(o, ok);
 }
 
 static json_t *summary_json(const usm_sim_report *a)
@@ -279,11 +275,7 @@ static json_t *summary_json(const usm_sim_report *a)
         usm_json_put(o, "spectrum", json_null(), &ok);
         usm_json_put(o, "spectrum_error", json_string(a->spectrum_error), &ok);
     }
-    if (!ok) {
-        json_decref(o);
-        return NULL;
-    }
-    return o;
+    return usm_json_finish(o, ok);
 }
 
 int usm_sim_write_json(const usm_sim_report *r, FILE *out)

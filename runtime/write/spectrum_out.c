@@ -42,11 +42,7 @@ static json_t *line_json(const usm_spectrum_line *l)
     usm_json_put(o, "harmonic_number", l->harmonic > 0 ? json_integer(l->harmonic) : json_null(),
                  &ok);
     usm_json_put(o, "folded_frequency", usm_json_real(l->folded), &ok);
-    if (!ok) {
-        json_decref(o);
-        return NULL;
-    }
-    return o;
+    return usm_json_finish(o, ok);
 }
 
 json_t *usm_json_sim_spectrum(const usm_sim_spectrum_result *r, const char *csv)
@@ -85,11 +81,7 @@ json_t *usm_json_sim_spectrum(const usm_sim_spectrum_result *r, const char *csv)
         usm_json_put(ch, usm_spectrum_channel_name(c), co, &ok);
     }
     usm_json_put(o, "channels", ch, &ok);
-    if (!ok) {
-        json_decref(o);
-        return NULL;
-    }
-    return o;
+    return usm_json_finish(o, ok);
 }
 
 static void line_text(FILE *out, const usm_spectrum_line *l, double f, const char *unit,

@@ -101,11 +101,7 @@ json_t *usm_steady_json(const usm_steady_report *r)
     }
     if (r->op && !r->error)
         put_operating_point(obj, r->op, &ok);
-    if (!ok) {
-        json_decref(obj);
-        return NULL;
-    }
-    return obj;
+    return usm_json_finish(obj, ok);
 }
 
 /* d: the display units of the table (NULL: SI) */

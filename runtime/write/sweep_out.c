@@ -73,11 +73,7 @@ static json_t *point_json(const usm_sweep_point *pt, const usm_model *m, const c
         usm_json_put(obj, "floquet_error", json_string(pt->floquet_error), &ok);
     if (pt->has_op)
         op_json(obj, &pt->op, &ok);
-    if (!ok) {
-        json_decref(obj);
-        return NULL;
-    }
-    return obj;
+    return usm_json_finish(obj, ok);
 }
 
 static json_t *event_json(const usm_sweep_event *e, const char *over)
@@ -102,11 +98,7 @@ static json_t *event_json(const usm_sweep_event *e, const char *over)
                                                   : json_string(usm_validity_name(e->sol.validity)),
                      &ok);
     }
-    if (!ok) {
-        json_decref(obj);
-        return NULL;
-    }
-    return obj;
+    return usm_json_finish(obj, ok);
 }
 
 json_t *usm_sweep_json(const usm_sweep *s, const usm_model *m, const usm_params *p,
@@ -129,11 +121,7 @@ json_t *usm_sweep_json(const usm_sweep *s, const usm_model *m, const usm_params 
         usm_json_put(obj, "operating_point_rule", json_string(usm_sweep_op_rule(s)), &ok);
     usm_json_put(obj, "points", points, &ok);
     usm_json_put(obj, "events", events, &ok);
-    if (!ok) {
-        json_decref(obj);
-        return NULL;
-    }
-    return obj;
+    return usm_json_finish(obj, ok);
 }
 
 /* An empty field rather than "nan": spreadsheets and numpy read it as missing. */

@@ -55,6 +55,10 @@ enum {
 const char *usm_sensitivity_output_name(int k);
 /* Index of the output called `name`, or -1. */
 int usm_sensitivity_output_find(const char *name);
+/* The outputs reported unless the client names others (usm sensitivity's
+ * --of, the Python package's of=None): the first seven, theta .. max_modulus;
+ * power_in and power_out are asked for by name. */
+void usm_sensitivity_outputs_default(int want[USM_SENS_COUNT]);
 
 /* Sub-intervals of the exponential product (as usm_floquet_options_default). */
 #define USM_SENSITIVITY_STEPS 64

@@ -171,6 +171,11 @@ typedef struct usm_sim_options {
  * stated above. */
 void usm_sim_options_default(usm_sim_options *opt);
 
+/* The sample rate the clients record a time history at unless told
+ * otherwise (usm simulate's --rate, the Python package's rate): 10 samples
+ * per excitation period, 10 p->f [1/s], enough to draw the wobble. */
+double usm_sim_default_rate(const usm_params *p);
+
 /* One point of the time history. */
 typedef struct usm_sim_sample {
     double t;                 /* [s] */
