@@ -1,6 +1,6 @@
 /* The paper's published values, read from data/paper_values.json (installed
  * as share/usm/paper_values.json), the one file that holds them: the report
- * and tests/paper_check.py both read it.  Misprints are kept as printed; the
+ * and tests/solve/steady_paper_check.py both read it.  Misprints are kept as printed; the
  * report explains them. */
 #include <string.h>
 

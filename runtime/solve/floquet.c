@@ -119,7 +119,7 @@ int usm_floquet_method_from_name(const char *name, usm_floquet_method *method,
 /* The coordinates the multipliers are computed in (docs/coordinates.md):
  * the tilt vector for the stick model's twist_integrated variant, whose
  * multipliers it gives to 14.1-15.0 correct digits where the Euler angles give
- * 11.3-12.0 (tests/multipliers_reference.h, six points); the Euler angles
+ * 11.3-12.0 (tests/solve/multipliers_reference.h, six points); the Euler angles
  * everywhere else: under the paper's twist law there are no tilt-vector
  * coordinates (its twist angle needs phi), and for the slip model the tilt
  * vector is no better (11.8-12.7 digits against 11.9-14.7). */
@@ -199,7 +199,7 @@ void usm_floquet_free(usm_floquet *f)
  * is 9e11 at the paper's point (the Euler angles' phi/psi degeneracy near
  * theta = 0); M S^{-1}, the mass matrix acting on small-rotation-vector
  * rates, is the well-conditioned one.  Measured against a 50-digit reference
- * (tests/coordinates_study.py, docs/coordinates.md): exp(T eig G) of
+ * (tests/derive/coordinates_study.py, docs/coordinates.md): exp(T eig G) of
  * 3dof_twist_integrated at the paper's point has 11.5 correct digits this
  * way and 10.0 from S (M^{-1} A) S^{-1}. */
 static int balanced_coefficient_matrix(usm_floquet *f, double t)

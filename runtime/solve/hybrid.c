@@ -762,7 +762,7 @@ static int start_from_simulation(usm_hybrid *h, const usm_hybrid_options *o, int
  * T B T^-1 has the same eigenvalues), by the path of every monodromy
  * (solve/multipliers.h), balanced before QR: unbalanced, GSL's eigensolver
  * lost up to 1.6e-6 of the multipliers whose condition number is about 300
- * (4-DOF, phase error 30 deg: against test_unilateral's reference in
+ * (4-DOF, phase error 30 deg: against test_hybrid_unilateral's reference in
  * extended precision, and jumping between 3e-8 and 1.5e-6 with rtol). */
 static int multipliers(usm_hybrid *h, const double *B, usm_floquet_result *f)
 {
