@@ -18,12 +18,30 @@ static const usm_csv_column columns[] = {
     {"theta_avg", "rad"}, {"phi_Rdot_avg", "rad/s"},
     {"valid", NULL}, {"invalid_reason", NULL}}; /* last: usm_sim_sample.validity */
 
+#define NCOLUMNS (sizeof columns / sizeof columns[0])
+
 void usm_sim_csv_header(FILE *f)
 {
-    usm_csv_header(f, columns, (int)(sizeof columns / sizeof columns[0]));
+    usm_sim_csv_header_in(NULL, f);
+}
+
+void usm_sim_csv_header_in(const usm_display *d, FILE *f)
+{
+    usm_csv_column shown[NCOLUMNS];
+    for (size_t k = 0; k < NCOLUMNS; ++k) {
+        shown[k] = columns[k];
+        if (columns[k].unit)
+            usm_display_value(d, columns[k].unit, 0, &shown[k].unit);
+    }
+    usm_csv_header(f, shown, (int)NCOLUMNS);
 }
 
 int usm_sim_csv_row(const usm_sim_sample *s, FILE *f)
+{
+    return usm_sim_csv_row_in(s, NULL, f);
+}
+
+int usm_sim_csv_row_in(const usm_sim_sample *s, const usm_display *d, FILE *f)
 {
     /* shortest exact text: a run started from this file continues exactly */
     const double v[] = {s->t, s->phi, s->theta, s->psi, s->phidot, s->thetadot, s->psidot,
@@ -31,7 +49,7 @@ int usm_sim_csv_row(const usm_sim_sample *s, FILE *f)
                         s->out[USM_OUT_F_T], s->out[USM_OUT_V_REL],
                         s->have_avg ? s->theta_avg : NAN, s->have_avg ? s->rotor_speed_avg : NAN};
     for (size_t k = 0; k < sizeof v / sizeof v[0]; ++k)
-        usm_csv_num(f, k == 0, v[k]);
+        usm_csv_num(f, k == 0, usm_display_value(d, columns[k].unit, v[k], NULL));
     usm_csv_validity(f, 1, s->validity);
     fputc('\n', f);
     return ferror(f) ? -1 : 0;

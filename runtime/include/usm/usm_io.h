@@ -252,6 +252,11 @@ void usm_sim_csv_header(FILE *out);
 /* One row of the time history (exact digits: usm_sim_read_start continues a
  * run from its last row).  0, or -1 on a write error. */
 int usm_sim_csv_row(const usm_sim_sample *s, FILE *out);
+/* The same header and rows with their values in the display units d
+ * (--units; NULL: SI): a converted column names its unit ("phi_Rdot [rpm]"),
+ * and usm_sim_read_start reads it back in SI. */
+void usm_sim_csv_header_in(const usm_display *d, FILE *out);
+int usm_sim_csv_row_in(const usm_sim_sample *s, const usm_display *d, FILE *out);
 
 /* What `usm simulate` reports about a run. */
 typedef struct usm_sim_report {
