@@ -13,6 +13,7 @@ time without any simplification of large expressions.  The linearisation about
 a solution is unchanged by such a row rotation, because the rotated residual
 vanishes on the solution.
 """
+import copy
 from dataclasses import dataclass, field
 import sympy as sp
 
@@ -941,26 +942,61 @@ def _equations(d, coordinates):
     motion_outputs(d)
 
 
+# Derivations that models share, kept for the rest of one run (one process):
+# a model whose contact may open is its bilateral model's derivation plus the
+# closure, and the tilt models take the stationary problem of the Euler
+# angles of the same assumptions.  (prefix key, stage) -> a Derivation; a
+# stage is a shallow copy, and the later steps only add attributes, so a
+# kept stage is never changed by its users.  derive/generate.py derives the
+# models of one base model in one process so that these are found.
+_SHARED = {}
+
+
+def _shared_key(assumptions):
+    """The assumptions the derivation depends on before the closure."""
+    return tuple(sorted((k, v) for k, v in assumptions.items() if k != "closure"))
+
+
+def _copy(d, name, assumptions):
+    e = copy.copy(d)
+    e.name, e.assumptions = name, dict(assumptions)
+    return e
+
+
 def _derive_euler(name, assumptions, stationary_only=False):
     """The derivation in the paper's z-x-z Euler angles (with stationary_only,
     up to the stationary problem: what _derive_regular takes from it)."""
-    d = Derivation(name, assumptions)
-    _equations(d, euler_coordinates)
-    # what every variant derives from them
-    stationary_ansatz(d)
-    stationary_residual(d)
-    twisting_balance(d)
-    stationary_outputs(d)
-    stationary_power(d)
-    stationary_orbit(d)
-    stationary_seed(d)
-    if stationary_only:
-        return d
-    tangent_map(d)
-    linearisation(d)
-    cyclic_states(d)
+    key = _shared_key(assumptions)
+    linearised = _SHARED.get((key, "linearised"))
+    if linearised is None:
+        stationary = _SHARED.get((key, "stationary"))
+        if stationary is None:
+            d = Derivation(name, assumptions)
+            _equations(d, euler_coordinates)
+            # what every variant derives from them
+            stationary_ansatz(d)
+            stationary_residual(d)
+            twisting_balance(d)
+            stationary_outputs(d)
+            stationary_power(d)
+            stationary_orbit(d)
+            stationary_seed(d)
+            _SHARED[(key, "stationary")] = _copy(d, name, assumptions)
+        else:
+            d = _copy(stationary, name, assumptions)
+        if stationary_only:
+            return d
+        tangent_map(d)
+        linearisation(d)
+        cyclic_states(d)
+        # the document reads nothing the closure adds
+        d.document = document_pieces(d)
+        _SHARED[(key, "linearised")] = _copy(d, name, assumptions)
+    else:
+        if stationary_only:
+            return _copy(linearised, name, assumptions)
+        d = _copy(linearised, name, assumptions)
     _choose(CLOSURE, "closure", assumptions.get("closure", "bilateral"))(d)
-    d.document = document_pieces(d)
     return d
 
 
