@@ -256,6 +256,7 @@ int usm_sim_csv_row(const usm_sim_sample *s, FILE *out);
  * (--units; NULL: SI): a converted column names its unit ("phi_Rdot [rpm]"),
  * and usm_sim_read_start reads it back in SI. */
 void usm_sim_csv_header_in(const usm_display *d, FILE *out);
+/* One row of it (0, or -1 on a write error). */
 int usm_sim_csv_row_in(const usm_sim_sample *s, const usm_display *d, FILE *out);
 
 /* What `usm simulate` reports about a run. */
