@@ -9,6 +9,10 @@
 # (aliased if the sampling rate is below about 10 f); thick lines: means over
 # one excitation period; dashed: the stationary solution.
 set datafile separator ','
+# the display units of the CSV's columns (usm --units; SI when not given):
+# theta_bar and speed_bar are in them too
+if (!exists("rate_unit")) rate_unit = 'rad/s'
+if (!exists("angle_unit")) angle_unit = 'rad'
 # every point of an SVG is an element: keep the files reasonable
 stats csv using (column("t [s]")) nooutput
 stride = STATS_records > 20000 ? int(ceil(STATS_records / 20000.0)) : 1
@@ -32,13 +36,13 @@ do for [fmt in 'png svg'] {
   }
   set output prefix.'.'.fmt
   set multiplot layout 3,1 title title
-  set ylabel 'tilt theta [rad]'
-  plot csv using (t(0)):(column("theta [rad]")) every stride with lines lc rgb '#9ab8d8' title 'theta', \
-       csv using (t(0)):(column("theta_avg [rad]")) with lines lw 2 lc rgb '#08306b' title 'mean over one period', \
+  set ylabel 'tilt theta ['.angle_unit.']'
+  plot csv using (t(0)):(column('theta ['.angle_unit.']')) every stride with lines lc rgb '#9ab8d8' title 'theta', \
+       csv using (t(0)):(column('theta_avg ['.angle_unit.']')) with lines lw 2 lc rgb '#08306b' title 'mean over one period', \
        (have_steady ? theta_bar : NaN) with lines dt 2 lw 2 lc rgb '#d62728' title (have_steady ? 'stationary' : '')
-  set ylabel 'rotor speed phi_Rdot [1/s]'
-  plot csv using (t(0)):(column("phi_Rdot [rad/s]")) every stride with lines lc rgb '#9ab8d8' title 'phi_Rdot', \
-       csv using (t(0)):(column("phi_Rdot_avg [rad/s]")) with lines lw 2 lc rgb '#08306b' title 'mean over one period', \
+  set ylabel 'rotor speed phi_Rdot ['.rate_unit.']'
+  plot csv using (t(0)):(column('phi_Rdot ['.rate_unit.']')) every stride with lines lc rgb '#9ab8d8' title 'phi_Rdot', \
+       csv using (t(0)):(column('phi_Rdot_avg ['.rate_unit.']')) with lines lw 2 lc rgb '#08306b' title 'mean over one period', \
        (have_steady ? speed_bar : NaN) with lines dt 2 lw 2 lc rgb '#d62728' title (have_steady ? 'stationary' : '')
   set ylabel 'contact force [N]'
   plot csv using (t(0)):(column("F_n [N]")) every stride with lines lc rgb '#1f77b4' title 'F_n', \

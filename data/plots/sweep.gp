@@ -15,12 +15,15 @@
 if (!exists("csv")) csv = prefix.'.csv'
 if (!exists("events")) events = ''
 if (!exists("event_x")) event_x = ''
+# the display units of the CSV's columns (usm --units; SI when not given)
+if (!exists("speed_unit")) speed_unit = '1/s'
+if (!exists("angle_unit")) angle_unit = 'rad'
 set datafile separator ','
 # the first line names the columns (columns are read by name, through variables)
 set datafile columnheaders
 set encoding utf8
 set grid lc rgb '#dddddd'
-w = 'rotor_speed [1/s]'
+w = 'rotor_speed ['.speed_unit.']'
 x(c) = column(xcol)
 speed(c) = -column(w)
 unstable(c) = column('max_modulus [1]') > 1 ? speed(0) : NaN
@@ -63,15 +66,15 @@ do for [fmt in 'png svg'] {
   }
   set output prefix.'.'.fmt
   set multiplot layout 2,1 title 'usm sweep: '.csv
-  set ylabel 'rotor speed w_R [1/s]'
+  set ylabel 'rotor speed w_R ['.speed_unit.']'
   set yrange [ymin:ymax]
   plot csv using (x(0)):(speed(0)) with linespoints lw 0.8 pt 7 ps 0.2 lc rgb '#aaaaaa' title 'not valid (stick not admissible, contact open)', \
        csv using (x(0)):(ok(speed(0))) with linespoints lw 2 pt 7 ps 0.4 lc rgb '#1f5fa8' title 'rotor speed in the driving direction, w_R = -phidot_R', \
        csv using (x(0)):(unstable(0)) with points pt 6 ps 1 lc rgb '#ff8c00' title 'unstable (max |lambda| > 1)'
-  set ylabel 'tilt theta [rad]'
+  set ylabel 'tilt theta ['.angle_unit.']'
   set autoscale y
-  plot csv using (x(0)):(column('theta [rad]')) with linespoints lw 0.8 pt 7 ps 0.2 lc rgb '#aaaaaa' notitle, \
-       csv using (x(0)):(ok(column('theta [rad]'))) with linespoints lw 2 pt 7 ps 0.4 lc rgb '#2e8b57' title 'theta'
+  plot csv using (x(0)):(column('theta ['.angle_unit.']')) with linespoints lw 0.8 pt 7 ps 0.2 lc rgb '#aaaaaa' notitle, \
+       csv using (x(0)):(ok(column('theta ['.angle_unit.']'))) with linespoints lw 2 pt 7 ps 0.4 lc rgb '#2e8b57' title 'theta'
   unset multiplot
   unset output
 }

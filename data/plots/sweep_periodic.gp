@@ -15,12 +15,14 @@ if (!exists("csv")) csv = prefix.'.csv'
 if (!exists("events")) events = ''
 if (!exists("event_x")) event_x = ''
 set datafile separator ','
+# the display units of the CSV's columns (usm --units; SI when not given)
+if (!exists("speed_unit")) speed_unit = '1/s'
 set datafile columnheaders
 set encoding utf8
 set grid lc rgb '#dddddd'
 x(c) = column(xcol)
-speed(c) = -column('rotor_speed_mean [1/s]')
-ripple(c) = column('rotor_speed_ripple [1/s]')
+speed(c) = -column('rotor_speed_mean ['.speed_unit.']')
+ripple(c) = column('rotor_speed_ripple ['.speed_unit.']')
 # full weight where the model describes the motor (column valid), thin grey elsewhere
 ok(v) = strcol('valid') eq 'true' ? v : NaN
 stats csv using (x(0)):(speed(0)) nooutput
@@ -45,7 +47,7 @@ do for [fmt in 'png svg'] {
   }
   set output prefix.'.'.fmt
   set multiplot layout 3,1 title 'usm sweep --periodic: '.csv
-  set ylabel 'rotor speed w_R [1/s]'
+  set ylabel 'rotor speed w_R ['.speed_unit.']'
   plot csv using (x(0)):(speed(0) - ripple(0) / 2):(speed(0) + ripple(0) / 2) with filledcurves lc rgb '#cfe0f3' title 'ripple band (peak to peak)', \
        csv using (x(0)):(speed(0)) with linespoints lw 0.8 pt 7 ps 0.2 lc rgb '#aaaaaa' title 'not valid', \
        csv using (x(0)):(ok(speed(0))) with linespoints lw 2 pt 7 ps 0.4 lc rgb '#1f5fa8' title 'mean speed in the driving direction, -rotor_speed_mean'

@@ -186,6 +186,11 @@ def param_names():
     return {P[name]: f"p->{name}" for name, *_ in PARAMETERS}
 
 
+# Kernel.emit's results in this process: (documentation, arguments,
+# bindings, outputs) -> (text with the name replaced by "@", operations).
+_EMITTED = {}
+
+
 class Kernel:
     """One C function: named inputs bound to array entries, a list of outputs.
 
@@ -193,21 +198,54 @@ class Kernel:
     of whose symbols occurs in the outputs is marked unused with a (void) cast.
     """
 
-    def __init__(self, name, doc, args, bindings, outputs, out_doc, arrays=()):
+    def __init__(self, name, doc, args, bindings, outputs, out_doc, arrays=(), blocks=None):
         self.name, self.doc, self.args = name, doc, args
         self.bindings = bindings      # list of (symbol, C expression, comment)
         self.outputs = outputs        # list of sympy expressions (out[i])
         self.out_doc = out_doc        # comment describing the out layout
         self.arrays = list(arrays)    # (argument name, length) of each array input
+        # (name, length) of each block of a packed out, in order; None: one block
+        self.blocks = blocks
+        if blocks is not None and sum(ln for _, ln in blocks) != len(outputs):
+            raise RuntimeError(f"{name}: the blocks {blocks} do not cover its "
+                               f"{len(outputs)} outputs")
 
     def lengths(self):
         """(argument name, length) of every array argument, inputs first, out last."""
         return self.arrays + [("out", len(self.outputs))]
 
+    def offsets(self):
+        """(block name, offset in out) of each block of a packed out: the
+        runtime reads the blocks by these, never by offsets it computes."""
+        at, out = 0, []
+        for block, ln in self.blocks or ():
+            out.append((block, at))
+            at += ln
+        return out
+
     def signature(self):
         return f"void {self.name}({', '.join(d for d, _ in self.args)})"
 
     def emit(self):
+        """(C text, operations after CSE).  A kernel the same as one emitted
+        earlier in this process but for its name (the same documentation,
+        arguments, bindings and outputs: the models share many, see
+        emit_model.share_kernels) is not emitted again: its text is that one's
+        with this name."""
+        key = (tuple(self.doc), self.out_doc,
+               tuple((decl, None if provided is None else tuple(provided))
+                     for decl, provided in self.args),
+               tuple(self.bindings), tuple(sp.sympify(e) for e in self.outputs))
+        sig = f"void {self.name}("
+        done = _EMITTED.get(key)
+        if done is None:
+            text, ops = self._emit()
+            if text.count(sig) != 1:
+                raise RuntimeError(f"{self.name}: its name is not once in its text")
+            done = _EMITTED[key] = (text.replace(sig, "void @(", 1), ops)
+        return done[0].replace("void @(", sig, 1), done[1]
+
+    def _emit(self):
         names = param_names()
         memo = {}
         exprs = [pythagoras(sp.sympify(e), memo) for e in self.outputs]

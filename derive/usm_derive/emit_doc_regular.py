@@ -8,7 +8,7 @@ made them: the kinematics of the coordinates, the contact quantities, then
 M(x) and f(x, t) entry by entry through common subexpressions q_k, and the
 stationary problem (the Euler angles' own) with its orbit mapped into the
 coordinates.  Every line is sympy (srepr) as well as LaTeX, so
-tests/equations_proof.py checks it against the compiled kernels like the
+tests/derive/equations_proof.py checks it against the compiled kernels like the
 others.
 """
 import sympy as sp

@@ -10,6 +10,39 @@ from .outputs import DESIGN_NAMES, OUTPUT_NAMES, POWER_NAMES, SEED_NAMES, STEADY
 
 PARAMS = ("const usm_params *USM_RESTRICT p", list(P.values()))
 
+# The blocks of each packed kernel output, in the order of out: the kernels
+# below concatenate their outputs in this order, each model's header names
+# the offsets (<MODEL>_<KERNEL>_OUT_<BLOCK>) and the descriptor carries them
+# (usm_model.<kernel>_out, usm_unilateral.<kernel>_out), so that the runtime
+# reads every block by name, for any model's sizes.
+LAYOUTS = {
+    "linearisation": ("mass", "jac_rhs", "jac_mass"),
+    "steady_state": ("x", "xdot"),
+    "steady_design_jacobian": ("du", "dp"),
+    "floquet_direction": ("dM", "dA"),
+}
+UNILATERAL_LAYOUTS = {
+    "guard_closed": ("F_n", "dF_n_dx", "dF_n_dxdot"),
+    "guard_open": ("gap", "dgap_dy"),
+    "contact_velocity": ("gap_rate", "v_rel", "dgap_rate_dy", "dv_rel_dy"),
+    "separation": ("y", "dy_dx"),
+    # impact_stick and impact_slide
+    "impact": ("y", "P_n", "P_t"),
+}
+# friction's out is the same in every model: usm_kernels.h's USM_FRICTION_*
+FRICTION_NAMES = ["mu", "slope"]
+
+
+def _layout_member(kernel, blocks, indent="    "):
+    """The descriptor member holding the offsets of one packed output."""
+    return f"{indent}struct {{ int {', '.join(blocks)}; }} {kernel}_out;\n"
+
+
+def _blocks(layout, *lengths):
+    if len(layout) != len(lengths):
+        raise RuntimeError(f"layout {layout} and block lengths {lengths} differ")
+    return list(zip(layout, lengths))
+
 
 def banner(title, stamp, extra=()):
     lines = [f"/* {title}",
@@ -72,7 +105,8 @@ def build_kernels(m):
                      list(m.mass) + list(jf) + list(jm),
                      f"out: [M ({n}x{n}), df/dx ({n}x{n}), d(Mv)/dx ({n}x{n})], each row-major,"
                      f" out[k*{n * n}+i*{n}+j].",
-                     [("x", n), ("v", n)]))
+                     [("x", n), ("v", n)],
+                     _blocks(LAYOUTS["linearisation"], n * n, n * n, n * n)))
     ks.append(Kernel(f"{pre}_outputs",
                      ["Derived quantities along a motion (x, x'); F_n and F_t need x'.", xdoc],
                      [x_arg, ("const double *USM_RESTRICT xdot", m.xdot), t_arg, PARAMS,
@@ -123,7 +157,8 @@ def build_kernels(m):
                      [u_arg, ("double beta", [beta]), t_arg, PARAMS,
                       ("double *USM_RESTRICT out", None)], ub,
                      list(m.steady_state) + list(m.steady_rate),
-                     f"out: [xbar(t) ({n}), dxbar/dt ({n})], ordered as x.", [("u", nu)]))
+                     f"out: [xbar(t) ({n}), dxbar/dt ({n})], ordered as x.", [("u", nu)],
+                     _blocks(LAYOUTS["steady_state"], n, n)))
     ks.append(Kernel(f"{pre}_tangent_map",
                      ["Change of perturbation coordinates dy = T(x) dx: Euler-angle",
                       "perturbations and rates to the small-rotation vector in frame A",
@@ -150,7 +185,9 @@ def build_kernels(m):
                      list(design.jacobian(m.unknowns))
                      + list(design.jacobian([P[k] for k in pnames])),
                      f"out: [dy/du ({len(DESIGN_NAMES)}x{nu}), dy/dp ({len(DESIGN_NAMES)}x"
-                     f"{len(pnames)})], each row-major.", [("u", nu)]))
+                     f"{len(pnames)})], each row-major.", [("u", nu)],
+                     _blocks(LAYOUTS["steady_design_jacobian"], len(DESIGN_NAMES) * nu,
+                             len(DESIGN_NAMES) * len(pnames))))
     dsyms = m.direction_symbols
     du_b = [(ds, f"du[{i}]", f"d{m.unknown_names[i]}") for i, (_, ds) in enumerate(dsyms[:nu])]
     dt_b = [(dsyms[nu][1], "dt", "dt")]
@@ -166,13 +203,15 @@ def build_kernels(m):
                       ("double *USM_RESTRICT out", None)], ub + du_b + dt_b + dp_b,
                      list(m.floquet_direction),
                      f"out: [dM ({n}x{n}), dA ({n}x{n})], each row-major.",
-                     [("u", nu), ("du", nu)]))
+                     [("u", nu), ("du", nu)],
+                     _blocks(LAYOUTS["floquet_direction"], n * n, n * n)))
     if m.friction is not None:
         ks.append(Kernel(f"{pre}_friction",
                          ["Friction law mu(v_rel) and its slope (5.2)."],
                          [("double v_rel", [m.v_rel]), PARAMS, ("double *USM_RESTRICT out", None)],
                          [], [m.friction, m.friction.diff(m.v_rel)],
-                         "out = [0:mu, 1:dmu/dv_rel]."))
+                         "out = [0:mu, 1:dmu/dv_rel].", (),
+                         _blocks(FRICTION_NAMES, 1, 1)))
     return ks
 
 
@@ -218,28 +257,33 @@ def build_unilateral_kernels(m):
                [x_arg, ("const double *USM_RESTRICT xdot", m.xdot), t_arg, PARAMS, out],
                xb + _array_bindings("xdot", m.xdot, [f"d{nm}/dt" for nm in m.state_names]),
                [u["guard_closed"]] + u["guard_closed_grad"],
-               f"out: [F_n, dF_n/dx ({n}), dF_n/dx' ({n})].", [("x", n), ("xdot", n)]),
+               f"out: [F_n, dF_n/dx ({n}), dF_n/dx' ({n})].", [("x", n), ("xdot", n)],
+               _blocks(UNILATERAL_LAYOUTS["guard_closed"], 1, n, n)),
         Kernel(f"{pre}_guard_open",
                ["Open contact: the guard gap = Z_R - Z(theta) (the contact closes where it",
                 "falls through 0) and its gradient.", ydoc],
                [y_arg, PARAMS, out], yb, [u["gap"]] + u["gap_grad"],
-               f"out: [gap, dgap/dy ({ny})].", [("y", ny)]),
+               f"out: [gap, dgap/dy ({ny})].", [("y", ny)],
+               _blocks(UNILATERAL_LAYOUTS["guard_open"], 1, ny)),
         Kernel(f"{pre}_contact_velocity",
                ["Open contact: the relative velocities at the contact point, normal",
                 "gap' = Z_R' - Z' and tangential v_rel = v_c - w_R R*, and their gradients.",
                 ydoc],
                [y_arg, PARAMS, out], yb, u["contact_velocity"] + u["contact_velocity_grad"],
-               f"out: [gap', v_rel, d(gap', v_rel)/dy (2x{ny}, row-major)].", [("y", ny)]),
+               f"out: [gap', v_rel, d(gap', v_rel)/dy (2x{ny}, row-major)].", [("y", ny)],
+               _blocks(UNILATERAL_LAYOUTS["contact_velocity"], 1, 1, ny, ny)),
         Kernel(f"{pre}_separation",
                ["Reset at separation (closed -> open): y = (x, Z(theta), Z', w_R) and dy/dx.",
                 xdoc],
                [x_arg, PARAMS, out], xb, list(u["separation"]) + list(u["separation_jac"]),
-               f"out: [y ({ny}), dy/dx ({ny}x{n}, row-major)].", [("x", n)]),
+               f"out: [y ({ny}), dy/dx ({ny}x{n}, row-major)].", [("x", n)],
+               _blocks(UNILATERAL_LAYOUTS["separation"], ny, ny * n)),
         Kernel(f"{pre}_impact_stick",
                ["Reset at impact, sticking branch: Newton's law gap'+ = -e_impact gap'-",
                 "and v_rel+ = 0; the state after and the impulses.", ydoc],
                [y_arg, PARAMS, out], yb, u["impact_stick"],
-               f"out: [y+ ({ny}), P_n, P_t] (impulses in N s).", [("y", ny)]),
+               f"out: [y+ ({ny}), P_n, P_t] (impulses in N s).", [("y", ny)],
+               _blocks(UNILATERAL_LAYOUTS["impact"], ny, 1, 1)),
         Kernel(f"{pre}_impact_stick_jac", ["Jacobian dy+/dy of the sticking impact.", ydoc],
                [y_arg, PARAMS, out], yb, list(u["impact_stick_jac"]),
                f"out: {ny}x{ny}, row-major.", [("y", ny)]),
@@ -247,7 +291,8 @@ def build_unilateral_kernels(m):
                ["Reset at impact, sliding branch: gap'+ = -e_impact gap'- and",
                 "P_t = s mu0 P_n (s = +-1, the sign of the sticking P_t).", ydoc],
                [y_arg, s_arg, PARAMS, out], yb, u["impact_slide"],
-               f"out: [y+ ({ny}), P_n, P_t].", [("y", ny)]),
+               f"out: [y+ ({ny}), P_n, P_t].", [("y", ny)],
+               _blocks(UNILATERAL_LAYOUTS["impact"], ny, 1, 1)),
         Kernel(f"{pre}_impact_slide_jac", ["Jacobian dy+/dy of the sliding impact.", ydoc],
                [y_arg, s_arg, PARAMS, out], yb, list(u["impact_slide_jac"]),
                f"out: {ny}x{ny}, row-major.", [("y", ny)]),
@@ -298,6 +343,13 @@ def _seed_trig(pre, seed_text):
     doc = ("/* steady_seed with trig = {sin theta, cos theta, tan theta} supplied by the\n"
            " * caller: the same operations otherwise, so the same outputs bit for bit. */\n")
     return doc + sig + "\n" + body, sig
+
+
+def _offsets_init(offsets, layout):
+    """The initializer of a descriptor's <kernel>_out member."""
+    if [b for b, _ in offsets] != list(layout):
+        raise RuntimeError(f"blocks {offsets} are not the layout {layout}")
+    return "{" + ", ".join(f".{b} = {at}" for b, at in offsets) + "}"
 
 
 def _names_array(cname, names):
@@ -357,6 +409,11 @@ def model_files(m, description, stamp, base, variant):
     for k in kernels:
         kn = k.name[len(pre) + 1:].upper()
         h += "".join(f"#define {P_}_{kn}_{arg.upper()}_LEN {ln}\n" for arg, ln in k.lengths())
+    h += ("\n/* Where each block of a packed output begins: out + <KERNEL>_OUT_<BLOCK>\n"
+          "   (the descriptor's <kernel>_out members hold the same offsets). */\n")
+    for k in kernels:
+        kn = k.name[len(pre) + 1:].upper()
+        h += "".join(f"#define {P_}_{kn}_OUT_{b.upper()} {at}\n" for b, at in k.offsets())
     h += "\n"
     for k in kernels:
         h += k.signature() + ";\n"
@@ -372,6 +429,7 @@ def model_files(m, description, stamp, base, variant):
     cyc = ", ".join("1" if i in m.cyclic else "0" for i in range(n))
     c += f"static const unsigned char cyclic[] = {{{cyc}}};\n"
     c += emit_contracts.model_coupling_array(m.assumptions) + "\n"
+    offsets = {k.name[len(pre) + 1:]: k.offsets() for k in kernels}
     unilateral = "0"
     if m.unilateral:
         u = m.unilateral
@@ -381,6 +439,11 @@ def model_files(m, description, stamp, base, variant):
                    ("y_Z_R", names.index("Z_R")), ("y_Z_Rdot", names.index("Z_Rdot")),
                    ("y_w_R", names.index("w_R") if "w_R" in names else -1)]
         ufields += [(k, f"{pre}_{k}") for k in UNILATERAL_KERNELS]
+        if offsets["impact_stick"] != offsets["impact_slide"]:
+            raise RuntimeError(f"{m.name}: the impacts' outputs differ in layout")
+        ufields += [(f"{k}_out", _offsets_init(offsets[kernel], layout))
+                    for k, layout in UNILATERAL_LAYOUTS.items()
+                    for kernel in [k if k != "impact" else "impact_stick"]]
         c += ("static const usm_unilateral unilateral = {\n"
               + "".join(f"    .{k} = {v},\n" for k, v in ufields) + "};\n\n")
         unilateral = "&unilateral"
@@ -425,6 +488,7 @@ def model_files(m, description, stamp, base, variant):
     fields += [("other_coordinates", f"&usm_model_{other}" if other else "0"),
                ("param_coupling", "param_coupling"),
                ("unilateral", unilateral)]
+    fields += [(f"{k}_out", _offsets_init(offsets[k], layout)) for k, layout in LAYOUTS.items()]
     c += (f"const usm_model {pre.replace('usm_', 'usm_model_')} = {{\n"
           + "".join(f"    .{k} = {v},\n" for k, v in fields) + "};\n")
     return {f"{pre}.h": h,
@@ -552,6 +616,9 @@ UNILATERAL_STRUCT = (
     "    /* explicit df/dt of the closed (nx) and the open (ny) mode */\n"
     "    void (*closed_rhs_t)(const double *USM_RESTRICT x, double t, const usm_params *USM_RESTRICT p, double *USM_RESTRICT out);\n"
     "    void (*open_rhs_t)(const double *USM_RESTRICT y, double t, const usm_params *USM_RESTRICT p, double *USM_RESTRICT out);\n"
+    "    /* Where each block of a packed output begins (out + offset; usm_<name>.h:\n"
+    "       <KERNEL>_OUT_<BLOCK>); impact_out is impact_stick's and impact_slide's. */\n"
+    + "".join(_layout_member(k, b) for k, b in UNILATERAL_LAYOUTS.items()) +
     "} usm_unilateral;\n\n")
 
 
@@ -602,6 +669,8 @@ def common_files(models, variant_list, stamp):
     h += _enum("USM_POWER", POWER_NAMES) + "\n"
     h += "/* Rows y of <model>_steady_design_jacobian. */\n"
     h += _enum("USM_DESIGN", DESIGN_NAMES) + "\n"
+    h += "/* Indices of the outputs of <model>_friction: mu(v_rel) and dmu/dv_rel. */\n"
+    h += _enum("USM_FRICTION", FRICTION_NAMES) + "\n"
     h += ("#define USM_MAX_NX 9\n#define USM_MAX_NU 3\n"
           "/* longest state of an open contact (usm_unilateral.ny) */\n#define USM_MAX_NY 12\n\n"
           + UNILATERAL_STRUCT +
@@ -668,6 +737,9 @@ def common_files(models, variant_list, stamp):
           "    /* closure = unilateral (the contact may open): its open mode, guards and\n"
           "       resets; NULL when the contact never opens (the paper's models) */\n"
           "    const usm_unilateral *unilateral;\n"
+          "    /* Where each block of a packed output begins (out + offset; usm_<name>.h:\n"
+          "       <KERNEL>_OUT_<BLOCK>): read the blocks by these, for any model's sizes. */\n"
+          + "".join(_layout_member(k, b) for k, b in LAYOUTS.items()) +
           "} usm_model;\n\n")
     for name, _, _ in models:
         h += f"extern const usm_model usm_model_{name};\n"

@@ -13,6 +13,7 @@ time without any simplification of large expressions.  The linearisation about
 a solution is unchanged by such a row rotation, because the rotated residual
 vanishes on the solution.
 """
+import copy
 from dataclasses import dataclass, field
 import sympy as sp
 
@@ -544,7 +545,7 @@ def stationary_power(d):
     frame A every one of them is constant on the orbit (checked below), so
     the mean over a period is the value itself.  Their balance
     power_in = power_out + power_damping + power_slip is not built in: it
-    holds only where the residuals vanish (tests/test_power.c)."""
+    holds only where the residuals vanish (tests/solve/test_steady_power.c)."""
     kin = d.kin
     power_exprs = {
         "power_in": (d.M_E_A_ideal.T * kin.omega_A)[0],
@@ -941,26 +942,61 @@ def _equations(d, coordinates):
     motion_outputs(d)
 
 
+# Derivations that models share, kept for the rest of one run (one process):
+# a model whose contact may open is its bilateral model's derivation plus the
+# closure, and the tilt models take the stationary problem of the Euler
+# angles of the same assumptions.  (prefix key, stage) -> a Derivation; a
+# stage is a shallow copy, and the later steps only add attributes, so a
+# kept stage is never changed by its users.  derive/generate.py derives the
+# models of one base model in one process so that these are found.
+_SHARED = {}
+
+
+def _shared_key(assumptions):
+    """The assumptions the derivation depends on before the closure."""
+    return tuple(sorted((k, v) for k, v in assumptions.items() if k != "closure"))
+
+
+def _copy(d, name, assumptions):
+    e = copy.copy(d)
+    e.name, e.assumptions = name, dict(assumptions)
+    return e
+
+
 def _derive_euler(name, assumptions, stationary_only=False):
     """The derivation in the paper's z-x-z Euler angles (with stationary_only,
     up to the stationary problem: what _derive_regular takes from it)."""
-    d = Derivation(name, assumptions)
-    _equations(d, euler_coordinates)
-    # what every variant derives from them
-    stationary_ansatz(d)
-    stationary_residual(d)
-    twisting_balance(d)
-    stationary_outputs(d)
-    stationary_power(d)
-    stationary_orbit(d)
-    stationary_seed(d)
-    if stationary_only:
-        return d
-    tangent_map(d)
-    linearisation(d)
-    cyclic_states(d)
+    key = _shared_key(assumptions)
+    linearised = _SHARED.get((key, "linearised"))
+    if linearised is None:
+        stationary = _SHARED.get((key, "stationary"))
+        if stationary is None:
+            d = Derivation(name, assumptions)
+            _equations(d, euler_coordinates)
+            # what every variant derives from them
+            stationary_ansatz(d)
+            stationary_residual(d)
+            twisting_balance(d)
+            stationary_outputs(d)
+            stationary_power(d)
+            stationary_orbit(d)
+            stationary_seed(d)
+            _SHARED[(key, "stationary")] = _copy(d, name, assumptions)
+        else:
+            d = _copy(stationary, name, assumptions)
+        if stationary_only:
+            return d
+        tangent_map(d)
+        linearisation(d)
+        cyclic_states(d)
+        # the document reads nothing the closure adds
+        d.document = document_pieces(d)
+        _SHARED[(key, "linearised")] = _copy(d, name, assumptions)
+    else:
+        if stationary_only:
+            return _copy(linearised, name, assumptions)
+        d = _copy(linearised, name, assumptions)
     _choose(CLOSURE, "closure", assumptions.get("closure", "bilateral"))(d)
-    d.document = document_pieces(d)
     return d
 
 
@@ -974,7 +1010,7 @@ def _derive_regular(name, assumptions, coordinates):
     alongside, and its orbit is mapped into the new coordinates
     (``regular_orbit``).  So the stationary solution of both coordinate sets
     is one and the same, and the tests check that the mapped orbit solves the
-    new equations (tests/test_steady_floquet.c, kernel residual)."""
+    new equations (tests/solve/test_steady_floquet.c, kernel residual)."""
     if assumptions.get("closure", "bilateral") != "bilateral":
         raise RuntimeError("the unilateral contact is derived in Euler angles only")
     euler = {k: v for k, v in assumptions.items() if k != "coordinates"}

@@ -72,3 +72,10 @@ def model_files(job):
     finally:
         defaults.IN_MODEL = False
     return name, files, t1 - t0, time.perf_counter() - t1, time.process_time() - cpu0
+
+
+def chain_files(jobs):
+    """model_files of each job in order, in this process, so that the later
+    models take what they share with the earlier ones (model._SHARED,
+    emit_c._EMITTED)."""
+    return [model_files(j) for j in jobs]

@@ -28,6 +28,7 @@ typedef struct cli_command {
     int (*finish)(void *a, char msg[CLI_MSG_LEN]);
     int (*run)(void *a);
     int mpi;                 /* shares its work over MPI ranks under mpirun */
+    int units;               /* shows tables or CSV: takes --units (options.h) */
 } cli_command;
 
 extern const cli_command cli_steady, cli_periodic, cli_sweep, cli_variants, cli_equations,

@@ -77,4 +77,4 @@ static int run(void *p)
     return USM_EFAILED;
 }
 
-const cli_command cli_equations = {sizeof(eq_args), usage, init, option, NULL, run, 0};
+const cli_command cli_equations = {sizeof(eq_args), usage, init, option, NULL, run, 0, 0};

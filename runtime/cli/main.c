@@ -116,6 +116,7 @@ static int run(const cli_entry *e, int argc, char **argv)
         return USM_EFAILED;
     }
     cli_common_init(a);
+    ((cli_common *)a)->units_ok = e->cmd->units;
     status = e->cmd->init ? e->cmd->init(a, msg) : USM_OK;
     if (e->cmd->mpi && mpi_start(a) != USM_OK) {
         free(a);

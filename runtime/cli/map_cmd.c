@@ -40,6 +40,7 @@ static void usage(FILE *out)
             "\n"
             "options:\n");
     cli_common_usage(out);
+    cli_units_usage(out);
     fprintf(out,
             "  --x NAME, --y NAME  the parameters of the two axes (see usm steady --help)\n"
             "  --x-from A, --x-to B, --y-from A, --y-to B   axis ranges (SI, or with a\n"
@@ -178,9 +179,19 @@ static int make_axis(usm_report_axis *ax, const char *field, const char *name,
     return USM_OK;
 }
 
-static int write_map_csv(FILE *out, const void *map)
+/* The map's CSV in the display units (--units). */
+typedef struct map_csv {
+    const usm_report_map *map;
+    const usm_display *d;
+} map_csv;
+
+static int write_map_csv(FILE *out, const void *data)
 {
-    return usm_report_map_write_csv(map, out);
+    const map_csv *c = data;
+    cli_shown shown;
+    FILE *f = cli_shown_open(&shown, c->d, out);
+    int rc = f ? usm_report_map_write_csv(c->map, f) : -1;
+    return f && cli_shown_close(&shown) != 0 ? -1 : rc;
 }
 
 /* --plot: PREFIX.csv, then gnuplot on data/plots/map.gp.  A missing gnuplot
@@ -188,14 +199,18 @@ static int write_map_csv(FILE *out, const void *map)
 static int plot(const map_args *a, const usm_report_map *map)
 {
     char msg[CLI_MSG_LEN], xcol[128], ycol[128];
-    int rc = usm_plot_csv_write(a->plot, a->force, write_map_csv, map, msg);
+    const map_csv csv = {map, &a->common.display};
+    int rc = usm_plot_csv_write(a->plot, a->force, write_map_csv, &csv, msg);
     if (rc != USM_OK) {
         cli_error("%s", msg);
         return rc;
     }
     /* the header's first two columns (report_map.c) */
-    snprintf(xcol, sizeof xcol, "%s [%s]", map->x.param->name, map->x.param->unit);
-    snprintf(ycol, sizeof ycol, "%s [%s]", map->y.param->name, map->y.param->unit);
+    const char *xu, *yu;
+    usm_display_value(csv.d, map->x.param->unit, 0, &xu);
+    usm_display_value(csv.d, map->y.param->unit, 0, &yu);
+    snprintf(xcol, sizeof xcol, "%s [%s]", map->x.param->name, xu);
+    snprintf(ycol, sizeof ycol, "%s [%s]", map->y.param->name, yu);
     const char *names[] = {"xcol", "ycol", "mcol"}, *values[] = {xcol, ycol, "op_max_modulus [1]"};
     rc = usm_plot_render("map", a->plot, names, values, 3, msg);
     return cli_plot_status(rc, msg);
@@ -299,8 +314,11 @@ static int run(void *p)
     if (a->common.json) {
         if (usm_report_map_write_json(res, out) != 0)
             status = USM_EFAILED;
-    } else if (usm_report_map_write_csv(res, out) != 0)
-        status = USM_EFAILED;
+    } else {
+        const map_csv csv = {res, &a->common.display};
+        if (write_map_csv(out, &csv) != 0)
+            status = USM_EFAILED;
+    }
     if (out != stdout) {
         if (status != USM_OK) {
             usm_io_abort(&file);
@@ -321,4 +339,4 @@ static int run(void *p)
     return status;
 }
 
-const cli_command cli_map = {sizeof(map_args), usage, init, option, finish, run, 1};
+const cli_command cli_map = {sizeof(map_args), usage, init, option, finish, run, 1, 1};

@@ -509,4 +509,4 @@ static int run(void *p)
     return status;
 }
 
-const cli_command cli_optimize = {sizeof(opt_args), usage, init, option, finish, run, 0};
+const cli_command cli_optimize = {sizeof(opt_args), usage, init, option, finish, run, 0, 0};

@@ -1,4 +1,5 @@
 /* Command-line options shared by the usm subcommands. */
+#define _POSIX_C_SOURCE 200809L /* open_memstream */
 #include "options.h"
 
 #include <limits.h>
@@ -123,6 +124,11 @@ int cli_common_option(cli_common *c, int argc, char **argv, int *i, char msg[CLI
         c->json = 1;
         return CLI_OPT_TAKEN;
     }
+    if (c->units_ok && (r = cli_option_value(argc, argv, i, "--units", &value, msg)) != CLI_OPT_NOT_MINE) {
+        if (r == CLI_OPT_TAKEN && usm_display_parse("--units", value, &c->display, msg) != USM_OK)
+            return CLI_OPT_ERROR;
+        return r;
+    }
     if ((r = cli_option_value(argc, argv, i, "--model", &value, msg)) != CLI_OPT_NOT_MINE) {
         const usm_model *m = r == CLI_OPT_TAKEN ? usm_model_find(value) : NULL;
         if (r == CLI_OPT_TAKEN && !m) {
@@ -186,6 +192,34 @@ int cli_common_finish(cli_common *c, char msg[CLI_MSG_LEN])
 }
 
 void cli_common_usage(FILE *out) { cli_common_usage_variant(out, "paper"); }
+
+void cli_units_usage(FILE *out)
+{
+    fprintf(out, "  --units LIST        show values in these units in tables, CSV, events and\n"
+                 "                      plots: rpm,deg,kHz,mNm,... or si (default); JSON stays SI\n");
+}
+
+FILE *cli_shown_open(cli_shown *s, const usm_display *d, FILE *out)
+{
+    memset(s, 0, sizeof *s);
+    s->d = d;
+    s->out = out;
+    if (!d || d->n == 0)
+        return out;
+    s->mem = open_memstream(&s->buf, &s->len);
+    return s->mem;
+}
+
+int cli_shown_close(cli_shown *s)
+{
+    if (!s->mem)
+        return ferror(s->out) ? -1 : 0;
+    int rc = fclose(s->mem) != 0 || !s->buf ? -1 : usm_display_csv(s->d, s->buf, s->len, s->out);
+    free(s->buf);
+    s->mem = NULL;
+    s->buf = NULL;
+    return rc;
+}
 
 void cli_common_usage_variant(FILE *out, const char *variant_default)
 {

@@ -15,6 +15,7 @@
 
 #include "diag.h"
 #include "usm.h"
+#include "usm_io.h"
 #include "usm_operating_point.h"
 
 typedef struct cli_common {
@@ -28,6 +29,8 @@ typedef struct cli_common {
     double set_value[USM_NPARAMS];
     unsigned char is_set[USM_NPARAMS];
     int rank, size;              /* this MPI rank and the ranks (0, 1 without mpirun) */
+    int units_ok;                /* the command shows tables and CSV: --units applies */
+    usm_display display;         /* --units (all zero: SI) */
 } cli_common;
 
 /* Outcome of offering an argument to an option parser. */
@@ -53,6 +56,22 @@ void cli_common_usage(FILE *out);
 
 /* The same with --variant's default stated as `variant_default`, for a
  * command whose default is not paper: the help states each default once. */
+/* The --units line of a command's usage (the commands with units_ok). */
+void cli_units_usage(FILE *out);
+
+/* The output of a writer in the display units: cli_shown_open returns the
+ * FILE to write to (out itself when nothing is converted), cli_shown_close
+ * converts what was written (usm_display_csv) into out.  0, or -1 on a
+ * write error or when out of memory. */
+typedef struct cli_shown {
+    const usm_display *d;
+    FILE *out, *mem;
+    char *buf;
+    size_t len;
+} cli_shown;
+FILE *cli_shown_open(cli_shown *s, const usm_display *d, FILE *out);
+int cli_shown_close(cli_shown *s);
+
 void cli_common_usage_variant(FILE *out, const char *variant_default);
 
 /* If argv[*i] is option `name` ("--name VALUE" or "--name=VALUE"), store its

@@ -172,4 +172,4 @@ static int run(void *p)
     return status;
 }
 
-const cli_command cli_pareto = {sizeof(pareto_args), usage, init, option, finish, run, 0};
+const cli_command cli_pareto = {sizeof(pareto_args), usage, init, option, finish, run, 0, 0};

@@ -38,6 +38,7 @@ static void usage(FILE *out)
             "\n"
             "options:\n");
     cli_common_usage_variant(out, default_variant("3dof"));
+    cli_units_usage(out);
     fprintf(out,
             "  --orbit FILE.csv    write one period at %d points: t, state, F_n, F_t, rotor speed\n"
             "                      (an orbit with separation: t, open, state, gap, F_n, F_t,\n"
@@ -93,17 +94,26 @@ static int write_orbit(const periodic_args *a, const usm_run *run, char msg[CLI_
     int status;
     char lib[USM_MSG_LEN];
     const usm_hybrid_result *h = usm_run_hybrid_result(run);
-    FILE *f = usm_io_create(&file, a->orbit, a->force, msg, &status);
-    if (!f)
+    cli_shown shown;
+    FILE *out = usm_io_create(&file, a->orbit, a->force, msg, &status);
+    if (!out)
         return status;
+    FILE *f = cli_shown_open(&shown, &a->common.display, out);
+    if (!f) {
+        usm_io_abort(&file);
+        cli_msg(msg, "%s: out of memory", a->orbit);
+        return USM_EFAILED;
+    }
     /* the solve's tolerance: usm_run_periodic's default */
     if (h && (status = usm_hybrid_write_orbit_csv(a->common.model, &a->common.params, h, 0.0,
                                                   USM_PERIODIC_SAMPLES, f, lib)) != USM_OK) {
+        cli_shown_close(&shown);
         usm_io_abort(&file);
         cli_msg(msg, "%s: %s", a->orbit, lib);
         return status;
     }
-    if (!h && usm_periodic_write_orbit_csv(usm_run_periodic_solver(run), f) != 0) {
+    if ((!h && usm_periodic_write_orbit_csv(usm_run_periodic_solver(run), f) != 0) |
+        (cli_shown_close(&shown) != 0)) {
         usm_io_abort(&file);
         cli_msg(msg, "%s: write error", a->orbit);
         return USM_EFAILED;
@@ -111,8 +121,11 @@ static int write_orbit(const periodic_args *a, const usm_run *run, char msg[CLI_
     return usm_io_commit(&file, msg);
 }
 
-static void table(const usm_periodic_result *r, const char *model)
+static void table(const usm_periodic_result *r, const char *model, const usm_display *d)
 {
+    const char *us, *ua;
+    const double w = usm_display_value(d, "1/s", r->rotor_speed_mean, &us);
+    const double th = usm_display_value(d, "rad", r->theta_mean, &ua);
     const int valid = r->validity == USM_VALID;
     printf("model %s: periodic orbit (%d Newton iterations, residual %.3g)\n", model, r->iterations,
            r->residual);
@@ -121,10 +134,12 @@ static void table(const usm_periodic_result *r, const char *model)
     if (!valid)
         printf("  MODEL INVALID on this orbit (%s): the values below are the model's beyond its "
                "validity, not the motor's\n", usm_validity_name(r->validity));
-    printf("  rotor speed        mean %.10g 1/s, ripple (peak to peak) %.6g 1/s\n",
-           r->rotor_speed_mean, r->rotor_speed_ripple);
-    printf("  theta              mean %.10g rad, min %.10g, max %.10g, 2 Omega amplitude %.6g\n",
-           r->theta_mean, r->theta_min, r->theta_max, r->theta_harmonic_2);
+    printf("  rotor speed        mean %.10g %s, ripple (peak to peak) %.6g %s\n", w, us,
+           usm_display_value(d, "1/s", r->rotor_speed_ripple, NULL), us);
+    printf("  theta              mean %.10g %s, min %.10g, max %.10g, 2 Omega amplitude %.6g\n",
+           th, ua, usm_display_value(d, "rad", r->theta_min, NULL),
+           usm_display_value(d, "rad", r->theta_max, NULL),
+           usm_display_value(d, "rad", r->theta_harmonic_2, NULL));
     printf("  F_n                min %.10g N, max %.10g N, 2 Omega amplitude %.6g N\n",
            r->F_n_min, r->F_n_max, r->F_n_harmonic_2);
     if (r->contact_open)
@@ -154,13 +169,16 @@ static void table(const usm_periodic_result *r, const char *model)
         printf("  squeal frequency   none: %s\n", sq.reason);
 }
 
-static void hybrid_table(const usm_hybrid_result *r, const char *model)
+static void hybrid_table(const usm_hybrid_result *r, const char *model, const usm_display *d)
 {
+    const char *us;
+    const double w = usm_display_value(d, "1/s", r->rotor_speed_mean, &us);
     printf("usm periodic: model %s, an orbit with separation (period %.10g s, section at "
            "t = %.10g s)\n", model, r->period, r->t0);
     printf("  converged in %d Newton iterations, residual %.3g\n", r->iterations, r->residual);
-    printf("  rotor speed mean      %.10g 1/s\n", r->rotor_speed_mean);
-    printf("  rotor speed ripple    %.6g 1/s (peak to peak)\n", r->rotor_speed_ripple);
+    printf("  rotor speed mean      %.10g %s\n", w, us);
+    printf("  rotor speed ripple    %.6g %s (peak to peak)\n",
+           usm_display_value(d, "1/s", r->rotor_speed_ripple, NULL), us);
     printf("  mode sequence         %s (c closed, o open; from the section)\n", r->mode_sequence);
     printf("  separation fraction   %.6f of the period\n", r->separation_fraction);
     printf("  per period            %d separations, %d impacts (%d needing more than mu0)\n",
@@ -186,9 +204,9 @@ static int write_table(const void *p, const usm_run *run, FILE *out)
     const usm_hybrid_result *h = usm_run_hybrid_result(run);
     (void)out;
     if (h)
-        hybrid_table(h, a->common.model->name);
+        hybrid_table(h, a->common.model->name, &a->common.display);
     else
-        table(usm_run_periodic_result(run), a->common.model->name);
+        table(usm_run_periodic_result(run), a->common.model->name, &a->common.display);
     return 0;
 }
 
@@ -211,4 +229,4 @@ static int run(void *p)
     return status;
 }
 
-const cli_command cli_periodic = {sizeof(periodic_args), usage, init, option, finish, run, 0};
+const cli_command cli_periodic = {sizeof(periodic_args), usage, init, option, finish, run, 0, 1};

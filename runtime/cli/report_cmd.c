@@ -129,4 +129,4 @@ static int run(void *p)
     return USM_OK;
 }
 
-const cli_command cli_report = {sizeof(report_args), usage, init, option, finish, run, 0};
+const cli_command cli_report = {sizeof(report_args), usage, init, option, finish, run, 0, 0};

@@ -102,4 +102,4 @@ static int run(void *p)
     return status;
 }
 
-const cli_command cli_sensitivity = {sizeof(sens_args), usage, init, option, NULL, run, 0};
+const cli_command cli_sensitivity = {sizeof(sens_args), usage, init, option, NULL, run, 0, 0};

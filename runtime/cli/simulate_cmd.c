@@ -40,6 +40,7 @@ static void usage(FILE *out)
             "\n"
             "options:\n");
     cli_common_usage(out);
+    cli_units_usage(out);
     fprintf(out,
             "  --duration S        simulated time [s] (required)\n"
             "  --from rest         start at rest: tilt tilt0 about the excitation torque's axis,\n"
@@ -237,6 +238,7 @@ static int finish(void *p, char msg[CLI_MSG_LEN])
 
 typedef struct run_io {
     FILE *csv;
+    const usm_display *display; /* --units */
     int csv_failed;         /* a write error on it */
     int progress;          /* draw a progress bar on stderr */
     double last_draw;      /* wall time of the last redraw */
@@ -255,7 +257,7 @@ static double now(void)
 static int on_sample(const usm_sim_sample *s, void *data)
 {
     run_io *io = data;
-    return io->csv_failed = usm_sim_csv_row(s, io->csv) != 0;
+    return io->csv_failed = usm_sim_csv_row_in(s, io->display, io->csv) != 0;
 }
 
 /* The message of usm_plot_csv_check / usm_plot_csv_write ("--plot ...") as
@@ -433,6 +435,7 @@ static int simulate(sim_args *a, usm_sim *s)
         return USM_EINPUT;
     }
     memset(&io, 0, sizeof io);
+    io.display = &a->common.display;
     if (a->spectrum) {
         usm_sim_spectrum_options so;
         char lib[USM_MSG_LEN];
@@ -462,7 +465,7 @@ static int simulate(sim_args *a, usm_sim *s)
         } else if (!a->spectrum)
             io.csv = stdout;
         if (io.csv)
-            usm_sim_csv_header(io.csv);
+            usm_sim_csv_header_in(&a->common.display, io.csv);
     }
     summary_out = io.csv == stdout ? stderr : stdout;
     io.progress = isatty(STDERR_FILENO);
@@ -522,7 +525,7 @@ static int simulate(sim_args *a, usm_sim *s)
         rep.spectrum_error = spec_msg;
     }
     if (!a->common.json)
-        usm_sim_write_table(&rep, summary_out);
+        usm_sim_write_table_in(&rep, &a->common.display, summary_out);
     else if (usm_sim_write_json(&rep, summary_out) != 0) {
         cli_error("cannot write the JSON summary");
         rc = USM_EFAILED;
@@ -542,14 +545,20 @@ static int simulate(sim_args *a, usm_sim *s)
         char title[256], num[7][32];
         static const char *const names[] = {"csv",         "title",     "stick",   "mu0",
                                             "have_steady", "theta_bar", "speed_bar",
-                                            "settled",     "t_settle"};
-        const char *values[9] = {a->out, title,  num[0], num[1], num[2],
-                                 num[3], num[4], num[5], num[6]};
+                                            "settled",     "t_settle",  "rate_unit",
+                                            "angle_unit"};
+        const usm_display *d = &a->common.display;
+        const char *values[11] = {a->out, title,  num[0], num[1], num[2], num[3],
+                                  num[4], num[5], num[6], NULL,   NULL};
+        usm_display_value(d, "rad/s", 0, &values[9]);
+        usm_display_value(d, "rad", 0, &values[10]);
         snprintf(num[0], 32, "%d", sum.stick_checked);
         snprintf(num[1], 32, "%.17g", p->mu0);
         snprintf(num[2], 32, "%d", sum.have_steady);
-        snprintf(num[3], 32, "%.17g", sum.have_steady ? sum.steady.theta : 0.0);
-        snprintf(num[4], 32, "%.17g", sum.have_steady ? sum.steady.rotor_speed : 0.0);
+        snprintf(num[3], 32, "%.17g",
+                 sum.have_steady ? usm_display_value(d, "rad", sum.steady.theta, NULL) : 0.0);
+        snprintf(num[4], 32, "%.17g",
+                 sum.have_steady ? usm_display_value(d, "1/s", sum.steady.rotor_speed, NULL) : 0.0);
         snprintf(num[5], 32, "%d", sum.settled);
         snprintf(num[6], 32, "%.17g", sum.settled ? sum.t_settle : 0.0);
         if (sum.settled)
@@ -560,7 +569,7 @@ static int simulate(sim_args *a, usm_sim *s)
                      "usm simulate, model %s: not settled (period means within %g of the "
                      "stationary solution for %d periods)",
                      a->common.model->name, sum.settle_tol, sum.settle_periods);
-        int prc = usm_plot_render("simulate", a->plot, names, values, 9, msg);
+        int prc = usm_plot_render("simulate", a->plot, names, values, 11, msg);
         if (prc == USM_ENOSOLUTION)
             cli_error("warning: %s", msg);
         else if (prc != USM_OK) {
@@ -588,4 +597,4 @@ static int run(void *p)
     return rc;
 }
 
-const cli_command cli_simulate = {sizeof(sim_args), usage, init, option, finish, run, 0};
+const cli_command cli_simulate = {sizeof(sim_args), usage, init, option, finish, run, 0, 1};

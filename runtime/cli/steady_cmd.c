@@ -27,6 +27,7 @@ static void usage(FILE *out)
             "\n"
             "options:\n");
     cli_common_usage(out);
+    cli_units_usage(out);
     fprintf(out,
             "  --t0 S              start of the Floquet period [s] (default 0, the paper's)\n"
             "  --no-from-rest      skip the start-up simulation: an ambiguous point then has\n"
@@ -107,7 +108,7 @@ static int option(void *p, int argc, char **argv, int *i, char msg[CLI_MSG_LEN])
 static int table(const void *p, const usm_run *r, FILE *out)
 {
     (void)p;
-    usm_steady_table(usm_run_steady_report(r), out);
+    usm_steady_table_in(usm_run_steady_report(r), &((const cli_common *)p)->display, out);
     return 0;
 }
 
@@ -122,4 +123,4 @@ static int run(void *p)
     return status;
 }
 
-const cli_command cli_steady = {sizeof(steady_args), usage, init, option, NULL, run, 0};
+const cli_command cli_steady = {sizeof(steady_args), usage, init, option, NULL, run, 0, 1};

@@ -47,6 +47,7 @@ static void usage(FILE *out)
             "\n"
             "options:\n");
     cli_common_usage(out);
+    cli_units_usage(out);
     fprintf(out,
             "  --over NAME         the parameter to sweep (any of usm steady --help)\n"
             "  --from A, --to B    the range, in the parameter's unit or with a unit: 36kHz\n"
@@ -270,9 +271,12 @@ static void draw(double fraction, void *ctx)
 static int write_csv(const void *p, const usm_run *r, FILE *out)
 {
     const sweep_args *a = p;
-    if (a->periodic)
-        return usm_periodic_sweep_csv(usm_run_periodic_sweep_result(r), out);
-    return usm_sweep_csv(usm_run_sweep_result(r), a->over, a->floquet, out);
+    cli_shown shown;
+    FILE *f = cli_shown_open(&shown, &a->common.display, out);
+    int rc = !f ? -1
+             : a->periodic ? usm_periodic_sweep_csv(usm_run_periodic_sweep_result(r), f)
+                           : usm_sweep_csv(usm_run_sweep_result(r), a->over, a->floquet, f);
+    return f && cli_shown_close(&shown) != 0 ? -1 : rc;
 }
 
 /* The events of a sweep as the word lists its gnuplot script reads (names,
@@ -332,20 +336,25 @@ static int plot(const sweep_args *a, const usm_run *r)
         cli_error("%s", msg);
         return rc;
     }
-    /* the header's first column (sweep_out.c) */
-    snprintf(xcol, sizeof xcol, "%s [%s]", a->over, info ? info->unit : "");
+    /* the header's first column (sweep_out.c), in the display units as the CSV */
+    const usm_display *d = &a->common.display;
+    const char *xunit, *speed_unit, *angle_unit;
+    usm_display_value(d, info ? info->unit : "", 0, &xunit);
+    usm_display_value(d, "1/s", 0, &speed_unit);
+    usm_display_value(d, "rad", 0, &angle_unit);
+    snprintf(xcol, sizeof xcol, "%s [%s]", a->over, xunit);
     plot_events ev = {"", ""};
     const size_t n = a->periodic ? usm_periodic_sweep_event_count(usm_run_periodic_sweep_result(r))
                                  : usm_sweep_event_count(usm_run_sweep_result(r));
     double x;
     for (size_t i = 0; i < n; ++i) {
         event_label(a, r, i, name, &x);
-        if (plot_event_add(&ev, name, x) != 0)
+        if (plot_event_add(&ev, name, usm_display_value(d, info ? info->unit : "", x, NULL)) != 0)
             break;
     }
-    const char *names[] = {"xcol", "events", "event_x"};
-    const char *values[] = {xcol, ev.names, ev.values};
-    rc = usm_plot_render(a->periodic ? "sweep_periodic" : "sweep", a->plot, names, values, 3, msg);
+    const char *names[] = {"xcol", "events", "event_x", "speed_unit", "angle_unit"};
+    const char *values[] = {xcol, ev.names, ev.values, speed_unit, angle_unit};
+    rc = usm_plot_render(a->periodic ? "sweep_periodic" : "sweep", a->plot, names, values, 5, msg);
     return cli_plot_status(rc, msg);
 }
 
@@ -401,4 +410,4 @@ static int run(void *p)
     return status;
 }
 
-const cli_command cli_sweep = {sizeof(sweep_args), usage, init, option, finish, run, 0};
+const cli_command cli_sweep = {sizeof(sweep_args), usage, init, option, finish, run, 0, 1};

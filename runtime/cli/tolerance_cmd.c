@@ -355,4 +355,4 @@ static int run(void *p)
     return status;
 }
 
-const cli_command cli_tolerance = {sizeof(tol_args), usage, init, option, finish, run, 1};
+const cli_command cli_tolerance = {sizeof(tol_args), usage, init, option, finish, run, 1, 0};

@@ -46,4 +46,4 @@ static int run(void *a)
     return USM_OK;
 }
 
-const cli_command cli_variants = {sizeof(cli_common), usage, NULL, option, finish, run, 0};
+const cli_command cli_variants = {sizeof(cli_common), usage, NULL, option, finish, run, 0, 0};

@@ -2,6 +2,7 @@
  * the parser of values with units (io/number.c) and for the library's hint at
  * the unit a value out of its parameter's range was likely meant in
  * (core/params.c). */
+#include <ctype.h>
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -75,3 +76,22 @@ int usm_units_accepted(const char *si, char *buf, size_t len)
     return n;
 }
 
+int usm_unit_key(const char *text, size_t len, char *out, size_t size)
+{
+    size_t n = 0;
+    for (size_t k = 0; k < len; ++k) {
+        unsigned char c = (unsigned char)text[k];
+        if (isspace(c))
+            continue;
+        if (k + 1 < len && ((c == 0xc2 && (unsigned char)text[k + 1] == 0xb5) ||
+                            (c == 0xce && (unsigned char)text[k + 1] == 0xbc))) {
+            c = 'u';
+            ++k;
+        }
+        if (n + 1 >= size)
+            return 0;
+        out[n++] = (char)c;
+    }
+    out[n] = '\0';
+    return 1;
+}

@@ -52,28 +52,6 @@ int usm_parse_number(const char *field, const char *text, size_t len, double *ou
 
 /* ---- values with units (the table: core/units.c) ------------------------------ */
 
-/* `text` (len bytes) without blanks, the micro signs (U+00B5, U+03BC) as u:
- * 0 when it does not fit `out`. */
-static int unit_key(const char *text, size_t len, char *out, size_t size)
-{
-    size_t n = 0;
-    for (size_t k = 0; k < len; ++k) {
-        unsigned char c = (unsigned char)text[k];
-        if (isspace(c))
-            continue;
-        if (k + 1 < len && ((c == 0xc2 && (unsigned char)text[k + 1] == 0xb5) ||
-                            (c == 0xce && (unsigned char)text[k + 1] == 0xbc))) {
-            c = 'u';
-            ++k;
-        }
-        if (n + 1 >= size)
-            return 0;
-        out[n++] = (char)c;
-    }
-    out[n] = '\0';
-    return 1;
-}
-
 int usm_parse_quantity(const char *field, const char *unit, const char *text, size_t len,
                        double *out, char msg[USM_IO_MSG_LEN])
 {
@@ -100,7 +78,7 @@ int usm_parse_quantity(const char *field, const char *unit, const char *text, si
     }
     if (numlen == 0 || numlen == len || memchr(text, '\0', len))
         return usm_parse_number(field, text, len, out, msg);
-    if (!unit_key(text + numlen, len - numlen, key, sizeof key) || key[0] == '\0')
+    if (!usm_unit_key(text + numlen, len - numlen, key, sizeof key) || key[0] == '\0')
         return usm_parse_number(field, text, len, out, msg);
     for (int k = 0; k < usm_unit_rows && row < 0; ++k)
         if (strcmp(usm_unit_table[k].si, unit) == 0 && strcmp(usm_unit_table[k].name, key) == 0)

@@ -13,6 +13,7 @@
 #include <jansson.h>
 
 #include "usm_io.h"
+#include "core/units.h"
 
 /* ---- --from FILE -------------------------------------------------------------- */
 
@@ -28,6 +29,37 @@ static void bare_name(const char *field, char *out, size_t len)
         --n;
     memcpy(out, field, n);
     out[n] = '\0';
+}
+
+/* The SI value of v given in the column's " [unit]": a file written with
+ * --units rpm,deg continues a run as one written in SI.  USM_EINPUT for a
+ * unit the table does not know: reading it as SI would be a silent error. */
+static int column_si(const char *field, const char *column, double *v, char msg[USM_IO_MSG_LEN])
+{
+    const char *open = strchr(column, '['), *close = open ? strchr(open, ']') : NULL;
+    char key[32];
+    if (!open)
+        return USM_OK;
+    if (!close || !usm_unit_key(open + 1, (size_t)(close - open - 1), key, sizeof key)) {
+        usm_io_msg(msg, "%s: the header's unit \"%s\" is not a unit", field, column);
+        return USM_EINPUT;
+    }
+    for (int k = 0; k < usm_unit_rows; ++k) {
+        const usm_unit_row *u = &usm_unit_table[k];
+        char si[32];
+        usm_unit_key(u->si, strlen(u->si), si, sizeof si);
+        if (strcmp(si, key) == 0)
+            return USM_OK;
+        if (strcmp(u->name, key) == 0) {
+            double scale;
+            usm_unit_at(k, NULL, NULL, &scale);
+            *v *= scale;
+            return USM_OK;
+        }
+    }
+    usm_io_msg(msg, "%s: the header's unit [%s] is not a unit usm knows: the value cannot be "
+               "read in SI", field, key);
+    return USM_EINPUT;
 }
 
 /* Split a CSV line in place (no quoting: the files are numbers and names). */
@@ -132,7 +164,8 @@ static int read_csv_state(const char *path, FILE *f, const usm_model *m, start_s
         if (values[k][0] == '\0')
             continue;
         snprintf(field, sizeof field, "%s:%ld: %s", path, last_lineno, name);
-        if (usm_parse_number(field, values[k], strlen(values[k]), &v, msg) != USM_OK) {
+        if (usm_parse_number(field, values[k], strlen(values[k]), &v, msg) != USM_OK ||
+            column_si(field, names[k], &v, msg) != USM_OK) {
             free(last);
             return USM_EINPUT;
         }

@@ -207,7 +207,8 @@ static int balanced_coefficient_matrix(usm_floquet *f, double t)
     const int n = f->n;
     double orbit[2 * USM_MAX_NX], Mbuf[NN], Jf[NN], Jm[NN];
     f->m->steady_state(f->u, f->beta, t, &f->p, orbit);
-    const double *x = orbit, *xdot = orbit + n;
+    const double *x = orbit + f->m->steady_state_out.x;
+    const double *xdot = orbit + f->m->steady_state_out.xdot;
     f->m->mass(x, &f->p, Mbuf);
     f->m->jac_rhs(x, t, &f->p, Jf);
     f->m->jac_mass(x, xdot, &f->p, Jm);
@@ -229,7 +230,7 @@ static int variational_coordinates(usm_floquet *f, double t0)
     const int n = f->n;
     double orbit[2 * USM_MAX_NX], T[NN];
     f->m->steady_state(f->u, f->beta, t0, &f->p, orbit);
-    f->m->tangent_map(orbit, &f->p, T);
+    f->m->tangent_map(orbit + f->m->steady_state_out.x, &f->p, T);
     memcpy(f->S->data, T, sizeof(double) * (size_t)(n * n));
     gsl_matrix_set_identity(f->Sinv);
     if (usm_solve_dense(n, T, f->Sinv->data) != 0)

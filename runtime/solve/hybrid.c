@@ -202,7 +202,7 @@ static int cv_root(sunrealtype t, N_Vector zv, sunrealtype *g, void *data)
     if (h->mode == 1) {
         double gg[1 + NY];
         h->u->guard_open(z, &h->p, gg);
-        g[0] = gg[0];
+        g[0] = gg[h->u->guard_open_out.gap];
     } else {
         double xdot[NY], out[USM_OUT_COUNT];
         if (rates(h, 0, t, z, xdot, NULL, NULL) != 0)
@@ -280,17 +280,19 @@ static int switch_at(usm_hybrid *h, double t, double *z)
     if (h->mode == 0) {
         double gc[1 + 2 * USM_MAX_NX];
         h->u->guard_closed(x, fa, t, &h->p, gc);
+        const double *dFn_dx = gc + h->u->guard_closed_out.dF_n_dx;
+        const double *dFn_dxdot = gc + h->u->guard_closed_out.dF_n_dxdot;
         for (int j = 0; j < nx; ++j) {
-            Gx[j] = gc[1 + j];
+            Gx[j] = dFn_dx[j];
             for (int i = 0; i < nx; ++i)
-                Gx[j] += gc[1 + nx + i] * A[i * nx + j];
+                Gx[j] += dFn_dxdot[i] * A[i * nx + j];
         }
         for (int i = 0; i < nx; ++i)
-            Gt += gc[1 + nx + i] * ft[i];
+            Gt += dFn_dxdot[i] * ft[i];
         double sj[NY * (NY + 1)];
         h->u->separation(x, &h->p, sj);
-        memcpy(xp, sj, sizeof(double) * (size_t)ny);
-        memcpy(R, sj + ny, sizeof(double) * (size_t)(ny * nx));
+        memcpy(xp, sj + h->u->separation_out.y, sizeof(double) * (size_t)ny);
+        memcpy(R, sj + h->u->separation_out.dy_dx, sizeof(double) * (size_t)(ny * nx));
         nb = ny;
         newmode = 1;
         h->nsep++;
@@ -300,7 +302,7 @@ static int switch_at(usm_hybrid *h, double t, double *z)
         double gg[1 + NY];
         usm_impact_outcome io;
         h->u->guard_open(x, &h->p, gg);
-        memcpy(Gx, gg + 1, sizeof(double) * (size_t)ny);
+        memcpy(Gx, gg + h->u->guard_open_out.dgap_dy, sizeof(double) * (size_t)ny);
         /* the simulation's rule (solve/impact.h) */
         if (usm_impact_resolve(h->m, &h->p, h->v_land, t, x, closed_Fn, h, xp, R, &io) != 0) {
             snprintf(h->msg, USM_MSG_LEN, "the impact at t = %.9g s gave a state that is not "
@@ -400,7 +402,7 @@ static void sample_speed(usm_hybrid *h, double t, const double *z)
         row[0] = t;
         row[1] = h->mode;
         memcpy(row + 2, z, sizeof(double) * (size_t)nx);
-        row[nx + 2] = g[0];
+        row[nx + 2] = g[h->u->guard_open_out.gap];
         row[nx + 3] = out[USM_OUT_F_N];
         row[nx + 4] = out[USM_OUT_F_T];
         row[nx + 5] = out[USM_OUT_ROTOR_SPEED];

@@ -14,14 +14,14 @@ int usm_impact_resolve(const usm_model *m, const usm_params *p, double v_land, d
     double cv[2 + 2 * USM_MAX_NY], out[USM_MAX_NY + 2];
     memset(o, 0, sizeof *o);
     u->contact_velocity(y, p, cv);
-    o->v = -cv[0];
+    o->v = -cv[u->contact_velocity_out.gap_rate];
     if (!(o->v > 0) || (o->v <= v_land && closed_Fn(ctx, t, y) < 0)) {
         memcpy(yplus, y, sizeof(double) * (size_t)ny);
         return 0;
     }
     o->impact = 1;
     u->impact_stick(y, p, out);
-    const double Pn = out[ny], Pt = out[ny + 1];
+    const double Pn = out[u->impact_out.P_n], Pt = out[u->impact_out.P_t];
     if (fabs(Pt) > p->mu0 * Pn) {
         if (m->slip) {
             o->slide = 1;
@@ -33,12 +33,13 @@ int usm_impact_resolve(const usm_model *m, const usm_params *p, double v_land, d
     }
     if (!o->slide && R)
         u->impact_stick_jac(y, p, R);
+    const double *after = out + u->impact_out.y;
     for (int i = 0; i < ny; ++i)
-        if (!isfinite(out[i]))
+        if (!isfinite(after[i]))
             return -1;
-    memcpy(yplus, out, sizeof(double) * (size_t)ny);
+    memcpy(yplus, after, sizeof(double) * (size_t)ny);
     u->contact_velocity(yplus, p, cv);
-    o->v_after = cv[0];
-    o->lands = !(cv[0] > v_land) && closed_Fn(ctx, t, yplus) >= 0;
+    o->v_after = cv[u->contact_velocity_out.gap_rate];
+    o->lands = !(o->v_after > v_land) && closed_Fn(ctx, t, yplus) >= 0;
     return 0;
 }

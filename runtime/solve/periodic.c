@@ -553,12 +553,13 @@ static void linear_predictor(const usm_periodic *w, const usm_params *q,
     for (int i = 0; i < n; ++i)
         if (!m->cyclic[i])
             idx[k++] = i;
+    const double *xbar = orbit + m->steady_state_out.x;
     m->steady_state(s->u, s->beta, w->t0, q, orbit);
-    m->mass(orbit, q, M);
+    m->mass(xbar, q, M);
     if (usm_lu_factor_dense(n, M, piv) != 0)
         return;
-    m->jac_rhs(orbit, w->t0, q, G);
-    m->jac_mass(orbit, orbit + n, q, Jm);
+    m->jac_rhs(xbar, w->t0, q, G);
+    m->jac_mass(xbar, orbit + m->steady_state_out.xdot, q, Jm);
     for (int i = 0; i < n * n; ++i)
         G[i] -= Jm[i];
     usm_lu_solve_dense(n, M, piv, G, n);
@@ -567,11 +568,11 @@ static void linear_predictor(const usm_periodic *w, const usm_params *q,
         const double t = w->t0 + w->T * j / NPRED;
         double f0[USM_MAX_NX];
         m->steady_state(s->u, s->beta, t, q, orbit);
-        m->mass(orbit, q, M);
+        m->mass(xbar, q, M);
         if (usm_lu_factor_dense(n, M, piv) != 0)
             return;
-        m->rhs(orbit, t, &w->p, xdot);
-        m->rhs(orbit, t, q, f0);
+        m->rhs(xbar, t, &w->p, xdot);
+        m->rhs(xbar, t, q, f0);
         for (int i = 0; i < n; ++i)
             xdot[i] -= f0[i];
         usm_lu_solve_dense(n, M, piv, xdot, 1);
@@ -614,7 +615,7 @@ static int ideal_start(usm_periodic *w, const usm_params *p, double *x0, double 
     const usm_steady_solution *s = usm_steady_root(w->steady, 0);
     double orbit[2 * USM_MAX_NX];
     w->m->steady_state(s->u, s->beta, w->t0, &q, orbit);
-    memcpy(x0, orbit, sizeof(double) * (size_t)w->n);
+    memcpy(x0, orbit + w->m->steady_state_out.x, sizeof(double) * (size_t)w->n);
     if (usm_params_check_ideal(p, w->msg) != USM_OK) {
         w->msg[0] = '\0';
         linear_predictor(w, &q, s, x0);
@@ -803,12 +804,12 @@ int usm_periodic_solve(usm_periodic *w, const usm_params *p, const double *x_sta
 
 double usm_periodic_friction_supremum(const usm_model *m, const usm_params *p)
 {
-    double mp[2], mm[2];
+    double mp[USM_FRICTION_COUNT], mm[USM_FRICTION_COUNT];
     if (!m->friction)
         return NAN;
     m->friction(V_HUGE, p, mp);
     m->friction(-V_HUGE, p, mm);
-    return fmax(fabs(mp[0]), fabs(mm[0]));
+    return fmax(fabs(mp[USM_FRICTION_MU]), fabs(mm[USM_FRICTION_MU]));
 }
 
 /* The residuals of the saturated orbit (see usm_periodic_saturation) after a

@@ -203,7 +203,8 @@ static int steady_part(usm_sensitivity *s, const usm_params *p, const usm_steady
                  "du/dp does not exist");
         return USM_EFAILED;
     }
-    const double *Du = D, *Dp = D + USM_DESIGN_COUNT * nu;
+    const double *Du = D + m->steady_design_jacobian_out.du;
+    const double *Dp = D + m->steady_design_jacobian_out.dp;
     double dy[USM_DESIGN_COUNT][USM_NPARAMS];
     for (int r = 0; r < USM_DESIGN_COUNT; ++r)
         for (int k = 0; k < USM_NPARAMS; ++k) {
@@ -254,12 +255,16 @@ static int coefficients(usm_sensitivity *s, const usm_params *p, const usm_stead
                         double t, step *st)
 {
     const int n = s->n;
+    const usm_model *m = s->m;
     double orbit[2 * NMAX], lin[3 * NN], A[NN], Mt[NN], At[NN];
-    s->m->steady_state(sol->u, sol->beta, t, p, orbit);
-    s->m->linearisation(orbit, orbit + n, t, p, lin);
+    m->steady_state(sol->u, sol->beta, t, p, orbit);
+    m->linearisation(orbit + m->steady_state_out.x, orbit + m->steady_state_out.xdot, t, p, lin);
+    const double *M = lin + m->linearisation_out.mass;
+    const double *Jf = lin + m->linearisation_out.jac_rhs;
+    const double *Jm = lin + m->linearisation_out.jac_mass;
     for (int i = 0; i < n * n; ++i)
-        A[i] = lin[n * n + i] - lin[2 * n * n + i];
-    usm_matmul_dense(n, lin, s->Tinv, Mt);
+        A[i] = Jf[i] - Jm[i];
+    usm_matmul_dense(n, M, s->Tinv, Mt);
     usm_matmul_dense(n, A, s->Tinv, At);
     if (invert(s, Mt, st->Minv) != 0)
         return -1;
@@ -278,7 +283,7 @@ static int coordinates(usm_sensitivity *s, const usm_params *p, const usm_steady
     double orbit[2 * NMAX];
     step st;
     s->m->steady_state(sol->u, sol->beta, s->t0, p, orbit);
-    s->m->tangent_map(orbit, p, s->T);
+    s->m->tangent_map(orbit + s->m->steady_state_out.x, p, s->T);
     for (int i = 0; i < n; ++i)
         s->d[i] = 1.0;
     if (invert(s, s->T, s->Tinv) != 0 || coefficients(s, p, sol, s->t0, &st) != 0)
@@ -573,9 +578,11 @@ static int modulus_part(usm_sensitivity *s, const usm_params *p, const usm_stead
             const double dh = dT / N;
             double d[2 * NN];
             s->m->floquet_direction(sol->u, s->steps[k].t, du, (kk + 0.5) * dh, p, &dp, d);
+            const double *dM = d + s->m->floquet_direction_out.dM;
+            const double *dA = d + s->m->floquet_direction_out.dA;
             double complex acc = s->wh[k] * dh;
             for (int i = 0; i < n * n; ++i)
-                acc += s->WM[k][i] * d[i] + s->WA[k][i] * d[n * n + i];
+                acc += s->WM[k][i] * dM[i] + s->WA[k][i] * dA[i];
             dl += acc;
         }
         /* d|lambda| = Re(conj(lambda) dlambda) / |lambda| */

@@ -395,7 +395,7 @@ static int cv_roots(sunrealtype t, N_Vector yv, sunrealtype *g, void *data)
         /* open: the guard is the gap; no contact force, nothing to check */
         double gap[1 + USM_MAX_NY];
         s->u->guard_open(x, &s->p, gap);
-        g[ROOT_FN] = gap[0];
+        g[ROOT_FN] = gap[s->u->guard_open_out.gap];
         if (s->nroots > ROOT_STICK)
             g[ROOT_STICK] = 1.0;
     }
@@ -623,7 +623,7 @@ static int emit_sample(usm_sim *s, run_state *r, double t, const double *y, cons
     if (s->mode == 1) {
         double gap[1 + USM_MAX_NY];
         s->u->guard_open(x, &s->p, gap);
-        smp.gap = gap[0];
+        smp.gap = gap[s->u->guard_open_out.gap];
     }
     smp.x = x;
     smp.xdot = xdot;
@@ -823,7 +823,7 @@ static int separate(usm_sim *s, double t, const double *x, const double *q)
     episode_begin(&s->in_open, &s->open_since, &s->sum->contact_open, t);
     /* no contact force while open: the stick check rests until it closes */
     episode_end(&s->in_stick, s->stick_since, &s->sum->stick_exceeded, t);
-    return switch_mode(s, 1, t, yx, q);
+    return switch_mode(s, 1, t, yx + s->u->separation_out.y, q);
 }
 
 /* F_n of the closed mode at state x (which must be evaluable); NAN if not.
@@ -1044,7 +1044,7 @@ static int initial_state(usm_sim *s, double *x0, double *rotor_angle0)
             return USM_ENOSOLUTION;
         }
         s->m->steady_state(s->sum->steady.u, s->sum->steady.beta, o->t0, &s->p, orbit);
-        memcpy(x0, orbit, sizeof(double) * (size_t)n);
+        memcpy(x0, orbit + s->m->steady_state_out.x, sizeof(double) * (size_t)n);
         if (s->irot >= 0)
             x0[s->irot] += o->rotor_angle0;
         break;

@@ -328,17 +328,17 @@ static int refine_root(usm_steady *s, usm_root_fn f, void *ctx, double lo, doubl
 
 static double law_mu(const usm_steady *s, double v)
 {
-    double out[2];
+    double out[USM_FRICTION_COUNT];
     s->m->friction(v, &s->p, out);
-    return out[0];
+    return out[USM_FRICTION_MU];
 }
 
 static double law_slope(double v, void *ctx)
 {
     const usm_steady *s = ctx;
-    double out[2];
+    double out[USM_FRICTION_COUNT];
     s->m->friction(v, &s->p, out);
-    return out[1];
+    return out[USM_FRICTION_SLOPE];
 }
 
 typedef struct gap_ctx {
@@ -468,10 +468,10 @@ static void friction_deps(usm_steady *s)
         *usm_params_field(&base[1], &usm_param_table[k]) = 0.7317 + 0.1193 * k;
     memset(s->dep, 0, sizeof s->dep);
     for (int b = 0; b < 2; ++b) {
-        double ref[200][2];
+        double ref[200][USM_FRICTION_COUNT];
         for (int i = 0; i < 200; ++i) {
             s->m->friction(v[i], &base[b], ref[i]);
-            if (!isfinite(ref[i][0]) || !isfinite(ref[i][1])) {
+            if (!isfinite(ref[i][USM_FRICTION_MU]) || !isfinite(ref[i][USM_FRICTION_SLOPE])) {
                 memset(s->dep, 1, sizeof s->dep);
                 s->dep_ready = 1;
                 return;
@@ -482,7 +482,7 @@ static void friction_deps(usm_steady *s)
             double *f = usm_params_field(&q, &usm_param_table[k]);
             *f = *f * 1.371 + 0.0917;
             for (int i = 0; i < 200 && !s->dep[k]; ++i) {
-                double out[2];
+                double out[USM_FRICTION_COUNT];
                 s->m->friction(v[i], &q, out);
                 s->dep[k] = memcmp(out, ref[i], sizeof out) != 0;
             }

@@ -199,9 +199,9 @@ static double stick_gap(sweep_branch *b, const double *x)
  * monotone law with a finite supremum works. */
 static double friction_limit(const sweep_branch *b, double v)
 {
-    double mu[2];
+    double mu[USM_FRICTION_COUNT];
     b->m->friction(copysign(V_HUGE, v), &b->p, mu);
-    return fabs(mu[0]);
+    return fabs(mu[USM_FRICTION_MU]);
 }
 
 static void solution_at(sweep_branch *b, const double *x, usm_steady_solution *sol)
@@ -681,17 +681,17 @@ static void land_before_saturation(trace *tr, const double *x1, const double *xs
  * small slip velocity too, where the branch goes on to a fold instead. */
 static int in_tail(const sweep_branch *b, double v)
 {
-    double mu[2], prev;
+    double mu[USM_FRICTION_COUNT], prev;
     if (!(fabs(v) > 0))
         return 0;
     b->m->friction(v, &b->p, mu);
-    prev = fabs(mu[0]);
+    prev = fabs(mu[USM_FRICTION_MU]);
     const double lim = friction_limit(b, v);
     const int rising = prev <= lim;
     for (int k = 1; k <= 200; ++k) {
         const double vk = v * pow(V_HUGE / fabs(v), k / 200.0);
         b->m->friction(vk, &b->p, mu);
-        const double m = fabs(mu[0]);
+        const double m = fabs(mu[USM_FRICTION_MU]);
         if (rising ? m < prev - 1e-12 * lim : m > prev + 1e-12 * lim)
             return 0;
         prev = m;

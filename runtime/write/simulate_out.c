@@ -18,12 +18,30 @@ static const usm_csv_column columns[] = {
     {"theta_avg", "rad"}, {"phi_Rdot_avg", "rad/s"},
     {"valid", NULL}, {"invalid_reason", NULL}}; /* last: usm_sim_sample.validity */
 
+#define NCOLUMNS (sizeof columns / sizeof columns[0])
+
 void usm_sim_csv_header(FILE *f)
 {
-    usm_csv_header(f, columns, (int)(sizeof columns / sizeof columns[0]));
+    usm_sim_csv_header_in(NULL, f);
+}
+
+void usm_sim_csv_header_in(const usm_display *d, FILE *f)
+{
+    usm_csv_column shown[NCOLUMNS];
+    for (size_t k = 0; k < NCOLUMNS; ++k) {
+        shown[k] = columns[k];
+        if (columns[k].unit)
+            usm_display_value(d, columns[k].unit, 0, &shown[k].unit);
+    }
+    usm_csv_header(f, shown, (int)NCOLUMNS);
 }
 
 int usm_sim_csv_row(const usm_sim_sample *s, FILE *f)
+{
+    return usm_sim_csv_row_in(s, NULL, f);
+}
+
+int usm_sim_csv_row_in(const usm_sim_sample *s, const usm_display *d, FILE *f)
 {
     /* shortest exact text: a run started from this file continues exactly */
     const double v[] = {s->t, s->phi, s->theta, s->psi, s->phidot, s->thetadot, s->psidot,
@@ -31,7 +49,7 @@ int usm_sim_csv_row(const usm_sim_sample *s, FILE *f)
                         s->out[USM_OUT_F_T], s->out[USM_OUT_V_REL],
                         s->have_avg ? s->theta_avg : NAN, s->have_avg ? s->rotor_speed_avg : NAN};
     for (size_t k = 0; k < sizeof v / sizeof v[0]; ++k)
-        usm_csv_num(f, k == 0, v[k]);
+        usm_csv_num(f, k == 0, usm_display_value(d, columns[k].unit, v[k], NULL));
     usm_csv_validity(f, 1, s->validity);
     fputc('\n', f);
     return ferror(f) ? -1 : 0;
@@ -63,9 +81,25 @@ static void episodes_line(FILE *out, const char *what, const usm_sim_episodes *e
             e->worst, unit);
 }
 
+/* "theta = X UNIT, rotor speed = Y UNIT" in the display units d */
+static void theta_speed(FILE *out, const usm_display *d, double theta, double speed)
+{
+    const char *ua, *us;
+    theta = usm_display_value(d, "rad", theta, &ua);
+    speed = usm_display_value(d, "1/s", speed, &us);
+    fprintf(out, "theta = %.10g %s, rotor speed = %.10g %s", theta, ua, speed, us);
+}
+
 void usm_sim_write_table(const usm_sim_report *a, FILE *out)
 {
+    usm_sim_write_table_in(a, NULL, out);
+}
+
+void usm_sim_write_table_in(const usm_sim_report *a, const usm_display *d, FILE *out)
+{
     const usm_sim_summary *s = a->summary;
+    const char *ua;
+    const double theta_lo = usm_display_value(d, "rad", a->summary->theta_min, &ua);
     const double wall = a->wall;
     char buf[512];
     const double T = 1.0 / a->params->f;
@@ -78,16 +112,19 @@ void usm_sim_write_table(const usm_sim_report *a, FILE *out)
     fprintf(out, "  %-22s %.9g s\n", "reached", s->t_reached);
     fprintf(out, "  %-22s %ld steps, %ld f evaluations, %ld Jacobians, %.3g s wall, rtol %g\n",
             "integrator", s->steps, s->rhs_evals, s->jac_evals, wall, a->opt->rtol);
-    fprintf(out, "  %-22s [%.6g, %.6g] rad\n", "tilt range", s->theta_min, s->theta_max);
-    if (s->have_steady)
-        fprintf(out, "  %-22s theta = %.10g rad, rotor speed = %.10g 1/s\n", "stationary solution",
-                s->steady.theta, s->steady.rotor_speed);
-    else
+    fprintf(out, "  %-22s [%.6g, %.6g] %s\n", "tilt range", theta_lo,
+            usm_display_value(d, "rad", s->theta_max, NULL), ua);
+    if (s->have_steady) {
+        fprintf(out, "  %-22s ", "stationary solution");
+        theta_speed(out, d, s->steady.theta, s->steady.rotor_speed);
+        fputc('\n', out);
+    } else
         fprintf(out, "  %-22s none (%s): settling is not defined\n", "stationary solution",
                 s->steady_message);
     if (s->periods > 0) {
-        fprintf(out, "  %-22s theta = %.10g rad, rotor speed = %.10g 1/s\n", "last period mean",
-                s->theta_avg_end, s->rotor_speed_avg_end);
+        fprintf(out, "  %-22s ", "last period mean");
+        theta_speed(out, d, s->theta_avg_end, s->rotor_speed_avg_end);
+        fputc('\n', out);
         if (s->have_steady)
             fprintf(out, "  %-22s theta %+.3e, rotor speed %+.3e (relative to stationary)\n",
                     "difference at the end", s->theta_rel_end, s->rotor_speed_rel_end);
@@ -106,17 +143,17 @@ void usm_sim_write_table(const usm_sim_report *a, FILE *out)
         fprintf(out,
                 "  %-22s no (tolerance %g relative, held for %d periods to the end of the run)\n",
                 "settled", s->settle_tol, s->settle_periods);
-    if (s->settled_on >= 0)
+    if (s->settled_on >= 0) {
+        fprintf(out, "  %-22s root #%d of %zu (", "settled on", s->settled_on + 1, s->roots);
+        theta_speed(out, d, s->settled_root.theta, s->settled_root.rotor_speed);
+        fprintf(out, "): period means within %g of it for the last %d periods\n", s->settle_tol,
+                s->settle_periods);
+    } else if (s->settled_on == USM_SIM_SETTLED_REST)
         fprintf(out,
-                "  %-22s root #%d of %zu (theta = %.10g rad, rotor speed = %.10g 1/s): period "
-                "means within %g of it for the last %d periods\n",
-                "settled on", s->settled_on + 1, s->roots, s->settled_root.theta,
-                s->settled_root.rotor_speed, s->settle_tol, s->settle_periods);
-    else if (s->settled_on == USM_SIM_SETTLED_REST)
-        fprintf(out,
-                "  %-22s rest: the wobble decayed (period-mean tilt held below %g of %.3g rad "
+                "  %-22s rest: the wobble decayed (period-mean tilt held below %g of %.3g %s "
                 "by t = %.6g s); the motor does not start\n",
-                "settled on", s->rest_fraction, s->rest_theta_ref, s->t_rest);
+                "settled on", s->rest_fraction, usm_display_value(d, "rad", s->rest_theta_ref, NULL),
+                ua, s->t_rest);
     else
         fprintf(out, "  %-22s none of the %zu stationary solution%s, and no decay to rest\n",
                 "settled on", s->roots, s->roots == 1 ? "" : "s");

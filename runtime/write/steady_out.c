@@ -104,12 +104,17 @@ json_t *usm_steady_json(const usm_steady_report *r)
     return usm_json_finish(obj, ok);
 }
 
-static void row(FILE *out, const char *name, double v, const char *unit, const char *what)
+/* d: the display units of the table (NULL: SI) */
+static void row_in(FILE *out, const usm_display *d, const char *name, double v, const char *si,
+                   const char *what)
 {
+    const char *unit;
+    v = usm_display_value(d, si, v, &unit);
     fprintf(out, "  %-17s %-24.10g %-7s %s\n", name, v, unit, what);
 }
+#define row(out, name, v, unit, what) row_in(out, d, name, v, unit, what)
 
-static void solution(FILE *out, const usm_steady_solution *s)
+static void solution(FILE *out, const usm_display *d, const usm_steady_solution *s)
 {
     row(out, "theta", s->theta, "rad", "stator tilt");
     row(out, "alpha", s->alpha, "rad", "phase of phi behind the excitation, in [0, 2 pi)");
@@ -169,8 +174,18 @@ static void multipliers(FILE *out, const usm_floquet_result *f, double freq,
 
 /* One line per root; with every root's multipliers (fl, or NULL) also its
  * largest modulus and stability, for every count of roots. */
-static void other_roots(FILE *out, const usm_steady *s, const usm_floquet_result *fl)
+static void other_roots(FILE *out, const usm_display *d, const usm_steady *s,
+                        const usm_floquet_result *fl)
 {
+    const char *ua, *us, *uf;
+    char ctheta[32], calpha[32], cspeed[32], cforce[32];
+    usm_display_value(d, "rad", 0, &ua);
+    usm_display_value(d, "1/s", 0, &us);
+    usm_display_value(d, "N", 0, &uf);
+    snprintf(ctheta, sizeof ctheta, "theta [%s]", ua);
+    snprintf(calpha, sizeof calpha, "alpha [%s]", ua);
+    snprintf(cspeed, sizeof cspeed, "rotor_speed [%s]", us);
+    snprintf(cforce, sizeof cforce, "F_n [%s]", uf);
     size_t n = usm_steady_count(s);
     if (n < 2 && !fl)
         return;
@@ -180,15 +195,18 @@ static void other_roots(FILE *out, const usm_steady *s, const usm_floquet_result
                 n);
     else
         fprintf(out, "\nall %zu stationary solutions (Floquet multipliers above are of #1)\n", n);
-    fprintf(out, "  %3s %-18s %-18s %-18s %-18s %-5s", "#", "theta [rad]", "alpha [rad]",
-            "rotor_speed [1/s]", "F_n [N]", "stick");
+    fprintf(out, "  %3s %-18s %-18s %-18s %-18s %-5s", "#", ctheta, calpha, cspeed,
+            cforce, "stick");
     if (fl)
         fprintf(out, " %-14s %s", "max |lambda|", "stability");
     fputc('\n', out);
     for (size_t k = 0; k < n; ++k) {
         const usm_steady_solution *r = usm_steady_root(s, k);
-        fprintf(out, "  %3zu %-18.10g %-18.10g %-18.10g %-18.10g %-5s", k + 1, r->theta, r->alpha,
-                r->rotor_speed, r->F_n, r->stick_admissible ? "yes" : "no");
+        fprintf(out, "  %3zu %-18.10g %-18.10g %-18.10g %-18.10g %-5s", k + 1,
+                usm_display_value(d, "rad", r->theta, NULL),
+                usm_display_value(d, "rad", r->alpha, NULL),
+                usm_display_value(d, "1/s", r->rotor_speed, NULL),
+                usm_display_value(d, "N", r->F_n, NULL), r->stick_admissible ? "yes" : "no");
         if (fl)
             fprintf(out, " %-14.10g %s", fl[k].max_modulus, fl[k].stable ? "stable" : "unstable");
         fputc('\n', out);
@@ -198,7 +216,7 @@ static void other_roots(FILE *out, const usm_steady *s, const usm_floquet_result
 /* A person should see the 0.005 they typed, not 0.0050000000000000001,
  * without losing any bits.  At least 6 digits, so that 4000 does not print as
  * 4e+03. */
-static void parameters(FILE *out, const usm_params *p)
+static void parameters(FILE *out, const usm_display *d, const usm_params *p)
 {
     char buf[32];
     usm_params def;
@@ -210,9 +228,11 @@ static void parameters(FILE *out, const usm_params *p)
     fprintf(out, "\nparameters (* differs from the default)\n");
     for (int k = 0; k < USM_NPARAMS; ++k) {
         const usm_param_info *info = &usm_param_table[k];
-        double v = usm_params_get(p, info);
+        const double v = usm_params_get(p, info);
+        const char *unit;
+        const double shown = usm_display_value(d, info->unit, v, &unit);
         fprintf(out, "  %-*s %c %-24s %-10s %s\n", width, info->name,
-                v != usm_params_get(&def, info) ? '*' : ' ', usm_shortest(buf, v), info->unit,
+                v != usm_params_get(&def, info) ? '*' : ' ', usm_shortest(buf, shown), unit,
                 info->description);
     }
 }
@@ -254,6 +274,11 @@ static void operating_point(FILE *out, const usm_op_result *op, size_t n)
 
 void usm_steady_table(const usm_steady_report *r, FILE *out)
 {
+    usm_steady_table_in(r, NULL, out);
+}
+
+void usm_steady_table_in(const usm_steady_report *r, const usm_display *d, FILE *out)
+{
     const size_t top = top_root(r), n = usm_steady_count(r->steady);
     const int is_op = r->op && r->op->index >= 0 && (size_t)r->op->index == top;
     fprintf(out, "model %s: %s\n", r->model->name, r->model->description);
@@ -267,12 +292,12 @@ void usm_steady_table(const usm_steady_report *r, FILE *out)
                 : !r->roots_floquet[top].stable ? "; unstable: not an operating point"
                 : r->op                    ? "; not the operating point"
                                            : "");
-    solution(out, usm_steady_root(r->steady, top));
+    solution(out, d, usm_steady_root(r->steady, top));
     if (r->floquet)
         multipliers(out, top > 0 ? &r->roots_floquet[top] : r->floquet, r->params->f,
                     usm_steady_root(r->steady, top)->validity);
-    other_roots(out, r->steady, r->roots_floquet);
-    parameters(out, r->params);
+    other_roots(out, d, r->steady, r->roots_floquet);
+    parameters(out, d, r->params);
 }
 
 int usm_steady_write_json(const usm_steady_report *r, FILE *out)

@@ -81,4 +81,74 @@ if expect_rc 0 variants --help; then
     done
 fi
 
+# ---- units out (--units): values shown in rpm, deg, mNm; JSON stays SI ------------
+# Truth: the units' definitions (1 rpm = 2 pi/60 1/s, 1 deg = pi/180 rad) applied
+# to the SI output of the same run.
+if expect_rc 0 steady --json; then cp "$out" "$tmp/steady_si.json"; fi
+if expect_rc 0 steady --json --units rpm,deg; then
+    cmp -s "$out" "$tmp/steady_si.json" || fail "steady --json --units: the JSON is not the SI one"
+fi
+if expect_rc 0 steady --units rpm,deg; then
+    py_si() { "$PY" - "$tmp/steady_si.json" "$out" <<'PYEOF'
+import json, math, sys
+o = json.load(open(sys.argv[1]))
+rows = {l.split()[0]: l.split() for l in open(sys.argv[2]) if l.startswith('  ') and len(l.split()) > 2}
+w, th = rows['rotor_speed'], rows['theta']
+assert w[2] == 'rpm' and th[2] == 'deg', (w, th)
+assert abs(float(w[1]) - o['rotor_speed'] * 60 / (2 * math.pi)) <= 1e-9 * abs(float(w[1])), w
+assert abs(float(th[1]) - o['theta'] * 180 / math.pi) <= 1e-9 * abs(float(th[1])), th
+PYEOF
+    }
+    checks=$((checks + 1)); py_si || fail "steady --units rpm,deg: the table is not the SI values converted"
+fi
+if expect_rc 0 sweep --over T --from 0 --to 2mNm --points 5 --no-floquet; then cp "$out" "$tmp/sweep_si.csv"; fi
+if expect_rc 0 sweep --over T --from 0 --to 2mNm --points 5 --no-floquet --units rpm,deg,mNm; then
+    checks=$((checks + 1))
+    "$PY" - "$tmp/sweep_si.csv" "$out" <<'PYEOF' || fail "sweep --units: the CSV is not the SI one converted"
+import csv, math, sys
+def read(path):
+    lines = open(path).read().splitlines()
+    rows = list(csv.DictReader([l for l in lines if not l.startswith('#')]))
+    return rows, [l for l in lines if l.startswith('# stick_limit')]
+si, ev_si = read(sys.argv[1])
+sh, ev_sh = read(sys.argv[2])
+scale = {'T': ('T [N m]', 'T [mNm]', 1e-3), 'theta': ('theta [rad]', 'theta [deg]', math.pi / 180),
+         'rotor_speed': ('rotor_speed [1/s]', 'rotor_speed [rpm]', 2 * math.pi / 60),
+         'op_theta': ('op_theta [rad]', 'op_theta [deg]', math.pi / 180)}
+for a, b in zip(si, sh):
+    for k, (ca, cb, f) in scale.items():
+        if a[ca] == '':
+            assert b[cb] == '', (k, b[cb])
+            continue
+        assert abs(float(b[cb]) * f - float(a[ca])) <= 1e-14 * abs(float(a[ca])) + 1e-300, (k, a[ca], b[cb])
+    assert a['F_n [N]'] == b['F_n [N]'] and a['valid'] == b['valid'], 'other columns changed'
+x_si = float(ev_si[0].split(' = ')[1].split(':')[0])
+x_sh = float(ev_sh[0].split(' = ')[1].split(':')[0])
+assert abs(x_sh * 1e-3 - x_si) <= 1e-14 * x_si, (x_si, x_sh)
+PYEOF
+fi
+# a time history written in rpm and deg continues a run as the SI one does
+if expect_rc 0 simulate --duration 0.0002 --out "$tmp/h_si.csv" &&
+   expect_rc 0 simulate --duration 0.0002 --units rpm,deg --out "$tmp/h_rpm.csv"; then
+    head -1 "$tmp/h_rpm.csv" | grep -q 'phi_Rdot \[rpm\].*theta_avg \[deg\]' ||
+        fail "simulate --units: the header does not name rpm and deg"
+    if expect_rc 0 simulate --duration 0.0001 --rate 0 --from "$tmp/h_si.csv" --json; then cp "$out" "$tmp/c_si.json"; fi
+    if expect_rc 0 simulate --duration 0.0001 --rate 0 --from "$tmp/h_rpm.csv" --json; then
+        checks=$((checks + 1))
+        "$PY" - "$tmp/c_si.json" "$out" <<'PYEOF' || fail "simulate --from a file in rpm/deg: not the run from the SI file"
+import json, sys
+a, b = (json.load(open(p)) for p in sys.argv[1:3])
+xa, xb = a['final_state']['x'], b['final_state']['x']
+assert all(abs(p - q) <= 1e-9 * max(1.0, abs(p)) for p, q in zip(xa, xb)), (xa, xb)
+PYEOF
+    fi
+fi
+if expect_rc 0 map --x-points 2 --y-points 2 --units kHz,mNm --quiet; then
+    head -1 "$out" | grep -q '^f \[kHz\],T \[mNm\],' || fail "map --units kHz,mNm: header $(head -1 "$out")"
+fi
+expect_bad '--units' '"furlong" is not a unit usm knows' steady --units furlong
+expect_bad '--units' 'rpm and rad/s are both units of \[1/s\]' sweep --over T --units rpm,rad/s
+expect_bad '--units' 'a ratio' simulate --duration 1e-4 --units %
+expect_bad '--units' 'unknown option' optimize --units rpm
+
 finish units_cli

@@ -16,6 +16,16 @@
  *   (changing it changes no output bit) but do read I_xx; usm_params_couple
  *   makes I_yy equal I_xx, after which usm_params_check accepts the point,
  *   and refuses I_yy != I_xx naming both.
+ * - Offsets of packed outputs (usm_model.<kernel>_out, usm_unilateral's, and
+ *   each header's <MODEL>_<KERNEL>_OUT_<BLOCK>): every block read at its
+ *   offset against a second computation: linearisation's blocks against the
+ *   separate kernels mass, jac_rhs and jac_mass; steady_state's rate and
+ *   floquet_direction's blocks (along dt) against central differences in t;
+ *   steady_design_jacobian's blocks against central differences of
+ *   steady_outputs and steady_power in u and in the load T; friction's slope
+ *   against differences of mu; the unilateral guards, contact velocity and
+ *   separation against their definitions (gap = Z_R - Z, F_n of outputs,
+ *   y = (x, ...)), the impacts against Newton's law at the contact.
  */
 #include <math.h>
 #include <stddef.h>
@@ -25,6 +35,8 @@
 
 #include "check.h"
 #include "usm.h"
+#include "usm_3dof.h"
+#include "usm_4dof_imperfect_unilateral.h"
 #include "usm_tolerance.h"
 
 typedef struct expected {
@@ -444,6 +456,264 @@ static void check_ranges(void)
           "I_yy, tied to I_xx: \"%s\"", msg);
 }
 
+/* |a - b| within tol of the larger magnitude of the two (and of floor). */
+static int near(double a, double b, double tol, double floor)
+{
+    return fabs(a - b) <= tol * fmax(fmax(fabs(a), fabs(b)), floor);
+}
+
+/* The orbit's M and A = df/dx - d(M v)/dx at v = xbar' at time t. */
+static void orbit_MA(const usm_model *m, const double *u, double beta, double t,
+                     const usm_params *p, double *M, double *A)
+{
+    const int n = m->nx;
+    double orbit[2 * USM_MAX_NX], Jm[USM_MAX_NX * USM_MAX_NX];
+    m->steady_state(u, beta, t, p, orbit);
+    const double *x = orbit + m->steady_state_out.x, *xd = orbit + m->steady_state_out.xdot;
+    m->mass(x, p, M);
+    m->jac_rhs(x, t, p, A);
+    m->jac_mass(x, xd, p, Jm);
+    for (int i = 0; i < n * n; ++i)
+        A[i] -= Jm[i];
+}
+
+static void check_model_offsets(const usm_model *m)
+{
+    const int n = m->nx, nu = m->nu, nn = n * n;
+    usm_params p;
+    usm_params_default(&p);
+    double x[USM_MAX_NX], v[USM_MAX_NX], u[USM_MAX_NU] = {0};
+    for (int i = 0; i < n; ++i)
+        x[i] = 0.05 * (i + 1), v[i] = 0.7 - 0.1 * i;
+    if (m->coordinates == 1) {
+        x[m->x_a] = 0.006;
+        x[m->x_b] = -0.008;
+    } else
+        x[m->x_theta] = 0.01;
+    u[m->u_theta] = 0.0123;
+    u[m->u_alpha] = 0.4;
+    if (m->u_phidot_R >= 0)
+        u[m->u_phidot_R] = -150.0;
+    const double t = 0.3e-5;
+    /* linearisation: [M, df/dx, d(Mv)/dx] against the separate kernels */
+    double lin[3 * USM_MAX_NX * USM_MAX_NX], M[USM_MAX_NX * USM_MAX_NX];
+    double Jf[USM_MAX_NX * USM_MAX_NX], Jm[USM_MAX_NX * USM_MAX_NX];
+    m->linearisation(x, v, t, &p, lin);
+    m->mass(x, &p, M);
+    m->jac_rhs(x, t, &p, Jf);
+    m->jac_mass(x, v, &p, Jm);
+    int bad = 0;
+    for (int i = 0; i < nn; ++i)
+        bad += !near(lin[m->linearisation_out.mass + i], M[i], 1e-12, 1e-300) ||
+               !near(lin[m->linearisation_out.jac_rhs + i], Jf[i], 1e-12, 1e-300) ||
+               !near(lin[m->linearisation_out.jac_mass + i], Jm[i], 1e-12, 1e-300);
+    CHECK(bad == 0, "%s: linearisation's blocks differ from mass, jac_rhs, jac_mass in %d entries",
+          m->name, bad);
+    /* steady_state: the rate block is the derivative of the state block in t */
+    double y[USM_STEADY_COUNT];
+    m->steady_outputs(u, &p, y);
+    const double beta = y[USM_STEADY_BETA], h = 1e-4 / p.f;
+    double o0[2 * USM_MAX_NX], op[2 * USM_MAX_NX], om[2 * USM_MAX_NX];
+    m->steady_state(u, beta, t, &p, o0);
+    m->steady_state(u, beta, t + h, &p, op);
+    m->steady_state(u, beta, t - h, &p, om);
+    for (int i = 0; i < n; ++i) {
+        const int a = m->steady_state_out.x + i;
+        const double fd = (op[a] - om[a]) / (2 * h);
+        CHECK(near(o0[m->steady_state_out.xdot + i], fd, 1e-6, 1e-3),
+              "%s: steady_state rate %d: %.10g, differences %.10g", m->name, i,
+              o0[m->steady_state_out.xdot + i], fd);
+    }
+    /* floquet_direction along dt = 1: the derivatives of M and A in t */
+    if (m->floquet_direction) {
+        double d[2 * USM_MAX_NX * USM_MAX_NX], du[USM_MAX_NU] = {0};
+        double Mp[USM_MAX_NX * USM_MAX_NX], Mm[USM_MAX_NX * USM_MAX_NX];
+        double Ap[USM_MAX_NX * USM_MAX_NX], Am[USM_MAX_NX * USM_MAX_NX];
+        usm_params dp;
+        memset(&dp, 0, sizeof dp);
+        m->floquet_direction(u, t, du, 1.0, &p, &dp, d);
+        orbit_MA(m, u, beta, t + h, &p, Mp, Ap);
+        orbit_MA(m, u, beta, t - h, &p, Mm, Am);
+        double scaleM = 1e-300, scaleA = 1e-300;
+        for (int i = 0; i < nn; ++i) {
+            scaleM = fmax(scaleM, fabs(Mp[i] - Mm[i]) / (2 * h));
+            scaleA = fmax(scaleA, fabs(Ap[i] - Am[i]) / (2 * h));
+        }
+        /* the differences' rounding, where the linearisation is constant in t */
+        for (int i = 0; i < nn; ++i) {
+            scaleM = fmax(scaleM, 1e-9 * fabs(Mp[i]) / h);
+            scaleA = fmax(scaleA, 1e-9 * fabs(Ap[i]) / h);
+        }
+        bad = 0;
+        for (int i = 0; i < nn; ++i)
+            bad += fabs(d[m->floquet_direction_out.dM + i] - (Mp[i] - Mm[i]) / (2 * h)) >
+                       1e-5 * scaleM ||
+                   fabs(d[m->floquet_direction_out.dA + i] - (Ap[i] - Am[i]) / (2 * h)) >
+                       1e-5 * scaleA;
+        CHECK(bad == 0, "%s: floquet_direction's dM, dA along t differ from differences in %d "
+              "entries", m->name, bad);
+    }
+    /* steady_design_jacobian: [dy/du, dy/dp], y the design quantities */
+    double D[USM_DESIGN_COUNT * (USM_MAX_NU + USM_NPARAMS)];
+    m->steady_design_jacobian(u, &p, D);
+    for (int j = 0; j <= nu; ++j) { /* the unknowns, then the load T */
+        double yp[USM_DESIGN_COUNT], ym[USM_DESIGN_COUNT];
+        for (int side = 0; side < 2; ++side) {
+            double us[USM_MAX_NU], so[USM_STEADY_COUNT], pw[USM_POWER_COUNT];
+            usm_params q = p;
+            memcpy(us, u, sizeof us);
+            const double step = j < nu ? 1e-6 * fmax(1.0, fabs(u[j])) : 1e-6 * fabs(p.T);
+            if (j < nu)
+                us[j] += side ? -step : step;
+            else
+                q.T += side ? -step : step;
+            m->steady_outputs(us, &q, so);
+            m->steady_power(us, &q, pw);
+            double *yy = side ? ym : yp;
+            yy[USM_DESIGN_ROTOR_SPEED] = so[USM_STEADY_ROTOR_SPEED];
+            yy[USM_DESIGN_F_N] = so[USM_STEADY_F_N];
+            yy[USM_DESIGN_F_T] = so[USM_STEADY_F_T];
+            yy[USM_DESIGN_POWER_IN] = pw[USM_POWER_POWER_IN];
+            yy[USM_DESIGN_POWER_OUT] = pw[USM_POWER_POWER_OUT];
+            yy[USM_DESIGN_POWER_DAMPING] = pw[USM_POWER_POWER_DAMPING];
+            yy[USM_DESIGN_POWER_SLIP] = pw[USM_POWER_POWER_SLIP];
+        }
+        const double step = j < nu ? 1e-6 * fmax(1.0, fabs(u[j])) : 1e-6 * fabs(p.T);
+        for (int r = 0; r < USM_DESIGN_COUNT; ++r) {
+            const double fd = (yp[r] - ym[r]) / (2 * step);
+            const double got = j < nu ? D[m->steady_design_jacobian_out.du + r * nu + j]
+                                      : D[m->steady_design_jacobian_out.dp + r * USM_NPARAMS + USM_P_T];
+            CHECK(near(got, fd, 1e-5, 1e-6 * (fabs(yp[r]) + 1e-12) / step),
+                  "%s: steady_design_jacobian row %s, %s: %.10g, differences %.10g", m->name,
+                  usm_design_outputs[r].name, j < nu ? m->unknown_names[j] : "T", got, fd);
+        }
+    }
+    /* friction: the slope is the derivative of mu */
+    if (m->friction) {
+        double f0[USM_FRICTION_COUNT], fp[USM_FRICTION_COUNT], fm[USM_FRICTION_COUNT];
+        const double vr = 0.013, dv = 1e-7;
+        m->friction(vr, &p, f0);
+        m->friction(vr + dv, &p, fp);
+        m->friction(vr - dv, &p, fm);
+        CHECK(near(f0[USM_FRICTION_SLOPE], (fp[USM_FRICTION_MU] - fm[USM_FRICTION_MU]) / (2 * dv),
+                   1e-6, 1e-9),
+              "%s: friction slope %.10g, differences of mu %.10g", m->name,
+              f0[USM_FRICTION_SLOPE], (fp[USM_FRICTION_MU] - fm[USM_FRICTION_MU]) / (2 * dv));
+    }
+}
+
+/* The unilateral kernels' blocks against their definitions. */
+static void check_unilateral_offsets(const usm_model *m)
+{
+    const usm_unilateral *U = m->unilateral;
+    const int n = m->nx, ny = U->ny;
+    usm_params p;
+    usm_params_default(&p);
+    p.e_impact = 0.4;
+    double x[USM_MAX_NX], xd[USM_MAX_NX], o[USM_OUT_COUNT];
+    for (int i = 0; i < n; ++i)
+        x[i] = 0.05 * (i + 1), xd[i] = 0.3 - 0.07 * i;
+    x[m->x_theta] = 0.01;
+    const double t = 0.3e-5;
+    /* guard_closed: F_n of outputs, its gradients by differences */
+    double gc[1 + 2 * USM_MAX_NX], gp[1 + 2 * USM_MAX_NX], gm[1 + 2 * USM_MAX_NX];
+    U->guard_closed(x, xd, t, &p, gc);
+    m->outputs(x, xd, t, &p, o);
+    CHECK(near(gc[U->guard_closed_out.F_n], o[USM_OUT_F_N], 1e-12, 1e-9),
+          "%s: guard_closed F_n %.10g, outputs %.10g", m->name, gc[U->guard_closed_out.F_n],
+          o[USM_OUT_F_N]);
+    for (int j = 0; j < 2 * n; ++j) {
+        double xs[USM_MAX_NX], xds[USM_MAX_NX];
+        double *w = j < n ? xs : xds;
+        const int k = j < n ? j : j - n;
+        memcpy(xs, x, sizeof xs);
+        memcpy(xds, xd, sizeof xds);
+        const double step = 1e-6 * fmax(1.0, fabs(w[k]));
+        w[k] += step;
+        U->guard_closed(xs, xds, t, &p, gp);
+        w[k] -= 2 * step;
+        U->guard_closed(xs, xds, t, &p, gm);
+        const double fd = (gp[U->guard_closed_out.F_n] - gm[U->guard_closed_out.F_n]) / (2 * step);
+        const double got = j < n ? gc[U->guard_closed_out.dF_n_dx + k]
+                                 : gc[U->guard_closed_out.dF_n_dxdot + k];
+        CHECK(near(got, fd, 1e-5, 1e-6 * fabs(gc[U->guard_closed_out.F_n]) / step),
+              "%s: guard_closed gradient %d: %.10g, differences %.10g", m->name, j, got, fd);
+    }
+    /* separation: y = (x, Z, Z'[, w_R]), dy/dx with the identity on x */
+    double sj[USM_MAX_NY * (USM_MAX_NY + 1)], yv[USM_MAX_NY];
+    U->separation(x, &p, sj);
+    memcpy(yv, sj + U->separation_out.y, sizeof(double) * (size_t)ny);
+    int bad = 0;
+    for (int i = 0; i < n; ++i) {
+        bad += yv[i] != x[i];
+        for (int j = 0; j < n; ++j)
+            bad += sj[U->separation_out.dy_dx + i * n + j] != (i == j);
+    }
+    CHECK(bad == 0, "%s: separation's y or dy/dx is not (x, identity) in %d entries", m->name, bad);
+    /* guard_open: gap = Z_R - Z(theta), 0 at the separation; dgap/dZ_R = 1 */
+    double gg[1 + USM_MAX_NY];
+    U->guard_open(yv, &p, gg);
+    CHECK(fabs(gg[U->guard_open_out.gap]) <= 1e-15 && gg[U->guard_open_out.dgap_dy + U->y_Z_R] == 1,
+          "%s: guard_open at the separation: gap %.3g, dgap/dZ_R %.17g", m->name,
+          gg[U->guard_open_out.gap], gg[U->guard_open_out.dgap_dy + U->y_Z_R]);
+    yv[U->y_Z_R] += 1e-6;
+    U->guard_open(yv, &p, gg);
+    CHECK(near(gg[U->guard_open_out.gap], 1e-6, 1e-9, 1e-6), "%s: gap %.17g after Z_R + 1e-6",
+          m->name, gg[U->guard_open_out.gap]);
+    /* the impacts: Newton's law gap'+ = -e gap'- (and, sticking, v_rel+ = 0);
+       the rotor approaching at 1 mm/s */
+    yv[U->y_Z_R] -= 1e-6;
+    double cv[2 + 2 * USM_MAX_NY], cva[2 + 2 * USM_MAX_NY], imp[USM_MAX_NY + 2];
+    U->contact_velocity(yv, &p, cv);
+    yv[U->y_Z_Rdot] += -1e-3 - cv[U->contact_velocity_out.gap_rate];
+    U->contact_velocity(yv, &p, cv);
+    CHECK(near(cv[U->contact_velocity_out.gap_rate], -1e-3, 1e-9, 1e-3) &&
+              cv[U->contact_velocity_out.dgap_rate_dy + U->y_Z_Rdot] == 1,
+          "%s: contact_velocity gap' %.17g (-1e-3), dgap'/dZ_Rdot %.17g", m->name,
+          cv[U->contact_velocity_out.gap_rate],
+          cv[U->contact_velocity_out.dgap_rate_dy + U->y_Z_Rdot]);
+    U->impact_stick(yv, &p, imp);
+    U->contact_velocity(imp + U->impact_out.y, &p, cva);
+    CHECK(near(cva[U->contact_velocity_out.gap_rate], 0.4e-3, 1e-9, 1e-3) &&
+              fabs(cva[U->contact_velocity_out.v_rel]) <= 1e-12 * fmax(1.0, fabs(cv[U->contact_velocity_out.v_rel])) &&
+              imp[U->impact_out.P_n] > 0,
+          "%s: sticking impact: gap'+ %.10g (0.4e-3), v_rel+ %.3g, P_n %.3g", m->name,
+          cva[U->contact_velocity_out.gap_rate], cva[U->contact_velocity_out.v_rel],
+          imp[U->impact_out.P_n]);
+    if (m->slip) {
+        U->impact_slide(yv, 1.0, &p, imp);
+        U->contact_velocity(imp + U->impact_out.y, &p, cva);
+        CHECK(near(cva[U->contact_velocity_out.gap_rate], 0.4e-3, 1e-9, 1e-3) &&
+                  near(imp[U->impact_out.P_t], p.mu0 * imp[U->impact_out.P_n], 1e-12, 1e-30),
+              "%s: sliding impact: gap'+ %.10g (0.4e-3), P_t %.6g, mu0 P_n %.6g", m->name,
+              cva[U->contact_velocity_out.gap_rate], imp[U->impact_out.P_t],
+              p.mu0 * imp[U->impact_out.P_n]);
+    }
+}
+
+static void check_offsets(void)
+{
+    for (int k = 0; k < USM_NMODELS; ++k) {
+        check_model_offsets(usm_models[k]);
+        if (usm_models[k]->unilateral)
+            check_unilateral_offsets(usm_models[k]);
+    }
+    /* the headers name the descriptors' offsets */
+    CHECK(usm_model_3dof.linearisation_out.jac_rhs == USM_3DOF_LINEARISATION_OUT_JAC_RHS &&
+              usm_model_3dof.linearisation_out.jac_mass == USM_3DOF_LINEARISATION_OUT_JAC_MASS &&
+              usm_model_3dof.steady_state_out.xdot == USM_3DOF_STEADY_STATE_OUT_XDOT &&
+              usm_model_3dof.floquet_direction_out.dA == USM_3DOF_FLOQUET_DIRECTION_OUT_DA &&
+              usm_model_3dof.steady_design_jacobian_out.dp == USM_3DOF_STEADY_DESIGN_JACOBIAN_OUT_DP,
+          "usm_3dof.h's offsets differ from usm_model_3dof's");
+    const usm_unilateral *U = usm_model_4dof_imperfect_unilateral.unilateral;
+    CHECK(U->guard_closed_out.dF_n_dxdot == USM_4DOF_IMPERFECT_UNILATERAL_GUARD_CLOSED_OUT_DF_N_DXDOT &&
+              U->separation_out.dy_dx == USM_4DOF_IMPERFECT_UNILATERAL_SEPARATION_OUT_DY_DX &&
+              U->impact_out.P_t == USM_4DOF_IMPERFECT_UNILATERAL_IMPACT_SLIDE_OUT_P_T &&
+              U->contact_velocity_out.dv_rel_dy ==
+                  USM_4DOF_IMPERFECT_UNILATERAL_CONTACT_VELOCITY_OUT_DV_REL_DY,
+          "usm_4dof_imperfect_unilateral.h's offsets differ from its descriptor's");
+}
+
 int main(int argc, char **argv)
 {
     if (argc != 2) {
@@ -457,6 +727,7 @@ int main(int argc, char **argv)
     check_outputs();
     check_couplings();
     check_ranges();
+    check_offsets();
     printf("%s: %d failures\n", argv[0], failures);
     return failures != 0;
 }

@@ -179,6 +179,43 @@ int usm_unit_count(void);
  * any pointer may be NULL).  USM_EINPUT for a row out of range. */
 int usm_unit_at(int k, const char **si, const char **name, double *scale);
 
+/* ---- display units (--units) ------------------------------------------------- */
+
+/* The units values are shown in, for people: tables, CSV files, event lines
+ * and plot axes.  JSON stays SI.  One entry per dimension chosen; every other
+ * dimension is shown in SI.  An all-zero usm_display shows everything in SI. */
+#define USM_DISPLAY_MAX 8
+typedef struct usm_display {
+    int n;
+    struct {
+        const char *si;   /* the dimension's SI unit, as the contracts spell it */
+        const char *name; /* the unit shown (a name of the units table) */
+        double scale;     /* its value in SI: shown = SI value / scale */
+    } unit[USM_DISPLAY_MAX];
+} usm_display;
+
+/* Parse a --units list: unit names of the units table, comma-separated
+ * ("rpm,deg", "rpm, deg, kHz, mNm"), or "si".  Each name chooses how its
+ * dimension is shown; a rotor speed chosen in rpm also shows rad/s columns in
+ * rpm.  USM_EINPUT with "FIELD: reason" in msg for an unknown name, a
+ * dimensionless unit (%: a ratio column is not one quantity) or two names of
+ * one dimension. */
+int usm_display_parse(const char *field, const char *spec, usm_display *d,
+                      char msg[USM_IO_MSG_LEN]);
+
+/* v, a value in SI unit `si`, as shown: the value in the chosen unit, and
+ * that unit's name in *unit (si itself when d does not change it; d may be
+ * NULL). */
+double usm_display_value(const usm_display *d, const char *si, double v, const char **unit);
+
+/* Copy a usm CSV text (len bytes: a header whose columns are "NAME [UNIT]",
+ * rows, and comment lines "# TYPE at NAME = VALUE: ..." for events) to out
+ * with every column of a chosen dimension converted: its header names the
+ * unit shown, its numbers are scaled, an event's value follows its column.
+ * Empty fields, text and other lines are copied as they are.  0, or -1 on a
+ * write error. */
+int usm_display_csv(const usm_display *d, const char *text, size_t len, FILE *out);
+
 /* The units accepted for a value in SI unit `si`, ", "-separated, in buf
  * (truncated to len); returns how many there are (0: a number without
  * unit only). */
@@ -215,6 +252,12 @@ void usm_sim_csv_header(FILE *out);
 /* One row of the time history (exact digits: usm_sim_read_start continues a
  * run from its last row).  0, or -1 on a write error. */
 int usm_sim_csv_row(const usm_sim_sample *s, FILE *out);
+/* The same header and rows with their values in the display units d
+ * (--units; NULL: SI): a converted column names its unit ("phi_Rdot [rpm]"),
+ * and usm_sim_read_start reads it back in SI. */
+void usm_sim_csv_header_in(const usm_display *d, FILE *out);
+/* One row of it (0, or -1 on a write error). */
+int usm_sim_csv_row_in(const usm_sim_sample *s, const usm_display *d, FILE *out);
 
 /* What `usm simulate` reports about a run. */
 typedef struct usm_sim_report {
@@ -235,6 +278,9 @@ typedef struct usm_sim_report {
 
 /* The summary as `usm simulate` prints it for people. */
 void usm_sim_write_table(const usm_sim_report *r, FILE *out);
+/* The same summary with tilts and speeds in the display units d (--units;
+ * NULL: SI). */
+void usm_sim_write_table_in(const usm_sim_report *r, const usm_display *d, FILE *out);
 
 /* The summary as the `usm simulate --json` object and a newline (its
  * "final_state" is what usm_sim_read_start reads).  0, or -1 on a write error
@@ -264,6 +310,8 @@ int usm_steady_write_json(const usm_steady_report *r, FILE *out);
 
 /* The human-readable table of `usm steady` (only for a report without error). */
 void usm_steady_table(const usm_steady_report *r, FILE *out);
+/* The same table with its values in the display units d (--units; NULL: SI). */
+void usm_steady_table_in(const usm_steady_report *r, const usm_display *d, FILE *out);
 
 /* ---- sweeps -------------------------------------------------------------------- */
 
