@@ -406,89 +406,13 @@ static int finish(void *p, char msg[CLI_MSG_LEN])
     return USM_OK;
 }
 
-static void write_table(const opt_args *a, const usm_opt_result *res)
-{
-    const usm_opt_problem *pb = &a->pb;
-    const usm_steady_solution *s = &res->sol;
-    printf("model %s: %s\n", a->common.model->name, a->common.model->description);
-    printf("%s %s = %.10g%s\n", pb->minimize ? "minimum of" : "maximum of",
-           usm_opt_output_name(pb->objective), res->value,
-           pb->objective == USM_OPT_SPEED ? " 1/s (-rotor_speed: positive when driving)" : "");
-    printf("\nvaried parameters (near-optimal interval: objective within 1e-4 relative)\n");
-    for (int j = 0; j < pb->nvary; ++j) {
-        const usm_param_info *info = &usm_param_table[pb->vary[j]];
-        printf("  %-6s %-20.10g in [%g, %g] %s", info->name, usm_params_get(&res->params, info),
-               pb->lo[j], pb->hi[j], info->unit);
-        if (!pb->no_flat)
-            printf("; near-optimal in [%.6g, %.6g]%s", res->near_lo[j], res->near_hi[j],
-                   res->flat[j] ? ": flat" : "");
-        printf("\n");
-    }
-    printf("\nactive constraints (multiplier: change of the optimum per unit of the bound)\n");
-    if (res->nactive == 0)
-        printf("  none\n");
-    for (int i = 0; i < res->nactive; ++i)
-        printf("  %-34s %.6g\n", res->active[i], res->multiplier[i]);
-    printf("\nKKT residual %.3g, %d evaluations, %d starts\n", res->kkt_residual,
-           res->evaluations, pb->starts);
-    printf("\nstationary solution at the optimum\n");
-    printf("  theta %.10g rad, rotor_speed %.10g 1/s, F_n %.10g N, F_t %.10g N\n", s->theta,
-           s->rotor_speed, s->F_n, s->F_t);
-    printf("  power_out %.6g W, efficiency %.6g, max_modulus %.10g (t0 = %g s)\n", s->power_out,
-           s->efficiency, res->floquet.max_modulus, res->floquet.t0);
-    printf("  valid %s%s%s\n", s->validity == USM_VALID ? "yes" : "no",
-           s->validity == USM_VALID ? "" : ": ", usm_validity_name(s->validity));
-}
-
-static void write_design(const opt_args *a, const char *title, const usm_robust_design *d)
-{
-    const usm_robust_problem *rp = &a->rp;
-    char stat[32] = "";
-    if (rp->stat == USM_ROBUST_STAT_MEAN)
-        snprintf(stat, sizeof stat, "mean:");
-    else if (rp->stat == USM_ROBUST_STAT_QUANTILE)
-        snprintf(stat, sizeof stat, "q%02.0f:", 100 * rp->quantile);
-    printf("\n%s: %s%s = %.10g", title, stat, usm_robust_quantity_name(rp->objective), d->value);
-    if (stat[0])
-        printf(" (nominal %s %.10g)", usm_robust_quantity_name(rp->objective), d->nominal_value);
-    printf("\n");
-    for (int j = 0; j < rp->nominal.nvary; ++j) {
-        const usm_param_info *info = &usm_param_table[rp->nominal.vary[j]];
-        printf("  %-6s %-20.10g in [%g, %g] %s\n", info->name, usm_params_get(&d->params, info),
-               rp->nominal.lo[j], rp->nominal.hi[j], info->unit);
-    }
-    printf("  nominal operating point: speed %.6g 1/s, efficiency %.6g, power_out %.6g W, "
-           "max_modulus %.6g\n", d->speed, d->efficiency, d->power_out, d->max_modulus);
-    if (rp->nscatter > 0)
-        printf("  yield %.5f (95 %% Wilson [%.5f, %.5f], %llu fresh samples); common-random-"
-               "number yield %.5f (%llu samples)\n", d->yield, d->yield_lo, d->yield_hi,
-               (unsigned long long)d->verify_samples, d->crn_yield,
-               (unsigned long long)rp->samples);
-}
-
-static void robust_table(const opt_args *a, const usm_robust_result *res)
-{
-    printf("model %s: %s\n", a->common.model->name, a->common.model->description);
-    write_design(a, "robust optimum", &res->robust);
-    printf("  active:");
-    for (int i = 0; i < res->nactive; ++i)
-        printf("%s %s", i ? ";" : "", res->active[i]);
-    printf("%s\n", res->nactive ? "" : " none");
-    if (a->rp.nscatter > 0)
-        printf("  verified: %s\n", res->verified ? "yes" : "no");
-    if (res->nominal.feasible)
-        write_design(a, "nominal optimum (no scatter)", &res->nominal);
-    printf("\n%d designs evaluated in %.3g s\n", res->evaluations, res->seconds);
-}
-
 static int write_result(const void *p, const usm_run *r, FILE *out)
 {
     const opt_args *a = p;
-    (void)out;
     if (a->robust)
-        robust_table(a, usm_run_robust_result(r));
+        usm_robust_write_table(a->common.model, &a->rp, usm_run_robust_result(r), out);
     else
-        write_table(a, usm_run_optimize_result(r));
+        usm_optimize_write_table(a->common.model, &a->pb, usm_run_optimize_result(r), out);
     return 0;
 }
 
