@@ -1,9 +1,6 @@
 /* usm optimize: best design over parameter bounds (the optimizer:
  * usm_optimize.h); this file reads the problem and writes the optimum. */
-#include <math.h>
 #include <stdio.h>
-#include <stdlib.h>
-#include <string.h>
 
 #include "commands.h"
 #include "diag.h"
@@ -116,67 +113,13 @@ static void usage(FILE *out)
             "             {\"feasible\": false, ...} on stdout)\n");
 }
 
-/* NAME=LO:HI */
-static int parse_vary(usm_opt_problem *pb, const char *text, char msg[CLI_MSG_LEN])
+/* A library parser's status; on an error its message, which names the
+ * option without its dashes, as the option's. */
+static int lib_status(int rc, const char *lib, char msg[CLI_MSG_LEN])
 {
-    char name[64], lo_text[64], lib[USM_MSG_LEN];
-    const char *eq = strchr(text, '='), *colon = eq ? strchr(eq, ':') : NULL;
-    double lo, hi;
-    if (!eq || !colon || eq == text || (size_t)(eq - text) >= sizeof name ||
-        (size_t)(colon - eq - 1) >= sizeof lo_text) {
-        cli_msg(msg, "--vary: expected NAME=LO:HI, got \"%s\"", text);
-        return USM_EINPUT;
-    }
-    snprintf(name, sizeof name, "%.*s", (int)(eq - text), text);
-    snprintf(lo_text, sizeof lo_text, "%.*s", (int)(colon - eq - 1), eq + 1);
-    const usm_param_info *info = usm_params_find(name);
-    if (!info) {
-        cli_msg(msg, "--vary: unknown parameter \"%s\"", name);
-        return USM_EINPUT;
-    }
-    if (cli_parse_quantity("--vary", info->unit, lo_text, &lo, msg) != USM_OK ||
-        cli_parse_quantity("--vary", info->unit, colon + 1, &hi, msg) != USM_OK)
-        return USM_EINPUT;
-    if (usm_opt_problem_add_vary(pb, name, lo, hi, lib) != USM_OK) {
-        cli_msg(msg, "--%s", lib);
-        return USM_EINPUT;
-    }
-    return USM_OK;
-}
-
-/* OUTPUT>=X or OUTPUT<=X (optimize_args.h) */
-static int parse_constraint(usm_opt_problem *pb, const char *text, char msg[CLI_MSG_LEN])
-{
-    const char *op = strstr(text, ">=");
-    int upper = 0;
-    char name[64], lib[USM_MSG_LEN];
-    double value;
-    if (!op) {
-        op = strstr(text, "<=");
-        upper = 1;
-    }
-    if (!op || op == text || (size_t)(op - text) >= sizeof name) {
-        cli_msg(msg, "--constraint: expected OUTPUT>=X or OUTPUT<=X, got \"%s\"", text);
-        return USM_EINPUT;
-    }
-    snprintf(name, sizeof name, "%.*s", (int)(op - text), text);
-    /* NAME, rootR.NAME (NAME checked here, R by the library) or roots */
-    const int per_root = strncmp(name, "root", 4) == 0;
-    const char *dot = per_root ? strchr(name, '.') : NULL;
-    const char *bare = dot ? dot + 1 : name;
-    if ((!per_root || dot) && usm_opt_output_find(bare) < 0) {
-        char list[512];
-        usm_opt_output_list(list, sizeof list);
-        cli_msg(msg, "--constraint: unknown output \"%s\" (one of: %s)", name, list);
-        return USM_EINPUT;
-    }
-    if (cli_parse_double("--constraint", op + 2, &value, msg) != USM_OK)
-        return USM_EINPUT;
-    if (usm_opt_problem_add_constraint(pb, name, upper, value, lib) != USM_OK) {
-        cli_msg(msg, "--%s", lib);
-        return USM_EINPUT;
-    }
-    return USM_OK;
+    if (rc != USM_OK)
+        cli_msg(msg, "--%.1000s", lib);
+    return rc;
 }
 
 /* --objective NAME, yield, mean:NAME or qNN:NAME */
@@ -191,7 +134,7 @@ static int parse_objective(opt_args *a, const char *value, char msg[CLI_MSG_LEN]
 }
 
 /* --constraint yield>=Y or on a derived quantity: CLI_OPT_TAKEN (msg set on
- * an error), else CLI_OPT_NOT_MINE (an optimizer output: parse_constraint). */
+ * an error), else CLI_OPT_NOT_MINE (an optimizer output: usm_opt_constraint_parse). */
 static int parse_robust_constraint(opt_args *a, const char *text, char msg[CLI_MSG_LEN])
 {
     char lib[USM_IO_MSG_LEN];
@@ -204,122 +147,24 @@ static int parse_robust_constraint(opt_args *a, const char *text, char msg[CLI_M
     return CLI_OPT_TAKEN;
 }
 
-/* --over-range P=LO:HI[:N] */
-static int parse_range(opt_args *a, const char *text, char msg[CLI_MSG_LEN])
-{
-    char buf[160], *eq, *c1, *c2;
-    snprintf(buf, sizeof buf, "%s", text);
-    eq = strchr(buf, '=');
-    c1 = eq ? strchr(eq + 1, ':') : NULL;
-    c2 = c1 ? strchr(c1 + 1, ':') : NULL;
-    if (!eq || !c1) {
-        cli_msg(msg, "--over-range: expected NAME=LO:HI[:N], got \"%s\"", text);
-        return USM_EINPUT;
-    }
-    *eq = *c1 = '\0';
-    if (c2)
-        *c2 = '\0';
-    const usm_param_info *info = usm_params_find(buf);
-    usm_robust_range *r = &a->rp.qopt.range;
-    if (!info) {
-        cli_msg(msg, "--over-range: unknown parameter \"%s\"", buf);
-        return USM_EINPUT;
-    }
-    if (cli_parse_quantity("--over-range", info->unit, eq + 1, &r->lo, msg) != USM_OK ||
-        cli_parse_quantity("--over-range", info->unit, c1 + 1, &r->hi, msg) != USM_OK)
-        return USM_EINPUT;
-    if (c2 && (cli_parse_int("--over-range", c2 + 1, &r->points, msg) != USM_OK))
-        return USM_EINPUT;
-    if (!(r->lo < r->hi) || r->points < 2 || r->points > 100000) {
-        cli_msg(msg, "--over-range: needs LO < HI and 2 <= N <= 100000");
-        return USM_EINPUT;
-    }
-    r->param = usm_param_index(info);
-    return USM_OK;
-}
-
-static int parse_count(const char *opt, const char *value, uint64_t *out, char msg[CLI_MSG_LEN])
-{
-    double v;
-    if (cli_parse_double(opt, value, &v, msg) != USM_OK)
-        return USM_EINPUT;
-    if (!(v >= (double)USM_ROBUST_MIN_SAMPLES && v <= (double)USM_ROBUST_MAX_SAMPLES) ||
-        v != floor(v)) {
-        cli_msg(msg, "%s: a whole number %llu to %llu, got \"%s\"", opt,
-                (unsigned long long)USM_ROBUST_MIN_SAMPLES,
-                (unsigned long long)USM_ROBUST_MAX_SAMPLES, value);
-        return USM_EINPUT;
-    }
-    *out = (uint64_t)v;
-    return USM_OK;
-}
-
-static int parse_robust_option(opt_args *a, const char *opt, const char *value,
-                               char msg[CLI_MSG_LEN])
-{
-    usm_robust_problem *rp = &a->rp;
-    if (strcmp(opt, "--scatter") == 0) {
-        if (rp->nscatter >= USM_ROBUST_MAX_SCATTER) {
-            cli_msg(msg, "--scatter: at most %d", USM_ROBUST_MAX_SCATTER);
-            return USM_EINPUT;
-        }
-        char vmsg[USM_IO_MSG_LEN];
-        if (usm_tolerance_vary_parse_units("--scatter:", value, &rp->scatter[rp->nscatter],
-                                           vmsg) != USM_OK) {
-            cli_msg(msg, "%.1000s", vmsg);
-            return USM_EINPUT;
-        }
-        rp->nscatter++;
-        return USM_OK;
-    }
-    if (strcmp(opt, "--samples") == 0)
-        return parse_count(opt, value, &rp->samples, msg);
-    if (strcmp(opt, "--verify-samples") == 0)
-        return parse_count(opt, value, &rp->verify_samples, msg);
-    if (strcmp(opt, "--seed") == 0) {
-        double v;
-        if (cli_parse_double(opt, value, &v, msg) != USM_OK)
-            return USM_EINPUT;
-        if (!(v >= 0 && v <= (double)USM_SEED_MAX) || v != floor(v)) {
-            cli_msg(msg, "--seed: a whole number 0 to %llu, got \"%s\"",
-                    (unsigned long long)USM_SEED_MAX, value);
-            return USM_EINPUT;
-        }
-        rp->seed = (uint64_t)v;
-        return USM_OK;
-    }
-    if (strcmp(opt, "--threads") == 0)
-        return cli_parse_int(opt, value, &rp->threads, msg);
-    if (strcmp(opt, "--max-evals") == 0)
-        return cli_parse_int(opt, value, &rp->max_evals, msg);
-    if (strcmp(opt, "--over-range") == 0)
-        return parse_range(a, value, msg);
-    if (strcmp(opt, "--range-stat") == 0) {
-        const int s = usm_range_stat_find(value);
-        if (s < 0) {
-            cli_msg(msg, "--range-stat: one of worst, mean, integral, got \"%s\"", value);
-            return USM_EINPUT;
-        }
-        rp->qopt.range.stat = (usm_range_stat)s;
-        return USM_OK;
-    }
-    /* --band-threshold */
-    return cli_parse_double(opt, value, &rp->qopt.band_threshold, msg);
-}
-
 /* optimize_args.h */
 int cli_opt_problem_option(usm_opt_problem *pb, int argc, char **argv, int *i,
                            char msg[CLI_MSG_LEN])
 {
+    char lib[USM_IO_MSG_LEN];
     const char *v;
     int r;
     CLI_TRY(cli_flag_option(argv, i, "--allow-slip", &pb->allow_slip));
     CLI_TRY(cli_flag_option(argv, i, "--allow-driven", &pb->allow_driven));
     if ((r = cli_option_value(argc, argv, i, "--vary", &v, msg)) == CLI_OPT_NOT_MINE &&
         (r = cli_option_value(argc, argv, i, "--constraint", &v, msg)) == CLI_OPT_TAKEN)
-        return parse_constraint(pb, v, msg) == USM_OK ? r : CLI_OPT_ERROR;
+        return lib_status(usm_opt_constraint_parse(pb, v, lib), lib, msg) == USM_OK
+                   ? r
+                   : CLI_OPT_ERROR;
     if (r != CLI_OPT_NOT_MINE)
-        return r == CLI_OPT_TAKEN && parse_vary(pb, v, msg) != USM_OK ? CLI_OPT_ERROR : r;
+        return r == CLI_OPT_TAKEN && lib_status(usm_opt_vary_parse(pb, v, lib), lib, msg)
+                   ? CLI_OPT_ERROR
+                   : r;
     if ((r = cli_option_value(argc, argv, i, "--stability-margin", &v, msg)) == CLI_OPT_TAKEN)
         return cli_parse_double("--stability-margin", v, &pb->margin, msg) ? CLI_OPT_ERROR : r;
     if (r != CLI_OPT_NOT_MINE)
@@ -344,6 +189,7 @@ static int option(void *p, int argc, char **argv, int *i, char msg[CLI_MSG_LEN])
                                               "--over-range", "--range-stat", "--band-threshold"};
     opt_args *a = p;
     const char *value;
+    char lib[USM_IO_MSG_LEN];
     int r, j = *i;
     CLI_TRY(cli_flag_option(argv, i, "--minimize", &a->pb.minimize));
     CLI_TRY(cli_flag_option(argv, i, "--no-flat", &a->pb.no_flat));
@@ -369,7 +215,9 @@ static int option(void *p, int argc, char **argv, int *i, char msg[CLI_MSG_LEN])
     }
     for (size_t k = 0; k < sizeof robust_opts / sizeof robust_opts[0]; ++k)
         if ((r = cli_option_value(argc, argv, i, robust_opts[k], &value, msg)) != CLI_OPT_NOT_MINE)
-            return r == CLI_OPT_TAKEN && parse_robust_option(a, robust_opts[k], value, msg)
+            return r == CLI_OPT_TAKEN &&
+                           lib_status(usm_robust_option_parse(&a->rp, robust_opts[k] + 2, value,
+                                                              lib), lib, msg)
                        ? CLI_OPT_ERROR
                        : r;
     return cli_opt_problem_option(&a->pb, argc, argv, i, msg);

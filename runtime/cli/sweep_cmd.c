@@ -3,8 +3,6 @@
  * friction saturation, stability change). */
 #define _POSIX_C_SOURCE 200809L
 
-#include <limits.h>
-#include <math.h>
 #include <stdio.h>
 #include <string.h>
 
