@@ -2,12 +2,8 @@
  * (a stability map), with the existence, stability and stick boundaries. */
 #define _POSIX_C_SOURCE 200809L
 
-#include <limits.h>
-#include <math.h>
 #include <stdio.h>
-#include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
 
 #include "commands.h"
 #include "diag.h"

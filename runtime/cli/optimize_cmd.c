@@ -1,9 +1,6 @@
 /* usm optimize: best design over parameter bounds (the optimizer:
  * usm_optimize.h); this file reads the problem and writes the optimum. */
-#include <math.h>
 #include <stdio.h>
-#include <stdlib.h>
-#include <string.h>
 
 #include "commands.h"
 #include "diag.h"
@@ -116,67 +113,13 @@ static void usage(FILE *out)
             "             {\"feasible\": false, ...} on stdout)\n");
 }
 
-/* NAME=LO:HI */
-static int parse_vary(usm_opt_problem *pb, const char *text, char msg[CLI_MSG_LEN])
+/* A library parser's status; on an error its message, which names the
+ * option without its dashes, as the option's. */
+static int lib_status(int rc, const char *lib, char msg[CLI_MSG_LEN])
 {
-    char name[64], lo_text[64], lib[USM_MSG_LEN];
-    const char *eq = strchr(text, '='), *colon = eq ? strchr(eq, ':') : NULL;
-    double lo, hi;
-    if (!eq || !colon || eq == text || (size_t)(eq - text) >= sizeof name ||
-        (size_t)(colon - eq - 1) >= sizeof lo_text) {
-        cli_msg(msg, "--vary: expected NAME=LO:HI, got \"%s\"", text);
-        return USM_EINPUT;
-    }
-    snprintf(name, sizeof name, "%.*s", (int)(eq - text), text);
-    snprintf(lo_text, sizeof lo_text, "%.*s", (int)(colon - eq - 1), eq + 1);
-    const usm_param_info *info = usm_params_find(name);
-    if (!info) {
-        cli_msg(msg, "--vary: unknown parameter \"%s\"", name);
-        return USM_EINPUT;
-    }
-    if (cli_parse_quantity("--vary", info->unit, lo_text, &lo, msg) != USM_OK ||
-        cli_parse_quantity("--vary", info->unit, colon + 1, &hi, msg) != USM_OK)
-        return USM_EINPUT;
-    if (usm_opt_problem_add_vary(pb, name, lo, hi, lib) != USM_OK) {
-        cli_msg(msg, "--%s", lib);
-        return USM_EINPUT;
-    }
-    return USM_OK;
-}
-
-/* OUTPUT>=X or OUTPUT<=X (optimize_args.h) */
-static int parse_constraint(usm_opt_problem *pb, const char *text, char msg[CLI_MSG_LEN])
-{
-    const char *op = strstr(text, ">=");
-    int upper = 0;
-    char name[64], lib[USM_MSG_LEN];
-    double value;
-    if (!op) {
-        op = strstr(text, "<=");
-        upper = 1;
-    }
-    if (!op || op == text || (size_t)(op - text) >= sizeof name) {
-        cli_msg(msg, "--constraint: expected OUTPUT>=X or OUTPUT<=X, got \"%s\"", text);
-        return USM_EINPUT;
-    }
-    snprintf(name, sizeof name, "%.*s", (int)(op - text), text);
-    /* NAME, rootR.NAME (NAME checked here, R by the library) or roots */
-    const int per_root = strncmp(name, "root", 4) == 0;
-    const char *dot = per_root ? strchr(name, '.') : NULL;
-    const char *bare = dot ? dot + 1 : name;
-    if ((!per_root || dot) && usm_opt_output_find(bare) < 0) {
-        char list[512];
-        usm_opt_output_list(list, sizeof list);
-        cli_msg(msg, "--constraint: unknown output \"%s\" (one of: %s)", name, list);
-        return USM_EINPUT;
-    }
-    if (cli_parse_double("--constraint", op + 2, &value, msg) != USM_OK)
-        return USM_EINPUT;
-    if (usm_opt_problem_add_constraint(pb, name, upper, value, lib) != USM_OK) {
-        cli_msg(msg, "--%s", lib);
-        return USM_EINPUT;
-    }
-    return USM_OK;
+    if (rc != USM_OK)
+        cli_msg(msg, "--%.1000s", lib);
+    return rc;
 }
 
 /* --objective NAME, yield, mean:NAME or qNN:NAME */
@@ -191,7 +134,7 @@ static int parse_objective(opt_args *a, const char *value, char msg[CLI_MSG_LEN]
 }
 
 /* --constraint yield>=Y or on a derived quantity: CLI_OPT_TAKEN (msg set on
- * an error), else CLI_OPT_NOT_MINE (an optimizer output: parse_constraint). */
+ * an error), else CLI_OPT_NOT_MINE (an optimizer output: usm_opt_constraint_parse). */
 static int parse_robust_constraint(opt_args *a, const char *text, char msg[CLI_MSG_LEN])
 {
     char lib[USM_IO_MSG_LEN];
@@ -204,122 +147,24 @@ static int parse_robust_constraint(opt_args *a, const char *text, char msg[CLI_M
     return CLI_OPT_TAKEN;
 }
 
-/* --over-range P=LO:HI[:N] */
-static int parse_range(opt_args *a, const char *text, char msg[CLI_MSG_LEN])
-{
-    char buf[160], *eq, *c1, *c2;
-    snprintf(buf, sizeof buf, "%s", text);
-    eq = strchr(buf, '=');
-    c1 = eq ? strchr(eq + 1, ':') : NULL;
-    c2 = c1 ? strchr(c1 + 1, ':') : NULL;
-    if (!eq || !c1) {
-        cli_msg(msg, "--over-range: expected NAME=LO:HI[:N], got \"%s\"", text);
-        return USM_EINPUT;
-    }
-    *eq = *c1 = '\0';
-    if (c2)
-        *c2 = '\0';
-    const usm_param_info *info = usm_params_find(buf);
-    usm_robust_range *r = &a->rp.qopt.range;
-    if (!info) {
-        cli_msg(msg, "--over-range: unknown parameter \"%s\"", buf);
-        return USM_EINPUT;
-    }
-    if (cli_parse_quantity("--over-range", info->unit, eq + 1, &r->lo, msg) != USM_OK ||
-        cli_parse_quantity("--over-range", info->unit, c1 + 1, &r->hi, msg) != USM_OK)
-        return USM_EINPUT;
-    if (c2 && (cli_parse_int("--over-range", c2 + 1, &r->points, msg) != USM_OK))
-        return USM_EINPUT;
-    if (!(r->lo < r->hi) || r->points < 2 || r->points > 100000) {
-        cli_msg(msg, "--over-range: needs LO < HI and 2 <= N <= 100000");
-        return USM_EINPUT;
-    }
-    r->param = usm_param_index(info);
-    return USM_OK;
-}
-
-static int parse_count(const char *opt, const char *value, uint64_t *out, char msg[CLI_MSG_LEN])
-{
-    double v;
-    if (cli_parse_double(opt, value, &v, msg) != USM_OK)
-        return USM_EINPUT;
-    if (!(v >= (double)USM_ROBUST_MIN_SAMPLES && v <= (double)USM_ROBUST_MAX_SAMPLES) ||
-        v != floor(v)) {
-        cli_msg(msg, "%s: a whole number %llu to %llu, got \"%s\"", opt,
-                (unsigned long long)USM_ROBUST_MIN_SAMPLES,
-                (unsigned long long)USM_ROBUST_MAX_SAMPLES, value);
-        return USM_EINPUT;
-    }
-    *out = (uint64_t)v;
-    return USM_OK;
-}
-
-static int parse_robust_option(opt_args *a, const char *opt, const char *value,
-                               char msg[CLI_MSG_LEN])
-{
-    usm_robust_problem *rp = &a->rp;
-    if (strcmp(opt, "--scatter") == 0) {
-        if (rp->nscatter >= USM_ROBUST_MAX_SCATTER) {
-            cli_msg(msg, "--scatter: at most %d", USM_ROBUST_MAX_SCATTER);
-            return USM_EINPUT;
-        }
-        char vmsg[USM_IO_MSG_LEN];
-        if (usm_tolerance_vary_parse_units("--scatter:", value, &rp->scatter[rp->nscatter],
-                                           vmsg) != USM_OK) {
-            cli_msg(msg, "%.1000s", vmsg);
-            return USM_EINPUT;
-        }
-        rp->nscatter++;
-        return USM_OK;
-    }
-    if (strcmp(opt, "--samples") == 0)
-        return parse_count(opt, value, &rp->samples, msg);
-    if (strcmp(opt, "--verify-samples") == 0)
-        return parse_count(opt, value, &rp->verify_samples, msg);
-    if (strcmp(opt, "--seed") == 0) {
-        double v;
-        if (cli_parse_double(opt, value, &v, msg) != USM_OK)
-            return USM_EINPUT;
-        if (!(v >= 0 && v <= (double)USM_SEED_MAX) || v != floor(v)) {
-            cli_msg(msg, "--seed: a whole number 0 to %llu, got \"%s\"",
-                    (unsigned long long)USM_SEED_MAX, value);
-            return USM_EINPUT;
-        }
-        rp->seed = (uint64_t)v;
-        return USM_OK;
-    }
-    if (strcmp(opt, "--threads") == 0)
-        return cli_parse_int(opt, value, &rp->threads, msg);
-    if (strcmp(opt, "--max-evals") == 0)
-        return cli_parse_int(opt, value, &rp->max_evals, msg);
-    if (strcmp(opt, "--over-range") == 0)
-        return parse_range(a, value, msg);
-    if (strcmp(opt, "--range-stat") == 0) {
-        const int s = usm_range_stat_find(value);
-        if (s < 0) {
-            cli_msg(msg, "--range-stat: one of worst, mean, integral, got \"%s\"", value);
-            return USM_EINPUT;
-        }
-        rp->qopt.range.stat = (usm_range_stat)s;
-        return USM_OK;
-    }
-    /* --band-threshold */
-    return cli_parse_double(opt, value, &rp->qopt.band_threshold, msg);
-}
-
 /* optimize_args.h */
 int cli_opt_problem_option(usm_opt_problem *pb, int argc, char **argv, int *i,
                            char msg[CLI_MSG_LEN])
 {
+    char lib[USM_IO_MSG_LEN];
     const char *v;
     int r;
     CLI_TRY(cli_flag_option(argv, i, "--allow-slip", &pb->allow_slip));
     CLI_TRY(cli_flag_option(argv, i, "--allow-driven", &pb->allow_driven));
     if ((r = cli_option_value(argc, argv, i, "--vary", &v, msg)) == CLI_OPT_NOT_MINE &&
         (r = cli_option_value(argc, argv, i, "--constraint", &v, msg)) == CLI_OPT_TAKEN)
-        return parse_constraint(pb, v, msg) == USM_OK ? r : CLI_OPT_ERROR;
+        return lib_status(usm_opt_constraint_parse(pb, v, lib), lib, msg) == USM_OK
+                   ? r
+                   : CLI_OPT_ERROR;
     if (r != CLI_OPT_NOT_MINE)
-        return r == CLI_OPT_TAKEN && parse_vary(pb, v, msg) != USM_OK ? CLI_OPT_ERROR : r;
+        return r == CLI_OPT_TAKEN && lib_status(usm_opt_vary_parse(pb, v, lib), lib, msg)
+                   ? CLI_OPT_ERROR
+                   : r;
     if ((r = cli_option_value(argc, argv, i, "--stability-margin", &v, msg)) == CLI_OPT_TAKEN)
         return cli_parse_double("--stability-margin", v, &pb->margin, msg) ? CLI_OPT_ERROR : r;
     if (r != CLI_OPT_NOT_MINE)
@@ -344,6 +189,7 @@ static int option(void *p, int argc, char **argv, int *i, char msg[CLI_MSG_LEN])
                                               "--over-range", "--range-stat", "--band-threshold"};
     opt_args *a = p;
     const char *value;
+    char lib[USM_IO_MSG_LEN];
     int r, j = *i;
     CLI_TRY(cli_flag_option(argv, i, "--minimize", &a->pb.minimize));
     CLI_TRY(cli_flag_option(argv, i, "--no-flat", &a->pb.no_flat));
@@ -369,7 +215,9 @@ static int option(void *p, int argc, char **argv, int *i, char msg[CLI_MSG_LEN])
     }
     for (size_t k = 0; k < sizeof robust_opts / sizeof robust_opts[0]; ++k)
         if ((r = cli_option_value(argc, argv, i, robust_opts[k], &value, msg)) != CLI_OPT_NOT_MINE)
-            return r == CLI_OPT_TAKEN && parse_robust_option(a, robust_opts[k], value, msg)
+            return r == CLI_OPT_TAKEN &&
+                           lib_status(usm_robust_option_parse(&a->rp, robust_opts[k] + 2, value,
+                                                              lib), lib, msg)
                        ? CLI_OPT_ERROR
                        : r;
     return cli_opt_problem_option(&a->pb, argc, argv, i, msg);
@@ -406,89 +254,13 @@ static int finish(void *p, char msg[CLI_MSG_LEN])
     return USM_OK;
 }
 
-static void write_table(const opt_args *a, const usm_opt_result *res)
-{
-    const usm_opt_problem *pb = &a->pb;
-    const usm_steady_solution *s = &res->sol;
-    printf("model %s: %s\n", a->common.model->name, a->common.model->description);
-    printf("%s %s = %.10g%s\n", pb->minimize ? "minimum of" : "maximum of",
-           usm_opt_output_name(pb->objective), res->value,
-           pb->objective == USM_OPT_SPEED ? " 1/s (-rotor_speed: positive when driving)" : "");
-    printf("\nvaried parameters (near-optimal interval: objective within 1e-4 relative)\n");
-    for (int j = 0; j < pb->nvary; ++j) {
-        const usm_param_info *info = &usm_param_table[pb->vary[j]];
-        printf("  %-6s %-20.10g in [%g, %g] %s", info->name, usm_params_get(&res->params, info),
-               pb->lo[j], pb->hi[j], info->unit);
-        if (!pb->no_flat)
-            printf("; near-optimal in [%.6g, %.6g]%s", res->near_lo[j], res->near_hi[j],
-                   res->flat[j] ? ": flat" : "");
-        printf("\n");
-    }
-    printf("\nactive constraints (multiplier: change of the optimum per unit of the bound)\n");
-    if (res->nactive == 0)
-        printf("  none\n");
-    for (int i = 0; i < res->nactive; ++i)
-        printf("  %-34s %.6g\n", res->active[i], res->multiplier[i]);
-    printf("\nKKT residual %.3g, %d evaluations, %d starts\n", res->kkt_residual,
-           res->evaluations, pb->starts);
-    printf("\nstationary solution at the optimum\n");
-    printf("  theta %.10g rad, rotor_speed %.10g 1/s, F_n %.10g N, F_t %.10g N\n", s->theta,
-           s->rotor_speed, s->F_n, s->F_t);
-    printf("  power_out %.6g W, efficiency %.6g, max_modulus %.10g (t0 = %g s)\n", s->power_out,
-           s->efficiency, res->floquet.max_modulus, res->floquet.t0);
-    printf("  valid %s%s%s\n", s->validity == USM_VALID ? "yes" : "no",
-           s->validity == USM_VALID ? "" : ": ", usm_validity_name(s->validity));
-}
-
-static void write_design(const opt_args *a, const char *title, const usm_robust_design *d)
-{
-    const usm_robust_problem *rp = &a->rp;
-    char stat[32] = "";
-    if (rp->stat == USM_ROBUST_STAT_MEAN)
-        snprintf(stat, sizeof stat, "mean:");
-    else if (rp->stat == USM_ROBUST_STAT_QUANTILE)
-        snprintf(stat, sizeof stat, "q%02.0f:", 100 * rp->quantile);
-    printf("\n%s: %s%s = %.10g", title, stat, usm_robust_quantity_name(rp->objective), d->value);
-    if (stat[0])
-        printf(" (nominal %s %.10g)", usm_robust_quantity_name(rp->objective), d->nominal_value);
-    printf("\n");
-    for (int j = 0; j < rp->nominal.nvary; ++j) {
-        const usm_param_info *info = &usm_param_table[rp->nominal.vary[j]];
-        printf("  %-6s %-20.10g in [%g, %g] %s\n", info->name, usm_params_get(&d->params, info),
-               rp->nominal.lo[j], rp->nominal.hi[j], info->unit);
-    }
-    printf("  nominal operating point: speed %.6g 1/s, efficiency %.6g, power_out %.6g W, "
-           "max_modulus %.6g\n", d->speed, d->efficiency, d->power_out, d->max_modulus);
-    if (rp->nscatter > 0)
-        printf("  yield %.5f (95 %% Wilson [%.5f, %.5f], %llu fresh samples); common-random-"
-               "number yield %.5f (%llu samples)\n", d->yield, d->yield_lo, d->yield_hi,
-               (unsigned long long)d->verify_samples, d->crn_yield,
-               (unsigned long long)rp->samples);
-}
-
-static void robust_table(const opt_args *a, const usm_robust_result *res)
-{
-    printf("model %s: %s\n", a->common.model->name, a->common.model->description);
-    write_design(a, "robust optimum", &res->robust);
-    printf("  active:");
-    for (int i = 0; i < res->nactive; ++i)
-        printf("%s %s", i ? ";" : "", res->active[i]);
-    printf("%s\n", res->nactive ? "" : " none");
-    if (a->rp.nscatter > 0)
-        printf("  verified: %s\n", res->verified ? "yes" : "no");
-    if (res->nominal.feasible)
-        write_design(a, "nominal optimum (no scatter)", &res->nominal);
-    printf("\n%d designs evaluated in %.3g s\n", res->evaluations, res->seconds);
-}
-
 static int write_result(const void *p, const usm_run *r, FILE *out)
 {
     const opt_args *a = p;
-    (void)out;
     if (a->robust)
-        robust_table(a, usm_run_robust_result(r));
+        usm_robust_write_table(a->common.model, &a->rp, usm_run_robust_result(r), out);
     else
-        write_table(a, usm_run_optimize_result(r));
+        usm_optimize_write_table(a->common.model, &a->pb, usm_run_optimize_result(r), out);
     return 0;
 }
 

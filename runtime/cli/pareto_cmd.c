@@ -1,8 +1,6 @@
 /* usm pareto: the Pareto front of two outputs (usm_robust.h);
  * this file reads the problem and writes the front. */
 #include <stdio.h>
-#include <stdlib.h>
-#include <string.h>
 
 #include "commands.h"
 #include "diag.h"

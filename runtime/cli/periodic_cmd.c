@@ -1,7 +1,6 @@
 /* usm periodic: the periodic steady state of a real motor by shooting
  * (library: usm_periodic.h).  Never overwrites --orbit unless --force. */
 #define _POSIX_C_SOURCE 200809L
-#include <math.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -121,92 +120,15 @@ static int write_orbit(const periodic_args *a, const usm_run *run, char msg[CLI_
     return usm_io_commit(&file, msg);
 }
 
-static void table(const usm_periodic_result *r, const char *model, const usm_display *d)
-{
-    const char *us, *ua;
-    const double w = usm_display_value(d, "1/s", r->rotor_speed_mean, &us);
-    const double th = usm_display_value(d, "rad", r->theta_mean, &ua);
-    const int valid = r->validity == USM_VALID;
-    printf("model %s: periodic orbit (%d Newton iterations, residual %.3g)\n", model, r->iterations,
-           r->residual);
-    /* first, not only in its own line below: every value that follows is of
-     * an orbit the model does not describe */
-    if (!valid)
-        printf("  MODEL INVALID on this orbit (%s): the values below are the model's beyond its "
-               "validity, not the motor's\n", usm_validity_name(r->validity));
-    printf("  rotor speed        mean %.10g %s, ripple (peak to peak) %.6g %s\n", w, us,
-           usm_display_value(d, "1/s", r->rotor_speed_ripple, NULL), us);
-    printf("  theta              mean %.10g %s, min %.10g, max %.10g, 2 Omega amplitude %.6g\n",
-           th, ua, usm_display_value(d, "rad", r->theta_min, NULL),
-           usm_display_value(d, "rad", r->theta_max, NULL),
-           usm_display_value(d, "rad", r->theta_harmonic_2, NULL));
-    printf("  F_n                min %.10g N, max %.10g N, 2 Omega amplitude %.6g N\n",
-           r->F_n_min, r->F_n_max, r->F_n_harmonic_2);
-    if (r->contact_open)
-        printf("  CONTACT OPENS      %d time%s a period (F_n < 0 on the orbit): the "
-               "bilateral-contact model is not valid\n",
-               r->openings_per_period, r->openings_per_period == 1 ? "" : "s");
-    if (isfinite(r->friction_needed_max))
-        printf("  friction needed    max |F_t|/F_n %.6g\n", r->friction_needed_max);
-    else
-        printf("  friction needed    undefined (F_n <= 0 on the orbit)\n");
-    printf("  valid              %s\n", r->validity == USM_VALID
-                                             ? "yes: the model describes the motor on this orbit"
-                                             : usm_validity_name(r->validity));
-    printf("  Floquet multipliers (max |lambda| %.10g, %s):\n", r->floquet.max_modulus,
-           r->floquet.stable ? "stable" : "UNSTABLE");
-    for (int i = 0; i < r->floquet.n; ++i)
-        printf("    %+.10f %+.10fi%s\n", r->floquet.re[i], r->floquet.im[i],
-               r->floquet.cyclic[i] ? "  (cyclic coordinate)" : "");
-    usm_squeal sq;
-    usm_floquet_squeal(&r->floquet, 1.0 / r->period, &sq);
-    if (sq.found)
-        printf("  squeal frequency   %.8g Hz (%.6f f): the dominant complex pair %.10f +-%.10fi "
-               "(|lambda| %.10g)%s%s\n",
-               sq.frequency, sq.frequency * r->period, sq.re, sq.im, sq.modulus,
-               valid ? "" : "; MODEL INVALID here: ", valid ? "" : usm_validity_name(r->validity));
-    else
-        printf("  squeal frequency   none: %s\n", sq.reason);
-}
-
-static void hybrid_table(const usm_hybrid_result *r, const char *model, const usm_display *d)
-{
-    const char *us;
-    const double w = usm_display_value(d, "1/s", r->rotor_speed_mean, &us);
-    printf("usm periodic: model %s, an orbit with separation (period %.10g s, section at "
-           "t = %.10g s)\n", model, r->period, r->t0);
-    printf("  converged in %d Newton iterations, residual %.3g\n", r->iterations, r->residual);
-    printf("  rotor speed mean      %.10g %s\n", w, us);
-    printf("  rotor speed ripple    %.6g %s (peak to peak)\n",
-           usm_display_value(d, "1/s", r->rotor_speed_ripple, NULL), us);
-    printf("  mode sequence         %s (c closed, o open; from the section)\n", r->mode_sequence);
-    printf("  separation fraction   %.6f of the period\n", r->separation_fraction);
-    printf("  per period            %d separations, %d impacts (%d needing more than mu0)\n",
-           r->separations_per_period, r->impacts_per_period, r->impacts_slipping);
-    printf("  impact velocity max   %.6g m/s\n", r->impact_velocity_max);
-    printf("  valid                 %s\n",
-           r->validity == USM_VALID
-               ? "yes: the model (contact that may open) describes the motor on this orbit"
-               : r->validity == USM_INVALID_STICK
-                   ? "no: stick_not_admissible (an impact needs more friction than mu0: the "
-                     "stick model does not describe it)"
-                   : usm_validity_name(r->validity));
-    printf("  Floquet multipliers (with saltation matrices; max |lambda| %.10g, %s):\n",
-           r->floquet.max_modulus, r->floquet.stable ? "stable" : "UNSTABLE");
-    for (int i = 0; i < r->floquet.n; ++i)
-        printf("    %+.10f %+.10fi%s\n", r->floquet.re[i], r->floquet.im[i],
-               r->floquet.cyclic[i] ? "  (cyclic coordinate)" : "");
-}
-
 static int write_table(const void *p, const usm_run *run, FILE *out)
 {
     const periodic_args *a = p;
     const usm_hybrid_result *h = usm_run_hybrid_result(run);
-    (void)out;
     if (h)
-        hybrid_table(h, a->common.model->name, &a->common.display);
+        usm_hybrid_write_table(a->common.model, h, &a->common.display, out);
     else
-        table(usm_run_periodic_result(run), a->common.model->name, &a->common.display);
+        usm_periodic_write_table(a->common.model, usm_run_periodic_result(run),
+                                 &a->common.display, out);
     return 0;
 }
 

@@ -2,6 +2,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "progress.h"
 
+#include <math.h>
 #include <string.h>
 #include <time.h>
 #include <unistd.h>
@@ -70,6 +71,17 @@ usm_progress cli_progress_callback(cli_progress *p)
 {
     usm_progress cb = {p->on ? draw : NULL, p};
     return cb;
+}
+
+void cli_progress_fraction(double fraction, void *ctx)
+{
+    cli_progress *p = ctx;
+    const long done = lround(fraction * (double)p->total);
+    const double now = mono();
+    if (!p->on || (!p->first && done < p->total && now - p->last < 0.1))
+        return;
+    p->last = now;
+    draw(p, done, p->total, p->what);
 }
 
 void cli_progress_end(cli_progress *p)

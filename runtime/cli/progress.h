@@ -23,6 +23,9 @@ typedef struct cli_progress {
     long done0;        /* done at the first call (resumed work: not in the rate) */
     double t0;         /* monotonic seconds of the first call */
     int width;         /* characters of the line on screen (0: none) */
+    long total;        /* cli_progress_fraction: the count a fraction is of */
+    const char *what;  /* cli_progress_fraction: what it counts ("points") */
+    double last;       /* cli_progress_fraction: monotonic seconds of its last line */
 } cli_progress;
 
 /* name: the command as the line starts ("usm map"); quiet: --quiet given. */
@@ -30,6 +33,11 @@ void cli_progress_init(cli_progress *p, const char *name, int quiet);
 
 /* The library's callback drawing into p (fn NULL when p is off). */
 usm_progress cli_progress_callback(cli_progress *p);
+
+/* For a study that reports a fraction done (usm_sweep_options, a
+ * simulation's periods): the line of fraction * p->total p->what, redrawn at
+ * most ten times a second but always at the end.  ctx: the cli_progress. */
+void cli_progress_fraction(double fraction, void *ctx);
 
 /* Erase the line, if one is on screen. */
 void cli_progress_end(cli_progress *p);

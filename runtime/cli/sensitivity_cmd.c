@@ -1,9 +1,7 @@
 #define _POSIX_C_SOURCE 200809L /* strtok_r */
 /* usm sensitivity: derivatives and elasticities of the primary stationary
  * solution's outputs with respect to every parameter (usm_design.h). */
-#include <math.h>
 #include <stdio.h>
-#include <stdlib.h>
 #include <string.h>
 
 #include "commands.h"

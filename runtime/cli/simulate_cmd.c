@@ -6,14 +6,12 @@
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <stdio.h>
-#include <stdlib.h>
 #include <string.h>
-#include <time.h>
-#include <unistd.h>
 
 #include "commands.h"
 #include "diag.h"
 #include "options.h"
+#include "progress.h"
 #include "usm.h"
 #include "usm_io.h"
 #include "usm_plot.h"
@@ -240,19 +238,9 @@ typedef struct run_io {
     FILE *csv;
     const usm_display *display; /* --units */
     int csv_failed;         /* a write error on it */
-    int progress;          /* draw a progress bar on stderr */
-    double last_draw;      /* wall time of the last redraw */
-    int drawn;
-    double wall0;
+    cli_progress line;     /* of the excitation periods simulated */
     char early_warning[CLI_MSG_LEN]; /* a warning held back until the run ends */
 } run_io;
-
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 static int on_sample(const usm_sim_sample *s, void *data)
 {
@@ -329,7 +317,7 @@ static int spectrum_write(const sim_args *a, const usm_run *run, char msg[CLI_MS
 static void on_warning(const char *msg, void *data)
 {
     run_io *io = data;
-    if (io->progress)
+    if (io->line.on)
         cli_error("warning: %s", msg);
     else
         snprintf(io->early_warning, sizeof io->early_warning, "%s", msg);
@@ -338,20 +326,7 @@ static void on_warning(const char *msg, void *data)
 static void on_progress(double t, double t0, double t1, void *data)
 {
     run_io *io = data;
-    const double w = now();
-    if (!io->progress || (w - io->last_draw < 0.1 && t < t1))
-        return;
-    const double frac = (t - t0) / (t1 - t0);
-    const int width = 40, fill = (int)(frac * width);
-    char bar[64];
-    for (int k = 0; k < width; ++k)
-        bar[k] = k < fill ? '#' : '.';
-    bar[width] = '\0';
-    fprintf(stderr, "\rusm simulate [%s] %3.0f%%  t = %-12.6g s  %6.1f s", bar, 100 * frac, t,
-            w - io->wall0);
-    fflush(stderr);
-    io->last_draw = w;
-    io->drawn = 1;
+    cli_progress_fraction((t - t0) / (t1 - t0), &io->line);
 }
 
 static void warnings(const usm_sim_summary *s, double mu0)
@@ -468,8 +443,9 @@ static int simulate(sim_args *a, usm_sim *s)
             usm_sim_csv_header_in(&a->common.display, io.csv);
     }
     summary_out = io.csv == stdout ? stderr : stdout;
-    io.progress = isatty(STDERR_FILENO);
-    io.wall0 = io.last_draw = now();
+    cli_progress_init(&io.line, "usm simulate", 0);
+    io.line.total = lround(a->opt.duration * p->f);
+    io.line.what = "periods";
     cb.sample = io.csv ? on_sample : NULL;
     cb.progress = on_progress;
     cb.data = &io;
@@ -479,8 +455,7 @@ static int simulate(sim_args *a, usm_sim *s)
     usm_run *run = usm_run_simulate(a->common.model, p, &a->opt, &cb,
                                     a->spectrum ? a->spectrum_periods : -1);
     rc = run ? usm_run_status(run) : USM_EFAILED;
-    if (io.drawn)
-        fprintf(stderr, "\r%*s\r", 96, "");
+    cli_progress_end(&io.line);
     if (io.csv && io.csv != stdout) {
         /* the history up to a numerical stop is data; bad input or no start, none */
         if (rc == USM_EINPUT || rc == USM_ENOSOLUTION)

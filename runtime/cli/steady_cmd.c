@@ -1,8 +1,6 @@
 /* usm steady: every stationary solution of a model and the Floquet
  * multipliers of each (the top level: the primary one, smallest tilt). */
-#include <math.h>
 #include <stdio.h>
-#include <stdlib.h>
 #include <string.h>
 
 #include "commands.h"

@@ -3,15 +3,13 @@
  * friction saturation, stability change). */
 #define _POSIX_C_SOURCE 200809L
 
-#include <limits.h>
-#include <math.h>
 #include <stdio.h>
 #include <string.h>
-#include <unistd.h>
 
 #include "commands.h"
 #include "diag.h"
 #include "options.h"
+#include "progress.h"
 #include "usm_io.h"
 #include "usm_periodic_sweep.h"
 #include "usm_plot.h"
@@ -93,7 +91,7 @@ static void usage(FILE *out)
             "With --json one object {over, model, parameters, operating_point_rule,\n"
             "points[], events[]}; a point\n"
             "has the keys of usm steady --json plus NAME.\n"
-            "A progress bar is drawn on stderr when it is a terminal.\n"
+            "A progress line is drawn on stderr when it is a terminal.\n"
             "\n"
             "exit status: 0 done (even where points have no solution), 1 numerical\n"
             "             failure or write error, 2 bad input\n");
@@ -245,27 +243,6 @@ static int finish(void *p, char msg[CLI_MSG_LEN])
     return a->plot ? usm_plot_csv_check(a->plot, a->force, msg) : USM_OK;
 }
 
-/* ---- progress bar ------------------------------------------------------------ */
-
-typedef struct bar {
-    int shown; /* last percentage drawn, -1 before the first */
-} bar;
-
-static void draw(double fraction, void *ctx)
-{
-    bar *b = ctx;
-    const int pct = (int)(100.0 * fraction);
-    if (pct == b->shown)
-        return;
-    b->shown = pct;
-    char cells[41];
-    for (int k = 0; k < 40; ++k)
-        cells[k] = k < pct * 40 / 100 ? '#' : '.';
-    cells[40] = '\0';
-    fprintf(stderr, "\rusm sweep [%s] %3d%%", cells, pct);
-    fflush(stderr);
-}
-
 /* ---- run ---------------------------------------------------------------------- */
 
 static int write_csv(const void *p, const usm_run *r, FILE *out)
@@ -359,7 +336,7 @@ static int plot(const sweep_args *a, const usm_run *r)
 }
 
 /* --periodic: the orbit's continuation (usm_periodic_sweep.h). */
-static usm_run *run_periodic(const sweep_args *a, bar *progress)
+static usm_run *run_periodic(const sweep_args *a, cli_progress *progress)
 {
     usm_periodic_sweep_options opt;
     usm_periodic_sweep_options_default(&opt);
@@ -367,14 +344,12 @@ static usm_run *run_periodic(const sweep_args *a, bar *progress)
     opt.from = a->from;
     opt.to = a->to;
     opt.points = a->points;
-    if (isatty(STDERR_FILENO)) {
-        opt.progress = draw;
-        opt.progress_ctx = progress;
-    }
+    opt.progress = progress->on ? cli_progress_fraction : NULL;
+    opt.progress_ctx = progress;
     return usm_run_periodic_sweep(a->common.model, &a->common.params, &opt);
 }
 
-static usm_run *run_stationary(const sweep_args *a, bar *progress)
+static usm_run *run_stationary(const sweep_args *a, cli_progress *progress)
 {
     usm_sweep_options opt;
     usm_sweep_options_default(&opt);
@@ -389,20 +364,20 @@ static usm_run *run_stationary(const sweep_args *a, bar *progress)
     opt.monitors = a->monitors;
     opt.nmonitors = a->nmonitors;
     opt.op = a->op;
-    if (isatty(STDERR_FILENO)) {
-        opt.progress = draw;
-        opt.progress_ctx = progress;
-    }
+    opt.progress = progress->on ? cli_progress_fraction : NULL;
+    opt.progress_ctx = progress;
     return usm_run_sweep(a->common.model, &a->common.params, &opt);
 }
 
 static int run(void *p)
 {
     const sweep_args *a = p;
-    bar progress = {-1};
+    cli_progress progress;
+    cli_progress_init(&progress, "usm sweep", 0);
+    progress.total = a->points;
+    progress.what = "points";
     usm_run *r = a->periodic ? run_periodic(a, &progress) : run_stationary(a, &progress);
-    if (progress.shown >= 0)
-        fputc('\n', stderr);
+    cli_progress_end(&progress);
     int status = cli_run_output(r, a->common.json, 0, write_csv, a);
     if (status == USM_OK && a->plot)
         status = plot(a, r);

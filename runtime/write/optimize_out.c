@@ -1,10 +1,12 @@
 /* The `usm optimize --json` object (usm_optimize.h): the optimum, or after
- * USM_ENOSOLUTION the point of least violation. */
+ * USM_ENOSOLUTION the point of least violation; and the optimum's table for
+ * people (usm_io.h). */
 #include <stdio.h>
 
 #include "io/json_out.h"
 #include "optimize_json.h"
 #include "steady_out.h"
+#include "usm_io.h"
 #include "usm_optimize.h"
 
 json_t *usm_opt_json_strings(int n, const char (*text)[USM_OPT_TEXT_LEN], int *ok)
@@ -79,4 +81,39 @@ int usm_optimize_write_json(const usm_optimize *o, const usm_model *m, const usm
                                                     usm_optimize_op(o)}),
                  &ok);
     return usm_json_write(usm_json_finish(obj, ok), out);
+}
+
+void usm_optimize_write_table(const usm_model *m, const usm_opt_problem *pb,
+                              const usm_opt_result *res, FILE *out)
+{
+    const usm_steady_solution *s = &res->sol;
+    fprintf(out, "model %s: %s\n", m->name, m->description);
+    fprintf(out, "%s %s = %.10g%s\n", pb->minimize ? "minimum of" : "maximum of",
+            usm_opt_output_name(pb->objective), res->value,
+            pb->objective == USM_OPT_SPEED ? " 1/s (-rotor_speed: positive when driving)" : "");
+    fprintf(out, "\nvaried parameters (near-optimal interval: objective within 1e-4 relative)\n");
+    for (int j = 0; j < pb->nvary; ++j) {
+        const usm_param_info *info = &usm_param_table[pb->vary[j]];
+        fprintf(out, "  %-6s %-20.10g in [%g, %g] %s", info->name,
+                usm_params_get(&res->params, info), pb->lo[j], pb->hi[j], info->unit);
+        if (!pb->no_flat)
+            fprintf(out, "; near-optimal in [%.6g, %.6g]%s", res->near_lo[j], res->near_hi[j],
+                    res->flat[j] ? ": flat" : "");
+        fprintf(out, "\n");
+    }
+    fprintf(out, "\nactive constraints (multiplier: change of the optimum per unit of the "
+            "bound)\n");
+    if (res->nactive == 0)
+        fprintf(out, "  none\n");
+    for (int i = 0; i < res->nactive; ++i)
+        fprintf(out, "  %-34s %.6g\n", res->active[i], res->multiplier[i]);
+    fprintf(out, "\nKKT residual %.3g, %d evaluations, %d starts\n", res->kkt_residual,
+            res->evaluations, pb->starts);
+    fprintf(out, "\nstationary solution at the optimum\n");
+    fprintf(out, "  theta %.10g rad, rotor_speed %.10g 1/s, F_n %.10g N, F_t %.10g N\n",
+            s->theta, s->rotor_speed, s->F_n, s->F_t);
+    fprintf(out, "  power_out %.6g W, efficiency %.6g, max_modulus %.10g (t0 = %g s)\n",
+            s->power_out, s->efficiency, res->floquet.max_modulus, res->floquet.t0);
+    fprintf(out, "  valid %s%s%s\n", s->validity == USM_VALID ? "yes" : "no",
+            s->validity == USM_VALID ? "" : ": ", usm_validity_name(s->validity));
 }

@@ -1,5 +1,6 @@
 /* A periodic steady state: its orbit as CSV, the `usm periodic --json`
- * object (usm_periodic.h). */
+ * object (usm_periodic.h) and its table for people (usm_io.h). */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -7,6 +8,7 @@
 #include "io/csv_out.h"
 #include "io/json_out.h"
 #include "solve/periodic_internal.h"
+#include "usm_io.h"
 
 /* The state columns of an orbit file: every state an angle or its rate, but
  * the tilt vector's (a, b), components of the stator's unit axis, and their
@@ -126,4 +128,86 @@ int usm_hybrid_write_json(const usm_model *m, const usm_params *p, const usm_hyb
         json_decref(orbit);
     }
     return usm_json_write(usm_json_finish(o, ok), out);
+}
+
+void usm_periodic_write_table(const usm_model *m, const usm_periodic_result *r,
+                              const usm_display *d, FILE *out)
+{
+    const char *us, *ua;
+    const double w = usm_display_value(d, "1/s", r->rotor_speed_mean, &us);
+    const double th = usm_display_value(d, "rad", r->theta_mean, &ua);
+    const int valid = r->validity == USM_VALID;
+    fprintf(out, "model %s: periodic orbit (%d Newton iterations, residual %.3g)\n", m->name,
+            r->iterations, r->residual);
+    /* first, not only in its own line below: every value that follows is of
+     * an orbit the model does not describe */
+    if (!valid)
+        fprintf(out, "  MODEL INVALID on this orbit (%s): the values below are the model's "
+                "beyond its validity, not the motor's\n", usm_validity_name(r->validity));
+    fprintf(out, "  rotor speed        mean %.10g %s, ripple (peak to peak) %.6g %s\n", w, us,
+            usm_display_value(d, "1/s", r->rotor_speed_ripple, NULL), us);
+    fprintf(out, "  theta              mean %.10g %s, min %.10g, max %.10g, 2 Omega amplitude "
+            "%.6g\n", th, ua, usm_display_value(d, "rad", r->theta_min, NULL),
+            usm_display_value(d, "rad", r->theta_max, NULL),
+            usm_display_value(d, "rad", r->theta_harmonic_2, NULL));
+    fprintf(out, "  F_n                min %.10g N, max %.10g N, 2 Omega amplitude %.6g N\n",
+            r->F_n_min, r->F_n_max, r->F_n_harmonic_2);
+    if (r->contact_open)
+        fprintf(out, "  CONTACT OPENS      %d time%s a period (F_n < 0 on the orbit): the "
+                "bilateral-contact model is not valid\n",
+                r->openings_per_period, r->openings_per_period == 1 ? "" : "s");
+    if (isfinite(r->friction_needed_max))
+        fprintf(out, "  friction needed    max |F_t|/F_n %.6g\n", r->friction_needed_max);
+    else
+        fprintf(out, "  friction needed    undefined (F_n <= 0 on the orbit)\n");
+    fprintf(out, "  valid              %s\n",
+            valid ? "yes: the model describes the motor on this orbit"
+                  : usm_validity_name(r->validity));
+    fprintf(out, "  Floquet multipliers (max |lambda| %.10g, %s):\n", r->floquet.max_modulus,
+            r->floquet.stable ? "stable" : "UNSTABLE");
+    for (int i = 0; i < r->floquet.n; ++i)
+        fprintf(out, "    %+.10f %+.10fi%s\n", r->floquet.re[i], r->floquet.im[i],
+                r->floquet.cyclic[i] ? "  (cyclic coordinate)" : "");
+    usm_squeal sq;
+    usm_floquet_squeal(&r->floquet, 1.0 / r->period, &sq);
+    if (sq.found)
+        fprintf(out, "  squeal frequency   %.8g Hz (%.6f f): the dominant complex pair %.10f "
+                "+-%.10fi (|lambda| %.10g)%s%s\n",
+                sq.frequency, sq.frequency * r->period, sq.re, sq.im, sq.modulus,
+                valid ? "" : "; MODEL INVALID here: ",
+                valid ? "" : usm_validity_name(r->validity));
+    else
+        fprintf(out, "  squeal frequency   none: %s\n", sq.reason);
+}
+
+void usm_hybrid_write_table(const usm_model *m, const usm_hybrid_result *r,
+                            const usm_display *d, FILE *out)
+{
+    const char *us;
+    const double w = usm_display_value(d, "1/s", r->rotor_speed_mean, &us);
+    fprintf(out, "usm periodic: model %s, an orbit with separation (period %.10g s, section at "
+            "t = %.10g s)\n", m->name, r->period, r->t0);
+    fprintf(out, "  converged in %d Newton iterations, residual %.3g\n", r->iterations,
+            r->residual);
+    fprintf(out, "  rotor speed mean      %.10g %s\n", w, us);
+    fprintf(out, "  rotor speed ripple    %.6g %s (peak to peak)\n",
+            usm_display_value(d, "1/s", r->rotor_speed_ripple, NULL), us);
+    fprintf(out, "  mode sequence         %s (c closed, o open; from the section)\n",
+            r->mode_sequence);
+    fprintf(out, "  separation fraction   %.6f of the period\n", r->separation_fraction);
+    fprintf(out, "  per period            %d separations, %d impacts (%d needing more than "
+            "mu0)\n", r->separations_per_period, r->impacts_per_period, r->impacts_slipping);
+    fprintf(out, "  impact velocity max   %.6g m/s\n", r->impact_velocity_max);
+    fprintf(out, "  valid                 %s\n",
+            r->validity == USM_VALID
+                ? "yes: the model (contact that may open) describes the motor on this orbit"
+                : r->validity == USM_INVALID_STICK
+                    ? "no: stick_not_admissible (an impact needs more friction than mu0: the "
+                      "stick model does not describe it)"
+                    : usm_validity_name(r->validity));
+    fprintf(out, "  Floquet multipliers (with saltation matrices; max |lambda| %.10g, %s):\n",
+            r->floquet.max_modulus, r->floquet.stable ? "stable" : "UNSTABLE");
+    for (int i = 0; i < r->floquet.n; ++i)
+        fprintf(out, "    %+.10f %+.10fi%s\n", r->floquet.re[i], r->floquet.im[i],
+                r->floquet.cyclic[i] ? "  (cyclic coordinate)" : "");
 }

@@ -1,5 +1,6 @@
 /* The outputs of robust design (usm_robust.h): the `usm optimize --json`
- * object of a robust run, and the Pareto front as CSV and JSON. */
+ * object of a robust run and its table for people (usm_io.h), and the Pareto
+ * front as CSV and JSON. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -7,6 +8,7 @@
 #include "io/csv_out.h"
 #include "io/json_out.h"
 #include "optimize_json.h"
+#include "usm_io.h"
 #include "usm_robust.h"
 
 static json_t *pair(double a, double b, int *ok)
@@ -167,4 +169,50 @@ int usm_pareto_write_json(const usm_opt_problem *pb, const int obj[2], const int
     usm_json_put(o, "computed", json_integer(res->computed), &ok);
     usm_json_put(o, "seconds", usm_json_real(res->seconds), &ok);
     return usm_json_write(usm_json_finish(o, ok), out);
+}
+
+/* One design of the robust table, under its title. */
+static void table_design(const usm_robust_problem *rp, const char *title,
+                         const usm_robust_design *d, FILE *out)
+{
+    char stat[32] = "";
+    if (rp->stat == USM_ROBUST_STAT_MEAN)
+        snprintf(stat, sizeof stat, "mean:");
+    else if (rp->stat == USM_ROBUST_STAT_QUANTILE)
+        snprintf(stat, sizeof stat, "q%02.0f:", 100 * rp->quantile);
+    fprintf(out, "\n%s: %s%s = %.10g", title, stat, usm_robust_quantity_name(rp->objective),
+            d->value);
+    if (stat[0])
+        fprintf(out, " (nominal %s %.10g)", usm_robust_quantity_name(rp->objective),
+                d->nominal_value);
+    fprintf(out, "\n");
+    for (int j = 0; j < rp->nominal.nvary; ++j) {
+        const usm_param_info *info = &usm_param_table[rp->nominal.vary[j]];
+        fprintf(out, "  %-6s %-20.10g in [%g, %g] %s\n", info->name,
+                usm_params_get(&d->params, info), rp->nominal.lo[j], rp->nominal.hi[j],
+                info->unit);
+    }
+    fprintf(out, "  nominal operating point: speed %.6g 1/s, efficiency %.6g, power_out %.6g W, "
+            "max_modulus %.6g\n", d->speed, d->efficiency, d->power_out, d->max_modulus);
+    if (rp->nscatter > 0)
+        fprintf(out, "  yield %.5f (95 %% Wilson [%.5f, %.5f], %llu fresh samples); "
+                "common-random-number yield %.5f (%llu samples)\n", d->yield, d->yield_lo,
+                d->yield_hi, (unsigned long long)d->verify_samples, d->crn_yield,
+                (unsigned long long)rp->samples);
+}
+
+void usm_robust_write_table(const usm_model *m, const usm_robust_problem *rp,
+                            const usm_robust_result *res, FILE *out)
+{
+    fprintf(out, "model %s: %s\n", m->name, m->description);
+    table_design(rp, "robust optimum", &res->robust, out);
+    fprintf(out, "  active:");
+    for (int i = 0; i < res->nactive; ++i)
+        fprintf(out, "%s %s", i ? ";" : "", res->active[i]);
+    fprintf(out, "%s\n", res->nactive ? "" : " none");
+    if (rp->nscatter > 0)
+        fprintf(out, "  verified: %s\n", res->verified ? "yes" : "no");
+    if (res->nominal.feasible)
+        table_design(rp, "nominal optimum (no scatter)", &res->nominal, out);
+    fprintf(out, "\n%d designs evaluated in %.3g s\n", res->evaluations, res->seconds);
 }

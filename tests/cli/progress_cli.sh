@@ -1,6 +1,6 @@
 #!/bin/bash
 # The progress line of the long commands (map, tolerance, pareto, robust
-# optimize; report's --help): on a terminal
+# optimize, sweep and simulate; report's --help): on a terminal
 # (a pseudo-terminal from util-linux `script`) stderr shows "usm CMD:
 # DONE/TOTAL UNIT" lines rewritten with \r, the last one erased; with stderr
 # redirected to a file, or with --quiet, stderr stays empty; stdout is the
@@ -25,9 +25,9 @@ on_tty() {
     timeout 120 script -qec "$cmd >'$o'" /dev/null >"$tty" 2>&1
 }
 
-# the same stdout but for the wall-clock "seconds" of a --json object
+# the same stdout but for the wall-clock "seconds" or "wall_time" of a --json object
 same_out() {
-    cmp -s <(grep -v '"seconds"' "$1") <(grep -v '"seconds"' "$2")
+    cmp -s <(grep -vE '"(seconds|wall_time)"' "$1") <(grep -vE '"(seconds|wall_time)"' "$2")
 }
 
 check_cmd() {
@@ -75,6 +75,24 @@ check_cmd optimize '[0-9]+' designs optimize --objective efficiency --vary f=340
     --vary F0=0.2:1.0 --constraint 'speed>=6' --constraint 'yield>=0.99' \
     --scatter c_r=normal:2% --scatter f=normal:1% --samples 600 --verify-samples 1200 \
     --max-evals 6 --starts 1 --json
+
+# sweep and simulate (no --quiet): the same line on a terminal, nothing on
+# a redirected stderr, the same stdout
+for spec in "sweep|40|points|sweep --over T --from 0 --to 0.005 --points 40" \
+            "simulate|740|periods|simulate --duration 0.02 --rate 0 --json"; do
+    IFS='|' read -r name total unit cmd <<<"$spec"
+    checks=$((checks + 1))
+    # shellcheck disable=SC2086
+    run $cmd
+    cp "$out" "$tmp/piped.out"
+    [ -s "$err" ] && grep -qv warning "$err" && { fail "usm $cmd 2>file: stderr: $(head -c 200 "$err")"; continue; }
+    # shellcheck disable=SC2086
+    on_tty "$tmp/tty.out" "$tmp/tty" $cmd || { fail "usm $cmd on a terminal: exit $?"; continue; }
+    tr '\r' '\n' <"$tmp/tty" >"$tmp/tty.lines"
+    grep -qE "^usm $name: $total/$total $unit \(100%\)" "$tmp/tty.lines" ||
+        fail "usm $cmd on a terminal: no 'usm $name: $total/$total $unit' line: $(head -c 300 "$tmp/tty.lines")"
+    same_out "$tmp/piped.out" "$tmp/tty.out" || fail "usm $cmd: stdout differs on a terminal"
+done
 
 # --help names --quiet
 for c in map tolerance report pareto optimize; do

@@ -341,6 +341,42 @@ void usm_sensitivity_write_table(const usm_model *m, const usm_params *p,
                                  const usm_sensitivity_result *r, const int want[USM_SENS_COUNT],
                                  FILE *out);
 
+/* ---- tables for people of one result ----------------------------------------- */
+
+struct usm_periodic_result;
+struct usm_hybrid_result;
+struct usm_opt_problem;
+struct usm_opt_result;
+struct usm_robust_problem;
+struct usm_robust_result;
+
+/* The table of `usm periodic` for a periodic orbit of model m (usm_periodic.h):
+ * the rotor speed, tilt, normal force, validity, Floquet multipliers and the
+ * squeal frequency, speeds and angles in the display units d (--units; NULL:
+ * SI).  An orbit the model does not describe says so before its values. */
+void usm_periodic_write_table(const usm_model *m, const struct usm_periodic_result *r,
+                              const usm_display *d, FILE *out);
+
+/* The table of `usm periodic` for an orbit with separation (usm_periodic.h):
+ * period, mode sequence, separations and impacts, validity and the
+ * multipliers with saltation matrices; speeds in the display units d (NULL:
+ * SI). */
+void usm_hybrid_write_table(const usm_model *m, const struct usm_hybrid_result *r,
+                            const usm_display *d, FILE *out);
+
+/* The table of `usm optimize` (usm_optimize.h): the optimum of problem pb,
+ * the varied parameters with their near-optimal intervals, the active
+ * constraints' multipliers and the stationary solution there (SI: the
+ * command takes no --units). */
+void usm_optimize_write_table(const usm_model *m, const struct usm_opt_problem *pb,
+                              const struct usm_opt_result *res, FILE *out);
+
+/* The table of `usm optimize` for robust design (usm_robust.h): the robust
+ * optimum with its yields, the active constraints, and the nominal optimum
+ * when it is feasible (SI). */
+void usm_robust_write_table(const usm_model *m, const struct usm_robust_problem *rp,
+                            const struct usm_robust_result *res, FILE *out);
+
 #ifdef __cplusplus
 }
 #endif

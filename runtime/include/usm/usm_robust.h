@@ -225,6 +225,27 @@ int usm_robust_problem_check(const usm_robust_problem *rp, const usm_model *m,
 int usm_robust_objective_parse(usm_robust_problem *rp, const char *text, char msg[1024]);
 /* The constraint text, as described above. */
 int usm_robust_constraint_parse(usm_robust_problem *rp, const char *text, char msg[1024]);
+/* --vary TEXT: NAME=LO:HI, LO and HI numbers or values with a unit of the
+ * parameter's (usm_parse_quantity), into pb (usm_opt_problem_add_vary):
+ * USM_OK, or USM_EINPUT with "vary: reason". */
+int usm_opt_vary_parse(usm_opt_problem *pb, const char *text, char msg[1024]);
+/* --constraint TEXT on an optimizer output: OUTPUT>=X or OUTPUT<=X, OUTPUT
+ * NAME, rootR.NAME or roots, into pb (usm_opt_problem_add_constraint):
+ * USM_OK, or USM_EINPUT with "constraint: reason". */
+int usm_opt_constraint_parse(usm_opt_problem *pb, const char *text, char msg[1024]);
+/* --over-range TEXT: P=LO:HI[:N] (2 <= N <= 100000, LO < HI, in the unit of
+ * parameter P or with one) into r's param, lo, hi and points (kept when N is
+ * not given): USM_OK, or USM_EINPUT with "over-range: reason". */
+int usm_robust_range_parse(usm_robust_range *r, const char *text, char msg[1024]);
+/* The option `name` (without its dashes) of robust design with its text
+ * value into rp: scatter (a usm_tolerance_vary_parse_units text, up to
+ * USM_ROBUST_MAX_SCATTER), samples and verify-samples (whole numbers
+ * USM_ROBUST_MIN_SAMPLES to USM_ROBUST_MAX_SAMPLES), seed (0 to
+ * USM_SEED_MAX), threads, max-evals, over-range (usm_robust_range_parse),
+ * range-stat (worst, mean, integral), band-threshold.  USM_OK, USM_EINPUT
+ * with "NAME: reason", or 1 when `name` is none of these. */
+int usm_robust_option_parse(usm_robust_problem *rp, const char *name, const char *value,
+                            char msg[1024]);
 /* usm pareto's --objectives TEXT: "A,B", each an optimizer output with an
  * analytic gradient (usm_opt_output_analytic), prefixed max: (the default)
  * or min:, the two different, into output[2] and minimize[2]: USM_OK, or
