@@ -28,7 +28,7 @@ static void usage(FILE *out)
             "usage: usm simulate [--model 3dof|4dof] [--variant NAME] [--params FILE.json]\n"
             "                    [--set NAME=VALUE]...\n"
             "                    --duration S [--from rest|stationary|FILE] [--out FILE.csv]\n"
-            "                    [--force] [--rate HZ] [--tilt0 RAD] [--rtol R] [--plot PREFIX]\n"
+            "                    [--force] [--quiet] [--rate HZ] [--tilt0 RAD] [--rtol R] [--plot PREFIX]\n"
             "                    [--spectrum PREFIX [--spectrum-periods N]] [--json]\n"
             "\n"
             "Integrate the full nonlinear model M(x) x' = f(x, t) (CVODES, BDF) from the motor\n"
@@ -39,6 +39,7 @@ static void usage(FILE *out)
             "options:\n");
     cli_common_usage(out);
     cli_units_usage(out);
+    cli_quiet_usage(out);
     fprintf(out,
             "  --duration S        simulated time [s] (required)\n"
             "  --from rest         start at rest: tilt tilt0 about the excitation torque's axis,\n"
@@ -92,7 +93,7 @@ typedef struct sim_args {
     const char *plot;
     const char *spectrum;
     long spectrum_periods; /* 0: the library's default */
-    int force;
+    int force, quiet;
     int rate_set;
     int duration_set;
 } sim_args;
@@ -162,6 +163,7 @@ static int option(void *p, int argc, char **argv, int *i, char msg[CLI_MSG_LEN])
     int r, which = -1;
     CLI_TRY(cli_common_option(&a->common, argc, argv, i, msg));
     CLI_TRY(cli_flag_option(argv, i, "--force", &a->force));
+    CLI_TRY(cli_quiet_option(&a->quiet, argc, argv, i));
     for (int k = 0; k < 11 && which < 0; ++k) {
         if ((r = cli_quantity_option(argc, argv, i, num_opt[k], num_unit[k], &v, msg)) ==
             CLI_OPT_ERROR)
@@ -443,7 +445,7 @@ static int simulate(sim_args *a, usm_sim *s)
             usm_sim_csv_header_in(&a->common.display, io.csv);
     }
     summary_out = io.csv == stdout ? stderr : stdout;
-    cli_progress_init(&io.line, "usm simulate", 0);
+    cli_progress_init(&io.line, "usm simulate", a->quiet);
     io.line.total = lround(a->opt.duration * p->f);
     io.line.what = "periods";
     cb.sample = io.csv ? on_sample : NULL;

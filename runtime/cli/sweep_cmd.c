@@ -23,12 +23,12 @@ static void usage(FILE *out)
             "                 [--model 3dof|4dof] [--variant NAME] [--params FILE.json]\n"
             "                 [--set NAME=VALUE]...\n"
             "                 [--t0 S] [--floquet-method NAME] [--rtol R] [--threads N]\n"
-            "                 [--no-floquet] [--json] [--plot PREFIX [--force]]\n"
+            "                 [--no-floquet] [--json] [--plot PREFIX [--force]] [--quiet]\n"
             "                 [--from-rest [--from-rest-periods N]]\n"
             "                 [--extremum Q]... [--crossing Q=V]...\n"
             "       usm sweep --periodic --over NAME --from A --to B [--points N]\n"
             "                 [--model 3dof|4dof] [--variant NAME] [--params FILE.json]\n"
-            "                 [--set NAME=VALUE]... [--json] [--plot PREFIX [--force]]\n"
+            "                 [--set NAME=VALUE]... [--json] [--plot PREFIX [--force]] [--quiet]\n"
             "\n"
             "Follow the stationary solution of smallest tilt at A through the parameter\n"
             "range A..B by pseudo-arclength continuation and report it at N equally spaced\n"
@@ -46,6 +46,7 @@ static void usage(FILE *out)
             "options:\n");
     cli_common_usage(out);
     cli_units_usage(out);
+    cli_quiet_usage(out);
     fprintf(out,
             "  --over NAME         the parameter to sweep (any of usm steady --help)\n"
             "  --from A, --to B    the range, in the parameter's unit or with a unit: 36kHz\n"
@@ -106,7 +107,7 @@ typedef struct sweep_args {
     double from, to, t0;
     int have_from, have_to;
     const char *from_text, *to_text; /* parsed in --over's unit once it is known */
-    int points, threads, floquet, force, periodic;
+    int points, threads, floquet, force, periodic, quiet;
     int others; /* options of the stationary sweep only, for --periodic's refusal */
     const char *plot; /* --plot PREFIX, or NULL */
     usm_floquet_options floquet_opt;
@@ -192,6 +193,7 @@ static int option(void *p, int argc, char **argv, int *i, char msg[CLI_MSG_LEN])
     }
     CLI_TRY(cli_flag_option(argv, i, "--periodic", &a->periodic));
     CLI_TRY(cli_flag_option(argv, i, "--force", &a->force));
+    CLI_TRY(cli_quiet_option(&a->quiet, argc, argv, i));
     CLI_TRY(cli_plot_option(argc, argv, i, &a->plot, msg));
     CLI_TRY(cli_option_value(argc, argv, i, "--over", &a->over, msg));
     if ((r = cli_option_value(argc, argv, i, "--from", &a->from_text, msg)) != CLI_OPT_NOT_MINE)
@@ -373,7 +375,7 @@ static int run(void *p)
 {
     const sweep_args *a = p;
     cli_progress progress;
-    cli_progress_init(&progress, "usm sweep", 0);
+    cli_progress_init(&progress, "usm sweep", a->quiet);
     progress.total = a->points;
     progress.what = "points";
     usm_run *r = a->periodic ? run_periodic(a, &progress) : run_stationary(a, &progress);

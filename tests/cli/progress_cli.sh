@@ -76,8 +76,8 @@ check_cmd optimize '[0-9]+' designs optimize --objective efficiency --vary f=340
     --scatter c_r=normal:2% --scatter f=normal:1% --samples 600 --verify-samples 1200 \
     --max-evals 6 --starts 1 --json
 
-# sweep and simulate (no --quiet): the same line on a terminal, nothing on
-# a redirected stderr, the same stdout
+# sweep and simulate (their stderr may carry warnings): the same line on a
+# terminal, none with --quiet or on a redirected stderr, the same stdout
 for spec in "sweep|40|points|sweep --over T --from 0 --to 0.005 --points 40" \
             "simulate|740|periods|simulate --duration 0.02 --rate 0 --json"; do
     IFS='|' read -r name total unit cmd <<<"$spec"
@@ -92,10 +92,17 @@ for spec in "sweep|40|points|sweep --over T --from 0 --to 0.005 --points 40" \
     grep -qE "^usm $name: $total/$total $unit \(100%\)" "$tmp/tty.lines" ||
         fail "usm $cmd on a terminal: no 'usm $name: $total/$total $unit' line: $(head -c 300 "$tmp/tty.lines")"
     same_out "$tmp/piped.out" "$tmp/tty.out" || fail "usm $cmd: stdout differs on a terminal"
+    # --quiet: no progress line on a terminal (a warning may stand there)
+    checks=$((checks + 1))
+    # shellcheck disable=SC2086
+    on_tty "$tmp/quiet.out" "$tmp/quiet" $cmd --quiet || { fail "usm $cmd --quiet: exit $?"; continue; }
+    ! tr '\r' '\n' <"$tmp/quiet" | grep -q "^usm $name: [0-9]" ||
+        fail "usm $cmd --quiet on a terminal: a progress line"
+    same_out "$tmp/piped.out" "$tmp/quiet.out" || fail "usm $cmd --quiet: stdout differs"
 done
 
 # --help names --quiet
-for c in map tolerance report pareto optimize; do
+for c in map tolerance report pareto optimize sweep simulate; do
     checks=$((checks + 1))
     run $c --help
     grep -q -- '--quiet' "$out" || fail "usm $c --help does not name --quiet"
