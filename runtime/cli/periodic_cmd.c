@@ -111,8 +111,9 @@ static int write_orbit(const periodic_args *a, const usm_run *run, char msg[CLI_
         cli_msg(msg, "%s: %s", a->orbit, lib);
         return status;
     }
-    if ((!h && usm_periodic_write_orbit_csv(usm_run_periodic_solver(run), f) != 0) |
-        (cli_shown_close(&shown) != 0)) {
+    int bad = !h && usm_periodic_write_orbit_csv(usm_run_periodic_solver(run), f) != 0;
+    bad |= cli_shown_close(&shown) != 0; /* converts what either writer wrote */
+    if (bad) {
         usm_io_abort(&file);
         cli_msg(msg, "%s: write error", a->orbit);
         return USM_EFAILED;

@@ -153,17 +153,20 @@ static int header(const usm_display *d, const char *p, const char *end, column *
         for (const char *q = p; q + 1 < e; ++q)
             if (q[0] == ' ' && q[1] == '[')
                 open = q;
-        cols[n].name = p;
-        cols[n].name_len = (size_t)((open ? open : e) - p);
-        cols[n].shown = -1;
-        if (open && e[-1] == ']')
-            cols[n].shown = entry(d, open + 2, (size_t)(e - 1 - (open + 2)));
-        if (cols[n].shown >= 0)
-            fprintf(out, "%.*s [%s]", (int)cols[n].name_len, p, d->unit[cols[n].shown].name);
+        /* columns past MAX_COLUMNS are copied as they are, header and rows alike */
+        const int shown = n < MAX_COLUMNS && open && e[-1] == ']'
+                              ? entry(d, open + 2, (size_t)(e - 1 - (open + 2)))
+                              : -1;
+        if (n < MAX_COLUMNS) {
+            cols[n].name = p;
+            cols[n].name_len = (size_t)((open ? open : e) - p);
+            cols[n].shown = shown;
+            ++n;
+        }
+        if (shown >= 0)
+            fprintf(out, "%.*s [%s]", (int)(open - p), p, d->unit[shown].name);
         else
             fwrite(p, 1, (size_t)(e - p), out);
-        if (n + 1 < MAX_COLUMNS)
-            ++n;
         if (e >= end || *e != ',')
             return n;
         fputc(',', out);
