@@ -147,6 +147,7 @@ int usm_squeal_run(usm_squeal_study *s, const usm_params *p, const usm_squeal_op
 
 /* Points of the last run, in sweep order. */
 size_t usm_squeal_count(const usm_squeal_study *s);
+/* Point i of the last run, NULL when out of range. */
 const usm_squeal_point *usm_squeal_point_at(const usm_squeal_study *s, size_t i);
 /* The stroboscopic samples of point i: *n of them (the window's periods),
  * rotor speed [1/s], tilt [rad] and gap [m] (0 while closed); NULL when out
