@@ -47,6 +47,10 @@ typedef struct rec {
     int have_y, open0;
     double t0;
     double y0[USM_MAX_NY];
+    int have_closed;       /* the last sample with the contact closed: where the next
+                              value's run starts (a closed state needs no rotor height) */
+    double t_closed;
+    double x_closed[USM_MAX_NX];
 } rec;
 
 const char *usm_motion_name(usm_motion m)
@@ -199,6 +203,11 @@ int usm_squeal_check(usm_squeal_study *s, const usm_params *p, const usm_squeal_
 static int record(const usm_sim_sample *smp, void *data)
 {
     rec *r = data;
+    if (!smp->open) {
+        r->have_closed = 1;
+        r->t_closed = smp->t;
+        memcpy(r->x_closed, smp->y, sizeof(double) * (size_t)smp->nx);
+    }
     const long i = r->k++ - r->first;
     if (i < 0 || i >= r->n * r->m)
         return 0;
@@ -294,8 +303,8 @@ static int audible(const rec *r, double f, int want, usm_squeal_point *pt)
 
 /* One run of settle + window periods from x0 (NULL: from rest); its window
  * into r, the end state into x_end. */
-static int run_once(usm_squeal_study *s, const usm_params *q, const double *x0, rec *r,
-                    usm_sim_summary *sum)
+static int run_once(usm_squeal_study *s, const usm_params *q, const double *x0, double t0,
+                    rec *r, usm_sim_summary *sum)
 {
     const usm_squeal_options *o = &s->o;
     usm_sim_options so;
@@ -307,6 +316,7 @@ static int run_once(usm_squeal_study *s, const usm_params *q, const double *x0, 
     so.max_steps = 0;
     if (x0) {
         so.start = USM_SIM_FROM_STATE;
+        so.t0 = t0;
         memcpy(so.x0, x0, sizeof(double) * (size_t)s->m->nx);
         so.rest_fraction = 0.0; /* a continued run is not a start-up */
     }
@@ -315,6 +325,7 @@ static int run_once(usm_squeal_study *s, const usm_params *q, const double *x0, 
     r->n = o->window;
     r->k = 0;
     r->have_y = 0;
+    r->have_closed = 0;
     const usm_sim_callbacks cb = {record, NULL, r, NULL};
     const int rc = usm_sim_run(s->sim, q, &so, &cb, sum);
     if (rc != USM_OK)
@@ -369,8 +380,8 @@ static void free_rec(rec *r)
 
 /* Point i at parameters q from x0 (NULL: rest); its end state into x_end
  * (have_end 0 when there is none to continue from). */
-static int one_point(usm_squeal_study *s, const usm_params *q, size_t i, const double *x0, rec *r,
-                     double *x_end, int *have_end)
+static int one_point(usm_squeal_study *s, const usm_params *q, size_t i, const double *x0,
+                     double t0, rec *r, double *x_end, double *t_end, int *have_end)
 {
     usm_squeal_point *pt = &s->pts[i];
     usm_sim_summary sum;
@@ -380,7 +391,7 @@ static int one_point(usm_squeal_study *s, const usm_params *q, size_t i, const d
     *have_end = 0;
     pt->lyapunov = pt->lyapunov2 = pt->lyapunov_per_period = NAN;
     pt->second_frequency = NAN;
-    int rc = run_once(s, q, x0, r, &sum);
+    int rc = run_once(s, q, x0, t0, r, &sum);
     if (rc == USM_ENOSOLUTION) {
         pt->motion = USM_MOTION_REST;
         pt->status = USM_OK;
@@ -393,7 +404,13 @@ static int one_point(usm_squeal_study *s, const usm_params *q, size_t i, const d
         s->msg[0] = '\0';
         return USM_OK;
     }
-    memcpy(x_end, sum.final_x, sizeof(double) * (size_t)s->m->nx);
+    if (r->have_closed) {
+        memcpy(x_end, r->x_closed, sizeof(double) * (size_t)s->m->nx);
+        *t_end = r->t_closed;
+    } else { /* never closed at a sample: the rotor lands on the crest at the start */
+        memcpy(x_end, sum.final_x, sizeof(double) * (size_t)s->m->nx);
+        *t_end = sum.t_reached;
+    }
     *have_end = 1;
     const long nw = r->n * r->m;
     double wmin = INFINITY, wmax = -INFINITY, wsum = 0, tsum = 0;
@@ -460,7 +477,7 @@ static int rest_check(usm_squeal_study *s, const usm_params *q, size_t i, rec *r
     r->R = q->R;
     r->H = q->H;
     pt->rest_checked = 1;
-    const int rc = run_once(s, q, NULL, r, &sum);
+    const int rc = run_once(s, q, NULL, 0.0, r, &sum);
     if (rc == USM_ENOSOLUTION) {
         pt->rest_motion = USM_MOTION_REST;
     } else if (rc != USM_OK) {
@@ -508,7 +525,7 @@ int usm_squeal_run(usm_squeal_study *s, const usm_params *p, const usm_squeal_op
         return USM_EFAILED;
     }
     s->npts = np;
-    double x_end[USM_MAX_NX];
+    double x_end[USM_MAX_NX], t_end = 0.0;
     int have_end = 0;
     rc = USM_OK;
     for (size_t i = 0; i < np && rc == USM_OK; ++i) {
@@ -520,9 +537,10 @@ int usm_squeal_run(usm_squeal_study *s, const usm_params *p, const usm_squeal_op
         s->f[i] = q.f;
         double x0[USM_MAX_NX];
         const int cont = have_end;
+        const double t0 = cont ? t_end : 0.0;
         if (cont)
             memcpy(x0, x_end, sizeof x0);
-        rc = one_point(s, &q, i, cont ? x0 : NULL, &r, x_end, &have_end);
+        rc = one_point(s, &q, i, cont ? x0 : NULL, t0, &r, x_end, &t_end, &have_end);
         if (rc == USM_OK && cont && opt->check_rest)
             rc = rest_check(s, &q, i, &r);
         s->pts[i].seconds = (double)(clock() - c0) / CLOCKS_PER_SEC;

@@ -7,6 +7,10 @@
 #    theta) thetadot: every line within one bin of a numpy maximum, numpy's
 #    strongest within one bin of a line (the order may differ: usm ranks by
 #    the interpolated amplitude, numpy here by the bin's);
+#  - the change from period-1 to other motion lies where the stable branch of
+#    `usm sweep --periodic` (the shooting's orbits with separation) ends, to
+#    one grid step: 3-DOF phase error 0.90 to 0.93 rad, the two-impact orbit
+#    ending between 0.912 and 0.914 rad;
 #  - bad input: an unknown name, A == B, fewer than 2 points, a model whose
 #    contact never opens: one line, exit 2.
 #
@@ -16,8 +20,8 @@ set -u
 USM=${1:?usage: squeal_study_cli.sh PATH/TO/usm}
 . "$(dirname "$0")/../cli_common.sh"
 
-SETTLE=100
-WINDOW=256
+SETTLE=60
+WINDOW=128
 # 4-DOF at 5 % mode split: the rotor bounces irregularly (no orbit with a
 # closed phase from 3.6 %), the spectrum has many audible lines
 if expect_rc 0 squeal --model 4dof --over mode_split --from 0.05 --to 0.051 --points 2 \
@@ -57,6 +61,37 @@ for l in lines:
     near = min(abs(p * df - l['frequency']) for p in peaks[:20])
     assert near <= df, (l, near / df)
 assert min(abs(peaks[0] * df - l['frequency']) for l in lines) <= df, (peaks[0] * df, lines)
+"
+    fi
+fi
+
+# ---- the onset against the periodic sweep's stable branch -------------------------
+ONSET="--over phase_error --from 0.90 --to 0.93 --points 4"
+if expect_rc 0 squeal $ONSET --settle 200 --window 64 --lyapunov-periods 50 --no-rest-check \
+    --json --quiet; then
+    cp "$out" "$tmp/onset.json"
+    if expect_rc 0 sweep --periodic --variant imperfect_unilateral $ONSET --json --quiet; then
+        py_file "$tmp/onset.json" "
+sw = json.load(open('$out'))
+vals = [p['value'] for p in o['points']]
+step = vals[1] - vals[0]
+p1 = [p['value'] for p in o['points'] if p['motion'] == 'periodic' and p['period'] == 1]
+assert p1 and p1[0] == vals[0], [(p['value'], p['motion']) for p in o['points']]
+# the last value of the leading run of period-1 motion
+last = vals[0]
+for p in o['points']:
+    if p['motion'] != 'periodic' or p['period'] != 1:
+        break
+    last = p['value']
+stable = [p['phase_error'] for p in sw['points'] if p.get('separating') and p['valid']
+          and p['floquet']['stable']]
+end = vals[0]
+for v in vals:
+    if v not in stable:
+        break
+    end = v
+assert last < vals[-1], 'no change of motion in the range'
+assert abs(last - end) <= step * (1 + 1e-9), (last, end)
 "
     fi
 fi
