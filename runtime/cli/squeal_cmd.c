@@ -11,6 +11,7 @@
 #include "options.h"
 #include "progress.h"
 #include "usm_io.h"
+#include "usm_plot.h"
 #include "usm_run.h"
 #include "usm_squeal_study.h"
 
@@ -31,7 +32,7 @@ static void usage(FILE *out)
             "                  [--model 3dof|4dof] [--variant NAME] [--params FILE.json]\n"
             "                  [--set NAME=VALUE]... [--settle N] [--window N]\n"
             "                  [--lyapunov-periods N] [--no-rest-check] [--rtol R]\n"
-            "                  [--out FILE.csv [--force]] [--json] [--quiet]\n"
+            "                  [--out FILE.csv] [--plot PREFIX] [--force] [--json] [--quiet]\n"
             "\n"
             "What the motor does at N values of one parameter, where its periodic orbit\n"
             "may be lost: at each value a long event-driven run (from rest at A, then from\n"
@@ -60,7 +61,10 @@ static void usage(FILE *out)
             "  --no-rest-check     no second run from rest at each value\n"
             "  --rtol R            the simulation's relative tolerance (default 1e-8)\n"
             "  --out FILE.csv      write the CSV there instead of stdout\n"
-            "  --force             overwrite --out\n"
+            "  --plot PREFIX       the bifurcation diagram (rotor speed and tilt once a\n"
+            "                      period over NAME) and the audible lines over NAME\n"
+            "                      (coloured by level): PREFIX.csv, .gp, .png, .svg\n"
+            "  --force             overwrite --out and the --plot files\n"
             "  -h, --help          print this help\n"
             "\n"
             "Output: CSV (default), one row per value: NAME, motion, period,\n"
@@ -77,7 +81,7 @@ static void usage(FILE *out)
 typedef struct squeal_args {
     cli_common common;
     usm_squeal_options opt;
-    const char *over, *from_text, *to_text, *out;
+    const char *over, *from_text, *to_text, *out, *plot;
     int have_from, have_to, quiet, force, no_rest, lyap;
     int settle, window;
 } squeal_args;
@@ -105,6 +109,7 @@ static int option(void *p, int argc, char **argv, int *i, char msg[CLI_MSG_LEN])
     CLI_TRY(cli_flag_option(argv, i, "--no-rest-check", &a->no_rest));
     CLI_TRY(cli_option_value(argc, argv, i, "--over", &a->over, msg));
     CLI_TRY(cli_path_option(argc, argv, i, "--out", "value", &a->out, msg));
+    CLI_TRY(cli_plot_option(argc, argv, i, &a->plot, msg));
     if ((r = cli_option_value(argc, argv, i, "--from", &a->from_text, msg)) != CLI_OPT_NOT_MINE)
         return a->have_from = 1, r;
     if ((r = cli_option_value(argc, argv, i, "--to", &a->to_text, msg)) != CLI_OPT_NOT_MINE)
@@ -132,9 +137,30 @@ static int finish(void *p, char msg[CLI_MSG_LEN])
     if (cli_parse_quantity("--from", over->unit, a->from_text, &a->opt.from, msg) != USM_OK ||
         cli_parse_quantity("--to", over->unit, a->to_text, &a->opt.to, msg) != USM_OK)
         return USM_EINPUT;
-    if (a->force && !a->out) {
-        cli_msg(msg, "--force: only with --out (it overwrites that file)");
+    if (a->force && !a->out && !a->plot) {
+        cli_msg(msg, "--force: only with --out or --plot (it overwrites their files)");
         return USM_EINPUT;
+    }
+    if (a->out || a->plot) {
+        char files[USM_PLOT_MAX_FILES][USM_IO_PATH_LEN], why[USM_IO_MSG_LEN];
+        const char *paths[1 + USM_PLOT_MAX_FILES], *opts[1 + USM_PLOT_MAX_FILES];
+        int n = 0;
+        if (a->out)
+            paths[n] = a->out, opts[n++] = "--out";
+        const int m = a->plot ? usm_plot_files(a->plot, 1, files) : 0;
+        if (m < 0) {
+            cli_msg(msg, "--plot %.200s: path too long", a->plot);
+            return USM_EINPUT;
+        }
+        for (int k = 0; k < m; ++k)
+            paths[n] = files[k], opts[n++] = "--plot";
+        if (usm_io_check_distinct(paths, opts, n, why) != USM_OK) {
+            cli_msg(msg, "%s", why);
+            return USM_EINPUT;
+        }
+        /* refused before the (long) study, not after it */
+        if (a->plot && usm_plot_csv_check(a->plot, a->force, msg) != USM_OK)
+            return USM_EINPUT;
     }
     a->opt.over = a->over;
     a->opt.settle = a->settle;
@@ -178,6 +204,29 @@ static int write_out(const void *p, const usm_run *r, FILE *out)
     return 0;
 }
 
+static int plot_csv(FILE *out, const void *data)
+{
+    return usm_squeal_write_plot_csv(data, out);
+}
+
+/* --plot: PREFIX.csv, then gnuplot on data/plots/squeal_study.gp; a missing
+ * gnuplot is a warning (the CSV and PREFIX.gp are there to plot later). */
+static int plot(const squeal_args *a, const usm_run *r)
+{
+    char msg[CLI_MSG_LEN], xcol[128];
+    const usm_param_info *info = usm_params_find(a->over);
+    int rc = usm_plot_csv_write(a->plot, a->force, plot_csv, usm_run_squeal_result(r), msg);
+    if (rc != USM_OK) {
+        cli_error("%s", msg);
+        return rc;
+    }
+    snprintf(xcol, sizeof xcol, "%s [%s]", a->over, info && info->unit[0] ? info->unit : "1");
+    const char *names[] = {"xcol"};
+    const char *values[] = {xcol};
+    rc = usm_plot_render("squeal_study", a->plot, names, values, 1, msg);
+    return cli_plot_status(rc, msg);
+}
+
 static int run(void *p)
 {
     squeal_args *a = p;
@@ -196,6 +245,8 @@ static int run(void *p)
         status = cli_run_output(r, a->common.json, 0, write_csv, a);
     if (status == USM_OK && a->out && a->common.json && write_out(a, r, stdout) != 0)
         status = USM_EFAILED;
+    if (status == USM_OK && a->plot)
+        status = plot(a, r);
     usm_run_free(r);
     return status;
 }

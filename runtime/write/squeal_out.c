@@ -136,3 +136,30 @@ int usm_squeal_write_strobe_csv(const usm_squeal_study *s, FILE *out)
     }
     return ferror(out) ? -1 : 0;
 }
+
+int usm_squeal_write_plot_csv(const usm_squeal_study *s, FILE *out)
+{
+    fprintf(out, "%s,k,rotor_speed [1/s],theta [rad],frequency [Hz],level_db [dB]\n",
+            usm_squeal_over(s));
+    for (size_t i = 0; i < usm_squeal_count(s); ++i) {
+        const usm_squeal_point *pt = usm_squeal_point_at(s, i);
+        size_t n;
+        const double *w, *th, *g;
+        if (usm_squeal_strobe(s, i, &n, &w, &th, &g) == 0)
+            for (size_t j = 0; j < n; ++j) {
+                usm_csv_num(out, 1, pt->value);
+                fprintf(out, ",%zu", j);
+                usm_csv_num(out, 0, w[j]);
+                usm_csv_num(out, 0, th[j]);
+                fputs(",,\n", out);
+            }
+        for (size_t k = 0; k < pt->nlines; ++k) {
+            usm_csv_num(out, 1, pt->value);
+            fputs(",,,", out);
+            usm_csv_num(out, 0, pt->lines[k].frequency);
+            usm_csv_num(out, 0, pt->lines[k].level_db);
+            fputc('\n', out);
+        }
+    }
+    return ferror(out) ? -1 : 0;
+}

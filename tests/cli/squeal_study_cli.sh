@@ -11,6 +11,7 @@
 #    `usm sweep --periodic` (the shooting's orbits with separation) ends, to
 #    one grid step: 3-DOF phase error 0.90 to 0.93 rad, the two-impact orbit
 #    ending between 0.912 and 0.914 rad;
+#  - --plot writes the bifurcation diagram's CSV and gnuplot's figures;
 #  - bad input: an unknown name, A == B, fewer than 2 points, a model whose
 #    contact never opens: one line, exit 2.
 #
@@ -68,8 +69,16 @@ fi
 # ---- the onset against the periodic sweep's stable branch -------------------------
 ONSET="--over phase_error --from 0.90 --to 0.93 --points 4"
 if expect_rc 0 squeal $ONSET --settle 200 --window 64 --lyapunov-periods 50 --no-rest-check \
-    --json --quiet; then
+    --json --quiet --plot "$tmp/onset"; then
     cp "$out" "$tmp/onset.json"
+    # --plot: the diagram's data and gnuplot's figures, without a complaint
+    if command -v gnuplot >/dev/null; then
+        checks=$((checks + 1))
+        [ -s "$tmp/onset.csv" ] && [ -s "$tmp/onset.png" ] && [ -s "$tmp/onset.svg" ] ||
+            fail "--plot: no CSV, PNG or SVG"
+        ! grep -qiE 'warning|error' "$tmp/onset.log" 2>/dev/null ||
+            fail "--plot: gnuplot said $(head -c 300 "$tmp/onset.log")"
+    fi
     if expect_rc 0 sweep --periodic --variant imperfect_unilateral $ONSET --json --quiet; then
         py_file "$tmp/onset.json" "
 sw = json.load(open('$out'))

@@ -174,6 +174,12 @@ int usm_squeal_write_csv(const usm_squeal_study *s, FILE *out);
  * for every stroboscopic sample of every point.  0, or -1. */
 int usm_squeal_write_strobe_csv(const usm_squeal_study *s, FILE *out);
 
+/* The data of `usm squeal --plot`: the stroboscopic samples (NAME, k,
+ * rotor_speed, theta) and the audible lines (NAME, frequency, level_db) of
+ * every point, each row one or the other (the other's fields empty), for
+ * data/plots/squeal_study.gp.  0, or -1 on a write error. */
+int usm_squeal_write_plot_csv(const usm_squeal_study *s, FILE *out);
+
 #ifdef __cplusplus
 }
 #endif
