@@ -161,6 +161,10 @@ static int finish(void *p, char msg[CLI_MSG_LEN])
         /* refused before the (long) study, not after it */
         if (a->plot && usm_plot_csv_check(a->plot, a->force, msg) != USM_OK)
             return USM_EINPUT;
+        if (a->out && usm_io_check(a->out, a->force, why) != USM_OK) {
+            cli_msg(msg, "--out %s", why);
+            return USM_EINPUT;
+        }
     }
     a->opt.over = a->over;
     a->opt.settle = a->settle;

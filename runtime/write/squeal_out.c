@@ -77,12 +77,20 @@ int usm_squeal_write_json(const usm_squeal_study *s, FILE *out)
     return usm_json_write(usm_json_finish(obj, ok), out);
 }
 
+/* The varied parameter's column header: NAME [unit] (the display's
+ * conversion reads the unit there). */
+static void over_header(const usm_squeal_study *s, FILE *out)
+{
+    const usm_param_info *info = usm_params_find(usm_squeal_over(s));
+    fprintf(out, "%s [%s]", usm_squeal_over(s), info && info->unit[0] ? info->unit : "1");
+}
+
 int usm_squeal_write_csv(const usm_squeal_study *s, FILE *out)
 {
-    fprintf(out, "%s,motion,period,second_frequency [Hz],lyapunov [1/s],lyapunov_per_period [1],"
+    over_header(s, out);
+    fprintf(out, ",motion,period,second_frequency [Hz],lyapunov [1/s],lyapunov_per_period [1],"
                  "rotor_speed_mean [1/s],rotor_speed_ripple [1/s],theta_mean [rad],"
-                 "open_fraction [1],impacts_per_period [1],impact_velocity_max [m/s]",
-            usm_squeal_over(s));
+                 "open_fraction [1],impacts_per_period [1],impact_velocity_max [m/s]");
     for (int k = 1; k <= CSV_LINES; ++k)
         fprintf(out, ",line_%d [Hz],level_%d [dB]", k, k);
     fputs(",rest_motion,coexisting,error,seconds [s]\n", out);
@@ -118,7 +126,8 @@ int usm_squeal_write_csv(const usm_squeal_study *s, FILE *out)
 
 int usm_squeal_write_strobe_csv(const usm_squeal_study *s, FILE *out)
 {
-    fprintf(out, "%s,k,rotor_speed [1/s],theta [rad],gap [m]\n", usm_squeal_over(s));
+    over_header(s, out);
+    fputs(",k,rotor_speed [1/s],theta [rad],gap [m]\n", out);
     for (size_t i = 0; i < usm_squeal_count(s); ++i) {
         size_t n;
         const double *w, *th, *g;
@@ -139,8 +148,8 @@ int usm_squeal_write_strobe_csv(const usm_squeal_study *s, FILE *out)
 
 int usm_squeal_write_plot_csv(const usm_squeal_study *s, FILE *out)
 {
-    fprintf(out, "%s,k,rotor_speed [1/s],theta [rad],frequency [Hz],level_db [dB]\n",
-            usm_squeal_over(s));
+    over_header(s, out);
+    fputs(",k,rotor_speed [1/s],theta [rad],frequency [Hz],level_db [dB]\n", out);
     for (size_t i = 0; i < usm_squeal_count(s); ++i) {
         const usm_squeal_point *pt = usm_squeal_point_at(s, i);
         size_t n;

@@ -13,7 +13,7 @@
 #    ending between 0.912 and 0.914 rad;
 #  - --plot writes the bifurcation diagram's CSV and gnuplot's figures;
 #  - bad input: an unknown name, A == B, fewer than 2 points, a model whose
-#    contact never opens: one line, exit 2.
+#    contact never opens, an --out file that exists: one line, exit 2.
 #
 # usage: squeal_study_cli.sh PATH/TO/usm
 set -u
@@ -110,5 +110,10 @@ expect_bad '--over' 'unknown parameter' squeal --over nosuch --from 0 --to 1
 expect_bad 'from, to' 'different' squeal --over mode_split --from 0.02 --to 0.02
 expect_bad 'points' 'must be 2' squeal --over mode_split --from 0.02 --to 0.03 --points 1
 expect_bad 'model' 'never opens' squeal --variant imperfect --over mode_split --from 0.02 --to 0.03
+# a file a user has is refused before the (long) study, not after it
+echo keep >"$tmp/kept.csv"
+expect_bad '--out' 'exists' squeal --over mode_split --from 0.02 --to 0.03 --out "$tmp/kept.csv"
+checks=$((checks + 1))
+[ "$(cat "$tmp/kept.csv")" = keep ] || fail "--out: the user's file was changed"
 
 finish squeal_study_cli
