@@ -23,6 +23,7 @@
 
 #include "usm.h"
 #include "usm_design.h"
+#include "usm_fit.h"
 #include "usm_operating_point.h"
 #include "usm_simulate.h"
 #include "usm_sweep.h"
@@ -233,6 +234,26 @@ int usm_params_read_file(const char *path, usm_params *p, char msg[USM_IO_MSG_LE
  * Numbers go through usm_parse_number(), strings through usm_parse_quantity(). */
 int usm_params_parse_text(const char *path, const char *text, size_t len, usm_params *p,
                           char msg[USM_IO_MSG_LEN]);
+
+/* ---- measurements to fit (usm_fit.h) ------------------------------------------ */
+
+/* Read the measurements of `usm fit --data FILE.csv` (docs/fit.md): a header
+ * of "NAME [UNIT]" columns -- a parameter's name is a condition of each row
+ * (f [kHz], T [mNm], F0 [N]), an output's name (usm_fit_output_find) a
+ * measured value (speed [rpm], power_in [W]), sigma_OUTPUT its standard
+ * deviation (for every measured output or for none) -- then one row per
+ * measurement; blank lines and lines starting with # are skipped.  Units
+ * are converted to SI through the units table.  An empty output field is a
+ * value not measured in that row; an empty condition is refused.  USM_OK
+ * with *out (usm_fit_data_free), or USM_EINPUT with one line
+ * "PATH:LINE: column NAME: reason" in msg: an unknown column, a unit that
+ * does not convert, a field that is not a finite number (nan), a condition
+ * outside its parameter's range, a sigma that is not positive, a row with
+ * another number of fields, a sigma column without its output. */
+int usm_fit_data_read(const char *path, usm_fit_data **out, char msg[USM_IO_MSG_LEN]);
+/* The same on the len bytes at text; path names them in messages. */
+int usm_fit_data_parse_text(const char *path, const char *text, size_t len, usm_fit_data **out,
+                            char msg[USM_IO_MSG_LEN]);
 
 /* ---- a simulation's start state --------------------------------------------- */
 
