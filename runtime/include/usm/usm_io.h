@@ -255,6 +255,26 @@ int usm_fit_data_read(const char *path, usm_fit_data **out, char msg[USM_IO_MSG_
 int usm_fit_data_parse_text(const char *path, const char *text, size_t len, usm_fit_data **out,
                             char msg[USM_IO_MSG_LEN]);
 
+/* The `usm fit --json` object of result r (usm_fit_run) of model m on data d
+ * from the parameters p, and a newline: estimates (estimate,
+ * standard_error, ci95, start, scale, unit per fitted parameter),
+ * correlation, chi2, dof, p_value (null when sigma_estimated),
+ * sigma_estimated, sigma_scale, singular_values, identifiable,
+ * unidentifiable [{"combination": {NAME: coefficient}, "singular_value",
+ * "advice": {"output", "conditions", "score"} or null}], points (per
+ * measured value: row, line, conditions, output, measured, model, sigma,
+ * residual, flagged, reason).  0, or -1 on a write error or out of memory. */
+int usm_fit_write_json(const usm_model *m, const usm_params *p, const usm_fit_data *d,
+                       const usm_fit_result *r, FILE *out);
+/* The table of `usm fit` for people, measured and model values in the
+ * display units dsp (NULL: SI). */
+void usm_fit_write_table(const usm_model *m, const usm_fit_data *d, const usm_fit_result *r,
+                         const usm_display *dsp, FILE *out);
+/* The residuals per measured value as CSV (`usm fit --out`): row, line, the
+ * conditions [SI], output, unit, measured, model, sigma, residual, flag.
+ * 0, or -1 on a write error. */
+int usm_fit_write_csv(const usm_fit_data *d, const usm_fit_result *r, FILE *out);
+
 /* ---- a simulation's start state --------------------------------------------- */
 
 /* Read the state of model m from the file at path into opt (x0, t0,
