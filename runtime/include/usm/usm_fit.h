@@ -58,9 +58,10 @@ extern "C" {
 #define USM_FIT_SPEED USM_SENS_COUNT
 #define USM_FIT_NOUTPUTS (USM_SENS_COUNT + 1)
 
-/* Name ("speed", "rotor_speed", "power_in", ...) and SI unit of output k,
- * NULL when k is not an output a measurement may name. */
+/* Name ("speed", "rotor_speed", "power_in", ...) of output k, NULL when k
+ * is not an output a measurement may name. */
 const char *usm_fit_output_name(int k);
+/* SI unit of output k ("1/s", "W", ...), NULL as usm_fit_output_name. */
 const char *usm_fit_output_unit(int k);
 /* The output called name, or -1 (also for max_modulus: not measurable). */
 int usm_fit_output_find(const char *name);
