@@ -131,6 +131,7 @@ void usm_fit_options_default(usm_fit_options *o)
     o->max_iter = 100;
     o->ident_tol = 0.05;
     o->advise = 1;
+    o->profile = 1;
     usm_op_options_default(&o->op);
     o->op.from_rest = 1;
 }
@@ -563,6 +564,108 @@ static int fail(usm_fit_result *out, int status, const char *fmt, const char *ar
     return status;
 }
 
+/* ---- profile likelihood --------------------------------------------------------------- */
+
+/* The sum of squares minimized over every fitted parameter but j, with j
+ * held at the fitted-scale value z, started from the estimate t.  NaN when
+ * z leaves the parameter's range or no finite minimum is found. */
+static double profile_chi2(const usm_model *m, const usm_fit_data *d, const usm_fit_options *o,
+                           const fit_eval *full, const double *t, int j, double z, int *evals)
+{
+    const int k = o->fit[j];
+    const double v = full->log_scale[j] ? exp(z) : z;
+    const usm_param_range rg = usm_param_ranges[k];
+    if (!(v >= rg.lo && v <= rg.hi) || (full->log_scale[j] && !(v > 0)))
+        return NAN;
+    usm_params p;
+    fit_params_at(full, t, &p);
+    *usm_params_field(&p, &usm_param_table[k]) = v;
+    usm_fit_options so = *o;
+    double ts[USM_NPARAMS], chi2 = NAN;
+    so.nfit = 0;
+    for (int i = 0; i < o->nfit; ++i)
+        if (i != j) {
+            ts[so.nfit] = t[i];
+            so.fit[so.nfit++] = o->fit[i];
+        }
+    fit_eval e;
+    if (fit_eval_init(&e, m, &p, d, &so) == USM_OK) {
+        if (so.nfit == 0) {
+            if (fit_eval_at(&e, ts) == USM_OK)
+                chi2 = e.chi2;
+        } else {
+            gsl_multifit_nlinear_parameters fp = gsl_multifit_nlinear_default_parameters();
+            fp.trs = gsl_multifit_nlinear_trs_lmaccel;
+            gsl_multifit_nlinear_workspace *w =
+                gsl_multifit_nlinear_alloc(gsl_multifit_nlinear_trust, &fp, (size_t)e.n,
+                                           (size_t)e.np);
+            int iters = 0;
+            if (w && local_search(&e, w, ts, &chi2, &iters) != USM_OK)
+                chi2 = NAN;
+            gsl_multifit_nlinear_free(w);
+        }
+    }
+    *evals += e.evaluations;
+    fit_eval_free(&e);
+    return chi2;
+}
+
+/* Each end of each interval checked against the profile likelihood: the
+ * profile's deviation at the Jacobian's end, g = sqrt(dchi2) / (q s) - 1
+ * (0 for a quadratic sum of squares), decides; where |g| > 0.1 the end is
+ * located by bisection in sqrt(dchi2) after stepping out by doubling. */
+static void profile(const usm_model *m, const usm_fit_data *d, const usm_fit_options *o,
+                    const fit_eval *e, const double *t, usm_fit_result *out)
+{
+    const double level = out->quantile * out->sigma_scale;
+    for (int j = 0; j < out->nfit; ++j) {
+        out->profiled[j] = 0;
+        out->profile_lo[j] = out->lo[j];
+        out->profile_hi[j] = out->hi[j];
+        const double h = out->quantile * out->se_scaled[j];
+        if (!isfinite(h) || !(h > 0) || !isfinite(level))
+            continue;
+        for (int side = -1; side <= 1; side += 2) {
+            double a = 0, b = h, c2 = profile_chi2(m, d, o, e, t, j, t[j] + side * h,
+                                                   &out->evaluations);
+            double r = sqrt(fmax(c2 - out->chi2, 0)) / level; /* 1 for a quadratic */
+            if (isfinite(r) && fabs(r - 1) <= 0.1)
+                continue;
+            out->profiled[j] = 1;
+            double end = INFINITY;
+            if (!isfinite(r) || r < 1) { /* flatter: step out until the level is passed */
+                a = h;
+                for (int k = 0; k < 8 && !(isfinite(r) && r >= 1); ++k) {
+                    a = b;
+                    b *= 2;
+                    c2 = profile_chi2(m, d, o, e, t, j, t[j] + side * b, &out->evaluations);
+                    r = sqrt(fmax(c2 - out->chi2, 0)) / level;
+                    if (!isfinite(c2))
+                        break;
+                }
+            }
+            if (isfinite(r) && r >= 1) {
+                for (int k = 0; k < 12; ++k) {
+                    double mid = 0.5 * (a + b);
+                    c2 = profile_chi2(m, d, o, e, t, j, t[j] + side * mid, &out->evaluations);
+                    r = sqrt(fmax(c2 - out->chi2, 0)) / level;
+                    if (isfinite(r) && r >= 1)
+                        b = mid;
+                    else
+                        a = mid;
+                }
+                end = t[j] + side * b;
+                end = e->log_scale[j] ? exp(end) : end;
+            } else
+                end = side < 0 ? (e->log_scale[j] ? 0.0 : -INFINITY) : INFINITY;
+            if (side < 0)
+                out->profile_lo[j] = end;
+            else
+                out->profile_hi[j] = end;
+        }
+    }
+}
+
 int usm_fit_run(const usm_model *m, const usm_params *p, const usm_fit_data *d,
                 const usm_fit_options *o, usm_fit_result *out)
 {
@@ -614,10 +717,12 @@ int usm_fit_run(const usm_model *m, const usm_params *p, const usm_fit_data *d,
         status = fit_eval_at(&e, best);
     if (status == USM_OK)
         status = fit_statistics(&e, best, out);
-    else
+    out->evaluations = e.evaluations;
+    if (status == USM_OK && o->profile)
+        profile(m, d, o, &e, best, out);
+    if (status != USM_OK && !out->message[0])
         fail(out, status, "%s", status == USM_EFAILED ? "out of memory"
                                                         : "no start gives a finite sum of squares");
-    out->evaluations = e.evaluations;
     fit_eval_free(&e);
     out->status = status;
     out->wall = now() - t0;

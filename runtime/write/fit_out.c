@@ -61,6 +61,11 @@ int usm_fit_write_json(const usm_model *m, const usm_params *p, const usm_fit_da
         usm_json_put(e, "standard_error", usm_json_real(r->se[j]), &ok);
         usm_json_put(e, "ci95", json_pack("[oo]", usm_json_real(r->lo[j]), usm_json_real(r->hi[j])),
                      &ok);
+        usm_json_put(e, "ci95_profile",
+                     r->profiled[j] ? json_pack("[oo]", usm_json_real(r->profile_lo[j]),
+                                                usm_json_real(r->profile_hi[j]))
+                                    : json_null(),
+                     &ok);
         usm_json_put(e, "start", usm_json_real(r->start[j]), &ok);
         usm_json_put(e, "scale", json_string(r->log_scale[j] ? "log" : "linear"), &ok);
         usm_json_put(e, "unit", json_string(usm_param_table[r->fit[j]].unit), &ok);
@@ -142,6 +147,11 @@ void usm_fit_write_table(const usm_model *m, const usm_fit_data *d, const usm_fi
         fprintf(out, "  %-10s %-14.7g %-12.3g [%-12.6g, %-12.6g] %s%s\n", pname(r, j),
                 r->estimate[j], r->se[j], r->lo[j], r->hi[j], usm_param_table[r->fit[j]].unit,
                 r->log_scale[j] ? " (log scale)" : "");
+    for (int j = 0; j < r->nfit; ++j)
+        if (r->profiled[j])
+            fprintf(out, "  %-10s profile likelihood's 95 %% interval [%.6g, %.6g] (differs from "
+                    "the Jacobian's by more than 10 %%)\n", pname(r, j), r->profile_lo[j],
+                    r->profile_hi[j]);
     if (r->nfit > 1) {
         fprintf(out, "\ncorrelation\n  %-10s", "");
         for (int k = 0; k < r->nfit; ++k)

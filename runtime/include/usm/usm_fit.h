@@ -107,6 +107,9 @@ typedef struct usm_fit_options {
                                  1/s above 20) */
     int advise;               /* 1: look for the measurement that separates an
                                  undetermined combination (default 1) */
+    int profile;              /* 1: check each end of each interval by the profile
+                                 likelihood and, where the two differ by more than 10 %,
+                                 report the profile's end (default 1) */
     usm_op_options op;        /* the operating point (default: usm_op_options_default with
                                  from_rest = 1: a simulation decides between several roots) */
 } usm_fit_options;
@@ -166,6 +169,15 @@ typedef struct usm_fit_result {
                                      infinite where the data do not determine it */
     double lo[USM_NPARAMS], hi[USM_NPARAMS]; /* 95 % interval */
     double se_scaled[USM_NPARAMS]; /* standard error in the fitted scale (log p or p) */
+    /* The profile likelihood's 95 % interval (opt->profile): where the sum of
+     * squares minimized over the other parameters rises by quantile^2 s^2.
+     * profiled[j] = 1 when either end differs from the Jacobian's by more
+     * than 10 % of its half-width (then profile_lo/hi hold the profile's ends,
+     * infinite where the profile stays below the level within the
+     * parameter's range); 0: the Jacobian's interval stands (profile_lo/hi
+     * equal lo/hi). */
+    int profiled[USM_NPARAMS];
+    double profile_lo[USM_NPARAMS], profile_hi[USM_NPARAMS];
     double corr[USM_NPARAMS * USM_NPARAMS]; /* row-major nfit x nfit */
     double quantile;          /* of the intervals (1.96 or Student t) */
     double chi2;              /* sum of squared residuals (weighted) */
