@@ -308,7 +308,7 @@ int main(int argc, char **argv)
     gsl_set_error_handler_off();
     const char *what = argc > 1 ? argv[1] : "recovery";
     if (strcmp(what, "recovery") == 0)
-        recovery(argc > 2 ? atoi(argv[2]) : 80);
+        recovery(argc > 2 ? atoi(argv[2]) : 60);
     else if (strcmp(what, "ident") == 0)
         identifiability();
     else if (strcmp(what, "measure") == 0)
