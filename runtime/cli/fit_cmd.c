@@ -8,6 +8,7 @@
 #include "options.h"
 #include "usm_fit.h"
 #include "usm_io.h"
+#include "usm_plot.h"
 #include "usm_run.h"
 
 static void usage(FILE *out)
@@ -16,7 +17,7 @@ static void usage(FILE *out)
             "usage: usm fit --data FILE.csv --fit NAME[,NAME...]\n"
             "               [--model 3dof|4dof] [--variant V] [--params FILE.json]\n"
             "               [--set NAME=VALUE]... [--starts N] [--units LIST]\n"
-            "               [--out FILE.csv [--force]] [--json]\n"
+            "               [--out FILE.csv] [--plot PREFIX] [--force] [--json]\n"
             "\n"
             "Fit the parameters NAME,... to measured characteristics: weighted least\n"
             "squares (Levenberg-Marquardt with geodesic acceleration) on the analytic\n"
@@ -38,7 +39,10 @@ static void usage(FILE *out)
             "  --starts N          starts of the local search (default 4; 1: from the given\n"
             "                      values only)\n"
             "  --out FILE.csv      the residuals per measured value\n"
-            "  --force             overwrite --out\n"
+            "  --plot PREFIX       PREFIX.csv (the residuals) and the figure PREFIX.png/svg:\n"
+            "                      measured and model values over the condition with the\n"
+            "                      most distinct values, and the residuals (gnuplot)\n"
+            "  --force             overwrite the --out and --plot files\n"
             "  -h, --help          print this help\n"
             "\n"
             "exit status: 0 fitted, 1 numerical failure, 2 bad input or data,\n"
@@ -47,7 +51,7 @@ static void usage(FILE *out)
 
 typedef struct fit_args {
     cli_common common;
-    const char *data, *names, *out;
+    const char *data, *names, *out, *plot;
     int force;
     usm_fit_options opt;
 } fit_args;
@@ -67,6 +71,7 @@ static int option(void *p, int argc, char **argv, int *i, char msg[CLI_MSG_LEN])
     CLI_TRY(cli_common_option(&a->common, argc, argv, i, msg));
     CLI_TRY(cli_path_option(argc, argv, i, "--data", "file name", &a->data, msg));
     CLI_TRY(cli_path_option(argc, argv, i, "--out", "file name", &a->out, msg));
+    CLI_TRY(cli_plot_option(argc, argv, i, &a->plot, msg));
     CLI_TRY(cli_int_option(argc, argv, i, "--starts", &a->opt.starts, msg));
     return cli_option_value(argc, argv, i, "--fit", &a->names, msg);
 }
@@ -79,10 +84,29 @@ static int finish(void *p, char msg[CLI_MSG_LEN])
                 a->data ? "--fit" : "--data");
         return USM_EINPUT;
     }
-    if (a->force && !a->out) {
-        cli_msg(msg, "--force: only with --out");
+    if (a->force && !a->out && !a->plot) {
+        cli_msg(msg, "--force: only with --out or --plot");
         return USM_EINPUT;
     }
+    if (a->out && a->plot) { /* one run's outputs: distinct files */
+        char files[USM_PLOT_MAX_FILES][USM_IO_PATH_LEN];
+        const char *paths[USM_PLOT_MAX_FILES + 1], *opts[USM_PLOT_MAX_FILES + 1];
+        int n = usm_plot_files(a->plot, 1, files);
+        if (n < 0) {
+            cli_msg(msg, "--plot %.200s: path too long", a->plot);
+            return USM_EINPUT;
+        }
+        paths[0] = a->out;
+        opts[0] = "--out";
+        for (int k = 0; k < n; ++k) {
+            paths[k + 1] = files[k];
+            opts[k + 1] = "--plot";
+        }
+        if (usm_io_check_distinct(paths, opts, n + 1, msg) != USM_OK)
+            return USM_EINPUT;
+    }
+    if (a->plot && usm_plot_csv_check(a->plot, a->force, msg) != USM_OK)
+        return USM_EINPUT;
     if (a->opt.starts < 1 || a->opt.starts > 100) {
         cli_msg(msg, "--starts: %d is not in 1..100", a->opt.starts);
         return USM_EINPUT;
@@ -113,6 +137,46 @@ static int write_out(const fit_args *a, const usm_run *r, char msg[CLI_MSG_LEN])
     return usm_io_commit(&file, msg);
 }
 
+static int residuals_csv(FILE *out, const void *p)
+{
+    const usm_run *r = p;
+    return usm_fit_write_csv(usm_run_fit_data(r), usm_run_fit_result(r), out);
+}
+
+/* --plot: the residuals' CSV and the figure over the condition with the most
+ * distinct values (the curve's axis: f of a speed-frequency curve) */
+static int plot(const fit_args *a, const usm_run *r)
+{
+    char msg[CLI_MSG_LEN], xcol[96] = "row";
+    const usm_fit_data *d = usm_run_fit_data(r);
+    int rc = usm_plot_csv_write(a->plot, a->force, residuals_csv, r, msg);
+    if (rc != USM_OK) {
+        cli_error("%s", msg);
+        return rc;
+    }
+    int best = -1, most = 0;
+    for (int c = 0; c < d->ncond; ++c) {
+        int distinct = 0;
+        for (int i = 0; i < d->nrows; ++i) {
+            int seen = 0;
+            for (int j = 0; j < i && !seen; ++j)
+                seen = d->x[(size_t)j * (size_t)d->ncond + (size_t)c] ==
+                       d->x[(size_t)i * (size_t)d->ncond + (size_t)c];
+            distinct += !seen;
+        }
+        if (distinct > most) {
+            most = distinct;
+            best = c;
+        }
+    }
+    if (best >= 0)
+        snprintf(xcol, sizeof xcol, "%s [%s]", usm_param_table[d->cond[best]].name,
+                 usm_param_table[d->cond[best]].unit);
+    const char *names[] = {"xcol"};
+    const char *values[] = {xcol};
+    return cli_plot_status(usm_plot_render("fit", a->plot, names, values, 1, msg), msg);
+}
+
 static int run(void *p)
 {
     const fit_args *a = p;
@@ -129,6 +193,8 @@ static int run(void *p)
         cli_error("--out %s", msg);
     else
         status = cli_run_output(r, c->json, 0, table, a);
+    if (status == USM_OK && a->plot)
+        status = plot(a, r);
     usm_run_free(r);
     return status;
 }

@@ -215,7 +215,7 @@ int usm_fit_write_csv(const usm_fit_data *d, const usm_fit_result *r, FILE *out)
     fprintf(out, "row,line");
     for (int c = 0; c < d->ncond; ++c)
         fprintf(out, ",%s [%s]", usm_param_table[d->cond[c]].name, usm_param_table[d->cond[c]].unit);
-    fprintf(out, ",output,unit,measured,model,sigma,residual,flag\n");
+    fprintf(out, ",output,unit,measured,model,sigma,residual,flagged,reason\n");
     for (int i = 0; i < r->npoints; ++i) {
         const usm_fit_point *pt = &r->points[i];
         fprintf(out, "%d,%ld", pt->row + 1, d->line[pt->row]);
@@ -232,7 +232,7 @@ int usm_fit_write_csv(const usm_fit_data *d, const usm_fit_result *r, FILE *out)
                 b[0] = '\0';
             fprintf(out, ",%s", b);
         }
-        fprintf(out, ",%s\n", pt->reason);
+        fprintf(out, ",%d,%s\n", pt->flagged, pt->reason);
     }
     return ferror(out) ? -1 : 0;
 }

@@ -3,7 +3,7 @@
 # CSV, and bad data refused with one line naming the column or row and the
 # reason, exit 2; a point where the motor does not run is a flagged residual.
 set -u
-USM=$1
+USM=$(cd "$(dirname "$1")" && pwd)/$(basename "$1")
 DIR=$(cd "$(dirname "$0")" && pwd)
 T=$(mktemp -d)
 trap 'rm -rf "$T"' EXIT
@@ -46,8 +46,35 @@ d = json.load(open(sys.argv[1]))
 u = d["unidentifiable"]
 ok = d["identifiable"] is False and len(u) == 1 and set(u[0]["combination"]) == {"mu0", "kappa"} \
     and u[0]["advice"] is not None
-print("" if ok else "FAIL: mu0,kappa %s" % u)
+ok or print("FAIL: mu0,kappa %s" % u)
 sys.exit(0 if ok else 1)' "$T/mk.json" || fail=1
+
+# a point where the motor has no operating point (a load past the friction
+# limit): a flagged residual, not a refusal
+printf 'T [N m],speed [1/s],sigma_speed [1/s]\n0,11.5,0.1\n6.46e-5,10.3,0.1\n1e-4,9.7,0.1\n0.002,0,0.1\n' > "$T/stall.csv"
+"$USM" fit --model 4dof --data "$T/stall.csv" --fit c_r --starts 1 --json > "$T/stall.json" ||
+    bad "stall: exit $?"
+python3 -c '
+import json, sys
+d = json.load(open(sys.argv[1]))
+p = d["points"][3]
+ok = d["flagged"] == 1 and p["flagged"] and p["reason"] == "no_solution" and p["model"] == 0
+ok or print("FAIL: flagged point %s" % p)
+sys.exit(0 if ok else 1)' "$T/stall.json" || fail=1
+
+# --plot: the residuals' CSV and the figure (when gnuplot is installed); the
+# stall file's flagged point drawn apart; --out and --plot's CSV the same file
+# refused before the fit
+if command -v gnuplot >/dev/null; then
+    (cd "$T" && "$USM" fit --model 4dof --data stall.csv --fit c_r --starts 1 --plot fp \
+        > /dev/null) || bad "--plot exit $?"
+    for e in csv gp png svg; do [ -s "$T/fp.$e" ] || bad "--plot: no fp.$e"; done
+    grep -q "^xcol = 'T \[N m\]'" "$T/fp.gp" || bad "--plot: x axis not T: $(grep xcol "$T/fp.gp")"
+    [ "$(cut -d, -f10 "$T/fp.csv" | tail -1)" = 1 ] || bad "--plot: the flagged point's flagged column"
+fi
+"$USM" fit --model 4dof --data "$DIR/fit/speed.csv" --fit c_r --out "$T/same.csv" \
+    --plot "$T/same" 2> "$T/err" > /dev/null
+[ $? -eq 2 ] && grep -q "are the same file" "$T/err" || bad "--out = --plot's CSV: $(cat "$T/err")"
 
 # bad data: one line, exit 2, naming the column or row
 expect_bad() { # NAME PATTERN CSV-TEXT [fit]
@@ -72,19 +99,6 @@ expect_bad unknown "column spede: neither a parameter nor a measured output" \
     'f [Hz],spede [1/s]\n37000,11\n'
 expect_bad fields ":3: 1 fields, the header has 2" 'f [Hz],speed [1/s]\n37000,11\n38000\n'
 expect_bad range ":2: f = 37 Hz is outside" 'f [Hz],speed [1/s]\n37,11\n38,11\n39,11\n'
-
-# a point where the motor has no operating point (a load past the friction
-# limit): a flagged residual, not a refusal
-printf 'T [N m],speed [1/s],sigma_speed [1/s]\n0,11.5,0.1\n6.46e-5,10.3,0.1\n1e-4,9.7,0.1\n0.002,0,0.1\n' > "$T/stall.csv"
-"$USM" fit --model 4dof --data "$T/stall.csv" --fit c_r --starts 1 --json > "$T/stall.json" ||
-    bad "stall: exit $?"
-python3 -c '
-import json, sys
-d = json.load(open(sys.argv[1]))
-p = d["points"][3]
-ok = d["flagged"] == 1 and p["flagged"] and p["reason"] == "no_solution" and p["model"] == 0
-print("" if ok else "FAIL: flagged point %s" % p)
-sys.exit(0 if ok else 1)' "$T/stall.json" || fail=1
 
 [ $fail -eq 0 ] && echo "fit_cli: ok"
 exit $fail

@@ -271,7 +271,8 @@ int usm_fit_write_json(const usm_model *m, const usm_params *p, const usm_fit_da
 void usm_fit_write_table(const usm_model *m, const usm_fit_data *d, const usm_fit_result *r,
                          const usm_display *dsp, FILE *out);
 /* The residuals per measured value as CSV (`usm fit --out`): row, line, the
- * conditions [SI], output, unit, measured, model, sigma, residual, flag.
+ * conditions [SI], output, unit, measured, model, sigma, residual, flagged
+ * (0/1), reason ("" or why it is flagged).
  * 0, or -1 on a write error. */
 int usm_fit_write_csv(const usm_fit_data *d, const usm_fit_result *r, FILE *out);
 
