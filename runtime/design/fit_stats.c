@@ -52,7 +52,8 @@ static int svd(const double *A, int n, int np, double *s, double *V)
  * scale): among the outputs that can be measured on a motor (speed,
  * power_in, theta) at the data's conditions and at conditions beyond them
  * (each condition moved half its span past its extremes, or halved and
- * doubled where the data hold it constant), the one whose relative change
+ * doubled where the data hold it constant; never across 0 when the data
+ * stay on one side), the one whose relative change
  * along w, |sum_j dln y/dt_j w_j|, is largest: measured to a given relative
  * precision it adds the most information along w.  Pairs the data hold
  * already are skipped. */
@@ -93,7 +94,10 @@ static int advise(fit_eval *e, const double *t, usm_fit_unidentified *u)
                     xc *= up ? 2.0 : 0.5;
                 }
                 char msg[USM_MSG_LEN];
-                if (usm_param_check_value(d->cond[c], xc, msg) != USM_OK)
+                /* a condition the data hold on one side of 0 (a load that brakes)
+                 * stays there: the other side is another experiment */
+                if ((lo[c] >= 0 && xc < 0) || (hi[c] <= 0 && xc > 0) ||
+                    usm_param_check_value(d->cond[c], xc, msg) != USM_OK)
                     continue;
                 x[c] = xc;
             }
