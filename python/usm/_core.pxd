@@ -323,6 +323,11 @@ cdef extern from "usm_spectrum.h" nogil:
         size_t bins
     const char *usm_spectrum_channel_name(int channel)
 
+cdef extern from "usm_fit.h" nogil:
+    ctypedef struct usm_fit_options:
+        int starts
+    void usm_fit_options_default(usm_fit_options *o)
+
 cdef extern from "usm_run.h" nogil:
     enum:
         USM_RUN_SIM_COLUMNS
@@ -337,6 +342,9 @@ cdef extern from "usm_run.h" nogil:
     usm_run *usm_run_steady(const usm_model *m, const usm_params *p, double t0,
                             const usm_floquet_options *fo, const usm_op_options *op)
     usm_run *usm_run_sensitivity(const usm_model *m, const usm_params *p, const int *want)
+    usm_run *usm_run_fit(const usm_model *m, const usm_params *p, const char *path,
+                         const char *text, size_t len, const char *names,
+                         const usm_fit_options *opt)
     usm_run *usm_run_periodic(const usm_model *m, const usm_params *p)
     usm_run *usm_run_simulate(const usm_model *m, const usm_params *p, const usm_sim_options *opt,
                               const void *cb, long spectrum_periods)

@@ -660,6 +660,25 @@ cdef class _Model:
             r = usm_run_sensitivity(self.m, &self.p, want)
         return self._finish(r)
 
+    def _fit(self, bytes path, text, bytes names, starts):
+        cdef usm_fit_options fo
+        cdef usm_run *r
+        cdef const char *ctext = NULL
+        cdef size_t n = 0
+        cdef bytes btext
+        cdef const char *cpath = path
+        cdef const char *cnames = names
+        usm_fit_options_default(&fo)
+        if starts is not None:
+            fo.starts = int(starts)
+        if text is not None:
+            btext = text.encode()
+            ctext = btext
+            n = len(btext)
+        with nogil:
+            r = usm_run_fit(self.m, &self.p, cpath, ctext, n, cnames, &fo)
+        return self._finish(r)
+
     def _map(self, x, y, double t0, method, rtol, steps, int threads, int from_rest,
              from_rest_periods, progress=None):
         cdef usm_map_options mo

@@ -38,6 +38,7 @@ static const cli_entry commands[] = {
     {"optimize", "best design over parameter bounds under stability, stick and user constraints", &cli_optimize},
     {"tolerance", "Monte Carlo yield: stability and specs under parameter scatter", &cli_tolerance},
     {"pareto", "trade-off front of two outputs (epsilon-constraint), CSV, JSON and figure", &cli_pareto},
+    {"fit", "parameters identified from measured characteristics, with intervals and identifiability", &cli_fit},
 };
 #define NCOMMANDS (sizeof commands / sizeof commands[0])
 
