@@ -1117,3 +1117,16 @@ double usm_periodic_shoot_stick_excess(usm_periodic *w)
 {
     return w->have_shot ? exact_extreme(w, Q_STICK, 1.0) : NAN;
 }
+
+double usm_periodic_shoot_F_n_min(usm_periodic *w)
+{
+    return w->have_shot ? exact_extreme(w, Q_F_N, -1.0) : NAN;
+}
+
+double usm_periodic_shoot_max_modulus(usm_periodic *w)
+{
+    usm_floquet_result f;
+    if (!w->have_shot || multipliers(w, w->shot_Psi, &f) != USM_OK)
+        return NAN;
+    return f.max_modulus;
+}

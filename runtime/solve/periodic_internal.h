@@ -82,4 +82,10 @@ int usm_periodic_shoot_result(usm_periodic *w, usm_periodic_result *out);
  * contact opens.  NaN without a shot. */
 double usm_periodic_shoot_stick_excess(usm_periodic *w);
 
+/* Of the last shot's orbit alone, as usm_periodic_shoot_result reports them
+ * (F_n_min; floquet.max_modulus) for a tenth of its cost: a continuation's
+ * test functions.  NaN without a shot or when the eigenproblem fails. */
+double usm_periodic_shoot_F_n_min(usm_periodic *w);
+double usm_periodic_shoot_max_modulus(usm_periodic *w);
+
 #endif /* USM_PERIODIC_INTERNAL_H */

@@ -52,8 +52,10 @@
  * noise made the column 5e-3 wrong and Newton linear at that rate.) */
 #define DLAM 1e-5
 /* The corrector's tolerance on its update (scaled): above that noise floor,
- * which the default 1e-10 is not (Newton then stalls and the step fails). */
-#define NEWTON_TOL 1e-7
+ * which the default 1e-10 is not (Newton then stalls and the step fails);
+ * at 1e-7 an event's orbit was 2.4e-9 off its limit (friction_needed_max
+ * against mu0), at 1e-8 4e-10. */
+#define NEWTON_TOL 1e-8
 /* The chord Newton of a landing: at most this many periods of the state
  * alone, stopping below CHORD_TOL times the shooting's tolerance (the
  * confirming shot's integration differs from the state alone's by some
@@ -129,13 +131,16 @@ static int solve_at(usm_periodic_sweep *s, double v, const double *x0, usm_perio
 
 /* ---- the problem posed to the engine --------------------------------------------- */
 
-/* One orbit at a point of the branch, with what the tests ask of it. */
+/* One orbit at a point of the branch, with what the tests ask of it: each
+ * computed when first asked for (NaN until then; full 0 until r is). */
 typedef struct orbit_slot {
     double x[USM_MAX_NX + 1];
-    int used;
+    int used, full;
     usm_periodic_result r;
-    double stick; /* max |F_t| - mu0 F_n; NaN until asked for */
+    double q[3]; /* the tests' quantities, Q_* */
 } orbit_slot;
+
+enum { Q_FN_MIN, Q_STICK, Q_MODULUS };
 
 typedef struct branch {
     usm_periodic_sweep *s;
@@ -203,56 +208,79 @@ static int residual(const double *x, double *F, double *J, void *ctx)
     return shoot(ctx, x, F, J);
 }
 
-/* The orbit at x on the branch (kept: the tests of one point share it), or
- * NULL when its shot fails. */
-static orbit_slot *orbit_at(branch *b, const double *x)
+/* The slot of the orbit at x on the branch (kept: the tests of one point
+ * share it), the solver's last shot at x; NULL when the shot fails. */
+static orbit_slot *slot_at(branch *b, const double *x)
 {
-    for (int i = 0; i < NCACHE; ++i)
-        if (b->cache[i].used && same_x(b, b->cache[i].x, x))
-            return &b->cache[i];
     double F[USM_MAX_NX];
+    orbit_slot *o = NULL;
+    for (int i = 0; i < NCACHE && !o; ++i)
+        if (b->cache[i].used && same_x(b, b->cache[i].x, x))
+            o = &b->cache[i];
     if (!(b->shot && same_x(b, b->shot_x, x)) && shoot(b, x, F, NULL) != 0)
         return NULL;
-    orbit_slot *o = &b->cache[b->next_slot];
-    o->used = 0;
-    if (usm_periodic_shoot_result(b->s->w, &o->r) != USM_OK)
-        return NULL;
+    if (o)
+        return o;
+    o = &b->cache[b->next_slot];
     b->next_slot = (b->next_slot + 1) % NCACHE;
     memcpy(o->x, x, sizeof(double) * (size_t)b->N);
     o->used = 1;
-    o->stick = NAN;
+    o->full = 0;
+    o->q[0] = o->q[1] = o->q[2] = NAN;
     return o;
+}
+
+/* The full orbit at x (the points' and events'), or NULL when its shot or
+ * multipliers fail. */
+static orbit_slot *orbit_at(branch *b, const double *x)
+{
+    for (int i = 0; i < NCACHE; ++i)
+        if (b->cache[i].used && b->cache[i].full && same_x(b, b->cache[i].x, x))
+            return &b->cache[i];
+    orbit_slot *o = slot_at(b, x);
+    if (!o || usm_periodic_shoot_result(b->s->w, &o->r) != USM_OK)
+        return NULL;
+    o->full = 1;
+    return o;
+}
+
+/* A test's quantity at x: of the full orbit where it was formed, else the
+ * one extreme (or the multipliers) alone. */
+static double quantity(branch *b, const double *x, int q)
+{
+    for (int i = 0; i < NCACHE; ++i) {
+        const orbit_slot *o = &b->cache[i];
+        if (o->used && same_x(b, o->x, x) && !isnan(o->q[q]))
+            return o->q[q];
+        if (o->used && o->full && q != Q_STICK && same_x(b, o->x, x))
+            return q == Q_FN_MIN ? o->r.F_n_min : o->r.floquet.max_modulus;
+    }
+    orbit_slot *o = slot_at(b, x);
+    if (!o)
+        return NAN;
+    usm_periodic *w = b->s->w;
+    o->q[q] = q == Q_FN_MIN    ? usm_periodic_shoot_F_n_min(w)
+              : q == Q_STICK   ? usm_periodic_shoot_stick_excess(w)
+                               : usm_periodic_shoot_max_modulus(w);
+    return o->q[q];
 }
 
 static double test_contact(const double *x, const double *dx, void *ctx)
 {
     (void)dx;
-    const orbit_slot *o = orbit_at(ctx, x);
-    return o ? o->r.F_n_min : NAN;
+    return quantity(ctx, x, Q_FN_MIN);
 }
 
 static double test_stability(const double *x, const double *dx, void *ctx)
 {
     (void)dx;
-    const orbit_slot *o = orbit_at(ctx, x);
-    return o ? o->r.floquet.max_modulus - 1.0 : NAN;
+    return quantity(ctx, x, Q_MODULUS) - 1.0;
 }
 
 static double test_stick(const double *x, const double *dx, void *ctx)
 {
-    branch *b = ctx;
     (void)dx;
-    orbit_slot *o = orbit_at(b, x);
-    if (!o)
-        return NAN;
-    if (isnan(o->stick)) {
-        /* the samples of o's orbit are the solver's when it was just shot */
-        double F[USM_MAX_NX];
-        if (!(b->shot && same_x(b, b->shot_x, x)) && shoot(b, x, F, NULL) != 0)
-            return NAN;
-        o->stick = usm_periodic_shoot_stick_excess(b->s->w);
-    }
-    return o->stick;
+    return quantity(ctx, x, Q_STICK);
 }
 
 /* Scale each state by the largest size it has had (the rotor speed grows
