@@ -57,9 +57,10 @@
  * against mu0), at 1e-8 4e-10. */
 #define NEWTON_TOL 1e-8
 /* The chord Newton of a landing: at most this many periods of the state
- * alone, stopping below CHORD_TOL times the shooting's tolerance (the
- * confirming shot's integration differs from the state alone's by some
- * 1e-11 of the scales). */
+ * alone, stopping below CHORD_TOL times the shooting's tolerance or at the
+ * residual's noise floor (the confirming shot with the variational
+ * equations takes other steps, and its residual differs from the state
+ * alone's by up to 1e-9 of the scales there). */
 #define CHORD_MAX 6
 #define CHORD_TOL 0.25
 #define NCACHE 4 /* orbits kept (the points a step's tests and events ask for) */
@@ -157,7 +158,6 @@ typedef struct branch {
     int t_contact, t_stick, t_stab; /* the engine's indices of the tests (-1: none) */
     double lu[USM_MAX_NX * USM_MAX_NX]; /* the chord Newton's factored matrix */
     int piv[USM_MAX_NX], have_lu;
-    int failed;               /* an orbit's outputs failed (the test is NaN there) */
 } branch;
 
 static int same_x(const branch *b, const double *a, const double *c)
