@@ -1216,28 +1216,51 @@ static int finish_task(void *ctx, void *state, size_t k)
     const size_t a = k * FINISH_SPAN, b = a + FINISH_SPAN < fp->n ? a + FINISH_SPAN : fp->n;
     const int next_span_checks = b < fp->n && pending_point(&fp->pts[b]);
     track_set set = {-1, {{0}}};
+    int tracked_prev = 0; /* the row before came from the tracking */
     fp->ends[k].count = -1;
     fp->starts[k].count = -1;
     for (size_t i = a; i < b; ++i) {
         if (!pending_point(&fp->pts[i])) {
             set.count = -1;
+            tracked_prev = 0;
             continue;
         }
-        if (fp->full[k] || track_roots(fp, i, &set) != 0 ||
-            finish_tracked(fp, st, i, &set) != 0) {
+        if (fp->full[k]) {
             finish_full(fp, st, i, &set);
-            if (i == a)
-                fp->starts[k] = set;
             continue;
         }
-        const int run_ends = i + 1 < b ? !pending_point(&fp->pts[i + 1]) : !next_span_checks;
-        if (run_ends) {
-            track_set full;
-            finish_full(fp, st, i, &full);
+        const track_set before = set;
+        const int tracked = track_roots(fp, i, &set) == 0;
+        if (tracked && finish_tracked(fp, st, i, &set) == 0) {
+            const int run_ends = i + 1 < b ? !pending_point(&fp->pts[i + 1]) : !next_span_checks;
+            tracked_prev = 1;
+            if (run_ends) {
+                track_set full;
+                finish_full(fp, st, i, &full);
+                if (!same_sets(nu, &full, &set))
+                    fp->bad[k] = 1;
+                set = full;
+                tracked_prev = 0;
+            }
+            continue;
+        }
+        /* the tracking ends here: the full search at i, and the run before
+         * checked against one where it last held */
+        track_set full;
+        finish_full(fp, st, i, &full);
+        if (tracked) {
             if (!same_sets(nu, &full, &set))
                 fp->bad[k] = 1;
-            set = full;
+        } else if (tracked_prev) {
+            track_set check;
+            finish_full(fp, st, i - 1, &check);
+            if (!same_sets(nu, &check, &before))
+                fp->bad[k] = 1;
         }
+        set = full;
+        tracked_prev = 0;
+        if (i == a)
+            fp->starts[k] = set;
     }
     if (!fp->full[k] && next_span_checks && set.count >= 0) {
         fp->ends[k] = set;
