@@ -825,7 +825,12 @@ static int follow_half(usm_envelope *e, env_problem *pb, const double *x0, int d
                                                t->side % 2 == 0 ? e->lo[k] : e->hi[k]) >= 0) {
                         env_xy(pb, xs, &px, &py);
                         h->n--;
-                        if (half_push(h, nu, px, py, xs) != 0)
+                        /* a seed on the side, left outwards: the seed alone */
+                        const int again =
+                            h->n > 0 && fabs(h->xy[2 * h->n - 2] - px) <=
+                                            1e-12 * (e->hi[0] - e->lo[0]) &&
+                            fabs(h->xy[2 * h->n - 1] - py) <= 1e-12 * (e->hi[1] - e->lo[1]);
+                        if (!again && half_push(h, nu, px, py, xs) != 0)
                             return -1;
                     }
                 }

@@ -1,4 +1,5 @@
-/* The envelope's JSON (`usm envelope --json`) and CSV (usm_envelope.h). */
+/* The envelope's JSON (`usm envelope --json`) and CSV (usm_envelope.h).  The
+ * CSV's comment lines are in SI units, named: --units converts columns only. */
 #include <stdio.h>
 
 #include "envelope/envelope_internal.h"
@@ -99,15 +100,17 @@ int usm_envelope_write_csv(const usm_envelope *e, FILE *out)
     }
     char bx[32], by[32];
     for (size_t k = 0; k < e->ncodim2; ++k)
-        fprintf(out, "# codim2 %s at %s = %s, %s = %s\n", e->codim2[k].type, e->ax[0]->name,
-                usm_shortest(bx, e->codim2[k].x), e->ax[1]->name, usm_shortest(by, e->codim2[k].y));
+        fprintf(out, "# codim2 %s at %s = %s %s, %s = %s %s\n", e->codim2[k].type,
+                e->ax[0]->name, usm_shortest(bx, e->codim2[k].x), e->ax[0]->unit, e->ax[1]->name,
+                usm_shortest(by, e->codim2[k].y), e->ax[1]->unit);
     for (size_t k = 0; k < e->nregions; ++k) {
         const usm_envelope_region *r = &e->regions[k];
         fprintf(out, "# region %zu %s", k, usm_point_op_class_name(r->cls));
         if (r->root >= 0)
             fprintf(out, " root %d", r->root);
-        fprintf(out, " sample %s = %s, %s = %s (%zu cells)\n", e->ax[0]->name,
-                usm_shortest(bx, r->x), e->ax[1]->name, usm_shortest(by, r->y), r->cells);
+        fprintf(out, " sample %s = %s %s, %s = %s %s (%zu cells)\n", e->ax[0]->name,
+                usm_shortest(bx, r->x), e->ax[0]->unit, e->ax[1]->name, usm_shortest(by, r->y),
+                e->ax[1]->unit, r->cells);
     }
     return ferror(out) ? -1 : 0;
 }
