@@ -156,12 +156,19 @@ void usm_envelope_free(usm_envelope *e);
  * parameters or options: the message names the field), USM_EFAILED. */
 int usm_envelope_run(usm_envelope *e, const usm_params *p, const usm_envelope_options *opt);
 
+/* Why the last run failed ("" after success).  Owned by e. */
 const char *usm_envelope_message(const usm_envelope *e);
+/* Curves of the last run. */
 size_t usm_envelope_curve_count(const usm_envelope *e);
+/* Curve i, NULL when out of range; valid until the next run or free. */
 const usm_envelope_curve *usm_envelope_curve_at(const usm_envelope *e, size_t i);
+/* Codimension-two points of the last run. */
 size_t usm_envelope_codim2_count(const usm_envelope *e);
+/* Codimension-two point i, NULL when out of range. */
 const usm_envelope_codim2 *usm_envelope_codim2_at(const usm_envelope *e, size_t i);
+/* Regions of the last run. */
 size_t usm_envelope_region_count(const usm_envelope *e);
+/* Region i, NULL when out of range. */
 const usm_envelope_region *usm_envelope_region_at(const usm_envelope *e, size_t i);
 /* The region holding (x, y), or -1 outside the box or in a raster cell a
  * curve crosses. */
@@ -175,6 +182,7 @@ void usm_envelope_seed_counts(const usm_envelope *e, size_t *found, size_t *drop
  * the CSV: one row per curve point (curve,kind,x,y), then the codimension-two
  * points and the regions as comment lines.  0, or -1 on a write error. */
 int usm_envelope_write_json(const usm_envelope *e, const usm_model *m, FILE *out);
+/* The CSV, as above. */
 int usm_envelope_write_csv(const usm_envelope *e, FILE *out);
 
 #ifdef __cplusplus
