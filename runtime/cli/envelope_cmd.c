@@ -12,6 +12,7 @@
 #include "usm.h"
 #include "usm_envelope.h"
 #include "usm_io.h"
+#include "usm_plot.h"
 #include "usm_run.h"
 
 static void usage(FILE *out)
@@ -22,7 +23,7 @@ static void usage(FILE *out)
             "                    [--set NAME=VALUE]... [--lines N] [--nodes N] [--raster N]\n"
             "                    [--no-stability] [--t0 S] [--floquet-method NAME] [--rtol R]\n"
             "                    [--from-rest [--from-rest-periods N]] [--json]\n"
-            "                    [--out FILE.csv] [--force]\n"
+            "                    [--out FILE.csv] [--plot PREFIX] [--force]\n"
             "\n"
             "The operating envelope over two parameters: every boundary of the stationary\n"
             "solution that crosses the box (tilt_zero, fold, stick_limit, stall, stability)\n"
@@ -46,7 +47,10 @@ static void usage(FILE *out)
     fprintf(out,
             "  --out FILE          write the CSV (or with --json the object) to FILE; an\n"
             "                      existing FILE is kept unless --force is given\n"
-            "  --force             overwrite FILE\n"
+            "  --plot PREFIX       also draw the envelope with gnuplot: PREFIX.csv (the\n"
+            "                      curves, the regions' cells), PREFIX.gp, PREFIX.png,\n"
+            "                      PREFIX.svg; existing files are kept unless --force\n"
+            "  --force             overwrite FILE and the --plot files\n"
             "  -h, --help          print this help\n"
             "\n"
             "Output: CSV, header curve,kind,X [unit],Y [unit]: one row per curve point, in\n"
@@ -65,6 +69,7 @@ typedef struct envelope_args {
     const char *axis_text[2];
     char names[2][256];
     const char *out;
+    const char *plot; /* --plot PREFIX, or NULL */
     int force, no_stability;
 } envelope_args;
 
@@ -90,6 +95,7 @@ static int option(void *p, int argc, char **argv, int *i, char msg[CLI_MSG_LEN])
     CLI_TRY(cli_quantity_option(argc, argv, i, "--t0", "s", &a->opt.t0, msg));
     CLI_TRY(cli_option_value(argc, argv, i, "--x", &a->axis_text[0], msg));
     CLI_TRY(cli_option_value(argc, argv, i, "--y", &a->axis_text[1], msg));
+    CLI_TRY(cli_plot_option(argc, argv, i, &a->plot, msg));
     return cli_path_option(argc, argv, i, "--out", "file name", &a->out, msg);
 }
 
@@ -148,6 +154,42 @@ static int write_csv(const void *p, const usm_run *r, FILE *out)
     return f && cli_shown_close(&shown) != 0 ? -1 : rc;
 }
 
+/* PREFIX.csv in the display units, as the CSV. */
+typedef struct plot_data {
+    const envelope_args *a;
+    const usm_envelope *e;
+} plot_data;
+
+static int write_plot_csv(FILE *out, const void *data)
+{
+    const plot_data *d = data;
+    cli_shown shown;
+    FILE *f = cli_shown_open(&shown, &d->a->common.display, out);
+    int rc = f ? usm_envelope_write_plot_csv(d->e, f) : -1;
+    return f && cli_shown_close(&shown) != 0 ? -1 : rc;
+}
+
+/* --plot: PREFIX.csv, then gnuplot on data/plots/envelope.gp.  A missing
+ * gnuplot is a warning (the CSV and PREFIX.gp are there to plot later). */
+static int plot(const envelope_args *a, const usm_run *r)
+{
+    char msg[CLI_MSG_LEN], xcol[300], ycol[300];
+    const plot_data d = {a, usm_run_envelope_result(r)};
+    int rc = usm_plot_csv_write(a->plot, a->force, write_plot_csv, &d, msg);
+    if (rc != USM_OK) {
+        cli_error("%s", msg);
+        return rc;
+    }
+    const char *xu, *yu;
+    usm_display_value(&a->common.display, usm_params_find(a->names[0])->unit, 0, &xu);
+    usm_display_value(&a->common.display, usm_params_find(a->names[1])->unit, 0, &yu);
+    snprintf(xcol, sizeof xcol, "%s [%s]", a->names[0], xu);
+    snprintf(ycol, sizeof ycol, "%s [%s]", a->names[1], yu);
+    const char *names[] = {"xcol", "ycol"}, *values[] = {xcol, ycol};
+    rc = usm_plot_render("envelope", a->plot, names, values, 2, msg);
+    return cli_plot_status(rc, msg);
+}
+
 static int run(void *p)
 {
     const envelope_args *a = p;
@@ -158,9 +200,27 @@ static int run(void *p)
         cli_error("--out %s", msg);
         return USM_EINPUT;
     }
+    if (a->plot && usm_plot_csv_check(a->plot, a->force, msg) != USM_OK) {
+        cli_error("%s", msg);
+        return USM_EINPUT;
+    }
+    if (a->out && a->plot) { /* --out e.csv --plot e: PREFIX.csv would replace --out's file */
+        char files[USM_PLOT_MAX_FILES][USM_IO_PATH_LEN];
+        const char *paths[1 + USM_PLOT_MAX_FILES] = {a->out};
+        const char *opts[1 + USM_PLOT_MAX_FILES] = {"--out"};
+        const int m = usm_plot_files(a->plot, 1, files);
+        for (int i = 0; i < m; ++i)
+            paths[1 + i] = files[i], opts[1 + i] = "--plot";
+        if (m < 0 || usm_io_check_distinct(paths, opts, 1 + m, msg) != USM_OK) {
+            cli_error("%s", m < 0 ? "--plot: path too long" : msg);
+            return USM_EINPUT;
+        }
+    }
     usm_run *r = usm_run_envelope(a->common.model, &a->common.params, &a->opt);
     if (!a->out) {
         status = cli_run_output(r, a->common.json, 0, write_csv, a);
+        if (status == USM_OK && a->plot)
+            status = plot(a, r);
         usm_run_free(r);
         return status;
     }
@@ -184,6 +244,8 @@ static int run(void *p)
         status = USM_EFAILED;
     } else if ((status = usm_io_commit(&file, msg)) != USM_OK)
         cli_error("--out %s", msg);
+    if (status == USM_OK && a->plot)
+        status = plot(a, r);
     usm_run_free(r);
     return status;
 }

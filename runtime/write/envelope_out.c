@@ -114,3 +114,63 @@ int usm_envelope_write_csv(const usm_envelope *e, FILE *out)
     }
     return ferror(out) ? -1 : 0;
 }
+
+/* The data of `usm envelope --plot`: the curves' rows with a blank line
+ * after each curve (gnuplot draws each as a line of its own), the raster's
+ * cells as rows of kind "region:CLASS" (the region's class, its root after
+ * '#'), the regions' samples as "sample:CLASS" and the codimension-two
+ * points as "codim2:TYPE". */
+int usm_envelope_write_plot_csv(const usm_envelope *e, FILE *out)
+{
+    const usm_csv_column cols[] = {{"curve", NULL}, {"kind", NULL}, {e->ax[0]->name, e->ax[0]->unit},
+                                   {e->ax[1]->name, e->ax[1]->unit}};
+    char kind[64];
+    usm_csv_header(out, cols, 4);
+    for (size_t c = 0; c < e->ncurves; ++c) {
+        const usm_envelope_curve *cv = &e->curves[c].pub;
+        for (size_t i = 0; i < cv->npoints; ++i) {
+            fprintf(out, "%zu", c);
+            usm_csv_text(out, 0, usm_envelope_kind_name(cv->kind));
+            usm_csv_num(out, 0, cv->xy[2 * i]);
+            usm_csv_num(out, 0, cv->xy[2 * i + 1]);
+            fputc('\n', out);
+        }
+        fputc('\n', out);
+    }
+    const int R = e->opt.raster;
+    for (int j = 0; e->label && j < R; ++j)
+        for (int i = 0; i < R; ++i) {
+            const int l = e->label[j * R + i];
+            if (l < 0)
+                continue;
+            const usm_envelope_region *r = &e->regions[l];
+            snprintf(kind, sizeof kind, "region:%s", usm_point_op_class_name(r->cls));
+            fputs("-1", out);
+            usm_csv_text(out, 0, kind);
+            usm_csv_num(out, 0, e->lo[0] + (e->hi[0] - e->lo[0]) * (i + 0.5) / R);
+            usm_csv_num(out, 0, e->lo[1] + (e->hi[1] - e->lo[1]) * (j + 0.5) / R);
+            fputc('\n', out);
+        }
+    for (size_t k = 0; k < e->nregions; ++k) {
+        const usm_envelope_region *r = &e->regions[k];
+        if (r->root >= 0)
+            snprintf(kind, sizeof kind, "sample:%s #%d", usm_point_op_class_name(r->cls),
+                     r->root + 1);
+        else
+            snprintf(kind, sizeof kind, "sample:%s", usm_point_op_class_name(r->cls));
+        fputs("-1", out);
+        usm_csv_text(out, 0, kind);
+        usm_csv_num(out, 0, r->x);
+        usm_csv_num(out, 0, r->y);
+        fputc('\n', out);
+    }
+    for (size_t k = 0; k < e->ncodim2; ++k) {
+        snprintf(kind, sizeof kind, "codim2:%s", e->codim2[k].type);
+        fputs("-1", out);
+        usm_csv_text(out, 0, kind);
+        usm_csv_num(out, 0, e->codim2[k].x);
+        usm_csv_num(out, 0, e->codim2[k].y);
+        fputc('\n', out);
+    }
+    return ferror(out) ? -1 : 0;
+}

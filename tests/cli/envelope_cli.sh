@@ -6,6 +6,8 @@
 #    F0 = sqrt(m0^2 - (H T / R)^2) / R at every point;
 #  - the CSV (stdout and --out) has the header curve,kind,X [unit],Y [unit],
 #    --units converts its columns, and an existing --out is kept without --force;
+#  - --plot writes PREFIX.csv (curves, regions' cells, codimension-two points),
+#    PREFIX.gp and, with gnuplot, the figures; existing files are kept;
 #  - bad input (unknown name, LO >= HI, the same parameter twice, not
 #    NAME:LO:HI, a missing axis) exits 2 with one line naming the field.
 #
@@ -55,6 +57,19 @@ if expect_rc 0 envelope "${box[@]}" --out "$csv"; then
         fail "--out: stdout not empty or the file's header wrong"
 fi
 expect_bad "--out" "exists" envelope "${box[@]}" --out "$csv"
+
+# --plot: the data file (curves, a blank line after each, the regions' cells)
+# and, where gnuplot is installed, the figures
+if expect_rc 0 envelope "${box[@]}" --plot "$tmp/fig"; then
+    checks=$((checks + 1))
+    grep -q '^-1,region:operating_point,' "$tmp/fig.csv" && grep -q '^-1,codim2:tilt_zero/fold,' "$tmp/fig.csv" &&
+        [ -s "$tmp/fig.gp" ] || fail "--plot: PREFIX.csv or PREFIX.gp incomplete"
+    if command -v gnuplot >/dev/null; then
+        checks=$((checks + 1))
+        [ -s "$tmp/fig.png" ] && [ -s "$tmp/fig.svg" ] || fail "--plot: no figure"
+    fi
+fi
+expect_bad "--plot" "exists" envelope "${box[@]}" --plot "$tmp/fig"
 
 expect_bad "--x" "unknown parameter 'nope'" envelope --x nope:1:2 --y F0:0.1:2
 expect_bad "--x" "below HI" envelope --x f:40000:36000 --y F0:0.1:2

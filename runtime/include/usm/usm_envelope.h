@@ -184,6 +184,12 @@ void usm_envelope_seed_counts(const usm_envelope *e, size_t *found, size_t *drop
 int usm_envelope_write_json(const usm_envelope *e, const usm_model *m, FILE *out);
 /* The CSV, as above. */
 int usm_envelope_write_csv(const usm_envelope *e, FILE *out);
+/* The data file of `usm envelope --plot` (data/plots/envelope.gp reads it):
+ * the CSV's header; the curves' rows, a blank line after each curve; then
+ * rows "-1,KIND,x,y" with KIND region:CLASS (every raster cell off the
+ * curves, at its centre), sample:CLASS[ #ROOT] (each region's sample) and
+ * codim2:TYPE.  0, or -1 on a write error. */
+int usm_envelope_write_plot_csv(const usm_envelope *e, FILE *out);
 
 #ifdef __cplusplus
 }
