@@ -26,8 +26,8 @@ static void usage(FILE *out)
             "                    [--out FILE.csv] [--plot PREFIX] [--force]\n"
             "\n"
             "The operating envelope over two parameters: every boundary of the stationary\n"
-            "solution that crosses the box (tilt_zero, fold, stick_limit, stall, stability)\n"
-            "continued as a curve of the extended system [r = 0; g = 0], the points where\n"
+            "solution that crosses the box (tilt_zero, fold, stick_limit, stall, stability,\n"
+            "friction_saturation) continued as a curve of the extended system [r = 0; g = 0], the points where\n"
             "two curves meet or a fold curve has its cusp, and the regions between the\n"
             "curves with the operating class `usm map` gives there (docs/envelope.md).\n"
             "\n"
@@ -185,8 +185,10 @@ static int plot(const envelope_args *a, const usm_run *r)
     usm_display_value(&a->common.display, usm_params_find(a->names[1])->unit, 0, &yu);
     snprintf(xcol, sizeof xcol, "%s [%s]", a->names[0], xu);
     snprintf(ycol, sizeof ycol, "%s [%s]", a->names[1], yu);
-    const char *names[] = {"xcol", "ycol"}, *values[] = {xcol, ycol};
-    rc = usm_plot_render("envelope", a->plot, names, values, 2, msg);
+    char cells[32];
+    snprintf(cells, sizeof cells, "%d", a->opt.raster);
+    const char *names[] = {"xcol", "ycol", "cells"}, *values[] = {xcol, ycol, cells};
+    rc = usm_plot_render("envelope", a->plot, names, values, 3, msg);
     return cli_plot_status(rc, msg);
 }
 

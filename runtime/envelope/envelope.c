@@ -35,7 +35,8 @@
 
 const char *usm_envelope_kind_name(usm_envelope_kind kind)
 {
-    static const char *const names[] = {"tilt_zero", "fold", "stick_limit", "stall", "stability"};
+    static const char *const names[] = {"tilt_zero", "fold",      "stick_limit",
+                                        "stall",     "stability", "friction_saturation"};
     return (unsigned)kind < USM_ENVELOPE_NKINDS ? names[kind] : NULL;
 }
 
@@ -175,6 +176,8 @@ double env_defining(env_problem *pb, int kind, const double *x)
         return x[m->u_theta];
     case USM_ENVELOPE_STALL:
         return m->u_phidot_R >= 0 ? x[m->u_phidot_R] : NAN;
+    case USM_ENVELOPE_FRICTION_SATURATION:
+        return m->u_phidot_R >= 0 && pb->kind == kind ? x[m->u_phidot_R] - pb->sat_w : NAN;
     case USM_ENVELOPE_STICK_LIMIT:
         m->steady_outputs(x, &pb->p, y);
         return fabs(y[USM_STEADY_F_T]) - pb->p.mu0 * y[USM_STEADY_F_N];
@@ -239,7 +242,8 @@ static int problem_residual(const double *x, double *F, double *Jx, void *ctx)
     if (pb->kind < 0)
         return 0;
     double *row = Jx + nu * N;
-    if (pb->kind == USM_ENVELOPE_TILT_ZERO || pb->kind == USM_ENVELOPE_STALL) {
+    if (pb->kind == USM_ENVELOPE_TILT_ZERO || pb->kind == USM_ENVELOPE_STALL ||
+        pb->kind == USM_ENVELOPE_FRICTION_SATURATION) {
         const int k = pb->kind == USM_ENVELOPE_TILT_ZERO ? m->u_theta : m->u_phidot_R;
         for (int j = 0; j < N; ++j)
             row[j] = j == k ? 1.0 : 0.0;
@@ -352,6 +356,8 @@ int env_kind_applies(const usm_envelope *e, int kind)
         return e->m->slip && e->m->u_phidot_R >= 0;
     if (kind == USM_ENVELOPE_STABILITY)
         return e->opt.stability;
+    if (kind == USM_ENVELOPE_FRICTION_SATURATION)
+        return e->m->slip && e->m->u_phidot_R >= 0 && e->m->friction;
     return 1;
 }
 
@@ -404,6 +410,12 @@ static int problem_setup(env_problem *pb, usm_envelope *e, int kind, int axis, d
         return -1;
     for (int k = 1; k < USM_ENVELOPE_NKINDS; ++k) {
         if (k == kind || !env_kind_applies(e, k))
+            continue;
+        /* the saturation is found by its own rule on a line (a test of the
+         * diverging rotor speed would not change sign); on a saturation
+         * curve the rotor speed is ~1e15 1/s, where r_u's rotor column
+         * vanishes and the others' functions are noise */
+        if (k == USM_ENVELOPE_FRICTION_SATURATION || kind == USM_ENVELOPE_FRICTION_SATURATION)
             continue;
         /* a line's fold is the engine's own (dq/ds = 0) */
         if (kind < 0 && k == USM_ENVELOPE_FOLD)
@@ -516,6 +528,42 @@ static const char *pair_name(int a, int b, char *buf, size_t len)
 
 /* ---- seed lines ------------------------------------------------------------------ */
 
+/* Once F_t / F_n is this close to the friction law's supremum the
+ * saturation point is computed directly instead of following the diverging
+ * rotor speed (as the sweep). */
+#define SAT_TRIGGER 0.999
+#define V_HUGE 1e15 /* slip velocity [m/s] that stands for infinity */
+
+/* A slip model's line at x: when F_t / F_n is within SAT_TRIGGER of the
+ * friction law's supremum, the saturation point (Newton on [r; phidot_R =
+ * W], W the rotor speed of slip velocity V_HUGE) as a seed.  1: the line
+ * ends here (seeded), 0: go on, -1: out of memory. */
+static int line_saturation(env_problem *pb, const double *x)
+{
+    usm_envelope *e = pb->e;
+    const int r = e->m->u_phidot_R, nu = e->nu;
+    double y[USM_STEADY_COUNT], mu[USM_FRICTION_COUNT], xs[NMAX];
+    set_params(pb, x);
+    e->m->steady_outputs(x, &pb->p, y);
+    const double v = y[USM_STEADY_V_REL], w = x[r];
+    if (!(fabs(v) > 0) || !(fabs(w) > 0) || !(y[USM_STEADY_F_N] != 0))
+        return 0;
+    e->m->friction(copysign(V_HUGE, v), &pb->p, mu);
+    const double lim = fabs(mu[USM_FRICTION_MU]);
+    if (!(lim > 0) || fabs(y[USM_STEADY_F_T] / y[USM_STEADY_F_N]) / lim < SAT_TRIGGER)
+        return 0;
+    memcpy(xs, x, sizeof(double) * (size_t)(nu + 1));
+    xs[r] = w * (V_HUGE / fabs(v));
+    if (usm_cont_correct_fixed(pb->cont, xs, r, xs[r]) < 0)
+        return 0; /* not yet near enough: the continuation goes on */
+    const double q = xs[nu];
+    if (q < e->lo[pb->line_axis] || q > e->hi[pb->line_axis])
+        return 1; /* beyond the box: nothing more on this line */
+    double px, py;
+    env_xy(pb, xs, &px, &py);
+    return add_seed(e, USM_ENVELOPE_FRICTION_SATURATION, xs, px, py) == 0 ? 1 : -1;
+}
+
 /* Follow a line's branch from u0 at q0 in direction dir up to q_stop (or an
  * end), recording every located zero of a defining function as a seed. */
 static int follow_line(usm_envelope *e, int axis, double fixed, const double *u0, double q0,
@@ -558,6 +606,15 @@ static int follow_line(usm_envelope *e, int axis, double fixed, const double *u0
         if (st == USM_CONT_END)
             break;
         const double *xc = usm_cont_point(pb.cont);
+        if (env_kind_applies(e, USM_ENVELOPE_FRICTION_SATURATION)) {
+            const int sat = line_saturation(&pb, xc);
+            if (sat < 0) {
+                rc = -1;
+                goto done;
+            }
+            if (sat > 0)
+                break;
+        }
         /* the next node's full search takes over from there */
         if ((xc[nu] - q_stop) * dir > 0)
             break;
@@ -733,6 +790,8 @@ static int choose_swap(usm_envelope *e, int kind, const double *u, double px, do
     memcpy(pb.uscale, scale, sizeof(double) * (size_t)nu);
     memcpy(pb.border_b, border_b, sizeof pb.border_b);
     memcpy(pb.border_c, border_c, sizeof pb.border_c);
+    if (e->m->u_phidot_R >= 0)
+        pb.sat_w = u[e->m->u_phidot_R];
     memcpy(x, u, sizeof(double) * (size_t)nu);
     x[nu] = px;
     x[nu + 1] = py;
@@ -772,6 +831,7 @@ static int follow_half(usm_envelope *e, env_problem *pb, const double *x0, int d
     const int nu = e->nu;
     double px, py;
     char buf[40];
+    double far = 0; /* the largest distance from the seed so far (the box's sides 1) */
     h->end = USM_ENVELOPE_END_LOST;
     if (usm_cont_start(pb->cont, x0, dir) != 0)
         return 0;
@@ -837,11 +897,12 @@ static int follow_half(usm_envelope *e, env_problem *pb, const double *x0, int d
             }
             return 0;
         }
-        /* back at the seed: a closed curve */
-        if (steps > 3 && h->n > 4) {
-            const double dx = (px - h->xy[0]) / (e->hi[0] - e->lo[0]),
-                         dy = (py - h->xy[1]) / (e->hi[1] - e->lo[1]);
-            if (sqrt(dx * dx + dy * dy) < 0.5 * e->opt.h_max &&
+        /* back at the seed, after having left it: a closed curve */
+        const double dx = (px - h->xy[0]) / (e->hi[0] - e->lo[0]),
+                     dy = (py - h->xy[1]) / (e->hi[1] - e->lo[1]), dist = sqrt(dx * dx + dy * dy);
+        far = fmax(far, dist);
+        if (far > 4.0 * e->opt.h_max) {
+            if (dist < 0.5 * e->opt.h_max &&
                 fabs(xc[e->m->u_theta] - h->u[e->m->u_theta]) <=
                     1e-3 * fmax(fabs(xc[e->m->u_theta]), 1e-12)) {
                 h->end = USM_ENVELOPE_END_CLOSED;
@@ -888,6 +949,8 @@ static int trace_curve(usm_envelope *e, const env_seed *s)
     }
     memcpy(pb.border_b, bb, sizeof bb);
     memcpy(pb.border_c, cc, sizeof cc);
+    if (e->m->u_phidot_R >= 0)
+        pb.sat_w = s->u[e->m->u_phidot_R];
     memcpy(x0, s->u, sizeof(double) * (size_t)nu);
     x0[nu] = swap ? s->y : s->x;
     x0[nu + 1] = swap ? s->x : s->y;

@@ -63,6 +63,7 @@ typedef struct env_problem {
     double scale[USM_MAX_NU + 2];
     double uscale[USM_MAX_NU];  /* the fold's scaled unknowns (fixed per curve) */
     double border_b[USM_MAX_NU], border_c[USM_MAX_NU];
+    double sat_w;               /* friction_saturation: the rotor speed W held */
     usm_cont *cont;
     env_test tests[ENV_MAX_TESTS];
     int ntests;

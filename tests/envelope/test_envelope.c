@@ -12,10 +12,11 @@
  * 3. Five points of each curve kind agree with the one-parameter sweep's
  *    located event across the curve (usm_sweep: its own continuation and its
  *    own location of the event): tilt_zero, fold, stick_limit, stability
- *    (3-DOF, f x T), stall (4-DOF, f x F0), to 1e-8 of the box's side.
- * 4. A small map (usm_map_run, 7 x 7): every cell whose neighbourhood (half a
- *    map cell each way) lies in one region has the class and root of that
- *    region.
+ *    (3-DOF, f x T), stall (4-DOF, f x F0), friction_saturation (4-DOF,
+ *    f x T), to 1e-8 of the box's side.
+ * 4. Small maps (usm_map_run, 7 x 7; 3-DOF and 4-DOF, f x T): every cell
+ *    whose neighbourhood (half a map cell each way) lies in one region has
+ *    the class and root of that region.
  * 5. Bad input: an unknown parameter, LO >= HI, the same parameter twice:
  *    USM_EINPUT with the field named.
  */
@@ -128,6 +129,8 @@ static usm_event_type event_of(usm_envelope_kind k)
         return USM_EVENT_STICK_LIMIT;
     case USM_ENVELOPE_STALL:
         return USM_EVENT_STALL;
+    case USM_ENVELOPE_FRICTION_SATURATION:
+        return USM_EVENT_FRICTION_SATURATION;
     default:
         return USM_EVENT_STABILITY_CHANGE;
     }
@@ -224,32 +227,37 @@ static void curves_against_sweeps(void)
     e = envelope("4dof", &p, "f", 36000, 40000, "F0", 0.1, 2.0);
     against_sweep("4dof", &p, e, "f", 36000, 40000, "F0", 0.1, 2.0, USM_ENVELOPE_STALL);
     usm_envelope_free(e);
+    e = envelope("4dof", &p, "f", 30000, 46000, "T", 0.0, 0.008);
+    against_sweep("4dof", &p, e, "f", 30000, 46000, "T", 0.0, 0.008,
+                  USM_ENVELOPE_FRICTION_SATURATION);
+    usm_envelope_free(e);
 }
 
-static void map_against_regions(void)
+static void map_against_regions(const char *model, const char *xn, double xlo, double xhi,
+                                const char *yn, double ylo, double yhi)
 {
     usm_params p;
     usm_params_default(&p);
-    const usm_model *m = usm_model_find("3dof");
-    usm_envelope *e = envelope("3dof", &p, "f", 30000, 46000, "T", 0.0, 0.008);
+    const usm_model *m = usm_model_find(model);
+    usm_envelope *e = envelope(model, &p, xn, xlo, xhi, yn, ylo, yhi);
     usm_map_options o;
     usm_map_options_default(&o);
-    o.x = (usm_map_axis){"f", 30000, 46000, 7};
-    o.y = (usm_map_axis){"T", 0.0, 0.008, 7};
+    o.x = (usm_map_axis){xn, xlo, xhi, 7};
+    o.y = (usm_map_axis){yn, ylo, yhi, 7};
     o.threads = 1;
     o.boundaries = 0;
     usm_map *map = usm_map_alloc(m);
     int compared = 0;
     if (CHECK(usm_map_run(map, &p, &o) == USM_OK, "map: %s", usm_map_message(map))) {
-        const double hx = 0.5 * 16000 / 6, hy = 0.5 * 0.008 / 6;
+        const double hx = 0.5 * (xhi - xlo) / 6, hy = 0.5 * (yhi - ylo) / 6;
         for (int i = 0; i < 7; ++i)
             for (int j = 0; j < 7; ++j) {
                 const usm_map_cell *cell = usm_map_cell_at(map, i, j);
                 const int r = usm_envelope_region_of(e, cell->x, cell->y);
                 int away = r >= 0;
                 for (int c = 0; c < 4 && away; ++c) {
-                    const double x = fmin(46000, fmax(30000, cell->x + (c & 1 ? hx : -hx)));
-                    const double y = fmin(0.008, fmax(0.0, cell->y + (c & 2 ? hy : -hy)));
+                    const double x = fmin(xhi, fmax(xlo, cell->x + (c & 1 ? hx : -hx)));
+                    const double y = fmin(yhi, fmax(ylo, cell->y + (c & 2 ? hy : -hy)));
                     away = usm_envelope_region_of(e, x, y) == r;
                 }
                 if (!away)
@@ -257,13 +265,14 @@ static void map_against_regions(void)
                 const usm_envelope_region *reg = usm_envelope_region_at(e, (size_t)r);
                 compared++;
                 CHECK(cell->point.op.cls == reg->cls && cell->point.op.index == reg->root,
-                      "map cell (%g, %g): %s root %d, region %d: %s root %d", cell->x, cell->y,
-                      usm_point_op_class_name(cell->point.op.cls), cell->point.op.index, r,
-                      usm_point_op_class_name(reg->cls), reg->root);
+                      "%s map cell (%g, %g): %s root %d, region %d: %s root %d", model, cell->x,
+                      cell->y, usm_point_op_class_name(cell->point.op.cls), cell->point.op.index,
+                      r, usm_point_op_class_name(reg->cls), reg->root);
             }
     }
-    CHECK(compared >= 20, "only %d map cells away from the curves", compared);
-    printf("map 7 x 7 against the regions: %d cells away from the curves, all agree\n", compared);
+    CHECK(compared >= 20, "%s: only %d map cells away from the curves", model, compared);
+    printf("%s map 7 x 7 (%s x %s) against the regions: %d cells away from the curves compared\n",
+           model, xn, yn, compared);
     usm_map_free(map);
     usm_envelope_free(e);
 }
@@ -297,7 +306,8 @@ int main(void)
     closed_form_tilt_zero();
     start_threshold();
     curves_against_sweeps();
-    map_against_regions();
+    map_against_regions("3dof", "f", 30000, 46000, "T", 0.0, 0.008);
+    map_against_regions("4dof", "f", 30000, 46000, "T", 0.0, 0.008);
     bad_input();
     return failures != 0;
 }

@@ -26,6 +26,13 @@
  *               equilibrium of the frame turning with the excitation, whose
  *               eigenvalue crossing the imaginary axis is this multiplier
  *               crossing the unit circle
+ *   friction_saturation  slip models: F_t / F_n at the friction law's
+ *               supremum, where the rotor speed diverges.  As the sweep
+ *               locates it: the branch point at a rotor speed W so large
+ *               that the law equals its supremum to rounding (slip velocity
+ *               1e15 m/s at the seed), g = phidot_R - W with W fixed along
+ *               the curve.  A seed line whose F_t / F_n comes within 0.1 %
+ *               of the supremum ends there, at that point.
  * The rows of r are the generated Jacobians (r_u, r_px, r_py); g's row is
  * analytic for tilt_zero and stall and by central differences for the
  * others.  A curve point is a solution of the extended system to the
@@ -72,12 +79,13 @@ typedef enum {
     USM_ENVELOPE_FOLD = 1,
     USM_ENVELOPE_STICK_LIMIT = 2,
     USM_ENVELOPE_STALL = 3,
-    USM_ENVELOPE_STABILITY = 4
+    USM_ENVELOPE_STABILITY = 4,
+    USM_ENVELOPE_FRICTION_SATURATION = 5
 } usm_envelope_kind;
-#define USM_ENVELOPE_NKINDS 5
+#define USM_ENVELOPE_NKINDS 6
 
-/* "tilt_zero", "fold", "stick_limit", "stall", "stability"; NULL for
- * another value. */
+/* "tilt_zero", "fold", "stick_limit", "stall", "stability",
+ * "friction_saturation"; NULL for another value. */
 const char *usm_envelope_kind_name(usm_envelope_kind kind);
 
 /* One axis of the box: parameter `name` from lo to hi (lo < hi). */
