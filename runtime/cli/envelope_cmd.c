@@ -27,9 +27,10 @@ static void usage(FILE *out)
             "\n"
             "The operating envelope over two parameters: every boundary of the stationary\n"
             "solution that crosses the box (tilt_zero, fold, stick_limit, stall, stability,\n"
-            "friction_saturation) continued as a curve of the extended system [r = 0; g = 0], the points where\n"
-            "two curves meet or a fold curve has its cusp, and the regions between the\n"
-            "curves with the operating class `usm map` gives there (docs/envelope.md).\n"
+            "friction_saturation) continued as a curve of the extended system\n"
+            "[r = 0; g = 0], the points where two curves meet or a fold curve has its\n"
+            "cusp, and the regions between the curves with the operating class `usm map`\n"
+            "gives there (docs/envelope.md).\n"
             "\n"
             "options:\n");
     cli_common_usage(out);
