@@ -389,7 +389,9 @@ static int problem_setup(env_problem *pb, usm_envelope *e, int kind, int axis, d
     usm_cont_options_default(&o);
     o.h_max = e->opt.h_max;
     o.h0 = 0.25 * e->opt.h_max;
-    o.h_min = 1e-12;
+    /* a curve that no step of 1e-7 of the box continues is lost: halving
+     * further costs a Newton (with its Floquet evaluations) per halving */
+    o.h_min = 1e-7;
     o.newton_tol = 1e-12;
     o.event_tol = 1e-14;
     o.across_fold = 1;
@@ -766,9 +768,17 @@ static void fold_borders(env_problem *pb, const double *x)
             w[i] /= nw;
         }
     }
+    /* the signs kept from the previous borders: v and w take their signs
+     * from c and b (c'v = b'w = 1), and the cusp coefficient w' r_uu[v, v]
+     * must not change sign by a flip of w */
+    double sv = 0, sw = 0;
     for (int i = 0; i < nu; ++i) {
-        pb->border_c[i] = v[i];
-        pb->border_b[i] = w[i];
+        sv += v[i] * pb->border_c[i];
+        sw += w[i] * pb->border_b[i];
+    }
+    for (int i = 0; i < nu; ++i) {
+        pb->border_c[i] = sv < 0 ? -v[i] : v[i];
+        pb->border_b[i] = sw < 0 ? -w[i] : w[i];
     }
 }
 

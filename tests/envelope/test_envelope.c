@@ -17,13 +17,17 @@
  * 4. Small maps (usm_map_run, 7 x 7; 3-DOF and 4-DOF, f x T): every cell
  *    whose neighbourhood (half a map cell each way) lies in one region has
  *    the class and root of that region.
- * 5. Bad input: an unknown parameter, LO >= HI, the same parameter twice:
+ * 5. The cusp of the fold in (f, m0) (tilt range up to 1 rad): one, at the
+ *    fold curve's least m0 and greatest f.
+ * 6. Bad input: an unknown parameter, LO >= HI, the same parameter twice:
  *    USM_EINPUT with the field named.
  */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+
+#include <gsl/gsl_errno.h>
 
 #include "usm.h"
 #include "usm_envelope.h"
@@ -277,6 +281,47 @@ static void map_against_regions(const char *model, const char *xn, double xlo, d
     usm_envelope_free(e);
 }
 
+/* The fold of the 3-DOF model in (f, m0) with the tilt range up to 1 rad:
+ * its cusp, where the two fold branches meet, is the curve's extreme point
+ * in both f and m0 (both derivatives along the curve vanish there), so the
+ * located cusp is the curve point of least m0 and greatest f, to the
+ * curve's spacing. */
+static void cusp(void)
+{
+    usm_params p;
+    usm_params_default(&p);
+    usm_envelope_options o;
+    usm_envelope_options_default(&o);
+    o.x = (usm_envelope_axis){"f", 20000, 40000};
+    o.y = (usm_envelope_axis){"m0", 15, 100};
+    o.steady.theta_max = 1.0;
+    o.stability = 0;
+    usm_envelope *e = usm_envelope_alloc(usm_model_find("3dof"));
+    CHECK(usm_envelope_run(e, &p, &o) == USM_OK, "f x m0: %s", usm_envelope_message(e));
+    const usm_envelope_curve *c = curve_of(e, USM_ENVELOPE_FOLD);
+    const usm_envelope_codim2 *k = NULL;
+    int ncusp = 0;
+    for (size_t i = 0; i < usm_envelope_codim2_count(e); ++i)
+        if (strcmp(usm_envelope_codim2_at(e, i)->type, "cusp") == 0) {
+            k = usm_envelope_codim2_at(e, i);
+            ncusp++;
+        }
+    if (CHECK(c && k && ncusp == 1, "f x m0: %d cusps, want one on a fold curve", ncusp)) {
+        double mmin = INFINITY, fmax_ = -INFINITY;
+        for (size_t i = 0; i < c->npoints; ++i) {
+            mmin = fmin(mmin, c->xy[2 * i + 1]);
+            fmax_ = fmax(fmax_, c->xy[2 * i]);
+        }
+        CHECK(k->y <= mmin && mmin - k->y <= 1e-3 * k->y && k->x >= fmax_ &&
+                  k->x - fmax_ <= 1e-4 * k->x,
+              "cusp (%.10g, %.10g): the curve's least m0 %.10g, greatest f %.10g", k->x, k->y,
+              mmin, fmax_);
+        printf("cusp of the fold in f x m0: f = %.10g Hz, m0 = %.10g N m, theta = %.4g rad "
+               "(%zu fold points)\n", k->x, k->y, k->u[0], c->npoints);
+    }
+    usm_envelope_free(e);
+}
+
 static void bad_input(void)
 {
     usm_params p;
@@ -303,11 +348,13 @@ static void bad_input(void)
 
 int main(void)
 {
+    gsl_set_error_handler_off();
     closed_form_tilt_zero();
     start_threshold();
     curves_against_sweeps();
     map_against_regions("3dof", "f", 30000, 46000, "T", 0.0, 0.008);
     map_against_regions("4dof", "f", 30000, 46000, "T", 0.0, 0.008);
+    cusp();
     bad_input();
     return failures != 0;
 }
