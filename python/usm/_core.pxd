@@ -186,6 +186,25 @@ cdef extern from "usm_periodic_sweep.h" nogil:
         usm_periodic_options periodic
     void usm_periodic_sweep_options_default(usm_periodic_sweep_options *opt)
 
+cdef extern from "usm_squeal_study.h" nogil:
+    ctypedef struct usm_squeal_options:
+        const char *over
+        double from_ "from"
+        double to
+        int points
+        long settle
+        long window
+        int samples_per_period
+        long lyapunov_skip
+        long lyapunov_periods
+        double rtol
+        double lyapunov_rtol
+        double period_tol
+        double exponent_tol
+        int check_rest
+        int lines
+    void usm_squeal_options_default(usm_squeal_options *opt)
+
 cdef extern from "usm_progress.h" nogil:
     ctypedef void (*usm_progress_fn)(void *ctx, long done, long total, const char *what)
     ctypedef struct usm_progress:
@@ -323,6 +342,11 @@ cdef extern from "usm_spectrum.h" nogil:
         size_t bins
     const char *usm_spectrum_channel_name(int channel)
 
+cdef extern from "usm_fit.h" nogil:
+    ctypedef struct usm_fit_options:
+        int starts
+    void usm_fit_options_default(usm_fit_options *o)
+
 cdef extern from "usm_run.h" nogil:
     enum:
         USM_RUN_SIM_COLUMNS
@@ -337,6 +361,9 @@ cdef extern from "usm_run.h" nogil:
     usm_run *usm_run_steady(const usm_model *m, const usm_params *p, double t0,
                             const usm_floquet_options *fo, const usm_op_options *op)
     usm_run *usm_run_sensitivity(const usm_model *m, const usm_params *p, const int *want)
+    usm_run *usm_run_fit(const usm_model *m, const usm_params *p, const char *path,
+                         const char *text, size_t len, const char *names,
+                         const usm_fit_options *opt)
     usm_run *usm_run_periodic(const usm_model *m, const usm_params *p)
     usm_run *usm_run_simulate(const usm_model *m, const usm_params *p, const usm_sim_options *opt,
                               const void *cb, long spectrum_periods)
@@ -345,6 +372,7 @@ cdef extern from "usm_run.h" nogil:
     usm_run *usm_run_sweep(const usm_model *m, const usm_params *p, const usm_sweep_options *opt)
     usm_run *usm_run_periodic_sweep(const usm_model *m, const usm_params *p,
                                     const usm_periodic_sweep_options *opt)
+    usm_run *usm_run_squeal(const usm_model *m, const usm_params *p, const usm_squeal_options *opt)
     usm_run *usm_run_map(const usm_model *m, const usm_params *p, const usm_map_options *opt)
     usm_run *usm_run_envelope(const usm_model *m, const usm_params *p,
                               const usm_envelope_options *opt)

@@ -512,6 +512,30 @@ cdef class _Model:
             r = usm_run_sweep(self.m, &self.p, &so)
         return self._finish(r)
 
+    def _squeal(self, over, start, stop, int points, long settle, long window,
+                long lyapunov_periods, bint rest_check, double rtol):
+        cdef usm_squeal_options so
+        cdef usm_run *r
+        cdef const usm_param_info *info
+        cdef const char *unit = NULL
+        bover = over.encode()
+        info = usm_params_find(bover)
+        if info != NULL:
+            unit = info.unit
+        usm_squeal_options_default(&so)
+        so.over = bover
+        so.from_ = _quantity("start", unit, start)
+        so.to = _quantity("stop", unit, stop)
+        so.points = points
+        so.settle = settle
+        so.window = window
+        so.lyapunov_periods = lyapunov_periods
+        so.check_rest = rest_check
+        so.rtol = rtol
+        with nogil:
+            r = usm_run_squeal(self.m, &self.p, &so)
+        return self._finish(r)
+
     def _simulate(self, dict opts):
         cdef usm_sim_options so
         cdef usm_run *r
@@ -634,6 +658,25 @@ cdef class _Model:
                 want[k] = 1
         with nogil:
             r = usm_run_sensitivity(self.m, &self.p, want)
+        return self._finish(r)
+
+    def _fit(self, bytes path, text, bytes names, starts):
+        cdef usm_fit_options fo
+        cdef usm_run *r
+        cdef const char *ctext = NULL
+        cdef size_t n = 0
+        cdef bytes btext
+        cdef const char *cpath = path
+        cdef const char *cnames = names
+        usm_fit_options_default(&fo)
+        if starts is not None:
+            fo.starts = int(starts)
+        if text is not None:
+            btext = text.encode()
+            ctext = btext
+            n = len(btext)
+        with nogil:
+            r = usm_run_fit(self.m, &self.p, cpath, ctext, n, cnames, &fo)
         return self._finish(r)
 
     def _map(self, x, y, double t0, method, rtol, steps, int threads, int from_rest,

@@ -1,10 +1,11 @@
 """usm.Model: one generated model with one parameter set (docs/python.md)."""
+import os
 from collections.abc import Mapping
 from typing import NamedTuple
 
 from . import _core
-from ._results import (SteadyResult, FloquetResult, SweepResult, SimulationResult,
-                       PeriodicResult, SensitivityResult, MapResult, OptimizeResult, ParetoResult,
+from ._results import (SteadyResult, FloquetResult, SweepResult, SquealResult, SimulationResult,
+                       PeriodicResult, SensitivityResult, FitResult, MapResult, OptimizeResult, ParetoResult,
                        EnvelopeResult,
                        ToleranceResult)
 
@@ -201,6 +202,24 @@ class Model:
             _raise(st, msg)
         return SweepResult(doc)
 
+    def squeal(self, over, start, stop, points=11, settle=400, window=1024,
+               lyapunov_periods=200, rest_check=True, rtol=1e-8):
+        """The motion past the last periodic orbit over parameter `over` from
+        `start` to `stop` (SI or text with a unit) at `points` values (`usm
+        squeal --json`, docs/squeal.md): each point's motion ("periodic",
+        "quasi_periodic", "chaotic", ...), period, Lyapunov exponent, mean
+        speed, impacts and audible lines.  A model whose contact may open
+        (variant "imperfect_unilateral")."""
+        for name, v in (("points", points), ("settle", settle), ("window", window),
+                        ("lyapunov_periods", lyapunov_periods)):
+            if isinstance(v, bool) or not isinstance(v, int):
+                raise TypeError("%s: must be an integer" % name)
+        st, msg, doc, _ = self._c._squeal(str(over), start, stop, points, settle, window,
+                                          lyapunov_periods, bool(rest_check), float(rtol))
+        if st != 0:
+            _raise(st, msg)
+        return SquealResult(doc)
+
     def simulate(self, duration, start="rest", **options):
         """Integrate M(x) x' = f(x, t) for `duration` seconds (`usm
         simulate --json` and its time history).  start: "rest",
@@ -240,6 +259,31 @@ class Model:
         if st != 0:
             _raise(st, msg)
         return SensitivityResult(doc)
+
+    def fit(self, data, fit, starts=None):
+        """The parameters `fit` (names, or "a,b") identified from measured
+        characteristics (`usm fit --json`, docs/fit.md), starting from this
+        model's values.  data: the path of a CSV file, or a mapping of column
+        headers ("f [kHz]", "speed [rpm]", "sigma_speed [rpm]") to sequences
+        of equal length (None or nan in an output column: not measured).
+        starts: the starts of the local search (default the library's)."""
+        names = fit if isinstance(fit, str) else ",".join(fit)
+        if isinstance(data, Mapping):
+            cols = list(data)
+            rows = [list(data[c]) for c in cols]
+            if not cols or any(len(r) != len(rows[0]) for r in rows):
+                raise ValueError("data: columns of equal length expected")
+            lines = [",".join(cols)]
+            for i in range(len(rows[0])):
+                lines.append(",".join("" if v is None or v != v else repr(float(v))
+                                      for v in (r[i] for r in rows)))
+            st, msg, doc, _ = self._c._fit(b"data", "\n".join(lines) + "\n", names.encode(),
+                                           starts)
+        else:
+            st, msg, doc, _ = self._c._fit(os.fsencode(data), None, names.encode(), starts)
+        if st != 0:
+            _raise(st, msg)
+        return FitResult(doc)
 
     def stability_map(self, x=None, y=None, t0=0.0, method=None, rtol=None, steps=None,
                       threads=2, from_rest=False, from_rest_periods=None, progress=None):

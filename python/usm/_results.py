@@ -13,7 +13,8 @@ import math
 
 import numpy as np
 
-__all__ = ["Result", "SteadyResult", "FloquetResult", "SweepResult", "SimulationResult",
+__all__ = ["Result", "SteadyResult", "FloquetResult", "SweepResult", "SquealResult",
+           "SimulationResult",
            "PeriodicResult", "SensitivityResult", "MapResult", "OptimizeResult", "ToleranceResult",
            "ParetoResult"]
 
@@ -157,6 +158,11 @@ class SensitivityResult(Result):
     elasticities in every parameter."""
 
 
+class FitResult(Result):
+    """`usm fit --json`: estimates with standard errors and 95 % intervals,
+    correlation, chi2, p_value, identifiable, unidentifiable, points."""
+
+
 def _columns(points):
     """Per key of the point objects an array over the points: numbers float64
     (null -> nan), booleans bool (float with nan where one is null), text an
@@ -239,6 +245,11 @@ class SweepResult(_Table):
     """`usm sweep --json`: .points (results), .columns (arrays per key:
     the swept parameter under its name, theta, rotor_speed,
     floquet.max_modulus, ...) and .events."""
+
+
+class SquealResult(_Table):
+    """`usm squeal --json`: .points (results: value, motion, period,
+    lyapunov, lines, ...) and .columns (arrays per key)."""
 
 
 class ParetoResult(_Table):

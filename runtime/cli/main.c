@@ -28,6 +28,7 @@ static const cli_entry commands[] = {
     {"steady", "stationary solutions and their Floquet multipliers", &cli_steady},
     {"periodic", "periodic steady state of a real motor (phase error, imbalance, mode split)", &cli_periodic},
     {"sweep", "motor characteristics: a parameter sweep by continuation, with events", &cli_sweep},
+    {"squeal", "beyond the last periodic orbit: kind of motion, Lyapunov exponent, audible lines", &cli_squeal},
     {"variants", "list the modelling variants (--variant NAME selects one)", &cli_variants},
     {"equations", "the derived equations as Markdown or LaTeX", &cli_equations},
     {"report", "reproduce the paper: report.md with tables and figures", &cli_report},
@@ -38,6 +39,7 @@ static const cli_entry commands[] = {
     {"optimize", "best design over parameter bounds under stability, stick and user constraints", &cli_optimize},
     {"tolerance", "Monte Carlo yield: stability and specs under parameter scatter", &cli_tolerance},
     {"pareto", "trade-off front of two outputs (epsilon-constraint), CSV, JSON and figure", &cli_pareto},
+    {"fit", "parameters identified from measured characteristics, with intervals and identifiability", &cli_fit},
 };
 #define NCOMMANDS (sizeof commands / sizeof commands[0])
 

@@ -24,6 +24,7 @@
 #include "usm.h"
 #include "usm_design.h"
 #include "usm_envelope.h"
+#include "usm_fit.h"
 #include "usm_io.h"
 #include "usm_map.h"
 #include "usm_operating_point.h"
@@ -33,6 +34,7 @@
 #include "usm_robust.h"
 #include "usm_simulate.h"
 #include "usm_spectrum.h"
+#include "usm_squeal_study.h"
 #include "usm_sweep.h"
 #include "usm_tolerance.h"
 
@@ -134,6 +136,13 @@ const double *usm_run_spectrum_amplitudes(const usm_run *r, int channel);
  * error, or no spectrum). */
 int usm_run_spectrum_write_csv(const usm_run *r, FILE *out);
 
+/* usm squeal: the motion over one parameter beyond the last periodic orbit
+ * (usm_squeal_study.h); opt's pointers must outlive the call only.  JSON:
+ * usm_squeal_write_json's object. */
+usm_run *usm_run_squeal(const usm_model *m, const usm_params *p, const usm_squeal_options *opt);
+/* The study of a squeal run for its CSV and plot writers (NULL unless USM_OK). */
+const usm_squeal_study *usm_run_squeal_result(const usm_run *r);
+
 /* usm sweep: opt's pointers (monitors) must outlive the call only. */
 usm_run *usm_run_sweep(const usm_model *m, const usm_params *p, const usm_sweep_options *opt);
 /* The sweep of a sweep run for its CSV and plot writers (NULL unless USM_OK). */
@@ -191,6 +200,20 @@ usm_run *usm_run_tolerance(const usm_model *m, const usm_params *p,
 /* The study (for its writers; usm_tolerance_output_seconds_add), or NULL
  * when it was not made. */
 usm_tolerance *usm_run_tolerance_result(usm_run *r);
+
+/* usm fit --data FILE.csv --fit NAME[,NAME...] (usm_fit.h): the measurements
+ * read from the file at path (usm_fit_data_read), or, with text not NULL,
+ * from its len bytes (path names them in messages); names: the fitted
+ * parameters (usm_fit_parse_names, NULL: those of opt); opt: NULL for the
+ * defaults (usm_fit_options_default); copied.  Status USM_EINPUT (bad data
+ * or names: one line naming the column or field and the reason), or the
+ * fit's (usm_fit_run). */
+usm_run *usm_run_fit(const usm_model *m, const usm_params *p, const char *path, const char *text,
+                     size_t len, const char *names, const usm_fit_options *opt);
+/* The result of a fit run (NULL unless USM_OK). */
+const usm_fit_result *usm_run_fit_result(const usm_run *r);
+/* The measurements of a fit run (NULL when they could not be read). */
+const usm_fit_data *usm_run_fit_data(const usm_run *r);
 
 #ifdef __cplusplus
 }
