@@ -36,7 +36,8 @@
 const char *usm_envelope_kind_name(usm_envelope_kind kind)
 {
     static const char *const names[] = {"tilt_zero", "fold",      "stick_limit",
-                                        "stall",     "stability", "friction_saturation"};
+                                        "stall",     "stability", "friction_saturation",
+                                        "contact_loss", "stick_loss"};
     return (unsigned)kind < USM_ENVELOPE_NKINDS ? names[kind] : NULL;
 }
 
@@ -350,6 +351,9 @@ const env_test *env_test_of(const env_problem *pb, int index)
 /* Whether kind applies to the model (stick_limit: stick models; stall: slip). */
 int env_kind_applies(const usm_envelope *e, int kind)
 {
+    /* the periodic orbit's: envelope_periodic.c */
+    if (kind == USM_ENVELOPE_CONTACT_LOSS || kind == USM_ENVELOPE_STICK_LOSS)
+        return 0;
     if (kind == USM_ENVELOPE_STICK_LIMIT)
         return !e->m->slip;
     if (kind == USM_ENVELOPE_STALL)
@@ -1134,6 +1138,10 @@ int usm_envelope_run(usm_envelope *e, const usm_params *p, const usm_envelope_op
     int rc = check_options(e, p, opt);
     if (rc != USM_OK)
         return rc;
+    if (e->m->imperfect) {
+        rc = env_periodic_curves(e);
+        return rc != USM_OK ? rc : env_regions(e);
+    }
     /* seed lines: the edges and `lines` interior lines, both directions */
     for (int axis = 0; axis < 2; ++axis) {
         const int other = 1 - axis;

@@ -80,4 +80,10 @@ int env_kind_applies(const usm_envelope *e, int kind);
  * USM_EINPUT or USM_EFAILED with e->msg. */
 int env_regions(usm_envelope *e);
 
+/* envelope_periodic.c: the imperfect models' contact_loss and stick_loss
+ * curves (usm_envelope.h), and a region's class by its periodic orbit.
+ * USM_OK or USM_EFAILED with e->msg. */
+int env_periodic_curves(usm_envelope *e);
+int env_periodic_classify(usm_envelope *e, usm_envelope_region *r);
+
 #endif /* USM_ENVELOPE_INTERNAL_H */
