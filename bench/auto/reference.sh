@@ -53,11 +53,14 @@ version=$(dpkg-query -W -f='${Version}' auto-07p 2>/dev/null || echo unknown)
 # UZ, EP; BT: r_u has a double zero eigenvalue, which for this residual,
 # not an ODE, is no Bogdanov-Takens point).  The backward run (DS < 0) is
 # written in reverse, so the CSV runs along the curve from m0 = 100 N m on
-# one side to m0 = 100 N m on the other.
+# one side to m0 = 100 N m on the other.  Its first point ("start") is run
+# 1's LP as AUTO located it (to EPSS = 1e-6) and not corrected: no point of
+# the fold curve (det r_u = -2.3 there, 1e-6 at its neighbours).
 rows() { # b-file run-log -> "type f m0 theta alpha" per point
     awk 'FNR == NR { if ($1 ~ /^[0-9]+$/ && $3 ~ /^[A-Z][A-Z]$/) name[$4] = $3; next }
          $1 != 0 && NF == 9 && !($5 == lf && $9 == lm) {
              t = ($4 != 0 && ($4 in name)) ? name[$4] : "-"
+             if (!started++) t = "start"
              print t, $5, $9, $7, $8; lf = $5; lm = $9 }' "$2" "$1"
 }
 {
@@ -65,7 +68,8 @@ rows() { # b-file run-log -> "type f m0 theta alpha" per point
     echo "# continued by AUTO (ISW = 2) from the limit point of the branch in f at m0 = 50 N m."
     echo "# Made by: bench/auto/reference.sh (user file bench/auto/usm3dof_fold.c,"
     echo "# constants bench/auto/c.usm3dof_fold.1, c.usm3dof_fold.2) on $(date -u +%Y-%m-%d)."
-    echo "# EPSL = EPSU = 1e-12; AUTO's labels in 'type' (CP the cusp; UZ the ends at m0 = 100 N m; '-' none)."
+    echo "# EPSL = EPSU = 1e-12; AUTO's labels in 'type' (CP the cusp; UZ the ends at m0 = 100 N m; '-' none;"
+    echo "# 'start': run 1's LP located to EPSS = 1e-6, the start of run 2, not a point of the curve)."
     echo "type,f [Hz],m0 [N m],theta [rad],alpha [rad]"
     { rows "$work/b.2bwd" "$work/run2_bwd.log" | tac; rows "$work/b.2fwd" "$work/run2_fwd.log" | tail -n +2; } |
         awk '{ printf "%s,%.10e,%.10e,%.10e,%.10e\n", $1, $2, $3, $4, $5 }'
