@@ -31,15 +31,22 @@ trap 'rm -rf "$work"' EXIT
 mkdir -p "$out"
 
 cc_flags=(-O2 -I/usr/include -I"$top/runtime/include/usm" -I"$top/generated" -I"$top/runtime")
-build_exe() { # user-file kernels-file exe
+build_exe() { # user-file kernels-file exe [more objects]
     gcc "${cc_flags[@]}" -c "$here/$1" -o "$work/$3.o"
     gcc -O2 -I"$top/generated" -c "$top/generated/$2" -o "$work/$3_kernels.o"
-    gfortran -O2 -fopenmp "$work/$3.o" "$work/$3_kernels.o" "$AUTO_DIR"/lib/*.o \
+    gfortran -O2 -fopenmp "$work/$3.o" "$work/$3_kernels.o" ${4:-} "$AUTO_DIR"/lib/*.o \
         -L"$AUTO_DIR/lib" -lauto_c -L"$build" -lusm -Wl,-rpath,"$build" -lgsl -lgslcblas -lm \
         -o "$work/$3.exe"
 }
 build_exe usm3dof_fold.c usm_3dof.c fold
-build_exe usm3dof_hopf.c usm_3dof_twist_integrated.c hopf
+# the Hopf problem's linearisation in long double (usm3dof_hopf.c says why):
+# the generated kernels with every double a long double, prefix ld_
+sed -e 's/double/long double/g' -e 's/usm_3dof_twist_integrated_/ld_/g' \
+    -e 's/#include "usm_3dof_twist_integrated.h"/#include "usm_kernels.h"\n#include <tgmath.h>/' \
+    -e '/#include "usm_3dof.h"/d' -e '/^static const char \*const state_names/,$d' \
+    "$top/generated/usm_3dof_twist_integrated.c" > "$work/ld_kernels.c"
+gcc -O2 -w -I"$top/generated" -I"$top/runtime/include/usm" -c "$work/ld_kernels.c" -o "$work/ld_kernels.o"
+build_exe usm3dof_hopf.c usm_3dof_twist_integrated.c hopf "$work/ld_kernels.o"
 
 # two_runs EXE CONSTANTS TYPE: run 1, then run 2 both ways from the first
 # point of type TYPE (AUTO's numeric type in the b-file: 2 LP, 3 HB); leaves

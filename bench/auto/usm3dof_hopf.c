@@ -17,13 +17,21 @@
  *                                      first, had an eigenvalue of -2e-5
  *                                      and AUTO's Hopf system diverged)
  *     y' = B(u; f, T) y               (y = 0 at every equilibrium)
- * B is G without its cyclic direction (the rotor angle phi appears in
- * neither M nor f: A's column phi vanishes and G has the eigenvalue 0 for
- * ever, which would make every equilibrium singular), in the coordinates of
+ * B is G without its cyclic direction (the angle psi appears in neither M
+ * nor f, as the generated model's `cyclic` says: A's column psi vanishes and
+ * G has the eigenvalue 0 for ever, which would make every equilibrium
+ * singular), in the coordinates of
  * usm's Floquet computation (runtime/solve/floquet.c): G is formed as
- * (M Ti)^{-1} (A Ti), Ti the inverse of the generated tangent map, because
- * M alone is ill-conditioned at small tilts; Gs = Ti^{-1} G Ti has the null
- * vector w = T e_phi, and B = Q2' Gs Q2 with Q2 an orthonormal basis of w's
+ * (M S^{-1})^{-1} (A S^{-1}), S = D^{-1} T with T the generated tangent map
+ * and D a balancing, because M alone is ill-conditioned at small tilts
+ * (cond ~ 1/theta^2; the tilts here are 2e-5 to 5e-5 rad).  Even so, in
+ * double precision this G's eigenvalues were off by 5e-3 1/s (1.5e-7 in the
+ * multipliers' modulus, 1.4e-6 relative in the curve's T: usm's multipliers,
+ * which it computes in the tilt-vector coordinates regular at theta = 0,
+ * and this G in long double agree that usm's T is the boundary, to 3e-15 in
+ * the modulus), so G is formed in long double from a long double copy of
+ * the generated kernels (reference.sh makes it); Gs = S G S^{-1} has the null
+ * vector w = S e_psi, and B = Q2' Gs Q2 with Q2 an orthonormal basis of w's
  * complement (a Householder reflection), so eig B = eig G without the 0.
  * The Jacobian given to AUTO is exact at the equilibria (y = 0, r = 0):
  * [-c I, 0; 0, B]; its parameter columns [-c r_u^{-1} r_p; 0].  Every kernel
@@ -46,7 +54,6 @@
 
 #define NX USM_3DOF_TWIST_INTEGRATED_NX
 #define NB (NX - 1)
-#define PHI USM_3DOF_TWIST_INTEGRATED_X_PHI
 #define RATE 1.0
 /* time in units of 1/OMEGA_UNIT: B's eigenvalues of order one */
 #define OMEGA_UNIT 2.5e5
@@ -57,84 +64,131 @@
 
 static usm_params P;
 static int ready;
+static int cyc; /* the cyclic coordinate (generated: x_i in neither M nor f) */
 
 static void setup(void)
 {
     if (ready)
         return;
     usm_params_default(&P);
+    const usm_model *m = usm_model_variant("3dof", "twist_integrated");
+    while (cyc < NX - 1 && !m->cyclic[cyc])
+        cyc++;
     ready = 1;
 }
 
-/* X <- L^{-1} X for the n x n row-major L (LU with partial pivoting). */
-static void solve(double *L, double *X)
+typedef long double ld;
+/* The linearisation's kernels in long double: generated/usm_3dof_twist_integrated.c
+ * with every double a long double and the prefix ld_ (reference.sh makes
+ * the copy with sed; <tgmath.h> picks sinl, cosl, sqrtl). */
+void ld_steady_state(const ld *u, ld beta, ld t, const usm_params *p, ld *out);
+void ld_mass(const ld *x, const usm_params *p, ld *out);
+void ld_jac_rhs(const ld *x, ld t, const usm_params *p, ld *out);
+void ld_jac_mass(const ld *x, const ld *v, const usm_params *p, ld *out);
+void ld_tangent_map(const ld *x, const usm_params *p, ld *out);
+
+/* X <- L^{-1} X (NX x NX, row-major; Gauss with partial pivoting; L is
+ * overwritten) */
+static void solve(ld *L, ld *X)
 {
-    gsl_matrix_view Lv = gsl_matrix_view_array(L, NX, NX);
-    gsl_permutation *perm = gsl_permutation_alloc(NX);
-    int sgn;
-    gsl_linalg_LU_decomp(&Lv.matrix, perm, &sgn);
-    for (int j = 0; j < NX; ++j) {
-        double col[NX];
-        for (int i = 0; i < NX; ++i)
-            col[i] = X[i * NX + j];
-        gsl_vector_view c = gsl_vector_view_array(col, NX);
-        gsl_linalg_LU_svx(&Lv.matrix, perm, &c.vector);
-        for (int i = 0; i < NX; ++i)
-            X[i * NX + j] = col[i];
+    for (int k = 0; k < NX; ++k) {
+        int pr = k;
+        for (int i = k + 1; i < NX; ++i)
+            if (fabsl(L[i * NX + k]) > fabsl(L[pr * NX + k]))
+                pr = i;
+        for (int j = 0; j < NX; ++j) {
+            ld t = L[k * NX + j];
+            L[k * NX + j] = L[pr * NX + j];
+            L[pr * NX + j] = t;
+            t = X[k * NX + j];
+            X[k * NX + j] = X[pr * NX + j];
+            X[pr * NX + j] = t;
+        }
+        for (int i = k + 1; i < NX; ++i) {
+            const ld m = L[i * NX + k] / L[k * NX + k];
+            for (int j = 0; j < NX; ++j) {
+                L[i * NX + j] -= m * L[k * NX + j];
+                X[i * NX + j] -= m * X[k * NX + j];
+            }
+        }
     }
-    gsl_permutation_free(perm);
+    for (int k = NX - 1; k >= 0; --k)
+        for (int j = 0; j < NX; ++j) {
+            ld sum = X[k * NX + j];
+            for (int i = k + 1; i < NX; ++i)
+                sum -= L[k * NX + i] * X[i * NX + j];
+            X[k * NX + j] = sum / L[k * NX + k];
+        }
 }
 
-static void matmul(const double *A, const double *B, double *C)
+static void matmul(const ld *A, const ld *B, ld *C)
 {
     for (int i = 0; i < NX; ++i)
         for (int j = 0; j < NX; ++j) {
-            double s = 0;
+            ld sum = 0;
             for (int k = 0; k < NX; ++k)
-                s += A[i * NX + k] * B[k * NX + j];
-            C[i * NX + j] = s;
+                sum += A[i * NX + k] * B[k * NX + j];
+            C[i * NX + j] = sum;
         }
 }
 
 /* B (NB x NB, row-major) at the stationary unknowns u. */
-static void reduced_linearisation(const double *u, double *B)
+static void reduced_linearisation(const double *ud, double *B)
 {
-    double orbit[2 * NX], M[NX * NX], Jf[NX * NX], Jm[NX * NX], T[NX * NX], Ti[NX * NX];
-    double W[NX * NX], Gs[NX * NX];
-    usm_3dof_twist_integrated_steady_state(u, 0.0, 0.0, &P, orbit);
-    const double *x = orbit + USM_3DOF_TWIST_INTEGRATED_STEADY_STATE_OUT_X;
-    const double *xdot = orbit + USM_3DOF_TWIST_INTEGRATED_STEADY_STATE_OUT_XDOT;
-    usm_3dof_twist_integrated_mass(x, &P, M);
-    usm_3dof_twist_integrated_jac_rhs(x, 0.0, &P, Jf);
-    usm_3dof_twist_integrated_jac_mass(x, xdot, &P, Jm);
+    ld u[2] = {ud[0], ud[1]}, orbit[2 * NX], M[NX * NX], Jf[NX * NX], Jm[NX * NX];
+    ld T[NX * NX], Ti[NX * NX], Tc[NX * NX], W[NX * NX], Gs[NX * NX];
+    ld_steady_state(u, 0.0L, 0.0L, &P, orbit);
+    const ld *x = orbit + USM_3DOF_TWIST_INTEGRATED_STEADY_STATE_OUT_X;
+    const ld *xdot = orbit + USM_3DOF_TWIST_INTEGRATED_STEADY_STATE_OUT_XDOT;
+    ld_mass(x, &P, M);
+    ld_jac_rhs(x, 0.0L, &P, Jf);
+    ld_jac_mass(x, xdot, &P, Jm);
     for (int k = 0; k < NX * NX; ++k)
         Jf[k] -= Jm[k];
-    usm_3dof_twist_integrated_tangent_map(x, &P, T);
-    /* Ti = T^{-1} */
-    double Tc[NX * NX];
-    memcpy(Tc, T, sizeof Tc);
-    for (int i = 0; i < NX * NX; ++i)
+    ld_tangent_map(x, &P, T);
+    for (int i = 0; i < NX * NX; ++i) {
+        Tc[i] = T[i];
         Ti[i] = (i / NX == i % NX);
-    solve(Tc, Ti);
+    }
+    solve(Tc, Ti); /* T^{-1} */
+    /* S = D^{-1} T as in usm: D balances T G T^{-1}, computed once at the
+     * first point and kept (a D that changed with the point, by powers of
+     * two, would make B jump under AUTO's continuation) */
+    static double D[NX];
+    static int have_d;
+    if (!have_d) {
+        double Gd[NX * NX];
+        matmul(M, Ti, W);
+        matmul(Jf, Ti, Gs);
+        solve(W, Gs);
+        for (int i = 0; i < NX * NX; ++i)
+            Gd[i] = (double)Gs[i];
+        gsl_matrix_view g = gsl_matrix_view_array(Gd, NX, NX);
+        gsl_vector_view d = gsl_vector_view_array(D, NX);
+        gsl_linalg_balance_matrix(&g.matrix, &d.vector);
+        have_d = 1;
+    }
+    for (int i = 0; i < NX; ++i)
+        for (int j = 0; j < NX; ++j)
+            Ti[i * NX + j] *= D[j]; /* S^{-1} = T^{-1} D */
     matmul(M, Ti, W);
     matmul(Jf, Ti, Gs);
-    solve(W, Gs); /* Gs = (M Ti)^{-1} (A Ti) */
-    /* w = T e_phi, Gs's null vector; the Householder reflection H = I - 2 v v' /
+    solve(W, Gs); /* Gs = (M S^{-1})^{-1} (A S^{-1}) */
+    /* w = S e_cyc, Gs's null vector; the Householder reflection H = I - 2 v v' /
      * (v' v), v = w + sign(w_0) |w| e_0, maps w to a multiple of e_0, and its
      * columns 1..NX-1 are Q2 */
-    double w[NX], v[NX], nw = 0;
+    ld w[NX], v[NX], nw = 0, vv = 0;
     for (int i = 0; i < NX; ++i) {
-        w[i] = T[i * NX + PHI];
+        w[i] = T[i * NX + cyc] / D[i];
         nw += w[i] * w[i];
     }
-    nw = sqrt(nw);
+    nw = sqrtl(nw);
     for (int i = 0; i < NX; ++i)
         v[i] = w[i];
     v[0] += (w[0] >= 0 ? nw : -nw);
-    double vv = 0;
     for (int i = 0; i < NX; ++i)
         vv += v[i] * v[i];
-    double H[NX * NX], HG[NX * NX], HGH[NX * NX];
+    ld H[NX * NX], HG[NX * NX], HGH[NX * NX];
     for (int i = 0; i < NX; ++i)
         for (int j = 0; j < NX; ++j)
             H[i * NX + j] = (i == j) - 2 * v[i] * v[j] / vv;
@@ -142,7 +196,7 @@ static void reduced_linearisation(const double *u, double *B)
     matmul(HG, H, HGH);
     for (int i = 0; i < NB; ++i)
         for (int j = 0; j < NB; ++j)
-            B[i * NB + j] = HGH[(i + 1) * NX + (j + 1)] / OMEGA_UNIT;
+            B[i * NB + j] = (double)(HGH[(i + 1) * NX + (j + 1)] / OMEGA_UNIT);
 }
 
 int func(integer ndim, const doublereal *z, const integer *icp, const doublereal *par,

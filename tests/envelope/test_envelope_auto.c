@@ -210,6 +210,54 @@ static void fold_f_m0(const char *dir)
     usm_envelope_free(e);
 }
 
+static void stability_f_T(const char *dir)
+{
+    static ref_point r[MAXREF];
+    char path[1024];
+    snprintf(path, sizeof path, "%s/stability_f_T.csv", dir);
+    const size_t n = read_reference(path, r, MAXREF);
+    if (!CHECK(n > 100, "%s: %zu points", path, n))
+        return;
+
+    usm_params p;
+    usm_params_default(&p);
+    usm_envelope_options o;
+    usm_envelope_options_default(&o);
+    o.x = (usm_envelope_axis){"f", 35000, 40000};
+    o.y = (usm_envelope_axis){"T", 0.0021, 0.0038};
+    o.h_max = 0.002;
+    usm_envelope *e = usm_envelope_alloc(usm_model_variant("3dof", "twist_integrated"));
+    CHECK(usm_envelope_run(e, &p, &o) == USM_OK, "f x T: %s", usm_envelope_message(e));
+    const usm_envelope_curve *c = curve_of(e, USM_ENVELOPE_STABILITY);
+    if (!CHECK(c && c->npoints >= 4, "f x T: no stability curve")) {
+        usm_envelope_free(e);
+        return;
+    }
+    double worst = 0, at_f = 0, at_T = 0;
+    size_t compared = 0;
+    for (size_t i = 0; i < n; ++i) {
+        /* the start of AUTO's run is its HB estimate of the branch run */
+        if (strcmp(r[i].type, "start") == 0)
+            continue;
+        double dx, dy;
+        distance_to_curve(c, 5000, 0.0017, &r[i], &dx, &dy);
+        const double d = fmax(dx, dy);
+        if (d > worst) {
+            worst = d;
+            at_f = r[i].x;
+            at_T = r[i].y;
+        }
+        compared++;
+    }
+    CHECK(compared > 100 && worst <= 1e-7,
+          "stability f x T: %zu AUTO points, worst relative distance %.3g at f = %.10g Hz, "
+          "T = %.10g N m", compared, worst, at_f, at_T);
+    printf("stability of twist_integrated in f x T: %zu AUTO points on usm's curve (%zu points) "
+           "to %.3g relative (worst at f = %.6f Hz, T = %.9f N m)\n", compared, c->npoints, worst,
+           at_f, at_T);
+    usm_envelope_free(e);
+}
+
 int main(int argc, char **argv)
 {
     gsl_set_error_handler_off();
@@ -218,5 +266,6 @@ int main(int argc, char **argv)
         return 2;
     }
     fold_f_m0(argv[1]);
+    stability_f_T(argv[1]);
     return failures != 0;
 }
