@@ -1,3 +1,5 @@
+#define _POSIX_C_SOURCE 200809L
+#include <time.h>
 /* The periodic sweep past contact loss: the orbits with separation of a
  * unilateral model at the grid points (usm_periodic_sweep.h, "Unilateral
  * models"; docs/unilateral.md).
@@ -66,9 +68,10 @@ static usm_params params_at(const usm_periodic_sweep *s, double v)
  * restart's state lies within GRAZE_MEET of it (scaled). */
 #define GRAZE_NUDGE 1e-8
 #define GRAZE_MEET 1e-4
-#define MAX_GRAZINGS 8 /* per grid step */
+#define MAX_GRAZINGS 64 /* along one branch */
 #define TWIST_SCALE 100.0
-#define MAX_JUMPS 4 /* per grid step */
+#define MAX_JUMPS 16 /* along one branch */
+#define MAX_PENDING 16
 #define ORBIT_TOL 1e-9 /* usm_hybrid_solve_from's default */
 
 /* The zero problem of one branch and the engine that follows it. */
@@ -82,9 +85,22 @@ typedef struct hbranch {
     int have;
     double xc[USM_MAX_NX + 1], mod;
     char seqc[USM_HYBRID_MAX_SWITCHES + 1];
-    double target; /* the grid value the branch is followed to */
     usm_cont *c;
-    int k_reach, k_stab, k_seq;
+    int k_stab, k_seq;
+    /* the engine on the branch (live) from one grid point to the next; its
+     * events past the last grid point wait (pend) for the grid point after
+     * them, and are dropped should the sweep leave the branch there */
+    int live, ended; /* ended: the branch ended (or was lost) at end_v */
+    double end_v, sense;
+    char end[160];
+    int npend, jumps, grazings;
+    struct pending {
+        int grazing; /* 0: a stability change (at, located, rising) */
+        double v;
+        usm_hybrid_result at;
+        int located, rising;
+        char from[USM_HYBRID_MAX_SWITCHES + 1], to[USM_HYBRID_MAX_SWITCHES + 1];
+    } pend[MAX_PENDING];
 } hbranch;
 
 /* The state x0 of the unknowns x (the spin coordinates w of
@@ -120,8 +136,10 @@ static int shoot_at(hbranch *b, const double *x, double *F, double *J)
     return 0;
 }
 
+static long dbg_res, dbg_shoot_cache, dbg_orbit, dbg_correct;
 static int residual(const double *x, double *F, double *J, void *ctx)
 {
+    dbg_res++;
     hbranch *b = ctx;
     const int n = b->nr, N = n + 1;
     double Jx[USM_MAX_NX * USM_MAX_NX], Fp[USM_MAX_NX], xs[USM_MAX_NX];
@@ -160,6 +178,7 @@ static int cached(hbranch *b, const double *x)
     int near = b->have;
     for (int j = 0; near && j <= b->nr; ++j)
         near = fabs(x[j] - b->xc[j]) <= CACHE_TOL * b->scale[j];
+    if (!near) dbg_shoot_cache++;
     return near ? 0 : shoot_at(b, x, F, J);
 }
 
@@ -179,13 +198,6 @@ static double seq_test(const double *x, const double *dx, void *ctx)
     return strcmp(b->seqc, b->seq) == 0 ? 1.0 : -1.0;
 }
 
-static double reach_test(const double *x, const double *dx, void *ctx)
-{
-    (void)dx;
-    const hbranch *b = ctx;
-    return x[b->nr] - b->target;
-}
-
 /* The orbit (usm_hybrid_solve_from, to tol) at the branch's point x. */
 static int orbit_at(hbranch *b, const double *x, double tol, usm_hybrid_result *out)
 {
@@ -193,6 +205,7 @@ static int orbit_at(hbranch *b, const double *x, double tol, usm_hybrid_result *
     usm_hybrid_options o;
     usm_hybrid_options_default(&o);
     o.tol = tol;
+    dbg_orbit++;
     state_of(b, x, xs);
     const usm_params q = params_at(b->s, x[b->nr]);
     return usm_hybrid_solve_from(b->s->hy, &q, &o, b->t0, xs, out) == USM_OK &&
@@ -206,6 +219,10 @@ static int branch_begin(hbranch *b, double v, const usm_hybrid_result *r, double
     double F[USM_MAX_NX], J[USM_MAX_NX * USM_MAX_NX];
     usm_cont_free(b->c);
     b->c = NULL;
+    b->live = b->ended = 0;
+    b->npend = b->jumps = b->grazings = 0;
+    b->end_v = NAN;
+    snprintf(b->end, sizeof b->end, "Newton fails on its branch");
     b->nx = r->nx;
     b->t0 = r->t0;
     memcpy(b->xs, r->x0, sizeof(double) * (size_t)r->nx);
@@ -235,7 +252,6 @@ static int branch_begin(hbranch *b, double v, const usm_hybrid_result *r, double
     o.event_tol = 1e-11;
     usm_cont_set_problem(b->c, residual, b);
     if (usm_cont_set_options(b->c, &o) != 0 || usm_cont_set_scale(b->c, b->scale) != 0 ||
-        (b->k_reach = usm_cont_add_test(b->c, reach_test, b, USM_CONT_TEST_STOP)) < 0 ||
         (b->k_stab = usm_cont_add_test(b->c, stab_test, b, USM_CONT_TEST_MONITOR)) < 0 ||
         (b->k_seq = usm_cont_add_test(b->c, seq_test, b, USM_CONT_TEST_STOP)) < 0)
         return -2;
@@ -412,6 +428,17 @@ static int jump_across(hbranch *b, double *x, const double *dx, double v, double
         double xp[USM_MAX_NX + 1];
         memcpy(xp, xb, sizeof xp);
         int dbg_c = usm_cont_correct_fixed(b->c, xb, n, q);
+        if (dbg_c < 0) {
+            /* the orbit's own Newton (on the residual, with chord steps),
+             * where the corrector's updates do not settle (a kink of the
+             * map: its Jacobian jumps) */
+            usm_hybrid_result o;
+            memcpy(xb, xp, sizeof xp);
+            if (orbit_at(b, xb, ORBIT_TOL, &o) == 0) {
+                unknowns_of(b, o.x0, xb);
+                dbg_c = 0;
+            } else if (getenv("HDEBUG")) fprintf(stderr, "  orbit_at: %s\n", usm_hybrid_message(b->s->hy));
+        }
         if (getenv("HDEBUG")) fprintf(stderr, "jump d %g q %.12g corr %d ga %g\n", d, q, dbg_c, ga);
         if (dbg_c < 0 || cached(b, xb) != 0 ||
             strcmp(b->seqc, b->seq) != 0)
@@ -446,97 +473,181 @@ static int jump_across(hbranch *b, double *x, const double *dx, double v, double
     return -1;
 }
 
-/* Follows the branch of the orbit ra at va to the grid value v (dir: the
- * sweep's), with its stability changes and grazings on the way.  0: *out
- * the orbit at v; 1: the branch is lost before v (*v_end where it ended,
- * NaN when not located; `end` says how); -1: out of memory. */
+static int pend_add(hbranch *b, int grazing, double v, const usm_hybrid_result *at,
+                    int located, int rising, const char *from, const char *to)
+{
+    if (b->npend >= MAX_PENDING)
+        return -1;
+    struct pending *e = &b->pend[b->npend++];
+    e->grazing = grazing;
+    e->v = v;
+    if (at)
+        e->at = *at;
+    e->located = located;
+    e->rising = rising;
+    snprintf(e->from, sizeof e->from, "%s", from ? from : "");
+    snprintf(e->to, sizeof e->to, "%s", to ? to : "");
+    return 0;
+}
+
+/* The branch's end at x with its reason. */
+static void branch_ended(hbranch *b, double v_end, const char *fmt, const char *seq)
+{
+    char vt[96];
+    b->ended = 1;
+    b->end_v = v_end;
+    psweep_value_text(b->s, v_end, vt);
+    snprintf(b->end, sizeof b->end, fmt, vt, seq);
+}
+
+/* One step of the engine on the branch, its events pending and its end
+ * noted (b->ended); a jump across a branch point goes at most to v.  0, or
+ * -1 when out of memory. */
+static int branch_step(hbranch *b, double v)
+{
+    const int N = b->nr + 1;
+    double x[USM_MAX_NX + 1];
+    const int st = usm_cont_step(b->c);
+    if (st == USM_CONT_LOST && b->jumps < MAX_JUMPS) {
+        double dx[USM_MAX_NX + 1], vs;
+        int rising;
+        usm_hybrid_result at;
+        memcpy(x, usm_cont_point(b->c), sizeof(double) * (size_t)N);
+        memcpy(dx, usm_cont_direction(b->c), sizeof(double) * (size_t)N);
+        if (jump_across(b, x, dx, v, &vs, &rising, &at) == 0) {
+            ++b->jumps;
+            return isfinite(vs) ? pend_add(b, 0, vs, &at, 1, rising, NULL, NULL) : 0;
+        }
+    }
+    if (st != USM_CONT_STEP && st != USM_CONT_END) {
+        branch_ended(b, usm_cont_point(b->c)[b->nr], "Newton fails on its branch past %s%s", "");
+        return 0;
+    }
+    for (int k = 0; k < usm_cont_event_count(b->c); ++k) {
+        const usm_cont_event *e = usm_cont_event_at(b->c, k);
+        if (e->test != b->k_stab)
+            continue;
+        usm_hybrid_result at;
+        memcpy(x, e->x, sizeof(double) * (size_t)N);
+        const int located = orbit_at(b, x, STAB_NEWTON_TOL, &at) == 0;
+        if (!located)
+            continue; /* no orbit to report: the grid points' multipliers say it */
+        if (pend_add(b, 0, x[b->nr], &at, located, e->before < 0, NULL, NULL) != 0)
+            return -1;
+    }
+    if (st == USM_CONT_STEP)
+        return 0;
+    const usm_cont_event *e = usm_cont_event_at(b->c, usm_cont_event_count(b->c) - 1);
+    memcpy(x, usm_cont_point(b->c), sizeof(double) * (size_t)N);
+    const double ve = x[b->nr];
+    if (e->test == USM_CONT_FOLD) {
+        branch_ended(b, ve, "its branch ends at a fold at %s%s", "");
+        return 0;
+    }
+    char from[USM_HYBRID_MAX_SWITCHES + 1];
+    snprintf(from, sizeof from, "%s", b->seq);
+    if (b->grazings++ >= MAX_GRAZINGS || !past_grazing(b, x, b->sense * INFINITY) ||
+        usm_cont_start(b->c, x, (int)b->sense) != 0) {
+        branch_ended(b, ve, "its branch ends at %s, where its mode sequence %s changes and no "
+                     "orbit of another continues it", from);
+        return 0;
+    }
+    return pend_add(b, 1, ve, NULL, 1, 0, from, b->seq);
+}
+
+/* The pending events up to v (in the sweep's sense) as the sweep's. */
+static int pend_flush(usm_periodic_sweep *s, hbranch *b, double v, double dir,
+                      double *unstable_from)
+{
+    int k = 0, rc = 0;
+    for (; k < b->npend && rc == 0 && (b->pend[k].v - v) * b->sense <= 0; ++k) {
+        const struct pending *e = &b->pend[k];
+        if (e->grazing)
+            rc = grazing_event(s, e->v, e->from, e->to);
+        else {
+            rc = stability_event(s, e->v, &e->at, e->located, dir > 0, e->rising);
+            *unstable_from = e->rising ? e->v : NAN;
+        }
+    }
+    memmove(b->pend, b->pend + k, sizeof b->pend[0] * (size_t)(b->npend - k));
+    b->npend -= k;
+    return rc;
+}
+
+/* Follows the branch of the orbit ra at va (the engine's, when it is live
+ * from there) to the grid value v, with its stability changes and
+ * grazings on the way.  0: *out the orbit at v; 1: the branch is lost before
+ * v (*v_end where it ended, NaN when not located; `end` says how); -1: out
+ * of memory. */
 static int follow(usm_periodic_sweep *s, hbranch *b, double va, const usm_hybrid_result *ra,
                   double v, double dir, usm_hybrid_result *out, double *v_end, char end[160],
                   double *unstable_from)
 {
     double x[USM_MAX_NX + 1];
-    char vt[96];
     *v_end = NAN;
-    snprintf(end, 160, "Newton fails on its branch");
-    const int rc = branch_begin(b, va, ra, x);
-    if (rc != 0)
-        return rc == -2 ? -1 : 1;
-    const int N = b->nr + 1, sense = v > va ? 1 : -1;
-    b->target = v;
-    if (usm_cont_start(b->c, x, sense) != 0)
-        return 1;
-    for (int grazings = 0, jumps = 0;;) {
-        const int st = usm_cont_step(b->c);
-        if (st == USM_CONT_LOST && jumps < MAX_JUMPS) {
-            double dx[USM_MAX_NX + 1], vs;
-            int rising;
-            usm_hybrid_result at;
-            memcpy(x, usm_cont_point(b->c), sizeof(double) * (size_t)N);
-            memcpy(dx, usm_cont_direction(b->c), sizeof(double) * (size_t)N);
-            if (jump_across(b, x, dx, v, &vs, &rising, &at) == 0) {
-                ++jumps;
-                if (isfinite(vs)) {
-                    if (stability_event(s, vs, &at, 1, dir > 0, rising) != 0)
-                        return -1;
-                    *unstable_from = rising ? vs : NAN;
-                }
-                if (x[b->nr] == v)
-                    return orbit_at(b, x, ORBIT_TOL, out) == 0 ? 0 : 1;
-                continue;
-            }
+    if (!b->live) {
+        const int rc = branch_begin(b, va, ra, x);
+        if (rc != 0) {
+            snprintf(end, 160, "%s", b->end);
+            return rc == -2 ? -1 : 1;
         }
-        if (st != USM_CONT_STEP && st != USM_CONT_END) {
-            *v_end = usm_cont_point(b->c)[b->nr];
-            psweep_value_text(s, *v_end, vt);
-            snprintf(end, 160, "Newton fails on its branch past %s", vt);
-            return 1;
-        }
-        for (int k = 0; k < usm_cont_event_count(b->c); ++k) {
-            const usm_cont_event *e = usm_cont_event_at(b->c, k);
-            if (e->test != b->k_stab)
-                continue;
-            usm_hybrid_result at;
-            memcpy(x, e->x, sizeof(double) * (size_t)N);
-            const int rising = e->before < 0;
-            const int located = orbit_at(b, x, STAB_NEWTON_TOL, &at) == 0;
-            if (!located)
-                at = *ra;
-            if (stability_event(s, x[b->nr], &at, located, dir > 0, rising) != 0)
-                return -1;
-            *unstable_from = rising ? x[b->nr] : NAN;
-        }
-        if (st == USM_CONT_STEP)
-            continue;
-        const usm_cont_event *e = usm_cont_event_at(b->c, usm_cont_event_count(b->c) - 1);
-        memcpy(x, usm_cont_point(b->c), sizeof(double) * (size_t)N);
-        if (e->test == b->k_reach) {
-            usm_cont_correct_fixed(b->c, x, b->nr, v);
-            x[b->nr] = v;
-            return orbit_at(b, x, ORBIT_TOL, out) == 0 ? 0 : 1;
-        }
-        *v_end = x[b->nr];
-        psweep_value_text(s, *v_end, vt);
-        if (e->test == USM_CONT_FOLD) {
-            snprintf(end, 160, "its branch ends at a fold at %s", vt);
-            return 1;
-        }
-        char from[USM_HYBRID_MAX_SWITCHES + 1];
-        snprintf(from, sizeof from, "%s", b->seq);
-        if (grazings++ >= MAX_GRAZINGS || !past_grazing(b, x, v)) {
-            snprintf(end, 160, "its branch ends at %s, where its mode sequence %s changes and no "
-                     "orbit of another continues it", vt, from);
-            return 1;
-        }
-        if (grazing_event(s, *v_end, from, b->seq) != 0)
-            return -1;
-        *v_end = NAN;
-        if (usm_cont_start(b->c, x, sense) != 0)
-            return 1;
+        b->sense = v > va ? 1 : -1;
+        b->live = 1;
+        if (usm_cont_start(b->c, x, (int)b->sense) != 0)
+            branch_ended(b, va, "Newton fails on its branch at %s%s", "");
     }
+    const int n = b->nr;
+    /* steps until the branch passes v or ends */
+    for (;;) {
+        const double *xa;
+        const double s_end = usm_cont_step_arc(b->c, &xa);
+        const double pb = usm_cont_point(b->c)[n];
+        if (b->ended && (b->end_v - v) * b->sense <= 0)
+            break;
+        if ((pb - v) * b->sense >= 0) {
+            /* the grid point: on the last step's arc (or the point itself),
+             * corrected at v */
+            const double *xb = usm_cont_point(b->c);
+            memcpy(x, xb, sizeof(double) * (size_t)(n + 1));
+            if (xa && s_end > 0 && (xa[n] - v) * b->sense < 0) {
+                /* the chord of the step: an arc point would cost a correction more */
+                const double w = (v - xa[n]) / (pb - xa[n]);
+                for (int a = 0; a < n; ++a)
+                    x[a] = xa[a] + w * (xb[a] - xa[a]);
+            }
+            x[n] = v;
+            if (pend_flush(s, b, v, dir, unstable_from) != 0)
+                return -1;
+            /* the orbit's own Newton (chord steps: maps without the
+             * monodromy) from there; else from the arc's point corrected */
+            if (orbit_at(b, x, ORBIT_TOL, out) == 0 &&
+                strcmp(out->mode_sequence, b->seq) == 0)
+                return 0;
+            if (xa && s_end > 0 &&
+                usm_cont_arc_point(b->c, (v - xa[n]) / (pb - xa[n]) * s_end, x, NULL) == 0 &&
+                usm_cont_correct_fixed(b->c, x, n, v) >= 0 && orbit_at(b, x, ORBIT_TOL, out) == 0)
+                return 0;
+            if (getenv("HDEBUG")) fprintf(stderr, "orbit_at failed at %.12g: %s (xa %p s_end %g pb %.12g)\n", v, usm_hybrid_message(b->s->hy), (void*)xa, s_end, pb);
+            branch_ended(b, v, "Newton fails on its branch at %s%s", "");
+            break;
+        }
+        if (b->ended)
+            break;
+        if (branch_step(b, v) != 0)
+            return -1;
+    }
+    if (pend_flush(s, b, b->end_v, dir, unstable_from) != 0)
+        return -1;
+    *v_end = b->end_v;
+    snprintf(end, 160, "%s", b->end);
+    b->live = 0;
+    return 1;
 }
 
+static double dbg_now(void){struct timespec ts; clock_gettime(CLOCK_PROCESS_CPUTIME_ID,&ts); return ts.tv_sec+1e-9*ts.tv_nsec;}
 int psweep_separating(usm_periodic_sweep *s, double dir)
 {
+    double dbg_t0 = dbg_now(), dbg_follow = 0;
     if (!s->hy && !(s->hy = usm_hybrid_alloc(s->m)))
         return -1;
     hbranch b;
@@ -553,11 +664,14 @@ int psweep_separating(usm_periodic_sweep *s, double dir)
         pt->separating = pt->switched = 0;
         if (pt->converged ? !pt->orbit.contact_open : !have && !gone) {
             have = gone = 0; /* the contact closes: no orbit with separation to follow */
+            b.live = 0;
             continue;
         }
         int on = 0;
         if (have) {
+            double dbg_t1 = dbg_now();
             const int f = follow(s, &b, vl, &rl, pt->value, dir, &r, &v_end, end, &unstable_from);
+            dbg_follow += dbg_now() - dbg_t1;
             if (f < 0) {
                 rc = -1;
                 break;
@@ -588,6 +702,7 @@ int psweep_separating(usm_periodic_sweep *s, double dir)
             }
             s->ev[s->nev - 1].branch_end = v_end;
             pt->switched = 1;
+            b.live = 0;
         } else if (on && !(r.floquet.max_modulus < 1) && solve_cold(s, pt->value, &alt) == 0 &&
                    alt.floquet.max_modulus < 1) {
             if (switch_event(s, pt, &alt, &r, SW_UNSTABLE, pt->value, unstable_from, "") != 0) {
@@ -596,6 +711,7 @@ int psweep_separating(usm_periodic_sweep *s, double dir)
             }
             pt->hybrid = r = alt;
             pt->switched = 1;
+            b.live = 0; /* the events past pt on the left branch are not the motor's */
         }
         have = 1;
         gone = 0;
@@ -603,6 +719,7 @@ int psweep_separating(usm_periodic_sweep *s, double dir)
         rl = r;
     }
     usm_cont_free(b.c);
+    if (getenv("HDEBUG")) fprintf(stderr, "separating %.3f s, follow %.3f s res %ld cache-miss %ld orbit %ld\n", dbg_now() - dbg_t0, dbg_follow, dbg_res, dbg_shoot_cache, dbg_orbit);
     if (rc != 0)
         return rc;
     /* every event in sweep order (insertion sort: stable, few events) */
