@@ -15,7 +15,6 @@
  * <= newton_tol, away); inside a location it is computed afresh.
  */
 #include <math.h>
-#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -289,12 +288,11 @@ static int correct(usm_cont *c, double *z, const double *b, double b0)
             z[j] += c->F[j];
             norm = fmax(norm, fabs(c->F[j]));
         }
-        if (getenv("CONT_DEBUG2")) { fprintf(stderr, "  it %d norm %.3g:", it, norm); for (int j = 0; j < N; ++j) fprintf(stderr, " %.2g", c->F[j]); fprintf(stderr, "\n"); }
         if (norm <= c->o.newton_tol)
             return it;
         /* a growing update: the start lies outside Newton's basin; the step
          * control shortens the step instead */
-        if (it >= 2 && norm > prev && !getenv("NOGROW"))
+        if (it >= 2 && norm > prev)
             return -1;
         prev = norm;
     }
@@ -538,8 +536,6 @@ int usm_cont_step(usm_cont *c)
              * branch where it curves strongly): the step is retried shorter */
             ok = ok && locate_events(c) == 0;
         }
-        if (getenv("CONT_DEBUG"))
-            fprintf(stderr, "cont: h %.3g its %d turn %.6f ok %d p %.12g\n", c->h, its, turn, ok, c->z[c->n] * c->scale[c->n]);
         if (!ok) {
             c->have_arc = 0;
             c->nev = 0;

@@ -1041,3 +1041,4 @@ int usm_hybrid_shoot(usm_hybrid *h, const usm_params *p, double ts, const double
         memcpy(seq, h->seq, sizeof h->seq);
     return USM_OK;
 }
+

@@ -1,5 +1,3 @@
-#define _POSIX_C_SOURCE 200809L
-#include <time.h>
 /* The periodic sweep past contact loss: the orbits with separation of a
  * unilateral model at the grid points (usm_periodic_sweep.h, "Unilateral
  * models"; docs/unilateral.md).
@@ -34,7 +32,6 @@
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
-#include <stdlib.h>
 
 #include "core/root.h"
 #include "periodic_sweep_state.h"
@@ -92,8 +89,9 @@ typedef struct hbranch {
      * them, and are dropped should the sweep leave the branch there */
     int live, ended; /* ended: the branch ended (or was lost) at end_v */
     double end_v, sense;
-    char end[160];
+    char end[256];
     int npend, jumps, grazings;
+    double xs0[USM_MAX_NX + 1], dx0[USM_MAX_NX + 1]; /* the last step's start and direction */
     struct pending {
         int grazing; /* 0: a stability change (at, located, rising) */
         double v;
@@ -136,10 +134,8 @@ static int shoot_at(hbranch *b, const double *x, double *F, double *J)
     return 0;
 }
 
-static long dbg_res, dbg_shoot_cache, dbg_orbit, dbg_correct;
 static int residual(const double *x, double *F, double *J, void *ctx)
 {
-    dbg_res++;
     hbranch *b = ctx;
     const int n = b->nr, N = n + 1;
     double Jx[USM_MAX_NX * USM_MAX_NX], Fp[USM_MAX_NX], xs[USM_MAX_NX];
@@ -178,7 +174,6 @@ static int cached(hbranch *b, const double *x)
     int near = b->have;
     for (int j = 0; near && j <= b->nr; ++j)
         near = fabs(x[j] - b->xc[j]) <= CACHE_TOL * b->scale[j];
-    if (!near) dbg_shoot_cache++;
     return near ? 0 : shoot_at(b, x, F, J);
 }
 
@@ -205,7 +200,6 @@ static int orbit_at(hbranch *b, const double *x, double tol, usm_hybrid_result *
     usm_hybrid_options o;
     usm_hybrid_options_default(&o);
     o.tol = tol;
-    dbg_orbit++;
     state_of(b, x, xs);
     const usm_params q = params_at(b->s, x[b->nr]);
     return usm_hybrid_solve_from(b->s->hy, &q, &o, b->t0, xs, out) == USM_OK &&
@@ -240,7 +234,9 @@ static int branch_begin(hbranch *b, double v, const usm_hybrid_result *r, double
     for (int a = 0; a < b->nr; ++a)
         sc[a] = b->scale[b->idx[a]] * (b->idx[a] == b->s->m->x_tau ? TWIST_SCALE : 1.0);
     unknowns_of(b, r->x0, x);
-    sc[b->nr] = b->s->range;
+    /* the parameter at its own size, not the sweep's range: the path, and so
+     * the events, the same for any range and grid */
+    sc[b->nr] = fmax(fabs(v), b->s->range);
     x[b->nr] = v;
     memcpy(b->scale, sc, sizeof sc);
     if (!(b->c = usm_cont_alloc(b->nr)))
@@ -427,8 +423,8 @@ static int jump_across(hbranch *b, double *x, const double *dx, double v, double
         xb[n] = q;
         double xp[USM_MAX_NX + 1];
         memcpy(xp, xb, sizeof xp);
-        int dbg_c = usm_cont_correct_fixed(b->c, xb, n, q);
-        if (dbg_c < 0) {
+        int corrected = usm_cont_correct_fixed(b->c, xb, n, q);
+        if (corrected < 0) {
             /* the orbit's own Newton (on the residual, with chord steps),
              * where the corrector's updates do not settle (a kink of the
              * map: its Jacobian jumps) */
@@ -436,14 +432,11 @@ static int jump_across(hbranch *b, double *x, const double *dx, double v, double
             memcpy(xb, xp, sizeof xp);
             if (orbit_at(b, xb, ORBIT_TOL, &o) == 0) {
                 unknowns_of(b, o.x0, xb);
-                dbg_c = 0;
-            } else if (getenv("HDEBUG")) fprintf(stderr, "  orbit_at: %s\n", usm_hybrid_message(b->s->hy));
+                corrected = 0;
+            }
         }
-        if (getenv("HDEBUG")) fprintf(stderr, "jump d %g q %.12g corr %d ga %g\n", d, q, dbg_c, ga);
-        if (dbg_c < 0 || cached(b, xb) != 0 ||
-            strcmp(b->seqc, b->seq) != 0)
+        if (corrected < 0 || cached(b, xb) != 0 || strcmp(b->seqc, b->seq) != 0)
             continue;
-        if (getenv("HDEBUG")) { double mx = 0; for (int a = 0; a < n; ++a) mx = fmax(mx, fabs(xb[a] - xp[a]) / b->scale[a]); fprintf(stderr, "   dist %g gb %g start %d\n", mx, b->mod - 1, 0); }
         for (int a = 0; a < n && near; ++a)
             near = fabs(xb[a] - xp[a]) <= JUMP_NEAR * b->scale[a];
         if (!near)
@@ -507,6 +500,8 @@ static int branch_step(hbranch *b, double v)
 {
     const int N = b->nr + 1;
     double x[USM_MAX_NX + 1];
+    memcpy(b->xs0, usm_cont_point(b->c), sizeof(double) * (size_t)N);
+    memcpy(b->dx0, usm_cont_direction(b->c), sizeof(double) * (size_t)N);
     const int st = usm_cont_step(b->c);
     if (st == USM_CONT_LOST && b->jumps < MAX_JUMPS) {
         double dx[USM_MAX_NX + 1], vs;
@@ -580,7 +575,7 @@ static int pend_flush(usm_periodic_sweep *s, hbranch *b, double v, double dir,
  * v (*v_end where it ended, NaN when not located; `end` says how); -1: out
  * of memory. */
 static int follow(usm_periodic_sweep *s, hbranch *b, double va, const usm_hybrid_result *ra,
-                  double v, double dir, usm_hybrid_result *out, double *v_end, char end[160],
+                  double v, double dir, usm_hybrid_result *out, double *v_end, char end[256],
                   double *unstable_from)
 {
     double x[USM_MAX_NX + 1];
@@ -588,7 +583,7 @@ static int follow(usm_periodic_sweep *s, hbranch *b, double va, const usm_hybrid
     if (!b->live) {
         const int rc = branch_begin(b, va, ra, x);
         if (rc != 0) {
-            snprintf(end, 160, "%s", b->end);
+            snprintf(end, 256, "%s", b->end);
             return rc == -2 ? -1 : 1;
         }
         b->sense = v > va ? 1 : -1;
@@ -610,24 +605,31 @@ static int follow(usm_periodic_sweep *s, hbranch *b, double va, const usm_hybrid
             const double *xb = usm_cont_point(b->c);
             memcpy(x, xb, sizeof(double) * (size_t)(n + 1));
             if (xa && s_end > 0 && (xa[n] - v) * b->sense < 0) {
-                /* the chord of the step: an arc point would cost a correction more */
-                const double w = (v - xa[n]) / (pb - xa[n]);
+                /* the cubic through the step's ends with their directions
+                 * (an arc point would cost a correction more; the chord
+                 * alone missed the orbit by 1e-4, Hermite's by 1e-8) */
+                const double *db = usm_cont_direction(b->c), *da = b->dx0;
+                const double dp = pb - xa[n], w = (v - xa[n]) / dp;
+                const int hermite = memcmp(xa, b->xs0, sizeof(double) * (size_t)(n + 1)) == 0 &&
+                                    fabs(da[n]) > 0 && fabs(db[n]) > 0;
+                const double h00 = (1 + 2 * w) * (1 - w) * (1 - w), h10 = w * (1 - w) * (1 - w);
+                const double h01 = w * w * (3 - 2 * w), h11 = w * w * (w - 1);
                 for (int a = 0; a < n; ++a)
-                    x[a] = xa[a] + w * (xb[a] - xa[a]);
+                    x[a] = hermite ? h00 * xa[a] + h10 * dp * da[a] / da[n] + h01 * xb[a] +
+                                         h11 * dp * db[a] / db[n]
+                                   : xa[a] + w * (xb[a] - xa[a]);
             }
             x[n] = v;
             if (pend_flush(s, b, v, dir, unstable_from) != 0)
                 return -1;
             /* the orbit's own Newton (chord steps: maps without the
              * monodromy) from there; else from the arc's point corrected */
-            if (orbit_at(b, x, ORBIT_TOL, out) == 0 &&
-                strcmp(out->mode_sequence, b->seq) == 0)
+            if (orbit_at(b, x, ORBIT_TOL, out) == 0 && strcmp(out->mode_sequence, b->seq) == 0)
                 return 0;
             if (xa && s_end > 0 &&
                 usm_cont_arc_point(b->c, (v - xa[n]) / (pb - xa[n]) * s_end, x, NULL) == 0 &&
                 usm_cont_correct_fixed(b->c, x, n, v) >= 0 && orbit_at(b, x, ORBIT_TOL, out) == 0)
                 return 0;
-            if (getenv("HDEBUG")) fprintf(stderr, "orbit_at failed at %.12g: %s (xa %p s_end %g pb %.12g)\n", v, usm_hybrid_message(b->s->hy), (void*)xa, s_end, pb);
             branch_ended(b, v, "Newton fails on its branch at %s%s", "");
             break;
         }
@@ -639,15 +641,13 @@ static int follow(usm_periodic_sweep *s, hbranch *b, double va, const usm_hybrid
     if (pend_flush(s, b, b->end_v, dir, unstable_from) != 0)
         return -1;
     *v_end = b->end_v;
-    snprintf(end, 160, "%s", b->end);
+    snprintf(end, 256, "%s", b->end);
     b->live = 0;
     return 1;
 }
 
-static double dbg_now(void){struct timespec ts; clock_gettime(CLOCK_PROCESS_CPUTIME_ID,&ts); return ts.tv_sec+1e-9*ts.tv_nsec;}
 int psweep_separating(usm_periodic_sweep *s, double dir)
 {
-    double dbg_t0 = dbg_now(), dbg_follow = 0;
     if (!s->hy && !(s->hy = usm_hybrid_alloc(s->m)))
         return -1;
     hbranch b;
@@ -658,7 +658,7 @@ int psweep_separating(usm_periodic_sweep *s, double dir)
     int have = 0, gone = 0, rc = 0;
     double vl = NAN, v_end = NAN, unstable_from = NAN;
     usm_hybrid_result rl, alt, r;
-    char end[160] = "";
+    char end[256] = "";
     for (size_t i = 0; i < s->npts && rc == 0; ++i) {
         usm_periodic_point *pt = &s->pts[i];
         pt->separating = pt->switched = 0;
@@ -669,9 +669,7 @@ int psweep_separating(usm_periodic_sweep *s, double dir)
         }
         int on = 0;
         if (have) {
-            double dbg_t1 = dbg_now();
             const int f = follow(s, &b, vl, &rl, pt->value, dir, &r, &v_end, end, &unstable_from);
-            dbg_follow += dbg_now() - dbg_t1;
             if (f < 0) {
                 rc = -1;
                 break;
@@ -719,7 +717,6 @@ int psweep_separating(usm_periodic_sweep *s, double dir)
         rl = r;
     }
     usm_cont_free(b.c);
-    if (getenv("HDEBUG")) fprintf(stderr, "separating %.3f s, follow %.3f s res %ld cache-miss %ld orbit %ld\n", dbg_now() - dbg_t0, dbg_follow, dbg_res, dbg_shoot_cache, dbg_orbit);
     if (rc != 0)
         return rc;
     /* every event in sweep order (insertion sort: stable, few events) */
