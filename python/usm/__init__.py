@@ -17,7 +17,7 @@ from . import _core
 from ._core import NoSolution, NumericalError, variants, models, parameter_table
 from ._results import (Result, SteadyResult, FloquetResult, SweepResult, SimulationResult,
                        PeriodicResult, SensitivityResult, MapResult, OptimizeResult, ToleranceResult,
-                       ParetoResult,
+                       ParetoResult, SquealResult,
                        SIM_COLUMNS, SIM_UNITS,
                        VALIDITY_NAMES)
 from ._model import Model, Parameter, Parameters
@@ -27,4 +27,5 @@ __version__, generator_version = _core.version()
 __all__ = ["Model", "Parameter", "Parameters", "NoSolution", "NumericalError", "variants",
            "models", "parameter_table", "Result", "SteadyResult", "FloquetResult", "SweepResult",
            "SimulationResult", "PeriodicResult", "SensitivityResult", "MapResult", "OptimizeResult", "ToleranceResult", "ParetoResult",
+           "SquealResult",
            "SIM_COLUMNS", "SIM_UNITS", "VALIDITY_NAMES", "__version__", "generator_version"]

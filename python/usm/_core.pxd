@@ -186,6 +186,25 @@ cdef extern from "usm_periodic_sweep.h" nogil:
         usm_periodic_options periodic
     void usm_periodic_sweep_options_default(usm_periodic_sweep_options *opt)
 
+cdef extern from "usm_squeal_study.h" nogil:
+    ctypedef struct usm_squeal_options:
+        const char *over
+        double from_ "from"
+        double to
+        int points
+        long settle
+        long window
+        int samples_per_period
+        long lyapunov_skip
+        long lyapunov_periods
+        double rtol
+        double lyapunov_rtol
+        double period_tol
+        double exponent_tol
+        int check_rest
+        int lines
+    void usm_squeal_options_default(usm_squeal_options *opt)
+
 cdef extern from "usm_progress.h" nogil:
     ctypedef void (*usm_progress_fn)(void *ctx, long done, long total, const char *what)
     ctypedef struct usm_progress:
@@ -326,6 +345,7 @@ cdef extern from "usm_run.h" nogil:
     usm_run *usm_run_sweep(const usm_model *m, const usm_params *p, const usm_sweep_options *opt)
     usm_run *usm_run_periodic_sweep(const usm_model *m, const usm_params *p,
                                     const usm_periodic_sweep_options *opt)
+    usm_run *usm_run_squeal(const usm_model *m, const usm_params *p, const usm_squeal_options *opt)
     usm_run *usm_run_map(const usm_model *m, const usm_params *p, const usm_map_options *opt)
     usm_run *usm_run_optimize(const usm_model *m, const usm_params *p, const usm_opt_problem *pb)
     usm_run *usm_run_robust(const usm_model *m, const usm_params *p, const usm_robust_problem *rp)

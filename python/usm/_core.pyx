@@ -512,6 +512,30 @@ cdef class _Model:
             r = usm_run_sweep(self.m, &self.p, &so)
         return self._finish(r)
 
+    def _squeal(self, over, start, stop, int points, long settle, long window,
+                long lyapunov_periods, bint rest_check, double rtol):
+        cdef usm_squeal_options so
+        cdef usm_run *r
+        cdef const usm_param_info *info
+        cdef const char *unit = NULL
+        bover = over.encode()
+        info = usm_params_find(bover)
+        if info != NULL:
+            unit = info.unit
+        usm_squeal_options_default(&so)
+        so.over = bover
+        so.from_ = _quantity("start", unit, start)
+        so.to = _quantity("stop", unit, stop)
+        so.points = points
+        so.settle = settle
+        so.window = window
+        so.lyapunov_periods = lyapunov_periods
+        so.check_rest = rest_check
+        so.rtol = rtol
+        with nogil:
+            r = usm_run_squeal(self.m, &self.p, &so)
+        return self._finish(r)
+
     def _simulate(self, dict opts):
         cdef usm_sim_options so
         cdef usm_run *r

@@ -13,7 +13,8 @@ import math
 
 import numpy as np
 
-__all__ = ["Result", "SteadyResult", "FloquetResult", "SweepResult", "SimulationResult",
+__all__ = ["Result", "SteadyResult", "FloquetResult", "SweepResult", "SquealResult",
+           "SimulationResult",
            "PeriodicResult", "SensitivityResult", "MapResult", "OptimizeResult", "ToleranceResult",
            "ParetoResult"]
 
@@ -239,6 +240,11 @@ class SweepResult(_Table):
     """`usm sweep --json`: .points (results), .columns (arrays per key:
     the swept parameter under its name, theta, rotor_speed,
     floquet.max_modulus, ...) and .events."""
+
+
+class SquealResult(_Table):
+    """`usm squeal --json`: .points (results: value, motion, period,
+    lyapunov, lines, ...) and .columns (arrays per key)."""
 
 
 class ParetoResult(_Table):

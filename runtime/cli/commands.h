@@ -32,6 +32,7 @@ typedef struct cli_command {
 } cli_command;
 
 extern const cli_command cli_steady, cli_periodic, cli_sweep, cli_variants, cli_equations,
-    cli_report, cli_map, cli_simulate, cli_sensitivity, cli_optimize, cli_tolerance, cli_pareto;
+    cli_report, cli_map, cli_simulate, cli_sensitivity, cli_optimize, cli_tolerance, cli_pareto,
+    cli_squeal;
 
 #endif /* USM_CLI_COMMANDS_H */

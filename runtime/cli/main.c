@@ -28,6 +28,7 @@ static const cli_entry commands[] = {
     {"steady", "stationary solutions and their Floquet multipliers", &cli_steady},
     {"periodic", "periodic steady state of a real motor (phase error, imbalance, mode split)", &cli_periodic},
     {"sweep", "motor characteristics: a parameter sweep by continuation, with events", &cli_sweep},
+    {"squeal", "beyond the last periodic orbit: kind of motion, Lyapunov exponent, audible lines", &cli_squeal},
     {"variants", "list the modelling variants (--variant NAME selects one)", &cli_variants},
     {"equations", "the derived equations as Markdown or LaTeX", &cli_equations},
     {"report", "reproduce the paper: report.md with tables and figures", &cli_report},

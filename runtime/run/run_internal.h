@@ -25,7 +25,7 @@ struct usm_run {
 
 enum {
     RUN_STEADY = 1, RUN_SENSITIVITY, RUN_PERIODIC, RUN_SIMULATE, RUN_SWEEP, RUN_PERIODIC_SWEEP,
-    RUN_MAP, RUN_OPTIMIZE, RUN_ROBUST, RUN_PARETO, RUN_TOLERANCE
+    RUN_MAP, RUN_OPTIMIZE, RUN_ROBUST, RUN_PARETO, RUN_TOLERANCE, RUN_SQUEAL
 };
 
 /* A run of kind `kind` with data (owned from now on: freed by free_data,

@@ -66,6 +66,8 @@ struct usm_hybrid {
     int bounces;       /* impacts with rebound since the last separation */
     double vfirst;     /* their first approach velocity */
     int chatter;       /* a landing after rebounds was met (message set) */
+    int long_run;      /* usm_hybrid_lyapunov: a landing after rebounds is a landing (the
+                          simulation's rule), not a failure of the period map */
     char seq[USM_HYBRID_MAX_SWITCHES + 1];
     char msg[USM_MSG_LEN];
 };
@@ -323,7 +325,9 @@ static int switch_at(usm_hybrid *h, double t, double *z)
         newmode = !io.lands;
         if (newmode && io.v_after > h->v_land && h->bounces++ == 0)
             h->vfirst = io.v; /* a rebound (not a touch the closed mode would pull off) */
-        if (!newmode && h->bounces > 0) {
+        if (!newmode && h->bounces > 0 && h->long_run)
+            h->bounces = 0;
+        else if (!newmode && h->bounces > 0) {
             /* a landing after rebounds: at e_impact > 0 every impact throws
              * the rotor off again (gap'+ = -e gap'- > 0), so a contact that
              * closes does so only at the end of an accumulation of ever
@@ -594,6 +598,133 @@ int usm_hybrid_period_map(usm_hybrid *h, double ts, const double *x0, double *x1
     if (layout_check(h) != USM_OK)
         return USM_EINPUT;
     return period_map(h, ts, x0, x1, B, NULL);
+}
+
+/* Gram-Schmidt of the c tangent columns of z (the current mode's n rows)
+ * in the norm |v|^2 = sum (v_i / scale_i)^2 over the non-cyclic rows (a
+ * cyclic row feeds no other: it is dropped, the quotient's dynamics are
+ * unchanged); their lengths before normalising into r.  0, or -1 when a
+ * column vanished or is not finite. */
+static int orthonormalise(usm_hybrid *h, double *z, int c, double *r)
+{
+    const int n = h->n;
+    double *Phi = z + n;
+    for (int i = 0; i < n; ++i)
+        if (i < h->nx && h->m->cyclic[i])
+            for (int j = 0; j < c; ++j)
+                Phi[i * c + j] = 0.0;
+    for (int j = 0; j < c; ++j) {
+        for (int l = 0; l < j; ++l) {
+            double d = 0;
+            for (int i = 0; i < n; ++i)
+                d += Phi[i * c + j] * Phi[i * c + l] / (h->scale[i] * h->scale[i]);
+            for (int i = 0; i < n; ++i)
+                Phi[i * c + j] -= d * Phi[i * c + l];
+        }
+        double s = 0;
+        for (int i = 0; i < n; ++i)
+            s += Phi[i * c + j] * Phi[i * c + j] / (h->scale[i] * h->scale[i]);
+        s = sqrt(s);
+        if (!(s > 0) || !isfinite(s))
+            return -1;
+        r[j] = s;
+        for (int i = 0; i < n; ++i)
+            Phi[i * c + j] /= s;
+    }
+    return 0;
+}
+
+int usm_hybrid_lyapunov(usm_hybrid *h, double t0, int open, const double *y0, long skip,
+                        long periods, usm_hybrid_lyapunov_result *out)
+{
+    const int nx = h->nx, c = USM_HYBRID_LYAPUNOV_COUNT;
+    memset(out, 0, sizeof *out);
+    h->msg[0] = '\0';
+    if (layout_check(h) != USM_OK)
+        return USM_EINPUT;
+    if (skip < 0 || periods < 1) {
+        snprintf(h->msg, USM_MSG_LEN, "periods: must be at least 1 (and skip at least 0)");
+        return USM_EINPUT;
+    }
+    h->mode = open ? 1 : 0;
+    h->n = open ? h->ny : nx;
+    h->ncol = c;
+    h->nsamp = 0;
+    h->open_total = 0;
+    h->vmax = 0;
+    h->nsep = h->nimp = h->nslip = h->nmodes = 0;
+    h->bounces = 0;
+    h->long_run = 1;
+    const int iw = h->m->x_phi_Rdot >= 0 ? h->m->x_phi_Rdot : h->u->y_w_R;
+    set_scales(h, fabs(y0[h->m->x_theta]),
+               iw >= 0 && (iw < nx || open) ? y0[iw] : 0.0);
+    for (int j = 0; j < c; ++j)
+        h->colscale[j] = 1.0; /* unit columns in the scaled norm */
+    double z[MAXZ], r[USM_HYBRID_LYAPUNOV_COUNT];
+    memcpy(z, y0, sizeof(double) * (size_t)h->n);
+    /* fixed start directions (a run is reproducible): every row, then rows
+     * of alternating sign, each in units of its scale */
+    for (int i = 0; i < h->n; ++i)
+        for (int j = 0; j < c; ++j)
+            z[h->n + i * c + j] = h->scale[i] * (j == 0 ? 1.0 : (i % 2 ? -1.0 : 1.0) / (1 + i));
+    int rc = USM_OK;
+    if (orthonormalise(h, z, c, r) != 0) {
+        snprintf(h->msg, USM_MSG_LEN, "the start state has no non-cyclic direction");
+        rc = USM_EINPUT;
+    }
+    double sum[USM_HYBRID_LYAPUNOV_COUNT] = {0};
+    double t = t0;
+    long k;
+    for (k = 0; rc == USM_OK && k < skip + periods; ++k) {
+        const double t_end = t0 + (double)(k + 1) * h->T;
+        rc = setup(h, t, z, 0.0, t_end);
+        for (int events = 0; rc == USM_OK && t < t_end; ++events) {
+            h->cv.cvmsg[0] = '\0';
+            const int flag = CVode(h->cv.mem, t_end, h->cv.y, &t, CV_NORMAL);
+            if (flag < 0) {
+                rc = usm_cvodes_fail(&h->cv, "CVode", flag);
+                break;
+            }
+            memcpy(z, N_VGetArrayPointer(h->cv.y), sizeof(double) * (size_t)(h->n + h->n * c));
+            if (flag != CV_ROOT_RETURN)
+                break;
+            if (events > 4 * USM_HYBRID_MAX_SWITCHES) {
+                snprintf(h->msg, USM_MSG_LEN, "more than %d contact switches in one period "
+                         "(t = %.9g s)", 4 * USM_HYBRID_MAX_SWITCHES, t);
+                rc = USM_EFAILED;
+                break;
+            }
+            rc = switch_at(h, t, z);
+            if (rc == USM_OK)
+                rc = setup(h, t, z, 0.0, t_end);
+        }
+        usm_cvodes_release(&h->cv);
+        if (rc != USM_OK)
+            break;
+        t = t_end;
+        if (orthonormalise(h, z, c, r) != 0) {
+            snprintf(h->msg, USM_MSG_LEN, "the tangent vectors vanished at t = %.9g s", t);
+            rc = USM_EFAILED;
+            break;
+        }
+        if (k >= skip)
+            for (int j = 0; j < c; ++j)
+                sum[j] += log(r[j]);
+    }
+    h->long_run = 0;
+    out->periods = k > skip ? k - skip : 0;
+    for (int j = 0; j < c; ++j)
+        out->exponents[j] = out->periods > 0 ? sum[j] / ((double)out->periods * h->T) : NAN;
+    out->separations = h->nsep;
+    out->impacts = h->nimp;
+    out->impact_velocity_max = h->vmax;
+    out->t_end = t;
+    out->open_end = h->mode;
+    out->n_end = h->n;
+    memcpy(out->y_end, z, sizeof(double) * (size_t)h->n);
+    /* the period maps' column scales again */
+    set_scales(h, h->scale[h->m->x_theta], iw >= 0 ? h->scale[iw] : 0.0);
+    return rc;
 }
 
 int usm_hybrid_orbit_samples(usm_hybrid *h, const usm_params *p, const usm_hybrid_result *r,

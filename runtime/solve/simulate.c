@@ -644,6 +644,8 @@ static int emit_sample(usm_sim *s, run_state *r, double t, const double *y, cons
         smp.x = xu;
         smp.xdot = xdu;
     }
+    smp.y = smp.x;
+    smp.ny = s->user == s->m ? s->n : s->user->nx;
     double e[6];
     usm_coords_euler_angles(s->m, x, t, &s->p, s->phi_prev, e);
     s->phi_prev = e[0];

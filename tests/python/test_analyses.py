@@ -280,3 +280,19 @@ def test_periodic_tilt(model):
                    key=lambda ij: abs(a[ij[0]] - b[ij[1]]))
         worst = max(worst, abs(a.pop(i) - b.pop(j)))
     assert worst < 2e-8, worst
+
+
+def test_squeal():
+    """squeal() is `usm squeal --json` (but the CPU seconds): 3-DOF phase
+    error 0.90 and 0.93 rad, periodic then chaotic, short runs."""
+    args = ["--over", "phase_error", "--from", "0.90", "--to", "0.93", "--points", "2",
+            "--settle", "100", "--window", "32", "--lyapunov-periods", "10", "--no-rest-check"]
+    want, _ = run_cli("squeal", *args)
+    got = usm.Model("3dof", "imperfect_unilateral").squeal(
+        "phase_error", 0.90, 0.93, points=2, settle=100, window=32, lyapunov_periods=10,
+        rest_check=False).to_dict()
+    for d in (want, got):
+        for p in d["points"]:
+            p.pop("seconds")
+    assert got == want
+    assert [p["motion"] for p in want["points"]] == ["periodic", "chaotic"]

@@ -79,6 +79,29 @@ int main(void)
     CHECK(usm_run_status(r) == USM_OK && json_object(r), "periodic sweep: %d %s", usm_run_status(r), usm_run_message(r));
     usm_run_free(r);
 
+    /* the squeal study: short runs (its leaks and statuses, not its numbers) */
+    const usm_model *mu = usm_model_find("3dof_imperfect_unilateral");
+    usm_squeal_options qo;
+    usm_squeal_options_default(&qo);
+    qo.over = "phase_error";
+    qo.from = 0.90;
+    qo.to = 0.93;
+    qo.points = 2;
+    qo.settle = 10;
+    qo.window = 16;
+    qo.lyapunov_periods = 5;
+    r = usm_run_squeal(mu, &p, &qo);
+    CHECK(usm_run_status(r) == USM_OK && json_object(r) && usm_run_squeal_result(r) &&
+          usm_squeal_count(usm_run_squeal_result(r)) == 2,
+          "squeal: %d %s", usm_run_status(r), usm_run_message(r));
+    usm_run_free(r);
+    qo.points = 1;
+    r = usm_run_squeal(mu, &p, &qo);
+    CHECK(usm_run_status(r) == USM_EINPUT && !usm_run_has_json(r) &&
+          strncmp(usm_run_message(r), "squeal: points:", 15) == 0,
+          "squeal points 1: %d %s", usm_run_status(r), usm_run_message(r));
+    usm_run_free(r);
+
     usm_sim_options sim;
     usm_sim_options_default(&sim);
     sim.duration = 5.0 / p.f;

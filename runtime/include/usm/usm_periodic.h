@@ -204,6 +204,37 @@ int usm_hybrid_solve_from(usm_hybrid *h, const usm_params *p, const usm_hybrid_o
  * usm_hybrid_set. */
 int usm_hybrid_period_map(usm_hybrid *h, double ts, const double *x0, double *x1, double *B);
 
+/* Lyapunov exponents computed by usm_hybrid_lyapunov. */
+#define USM_HYBRID_LYAPUNOV_COUNT 2
+
+/* The outcome of usm_hybrid_lyapunov. */
+typedef struct usm_hybrid_lyapunov_result {
+    double exponents[USM_HYBRID_LYAPUNOV_COUNT]; /* the largest two [1/s] (NaN: none) */
+    long periods;               /* periods averaged over (after the skipped ones) */
+    long separations, impacts;  /* over the whole run */
+    double impact_velocity_max; /* [m/s] */
+    double t_end;               /* where the run ended [s] */
+    int open_end, n_end;        /* its mode (1 open) and state length */
+    double y_end[USM_MAX_NY];   /* its state */
+} usm_hybrid_lyapunov_result;
+
+/* The largest Lyapunov exponents of the motion from the state y0 at t0
+ * (open: 1 when the contact is open there and y0 is the open mode's state
+ * of usm_model.unilateral->ny, else the closed state of nx): the state and
+ * USM_HYBRID_LYAPUNOV_COUNT tangent vectors integrated together for
+ * skip + periods excitation periods, the vectors mapped by the saltation
+ * matrix at every switch (the period map's, but a landing after rebounds
+ * lands, as in the simulation), and at the end of every period made
+ * orthonormal again (Gram-Schmidt in the norm of the state's scales, the
+ * cyclic rows dropped: their multipliers 1 are the symmetry's, not the
+ * motion's); exponent j is the mean of the log of column j's growth over the
+ * last `periods` periods, divided by T.  On a periodic orbit with real
+ * dominant multiplier exponent 0 tends to ln(max |lambda|) / T.  Uses p and
+ * rtol of the last usm_hybrid_set.  USM_OK; USM_EINPUT (periods < 1, skip <
+ * 0); USM_EFAILED (integration failure; out holds what was averaged). */
+int usm_hybrid_lyapunov(usm_hybrid *h, double t0, int open, const double *y0, long skip,
+                        long periods, usm_hybrid_lyapunov_result *out);
+
 /* Set parameters and tolerance for usm_hybrid_period_map without solving. */
 int usm_hybrid_set(usm_hybrid *h, const usm_params *p, double rtol);
 

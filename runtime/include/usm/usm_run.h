@@ -32,6 +32,7 @@
 #include "usm_robust.h"
 #include "usm_simulate.h"
 #include "usm_spectrum.h"
+#include "usm_squeal_study.h"
 #include "usm_sweep.h"
 #include "usm_tolerance.h"
 
@@ -132,6 +133,13 @@ const double *usm_run_spectrum_amplitudes(const usm_run *r, int channel);
 /* The spectrum as usm_sim_spectrum_write_csv writes it: 0, or -1 (a write
  * error, or no spectrum). */
 int usm_run_spectrum_write_csv(const usm_run *r, FILE *out);
+
+/* usm squeal: the motion over one parameter beyond the last periodic orbit
+ * (usm_squeal_study.h); opt's pointers must outlive the call only.  JSON:
+ * usm_squeal_write_json's object. */
+usm_run *usm_run_squeal(const usm_model *m, const usm_params *p, const usm_squeal_options *opt);
+/* The study of a squeal run for its CSV and plot writers (NULL unless USM_OK). */
+const usm_squeal_study *usm_run_squeal_result(const usm_run *r);
 
 /* usm sweep: opt's pointers (monitors) must outlive the call only. */
 usm_run *usm_run_sweep(const usm_model *m, const usm_params *p, const usm_sweep_options *opt);

@@ -196,6 +196,10 @@ typedef struct usm_sim_sample {
                                * model's open contact is valid (it describes it) */
     int open;                 /* unilateral model: 1 while the contact is open */
     double gap;               /* Z_R - Z(theta) [m] while open, 0 while closed */
+    int ny;                   /* length of y */
+    const double *y;          /* the current mode's state: x while closed; while open
+                               * the open mode's (usm_model.unilateral->ny: x, then the
+                               * rotor's axial states), the start of usm_hybrid_lyapunov */
 } usm_sim_sample;
 
 typedef struct usm_sim_callbacks {

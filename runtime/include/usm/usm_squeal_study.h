@@ -1,0 +1,187 @@
+/* usm_squeal_study.h: what the motor does over one parameter where no
+ * periodic orbit need be stable (`usm squeal`, docs/squeal.md).
+ *
+ * For each of `points` values of one parameter (a model whose contact may
+ * open: usm_model.unilateral, the variant imperfect_unilateral):
+ *  - a long event-driven run (usm_sim_run, simulate.c) of settle + window
+ *    excitation periods, the first value from rest, each next one from the
+ *    previous value's end state (continuation: the attractor the motor is
+ *    on follows the parameter); with check_rest, also a fresh start from
+ *    rest at the same value, compared (coexisting attractors);
+ *  - the settled window: its last `window` periods, sampled
+ *    samples_per_period times a period (a grid of whole periods, so the
+ *    excitation's harmonics fall on bins): the stroboscopic samples (once a
+ *    period, at t = k T) of the rotor speed, the tilt and the gap (the
+ *    bifurcation diagram), the mean rotor speed and its ripple (peak to
+ *    peak of the samples);
+ *  - the largest Lyapunov exponents (usm_hybrid_lyapunov, usm_periodic.h:
+ *    tangent vectors through the saltation matrix at every switch,
+ *    renormalised every period) from the window's first state, over
+ *    lyapunov_skip + lyapunov_periods periods; the impact rate and the
+ *    largest impact velocity are counted over that run;
+ *  - the classification: periodic with period k (the smallest k <= 16 with
+ *    every stroboscopic sample repeating after k periods to period_tol of
+ *    its channel's scale), else chaotic when lambda T > exponent_tol, else
+ *    quasi-periodic with the second frequency of the strongest line of the
+ *    stroboscopic tilt's spectrum (in (0, f/2]), or "settling" when the
+ *    motion repeats nowhere yet lambda T < -exponent_tol (a slowly
+ *    contracting transient: the window is too early);
+ *  - the audible spectrum (20 Hz to 20 kHz) of the sound source: the
+ *    stator rim's axial velocity at the contact point, v = dZ(theta)/dt =
+ *    (R cos theta - H sin theta) theta' (Z(theta) = R sin theta + H cos
+ *    theta, the height of the crest of the tilted stator's rim on which the
+ *    rotor rests; the rotor's own axial velocity while closed), through
+ *    usm_spectrum_amplitude (Hann window, GSL FFT) and usm_spectrum_lines
+ *    (two-bin interpolation); the strongest `lines` local maxima between
+ *    20 Hz and 20 kHz, their level in dB re 1e-9 m/s RMS (velocity level,
+ *    ISO 1683): 20 log10(A / sqrt(2) / 1e-9).
+ *
+ * Thread safety: no global state; one study per thread.  The caller sets
+ * GSL's error handler (usm.h).
+ */
+#ifndef USM_SQUEAL_STUDY_H
+#define USM_SQUEAL_STUDY_H
+
+#include <stddef.h>
+#include <stdio.h>
+
+#include "usm.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef enum {
+    USM_MOTION_PERIODIC = 0,       /* period-k orbit (period) */
+    USM_MOTION_QUASI_PERIODIC = 1, /* a second frequency (second_frequency) */
+    USM_MOTION_CHAOTIC = 2,        /* positive largest Lyapunov exponent */
+    USM_MOTION_SETTLING = 3,       /* contracting, but not yet periodic in the window */
+    USM_MOTION_REST = 4,           /* the wobble decayed: the motor stands */
+    USM_MOTION_FAILED = 5          /* the run failed (message) */
+} usm_motion;
+
+/* "periodic", "quasi_periodic", "chaotic", "settling", "rest", "failed". */
+const char *usm_motion_name(usm_motion m);
+
+/* Audible lines kept per point (at most). */
+#define USM_SQUEAL_MAX_LINES 16
+/* Longest period k tested for. */
+#define USM_SQUEAL_MAX_PERIOD 16
+
+typedef struct usm_squeal_options {
+    const char *over;        /* a parameter name (usm_params_find) */
+    double from, to;         /* from != to */
+    int points;              /* 2 .. 10000 */
+    long settle;             /* periods before the window (default 400) */
+    long window;             /* periods of the settled window (default 1024: lines
+                                f / 1024 apart, 36 Hz at 37 kHz) */
+    int samples_per_period;  /* 4 .. 64 (default 8) */
+    long lyapunov_skip;      /* periods before the exponents are averaged (default 50) */
+    long lyapunov_periods;   /* periods they are averaged over (default 200) */
+    double rtol;             /* the simulation's (default 1e-8) */
+    double lyapunov_rtol;    /* the tangent run's (default 1e-8) */
+    double period_tol;       /* repetition of the stroboscopic samples (default 1e-3) */
+    double exponent_tol;     /* |lambda| T below this is no decision (default 0.01) */
+    int check_rest;          /* 1: a start from rest at every value but the first
+                                (default 1) */
+    int lines;               /* audible lines kept, 1 .. USM_SQUEAL_MAX_LINES (default 6) */
+    void (*progress)(double fraction, void *ctx); /* NULL: silent */
+    void *progress_ctx;
+} usm_squeal_options;
+
+/* Defaults as above; over NULL, from = to = 0, points 0 (must be set). */
+void usm_squeal_options_default(usm_squeal_options *opt);
+
+typedef struct usm_squeal_line {
+    double frequency;   /* [Hz] */
+    double amplitude;   /* of the rim velocity [m/s] */
+    double level_db;    /* dB re 1e-9 m/s RMS */
+} usm_squeal_line;
+
+typedef struct usm_squeal_point {
+    double value;               /* the parameter */
+    int status;                 /* USM_OK, or USM_EFAILED (message) */
+    char message[USM_MSG_LEN];
+    usm_motion motion;
+    int period;                 /* k for periodic motion, 0 otherwise */
+    double second_frequency;    /* [Hz], quasi-periodic (NaN otherwise) */
+    double lyapunov;            /* largest exponent [1/s] (NaN: not computed) */
+    double lyapunov2;           /* the second [1/s] */
+    double lyapunov_per_period; /* lyapunov T */
+    double rotor_speed_mean;    /* [1/s] over the window */
+    double rotor_speed_ripple;  /* peak to peak [1/s] */
+    double theta_mean;          /* [rad] */
+    double open_fraction;       /* samples of the window with the contact open */
+    double impacts_per_period;  /* over the tangent run */
+    double impact_velocity_max; /* [m/s], over the tangent run */
+    size_t nlines;
+    usm_squeal_line lines[USM_SQUEAL_MAX_LINES]; /* strongest first */
+    double df;                  /* bin spacing f / window [Hz] */
+    /* the start from rest at this value (check_rest) */
+    int rest_checked;
+    usm_motion rest_motion;
+    int rest_period;
+    double rest_speed_mean;     /* [1/s] */
+    int coexisting;             /* 1: the start from rest ends elsewhere (another motion
+                                   or period, or mean speed more than 2 % apart) */
+    double seconds;             /* CPU time of this value [s] */
+} usm_squeal_point;
+
+/* A study over one parameter with its points (opaque). */
+typedef struct usm_squeal_study usm_squeal_study;
+
+/* For model m (not NULL), or NULL when out of memory. */
+usm_squeal_study *usm_squeal_alloc(const usm_model *m);
+/* Free s; NULL is allowed. */
+void usm_squeal_free(usm_squeal_study *s);
+
+/* Check opt and p as usm_squeal_run does: USM_OK, or USM_EINPUT with
+ * "FIELD: reason" in usm_squeal_message (FIELD over, from, to, points,
+ * settle, window, ... or "model"). */
+int usm_squeal_check(usm_squeal_study *s, const usm_params *p, const usm_squeal_options *opt);
+
+/* Run the study (header comment).  USM_OK (a point whose run failed has
+ * status USM_EFAILED and motion "failed"; the next starts from rest);
+ * USM_EINPUT (as usm_squeal_check); USM_EFAILED (out of memory). */
+int usm_squeal_run(usm_squeal_study *s, const usm_params *p, const usm_squeal_options *opt);
+
+/* Points of the last run, in sweep order. */
+size_t usm_squeal_count(const usm_squeal_study *s);
+/* Point i of the last run, NULL when out of range. */
+const usm_squeal_point *usm_squeal_point_at(const usm_squeal_study *s, size_t i);
+/* The stroboscopic samples of point i: *n of them (the window's periods),
+ * rotor speed [1/s], tilt [rad] and gap [m] (0 while closed); NULL when out
+ * of range or the run failed. */
+int usm_squeal_strobe(const usm_squeal_study *s, size_t i, size_t *n, const double **speed,
+                      const double **theta, const double **gap);
+/* The last run's options (over copied) and parameter name. */
+const char *usm_squeal_over(const usm_squeal_study *s);
+/* Excitation frequency of point i [Hz]. */
+double usm_squeal_f(const usm_squeal_study *s, size_t i);
+/* The model of s. */
+const usm_model *usm_squeal_model(const usm_squeal_study *s);
+/* Why the last call failed, or "". */
+const char *usm_squeal_message(const usm_squeal_study *s);
+
+/* The JSON object {"model", "over", "points": [{"value", "motion", "period",
+ * "lyapunov", "lines": [{"frequency", "level_db"}], ...}]} and a newline
+ * (write/squeal_out.c).  0, or -1 on a write error. */
+int usm_squeal_write_json(const usm_squeal_study *s, FILE *out);
+/* CSV: a header with units, one row per point (the three strongest lines
+ * in columns).  0, or -1 on a write error. */
+int usm_squeal_write_csv(const usm_squeal_study *s, FILE *out);
+/* The bifurcation diagram's data as CSV: value, k, rotor_speed, theta, gap
+ * for every stroboscopic sample of every point.  0, or -1. */
+int usm_squeal_write_strobe_csv(const usm_squeal_study *s, FILE *out);
+
+/* The data of `usm squeal --plot`: the stroboscopic samples (NAME, k,
+ * rotor_speed, theta) and the audible lines (NAME, frequency, level_db) of
+ * every point, each row one or the other (the other's fields empty), for
+ * data/plots/squeal_study.gp.  0, or -1 on a write error. */
+int usm_squeal_write_plot_csv(const usm_squeal_study *s, FILE *out);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* USM_SQUEAL_STUDY_H */
