@@ -31,6 +31,7 @@
  * orbit turned unstable: unstable_from) and the branch continues from it. */
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "core/root.h"
@@ -90,7 +91,7 @@ typedef struct hbranch {
     int live, ended; /* ended: the branch ended (or was lost) at end_v */
     double end_v, sense;
     char end[256];
-    int npend, jumps, grazings;
+    int npend, jumps, grazings, resections;
     double xs0[USM_MAX_NX + 1], dx0[USM_MAX_NX + 1]; /* the last step's start and direction */
     struct pending {
         int grazing; /* 0: a stability change (at, located, rising) */
@@ -214,7 +215,7 @@ static int branch_begin(hbranch *b, double v, const usm_hybrid_result *r, double
     usm_cont_free(b->c);
     b->c = NULL;
     b->live = b->ended = 0;
-    b->npend = b->jumps = b->grazings = 0;
+    b->npend = b->jumps = b->grazings = b->resections = 0;
     b->end_v = NAN;
     snprintf(b->end, sizeof b->end, "Newton fails on its branch");
     b->nx = r->nx;
@@ -493,6 +494,63 @@ static void branch_ended(hbranch *b, double v_end, const char *fmt, const char *
     snprintf(b->end, sizeof b->end, fmt, vt, seq);
 }
 
+/* The branch's section moved to the middle of the longest closed phase of
+ * the orbit at x (RESECT_SAMPLES a period): the section time t0 is the first
+ * orbit's, and where the closed phases shift along the branch it may leave
+ * them, where the period map fails (the contact open at the end of the
+ * period: 3-DOF phase error 0.88 rad on, the branch seemed to end at
+ * 0.90927 rad, where it goes on to 0.9125).  The engine restarts there (its
+ * pending events kept).  0, or -1 when the orbit or the samples fail, the
+ * section does not move, or the engine does not start. */
+#define RESECT_SAMPLES 200
+#define MAX_RESECTIONS 8 /* along one branch */
+static int resection(hbranch *b, const double *x)
+{
+    usm_hybrid_result r, r2;
+    const int nx = b->nx, cols = USM_HYBRID_SAMPLE_COLS(nx);
+    if (b->resections >= MAX_RESECTIONS || orbit_at(b, x, ORBIT_TOL, &r) != 0)
+        return -1;
+    const usm_params q = params_at(b->s, x[b->nr]);
+    double *rows = malloc(sizeof(double) * (size_t)USM_HYBRID_SAMPLE_ROWS(RESECT_SAMPLES) *
+                          (size_t)cols);
+    int nrows = 0, best = -1, best_len = 0;
+    if (rows && usm_hybrid_orbit_samples(b->s->hy, &q, &r, 0.0, RESECT_SAMPLES, rows, &nrows) ==
+                    USM_OK)
+        for (int i = 0; i < nrows;) {
+            int j = i;
+            while (j < nrows && rows[(size_t)j * (size_t)cols + 1] == 0.0)
+                ++j;
+            if (j - i > best_len) {
+                best_len = j - i;
+                best = i + (j - i) / 2;
+            }
+            i = j > i ? j : i + 1;
+        }
+    double t0 = NAN, x0[USM_MAX_NX];
+    if (best >= 0) {
+        t0 = rows[(size_t)best * (size_t)cols];
+        memcpy(x0, rows + (size_t)best * (size_t)cols + 2, sizeof(double) * (size_t)nx);
+    }
+    free(rows);
+    if (best < 0 || fabs(t0 - b->t0) < 1e-3 * r.period ||
+        usm_hybrid_solve_from(b->s->hy, &q, NULL, t0, x0, &r2) != USM_OK || r2.nmodes < 2)
+        return -1;
+    /* the engine anew from there; its events and counts kept */
+    hbranch keep = *b;
+    double xn[USM_MAX_NX + 1];
+    const int rc = branch_begin(b, x[b->nr], &r2, xn);
+    memcpy(b->pend, keep.pend, sizeof b->pend);
+    b->npend = keep.npend;
+    b->jumps = keep.jumps;
+    b->grazings = keep.grazings;
+    b->resections = keep.resections + 1;
+    b->sense = keep.sense;
+    b->live = 1;
+    if (rc != 0 || usm_cont_start(b->c, xn, (int)b->sense) != 0)
+        return -1;
+    return 0;
+}
+
 /* One step of the engine on the branch, its events pending and its end
  * noted (b->ended); a jump across a branch point goes at most to v.  0, or
  * -1 when out of memory. */
@@ -503,6 +561,15 @@ static int branch_step(hbranch *b, double v)
     memcpy(b->xs0, usm_cont_point(b->c), sizeof(double) * (size_t)N);
     memcpy(b->dx0, usm_cont_direction(b->c), sizeof(double) * (size_t)N);
     const int st = usm_cont_step(b->c);
+    if (st == USM_CONT_LOST && strstr(usm_hybrid_message(b->s->hy), "section") != NULL) {
+        /* the last map failed as its section left the closed phase: a new
+         * section, and on */
+        memcpy(x, usm_cont_point(b->c), sizeof(double) * (size_t)N);
+        if (resection(b, x) == 0)
+            return 0;
+        if (!b->c)
+            return -1;
+    }
     if (st == USM_CONT_LOST && b->jumps < MAX_JUMPS) {
         double dx[USM_MAX_NX + 1], vs;
         int rising;
