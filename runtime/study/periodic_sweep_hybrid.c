@@ -20,6 +20,11 @@
  *     map is continuous there), a grazing event, and the branch goes on in
  *     the new sequence; otherwise the branch ends there;
  *   - a fold (dp/ds = 0): the branch ends there.
+ * Where the steps shrink to h_min next to a multiplier +1 that is no fold
+ * (a branch point) the branch is taken across by the parameter
+ * (jump_across); where the section leaves the closed phase it moves
+ * (resection).  The events of a step past a grid point wait for the next
+ * one.
  * A branch that ends (or whose corrector fails) is lost: the point takes the
  * orbit a start from rest settles on (usm_hybrid_solve), a branch_switch
  * with branch_lost carrying where the branch ended (branch_end) and its last
