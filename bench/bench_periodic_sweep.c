@@ -1,5 +1,6 @@
 /* A 200-point phase-error sweep (0 to 30 degrees) of the periodic orbit with
- * its events (usm_periodic_sweep_run), per model of the variant imperfect.
+ * its events (usm_periodic_sweep_run), per model of the variant imperfect,
+ * and one over 0 to 0.25 rad, which holds no event: the cost a grid point.
  * Goal: <= 5 s.  Run: build/bench/bench_periodic_sweep [points] */
 #define _POSIX_C_SOURCE 200809L
 #include <stdio.h>
@@ -39,8 +40,21 @@ int main(int argc, char **argv)
             fprintf(stderr, "%s: %s\n", m->name, usm_periodic_sweep_message(s));
             return 1;
         }
-        printf("%-16s %d-point phase-error sweep, 0 to 30 deg, with %zu events: %.2f s CPU time\n",
-               m->name, points, usm_periodic_sweep_event_count(s), now() - t0);
+        const double t = now() - t0;
+        printf("%-16s %d-point phase-error sweep, 0 to 30 deg, with %zu events: %.2f s CPU time "
+               "(%.2f ms a grid point)\n", m->name, points, usm_periodic_sweep_event_count(s), t,
+               1e3 * t / points);
+        /* the same branch without events: the per-point cost of the
+         * continuation alone (phase error 0 to 14 deg holds none) */
+        o.to = 0.25;
+        const double t1 = now();
+        if (usm_periodic_sweep_run(s, &p, &o) != USM_OK || usm_periodic_sweep_event_count(s)) {
+            fprintf(stderr, "%s: %s\n", m->name, usm_periodic_sweep_message(s));
+            return 1;
+        }
+        const double te = now() - t1;
+        printf("%-16s %d-point phase-error sweep, 0 to 14.3 deg, no events: %.2f s CPU time "
+               "(%.2f ms a grid point)\n", m->name, points, te, 1e3 * te / points);
         usm_periodic_sweep_free(s);
     }
     return 0;

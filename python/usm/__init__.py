@@ -16,8 +16,8 @@ for bit.  Reference: docs/python.md.
 from . import _core
 from ._core import NoSolution, NumericalError, variants, models, parameter_table
 from ._results import (Result, SteadyResult, FloquetResult, SweepResult, SimulationResult,
-                       PeriodicResult, SensitivityResult, MapResult, OptimizeResult, ToleranceResult,
-                       ParetoResult, SquealResult,
+                       PeriodicResult, SensitivityResult, MapResult, EnvelopeResult, OptimizeResult, ToleranceResult,
+                       ParetoResult, SquealResult, FitResult,
                        SIM_COLUMNS, SIM_UNITS,
                        VALIDITY_NAMES)
 from ._model import Model, Parameter, Parameters
@@ -26,6 +26,6 @@ __version__, generator_version = _core.version()
 
 __all__ = ["Model", "Parameter", "Parameters", "NoSolution", "NumericalError", "variants",
            "models", "parameter_table", "Result", "SteadyResult", "FloquetResult", "SweepResult",
-           "SimulationResult", "PeriodicResult", "SensitivityResult", "MapResult", "OptimizeResult", "ToleranceResult", "ParetoResult",
-           "SquealResult",
+           "SimulationResult", "PeriodicResult", "SensitivityResult", "MapResult", "EnvelopeResult", "OptimizeResult", "ToleranceResult", "ParetoResult",
+           "SquealResult", "FitResult",
            "SIM_COLUMNS", "SIM_UNITS", "VALIDITY_NAMES", "__version__", "generator_version"]

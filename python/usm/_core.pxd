@@ -227,6 +227,25 @@ cdef extern from "usm_map.h" nogil:
         usm_progress progress
     void usm_map_options_default(usm_map_options *opt)
 
+cdef extern from "usm_envelope.h" nogil:
+    ctypedef struct usm_envelope_axis:
+        const char *name
+        double lo
+        double hi
+    ctypedef struct usm_envelope_options:
+        usm_envelope_axis x
+        usm_envelope_axis y
+        int lines
+        int nodes
+        double h_max
+        int max_points
+        int stability
+        int raster
+        double t0
+        usm_floquet_options floquet
+        usm_op_options op
+    void usm_envelope_options_default(usm_envelope_options *opt)
+
 cdef extern from "usm_optimize.h" nogil:
     ctypedef struct usm_opt_problem:
         int objective
@@ -323,6 +342,11 @@ cdef extern from "usm_spectrum.h" nogil:
         size_t bins
     const char *usm_spectrum_channel_name(int channel)
 
+cdef extern from "usm_fit.h" nogil:
+    ctypedef struct usm_fit_options:
+        int starts
+    void usm_fit_options_default(usm_fit_options *o)
+
 cdef extern from "usm_run.h" nogil:
     enum:
         USM_RUN_SIM_COLUMNS
@@ -337,6 +361,9 @@ cdef extern from "usm_run.h" nogil:
     usm_run *usm_run_steady(const usm_model *m, const usm_params *p, double t0,
                             const usm_floquet_options *fo, const usm_op_options *op)
     usm_run *usm_run_sensitivity(const usm_model *m, const usm_params *p, const int *want)
+    usm_run *usm_run_fit(const usm_model *m, const usm_params *p, const char *path,
+                         const char *text, size_t len, const char *names,
+                         const usm_fit_options *opt)
     usm_run *usm_run_periodic(const usm_model *m, const usm_params *p)
     usm_run *usm_run_simulate(const usm_model *m, const usm_params *p, const usm_sim_options *opt,
                               const void *cb, long spectrum_periods)
@@ -347,6 +374,8 @@ cdef extern from "usm_run.h" nogil:
                                     const usm_periodic_sweep_options *opt)
     usm_run *usm_run_squeal(const usm_model *m, const usm_params *p, const usm_squeal_options *opt)
     usm_run *usm_run_map(const usm_model *m, const usm_params *p, const usm_map_options *opt)
+    usm_run *usm_run_envelope(const usm_model *m, const usm_params *p,
+                              const usm_envelope_options *opt)
     usm_run *usm_run_optimize(const usm_model *m, const usm_params *p, const usm_opt_problem *pb)
     usm_run *usm_run_robust(const usm_model *m, const usm_params *p, const usm_robust_problem *rp)
     usm_run *usm_run_pareto(const usm_model *m, const usm_params *p, const usm_opt_problem *pb,

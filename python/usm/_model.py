@@ -1,10 +1,12 @@
 """usm.Model: one generated model with one parameter set (docs/python.md)."""
+import os
 from collections.abc import Mapping
 from typing import NamedTuple
 
 from . import _core
 from ._results import (SteadyResult, FloquetResult, SweepResult, SquealResult, SimulationResult,
-                       PeriodicResult, SensitivityResult, MapResult, OptimizeResult, ParetoResult,
+                       PeriodicResult, SensitivityResult, FitResult, MapResult, OptimizeResult, ParetoResult,
+                       EnvelopeResult,
                        ToleranceResult)
 
 
@@ -258,6 +260,31 @@ class Model:
             _raise(st, msg)
         return SensitivityResult(doc)
 
+    def fit(self, data, fit, starts=None):
+        """The parameters `fit` (names, or "a,b") identified from measured
+        characteristics (`usm fit --json`, docs/fit.md), starting from this
+        model's values.  data: the path of a CSV file, or a mapping of column
+        headers ("f [kHz]", "speed [rpm]", "sigma_speed [rpm]") to sequences
+        of equal length (None or nan in an output column: not measured).
+        starts: the starts of the local search (default the library's)."""
+        names = fit if isinstance(fit, str) else ",".join(fit)
+        if isinstance(data, Mapping):
+            cols = list(data)
+            rows = [list(data[c]) for c in cols]
+            if not cols or any(len(r) != len(rows[0]) for r in rows):
+                raise ValueError("data: columns of equal length expected")
+            lines = [",".join(cols)]
+            for i in range(len(rows[0])):
+                lines.append(",".join("" if v is None or v != v else repr(float(v))
+                                      for v in (r[i] for r in rows)))
+            st, msg, doc, _ = self._c._fit(b"data", "\n".join(lines) + "\n", names.encode(),
+                                           starts)
+        else:
+            st, msg, doc, _ = self._c._fit(os.fsencode(data), None, names.encode(), starts)
+        if st != 0:
+            _raise(st, msg)
+        return FitResult(doc)
+
     def stability_map(self, x=None, y=None, t0=0.0, method=None, rtol=None, steps=None,
                       threads=2, from_rest=False, from_rest_periods=None, progress=None):
         """The stability map over two parameters (`usm map --json`).  x, y:
@@ -273,6 +300,23 @@ class Model:
         if st != 0:
             _raise(st, msg)
         return MapResult(doc)
+
+    def envelope(self, x, y, lines=3, nodes=9, raster=120, stability=True, t0=0.0, method=None,
+                 rtol=None, steps=None, from_rest=False, from_rest_periods=None):
+        """The operating envelope over two parameters (`usm envelope --json`,
+        docs/envelope.md).  x, y: (name, lo, hi), lo < hi (numbers in SI or
+        texts with a unit, "36kHz").  The result's .curves (kind, points
+        [[x, y], ...], ends), .regions (class, root, sample [x, y], ...) and
+        .codim2 (type, point)."""
+        for name, v in (("lines", lines), ("nodes", nodes), ("raster", raster)):
+            if isinstance(v, bool) or not isinstance(v, int):
+                raise TypeError("%s: must be an integer" % name)
+        st, msg, doc, _ = self._c._envelope(x, y, lines, nodes, raster, bool(stability), float(t0),
+                                            method, rtol, steps, bool(from_rest),
+                                            from_rest_periods)
+        if st != 0:
+            _raise(st, msg)
+        return EnvelopeResult(doc)
 
     def optimize(self, objective, vary, constraints=(), minimize=False, stability_margin=None,
                  starts=None, t0=None, allow_slip=False, allow_driven=False, no_flat=False,

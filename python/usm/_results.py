@@ -158,6 +158,11 @@ class SensitivityResult(Result):
     elasticities in every parameter."""
 
 
+class FitResult(Result):
+    """`usm fit --json`: estimates with standard errors and 95 % intervals,
+    correlation, chi2, p_value, identifiable, unidentifiable, points."""
+
+
 def _columns(points):
     """Per key of the point objects an array over the points: numbers float64
     (null -> nan), booleans bool (float with nan where one is null), text an
@@ -262,6 +267,10 @@ class MapResult(_Table):
         nx = self._d["x"]["points"]
         ny = self._d["y"]["points"]
         return c.reshape(ny, nx)
+
+
+class EnvelopeResult(Result):
+    """`usm envelope --json`: .curves, .regions, .codim2, .x, .y."""
 
 
 SIM_COLUMNS = ("t", "phi", "theta", "psi", "phidot", "thetadot", "psidot", "phi_R", "phi_Rdot",

@@ -218,7 +218,8 @@ int usm_cont_set_scale(usm_cont *c, const double *scale)
 
 int usm_cont_add_test(usm_cont *c, usm_cont_test_fn fn, void *ctx, int flags)
 {
-    if ((flags != USM_CONT_TEST_MONITOR && flags != USM_CONT_TEST_STOP) || c->started ||
+    const int kind = flags & ~USM_CONT_TEST_POINT;
+    if ((kind != USM_CONT_TEST_MONITOR && kind != USM_CONT_TEST_STOP) || c->started ||
         (c->ntests > 0 && !fn))
         return USM_CONT_EUSAGE;
     if (usm_grow((void **)&c->tests, &c->testcap, (size_t)c->ntests + 1, sizeof *c->tests) != 0)
@@ -372,8 +373,14 @@ static double arc_value(double s, void *ctx)
 {
     arc_fn *a = ctx;
     usm_cont *c = a->c;
-    if (arc_point_z(c, s, a->z, a->t) != 0)
+    /* a test of the point alone: no tangent (one Jacobian fewer a trial) */
+    const int point = a->k > USM_CONT_FOLD && (c->tests[a->k].flags & USM_CONT_TEST_POINT);
+    if (arc_point_z(c, s, a->z, point ? NULL : a->t) != 0)
         return NAN; /* the locator stops */
+    if (point) {
+        unscale(c, a->z, a->x);
+        return c->tests[a->k].fn(a->x, NULL, c->tests[a->k].ctx);
+    }
     if (a->k >= 0)
         return test_value(c, a->k, a->z, a->t, a->x, a->dx);
     unscale(c, a->z, a->x);
@@ -427,7 +434,8 @@ int usm_cont_correct_fixed(usm_cont *c, double *x, int k, double value)
 
 static int is_stop(const usm_cont *c, int k)
 {
-    return k == USM_CONT_FOLD ? !c->o.across_fold : c->tests[k].flags == USM_CONT_TEST_STOP;
+    return k == USM_CONT_FOLD ? !c->o.across_fold
+                              : (c->tests[k].flags & ~USM_CONT_TEST_POINT) == USM_CONT_TEST_STOP;
 }
 
 static int start_tests(usm_cont *c)

@@ -50,6 +50,7 @@
 #include "core/cvode_msg.h"
 #include "core/cvodes.h"
 #include "core/dense.h"
+#include "floquet_floor.h"
 #include "multipliers.h"
 #include "usm.h"
 
@@ -514,20 +515,35 @@ static int magnus_product(usm_floquet *f, double t0, double period, int steps, d
  * similarity transformation, which leaves the multipliers alone.  They
  * converge much faster than the entries of Psi (3-DOF, paper's point: with 8
  * steps the multipliers to 2e-12, Psi to 1e-6; bench/usm_bench). */
+/* The non-cyclic multipliers of Psi for the error estimate: the roots of
+ * the characteristic polynomial (a fifth of the eigensolver's time), or the
+ * eigensolver where their iteration fails. */
+static int estimate_multipliers(usm_floquet *f, const double *Psi, int warm, double *re,
+                                double *im)
+{
+    if (usm_multipliers_roots(f->mult, Psi, warm, re, im) == 0)
+        return 0;
+    if (usm_multipliers_eigen(f->mult, Psi, f->msg) != 0)
+        return -1;
+    usm_multipliers_values(f->mult, re, im);
+    return 0;
+}
+
 static int magnus_adaptive(usm_floquet *f, double t0, double period, double tol, double *Psi)
 {
     const int nk = usm_multipliers_count(f->mult);
     double re0[USM_MAX_NX], im0[USM_MAX_NX], re1[USM_MAX_NX], im1[USM_MAX_NX];
     int n1 = 1, n2 = 2;
     if (magnus_product(f, t0, period, n1, Psi) != 0 ||
-        usm_multipliers_eigen(f->mult, Psi, f->msg) != 0)
+        estimate_multipliers(f, Psi, 0, re0, im0) != 0)
         return -1;
-    usm_multipliers_values(f->mult, re0, im0);
     for (;;) {
+        /* from the coarser result's multipliers: a few iterations */
+        memcpy(re1, re0, sizeof re1);
+        memcpy(im1, im0, sizeof im1);
         if (magnus_product(f, t0, period, n2, Psi) != 0 ||
-            usm_multipliers_eigen(f->mult, Psi, f->msg) != 0)
+            estimate_multipliers(f, Psi, 1, re1, im1) != 0)
             return -1;
-        usm_multipliers_values(f->mult, re1, im1);
         double scale = 1.0; /* relative to the largest multiplier when that exceeds 1 */
         for (int i = 0; i < nk; ++i)
             scale = fmax(scale, hypot(re1[i], im1[i]));
@@ -536,7 +552,10 @@ static int magnus_adaptive(usm_floquet *f, double t0, double period, double tol,
         f->magnus_steps = n2;
         f->magnus_error = est;
         if (est <= tol) {
-            f->eval_valid = 1; /* f->mult holds the multipliers of Psi */
+            /* the multipliers reported: the eigensolver's, once */
+            if (usm_multipliers_eigen(f->mult, Psi, f->msg) != 0)
+                return -1;
+            f->eval_valid = 1;
             return 0;
         }
         if (n2 >= MAGNUS_MAX_STEPS) {
@@ -730,4 +749,27 @@ const char *usm_steady_nonfinite(const usm_steady_solution *s, const usm_floquet
     if (!isfinite(f->max_modulus))
         return "floquet: the largest modulus is not finite";
     return NULL;
+}
+
+/* ---- the cost floor (solve/floquet_floor.h) ------------------------------------ */
+
+int usm_floquet_floor_setup(usm_floquet *f, const usm_params *p, const usm_steady_solution *sol,
+                            double t0, double *A)
+{
+    f->p = *p;
+    memcpy(f->u, sol->u, sizeof f->u);
+    f->beta = sol->beta;
+    if (variational_coordinates(f, t0) != 0)
+        return -1;
+    for (int k = 0; k < f->n * f->n; ++k)
+        A[k] = f->G->data[k] / p->f;
+    return 0;
+}
+
+int usm_floquet_floor(usm_floquet *f, const double *A)
+{
+    double E[NN];
+    if (usm_expm_dense(f->n, A, E) != 0)
+        return -1;
+    return usm_multipliers_eigen(f->mult, E, f->msg);
 }

@@ -89,7 +89,8 @@ int usm_multipliers_basis(usm_multipliers *w, const double *S)
     return 0;
 }
 
-int usm_multipliers_eigen(usm_multipliers *w, const double *Psi, char msg[USM_MSG_LEN])
+/* R, the non-cyclic block of Qc^T Psi Qc, into w->R. */
+static void reduce(usm_multipliers *w, const double *Psi)
 {
     const int n = w->n, nk = w->nk, nc = n - nk;
     if (nc == 0)
@@ -104,12 +105,98 @@ int usm_multipliers_eigen(usm_multipliers *w, const double *Psi, char msg[USM_MS
         for (int i = 0; i < nk; ++i)
             memcpy(w->R->data + i * nk, E + (nc + i) * n + nc, sizeof(double) * (size_t)nk);
     }
+}
+
+int usm_multipliers_eigen(usm_multipliers *w, const double *Psi, char msg[USM_MSG_LEN])
+{
+    reduce(w, Psi);
     gsl_eigen_nonsymm_params(0, 1, w->eig); /* balance before QR */
     if (gsl_eigen_nonsymm(w->R, w->eval, w->eig) != GSL_SUCCESS) {
         snprintf(msg, USM_MSG_LEN, "eigenvalues of the monodromy matrix did not converge");
         return -1;
     }
     return 0;
+}
+
+int usm_multipliers_roots(usm_multipliers *w, const double *Psi, int warm, double *re,
+                          double *im)
+{
+    const int k = w->nk;
+    double c[USM_MAX_NX + 1], M[NN], RM[NN];
+    reduce(w, Psi);
+    const double *R = w->R->data;
+    /* Faddeev-LeVerrier: det(z I - R) = sum_j c[j] z^j, c[k] = 1 */
+    c[k] = 1.0;
+    memset(M, 0, sizeof M);
+    for (int m = 1; m <= k; ++m) {
+        for (int i = 0; i < k; ++i)
+            M[i * k + i] += c[k - m + 1];
+        usm_matmul_dense(k, R, M, RM);
+        double tr = 0;
+        for (int i = 0; i < k; ++i)
+            tr += RM[i * k + i];
+        c[k - m] = -tr / m;
+        memcpy(M, RM, sizeof(double) * (size_t)(k * k));
+    }
+    /* Aberth-Ehrlich from points on a circle of the Cauchy bound's radius,
+     * in real arithmetic: C's complex division (__divdc3) and cabs took more
+     * time than the eigensolver this replaces */
+    double zr[USM_MAX_NX], zi[USM_MAX_NX];
+    double bound = 0;
+    for (int j = 0; j < k; ++j)
+        bound = fmax(bound, fabs(c[j]));
+    const double radius = 0.5 * (1.0 + bound);
+    for (int i = 0; i < k; ++i) {
+        const double phi = 6.283185307179586 * (i + 0.25) / k;
+        zr[i] = warm ? re[i] : radius * cos(phi);
+        zi[i] = warm ? im[i] : radius * sin(phi);
+    }
+    for (int it = 0, last = 0; it < 200; ++it) {
+        double moved2 = 0;
+        for (int i = 0; i < k; ++i) {
+            /* p(z) and p'(z) by Horner */
+            double pr = c[k], pi = 0, dr = 0, di = 0;
+            for (int j = k - 1; j >= 0; --j) {
+                const double ndr = dr * zr[i] - di * zi[i] + pr, ndi = dr * zi[i] + di * zr[i] + pi;
+                const double npr = pr * zr[i] - pi * zi[i] + c[j], npi = pr * zi[i] + pi * zr[i];
+                dr = ndr;
+                di = ndi;
+                pr = npr;
+                pi = npi;
+            }
+            if (pr == 0 && pi == 0)
+                continue;
+            /* ratio = p / p', s = sum 1 / (z_i - z_j) */
+            const double d2 = dr * dr + di * di;
+            const double rr = (pr * dr + pi * di) / d2, ri = (pi * dr - pr * di) / d2;
+            double sr = 0, si = 0;
+            for (int j = 0; j < k; ++j)
+                if (j != i) {
+                    const double xr = zr[i] - zr[j], xi = zi[i] - zi[j], x2 = xr * xr + xi * xi;
+                    sr += xr / x2;
+                    si -= xi / x2;
+                }
+            /* step = ratio / (1 - ratio s) */
+            const double qr = 1.0 - (rr * sr - ri * si), qi = -(rr * si + ri * sr);
+            const double q2 = qr * qr + qi * qi;
+            const double str = (rr * qr + ri * qi) / q2, sti = (ri * qr - rr * qi) / q2;
+            if (!isfinite(str) || !isfinite(sti))
+                return -1;
+            zr[i] -= str;
+            zi[i] -= sti;
+            moved2 = fmax(moved2, (str * str + sti * sti) /
+                                      fmax(1.0, zr[i] * zr[i] + zi[i] * zi[i]));
+        }
+        /* cubic convergence: one sweep after a step of 1e-9 reaches rounding,
+         * where the steps stay at a few ulps instead of vanishing */
+        if (last) {
+            memcpy(re, zr, sizeof(double) * (size_t)k);
+            memcpy(im, zi, sizeof(double) * (size_t)k);
+            return 0;
+        }
+        last = moved2 <= 1e-18;
+    }
+    return -1;
 }
 
 int usm_multipliers_count(const usm_multipliers *w) { return w->nk; }

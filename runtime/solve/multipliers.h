@@ -36,6 +36,17 @@ int usm_multipliers_basis(usm_multipliers *w, const double *S);
  * msg when the eigensolver does not converge. */
 int usm_multipliers_eigen(usm_multipliers *w, const double *Psi, char msg[USM_MSG_LEN]);
 
+/* The non-cyclic multipliers of Psi without the eigensolver, for an error
+ * estimate: the roots of the characteristic polynomial of the same reduced
+ * matrix (Faddeev-LeVerrier, then Aberth-Ehrlich iterations), into re and
+ * im (usm_multipliers_count each); with warm, the iterations start from
+ * re and im (the multipliers of a nearby Psi), else from a circle.  Good to about 1e-12 for the moduli of
+ * order one Floquet multipliers have, far below the differences an error
+ * estimate compares; 0, or -1 when the iterations do not converge (the
+ * caller uses usm_multipliers_eigen then). */
+int usm_multipliers_roots(usm_multipliers *w, const double *Psi, int warm, double *re,
+                          double *im);
+
 /* The number of non-cyclic multipliers, and those of the last
  * usm_multipliers_eigen into re and im (that many each), in the
  * eigensolver's order. */

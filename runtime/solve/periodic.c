@@ -85,6 +85,10 @@ struct usm_periodic {
     usm_steady *steady;
     double samples[NS * (USM_MAX_NX + 4)];
     int have_samples;
+    /* the last usm_periodic_shoot: its start, monodromy (physical units and
+     * Psi) and residual, its samples in `samples` */
+    int have_shot;
+    double shot_x0[USM_MAX_NX], shot_B[NN], shot_Psi[NN], shot_res;
     char msg[USM_MSG_LEN];
 };
 
@@ -326,7 +330,7 @@ static int multipliers(usm_periodic *w, const double *Psi, usm_floquet_result *f
 /* ---- the extremes over the orbit ------------------------------------------------ */
 
 /* The quantities whose extremes are reported. */
-enum { Q_THETA, Q_F_N, Q_RATIO, Q_SPEED };
+enum { Q_THETA, Q_F_N, Q_RATIO, Q_SPEED, Q_STICK };
 
 /* Quantity q at the sample row (t, x, F_n, F_t, rotor speed). */
 static double sample_quantity(const usm_periodic *w, int q, const double *row)
@@ -336,6 +340,9 @@ static double sample_quantity(const usm_periodic *w, int q, const double *row)
     case Q_THETA: return usm_coords_theta(w->m, row + 1);
     case Q_F_N: return row[n + 1];
     case Q_RATIO: return fabs(row[n + 2]) / row[n + 1];
+    /* the friction stick needs beyond what it has: defined where F_n <= 0
+     * too, unlike the ratio, with the same zero where F_n > 0 */
+    case Q_STICK: return fabs(row[n + 2]) - w->p.mu0 * row[n + 1];
     default: return row[n + 3];
     }
 }
@@ -688,7 +695,7 @@ int usm_periodic_solve(usm_periodic *w, const usm_params *p, const double *x_sta
     }
     memset(out, 0, sizeof *out);
     w->msg[0] = '\0';
-    w->have_samples = 0;
+    w->have_samples = w->have_shot = 0;
     if (m->x_tau < 0) {
         snprintf(w->msg, USM_MSG_LEN,
                  "model %s: the paper's twist angle phi + psi cos(theta) grows without bound "
@@ -854,7 +861,7 @@ int usm_periodic_saturation(usm_periodic *w, const usm_params *p, const usm_para
         opt = &def;
     }
     w->msg[0] = '\0';
-    w->have_samples = 0;
+    w->have_samples = w->have_shot = 0;
     if (!m->friction || iw < 0 || m->x_tau < 0) {
         snprintf(w->msg, USM_MSG_LEN, "model %s: no friction law to saturate", m->name);
         return USM_EINPUT;
@@ -949,4 +956,177 @@ int usm_periodic_saturation(usm_periodic *w, const usm_params *p, const usm_para
     }
     snprintf(w->msg, USM_MSG_LEN, "saturation: Newton did not converge");
     return USM_EFAILED;
+}
+
+/* ---- the shooting problem for a continuation ---------------------------------------- */
+
+int usm_periodic_shoot_layout(const usm_periodic *w, int *idx, double *scale)
+{
+    int k = 0;
+    for (int i = 0; i < w->n; ++i) {
+        scale[i] = w->scale[i];
+        if (!w->m->cyclic[i])
+            idx[k++] = i;
+    }
+    return k;
+}
+
+void usm_periodic_shoot_set_scale(usm_periodic *w, const double *scale)
+{
+    memcpy(w->scale, scale, sizeof(double) * (size_t)w->n);
+}
+
+/* w's parameters, period and frequency from p. */
+static void set_params(usm_periodic *w, const usm_params *p)
+{
+    w->p = *p;
+    w->Omega = TWO_PI * p->f;
+    w->T = 1.0 / p->f;
+}
+
+/* The state alone over one period from x0 (the integration of state_at):
+ * x(t0 + T) into x1, no samples.  0, or -1. */
+static int period_map_state(usm_periodic *w, const double *x0, double *x1)
+{
+    const int n = w->n;
+    usm_cvodes *c = &w->cv2;
+    double *Y = N_VGetArrayPointer(c->y), *A = N_VGetArrayPointer(c->atol), reached = 0;
+    memcpy(Y, x0, sizeof(double) * (size_t)n);
+    for (int i = 0; i < n; ++i)
+        A[i] = w->rtol * w->scale[i];
+    if (CVodeReInit(c->mem, 0.0, c->y) != CV_SUCCESS ||
+        CVodeSVtolerances(c->mem, w->rtol, c->atol) != CV_SUCCESS ||
+        CVodeSetStopTime(c->mem, w->T) != CV_SUCCESS ||
+        CVode(c->mem, w->T, c->y, &reached, CV_NORMAL) < 0)
+        return -1;
+    memcpy(x1, Y, sizeof(double) * (size_t)n);
+    for (int i = 0; i < n; ++i)
+        if (!isfinite(x1[i]))
+            return -1;
+    return 0;
+}
+
+/* r_a = (x1_i - x0_i - 2 pi [i = phi]) / scale_i over the non-cyclic i. */
+static void shoot_residual(const usm_periodic *w, const double *x0, const double *x1, double *r)
+{
+    int k = 0;
+    for (int i = 0; i < w->n; ++i)
+        if (!w->m->cyclic[i]) {
+            r[k++] = (x1[i] - x0[i] - (i == w->m->x_phi ? TWO_PI : 0.0)) / w->scale[i];
+        }
+}
+
+int usm_periodic_shoot(usm_periodic *w, const usm_params *p, const usm_param_info *info,
+                       double dlam, const double *x0, double *r, double *J)
+{
+    const usm_model *m = w->m;
+    const int n = w->n;
+    double x1[USM_MAX_NX], Psi[NN];
+    int idx[USM_MAX_NX], k = 0;
+    w->have_shot = 0;
+    w->have_samples = 0;
+    if (!admissible(m, x0)) {
+        snprintf(w->msg, USM_MSG_LEN, "the state left the admissible ones (theta <= 0)");
+        return USM_EFAILED;
+    }
+    for (int i = 0; i < n; ++i)
+        if (!m->cyclic[i])
+            idx[k++] = i;
+    if (J && dlam != 0.0) {
+        /* the parameter's column first: the state-alone map at the moved
+         * parameter would overwrite nothing of the map at p kept below */
+        usm_params q = *p;
+        double r2[USM_MAX_NX];
+        *usm_params_field(&q, info) += dlam;
+        set_params(w, &q);
+        if (period_map_state(w, x0, x1) != 0) {
+            snprintf(w->msg, USM_MSG_LEN, "the period map at the moved parameter failed");
+            return USM_EFAILED;
+        }
+        shoot_residual(w, x0, x1, r2);
+        for (int a = 0; a < k; ++a)
+            J[a * (k + 1) + k] = r2[a];
+    }
+    set_params(w, p);
+    int rc = period_map(w, x0, w->rtol, x1, Psi);
+    if (rc != USM_OK)
+        return rc;
+    shoot_residual(w, x0, x1, r);
+    for (int a = 0; a < k; ++a)
+        if (!isfinite(r[a])) {
+            snprintf(w->msg, USM_MSG_LEN, "the period map is not finite");
+            return USM_EFAILED;
+        }
+    double W[NN];
+    usm_matmul_dense(n, w->Sinv, Psi, W);
+    usm_matmul_dense(n, W, w->S, w->shot_B);
+    memcpy(w->shot_Psi, Psi, sizeof Psi);
+    memcpy(w->shot_x0, x0, sizeof(double) * (size_t)n);
+    w->shot_res = 0;
+    for (int a = 0; a < k; ++a)
+        w->shot_res = fmax(w->shot_res, fabs(r[a]));
+    if (J)
+        for (int a = 0; a < k; ++a) {
+            for (int b = 0; b < k; ++b)
+                J[a * (k + 1) + b] = (w->shot_B[idx[a] * n + idx[b]] - (a == b)) / w->scale[idx[a]];
+            J[a * (k + 1) + k] = dlam != 0.0 ? (J[a * (k + 1) + k] - r[a]) / dlam : 0.0;
+        }
+    w->have_shot = 1;
+    return USM_OK;
+}
+
+int usm_periodic_shoot_state(usm_periodic *w, const usm_params *p, const double *x0, double *r)
+{
+    double x1[USM_MAX_NX];
+    w->have_shot = 0;
+    w->have_samples = 0;
+    if (!admissible(w->m, x0)) {
+        snprintf(w->msg, USM_MSG_LEN, "the state left the admissible ones (theta <= 0)");
+        return USM_EFAILED;
+    }
+    set_params(w, p);
+    if (period_map_state(w, x0, x1) != 0) {
+        snprintf(w->msg, USM_MSG_LEN, "the period map of the state failed");
+        return USM_EFAILED;
+    }
+    shoot_residual(w, x0, x1, r);
+    return USM_OK;
+}
+
+int usm_periodic_shoot_result(usm_periodic *w, usm_periodic_result *out)
+{
+    if (!w->have_shot)
+        return USM_EFAILED;
+    memset(out, 0, sizeof *out);
+    out->t0 = w->t0;
+    out->period = w->T;
+    out->nx = w->n;
+    out->residual = w->shot_res;
+    memcpy(out->x0, w->shot_x0, sizeof(double) * (size_t)w->n);
+    memcpy(out->floquet.monodromy, w->shot_B, sizeof(double) * (size_t)(w->n * w->n));
+    int rc = multipliers(w, w->shot_Psi, &out->floquet);
+    if (rc != USM_OK)
+        return rc;
+    out->converged = 1;
+    w->have_samples = 1;
+    orbit_outputs(w, out);
+    return USM_OK;
+}
+
+double usm_periodic_shoot_stick_excess(usm_periodic *w)
+{
+    return w->have_shot ? exact_extreme(w, Q_STICK, 1.0) : NAN;
+}
+
+double usm_periodic_shoot_F_n_min(usm_periodic *w)
+{
+    return w->have_shot ? exact_extreme(w, Q_F_N, -1.0) : NAN;
+}
+
+double usm_periodic_shoot_max_modulus(usm_periodic *w)
+{
+    usm_floquet_result f;
+    if (!w->have_shot || multipliers(w, w->shot_Psi, &f) != USM_OK)
+        return NAN;
+    return f.max_modulus;
 }

@@ -34,4 +34,58 @@ int usm_periodic_saturation(usm_periodic *w, const usm_params *p, const usm_para
                             const double *x_start, double lambda_scale, double lambda_tol,
                             const usm_periodic_options *opt, double *lambda);
 
+/* ---- the shooting problem posed to a continuation (study/periodic_sweep.c) ----
+ *
+ * The zero problem of the orbit: r(x0, lambda) = 0, r_a = (x_i(t0 + T) -
+ * x_i(t0) - 2 pi [i = phi]) / scale_i over the k non-cyclic components i,
+ * in the unknowns (those components of x0, the parameter lambda).  The
+ * scales, tolerances and t0 are those of the last usm_periodic_solve of w
+ * (its start orbit), held fixed so that r is one function along a branch. */
+
+/* The non-cyclic components' indices (k of them) into idx and the state
+ * scales (nx values) into scale; returns k. */
+int usm_periodic_shoot_layout(const usm_periodic *w, int *idx, double *scale);
+
+/* The state scales (nx values, as usm_periodic_shoot_layout gives them)
+ * restored: a solve in between (usm_periodic_saturation) sets its own. */
+void usm_periodic_shoot_set_scale(usm_periodic *w, const double *scale);
+
+/* r at (x0 (nx values; the cyclic ones carried), p) into r (k values) and,
+ * when J is not NULL, its Jacobian (k rows of k + 1, row-major, physical
+ * units): the non-cyclic block of the monodromy minus I, scaled as r, then
+ * dr/dlambda of the parameter `info` by a forward difference of step dlam
+ * (one period of the state alone; dlam 0: not formed, the column 0, for a
+ * Newton with the parameter held).  The period map at (x0, p), its samples
+ * and monodromy are kept for usm_periodic_shoot_result and
+ * usm_periodic_shoot_stick_excess.  USM_OK, or USM_EFAILED (reason in
+ * usm_periodic_message). */
+int usm_periodic_shoot(usm_periodic *w, const usm_params *p, const usm_param_info *info,
+                       double dlam, const double *x0, double *r, double *J);
+
+/* r alone at (x0, p), one period of the state without its variational
+ * equations (a tenth of usm_periodic_shoot's cost): for a chord Newton.
+ * Nothing is kept (usm_periodic_shoot_result then fails).  USM_OK or
+ * USM_EFAILED. */
+int usm_periodic_shoot_state(usm_periodic *w, const usm_params *p, const double *x0, double *r);
+
+/* The orbit of the last usm_periodic_shoot as usm_periodic_solve reports
+ * it (multipliers, extremes, validity; residual the shot's, iterations 0),
+ * converged set: the caller says it is on the branch.  USM_OK, or
+ * USM_EFAILED (no shot, or the eigenproblem failed). */
+int usm_periodic_shoot_result(usm_periodic *w, usm_periodic_result *out);
+
+/* The largest |F_t| - mu0 F_n over the orbit of the last shot, located on
+ * the orbit as its other extremes (the extreme sample, then the zero of the
+ * rate between its neighbours by Brent on the re-integrated state): the
+ * friction the stick needs beyond what it has; its zero is
+ * friction_needed_max = mu0 where F_n > 0, and it stays defined where the
+ * contact opens.  NaN without a shot. */
+double usm_periodic_shoot_stick_excess(usm_periodic *w);
+
+/* Of the last shot's orbit alone, as usm_periodic_shoot_result reports them
+ * (F_n_min; floquet.max_modulus) for a tenth of its cost: a continuation's
+ * test functions.  NaN without a shot or when the eigenproblem fails. */
+double usm_periodic_shoot_F_n_min(usm_periodic *w);
+double usm_periodic_shoot_max_modulus(usm_periodic *w);
+
 #endif /* USM_PERIODIC_INTERNAL_H */

@@ -82,6 +82,7 @@
 #include "core/grow.h"
 #include "core/root.h"
 #include "usm.h"
+#include "steady_cell.h"
 
 #define TWO_PI 6.283185307179586476925286766559
 #define END_REFINEMENTS 30      /* halvings of the end cells of the tilt grid */
@@ -1294,4 +1295,39 @@ int usm_steady_friction_range(usm_steady *s, const usm_params *p, double *mu_inf
     *mu_inf = s->mu_inf;
     *mu_sup = s->mu_sup;
     return USM_OK;
+}
+
+/* The root the full search gives near u (solve/steady_cell.h): the search's
+ * own refinement of the grid cell holding u's tilt (Brent on g between the
+ * cell's ends, which it evaluates afresh, then the polish of each root at
+ * that tilt), so the bits are those of usm_steady_solve wherever that cell's
+ * sign change is how the search finds the root. */
+int usm_steady_solve_cell(usm_steady *s, const usm_params *p, const usm_steady_options *opt,
+                          const double *u)
+{
+    size_t n;
+    int st = search_setup(s, p, opt, &n);
+    if (st != USM_OK)
+        return st;
+    const double *th = s->th;
+    if (!(u[0] >= th[0] && u[0] <= th[n - 1]))
+        return USM_ENOSOLUTION;
+    size_t lo = 0, hi = n - 1; /* th[lo] <= u[0] <= th[hi] */
+    while (hi - lo > 1) {
+        const size_t mid = lo + (hi - lo) / 2;
+        if (th[mid] <= u[0])
+            lo = mid;
+        else
+            hi = mid;
+    }
+    const double glo = tilt_g(th[lo], s), ghi = tilt_g(th[hi], s);
+    if (!(glo < 0 && ghi > 0) && !(glo > 0 && ghi < 0))
+        return USM_ENOSOLUTION;
+    scan_state sc = {{0}, 0, INFINITY, NAN, -INFINITY, NAN};
+    tilt_root(s, th[lo], th[hi], glo, ghi, opt->xtol, &sc);
+    if (sc.notes.oom) {
+        s->count = 0;
+        return USM_EFAILED;
+    }
+    return s->count > 0 ? USM_OK : USM_ENOSOLUTION;
 }

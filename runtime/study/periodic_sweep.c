@@ -1,5 +1,32 @@
 /* Continuation of the periodic orbit in one parameter, with its events
- * (usm_periodic_sweep.h). */
+ * (usm_periodic_sweep.h), posed to the continuation engine (cont/,
+ * usm_cont.h).
+ *
+ * The zero problem: the orbit's periodicity r(x0, lambda) = 0 in the
+ * non-cyclic components of the state at t0 and the swept parameter
+ * (usm_periodic_shoot, solve/periodic_internal.h): its Jacobian the
+ * monodromy's non-cyclic block minus I and a forward difference in lambda
+ * (one period of the state alone).  The engine works in z = (x0 / the
+ * shooting's state scales, lambda / the range), the scales growing with the
+ * unknowns (the rotor speed diverges towards friction saturation); it
+ * predicts, corrects, controls the step and locates the zeros of the test
+ * functions on each step's arc to event_tol in the scaled arclength:
+ *   fold              its own (d lambda/ds); the branch ends there
+ *   contact           F_n_min, the minimum over the orbit of the normal force
+ *   stick             stick models: the maximum over the orbit of
+ *                     |F_t| - mu0 F_n (minus the least stick margin), zero
+ *                     where friction_needed_max = mu0 and defined where the
+ *                     contact opens too
+ *   stability         the largest non-cyclic |multiplier| - 1
+ * Each extremum over the orbit is the extreme sample refined by Brent on the
+ * zero of its time derivative on the re-integrated state (solve/periodic.c,
+ * exact_extreme): a smooth function of the orbit, so Brent on the arc finds
+ * the same zero whatever the grid.
+ * This file keeps what is the sweep's own: the grid values landed on
+ * (Newton with lambda fixed, usm_cont_correct_fixed, from the step's chord),
+ * the orbits kept for the points and events, the friction saturation
+ * (usm_periodic_saturation), and the events' texts.
+ */
 #include "periodic_sweep_internal.h"
 #include "periodic_sweep_state.h"
 
@@ -11,15 +38,32 @@
 #include <string.h>
 
 #include "core/grid.h"
+#include "core/dense.h"
 #include "core/grow.h"
-#include "core/root.h"
+#include "usm_cont.h"
 #include "solve/periodic_internal.h"
 
-/* A trial step is accepted when Newton needed at most this many iterations;
- * more means the prediction was poor, and the next step is halved. */
-#define SLOW_NEWTON 4
-#define MIN_STEP 1e-7 /* of the range: below it the branch is lost */
-#define MAX_LOCATE 60
+#define H_MAX 0.25 /* longest step in the scaled arclength (lambda: of the range) */
+#define H_MIN 1e-9 /* shortest: below it the branch is lost */
+/* The forward difference in lambda for the Jacobian's last column, of the
+ * range: its error, 1e-5 of the curvature and the residual's noise floor
+ * (3e-10 .. 8e-10 of the scales, the twist angle's) over 1e-5, slows
+ * Newton's last digits only; the branch is fixed by r alone.  (At 1e-7 the
+ * noise made the column 5e-3 wrong and Newton linear at that rate.) */
+#define DLAM 1e-5
+/* The corrector's tolerance on its update (scaled): above that noise floor,
+ * which the default 1e-10 is not (Newton then stalls and the step fails);
+ * at 1e-7 an event's orbit was 2.4e-9 off its limit (friction_needed_max
+ * against mu0), at 1e-8 4e-10. */
+#define NEWTON_TOL 1e-8
+/* The chord Newton of a landing: at most this many periods of the state
+ * alone, stopping below CHORD_TOL times the shooting's tolerance or at the
+ * residual's noise floor (the confirming shot with the variational
+ * equations takes other steps, and its residual differs from the state
+ * alone's by up to 1e-9 of the scales there). */
+#define CHORD_MAX 6
+#define CHORD_TOL 0.25
+#define NCACHE 4 /* orbits kept (the points a step's tests and events ask for) */
 /* Slip models: once friction_needed_max reaches this fraction of the
  * friction law's supremum, the saturation point is computed directly (as the
  * stationary sweep, study/sweep_branch.c). */
@@ -85,113 +129,221 @@ static int solve_at(usm_periodic_sweep *s, double v, const double *x0, usm_perio
     return usm_periodic_solve(s->w, &q, x0, &s->popt, r);
 }
 
-/* Start state at v predicted linearly from the orbits (va, a) and (vb, b). */
-static void predict(const usm_periodic_result *a, double va, const usm_periodic_result *b,
-                    double vb, double v, double *x)
+
+/* ---- the problem posed to the engine --------------------------------------------- */
+
+/* One orbit at a point of the branch, with what the tests ask of it: each
+ * computed when first asked for (NaN until then; full 0 until r is). */
+typedef struct orbit_slot {
+    double x[USM_MAX_NX + 1];
+    int used, full;
+    usm_periodic_result r;
+    double q[3]; /* the tests' quantities, Q_* */
+} orbit_slot;
+
+enum { Q_FN_MIN, Q_STICK, Q_MODULUS };
+
+typedef struct branch {
+    usm_periodic_sweep *s;
+    usm_cont *c;
+    int k, N;                 /* equations (non-cyclic states), unknowns (k + 1) */
+    int idx[USM_MAX_NX];      /* the non-cyclic states */
+    double xfull[USM_MAX_NX]; /* the start state: the cyclic components carried */
+    double scale[USM_MAX_NX + 1];
+    double dlam;
+    int shot;                 /* the solver's last shot was at shot_x */
+    double shot_x[USM_MAX_NX + 1];
+    orbit_slot cache[NCACHE];
+    int next_slot;
+    int t_contact, t_stick, t_stab; /* the engine's indices of the tests (-1: none) */
+    double lu[USM_MAX_NX * USM_MAX_NX]; /* the chord Newton's factored matrix */
+    int piv[USM_MAX_NX], have_lu;
+} branch;
+
+static int same_x(const branch *b, const double *a, const double *c)
 {
-    const double t = (v - vb) / (vb - va);
-    for (int i = 0; i < b->nx; ++i)
-        x[i] = b->x0[i] + t * (b->x0[i] - a->x0[i]);
+    return memcmp(a, c, sizeof(double) * (size_t)b->N) == 0;
+}
+
+/* The state at t0 and the parameters of the unknowns x. */
+static void unpack(const branch *b, const double *x, double *x0, usm_params *q)
+{
+    memcpy(x0, b->xfull, sizeof(double) * (size_t)b->s->m->nx);
+    for (int a = 0; a < b->k; ++a)
+        x0[b->idx[a]] = x[a];
+    *q = b->s->p;
+    *usm_params_field(q, b->s->info) = x[b->k];
+}
+
+/* The swept parameter inside its physical range: a step must not carry the
+ * branch to mode_split < 0 or f <= 0. */
+static int admissible(const branch *b, double lambda)
+{
+    char msg[USM_MSG_LEN];
+    return isfinite(lambda) &&
+           usm_param_check_value(usm_param_index(b->s->info), lambda, msg) == USM_OK;
+}
+
+static int chord_factor(branch *b, const double *J);
+static int shoot(branch *b, const double *x, double *F, double *J)
+{
+    double x0[USM_MAX_NX];
+    usm_params q;
+    b->shot = 0;
+    if (!admissible(b, x[b->k]))
+        return -1;
+    unpack(b, x, x0, &q);
+    if (usm_periodic_shoot(b->s->w, &q, b->s->info, b->dlam, x0, F, J) != USM_OK)
+        return -1;
+    memcpy(b->shot_x, x, sizeof(double) * (size_t)b->N);
+    b->shot = 1;
+    if (J)
+        chord_factor(b, J);
+    return 0;
+}
+
+/* The engine's residual and Jacobian. */
+static int residual(const double *x, double *F, double *J, void *ctx)
+{
+    return shoot(ctx, x, F, J);
+}
+
+/* The slot of the orbit at x on the branch (kept: the tests of one point
+ * share it), the solver's last shot at x; NULL when the shot fails. */
+static orbit_slot *slot_at(branch *b, const double *x)
+{
+    double F[USM_MAX_NX];
+    orbit_slot *o = NULL;
+    for (int i = 0; i < NCACHE && !o; ++i)
+        if (b->cache[i].used && same_x(b, b->cache[i].x, x))
+            o = &b->cache[i];
+    if (!(b->shot && same_x(b, b->shot_x, x)) && shoot(b, x, F, NULL) != 0)
+        return NULL;
+    if (o)
+        return o;
+    o = &b->cache[b->next_slot];
+    b->next_slot = (b->next_slot + 1) % NCACHE;
+    memcpy(o->x, x, sizeof(double) * (size_t)b->N);
+    o->used = 1;
+    o->full = 0;
+    o->q[0] = o->q[1] = o->q[2] = NAN;
+    return o;
+}
+
+/* The full orbit at x (the points' and events'), or NULL when its shot or
+ * multipliers fail. */
+static orbit_slot *orbit_at(branch *b, const double *x)
+{
+    for (int i = 0; i < NCACHE; ++i)
+        if (b->cache[i].used && b->cache[i].full && same_x(b, b->cache[i].x, x))
+            return &b->cache[i];
+    orbit_slot *o = slot_at(b, x);
+    if (!o || usm_periodic_shoot_result(b->s->w, &o->r) != USM_OK)
+        return NULL;
+    o->full = 1;
+    return o;
+}
+
+/* A test's quantity at x: of the full orbit where it was formed, else the
+ * one extreme (or the multipliers) alone. */
+static double quantity(branch *b, const double *x, int q)
+{
+    for (int i = 0; i < NCACHE; ++i) {
+        const orbit_slot *o = &b->cache[i];
+        if (o->used && same_x(b, o->x, x) && !isnan(o->q[q]))
+            return o->q[q];
+        if (o->used && o->full && q != Q_STICK && same_x(b, o->x, x))
+            return q == Q_FN_MIN ? o->r.F_n_min : o->r.floquet.max_modulus;
+    }
+    orbit_slot *o = slot_at(b, x);
+    if (!o)
+        return NAN;
+    usm_periodic *w = b->s->w;
+    o->q[q] = q == Q_FN_MIN    ? usm_periodic_shoot_F_n_min(w)
+              : q == Q_STICK   ? usm_periodic_shoot_stick_excess(w)
+                               : usm_periodic_shoot_max_modulus(w);
+    return o->q[q];
+}
+
+static double test_contact(const double *x, const double *dx, void *ctx)
+{
+    (void)dx;
+    return quantity(ctx, x, Q_FN_MIN);
+}
+
+static double test_stability(const double *x, const double *dx, void *ctx)
+{
+    (void)dx;
+    return quantity(ctx, x, Q_MODULUS) - 1.0;
+}
+
+static double test_stick(const double *x, const double *dx, void *ctx)
+{
+    (void)dx;
+    return quantity(ctx, x, Q_STICK);
+}
+
+/* Scale each state by the largest size it has had (the rotor speed grows
+ * without bound towards friction saturation, and a step measured in its
+ * first size would shrink to nothing). */
+static int rescale(branch *b, const double *x)
+{
+    int changed = 0;
+    for (int a = 0; a < b->k; ++a)
+        if (fabs(x[a]) > b->scale[a]) {
+            b->scale[a] = fabs(x[a]);
+            changed = 1;
+        }
+    return changed ? usm_cont_set_scale(b->c, b->scale) : 0;
+}
+
+/* The engine and its tests for the orbit r0 at lambda0 (solved by
+ * usm_periodic_solve, whose scales the shooting keeps).  0, or -1 when out
+ * of memory. */
+static int setup(branch *b, usm_periodic_sweep *s, const usm_periodic_sweep_options *opt,
+                 size_t npts)
+{
+    usm_cont_options o;
+    double sc[USM_MAX_NX];
+    memset(b, 0, sizeof *b);
+    b->s = s;
+    b->k = usm_periodic_shoot_layout(s->w, b->idx, sc);
+    b->N = b->k + 1;
+    for (int a = 0; a < b->k; ++a)
+        b->scale[a] = sc[b->idx[a]];
+    b->scale[b->k] = s->range;
+    b->dlam = DLAM * s->range;
+    b->t_contact = b->t_stick = b->t_stab = -1;
+    if (!(b->c = usm_cont_alloc(b->k)))
+        return -1;
+    usm_cont_set_problem(b->c, residual, b);
+    usm_cont_options_default(&o);
+    o.h_max = H_MAX;
+    o.h_min = H_MIN;
+    o.h0 = fmin(H_MAX, 1.0 / (double)(npts > 1 ? npts - 1 : 1));
+    o.event_tol = opt->event_tol;
+    o.newton_tol = NEWTON_TOL;
+    o.across_fold = 0;
+    if (usm_cont_set_options(b->c, &o) != 0 || usm_cont_set_scale(b->c, b->scale) != 0 ||
+        (b->t_contact = usm_cont_add_test(b->c, test_contact, b, USM_CONT_TEST_MONITOR | USM_CONT_TEST_POINT)) < 0 ||
+        (b->t_stab = usm_cont_add_test(b->c, test_stability, b, USM_CONT_TEST_MONITOR | USM_CONT_TEST_POINT)) < 0)
+        return -1;
+    /* slip built in: F_t = mu(v) F_n, stick has no meaning */
+    if (!s->m->friction &&
+        (b->t_stick = usm_cont_add_test(b->c, test_stick, b, USM_CONT_TEST_MONITOR | USM_CONT_TEST_POINT)) < 0)
+        return -1;
+    return 0;
 }
 
 /* ---- events ------------------------------------------------------------------- */
 
-enum { G_CONTACT, G_STICK, G_STABILITY, NG };
-
-/* The event functions: their zeros are the events (NaN: undefined here). */
-static double gfun(const usm_periodic_sweep *s, int k, const usm_periodic_result *r)
-{
-    switch (k) {
-    case G_CONTACT: return r->F_n_min;
-    case G_STICK: return r->friction_needed_max - s->p.mu0;
-    default: return r->floquet.max_modulus - 1.0;
-    }
-}
-
-/* One trial orbit of the locator: the parameter value, the orbit, g_k there. */
-typedef struct trial {
-    double v, g;
-    usm_periodic_result r;
-} trial;
-
-typedef struct locate_ctx {
-    usm_periodic_sweep *s;
-    int k;
-    usm_root *root;
-    trial t[3]; /* the bracket's two ends and the trial being evaluated */
-} locate_ctx;
-
-/* The slot of the trial at v, or -1. */
-static int trial_at(const locate_ctx *c, double v)
-{
-    for (int i = 0; i < 3; ++i)
-        if (c->t[i].v == v)
-            return i;
-    return -1;
-}
-
-/* g_k at v, the locator's function: the orbit started from the linear
- * interpolation of the states at the ends of the current bracket (NaN when
- * it fails). */
-static double trial_g(double v, void *ctx)
-{
-    locate_ctx *c = ctx;
-    double lo, hi, x[USM_MAX_NX];
-    usm_root_bracket(c->root, &lo, &hi);
-    const int a = trial_at(c, lo), b = trial_at(c, hi);
-    if (a < 0 || b < 0 || a == b)
-        return NAN;
-    trial *t = &c->t[3 - a - b]; /* the slot that is neither end */
-    predict(&c->t[a].r, lo, &c->t[b].r, hi, v, x);
-    t->v = NAN;
-    if (solve_at(c->s, v, x, &t->r) != USM_OK)
-        return NAN;
-    t->v = v;
-    t->g = gfun(c->s, c->k, &t->r);
-    return t->g;
-}
-
-/* The zero of g_k between (va, ra) and (vb, rb), where g_k changes sign, by
- * Brent's method (the shared locator, core/root.h) to s->tol; every trial
- * orbit starts from the linear interpolation of the bracket's states.  *v
- * and *r: the end of the last bracket of smaller |g|.  0, or -1 when a
- * trial orbit fails (*v, *r then the end of smaller |g| of the last
- * bracket). */
-static int locate(usm_periodic_sweep *s, int k, double va, const usm_periodic_result *ra,
-                  double vb, const usm_periodic_result *rb, double *v, usm_periodic_result *r,
-                  trial *pos)
-{
-    locate_ctx c;
-    c.s = s;
-    c.k = k;
-    c.root = usm_root_alloc();
-    c.t[0].v = va, c.t[0].g = gfun(s, k, ra), c.t[0].r = *ra;
-    c.t[1].v = vb, c.t[1].g = gfun(s, k, rb), c.t[1].r = *rb;
-    c.t[2].v = NAN;
-    const usm_root_stop stop = {s->tol, 0.0, MAX_LOCATE};
-    double x, lo = va, hi = vb;
-    int rc = -1;
-    if (c.root) {
-        rc = usm_root_brent(c.root, trial_g, &c, va, vb, c.t[0].g, c.t[1].g, &stop, &x);
-        usm_root_bracket(c.root, &lo, &hi);
-        usm_root_free(c.root);
-    }
-    int a = trial_at(&c, lo), b = trial_at(&c, hi);
-    if (a < 0 || b < 0) /* not reached: the bracket's ends are trials */
-        a = 0, b = 1, rc = -1;
-    const trial *best = fabs(c.t[a].g) <= fabs(c.t[b].g) ? &c.t[a] : &c.t[b];
-    *v = best->v;
-    *r = best->r;
-    if (pos)
-        *pos = c.t[a].g > 0 ? c.t[a] : c.t[b];
-    return rc;
-}
-
-/* rising: g_k > 0 after the event (in sweep order). */
-/* openings: the times a period the contact opens on the step's open end,
- * at open_v (G_CONTACT only), counted there, not assumed */
-static int emit_located(usm_periodic_sweep *s, int k, double v, const usm_periodic_result *r,
-                        int located, int dir_up, int rising, int openings, double open_v)
+/* The event of test `test` at the orbit r (value v); before: the test's value
+ * at the step's start (rising: > 0 after it, in sweep order).  openings: the
+ * times a period the contact opens on the step's open end, at open_v
+ * (contact only), counted there, not assumed. */
+static int emit_located(usm_periodic_sweep *s, const branch *b, int test, double v,
+                        const usm_periodic_result *r, int dir_up, int rising, int openings,
+                        double open_v)
 {
     char times[32], ot[96];
     psweep_value_text(s, open_v, ot);
@@ -202,109 +354,68 @@ static int emit_located(usm_periodic_sweep *s, int k, double v, const usm_period
     else
         snprintf(times, sizeof times, "%d times", openings);
     char vt[96];
-    const char *how = located ? "" : " (not located to tolerance: a trial orbit failed)";
     psweep_value_text(s, v, vt);
     const char *inc = dir_up ? "increases" : "decreases";
-    if (k == G_CONTACT)
+    if (test == b->t_contact)
         return psweep_event_add(s, rising && s->m->unilateral ? USM_PEVENT_CONTACT_REGAINED
                                                        : USM_PEVENT_CONTACT_LOSS, v, r,
                          "F_n_min = 0 at %s: the contact %s %s a period as %s %s (counted on "
-                         "the orbit at %s)%s", vt,
+                         "the orbit at %s)", vt,
                          rising ? "closes again, where it opened" : "opens", times, s->over, inc,
-                         ot, how)
+                         ot)
                    ? 0 : -1;
-    if (k == G_STICK)
+    if (test == b->t_stick)
         return psweep_event_add(s, USM_PEVENT_STICK_LOSS, v, r,
-                         "friction_needed_max = mu0 = %g at %s: stick %s as %s %s%s", s->p.mu0,
+                         "friction_needed_max = mu0 = %g at %s: stick %s as %s %s", s->p.mu0,
                          vt, rising ? "fails somewhere on the orbit (intermittent slip)"
                                     : "holds again over the whole orbit",
-                         s->over, inc, how)
+                         s->over, inc)
                    ? 0 : -1;
-    return psweep_stability_add(s, v, r, &r->floquet, r->period, "the orbit", located, dir_up,
-                                rising)
+    return psweep_stability_add(s, v, r, &r->floquet, r->period, "the orbit", 1, dir_up, rising)
                ? 0 : -1;
 }
 
-/* Events between the accepted orbits (va, ra) and (vb, rb), in sweep order.
- * The contact first: where it opens within the step, friction_needed_max is
- * undefined at that end (it divides by F_n), and stick_loss is looked for
- * between the other end and the located contact loss's closed side (where
- * F_n_min > 0 is tiny and the friction needed large), so that stick loss
- * before a contact loss in the same step is reported, and in its order. */
-static int step_events(usm_periodic_sweep *s, double va, const usm_periodic_result *ra, double vb,
-                       const usm_periodic_result *rb)
+/* The events the engine located in its last step (from xa to xb), in the
+ * order of the arclength, which is the sweep's (the branch ends at a fold).
+ * 0; 1 when an event's orbit failed (its shot, or its multipliers); -1 when
+ * out of memory. */
+static int step_events(branch *b, const double *xa, const double *xb, int dir_up)
 {
-    static const int order[NG] = {G_CONTACT, G_STABILITY, G_STICK};
-    double vs[NG];
-    usm_periodic_result rs[NG];
-    int ks[NG], located[NG], rising[NG], opens[NG], n = 0, have_closed = 0;
-    double openv[NG];
-    trial closed; /* the contact loss's last bracket end with F_n_min > 0 */
-    for (int o = 0; o < NG; ++o) {
-        const int k = order[o];
-        if (k == G_STICK && s->m->friction)
-            continue; /* slip built in: F_t = mu(v) F_n, stick has no meaning */
-        double v0 = va, v1 = vb;
-        const usm_periodic_result *r0 = ra, *r1 = rb;
-        double g0 = gfun(s, k, r0), g1 = gfun(s, k, r1);
-        if (k == G_STICK && have_closed && isfinite(g0) != isfinite(g1)) {
-            if (!isfinite(g0))
-                v0 = closed.v, r0 = &closed.r, g0 = closed.g;
-            else
-                v1 = closed.v, r1 = &closed.r, g1 = closed.g;
-            g0 = gfun(s, k, r0), g1 = gfun(s, k, r1);
-        }
-        if (!isfinite(g0) || !isfinite(g1) || (g0 < 0) == (g1 < 0))
+    usm_periodic_sweep *s = b->s;
+    for (int i = 0; i < usm_cont_event_count(b->c); ++i) {
+        const usm_cont_event *e = usm_cont_event_at(b->c, i);
+        if (e->test == USM_CONT_FOLD)
             continue;
-        located[n] = locate(s, k, v0, r0, v1, r1, &vs[n], &rs[n],
-                            k == G_CONTACT ? &closed : NULL) == 0;
-        /* on the step's open end: at the located orbit F_n_min is 0 to rounding,
-         * too close to count its dips as openings */
-        opens[n] = k == G_CONTACT ? (g0 < 0 ? r0 : r1)->openings_per_period : 0;
-        openv[n] = g0 < 0 ? v0 : v1;
-        if (k == G_CONTACT)
-            have_closed = isfinite(closed.v);
-        rising[n] = g1 > 0;
-        ks[n++] = k;
-    }
-    /* in sweep order: by distance from va */
-    for (int i = 0; i < n; ++i) {
-        int best = i;
-        for (int j = i + 1; j < n; ++j)
-            if (fabs(vs[j] - va) < fabs(vs[best] - va))
-                best = j;
-        if (emit_located(s, ks[best], vs[best], &rs[best], located[best], vb > va,
-                         rising[best], opens[best], openv[best]) != 0)
+        const orbit_slot *o = orbit_at(b, e->x);
+        if (!o)
+            return 1;
+        const usm_periodic_result r = o->r;
+        int openings = 0;
+        double open_v = NAN;
+        if (e->test == b->t_contact) {
+            /* at the located orbit F_n_min is 0 to rounding, too close to
+             * count its dips: counted on the step's open end */
+            const double *xo = e->before < 0 ? xa : xb;
+            const orbit_slot *oo = orbit_at(b, xo);
+            openings = oo ? oo->r.openings_per_period : 0;
+            open_v = xo[b->k];
+        }
+        if (emit_located(s, b, e->test, e->x[b->k], &r, dir_up, e->before < 0, openings,
+                         open_v) != 0)
             return -1;
-        vs[best] = vs[i], rs[best] = rs[i], ks[best] = ks[i], located[best] = located[i];
-        rising[best] = rising[i], opens[best] = opens[i], openv[best] = openv[i];
     }
     return 0;
 }
 
-/* The branch ends after (va, ra): a fold if a real multiplier was approaching
- * +1 ((mu - 1)^2 is linear in the parameter near a turning point, so its
- * zero is extrapolated from the last two orbits). */
-static int branch_end(usm_periodic_sweep *s, double vp, const usm_periodic_result *rp, int have_p,
-                      double va, const usm_periodic_result *ra)
+/* The fold that ended the branch at x. */
+static int fold_event(usm_periodic_sweep *s, const double *x, int k)
 {
-    if (!have_p)
-        return 0;
-    double ga = INFINITY, gp = INFINITY;
-    for (int i = 0; i < ra->floquet.n; ++i)
-        if (!ra->floquet.cyclic[i] && ra->floquet.im[i] == 0.0 && ra->floquet.re[i] > 0)
-            ga = fmin(ga, (ra->floquet.re[i] - 1) * (ra->floquet.re[i] - 1));
-    for (int i = 0; i < rp->floquet.n; ++i)
-        if (!rp->floquet.cyclic[i] && rp->floquet.im[i] == 0.0 && rp->floquet.re[i] > 0)
-            gp = fmin(gp, (rp->floquet.re[i] - 1) * (rp->floquet.re[i] - 1));
-    if (!(ga < 0.01 && gp > ga))
-        return 0;
-    const double vf = va - ga * (va - vp) / (ga - gp);
     char vt[96];
-    psweep_value_text(s, vf, vt);
-    return psweep_event_add(s, USM_PEVENT_FOLD, vf, NULL,
-                     "the branch turns back near %s: a real multiplier reaches +1 (extrapolated "
-                     "from the last two orbits; natural-parameter continuation stops here)", vt)
+    psweep_value_text(s, x[k], vt);
+    return psweep_event_add(s, USM_PEVENT_FOLD, x[k], NULL,
+                            "the branch turns back at %s (d%s/ds = 0 on the pseudo-arclength; "
+                            "a real multiplier is +1 there): no orbit on this branch beyond it",
+                            vt, s->over)
                ? 0 : -1;
 }
 
@@ -318,9 +429,14 @@ static void find_saturation(usm_periodic_sweep *s, double v, const usm_periodic_
     *usm_params_field(&q, s->info) = v;
     const double dir = to > v ? 1.0 : -1.0;
     s->sat = -1;
-    if (usm_periodic_saturation(s->w, &q, s->info, r->x0, s->range, s->tol, &s->popt, &ls) ==
-            USM_OK &&
-        (ls - v) * dir > 0 && (ls - to) * dir <= 0) {
+    /* its Newton sets scales of its own: the branch's shooting keeps its */
+    int idx[USM_MAX_NX];
+    double scale[USM_MAX_NX];
+    usm_periodic_shoot_layout(s->w, idx, scale);
+    const int rc = usm_periodic_saturation(s->w, &q, s->info, r->x0, s->range, s->tol, &s->popt,
+                                           &ls);
+    usm_periodic_shoot_set_scale(s->w, scale);
+    if (rc == USM_OK && (ls - v) * dir > 0 && (ls - to) * dir <= 0) {
         s->sat = 1;
         s->sat_value = ls;
     }
@@ -337,6 +453,295 @@ static int emit_saturation(usm_periodic_sweep *s, int dir_up)
                      usm_periodic_friction_supremum(s->m, &s->p), vt,
                      dir_up ? "above" : "below")
                ? 0 : -1;
+}
+
+/* The k x k block of J (k rows of k + 1) factored into b->lu: the chord
+ * Newton's matrix.  0, or -1 when singular. */
+static int chord_factor(branch *b, const double *J)
+{
+    const int k = b->k;
+    for (int a = 0; a < k; ++a)
+        for (int c = 0; c < k; ++c)
+            b->lu[a * k + c] = J[a * (k + 1) + c];
+    b->have_lu = usm_lu_factor_dense(k, b->lu, b->piv) == 0;
+    return b->have_lu ? 0 : -1;
+}
+
+/* Newton on the orbit's periodicity with lambda held at x[k], in place from
+ * x, to usm_periodic_solve's tolerance on the same residual.  A chord
+ * Newton first: the monodromy's block of the last Jacobian formed (at the
+ * step's end, or the last point landed on: a step away at most) with one
+ * period of the state alone a step, a tenth of a period with the
+ * variational equations; then, at the point it accepts, one shot with
+ * them, which gives the orbit there and confirms the residual (else full
+ * Newton steps from it).  The solver's last shot is at the accepted x, so
+ * that the orbit there costs no further period.  Iterations (shots with the
+ * monodromy), or -1. */
+static int land(branch *b, double *x)
+{
+    const int k = b->k, N = b->N;
+    double F[USM_MAX_NX], J[USM_MAX_NX * (USM_MAX_NX + 1)], x0[USM_MAX_NX];
+    usm_params q;
+    const double tol = b->s->popt.tol;
+    if (!admissible(b, x[k]))
+        return -1;
+    double prev = INFINITY;
+    for (int it = 0; b->have_lu && it < CHORD_MAX; ++it) {
+        double res = 0;
+        unpack(b, x, x0, &q);
+        b->shot = 0;
+        if (usm_periodic_shoot_state(b->s->w, &q, x0, F) != USM_OK)
+            break;
+        for (int a = 0; a < k; ++a)
+            res = fmax(res, fabs(F[a]));
+        /* converged, or at the residual's noise floor (the twist angle's,
+         * 2e-10 .. 1e-9 of the scales), where a step only stirs the noise */
+        if (res <= CHORD_TOL * tol || (res <= tol && res > 0.25 * prev))
+            break;
+        prev = res;
+        usm_lu_solve_dense(k, b->lu, b->piv, F, 1);
+        for (int a = 0; a < k; ++a)
+            x[a] -= F[a];
+    }
+    for (int it = 0; it <= b->s->popt.max_iter; ++it) {
+        double res = 0;
+        b->shot = 0;
+        unpack(b, x, x0, &q);
+        if (usm_periodic_shoot(b->s->w, &q, b->s->info, 0.0, x0, F, J) != USM_OK)
+            return -1;
+        memcpy(b->shot_x, x, sizeof(double) * (size_t)N);
+        b->shot = 1;
+        for (int a = 0; a < k; ++a)
+            res = fmax(res, fabs(F[a]));
+        if (chord_factor(b, J) != 0)
+            return -1;
+        if (res <= tol)
+            return it;
+        usm_lu_solve_dense(k, b->lu, b->piv, F, 1);
+        for (int a = 0; a < k; ++a)
+            x[a] -= F[a];
+    }
+    return -1;
+}
+
+/* The point at lambda = target on the cubic Hermite interpolant of the step
+ * from (xa, dxa) to (xb, dxb) in the arclength s in [0, h] (dx: the unit
+ * directions, scaled as the engine's, d x/ds of the arc being dx / (ta.tb)
+ * at its end): its error is fourth order in the step, where the chord's is
+ * second, so Newton lands in one or two periods. */
+static void hermite_at(const branch *b, const double *xa, const double *dxa, const double *xb,
+                       const double *dxb, double h, double target, double *x)
+{
+    const int N = b->N, k = b->k;
+    double cab = 0, m0[USM_MAX_NX + 1], m1[USM_MAX_NX + 1];
+    for (int j = 0; j < N; ++j)
+        cab += dxa[j] / b->scale[j] * (dxb[j] / b->scale[j]);
+    for (int j = 0; j < N; ++j) {
+        m0[j] = h * dxa[j];
+        m1[j] = cab > 0.5 ? h * dxb[j] / cab : xb[j] - xa[j];
+    }
+    /* lambda(u) = target, u = s / h in [0, 1]: bisection, then the point */
+    double lo = 0, hi = 1, u = 0.5;
+    const double dir = xb[k] > xa[k] ? 1.0 : -1.0;
+    for (int it = 0; it < 60; ++it) {
+        u = 0.5 * (lo + hi);
+        const double h00 = (1 + 2 * u) * (1 - u) * (1 - u), h10 = u * (1 - u) * (1 - u),
+                     h01 = u * u * (3 - 2 * u), h11 = u * u * (u - 1);
+        const double l = h00 * xa[k] + h10 * m0[k] + h01 * xb[k] + h11 * m1[k];
+        if ((l - target) * dir < 0)
+            lo = u;
+        else
+            hi = u;
+    }
+    const double h00 = (1 + 2 * u) * (1 - u) * (1 - u), h10 = u * (1 - u) * (1 - u),
+                 h01 = u * u * (3 - 2 * u), h11 = u * u * (u - 1);
+    for (int j = 0; j < N; ++j)
+        x[j] = h00 * xa[j] + h10 * m0[j] + h01 * xb[j] + h11 * m1[j];
+    x[k] = target;
+}
+
+/* The grid values g[next], g[next + 1], ... reached by the last step (from
+ * xa to xb, directions dxa and dxb), landed on: Newton with lambda held
+ * (land) from the step's Hermite interpolant at the value, or from the arc's
+ * point at the value's share where that fails.  Each point's orbit into
+ * s->pts.  *next advanced past them.  0, or -1 when a landing failed. */
+static int land_on_grid(branch *b, const usm_periodic_sweep_options *opt, const double *xa,
+                        const double *dxa, double s_end, const double *xb, const double *dxb,
+                        int *next)
+{
+    usm_periodic_sweep *s = b->s;
+    const int n = opt->points, k = b->k;
+    const double dir = opt->to > opt->from ? 1.0 : -1.0, la = xa[k], lb = xb[k];
+    while (*next < n) {
+        const double target = usm_grid_value(opt->from, opt->to, *next, n);
+        double x[USM_MAX_NX + 1];
+        if ((target - lb) * dir > 0)
+            break;
+        hermite_at(b, xa, dxa, xb, dxb, s_end, target, x);
+        int its = land(b, x);
+        if (its < 0) {
+            const double w = lb != la ? fmin(fmax((target - la) / (lb - la), 0.0), 1.0) : 1.0;
+            if (usm_cont_arc_point(b->c, w * s_end, x, NULL) != 0)
+                return -1;
+            x[k] = target;
+            if ((its = land(b, x)) < 0)
+                return -1;
+        }
+        const orbit_slot *o = orbit_at(b, x);
+        if (!o)
+            return -1;
+        usm_periodic_point *pt = &s->pts[*next];
+        memset(pt, 0, sizeof *pt);
+        pt->value = target;
+        pt->converged = 1;
+        pt->orbit = o->r;
+        pt->orbit.iterations = its;
+        s->npts = (size_t)*next + 1;
+        if (opt->progress)
+            opt->progress((double)*next / (n - 1), opt->progress_ctx);
+        ++*next;
+    }
+    return 0;
+}
+
+/* The grid points from `next` on have no orbit: why. */
+static void mark_beyond(usm_periodic_sweep *s, const usm_periodic_sweep_options *opt, int next,
+                        const char *why)
+{
+    for (int i = next; i < opt->points; ++i) {
+        usm_periodic_point *pt = &s->pts[i];
+        memset(pt, 0, sizeof *pt);
+        pt->value = usm_grid_value(opt->from, opt->to, i, opt->points);
+        snprintf(pt->error, sizeof pt->error, "%s", why);
+        s->npts = (size_t)i + 1;
+        if (opt->progress)
+            opt->progress((double)i / (opt->points - 1), opt->progress_ctx);
+    }
+}
+
+/* Follow the branch from the orbit r0 at `from` to `to`: the grid points
+ * landed on, the events located, the end (fold, friction saturation, lost)
+ * said.  0, or -1 when out of memory. */
+static int follow(usm_periodic_sweep *s, const usm_periodic_sweep_options *opt,
+                  const usm_periodic_result *r0)
+{
+    branch *b = calloc(1, sizeof *b);
+    const int dir_up = opt->to > opt->from;
+    const double dir = dir_up ? 1.0 : -1.0;
+    const int slip = s->m->friction != NULL && s->m->x_phi_Rdot >= 0;
+    const double mu_sup = slip ? usm_periodic_friction_supremum(s->m, &s->p) : NAN;
+    int rc = -1, next = 1;
+    char why[USM_MSG_LEN], vt[96];
+    if (!b || setup(b, s, opt, (size_t)opt->points) != 0)
+        goto done;
+    double x[USM_MAX_NX + 1];
+    memcpy(b->xfull, r0->x0, sizeof(double) * (size_t)s->m->nx);
+    for (int a = 0; a < b->k; ++a)
+        x[a] = r0->x0[b->idx[a]];
+    x[b->k] = opt->from;
+    if (usm_cont_start(b->c, x, dir_up ? 1 : -1) != 0) {
+        snprintf(why, sizeof why, "no orbit: the continuation could not start from %s = %.12g "
+                 "(%.100s)", s->over, opt->from, usm_periodic_message(s->w));
+        mark_beyond(s, opt, next, why);
+        rc = 0;
+        goto done;
+    }
+    for (;;) {
+        double dxa[USM_MAX_NX + 1], dxb[USM_MAX_NX + 1];
+        memcpy(dxa, usm_cont_direction(b->c), sizeof(double) * (size_t)b->N);
+        const int st = usm_cont_step(b->c);
+        if (st == USM_CONT_LOST) {
+            const double *xl = usm_cont_point(b->c);
+            const orbit_slot *o = orbit_at(b, xl);
+            /* a branch lost near the friction law's supremum: the
+             * saturation, if it lies ahead within the range */
+            if (slip && s->sat != 1 && o && o->r.friction_needed_max >= SAT_NEAR * mu_sup) {
+                find_saturation(s, xl[b->k], &o->r, opt->to);
+                b->shot = 0;
+            }
+            if (s->sat == 1) {
+                if (emit_saturation(s, dir_up) != 0)
+                    goto done;
+                psweep_value_text(s, s->sat_value, vt);
+                snprintf(why, sizeof why,
+                         "no orbit beyond friction_saturation at %s: the rotor speed diverges", vt);
+            } else
+                snprintf(why, sizeof why,
+                         "no orbit: the continuation lost the branch after %s = %.12g (no step "
+                         "above %g of the scaled arclength converged; last: %.60s)",
+                         s->over, xl[b->k], H_MIN, usm_periodic_message(s->w));
+            mark_beyond(s, opt, next, why);
+            break;
+        }
+        if (st != USM_CONT_STEP && st != USM_CONT_END)
+            goto done;
+        const double *xa0;
+        const double s_end = usm_cont_step_arc(b->c, &xa0);
+        double xa[USM_MAX_NX + 1], xb[USM_MAX_NX + 1];
+        memcpy(xa, xa0, sizeof(double) * (size_t)b->N);
+        memcpy(xb, usm_cont_point(b->c), sizeof(double) * (size_t)b->N);
+        memcpy(dxb, usm_cont_direction(b->c), sizeof(double) * (size_t)b->N);
+        /* the events, then the grid: within (from, to) only */
+        const int beyond = (xb[b->k] - opt->to) * dir > 0;
+        const int ev = step_events(b, xa, xb, dir_up);
+        if (ev < 0)
+            goto done;
+        if (ev > 0) {
+            snprintf(why, sizeof why, "no orbit: the orbit of an event after %s = %.12g failed "
+                     "(%.100s)", s->over, xa[b->k], usm_periodic_message(s->w));
+            mark_beyond(s, opt, next, why);
+            break;
+        }
+        if (beyond) {
+            /* events past `to` were emitted: take them back */
+            while (s->nev > 0 && (s->ev[s->nev - 1].value - opt->to) * dir > 0)
+                s->nev--;
+        }
+        if (land_on_grid(b, opt, xa, dxa, s_end, xb, dxb, &next) != 0) {
+            snprintf(why, sizeof why, "no orbit: the landing on the grid value failed after "
+                     "%s = %.12g (%.100s)", s->over, xa[b->k], usm_periodic_message(s->w));
+            mark_beyond(s, opt, next, why);
+            break;
+        }
+        /* the saturation located ahead ends the branch where it lies */
+        if (s->sat == 1 && next < opt->points &&
+            (usm_grid_value(opt->from, opt->to, next, opt->points) - s->sat_value) * dir >= 0) {
+            if (emit_saturation(s, dir_up) != 0)
+                goto done;
+            psweep_value_text(s, s->sat_value, vt);
+            snprintf(why, sizeof why,
+                     "no orbit beyond friction_saturation at %s: the rotor speed diverges", vt);
+            mark_beyond(s, opt, next, why);
+            break;
+        }
+        if (st == USM_CONT_END) {
+            if (!beyond) {
+                if (fold_event(s, xb, b->k) != 0)
+                    goto done;
+                psweep_value_text(s, xb[b->k], vt);
+                snprintf(why, sizeof why, "no orbit on the branch beyond the fold at %s", vt);
+                mark_beyond(s, opt, next, why);
+            }
+            break;
+        }
+        if (next >= opt->points)
+            break;
+        if (slip && s->sat == 0) {
+            const orbit_slot *o = orbit_at(b, xb);
+            if (o && o->r.friction_needed_max >= SAT_TRIGGER * mu_sup) {
+                find_saturation(s, xb[b->k], &o->r, opt->to);
+                b->shot = 0;
+            }
+        }
+        if (rescale(b, xb) != 0)
+            goto done;
+    }
+    rc = 0;
+done:
+    if (b)
+        usm_cont_free(b->c);
+    free(b);
+    return rc;
 }
 
 int usm_periodic_sweep_run(usm_periodic_sweep *s, const usm_params *p,
@@ -390,102 +795,25 @@ int usm_periodic_sweep_run(usm_periodic_sweep *s, const usm_params *p,
     s->range = fabs(opt->to - opt->from);
     s->tol = opt->event_tol * s->range;
     s->sat = 0;
-    const int slip = s->m->friction != NULL && s->m->x_phi_Rdot >= 0;
-    const double mu_sup = slip ? usm_periodic_friction_supremum(s->m, p) : NAN;
     if (usm_grow((void **)&s->pts, &s->pts_cap, (size_t)opt->points, sizeof *s->pts) != 0) {
         snprintf(s->msg, sizeof s->msg, "out of memory");
         return USM_EFAILED;
     }
-    const int n = opt->points;
-    const double hmax = (opt->to - opt->from) / (n - 1);
-    usm_periodic_result ra, rp, rb;
-    double x[USM_MAX_NX];
-    int rc = solve_at(s, opt->from, NULL, &ra);
+    usm_periodic_result r0;
+    int rc = solve_at(s, opt->from, NULL, &r0);
     if (rc != USM_OK) {
         char why[USM_MSG_LEN];
         snprintf(why, sizeof why, "%s", usm_periodic_message(s->w));
         snprintf(s->msg, sizeof s->msg, "no orbit at %s = %.12g: %.180s", s->over, opt->from, why);
         return rc == USM_EINPUT ? USM_EINPUT : USM_EFAILED;
     }
-    rp = ra; /* unused before a second orbit (have_p) */
-    double va = opt->from, vp = va, h = hmax;
-    int have_p = 0, lost = 0;
-    char lost_why[USM_MSG_LEN] = "";
     memset(&s->pts[0], 0, sizeof s->pts[0]);
-    s->pts[0].value = va;
+    s->pts[0].value = opt->from;
     s->pts[0].converged = 1;
-    s->pts[0].orbit = ra;
+    s->pts[0].orbit = r0;
     s->npts = 1;
-    for (int i = 1; i < n; ++i) {
-        /* the grid value as typed, the last exactly `to` (core/grid.h) */
-        const double target = usm_grid_value(opt->from, opt->to, i, n);
-        usm_periodic_point *pt = &s->pts[i];
-        memset(pt, 0, sizeof *pt);
-        pt->value = target;
-        if (!lost && s->sat == 1 && (target - s->sat_value) * (opt->to - opt->from) >= 0) {
-            lost = 1; /* the branch ends at the saturation located ahead */
-            if (emit_saturation(s, opt->to > opt->from) != 0)
-                goto oom;
-        }
-        while (!lost && va != target) {
-            const double vb = fabs(target - va) <= fabs(h) * (1 + 1e-12) ? target : va + h;
-            const double *x0 = ra.x0;
-            if (have_p) {
-                predict(&rp, vp, &ra, va, vb, x);
-                x0 = x;
-            }
-            rc = solve_at(s, vb, x0, &rb);
-            if (rc != USM_OK || rb.iterations > SLOW_NEWTON) {
-                if (rc != USM_OK)
-                    snprintf(lost_why, sizeof lost_why, "%s", usm_periodic_message(s->w));
-                else
-                    snprintf(lost_why, sizeof lost_why, "Newton needs %d iterations",
-                             rb.iterations);
-                h *= 0.5;
-                if (fabs(h) < MIN_STEP * s->range) {
-                    lost = 1;
-                    /* a branch lost near the friction law's supremum: the
-                     * saturation, if it lies within a grid spacing ahead */
-                    if (slip && s->sat != 1 && ra.friction_needed_max >= SAT_NEAR * mu_sup) {
-                        find_saturation(s, va, &ra, opt->to);
-                        if (s->sat == 1 && fabs(s->sat_value - va) > fabs(hmax))
-                            s->sat = -1;
-                    }
-                    if (s->sat == 1 ? emit_saturation(s, opt->to > opt->from) != 0
-                                    : branch_end(s, vp, &rp, have_p, va, &ra) != 0)
-                        goto oom;
-                }
-                continue;
-            }
-            if (step_events(s, va, &ra, vb, &rb) != 0)
-                goto oom;
-            vp = va, rp = ra, have_p = 1;
-            va = vb, ra = rb;
-            if (slip && s->sat == 0 && rb.friction_needed_max >= SAT_TRIGGER * mu_sup)
-                find_saturation(s, va, &ra, opt->to);
-            if (rb.iterations <= 2 && fabs(2 * h) <= fabs(hmax))
-                h *= 2;
-        }
-        if (lost && s->sat == 1 && (target - s->sat_value) * (opt->to - opt->from) >= 0) {
-            char vt[96];
-            psweep_value_text(s, s->sat_value, vt);
-            snprintf(pt->error, sizeof pt->error,
-                     "no orbit beyond friction_saturation at %s: the rotor speed diverges", vt);
-        } else if (lost) {
-            char why[USM_MSG_LEN];
-            snprintf(why, sizeof why, "%s", lost_why);
-            snprintf(pt->error, sizeof pt->error,
-                     "no orbit: the continuation lost the branch after %s = %.12g (the step fell "
-                     "below %g of the range; last try: %.80s)",
-                     s->over, va, MIN_STEP, why);
-        } else {
-            pt->converged = 1;
-            pt->orbit = ra;
-        }
-        s->npts = (size_t)i + 1;
-        if (opt->progress)
-            opt->progress((double)i / (n - 1), opt->progress_ctx);
-    }
+    if (follow(s, opt, &r0) != 0)
+        goto oom;
     if (s->m->unilateral && psweep_separating(s, opt->to - opt->from) != 0)
         goto oom;
     return USM_OK;

@@ -21,6 +21,7 @@
  * zero and the friction saturation (Newton with theta or the rotor speed
  * fixed: usm_cont_correct_fixed), and the points and events passed on.
  */
+#include <float.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -28,7 +29,9 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/dense.h"
 #include "core/grow.h"
+#include "solve/steady_cell.h"
 #include "sweep_branch.h"
 
 #define H_MAX 0.05            /* longest step: 1/20 of the sweep range in lambda */
@@ -1012,12 +1015,30 @@ int sweep_trace_grid(sweep_branch *b, const usm_params *p, const usm_sweep_optio
 
 /* ---- the deferred part of finish_point ------------------------------------------ */
 
+/* Grid points between two full searches of the finish pass: the root count is
+ * tracked in between and checked where the next span's search starts. */
+#define FINISH_SPAN 32
+/* Roots a span tracks; a point with more is searched in full. */
+#define TRACK_MAX 16
+
+typedef struct track_set {
+    int count; /* -1: not tracked (a full search is needed) */
+    double u[TRACK_MAX][USM_MAX_NU];
+} track_set;
+
 typedef struct finish_pass {
     const usm_model *m;
     const usm_params *p;
     const usm_sweep_options *opt;
     const usm_param_info *info;
     usm_sweep_point *pts;
+    size_t n, nspans;
+    track_set *ends;            /* per span: its roots tracked to the next span's start */
+    track_set *starts;          /* per span: the full search's roots at its first point */
+    unsigned char *full;        /* per span: 1: a full search at each of its points */
+    unsigned char *bad;         /* per span: a tracked run failed its check */
+    unsigned char *was_pending; /* per point: to be finished */
+    double (*saved_u)[USM_MAX_NU]; /* per point: the branch's root */
 } finish_pass;
 
 static void *finish_alloc(void *ctx)
@@ -1028,15 +1049,13 @@ static void *finish_alloc(void *ctx)
 
 static void finish_free(void *state) { usm_steady_free(state); }
 
-/* finish_point's full search and polish for grid point i (pts[i].sol.u holds
- * the branch's root there), a task of the worker pool. */
-static int finish_task(void *ctx, void *state, size_t i)
+/* The full search at grid point i (pts[i].sol.u holds the branch's root
+ * there): the root that is the branch's (bit for bit as usm_steady_solve
+ * gives it, or the polish from u where the search misses it) and the number
+ * of roots; their unknowns into *set (count -1 where they do not fit). */
+static void finish_full(const finish_pass *fp, usm_steady *st, size_t i, track_set *set)
 {
-    const finish_pass *fp = ctx;
     usm_sweep_point *pt = &fp->pts[i];
-    usm_steady *st = state;
-    if (!pt->converged || pt->roots != SWEEP_ROOTS_PENDING)
-        return 0;
     const int nu = fp->m->nu;
     double u[USM_MAX_NU];
     memcpy(u, pt->sol.u, sizeof u);
@@ -1044,15 +1063,27 @@ static int finish_task(void *ctx, void *state, size_t i)
     *usm_params_field(&q, fp->info) = pt->value;
     const usm_steady_solution *r = NULL;
     int roots = 0;
+    set->count = 0;
     if (usm_steady_solve(st, &q, &fp->opt->steady) == USM_OK) {
         roots = (int)usm_steady_count(st);
-        for (size_t k = 0; k < usm_steady_count(st) && !r; ++k)
-            if (same_unknowns_nu(nu, u, usm_steady_root(st, k)->u))
-                r = usm_steady_root(st, k);
+        for (size_t k = 0; k < usm_steady_count(st); ++k) {
+            const usm_steady_solution *rk = usm_steady_root(st, k);
+            if (!r && same_unknowns_nu(nu, u, rk->u))
+                r = rk;
+            if (set->count >= 0 && set->count < TRACK_MAX)
+                memcpy(set->u[set->count++], rk->u, sizeof rk->u);
+            else
+                set->count = -1;
+        }
     }
     /* the branch's root missed by the search is one more root */
-    if (!r)
+    if (!r) {
         roots++;
+        if (set->count >= 0 && set->count < TRACK_MAX)
+            memcpy(set->u[set->count++], u, sizeof u);
+        else
+            set->count = -1;
+    }
     if (!r && usm_steady_solve_from(st, &q, u) == USM_OK)
         r = usm_steady_root(st, 0);
     if (r && same_unknowns_nu(nu, u, r->u))
@@ -1063,13 +1094,235 @@ static int finish_task(void *ctx, void *state, size_t i)
         usm_steady_evaluate(fp->m, &q, &pt->sol);
     }
     pt->roots = roots;
+}
+
+/* Newton on the stationary residual from u at q, with the generated Jacobian:
+ * 0 once every row vanishes to 1e-12 m0 plus the rounding of its terms (as
+ * the search's polish accepts a root), -1 when it does not within 20 steps. */
+static int newton_root(const usm_model *m, const usm_params *q, double *u)
+{
+    const int nu = m->nu;
+    const double base = 1e-12 * (q->m0 > 0 ? q->m0 : 1.0);
+    for (int it = 0; it < 20; ++it) {
+        double r[USM_MAX_NU], J[USM_MAX_NU * USM_MAX_NU];
+        m->steady_residual(u, q, r);
+        m->steady_jacobian(u, q, J);
+        int small = 1;
+        for (int i = 0; i < nu && small; ++i) {
+            double floor = 0;
+            for (int j = 0; j < nu; ++j)
+                floor += fabs(J[i * nu + j]) * fabs(u[j]);
+            small = fabs(r[i]) <= base + 16 * DBL_EPSILON * (isfinite(floor) ? floor : 0);
+        }
+        if (small && it > 0)
+            return 0;
+        int piv[USM_MAX_NU];
+        if (usm_lu_factor_dense(nu, J, piv) != 0)
+            return -1;
+        usm_lu_solve_dense(nu, J, piv, r, 1);
+        for (int j = 0; j < nu; ++j) {
+            u[j] -= r[j];
+            if (!isfinite(u[j]))
+                return -1;
+        }
+    }
+    return -1;
+}
+
+/* Every root of *set continued by Newton to the value of grid point i: 0 and
+ * the roots at i in *set, or -1 where the root set may have changed there
+ * (a root lost or out of the tilt range, two roots merged: a fold). */
+static int track_roots(const finish_pass *fp, size_t i, track_set *set)
+{
+    const int nu = fp->m->nu;
+    usm_params q = *fp->p;
+    *usm_params_field(&q, fp->info) = fp->pts[i].value;
+    if (set->count < 0)
+        return -1;
+    for (int k = 0; k < set->count; ++k) {
+        double *u = set->u[k];
+        if (newton_root(fp->m, &q, u) != 0 || !(u[0] >= fp->opt->steady.theta_min) ||
+            !(u[0] <= fp->opt->steady.theta_max))
+            return -1;
+        for (int l = 0; l < k; ++l)
+            if (same_unknowns_nu(nu, u, set->u[l]))
+                return -1;
+    }
     return 0;
+}
+
+/* Grid point i from the tracked roots: the one that is the branch's, as the
+ * full search gives it bit for bit (usm_steady_solve_cell: its refinement
+ * of the one grid cell holding that root), so that a row still equals
+ * `usm steady` at its parameters; 0, or -1 when none is or the cell does not
+ * give it (a full search then). */
+static int finish_tracked(const finish_pass *fp, usm_steady *st, size_t i, const track_set *set)
+{
+    usm_sweep_point *pt = &fp->pts[i];
+    const int nu = fp->m->nu;
+    for (int k = 0; k < set->count; ++k)
+        if (same_unknowns_nu(nu, pt->sol.u, set->u[k])) {
+            usm_params q = *fp->p;
+            *usm_params_field(&q, fp->info) = pt->value;
+            if (usm_steady_solve_cell(st, &q, &fp->opt->steady, set->u[k]) != USM_OK)
+                return -1;
+            for (size_t r = 0; r < usm_steady_count(st); ++r)
+                if (same_unknowns_nu(nu, set->u[k], usm_steady_root(st, r)->u)) {
+                    pt->sol = *usm_steady_root(st, r);
+                    pt->roots = set->count;
+                    return 0;
+                }
+            return -1;
+        }
+    return -1;
+}
+
+static int pending_point(const usm_sweep_point *pt)
+{
+    return pt->converged && pt->roots == SWEEP_ROOTS_PENDING;
+}
+
+/* Whether the roots of *full are those of *tracked (every unknown within
+ * 1e-6, as the rows). */
+static int same_sets(int nu, const track_set *full, const track_set *tracked)
+{
+    if (full->count < 0 || full->count != tracked->count)
+        return 0;
+    for (int r = 0; r < full->count; ++r) {
+        int found = 0;
+        for (int l = 0; l < tracked->count && !found; ++l)
+            found = same_unknowns_nu(nu, full->u[r], tracked->u[l]);
+        if (!found)
+            return 0;
+    }
+    return 1;
+}
+
+/* Span k of the finish pass, a task of the worker pool: points [a, b),
+ * a = k FINISH_SPAN.  The full search where the span starts, where the
+ * tracking says the root set changed and where a tracked run ends; in
+ * between the roots of the last search continued by Newton from point to
+ * point.  The root count changes only where a branch folds or leaves the
+ * tilt range, which the tracking sees (a root lost or out of range, two
+ * merged), or where a new pair of roots appears, which it cannot: so every
+ * tracked run is checked against a full search at its end, its own last
+ * point or the next span's first (sweep_finish_points), and a span that
+ * fails the check is searched in full at every point. */
+static int finish_task(void *ctx, void *state, size_t k)
+{
+    finish_pass *fp = ctx;
+    usm_steady *st = state;
+    const int nu = fp->m->nu;
+    const size_t a = k * FINISH_SPAN, b = a + FINISH_SPAN < fp->n ? a + FINISH_SPAN : fp->n;
+    const int next_span_checks = b < fp->n && pending_point(&fp->pts[b]);
+    track_set set = {-1, {{0}}};
+    int tracked_prev = 0; /* the row before came from the tracking */
+    fp->ends[k].count = -1;
+    fp->starts[k].count = -1;
+    for (size_t i = a; i < b; ++i) {
+        if (!pending_point(&fp->pts[i])) {
+            set.count = -1;
+            tracked_prev = 0;
+            continue;
+        }
+        if (fp->full[k]) {
+            finish_full(fp, st, i, &set);
+            continue;
+        }
+        const track_set before = set;
+        const int tracked = track_roots(fp, i, &set) == 0;
+        if (tracked && finish_tracked(fp, st, i, &set) == 0) {
+            const int run_ends = i + 1 < b ? !pending_point(&fp->pts[i + 1]) : !next_span_checks;
+            tracked_prev = 1;
+            if (run_ends) {
+                track_set full;
+                finish_full(fp, st, i, &full);
+                if (!same_sets(nu, &full, &set))
+                    fp->bad[k] = 1;
+                set = full;
+                tracked_prev = 0;
+            }
+            continue;
+        }
+        /* the tracking ends here: the full search at i, and the run before
+         * checked against one where it last held */
+        track_set full;
+        finish_full(fp, st, i, &full);
+        if (tracked) {
+            if (!same_sets(nu, &full, &set))
+                fp->bad[k] = 1;
+        } else if (tracked_prev) {
+            track_set check;
+            finish_full(fp, st, i - 1, &check);
+            if (!same_sets(nu, &check, &before))
+                fp->bad[k] = 1;
+        }
+        set = full;
+        tracked_prev = 0;
+        if (i == a)
+            fp->starts[k] = set;
+    }
+    if (!fp->full[k] && next_span_checks && set.count >= 0) {
+        fp->ends[k] = set;
+        if (track_roots(fp, b, &fp->ends[k]) != 0)
+            fp->ends[k].count = -1;
+    }
+    return 0;
+}
+
+/* Whether span k passed its checks: the roots tracked to its end are those
+ * the full search found at the next span's first point. */
+static int span_checked(const finish_pass *fp, size_t k)
+{
+    if (fp->bad[k])
+        return 0;
+    if (k + 1 >= fp->nspans || !fp->was_pending[(k + 1) * FINISH_SPAN] ||
+        !fp->was_pending[(k + 1) * FINISH_SPAN - 1])
+        return 1; /* no tracked run reaches the next span */
+    return same_sets(fp->m->nu, &fp->starts[k + 1], &fp->ends[k]);
 }
 
 int sweep_finish_points(const usm_model *m, const usm_params *p, const usm_sweep_options *opt,
                         usm_sweep_point *pts, size_t n, char msg[USM_MSG_LEN])
 {
-    finish_pass fp = {m, p, opt, usm_params_find(opt->over), pts};
-    pool_job job = {n, opt->threads, &fp, finish_alloc, finish_free, finish_task, NULL};
-    return pool_run(&job, msg);
+    const size_t nspans = (n + FINISH_SPAN - 1) / FINISH_SPAN, ns = nspans ? nspans : 1;
+    finish_pass fp = {m, p, opt, usm_params_find(opt->over), pts, n, nspans,
+                      calloc(ns, sizeof(track_set)), calloc(ns, sizeof(track_set)),
+                      calloc(ns, 1), calloc(ns, 1), calloc(n ? n : 1, 1),
+                      malloc((n ? n : 1) * sizeof(double[USM_MAX_NU]))};
+    int status = USM_EFAILED;
+    if (!fp.ends || !fp.starts || !fp.full || !fp.bad || !fp.was_pending || !fp.saved_u) {
+        snprintf(msg, USM_MSG_LEN, "out of memory");
+        goto done;
+    }
+    /* the branch's roots, for the spans done again in full */
+    for (size_t i = 0; i < n; ++i) {
+        fp.was_pending[i] = (unsigned char)pending_point(&pts[i]);
+        memcpy(fp.saved_u[i], pts[i].sol.u, sizeof fp.saved_u[i]);
+    }
+    pool_job job = {nspans, opt->threads, &fp, finish_alloc, finish_free, finish_task, NULL};
+    status = pool_run(&job, msg);
+    size_t redo = 0;
+    for (size_t k = 0; status == USM_OK && k < nspans; ++k)
+        if (!span_checked(&fp, k)) {
+            const size_t a = k * FINISH_SPAN, b = a + FINISH_SPAN < n ? a + FINISH_SPAN : n;
+            for (size_t i = a; i < b; ++i)
+                if (fp.was_pending[i]) {
+                    memcpy(pts[i].sol.u, fp.saved_u[i], sizeof fp.saved_u[i]);
+                    pts[i].roots = SWEEP_ROOTS_PENDING;
+                }
+            fp.full[k] = 1;
+            ++redo;
+        }
+    /* only the spans to be done again in full have pending points left */
+    if (status == USM_OK && redo > 0)
+        status = pool_run(&job, msg);
+done:
+    free(fp.ends);
+    free(fp.starts);
+    free(fp.full);
+    free(fp.bad);
+    free(fp.was_pending);
+    free(fp.saved_u);
+    return status;
 }

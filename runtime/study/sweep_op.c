@@ -1,8 +1,13 @@
 /* The operating point along a sweep (usm_sweep.h, usm_operating_point.h).
  *
- * At every grid point the full search, every root's multipliers and the rule
- * of usm_operating_point (usm_point_evaluate_op, the map's point evaluator):
- * the points are independent, so the worker pool hands them out.  Then, between
+ * At every grid point the rule of usm_operating_point over all roots and
+ * their multipliers: where the row has one root (its count is the full
+ * search's, sweep_finish_points) and its multipliers, from those and the
+ * search's refinement of the root's cell alone (op_one_root: the same
+ * decision bit for bit, without a second full search and Floquet); elsewhere
+ * usm_point_evaluate_op (the map's point evaluator: the full search, every
+ * root's multipliers).  The points are independent, so the worker pool hands
+ * them out.  Then, between
  * neighbouring grid points a and b, an operating_point_jump event where:
  *  - both have an operating point, and they are not one branch: the branch of
  *    a's root continued by the engine (sweep_branch_connects) ends (a fold,
@@ -40,6 +45,7 @@
 #include "core/pool_internal.h"
 #include "core/root.h"
 #include "point_worker.h"
+#include "solve/steady_cell.h"
 #include "sweep_branch.h"
 #include "sweep_op.h"
 #include "usm_map.h"
@@ -62,6 +68,54 @@ static void *op_alloc(void *ctx)
     return point_worker_alloc(c->m);
 }
 
+/* The rule at a grid point with one root whose multipliers the sweep has
+ * already computed (the row's root and multipliers): what
+ * usm_point_evaluate_op decides there, without its full search and
+ * multipliers again.  The root set is the full search's bit for bit
+ * (usm_steady_solve_cell: the search's refinement of the cell holding the
+ * row's root; the row's count, 1, is the search's: sweep_finish_points).
+ * 1 and pt->op set; 0 where the point needs the full evaluation; -1 on bad
+ * options (USM_EINPUT, message into msg). */
+static int op_one_root(op_pass *c, point_worker *w, usm_sweep_point *pt, const usm_params *q,
+                       char *msg)
+{
+    if (!pt->converged || pt->roots != 1 || !pt->has_floquet ||
+        !isfinite(pt->floquet.max_modulus) ||
+        usm_steady_solve_cell(w->steady, q, &c->opt->steady, pt->sol.u) != USM_OK ||
+        usm_steady_count(w->steady) != 1 ||
+        memcmp(usm_steady_root(w->steady, 0)->u, pt->sol.u, sizeof pt->sol.u) != 0)
+        return 0;
+    usm_point_op *op = &pt->op;
+    usm_op_result res;
+    memset(op, 0, sizeof *op);
+    op->index = -1;
+    op->stable_roots = pt->floquet.stable != 0;
+    const int orc = usm_operating_point(c->m, q, w->steady, &pt->floquet, &c->opt->op, &res);
+    if (orc == USM_EINPUT) {
+        snprintf(msg, USM_MSG_LEN, "%s", res.message);
+        return -1;
+    }
+    op->reason = res.reason;
+    op->starts_from_rest = res.starts_from_rest;
+    op->simulated = res.simulated;
+    snprintf(op->message, USM_MSG_LEN, "%s", res.message);
+    if (orc != USM_OK)
+        op->cls = USM_POINT_OP_UNKNOWN;
+    else if (res.index >= 0) {
+        op->cls = USM_POINT_OP_STABLE;
+        op->index = res.index;
+        op->sol = *usm_steady_root(w->steady, (size_t)res.index);
+        op->floquet = pt->floquet;
+    } else if (res.reason == USM_OP_NO_STABLE_ROOT)
+        op->cls = USM_POINT_OP_NO_STABLE_ROOT;
+    else if (res.reason == USM_OP_DOES_NOT_START)
+        op->cls = USM_POINT_OP_DOES_NOT_START;
+    else
+        op->cls = USM_POINT_OP_UNKNOWN;
+    pt->has_op = 1;
+    return 1;
+}
+
 static int op_task(void *ctx, void *state, size_t i)
 {
     op_pass *c = ctx;
@@ -70,6 +124,15 @@ static int op_task(void *ctx, void *state, size_t i)
     usm_params q = *c->p;
     usm_point res;
     *usm_params_field(&q, c->info) = pt->value;
+    char why[USM_MSG_LEN];
+    const int one = op_one_root(c, w, pt, &q, why);
+    if (one < 0) {
+        snprintf(c->msgs + i * USM_MSG_LEN, USM_MSG_LEN, "operating point at %s = %g: %.180s",
+                 c->info->name, pt->value, why);
+        return USM_EINPUT;
+    }
+    if (one > 0)
+        return USM_OK;
     if (usm_point_evaluate_op(w->steady, w->floquet, c->m, &q, c->opt->t0,
                               &c->opt->floquet_options, &c->opt->op, &res) != USM_OK) {
         snprintf(c->msgs + i * USM_MSG_LEN, USM_MSG_LEN, "operating point at %s = %g: %.180s",

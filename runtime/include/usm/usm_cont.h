@@ -40,6 +40,10 @@ typedef double (*usm_cont_test_fn)(const double *x, const double *dx, void *ctx)
 /* Flags of a test function. */
 #define USM_CONT_TEST_MONITOR 0 /* its zeros are events; the branch goes on */
 #define USM_CONT_TEST_STOP 1    /* the branch ends at its first zero */
+/* Or'ed to either: the test reads the point alone, never dx, so that the
+ * trials of its location skip the tangent (one Jacobian each); it is called
+ * with dx NULL there. */
+#define USM_CONT_TEST_POINT 2
 
 /* What usm_cont_step returns (besides a usage error, USM_CONT_EUSAGE). */
 #define USM_CONT_STEP 0    /* a step was accepted; the branch goes on */

@@ -23,6 +23,7 @@
 
 #include "usm.h"
 #include "usm_design.h"
+#include "usm_fit.h"
 #include "usm_operating_point.h"
 #include "usm_simulate.h"
 #include "usm_sweep.h"
@@ -233,6 +234,47 @@ int usm_params_read_file(const char *path, usm_params *p, char msg[USM_IO_MSG_LE
  * Numbers go through usm_parse_number(), strings through usm_parse_quantity(). */
 int usm_params_parse_text(const char *path, const char *text, size_t len, usm_params *p,
                           char msg[USM_IO_MSG_LEN]);
+
+/* ---- measurements to fit (usm_fit.h) ------------------------------------------ */
+
+/* Read the measurements of `usm fit --data FILE.csv` (docs/fit.md): a header
+ * of "NAME [UNIT]" columns -- a parameter's name is a condition of each row
+ * (f [kHz], T [mNm], F0 [N]), an output's name (usm_fit_output_find) a
+ * measured value (speed [rpm], power_in [W]), sigma_OUTPUT its standard
+ * deviation (for every measured output or for none) -- then one row per
+ * measurement; blank lines and lines starting with # are skipped.  Units
+ * are converted to SI through the units table.  An empty output field is a
+ * value not measured in that row; an empty condition is refused.  USM_OK
+ * with *out (usm_fit_data_free), or USM_EINPUT with one line
+ * "PATH:LINE: column NAME: reason" in msg: an unknown column, a unit that
+ * does not convert, a field that is not a finite number (nan), a condition
+ * outside its parameter's range, a sigma that is not positive, a row with
+ * another number of fields, a sigma column without its output. */
+int usm_fit_data_read(const char *path, usm_fit_data **out, char msg[USM_IO_MSG_LEN]);
+/* The same on the len bytes at text; path names them in messages. */
+int usm_fit_data_parse_text(const char *path, const char *text, size_t len, usm_fit_data **out,
+                            char msg[USM_IO_MSG_LEN]);
+
+/* The `usm fit --json` object of result r (usm_fit_run) of model m on data d
+ * from the parameters p, and a newline: estimates (estimate,
+ * standard_error, ci95, start, scale, unit per fitted parameter),
+ * correlation, chi2, dof, p_value (null when sigma_estimated),
+ * sigma_estimated, sigma_scale, singular_values, identifiable,
+ * unidentifiable [{"combination": {NAME: coefficient}, "singular_value",
+ * "advice": {"output", "conditions", "score"} or null}], points (per
+ * measured value: row, line, conditions, output, measured, model, sigma,
+ * residual, flagged, reason).  0, or -1 on a write error or out of memory. */
+int usm_fit_write_json(const usm_model *m, const usm_params *p, const usm_fit_data *d,
+                       const usm_fit_result *r, FILE *out);
+/* The table of `usm fit` for people, measured and model values in the
+ * display units dsp (NULL: SI). */
+void usm_fit_write_table(const usm_model *m, const usm_fit_data *d, const usm_fit_result *r,
+                         const usm_display *dsp, FILE *out);
+/* The residuals per measured value as CSV (`usm fit --out`): row, line, the
+ * conditions [SI], output, unit, measured, model, sigma, residual, flagged
+ * (0/1), reason ("" or why it is flagged).
+ * 0, or -1 on a write error. */
+int usm_fit_write_csv(const usm_fit_data *d, const usm_fit_result *r, FILE *out);
 
 /* ---- a simulation's start state --------------------------------------------- */
 

@@ -2,29 +2,28 @@
  *.
  *
  * The orbit of usm_periodic_solve is followed in one parameter lambda (any
- * field of usm_params) by natural-parameter continuation: each
- * step starts Newton from the secant extrapolation of the last two orbits'
- * states at t0, and the step is halved when Newton fails or needs more than 4
- * iterations (down to 1e-7 of the range).  Natural-parameter continuation
- * cannot pass a turning point of the branch: there the step control gives up,
- * the remaining grid points have no orbit, and a `fold` event is reported when
- * a real multiplier was approaching +1 (below).
- * Between consecutive accepted orbits the sweep locates, by Brent's method
- * on lambda (each trial a warm-started shooting), to 1e-11 of the range:
+ * field of usm_params) by the continuation engine (usm_cont.h): the branch
+ * is the zero set of the shooting's periodicity condition in the state at
+ * t0 and lambda, followed by pseudo-arclength continuation (the Jacobian
+ * from the monodromy and a difference in lambda); the grid values are
+ * landed on by Newton with lambda held, to usm_periodic_solve's tolerance.
+ * Events are zeros of test functions located by Brent's method on the
+ * branch's arc to event_tol in the scaled arclength (about event_tol times
+ * the range in lambda), independent of the grid:
  *   contact_loss       F_n_min = 0: the contact opens (the times a period
- *                      counted on the orbit just past: openings_per_period,
- *                      twice for a mode split's 2 Omega wobble)
- *   stick_loss         stick models (3dof): friction_needed_max = mu0
+ *                      counted on the orbit at the step's open end:
+ *                      openings_per_period, twice for a mode split's
+ *                      2 Omega wobble)
+ *   stick_loss         stick models (3dof): friction_needed_max = mu0, the
+ *                      zero of max over the orbit of |F_t| - mu0 F_n
  *   stability_change   the largest non-cyclic multiplier modulus = 1; its kind
  *                      from the critical multiplier there: +1 fold, -1
  *                      period_doubling, a complex pair neimark_sacker
  *                      (|Im| > USM_COMPLEX_PAIR_TOL |lambda|), which carries
  *                      the squeal frequency of the pair (usm.h)
- *   fold               the branch ends at a turning point; its value is the
- *                      zero of (mu - 1)^2, mu the real multiplier nearest +1,
- *                      extrapolated linearly in lambda from the last two
- *                      orbits ((mu - 1)^2 is linear in lambda near a fold), so
- *                      it is accurate to the last step only (no orbit there).
+ *   fold               the branch turns back (d lambda/ds = 0, located) and
+ *                      ends there; the rows beyond have no orbit (no orbit
+ *                      carried by the event)
  *   friction_saturation  slip models: F_t/F_n reaches the friction law's
  *                      supremum over the whole orbit and the rotor speed
  *                      diverges; the branch ends there (no orbit).  Located
@@ -33,8 +32,7 @@
  *                      the rotor speed held where the slip is 1e15 m/s, as
  *                      the stationary sweep's), to the event tolerance, once
  *                      friction_needed_max passes 0.999 of the supremum or
- *                      the continuation loses the branch; it is then
- *                      reported instead of a fold.
+ *                      the continuation loses the branch.
  * Unilateral models (variant imperfect_unilateral; docs/unilateral.md): the
  * branch is the bilateral orbit's; at every grid point where its contact
  * opens the point also carries the orbit with separation (separating,

@@ -23,6 +23,8 @@
 
 #include "usm.h"
 #include "usm_design.h"
+#include "usm_envelope.h"
+#include "usm_fit.h"
 #include "usm_io.h"
 #include "usm_map.h"
 #include "usm_operating_point.h"
@@ -157,6 +159,14 @@ usm_run *usm_run_map(const usm_model *m, const usm_params *p, const usm_map_opti
 /* The map for the writers of usm_report_map.h (NULL unless USM_OK). */
 const struct usm_report_map *usm_run_map_result(const usm_run *r);
 
+/* usm envelope: the curves, codimension-two points and regions of the box
+ * (usm_envelope_run); opt's strings must outlive the run.  The JSON is
+ * usm_envelope_write_json's. */
+usm_run *usm_run_envelope(const usm_model *m, const usm_params *p,
+                          const usm_envelope_options *opt);
+/* The envelope of such a run for its CSV writer (NULL unless USM_OK). */
+const usm_envelope *usm_run_envelope_result(const usm_run *r);
+
 /* usm optimize: pb checked by the caller (usm_opt_problem_check); copied.
  * USM_ENOSOLUTION: JSON {"feasible": false, ...} and the message. */
 usm_run *usm_run_optimize(const usm_model *m, const usm_params *p, const usm_opt_problem *pb);
@@ -190,6 +200,20 @@ usm_run *usm_run_tolerance(const usm_model *m, const usm_params *p,
 /* The study (for its writers; usm_tolerance_output_seconds_add), or NULL
  * when it was not made. */
 usm_tolerance *usm_run_tolerance_result(usm_run *r);
+
+/* usm fit --data FILE.csv --fit NAME[,NAME...] (usm_fit.h): the measurements
+ * read from the file at path (usm_fit_data_read), or, with text not NULL,
+ * from its len bytes (path names them in messages); names: the fitted
+ * parameters (usm_fit_parse_names, NULL: those of opt); opt: NULL for the
+ * defaults (usm_fit_options_default); copied.  Status USM_EINPUT (bad data
+ * or names: one line naming the column or field and the reason), or the
+ * fit's (usm_fit_run). */
+usm_run *usm_run_fit(const usm_model *m, const usm_params *p, const char *path, const char *text,
+                     size_t len, const char *names, const usm_fit_options *opt);
+/* The result of a fit run (NULL unless USM_OK). */
+const usm_fit_result *usm_run_fit_result(const usm_run *r);
+/* The measurements of a fit run (NULL when they could not be read). */
+const usm_fit_data *usm_run_fit_data(const usm_run *r);
 
 #ifdef __cplusplus
 }
