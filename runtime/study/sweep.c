@@ -156,7 +156,6 @@ static double grid_value(const usm_sweep_options *opt, int i)
 static int check_options(usm_sweep *s, const usm_params *p, const usm_sweep_options *opt)
 {
     const usm_param_info *info;
-    char lib[USM_MSG_LEN];
     if (!opt || !p) {
         snprintf(s->msg, USM_MSG_LEN, "%s: must not be NULL", !opt ? "options" : "params");
         return USM_EINPUT;
@@ -238,11 +237,20 @@ static int check_options(usm_sweep *s, const usm_params *p, const usm_sweep_opti
                  "steady: need 0 < theta_min < theta_max, grid >= 2 and xtol > 0");
         return USM_EINPUT;
     }
-    /* Every grid value, not only the ends: the range may cross a bound
-     * (f from -1 to 1) and a message naming the point beats a silent gap. */
+    return USM_OK;
+}
+
+/* Every grid value, not only the ends: the range may cross a bound (f from
+ * -1 to 1) and a message naming the point beats a silent gap.  On the grid
+ * setup_points worked out (each value costs a few conversions to find its
+ * shortest decimal form: worked out once). */
+static int check_grid(usm_sweep *s, const usm_params *p, const usm_sweep_options *opt)
+{
+    const usm_param_info *info = usm_params_find(opt->over);
+    char lib[USM_MSG_LEN];
     usm_params q = *p;
     for (int i = 0; i < opt->points; ++i) {
-        *usm_params_field(&q, info) = grid_value(opt, i);
+        *usm_params_field(&q, info) = s->grid[i];
         if (usm_params_check(&q, s->m, lib) != USM_OK || usm_params_check_ideal(&q, lib) != USM_OK) {
             snprintf(s->msg, USM_MSG_LEN, "%.190s (sweep point %d of %d)", lib, i + 1,
                      opt->points);
@@ -289,6 +297,10 @@ int usm_sweep_run(usm_sweep *s, const usm_params *p, const usm_sweep_options *op
         return status;
     if ((status = setup_points(s, opt)) != USM_OK)
         return status;
+    if ((status = check_grid(s, p, opt)) != USM_OK) {
+        s->npts = 0;
+        return status;
+    }
     s->opt = opt;
     s->op_rule = opt->operating_point ? usm_op_rule_text(&opt->op) : NULL;
     s->done = 0;
