@@ -75,6 +75,7 @@ void usm_cont_options_default(usm_cont_options *o)
     o->event_tol = 1e-14;
     o->across_fold = 0;
     o->max_steps = 2000000;
+    o->chord = 0;
 }
 
 usm_cont *usm_cont_alloc(int n)
@@ -161,7 +162,7 @@ int usm_cont_set_options(usm_cont *c, const usm_cont_options *o)
     if (!(o->h_min > 0) || !(o->h_max >= o->h_min) || !(o->h0 >= o->h_min) ||
         !(o->h0 <= o->h_max) || !(o->newton_tol > 0) || o->newton_max < 1 ||
         !(o->cos_max_turn > -1 && o->cos_max_turn < 1) || !(o->event_tol > 0) ||
-        o->max_steps < 1 || !isfinite(o->h_max))
+        o->max_steps < 1 || !isfinite(o->h_max) || (o->chord != 0 && o->chord != 1))
         return USM_CONT_EUSAGE;
     c->o = *o;
     if (c->started)
@@ -333,7 +334,8 @@ static int correct(usm_cont *c, double *z, const double *b, double b0)
     const int n = c->n, N = c->N;
     double prev = INFINITY;
     for (int it = 1; it <= c->o.newton_max; ++it) {
-        if (eval(c, z, 1) != 0 || factor(c, b) != 0)
+        const int jac = !c->o.chord || it == 1;
+        if (eval(c, z, jac) != 0 || (jac && factor(c, b) != 0))
             return -1;
         c->F[n] = dot(N, b, z) - b0;
         for (int j = 0; j < N; ++j)
@@ -831,7 +833,9 @@ int usm_cont_step(usm_cont *c)
             z1[j] = c->z[j] + c->h * c->t[j];
         const int its = correct(c, z1, c->t, dot(N, c->t, c->z) + c->h);
         double turn = -1;
-        if (its >= 0 && tangent_from_lu(c, t1) == 0)
+        /* after chord iterations the factorisation is the predictor's: the
+         * tangent afresh */
+        if (its >= 0 && (c->o.chord ? tangent(c, z1, c->t, t1) : tangent_from_lu(c, t1)) == 0)
             turn = dot(N, c->t, t1);
         int ok = turn >= c->o.cos_max_turn;
         if (ok) {

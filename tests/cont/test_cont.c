@@ -6,7 +6,8 @@
  *    for a = 1); ended at the first fold by default, also when the fold
  *    lies inside the first step.  With a = 1e-4 and the
  *    scale (a, 1) the same folds are found, the unknowns ten thousand times
- *    apart in size.
+ *    apart in size; with the chord corrector (the Jacobian factored once a
+ *    correction) the same folds.
  *  - a monitor u - 1/2 on the circle crosses at p = sqrt(3)/2; a stopping
  *    test p - 0.9 ends the branch at p = 0.9; a grid value p = 0.3 is reached
  *    by usm_cont_arc_locate and usm_cont_correct_fixed exactly.
@@ -118,13 +119,14 @@ static double hopf_real_part(const double *x, const double *dx, void *ctx)
 
 /* Follows the circle of half-axis a (scale (a, 1)) from (0.8 a, 0.6) upwards
  * across its folds for one turn; the folds' p and u into fp[], fu[]. */
-static int circle_turn(double a, double *fp, double *fu, int nmax, double *closure)
+static int circle_turn(double a, int chord, double *fp, double *fu, int nmax, double *closure)
 {
     usm_cont *c = usm_cont_alloc(1);
     usm_cont_options o;
     usm_cont_options_default(&o);
     o.across_fold = 1;
     o.h_max = 0.1;
+    o.chord = chord;
     const double scale[2] = {a, 1.0}, x0[2] = {0.8 * a, 0.6};
     int nf = 0;
     double arclength = 0, best = INFINITY;
@@ -158,11 +160,12 @@ static int circle_turn(double a, double *fp, double *fu, int nmax, double *closu
 
 static void test_circle(void)
 {
-    for (int ia = 0; ia < 2; ++ia) {
-        const double a = ia ? 1e-4 : 1.0;
+    for (int ia = 0; ia < 3; ++ia) {
+        /* the third: a = 1 with the chord corrector */
+        const double a = ia == 1 ? 1e-4 : 1.0;
         double fp[8], fu[8], closure;
-        const int nf = circle_turn(a, fp, fu, 8, &closure);
-        printf("circle a = %g: %d folds", a, nf);
+        const int nf = circle_turn(a, ia == 2, fp, fu, 8, &closure);
+        printf("circle a = %g%s: %d folds", a, ia == 2 ? " (chord)" : "", nf);
         for (int k = 0; k < nf && k < 8; ++k)
             printf(" (p %.17g, u/a %.3g)", fp[k], fu[k] / a);
         printf("; closest return %.3g\n", closure);
@@ -406,6 +409,9 @@ static void test_usage(void)
     usm_cont_options_default(&o);
     o.h_min = 0;
     CHECK(usm_cont_set_options(c, &o) == USM_CONT_EUSAGE, "h_min = 0 accepted");
+    usm_cont_options_default(&o);
+    o.chord = 2;
+    CHECK(usm_cont_set_options(c, &o) == USM_CONT_EUSAGE, "chord = 2 accepted");
     const double bad[2] = {1.0, -1.0}, x0[2] = {1, 0};
     CHECK(usm_cont_set_scale(c, bad) == USM_CONT_EUSAGE, "a negative scale accepted");
     CHECK(usm_cont_add_test(c, hopf_real_part, NULL, 7) == USM_CONT_EUSAGE, "unknown flags accepted");

@@ -65,6 +65,12 @@ typedef struct usm_cont_options {
     int across_fold;         /* 1: the branch is followed around a fold (a fold is an
                               * event); 0: the branch ends at the fold */
     long max_steps;          /* usm_cont_step calls after which the branch is lost */
+    int chord;               /* 1: the corrector factors the Jacobian once, at its first
+                              * iterate, and reuses it (modified Newton: one Jacobian a
+                              * correction, more iterations; the tangent at a step's end
+                              * then takes one more): for a Jacobian that costs much more
+                              * than F.  0 (default): Newton, the tangent from its last
+                              * factorisation */
 } usm_cont_options;
 
 /* A located zero of a test function inside the last step. */
@@ -82,7 +88,7 @@ typedef struct usm_cont usm_cont;
 
 /* Defaults: h0 0.01, h_min 1e-13, h_max 0.05, newton_tol 1e-10, newton_max
  * 12, grow_its 3, shrink_its 6, cos_max_turn 0.9, event_tol 1e-14,
- * across_fold 0, max_steps 2000000. */
+ * across_fold 0, max_steps 2000000, chord 0. */
 void usm_cont_options_default(usm_cont_options *o);
 
 /* An engine for n equations in n + 1 unknowns (n >= 1), default options and
