@@ -16,7 +16,7 @@ for bit.  Reference: docs/python.md.
 from . import _core
 from ._core import NoSolution, NumericalError, variants, models, parameter_table
 from ._results import (Result, SteadyResult, FloquetResult, SweepResult, SimulationResult,
-                       PeriodicResult, SensitivityResult, MapResult, OptimizeResult, ToleranceResult,
+                       PeriodicResult, SensitivityResult, MapResult, EnvelopeResult, OptimizeResult, ToleranceResult,
                        ParetoResult, SquealResult, FitResult,
                        SIM_COLUMNS, SIM_UNITS,
                        VALIDITY_NAMES)
@@ -26,6 +26,6 @@ __version__, generator_version = _core.version()
 
 __all__ = ["Model", "Parameter", "Parameters", "NoSolution", "NumericalError", "variants",
            "models", "parameter_table", "Result", "SteadyResult", "FloquetResult", "SweepResult",
-           "SimulationResult", "PeriodicResult", "SensitivityResult", "MapResult", "OptimizeResult", "ToleranceResult", "ParetoResult",
+           "SimulationResult", "PeriodicResult", "SensitivityResult", "MapResult", "EnvelopeResult", "OptimizeResult", "ToleranceResult", "ParetoResult",
            "SquealResult", "FitResult",
            "SIM_COLUMNS", "SIM_UNITS", "VALIDITY_NAMES", "__version__", "generator_version"]

@@ -227,6 +227,25 @@ cdef extern from "usm_map.h" nogil:
         usm_progress progress
     void usm_map_options_default(usm_map_options *opt)
 
+cdef extern from "usm_envelope.h" nogil:
+    ctypedef struct usm_envelope_axis:
+        const char *name
+        double lo
+        double hi
+    ctypedef struct usm_envelope_options:
+        usm_envelope_axis x
+        usm_envelope_axis y
+        int lines
+        int nodes
+        double h_max
+        int max_points
+        int stability
+        int raster
+        double t0
+        usm_floquet_options floquet
+        usm_op_options op
+    void usm_envelope_options_default(usm_envelope_options *opt)
+
 cdef extern from "usm_optimize.h" nogil:
     ctypedef struct usm_opt_problem:
         int objective
@@ -355,6 +374,8 @@ cdef extern from "usm_run.h" nogil:
                                     const usm_periodic_sweep_options *opt)
     usm_run *usm_run_squeal(const usm_model *m, const usm_params *p, const usm_squeal_options *opt)
     usm_run *usm_run_map(const usm_model *m, const usm_params *p, const usm_map_options *opt)
+    usm_run *usm_run_envelope(const usm_model *m, const usm_params *p,
+                              const usm_envelope_options *opt)
     usm_run *usm_run_optimize(const usm_model *m, const usm_params *p, const usm_opt_problem *pb)
     usm_run *usm_run_robust(const usm_model *m, const usm_params *p, const usm_robust_problem *rp)
     usm_run *usm_run_pareto(const usm_model *m, const usm_params *p, const usm_opt_problem *pb,

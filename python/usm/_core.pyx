@@ -726,6 +726,45 @@ cdef class _Model:
         return out
 
 
+    def _envelope(self, x, y, int lines, int nodes, int raster, int stability, double t0,
+                  method, rtol, steps, int from_rest, from_rest_periods):
+        cdef usm_envelope_options eo
+        cdef usm_run *r
+        cdef const usm_param_info *info
+        usm_envelope_options_default(&eo)
+        keep = []
+        for axis, spec, field in ((0, x, "x"), (1, y, "y")):
+            spec = tuple(spec)
+            if len(spec) != 3:
+                raise ValueError("%s: expected (name, lo, hi)" % field)
+            bname = str(spec[0]).encode()
+            keep.append(bname)
+            info = usm_params_find(bname)
+            unit = info.unit if info != NULL else NULL
+            lo = _quantity(field, unit, spec[1])
+            hi = _quantity(field, unit, spec[2])
+            if axis == 0:
+                eo.x.name = bname
+                eo.x.lo = lo
+                eo.x.hi = hi
+            else:
+                eo.y.name = bname
+                eo.y.lo = lo
+                eo.y.hi = hi
+        eo.lines = lines
+        eo.nodes = nodes
+        eo.raster = raster
+        eo.stability = stability
+        eo.t0 = t0
+        _floquet_options(&eo.floquet, method, rtol, steps)
+        eo.op.from_rest = from_rest
+        if from_rest_periods is not None:
+            eo.op.periods = _number("from_rest_periods", from_rest_periods)
+        with nogil:
+            r = usm_run_envelope(self.m, &self.p, &eo)
+        return self._finish(r)
+
+
 cdef void _progress_call(void *ctx, long done, long total, const char *what) with gil:
     """The library's progress callback (usm_progress.h) into a Python
     callable: called one call at a time, from whichever thread of the study;

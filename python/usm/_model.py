@@ -6,6 +6,7 @@ from typing import NamedTuple
 from . import _core
 from ._results import (SteadyResult, FloquetResult, SweepResult, SquealResult, SimulationResult,
                        PeriodicResult, SensitivityResult, FitResult, MapResult, OptimizeResult, ParetoResult,
+                       EnvelopeResult,
                        ToleranceResult)
 
 
@@ -299,6 +300,23 @@ class Model:
         if st != 0:
             _raise(st, msg)
         return MapResult(doc)
+
+    def envelope(self, x, y, lines=3, nodes=9, raster=120, stability=True, t0=0.0, method=None,
+                 rtol=None, steps=None, from_rest=False, from_rest_periods=None):
+        """The operating envelope over two parameters (`usm envelope --json`,
+        docs/envelope.md).  x, y: (name, lo, hi), lo < hi (numbers in SI or
+        texts with a unit, "36kHz").  The result's .curves (kind, points
+        [[x, y], ...], ends), .regions (class, root, sample [x, y], ...) and
+        .codim2 (type, point)."""
+        for name, v in (("lines", lines), ("nodes", nodes), ("raster", raster)):
+            if isinstance(v, bool) or not isinstance(v, int):
+                raise TypeError("%s: must be an integer" % name)
+        st, msg, doc, _ = self._c._envelope(x, y, lines, nodes, raster, bool(stability), float(t0),
+                                            method, rtol, steps, bool(from_rest),
+                                            from_rest_periods)
+        if st != 0:
+            _raise(st, msg)
+        return EnvelopeResult(doc)
 
     def optimize(self, objective, vary, constraints=(), minimize=False, stability_margin=None,
                  starts=None, t0=None, allow_slip=False, allow_driven=False, no_flat=False,

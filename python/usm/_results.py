@@ -269,6 +269,10 @@ class MapResult(_Table):
         return c.reshape(ny, nx)
 
 
+class EnvelopeResult(Result):
+    """`usm envelope --json`: .curves, .regions, .codim2, .x, .y."""
+
+
 SIM_COLUMNS = ("t", "phi", "theta", "psi", "phidot", "thetadot", "psidot", "phi_R", "phi_Rdot",
                "F_n", "F_t", "v_rel", "theta_avg", "phi_Rdot_avg", "validity")
 SIM_UNITS = ("s", "rad", "rad", "rad", "rad/s", "rad/s", "rad/s", "rad", "rad/s", "N", "N", "m/s",

@@ -33,6 +33,6 @@ typedef struct cli_command {
 
 extern const cli_command cli_steady, cli_periodic, cli_sweep, cli_variants, cli_equations,
     cli_report, cli_map, cli_simulate, cli_sensitivity, cli_optimize, cli_tolerance, cli_pareto,
-    cli_squeal, cli_fit;
+    cli_squeal, cli_fit, cli_envelope;
 
 #endif /* USM_CLI_COMMANDS_H */

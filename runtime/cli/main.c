@@ -33,6 +33,7 @@ static const cli_entry commands[] = {
     {"equations", "the derived equations as Markdown or LaTeX", &cli_equations},
     {"report", "reproduce the paper: report.md with tables and figures", &cli_report},
     {"map", "stability map: largest Floquet multiplier over a 2-D parameter grid", &cli_map},
+    {"envelope", "operating envelope: every boundary continued in two parameters, regions named", &cli_envelope},
     {"simulate", "start-up transient of the full model: CSV time history, settling, contact checks", &cli_simulate},
     {"sensitivity", "derivatives and elasticities of the stationary outputs in every parameter", &cli_sensitivity},
     {"optimize", "best design over parameter bounds under stability, stick and user constraints", &cli_optimize},

@@ -165,6 +165,17 @@ def test_stability_map(model, variant, params):
     assert got.grid("max_modulus").shape == (3, 4)
 
 
+def test_envelope():
+    # the same library call as `usm envelope --json`, so the same object
+    want, _ = run_cli("envelope", "--x", "f:36kHz:40kHz", "--y", "F0:0.1:2", "--no-stability",
+                      "--raster", "40")
+    got = usm.Model().envelope(("f", "36kHz", "40kHz"), ("F0", 0.1, 2), stability=False, raster=40)
+    assert got.to_dict() == want
+    assert sorted(c["kind"] for c in got.curves) == ["fold", "tilt_zero"]
+    with pytest.raises(ValueError, match="y: the same parameter as x"):
+        usm.Model().envelope(("f", 36000, 40000), ("f", 1, 2))
+
+
 @pytest.mark.parametrize("model,variant,params,args,kw", [
     ("3dof", "paper", {}, ["--objective", "speed", "--vary", "f=36kHz:39kHz", "--vary",
                            "F0=0.3:0.6", "--constraint", "F_n>=0.35", "--starts", "2"],

@@ -23,6 +23,7 @@
 
 #include "usm.h"
 #include "usm_design.h"
+#include "usm_envelope.h"
 #include "usm_fit.h"
 #include "usm_io.h"
 #include "usm_map.h"
@@ -157,6 +158,14 @@ const usm_periodic_sweep *usm_run_periodic_sweep_result(const usm_run *r);
 usm_run *usm_run_map(const usm_model *m, const usm_params *p, const usm_map_options *opt);
 /* The map for the writers of usm_report_map.h (NULL unless USM_OK). */
 const struct usm_report_map *usm_run_map_result(const usm_run *r);
+
+/* usm envelope: the curves, codimension-two points and regions of the box
+ * (usm_envelope_run); opt's strings must outlive the run.  The JSON is
+ * usm_envelope_write_json's. */
+usm_run *usm_run_envelope(const usm_model *m, const usm_params *p,
+                          const usm_envelope_options *opt);
+/* The envelope of such a run for its CSV writer (NULL unless USM_OK). */
+const usm_envelope *usm_run_envelope_result(const usm_run *r);
 
 /* usm optimize: pb checked by the caller (usm_opt_problem_check); copied.
  * USM_ENOSOLUTION: JSON {"feasible": false, ...} and the message. */

@@ -1,0 +1,83 @@
+/* envelope_internal.h: the envelope's state, shared by envelope.c (curves)
+ * and envelope_regions.c (regions).  Not installed; not part of the API. */
+#ifndef USM_ENVELOPE_INTERNAL_H
+#define USM_ENVELOPE_INTERNAL_H
+
+#include "usm_cont.h"
+#include "usm_envelope.h"
+
+#define ENV_MAX_TESTS 16
+
+typedef struct env_seed {
+    int kind;
+    double u[USM_MAX_NU];
+    double x, y;
+} env_seed;
+
+typedef struct env_curve {
+    usm_envelope_curve pub;
+    double *xy, *u;
+} env_curve;
+
+struct usm_envelope {
+    const usm_model *m;
+    int nu;
+    usm_params p;
+    usm_envelope_options opt;
+    const usm_param_info *ax[2];
+    int col[2];                 /* the axes' columns of steady_jacobian_params */
+    double lo[2], hi[2];
+    usm_steady *steady;
+    usm_floquet *fl;
+    env_seed *seeds;
+    size_t nseeds, seedcap, seeds_dropped;
+    env_curve *curves;
+    size_t ncurves, curvecap;
+    usm_envelope_codim2 *codim2;
+    size_t ncodim2, codim2cap;
+    usm_envelope_region *regions;
+    size_t nregions, regioncap;
+    int *label;                 /* raster x raster: region index, -1 on a curve */
+    char msg[USM_MSG_LEN];
+};
+
+struct env_problem;
+typedef struct env_test {
+    struct env_problem *pb;
+    int what;                   /* envelope.c's TEST_* */
+    int kind;                   /* TEST_KIND: the defining function */
+    int side;                   /* TEST_BOX: 0 x low, 1 x high, 2 y low, 3 y high */
+    int index;                  /* the engine's */
+} env_test;
+
+/* A zero problem posed to the engine: a seed line (kind < 0: u and the
+ * line's parameter free) or a curve of `kind` (u and both parameters). */
+typedef struct env_problem {
+    usm_envelope *e;
+    usm_params p;               /* working copy */
+    int kind;
+    int line_axis;              /* a line: its free parameter (0 x, 1 y) */
+    double fixed;               /* and the other's value */
+    int swap;                   /* a curve: 0 x = (u, px, py), 1 x = (u, py, px) */
+    int n;                      /* equations */
+    double scale[USM_MAX_NU + 2];
+    double uscale[USM_MAX_NU];  /* the fold's scaled unknowns (fixed per curve) */
+    double border_b[USM_MAX_NU], border_c[USM_MAX_NU];
+    double sat_w;               /* friction_saturation: the rotor speed W held */
+    usm_cont *cont;
+    env_test tests[ENV_MAX_TESTS];
+    int ntests;
+} env_problem;
+
+/* The two parameters of x in the problem's layout. */
+void env_xy(const env_problem *pb, const double *x, double *px, double *py);
+/* Defining function `kind` at x (the problem's parameters set from x). */
+double env_defining(env_problem *pb, int kind, const double *x);
+const env_test *env_test_of(const env_problem *pb, int index);
+int env_kind_applies(const usm_envelope *e, int kind);
+
+/* envelope_regions.c: the raster, its regions and their classes.  USM_OK,
+ * USM_EINPUT or USM_EFAILED with e->msg. */
+int env_regions(usm_envelope *e);
+
+#endif /* USM_ENVELOPE_INTERNAL_H */
