@@ -210,6 +210,7 @@ static int compute_motion(usm_report_data *d)
     o.over = "mode_split";
     o.check_rest = 0; /* one attractor a value: the study's rest check is `usm squeal`'s */
     o.lines = 3;
+    o.origin = 0; /* the origin is `usm squeal`'s (an orbit solve) */
     if (d->opt.quick) {
         o.from = 0.03;
         o.to = 0.05;
@@ -452,8 +453,10 @@ static json_t *motion_json(const usm_report_squeal_motion *mo)
             num(l, "level_db", pt->lines[k].level_db);
             json_array_append_new(lines, l);
             /* the loudest line of an irregular motion: a periodic orbit's lines
-               are its harmonics' leakage, tens of dB below */
-            if (!periodic && pt->lines[k].level_db > loudest) {
+               are its harmonics' leakage, tens of dB below, and a settling one's
+               its transient */
+            if ((pt->motion == USM_MOTION_CHAOTIC || pt->motion == USM_MOTION_QUASI_PERIODIC) &&
+                pt->lines[k].level_db > loudest) {
                 loudest = pt->lines[k].level_db;
                 loudest_f = pt->lines[k].frequency;
                 loudest_at = pt->value;
