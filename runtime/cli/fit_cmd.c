@@ -34,10 +34,16 @@ static void usage(FILE *out)
             "  --data FILE.csv     the measurements: columns named by parameter (the\n"
             "                      conditions: f [kHz], T [mNm], ...) and by output (speed\n"
             "                      [rpm], rotor_speed, power_in [W], theta, F_n, F_t,\n"
-            "                      efficiency, stick_margin, power_out), sigma_OUTPUT\n"
+            "                      efficiency, stick_margin, power_out; the datasheet's\n"
+            "                      stall_torque [mNm], no_load_speed, max_power),\n"
+            "                      sigma_OUTPUT\n"
             "  --fit NAME,...      the parameters to fit (their --set/--params values start)\n"
             "  --starts N          starts of the local search (default 4; 1: from the given\n"
-            "                      values only)\n"
+            "                      values only): the given values and the best of a Sobol\n"
+            "                      sample of the box --spread around them\n"
+            "  --spread F          the starts' box: the given values divided and multiplied\n"
+            "                      by F (log-scale parameters; default 100), clipped to the\n"
+            "                      physical ranges\n"
             "  --out FILE.csv      the residuals per measured value\n"
             "  --plot PREFIX       PREFIX.csv (the residuals) and the figure PREFIX.png/svg:\n"
             "                      measured and model values over the condition with the\n"
@@ -73,6 +79,7 @@ static int option(void *p, int argc, char **argv, int *i, char msg[CLI_MSG_LEN])
     CLI_TRY(cli_path_option(argc, argv, i, "--out", "file name", &a->out, msg));
     CLI_TRY(cli_plot_option(argc, argv, i, &a->plot, msg));
     CLI_TRY(cli_int_option(argc, argv, i, "--starts", &a->opt.starts, msg));
+    CLI_TRY(cli_quantity_option(argc, argv, i, "--spread", "1", &a->opt.spread, msg));
     return cli_option_value(argc, argv, i, "--fit", &a->names, msg);
 }
 
@@ -109,6 +116,10 @@ static int finish(void *p, char msg[CLI_MSG_LEN])
         return USM_EINPUT;
     if (a->opt.starts < 1 || a->opt.starts > 100) {
         cli_msg(msg, "--starts: %d is not in 1..100", a->opt.starts);
+        return USM_EINPUT;
+    }
+    if (!(a->opt.spread >= 1 && a->opt.spread <= 1e6)) {
+        cli_msg(msg, "--spread: %g is not in 1..1e6", a->opt.spread);
         return USM_EINPUT;
     }
     return cli_common_finish(&a->common, msg);

@@ -17,21 +17,41 @@
 #include <gsl/gsl_linalg.h>
 #include <gsl/gsl_matrix.h>
 #include <gsl/gsl_multifit_nlinear.h>
+#include <gsl/gsl_qrng.h>
 #include <gsl/gsl_vector.h>
 
 #include "core/grow.h"
 #include "fit_internal.h"
 #include "usm_fit.h"
+#include "usm_robust.h"
 
 /* ---- outputs ------------------------------------------------------------------- */
 
 static const char *const out_units[USM_FIT_NOUTPUTS] = {
-    "rad", "1/s", "N", "N", "1", "N", NULL, "W", "W", "1/s"};
+    "rad", "1/s", "N", "N", "1", "N", NULL, "W", "W", "1/s", "N m", "1/s", "W"};
+
+/* the datasheet quantities by fit output (usm_robust.h) */
+static int datasheet_quantity(int k)
+{
+    switch (k) {
+    case USM_FIT_STALL_TORQUE: return USM_ROBUST_STALL_TORQUE;
+    case USM_FIT_NO_LOAD_SPEED: return USM_ROBUST_NO_LOAD_SPEED;
+    case USM_FIT_MAX_POWER: return USM_ROBUST_MAX_POWER;
+    default: return -1;
+    }
+}
+
+int usm_fit_output_is_datasheet(int k)
+{
+    return datasheet_quantity(k) >= 0;
+}
 
 const char *usm_fit_output_name(int k)
 {
     if (k == USM_FIT_SPEED)
         return "speed";
+    if (usm_fit_output_is_datasheet(k))
+        return usm_robust_quantity_name(datasheet_quantity(k));
     return k >= 0 && k < USM_SENS_COUNT && k != USM_SENS_MAX_MODULUS
                ? usm_sensitivity_output_name(k)
                : NULL;
@@ -71,7 +91,7 @@ static double output_derivative(int k, const usm_sensitivity_result *r, int j)
 {
     if (k == USM_FIT_SPEED)
         return -r->d[USM_SENS_ROTOR_SPEED][j];
-    return r->defined[k] ? r->d[k][j] : NAN;
+    return k < USM_SENS_COUNT && r->defined[k] ? r->d[k][j] : NAN;
 }
 
 /* ---- data ---------------------------------------------------------------------- */
@@ -128,6 +148,7 @@ void usm_fit_options_default(usm_fit_options *o)
 {
     memset(o, 0, sizeof *o);
     o->starts = 4;
+    o->spread = 100.0;
     o->max_iter = 100;
     o->ident_tol = 0.05;
     o->advise = 1;
@@ -194,8 +215,10 @@ int usm_fit_check(const usm_model *m, const usm_params *p, const usm_fit_data *d
         snprintf(msg, USM_MSG_LEN, "fit: no parameter to fit");
         return USM_EINPUT;
     }
-    if (o->starts < 1 || o->starts > 100 || o->max_iter < 1 || !(o->ident_tol > 0)) {
-        snprintf(msg, USM_MSG_LEN, "fit: starts must be 1..100, max_iter >= 1, ident_tol > 0");
+    if (o->starts < 1 || o->starts > 100 || o->max_iter < 1 || !(o->ident_tol > 0) ||
+        !(o->spread >= 1 && o->spread <= 1e6)) {
+        snprintf(msg, USM_MSG_LEN, "fit: starts must be 1..100, spread 1..1e6, max_iter >= 1, "
+                 "ident_tol > 0");
         return USM_EINPUT;
     }
     for (int j = 0; j < o->nfit; ++j) {
@@ -370,6 +393,74 @@ int fit_point(fit_eval *e, usm_params *p, const usm_steady_solution **sol,
     return USM_OK;
 }
 
+/* Datasheet quantity `out` at parameters p (a row's conditions set):
+ * NaN with *reason when it does not exist there. */
+static double datasheet_at(fit_eval *e, const usm_params *p, int out, const char **reason)
+{
+    usm_quantity_options qo;
+    char msg[USM_MSG_LEN];
+    double v = NAN;
+    memset(&qo, 0, sizeof qo);
+    qo.range.param = -1;
+    qo.band_threshold = NAN;
+    e->evaluations++;
+    int st = usm_robust_quantity_eval(e->m, p, datasheet_quantity(out), &qo, 1, &v, msg);
+    if (st != USM_OK || !isfinite(v)) {
+        *reason = st == USM_ENOSOLUTION ? "no_solution" : "failed";
+        return NAN;
+    }
+    return v;
+}
+
+/* Row r's datasheet value i: its value at t (the row's parameters p) and its
+ * Jacobian row by central differences, a step of USM_FIT_DATASHEET_STEP in
+ * the fitted scale (one-sided where one side has no value).  A value that
+ * does not exist is the motor at rest's (0) with its reason. */
+static void datasheet_row(fit_eval *e, const double *t, int r, int i, const char **reason)
+{
+    const usm_fit_data *d = e->d;
+    const int out = d->out[e->idx[i] % d->nout];
+    usm_params p;
+    double *J = e->J + (size_t)i * (size_t)e->np;
+    fit_params_at(e, t, &p);
+    for (int c = 0; c < d->ncond; ++c)
+        *usm_params_field(&p, &usm_param_table[d->cond[c]]) =
+            d->x[(size_t)r * (size_t)d->ncond + (size_t)c];
+    usm_params_couple(e->m, &p, -1);
+    const char *why = "";
+    double v = datasheet_at(e, &p, out, &why);
+    *reason = why;
+    for (int j = 0; j < e->np; ++j)
+        J[j] = 0.0;
+    if (isnan(v)) {
+        e->model[i] = 0.0;
+        return;
+    }
+    e->model[i] = v;
+    for (int j = 0; j < e->np && !e->no_jacobian; ++j) {
+        double ts[USM_NPARAMS], y[2];
+        const double h = USM_FIT_DATASHEET_STEP *
+                         (e->log_scale[j] ? 1.0 : fmax(fabs(t[j]), 1e-6));
+        for (int side = 0; side < 2; ++side) {
+            const char *ignored = "";
+            memcpy(ts, t, (size_t)e->np * sizeof *ts);
+            ts[j] += side ? h : -h;
+            usm_params q;
+            fit_params_at(e, ts, &q);
+            for (int c = 0; c < d->ncond; ++c)
+                *usm_params_field(&q, &usm_param_table[d->cond[c]]) =
+                    d->x[(size_t)r * (size_t)d->ncond + (size_t)c];
+            usm_params_couple(e->m, &q, -1);
+            y[side] = datasheet_at(e, &q, out, &ignored);
+        }
+        double g = !isnan(y[0]) && !isnan(y[1]) ? (y[1] - y[0]) / (2 * h)
+                   : !isnan(y[1])                 ? (y[1] - v) / h
+                   : !isnan(y[0])                 ? (v - y[0]) / h
+                                                  : 0.0;
+        J[j] = g / e->w[i];
+    }
+}
+
 int fit_eval_at(fit_eval *e, const double *t)
 {
     const usm_fit_data *d = e->d;
@@ -387,15 +478,30 @@ int fit_eval_at(fit_eval *e, const double *t)
         for (int c = 0; c < d->ncond; ++c)
             *usm_params_field(&p, &usm_param_table[d->cond[c]]) =
                 d->x[(size_t)r * (size_t)d->ncond + (size_t)c];
-        if (fit_point(e, &p, &sol, &sr, &reason) != USM_OK)
+        /* a row of datasheet values only needs no operating point of its own */
+        int steady = 0;
+        for (int k = i; k < e->n && e->idx[k] / d->nout == r; ++k)
+            steady |= !usm_fit_output_is_datasheet(d->out[e->idx[k] % d->nout]);
+        sol = NULL;
+        reason = "";
+        if (steady && fit_point(e, &p, &sol, e->no_jacobian ? NULL : &sr, &reason) != USM_OK)
             return USM_EFAILED;
+        const char *const row_reason = reason;
         for (; i < e->n && e->idx[i] / d->nout == r; ++i) {
             int out = d->out[e->idx[i] % d->nout];
             double y = d->y[e->idx[i]];
+            reason = row_reason;
+            if (usm_fit_output_is_datasheet(out)) {
+                datasheet_row(e, t, r, i, &reason);
+                e->f[i] = (e->model[i] - y) / e->w[i];
+                e->reason[i] = reason;
+                e->chi2 += e->f[i] * e->f[i];
+                continue;
+            }
             /* no operating point: the motor at rest, every output 0 */
             double v = sol ? usm_fit_output_value(out, sol, &p) : 0.0;
             int ok = isfinite(v);
-            for (int j = 0; j < e->np && ok; ++j) {
+            for (int j = 0; j < e->np && ok && !e->no_jacobian; ++j) {
                 int k = e->o->fit[j];
                 double dv = sol ? output_derivative(out, &sr, k) : 0.0;
                 if (sol && e->log_scale[j])
@@ -517,28 +623,95 @@ static int local_search(fit_eval *e, gsl_multifit_nlinear_workspace *w, double *
     return isfinite(e->chi2) ? USM_OK : USM_ENOSOLUTION;
 }
 
-/* Start s (0: the given values; others spread around them by factors 2, 4, ...
- * in alternating directions, clipped into the parameter's range). */
-static void start_point(const fit_eval *e, int s, double *t)
+/* The box of the starts in the fitted scale: a log-scale parameter from its
+ * given value divided by o->spread to the value times o->spread, a linear one
+ * the given value +- o->spread times its magnitude (at least a thousandth of
+ * its range), both clipped into the physical range (usm_param_ranges). */
+static void start_box(const fit_eval *e, int j, double *lo, double *hi)
 {
-    for (int j = 0; j < e->np; ++j) {
-        int k = e->o->fit[j];
-        double v = usm_params_get(&e->base, &usm_param_table[k]);
-        const usm_param_range rg = usm_param_ranges[k];
-        double sign = ((s + j) % 2) ? 1.0 : -1.0, level = (double)((s + 1) / 2);
-        if (e->log_scale[j]) {
-            double z = log(v) + (s ? sign * level * log(2.0) : 0.0);
-            if (rg.lo > 0 && z < log(rg.lo))
-                z = log(rg.lo);
-            if (z > log(rg.hi))
-                z = log(rg.hi);
-            t[j] = z;
-        } else {
-            double span = fmax(fabs(v), 1e-3 * (rg.hi - rg.lo));
-            double z = v + (s ? sign * level * 0.5 * span : 0.0);
-            t[j] = fmin(fmax(z, rg.lo), rg.hi);
-        }
+    const int k = e->o->fit[j];
+    const double v = usm_params_get(&e->base, &usm_param_table[k]), f = e->o->spread;
+    const usm_param_range rg = usm_param_ranges[k];
+    if (e->log_scale[j]) {
+        *lo = log(v / f);
+        *hi = log(v * f);
+        if (rg.lo > 0 && *lo < log(rg.lo))
+            *lo = log(rg.lo);
+        if (*hi > log(rg.hi))
+            *hi = log(rg.hi);
+    } else {
+        const double w = f * fmax(fabs(v), 1e-3 * (rg.hi - rg.lo));
+        *lo = fmax(v - w, rg.lo);
+        *hi = fmin(v + w, rg.hi);
     }
+}
+
+/* The candidates of the starts: the first `count` points of the Sobol
+ * sequence in as many dimensions as parameters (GSL's gsl_qrng_sobol, the
+ * all-zero corner skipped: deterministic, no seed), mapped into the box;
+ * row-major count x np in t.  USM_OK or USM_EFAILED. */
+static int start_candidates(const fit_eval *e, int count, double *t)
+{
+    double lo[USM_NPARAMS], hi[USM_NPARAMS], u[USM_NPARAMS];
+    gsl_qrng *q = gsl_qrng_alloc(gsl_qrng_sobol, (unsigned)e->np);
+    if (!q)
+        return USM_EFAILED;
+    for (int j = 0; j < e->np; ++j)
+        start_box(e, j, &lo[j], &hi[j]);
+    gsl_qrng_get(q, u); /* the corner (0, ..., 0) */
+    for (int s = 0; s < count; ++s) {
+        gsl_qrng_get(q, u);
+        for (int j = 0; j < e->np; ++j)
+            t[(size_t)s * (size_t)e->np + (size_t)j] = lo[j] + u[j] * (hi[j] - lo[j]);
+    }
+    gsl_qrng_free(q);
+    return USM_OK;
+}
+
+/* The starts: the given values, then the start_count - 1 candidates with the
+ * lowest sum of squares (evaluated without the Jacobian) among
+ * USM_FIT_SCREEN per start, ties kept in the sequence's order.  t holds
+ * o->starts x np; *nstarts the starts found (fewer when candidates fail). */
+static int choose_starts(fit_eval *e, double *t, int *nstarts)
+{
+    const int np = e->np, want = e->o->starts - 1, ncand = USM_FIT_SCREEN * want;
+    double *cand = NULL, *chi2 = NULL;
+    int *order = NULL;
+    *nstarts = 1;
+    for (int j = 0; j < np; ++j)
+        t[j] = e->log_scale[j]
+                   ? log(usm_params_get(&e->base, &usm_param_table[e->o->fit[j]]))
+                   : usm_params_get(&e->base, &usm_param_table[e->o->fit[j]]);
+    if (want < 1)
+        return USM_OK;
+    cand = malloc((size_t)ncand * (size_t)np * sizeof *cand);
+    chi2 = malloc((size_t)ncand * sizeof *chi2);
+    order = malloc((size_t)ncand * sizeof *order);
+    int st = cand && chi2 && order ? start_candidates(e, ncand, cand) : USM_EFAILED;
+    e->no_jacobian = 1;
+    for (int s = 0; s < ncand && st == USM_OK; ++s) {
+        st = fit_eval_at(e, cand + (size_t)s * (size_t)np);
+        chi2[s] = isfinite(e->chi2) ? e->chi2 : INFINITY;
+        order[s] = s;
+    }
+    e->no_jacobian = 0;
+    e->have = 0;
+    if (st == USM_OK) {
+        /* insertion sort: stable, and ncand is small */
+        for (int a = 1; a < ncand; ++a)
+            for (int b = a; b > 0 && chi2[order[b]] < chi2[order[b - 1]]; --b) {
+                int tmp = order[b];
+                order[b] = order[b - 1];
+                order[b - 1] = tmp;
+            }
+        for (int s = 0; s < want && isfinite(chi2[order[s]]); ++s, ++*nstarts)
+            memcpy(t + (size_t)*nstarts * (size_t)np, cand + (size_t)order[s] * (size_t)np,
+                   (size_t)np * sizeof *t);
+    }
+    free(cand);
+    free(chi2);
+    free(order);
+    return st;
 }
 
 static double now(void)
@@ -695,12 +868,17 @@ int usm_fit_run(const usm_model *m, const usm_params *p, const usm_fit_data *d,
         fit_eval_free(&e);
         return fail(out, USM_EFAILED, "%s", "out of memory");
     }
-    status = USM_ENOSOLUTION;
-    for (int s = 0; s < o->starts; ++s) {
+    double *starts = malloc((size_t)o->starts * (size_t)e.np * sizeof *starts), chi2s[100];
+    int nstarts = 0;
+    status = starts ? choose_starts(&e, starts, &nstarts) : USM_EFAILED;
+    if (status == USM_OK)
+        status = USM_ENOSOLUTION;
+    for (int s = 0; s < nstarts && status != USM_EFAILED; ++s) {
         double t[USM_NPARAMS], chi2 = INFINITY;
-        start_point(&e, s, t);
+        memcpy(t, starts + (size_t)s * (size_t)e.np, (size_t)e.np * sizeof *t);
         int st = local_search(&e, w, t, &chi2, &out->iterations);
         out->starts++;
+        chi2s[s] = st == USM_OK ? chi2 : INFINITY;
         if (st == USM_EFAILED) {
             status = USM_EFAILED;
             break;
@@ -712,6 +890,11 @@ int usm_fit_run(const usm_model *m, const usm_params *p, const usm_fit_data *d,
             status = USM_OK;
         }
     }
+    /* a start reached the best minimum when its sum of squares is the best's
+     * within 1e-6 of it (and 1e-9 per value: an exact fit's is 0) */
+    for (int s = 0; s < out->starts && status == USM_OK; ++s)
+        out->starts_at_best += chi2s[s] <= best_chi2 + 1e-6 * best_chi2 + 1e-9 * e.n;
+    free(starts);
     gsl_multifit_nlinear_free(w);
     if (status == USM_OK)
         status = fit_eval_at(&e, best);

@@ -22,6 +22,7 @@ typedef struct fit_eval {
     double *w;                 /* its sigma (given) or its output's RMS */
     /* the last evaluated point t and its results */
     int have, failed, evaluations;
+    int no_jacobian;           /* 1: residuals only (the starts' screening) */
     double t[USM_NPARAMS];
     double *f, *J, *model, chi2;
     const char **reason;       /* per value: "" or why it is flagged */

@@ -405,7 +405,7 @@ int usm_report_write(const char *dir, const usm_params *p, const usm_report_opti
     d->opt = *opt;
     int (*const section[])(usm_report_data *, char *) = {
         usm_report_compute, usm_report_compute_maps, usm_report_compute_nonideal,
-        usm_report_compute_squeal, usm_report_compute_design};
+        usm_report_compute_squeal, usm_report_compute_design, usm_report_compute_paper_fit};
     const long nsection = (long)(sizeof section / sizeof section[0]);
     progress_meter meter; /* the files are the last section */
     progress_start(&meter, &opt->progress, nsection + 1, 0, "sections");

@@ -313,6 +313,14 @@ typedef struct usm_report_data {
 
     usm_report_nonideal nonideal; /* the non-ideal motor (report_nonideal.c) */
     usm_report_squeal squeal;     /* the squeal (report_squeal.c) */
+    struct usm_report_paper_fit {  /* the paper's motor identified (report_fit.c) */
+        int ok, pair_ok, pair_identifiable, fmax_ok;
+        double c_r, c_r_se, c_r_lo, c_r_hi, chi2;   /* c_r fitted to Sec. 5's theta, speed */
+        double pair_corr, pair_singular, pair_c_r, pair_I_xx, pair_dir[2]; /* c_r with I_xx */
+        double fmax_model, fmax_c_r, fmax_sigmas;  /* the c_r Fig. 9's 36.8 kHz asks for */
+        double seconds;
+        char note[USM_MSG_LEN];
+    } paper_fit;
 
     struct usm_report_design *design; /* design under scatter (report_design.c); owned */
 } usm_report_data;
@@ -329,6 +337,14 @@ void usm_report_data_free(usm_report_data *d);
  * d->nonideal.note, not an error of the report; USM_EFAILED (out of memory)
  * with msg. */
 int usm_report_compute_nonideal(usm_report_data *d, char msg[USM_IO_MSG_LEN]);
+
+/* The paper's published Sec. 5 values as data: c_r (and c_r, I_xx) fitted
+ * to them, set against Fig. 9's maximum (d->paper_fit; report_fit.c).  A
+ * failed fit is a note, not an error of the report: USM_OK. */
+typedef struct usm_report_paper_fit usm_report_paper_fit;
+int usm_report_compute_paper_fit(usm_report_data *d, char msg[USM_IO_MSG_LEN]);
+/* Its numbers in report.json ("paper_fit"). */
+json_t *usm_report_paper_fit_json(const usm_report_data *d);
 
 /* The squeal past the 4-DOF Neimark-Sacker point along the mode split
  * (d->squeal).  A failure is reported in d->squeal.note, not an error of the

@@ -884,6 +884,7 @@ json_t *usm_report_json(const usm_report_data *d, int plots_ok, const char *plot
         json_object_set_new(o, "squeal", sq);
     }
     json_object_set_new(o, "design_robust", usm_report_design_json(d));
+    json_object_set_new(o, "paper_fit", usm_report_paper_fit_json(d));
     num(sec, "tables", d->seconds[0]);
     num(sec, "curves", d->seconds[1]);
     num(sec, "maps", d->seconds[2]);

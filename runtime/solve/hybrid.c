@@ -29,6 +29,7 @@
 #include "core/cvodes.h"
 #include "core/dense.h"
 #include "contact_mode.h"
+#include "hybrid_internal.h"
 #include "impact.h"
 #include "multipliers.h"
 #include "usm_periodic.h"
@@ -49,6 +50,7 @@ struct usm_hybrid {
     double scale[NY];
     double colscale[USM_MAX_NX]; /* of Phi's columns: the spin coordinates (below) */
     double Bspin[USM_MAX_NX * USM_MAX_NX]; /* the last monodromy in spin coordinates */
+    double Phi[USM_MAX_NX * USM_MAX_NX];   /* and as integrated: x rows, spin columns */
     usm_multipliers *mult; /* its eigenvalues (solve/multipliers.h) */
     /* the integration */
     int mode, n, ncol; /* mode (0 closed, 1 open), its state length, columns of Phi */
@@ -504,6 +506,7 @@ static int period_map(usm_hybrid *h, double ts, const double *x0, double *x1, do
             /* x coordinates: B = Phi T (column psidot = Phi's phidot + psidot
              * columns); spin coordinates: T Phi (row phidot += row psidot) */
             const double *Phi = zz + nx;
+            memcpy(h->Phi, Phi, sizeof(double) * (size_t)(nx * nx));
             for (int i = 0; i < nx; ++i)
                 for (int j = 0; j < nx; ++j) {
                     B[i * nx + j] = Phi[i * nx + j] + (j == is ? Phi[i * nx + ip] : 0.0);
@@ -1117,3 +1120,56 @@ static int newton(usm_hybrid *h, const usm_hybrid_options *opt, double ts, doubl
     memcpy(out->mode_sequence, h->seq, sizeof h->seq);
     return USM_OK;
 }
+
+/* The continuation engine's zero problem (hybrid_internal.h): the map of
+ * usm_hybrid_solve_from's Newton at the same scales, so that a point the
+ * engine converges is one that solve converges at once. */
+int usm_hybrid_shoot(usm_hybrid *h, const usm_params *p, double ts, const double *x0,
+                     int *idx, int *nr, double *F, double *J, double *max_modulus,
+                     double *scale, char seq[USM_HYBRID_MAX_SWITCHES + 1])
+{
+    usm_hybrid_options o;
+    usm_hybrid_result unused;
+    const int nx = h->nx;
+    int rc, id[USM_MAX_NX], n = 0;
+    usm_hybrid_options_default(&o);
+    if ((rc = check_start(h, p, &o, &unused)) != USM_OK)
+        return rc;
+    if (!isfinite(ts) || !(x0[h->m->x_theta] > 0)) {
+        snprintf(h->msg, USM_MSG_LEN, "x0: theta must be > 0 and ts finite");
+        return USM_EINPUT;
+    }
+    const int ird = h->m->x_phi_Rdot;
+    set_scales(h, x0[h->m->x_theta], ird >= 0 ? x0[ird] : h->Omega * x0[h->m->x_theta]);
+    for (int i = 0; i < nx; ++i)
+        if (!h->m->cyclic[i])
+            id[n++] = i;
+    double x1[USM_MAX_NX], B[USM_MAX_NX * USM_MAX_NX];
+    h->nsamp = 0;
+    if ((rc = period_map(h, ts, x0, x1, J ? B : NULL, NULL)) != USM_OK)
+        return rc;
+    residual(h, id, n, x0, x1, F);
+    if (J) {
+        /* Phi - dx0/dw (x0 = T^-1 w: phidot = u - psidot) */
+        usm_floquet_result f;
+        const int ip = h->m->x_phidot, is = h->m->x_psidot;
+        for (int a = 0; a < n; ++a)
+            for (int b = 0; b < n; ++b)
+                J[a * n + b] = h->Phi[id[a] * nx + id[b]] - (a == b) +
+                               (id[a] == ip && id[b] == is);
+        if ((rc = multipliers(h, B, &f)) != USM_OK)
+            return rc;
+        if (max_modulus)
+            *max_modulus = f.max_modulus;
+        if (scale)
+            memcpy(scale, h->colscale, sizeof(double) * (size_t)nx);
+    }
+    if (idx)
+        memcpy(idx, id, sizeof(int) * (size_t)n);
+    if (nr)
+        *nr = n;
+    if (seq)
+        memcpy(seq, h->seq, sizeof h->seq);
+    return USM_OK;
+}
+

@@ -2,69 +2,47 @@
  * unilateral model at the grid points (usm_periodic_sweep.h, "Unilateral
  * models"; docs/unilateral.md).
  *
- * The orbits with separation are followed along the grid as a branch: each
- * point's orbit is Newton's (usm_hybrid_solve_from) from the secant
- * prediction of the branch's last two orbits (the last one's state when
- * there is one, or the two have different section times).  A solution whose
- * separation fraction or mean speed jumps (changes by more than JUMP_GROWTH
- * times the last step's change, and more than JUMP_FRACTION / JUMP_SPEED)
- * has left the branch: near a multiplier +1, B - I is nearly singular and
- * Newton's first step may throw it onto a coexisting orbit.
- * Then, and where Newton fails, paths of 2, 4, 8 substeps (each predicted
- * alike) decide: the orbit at the point is the branch's where two successive
- * paths (the direct step the first) end on the same orbit (a continuous
- * branch, e.g. with a kink where an impact changes from sticking to
- * sliding); if none do, the branch is lost there (it ends, or Newton
- * fails).
+ * The orbits with separation are followed as a branch by the continuation
+ * engine (cont/, usm_cont.h).  The zero problem is the shooting condition of
+ * usm_hybrid_solve_from (solve/hybrid_internal.h): the period map from the
+ * section time t0 of the branch's first orbit, x(t0 + T) - x(t0) on the
+ * non-cyclic components of the state, in those components and the swept
+ * parameter; its Jacobian is the monodromy with its saltation matrices less
+ * I and a difference in the parameter.  From the last grid point's orbit
+ * the engine steps to the next grid value (a stopping test function there,
+ * the orbit corrected to the value exactly), and on the way locates, by
+ * root finding on the arclength:
+ *   - max |lambda| = 1 (largest |multiplier| with saltation): a
+ *     stability_change event with the orbit there;
+ *   - a change of the mode sequence (the indicator +1 on the branch's
+ *     sequence, -1 off it; its sign change located by Brent, which bisects
+ *     a step): where the orbit just past it continues the located one (the
+ *     map is continuous there), a grazing event, and the branch goes on in
+ *     the new sequence; otherwise the branch ends there;
+ *   - a fold (dp/ds = 0): the branch ends there.
+ * Where the steps shrink to h_min next to a multiplier +1 that is no fold
+ * (a branch point) the branch is taken across by the parameter
+ * (jump_across); where the section leaves the closed phase it moves
+ * (resection).  The events of a step past a grid point wait for the next
+ * one.
+ * A branch that ends (or whose corrector fails) is lost: the point takes the
+ * orbit a start from rest settles on (usm_hybrid_solve), a branch_switch
+ * with branch_lost carrying where the branch ended (branch_end) and its last
+ * grid orbit, and the branch is followed on from the new orbit.
  *
- * The orbit the motor runs on: where the followed orbit is unstable, or the
- * branch was lost, usm_hybrid_solve (a simulation from rest, then Newton)
- * gives the start-up's attractor; when that one is stable (or the branch was
- * lost and it does not continue the branch) the point takes it and the
- * branch continues from it: a branch_switch event, with both orbits and,
- * for an unstable one, where it turned unstable (Brent's method on
- * max |lambda| = 1 between its last stable and first unstable point).
- * Wherever the followed orbit's max |lambda| crosses 1 between two grid
- * points of one branch and mode sequence (continued, in either direction),
- * that crossing, located so, is a stability_change event carrying the
- * located orbit (its kind and text as the bilateral ones').  Where
- * the mode sequence changes along the branch, the change is located by
- * bisection on the parameter (the mode sequence of the orbit continued from
- * the bracket's end of the old sequence) to the event tolerance: a grazing
- * where the two sequences' orbits meet there, else the old sequence's
- * branch ended and Newton landed on another orbit (branch_switch). */
+ * The orbit the motor runs on: where the followed orbit is unstable at a
+ * grid point, a start from rest gives the start-up's attractor; when that
+ * one is stable the point takes it (branch_switch, with where the followed
+ * orbit turned unstable: unstable_from) and the branch continues from it. */
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "core/root.h"
 #include "periodic_sweep_state.h"
-
-#define JUMP_GROWTH 3.0
-#define JUMP_FRACTION 2e-3 /* of the period */
-#define JUMP_SPEED 1e-3    /* relative */
-#define MAX_HALVINGS 3     /* substeps 2, 4, 8 */
-#define MAX_BISECT 48
-#define SAME_TOL 1e-6    /* same_orbit */
-#define GRAZE_GAP 1e-3   /* grazing: the two sequences' orbits meet (fraction, relative speed) */
-
-/* The branch followed: its last two orbits (r[1] the newer). */
-typedef struct branch {
-    int n;
-    double v[2];
-    usm_hybrid_result r[2];
-} branch;
-
-static void branch_push(branch *b, double v, const usm_hybrid_result *r)
-{
-    if (b->n > 0) {
-        b->v[0] = b->v[1];
-        b->r[0] = b->r[1];
-    }
-    b->v[1] = v;
-    b->r[1] = *r;
-    b->n = b->n < 2 ? b->n + 1 : 2;
-}
+#include "solve/hybrid_internal.h"
+#include "usm_cont.h"
 
 static usm_params params_at(const usm_periodic_sweep *s, double v)
 {
@@ -73,277 +51,213 @@ static usm_params params_at(const usm_periodic_sweep *s, double v)
     return q;
 }
 
-/* r off the branch (see the header comment): its separation fraction or mean
- * speed changed from the last orbit's by more than JUMP_GROWTH times the
- * last step's change (scaled to the step) and more than JUMP_FRACTION /
- * JUMP_SPEED.  Not the prediction's error: the branches have kinks (an
- * impact changing from sticking to sliding), where the linear prediction
- * is poor at any step while the change per step stays small. */
-static int off_branch(const branch *b, double v, const usm_hybrid_result *r)
+/* Newton's stop near |lambda| = 1 for the event's orbit: B - I nearly
+ * singular there amplifies the map's noise (1e-11) by 1 / (|lambda| - 1),
+ * so a residual of 1e-9 may not be reached (measured 1.5e-8 at |lambda| =
+ * 1.001); an orbit to 1e-7 moves the multipliers by about that. */
+#define STAB_NEWTON_TOL 1e-7
+/* The engine's corrector stops at 1e-8 of the state's scales (the noise
+ * amplified near a multiplier +1: above); the orbit at a grid point is then
+ * finished by usm_hybrid_solve_from to its 1e-9. */
+#define CONT_NEWTON_TOL 1e-8
+/* The parameter's difference step in the Jacobian, of the range: the map's
+ * noise 1e-11 over it is 1e-5 of the column, which moves the tangent only. */
+#define DP_REL 1e-6
+/* A test function's value at the corrector's point is the one of its last
+ * Jacobian (a monodromy) when that lies within this of it (scaled). */
+#define CACHE_TOL 1e-7
+/* Past a change of the mode sequence: the branch restarts this far (of the
+ * range) beyond the located point, and the sequences' orbits meet when the
+ * restart's state lies within GRAZE_MEET of it (scaled). */
+#define GRAZE_NUDGE 1e-8
+#define GRAZE_MEET 1e-4
+#define MAX_GRAZINGS 64 /* along one branch */
+#define TWIST_SCALE 100.0
+#define MAX_JUMPS 16 /* along one branch */
+#define MAX_PENDING 16
+#define ORBIT_TOL 1e-9 /* usm_hybrid_solve_from's default */
+
+/* The zero problem of one branch and the engine that follows it. */
+typedef struct hbranch {
+    usm_periodic_sweep *s;
+    int nx, nr, idx[USM_MAX_NX]; /* the state; its non-cyclic components: the unknowns */
+    double t0, xs[USM_MAX_NX];   /* section time; the state whose cyclic components stay */
+    double scale[USM_MAX_NX + 1];
+    char seq[USM_HYBRID_MAX_SWITCHES + 1]; /* the branch's mode sequence */
+    /* the last map with the monodromy: its point, max |lambda|, sequence */
+    int have;
+    double xc[USM_MAX_NX + 1], mod;
+    char seqc[USM_HYBRID_MAX_SWITCHES + 1];
+    usm_cont *c;
+    int k_stab, k_seq;
+    /* the engine on the branch (live) from one grid point to the next; its
+     * events past the last grid point wait (pend) for the grid point after
+     * them, and are dropped should the sweep leave the branch there */
+    int live, ended; /* ended: the branch ended (or was lost) at end_v */
+    double end_v, sense;
+    char end[256];
+    int npend, jumps, grazings, resections;
+    double xs0[USM_MAX_NX + 1], dx0[USM_MAX_NX + 1]; /* the last step's start and direction */
+    struct pending {
+        int grazing; /* 0: a stability change (at, located, rising) */
+        double v;
+        usm_hybrid_result at;
+        int located, rising;
+        char from[USM_HYBRID_MAX_SWITCHES + 1], to[USM_HYBRID_MAX_SWITCHES + 1];
+    } pend[MAX_PENDING];
+} hbranch;
+
+/* The state x0 of the unknowns x (the spin coordinates w of
+ * usm_hybrid_shoot: w[x_phidot] = phidot + psidot), and back. */
+static void state_of(const hbranch *b, const double *x, double *xs)
 {
-    if (b->n < 2 || strcmp(b->r[1].mode_sequence, r->mode_sequence) != 0)
-        return 0; /* a new sequence: grazing, which the caller locates */
-    const double ts = (v - b->v[1]) / (b->v[1] - b->v[0]), t = fabs(ts);
-    const usm_hybrid_result *a = &b->r[0], *c = &b->r[1];
-    const double df = fabs(c->separation_fraction - a->separation_fraction) * t;
-    const double dw = fabs(c->rotor_speed_mean - a->rotor_speed_mean) * t;
-    /* the change, or the secant prediction's error: an orbit past a fold
-     * (the branch turns back there) is often no farther from the last one
-     * than a step, but on the other side of the prediction (4-DOF mode
-     * split 1.93 -> 1.80 %: the speed changes by 2.7 times the last
-     * step's change, and its prediction misses by 3.7 times) */
-    const double pf = c->separation_fraction + ts * (c->separation_fraction -
-                                                     a->separation_fraction);
-    const double pw = c->rotor_speed_mean + ts * (c->rotor_speed_mean - a->rotor_speed_mean);
-    const double ef = fmax(fabs(r->separation_fraction - c->separation_fraction),
-                           fabs(r->separation_fraction - pf));
-    const double ew = fmax(fabs(r->rotor_speed_mean - c->rotor_speed_mean),
-                           fabs(r->rotor_speed_mean - pw));
-    return (ef > JUMP_GROWTH * df && ef > JUMP_FRACTION) ||
-           (ew > JUMP_GROWTH * dw && ew > JUMP_SPEED * fabs(c->rotor_speed_mean));
+    const usm_model *m = b->s->m;
+    memcpy(xs, b->xs, sizeof(double) * (size_t)b->nx);
+    for (int a = 0; a < b->nr; ++a)
+        xs[b->idx[a]] = x[a];
+    xs[m->x_phidot] -= xs[m->x_psidot];
 }
 
-/* One Newton solve at v from the branch's prediction (or its last state):
- * 0 an orbit with separation (*jump: off the branch by off_branch), -1 none. */
-static int solve_on(usm_periodic_sweep *s, const branch *b, double v, usm_hybrid_result *out,
-                    int *jump)
+static void unknowns_of(const hbranch *b, const double *xs, double *x)
 {
-    const usm_params q = params_at(s, v);
-    const usm_hybrid_result *c = &b->r[1];
-    double x[USM_MAX_NX];
-    int rc = -1;
-    if (b->n == 2 && b->r[0].t0 == c->t0) {
-        const double t = (v - b->v[1]) / (b->v[1] - b->v[0]);
-        for (int i = 0; i < c->nx; ++i)
-            x[i] = c->x0[i] + t * (c->x0[i] - b->r[0].x0[i]);
-        rc = usm_hybrid_solve_from(s->hy, &q, NULL, c->t0, x, out);
-    }
-    if (rc != USM_OK)
-        rc = usm_hybrid_solve_from(s->hy, &q, NULL, c->t0, c->x0, out);
-    if (rc != USM_OK || out->nmodes < 2)
+    const usm_model *m = b->s->m;
+    for (int a = 0; a < b->nr; ++a)
+        x[a] = xs[b->idx[a]] + (b->idx[a] == m->x_phidot ? xs[m->x_psidot] : 0.0);
+}
+
+/* One map with the monodromy at x: F and B - I (J, nr x nr), the cache. */
+static int shoot_at(hbranch *b, const double *x, double *F, double *J)
+{
+    double xs[USM_MAX_NX];
+    state_of(b, x, xs);
+    const usm_params q = params_at(b->s, x[b->nr]);
+    b->have = 0;
+    if (usm_hybrid_shoot(b->s->hy, &q, b->t0, xs, NULL, NULL, F, J, &b->mod, NULL, b->seqc) !=
+        USM_OK)
         return -1;
-    *jump = off_branch(b, v, out);
+    memcpy(b->xc, x, sizeof(double) * (size_t)(b->nr + 1));
+    b->have = 1;
     return 0;
 }
 
-/* The same orbit, to Newton's tolerance (1e-9 of the state) and far more. */
-static int same_orbit(const usm_hybrid_result *a, const usm_hybrid_result *b)
+static int residual(const double *x, double *F, double *J, void *ctx)
 {
-    return strcmp(a->mode_sequence, b->mode_sequence) == 0 &&
-           fabs(a->separation_fraction - b->separation_fraction) < SAME_TOL &&
-           fabs(a->rotor_speed_mean - b->rotor_speed_mean) < SAME_TOL * fabs(a->rotor_speed_mean);
-}
-
-/* Follow the branch b to v; on success b ends with the orbit at v (*out).
- * A step whose orbit jumps (off_branch) or fails is checked by paths of 2,
- * 4, 8 substeps: the orbit at v is accepted where two successive paths (the
- * direct step the first) end on the same orbit, a continuous branch (with a
- * kink, say); otherwise the branch is lost (-1). */
-static int follow(usm_periodic_sweep *s, branch *b, double v, usm_hybrid_result *out)
-{
-    int jump = 0, have;
-    usm_hybrid_result prev;
-    have = solve_on(s, b, v, out, &jump) == 0;
-    if (have && !jump) {
-        branch_push(b, v, out);
-        return 0;
+    hbranch *b = ctx;
+    const int n = b->nr, N = n + 1;
+    double Jx[USM_MAX_NX * USM_MAX_NX], Fp[USM_MAX_NX], xs[USM_MAX_NX];
+    if (!J) {
+        state_of(b, x, xs);
+        const usm_params q = params_at(b->s, x[n]);
+        return usm_hybrid_shoot(b->s->hy, &q, b->t0, xs, NULL, NULL, F, NULL, NULL, NULL,
+                                NULL) == USM_OK ? 0 : -1;
     }
-    prev = *out;
-    const double v0 = b->v[1];
-    for (int k = 1; k <= MAX_HALVINGS; ++k) {
-        const int m = 1 << k;
-        branch w = *b;
-        int j;
-        for (j = 1; j <= m; ++j) {
-            const double vj = j == m ? v : v0 + (v - v0) * j / m;
-            /* a substep that jumps: the path passed the end of the branch
-             * (a fold within the step), not a continuation */
-            if (solve_on(s, &w, vj, out, &jump) != 0 || jump)
-                break;
-            branch_push(&w, vj, out);
-        }
-        if (j <= m) {
-            have = 0;
-            continue;
-        }
-        if (have && same_orbit(out, &prev)) {
-            *b = w;
-            return 0;
-        }
-        prev = *out;
-        have = 1;
+    if (shoot_at(b, x, F, Jx) != 0)
+        return -1;
+    state_of(b, x, xs);
+    double dp = DP_REL * b->scale[n];
+    usm_params q = params_at(b->s, x[n] + dp);
+    if (usm_hybrid_shoot(b->s->hy, &q, b->t0, xs, NULL, NULL, Fp, NULL, NULL, NULL, NULL) !=
+        USM_OK) {
+        dp = -dp; /* the parameter's bound just beyond */
+        q = params_at(b->s, x[n] + dp);
+        if (usm_hybrid_shoot(b->s->hy, &q, b->t0, xs, NULL, NULL, Fp, NULL, NULL, NULL,
+                             NULL) != USM_OK)
+            return -1;
     }
-    return -1;
-}
-
-/* The bisection's indicator (core/root.h): 1 where the orbit continued from
- * the latest orbit of a's sequence (the bracket's end on that side) has a's
- * sequence, 0 where it has c's. */
-typedef struct graze_ctx {
-    usm_periodic_sweep *s;
-    const char *seq_a, *seq_c;
-    usm_hybrid_result lo, hi; /* the last bracket's orbits */
-    double vlo, vhi;
-} graze_ctx;
-
-static int graze_indicator(double v, void *ctx)
-{
-    graze_ctx *g = ctx;
-    usm_hybrid_result r;
-    const usm_params q = params_at(g->s, v);
-    if (usm_hybrid_solve_from(g->s->hy, &q, NULL, g->lo.t0, g->lo.x0, &r) != USM_OK ||
-        r.nmodes < 2)
-        return USM_ROOT_FAILED;
-    if (strcmp(r.mode_sequence, g->seq_a) == 0) {
-        g->lo = r;
-        g->vlo = v;
-        return 1;
+    for (int i = 0; i < n; ++i) {
+        for (int j = 0; j < n; ++j)
+            J[i * N + j] = Jx[i * n + j];
+        J[i * N + n] = (Fp[i] - F[i]) / dp;
     }
-    if (strcmp(r.mode_sequence, g->seq_c) == 0) {
-        g->hi = r;
-        g->vhi = v;
-        return 0;
-    }
-    return USM_ROOT_UNDEFINED;
+    return 0;
 }
 
-/* Where the mode sequence changes from a's (at va) to c's (at vc):
- * usm_root_bisect to the event tolerance; g's lo and hi end as the last
- * bracket's orbits.  1 located, 0 not (a trial failed or met a third
- * sequence). */
-static int locate_grazing(usm_periodic_sweep *s, double va, const usm_hybrid_result *a,
-                          double vc, const usm_hybrid_result *c, graze_ctx *g)
+/* The cache at x (the corrector's last Jacobian within CACHE_TOL), else a
+ * map with the monodromy there; 0 or -1. */
+static int cached(hbranch *b, const double *x)
 {
-    double x;
-    g->s = s;
-    g->seq_a = a->mode_sequence;
-    g->seq_c = c->mode_sequence;
-    g->lo = *a, g->hi = *c, g->vlo = va, g->vhi = vc;
-    return usm_root_bisect(graze_indicator, g, va, 1, vc, s->tol, MAX_BISECT, &x) == 1;
+    double F[USM_MAX_NX], J[USM_MAX_NX * USM_MAX_NX];
+    int near = b->have;
+    for (int j = 0; near && j <= b->nr; ++j)
+        near = fabs(x[j] - b->xc[j]) <= CACHE_TOL * b->scale[j];
+    return near ? 0 : shoot_at(b, x, F, J);
 }
 
-/* Brent's function (core/root.h) along the followed branch: max |lambda| - 1
- * of the orbit at v, Newton from the bracket's orbits' interpolation, to
- * STAB_NEWTON_TOL: near |lambda| = 1, B - I is nearly singular and
- * amplifies the map's noise (1e-11) by 1 / (|lambda| - 1), so Newton's
- * residual stalls above the default 1e-9 (measured 1.5e-8 at |lambda| =
- * 1.001); an orbit to 1e-7 moves the multipliers by about that. */
-#define STAB_NEWTON_TOL 1e-7
-#define STAB_CACHE 8
-typedef struct stab_ctx {
-    usm_periodic_sweep *s;
-    usm_root *root;
-    int n; /* orbits evaluated; the last STAB_CACHE kept */
-    double v[STAB_CACHE];
-    usm_hybrid_result r[STAB_CACHE];
-} stab_ctx;
-
-static void stab_keep(stab_ctx *c, double v, const usm_hybrid_result *r)
+static double stab_test(const double *x, const double *dx, void *ctx)
 {
-    const int k = c->n++ % STAB_CACHE;
-    c->v[k] = v;
-    c->r[k] = *r;
+    (void)dx;
+    hbranch *b = ctx;
+    return cached(b, x) == 0 ? b->mod - 1.0 : NAN;
 }
 
-/* The kept orbit at v, or NULL. */
-static const usm_hybrid_result *stab_at(const stab_ctx *c, double v)
+static double seq_test(const double *x, const double *dx, void *ctx)
 {
-    for (int i = 0; i < c->n && i < STAB_CACHE; ++i)
-        if (c->v[i] == v)
-            return &c->r[i];
-    return NULL;
-}
-
-static double stab_fn(double v, void *ctx)
-{
-    stab_ctx *c = ctx;
-    double lo, hi, x[USM_MAX_NX];
-    usm_root_bracket(c->root, &lo, &hi);
-    const usm_hybrid_result *a = stab_at(c, lo), *b = stab_at(c, hi);
-    if (!a || !b || a->t0 != b->t0)
+    (void)dx;
+    hbranch *b = ctx;
+    if (cached(b, x) != 0)
         return NAN;
-    /* Newton from the linear interpolation of the bracket's orbits; a result
-     * whose separation fraction leaves their span by more than its width
-     * jumped to another orbit */
-    const double t = (v - lo) / (hi - lo);
-    for (int i = 0; i < a->nx; ++i)
-        x[i] = a->x0[i] + t * (b->x0[i] - a->x0[i]);
-    usm_hybrid_result r;
+    return strcmp(b->seqc, b->seq) == 0 ? 1.0 : -1.0;
+}
+
+/* The orbit (usm_hybrid_solve_from, to tol) at the branch's point x. */
+static int orbit_at(hbranch *b, const double *x, double tol, usm_hybrid_result *out)
+{
+    double xs[USM_MAX_NX];
     usm_hybrid_options o;
     usm_hybrid_options_default(&o);
-    o.tol = STAB_NEWTON_TOL;
-    const usm_params q = params_at(c->s, v);
-    const double fa = a->separation_fraction, fb = b->separation_fraction, w = fabs(fb - fa);
-    if (usm_hybrid_solve_from(c->s->hy, &q, &o, a->t0, x, &r) != USM_OK || r.nmodes < 2 ||
-        strcmp(r.mode_sequence, a->mode_sequence) != 0 ||
-        r.separation_fraction < fmin(fa, fb) - w || r.separation_fraction > fmax(fa, fb) + w)
-        return NAN;
-    stab_keep(c, v, &r);
-    return r.floquet.max_modulus - 1.0;
+    o.tol = tol;
+    state_of(b, x, xs);
+    const usm_params q = params_at(b->s, x[b->nr]);
+    return usm_hybrid_solve_from(b->s->hy, &q, &o, b->t0, xs, out) == USM_OK &&
+                   out->nmodes >= 2 ? 0 : -1;
 }
 
-/* The kept orbit at v, else the kept one nearest |lambda| = 1. */
-static const usm_hybrid_result *stab_best(const stab_ctx *c, double v)
+/* A new engine on the branch of the orbit r at v. */
+static int branch_begin(hbranch *b, double v, const usm_hybrid_result *r, double *x)
 {
-    const usm_hybrid_result *r = stab_at(c, v);
-    if (r)
-        return r;
-    r = &c->r[0];
-    for (int i = 1; i < c->n && i < STAB_CACHE; ++i)
-        if (fabs(c->r[i].floquet.max_modulus - 1) < fabs(r->floquet.max_modulus - 1))
-            r = &c->r[i];
-    return r;
-}
-
-/* Where the followed orbit's stability changes (max |lambda| = 1) between
- * (va, a) and (vb, b), on either side of 1, by Brent's method to STAB_TOL
- * of the range (the event tolerance is finer than the multipliers' own
- * accuracy, about 1e-6: near |lambda| = 1 they scatter by that, and Newton,
- * B - I nearly singular there, may fail).  1: *v Brent's zero; 0: a failed
- * trial ended it and *v is the last bracket's middle, within 100 STAB_TOL;
- * -1: not located, *v the trial orbit nearest |lambda| = 1.  *at: the
- * trial orbit at *v, else (0, -1) the one nearest |lambda| = 1. */
-#define STAB_TOL 1e-6
-static int locate_stability(usm_periodic_sweep *s, double va, const usm_hybrid_result *a,
-                            double vb, const usm_hybrid_result *b, double *v,
-                            usm_hybrid_result *at)
-{
-    stab_ctx c;
-    double x = NAN, lo, hi;
-    int rc = 1;
-    c.s = s;
-    c.n = 0;
-    stab_keep(&c, va, a);
-    stab_keep(&c, vb, b);
-    usm_root *root = c.root = usm_root_alloc();
-    const double tol = fmax(s->tol, STAB_TOL * s->range);
-    const usm_root_stop stop = {tol, 0.0, MAX_BISECT};
-    if (!root || usm_root_brent(root, stab_fn, &c, va, vb, a->floquet.max_modulus - 1.0,
-                                b->floquet.max_modulus - 1.0, &stop, &x) != 0) {
-        rc = -1;
-        if (root) {
-            usm_root_bracket(root, &lo, &hi);
-            if (fabs(hi - lo) <= 100 * tol)
-                rc = 0, x = 0.5 * (lo + hi);
-        }
-    }
-    usm_root_free(root);
-    const usm_hybrid_result *r = stab_best(&c, x);
-    for (int i = 0; rc < 0 && i < c.n && i < STAB_CACHE; ++i)
-        if (&c.r[i] == r)
-            x = c.v[i];
-    *v = x;
-    *at = *r;
-    if (rc >= 0 && !stab_at(&c, x)) {
-        /* Brent's zero can be an older trial's abscissa than the cache
-         * keeps: the orbit there, from the nearest kept one */
-        const usm_params q = params_at(s, x);
-        usm_hybrid_result rx;
-        if (usm_hybrid_solve_from(s->hy, &q, NULL, r->t0, r->x0, &rx) == USM_OK &&
-            rx.nmodes >= 2)
-            *at = rx;
-    }
-    return rc;
+    usm_cont_options o;
+    double F[USM_MAX_NX], J[USM_MAX_NX * USM_MAX_NX];
+    usm_cont_free(b->c);
+    b->c = NULL;
+    b->live = b->ended = 0;
+    b->npend = b->jumps = b->grazings = b->resections = 0;
+    b->end_v = NAN;
+    snprintf(b->end, sizeof b->end, "Newton fails on its branch");
+    b->nx = r->nx;
+    b->t0 = r->t0;
+    memcpy(b->xs, r->x0, sizeof(double) * (size_t)r->nx);
+    snprintf(b->seq, sizeof b->seq, "%s", r->mode_sequence);
+    const usm_params q = params_at(b->s, v);
+    b->have = 0;
+    if (usm_hybrid_shoot(b->s->hy, &q, b->t0, r->x0, b->idx, &b->nr, F, J, &b->mod, b->scale,
+                         b->seqc) != USM_OK)
+        return -1;
+    double sc[USM_MAX_NX + 1];
+    /* the twist angle's corrector updates stall at 2e-8 to 5e-8 of its
+     * scale (measured, 4-DOF mode split 1.94 %: the map's noise over its
+     * weak column), the others' at 1e-9: it is measured at TWIST_SCALE times
+     * its scale, so that the corrector's tolerance is above its noise */
+    for (int a = 0; a < b->nr; ++a)
+        sc[a] = b->scale[b->idx[a]] * (b->idx[a] == b->s->m->x_tau ? TWIST_SCALE : 1.0);
+    unknowns_of(b, r->x0, x);
+    /* the parameter at its own size, not the sweep's range: the path, and so
+     * the events, the same for any range and grid */
+    sc[b->nr] = fmax(fabs(v), b->s->range);
+    x[b->nr] = v;
+    memcpy(b->scale, sc, sizeof sc);
+    if (!(b->c = usm_cont_alloc(b->nr)))
+        return -2;
+    usm_cont_options_default(&o);
+    o.newton_tol = CONT_NEWTON_TOL;
+    o.newton_max = 8;
+    o.h_min = 1e-9;
+    o.event_tol = 1e-11;
+    usm_cont_set_problem(b->c, residual, b);
+    if (usm_cont_set_options(b->c, &o) != 0 || usm_cont_set_scale(b->c, b->scale) != 0 ||
+        (b->k_stab = usm_cont_add_test(b->c, stab_test, b, USM_CONT_TEST_MONITOR)) < 0 ||
+        (b->k_seq = usm_cont_add_test(b->c, seq_test, b, USM_CONT_TEST_STOP)) < 0)
+        return -2;
+    return 0;
 }
 
 /* The orbit a start from rest settles on at v (usm_hybrid_solve); 0 or -1. */
@@ -354,16 +268,15 @@ static int solve_cold(usm_periodic_sweep *s, double v, usm_hybrid_result *out)
 }
 
 /* How a branch_switch came about. */
-enum { SW_UNSTABLE, SW_LOST, SW_ENDS };
+enum { SW_UNSTABLE, SW_LOST };
 
 /* The branch_switch event at pt: `to` the orbit followed from here, `from`
  * the followed orbit it replaces (SW_UNSTABLE: unstable at pt; SW_LOST: the
- * branch's last orbit, at v_last, and `to` from a start from rest; SW_ENDS:
- * the branch's last orbit of its mode sequence, at v_last, and `to` what
- * Newton from it found at pt). */
+ * branch's last orbit, at v_last, and `to` from a start from rest; end says
+ * how the branch ended). */
 static int switch_event(usm_periodic_sweep *s, const usm_periodic_point *pt,
                         const usm_hybrid_result *to, const usm_hybrid_result *from, int how,
-                        double v_last, double unstable_from)
+                        double v_last, double unstable_from, const char *end)
 {
     char vt[96], vl[96];
     psweep_value_text(s, pt->value, vt);
@@ -372,17 +285,10 @@ static int switch_event(usm_periodic_sweep *s, const usm_periodic_point *pt,
         how == SW_LOST
             ? psweep_event_add(
                   s, USM_PEVENT_BRANCH_SWITCH, pt->value, NULL,
-                  "the orbit with separation followed to %s does not continue to %s (its "
-                  "branch ends, or Newton fails); from a start from rest: %s, max |lambda| "
-                  "%.4f, %.6g 1/s, open %.3f, followed on", vl, vt, to->mode_sequence,
-                  to->floquet.max_modulus, to->rotor_speed_mean, to->separation_fraction)
-        : how == SW_ENDS
-            ? psweep_event_add(
-                  s, USM_PEVENT_BRANCH_SWITCH, pt->value, NULL,
-                  "the %s orbit with separation ends after %s (no grazing: the orbits of the "
-                  "two sequences do not meet); at %s another: %s, max |lambda| %.4f, %.6g 1/s, "
-                  "followed on", from->mode_sequence, vl, vt, to->mode_sequence,
-                  to->floquet.max_modulus, to->rotor_speed_mean)
+                  "the orbit with separation followed to %s does not continue to %s (%s); "
+                  "from a start from rest: %s, max |lambda| %.4f, %.6g 1/s, open %.3f, followed "
+                  "on", vl, vt, end, to->mode_sequence, to->floquet.max_modulus,
+                  to->rotor_speed_mean, to->separation_fraction)
             : psweep_event_add(
                   s, USM_PEVENT_BRANCH_SWITCH, pt->value, NULL,
                   "the continued orbit with separation is unstable at %s (max |lambda| %.4f, "
@@ -399,41 +305,8 @@ static int switch_event(usm_periodic_sweep *s, const usm_periodic_point *pt,
     e->branch_lost = how != SW_UNSTABLE;
     e->branch_last = how != SW_UNSTABLE ? v_last : pt->value;
     e->unstable_from = how == SW_UNSTABLE ? unstable_from : NAN;
+    e->branch_end = NAN;
     return 0;
-}
-
-/* The mode sequence changed from a's (at va) to c's (at pt) along the
- * branch: a grazing where the two sequences' orbits meet (at the located
- * value their separation fraction and mean speed agree to GRAZE_GAP), else
- * the branch of a's sequence ended in between and Newton landed on another
- * orbit (branch_switch, SW_ENDS).  0 grazing, 1 switch, -1 out of memory. */
-static int grazing_event(usm_periodic_sweep *s, double va, const usm_hybrid_result *a,
-                         const usm_periodic_point *pt, const usm_hybrid_result *c)
-{
-    graze_ctx g;
-    const int located = locate_grazing(s, va, a, pt->value, c, &g);
-    const usm_hybrid_result *lo = &g.lo, *hi = &g.hi;
-    const double vlo = g.vlo, vhi = g.vhi;
-    const int meet = fabs(lo->separation_fraction - hi->separation_fraction) <= GRAZE_GAP &&
-                     fabs(lo->rotor_speed_mean - hi->rotor_speed_mean) <=
-                         GRAZE_GAP * fabs(hi->rotor_speed_mean);
-    if (located && !meet)
-        return switch_event(s, pt, c, lo, SW_ENDS, vlo, NAN) == 0 ? 1 : -1;
-    const double vg = 0.5 * (vlo + vhi);
-    char vt[96], pa[96], pc[96];
-    psweep_value_text(s, vg, vt);
-    psweep_value_text(s, vlo, pa);
-    psweep_value_text(s, vhi, pc);
-    usm_periodic_event *e =
-        located ? psweep_event_add(s, USM_PEVENT_GRAZING, vg, NULL,
-                                   "the orbit with separation changes its mode sequence from %s "
-                                   "to %s at %s: an orbit touches a guard tangentially there",
-                                   a->mode_sequence, c->mode_sequence, vt)
-                : psweep_event_add(s, USM_PEVENT_GRAZING, vg, NULL,
-                                   "the orbit with separation changes its mode sequence from %s "
-                                   "to %s between %s and %s (not located to tolerance: a trial "
-                                   "orbit failed)", a->mode_sequence, c->mode_sequence, pa, pc);
-    return e ? 0 : -1;
 }
 
 /* The stability_change of the followed orbit with separation at v (the
@@ -454,28 +327,428 @@ static int stability_event(usm_periodic_sweep *s, double v, const usm_hybrid_res
     e->has_hybrid = 1;
     e->hybrid = *at;
     psweep_event_mark(e, at->validity);
-    e->branch_last = e->unstable_from = NAN;
+    e->branch_last = e->unstable_from = e->branch_end = NAN;
     return 0;
+}
+
+
+/* The grazing where the followed orbit's mode sequence changes from `from`
+ * to `to` at vg (located).  0, or -1 when out of memory. */
+static int grazing_event(usm_periodic_sweep *s, double vg, const char *from, const char *to)
+{
+    char vt[96];
+    psweep_value_text(s, vg, vt);
+    return psweep_event_add(s, USM_PEVENT_GRAZING, vg, NULL,
+                            "the orbit with separation changes its mode sequence from %s to %s "
+                            "at %s: an orbit touches a guard tangentially there", from, to,
+                            vt) ? 0 : -1;
+}
+
+/* Past the change of the mode sequence at the branch's point x (towards
+ * v): the orbit just beyond, corrected at its parameter, into x, and its
+ * sequence the branch's.  1 when it continues the orbit at x (the two
+ * sequences' orbits meet: a grazing), 0 when not (the branch ends). */
+static int past_grazing(hbranch *b, double *x, double v)
+{
+    const int N = b->nr + 1;
+    double xn[USM_MAX_NX + 1];
+    memcpy(xn, x, sizeof(double) * (size_t)N);
+    xn[b->nr] += (v > x[b->nr] ? 1 : -1) * GRAZE_NUDGE * b->scale[b->nr];
+    if (usm_cont_correct_fixed(b->c, xn, b->nr, xn[b->nr]) < 0 || cached(b, xn) != 0 ||
+        strcmp(b->seqc, b->seq) == 0)
+        return 0;
+    for (int a = 0; a < b->nr; ++a)
+        if (!(fabs(xn[a] - x[a]) <= GRAZE_MEET * b->scale[a]))
+            return 0;
+    snprintf(b->seq, sizeof b->seq, "%s", b->seqc);
+    memcpy(x, xn, sizeof(double) * (size_t)N);
+    return 1;
+}
+
+/* Brent's function across a jump (below): max |lambda| - 1 of the orbit at
+ * the parameter value q, corrected at it from the linear interpolation of
+ * the jump's ends. */
+typedef struct jump_ctx {
+    hbranch *b;
+    const double *xa, *xb;
+    double x[USM_MAX_NX + 1];
+    usm_hybrid_result at; /* the last trial's orbit */
+} jump_ctx;
+
+static double jump_stab(double q, void *ctx)
+{
+    jump_ctx *j = ctx;
+    hbranch *b = j->b;
+    const int n = b->nr;
+    const double w = (q - j->xa[n]) / (j->xb[n] - j->xa[n]);
+    for (int a = 0; a <= n; ++a)
+        j->x[a] = j->xa[a] + w * (j->xb[a] - j->xa[a]);
+    j->x[n] = q;
+    /* Newton on the residual, to STAB_NEWTON_TOL: next to the branch point
+     * the corrector's updates stall above its tolerance */
+    if (orbit_at(b, j->x, STAB_NEWTON_TOL, &j->at) != 0 ||
+        strcmp(j->at.mode_sequence, b->seq) != 0)
+        return NAN;
+    return j->at.floquet.max_modulus - 1.0;
+}
+
+/* Where the engine's steps shrink to h_min next to a multiplier +1 of a
+ * branch that goes on through it (a branch point: the tangent is not
+ * defined there, and the steps that reach it turn), the branch is taken
+ * across it by the parameter: from the last point x (direction dx) to the
+ * parameter JUMP_MIN, 10 JUMP_MIN, ... of the range beyond (towards v), the
+ * predictor along dx corrected at that value, kept when it lies within
+ * JUMP_NEAR of the prediction (scaled) in the branch's sequence, past
+ * max |lambda| = 1 when the last point is within JUMP_STAB of it, and where
+ * the engine starts again (its tangent defined).  Into x; 0, or -1 when no
+ * jump holds.  A stability change across it is located by
+ * Brent on the parameter (each trial corrected at its value) into *vs, and
+ * *rising says its sense; *vs NaN when there is none. */
+#define JUMP_MIN 1e-6
+#define JUMP_MAX 1e-1
+#define JUMP_NEAR 1e-2
+#define JUMP_STAB 1e-3
+static int jump_across(hbranch *b, double *x, const double *dx, double v, double *vs,
+                       int *rising, usm_hybrid_result *at)
+{
+    const int n = b->nr;
+    double xa[USM_MAX_NX + 1], xb[USM_MAX_NX + 1];
+    *vs = NAN;
+    memcpy(xa, x, sizeof(double) * (size_t)(n + 1));
+    if (cached(b, xa) != 0 || !(fabs(dx[n]) > 0))
+        return -1;
+    const double ga = b->mod - 1.0, sense = v > xa[n] ? 1 : -1;
+    for (double d = JUMP_MIN; d <= JUMP_MAX * 1.01; d *= 10) {
+        const double q = fabs(v - xa[n]) < d * b->scale[n] ? v : xa[n] + sense * d * b->scale[n];
+        int near = 1;
+        /* the tangent next to a branch point is poorly defined: along it
+         * while its prediction is not far from the point's, else from it */
+        const double hp = (q - xa[n]) / dx[n];
+        for (int a = 0; a <= n; ++a)
+            xb[a] = xa[a] + (fabs(hp) < JUMP_NEAR ? dx[a] * hp : 0.0);
+        xb[n] = q;
+        double xp[USM_MAX_NX + 1];
+        memcpy(xp, xb, sizeof xp);
+        int corrected = usm_cont_correct_fixed(b->c, xb, n, q);
+        if (corrected < 0) {
+            /* the orbit's own Newton (on the residual, with chord steps),
+             * where the corrector's updates do not settle (a kink of the
+             * map: its Jacobian jumps) */
+            usm_hybrid_result o;
+            memcpy(xb, xp, sizeof xp);
+            if (orbit_at(b, xb, ORBIT_TOL, &o) == 0) {
+                unknowns_of(b, o.x0, xb);
+                corrected = 0;
+            }
+        }
+        if (corrected < 0 || cached(b, xb) != 0 || strcmp(b->seqc, b->seq) != 0)
+            continue;
+        for (int a = 0; a < n && near; ++a)
+            near = fabs(xb[a] - xp[a]) <= JUMP_NEAR * b->scale[a];
+        if (!near)
+            continue;
+        const double gb = b->mod - 1.0;
+        /* next to |lambda| = 1, across it; the engine goes on from there
+         * (its tangent defined) */
+        if ((fabs(ga) < JUMP_STAB && !((ga < 0) != (gb < 0))) ||
+            usm_cont_start(b->c, xb, (int)sense) != 0)
+            continue;
+        if (isfinite(ga) && isfinite(gb) && (ga < 0) != (gb < 0)) {
+            jump_ctx j = {.b = b, .xa = xa, .xb = xb};
+            usm_root *root = usm_root_alloc();
+            const usm_root_stop stop = {1e-11 * b->scale[n], 0.0, 100};
+            double qs;
+            if (root && usm_root_brent(root, jump_stab, &j, xa[n], q, ga, gb, &stop, &qs) == 0 &&
+                isfinite(jump_stab(qs, &j))) {
+                *at = j.at;
+                *vs = qs;
+                *rising = ga < 0;
+            }
+            usm_root_free(root);
+        }
+        memcpy(x, xb, sizeof(double) * (size_t)(n + 1));
+        return 0;
+    }
+    return -1;
+}
+
+static int pend_add(hbranch *b, int grazing, double v, const usm_hybrid_result *at,
+                    int located, int rising, const char *from, const char *to)
+{
+    if (b->npend >= MAX_PENDING)
+        return -1;
+    struct pending *e = &b->pend[b->npend++];
+    e->grazing = grazing;
+    e->v = v;
+    if (at)
+        e->at = *at;
+    e->located = located;
+    e->rising = rising;
+    snprintf(e->from, sizeof e->from, "%s", from ? from : "");
+    snprintf(e->to, sizeof e->to, "%s", to ? to : "");
+    return 0;
+}
+
+/* The branch's end at x with its reason. */
+static void branch_ended(hbranch *b, double v_end, const char *fmt, const char *seq)
+{
+    char vt[96];
+    b->ended = 1;
+    b->end_v = v_end;
+    psweep_value_text(b->s, v_end, vt);
+    snprintf(b->end, sizeof b->end, fmt, vt, seq);
+}
+
+/* The branch's section moved to the middle of the longest closed phase of
+ * the orbit at x (RESECT_SAMPLES a period): the section time t0 is the first
+ * orbit's, and where the closed phases shift along the branch it may leave
+ * them, where the period map fails (the contact open at the end of the
+ * period: 3-DOF phase error 0.88 rad on, the branch seemed to end at
+ * 0.90927 rad, where it goes on to 0.9125).  The engine restarts there (its
+ * pending events kept).  0, or -1 when the orbit or the samples fail, the
+ * section does not move, or the engine does not start. */
+#define RESECT_SAMPLES 200
+#define MAX_RESECTIONS 8 /* along one branch */
+static int resection(hbranch *b, const double *x)
+{
+    usm_hybrid_result r, r2;
+    const int nx = b->nx, cols = USM_HYBRID_SAMPLE_COLS(nx);
+    if (b->resections >= MAX_RESECTIONS || orbit_at(b, x, ORBIT_TOL, &r) != 0)
+        return -1;
+    const usm_params q = params_at(b->s, x[b->nr]);
+    double *rows = malloc(sizeof(double) * (size_t)USM_HYBRID_SAMPLE_ROWS(RESECT_SAMPLES) *
+                          (size_t)cols);
+    int nrows = 0, best = -1, best_len = 0;
+    if (rows && usm_hybrid_orbit_samples(b->s->hy, &q, &r, 0.0, RESECT_SAMPLES, rows, &nrows) ==
+                    USM_OK)
+        for (int i = 0; i < nrows;) {
+            int j = i;
+            while (j < nrows && rows[(size_t)j * (size_t)cols + 1] == 0.0)
+                ++j;
+            if (j - i > best_len) {
+                best_len = j - i;
+                best = i + (j - i) / 2;
+            }
+            i = j > i ? j : i + 1;
+        }
+    double t0 = NAN, x0[USM_MAX_NX];
+    if (best >= 0) {
+        t0 = rows[(size_t)best * (size_t)cols];
+        memcpy(x0, rows + (size_t)best * (size_t)cols + 2, sizeof(double) * (size_t)nx);
+    }
+    free(rows);
+    if (best < 0 || fabs(t0 - b->t0) < 1e-3 * r.period ||
+        usm_hybrid_solve_from(b->s->hy, &q, NULL, t0, x0, &r2) != USM_OK || r2.nmodes < 2)
+        return -1;
+    /* the engine anew from there; its events and counts kept */
+    hbranch keep = *b;
+    double xn[USM_MAX_NX + 1];
+    const int rc = branch_begin(b, x[b->nr], &r2, xn);
+    memcpy(b->pend, keep.pend, sizeof b->pend);
+    b->npend = keep.npend;
+    b->jumps = keep.jumps;
+    b->grazings = keep.grazings;
+    b->resections = keep.resections + 1;
+    b->sense = keep.sense;
+    b->live = 1;
+    if (rc != 0 || usm_cont_start(b->c, xn, (int)b->sense) != 0)
+        return -1;
+    return 0;
+}
+
+/* One step of the engine on the branch, its events pending and its end
+ * noted (b->ended); a jump across a branch point goes at most to v.  0, or
+ * -1 when out of memory. */
+static int branch_step(hbranch *b, double v)
+{
+    const int N = b->nr + 1;
+    double x[USM_MAX_NX + 1];
+    memcpy(b->xs0, usm_cont_point(b->c), sizeof(double) * (size_t)N);
+    memcpy(b->dx0, usm_cont_direction(b->c), sizeof(double) * (size_t)N);
+    const int st = usm_cont_step(b->c);
+    if (st == USM_CONT_LOST && strstr(usm_hybrid_message(b->s->hy), "section") != NULL) {
+        /* the last map failed as its section left the closed phase: a new
+         * section, and on */
+        memcpy(x, usm_cont_point(b->c), sizeof(double) * (size_t)N);
+        if (resection(b, x) == 0)
+            return 0;
+        if (!b->c)
+            return -1;
+    }
+    if (st == USM_CONT_LOST && b->jumps < MAX_JUMPS) {
+        double dx[USM_MAX_NX + 1], vs;
+        int rising;
+        usm_hybrid_result at;
+        memcpy(x, usm_cont_point(b->c), sizeof(double) * (size_t)N);
+        memcpy(dx, usm_cont_direction(b->c), sizeof(double) * (size_t)N);
+        if (jump_across(b, x, dx, v, &vs, &rising, &at) == 0) {
+            ++b->jumps;
+            return isfinite(vs) ? pend_add(b, 0, vs, &at, 1, rising, NULL, NULL) : 0;
+        }
+    }
+    if (st != USM_CONT_STEP && st != USM_CONT_END) {
+        branch_ended(b, usm_cont_point(b->c)[b->nr], "Newton fails on its branch past %s%s", "");
+        return 0;
+    }
+    for (int k = 0; k < usm_cont_event_count(b->c); ++k) {
+        const usm_cont_event *e = usm_cont_event_at(b->c, k);
+        if (e->test != b->k_stab)
+            continue;
+        usm_hybrid_result at;
+        memcpy(x, e->x, sizeof(double) * (size_t)N);
+        const int located = orbit_at(b, x, STAB_NEWTON_TOL, &at) == 0;
+        if (!located)
+            continue; /* no orbit to report: the grid points' multipliers say it */
+        if (pend_add(b, 0, x[b->nr], &at, located, e->before < 0, NULL, NULL) != 0)
+            return -1;
+    }
+    if (st == USM_CONT_STEP)
+        return 0;
+    const usm_cont_event *e = usm_cont_event_at(b->c, usm_cont_event_count(b->c) - 1);
+    memcpy(x, usm_cont_point(b->c), sizeof(double) * (size_t)N);
+    const double ve = x[b->nr];
+    if (e->test == USM_CONT_FOLD) {
+        branch_ended(b, ve, "its branch ends at a fold at %s%s", "");
+        return 0;
+    }
+    char from[USM_HYBRID_MAX_SWITCHES + 1];
+    snprintf(from, sizeof from, "%s", b->seq);
+    if (b->grazings++ >= MAX_GRAZINGS || !past_grazing(b, x, b->sense * INFINITY) ||
+        usm_cont_start(b->c, x, (int)b->sense) != 0) {
+        branch_ended(b, ve, "its branch ends at %s, where its mode sequence %s changes and no "
+                     "orbit of another continues it", from);
+        return 0;
+    }
+    return pend_add(b, 1, ve, NULL, 1, 0, from, b->seq);
+}
+
+/* The pending events up to v (in the sweep's sense) as the sweep's. */
+static int pend_flush(usm_periodic_sweep *s, hbranch *b, double v, double dir,
+                      double *unstable_from)
+{
+    int k = 0, rc = 0;
+    for (; k < b->npend && rc == 0 && (b->pend[k].v - v) * b->sense <= 0; ++k) {
+        const struct pending *e = &b->pend[k];
+        if (e->grazing)
+            rc = grazing_event(s, e->v, e->from, e->to);
+        else {
+            rc = stability_event(s, e->v, &e->at, e->located, dir > 0, e->rising);
+            *unstable_from = e->rising ? e->v : NAN;
+        }
+    }
+    memmove(b->pend, b->pend + k, sizeof b->pend[0] * (size_t)(b->npend - k));
+    b->npend -= k;
+    return rc;
+}
+
+/* Follows the branch of the orbit ra at va (the engine's, when it is live
+ * from there) to the grid value v, with its stability changes and
+ * grazings on the way.  0: *out the orbit at v; 1: the branch is lost before
+ * v (*v_end where it ended, NaN when not located; `end` says how); -1: out
+ * of memory. */
+static int follow(usm_periodic_sweep *s, hbranch *b, double va, const usm_hybrid_result *ra,
+                  double v, double dir, usm_hybrid_result *out, double *v_end, char end[256],
+                  double *unstable_from)
+{
+    double x[USM_MAX_NX + 1];
+    *v_end = NAN;
+    if (!b->live) {
+        const int rc = branch_begin(b, va, ra, x);
+        if (rc != 0) {
+            snprintf(end, 256, "%s", b->end);
+            return rc == -2 ? -1 : 1;
+        }
+        b->sense = v > va ? 1 : -1;
+        b->live = 1;
+        if (usm_cont_start(b->c, x, (int)b->sense) != 0)
+            branch_ended(b, va, "Newton fails on its branch at %s%s", "");
+    }
+    const int n = b->nr;
+    /* steps until the branch passes v or ends */
+    for (;;) {
+        const double *xa;
+        const double s_end = usm_cont_step_arc(b->c, &xa);
+        const double pb = usm_cont_point(b->c)[n];
+        if (b->ended && (b->end_v - v) * b->sense <= 0)
+            break;
+        if ((pb - v) * b->sense >= 0) {
+            /* the grid point: on the last step's arc (or the point itself),
+             * corrected at v */
+            const double *xb = usm_cont_point(b->c);
+            memcpy(x, xb, sizeof(double) * (size_t)(n + 1));
+            if (xa && s_end > 0 && (xa[n] - v) * b->sense < 0) {
+                /* the cubic through the step's ends with their directions
+                 * (an arc point would cost a correction more; the chord
+                 * alone missed the orbit by 1e-4, Hermite's by 1e-8) */
+                const double *db = usm_cont_direction(b->c), *da = b->dx0;
+                const double dp = pb - xa[n], w = (v - xa[n]) / dp;
+                const int hermite = memcmp(xa, b->xs0, sizeof(double) * (size_t)(n + 1)) == 0 &&
+                                    fabs(da[n]) > 0 && fabs(db[n]) > 0;
+                const double h00 = (1 + 2 * w) * (1 - w) * (1 - w), h10 = w * (1 - w) * (1 - w);
+                const double h01 = w * w * (3 - 2 * w), h11 = w * w * (w - 1);
+                for (int a = 0; a < n; ++a)
+                    x[a] = hermite ? h00 * xa[a] + h10 * dp * da[a] / da[n] + h01 * xb[a] +
+                                         h11 * dp * db[a] / db[n]
+                                   : xa[a] + w * (xb[a] - xa[a]);
+            }
+            x[n] = v;
+            if (pend_flush(s, b, v, dir, unstable_from) != 0)
+                return -1;
+            /* the orbit's own Newton (chord steps: maps without the
+             * monodromy) from there; else from the arc's point corrected */
+            if (orbit_at(b, x, ORBIT_TOL, out) == 0 && strcmp(out->mode_sequence, b->seq) == 0)
+                return 0;
+            if (xa && s_end > 0 &&
+                usm_cont_arc_point(b->c, (v - xa[n]) / (pb - xa[n]) * s_end, x, NULL) == 0 &&
+                usm_cont_correct_fixed(b->c, x, n, v) >= 0 && orbit_at(b, x, ORBIT_TOL, out) == 0)
+                return 0;
+            branch_ended(b, v, "Newton fails on its branch at %s%s", "");
+            break;
+        }
+        if (b->ended)
+            break;
+        if (branch_step(b, v) != 0)
+            return -1;
+    }
+    if (pend_flush(s, b, b->end_v, dir, unstable_from) != 0)
+        return -1;
+    *v_end = b->end_v;
+    snprintf(end, 256, "%s", b->end);
+    b->live = 0;
+    return 1;
 }
 
 int psweep_separating(usm_periodic_sweep *s, double dir)
 {
     if (!s->hy && !(s->hy = usm_hybrid_alloc(s->m)))
         return -1;
-    branch b, gone;
-    double unstable_from = NAN; /* where the followed orbit turned unstable */
-    b.n = gone.n = 0; /* gone: a branch lost at a point without any orbit since */
-    for (size_t i = 0; i < s->npts; ++i) {
+    hbranch b;
+    memset(&b, 0, sizeof b);
+    b.s = s;
+    /* the followed orbit (have) at vl, or a branch lost at a point without
+     * any orbit since (gone), its end at v_end */
+    int have = 0, gone = 0, rc = 0;
+    double vl = NAN, v_end = NAN, unstable_from = NAN;
+    usm_hybrid_result rl, alt, r;
+    char end[256] = "";
+    for (size_t i = 0; i < s->npts && rc == 0; ++i) {
         usm_periodic_point *pt = &s->pts[i];
         pt->separating = pt->switched = 0;
-        if (pt->converged ? !pt->orbit.contact_open : b.n == 0 && gone.n == 0) {
-            b.n = gone.n = 0; /* the contact closes: no orbit with separation to follow */
+        if (pt->converged ? !pt->orbit.contact_open : !have && !gone) {
+            have = gone = 0; /* the contact closes: no orbit with separation to follow */
+            b.live = 0;
             continue;
         }
-        const branch before = b.n ? b : gone;
-        usm_hybrid_result r, alt;
-        int on = b.n > 0 && follow(s, &b, pt->value, &r) == 0;
-        int lost = before.n > 0 && !on;
+        int on = 0;
+        if (have) {
+            const int f = follow(s, &b, vl, &rl, pt->value, dir, &r, &v_end, end, &unstable_from);
+            if (f < 0) {
+                rc = -1;
+                break;
+            }
+            on = f == 0;
+        }
+        const int lost = (have || gone) && !on;
         if (!on && solve_cold(s, pt->value, &r) != 0) {
             /* a converged point keeps its bilateral orbit (contact_open) and
              * says why there is no orbit with separation in `error` */
@@ -484,67 +757,40 @@ int psweep_separating(usm_periodic_sweep *s, double dir)
                      len ? "; " : "", usm_hybrid_message(s->hy)[0]
                                           ? usm_hybrid_message(s->hy)
                                           : "the contact does not open on it");
-            if (before.n)
-                gone = before;
-            b.n = 0;
+            gone = have || gone;
+            have = 0;
             continue;
-        }
-        if (lost && b.n == 2 && strcmp(b.r[1].mode_sequence, r.mode_sequence) == 0 &&
-            !off_branch(&b, pt->value, &r)) {
-            /* Newton failed from the branch, but the start from rest found an
-             * orbit that continues it (its sequence, no jump) */
-            lost = 0;
-            on = 1;
-            branch_push(&b, pt->value, &r);
         }
         pt->separating = 1;
         pt->hybrid = r;
-        gone.n = 0;
-        /* where the followed orbit's stability changed since the last
-         * point (the same branch and mode sequence), located: a
-         * stability_change, and where it turned unstable (unstable_from) */
-        const double m0 = before.n ? before.r[1].floquet.max_modulus : NAN;
-        const double m1 = r.floquet.max_modulus;
-        if (!on || m1 < 1)
+        if (!on || !(r.floquet.max_modulus >= 1))
             unstable_from = NAN;
-        if (on && before.n && strcmp(before.r[1].mode_sequence, r.mode_sequence) == 0 &&
-            isfinite(m0) && isfinite(m1) && (m0 < 1) != (m1 < 1)) {
-            double vx;
-            usm_hybrid_result at;
-            const int located = locate_stability(s, before.v[1], &before.r[1], pt->value, &r,
-                                                 &vx, &at);
-            if (m1 >= 1)
-                unstable_from = located >= 0 ? vx : NAN;
-            if (stability_event(s, vx, &at, located == 1, dir > 0, m1 >= 1) != 0)
-                return -1;
-        }
         if (lost) {
-            if (switch_event(s, pt, &r, &before.r[1], SW_LOST, before.v[1], NAN) != 0)
-                return -1;
+            if (switch_event(s, pt, &r, &rl, SW_LOST, vl, NAN, end) != 0) {
+                rc = -1;
+                break;
+            }
+            s->ev[s->nev - 1].branch_end = v_end;
             pt->switched = 1;
-            b.n = 0;
-            branch_push(&b, pt->value, &r);
+            b.live = 0;
         } else if (on && !(r.floquet.max_modulus < 1) && solve_cold(s, pt->value, &alt) == 0 &&
                    alt.floquet.max_modulus < 1) {
-            if (switch_event(s, pt, &alt, &r, SW_UNSTABLE, pt->value, unstable_from) != 0)
-                return -1;
-            pt->hybrid = alt;
-            pt->switched = 1;
-            b.n = 0;
-            branch_push(&b, pt->value, &alt);
-        } else if (on && strcmp(before.r[1].mode_sequence, r.mode_sequence) != 0) {
-            const int g = grazing_event(s, before.v[1], &before.r[1], pt, &r);
-            if (g < 0)
-                return -1;
-            if (g == 1) { /* another branch from here */
-                pt->switched = 1;
-                b.n = 0;
-                branch_push(&b, pt->value, &r);
+            if (switch_event(s, pt, &alt, &r, SW_UNSTABLE, pt->value, unstable_from, "") != 0) {
+                rc = -1;
+                break;
             }
+            pt->hybrid = r = alt;
+            pt->switched = 1;
+            b.live = 0; /* the events past pt on the left branch are not the motor's */
         }
-        if (!on && !lost)
-            branch_push(&b, pt->value, &r); /* the first orbit of a branch */
+        have = 1;
+        gone = 0;
+        vl = pt->value;
+        rl = r;
     }
+    usm_cont_free(b.c);
+    if (rc != 0)
+        return rc;
     /* every event in sweep order (insertion sort: stable, few events) */
     for (size_t i = 1; i < s->nev; ++i)
         for (size_t j = i; j > 0 && dir * (s->ev[j].value - s->ev[j - 1].value) < 0; --j) {

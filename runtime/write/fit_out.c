@@ -123,6 +123,7 @@ int usm_fit_write_json(const usm_model *m, const usm_params *p, const usm_fit_da
     usm_json_put(obj, "points", pts, &ok);
     usm_json_put(obj, "starts", json_integer(r->starts), &ok);
     usm_json_put(obj, "best_start", json_integer(r->best_start), &ok);
+    usm_json_put(obj, "starts_at_best", json_integer(r->starts_at_best), &ok);
     usm_json_put(obj, "iterations", json_integer(r->iterations), &ok);
     usm_json_put(obj, "evaluations", json_integer(r->evaluations), &ok);
     usm_json_put(obj, "wall", usm_json_real(r->wall), &ok);
@@ -205,8 +206,9 @@ void usm_fit_write_table(const usm_model *m, const usm_fit_data *d, const usm_fi
                 usm_fit_output_name(pt->output), mv, mo, u, pt->residual,
                 pt->flagged ? pt->reason : "");
     }
-    fprintf(out, "\n%d start%s, %d iterations, %d evaluations, %.3g s\n", r->starts,
-            r->starts == 1 ? "" : "s", r->iterations, r->evaluations, r->wall);
+    fprintf(out, "\n%d start%s (%d reached the best minimum), %d iterations, %d evaluations, "
+            "%.3g s\n", r->starts, r->starts == 1 ? "" : "s", r->starts_at_best, r->iterations,
+            r->evaluations, r->wall);
 }
 
 int usm_fit_write_csv(const usm_fit_data *d, const usm_fit_result *r, FILE *out)

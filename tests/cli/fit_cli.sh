@@ -62,6 +62,24 @@ ok = d["flagged"] == 1 and p["flagged"] and p["reason"] == "no_solution" and p["
 ok or print("FAIL: flagged point %s" % p)
 sys.exit(0 if ok else 1)' "$T/stall.json" || fail=1
 
+# a datasheet quantity measured: stall_torque in mN m (converted to N m), its
+# model value the datasheet's; the JSON says how many starts reached the best
+printf 'f [kHz],T [mNm],speed [rpm],stall_torque [mNm]\n37,0,108.6,\n38,0,120,\n39,0,110,\n38.8,0,,0.43\n' \
+    > "$T/ds.csv"
+"$USM" fit --model 4dof --data "$T/ds.csv" --fit mu0 --starts 2 --json > "$T/ds.json" ||
+    bad "stall_torque: exit $?"
+python3 -c '
+import json, sys
+d = json.load(open(sys.argv[1]))
+p = d["points"][3]
+ok = p["output"] == "stall_torque" and abs(p["measured"] - 4.3e-4) < 1e-12 \
+    and 3e-4 < p["model"] < 6e-4 and not p["flagged"] and 1 <= d["starts_at_best"] <= d["starts"] == 2
+ok or print("FAIL: stall_torque %s, starts %s at best %s" % (p, d["starts"], d["starts_at_best"]))
+sys.exit(0 if ok else 1)' "$T/ds.json" || fail=1
+"$USM" fit --model 4dof --data "$T/ds.csv" --fit mu0 --spread 0.5 2> "$T/err" > /dev/null
+[ $? -eq 2 ] && [ "$(wc -l < "$T/err")" -eq 1 ] && grep -q -- "--spread: 0.5 is not in 1..1e6" "$T/err" ||
+    bad "--spread 0.5: $(cat "$T/err")"
+
 # --plot: the residuals' CSV and the figure (when gnuplot is installed); the
 # stall file's flagged point drawn apart; --out and --plot's CSV the same file
 # refused before the fit

@@ -10,6 +10,17 @@
  *   test_fit ident            mu0, kappa (and c_r, I_xx) from speed curves only:
  *                             not identifiable, the combination named; with a
  *                             separating measurement added: identifiable
+ *   test_fit starts           started a factor 30 off the truth, the default starts
+ *                             (a Sobol sample of the box a factor 100 around the
+ *                             start) find the global minimum: the truth within
+ *                             its intervals, chi^2 that of the noise
+ *   test_fit datasheet        speed curves and a stall torque column: the truth
+ *                             recovered, the stall torque's model value the
+ *                             datasheet's (usm_robust_quantity_eval) at the
+ *                             estimate, its Jacobian row (central differences)
+ *                             against differences of a 10 times larger step, and
+ *                             mu0, kappa, which the curves alone cannot separate,
+ *                             identifiable with it
  *   test_fit data             the reader: units converted, bad files refused
  *                             with one line naming the column and the reason
  *   test_fit measure          prints the time per fit and the identifiable sets
@@ -27,6 +38,7 @@
 #include "check.h"
 #include "usm_fit.h"
 #include "usm_io.h"
+#include "usm_robust.h"
 
 static double gauss(uint64_t *st)
 {
@@ -242,6 +254,151 @@ static void identifiability(void)
     usm_fit_data_free(both);
 }
 
+/* ---- starts far from the truth ------------------------------------------------- */
+
+static void far_starts(void)
+{
+    const usm_model *m = usm_model_find("4dof");
+    usm_params truth;
+    usm_params_default(&truth);
+    usm_fit_options o;
+    fit_names(m, "c_r,d_r,kappa", &o);
+    o.profile = 0;
+    o.advise = 0;
+    usm_fit_data *d = plan(6, 6, 2.5e-4, 0);
+    uint64_t st = 4242;
+    if (!CHECK(d && m && synthesize(m, &truth, d, 0.01, 1.0, &st) == 0, "setup"))
+        return;
+    /* a factor 30 off: the resonance c_r / I_xx off by a factor 5.5 in
+     * frequency, kappa's friction law far into saturation */
+    usm_params p = truth;
+    p.c_r *= 30;
+    p.d_r /= 30;
+    p.kappa *= 30;
+    usm_fit_result r;
+    double t0 = cpu();
+    int status = usm_fit_run(m, &p, d, &o, &r);
+    printf("from a factor 30 off: status %d, chi2 %.3g (%d values), %d starts, %d at the best "
+           "(start %d), %d evaluations, %.2f s CPU\n", status, r.chi2, usm_fit_data_count(d),
+           r.starts, r.starts_at_best, r.best_start, r.evaluations, cpu() - t0);
+    if (CHECK(status == USM_OK, "%s", r.message)) {
+        const double tv[3] = {truth.c_r, truth.d_r, truth.kappa};
+        for (int j = 0; j < 3; ++j) {
+            printf("  %s = %.5g in [%.5g, %.5g], truth %.5g\n", usm_param_table[r.fit[j]].name,
+                   r.estimate[j], r.lo[j], r.hi[j], tv[j]);
+            /* the global minimum of noisy data lies within a few standard errors
+             * of the truth; another minimum would be many away */
+            CHECK(fabs(log(r.estimate[j] / tv[j])) < 4 * r.se_scaled[j], "%s: %g, truth %g",
+                  usm_param_table[r.fit[j]].name, r.estimate[j], tv[j]);
+        }
+        /* chi^2 of 1 % noise: dof +- a few sqrt(2 dof) */
+        CHECK(r.chi2 < r.dof + 5 * sqrt(2.0 * r.dof), "chi2 %g for %d dof", r.chi2, r.dof);
+        CHECK(r.starts_at_best >= 1 && r.starts_at_best <= r.starts, "starts at best %d of %d",
+              r.starts_at_best, r.starts);
+    }
+    usm_fit_result_free(&r);
+    usm_fit_data_free(d);
+}
+
+/* ---- a datasheet quantity measured ------------------------------------------ */
+
+static void datasheet(void)
+{
+    const usm_model *m = usm_model_find("4dof");
+    usm_params truth;
+    usm_params_default(&truth);
+    const int nf = 6, ns = 2;
+    usm_fit_data *d = usm_fit_data_alloc(2 * nf + ns, 2, 2);
+    uint64_t st = 99;
+    if (!CHECK(d && m, "setup"))
+        return;
+    d->cond[0] = USM_P_f;
+    d->cond[1] = USM_P_T;
+    d->out[0] = USM_FIT_SPEED;
+    d->out[1] = usm_fit_output_find("stall_torque");
+    d->has_sigma[0] = d->has_sigma[1] = 1;
+    CHECK(d->out[1] == USM_FIT_STALL_TORQUE && usm_fit_output_is_datasheet(d->out[1]) &&
+              strcmp(usm_fit_output_unit(d->out[1]), "N m") == 0,
+          "stall_torque: %d", d->out[1]);
+    for (int r = 0; r < 2 * nf; ++r) {
+        d->x[2 * r] = 37000 + 4000.0 * (r % nf) / (nf - 1);
+        d->x[2 * r + 1] = r < nf ? 0.0 : 1e-4;
+    }
+    /* the stall torque at two frequencies (the row's T is not used) */
+    for (int r = 2 * nf; r < 2 * nf + ns; ++r) {
+        d->x[2 * r] = r == 2 * nf ? 38800 : 39500;
+        d->x[2 * r + 1] = 0.0;
+    }
+    /* speed only in the curves' rows, stall torque only in its rows */
+    if (!CHECK(synthesize(m, &truth, d, 0.01, 0.0, &st) == 0, "synthesize"))
+        return;
+    for (int r = 0; r < d->nrows; ++r)
+        d->y[2 * r + (r < 2 * nf)] = d->sigma[2 * r + (r < 2 * nf)] = NAN;
+    const double y0 = d->y[2 * 2 * nf + 1];
+    printf("stall torque at 38.8 kHz: %.6g N m\n", y0);
+    usm_quantity_options qo;
+    memset(&qo, 0, sizeof qo);
+    qo.range.param = -1;
+    qo.band_threshold = NAN;
+    char msg[USM_MSG_LEN];
+    double direct = NAN;
+    usm_params q = truth;
+    q.f = 38800;
+    usm_robust_quantity_eval(m, &q, USM_ROBUST_STALL_TORQUE, &qo, 1, &direct, msg);
+    CHECK(fabs(y0 - direct) <= 1e-12 * fabs(direct) && direct > 0,
+          "stall torque %g, datasheet %g", y0, direct);
+    /* the Jacobian row of the stall torque against a 10 times larger step */
+    usm_fit_options o;
+    fit_names(m, "mu0,kappa", &o);
+    const int n = usm_fit_data_count(d);
+    double *f = malloc((size_t)n * sizeof *f), *J = malloc((size_t)n * 2 * sizeof *J),
+           *fp = malloc((size_t)n * sizeof *fp), *fm = malloc((size_t)n * sizeof *fm);
+    double t[2] = {log(truth.mu0), log(truth.kappa)};
+    if (f && J && fp && fm &&
+        CHECK(usm_fit_residuals(m, &truth, d, &o, t, f, J) == USM_OK, "residuals")) {
+        for (int j = 0; j < 2; ++j) {
+            double tp[2] = {t[0], t[1]}, tm[2] = {t[0], t[1]}, h = 1e-2;
+            tp[j] += h;
+            tm[j] -= h;
+            usm_fit_residuals(m, &truth, d, &o, tp, fp, NULL);
+            usm_fit_residuals(m, &truth, d, &o, tm, fm, NULL);
+            double fd = (fp[n - 2] - fm[n - 2]) / (2 * h);
+            printf("  d stall / d log %s: %.6g (differences of 1e-2: %.6g)\n",
+                   usm_param_table[o.fit[j]].name, J[(size_t)(n - 2) * 2 + (size_t)j], fd);
+            CHECK(fabs(J[(size_t)(n - 2) * 2 + (size_t)j] - fd) <= 1e-3 * fabs(fd) + 1e-6,
+                  "d stall / d log %s: %g vs %g", usm_param_table[o.fit[j]].name,
+                  J[(size_t)(n - 2) * 2 + (size_t)j], fd);
+        }
+    }
+    free(f);
+    free(J);
+    free(fp);
+    free(fm);
+    /* mu0 and kappa from the curves and the stall torque, started 20 % off */
+    usm_fit_result r;
+    usm_params p = truth;
+    p.mu0 *= 1.2;
+    p.kappa *= 0.8;
+    o.starts = 1;
+    o.profile = 0;
+    o.advise = 0;
+    double c0 = cpu();
+    int status = usm_fit_run(m, &p, d, &o, &r);
+    printf("mu0,kappa with the stall torque: status %d, identifiable %d, singular values %.3g "
+           "%.3g, %d evaluations, %.2f s CPU\n", status, r.identifiable, r.singular[0],
+           r.singular[1], r.evaluations, cpu() - c0);
+    if (CHECK(status == USM_OK, "%s", r.message)) {
+        CHECK(r.identifiable, "mu0,kappa not identifiable with the stall torque");
+        const double tv[2] = {truth.mu0, truth.kappa};
+        for (int j = 0; j < 2; ++j)
+            CHECK(fabs(r.estimate[j] / tv[j] - 1) < 1e-4, "%s: %g, truth %g",
+                  usm_param_table[r.fit[j]].name, r.estimate[j], tv[j]);
+        CHECK(r.nflagged == 0, "%d flagged", r.nflagged);
+    }
+    usm_fit_result_free(&r);
+    usm_fit_data_free(d);
+}
+
 /* ---- measures (not a ctest test: printed for docs/fit.md) ------------------------- */
 
 static void measure(void)
@@ -311,6 +468,10 @@ int main(int argc, char **argv)
         recovery(argc > 2 ? atoi(argv[2]) : 60);
     else if (strcmp(what, "ident") == 0)
         identifiability();
+    else if (strcmp(what, "starts") == 0)
+        far_starts();
+    else if (strcmp(what, "datasheet") == 0)
+        datasheet();
     else if (strcmp(what, "measure") == 0)
         measure();
     else {

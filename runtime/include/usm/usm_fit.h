@@ -14,8 +14,10 @@
  * comes from the analytic sensitivities of that root (usm_design.h).  A
  * parameter whose range is non-negative is fitted in log scale (the chain
  * rule dy/dlog p = p dy/dp), so it stays positive.  Several starts: the given
- * value and points spread around it within the parameter's physical range
- * (usm_param_ranges); the best minimum is kept.
+ * values, and the best (lowest sum of squares) of a deterministic Sobol
+ * sample of the box around them (a factor opt->spread either way in log
+ * scale), clipped to the parameters' physical ranges (usm_param_ranges); the
+ * best minimum is kept and the starts that reached it counted.
  *
  * A measured point where the model has no operating point (no stationary
  * solution, every root unstable, the motor does not start) is kept as a
@@ -53,10 +55,24 @@ extern "C" {
 #endif
 
 /* The outputs a measurement may name: usm_design.h's USM_SENS_* but
- * max_modulus, and speed = -rotor_speed (positive when the motor drives the
- * load, the sense of a datasheet). */
+ * max_modulus, speed = -rotor_speed (positive when the motor drives the
+ * load, the sense of a datasheet), and the datasheet quantities of
+ * usm_robust.h at the row's conditions (stall_torque [N m]: the load where
+ * the speed reaches 0 in a sweep over T from 0 to USM_ROBUST_T_MAX;
+ * no_load_speed [1/s]: the speed at T = 0; max_power [W]: the largest
+ * power_out over that load range), which ignore the row's T.  A datasheet
+ * quantity's Jacobian row comes from central differences (usm_fit_run). */
 #define USM_FIT_SPEED USM_SENS_COUNT
-#define USM_FIT_NOUTPUTS (USM_SENS_COUNT + 1)
+#define USM_FIT_STALL_TORQUE (USM_SENS_COUNT + 1)
+#define USM_FIT_NO_LOAD_SPEED (USM_SENS_COUNT + 2)
+#define USM_FIT_MAX_POWER (USM_SENS_COUNT + 3)
+#define USM_FIT_NOUTPUTS (USM_SENS_COUNT + 4)
+
+/* 1 when output k is a datasheet quantity (a sweep, not one operating point). */
+int usm_fit_output_is_datasheet(int k);
+/* The fitted-scale step of the central differences of a datasheet quantity
+ * (of log p for a log-scale parameter: a relative step of 1e-3). */
+#define USM_FIT_DATASHEET_STEP 1e-3
 
 /* Name ("speed", "rotor_speed", "power_in", ...) of output k, NULL when k
  * is not an output a measurement may name. */
@@ -66,7 +82,7 @@ const char *usm_fit_output_unit(int k);
 /* The output called name, or -1 (also for max_modulus: not measurable). */
 int usm_fit_output_find(const char *name);
 /* Output k of a stationary solution (speed: -rotor_speed); NaN when k is
- * not a fit output. */
+ * not a fit output or a datasheet quantity. */
 double usm_fit_output_value(int k, const usm_steady_solution *sol, const usm_params *p);
 
 /* The most columns of a data file. */
@@ -100,7 +116,13 @@ int usm_fit_data_count(const usm_fit_data *d);
 typedef struct usm_fit_options {
     int nfit;                 /* the fitted parameters, 1 .. USM_NPARAMS */
     int fit[USM_NPARAMS];     /* their USM_P_* */
-    int starts;               /* starts of the local search (default 4; 1: the given values only) */
+    int starts;               /* starts of the local search (default 4; 1: the given values only):
+                                 the given values and the starts - 1 best of
+                                 USM_FIT_SCREEN * (starts - 1) Sobol points of the box */
+    double spread;            /* the box of the starts: a log-scale parameter's given value
+                                 divided and multiplied by spread, a linear one's +- spread
+                                 times its magnitude; clipped to its physical range
+                                 (default 100, 1 .. 1e6) */
     int max_iter;             /* iterations per start (default 100) */
     double ident_tol;         /* singular value (unit-norm columns) below which a direction
                                  is not determined (default 0.05: a collinearity index
@@ -113,6 +135,10 @@ typedef struct usm_fit_options {
     usm_op_options op;        /* the operating point (default: usm_op_options_default with
                                  from_rest = 1: a simulation decides between several roots) */
 } usm_fit_options;
+
+/* Sobol points screened (sum of squares without the Jacobian) per start
+ * beyond the first. */
+#define USM_FIT_SCREEN 8
 
 /* Fill o with the defaults above (no fitted parameter yet). */
 void usm_fit_options_default(usm_fit_options *o);
@@ -194,7 +220,9 @@ typedef struct usm_fit_result {
     usm_fit_point *points;    /* npoints (malloc'd) */
     int nflagged;
     int starts, iterations, evaluations; /* starts run, iterations and point evaluations */
-    int best_start;           /* the start whose minimum was kept (from 0) */
+    int best_start;           /* the start whose minimum was kept (from 0: the given values) */
+    int starts_at_best;       /* the starts whose minimum's sum of squares is the best's
+                                 (within 1e-6 of it): 1 says the others found other minima */
     double wall;              /* seconds */
 } usm_fit_result;
 

@@ -167,6 +167,10 @@ typedef struct usm_periodic_event {
     double unstable_from;       /* not branch_lost: where the followed orbit turned unstable
                                    (max |lambda| = 1 on it, located by Brent to the event
                                    tolerance), NaN when not located */
+    double branch_end;          /* branch_switch with branch_lost: where the followed branch
+                                   ended, located on it by the continuation (a fold, or a
+                                   change of its mode sequence that no orbit continues), NaN
+                                   when Newton failed on it before either; 0 on other events */
 } usm_periodic_event;
 
 /* One requested grid value and the orbit there. */

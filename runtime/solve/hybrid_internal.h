@@ -1,0 +1,25 @@
+/* hybrid_internal.h: the shooting condition of an orbit with separation as a
+ * zero problem, for the continuation engine's sweeps (study/).  Room-private:
+ * not installed, not part of the API. */
+#ifndef USM_HYBRID_INTERNAL_H
+#define USM_HYBRID_INTERNAL_H
+
+#include "usm_periodic.h"
+
+/* The shooting condition of usm_hybrid_solve_from at (p, ts, x0): its scales
+ * and v_land set from x0 as that solve sets them, one period map, and into
+ * F[a] = x1[i] - x0[i] (less 2 pi in phi) for the non-cyclic components
+ * i = idx[a] (a < *nr; idx and *nr filled when not NULL).  With J not NULL
+ * the map carries the monodromy with its saltation matrices: J = dF/dw on
+ * those components (nr x nr, row-major) in the spin coordinates w of x0
+ * (w = x but for w[x_phidot] = phidot + psidot: in x the columns of phidot
+ * and psidot are nearly equal and large, their difference carries the
+ * multipliers, and B - I is ill-conditioned beyond the map's noise),
+ * *max_modulus its largest |lambda| but the cyclic ones, and the scales of
+ * w (nx values) into scale when not NULL.  seq: the map's mode sequence, when not NULL.  USM_OK, or
+ * USM_EINPUT / USM_EFAILED (usm_hybrid_message). */
+int usm_hybrid_shoot(usm_hybrid *h, const usm_params *p, double ts, const double *x0,
+                     int *idx, int *nr, double *F, double *J, double *max_modulus,
+                     double *scale, char seq[USM_HYBRID_MAX_SWITCHES + 1]);
+
+#endif /* USM_HYBRID_INTERNAL_H */
