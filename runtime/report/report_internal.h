@@ -323,6 +323,14 @@ typedef struct usm_report_data {
     } paper_fit;
 
     struct usm_report_design *design; /* design under scatter (report_design.c); owned */
+
+    struct usm_report_envelope {   /* the operating envelope (report_envelope.c) */
+        int ok;                    /* computed (else note says why) */
+        struct usm_envelope *e;    /* owned; freed by usm_report_envelope_free */
+        int raster;                /* the regions' raster, cells a side */
+        double seconds;
+        char note[USM_MSG_LEN];
+    } envelope;
 } usm_report_data;
 
 /* Compute everything but the maps.  USM_OK or an error status with msg. */
@@ -356,6 +364,17 @@ int usm_report_squeal_write_data(const usm_report_data *d, const char *dir,
                                  char msg[USM_IO_MSG_LEN]);
 /* Its numbers in report.json ("squeal"; keys: docs/report.md). */
 json_t *usm_report_squeal_json(const usm_report_data *d);
+
+/* The 3-DOF operating envelope over f x F0 with start-up from rest
+ * (d->envelope; report_envelope.c).  A failure is a note, not an error of
+ * the report: USM_OK (USM_EFAILED only when out of memory). */
+int usm_report_compute_envelope(usm_report_data *d, char msg[USM_IO_MSG_LEN]);
+/* Its data file envelope.csv and script envelope.gp (when computed). */
+int usm_report_envelope_write_data(const usm_report_data *d, const char *dir,
+                                   char msg[USM_IO_MSG_LEN]);
+/* Its values in report.json ("envelope"). */
+json_t *usm_report_envelope_json(const usm_report_data *d);
+void usm_report_envelope_free(usm_report_data *d);
 
 /* ---- design under scatter (report_design.c) ---------------------------- */
 
@@ -396,6 +415,7 @@ enum {
     REPORT_FIG_SQUEAL_MOTION, /* the unilateral motor past its last orbit: bifurcation
                                  diagram and audible lines over the mode split */
     REPORT_FIG_SQUEAL,     /* the spectrum past the NS point, the vibration vs mode split */
+    REPORT_FIG_ENVELOPE,   /* the operating envelope f x F0: regions, curves, codim-2 point */
     REPORT_NFIGURES
 };
 extern const usm_report_figure usm_report_figures[REPORT_NFIGURES];

@@ -370,5 +370,7 @@ int usm_report_figure_count(const usm_report_data *d)
         return REPORT_FIG_ORBIT;
     if (!d->squeal.motion.ok)
         return REPORT_FIG_SQUEAL_MOTION;
-    return d->squeal.ok ? REPORT_NFIGURES : REPORT_FIG_SQUEAL;
+    if (!d->squeal.ok)
+        return REPORT_FIG_SQUEAL;
+    return d->envelope.ok ? REPORT_NFIGURES : REPORT_FIG_ENVELOPE;
 }

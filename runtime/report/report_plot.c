@@ -36,6 +36,7 @@ const usm_report_figure usm_report_figures[REPORT_NFIGURES] = {
     {"nonideal_orbit", "One periodic orbit of the non-ideal motor: the tilt vector in the housing plane over a period, the ideal circle beside it"},
     {"squeal_motion", "What the motor does past its last periodic orbit (4-DOF, unilateral contact): the rotor speed and the tilt once a period over the mode split (bifurcation diagram), and the audible lines of the stator rim's axial velocity coloured by level"},
     {"squeal", "The bilateral model's squeal: the spectrum of the contact force just past the 4-DOF Neimark-Sacker point, and the parasitic vibration against the mode split"},
+    {"envelope", "The operating envelope of the 3-DOF motor over f x F0, started from rest: the regions by operating class, the boundaries continued as curves, their codimension-two point"},
 };
 
 const char *const usm_report_files[] = {
@@ -69,6 +70,7 @@ const char *const usm_report_files[] = {
     "squeal_motion_points.csv",
     "squeal.gp", "squeal.png", "squeal.svg", "squeal_spectrum.csv", "squeal_amplitude.csv",
     "squeal_values.csv",
+    "envelope.gp", "envelope.png", "envelope.svg", "envelope.csv",
     NULL,
 };
 
@@ -497,7 +499,8 @@ int usm_report_write_data(const usm_report_data *d, const char *dir, char msg[US
     if (st == USM_OK && d->nonideal.ok && d->nonideal.orbit_ok)
         st = write_data_file(d, dir, "nonideal_orbit_circle.csv", DATA_CIRCLE, 0, 0, msg);
     for (int i = 0; i < REPORT_NFIGURES && st == USM_OK; ++i)
-        st = copy_script(dir, usm_report_figures[i].name, msg);
+        if (i != REPORT_FIG_ENVELOPE) /* its script has a header: report_envelope.c */
+            st = copy_script(dir, usm_report_figures[i].name, msg);
     return st;
 }
 
