@@ -7,6 +7,8 @@
  *     program would print them, up to the zero of theta (a stopping test).
  *  2. The same, landing on 1,002 grid values (the arc's point, then Newton
  *     with T held).
+ *  4. (printed last) 1 with the chord corrector (options.chord: the
+ *     Jacobian factored once a correction, the tangent afresh).
  *  3. usm_sweep_run over the same 1,002 grid values without multipliers or
  *     operating points (its full search at every grid value included: the
  *     root count and the polish of each row, docs/sweep.md).
@@ -71,7 +73,7 @@ static double theta_test(const double *x, const double *dx, void *ctx)
 /* One run of the engine from u0 at T = 0 to theta = 0; with land, also the
  * grid values T_k = k T_end / (GRID - 1) below T_end.  Steps (and landings
  * into *landed), the end's T into *t_end; -1 on failure. */
-static int follow(branch *b, const double *u0, double t_scale, int land, double *t_end,
+static int follow(branch *b, const double *u0, double t_scale, int land, int chord, double *t_end,
                   int *landed)
 {
     const int nu = b->m->nu;
@@ -90,6 +92,7 @@ static int follow(branch *b, const double *u0, double t_scale, int land, double 
     usm_cont_options_default(&o);
     o.h_max = 1.0 / (GRID - 1);
     o.h0 = o.h_max;
+    o.chord = chord;
     usm_cont_set_problem(c, residual, b);
     usm_cont_set_options(c, &o);
     usm_cont_set_scale(c, scale);
@@ -154,7 +157,7 @@ int main(int argc, char **argv)
     /* the end of the branch, which also sets the grid */
     double t_end = 0.01;
     int landed = 0;
-    if (follow(&b, u0, 0.01, 0, &t_end, &landed) < 0) {
+    if (follow(&b, u0, 0.01, 0, 0, &t_end, &landed) < 0) {
         fprintf(stderr, "bench_cont: the branch was lost\n");
         return 1;
     }
@@ -162,20 +165,24 @@ int main(int argc, char **argv)
            t_end, reps);
     printf("%-48s %8s %12s %12s\n", "task", "points", "cpu [ms]", "cpu/point");
 
-    double best[3] = {INFINITY, INFINITY, INFINITY};
-    int npts[3] = {0, 0, 0};
+    double best[4] = {INFINITY, INFINITY, INFINITY, INFINITY};
+    int npts[4] = {0, 0, 0, 0};
     /* one sweep for every run, as a program sweeping again reuses it: the
      * first run pays the page faults of its 3 MB of points */
     usm_sweep *sw = usm_sweep_alloc(b.m);
     for (int r = 0; r < reps; ++r) {
         double c0 = cpu_s(), te = t_end;
-        npts[0] = follow(&b, u0, t_end, 0, &te, &landed) + 1;
+        npts[0] = follow(&b, u0, t_end, 0, 0, &te, &landed) + 1;
         best[0] = fmin(best[0], cpu_s() - c0);
         c0 = cpu_s();
         te = t_end;
-        follow(&b, u0, t_end, 1, &te, &landed);
+        follow(&b, u0, t_end, 1, 0, &te, &landed);
         npts[1] = landed + 1;
         best[1] = fmin(best[1], cpu_s() - c0);
+        c0 = cpu_s();
+        te = t_end;
+        npts[3] = follow(&b, u0, t_end, 0, 1, &te, &landed) + 1;
+        best[3] = fmin(best[3], cpu_s() - c0);
 
         usm_sweep_options o;
         usm_sweep_options_default(&o);
@@ -195,10 +202,11 @@ int main(int argc, char **argv)
         npts[2] = (int)usm_sweep_count(sw);
     }
     usm_sweep_free(sw);
-    const char *task[3] = {"engine: continuation points (steps <= 1/1001)",
+    const char *task[4] = {"engine: continuation points (steps <= 1/1001)",
                            "engine: landed on 1002 grid values",
-                           "usm_sweep_run, 1002 points, no Floquet/op"};
-    for (int k = 0; k < 3; ++k)
+                           "usm_sweep_run, 1002 points, no Floquet/op",
+                           "engine: continuation points, chord corrector"};
+    for (int k = 0; k < 4; ++k)
         printf("%-48s %8d %12.3f %9.2f us\n", task[k], npts[k], best[k] * 1e3,
                best[k] / npts[k] * 1e6);
     return 0;

@@ -14,6 +14,7 @@
  * from the corrector's last factorisation (the Jacobian one Newton update,
  * <= newton_tol, away); inside a location it is computed afresh.
  */
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -27,7 +28,8 @@ typedef struct cont_test {
     usm_cont_test_fn fn;
     void *ctx;
     int flags;
-    double g; /* value at the current point */
+    int branch; /* the built-in branch-point test (fn NULL) */
+    double g;   /* value at the current point */
 } cont_test;
 
 struct usm_cont {
@@ -73,6 +75,7 @@ void usm_cont_options_default(usm_cont_options *o)
     o->event_tol = 1e-14;
     o->across_fold = 0;
     o->max_steps = 2000000;
+    o->chord = 0;
 }
 
 usm_cont *usm_cont_alloc(int n)
@@ -159,7 +162,7 @@ int usm_cont_set_options(usm_cont *c, const usm_cont_options *o)
     if (!(o->h_min > 0) || !(o->h_max >= o->h_min) || !(o->h0 >= o->h_min) ||
         !(o->h0 <= o->h_max) || !(o->newton_tol > 0) || o->newton_max < 1 ||
         !(o->cos_max_turn > -1 && o->cos_max_turn < 1) || !(o->event_tol > 0) ||
-        o->max_steps < 1 || !isfinite(o->h_max))
+        o->max_steps < 1 || !isfinite(o->h_max) || (o->chord != 0 && o->chord != 1))
         return USM_CONT_EUSAGE;
     c->o = *o;
     if (c->started)
@@ -216,16 +219,31 @@ int usm_cont_set_scale(usm_cont *c, const double *scale)
     return 0;
 }
 
-int usm_cont_add_test(usm_cont *c, usm_cont_test_fn fn, void *ctx, int flags)
+static int add_test(usm_cont *c, usm_cont_test_fn fn, void *ctx, int flags, int branch)
 {
     const int kind = flags & ~USM_CONT_TEST_POINT;
-    if ((kind != USM_CONT_TEST_MONITOR && kind != USM_CONT_TEST_STOP) || c->started ||
-        (c->ntests > 0 && !fn))
+    if ((kind != USM_CONT_TEST_MONITOR && kind != USM_CONT_TEST_STOP) || c->started)
         return USM_CONT_EUSAGE;
     if (usm_grow((void **)&c->tests, &c->testcap, (size_t)c->ntests + 1, sizeof *c->tests) != 0)
         return USM_CONT_EUSAGE;
-    c->tests[c->ntests] = (cont_test){fn, ctx, flags, NAN};
+    c->tests[c->ntests] = (cont_test){fn, ctx, flags, branch, NAN};
     return c->ntests++;
+}
+
+int usm_cont_add_test(usm_cont *c, usm_cont_test_fn fn, void *ctx, int flags)
+{
+    /* fn NULL only for the fold, registered first by usm_cont_alloc */
+    if (c->ntests > 0 && !fn)
+        return USM_CONT_EUSAGE;
+    return add_test(c, fn, ctx, flags, 0);
+}
+
+int usm_cont_add_branch_test(usm_cont *c, int flags)
+{
+    /* it reads the tangent: never USM_CONT_TEST_POINT */
+    if (flags != USM_CONT_TEST_MONITOR && flags != USM_CONT_TEST_STOP)
+        return USM_CONT_EUSAGE;
+    return add_test(c, NULL, NULL, flags, 1);
 }
 
 /* ---- the bordered system ---------------------------------------------------------- */
@@ -252,13 +270,52 @@ static int eval(usm_cont *c, const double *z, int jac)
     return 0;
 }
 
+/* usm_lu_factor_dense (the same operations, so the same factors), except
+ * that an exactly zero pivot is replaced by DBL_EPSILON times its row's
+ * size: the bordered matrix is exactly singular at a branch point, and the
+ * locator of its test function lands there exactly when the test is linear
+ * in s; the tangent there then comes out along the followed branch instead
+ * of the location failing. */
+static int lu_factor(int n, double *A, int *piv)
+{
+    for (int k = 0; k < n; ++k) {
+        int p = k;
+        for (int i = k + 1; i < n; ++i)
+            if (fabs(A[i * n + k]) > fabs(A[p * n + k]))
+                p = i;
+        if (!isfinite(A[p * n + k]))
+            return -1;
+        piv[k] = p;
+        if (p != k)
+            for (int j = 0; j < n; ++j) {
+                const double t = A[k * n + j];
+                A[k * n + j] = A[p * n + j];
+                A[p * n + j] = t;
+            }
+        if (A[k * n + k] == 0.0) {
+            double row = 0;
+            for (int j = k + 1; j < n; ++j)
+                row = fmax(row, fabs(A[k * n + j]));
+            A[k * n + k] = DBL_EPSILON * (row > 0 ? row : 1.0);
+        }
+        for (int i = k + 1; i < n; ++i) {
+            const double l = A[i * n + k] /= A[k * n + k];
+            if (l == 0.0)
+                continue;
+            for (int j = k + 1; j < n; ++j)
+                A[i * n + j] -= l * A[k * n + j];
+        }
+    }
+    return 0;
+}
+
 /* Factors c->A with its last row replaced by the border b into c->LU. */
 static int factor(usm_cont *c, const double *b)
 {
     const int n = c->n, N = c->N;
     memcpy(c->LU, c->A, sizeof(double) * (size_t)n * (size_t)N);
     memcpy(c->LU + (size_t)n * (size_t)N, b, sizeof(double) * (size_t)N);
-    return usm_lu_factor_dense(N, c->LU, c->piv);
+    return lu_factor(N, c->LU, c->piv);
 }
 
 static int solve(usm_cont *c, double *x)
@@ -277,7 +334,8 @@ static int correct(usm_cont *c, double *z, const double *b, double b0)
     const int n = c->n, N = c->N;
     double prev = INFINITY;
     for (int it = 1; it <= c->o.newton_max; ++it) {
-        if (eval(c, z, 1) != 0 || factor(c, b) != 0)
+        const int jac = !c->o.chord || it == 1;
+        if (eval(c, z, jac) != 0 || (jac && factor(c, b) != 0))
             return -1;
         c->F[n] = dot(N, b, z) - b0;
         for (int j = 0; j < N; ++j)
@@ -320,6 +378,23 @@ static int tangent(usm_cont *c, const double *z, const double *b, double *t)
     return tangent_from_lu(c, t);
 }
 
+/* det [F_z; t] at z: the branch-point test; NaN when F cannot be
+ * evaluated. */
+static double bordered_det(usm_cont *c, const double *z, const double *t)
+{
+    if (eval(c, z, 1) != 0)
+        return NAN;
+    if (factor(c, t) != 0)
+        return NAN;
+    double d = 1.0;
+    for (int j = 0; j < c->N; ++j) {
+        d *= c->LU[(size_t)j * (size_t)c->N + (size_t)j];
+        if (c->piv[j] != j)
+            d = -d;
+    }
+    return d;
+}
+
 static double test_value(usm_cont *c, int k, const double *z, const double *t, double *x,
                          double *dx)
 {
@@ -327,6 +402,8 @@ static double test_value(usm_cont *c, int k, const double *z, const double *t, d
     unscale(c, t, dx);
     if (k == USM_CONT_FOLD)
         return dx[c->n];
+    if (c->tests[k].branch)
+        return bordered_det(c, z, t);
     return c->tests[k].fn(x, dx, c->tests[k].ctx);
 }
 
@@ -430,6 +507,234 @@ int usm_cont_correct_fixed(usm_cont *c, double *x, int k, double value)
     return its;
 }
 
+static int start_tests(usm_cont *c);
+
+/* ---- branch switching ----------------------------------------------------------------- */
+
+/* The eigenvector of the smallest eigenvalue of the symmetric m x m matrix
+ * S (destroyed) into v, by cyclic Jacobi (V: m x m work); the eigenvalue. */
+static double smallest_eigvec(int m, double *S, double *V, double *v)
+{
+    for (int i = 0; i < m; ++i)
+        for (int j = 0; j < m; ++j)
+            V[i * m + j] = i == j ? 1.0 : 0.0;
+    for (int sweep = 0; sweep < 60; ++sweep) {
+        double off = 0, diag = 0;
+        for (int i = 0; i < m; ++i) {
+            diag += S[i * m + i] * S[i * m + i];
+            for (int j = i + 1; j < m; ++j)
+                off += S[i * m + j] * S[i * m + j];
+        }
+        if (off <= 1e-32 * diag || off == 0.0)
+            break;
+        for (int p = 0; p < m; ++p)
+            for (int q = p + 1; q < m; ++q) {
+                const double apq = S[p * m + q];
+                if (apq == 0.0)
+                    continue;
+                const double theta = (S[q * m + q] - S[p * m + p]) / (2.0 * apq);
+                const double tt = (theta >= 0 ? 1.0 : -1.0) / (fabs(theta) + sqrt(theta * theta + 1.0));
+                const double cs = 1.0 / sqrt(tt * tt + 1.0), sn = tt * cs;
+                for (int k = 0; k < m; ++k) { /* columns p, q */
+                    const double skp = S[k * m + p], skq = S[k * m + q];
+                    S[k * m + p] = cs * skp - sn * skq;
+                    S[k * m + q] = sn * skp + cs * skq;
+                }
+                for (int k = 0; k < m; ++k) { /* rows p, q */
+                    const double spk = S[p * m + k], sqk = S[q * m + k];
+                    S[p * m + k] = cs * spk - sn * sqk;
+                    S[q * m + k] = sn * spk + cs * sqk;
+                }
+                for (int k = 0; k < m; ++k) {
+                    const double vkp = V[k * m + p], vkq = V[k * m + q];
+                    V[k * m + p] = cs * vkp - sn * vkq;
+                    V[k * m + q] = sn * vkp + cs * vkq;
+                }
+            }
+    }
+    int best = 0;
+    for (int i = 1; i < m; ++i)
+        if (S[i * m + i] < S[best * m + best])
+            best = i;
+    for (int k = 0; k < m; ++k)
+        v[k] = V[k * m + best];
+    return S[best * m + best];
+}
+
+/* psi' (F_z(z + e v) - F_z(z - e v)) / (2 e): the row psi' F_zz[v, .] into
+ * row (N values); A: n x N work.  0 or -1. */
+static int second_derivative_row(usm_cont *c, const double *z, const double *v, const double *psi,
+                                 double *zw, double *A, double *row)
+{
+    const int n = c->n, N = c->N;
+    const double e = 1e-5;
+    for (int j = 0; j < N; ++j)
+        zw[j] = z[j] + e * v[j];
+    if (eval(c, zw, 1) != 0)
+        return -1;
+    memcpy(A, c->A, sizeof(double) * (size_t)n * (size_t)N);
+    for (int j = 0; j < N; ++j)
+        zw[j] = z[j] - e * v[j];
+    if (eval(c, zw, 1) != 0)
+        return -1;
+    for (int j = 0; j < N; ++j) {
+        double r = 0;
+        for (int i = 0; i < n; ++i)
+            r += psi[i] * (A[i * N + j] - c->A[i * N + j]);
+        row[j] = r / (2.0 * e);
+    }
+    return 0;
+}
+
+/* The other branch's tangent tau and phi (scaled, unit) at the branch point
+ * z with the followed branch's unit tangent t1 (scaled).  USM_CONT_ABE,
+ * USM_CONT_PERPENDICULAR or USM_CONT_LOST. */
+static int branch_tangent_z(usm_cont *c, const double *z, const double *t1, double *tau, double *phi)
+{
+    const int n = c->n, N = c->N;
+    const size_t NN = (size_t)N * (size_t)N;
+    double *mem = malloc(sizeof(double) * (4 * NN + 4 * (size_t)N));
+    if (!mem)
+        return USM_CONT_LOST;
+    double *A0 = mem, *S = A0 + NN, *V = S + NN, *A = V + NN;
+    double *psi = A + NN, *zw = psi + N, *r1 = zw + N, *r2 = r1 + N;
+    int method = USM_CONT_LOST;
+    if (eval(c, z, 1) != 0)
+        goto out;
+    memcpy(A0, c->A, sizeof(double) * (size_t)n * (size_t)N);
+    /* phi: the null vector of F_z orthogonal to t1, the smallest eigenvector
+     * of F_z'F_z + sigma t1 t1' (t1 itself lifted to sigma) */
+    double sigma = 1.0;
+    for (int i = 0; i < n * N; ++i)
+        sigma += A0[i] * A0[i];
+    for (int j = 0; j < N; ++j)
+        for (int k = 0; k < N; ++k) {
+            double s = sigma * t1[j] * t1[k];
+            for (int i = 0; i < n; ++i)
+                s += A0[i * N + j] * A0[i * N + k];
+            S[j * N + k] = s;
+        }
+    const double lambda = smallest_eigvec(N, S, V, phi);
+    /* a regular point: F_z has rank n, phi's eigenvalue of the size of the
+     * Jacobian's squared singular values, not a rounding error's */
+    if (!(lambda <= 1e-12 * sigma))
+        goto out;
+    const double pt = dot(N, phi, t1);
+    for (int j = 0; j < N; ++j)
+        phi[j] -= pt * t1[j];
+    normalise(N, phi);
+    /* psi: the left null vector of F_z, the smallest eigenvector of F_z F_z' */
+    for (int i = 0; i < n; ++i)
+        for (int k = 0; k < n; ++k)
+            S[i * n + k] = dot(N, A0 + i * N, A0 + k * N);
+    smallest_eigvec(n, S, V, psi);
+    if (second_derivative_row(c, z, t1, psi, zw, A, r1) != 0 ||
+        second_derivative_row(c, z, phi, psi, zw, A, r2) != 0)
+        goto out;
+    /* a a^2 + 2 b a b + c b^2 = 0 in (alpha, beta); alpha = 1, beta = 0 is
+     * (up to the location's error) the followed branch */
+    const double qa = dot(N, r1, t1), qb = 0.5 * (dot(N, r1, phi) + dot(N, r2, t1)),
+                 qc = dot(N, r2, phi);
+    const double disc = qb * qb - qa * qc;
+    if (disc > 0 && qb * qb > 1e-12 * (qa * qa + qc * qc)) {
+        /* the small root beta/alpha (the followed branch) by the stable
+         * formula, the other as the sum of the roots minus it */
+        const double r_small = -qa / (qb + copysign(sqrt(disc), qb));
+        const double al = qc, be = -2.0 * qb - qc * r_small;
+        for (int j = 0; j < N; ++j)
+            tau[j] = al * t1[j] + be * phi[j];
+        normalise(N, tau);
+        method = USM_CONT_ABE;
+    } else {
+        memcpy(tau, phi, sizeof(double) * (size_t)N);
+        method = USM_CONT_PERPENDICULAR;
+    }
+out:
+    free(mem);
+    return method;
+}
+
+/* x, dx in the problem's units to z, unit t (scaled) */
+static void scale_in(const usm_cont *c, const double *x, const double *dx, double *z, double *t)
+{
+    for (int j = 0; j < c->N; ++j) {
+        z[j] = x[j] / c->scale[j];
+        t[j] = dx[j] / c->scale[j];
+    }
+    normalise(c->N, t);
+}
+
+int usm_cont_branch_tangent(usm_cont *c, const double *x, const double *dx, double *tau,
+                            double *phi)
+{
+    const int N = c->N;
+    if (!c->f)
+        return USM_CONT_EUSAGE;
+    double *mem = malloc(sizeof(double) * 4 * (size_t)N);
+    if (!mem)
+        return USM_CONT_LOST;
+    double *z = mem, *t1 = z + N, *ts = t1 + N, *ph = ts + N;
+    scale_in(c, x, dx, z, t1);
+    const int method = branch_tangent_z(c, z, t1, ts, ph);
+    if (method >= 0) {
+        unscale(c, ts, tau);
+        if (phi)
+            unscale(c, ph, phi);
+    }
+    free(mem);
+    return method;
+}
+
+int usm_cont_switch_branch(usm_cont *c, const double *x, const double *dx, int dir, double h)
+{
+    const int n = c->n, N = c->N;
+    if (!c->f || (dir != 1 && dir != -1))
+        return USM_CONT_EUSAGE;
+    if (!(h > 0))
+        h = c->o.h0;
+    double *mem = malloc(sizeof(double) * 6 * (size_t)N);
+    if (!mem)
+        return USM_CONT_LOST;
+    double *z0 = mem, *t1 = z0 + N, *tau = t1 + N, *phi = tau + N, *z = phi + N, *t = z + N;
+    int rc = USM_CONT_LOST;
+    scale_in(c, x, dx, z0, t1);
+    if (branch_tangent_z(c, z0, t1, tau, phi) < 0)
+        goto out;
+    int lead = n; /* the component whose sign dir gives */
+    if (fabs(tau[n]) < 1e-8)
+        for (int j = 0; j < n; ++j)
+            if (lead == n || fabs(tau[j]) > fabs(tau[lead]))
+                lead = j;
+    if ((tau[lead] < 0) == (dir > 0))
+        for (int j = 0; j < N; ++j)
+            tau[j] = -tau[j];
+    /* phi.(z - z0) is second order in the distance along the followed
+     * branch and first order along the new one */
+    const double pt = dot(N, phi, tau);
+    if (pt < 0)
+        for (int j = 0; j < N; ++j)
+            phi[j] = -phi[j];
+    for (int j = 0; j < N; ++j)
+        z[j] = z0[j] + h * tau[j];
+    if (correct(c, z, phi, dot(N, phi, z0) + h * fabs(pt)) < 0 || tangent(c, z, tau, t) != 0)
+        goto out;
+    c->started = c->ended = 0;
+    c->have_arc = 0;
+    c->nev = 0;
+    c->its = 0;
+    c->steps = 0;
+    memcpy(c->z, z, sizeof(double) * (size_t)N);
+    memcpy(c->t, t, sizeof(double) * (size_t)N);
+    c->h = c->o.h0;
+    if (start_tests(c) != 0)
+        goto out;
+    c->started = 1;
+    rc = 0;
+out:
+    free(mem);
+    return rc;
+}
+
 /* ---- following the branch ------------------------------------------------------------- */
 
 static int is_stop(const usm_cont *c, int k)
@@ -528,7 +833,9 @@ int usm_cont_step(usm_cont *c)
             z1[j] = c->z[j] + c->h * c->t[j];
         const int its = correct(c, z1, c->t, dot(N, c->t, c->z) + c->h);
         double turn = -1;
-        if (its >= 0 && tangent_from_lu(c, t1) == 0)
+        /* after chord iterations the factorisation is the predictor's: the
+         * tangent afresh */
+        if (its >= 0 && (c->o.chord ? tangent(c, z1, c->t, t1) : tangent_from_lu(c, t1)) == 0)
             turn = dot(N, c->t, t1);
         int ok = turn >= c->o.cos_max_turn;
         if (ok) {

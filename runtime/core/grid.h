@@ -12,4 +12,9 @@
  * when from < to. */
 double usm_grid_value(double from, double to, long i, long n);
 
+/* The n values usm_grid_value gives, into out[0..n-1]: the same values for
+ * about half the decimal conversions (each value's search starts from its
+ * neighbour's precision). */
+void usm_grid_fill(double from, double to, long n, double *out);
+
 #endif /* USM_CORE_GRID_H */

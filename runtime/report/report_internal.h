@@ -228,8 +228,25 @@ typedef struct usm_report_squeal_point {
     usm_spectrum_line line;     /* F_n's strongest non-harmonic line */
 } usm_report_squeal_point;
 
-typedef struct usm_report_squeal {
+/* What the unilateral motor does over the 4-DOF mode split past its last
+ * stable periodic orbit (usm_squeal_study.h: long event-driven runs, their
+ * stroboscopic samples, Lyapunov exponent, classification and audible lines). */
+typedef struct usm_report_squeal_motion {
     int ok;                     /* computed (else note says why) */
+    char note[USM_MSG_LEN];
+    const usm_model *model;     /* 4dof_imperfect_unilateral */
+    struct usm_squeal_study *study; /* its points and samples; owned */
+    double from, to;            /* the mode split range */
+    int points;
+    long settle, window, lyapunov_skip, lyapunov_periods;
+    double onset_lo, onset_hi;  /* the last periodic value and the first irregular one past it
+                                   (NaN: no change from period-1 in the range) */
+    double seconds;             /* CPU time of the study [s] */
+} usm_report_squeal_motion;
+
+typedef struct usm_report_squeal {
+    usm_report_squeal_motion motion; /* the motor past its last orbit */
+    int ok;                     /* the bilateral Neimark-Sacker part computed (else note says why) */
     char note[USM_MSG_LEN];
     const usm_model *model;     /* 4dof_imperfect */
     double from, to;            /* the mode split range searched for the NS point */
@@ -381,6 +398,8 @@ enum {
     REPORT_FIG_ELASTICITY, /* elasticities of rotor_speed and max_modulus */
     REPORT_FIG_NONIDEAL,   /* ripple, F_n_min, max |lambda| vs phase error and mode split */
     REPORT_FIG_ORBIT,      /* one periodic orbit: the tilt vector in the housing plane */
+    REPORT_FIG_SQUEAL_MOTION, /* the unilateral motor past its last orbit: bifurcation
+                                 diagram and audible lines over the mode split */
     REPORT_FIG_SQUEAL,     /* the spectrum past the NS point, the vibration vs mode split */
     REPORT_NFIGURES
 };

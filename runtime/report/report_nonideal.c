@@ -368,5 +368,7 @@ int usm_report_figure_count(const usm_report_data *d)
         return REPORT_FIG_NONIDEAL;
     if (!d->nonideal.orbit_ok)
         return REPORT_FIG_ORBIT;
+    if (!d->squeal.motion.ok)
+        return REPORT_FIG_SQUEAL_MOTION;
     return d->squeal.ok ? REPORT_NFIGURES : REPORT_FIG_SQUEAL;
 }

@@ -34,7 +34,8 @@ const usm_report_figure usm_report_figures[REPORT_NFIGURES] = {
     {"elasticity", "Elasticities of rotor speed and of the largest Floquet modulus at the paper's point"},
     {"nonideal_curves", "The non-ideal motor: rotor-speed ripple, smallest contact force, largest |λ|, mean rotor speed and largest impact velocity vs phase error and mode split; past contact loss (dashed) the orbits with separation"},
     {"nonideal_orbit", "One periodic orbit of the non-ideal motor: the tilt vector in the housing plane over a period, the ideal circle beside it"},
-    {"squeal", "The squeal: the spectrum of the contact force just past the 4-DOF Neimark-Sacker point, and the parasitic vibration against the mode split"},
+    {"squeal_motion", "What the motor does past its last periodic orbit (4-DOF, unilateral contact): the rotor speed and the tilt once a period over the mode split (bifurcation diagram), and the audible lines of the stator rim's axial velocity coloured by level"},
+    {"squeal", "The bilateral model's squeal: the spectrum of the contact force just past the 4-DOF Neimark-Sacker point, and the parasitic vibration against the mode split"},
 };
 
 const char *const usm_report_files[] = {
@@ -64,6 +65,8 @@ const char *const usm_report_files[] = {
     "nonideal_curves_values.csv",
     "nonideal_orbit.gp", "nonideal_orbit.png", "nonideal_orbit.svg", "nonideal_orbit.csv",
     "nonideal_orbit_circle.csv",
+    "squeal_motion.gp", "squeal_motion.png", "squeal_motion.svg", "squeal_motion.csv",
+    "squeal_motion_points.csv",
     "squeal.gp", "squeal.png", "squeal.svg", "squeal_spectrum.csv", "squeal_amplitude.csv",
     "squeal_values.csv",
     NULL,

@@ -147,6 +147,8 @@ static json_t *sweep_json(const usm_periodic_sweep *s, const usm_params *p)
             if (e->branch_lost) { /* the branch's last orbit, and where */
                 usm_json_put(o, "last_orbit", usm_json_hybrid_result(&e->hybrid_left), &eok);
                 usm_json_put(o, "last_value", usm_json_real(e->branch_last), &eok);
+                /* located on the branch (null where it could not be) */
+                usm_json_put(o, "branch_end", usm_json_real(e->branch_end), &eok);
             } else {
                 usm_json_put(o, "unstable_orbit", usm_json_hybrid_result(&e->hybrid_left),
                              &eok);

@@ -65,6 +65,12 @@ typedef struct usm_cont_options {
     int across_fold;         /* 1: the branch is followed around a fold (a fold is an
                               * event); 0: the branch ends at the fold */
     long max_steps;          /* usm_cont_step calls after which the branch is lost */
+    int chord;               /* 1: the corrector factors the Jacobian once, at its first
+                              * iterate, and reuses it (modified Newton: one Jacobian a
+                              * correction, more iterations; the tangent at a step's end
+                              * then takes one more): for a Jacobian that costs much more
+                              * than F.  0 (default): Newton, the tangent from its last
+                              * factorisation */
 } usm_cont_options;
 
 /* A located zero of a test function inside the last step. */
@@ -82,7 +88,7 @@ typedef struct usm_cont usm_cont;
 
 /* Defaults: h0 0.01, h_min 1e-13, h_max 0.05, newton_tol 1e-10, newton_max
  * 12, grow_its 3, shrink_its 6, cos_max_turn 0.9, event_tol 1e-14,
- * across_fold 0, max_steps 2000000. */
+ * across_fold 0, max_steps 2000000, chord 0. */
 void usm_cont_options_default(usm_cont_options *o);
 
 /* An engine for n equations in n + 1 unknowns (n >= 1), default options and
@@ -158,6 +164,52 @@ int usm_cont_arc_point(usm_cont *c, double s, double *x, double *dx);
  * problem's own conditions along a step (a grid value of the parameter). */
 int usm_cont_arc_locate(usm_cont *c, usm_cont_test_fn fn, void *ctx, double f0, double f1,
                         double *s, double *x);
+
+/* ---- branch points ------------------------------------------------------------------
+ * A simple branch point is where two branches cross: dF/dx has a null space
+ * of dimension two there, and the bordered Jacobian [dF/dx; t] (t the unit
+ * tangent) is singular.  Its determinant, oriented by the tangent, changes
+ * sign across the branch point and not across a fold (the bordered matrix
+ * stays regular there), so it is the test function. */
+
+/* Registers the branch-point test function, det [dF/dz; t] in the scaled
+ * coordinates (one Jacobian and one factorisation a point more); flags
+ * USM_CONT_TEST_MONITOR or USM_CONT_TEST_STOP.  Its index (>= 1), or
+ * USM_CONT_EUSAGE.  Before usm_cont_start. */
+int usm_cont_add_branch_test(usm_cont *c, int flags);
+
+/* What usm_cont_branch_tangent says it used. */
+#define USM_CONT_ABE 0           /* the algebraic branching equation */
+#define USM_CONT_PERPENDICULAR 1 /* the null vector orthogonal to the followed branch */
+
+/* The tangent of the other branch at a branch point x (n + 1 values, e.g. a
+ * branch-point event's x) where the followed branch has the direction dx
+ * (its dx): the null space of dF/dx there, {t, phi} with phi orthogonal to
+ * t, and on it the algebraic branching equation
+ *   psi' F_xx[a t + b phi, a t + b phi] = 0   (psi the left null vector),
+ * a quadratic in (a, b) with one root along t; the other root is the
+ * answer, in the problem's units like dx (tau[i] = tau_scaled[i] * scale[i]),
+ * with dtau/ds's sign left to the caller.  Where the equation does not
+ * separate two real roots (F_xx by central differences of the Jacobian is
+ * degenerate there), phi itself ("perpendicular tangent").
+ * USM_CONT_ABE, USM_CONT_PERPENDICULAR, or USM_CONT_LOST when dF/dx has no
+ * two-dimensional null space at x (not a branch point) or an evaluation
+ * failed.  phi into phi when not NULL (problem's units too). */
+int usm_cont_branch_tangent(usm_cont *c, const double *x, const double *dx, double *tau,
+                            double *phi);
+
+/* Starts the other branch at the branch point x, dx (as for
+ * usm_cont_branch_tangent): the predictor x + h tau (h in the scaled
+ * arclength; h <= 0: the option h0) corrected onto the branch in the
+ * hyperplane normal to phi, which the followed branch meets only at the
+ * branch point, so that the corrector cannot fall back onto it.  dir picks the
+ * half: +1 the one along which the parameter grows, -1 the other; where
+ * the new branch leaves with |dp/ds| < 1e-8 (a pitchfork's), the half
+ * along which the unknown with the largest tangent component grows.  The
+ * engine then follows that branch as after usm_cont_start (test functions
+ * restarted, the step h0).  0, USM_CONT_LOST, or USM_CONT_EUSAGE (dir not
+ * +-1, no problem set). */
+int usm_cont_switch_branch(usm_cont *c, const double *x, const double *dx, int dir, double h);
 
 /* Newton on [F(x) = 0; x[k] = value] from x, in place: the point of the
  * branch where unknown k (the parameter: k = n) has the given value.  The
