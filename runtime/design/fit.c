@@ -24,11 +24,12 @@
 #include "fit_internal.h"
 #include "usm_fit.h"
 #include "usm_robust.h"
+#include "usm_sweep.h"
 
 /* ---- outputs ------------------------------------------------------------------- */
 
 static const char *const out_units[USM_FIT_NOUTPUTS] = {
-    "rad", "1/s", "N", "N", "1", "N", NULL, "W", "W", "1/s", "N m", "1/s", "W"};
+    "rad", "1/s", "N", "N", "1", "N", NULL, "W", "W", "1/s", "N m", "1/s", "W", "Hz"};
 
 /* the datasheet quantities by fit output (usm_robust.h) */
 static int datasheet_quantity(int k)
@@ -43,13 +44,15 @@ static int datasheet_quantity(int k)
 
 int usm_fit_output_is_datasheet(int k)
 {
-    return datasheet_quantity(k) >= 0;
+    return datasheet_quantity(k) >= 0 || k == USM_FIT_SPEED_MAX_FREQUENCY;
 }
 
 const char *usm_fit_output_name(int k)
 {
     if (k == USM_FIT_SPEED)
         return "speed";
+    if (k == USM_FIT_SPEED_MAX_FREQUENCY)
+        return "speed_max_frequency";
     if (usm_fit_output_is_datasheet(k))
         return usm_robust_quantity_name(datasheet_quantity(k));
     return k >= 0 && k < USM_SENS_COUNT && k != USM_SENS_MAX_MODULUS
@@ -393,6 +396,51 @@ int fit_point(fit_eval *e, usm_params *p, const usm_steady_solution **sol,
     return USM_OK;
 }
 
+static double monitor_speed(const usm_steady_solution *sol, const usm_params *p, void *ctx)
+{
+    (void)p;
+    (void)ctx;
+    return -sol->rotor_speed;
+}
+
+/* The frequency of the speed maximum over f at p: the located maximum event
+ * of the same continuation `usm sweep --over f --extremum speed` runs
+ * (without multipliers, which do not move it), the largest where there are
+ * several.  USM_ENOSOLUTION when the range holds no maximum. */
+static int speed_max_frequency(const usm_model *m, const usm_params *p, double *value)
+{
+    usm_sweep *s = usm_sweep_alloc(m);
+    usm_sweep_options o;
+    const usm_sweep_monitor mon = {"speed", monitor_speed, NULL, 1, 0, {0}};
+    if (!s)
+        return USM_EFAILED;
+    usm_sweep_options_default(&o);
+    o.over = usm_param_table[USM_P_f].name;
+    o.from = USM_FIT_F_LO;
+    o.to = USM_FIT_F_HI;
+    o.points = USM_FIT_F_POINTS;
+    o.floquet = 0;
+    o.operating_point = 0;
+    o.threads = 1;
+    o.monitors = &mon;
+    o.nmonitors = 1;
+    int rc = usm_sweep_run(s, p, &o);
+    if (rc == USM_OK) {
+        double best = -INFINITY;
+        rc = USM_ENOSOLUTION;
+        for (size_t i = 0; i < usm_sweep_event_count(s); ++i) {
+            const usm_sweep_event *ev = usm_sweep_event_at(s, i);
+            if (ev->type == USM_EVENT_MAXIMUM && ev->monitor_value > best) {
+                best = ev->monitor_value;
+                *value = ev->value;
+                rc = USM_OK;
+            }
+        }
+    }
+    usm_sweep_free(s);
+    return rc;
+}
+
 /* Datasheet quantity `out` at parameters p (a row's conditions set):
  * NaN with *reason when it does not exist there. */
 static double datasheet_at(fit_eval *e, const usm_params *p, int out, const char **reason)
@@ -400,6 +448,15 @@ static double datasheet_at(fit_eval *e, const usm_params *p, int out, const char
     usm_quantity_options qo;
     char msg[USM_MSG_LEN];
     double v = NAN;
+    if (out == USM_FIT_SPEED_MAX_FREQUENCY) {
+        e->evaluations++;
+        int st = speed_max_frequency(e->m, p, &v);
+        if (st != USM_OK || !isfinite(v)) {
+            *reason = st == USM_ENOSOLUTION ? "no_solution" : "failed";
+            return NAN;
+        }
+        return v;
+    }
     memset(&qo, 0, sizeof qo);
     qo.range.param = -1;
     qo.band_threshold = NAN;

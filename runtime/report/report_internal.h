@@ -318,6 +318,11 @@ typedef struct usm_report_data {
         double c_r, c_r_se, c_r_lo, c_r_hi, chi2;   /* c_r fitted to Sec. 5's theta, speed */
         double pair_corr, pair_singular, pair_c_r, pair_I_xx, pair_dir[2]; /* c_r with I_xx */
         double fmax_model, fmax_c_r, fmax_sigmas;  /* the c_r Fig. 9's 36.8 kHz asks for */
+        /* the located refit: c_r (and c_r with I_xx) fitted to theta, speed
+         * and Fig. 9's speed maximum together */
+        int loc_ok, loc_pair_ok, loc_pair_identifiable, loc_dof;
+        double loc_c_r, loc_c_r_se, loc_chi2, loc_p, loc_fmax, loc_theta_res, loc_speed_res,
+            loc_fmax_res, loc_pair_singular;
         double seconds;
         char note[USM_MSG_LEN];
     } paper_fit;
