@@ -167,8 +167,15 @@ void usm_fit_write_table(const usm_model *m, const usm_fit_data *d, const usm_fi
         fprintf(out, "\n");
         for (int j = 0; j < r->nfit; ++j) {
             fprintf(out, "  %-10s", pname(r, j));
-            for (int k = 0; k < r->nfit; ++k)
-                fprintf(out, " %9.4f", r->corr[j * r->nfit + k]);
+            for (int k = 0; k < r->nfit; ++k) {
+                /* undefined where a standard error is infinite (a combination
+                 * the data do not determine, named below) */
+                const double c = r->corr[j * r->nfit + k];
+                if (isfinite(c))
+                    fprintf(out, " %9.4f", c);
+                else
+                    fprintf(out, " %9s", "undefined");
+            }
             fprintf(out, "\n");
         }
     }
