@@ -1,9 +1,8 @@
-/* Parameters identified from measured characteristics (usm_fit.h).
- *
- * Each evaluation solves every row's stationary roots, decides its
- * operating point and differentiates that root analytically, so one pass
- * gives the residuals and the Jacobian together; GSL asks for them
- * separately, so the pass of the last point asked for is kept. */
+/* Parameters identified from measured characteristics (usm_fit.h): the
+ * least-squares driver (starts, GSL's Levenberg-Marquardt, profile
+ * likelihood).  One evaluation (fit_eval.c) gives the residuals and the
+ * Jacobian together; GSL asks for them separately, so the pass of the last
+ * point asked for is kept. */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <stdio.h>
