@@ -4,6 +4,8 @@
 #include <stdarg.h>
 #include <stdio.h>
 
+#include "usm_io.h"
+#include "usm_plot.h"
 #include "usm_run.h"
 
 void cli_error(const char *fmt, ...)
@@ -59,6 +61,32 @@ int cli_plot_status(int rc, const char *msg)
     if (rc != USM_OK) {
         cli_error("%s", msg);
         return rc == USM_EINPUT ? USM_EINPUT : USM_EFAILED;
+    }
+    return USM_OK;
+}
+
+int cli_check_out_plot(const char *out, const char *plot, int force)
+{
+    char msg[CLI_MSG_LEN];
+    if (out && usm_io_check(out, force, msg) != USM_OK) {
+        cli_error("--out %s", msg);
+        return USM_EINPUT;
+    }
+    if (plot && usm_plot_csv_check(plot, force, msg) != USM_OK) {
+        cli_error("%s", msg);
+        return USM_EINPUT;
+    }
+    if (out && plot) {
+        char files[USM_PLOT_MAX_FILES][USM_IO_PATH_LEN];
+        const char *paths[1 + USM_PLOT_MAX_FILES] = {out};
+        const char *opts[1 + USM_PLOT_MAX_FILES] = {"--out"};
+        const int m = usm_plot_files(plot, 1, files);
+        for (int i = 0; i < m; ++i)
+            paths[1 + i] = files[i], opts[1 + i] = "--plot";
+        if (m < 0 || usm_io_check_distinct(paths, opts, 1 + m, msg) != USM_OK) {
+            cli_error("%s", m < 0 ? "--plot: path too long" : msg);
+            return USM_EINPUT;
+        }
     }
     return USM_OK;
 }

@@ -44,6 +44,11 @@ int cli_csv_write(FILE *out, const void *data);
  * USM_EINPUT or USM_EFAILED. */
 int cli_plot_status(int rc, const char *msg);
 
+/* Before a long computation: --out (when not NULL) and --plot PREFIX's files
+ * (when not NULL) can be written (usm_io_check, usm_plot_csv_check), and
+ * PREFIX.csv is not --out's file.  USM_OK, or USM_EINPUT with one line said. */
+int cli_check_out_plot(const char *out, const char *plot, int force);
+
 /* snprintf into a CLI_MSG_LEN buffer. */
 void cli_msg(char msg[CLI_MSG_LEN], const char *fmt, ...) CLI_PRINTF(2, 3);
 

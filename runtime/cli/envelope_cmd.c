@@ -199,26 +199,8 @@ static int run(void *p)
     char msg[CLI_MSG_LEN];
     int status;
     /* an --out that cannot be written is refused before the computation */
-    if (a->out && usm_io_check(a->out, a->force, msg) != USM_OK) {
-        cli_error("--out %s", msg);
+    if (cli_check_out_plot(a->out, a->plot, a->force) != USM_OK)
         return USM_EINPUT;
-    }
-    if (a->plot && usm_plot_csv_check(a->plot, a->force, msg) != USM_OK) {
-        cli_error("%s", msg);
-        return USM_EINPUT;
-    }
-    if (a->out && a->plot) { /* --out e.csv --plot e: PREFIX.csv would replace --out's file */
-        char files[USM_PLOT_MAX_FILES][USM_IO_PATH_LEN];
-        const char *paths[1 + USM_PLOT_MAX_FILES] = {a->out};
-        const char *opts[1 + USM_PLOT_MAX_FILES] = {"--out"};
-        const int m = usm_plot_files(a->plot, 1, files);
-        for (int i = 0; i < m; ++i)
-            paths[1 + i] = files[i], opts[1 + i] = "--plot";
-        if (m < 0 || usm_io_check_distinct(paths, opts, 1 + m, msg) != USM_OK) {
-            cli_error("%s", m < 0 ? "--plot: path too long" : msg);
-            return USM_EINPUT;
-        }
-    }
     usm_run *r = usm_run_envelope(a->common.model, &a->common.params, &a->opt);
     if (!a->out) {
         status = cli_run_output(r, a->common.json, 0, write_csv, a);

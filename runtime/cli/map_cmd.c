@@ -250,26 +250,8 @@ static int run(void *p)
     map.threads = a->threads;
     map.boundaries = a->common.json;
     /* Refuse an --out that cannot be written before the (long) computation. */
-    if (a->out && usm_io_check(a->out, a->force, msg) != USM_OK) {
-        cli_error("--out %s", msg);
+    if (cli_check_out_plot(a->out, a->plot, a->force) != USM_OK)
         return USM_EINPUT;
-    }
-    if (a->plot && usm_plot_csv_check(a->plot, a->force, msg) != USM_OK) {
-        cli_error("%s", msg);
-        return USM_EINPUT;
-    }
-    if (a->out && a->plot) { /* --out m.csv --plot m: PREFIX.csv would replace --out's file */
-        char files[USM_PLOT_MAX_FILES][USM_IO_PATH_LEN];
-        const char *paths[1 + USM_PLOT_MAX_FILES] = {a->out};
-        const char *opts[1 + USM_PLOT_MAX_FILES] = {"--out"};
-        const int m = usm_plot_files(a->plot, 1, files);
-        for (int i = 0; i < m; ++i)
-            paths[1 + i] = files[i], opts[1 + i] = "--plot";
-        if (m < 0 || usm_io_check_distinct(paths, opts, 1 + m, msg) != USM_OK) {
-            cli_error("%s", m < 0 ? "--plot: path too long" : msg);
-            return USM_EINPUT;
-        }
-    }
 #ifdef USM_HAVE_MPI
     if (a->common.size > 1) { /* the ranks share the columns; rank 0 gathers the map */
         usm_map_options opt;

@@ -1,5 +1,5 @@
-/* fit_internal.h: the evaluation of a fit's residuals (fit.c) shared with
- * its statistics (fit_stats.c). */
+/* fit_internal.h: the evaluation of a fit's residuals (fit_eval.c), used by
+ * the least-squares driver (fit.c) and the statistics (fit_stats.c). */
 #ifndef USM_FIT_INTERNAL_H
 #define USM_FIT_INTERNAL_H
 
@@ -27,6 +27,9 @@ typedef struct fit_eval {
     double *f, *J, *model, chi2;
     const char **reason;       /* per value: "" or why it is flagged */
 } fit_eval;
+
+/* Whether parameter k is fitted in log scale: its range allows no negative value. */
+int fit_log_scale(int k);
 
 int fit_eval_init(fit_eval *e, const usm_model *m, const usm_params *p, const usm_fit_data *d,
                   const usm_fit_options *o);

@@ -226,3 +226,20 @@ void usm_csv_validity(FILE *f, int has, usm_validity v)
     usm_csv_bool(f, 0, v == USM_VALID);
     usm_csv_text(f, 0, usm_validity_name(v));
 }
+
+int usm_csv_split(char *line, char **fields, int max)
+{
+    int n = 0;
+    char *p = line;
+    line[strcspn(line, "\r\n")] = '\0';
+    for (;;) {
+        if (n == max)
+            return -1;
+        fields[n++] = p;
+        char *c = strchr(p, ',');
+        if (!c)
+            return n;
+        *c = '\0';
+        p = c + 1;
+    }
+}

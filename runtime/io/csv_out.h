@@ -21,6 +21,11 @@ const char *usm_shortest(char buf[32], double v);
 /* The same text; returns its length (one print and one parse, nearly always). */
 int usm_shortest_len(char buf[32], double v);
 
+/* Split a line of the dialect in place at its commas (files read back are
+ * numbers and names, never quoted), the trailing newline dropped: the number
+ * of fields, or -1 when it has more than max. */
+int usm_csv_split(char *line, char **fields, int max);
+
 /* One column of a header: unit NULL for a yes/no or text column. */
 typedef struct usm_csv_column {
     const char *name;

@@ -16,6 +16,7 @@
 
 #include "core/grow.h"
 #include "core/units.h"
+#include "csv_out.h"
 #include "io_msg.h"
 #include "usm_fit.h"
 #include "usm_io.h"
@@ -39,25 +40,6 @@ static char *trim(char *s)
     while (n > 0 && isspace((unsigned char)s[n - 1]))
         s[--n] = '\0';
     return s;
-}
-
-/* Split a CSV line in place (no quoting: the files are numbers and names);
- * -1 when it has more than max fields. */
-static int split(char *line, char **fields, int max)
-{
-    int n = 0;
-    char *p = line;
-    line[strcspn(line, "\r\n")] = '\0';
-    for (;;) {
-        if (n == max)
-            return -1;
-        fields[n++] = p;
-        char *c = strchr(p, ',');
-        if (!c)
-            return n;
-        *c = '\0';
-        p = c + 1;
-    }
 }
 
 /* The scale of the header's unit for a value wanted in SI unit si: 1 for no
@@ -279,7 +261,7 @@ int usm_fit_data_parse_text(const char *path, const char *text, size_t len, usm_
         usm_io_msg(msg, "%s: empty file (a header and rows of measurements expected)", path);
         goto done;
     }
-    if ((nh = split(line, header, USM_FIT_MAX_COLUMNS)) < 0) {
+    if ((nh = usm_csv_split(line, header, USM_FIT_MAX_COLUMNS)) < 0) {
         usm_io_msg(msg, "%s:%ld: more than %d columns", path, header_line, USM_FIT_MAX_COLUMNS);
         goto done;
     }
@@ -316,7 +298,7 @@ int usm_fit_data_parse_text(const char *path, const char *text, size_t len, usm_
         char *t = line + strspn(line, " \t\r");
         if (*t == '\0' || *t == '#')
             continue;
-        int nf = split(line, fields, USM_FIT_MAX_COLUMNS + 1);
+        int nf = usm_csv_split(line, fields, USM_FIT_MAX_COLUMNS + 1);
         if (nf != nh) {
             usm_io_msg(msg, "%s:%ld: %d fields, the header has %d", path, lineno,
                        nf < 0 ? USM_FIT_MAX_COLUMNS + 1 : nf, nh);

@@ -1,6 +1,7 @@
 /* The start state of `usm simulate --from FILE` (see simulate_start.h). */
 #define _POSIX_C_SOURCE 200809L
 #include "usm_io.h"
+#include "csv_out.h"
 #include "io_msg.h"
 
 #include <ctype.h>
@@ -60,24 +61,6 @@ static int column_si(const char *field, const char *column, double *v, char msg[
     usm_io_msg(msg, "%s: the header's unit [%s] is not a unit usm knows: the value cannot be "
                "read in SI", field, key);
     return USM_EINPUT;
-}
-
-/* Split a CSV line in place (no quoting: the files are numbers and names). */
-static int split(char *line, char **fields, int max)
-{
-    int n = 0;
-    char *p = line;
-    line[strcspn(line, "\r\n")] = '\0';
-    for (;;) {
-        if (n == max)
-            return -1;
-        fields[n++] = p;
-        char *c = strchr(p, ',');
-        if (!c)
-            return n;
-        *c = '\0';
-        p = c + 1;
-    }
 }
 
 typedef struct start_state {
@@ -147,8 +130,8 @@ static int read_csv_state(const char *path, FILE *f, const usm_model *m, start_s
         usm_io_msg(msg, "%s: no data row after the header", path);
         return USM_EINPUT;
     }
-    nnames = split(header, names, 64);
-    nvalues = split(last, values, 64);
+    nnames = usm_csv_split(header, names, 64);
+    nvalues = usm_csv_split(last, values, 64);
     if (nnames < 0 || nvalues != nnames) {
         usm_io_msg(msg, "%s:%ld: %d fields, the header has %d", path, last_lineno, nvalues,
                 nnames);

@@ -405,7 +405,8 @@ int usm_report_write(const char *dir, const usm_params *p, const usm_report_opti
     d->opt = *opt;
     int (*const section[])(usm_report_data *, char *) = {
         usm_report_compute, usm_report_compute_maps, usm_report_compute_nonideal,
-        usm_report_compute_squeal, usm_report_compute_design, usm_report_compute_paper_fit};
+        usm_report_compute_squeal, usm_report_compute_design, usm_report_compute_paper_fit,
+        usm_report_compute_envelope};
     const long nsection = (long)(sizeof section / sizeof section[0]);
     progress_meter meter; /* the files are the last section */
     progress_start(&meter, &opt->progress, nsection + 1, 0, "sections");
@@ -431,9 +432,12 @@ int usm_report_write(const char *dir, const usm_params *p, const usm_report_opti
             status = usm_report_write_data(d, w, msg);
         if (status == USM_OK) /* the sections' own data files */
             status = usm_report_squeal_write_data(d, w, msg);
+        if (status == USM_OK)
+            status = usm_report_envelope_write_data(d, w, msg);
     }
     if (status != USM_OK) {
         usm_report_design_free(d);
+        usm_report_envelope_free(d);
         usm_report_data_free(d);
         free(d);
         if (staged) {
@@ -469,6 +473,7 @@ int usm_report_write(const char *dir, const usm_params *p, const usm_report_opti
         json_decref(data);
     }
     usm_report_design_free(d);
+    usm_report_envelope_free(d);
     usm_report_data_free(d);
     free(d);
     /* complete (report.md written last): the stage replaces dir as a whole */

@@ -12,6 +12,7 @@
 
 #include "report_internal.h"
 #include "usm_map.h"
+#include "usm_squeal_study.h"
 
 #define TWO_PI 6.283185307179586476925286766559
 #define PI 3.14159265358979323846264338327950
@@ -481,4 +482,6 @@ void usm_report_data_free(usm_report_data *d)
             usm_report_map_free(&d->map[k]);
             d->have_map[k] = 0;
         }
+    usm_squeal_free(d->squeal.motion.study);
+    d->squeal.motion.study = NULL;
 }

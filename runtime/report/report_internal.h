@@ -228,8 +228,25 @@ typedef struct usm_report_squeal_point {
     usm_spectrum_line line;     /* F_n's strongest non-harmonic line */
 } usm_report_squeal_point;
 
-typedef struct usm_report_squeal {
+/* What the unilateral motor does over the 4-DOF mode split past its last
+ * stable periodic orbit (usm_squeal_study.h: long event-driven runs, their
+ * stroboscopic samples, Lyapunov exponent, classification and audible lines). */
+typedef struct usm_report_squeal_motion {
     int ok;                     /* computed (else note says why) */
+    char note[USM_MSG_LEN];
+    const usm_model *model;     /* 4dof_imperfect_unilateral */
+    struct usm_squeal_study *study; /* its points and samples; owned */
+    double from, to;            /* the mode split range */
+    int points;
+    long settle, window, lyapunov_skip, lyapunov_periods;
+    double onset_lo, onset_hi;  /* the last periodic value and the first irregular one past it
+                                   (NaN: no change from period-1 in the range) */
+    double seconds;             /* CPU time of the study [s] */
+} usm_report_squeal_motion;
+
+typedef struct usm_report_squeal {
+    usm_report_squeal_motion motion; /* the motor past its last orbit */
+    int ok;                     /* the bilateral Neimark-Sacker part computed (else note says why) */
     char note[USM_MSG_LEN];
     const usm_model *model;     /* 4dof_imperfect */
     double from, to;            /* the mode split range searched for the NS point */
@@ -301,11 +318,24 @@ typedef struct usm_report_data {
         double c_r, c_r_se, c_r_lo, c_r_hi, chi2;   /* c_r fitted to Sec. 5's theta, speed */
         double pair_corr, pair_singular, pair_c_r, pair_I_xx, pair_dir[2]; /* c_r with I_xx */
         double fmax_model, fmax_c_r, fmax_sigmas;  /* the c_r Fig. 9's 36.8 kHz asks for */
+        /* the located refit: c_r (and c_r with I_xx) fitted to theta, speed
+         * and Fig. 9's speed maximum together */
+        int loc_ok, loc_pair_ok, loc_pair_identifiable, loc_dof;
+        double loc_c_r, loc_c_r_se, loc_chi2, loc_p, loc_fmax, loc_theta_res, loc_speed_res,
+            loc_fmax_res, loc_pair_singular;
         double seconds;
         char note[USM_MSG_LEN];
     } paper_fit;
 
     struct usm_report_design *design; /* design under scatter (report_design.c); owned */
+
+    struct usm_report_envelope {   /* the operating envelope (report_envelope.c) */
+        int ok;                    /* computed (else note says why) */
+        struct usm_envelope *e;    /* owned; freed by usm_report_envelope_free */
+        int raster;                /* the regions' raster, cells a side */
+        double seconds;
+        char note[USM_MSG_LEN];
+    } envelope;
 } usm_report_data;
 
 /* Compute everything but the maps.  USM_OK or an error status with msg. */
@@ -339,6 +369,17 @@ int usm_report_squeal_write_data(const usm_report_data *d, const char *dir,
                                  char msg[USM_IO_MSG_LEN]);
 /* Its numbers in report.json ("squeal"; keys: docs/report.md). */
 json_t *usm_report_squeal_json(const usm_report_data *d);
+
+/* The 3-DOF operating envelope over f x F0 with start-up from rest
+ * (d->envelope; report_envelope.c).  A failure is a note, not an error of
+ * the report: USM_OK (USM_EFAILED only when out of memory). */
+int usm_report_compute_envelope(usm_report_data *d, char msg[USM_IO_MSG_LEN]);
+/* Its data file envelope.csv and script envelope.gp (when computed). */
+int usm_report_envelope_write_data(const usm_report_data *d, const char *dir,
+                                   char msg[USM_IO_MSG_LEN]);
+/* Its values in report.json ("envelope"). */
+json_t *usm_report_envelope_json(const usm_report_data *d);
+void usm_report_envelope_free(usm_report_data *d);
 
 /* ---- design under scatter (report_design.c) ---------------------------- */
 
@@ -376,7 +417,10 @@ enum {
     REPORT_FIG_ELASTICITY, /* elasticities of rotor_speed and max_modulus */
     REPORT_FIG_NONIDEAL,   /* ripple, F_n_min, max |lambda| vs phase error and mode split */
     REPORT_FIG_ORBIT,      /* one periodic orbit: the tilt vector in the housing plane */
+    REPORT_FIG_SQUEAL_MOTION, /* the unilateral motor past its last orbit: bifurcation
+                                 diagram and audible lines over the mode split */
     REPORT_FIG_SQUEAL,     /* the spectrum past the NS point, the vibration vs mode split */
+    REPORT_FIG_ENVELOPE,   /* the operating envelope f x F0: regions, curves, codim-2 point */
     REPORT_NFIGURES
 };
 extern const usm_report_figure usm_report_figures[REPORT_NFIGURES];

@@ -782,8 +782,9 @@ static json_t *nonideal(const usm_report_data *d)
     num(o, "seconds", ni->seconds);
     {
         const int n = usm_report_figure_count(d);
-        json_object_set_new(o, "figures", figures(REPORT_FIG_NONIDEAL,
-                                                  n < REPORT_FIG_SQUEAL ? n : REPORT_FIG_SQUEAL));
+        json_object_set_new(o, "figures",
+                            figures(REPORT_FIG_NONIDEAL,
+                                    n < REPORT_FIG_SQUEAL_MOTION ? n : REPORT_FIG_SQUEAL_MOTION));
     }
     if (!ni->ok)
         return o;
@@ -875,11 +876,21 @@ json_t *usm_report_json(const usm_report_data *d, int plots_ok, const char *plot
     json_object_set_new(o, "nonideal", nonideal(d));
     {
         json_t *sq = usm_report_squeal_json(d);
-        json_object_set_new(sq, "figures", figures(REPORT_FIG_SQUEAL, usm_report_figure_count(d)));
+        const int n = usm_report_figure_count(d);
+        json_object_set_new(sq, "figures", figures(REPORT_FIG_SQUEAL,
+                                                   n < REPORT_FIG_ENVELOPE ? n : REPORT_FIG_ENVELOPE));
+        json_object_set_new(json_object_get(sq, "motion"), "figures",
+                            figures(REPORT_FIG_SQUEAL_MOTION,
+                                    n < REPORT_FIG_SQUEAL ? n : REPORT_FIG_SQUEAL));
         json_object_set_new(o, "squeal", sq);
     }
     json_object_set_new(o, "design_robust", usm_report_design_json(d));
     json_object_set_new(o, "paper_fit", usm_report_paper_fit_json(d));
+    {
+        json_t *en = usm_report_envelope_json(d);
+        json_object_set_new(en, "figures", figures(REPORT_FIG_ENVELOPE, usm_report_figure_count(d)));
+        json_object_set_new(o, "envelope", en);
+    }
     num(sec, "tables", d->seconds[0]);
     num(sec, "curves", d->seconds[1]);
     num(sec, "maps", d->seconds[2]);

@@ -368,5 +368,9 @@ int usm_report_figure_count(const usm_report_data *d)
         return REPORT_FIG_NONIDEAL;
     if (!d->nonideal.orbit_ok)
         return REPORT_FIG_ORBIT;
-    return d->squeal.ok ? REPORT_NFIGURES : REPORT_FIG_SQUEAL;
+    if (!d->squeal.motion.ok)
+        return REPORT_FIG_SQUEAL_MOTION;
+    if (!d->squeal.ok)
+        return REPORT_FIG_SQUEAL;
+    return d->envelope.ok ? REPORT_NFIGURES : REPORT_FIG_ENVELOPE;
 }

@@ -34,7 +34,9 @@ const usm_report_figure usm_report_figures[REPORT_NFIGURES] = {
     {"elasticity", "Elasticities of rotor speed and of the largest Floquet modulus at the paper's point"},
     {"nonideal_curves", "The non-ideal motor: rotor-speed ripple, smallest contact force, largest |λ|, mean rotor speed and largest impact velocity vs phase error and mode split; past contact loss (dashed) the orbits with separation"},
     {"nonideal_orbit", "One periodic orbit of the non-ideal motor: the tilt vector in the housing plane over a period, the ideal circle beside it"},
-    {"squeal", "The squeal: the spectrum of the contact force just past the 4-DOF Neimark-Sacker point, and the parasitic vibration against the mode split"},
+    {"squeal_motion", "What the motor does past its last periodic orbit (4-DOF, unilateral contact): the rotor speed and the tilt once a period over the mode split (bifurcation diagram), and the audible lines of the stator rim's axial velocity coloured by level"},
+    {"squeal", "The bilateral model's squeal: the spectrum of the contact force just past the 4-DOF Neimark-Sacker point, and the parasitic vibration against the mode split"},
+    {"envelope", "The operating envelope of the 3-DOF motor over f x F0, started from rest: the regions by operating class, the boundaries continued as curves, their codimension-two point"},
 };
 
 const char *const usm_report_files[] = {
@@ -64,8 +66,11 @@ const char *const usm_report_files[] = {
     "nonideal_curves_values.csv",
     "nonideal_orbit.gp", "nonideal_orbit.png", "nonideal_orbit.svg", "nonideal_orbit.csv",
     "nonideal_orbit_circle.csv",
+    "squeal_motion.gp", "squeal_motion.png", "squeal_motion.svg", "squeal_motion.csv",
+    "squeal_motion_points.csv",
     "squeal.gp", "squeal.png", "squeal.svg", "squeal_spectrum.csv", "squeal_amplitude.csv",
     "squeal_values.csv",
+    "envelope.gp", "envelope.png", "envelope.svg", "envelope.csv",
     NULL,
 };
 
@@ -494,7 +499,8 @@ int usm_report_write_data(const usm_report_data *d, const char *dir, char msg[US
     if (st == USM_OK && d->nonideal.ok && d->nonideal.orbit_ok)
         st = write_data_file(d, dir, "nonideal_orbit_circle.csv", DATA_CIRCLE, 0, 0, msg);
     for (int i = 0; i < REPORT_NFIGURES && st == USM_OK; ++i)
-        st = copy_script(dir, usm_report_figures[i].name, msg);
+        if (i != REPORT_FIG_ENVELOPE) /* its script has a header: report_envelope.c */
+            st = copy_script(dir, usm_report_figures[i].name, msg);
     return st;
 }
 

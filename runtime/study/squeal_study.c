@@ -8,6 +8,9 @@
 #include <string.h>
 #include <time.h>
 
+#include <gsl/gsl_complex_math.h>
+#include <gsl/gsl_eigen.h>
+
 #include "core/grow.h"
 #include "usm_periodic.h"
 #include "usm_simulate.h"
@@ -33,6 +36,10 @@ struct usm_squeal_study {
     usm_squeal_point *pts;
     double *f;
     strobe *st;
+    double (*x_last)[USM_MAX_NX]; /* each value's last closed state and its time: */
+    double *t_last;               /* where its orbit is sought (the origin) */
+    usm_params base;
+    usm_squeal_origin origin;
     size_t npts;
     char msg[USM_MSG_LEN];
 };
@@ -74,6 +81,7 @@ void usm_squeal_options_default(usm_squeal_options *opt)
     opt->exponent_tol = 0.01;
     opt->check_rest = 1;
     opt->lines = 6;
+    opt->origin = 1;
 }
 
 usm_squeal_study *usm_squeal_alloc(const usm_model *m)
@@ -103,6 +111,10 @@ static void clear_points(usm_squeal_study *s)
     free(s->st);
     free(s->pts);
     free(s->f);
+    free(s->x_last);
+    free(s->t_last);
+    s->x_last = NULL;
+    s->t_last = NULL;
     s->st = NULL;
     s->pts = NULL;
     s->f = NULL;
@@ -412,6 +424,8 @@ static int one_point(usm_squeal_study *s, const usm_params *q, size_t i, const d
         *t_end = sum.t_reached;
     }
     *have_end = 1;
+    memcpy(s->x_last[i], x_end, sizeof(double) * (size_t)s->m->nx);
+    s->t_last[i] = *t_end;
     const long nw = r->n * r->m;
     double wmin = INFINITY, wmax = -INFINITY, wsum = 0, tsum = 0;
     long nopen = 0;
@@ -502,6 +516,135 @@ static int rest_check(usm_squeal_study *s, const usm_params *q, size_t i, rec *r
     return USM_OK;
 }
 
+const usm_squeal_origin *usm_squeal_origin_get(const usm_squeal_study *s)
+{
+    return s->pts ? &s->origin : NULL;
+}
+
+static int is_period1(const usm_squeal_point *pt)
+{
+    return pt->status == USM_OK && pt->motion == USM_MOTION_PERIODIC && pt->period == 1;
+}
+
+/* The participation of each degree of freedom in the eigenvector v (re, im
+ * parts, stride between columns) of the critical multiplier (header). */
+static void participation(const usm_model *m, double f, const double *vr, const double *vi,
+                          usm_squeal_origin *o)
+{
+    const double w2 = pow(2.0 * 3.14159265358979323846 * f, 2.0);
+    double e[USM_MAX_NX] = {0}, sum = 0.0;
+    int used[USM_MAX_NX] = {0};
+    o->ndof = 0;
+    for (int i = 0; i < m->nx; ++i)
+        e[i] = vr[i] * vr[i] + vi[i] * vi[i];
+    for (int i = 0; i < m->nx && o->ndof < USM_SQUEAL_MAX_DOF; ++i) {
+        const char *name = m->state_names[i];
+        const size_t len = strlen(name);
+        if (used[i] || (len > 3 && strcmp(name + len - 3, "dot") == 0))
+            continue;
+        double share = e[i];
+        used[i] = 1;
+        for (int j = 0; j < m->nx; ++j) { /* its velocity, NAMEdot */
+            const char *nj = m->state_names[j];
+            if (!used[j] && strlen(nj) == len + 3 && strncmp(nj, name, len) == 0 &&
+                strcmp(nj + len, "dot") == 0) {
+                share += e[j] / w2;
+                used[j] = 1;
+            }
+        }
+        snprintf(o->dof[o->ndof], sizeof o->dof[0], "%s", name);
+        o->share[o->ndof++] = share;
+        sum += share;
+    }
+    for (int k = 0; k < o->ndof; ++k)
+        o->share[k] = sum > 0 ? o->share[k] / sum : NAN;
+}
+
+/* The origin at the end of the period-1 branch in the range (header). */
+static int find_origin(usm_squeal_study *s, const usm_param_info *info)
+{
+    usm_squeal_origin *o = &s->origin;
+    size_t i = 0;
+    while (i + 1 < s->npts && !(is_period1(&s->pts[i]) && !is_period1(&s->pts[i + 1])))
+        ++i;
+    if (i + 1 >= s->npts)
+        return USM_OK; /* found 0: no change from period 1 */
+    o->value = s->pts[i].value;
+    o->next_value = s->pts[i + 1].value;
+    usm_params q = s->base;
+    *usm_params_field(&q, info) = o->value;
+    usm_hybrid_options ho;
+    usm_hybrid_result r;
+    usm_hybrid_options_default(&ho);
+    /* the value's last closed sample is on the orbit, but a period later the
+       contact may be open there: then the solver's own section, from rest */
+    if ((usm_hybrid_solve_from(s->hyb, &q, &ho, s->t_last[i], s->x_last[i], &r) != USM_OK ||
+         !r.converged) &&
+        (usm_hybrid_solve(s->hyb, &q, &ho, &r) != USM_OK || !r.converged)) {
+        snprintf(o->message, USM_MSG_LEN, "no orbit with separation at %g: %.150s", o->value,
+                 usm_hybrid_message(s->hyb));
+        return USM_OK;
+    }
+    const int n = r.floquet.n;
+    gsl_matrix *B = gsl_matrix_alloc((size_t)n, (size_t)n);
+    gsl_vector_complex *ev = gsl_vector_complex_alloc((size_t)n);
+    gsl_matrix_complex *V = gsl_matrix_complex_alloc((size_t)n, (size_t)n);
+    gsl_eigen_nonsymmv_workspace *w = gsl_eigen_nonsymmv_alloc((size_t)n);
+    int rc = USM_OK;
+    if (!B || !ev || !V || !w) {
+        snprintf(s->msg, USM_MSG_LEN, "out of memory");
+        rc = USM_EFAILED;
+    } else {
+        for (int a = 0; a < n; ++a)
+            for (int b = 0; b < n; ++b)
+                gsl_matrix_set(B, (size_t)a, (size_t)b, r.floquet.monodromy[a * n + b]);
+        if (gsl_eigen_nonsymmv(B, ev, V, w) != GSL_SUCCESS) {
+            snprintf(o->message, USM_MSG_LEN, "the monodromy's eigenvectors failed");
+        } else {
+            /* the critical one: the eigenvalue nearest the largest non-cyclic multiplier */
+            int best = -1;
+            double bd = INFINITY, lre = 0, lim = 0;
+            for (int k = 0; k < n; ++k)
+                if (!r.floquet.cyclic[k] &&
+                    hypot(r.floquet.re[k], r.floquet.im[k]) == r.floquet.max_modulus) {
+                    lre = r.floquet.re[k];
+                    lim = fabs(r.floquet.im[k]);
+                }
+            for (int k = 0; k < n; ++k) {
+                const gsl_complex z = gsl_vector_complex_get(ev, (size_t)k);
+                const double dd = hypot(GSL_REAL(z) - lre, fabs(GSL_IMAG(z)) - lim);
+                if (dd < bd) {
+                    bd = dd;
+                    best = k;
+                }
+            }
+            double vr[USM_MAX_NX], vi[USM_MAX_NX];
+            for (int a = 0; a < n; ++a) {
+                const gsl_complex z = gsl_matrix_complex_get(V, (size_t)a, (size_t)best);
+                vr[a] = GSL_REAL(z);
+                vi[a] = GSL_IMAG(z);
+            }
+            participation(s->m, q.f, vr, vi, o);
+            o->multiplier_re = lre;
+            o->multiplier_im = lim;
+            o->max_modulus = r.floquet.max_modulus;
+            o->separation_fraction = r.separation_fraction;
+            o->impacts_per_period = r.impacts_per_period;
+            snprintf(o->mode_sequence, sizeof o->mode_sequence, "%s", r.mode_sequence);
+            snprintf(o->kind, sizeof o->kind, "%s",
+                     r.floquet.max_modulus < 1.0 ? "closed_phase_vanishing"
+                     : lim > 1e-9 * r.floquet.max_modulus ? "neimark_sacker"
+                     : lre > 0 ? "fold" : "period_doubling");
+            o->found = 1;
+        }
+    }
+    gsl_matrix_free(B);
+    gsl_vector_complex_free(ev);
+    gsl_matrix_complex_free(V);
+    gsl_eigen_nonsymmv_free(w);
+    return rc;
+}
+
 int usm_squeal_run(usm_squeal_study *s, const usm_params *p, const usm_squeal_options *opt)
 {
     int rc = usm_squeal_check(s, p, opt);
@@ -516,8 +659,12 @@ int usm_squeal_run(usm_squeal_study *s, const usm_params *p, const usm_squeal_op
     s->pts = calloc(np, sizeof *s->pts);
     s->st = calloc(np, sizeof *s->st);
     s->f = calloc(np, sizeof *s->f);
+    s->x_last = calloc(np, sizeof *s->x_last);
+    s->t_last = calloc(np, sizeof *s->t_last);
+    s->base = *p;
+    memset(&s->origin, 0, sizeof s->origin);
     rec r;
-    if (!s->pts || !s->st || !s->f || alloc_rec(&r, opt->window * opt->samples_per_period) != 0) {
+    if (!s->pts || !s->st || !s->f || !s->x_last || !s->t_last || alloc_rec(&r, opt->window * opt->samples_per_period) != 0) {
         if (s->pts)
             free_rec(&r);
         clear_points(s);
@@ -548,5 +695,7 @@ int usm_squeal_run(usm_squeal_study *s, const usm_params *p, const usm_squeal_op
             opt->progress((double)(i + 1) / (double)np, opt->progress_ctx);
     }
     free_rec(&r);
+    if (rc == USM_OK && opt->origin)
+        rc = find_origin(s, info);
     return rc;
 }

@@ -144,15 +144,22 @@ void usm_fit_write_table(const usm_model *m, const usm_fit_data *d, const usm_fi
             r->nfit, r->nfit == 1 ? "" : "s", r->npoints, d->nrows);
     fprintf(out, "\n  %-10s %-14s %-12s %-29s %s\n", "param", "estimate", "std. error",
             "95 % interval", "unit");
+    /* the parameters in the display units too (a load torque in mN m); the
+     * conversions are scales, so the standard error converts as a value */
+    for (int j = 0; j < r->nfit; ++j) {
+        const char *si = usm_param_table[r->fit[j]].unit;
+        double e = shown(dsp, si, r->estimate[j], &u), se = shown(dsp, si, r->se[j], &u),
+               lo = shown(dsp, si, r->lo[j], &u), hi = shown(dsp, si, r->hi[j], &u);
+        fprintf(out, "  %-10s %-14.7g %-12.3g [%-12.6g, %-12.6g] %s%s\n", pname(r, j), e, se, lo,
+                hi, u, r->log_scale[j] ? " (log scale)" : "");
+    }
     for (int j = 0; j < r->nfit; ++j)
-        fprintf(out, "  %-10s %-14.7g %-12.3g [%-12.6g, %-12.6g] %s%s\n", pname(r, j),
-                r->estimate[j], r->se[j], r->lo[j], r->hi[j], usm_param_table[r->fit[j]].unit,
-                r->log_scale[j] ? " (log scale)" : "");
-    for (int j = 0; j < r->nfit; ++j)
-        if (r->profiled[j])
-            fprintf(out, "  %-10s profile likelihood's 95 %% interval [%.6g, %.6g] (differs from "
-                    "the Jacobian's by more than 10 %%)\n", pname(r, j), r->profile_lo[j],
-                    r->profile_hi[j]);
+        if (r->profiled[j]) {
+            const char *si = usm_param_table[r->fit[j]].unit;
+            double lo = shown(dsp, si, r->profile_lo[j], &u), hi = shown(dsp, si, r->profile_hi[j], &u);
+            fprintf(out, "  %-10s profile likelihood's 95 %% interval [%.6g, %.6g] %s (differs "
+                    "from the Jacobian's by more than 10 %%)\n", pname(r, j), lo, hi, u);
+        }
     if (r->nfit > 1) {
         fprintf(out, "\ncorrelation\n  %-10s", "");
         for (int k = 0; k < r->nfit; ++k)
@@ -160,8 +167,15 @@ void usm_fit_write_table(const usm_model *m, const usm_fit_data *d, const usm_fi
         fprintf(out, "\n");
         for (int j = 0; j < r->nfit; ++j) {
             fprintf(out, "  %-10s", pname(r, j));
-            for (int k = 0; k < r->nfit; ++k)
-                fprintf(out, " %9.4f", r->corr[j * r->nfit + k]);
+            for (int k = 0; k < r->nfit; ++k) {
+                /* undefined where a standard error is infinite (a combination
+                 * the data do not determine, named below) */
+                const double c = r->corr[j * r->nfit + k];
+                if (isfinite(c))
+                    fprintf(out, " %9.4f", c);
+                else
+                    fprintf(out, " %9s", "undefined");
+            }
             fprintf(out, "\n");
         }
     }
@@ -196,13 +210,13 @@ void usm_fit_write_table(const usm_model *m, const usm_fit_data *d, const usm_fi
         }
     }
     fprintf(out, "\nresiduals (model - measured) / sigma; %d flagged\n", r->nflagged);
-    fprintf(out, "  %4s %-12s %-14s %-14s %-6s %-9s %s\n", "row", "output", "measured", "model",
+    fprintf(out, "  %4s %-19s %-14s %-14s %-6s %-9s %s\n", "row", "output", "measured", "model",
             "unit", "residual", "flag");
     for (int i = 0; i < r->npoints; ++i) {
         const usm_fit_point *pt = &r->points[i];
         const char *si = usm_fit_output_unit(pt->output);
         double mv = shown(dsp, si, pt->measured, &u), mo = shown(dsp, si, pt->model, &u);
-        fprintf(out, "  %4d %-12s %-14.7g %-14.7g %-6s %-9.3f %s\n", pt->row + 1,
+        fprintf(out, "  %4d %-19s %-14.7g %-14.7g %-6s %-9.3f %s\n", pt->row + 1,
                 usm_fit_output_name(pt->output), mv, mo, u, pt->residual,
                 pt->flagged ? pt->reason : "");
     }

@@ -56,6 +56,35 @@ static json_t *point_json(const usm_squeal_study *s, size_t i)
     return usm_json_finish(o, ok);
 }
 
+/* "origin": the end of the period-1 branch in the range (usm_squeal_origin). */
+static json_t *origin_json(const usm_squeal_study *s)
+{
+    const usm_squeal_origin *g = usm_squeal_origin_get(s);
+    json_t *o = json_object();
+    int ok = o != NULL;
+    if (!o || !g)
+        return o;
+    usm_json_put(o, "found", json_boolean(g->found), &ok);
+    if (!g->found) {
+        usm_json_put(o, "message", json_string(g->message), &ok);
+        return usm_json_finish(o, ok);
+    }
+    usm_json_put(o, "value", usm_json_real(g->value), &ok);
+    usm_json_put(o, "next_value", usm_json_real(g->next_value), &ok);
+    usm_json_put(o, "kind", json_string(g->kind), &ok);
+    usm_json_put(o, "max_modulus", usm_json_real(g->max_modulus), &ok);
+    usm_json_put(o, "multiplier_re", usm_json_real(g->multiplier_re), &ok);
+    usm_json_put(o, "multiplier_im", usm_json_real(g->multiplier_im), &ok);
+    usm_json_put(o, "separation_fraction", usm_json_real(g->separation_fraction), &ok);
+    usm_json_put(o, "impacts_per_period", json_integer(g->impacts_per_period), &ok);
+    usm_json_put(o, "mode_sequence", json_string(g->mode_sequence), &ok);
+    json_t *part = json_object();
+    for (int k = 0; part && k < g->ndof; ++k)
+        usm_json_put(part, g->dof[k], usm_json_real(g->share[k]), &ok);
+    usm_json_put(o, "participation", part, &ok);
+    return usm_json_finish(o, ok);
+}
+
 int usm_squeal_write_json(const usm_squeal_study *s, FILE *out)
 {
     json_t *obj = json_object();
@@ -74,6 +103,7 @@ int usm_squeal_write_json(const usm_squeal_study *s, FILE *out)
             ok = 0;
     }
     usm_json_put(obj, "points", points, &ok);
+    usm_json_put(obj, "origin", origin_json(s), &ok);
     return usm_json_write(usm_json_finish(obj, ok), out);
 }
 

@@ -76,6 +76,12 @@ ok = p["output"] == "stall_torque" and abs(p["measured"] - 4.3e-4) < 1e-12 \
     and 3e-4 < p["model"] < 6e-4 and not p["flagged"] and 1 <= d["starts_at_best"] <= d["starts"] == 2
 ok or print("FAIL: stall_torque %s, starts %s at best %s" % (p, d["starts"], d["starts_at_best"]))
 sys.exit(0 if ok else 1)' "$T/ds.json" || fail=1
+# the table for people in the --units display (JSON stays SI): the speeds in
+# rpm as the data gave them, the stall torque and the fitted torque m0 in mN m
+"$USM" fit --model 4dof --data "$T/ds.csv" --fit m0 --starts 1 --units rpm,mNm > "$T/ds.txt" ||
+    bad "--units: exit $?"
+grep -Eq '^ +1 speed +108\.6 ' "$T/ds.txt" && grep -Eq '^ +4 stall_torque +0\.43 ' "$T/ds.txt" &&
+    grep -Eq '^  m0 .* mN ?m' "$T/ds.txt" || { echo "FAIL: --units rpm,mNm table:"; cat "$T/ds.txt"; fail=1; }
 "$USM" fit --model 4dof --data "$T/ds.csv" --fit mu0 --spread 0.5 2> "$T/err" > /dev/null
 [ $? -eq 2 ] && [ "$(wc -l < "$T/err")" -eq 1 ] && grep -q -- "--spread: 0.5 is not in 1..1e6" "$T/err" ||
     bad "--spread 0.5: $(cat "$T/err")"

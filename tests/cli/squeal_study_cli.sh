@@ -11,6 +11,10 @@
 #    `usm sweep --periodic` (the shooting's orbits with separation) ends, to
 #    one grid step: 3-DOF phase error 0.90 to 0.93 rad, the two-impact orbit
 #    ending between 0.912 and 0.914 rad;
+#  - the origin at the end of that branch (usm squeal --json "origin"): the
+#    last period-1 value's orbit, stable (max |lambda| that of the sweep's
+#    orbit there, to 1e-6), its closed phase nearly gone: the kind
+#    closed_phase_vanishing; the participation shares sum to 1;
 #  - --plot writes the bifurcation diagram's CSV and gnuplot's figures;
 #  - bad input: an unknown name, A == B, fewer than 2 points, a model whose
 #    contact never opens, an --out file that exists: one line, exit 2.
@@ -101,6 +105,19 @@ for v in vals:
     end = v
 assert last < vals[-1], 'no change of motion in the range'
 assert abs(last - end) <= step * (1 + 1e-9), (last, end)
+# the origin at the branch's end: the orbit at the last period-1 value, its
+# largest multiplier that of the sweep's own orbit there (a second solve:
+# the continuation's, not the study's), stable, the closed phase nearly gone;
+# the participation shares sum to 1
+g = o['origin']
+assert g['found'] and g['value'] == last, g
+assert g['kind'] == 'closed_phase_vanishing', g
+at = [p for p in sw['points'] if abs(p['phase_error'] - last) < 1e-12 and p.get('separating')]
+assert at, 'the sweep has no orbit at %g' % last
+ref = at[0]['floquet']['max_modulus']
+assert abs(g['max_modulus'] - ref) <= 1e-6 * ref, (g['max_modulus'], ref)
+assert g['max_modulus'] < 1 and g['separation_fraction'] > 0.8, g
+assert abs(sum(g['participation'].values()) - 1) < 1e-12, g['participation']
 "
     fi
 fi

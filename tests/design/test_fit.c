@@ -14,6 +14,9 @@
  *                             (a Sobol sample of the box a factor 100 around the
  *                             start) find the global minimum: the truth within
  *                             its intervals, chi^2 that of the noise
+ *   test_fit speed_max        speed_max_frequency: the model's value the located
+ *                             maximum of the sweep over f (README's 37452.06 Hz)
+ *                             and its Jacobian row against a 10 times larger step
  *   test_fit datasheet        speed curves and a stall torque column: the truth
  *                             recovered, the stall torque's model value the
  *                             datasheet's (usm_robust_quantity_eval) at the
@@ -39,6 +42,7 @@
 #include "usm_fit.h"
 #include "usm_io.h"
 #include "usm_robust.h"
+#include "usm_sweep.h"
 
 static double gauss(uint64_t *st)
 {
@@ -300,6 +304,78 @@ static void far_starts(void)
     usm_fit_data_free(d);
 }
 
+/* ---- the frequency of the speed maximum measured ---------------------------- */
+
+static double speed_monitor(const usm_steady_solution *sol, const usm_params *p, void *ctx)
+{
+    (void)p;
+    (void)ctx;
+    return -sol->rotor_speed;
+}
+
+static void speed_max(void)
+{
+    const usm_model *m = usm_model_find("4dof");
+    usm_params truth;
+    usm_params_default(&truth);
+    usm_fit_data *d = usm_fit_data_alloc(1, 0, 1);
+    if (!CHECK(d && m, "setup"))
+        return;
+    d->out[0] = usm_fit_output_find("speed_max_frequency");
+    CHECK(d->out[0] == USM_FIT_SPEED_MAX_FREQUENCY && usm_fit_output_is_datasheet(d->out[0]) &&
+              strcmp(usm_fit_output_unit(d->out[0]), "Hz") == 0,
+          "speed_max_frequency: %d", d->out[0]);
+    d->y[0] = 0.0; /* the residual is the model's value */
+    d->sigma[0] = 1.0;
+    d->has_sigma[0] = 1;
+    /* the sweep the command runs (usm sweep --over f --from 30000 --to 46000
+     * --extremum speed, its default 101 points), independent of the fit's grid */
+    usm_sweep *s = usm_sweep_alloc(m);
+    usm_sweep_options so;
+    usm_sweep_options_default(&so);
+    const usm_sweep_monitor mon = {"speed", speed_monitor, NULL, 1, 0, {0}};
+    so.over = "f";
+    so.from = 30000;
+    so.to = 46000;
+    so.points = 101;
+    so.floquet = 0;
+    so.monitors = &mon;
+    so.nmonitors = 1;
+    double swept = NAN;
+    if (CHECK(s && usm_sweep_run(s, &truth, &so) == USM_OK, "sweep"))
+        for (size_t i = 0; i < usm_sweep_event_count(s); ++i)
+            if (usm_sweep_event_at(s, i)->type == USM_EVENT_MAXIMUM)
+                swept = usm_sweep_event_at(s, i)->value;
+    usm_sweep_free(s);
+    usm_fit_options o;
+    fit_names(m, "c_r,I_xx", &o);
+    double f[1], J[2], fp[1], fm[1];
+    double t[2] = {log(truth.c_r), log(truth.I_xx)};
+    if (CHECK(usm_fit_residuals(m, &truth, d, &o, t, f, J) == USM_OK, "residuals")) {
+        printf("speed maximum: fit %.6f Hz, sweep %.6f Hz\n", f[0], swept);
+        CHECK(fabs(f[0] / 37452.06 - 1) <= 1e-6, "speed maximum %.6f Hz, README's 37452.06", f[0]);
+        CHECK(fabs(f[0] / swept - 1) <= 1e-6, "speed maximum %.6f Hz, the sweep's %.6f", f[0],
+              swept);
+        /* the Jacobian row against differences of a 10 times larger step; the
+         * resonance sqrt(c_r / I_xx) says about +f/2 and -f/2 */
+        for (int j = 0; j < 2; ++j) {
+            double tp[2] = {t[0], t[1]}, tm[2] = {t[0], t[1]}, h = 1e-2;
+            tp[j] += h;
+            tm[j] -= h;
+            usm_fit_residuals(m, &truth, d, &o, tp, fp, NULL);
+            usm_fit_residuals(m, &truth, d, &o, tm, fm, NULL);
+            double fd = (fp[0] - fm[0]) / (2 * h);
+            printf("  d f_max / d log %s: %.6g Hz (differences of 1e-2: %.6g)\n",
+                   usm_param_table[o.fit[j]].name, J[j], fd);
+            CHECK(fabs(J[j] - fd) <= 1e-3 * fabs(fd), "d f_max / d log %s: %g vs %g",
+                  usm_param_table[o.fit[j]].name, J[j], fd);
+            CHECK(fabs(fabs(fd) / (0.5 * f[0]) - 1) < 0.2, "d f_max / d log %s: %g, not near f/2",
+                  usm_param_table[o.fit[j]].name, fd);
+        }
+    }
+    usm_fit_data_free(d);
+}
+
 /* ---- a datasheet quantity measured ------------------------------------------ */
 
 static void datasheet(void)
@@ -470,6 +546,8 @@ int main(int argc, char **argv)
         identifiability();
     else if (strcmp(what, "starts") == 0)
         far_starts();
+    else if (strcmp(what, "speed_max") == 0)
+        speed_max();
     else if (strcmp(what, "datasheet") == 0)
         datasheet();
     else if (strcmp(what, "measure") == 0)

@@ -169,6 +169,7 @@ def check_report(out):
         check_validity(out, md, data)
         check_squeal_validity(out, md, data)
         check_maps(out, md, data)
+        check_envelope(out, md, data)
 
     images = re.findall(r"!\[[^\]]*\]\(([^)\s]+)\)", md)
     links = [t for t in re.findall(r"(?<!!)\[[^\]]*\]\(([^)\s]+)\)", md)
@@ -637,6 +638,49 @@ def check_maps(out, md, data):
     for phrase in ("without `--from-rest`", "is **unknown**"):
         if phrase not in md:
             fail(f"report.md section 6 does not say {phrase!r}")
+
+
+def check_envelope(out, md, data):
+    """Section 12: the operating envelope over f x F0 from rest.  The
+    codimension-two point where the fold is born on the start threshold is
+    the one `usm envelope --x f:36kHz:40kHz --y F0:0.1:2 --from-rest` locates
+    and AUTO-07p confirms (docs/envelope.md): f = 37010.456 Hz, F0 = 0.99997 N."""
+    en = data.get("envelope", {})
+    if not en.get("ok"):
+        fail(f"report.json: the envelope not computed: {en.get('note')}")
+        return
+    m = re.search(r"^## 12\. The operating envelope.*?(?=^## )", md, re.S | re.M)
+    sec = m.group(0) if m else ""
+    if not sec:
+        fail("no section 12 (the operating envelope)")
+    images = set(re.findall(r"!\[[^\]]*\]\(([^)\s]+)\)", sec))
+    if "envelope.png" in images and "envelope.svg" in sec:
+        ok("section 12 shows the envelope figure")
+    else:
+        fail("section 12 lacks the envelope figure")
+    for name in ("envelope.png", "envelope.svg", "envelope.gp", "envelope.csv"):
+        if not os.path.exists(os.path.join(out, name)):
+            fail(f"the envelope figure's {name} is missing")
+    kinds = sorted({c["kind"] for c in en.get("curves", [])})
+    if kinds == ["fold", "tilt_zero"]:
+        ok("report.json envelope: the curves tilt_zero and fold")
+    else:
+        fail(f"report.json envelope: curve kinds {kinds}, want fold and tilt_zero")
+    pts = [c for c in en.get("codim2", []) if c["type"] == "tilt_zero/fold"]
+    if len(pts) == 1 and close(pts[0]["f"], 37010.456, 1e-6) and close(pts[0]["F0"], 0.99997, 1e-6):
+        ok(f"envelope: the codimension-two point at f = {pts[0]['f']:.8g} Hz, F0 = {pts[0]['F0']:.6g} N")
+    else:
+        fail(f"envelope: codimension-two points {en.get('codim2')}, want tilt_zero/fold at "
+             "37010.456 Hz, 0.99997 N")
+    classes = sorted(r["class"] for r in en.get("regions", []))
+    if classes == ["does_not_start", "no_solution", "operating_point"]:
+        ok("envelope: three regions (operating_point, no_solution, does_not_start)")
+    else:
+        fail(f"envelope: regions {classes}")
+    if pts and f"f = {pts[0]['f']:.8g} Hz, F0 = {pts[0]['F0']:.6g} N" in sec:
+        ok("section 12 states the codimension-two point")
+    else:
+        fail("section 12 does not state the codimension-two point")
 
 
 def check_nonideal(out, md, data):

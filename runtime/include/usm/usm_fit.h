@@ -60,13 +60,23 @@ extern "C" {
  * usm_robust.h at the row's conditions (stall_torque [N m]: the load where
  * the speed reaches 0 in a sweep over T from 0 to USM_ROBUST_T_MAX;
  * no_load_speed [1/s]: the speed at T = 0; max_power [W]: the largest
- * power_out over that load range), which ignore the row's T.  A datasheet
- * quantity's Jacobian row comes from central differences (usm_fit_run). */
+ * power_out over that load range), which ignore the row's T;
+ * speed_max_frequency [Hz]: the frequency of the speed maximum over f, the
+ * maximum event `usm sweep --over f --extremum speed` locates (a sweep
+ * from USM_FIT_F_LO to USM_FIT_F_HI; the largest maximum where there are
+ * several), which ignores the row's f.  A datasheet quantity's Jacobian
+ * row comes from central differences (usm_fit_run). */
 #define USM_FIT_SPEED USM_SENS_COUNT
 #define USM_FIT_STALL_TORQUE (USM_SENS_COUNT + 1)
 #define USM_FIT_NO_LOAD_SPEED (USM_SENS_COUNT + 2)
 #define USM_FIT_MAX_POWER (USM_SENS_COUNT + 3)
-#define USM_FIT_NOUTPUTS (USM_SENS_COUNT + 4)
+#define USM_FIT_SPEED_MAX_FREQUENCY (USM_SENS_COUNT + 4)
+#define USM_FIT_NOUTPUTS (USM_SENS_COUNT + 5)
+/* The frequency range searched for speed_max_frequency [Hz] (the range of
+ * docs/sweep.md's speed maximum) and its grid. */
+#define USM_FIT_F_LO 30000.0
+#define USM_FIT_F_HI 46000.0
+#define USM_FIT_F_POINTS 33
 
 /* 1 when output k is a datasheet quantity (a sweep, not one operating point). */
 int usm_fit_output_is_datasheet(int k);

@@ -85,6 +85,8 @@ typedef struct usm_squeal_options {
     int check_rest;          /* 1: a start from rest at every value but the first
                                 (default 1) */
     int lines;               /* audible lines kept, 1 .. USM_SQUEAL_MAX_LINES (default 6) */
+    int origin;              /* 1: the origin at the end of the period-1 branch
+                                (usm_squeal_origin; default 1, an orbit solve) */
     void (*progress)(double fraction, void *ctx); /* NULL: silent */
     void *progress_ctx;
 } usm_squeal_options;
@@ -127,6 +129,41 @@ typedef struct usm_squeal_point {
     double seconds;             /* CPU time of this value [s] */
 } usm_squeal_point;
 
+/* Most degrees of freedom in an origin's participation. */
+#define USM_SQUEAL_MAX_DOF 12
+
+/* The origin of the irregular motion at the end of the stable period-1
+ * branch within the study's range (usm_squeal_origin): at the last value
+ * whose motion is period 1 before one that is not, the orbit with
+ * separation (usm_hybrid_solve_from, from that value's last closed state)
+ * and its monodromy with the saltation matrices:
+ *  - kind: how the branch ends.  "closed_phase_vanishing" when the orbit is
+ *    stable there (max |lambda| < 1): no smooth bifurcation, the closed phase
+ *    shrinks to nothing (separation_fraction near 1) and the orbit ends where
+ *    the rotor would no longer land; else "fold" (a real multiplier > 1),
+ *    "period_doubling" (real < -1) or "neimark_sacker" (a complex pair);
+ *  - the critical (largest non-cyclic) multiplier and its eigenvector as the
+ *    participation of each degree of freedom: the share of DOF q is
+ *    (|v_q|^2 + |v_qdot|^2 / (2 pi f)^2) / sum over all (the velocity
+ *    expressed as the amplitude it has at the excitation frequency; all the
+ *    coordinates are angles), normalised to sum 1; a state without a
+ *    velocity partner is a DOF of its own. */
+typedef struct usm_squeal_origin {
+    int found;                  /* 1: a change from period 1 in the range and its orbit */
+    char message[USM_MSG_LEN];  /* why not, when there was a change but no orbit */
+    double value;               /* the last period-1 value */
+    double next_value;          /* the first value past it */
+    char kind[32];
+    double max_modulus;         /* of the orbit there */
+    double multiplier_re, multiplier_im;
+    double separation_fraction; /* time open per period */
+    int impacts_per_period;
+    char mode_sequence[40];
+    int ndof;
+    char dof[USM_SQUEAL_MAX_DOF][24];   /* the position's state name */
+    double share[USM_SQUEAL_MAX_DOF];   /* sum 1 */
+} usm_squeal_origin;
+
 /* A study over one parameter with its points (opaque). */
 typedef struct usm_squeal_study usm_squeal_study;
 
@@ -145,6 +182,8 @@ int usm_squeal_check(usm_squeal_study *s, const usm_params *p, const usm_squeal_
  * USM_EINPUT (as usm_squeal_check); USM_EFAILED (out of memory). */
 int usm_squeal_run(usm_squeal_study *s, const usm_params *p, const usm_squeal_options *opt);
 
+/* The origin of the last run (usm_squeal_origin above); NULL before a run. */
+const usm_squeal_origin *usm_squeal_origin_get(const usm_squeal_study *s);
 /* Points of the last run, in sweep order. */
 size_t usm_squeal_count(const usm_squeal_study *s);
 /* Point i of the last run, NULL when out of range. */
