@@ -44,8 +44,8 @@ const char *usm_envelope_kind_name(usm_envelope_kind kind)
 const char *usm_envelope_end_name(usm_envelope_end end)
 {
     static const char *const names[] = {"box", "tilt_zero", "range_end", "closed", "lost",
-                                        "max_points"};
-    return (unsigned)end <= USM_ENVELOPE_END_LIMIT ? names[end] : NULL;
+                                        "max_points", "corner"};
+    return (unsigned)end <= USM_ENVELOPE_END_CORNER ? names[end] : NULL;
 }
 
 void usm_envelope_options_default(usm_envelope_options *opt)
@@ -501,7 +501,7 @@ static int add_seed(usm_envelope *e, int kind, const double *u, double px, doubl
     return 0;
 }
 
-static int add_codim2(usm_envelope *e, const char *type, const double *u, double px, double py,
+int env_add_codim2(usm_envelope *e, const char *type, const double *u, double px, double py,
                       size_t curve)
 {
     /* found from both curves that meet: once */
@@ -866,10 +866,10 @@ static int follow_half(usm_envelope *e, env_problem *pb, const double *x0, int d
                 continue;
             env_xy(pb, ev->x, &px, &py);
             if (t->what == TEST_CUSP) {
-                if (add_codim2(e, "cusp", ev->x, px, py, curve_index) != 0)
+                if (env_add_codim2(e, "cusp", ev->x, px, py, curve_index) != 0)
                     return -1;
             } else if (t->what == TEST_KIND &&
-                       add_codim2(e, pair_name(pb->kind, t->kind, buf, sizeof buf), ev->x, px,
+                       env_add_codim2(e, pair_name(pb->kind, t->kind, buf, sizeof buf), ev->x, px,
                                   py, curve_index) != 0)
                 return -1;
         }
@@ -883,7 +883,7 @@ static int follow_half(usm_envelope *e, env_problem *pb, const double *x0, int d
             const env_test *t = ev ? env_test_of(pb, ev->test) : NULL;
             if (t && t->what == TEST_KIND) {
                 h->end = USM_ENVELOPE_END_TILT_ZERO;
-                if (add_codim2(e, pair_name(pb->kind, USM_ENVELOPE_TILT_ZERO, buf, sizeof buf),
+                if (env_add_codim2(e, pair_name(pb->kind, USM_ENVELOPE_TILT_ZERO, buf, sizeof buf),
                                xc, px, py, curve_index) != 0)
                     return -1;
             } else if (t && t->what == TEST_TOP)

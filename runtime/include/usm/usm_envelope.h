@@ -136,10 +136,13 @@ typedef enum {
     USM_ENVELOPE_END_RANGE = 2,    /* at the tilt range's upper end */
     USM_ENVELOPE_END_CLOSED = 3,   /* the curve closed on itself */
     USM_ENVELOPE_END_LOST = 4,     /* the continuation was lost */
-    USM_ENVELOPE_END_LIMIT = 5     /* max_points reached */
+    USM_ENVELOPE_END_LIMIT = 5,    /* max_points reached */
+    USM_ENVELOPE_END_CORNER = 6    /* imperfect models: where another extreme of the
+                                      orbit's F_n (stick excess) takes over; the next
+                                      curve of the kind starts there */
 } usm_envelope_end;
 
-/* "box", "tilt_zero", "range_end", "closed", "lost", "max_points" */
+/* "box", "tilt_zero", "range_end", "closed", "lost", "max_points", "corner" */
 const char *usm_envelope_end_name(usm_envelope_end end);
 
 typedef struct usm_envelope_curve {
