@@ -548,9 +548,13 @@ static int run_piece(penv *pb, const double *z0, int dir, int check, pbuf *b,
                 if (side >= 0) {
                     const int a = side / 2;
                     pb->have_grow = 0;
-                    if (usm_cont_correct_fixed(pb->c, zs, axis_col(pb, a),
-                                               side % 2 == 0 ? e->lo[a] : e->hi[a]) < 0)
+                    const double side_value = side % 2 == 0 ? e->lo[a] : e->hi[a];
+                    /* where Newton with the side's value held fails, the
+                     * located point (within BOX_PAD of the side) put onto it */
+                    if (usm_cont_correct_fixed(pb->c, zs, axis_col(pb, a), side_value) < 0) {
                         memcpy(zs, zc_, sizeof(double) * (size_t)N);
+                        zs[axis_col(pb, a)] = side_value;
+                    }
                 }
             }
             if (pbuf_push(b, pb, zs) != 0)
