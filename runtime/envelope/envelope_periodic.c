@@ -2,34 +2,48 @@
  * periodic orbit rather than a stationary solution: contact_loss and
  * stick_loss continued in two parameters.
  *
- * The boundary is where the orbit's least F_n (contact_loss), or its
- * largest |F_t| - mu0 F_n (stick_loss, stick models), is 0.  That least
- * value has a corner wherever two minima of F_n a period are equal, which
- * the imperfections' symmetry makes so all along mode_split = 0 and
- * phase_error = 0 (the mode split's 2 Omega wobble), where the
- * one-parameter onsets lie.  Each minimum alone is smooth, so one is
- * followed, its time t* an unknown: the orbit is shot from t0 = t*, and
- * k + 2 equations in k + 3 unknowns z = (x*, t*, a, b):
+ * contact_loss, where the orbit's least F_n is 0.  F_n has two minima a
+ * period, half a period apart and equal to the shot's noise (1e-10 of
+ * F_n_max) wherever measured (the orbit's half-period symmetry: the
+ * imperfections force at 2 Omega).  One of them is followed, its time t* an
+ * unknown: the orbit is shot from t0 = t*, and k + 2 equations in k + 3
+ * unknowns z = (x*, t*, a, b):
  *   r(x*, t*; px, py) = 0   periodicity in the k non-cyclic components of
  *                           the state x* at t* (usm_periodic_shoot,
  *                           solve/periodic_internal.h; scaled as the
  *                           shooting's)
- *   q(x*, t*; p) = 0        q = F_n or |F_t| - mu0 F_n (scaled by F_n_max)
- *   dq/dt(x*, t*; p) = 0    its rate along the motion: t* is its extreme
+ *   F_n(x*, t*; p) = 0      (scaled by F_n_max)
+ *   dF_n/dt(x*, t*; p) = 0  its rate along the motion: t* is its extreme
  * Jacobian: the monodromy's block, dr/dt* in closed form (f(x1, t* + T) -
  * B f(x*, t*)), forward differences in a and b (one period of the state
- * alone for b); q's and dq/dt's rows by central differences, which need no
- * integration (q and its rate are functions of (x*, t*, p)).  Newton
- * converges in 2 or 3 iterations.
+ * alone for b); the last two rows by central differences, which need no
+ * integration (F_n and its rate are functions of (x*, t*, p)).  Newton
+ * converges in 2 or 3 iterations, on the axes mode_split = 0 and
+ * phase_error = 0 too, where the orbit's located minimum as g (below) was
+ * lost at the first step.
  *
- * The followed extreme must stay the orbit's global one: at every point the
- * test function sign (q(t*) - the most extreme other local extreme of q over
- * the orbit) is monitored, and where it vanishes (a corner of the boundary)
- * the piece ends (`corner`), named a codimension-two point
- * (contact_loss/contact_loss) inside the box, and the other extreme's piece
- * starts there, in the half where the first one is no longer the global.
- * At a seed where two extremes are equal (on the symmetry's axes) the one
- * that is global inside the box is the one whose first step keeps it so.
+ * The followed minimum must stay the orbit's global one: at every point the
+ * test function (the least other local minimum of F_n over the orbit -
+ * F_n(t*)) is monitored, the half-period copy of the followed one not
+ * counted as another where the orbit has the symmetry.  Where it vanishes
+ * (a corner of the boundary) the piece ends (`corner`), is named a
+ * codimension-two point (contact_loss/contact_loss) inside the box, and the
+ * other minimum's piece starts there, in the half where the first one is no
+ * longer the global.  At a seed where two minima are equal, the one whose
+ * first step keeps it the global one is followed.
+ *
+ * stick_loss (stick models), where the orbit's largest |F_t| - mu0 F_n is
+ * 0: in the Euler angles it is steep in the twist rate phidot + psidot
+ * cos(theta) (1.5e4 F_n_max per Omega of phidot, its rate 7e5), which the
+ * shooting resolves only to its tolerances, ~1e-11 Omega; the extended
+ * system with t* came out singular to 1e-6 there, so stick_loss is posed on
+ * the orbit shot from the envelope's t0: k + 1 equations, r and g = the
+ * largest stick excess as the orbit's extremes are located (the sweep's
+ * test function), in (x0, a, b).  g's row by forward differences (a shot
+ * each), formed once a step and kept for the corrector's iterations there,
+ * each step cut from 1e-4 of its unknown's scale by 100 until g moves by at
+ * most 1e-2 F_n_max over it (phidot's and psidot's: 1e-8), and the
+ * corrector's tolerance 1e-5: g's noise limits the curve to about that.
  *
  * Seeds: a one-parameter periodic sweep (usm_periodic_sweep) along each of
  * the box's four edges; each contact_loss and stick_loss event it locates
@@ -59,12 +73,20 @@
  * rate's own rounding (~1e-11 of it, a difference along the motion) over
  * this step ~1e-7 of the row. */
 #define G_FD_REL 1e-4
-/* nt 0, g's row by forward differences of the located extreme: 1e-5 made
- * Newton linear at a factor 0.3 an iteration (g's curvature over some
- * state scales), 1e-7 converges in 3 or 4. */
-#define G_FD_REL_EXTREME 1e-7
-/* The corrector's tolerance on its update (scaled). */
+/* stick_loss: g's row by forward differences of the located extreme, the
+ * step G_FD_REL_EXTREME of each unknown's scale, cut by G_FD_SHRINK (at
+ * most G_FD_TRIES times) until g moves by at most G_FD_MOVE (of F_n_max)
+ * over it: g's noise (the twist rate's) swamps a step of 1e-7 in most
+ * unknowns, and a step of 1e-4 in phidot or psidot flips F_t's sign. */
+#define G_FD_REL_EXTREME 1e-4
+#define G_FD_MOVE 1e-2
+#define G_FD_SHRINK 1e-2
+#define G_FD_TRIES 3
+/* The corrector's tolerance on its update (scaled): contact_loss's, and
+ * stick_loss's above the noise of its g (at 1e-6 the steps shrank to 1e-3
+ * of the box, 2.5 min of CPU for the box 0.44-0.56 rad x 0-3 %; 19 s). */
 #define NEWTON_TOL 1e-9
+#define NEWTON_TOL_STICK 1e-5
 /* Longest step (the box's sides 1). */
 #define H_MAX 0.05
 /* Shortest step (scaled). */
@@ -182,11 +204,10 @@ static double extreme_g(penv *pb)
                                                  : usm_periodic_shoot_stick_excess(pb->w);
 }
 
-/* nt 0 (stick_loss: the stick excess's largest value sits where its rate
- * jumps, at a kink of F_t, so that no smooth rate equation holds there): r
- * as for nt 1 at the envelope's t0, g the orbit's extreme, its row by
- * forward differences (a shot each) formed once a step and kept for the
- * corrector's iterations there (Newton then converges linearly). */
+/* nt 0 (stick_loss, see the top of the file): r as for nt 1 at the
+ * envelope's t0, g the orbit's extreme, its row by forward differences (a
+ * shot each) formed once a step and kept for the corrector's iterations
+ * there (Newton then converges linearly). */
 static int residual_extreme(const double *z, double *F, double *J, penv *pb)
 {
     const int k = pb->k, N = pb->N, ja = k, jb = k + 1;
@@ -218,13 +239,18 @@ static int residual_extreme(const double *z, double *F, double *J, penv *pb)
             double zs[PMAX], r[USM_MAX_NX];
             memcpy(zs, z, sizeof(double) * (size_t)N);
             for (int j = 0; j < N; ++j) {
-                const double d = G_FD_REL_EXTREME * pb->scale[j];
-                zs[j] = z[j] + d;
-                const int rc = shoot_at(pb, zs, r);
-                const double gj = rc == 0 ? extreme_g(pb) : NAN;
-                zs[j] = z[j];
-                if (!isfinite(gj))
-                    return -1;
+                double d = G_FD_REL_EXTREME * pb->scale[j], gj;
+                for (int tries = 0;; ++tries) {
+                    zs[j] = z[j] + d;
+                    const int rc = shoot_at(pb, zs, r);
+                    gj = rc == 0 ? extreme_g(pb) : NAN;
+                    zs[j] = z[j];
+                    if (!isfinite(gj))
+                        return -1;
+                    if (tries == G_FD_TRIES || fabs(gj - g) <= G_FD_MOVE * pb->gscale)
+                        break;
+                    d *= G_FD_SHRINK;
+                }
                 pb->grow[j] = (gj - g) / d / pb->gscale;
             }
             pb->have_grow = 1;
@@ -482,7 +508,7 @@ static int run_piece(penv *pb, const double *z0, int dir, int check, pbuf *b,
     o.newton_max = 8;
     o.grow_its = 3;
     o.shrink_its = 6;
-    o.newton_tol = NEWTON_TOL;
+    o.newton_tol = pb->nt ? NEWTON_TOL : NEWTON_TOL_STICK;
     o.event_tol = 1e-10;
     o.across_fold = 1;
     o.max_steps = 20 * e->opt.max_points;
