@@ -160,7 +160,8 @@ typedef struct usm_envelope_codim2 {
     char type[40];           /* "cusp", or "KIND/KIND" (two kind names) */
     double x, y;
     size_t curve;            /* the curve it was found on */
-    double u[USM_MAX_NU];
+    double u[USM_MAX_NU];    /* the stationary unknowns there (imperfect models:
+                                zeros; the curves' u hold the orbit) */
 } usm_envelope_codim2;
 
 typedef struct usm_envelope_region {
