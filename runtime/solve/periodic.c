@@ -1154,7 +1154,6 @@ static int quantity_code(usm_periodic_quantity which)
 
 void usm_periodic_shoot_set_t0(usm_periodic *w, double t0) { w->t0 = t0; }
 
-double usm_periodic_shoot_t0(const usm_periodic *w) { return w->t0; }
 
 int usm_periodic_shoot_t0_column(usm_periodic *w, double *col)
 {

@@ -104,7 +104,6 @@ typedef enum {
 /* The shooting's start time (usm_periodic_solve sets it from its options;
  * usm_periodic_shoot reads it). */
 void usm_periodic_shoot_set_t0(usm_periodic *w, double t0);
-double usm_periodic_shoot_t0(const usm_periodic *w);
 
 /* dr/dt0 at the last shot (k values, scaled as r): f(x1, t0 + T) - B f(x0,
  * t0) on the non-cyclic rows, f the vector field and B the monodromy, the
