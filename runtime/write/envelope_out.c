@@ -106,8 +106,8 @@ int usm_envelope_write_csv(const usm_envelope *e, FILE *out)
     for (size_t k = 0; k < e->nregions; ++k) {
         const usm_envelope_region *r = &e->regions[k];
         fprintf(out, "# region %zu %s", k, r->class_name);
-        if (r->root >= 0)
-            fprintf(out, " root %d", r->root);
+        if (r->root >= 0) /* numbered from 1 as in every table for people; JSON's is 0-based */
+            fprintf(out, " root #%d", r->root + 1);
         fprintf(out, " sample %s = %s %s, %s = %s %s (%zu cells)\n", e->ax[0]->name,
                 usm_shortest(bx, r->x), e->ax[0]->unit, e->ax[1]->name, usm_shortest(by, r->y),
                 e->ax[1]->unit, r->cells);
