@@ -25,12 +25,18 @@
  *  - magnus (the default): in frame A the coefficients are constant except
  *    the paper's twist term -c_t psi(t) sin(theta), so G(t) is affine in t
  *    (constant under the integrated twist law).  Constant: Psi = exp(T G), one
- *    exponential.  Affine: the sixth-order Magnus integrator, with error
- *    control on the multipliers (see magnus_adaptive).  Both facts are
- *    checked at t0 + T/2, not assumed; otherwise G is evaluated at the Gauss
- *    nodes.  The exponentials: scaling and squaring with Pade approximants
- *    (dense.c).  Where the Magnus series diverges (a stiff linearisation,
- *    |G| T >> pi) the default falls back to the exponential method.
+ *    exponential.  Affine: psi(t) grows with t (it is not periodic, which is
+ *    why the multipliers depend on t0, and why no periodic change of
+ *    coordinates makes G constant), and its slope D is one column (theta's)
+ *    with D^2 = 0: the exact flow of the constant part, one exponential, with
+ *    the slope applied as kicks I + c D at Boole nodes (kick_adaptive), error
+ *    control on the multipliers.  An affine G whose slope is not nilpotent:
+ *    the sixth-order Magnus integrator (magnus_adaptive).  Constant and affine
+ *    are checked at t0 + T/2, not assumed; otherwise G is evaluated at the
+ *    Gauss nodes of the Magnus steps.  The exponentials: scaling and squaring
+ *    with Pade approximants (dense.c).  Where the Magnus series diverges (a
+ *    stiff linearisation, |G| T >> pi) the default falls back to the
+ *    exponential method.
  *
  * A cyclic coordinate x_i (appearing in neither M nor f) leaves column i of B
  * equal to e_i; its multiplier is exactly 1 and it is removed from the
