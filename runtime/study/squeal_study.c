@@ -82,6 +82,8 @@ void usm_squeal_options_default(usm_squeal_options *opt)
     opt->check_rest = 1;
     opt->lines = 6;
     opt->origin = 1;
+    opt->power_periods = 200;
+    opt->power_rtol = 1e-9;
 }
 
 usm_squeal_study *usm_squeal_alloc(const usm_model *m)
@@ -195,6 +197,10 @@ int usm_squeal_check(usm_squeal_study *s, const usm_params *p, const usm_squeal_
         BAD("lines: %d, must be 1 to %d", o->lines, USM_SQUEAL_MAX_LINES);
     if (!(o->lyapunov_rtol >= 1e-14 && o->lyapunov_rtol <= 1e-3))
         BAD("lyapunov_rtol: must be in [1e-14, 1e-3]");
+    if (o->power_periods < 0 || o->power_periods > 10000000)
+        BAD("power_periods: %ld, must be 0 to 1e7", o->power_periods);
+    if (o->power_periods > 0 && !(o->power_rtol >= 1e-14 && o->power_rtol <= 1e-3))
+        BAD("power_rtol: must be in [1e-14, 1e-3]");
     for (int end = 0; end < 2; ++end) {
         usm_params q = *p;
         *usm_params_field(&q, info) = end ? o->to : o->from;
@@ -460,6 +466,16 @@ static int one_point(usm_squeal_study *s, const usm_params *q, size_t i, const d
     pt->impacts_per_period = (double)ly.impacts / (double)lp;
     pt->impact_velocity_max = ly.impact_velocity_max;
     classify(s, r, f, pt);
+    if (s->o.power_periods > 0) {
+        char why[USM_MSG_LEN];
+        if (usm_squeal_energy(s->m, q, r->t0, r->open0, r->y0, s->o.power_periods,
+                              s->o.power_rtol, &pt->power, why) != USM_OK) {
+            pt->status = USM_EFAILED;
+            pt->motion = USM_MOTION_FAILED;
+            snprintf(pt->message, USM_MSG_LEN, "power: %s", why);
+            return USM_OK;
+        }
+    }
     if (audible(r, f, s->o.lines, pt) != USM_OK) {
         snprintf(s->msg, USM_MSG_LEN, "out of memory");
         return USM_EFAILED;

@@ -41,6 +41,25 @@ static json_t *point_json(const usm_squeal_study *s, size_t i)
     usm_json_put(o, "open_fraction", usm_json_real(pt->open_fraction), &ok);
     usm_json_put(o, "impacts_per_period", usm_json_real(pt->impacts_per_period), &ok);
     usm_json_put(o, "impact_velocity_max", usm_json_real(pt->impact_velocity_max), &ok);
+    if (pt->power.periods > 0) {
+        const usm_squeal_power *w = &pt->power;
+        json_t *pw = json_object();
+        int pok = pw != NULL;
+        usm_json_put(pw, "excitation", usm_json_real(w->excitation), &pok);
+        usm_json_put(pw, "damping", usm_json_real(w->damping), &pok);
+        usm_json_put(pw, "load", usm_json_real(w->load), &pok);
+        usm_json_put(pw, "friction", usm_json_real(w->friction), &pok);
+        usm_json_put(pw, "friction_stator", usm_json_real(w->friction_stator), &pok);
+        usm_json_put(pw, "friction_rotor", usm_json_real(w->friction_rotor), &pok);
+        usm_json_put(pw, "normal_stator", usm_json_real(w->normal_stator), &pok);
+        usm_json_put(pw, "impacts", usm_json_real(w->impacts_power), &pok);
+        usm_json_put(pw, "periods", json_integer(w->periods), &pok);
+        usm_json_put(o, "power", usm_json_finish(pw, pok), &ok);
+        usm_json_put(o, "energy_balance_error", usm_json_real(w->balance_error), &ok);
+    } else {
+        usm_json_put(o, "power", json_null(), &ok);
+        usm_json_put(o, "energy_balance_error", json_null(), &ok);
+    }
     if (pt->rest_checked) {
         json_t *r = json_object();
         int rok = r != NULL;
@@ -123,6 +142,8 @@ int usm_squeal_write_csv(const usm_squeal_study *s, FILE *out)
                  "open_fraction [1],impacts_per_period [1],impact_velocity_max [m/s]");
     for (int k = 1; k <= CSV_LINES; ++k)
         fprintf(out, ",line_%d [Hz],level_%d [dB]", k, k);
+    fputs(",power_excitation [W],power_damping [W],power_load [W],power_friction [W],"
+          "power_friction_stator [W],power_impacts [W],energy_balance_error [1]", out);
     fputs(",rest_motion,coexisting,error,seconds [s]\n", out);
     for (size_t i = 0; i < usm_squeal_count(s); ++i) {
         const usm_squeal_point *pt = usm_squeal_point_at(s, i);
@@ -144,6 +165,15 @@ int usm_squeal_write_csv(const usm_squeal_study *s, FILE *out)
                 usm_csv_num(out, 0, pt->lines[k].level_db);
             } else
                 fputs(",,", out);
+        }
+        const usm_squeal_power *w = &pt->power;
+        const double pw[] = {w->excitation,      w->damping,       w->load,         w->friction,
+                             w->friction_stator, w->impacts_power, w->balance_error};
+        for (size_t k = 0; k < sizeof pw / sizeof pw[0]; ++k) {
+            if (pt->status == USM_OK && w->periods > 0)
+                usm_csv_num(out, 0, pw[k]);
+            else
+                fputc(',', out);
         }
         usm_csv_text(out, 0, pt->rest_checked ? usm_motion_name(pt->rest_motion) : "");
         usm_csv_bool(out, 0, pt->coexisting);

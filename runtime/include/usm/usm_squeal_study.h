@@ -87,6 +87,9 @@ typedef struct usm_squeal_options {
     int lines;               /* audible lines kept, 1 .. USM_SQUEAL_MAX_LINES (default 6) */
     int origin;              /* 1: the origin at the end of the period-1 branch
                                 (usm_squeal_origin; default 1, an orbit solve) */
+    long power_periods;      /* periods of the power account from the window's first
+                                state (usm_squeal_energy; default 200; 0: none) */
+    double power_rtol;       /* its tolerance (default 1e-9) */
     void (*progress)(double fraction, void *ctx); /* NULL: silent */
     void *progress_ctx;
 } usm_squeal_options;
@@ -99,6 +102,54 @@ typedef struct usm_squeal_line {
     double amplitude;   /* of the rim velocity [m/s] */
     double level_db;    /* dB re 1e-9 m/s RMS */
 } usm_squeal_line;
+
+/* The power fed into the motion by each force over a run of whole
+ * excitation periods, and the energy balance that checks it
+ * (usm_squeal_energy; docs/squeal.md "Power").  Mean powers [W] over the
+ * run, positive where the force feeds the motion:
+ *  - excitation: the driver's torque on the stator, tau_E . omega;
+ *  - damping: -(d_r (omega_x1^2 + omega_y1^2) + d_t omega_z1^2 + d_R Z_R'^2);
+ *  - load: the load torque on the rotor, -T w_R;
+ *  - friction: the friction force on both bodies, -F_t v_rel (<= 0 where it
+ *    opposes the slip), the sum of friction_stator = -F_t v_c (its power on
+ *    the stator's vibration: > 0 feeds the vibration) and friction_rotor =
+ *    F_t R* w_R (what drives the rotor);
+ *  - normal_stator: the normal force's power on the stator, -F_n Z',
+ *    returned to the rotor's axial motion (the two cancel);
+ *  - impacts_power: the jumps of the mechanical energy at the resets (the
+ *    kinetic energy the impacts take, <= 0 at e_impact <= 1), per second.
+ * The mechanical energy E: the kinetic energy of stator and rotor (axial and
+ * turning) and the potentials of the tilt spring c_r theta^2 (1 + s cos 2 phi)
+ * / 2, the twist spring c_t tau^2 / 2 and the preloaded spring F0 (Z_R - H)
+ * + c_R (Z_R - H)^2 / 2 (usm_squeal_mechanical_energy).  balance_error =
+ * |E(end) - E(start) - (sum of the works and jumps)| / (sum of their
+ * absolute values): the integrator's error, a force missing would be O(1). */
+typedef struct usm_squeal_power {
+    long periods;               /* 0: not computed */
+    double duration;            /* [s] */
+    double excitation, damping, load, friction, friction_stator, friction_rotor;
+    double normal_stator, impacts_power;     /* [W] */
+    double energy_start, energy_end;         /* [J] */
+    double balance_error;       /* relative (above) */
+    long separations, impacts;  /* over the run */
+} usm_squeal_power;
+
+/* The account above of the motion of unilateral model m from the state y0
+ * at t0 (open: 1 with y0 the open mode's state, else the closed state) over
+ * `periods` excitation periods, integrated at rtol with the simulation's
+ * resets (an integration of its own, with the works as states).  USM_OK;
+ * USM_EINPUT (a model whose contact never opens, periods < 1, rtol outside
+ * [1e-14, 1e-3]) or USM_EFAILED (the integration failed), with the reason in
+ * msg (USM_MSG_LEN). */
+int usm_squeal_energy(const usm_model *m, const usm_params *p, double t0, int open,
+                      const double *y0, long periods, double rtol, usm_squeal_power *out,
+                      char *msg);
+
+/* The mechanical energy E [J] (above) of unilateral model m at the state y
+ * (open: the open mode's; else the closed state, the rotor on the crest);
+ * NaN for a model whose contact never opens. */
+double usm_squeal_mechanical_energy(const usm_model *m, const usm_params *p, int open,
+                                    const double *y);
 
 typedef struct usm_squeal_point {
     double value;               /* the parameter */
@@ -126,6 +177,8 @@ typedef struct usm_squeal_point {
     double rest_speed_mean;     /* [1/s] */
     int coexisting;             /* 1: the start from rest ends elsewhere (another motion
                                    or period, or mean speed more than 2 % apart) */
+    usm_squeal_power power;     /* over power_periods from the window's start (periods 0:
+                                   not computed) */
     double seconds;             /* CPU time of this value [s] */
 } usm_squeal_point;
 
