@@ -1,6 +1,7 @@
 /* The squeal study's points as JSON and CSV, and its bifurcation diagram's
  * samples (usm_squeal_study.h). */
 #include <jansson.h>
+#include <math.h>
 #include <stdio.h>
 
 #include "io/csv_out.h"
@@ -104,6 +105,43 @@ static json_t *origin_json(const usm_squeal_study *s)
     return usm_json_finish(o, ok);
 }
 
+/* "onset": the end of the stable orbit located and its sensitivities
+ * (usm_squeal_onset); null when not computed. */
+static json_t *onset_json(const usm_squeal_study *s)
+{
+    const usm_squeal_onset *g = usm_squeal_onset_get(s);
+    if (!g)
+        return json_null();
+    json_t *o = json_object();
+    int ok = o != NULL;
+    if (!o)
+        return NULL;
+    usm_json_put(o, "found", json_boolean(g->found), &ok);
+    usm_json_put(o, "message", g->found ? json_null() : json_string(g->message), &ok);
+    usm_json_put(o, "value", usm_json_real(g->value), &ok);
+    usm_json_put(o, "kind", json_string(g->kind), &ok);
+    usm_json_put(o, "last_orbit", usm_json_real(g->found ? g->last_orbit : NAN), &ok);
+    usm_json_put(o, "closed_fraction", usm_json_real(g->found ? g->closed_fraction : NAN), &ok);
+    usm_json_put(o, "solves", json_integer(g->solves), &ok);
+    json_t *arr = json_array();
+    for (int k = 0; arr && k < g->nsens; ++k) {
+        const usm_squeal_sensitivity *v = &g->sens[k];
+        json_t *e = json_object();
+        int eok = e != NULL;
+        usm_json_put(e, "parameter", json_string(v->parameter), &eok);
+        usm_json_put(e, "d_onset", usm_json_real(v->d_onset), &eok);
+        usm_json_put(e, "elasticity", usm_json_real(v->elasticity), &eok);
+        usm_json_put(e, "h", usm_json_real(v->h), &eok);
+        usm_json_put(e, "error", v->message[0] ? json_string(v->message) : json_null(), &eok);
+        if (!eok || json_array_append_new(arr, e) != 0)
+            ok = 0;
+    }
+    usm_json_put(o, "sensitivities", arr, &ok);
+    usm_json_put(o, "most_sensitive",
+                 g->most_sensitive[0] ? json_string(g->most_sensitive) : json_null(), &ok);
+    return usm_json_finish(o, ok);
+}
+
 int usm_squeal_write_json(const usm_squeal_study *s, FILE *out)
 {
     json_t *obj = json_object();
@@ -123,6 +161,7 @@ int usm_squeal_write_json(const usm_squeal_study *s, FILE *out)
     }
     usm_json_put(obj, "points", points, &ok);
     usm_json_put(obj, "origin", origin_json(s), &ok);
+    usm_json_put(obj, "onset", onset_json(s), &ok);
     return usm_json_write(usm_json_finish(obj, ok), out);
 }
 

@@ -90,6 +90,12 @@ typedef struct usm_squeal_options {
     long power_periods;      /* periods of the power account from the window's first
                                 state (usm_squeal_energy; default 200; 0: none) */
     double power_rtol;       /* its tolerance (default 1e-9) */
+    int sensitivities;       /* 1: the onset located past the origin and its sensitivities
+                                to the design parameters (usm_squeal_onset_sensitivities,
+                                about 10 s of CPU; default 0); needs origin */
+    double sensitivity_h;    /* their relative step (default 1e-3) */
+    double onset_tol;        /* the onset's tolerance, relative to the origin's bracket
+                                (default 1e-6) */
     void (*progress)(double fraction, void *ctx); /* NULL: silent */
     void *progress_ctx;
 } usm_squeal_options;
@@ -217,6 +223,67 @@ typedef struct usm_squeal_origin {
     double share[USM_SQUEAL_MAX_DOF];   /* sum 1 */
 } usm_squeal_origin;
 
+/* The onset of the irregular motion located: where the stable orbit with
+ * separation continued from `value` towards `toward` ends
+ * (usm_squeal_locate_onset), and how the design parameters move it
+ * (usm_squeal_onset_sensitivities). */
+typedef struct usm_squeal_sensitivity {
+    char parameter[24];         /* a usm_params field */
+    double h;                   /* the step of the central difference [its unit] */
+    double d_onset;             /* d(onset) / d(parameter) [the swept one's unit per its own] */
+    double elasticity;          /* (parameter / onset) d(onset) / d(parameter) [1] */
+    char message[120];          /* why d_onset is NaN, or "" */
+} usm_squeal_sensitivity;
+
+/* The design parameters whose sensitivities are computed (the swept one
+ * left out): preload F0, friction scale mu0, excitation frequency f, load
+ * torque T, excitation amplitude m0. */
+#define USM_SQUEAL_DESIGN_PARAMETERS 5
+/* Most parameters of one sensitivity call. */
+#define USM_SQUEAL_MAX_SENSITIVITIES 8
+extern const char *const usm_squeal_design_parameters[USM_SQUEAL_DESIGN_PARAMETERS];
+
+typedef struct usm_squeal_onset {
+    int found;
+    char message[USM_MSG_LEN];  /* why not */
+    double value;               /* the onset [the swept parameter's unit] */
+    char kind[32];              /* "branch_end" (Newton fails past it: the orbit ends, its
+                                   closed phase small) or "stability_loss" (max |lambda| = 1) */
+    double closed_fraction;     /* of the last orbit located */
+    double last_orbit;          /* the value of the last orbit (branch_end) */
+    int solves;                 /* orbit solves used, the sensitivities' included */
+    int nsens;
+    usm_squeal_sensitivity sens[USM_SQUEAL_MAX_SENSITIVITIES];
+    char most_sensitive[24];    /* the parameter of the largest |elasticity| */
+} usm_squeal_onset;
+
+/* The end of the stable orbit with separation of unilateral model m at
+ * parameters p, followed in `over` from `value` (its orbit from the section
+ * (ts, x0), or with x0 NULL from rest: usm_hybrid_solve) towards `toward`:
+ * continued by Newton with the section moved to the middle of each orbit's
+ * closed phase, in steps halved where Newton fails, to the end of the branch
+ * within tol times |toward - value| (branch_end); or, should an orbit on the
+ * way be unstable, the zero of max |lambda| - 1 (regula falsi).  USM_OK with out->found, or found 0 and out->message (no
+ * stable orbit at value, no end in the range, a branch that ends
+ * otherwise); USM_EINPUT (bad arguments, message); USM_EFAILED (out of
+ * memory). */
+int usm_squeal_locate_onset(const usm_model *m, const usm_params *p, const char *over,
+                            double value, double toward, double ts, const double *x0, double tol,
+                            usm_squeal_onset *out);
+
+/* usm_squeal_locate_onset, then for each of the nnames parameters `names`
+ * (NULL: usm_squeal_design_parameters; at most USM_SQUEAL_MAX_SENSITIVITIES;
+ * `over` left out) the onset located again at the parameter P (1 +- h) (its
+ * orbit at `value` from the same start): d_onset by the central difference,
+ * the elasticity, and the most sensitive parameter.  A parameter whose
+ * shifted onset is not found or of another kind has d_onset NaN and a
+ * message.  Returns as usm_squeal_locate_onset (USM_EINPUT also for h
+ * outside (0, 0.1), an unknown name or too many). */
+int usm_squeal_onset_sensitivities(const usm_model *m, const usm_params *p, const char *over,
+                                   double value, double toward, double ts, const double *x0,
+                                   const char *const *names, int nnames, double h, double tol,
+                                   usm_squeal_onset *out);
+
 /* A study over one parameter with its points (opaque). */
 typedef struct usm_squeal_study usm_squeal_study;
 
@@ -237,6 +304,9 @@ int usm_squeal_run(usm_squeal_study *s, const usm_params *p, const usm_squeal_op
 
 /* The origin of the last run (usm_squeal_origin above); NULL before a run. */
 const usm_squeal_origin *usm_squeal_origin_get(const usm_squeal_study *s);
+/* The onset and its sensitivities of the last run (options' sensitivities);
+ * NULL when not computed (off, or no origin found). */
+const usm_squeal_onset *usm_squeal_onset_get(const usm_squeal_study *s);
 /* Points of the last run, in sweep order. */
 size_t usm_squeal_count(const usm_squeal_study *s);
 /* Point i of the last run, NULL when out of range. */
