@@ -270,6 +270,8 @@ int usm_squeal_onset_sensitivities(const usm_model *m, const usm_params *p, cons
             continue;
         s->h = dP;
         s->d_onset = (on[1] - on[0]) / (2.0 * dP);
+        /* each location is good to tol of the bracket: a smaller change is not seen */
+        s->resolution = tol * fabs(toward - value) / dP;
         s->elasticity = s->d_onset * P / out->value;
         if (fabs(s->elasticity) > best) {
             best = fabs(s->elasticity);

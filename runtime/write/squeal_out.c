@@ -132,6 +132,7 @@ static json_t *onset_json(const usm_squeal_study *s)
         usm_json_put(e, "d_onset", usm_json_real(v->d_onset), &eok);
         usm_json_put(e, "elasticity", usm_json_real(v->elasticity), &eok);
         usm_json_put(e, "h", usm_json_real(v->h), &eok);
+        usm_json_put(e, "resolution", usm_json_real(v->resolution), &eok);
         usm_json_put(e, "error", v->message[0] ? json_string(v->message) : json_null(), &eok);
         if (!eok || json_array_append_new(arr, e) != 0)
             ok = 0;

@@ -232,6 +232,8 @@ typedef struct usm_squeal_sensitivity {
     double h;                   /* the step of the central difference [its unit] */
     double d_onset;             /* d(onset) / d(parameter) [the swept one's unit per its own] */
     double elasticity;          /* (parameter / onset) d(onset) / d(parameter) [1] */
+    double resolution;          /* |d_onset| below this is not resolved (the locations'
+                                   tolerance over h): a d_onset of 0 means "below it" */
     char message[120];          /* why d_onset is NaN, or "" */
 } usm_squeal_sensitivity;
 
