@@ -35,7 +35,7 @@ int main(void)
     static const char *const names[] = {"F0"};
     usm_squeal_onset o;
     CHECK(usm_squeal_onset_sensitivities(m, &p, "phase_error", 0.91, 0.92, r.t0, r.x0, names, 1,
-                                         1e-3, 1e-6, &o) == USM_OK && o.found,
+                                         1e-3, 1e-5, &o) == USM_OK && o.found,
           "onset: %s", o.message);
     printf("onset %.9f rad (%s; last orbit %.9f, closed fraction %.4f), %d solves; d onset / d F0 "
            "= %.6g rad/N, elasticity %.4f\n", o.value, o.kind, o.last_orbit, o.closed_fraction,
@@ -49,7 +49,7 @@ int main(void)
     usm_params q = p;
     q.F0 += dF;
     usm_squeal_onset o2;
-    CHECK(usm_squeal_locate_onset(m, &q, "phase_error", 0.91, 0.92, r.t0, r.x0, 1e-6, &o2) ==
+    CHECK(usm_squeal_locate_onset(m, &q, "phase_error", 0.91, 0.92, r.t0, r.x0, 1e-5, &o2) ==
               USM_OK && o2.found, "shifted onset: %s", o2.message);
     const double want = o.value + o.sens[0].d_onset * dF;
     printf("at F0 + 0.5 %%: onset %.9f rad located, %.9f predicted (%.2e relative)\n", o2.value,
