@@ -34,7 +34,13 @@
  *    usm_spectrum_amplitude (Hann window, GSL FFT) and usm_spectrum_lines
  *    (two-bin interpolation); the strongest `lines` local maxima between
  *    20 Hz and 20 kHz, their level in dB re 1e-9 m/s RMS (velocity level,
- *    ISO 1683): 20 log10(A / sqrt(2) / 1e-9).
+ *    ISO 1683): 20 log10(A / sqrt(2) / 1e-9);
+ *  - the power each force feeds into the motion over power_periods from the
+ *    window's first state, and the energy balance that checks it
+ *    (usm_squeal_energy, below).
+ * After the points: the origin at the end of the period-1 branch
+ * (usm_squeal_origin) and, with `sensitivities`, the onset located past it
+ * and its derivatives in the design parameters (usm_squeal_onset).
  *
  * Thread safety: no global state; one study per thread.  The caller sets
  * GSL's error handler (usm.h).
