@@ -131,9 +131,9 @@ typedef struct usm_squeal_line {
  *  - impacts_power: the jumps of the mechanical energy at the resets (the
  *    kinetic energy the impacts take, <= 0 at e_impact <= 1), per second.
  * The mechanical energy E: the kinetic energy of stator and rotor (axial and
- * turning) and the potentials of the tilt spring c_r theta^2 (1 + s cos 2 phi)
- * / 2, the twist spring c_t tau^2 / 2 and the preloaded spring F0 (Z_R - H)
- * + c_R (Z_R - H)^2 / 2 (usm_squeal_mechanical_energy).  balance_error =
+ * turning) and the potentials of the tilt spring, c_r theta^2 (1 + s cos 2
+ * phi) / 2, the twist spring, c_t tau^2 / 2, and the preloaded spring, F0
+ * (Z_R - H) + c_R (Z_R - H)^2 / 2 (usm_squeal_mechanical_energy).  balance_error =
  * |E(end) - E(start) - (sum of the works and jumps)| / (sum of their
  * absolute values): the integrator's error, a force missing would be O(1). */
 typedef struct usm_squeal_power {
