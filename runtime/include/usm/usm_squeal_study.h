@@ -271,9 +271,9 @@ typedef struct usm_squeal_onset {
  * continued by Newton with the section moved to the middle of each orbit's
  * closed phase, in steps halved where Newton fails, to the end of the branch
  * within tol times |toward - value| (branch_end); or, should an orbit on the
- * way be unstable, the zero of max |lambda| - 1 (regula falsi).  USM_OK with out->found, or found 0 and out->message (no
- * stable orbit at value, no end in the range, a branch that ends
- * otherwise); USM_EINPUT (bad arguments, message); USM_EFAILED (out of
+ * way be unstable, the zero of max |lambda| - 1 (regula falsi).  USM_OK
+ * with out->found, or found 0 and out->message (no stable orbit at value,
+ * no end in the range, a branch that ends otherwise); USM_EINPUT (bad arguments, message); USM_EFAILED (out of
  * memory). */
 int usm_squeal_locate_onset(const usm_model *m, const usm_params *p, const char *over,
                             double value, double toward, double ts, const double *x0, double tol,
