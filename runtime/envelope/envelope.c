@@ -1042,6 +1042,7 @@ static void clear_result(usm_envelope *e)
     for (size_t c = 0; c < e->ncurves; ++c) {
         free(e->curves[c].xy);
         free(e->curves[c].u);
+        free(e->curves[c].freq);
     }
     e->ncurves = e->nseeds = e->ncodim2 = e->nregions = 0;
     e->seeds_dropped = 0;

@@ -5,6 +5,7 @@
 
 #include "usm_cont.h"
 #include "usm_envelope.h"
+#include "usm_periodic.h"
 
 #define ENV_MAX_TESTS 16
 
@@ -17,6 +18,7 @@ typedef struct env_seed {
 typedef struct env_curve {
     usm_envelope_curve pub;
     double *xy, *u;
+    double *freq;               /* the imperfect models' stability curves (else NULL) */
 } env_curve;
 
 struct usm_envelope {
@@ -89,5 +91,14 @@ int env_regions(usm_envelope *e);
  * USM_OK or USM_EFAILED with e->msg. */
 int env_periodic_curves(usm_envelope *e);
 int env_periodic_classify(usm_envelope *e, usm_envelope_region *r);
+
+/* envelope_periodic_stability.c: the imperfect models' stability curve
+ * through the stability_change event of the sweep along edge `edge` (0 x =
+ * lo, 1 x = hi, 2 y = lo, 3 y = hi) at (x, y), the orbit's state x0 there,
+ * continued into the box on w (usm_periodic_alloc of e->m) and kept as a
+ * curve of e.  0 (also when it is lost at its start), or -1 when out of
+ * memory. */
+int env_periodic_stability_trace(usm_envelope *e, usm_periodic *w, int edge, double x, double y,
+                                 const double *x0);
 
 #endif /* USM_ENVELOPE_INTERNAL_H */

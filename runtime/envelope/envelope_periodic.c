@@ -428,7 +428,11 @@ static int edge_seeds(usm_envelope *e, int edge, pseed **s, size_t *n, size_t *c
             const usm_periodic_event *ev = usm_periodic_sweep_event_at(sw, i);
             const int kind = ev->type == USM_PEVENT_CONTACT_LOSS  ? USM_ENVELOPE_CONTACT_LOSS
                              : ev->type == USM_PEVENT_STICK_LOSS ? USM_ENVELOPE_STICK_LOSS
-                                                                 : -1;
+                             /* a fold's is the branch's end: not followed */
+                             : ev->type == USM_PEVENT_STABILITY_CHANGE &&
+                                     ev->kind != USM_CROSSING_FOLD && e->opt.stability
+                                 ? USM_ENVELOPE_STABILITY
+                                 : -1;
             if (kind < 0 || !ev->has_orbit)
                 continue;
             const double x = axis == 0 ? ev->value : fixed, y = axis == 0 ? fixed : ev->value;
@@ -787,6 +791,15 @@ int env_periodic_curves(usm_envelope *e)
                 snprintf(e->msg, sizeof e->msg, "out of memory for the curves");
                 rc = USM_EFAILED;
             }
+        }
+    /* the orbit's stability: envelope_periodic_stability.c */
+    for (size_t i = 0; i < n && rc == USM_OK; ++i)
+        if (s[i].kind == USM_ENVELOPE_STABILITY &&
+            (on_curve(e, &s[i]) ? (e->seeds_dropped++, 0)
+                                : env_periodic_stability_trace(e, pb.w, s[i].edge, s[i].x,
+                                                               s[i].y, s[i].x0) != 0)) {
+            snprintf(e->msg, sizeof e->msg, "out of memory for the curves");
+            rc = USM_EFAILED;
         }
     if (rc == USM_OK && e->ncurves == 0 && sweep_msg[0])
         snprintf(e->msg, sizeof e->msg, "%s", sweep_msg);

@@ -39,6 +39,14 @@ static json_t *curve_json(const usm_envelope_curve *c)
     usm_json_put(o, "kind", json_string(usm_envelope_kind_name(c->kind)), &ok);
     usm_json_put(o, "points", pts, &ok);
     usm_json_put(o, "ends", ends, &ok);
+    if (ok && c->frequency) {
+        /* the stability curve's critical pair, a value a point (null: real) */
+        json_t *fr = json_array();
+        ok = fr != NULL;
+        for (size_t i = 0; ok && i < c->npoints; ++i)
+            ok = json_array_append_new(fr, usm_json_real(c->frequency[i])) == 0;
+        usm_json_put(o, "frequency", fr, &ok);
+    }
     return usm_json_finish(o, ok);
 }
 

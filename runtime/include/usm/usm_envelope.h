@@ -153,6 +153,10 @@ typedef struct usm_envelope_curve {
                                 models: the orbit's state at t0, nu = nx) */
     int nu;
     usm_envelope_end end[2]; /* at the first and at the last point */
+    const double *frequency; /* imperfect models' stability curves: per point the
+                                critical complex pair's frequency [Hz]
+                                (usm_squeal_frequency of the orbit's), NaN where the
+                                critical multiplier is real; NULL on other curves */
 } usm_envelope_curve;
 
 /* A point where two curves meet, or a fold curve's cusp. */
