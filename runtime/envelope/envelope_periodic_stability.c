@@ -57,7 +57,7 @@
  * in F0) is ~2e-10 of F0, which in a box 2e-3 N high is 1e-7 of its side. */
 #define NEWTON_TOL 1e-9
 /* Longest step (the box's sides 1): the curve is nearly straight. */
-#define H_MAX 0.2
+#define H_MAX 0.25
 #define H_MIN 1e-7
 #define BOX_PAD 1e-9
 
@@ -230,7 +230,7 @@ static int s_run(sprob *pb, const double *z0, int dir, sbuf *b, usm_envelope_end
     if (!(pb->c = usm_cont_alloc(N - 1)))
         return -1;
     usm_cont_options_default(&o);
-    o.h0 = 0.2 * H_MAX;
+    o.h0 = 0.5 * H_MAX;
     o.h_max = H_MAX;
     o.h_min = H_MIN;
     o.newton_max = 8;

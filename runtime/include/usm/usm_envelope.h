@@ -66,10 +66,16 @@
  * periodic sweeps (usm_periodic_sweep.h) along the box's four edges, each
  * from its edge to where it leaves the box (envelope_periodic.c).  A curve
  * point is a solution to the sweep's corrector tolerance (1e-8 in the scaled
- * unknowns).  Its regions are classified by the periodic orbit there
- * (usm_periodic_solve): stick_admissible, stick_lost, contact_open
- * (contact_closed in slip models), no_orbit.  The options lines, nodes,
- * h_max, stability, steady, floquet and op do not apply to them.
+ * unknowns).  With the option stability, also `stability`: the orbit's
+ * largest non-cyclic Floquet multiplier on the unit circle (g = its
+ * modulus minus 1 with the periodicity, in the state at t0 and both
+ * parameters), from the edge sweeps' stability_change events other than a
+ * fold; where the critical multiplier is a complex pair (neimark_sacker)
+ * the curve's `frequency` holds its frequency at each point, as the sweep's
+ * squeal frequency (envelope_periodic_stability.c).  Its regions are classified by
+ * the periodic orbit there (usm_periodic_solve): stick_admissible,
+ * stick_lost, contact_open (contact_closed in slip models), no_orbit.  The
+ * options lines, nodes, h_max, steady, floquet and op do not apply to them.
  *
  * Life cycle (GSL style): usm_envelope_alloc, usm_envelope_run, accessors,
  * usm_envelope_free.  Thread safety: as usm.h.
