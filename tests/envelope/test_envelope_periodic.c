@@ -1,6 +1,6 @@
 /* The imperfect motor's envelope in (phase_error, mode_split): contact_loss
- * as a curve (runtime/envelope/envelope_periodic.c), against independent
- * truth.
+ * and stick_loss as curves (runtime/envelope/envelope_periodic.c), against
+ * independent truth.
  *
  * 1. The curves pass through the one-parameter onsets (docs/unilateral.md,
  *    docs/periodic.md) on both axes, where F_n has two equal minima a
@@ -16,6 +16,13 @@
  *    steeply, to 1e-8 of the box's side.
  * 3. The regions: below the curve the orbit's stick is lost (stick_loss
  *    lies at 0.2724860 rad on the axis), above it the contact opens.
+ * 4. stick_loss (the orbit's largest |F_t| - mu0 F_n = 0) from its onset
+ *    on mode_split = 0, 0.2724860 rad (docs/periodic.md), into the box:
+ *    its end on the axis within 1e-8 (relative) of the sweep's located
+ *    event, five points against sweeps across it to 1e-8 of the box's
+ *    side, the stick admissible to its left and lost to its right.  (With
+ *    the orbit's located extreme as the defining function, the former
+ *    formulation, the points were 1e-5 of the side off.)
  */
 #include <math.h>
 #include <stdio.h>
@@ -194,6 +201,19 @@ int main(void)
         onset(m3, e, USM_ENVELOPE_CONTACT_LOSS, 0, 0.0164256, 5e-8, USM_PEVENT_CONTACT_LOSS);
         five_points(m3, c, USM_PEVENT_CONTACT_LOSS);
     }
+    usm_envelope_free(e);
+
+    /* 3-DOF stick_loss from mode_split = 0 */
+    e = run(m3, 0.26, 0.29, 0.0, 0.004);
+    c = curve_of(e, USM_ENVELOPE_STICK_LOSS);
+    if (CHECK(c != NULL, "3dof: no stick_loss curve")) {
+        onset(m3, e, USM_ENVELOPE_STICK_LOSS, 1, 0.2724860, 5e-8, USM_PEVENT_STICK_LOSS);
+        five_points(m3, c, USM_PEVENT_STICK_LOSS);
+    }
+    CHECK(strcmp(class_at(e, 0.262, 0.0002), "stick_admissible") == 0,
+          "3dof at (0.262, 0.0002): %s", class_at(e, 0.262, 0.0002));
+    CHECK(strcmp(class_at(e, 0.288, 0.0002), "stick_lost") == 0, "3dof at (0.288, 0.0002): %s",
+          class_at(e, 0.288, 0.0002));
     usm_envelope_free(e);
 
     return failures != 0;
