@@ -65,10 +65,13 @@
 #include "usm_periodic_sweep.h"
 
 #define PMAX (USM_MAX_NX + 3)
-/* Forward differences of r in the parameters: this fraction of the
- * unknown's scale (the sweep's: the residual's noise floor ~5e-10 of the
- * scales over it stays below 1e-4 of the column). */
-#define FD_REL 1e-5
+/* r's columns in the parameters, central differences of two shots of the
+ * state alone: this fraction of the unknown's scale (truncation 1e-8).  The
+ * forward difference against the full shot at 1e-5 had the full shot's
+ * other steps in it, 1e-9 of the scales: in a box of 0.02 rad the tangent's
+ * phase_error component was then noisy at 3e-3, and at stick_loss's turn
+ * the fold's location failed step after step until the curve was lost. */
+#define FD_REL 1e-4
 /* q's and its rate's rows, central differences: truncation ~1e-8, and the
  * rate's own rounding (~1e-11 of it, a difference along the motion) over
  * this step ~1e-7 of the row. */
@@ -78,7 +81,12 @@
  * the stick excess's longer, above its rounding (periodic_internal.h). */
 #define RATE_STEP_F_N 1e-5
 #define RATE_STEP_STICK 1e-2
-/* The corrector's tolerance on its update (scaled). */
+/* The corrector's tolerance on its update (scaled): contact_loss's, and
+ * stick_loss's, which is relative to the parameters' size where the box is
+ * small against them (0.02 rad at 0.65 rad: 3.3e-7 of the side, 1e-8 of
+ * the value).  The stick excess's rate and the twist angle's periodicity
+ * leave ~1e-9 rad of noise in phase_error; at 1e-8 of such a box's side the
+ * corrector failed near stick_loss's turn and the curve was lost. */
 #define NEWTON_TOL 1e-9
 #define NEWTON_TOL_STICK 1e-8
 /* Longest step (the box's sides 1). */
@@ -200,7 +208,8 @@ static int residual(const double *z, double *F, double *J, void *ctx)
 {
     penv *pb = ctx;
     const int k = pb->k, N = pb->N, ja = k + 1, jb = k + 2;
-    double x0[USM_MAX_NX], rb[USM_MAX_NX], ct[USM_MAX_NX], Jk[USM_MAX_NX * (USM_MAX_NX + 1)];
+    double x0[USM_MAX_NX], rp[USM_MAX_NX], rm[USM_MAX_NX], ct[USM_MAX_NX];
+    double Jk[USM_MAX_NX * (USM_MAX_NX + 1)];
     usm_params q;
     pb->have_shot_z = 0;
     for (int j = 0; j < N; ++j)
@@ -209,21 +218,28 @@ static int residual(const double *z, double *F, double *J, void *ctx)
     p_unpack(pb, z, x0, &q);
     usm_periodic_shoot_set_t0(pb->w, z[k]);
     if (J) {
-        /* b's column first: the state alone keeps nothing */
-        const double d = FD_REL * pb->scale[jb];
-        usm_params q2 = q;
-        *usm_params_field(&q2, col_param(pb, jb)) += d;
-        if (usm_periodic_shoot_state(pb->w, &q2, x0, rb) != USM_OK ||
-            usm_periodic_shoot(pb->w, &q, col_param(pb, ja), FD_REL * pb->scale[ja], x0, F, Jk) !=
-                USM_OK ||
+        /* the parameters' columns first (the state alone keeps nothing),
+         * each from two shots of the state alone: a difference against the
+         * full shot, which takes other steps, is noisy at 1e-9 of the
+         * scales over the step */
+        for (int j = ja; j <= jb; ++j) {
+            const double d = FD_REL * pb->scale[j];
+            usm_params qp = q, qm = q;
+            *usm_params_field(&qp, col_param(pb, j)) += d;
+            *usm_params_field(&qm, col_param(pb, j)) -= d;
+            if (usm_periodic_shoot_state(pb->w, &qp, x0, rp) != USM_OK ||
+                usm_periodic_shoot_state(pb->w, &qm, x0, rm) != USM_OK)
+                return -1;
+            for (int a = 0; a < k; ++a)
+                J[a * N + j] = (rp[a] - rm[a]) / (2 * d);
+        }
+        if (usm_periodic_shoot(pb->w, &q, NULL, 0.0, x0, F, Jk) != USM_OK ||
             usm_periodic_shoot_t0_column(pb->w, ct) != USM_OK)
             return -1;
         for (int a = 0; a < k; ++a) {
             for (int b = 0; b < k; ++b)
                 J[a * N + b] = Jk[a * (k + 1) + b];
             J[a * N + k] = ct[a];
-            J[a * N + ja] = Jk[a * (k + 1) + k];
-            J[a * N + jb] = (rb[a] - F[a]) / d;
             if (pb->tw >= 0) {
                 /* phidot = w - psidot cos(theta): the chain rule */
                 const usm_model *m = pb->e->m;
@@ -242,11 +258,11 @@ static int residual(const double *z, double *F, double *J, void *ctx)
         for (int j = 0; j < N; ++j) {
             const double d = G_FD_REL * pb->scale[j];
             zs[j] = z[j] + d;
-            const int rp = q_pair(pb, zs, &gp, &gdp);
+            const int okp = q_pair(pb, zs, &gp, &gdp);
             zs[j] = z[j] - d;
-            const int rm = q_pair(pb, zs, &gm, &gdm);
+            const int okm = q_pair(pb, zs, &gm, &gdm);
             zs[j] = z[j];
-            if (rp != 0 || rm != 0)
+            if (okp != 0 || okm != 0)
                 return -1;
             J[k * N + j] = (gp - gm) / (2 * d);
             J[(k + 1) * N + j] = (gdp - gdm) / (2 * d);
@@ -442,7 +458,13 @@ static int run_piece(penv *pb, const double *z0, int dir, int check, pbuf *b,
     o.newton_max = 8;
     o.grow_its = 3;
     o.shrink_its = 6;
-    o.newton_tol = pb->which == USM_PERIODIC_Q_F_N ? NEWTON_TOL : NEWTON_TOL_STICK;
+    o.newton_tol = NEWTON_TOL;
+    if (pb->which == USM_PERIODIC_Q_STICK_EXCESS) {
+        double rel = 1.0;
+        for (int a = 0; a < 2; ++a)
+            rel = fmax(rel, fmax(fabs(e->lo[a]), fabs(e->hi[a])) / (e->hi[a] - e->lo[a]));
+        o.newton_tol = NEWTON_TOL_STICK * rel;
+    }
     o.event_tol = 1e-10;
     o.across_fold = 1;
     o.max_steps = 20 * e->opt.max_points;
