@@ -2,48 +2,53 @@
  * periodic orbit rather than a stationary solution: contact_loss and
  * stick_loss continued in two parameters.
  *
- * contact_loss, where the orbit's least F_n is 0.  F_n has two minima a
- * period, half a period apart and equal to the shot's noise (1e-10 of
- * F_n_max) wherever measured (the orbit's half-period symmetry: the
- * imperfections force at 2 Omega).  One of them is followed, its time t* an
- * unknown: the orbit is shot from t0 = t*, and k + 2 equations in k + 3
- * unknowns z = (x*, t*, a, b):
+ * contact_loss, where the orbit's least F_n is 0, and stick_loss (stick
+ * models), where its largest stick excess q = |F_t| - mu0 F_n is 0, are
+ * posed alike.  q has two extremes a period, half a period apart and equal
+ * to the shot's noise (1e-10 of F_n_max) wherever measured (the orbit's
+ * half-period symmetry: the imperfections force at 2 Omega).  One of them
+ * is followed, its time t* an unknown: the orbit is shot from t0 = t*, and
+ * k + 2 equations in k + 3 unknowns z = (x*, t*, a, b):
  *   r(x*, t*; px, py) = 0   periodicity in the k non-cyclic components of
  *                           the state x* at t* (usm_periodic_shoot,
  *                           solve/periodic_internal.h; scaled as the
  *                           shooting's)
- *   F_n(x*, t*; p) = 0      (scaled by F_n_max)
- *   dF_n/dt(x*, t*; p) = 0  its rate along the motion: t* is its extreme
+ *   q(x*, t*; p) = 0        (scaled by F_n_max)
+ *   dq/dt(x*, t*; p) = 0    its rate along the motion: t* is its extreme
  * Jacobian: the monodromy's block, dr/dt* in closed form (f(x1, t* + T) -
- * B f(x*, t*)), forward differences in a and b (one period of the state
- * alone for b); the last two rows by central differences, which need no
- * integration (F_n and its rate are functions of (x*, t*, p)).  Newton
+ * B f(x*, t*)), central differences in a and b (two periods of the state
+ * alone each); the last two rows by central differences, which need no
+ * integration (q and its rate are functions of (x*, t*, p)).  Newton
  * converges in 2 or 3 iterations, on the axes mode_split = 0 and
- * phase_error = 0 too, where the orbit's located minimum as g (below) was
- * lost at the first step.
+ * phase_error = 0 too, where the orbit's located extreme as the defining
+ * function was lost at the first step (contact_loss) or noisy at 1e-5 of
+ * the box (stick_loss).
  *
- * The followed minimum must stay the orbit's global one: at every point the
- * test function (the least other local minimum of F_n over the orbit -
- * F_n(t*)) is monitored, the half-period copy of the followed one not
+ * Two things make stick_loss's system regular.  (1) z holds the twist rate
+ * w = phidot + psidot cos(theta) (the rate of the twist angle, a state of
+ * the model) in phidot's place, scaled as the tilt vector's spin rate
+ * (Omega theta).  On the orbit phidot and psidot are +-Omega and w is 1e-7
+ * of Omega (0.03 rad/s at the onset on mode_split = 0); F_t follows w
+ * (through the twist damping, 1.5e4 F_n_max per Omega, its rate through the
+ * twist spring 47 times that), so q is linear over 1e-2 of Omega theta in
+ * w, and 1e-4 of Omega in phidot alone, the rows' difference step in the
+ * Euler angles, changed w by 700 times its value and flipped F_t's sign:
+ * those rows were wrong, which was the singularity seen.  q is not steep;
+ * phidot is the wrong unknown.  (2) q's rate by a central difference of
+ * 1e-2 rad of Omega t, not F_n's 1e-5: F_t comes from phi'' and psi''
+ * (~1e9 rad/s^2) that nearly cancel, so q is rounded to 1e-12 of F_n_max,
+ * and over 1e-5 its rate was noisy at 2e-7 of F_n_max Omega, where Newton
+ * stalled (periodic_internal.h, usm_periodic_quantity_rate_step).
+ *
+ * The followed extreme must stay the orbit's global one: at every point the
+ * test function (the most extreme other local extreme of q over the orbit
+ * against q(t*)) is monitored, the half-period copy of the followed one not
  * counted as another where the orbit has the symmetry.  Where it vanishes
  * (a corner of the boundary) the piece ends (`corner`), is named a
- * codimension-two point (contact_loss/contact_loss) inside the box, and the
- * other minimum's piece starts there, in the half where the first one is no
- * longer the global.  At a seed where two minima are equal, the one whose
- * first step keeps it the global one is followed.
- *
- * stick_loss (stick models), where the orbit's largest |F_t| - mu0 F_n is
- * 0: in the Euler angles it is steep in the twist rate phidot + psidot
- * cos(theta) (1.5e4 F_n_max per Omega of phidot, its rate 7e5), which the
- * shooting resolves only to its tolerances, ~1e-11 Omega; the extended
- * system with t* came out singular to 1e-6 there, so stick_loss is posed on
- * the orbit shot from the envelope's t0: k + 1 equations, r and g = the
- * largest stick excess as the orbit's extremes are located (the sweep's
- * test function), in (x0, a, b).  g's row by forward differences (a shot
- * each), formed once a step and kept for the corrector's iterations there,
- * each step cut from 1e-4 of its unknown's scale by 100 until g moves by at
- * most 1e-2 F_n_max over it (phidot's and psidot's: 1e-8), and the
- * corrector's tolerance 1e-5: g's noise limits the curve to about that.
+ * codimension-two point (e.g. contact_loss/contact_loss) inside the box,
+ * and the other extreme's piece starts there, in the half where the first
+ * one is no longer the global.  At a seed where two extremes are equal, the
+ * one whose first step keeps it the global one is followed.
  *
  * Seeds: a one-parameter periodic sweep (usm_periodic_sweep) along each of
  * the box's four edges; each contact_loss and stick_loss event it locates
