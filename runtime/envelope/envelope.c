@@ -32,6 +32,9 @@
 /* The box's sides for the stopping tests, this fraction of a side outside:
  * an end is then put onto the side itself (usm_cont_correct_fixed). */
 #define BOX_PAD 1e-9
+/* A Bogdanov-Takens zero is kept when both multipliers nearest 1 are this
+ * close to it (a zero at a jump of the test function leaves one far). */
+#define BT_GAP 1e-6
 
 const char *usm_envelope_kind_name(usm_envelope_kind kind)
 {
@@ -203,6 +206,88 @@ double env_defining(env_problem *pb, int kind, const double *x)
     return NAN;
 }
 
+/* The multipliers at x, kept for the next call at the same x (a fold curve's
+ * two tests read the same ones).  0, or -1 off the axis's side or when the
+ * computation fails. */
+static int fold_multipliers(env_problem *pb, const double *x, const usm_floquet_result **out)
+{
+    const usm_model *m = pb->e->m;
+    const int n = pb->n + 1;
+    if (!(x[m->u_theta] > 0))
+        return -1;
+    if (pb->fl_valid && memcmp(pb->fl_x, x, sizeof(double) * (size_t)n) == 0) {
+        *out = &pb->fl_res;
+        return 0;
+    }
+    usm_steady_solution sol;
+    pb->fl_valid = 0;
+    set_params(pb, x);
+    memset(&sol, 0, sizeof sol);
+    memcpy(sol.u, x, sizeof(double) * (size_t)pb->e->nu);
+    usm_steady_evaluate(m, &pb->p, &sol);
+    if (usm_floquet_compute(pb->e->fl, &pb->p, &sol, pb->e->opt.t0, &pb->e->opt.floquet,
+                            &pb->fl_res) != USM_OK)
+        return -1;
+    memcpy(pb->fl_x, x, sizeof(double) * (size_t)n);
+    pb->fl_valid = 1;
+    *out = &pb->fl_res;
+    return 0;
+}
+
+/* The two non-cyclic multipliers nearest 1 (a nearest), their distances. */
+static int nearest_one(const usm_floquet_result *fr, int *a, int *b, double *da, double *db)
+{
+    *a = *b = -1;
+    *da = *db = INFINITY;
+    for (int k = 0; k < fr->n; ++k) {
+        if (fr->cyclic[k])
+            continue;
+        const double d = hypot(fr->re[k] - 1.0, fr->im[k]);
+        if (d < *da) {
+            *b = *a;
+            *db = *da;
+            *a = k;
+            *da = d;
+        } else if (d < *db) {
+            *b = k;
+            *db = d;
+        }
+    }
+    return *a >= 0 && *b >= 0 && isfinite(*da) && isfinite(*db) ? 0 : -1;
+}
+
+/* The tests of a fold curve that replace the stability function there.  Along
+ * a fold one multiplier is 1 (the stationary linearisation's eigenvalue 0),
+ * so the stability function is 1 - 1 = 0 up to rounding, and the test would
+ * be noise.
+ *   Bogdanov-Takens: with lambda_1, lambda_2 the two non-cyclic multipliers
+ *   nearest 1, Re(lambda_1 + lambda_2) - 2 is symmetric in the pair (smooth
+ *   where the pair is apart from the others) and is lambda_2 - 1 on the
+ *   fold: it vanishes where a second multiplier reaches 1, the double
+ *   eigenvalue 0.  *gap = |lambda_1 - 1| + |lambda_2 - 1|, which a located
+ *   zero must make small (where the third-nearest takes the second's place
+ *   the function jumps and changes sign without a zero).
+ *   fold/stability (a fold-Hopf point): the largest modulus but that of
+ *   lambda_1, minus 1: another multiplier crosses the unit circle on the fold,
+ *   where a stability curve ends on it. */
+static double fold_test(env_problem *pb, const double *x, int bt, double *gap)
+{
+    const usm_floquet_result *fr;
+    int a, b;
+    double da, db;
+    if (fold_multipliers(pb, x, &fr) != 0 || nearest_one(fr, &a, &b, &da, &db) != 0)
+        return NAN;
+    if (gap)
+        *gap = da + db;
+    if (bt)
+        return fr->re[a] + fr->re[b] - 2.0;
+    double mx = 0.0;
+    for (int k = 0; k < fr->n; ++k)
+        if (!fr->cyclic[k] && k != a)
+            mx = fmax(mx, hypot(fr->re[k], fr->im[k]));
+    return mx - 1.0;
+}
+
 /* The residual of both problems: r(u) and, on a curve, g; the Jacobian from
  * the generated r_u, r_p and g's row (analytic for theta and phidot_R,
  * central differences otherwise). */
@@ -271,7 +356,7 @@ static int problem_residual(const double *x, double *F, double *Jx, void *ctx)
 
 /* A test of a line or a curve: a defining function (kind >= 0), a box side,
  * the tilt range's top, or the cusp coefficient. */
-enum { TEST_KIND = 0, TEST_BOX, TEST_TOP, TEST_CUSP };
+enum { TEST_KIND = 0, TEST_BOX, TEST_TOP, TEST_CUSP, TEST_BT, TEST_FOLD_HOPF };
 
 static double test_fn(const double *x, const double *dx, void *ctx)
 {
@@ -297,6 +382,9 @@ static double test_fn(const double *x, const double *dx, void *ctx)
     }
     case TEST_TOP:
         return pb->e->opt.steady.theta_max - x[pb->e->m->u_theta];
+    case TEST_BT:
+    case TEST_FOLD_HOPF:
+        return fold_test(pb, x, t->what == TEST_BT, NULL);
     default: {
         /* w' r_uu[v, v] by the second difference of r along v */
         const int nu = pb->e->nu;
@@ -435,6 +523,11 @@ static int problem_setup(env_problem *pb, usm_envelope *e, int kind, int axis, d
             return -1;
     }
     if (kind == USM_ENVELOPE_FOLD && add_test(pb, TEST_CUSP, 0, 0, USM_CONT_TEST_MONITOR) != 0)
+        return -1;
+    /* the stability function is noise on a fold: the Bogdanov-Takens test instead */
+    if (kind == USM_ENVELOPE_FOLD && env_kind_applies(e, USM_ENVELOPE_STABILITY) &&
+        (add_test(pb, TEST_BT, 0, 0, USM_CONT_TEST_MONITOR | USM_CONT_TEST_POINT) != 0 ||
+         add_test(pb, TEST_FOLD_HOPF, 0, 0, USM_CONT_TEST_MONITOR | USM_CONT_TEST_POINT) != 0))
         return -1;
     return 0;
 }
@@ -867,6 +960,22 @@ static int follow_half(usm_envelope *e, env_problem *pb, const double *x0, int d
             env_xy(pb, ev->x, &px, &py);
             if (t->what == TEST_CUSP) {
                 if (env_add_codim2(e, "cusp", ev->x, px, py, curve_index) != 0)
+                    return -1;
+            } else if (t->what == TEST_BT) {
+                double gap = INFINITY;
+                const double g = fold_test(pb, ev->x, 1, &gap);
+                if (isfinite(g) && gap <= BT_GAP &&
+                    env_add_codim2(e, "bogdanov_takens", ev->x, px, py, curve_index) != 0)
+                    return -1;
+            } else if (t->what == TEST_FOLD_HOPF) {
+                /* on the fold (lambda_1 = 1) another multiplier on the unit
+                 * circle; not a jump of the maximum */
+                double gap = INFINITY;
+                const double g = fold_test(pb, ev->x, 0, &gap);
+                if (isfinite(g) && fabs(g) <= BT_GAP &&
+                    env_add_codim2(e, pair_name(USM_ENVELOPE_FOLD, USM_ENVELOPE_STABILITY, buf,
+                                                sizeof buf),
+                                   ev->x, px, py, curve_index) != 0)
                     return -1;
             } else if (t->what == TEST_KIND &&
                        env_add_codim2(e, pair_name(pb->kind, t->kind, buf, sizeof buf), ev->x, px,
