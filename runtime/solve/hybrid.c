@@ -1126,7 +1126,7 @@ static int newton(usm_hybrid *h, const usm_hybrid_options *opt, double ts, doubl
  * engine converges is one that solve converges at once. */
 int usm_hybrid_shoot(usm_hybrid *h, const usm_params *p, double ts, const double *x0,
                      int *idx, int *nr, double *F, double *J, double *max_modulus,
-                     double *scale, char seq[USM_HYBRID_MAX_SWITCHES + 1])
+                     double crit[2], double *scale, char seq[USM_HYBRID_MAX_SWITCHES + 1])
 {
     usm_hybrid_options o;
     usm_hybrid_result unused;
@@ -1161,6 +1161,15 @@ int usm_hybrid_shoot(usm_hybrid *h, const usm_params *p, double ts, const double
             return rc;
         if (max_modulus)
             *max_modulus = f.max_modulus;
+        if (crit) {
+            int k = -1;
+            for (int i = 0; i < f.n; ++i)
+                if (!f.cyclic[i] &&
+                    (k < 0 || hypot(f.re[i], f.im[i]) > hypot(f.re[k], f.im[k])))
+                    k = i;
+            crit[0] = k >= 0 ? f.re[k] : NAN;
+            crit[1] = k >= 0 ? f.im[k] : NAN;
+        }
         if (scale)
             memcpy(scale, h->colscale, sizeof(double) * (size_t)nx);
     }
