@@ -574,23 +574,34 @@ static void step_cubic(int n, const double *xa, const double *da, const double *
 
 /* Brent's function for a stability change inside a step: max |lambda| - 1
  * of the orbit at the parameter's value q, Newton (to STAB_NEWTON_TOL) from
- * the step's cubic there, in the branch's sequence. */
+ * the step's cubic there plus the cubic's error at the last trial (the
+ * cubic misses the orbits of a long step by up to 1e-6, a smooth error: so
+ * the trials that close in on the zero start within Newton's tolerance and
+ * take one map with the monodromy each, not two), in the branch's
+ * sequence. */
 typedef struct cubic_ctx {
     hbranch *b;
     const double *xa, *da, *xb, *db;
     double x[USM_MAX_NX + 1], q;
-    usm_hybrid_result at; /* the orbit at q */
+    double err[USM_MAX_NX + 1]; /* the cubic's error at the last trial */
+    usm_hybrid_result at;       /* the orbit at q */
 } cubic_ctx;
 
 static double cubic_stab(double q, void *ctx)
 {
     cubic_ctx *j = ctx;
     hbranch *b = j->b;
-    step_cubic(b->nr, j->xa, j->da, j->xb, j->db, 1, q, j->x);
+    double xc[USM_MAX_NX + 1];
+    step_cubic(b->nr, j->xa, j->da, j->xb, j->db, 1, q, xc);
+    for (int a = 0; a <= b->nr; ++a)
+        j->x[a] = xc[a] + j->err[a];
     j->q = NAN;
     if (orbit_at(b, j->x, STAB_NEWTON_TOL, &j->at) != 0 ||
         strcmp(j->at.mode_sequence, b->seq) != 0)
         return NAN;
+    unknowns_of(b, j->at.x0, j->x);
+    for (int a = 0; a < b->nr; ++a)
+        j->err[a] = j->x[a] - xc[a];
     j->q = q;
     return j->at.floquet.max_modulus - 1.0;
 }
@@ -625,7 +636,12 @@ static int stab_in_step(hbranch *b, double g0, double g1, int plus, double *v,
         } else if (cubic) {
             cubic_ctx j = {.b = b, .xa = b->xs0, .da = b->dx0, .xb = xb, .db = db, .q = NAN};
             usm_root *root = usm_root_alloc();
-            const usm_root_stop stop = {1e-11 * b->scale[n], 0.0, 100};
+            /* the trials' max |lambda| is good to about 1e-9 (Newton to
+             * STAB_NEWTON_TOL), the zero so to about 1e-11 of the
+             * parameter's scale at the slopes of 30 to 200 per unit met: a
+             * tighter stop only bisects that noise (measured, 4-DOF mode
+             * split 1.947 %: seven trials within 1e-13 of each other) */
+            const usm_root_stop stop = {1e-10 * b->scale[n], 0.0, 100};
             double q;
             const int ok = root &&
                            usm_root_brent(root, cubic_stab, &j, b->xs0[n], xb[n], g0, g1, &stop,
