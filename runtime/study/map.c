@@ -144,23 +144,7 @@ int usm_point_evaluate_op(usm_steady *s, usm_floquet *f, const usm_model *m,
         free(fl);
         return USM_EINPUT;
     }
-    op->reason = res.reason;
-    op->starts_from_rest = res.starts_from_rest;
-    op->simulated = res.simulated;
-    snprintf(op->message, USM_MSG_LEN, "%s", res.message);
-    if (orc != USM_OK)
-        op->cls = USM_POINT_OP_UNKNOWN;
-    else if (res.index >= 0) {
-        op->cls = USM_POINT_OP_STABLE;
-        op->index = res.index;
-        op->sol = *usm_steady_root(s, (size_t)res.index);
-        op->floquet = fl[res.index];
-    } else if (res.reason == USM_OP_NO_STABLE_ROOT)
-        op->cls = USM_POINT_OP_NO_STABLE_ROOT;
-    else if (res.reason == USM_OP_DOES_NOT_START)
-        op->cls = USM_POINT_OP_DOES_NOT_START;
-    else
-        op->cls = USM_POINT_OP_UNKNOWN;
+    point_op_classify(op, orc, &res, s, fl, NULL);
     free(fl);
     return USM_OK;
 }

@@ -95,23 +95,7 @@ static int op_one_root(op_pass *c, point_worker *w, usm_sweep_point *pt, const u
         snprintf(msg, USM_MSG_LEN, "%s", res.message);
         return -1;
     }
-    op->reason = res.reason;
-    op->starts_from_rest = res.starts_from_rest;
-    op->simulated = res.simulated;
-    snprintf(op->message, USM_MSG_LEN, "%s", res.message);
-    if (orc != USM_OK)
-        op->cls = USM_POINT_OP_UNKNOWN;
-    else if (res.index >= 0) {
-        op->cls = USM_POINT_OP_STABLE;
-        op->index = res.index;
-        op->sol = *usm_steady_root(w->steady, (size_t)res.index);
-        op->floquet = pt->floquet;
-    } else if (res.reason == USM_OP_NO_STABLE_ROOT)
-        op->cls = USM_POINT_OP_NO_STABLE_ROOT;
-    else if (res.reason == USM_OP_DOES_NOT_START)
-        op->cls = USM_POINT_OP_DOES_NOT_START;
-    else
-        op->cls = USM_POINT_OP_UNKNOWN;
+    point_op_classify(op, orc, &res, w->steady, NULL, &pt->floquet);
     pt->has_op = 1;
     return 1;
 }
