@@ -1034,6 +1034,49 @@ static double residual(const usm_hybrid *h, const int *idx, int nr, const double
  * the first step from a zero-order start contracts by 0.2 to 0.3 only
  * (measured), the noise floor near opt->tol by about 0.5. */
 #define REUSE_RATE 0.5
+/* Converged by chord maps within this (scaled) of the last map with the
+ * monodromy, the orbit takes that map's multipliers and period statistics
+ * instead of one more map with the monodromy: they move by about that
+ * (relative), a tenth of what Newton's tolerance leaves open near a
+ * multiplier 0.9, and the confirming map's residual agreed only to its own
+ * noise (CHORD_NOISE) anyway.  Met where the chord maps stall at their
+ * noise, 2e-9 to 7e-9, just above opt->tol: the Newton step from the map
+ * with the monodromy is then about 1e-8. */
+#define REUSE_B_STEP 1e-8
+
+/* What a period map leaves in h of its orbit (the orbit's statistics). */
+typedef struct map_stats {
+    double open_total, vmax, wmin, wmax;
+    int nsep, nimp, nslip, nmodes;
+    char seq[USM_HYBRID_MAX_SWITCHES + 1];
+} map_stats;
+
+static void stats_keep(const usm_hybrid *h, map_stats *st)
+{
+    st->open_total = h->open_total;
+    st->vmax = h->vmax;
+    st->wmin = h->wmin;
+    st->wmax = h->wmax;
+    st->nsep = h->nsep;
+    st->nimp = h->nimp;
+    st->nslip = h->nslip;
+    st->nmodes = h->nmodes;
+    memcpy(st->seq, h->seq, sizeof st->seq);
+}
+
+static void stats_restore(usm_hybrid *h, const map_stats *st)
+{
+    h->open_total = st->open_total;
+    h->vmax = st->vmax;
+    h->wmin = st->wmin;
+    h->wmax = st->wmax;
+    h->nsep = st->nsep;
+    h->nimp = st->nimp;
+    h->nslip = st->nslip;
+    h->nmodes = st->nmodes;
+    memcpy(h->seq, st->seq, sizeof st->seq);
+}
+
 static int newton(usm_hybrid *h, const usm_hybrid_options *opt, double ts, double *x0,
                   int rough, usm_hybrid_result *out)
 {
@@ -1072,7 +1115,10 @@ static int newton(usm_hybrid *h, const usm_hybrid_options *opt, double ts, doubl
     /* every map with the monodromy samples the rotor speed for the ripple
      * (the converged one's counts): the samples are CVODES' interpolants,
      * its steps the same */
-    for (it = 0; it <= opt->max_iter; ++it) {
+    map_stats st;
+    double xB[USM_MAX_NX];
+    int from_B = 0; /* converged near the last map with the monodromy: its multipliers */
+    for (it = 0; it <= opt->max_iter && !from_B; ++it) {
         double r[USM_MAX_NX];
         int rough_map = rough && it == 0;
         h->nsamp = rough_map ? 0 : RIPPLE_SAMPLES;
@@ -1091,6 +1137,8 @@ static int newton(usm_hybrid *h, const usm_hybrid_options *opt, double ts, doubl
         h->nsamp = 0;
         if (rc != USM_OK)
             return rc;
+        stats_keep(h, &st);
+        memcpy(xB, x0, sizeof xB);
         const double res_b = residual(h, idx, nr, x0, x1, r);
         /* converged by a chord map: this map (other steps, as the monodromy
          * is in the error control) agrees to its integration noise */
@@ -1128,9 +1176,20 @@ static int newton(usm_hybrid *h, const usm_hybrid_options *opt, double ts, doubl
             memcpy(x0, xt, sizeof xt);
             memcpy(r, rt, sizeof rt);
             res = rest;
-            if (res <= opt->tol)
-                break; /* the map with the monodromy confirms it */
+            if (res <= opt->tol) {
+                /* the map with the monodromy confirms it, unless this one
+                 * lies within REUSE_B_STEP */
+                double step = 0;
+                for (int a = 0; a < nr; ++a)
+                    step = fmax(step, fabs(x0[idx[a]] - xB[idx[a]]) / h->scale[idx[a]]);
+                from_B = !rough_map && step <= REUSE_B_STEP;
+                break;
+            }
         }
+    }
+    if (from_B) {
+        --it; /* the loop's increment: `it` maps with the monodromy before */
+        stats_restore(h, &st);
     }
     out->iterations = it;
     out->residual = res;
