@@ -36,15 +36,16 @@
 const char *usm_envelope_kind_name(usm_envelope_kind kind)
 {
     static const char *const names[] = {"tilt_zero", "fold",      "stick_limit",
-                                        "stall",     "stability", "friction_saturation"};
+                                        "stall",     "stability", "friction_saturation",
+                                        "contact_loss", "stick_loss"};
     return (unsigned)kind < USM_ENVELOPE_NKINDS ? names[kind] : NULL;
 }
 
 const char *usm_envelope_end_name(usm_envelope_end end)
 {
     static const char *const names[] = {"box", "tilt_zero", "range_end", "closed", "lost",
-                                        "max_points"};
-    return (unsigned)end <= USM_ENVELOPE_END_LIMIT ? names[end] : NULL;
+                                        "max_points", "corner"};
+    return (unsigned)end <= USM_ENVELOPE_END_CORNER ? names[end] : NULL;
 }
 
 void usm_envelope_options_default(usm_envelope_options *opt)
@@ -350,6 +351,9 @@ const env_test *env_test_of(const env_problem *pb, int index)
 /* Whether kind applies to the model (stick_limit: stick models; stall: slip). */
 int env_kind_applies(const usm_envelope *e, int kind)
 {
+    /* the periodic orbit's: envelope_periodic.c */
+    if (kind == USM_ENVELOPE_CONTACT_LOSS || kind == USM_ENVELOPE_STICK_LOSS)
+        return 0;
     if (kind == USM_ENVELOPE_STICK_LIMIT)
         return !e->m->slip;
     if (kind == USM_ENVELOPE_STALL)
@@ -497,7 +501,7 @@ static int add_seed(usm_envelope *e, int kind, const double *u, double px, doubl
     return 0;
 }
 
-static int add_codim2(usm_envelope *e, const char *type, const double *u, double px, double py,
+int env_add_codim2(usm_envelope *e, const char *type, const double *u, double px, double py,
                       size_t curve)
 {
     /* found from both curves that meet: once */
@@ -862,10 +866,10 @@ static int follow_half(usm_envelope *e, env_problem *pb, const double *x0, int d
                 continue;
             env_xy(pb, ev->x, &px, &py);
             if (t->what == TEST_CUSP) {
-                if (add_codim2(e, "cusp", ev->x, px, py, curve_index) != 0)
+                if (env_add_codim2(e, "cusp", ev->x, px, py, curve_index) != 0)
                     return -1;
             } else if (t->what == TEST_KIND &&
-                       add_codim2(e, pair_name(pb->kind, t->kind, buf, sizeof buf), ev->x, px,
+                       env_add_codim2(e, pair_name(pb->kind, t->kind, buf, sizeof buf), ev->x, px,
                                   py, curve_index) != 0)
                 return -1;
         }
@@ -879,7 +883,7 @@ static int follow_half(usm_envelope *e, env_problem *pb, const double *x0, int d
             const env_test *t = ev ? env_test_of(pb, ev->test) : NULL;
             if (t && t->what == TEST_KIND) {
                 h->end = USM_ENVELOPE_END_TILT_ZERO;
-                if (add_codim2(e, pair_name(pb->kind, USM_ENVELOPE_TILT_ZERO, buf, sizeof buf),
+                if (env_add_codim2(e, pair_name(pb->kind, USM_ENVELOPE_TILT_ZERO, buf, sizeof buf),
                                xc, px, py, curve_index) != 0)
                     return -1;
             } else if (t && t->what == TEST_TOP)
@@ -1134,6 +1138,10 @@ int usm_envelope_run(usm_envelope *e, const usm_params *p, const usm_envelope_op
     int rc = check_options(e, p, opt);
     if (rc != USM_OK)
         return rc;
+    if (e->m->imperfect) {
+        rc = env_periodic_curves(e);
+        return rc != USM_OK ? rc : env_regions(e);
+    }
     /* seed lines: the edges and `lines` interior lines, both directions */
     for (int axis = 0; axis < 2; ++axis) {
         const int other = 1 - axis;

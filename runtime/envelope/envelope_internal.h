@@ -75,9 +75,19 @@ void env_xy(const env_problem *pb, const double *x, double *px, double *py);
 double env_defining(env_problem *pb, int kind, const double *x);
 const env_test *env_test_of(const env_problem *pb, int index);
 int env_kind_applies(const usm_envelope *e, int kind);
+/* A codimension-two point (once: one within 1e-6 of the box of a kept one
+ * is that one); u: nu values.  0, or -1 when out of memory. */
+int env_add_codim2(usm_envelope *e, const char *type, const double *u, double px, double py,
+                   size_t curve);
 
 /* envelope_regions.c: the raster, its regions and their classes.  USM_OK,
  * USM_EINPUT or USM_EFAILED with e->msg. */
 int env_regions(usm_envelope *e);
+
+/* envelope_periodic.c: the imperfect models' contact_loss and stick_loss
+ * curves (usm_envelope.h), and a region's class by its periodic orbit.
+ * USM_OK or USM_EFAILED with e->msg. */
+int env_periodic_curves(usm_envelope *e);
+int env_periodic_classify(usm_envelope *e, usm_envelope_region *r);
 
 #endif /* USM_ENVELOPE_INTERNAL_H */

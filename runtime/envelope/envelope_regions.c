@@ -49,6 +49,8 @@ static void mark_curves(usm_envelope *e, int *label)
 
 static int classify(usm_envelope *e, usm_envelope_region *r)
 {
+    if (e->m->imperfect)
+        return env_periodic_classify(e, r);
     usm_point pt;
     usm_params q = e->p;
     *usm_params_field(&q, e->ax[0]) = r->x;
@@ -60,6 +62,7 @@ static int classify(usm_envelope *e, usm_envelope_region *r)
         return rc;
     }
     r->cls = pt.op.cls;
+    snprintf(r->class_name, sizeof r->class_name, "%s", usm_point_op_class_name(r->cls));
     r->root = pt.op.index;
     r->roots = pt.exists ? pt.roots : 0;
     snprintf(r->message, sizeof r->message, "%s", pt.op.message);

@@ -88,7 +88,7 @@ struct usm_periodic {
     /* the last usm_periodic_shoot: its start, monodromy (physical units and
      * Psi) and residual, its samples in `samples` */
     int have_shot;
-    double shot_x0[USM_MAX_NX], shot_B[NN], shot_Psi[NN], shot_res;
+    double shot_x0[USM_MAX_NX], shot_x1[USM_MAX_NX], shot_B[NN], shot_Psi[NN], shot_res;
     char msg[USM_MSG_LEN];
 };
 
@@ -443,6 +443,28 @@ static double extreme_rate(double s, void *data)
     return rate(c->w, c->q, c->tk + s, x);
 }
 
+/* The extreme of q near sample k located as exact_extreme below says: its time
+ * into *t and its value returned (the sample's, at the sample's time, when
+ * the location fails or does not improve on it). */
+static double extreme_near(usm_periodic *w, int q, double sign, int k, double *t)
+{
+    const int nc = w->n + 4;
+    double best = sample_quantity(w, q, w->samples + k * nc), s, x[USM_MAX_NX];
+    const double h = w->T / NS;
+    extreme_ctx c = {w, q, w->t0 + w->T * k / NS};
+    const usm_root_stop stop = {1e-6 * h, 0.0, 100};
+    *t = c.tk;
+    if (usm_root_brent_eval(w->root, extreme_rate, &c, -h, h, &stop, &s) == 0 &&
+        state_at(w, c.tk + s, x) == 0) {
+        const double v = quantity(w, q, c.tk + s, x);
+        if (sign * v > sign * best) {
+            best = v;
+            *t = c.tk + s;
+        }
+    }
+    return best;
+}
+
 /* The maximum (sign +1) or minimum (-1) of quantity q over the orbit: the
  * extreme sample k, then the zero of dq/dt between the samples k - 1 and k +
  * 1 by Brent's method (core/root.h) to 1e-6 of the sample spacing (the
@@ -455,21 +477,12 @@ static double exact_extreme(usm_periodic *w, int q, double sign)
 {
     const int nc = w->n + 4;
     int k = 0;
+    double t;
     for (int i = 1; i < NS; ++i)
         if (sign * sample_quantity(w, q, w->samples + i * nc) >
             sign * sample_quantity(w, q, w->samples + k * nc))
             k = i;
-    double best = sample_quantity(w, q, w->samples + k * nc), s, x[USM_MAX_NX];
-    const double h = w->T / NS;
-    extreme_ctx c = {w, q, w->t0 + w->T * k / NS};
-    const usm_root_stop stop = {1e-6 * h, 0.0, 100};
-    if (usm_root_brent_eval(w->root, extreme_rate, &c, -h, h, &stop, &s) == 0 &&
-        state_at(w, c.tk + s, x) == 0) {
-        const double v = quantity(w, q, c.tk + s, x);
-        if (sign * v > sign * best)
-            best = v;
-    }
-    return best;
+    return extreme_near(w, q, sign, k, &t);
 }
 
 /* Amplitude of the harmonic `h` (of the excitation frequency) of periodic samples. */
@@ -1062,6 +1075,7 @@ int usm_periodic_shoot(usm_periodic *w, const usm_params *p, const usm_param_inf
     usm_matmul_dense(n, W, w->S, w->shot_B);
     memcpy(w->shot_Psi, Psi, sizeof Psi);
     memcpy(w->shot_x0, x0, sizeof(double) * (size_t)n);
+    memcpy(w->shot_x1, x1, sizeof(double) * (size_t)n);
     w->shot_res = 0;
     for (int a = 0; a < k; ++a)
         w->shot_res = fmax(w->shot_res, fabs(r[a]));
@@ -1129,4 +1143,92 @@ double usm_periodic_shoot_max_modulus(usm_periodic *w)
     if (!w->have_shot || multipliers(w, w->shot_Psi, &f) != USM_OK)
         return NAN;
     return f.max_modulus;
+}
+
+/* ---- an extreme's time as an unknown (the envelope's contact_loss and stick_loss) ---- */
+
+static int quantity_code(usm_periodic_quantity which)
+{
+    return which == USM_PERIODIC_Q_STICK_EXCESS ? Q_STICK : Q_F_N;
+}
+
+void usm_periodic_shoot_set_t0(usm_periodic *w, double t0) { w->t0 = t0; }
+
+
+int usm_periodic_shoot_t0_column(usm_periodic *w, double *col)
+{
+    const int n = w->n;
+    double f0[USM_MAX_NX], f1[USM_MAX_NX];
+    if (!w->have_shot || motion(w, w->t0, w->shot_x0, f0, NULL) != 0 ||
+        motion(w, w->t0 + w->T, w->shot_x1, f1, NULL) != 0)
+        return USM_EFAILED;
+    int k = 0;
+    for (int i = 0; i < n; ++i) {
+        if (w->m->cyclic[i])
+            continue;
+        double s = f1[i];
+        for (int j = 0; j < n; ++j)
+            s -= w->shot_B[i * n + j] * f0[j];
+        col[k++] = s / w->scale[i];
+    }
+    return USM_OK;
+}
+
+int usm_periodic_quantity_rate(usm_periodic *w, const usm_params *p, usm_periodic_quantity which,
+                               double t, const double *x, double *value, double *dvalue)
+{
+    const int q = quantity_code(which);
+    set_params(w, p);
+    *value = quantity(w, q, t, x);
+    if (dvalue)
+        *dvalue = rate(w, q, t, x);
+    return isfinite(*value) && (!dvalue || isfinite(*dvalue)) ? USM_OK : USM_EFAILED;
+}
+
+int usm_periodic_shoot_extremes(usm_periodic *w, usm_periodic_quantity which, double sign,
+                                int max, double *t, double *v)
+{
+    const int nc = w->n + 4, q = quantity_code(which);
+    int count = 0;
+    if (!w->have_shot)
+        return -1;
+    for (int i = 0; i < NS && count < max; ++i) {
+        const double a = sign * sample_quantity(w, q, w->samples + ((i + NS - 1) % NS) * nc);
+        const double b = sign * sample_quantity(w, q, w->samples + i * nc);
+        const double c = sign * sample_quantity(w, q, w->samples + ((i + 1) % NS) * nc);
+        /* >= on one side only: a plateau of two equal samples is one extreme */
+        if (!(b >= a && b > c))
+            continue;
+        double ti;
+        const double vi = extreme_near(w, q, sign, i, &ti);
+        /* into [t0, t0 + T) */
+        double tau = fmod(ti - w->t0, w->T);
+        if (tau < 0)
+            tau += w->T;
+        int j = count++;
+        for (; j > 0 && sign * v[j - 1] < sign * vi; --j) {
+            t[j] = t[j - 1];
+            v[j] = v[j - 1];
+        }
+        t[j] = w->t0 + tau;
+        v[j] = vi;
+    }
+    return count;
+}
+
+int usm_periodic_shoot_state_at(usm_periodic *w, double t, double *x)
+{
+    return w->have_shot && state_at(w, t, x) == 0 ? USM_OK : USM_EFAILED;
+}
+
+double usm_periodic_shoot_half_period_asymmetry(usm_periodic *w, usm_periodic_quantity which)
+{
+    const int nc = w->n + 4, q = quantity_code(which);
+    double d = 0;
+    if (!w->have_shot || NS % 2 != 0)
+        return NAN;
+    for (int i = 0; i < NS / 2; ++i)
+        d = fmax(d, fabs(sample_quantity(w, q, w->samples + i * nc) -
+                         sample_quantity(w, q, w->samples + (i + NS / 2) * nc)));
+    return d;
 }

@@ -88,4 +88,52 @@ double usm_periodic_shoot_stick_excess(usm_periodic *w);
 double usm_periodic_shoot_F_n_min(usm_periodic *w);
 double usm_periodic_shoot_max_modulus(usm_periodic *w);
 
+/* ---- an extreme's time as an unknown (runtime/envelope/envelope_periodic.c) ----
+ *
+ * Where F_n has two equal minima a period (a symmetry of the imperfections)
+ * their lesser has a corner in the parameters; each minimum alone is smooth.
+ * Posed with the shooting's start time t0 at the extreme's time t*, the
+ * extreme is F_n(x0, t0) with dF_n/dt(x0, t0) = 0: both functions of the
+ * unknowns without an integration, and r of (x0, t0, p). */
+
+typedef enum {
+    USM_PERIODIC_Q_F_N = 0,          /* the normal force */
+    USM_PERIODIC_Q_STICK_EXCESS = 1  /* |F_t| - mu0 F_n */
+} usm_periodic_quantity;
+
+/* The shooting's start time (usm_periodic_solve sets it from its options;
+ * usm_periodic_shoot reads it). */
+void usm_periodic_shoot_set_t0(usm_periodic *w, double t0);
+
+/* dr/dt0 at the last shot (k values, scaled as r): f(x1, t0 + T) - B f(x0,
+ * t0) on the non-cyclic rows, f the vector field and B the monodromy, the
+ * closed form of moving the start time with x0 held.  USM_OK, or
+ * USM_EFAILED without a shot. */
+int usm_periodic_shoot_t0_column(usm_periodic *w, double *col);
+
+/* The quantity and, when dvalue is not NULL, its time derivative along the
+ * motion (the central difference along the vector field, as the orbit's
+ * extremes are located) at the state x at time t, parameters p.  Sets w's
+ * parameters: a later usm_periodic_shoot_state_at needs the shot's.  USM_OK
+ * or USM_EFAILED (the motion is singular there). */
+int usm_periodic_quantity_rate(usm_periodic *w, const usm_params *p, usm_periodic_quantity which,
+                               double t, const double *x, double *value, double *dvalue);
+
+/* The local maxima (sign +1) or minima (-1) of the quantity over the last
+ * shot's orbit, each sample extreme (cyclic) located as the orbit's extremes
+ * are: their times in [t0, t0 + T) into t and values into v, the most
+ * extreme first, at most max.  The count, or -1 without a shot. */
+int usm_periodic_shoot_extremes(usm_periodic *w, usm_periodic_quantity which, double sign,
+                                int max, double *t, double *v);
+
+/* The largest |q(t + T/2) - q(t)| over the last shot's samples: where it
+ * is at the integration's noise the orbit has the half-period symmetry of
+ * the excitation (the imperfections force at 2 Omega), and each extreme of
+ * q recurs half a period later with the same value.  NaN without a shot. */
+double usm_periodic_shoot_half_period_asymmetry(usm_periodic *w, usm_periodic_quantity which);
+
+/* The state of the last shot's orbit at time t (any: taken modulo the
+ * period), re-integrated from the sample before it.  USM_OK or USM_EFAILED. */
+int usm_periodic_shoot_state_at(usm_periodic *w, double t, double *x);
+
 #endif /* USM_PERIODIC_INTERNAL_H */

@@ -53,7 +53,7 @@ int usm_envelope_write_json(const usm_envelope *e, const usm_model *m, FILE *out
         const usm_envelope_region *r = &e->regions[i];
         json_t *ro = json_object();
         int rok = ro != NULL;
-        usm_json_put(ro, "class", json_string(usm_point_op_class_name(r->cls)), &rok);
+        usm_json_put(ro, "class", json_string(r->class_name), &rok);
         usm_json_put(ro, "root", r->root >= 0 ? json_integer(r->root) : json_null(), &rok);
         usm_json_put(ro, "sample", pair(r->x, r->y), &rok);
         usm_json_put(ro, "roots", json_integer(r->roots), &rok);
@@ -105,9 +105,9 @@ int usm_envelope_write_csv(const usm_envelope *e, FILE *out)
                 usm_shortest(by, e->codim2[k].y), e->ax[1]->unit);
     for (size_t k = 0; k < e->nregions; ++k) {
         const usm_envelope_region *r = &e->regions[k];
-        fprintf(out, "# region %zu %s", k, usm_point_op_class_name(r->cls));
-        if (r->root >= 0)
-            fprintf(out, " root %d", r->root);
+        fprintf(out, "# region %zu %s", k, r->class_name);
+        if (r->root >= 0) /* numbered from 1 as in every table for people; JSON's is 0-based */
+            fprintf(out, " root #%d", r->root + 1);
         fprintf(out, " sample %s = %s %s, %s = %s %s (%zu cells)\n", e->ax[0]->name,
                 usm_shortest(bx, r->x), e->ax[0]->unit, e->ax[1]->name, usm_shortest(by, r->y),
                 e->ax[1]->unit, r->cells);
@@ -144,7 +144,7 @@ int usm_envelope_write_plot_csv(const usm_envelope *e, FILE *out)
             if (l < 0)
                 continue;
             const usm_envelope_region *r = &e->regions[l];
-            snprintf(kind, sizeof kind, "region:%s", usm_point_op_class_name(r->cls));
+            snprintf(kind, sizeof kind, "region:%s", r->class_name);
             fputs("-1", out);
             usm_csv_text(out, 0, kind);
             usm_csv_num(out, 0, e->lo[0] + (e->hi[0] - e->lo[0]) * (i + 0.5) / R);
@@ -154,10 +154,10 @@ int usm_envelope_write_plot_csv(const usm_envelope *e, FILE *out)
     for (size_t k = 0; k < e->nregions; ++k) {
         const usm_envelope_region *r = &e->regions[k];
         if (r->root >= 0)
-            snprintf(kind, sizeof kind, "sample:%s #%d", usm_point_op_class_name(r->cls),
+            snprintf(kind, sizeof kind, "sample:%s #%d", r->class_name,
                      r->root + 1);
         else
-            snprintf(kind, sizeof kind, "sample:%s", usm_point_op_class_name(r->cls));
+            snprintf(kind, sizeof kind, "sample:%s", r->class_name);
         fputs("-1", out);
         usm_csv_text(out, 0, kind);
         usm_csv_num(out, 0, r->x);

@@ -58,6 +58,19 @@
  * usm_point_evaluate_op (usm_map.h), the function of `usm map`, with the same
  * operating-point rule (usm_op_options).
  *
+ * The imperfect motor (variant imperfect): its steady motion is a periodic
+ * orbit, and the curves are contact_loss (F_n_min = 0 over the orbit) and,
+ * in stick models, stick_loss (the largest |F_t| - mu0 F_n over it = 0):
+ * the orbit's periodicity condition in the state at t0 and both parameters
+ * plus g = 0, continued by the engine from the events of one-parameter
+ * periodic sweeps (usm_periodic_sweep.h) along the box's four edges, each
+ * from its edge to where it leaves the box (envelope_periodic.c).  A curve
+ * point is a solution to the sweep's corrector tolerance (1e-8 in the scaled
+ * unknowns).  Its regions are classified by the periodic orbit there
+ * (usm_periodic_solve): stick_admissible, stick_lost, contact_open
+ * (contact_closed in slip models), no_orbit.  The options lines, nodes,
+ * h_max, stability, steady, floquet and op do not apply to them.
+ *
  * Life cycle (GSL style): usm_envelope_alloc, usm_envelope_run, accessors,
  * usm_envelope_free.  Thread safety: as usm.h.
  */
@@ -80,12 +93,15 @@ typedef enum {
     USM_ENVELOPE_STICK_LIMIT = 2,
     USM_ENVELOPE_STALL = 3,
     USM_ENVELOPE_STABILITY = 4,
-    USM_ENVELOPE_FRICTION_SATURATION = 5
+    USM_ENVELOPE_FRICTION_SATURATION = 5,
+    USM_ENVELOPE_CONTACT_LOSS = 6,   /* imperfect models: the orbit's F_n_min = 0 */
+    USM_ENVELOPE_STICK_LOSS = 7      /* imperfect stick models: friction_needed_max = mu0 */
 } usm_envelope_kind;
-#define USM_ENVELOPE_NKINDS 6
+#define USM_ENVELOPE_NKINDS 8
 
 /* "tilt_zero", "fold", "stick_limit", "stall", "stability",
- * "friction_saturation"; NULL for another value. */
+ * "friction_saturation", "contact_loss", "stick_loss"; NULL for another
+ * value. */
 const char *usm_envelope_kind_name(usm_envelope_kind kind);
 
 /* One axis of the box: parameter `name` from lo to hi (lo < hi). */
@@ -120,17 +136,21 @@ typedef enum {
     USM_ENVELOPE_END_RANGE = 2,    /* at the tilt range's upper end */
     USM_ENVELOPE_END_CLOSED = 3,   /* the curve closed on itself */
     USM_ENVELOPE_END_LOST = 4,     /* the continuation was lost */
-    USM_ENVELOPE_END_LIMIT = 5     /* max_points reached */
+    USM_ENVELOPE_END_LIMIT = 5,    /* max_points reached */
+    USM_ENVELOPE_END_CORNER = 6    /* imperfect models: where another extreme of the
+                                      orbit's F_n (stick excess) takes over; the next
+                                      curve of the kind starts there */
 } usm_envelope_end;
 
-/* "box", "tilt_zero", "range_end", "closed", "lost", "max_points" */
+/* "box", "tilt_zero", "range_end", "closed", "lost", "max_points", "corner" */
 const char *usm_envelope_end_name(usm_envelope_end end);
 
 typedef struct usm_envelope_curve {
     usm_envelope_kind kind;
     size_t npoints;
     const double *xy;        /* npoints (x, y) pairs, in order along the curve */
-    const double *u;         /* npoints x nu stationary unknowns there */
+    const double *u;         /* npoints x nu stationary unknowns there (imperfect
+                                models: the orbit's state at t0, nu = nx) */
     int nu;
     usm_envelope_end end[2]; /* at the first and at the last point */
 } usm_envelope_curve;
@@ -140,13 +160,19 @@ typedef struct usm_envelope_codim2 {
     char type[40];           /* "cusp", or "KIND/KIND" (two kind names) */
     double x, y;
     size_t curve;            /* the curve it was found on */
-    double u[USM_MAX_NU];
+    double u[USM_MAX_NU];    /* the stationary unknowns there (imperfect models:
+                                zeros; the curves' u hold the orbit) */
 } usm_envelope_codim2;
 
 typedef struct usm_envelope_region {
     double x, y;             /* its sample point */
     size_t cells;            /* raster cells */
-    usm_point_op_class cls;  /* usm_point_evaluate_op's class there */
+    usm_point_op_class cls;  /* usm_point_evaluate_op's class there (imperfect
+                                models: USM_POINT_OP_NOT_EVALUATED) */
+    char class_name[32];     /* usm_point_op_class_name(cls); imperfect models: the
+                                periodic orbit's "stick_admissible", "stick_lost",
+                                "contact_open", "contact_closed" (slip models) or
+                                "no_orbit" */
     int root;                /* the operating point's root index, or -1 */
     int roots;               /* stationary roots at the sample */
     char message[USM_MSG_LEN];
