@@ -203,6 +203,8 @@ cdef extern from "usm_squeal_study.h" nogil:
         double exponent_tol
         int check_rest
         int lines
+        long power_periods
+        int sensitivities
     void usm_squeal_options_default(usm_squeal_options *opt)
 
 cdef extern from "usm_progress.h" nogil:

@@ -513,7 +513,8 @@ cdef class _Model:
         return self._finish(r)
 
     def _squeal(self, over, start, stop, int points, long settle, long window,
-                long lyapunov_periods, bint rest_check, double rtol):
+                long lyapunov_periods, bint rest_check, double rtol, long power_periods,
+                bint sensitivities):
         cdef usm_squeal_options so
         cdef usm_run *r
         cdef const usm_param_info *info
@@ -532,6 +533,8 @@ cdef class _Model:
         so.lyapunov_periods = lyapunov_periods
         so.check_rest = rest_check
         so.rtol = rtol
+        so.power_periods = power_periods
+        so.sensitivities = sensitivities
         with nogil:
             r = usm_run_squeal(self.m, &self.p, &so)
         return self._finish(r)

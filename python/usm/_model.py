@@ -203,19 +203,25 @@ class Model:
         return SweepResult(doc)
 
     def squeal(self, over, start, stop, points=11, settle=400, window=1024,
-               lyapunov_periods=200, rest_check=True, rtol=1e-8):
+               lyapunov_periods=200, rest_check=True, rtol=1e-8, power_periods=200,
+               sensitivities=False):
         """The motion past the last periodic orbit over parameter `over` from
         `start` to `stop` (SI or text with a unit) at `points` values (`usm
         squeal --json`, docs/squeal.md): each point's motion ("periodic",
         "quasi_periodic", "chaotic", ...), period, Lyapunov exponent, mean
-        speed, impacts and audible lines.  A model whose contact may open
-        (variant "imperfect_unilateral")."""
+        speed, impacts and audible lines, the power of each force and the
+        energy balance over `power_periods` periods (0: none); with
+        `sensitivities` the onset located past the origin and its derivatives
+        in F0, mu0, f, T, m0 (.onset; about 10 s of CPU).  A model
+        whose contact may open (variant "imperfect_unilateral")."""
         for name, v in (("points", points), ("settle", settle), ("window", window),
-                        ("lyapunov_periods", lyapunov_periods)):
+                        ("lyapunov_periods", lyapunov_periods),
+                        ("power_periods", power_periods)):
             if isinstance(v, bool) or not isinstance(v, int):
                 raise TypeError("%s: must be an integer" % name)
         st, msg, doc, _ = self._c._squeal(str(over), start, stop, points, settle, window,
-                                          lyapunov_periods, bool(rest_check), float(rtol))
+                                          lyapunov_periods, bool(rest_check), float(rtol),
+                                          power_periods, bool(sensitivities))
         if st != 0:
             _raise(st, msg)
         return SquealResult(doc)

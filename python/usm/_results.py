@@ -249,7 +249,9 @@ class SweepResult(_Table):
 
 class SquealResult(_Table):
     """`usm squeal --json`: .points (results: value, motion, period,
-    lyapunov, lines, ...) and .columns (arrays per key)."""
+    lyapunov, lines, power, energy_balance_error, ...), .columns (arrays
+    per key), and the keys "origin" and "onset" (null without
+    sensitivities)."""
 
 
 class ParetoResult(_Table):

@@ -31,7 +31,8 @@ static void usage(FILE *out)
             "usage: usm squeal --over NAME --from A --to B [--points N]\n"
             "                  [--model 3dof|4dof] [--variant NAME] [--params FILE.json]\n"
             "                  [--set NAME=VALUE]... [--settle N] [--window N]\n"
-            "                  [--lyapunov-periods N] [--no-rest-check] [--rtol R]\n"
+            "                  [--lyapunov-periods N] [--power-periods N] [--sensitivities]\n"
+            "                  [--no-rest-check] [--rtol R]\n"
             "                  [--out FILE.csv] [--plot PREFIX] [--force] [--json] [--quiet]\n"
             "\n"
             "What the motor does at N values of one parameter, where its periodic orbit\n"
@@ -58,6 +59,12 @@ static void usage(FILE *out)
             "                      apart)\n"
             "  --lyapunov-periods N  periods the exponent is averaged over (default 200,\n"
             "                      after 50 skipped)\n"
+            "  --power-periods N   periods of the power account from the window's start:\n"
+            "                      the power of excitation, damping, load, friction and\n"
+            "                      impacts and the energy balance (default 200; 0: none)\n"
+            "  --sensitivities     locate where the stable orbit ends past the origin and\n"
+            "                      its derivative in F0, mu0, f, T and m0 (central\n"
+            "                      differences; about 10 s of CPU): --json's \"onset\"\n"
             "  --no-rest-check     no second run from rest at each value\n"
             "  --rtol R            the simulation's relative tolerance (default 1e-8)\n"
             "  --out FILE.csv      write the CSV there instead of stdout\n"
@@ -70,8 +77,8 @@ static void usage(FILE *out)
             "Output: CSV (default), one row per value: NAME, motion, period,\n"
             "second_frequency, lyapunov, lyapunov_per_period, rotor_speed_mean,\n"
             "rotor_speed_ripple, theta_mean, open_fraction, impacts_per_period,\n"
-            "impact_velocity_max, the three strongest audible lines and levels,\n"
-            "rest_motion, coexisting, error, seconds.  --json: {model, over, sound_source,\n"
+            "impact_velocity_max, the three strongest audible lines and levels, the\n"
+            "powers [W] and energy_balance_error, rest_motion, coexisting, error, seconds.  --json: {model, over, sound_source,\n"
             "points: [{value, motion, period, lyapunov, lines: [{frequency, level_db}],\n"
             "...}]}.\n"
             "\n"
@@ -82,7 +89,7 @@ typedef struct squeal_args {
     cli_common common;
     usm_squeal_options opt;
     const char *over, *from_text, *to_text, *out, *plot;
-    int have_from, have_to, quiet, force, no_rest, lyap;
+    int have_from, have_to, quiet, force, no_rest, lyap, power, sens;
     int settle, window;
 } squeal_args;
 
@@ -95,6 +102,7 @@ static int init(void *p, char msg[CLI_MSG_LEN])
     a->settle = (int)a->opt.settle;
     a->window = (int)a->opt.window;
     a->lyap = (int)a->opt.lyapunov_periods;
+    a->power = (int)a->opt.power_periods;
     a->common.variant = default_variant(a->common.base);
     return USM_OK;
 }
@@ -107,6 +115,7 @@ static int option(void *p, int argc, char **argv, int *i, char msg[CLI_MSG_LEN])
     CLI_TRY(cli_quiet_option(&a->quiet, argc, argv, i));
     CLI_TRY(cli_flag_option(argv, i, "--force", &a->force));
     CLI_TRY(cli_flag_option(argv, i, "--no-rest-check", &a->no_rest));
+    CLI_TRY(cli_flag_option(argv, i, "--sensitivities", &a->sens));
     CLI_TRY(cli_option_value(argc, argv, i, "--over", &a->over, msg));
     CLI_TRY(cli_path_option(argc, argv, i, "--out", "value", &a->out, msg));
     CLI_TRY(cli_plot_option(argc, argv, i, &a->plot, msg));
@@ -117,6 +126,7 @@ static int option(void *p, int argc, char **argv, int *i, char msg[CLI_MSG_LEN])
     CLI_TRY(cli_int_option(argc, argv, i, "--settle", &a->settle, msg));
     CLI_TRY(cli_int_option(argc, argv, i, "--window", &a->window, msg));
     CLI_TRY(cli_int_option(argc, argv, i, "--lyapunov-periods", &a->lyap, msg));
+    CLI_TRY(cli_int_option(argc, argv, i, "--power-periods", &a->power, msg));
     CLI_TRY(cli_quantity_option(argc, argv, i, "--rtol", "", &a->opt.rtol, msg));
     return cli_int_option(argc, argv, i, "--points", &a->opt.points, msg);
 }
@@ -170,6 +180,8 @@ static int finish(void *p, char msg[CLI_MSG_LEN])
     a->opt.settle = a->settle;
     a->opt.window = a->window;
     a->opt.lyapunov_periods = a->lyap;
+    a->opt.power_periods = a->power;
+    a->opt.sensitivities = a->sens;
     a->opt.check_rest = !a->no_rest;
     return cli_common_finish(&a->common, msg);
 }

@@ -219,6 +219,7 @@ static int compute_motion(usm_report_data *d)
         o.window = 16;
         o.lyapunov_skip = 20;
         o.lyapunov_periods = 10;
+        o.power_periods = 0; /* the power account is the full report's */
     } else {
         o.from = 0.025;
         o.to = 0.06;
@@ -227,6 +228,7 @@ static int compute_motion(usm_report_data *d)
         o.window = 128;
         o.lyapunov_skip = 30;
         o.lyapunov_periods = 70;
+        o.power_periods = 60;
     }
     usm_params p = at_split(&d->params, 0.0);
     const int rc = usm_squeal_run(mo->study, &p, &o);
@@ -446,6 +448,19 @@ static json_t *motion_json(const usm_report_squeal_motion *mo)
         num(p, "impact_velocity_max", pt->impact_velocity_max);
         num(p, "impact_velocity_max_mm_s", 1e3 * pt->impact_velocity_max);
         num(p, "bin", pt->df);
+        {
+            /* the shares of the excitation's power taken by the dampers, the
+               impacts and friction (NaN without the account: --quick) */
+            const usm_squeal_power *w = &pt->power;
+            const int have = pt->status == USM_OK && w->periods > 0 && w->excitation > 0;
+            json_object_set_new(p, "power_found", json_boolean(have));
+            num(p, "power_excitation", have ? w->excitation : NAN);
+            num(p, "damping_percent", have ? -100 * w->damping / w->excitation : NAN);
+            num(p, "impacts_percent", have ? -100 * w->impacts_power / w->excitation : NAN);
+            num(p, "friction_percent", have ? -100 * w->friction / w->excitation : NAN);
+            num(p, "load_percent", have ? -100 * w->load / w->excitation : NAN);
+            num(p, "energy_balance_error", have ? w->balance_error : NAN);
+        }
         for (size_t k = 0; k < pt->nlines; ++k) {
             json_t *l = json_object();
             num(l, "frequency", pt->lines[k].frequency);

@@ -40,6 +40,10 @@ struct usm_squeal_study {
     double *t_last;               /* where its orbit is sought (the origin) */
     usm_params base;
     usm_squeal_origin origin;
+    double origin_t0, origin_x0[USM_MAX_NX]; /* the origin's orbit: where the onset's search
+                                                starts */
+    usm_squeal_onset onset;
+    int onset_done;
     size_t npts;
     char msg[USM_MSG_LEN];
 };
@@ -82,6 +86,11 @@ void usm_squeal_options_default(usm_squeal_options *opt)
     opt->check_rest = 1;
     opt->lines = 6;
     opt->origin = 1;
+    opt->power_periods = 200;
+    opt->power_rtol = 1e-9;
+    opt->sensitivities = 0;
+    opt->sensitivity_h = 1e-3;
+    opt->onset_tol = 1e-6;
 }
 
 usm_squeal_study *usm_squeal_alloc(const usm_model *m)
@@ -195,6 +204,14 @@ int usm_squeal_check(usm_squeal_study *s, const usm_params *p, const usm_squeal_
         BAD("lines: %d, must be 1 to %d", o->lines, USM_SQUEAL_MAX_LINES);
     if (!(o->lyapunov_rtol >= 1e-14 && o->lyapunov_rtol <= 1e-3))
         BAD("lyapunov_rtol: must be in [1e-14, 1e-3]");
+    if (o->sensitivities && !(o->sensitivity_h > 0 && o->sensitivity_h < 0.1))
+        BAD("sensitivity_h: must be in (0, 0.1)");
+    if (o->sensitivities && !(o->onset_tol > 0 && o->onset_tol < 0.1))
+        BAD("onset_tol: must be in (0, 0.1)");
+    if (o->power_periods < 0 || o->power_periods > 10000000)
+        BAD("power_periods: %ld, must be 0 to 1e7", o->power_periods);
+    if (o->power_periods > 0 && !(o->power_rtol >= 1e-14 && o->power_rtol <= 1e-3))
+        BAD("power_rtol: must be in [1e-14, 1e-3]");
     for (int end = 0; end < 2; ++end) {
         usm_params q = *p;
         *usm_params_field(&q, info) = end ? o->to : o->from;
@@ -460,6 +477,16 @@ static int one_point(usm_squeal_study *s, const usm_params *q, size_t i, const d
     pt->impacts_per_period = (double)ly.impacts / (double)lp;
     pt->impact_velocity_max = ly.impact_velocity_max;
     classify(s, r, f, pt);
+    if (s->o.power_periods > 0) {
+        char why[USM_MSG_LEN];
+        if (usm_squeal_energy(s->m, q, r->t0, r->open0, r->y0, s->o.power_periods,
+                              s->o.power_rtol, &pt->power, why) != USM_OK) {
+            pt->status = USM_EFAILED;
+            pt->motion = USM_MOTION_FAILED;
+            snprintf(pt->message, USM_MSG_LEN, "power: %.200s", why);
+            return USM_OK;
+        }
+    }
     if (audible(r, f, s->o.lines, pt) != USM_OK) {
         snprintf(s->msg, USM_MSG_LEN, "out of memory");
         return USM_EFAILED;
@@ -519,6 +546,11 @@ static int rest_check(usm_squeal_study *s, const usm_params *q, size_t i, rec *r
 const usm_squeal_origin *usm_squeal_origin_get(const usm_squeal_study *s)
 {
     return s->pts ? &s->origin : NULL;
+}
+
+const usm_squeal_onset *usm_squeal_onset_get(const usm_squeal_study *s)
+{
+    return s->pts && s->onset_done ? &s->onset : NULL;
 }
 
 static int is_period1(const usm_squeal_point *pt)
@@ -631,6 +663,8 @@ static int find_origin(usm_squeal_study *s, const usm_param_info *info)
             o->separation_fraction = r.separation_fraction;
             o->impacts_per_period = r.impacts_per_period;
             snprintf(o->mode_sequence, sizeof o->mode_sequence, "%s", r.mode_sequence);
+            s->origin_t0 = r.t0;
+            memcpy(s->origin_x0, r.x0, sizeof(double) * (size_t)n);
             snprintf(o->kind, sizeof o->kind, "%s",
                      r.floquet.max_modulus < 1.0 ? "closed_phase_vanishing"
                      : lim > 1e-9 * r.floquet.max_modulus ? "neimark_sacker"
@@ -663,6 +697,8 @@ int usm_squeal_run(usm_squeal_study *s, const usm_params *p, const usm_squeal_op
     s->t_last = calloc(np, sizeof *s->t_last);
     s->base = *p;
     memset(&s->origin, 0, sizeof s->origin);
+    memset(&s->onset, 0, sizeof s->onset);
+    s->onset_done = 0;
     rec r;
     if (!s->pts || !s->st || !s->f || !s->x_last || !s->t_last || alloc_rec(&r, opt->window * opt->samples_per_period) != 0) {
         if (s->pts)
@@ -697,5 +733,17 @@ int usm_squeal_run(usm_squeal_study *s, const usm_params *p, const usm_squeal_op
     free_rec(&r);
     if (rc == USM_OK && opt->origin)
         rc = find_origin(s, info);
+    if (rc == USM_OK && opt->origin && opt->sensitivities && s->origin.found) {
+        rc = usm_squeal_onset_sensitivities(s->m, p, opt->over, s->origin.value,
+                                            s->origin.next_value, s->origin_t0, s->origin_x0,
+                                            NULL, 0, opt->sensitivity_h, opt->onset_tol,
+                                            &s->onset);
+        if (rc == USM_EINPUT) { /* checked before the study: not reached */
+            snprintf(s->msg, USM_MSG_LEN, "%s", s->onset.message);
+            return rc;
+        }
+        rc = rc == USM_EFAILED ? rc : USM_OK;
+        s->onset_done = 1;
+    }
     return rc;
 }

@@ -1,6 +1,7 @@
 /* The squeal study's points as JSON and CSV, and its bifurcation diagram's
  * samples (usm_squeal_study.h). */
 #include <jansson.h>
+#include <math.h>
 #include <stdio.h>
 
 #include "io/csv_out.h"
@@ -41,6 +42,25 @@ static json_t *point_json(const usm_squeal_study *s, size_t i)
     usm_json_put(o, "open_fraction", usm_json_real(pt->open_fraction), &ok);
     usm_json_put(o, "impacts_per_period", usm_json_real(pt->impacts_per_period), &ok);
     usm_json_put(o, "impact_velocity_max", usm_json_real(pt->impact_velocity_max), &ok);
+    if (pt->power.periods > 0) {
+        const usm_squeal_power *w = &pt->power;
+        json_t *pw = json_object();
+        int pok = pw != NULL;
+        usm_json_put(pw, "excitation", usm_json_real(w->excitation), &pok);
+        usm_json_put(pw, "damping", usm_json_real(w->damping), &pok);
+        usm_json_put(pw, "load", usm_json_real(w->load), &pok);
+        usm_json_put(pw, "friction", usm_json_real(w->friction), &pok);
+        usm_json_put(pw, "friction_stator", usm_json_real(w->friction_stator), &pok);
+        usm_json_put(pw, "friction_rotor", usm_json_real(w->friction_rotor), &pok);
+        usm_json_put(pw, "normal_stator", usm_json_real(w->normal_stator), &pok);
+        usm_json_put(pw, "impacts", usm_json_real(w->impacts_power), &pok);
+        usm_json_put(pw, "periods", json_integer(w->periods), &pok);
+        usm_json_put(o, "power", usm_json_finish(pw, pok), &ok);
+        usm_json_put(o, "energy_balance_error", usm_json_real(w->balance_error), &ok);
+    } else {
+        usm_json_put(o, "power", json_null(), &ok);
+        usm_json_put(o, "energy_balance_error", json_null(), &ok);
+    }
     if (pt->rest_checked) {
         json_t *r = json_object();
         int rok = r != NULL;
@@ -85,6 +105,44 @@ static json_t *origin_json(const usm_squeal_study *s)
     return usm_json_finish(o, ok);
 }
 
+/* "onset": the end of the stable orbit located and its sensitivities
+ * (usm_squeal_onset); null when not computed. */
+static json_t *onset_json(const usm_squeal_study *s)
+{
+    const usm_squeal_onset *g = usm_squeal_onset_get(s);
+    if (!g)
+        return json_null();
+    json_t *o = json_object();
+    int ok = o != NULL;
+    if (!o)
+        return NULL;
+    usm_json_put(o, "found", json_boolean(g->found), &ok);
+    usm_json_put(o, "message", g->found ? json_null() : json_string(g->message), &ok);
+    usm_json_put(o, "value", usm_json_real(g->value), &ok);
+    usm_json_put(o, "kind", json_string(g->kind), &ok);
+    usm_json_put(o, "last_orbit", usm_json_real(g->found ? g->last_orbit : NAN), &ok);
+    usm_json_put(o, "closed_fraction", usm_json_real(g->found ? g->closed_fraction : NAN), &ok);
+    usm_json_put(o, "solves", json_integer(g->solves), &ok);
+    json_t *arr = json_array();
+    for (int k = 0; arr && k < g->nsens; ++k) {
+        const usm_squeal_sensitivity *v = &g->sens[k];
+        json_t *e = json_object();
+        int eok = e != NULL;
+        usm_json_put(e, "parameter", json_string(v->parameter), &eok);
+        usm_json_put(e, "d_onset", usm_json_real(v->d_onset), &eok);
+        usm_json_put(e, "elasticity", usm_json_real(v->elasticity), &eok);
+        usm_json_put(e, "h", usm_json_real(v->h), &eok);
+        usm_json_put(e, "resolution", usm_json_real(v->resolution), &eok);
+        usm_json_put(e, "error", v->message[0] ? json_string(v->message) : json_null(), &eok);
+        if (!eok || json_array_append_new(arr, e) != 0)
+            ok = 0;
+    }
+    usm_json_put(o, "sensitivities", arr, &ok);
+    usm_json_put(o, "most_sensitive",
+                 g->most_sensitive[0] ? json_string(g->most_sensitive) : json_null(), &ok);
+    return usm_json_finish(o, ok);
+}
+
 int usm_squeal_write_json(const usm_squeal_study *s, FILE *out)
 {
     json_t *obj = json_object();
@@ -104,6 +162,7 @@ int usm_squeal_write_json(const usm_squeal_study *s, FILE *out)
     }
     usm_json_put(obj, "points", points, &ok);
     usm_json_put(obj, "origin", origin_json(s), &ok);
+    usm_json_put(obj, "onset", onset_json(s), &ok);
     return usm_json_write(usm_json_finish(obj, ok), out);
 }
 
@@ -123,6 +182,8 @@ int usm_squeal_write_csv(const usm_squeal_study *s, FILE *out)
                  "open_fraction [1],impacts_per_period [1],impact_velocity_max [m/s]");
     for (int k = 1; k <= CSV_LINES; ++k)
         fprintf(out, ",line_%d [Hz],level_%d [dB]", k, k);
+    fputs(",power_excitation [W],power_damping [W],power_load [W],power_friction [W],"
+          "power_friction_stator [W],power_impacts [W],energy_balance_error [1]", out);
     fputs(",rest_motion,coexisting,error,seconds [s]\n", out);
     for (size_t i = 0; i < usm_squeal_count(s); ++i) {
         const usm_squeal_point *pt = usm_squeal_point_at(s, i);
@@ -144,6 +205,15 @@ int usm_squeal_write_csv(const usm_squeal_study *s, FILE *out)
                 usm_csv_num(out, 0, pt->lines[k].level_db);
             } else
                 fputs(",,", out);
+        }
+        const usm_squeal_power *w = &pt->power;
+        const double pw[] = {w->excitation,      w->damping,       w->load,         w->friction,
+                             w->friction_stator, w->impacts_power, w->balance_error};
+        for (size_t k = 0; k < sizeof pw / sizeof pw[0]; ++k) {
+            if (pt->status == USM_OK && w->periods > 0)
+                usm_csv_num(out, 0, pw[k]);
+            else
+                fputc(',', out);
         }
         usm_csv_text(out, 0, pt->rest_checked ? usm_motion_name(pt->rest_motion) : "");
         usm_csv_bool(out, 0, pt->coexisting);

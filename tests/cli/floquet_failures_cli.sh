@@ -37,7 +37,10 @@ cvodes="floquet: root #1 \\(theta = [^)]*\\): CVODES failed at t = .*CV_TOO_MUCH
 # (each takes CVODES' 200000 steps to give up: a few, to keep the test short)
 expect_fail "$cvodes" steady --set d_R=1e12 --floquet-method variational
 expect_fail "$cvodes" steady --model 4dof --set d_R=1e8 --json --floquet-method=variational
-expect_fail "floquet: root #1 \\(theta = [^)]*\\): Magnus step 1 of 1 failed: not finite" steady --set d_R=1e12 --floquet-method magnus
+# magnus carries the stiff mode in its exact flows: it answers there too
+if expect_rc 0 steady --set d_R=1e12 --floquet-method magnus --json; then
+    py "f = o['floquet']; assert 0.999 < f['max_modulus'] < 1 and f['stable'], f"
+fi
 
 # the default answers: the multiplier of the axial rotor mode tends to 1 from below
 if expect_rc 0 steady --set d_R=1e12 --json; then

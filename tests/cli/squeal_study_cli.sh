@@ -30,13 +30,18 @@ WINDOW=128
 # 4-DOF at 5 % mode split: the rotor bounces irregularly (no orbit with a
 # closed phase from 3.6 %), the spectrum has many audible lines
 if expect_rc 0 squeal --model 4dof --over mode_split --from 0.05 --to 0.051 --points 2 \
-    --settle $SETTLE --window $WINDOW --lyapunov-periods 20 --no-rest-check --json --quiet; then
+    --settle $SETTLE --window $WINDOW --lyapunov-periods 20 --power-periods 20 --no-rest-check \
+    --json --quiet; then
     cp "$out" "$tmp/squeal.json"
     py "
 p = o['points'][0]
 assert p['motion'] == 'chaotic', p['motion']
 assert p['lyapunov'] > 0, p['lyapunov']
 assert len(p['lines']) >= 3, p['lines']
+# the power account reaches the JSON: its balance closes, the driver feeds
+assert p['power']['periods'] == 20 and p['energy_balance_error'] < 1e-6, p['power']
+assert p['power']['excitation'] > 0 and p['power']['impacts'] < 0, p['power']
+assert o['onset'] is None, o['onset']
 "
     if expect_rc 0 simulate --model 4dof --variant imperfect_unilateral --set mode_split=0.05 \
         --duration $(python3 -c "print(($SETTLE + $WINDOW) / 37000)") --rate 296000 \
@@ -73,7 +78,7 @@ fi
 # ---- the onset against the periodic sweep's stable branch -------------------------
 ONSET="--over phase_error --from 0.90 --to 0.93 --points 4"
 if expect_rc 0 squeal $ONSET --settle 200 --window 64 --lyapunov-periods 50 --no-rest-check \
-    --json --quiet --plot "$tmp/onset"; then
+    --power-periods 0 --json --quiet --plot "$tmp/onset"; then
     cp "$out" "$tmp/onset.json"
     # --plot: the diagram's data and gnuplot's figures, without a complaint
     if command -v gnuplot >/dev/null; then

@@ -34,7 +34,13 @@
  *    usm_spectrum_amplitude (Hann window, GSL FFT) and usm_spectrum_lines
  *    (two-bin interpolation); the strongest `lines` local maxima between
  *    20 Hz and 20 kHz, their level in dB re 1e-9 m/s RMS (velocity level,
- *    ISO 1683): 20 log10(A / sqrt(2) / 1e-9).
+ *    ISO 1683): 20 log10(A / sqrt(2) / 1e-9);
+ *  - the power each force feeds into the motion over power_periods from the
+ *    window's first state, and the energy balance that checks it
+ *    (usm_squeal_energy, below).
+ * After the points: the origin at the end of the period-1 branch
+ * (usm_squeal_origin) and, with `sensitivities`, the onset located past it
+ * and its derivatives in the design parameters (usm_squeal_onset).
  *
  * Thread safety: no global state; one study per thread.  The caller sets
  * GSL's error handler (usm.h).
@@ -87,6 +93,15 @@ typedef struct usm_squeal_options {
     int lines;               /* audible lines kept, 1 .. USM_SQUEAL_MAX_LINES (default 6) */
     int origin;              /* 1: the origin at the end of the period-1 branch
                                 (usm_squeal_origin; default 1, an orbit solve) */
+    long power_periods;      /* periods of the power account from the window's first
+                                state (usm_squeal_energy; default 200; 0: none) */
+    double power_rtol;       /* its tolerance (default 1e-9) */
+    int sensitivities;       /* 1: the onset located past the origin and its sensitivities
+                                to the design parameters (usm_squeal_onset_sensitivities,
+                                about 10 s of CPU; default 0); needs origin */
+    double sensitivity_h;    /* their relative step (default 1e-3) */
+    double onset_tol;        /* the onset's tolerance, relative to the origin's bracket
+                                (default 1e-6) */
     void (*progress)(double fraction, void *ctx); /* NULL: silent */
     void *progress_ctx;
 } usm_squeal_options;
@@ -99,6 +114,54 @@ typedef struct usm_squeal_line {
     double amplitude;   /* of the rim velocity [m/s] */
     double level_db;    /* dB re 1e-9 m/s RMS */
 } usm_squeal_line;
+
+/* The power fed into the motion by each force over a run of whole
+ * excitation periods, and the energy balance that checks it
+ * (usm_squeal_energy; docs/squeal.md "Power").  Mean powers [W] over the
+ * run, positive where the force feeds the motion:
+ *  - excitation: the driver's torque on the stator, tau_E . omega;
+ *  - damping: -(d_r (omega_x1^2 + omega_y1^2) + d_t omega_z1^2 + d_R Z_R'^2);
+ *  - load: the load torque on the rotor, -T w_R;
+ *  - friction: the friction force on both bodies, -F_t v_rel (<= 0 where it
+ *    opposes the slip), the sum of friction_stator = -F_t v_c (its power on
+ *    the stator's vibration: > 0 feeds the vibration) and friction_rotor =
+ *    F_t R* w_R (what drives the rotor);
+ *  - normal_stator: the normal force's power on the stator, -F_n Z',
+ *    returned to the rotor's axial motion (the two cancel);
+ *  - impacts_power: the jumps of the mechanical energy at the resets (the
+ *    kinetic energy the impacts take, <= 0 at e_impact <= 1), per second.
+ * The mechanical energy E: the kinetic energy of stator and rotor (axial and
+ * turning) and the potentials of the tilt spring, c_r theta^2 (1 + s cos 2
+ * phi) / 2, the twist spring, c_t tau^2 / 2, and the preloaded spring, F0
+ * (Z_R - H) + c_R (Z_R - H)^2 / 2 (usm_squeal_mechanical_energy).  balance_error =
+ * |E(end) - E(start) - (sum of the works and jumps)| / (sum of their
+ * absolute values): the integrator's error, a force missing would be O(1). */
+typedef struct usm_squeal_power {
+    long periods;               /* 0: not computed */
+    double duration;            /* [s] */
+    double excitation, damping, load, friction, friction_stator, friction_rotor;
+    double normal_stator, impacts_power;     /* [W] */
+    double energy_start, energy_end;         /* [J] */
+    double balance_error;       /* relative (above) */
+    long separations, impacts;  /* over the run */
+} usm_squeal_power;
+
+/* The account above of the motion of unilateral model m from the state y0
+ * at t0 (open: 1 with y0 the open mode's state, else the closed state) over
+ * `periods` excitation periods, integrated at rtol with the simulation's
+ * resets (an integration of its own, with the works as states).  USM_OK;
+ * USM_EINPUT (a model whose contact never opens, periods < 1, rtol outside
+ * [1e-14, 1e-3]) or USM_EFAILED (the integration failed), with the reason in
+ * msg (USM_MSG_LEN). */
+int usm_squeal_energy(const usm_model *m, const usm_params *p, double t0, int open,
+                      const double *y0, long periods, double rtol, usm_squeal_power *out,
+                      char *msg);
+
+/* The mechanical energy E [J] (above) of unilateral model m at the state y
+ * (open: the open mode's; else the closed state, the rotor on the crest);
+ * NaN for a model whose contact never opens. */
+double usm_squeal_mechanical_energy(const usm_model *m, const usm_params *p, int open,
+                                    const double *y);
 
 typedef struct usm_squeal_point {
     double value;               /* the parameter */
@@ -126,6 +189,8 @@ typedef struct usm_squeal_point {
     double rest_speed_mean;     /* [1/s] */
     int coexisting;             /* 1: the start from rest ends elsewhere (another motion
                                    or period, or mean speed more than 2 % apart) */
+    usm_squeal_power power;     /* over power_periods from the window's start (periods 0:
+                                   not computed) */
     double seconds;             /* CPU time of this value [s] */
 } usm_squeal_point;
 
@@ -164,6 +229,69 @@ typedef struct usm_squeal_origin {
     double share[USM_SQUEAL_MAX_DOF];   /* sum 1 */
 } usm_squeal_origin;
 
+/* The onset of the irregular motion located: where the stable orbit with
+ * separation continued from `value` towards `toward` ends
+ * (usm_squeal_locate_onset), and how the design parameters move it
+ * (usm_squeal_onset_sensitivities). */
+typedef struct usm_squeal_sensitivity {
+    char parameter[24];         /* a usm_params field */
+    double h;                   /* the step of the central difference [its unit] */
+    double d_onset;             /* d(onset) / d(parameter) [the swept one's unit per its own] */
+    double elasticity;          /* (parameter / onset) d(onset) / d(parameter) [1] */
+    double resolution;          /* |d_onset| below this is not resolved (the locations'
+                                   tolerance over h): a d_onset of 0 means "below it" */
+    char message[120];          /* why d_onset is NaN, or "" */
+} usm_squeal_sensitivity;
+
+/* The design parameters whose sensitivities are computed (the swept one
+ * left out): preload F0, friction scale mu0, excitation frequency f, load
+ * torque T, excitation amplitude m0. */
+#define USM_SQUEAL_DESIGN_PARAMETERS 5
+/* Most parameters of one sensitivity call. */
+#define USM_SQUEAL_MAX_SENSITIVITIES 8
+extern const char *const usm_squeal_design_parameters[USM_SQUEAL_DESIGN_PARAMETERS];
+
+typedef struct usm_squeal_onset {
+    int found;
+    char message[USM_MSG_LEN];  /* why not */
+    double value;               /* the onset [the swept parameter's unit] */
+    char kind[32];              /* "branch_end" (Newton fails past it: the orbit ends, its
+                                   closed phase small) or "stability_loss" (max |lambda| = 1) */
+    double closed_fraction;     /* of the last orbit located */
+    double last_orbit;          /* the value of the last orbit (branch_end) */
+    int solves;                 /* orbit solves used, the sensitivities' included */
+    int nsens;
+    usm_squeal_sensitivity sens[USM_SQUEAL_MAX_SENSITIVITIES];
+    char most_sensitive[24];    /* the parameter of the largest |elasticity| */
+} usm_squeal_onset;
+
+/* The end of the stable orbit with separation of unilateral model m at
+ * parameters p, followed in `over` from `value` (its orbit from the section
+ * (ts, x0), or with x0 NULL from rest: usm_hybrid_solve) towards `toward`:
+ * continued by Newton with the section moved to the middle of each orbit's
+ * closed phase, in steps halved where Newton fails, to the end of the branch
+ * within tol times |toward - value| (branch_end); or, should an orbit on the
+ * way be unstable, the zero of max |lambda| - 1 (regula falsi).  USM_OK
+ * with out->found, or found 0 and out->message (no stable orbit at value,
+ * no end in the range, a branch that ends otherwise); USM_EINPUT (bad arguments, message); USM_EFAILED (out of
+ * memory). */
+int usm_squeal_locate_onset(const usm_model *m, const usm_params *p, const char *over,
+                            double value, double toward, double ts, const double *x0, double tol,
+                            usm_squeal_onset *out);
+
+/* usm_squeal_locate_onset, then for each of the nnames parameters `names`
+ * (NULL: usm_squeal_design_parameters; at most USM_SQUEAL_MAX_SENSITIVITIES;
+ * `over` left out) the onset located again at the parameter P (1 +- h) (its
+ * orbit at `value` from the same start): d_onset by the central difference,
+ * the elasticity, and the most sensitive parameter.  A parameter whose
+ * shifted onset is not found or of another kind has d_onset NaN and a
+ * message.  Returns as usm_squeal_locate_onset (USM_EINPUT also for h
+ * outside (0, 0.1), an unknown name or too many). */
+int usm_squeal_onset_sensitivities(const usm_model *m, const usm_params *p, const char *over,
+                                   double value, double toward, double ts, const double *x0,
+                                   const char *const *names, int nnames, double h, double tol,
+                                   usm_squeal_onset *out);
+
 /* A study over one parameter with its points (opaque). */
 typedef struct usm_squeal_study usm_squeal_study;
 
@@ -184,6 +312,9 @@ int usm_squeal_run(usm_squeal_study *s, const usm_params *p, const usm_squeal_op
 
 /* The origin of the last run (usm_squeal_origin above); NULL before a run. */
 const usm_squeal_origin *usm_squeal_origin_get(const usm_squeal_study *s);
+/* The onset and its sensitivities of the last run (options' sensitivities);
+ * NULL when not computed (off, or no origin found). */
+const usm_squeal_onset *usm_squeal_onset_get(const usm_squeal_study *s);
 /* Points of the last run, in sweep order. */
 size_t usm_squeal_count(const usm_squeal_study *s);
 /* Point i of the last run, NULL when out of range. */
