@@ -32,6 +32,16 @@
 /* The box's sides for the stopping tests, this fraction of a side outside:
  * an end is then put onto the side itself (usm_cont_correct_fixed). */
 #define BOX_PAD 1e-9
+/* A Bogdanov-Takens zero is kept when both multipliers nearest 1 are this
+ * close to it (a zero at a jump of the test function leaves one far). */
+#define BT_GAP 1e-6
+/* The corrector's tolerance on stability curves (scaled unknowns). */
+#define STAB_NEWTON_TOL 1e-10
+/* Two multiplier pairs within this of the unit circle where a stability
+ * curve is lost: the corner of the boundary (a double Hopf point). */
+#define CORNER_TOL 1e-3
+/* The other leg's seed this far from the corner (the box's sides 1). */
+#define CORNER_STEP 2e-3
 
 const char *usm_envelope_kind_name(usm_envelope_kind kind)
 {
@@ -203,6 +213,88 @@ double env_defining(env_problem *pb, int kind, const double *x)
     return NAN;
 }
 
+/* The multipliers at x, kept for the next call at the same x (a fold curve's
+ * two tests read the same ones).  0, or -1 off the axis's side or when the
+ * computation fails. */
+static int fold_multipliers(env_problem *pb, const double *x, const usm_floquet_result **out)
+{
+    const usm_model *m = pb->e->m;
+    const int n = pb->n + 1;
+    if (!(x[m->u_theta] > 0))
+        return -1;
+    if (pb->fl_valid && memcmp(pb->fl_x, x, sizeof(double) * (size_t)n) == 0) {
+        *out = &pb->fl_res;
+        return 0;
+    }
+    usm_steady_solution sol;
+    pb->fl_valid = 0;
+    set_params(pb, x);
+    memset(&sol, 0, sizeof sol);
+    memcpy(sol.u, x, sizeof(double) * (size_t)pb->e->nu);
+    usm_steady_evaluate(m, &pb->p, &sol);
+    if (usm_floquet_compute(pb->e->fl, &pb->p, &sol, pb->e->opt.t0, &pb->e->opt.floquet,
+                            &pb->fl_res) != USM_OK)
+        return -1;
+    memcpy(pb->fl_x, x, sizeof(double) * (size_t)n);
+    pb->fl_valid = 1;
+    *out = &pb->fl_res;
+    return 0;
+}
+
+/* The two non-cyclic multipliers nearest 1 (a nearest), their distances. */
+static int nearest_one(const usm_floquet_result *fr, int *a, int *b, double *da, double *db)
+{
+    *a = *b = -1;
+    *da = *db = INFINITY;
+    for (int k = 0; k < fr->n; ++k) {
+        if (fr->cyclic[k])
+            continue;
+        const double d = hypot(fr->re[k] - 1.0, fr->im[k]);
+        if (d < *da) {
+            *b = *a;
+            *db = *da;
+            *a = k;
+            *da = d;
+        } else if (d < *db) {
+            *b = k;
+            *db = d;
+        }
+    }
+    return *a >= 0 && *b >= 0 && isfinite(*da) && isfinite(*db) ? 0 : -1;
+}
+
+/* The tests of a fold curve that replace the stability function there.  Along
+ * a fold one multiplier is 1 (the stationary linearisation's eigenvalue 0),
+ * so the stability function is 1 - 1 = 0 up to rounding, and the test would
+ * be noise.
+ *   Bogdanov-Takens: with lambda_1, lambda_2 the two non-cyclic multipliers
+ *   nearest 1, Re(lambda_1 + lambda_2) - 2 is symmetric in the pair (smooth
+ *   where the pair is apart from the others) and is lambda_2 - 1 on the
+ *   fold: it vanishes where a second multiplier reaches 1, the double
+ *   eigenvalue 0.  *gap = |lambda_1 - 1| + |lambda_2 - 1|, which a located
+ *   zero must make small (where the third-nearest takes the second's place
+ *   the function jumps and changes sign without a zero).
+ *   fold/stability (a fold-Hopf point): the largest modulus but that of
+ *   lambda_1, minus 1: another multiplier crosses the unit circle on the fold,
+ *   where a stability curve ends on it. */
+static double fold_test(env_problem *pb, const double *x, int bt, double *gap)
+{
+    const usm_floquet_result *fr;
+    int a, b;
+    double da, db;
+    if (fold_multipliers(pb, x, &fr) != 0 || nearest_one(fr, &a, &b, &da, &db) != 0)
+        return NAN;
+    if (gap)
+        *gap = da + db;
+    if (bt)
+        return fr->re[a] + fr->re[b] - 2.0;
+    double mx = 0.0;
+    for (int k = 0; k < fr->n; ++k)
+        if (!fr->cyclic[k] && k != a)
+            mx = fmax(mx, hypot(fr->re[k], fr->im[k]));
+    return mx - 1.0;
+}
+
 /* The residual of both problems: r(u) and, on a curve, g; the Jacobian from
  * the generated r_u, r_p and g's row (analytic for theta and phidot_R,
  * central differences otherwise). */
@@ -271,7 +363,7 @@ static int problem_residual(const double *x, double *F, double *Jx, void *ctx)
 
 /* A test of a line or a curve: a defining function (kind >= 0), a box side,
  * the tilt range's top, or the cusp coefficient. */
-enum { TEST_KIND = 0, TEST_BOX, TEST_TOP, TEST_CUSP };
+enum { TEST_KIND = 0, TEST_BOX, TEST_TOP, TEST_CUSP, TEST_BT, TEST_FOLD_HOPF };
 
 static double test_fn(const double *x, const double *dx, void *ctx)
 {
@@ -297,6 +389,9 @@ static double test_fn(const double *x, const double *dx, void *ctx)
     }
     case TEST_TOP:
         return pb->e->opt.steady.theta_max - x[pb->e->m->u_theta];
+    case TEST_BT:
+    case TEST_FOLD_HOPF:
+        return fold_test(pb, x, t->what == TEST_BT, NULL);
     default: {
         /* w' r_uu[v, v] by the second difference of r along v */
         const int nu = pb->e->nu;
@@ -396,7 +491,12 @@ static int problem_setup(env_problem *pb, usm_envelope *e, int kind, int axis, d
     /* a curve that no step of 1e-7 of the box continues is lost: halving
      * further costs a Newton (with its Floquet evaluations) per halving */
     o.h_min = 1e-7;
-    o.newton_tol = 1e-12;
+    /* g of a stability curve scatters by ~5e-12 between points 1e-9 apart
+     * along it near the axis (theta = 4e-6 rad in the 3-DOF F0 x T box),
+     * and the tilt's scale there is its own size: at 1e-12 the corrector
+     * did not converge there and the curve was lost; at 1e-10 its points
+     * still agree with the sweep's located events to 2e-12 of the box */
+    o.newton_tol = kind == USM_ENVELOPE_STABILITY ? STAB_NEWTON_TOL : 1e-12;
     o.event_tol = 1e-14;
     o.across_fold = 1;
     o.max_steps = e->opt.max_points;
@@ -435,6 +535,11 @@ static int problem_setup(env_problem *pb, usm_envelope *e, int kind, int axis, d
             return -1;
     }
     if (kind == USM_ENVELOPE_FOLD && add_test(pb, TEST_CUSP, 0, 0, USM_CONT_TEST_MONITOR) != 0)
+        return -1;
+    /* the stability function is noise on a fold: the Bogdanov-Takens test instead */
+    if (kind == USM_ENVELOPE_FOLD && env_kind_applies(e, USM_ENVELOPE_STABILITY) &&
+        (add_test(pb, TEST_BT, 0, 0, USM_CONT_TEST_MONITOR | USM_CONT_TEST_POINT) != 0 ||
+         add_test(pb, TEST_FOLD_HOPF, 0, 0, USM_CONT_TEST_MONITOR | USM_CONT_TEST_POINT) != 0))
         return -1;
     return 0;
 }
@@ -868,6 +973,22 @@ static int follow_half(usm_envelope *e, env_problem *pb, const double *x0, int d
             if (t->what == TEST_CUSP) {
                 if (env_add_codim2(e, "cusp", ev->x, px, py, curve_index) != 0)
                     return -1;
+            } else if (t->what == TEST_BT) {
+                double gap = INFINITY;
+                const double g = fold_test(pb, ev->x, 1, &gap);
+                if (isfinite(g) && gap <= BT_GAP &&
+                    env_add_codim2(e, "bogdanov_takens", ev->x, px, py, curve_index) != 0)
+                    return -1;
+            } else if (t->what == TEST_FOLD_HOPF) {
+                /* on the fold (lambda_1 = 1) another multiplier on the unit
+                 * circle; not a jump of the maximum */
+                double gap = INFINITY;
+                const double g = fold_test(pb, ev->x, 0, &gap);
+                if (isfinite(g) && fabs(g) <= BT_GAP &&
+                    env_add_codim2(e, pair_name(USM_ENVELOPE_FOLD, USM_ENVELOPE_STABILITY, buf,
+                                                sizeof buf),
+                                   ev->x, px, py, curve_index) != 0)
+                    return -1;
             } else if (t->what == TEST_KIND &&
                        env_add_codim2(e, pair_name(pb->kind, t->kind, buf, sizeof buf), ev->x, px,
                                   py, curve_index) != 0)
@@ -930,6 +1051,112 @@ static int follow_half(usm_envelope *e, env_problem *pb, const double *x0, int d
     return 0;
 }
 
+/* The moduli at (px, py) of the pairs (im > 0) nearest the angles ang[0..1]
+ * (the stationary root by Newton from u).  0, or -1. */
+static int pair_moduli(usm_envelope *e, const double *u, double px, double py, const double *ang,
+                       double *mod)
+{
+    usm_params q = e->p;
+    usm_floquet_result fr;
+    *usm_params_field(&q, e->ax[0]) = px;
+    *usm_params_field(&q, e->ax[1]) = py;
+    if (usm_steady_solve_from(e->steady, &q, u) != USM_OK)
+        return -1;
+    const usm_steady_solution *sol = usm_steady_root(e->steady, 0);
+    if (!(sol->theta > 0) || usm_floquet_compute(e->fl, &q, sol, e->opt.t0, &e->opt.floquet,
+                                                 &fr) != USM_OK)
+        return -1;
+    for (int j = 0; j < 2; ++j) {
+        double best = INFINITY;
+        mod[j] = NAN;
+        for (int k = 0; k < fr.n; ++k) {
+            if (fr.cyclic[k] || !(fr.im[k] > 0))
+                continue;
+            const double d = fabs(atan2(fr.im[k], fr.re[k]) - ang[j]);
+            if (d < best) {
+                best = d;
+                mod[j] = hypot(fr.re[k], fr.im[k]);
+            }
+        }
+        if (!isfinite(mod[j]))
+            return -1;
+    }
+    return 0;
+}
+
+/* Where a stability curve is lost at the point (px, py, u) and two pairs of
+ * multipliers are on the unit circle there, the boundary max |lambda| = 1
+ * has a corner: the curve of the first pair (the one at 1 at the point
+ * `before`, a few steps back) gives way to that of the second.  The
+ * second's leg leaves along |lambda_b| = 1 to the side where |lambda_a| < 1;
+ * its seed is CORNER_STEP along it, the stationary root by Newton from u.
+ * 1 with the seed in (su, *sx, *sy), 2 a corner whose other leg leaves the
+ * box at once, 0 when the point is no corner, -1 when an evaluation failed. */
+static int stability_corner(usm_envelope *e, const double *u, double px, double py,
+                            const double *ub, double bx, double by, double *su, double *sx,
+                            double *sy)
+{
+    usm_params q = e->p;
+    usm_steady_solution sol;
+    usm_floquet_result fr;
+    double ang[2], modb[2], g[2][2];
+    int np = 0;
+    *usm_params_field(&q, e->ax[0]) = px;
+    *usm_params_field(&q, e->ax[1]) = py;
+    memset(&sol, 0, sizeof sol);
+    memcpy(sol.u, u, sizeof(double) * (size_t)e->nu);
+    usm_steady_evaluate(e->m, &q, &sol);
+    if (!(sol.theta > 0) ||
+        usm_floquet_compute(e->fl, &q, &sol, e->opt.t0, &e->opt.floquet, &fr) != USM_OK)
+        return 0;
+    for (int k = 0; k < fr.n && np < 3; ++k)
+        if (!fr.cyclic[k] && fr.im[k] > 0 &&
+            fabs(hypot(fr.re[k], fr.im[k]) - 1.0) <= CORNER_TOL) {
+            if (np < 2)
+                ang[np] = atan2(fr.im[k], fr.re[k]);
+            np++;
+        }
+    if (np != 2)
+        return 0;
+    /* a = the pair that was at 1 on the way in */
+    if (pair_moduli(e, ub, bx, by, ang, modb) != 0)
+        return -1;
+    if (modb[1] > modb[0]) {
+        const double t = ang[0];
+        ang[0] = ang[1];
+        ang[1] = t;
+    }
+    const double w[2] = {e->hi[0] - e->lo[0], e->hi[1] - e->lo[1]}, h = 1e-6;
+    for (int k = 0; k < 2; ++k) {
+        double mp[2], mm[2];
+        const double dx = k == 0 ? h * w[0] : 0, dy = k == 1 ? h * w[1] : 0;
+        if (pair_moduli(e, u, px + dx, py + dy, ang, mp) != 0 ||
+            pair_moduli(e, u, px - dx, py - dy, ang, mm) != 0)
+            return -1;
+        for (int j = 0; j < 2; ++j)
+            g[j][k] = (mp[j] - mm[j]) / (2 * h);
+    }
+    /* along |lambda_b| = 1, to where |lambda_a| falls */
+    double t[2] = {-g[1][1], g[1][0]};
+    const double nt = hypot(t[0], t[1]);
+    if (!(nt > 0))
+        return -1;
+    if (t[0] * g[0][0] + t[1] * g[0][1] > 0) {
+        t[0] = -t[0];
+        t[1] = -t[1];
+    }
+    *sx = px + CORNER_STEP * t[0] / nt * w[0];
+    *sy = py + CORNER_STEP * t[1] / nt * w[1];
+    if (*sx < e->lo[0] || *sx > e->hi[0] || *sy < e->lo[1] || *sy > e->hi[1])
+        return 2;
+    *usm_params_field(&q, e->ax[0]) = *sx;
+    *usm_params_field(&q, e->ax[1]) = *sy;
+    if (usm_steady_solve_from(e->steady, &q, u) != USM_OK)
+        return -1;
+    memcpy(su, usm_steady_root(e->steady, 0)->u, sizeof(double) * (size_t)e->nu);
+    return 1;
+}
+
 /* Trace the curve through seed s (both directions) and append it. */
 static int trace_curve(usm_envelope *e, const env_seed *s)
 {
@@ -978,6 +1205,36 @@ static int trace_curve(usm_envelope *e, const env_seed *s)
             break;
     }
     problem_free(&pb);
+    /* a stability curve lost at a corner: named, and the other leg seeded */
+    int ncorner = 0;
+    env_seed corner[2];
+    for (int d = 0; d < 2 && rc == 0; ++d) {
+        if (s->kind != USM_ENVELOPE_STABILITY || h[d].end != USM_ENVELOPE_END_LOST || h[d].n < 6)
+            continue;
+        const size_t i = h[d].n - 1, j = h[d].n - 6;
+        env_seed *c = &corner[ncorner];
+        memset(c, 0, sizeof *c);
+        const int k = stability_corner(e, h[d].u + (size_t)nu * i, h[d].xy[2 * i],
+                                       h[d].xy[2 * i + 1], h[d].u + (size_t)nu * j, h[d].xy[2 * j],
+                                       h[d].xy[2 * j + 1], c->u, &c->x, &c->y);
+        if (k <= 0)
+            continue;
+        char buf[40];
+        h[d].end = USM_ENVELOPE_END_CORNER;
+        c->kind = USM_ENVELOPE_STABILITY;
+        /* a corner met again (from its other leg): its legs are traced */
+        int known = 0;
+        for (size_t q = 0; q < e->ncodim2; ++q)
+            known |= strcmp(e->codim2[q].type, "stability/stability") == 0 &&
+                     fabs(e->codim2[q].x - h[d].xy[2 * i]) <= 1e-4 * (e->hi[0] - e->lo[0]) &&
+                     fabs(e->codim2[q].y - h[d].xy[2 * i + 1]) <= 1e-4 * (e->hi[1] - e->lo[1]);
+        if (!known && k == 1)
+            ncorner++;
+        if (!known && env_add_codim2(e, pair_name(s->kind, s->kind, buf, sizeof buf),
+                                     h[d].u + (size_t)nu * i, h[d].xy[2 * i], h[d].xy[2 * i + 1],
+                                     e->ncurves) != 0)
+            rc = -1;
+    }
     if (rc == 0 && h[0].n + h[1].n > 0) {
         env_curve cv;
         memset(&cv, 0, sizeof cv);
@@ -1016,6 +1273,10 @@ static int trace_curve(usm_envelope *e, const env_seed *s)
         free(h[d].xy);
         free(h[d].u);
     }
+    /* the other leg of each corner, traced at once: its seed lies within a
+     * chord's sagitta tolerance of this curve, so on_curve would drop it */
+    for (int k = 0; k < ncorner && rc == 0; ++k)
+        rc = trace_curve(e, &corner[k]);
     return rc;
 }
 

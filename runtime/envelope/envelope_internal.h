@@ -67,6 +67,10 @@ typedef struct env_problem {
     double border_b[USM_MAX_NU], border_c[USM_MAX_NU];
     double sat_w;               /* friction_saturation: the rotor speed W held */
     usm_cont *cont;
+    /* a fold curve's multipliers at fl_x (its two Floquet tests share them) */
+    double fl_x[USM_MAX_NU + 2];
+    usm_floquet_result fl_res;
+    int fl_valid;
     env_test tests[ENV_MAX_TESTS];
     int ntests;
 } env_problem;

@@ -2,48 +2,53 @@
  * periodic orbit rather than a stationary solution: contact_loss and
  * stick_loss continued in two parameters.
  *
- * contact_loss, where the orbit's least F_n is 0.  F_n has two minima a
- * period, half a period apart and equal to the shot's noise (1e-10 of
- * F_n_max) wherever measured (the orbit's half-period symmetry: the
- * imperfections force at 2 Omega).  One of them is followed, its time t* an
- * unknown: the orbit is shot from t0 = t*, and k + 2 equations in k + 3
- * unknowns z = (x*, t*, a, b):
+ * contact_loss, where the orbit's least F_n is 0, and stick_loss (stick
+ * models), where its largest stick excess q = |F_t| - mu0 F_n is 0, are
+ * posed alike.  q has two extremes a period, half a period apart and equal
+ * to the shot's noise (1e-10 of F_n_max) wherever measured (the orbit's
+ * half-period symmetry: the imperfections force at 2 Omega).  One of them
+ * is followed, its time t* an unknown: the orbit is shot from t0 = t*, and
+ * k + 2 equations in k + 3 unknowns z = (x*, t*, a, b):
  *   r(x*, t*; px, py) = 0   periodicity in the k non-cyclic components of
  *                           the state x* at t* (usm_periodic_shoot,
  *                           solve/periodic_internal.h; scaled as the
  *                           shooting's)
- *   F_n(x*, t*; p) = 0      (scaled by F_n_max)
- *   dF_n/dt(x*, t*; p) = 0  its rate along the motion: t* is its extreme
+ *   q(x*, t*; p) = 0        (scaled by F_n_max)
+ *   dq/dt(x*, t*; p) = 0    its rate along the motion: t* is its extreme
  * Jacobian: the monodromy's block, dr/dt* in closed form (f(x1, t* + T) -
- * B f(x*, t*)), forward differences in a and b (one period of the state
- * alone for b); the last two rows by central differences, which need no
- * integration (F_n and its rate are functions of (x*, t*, p)).  Newton
+ * B f(x*, t*)), central differences in a and b (two periods of the state
+ * alone each); the last two rows by central differences, which need no
+ * integration (q and its rate are functions of (x*, t*, p)).  Newton
  * converges in 2 or 3 iterations, on the axes mode_split = 0 and
- * phase_error = 0 too, where the orbit's located minimum as g (below) was
- * lost at the first step.
+ * phase_error = 0 too, where the orbit's located extreme as the defining
+ * function was lost at the first step (contact_loss) or noisy at 1e-5 of
+ * the box (stick_loss).
  *
- * The followed minimum must stay the orbit's global one: at every point the
- * test function (the least other local minimum of F_n over the orbit -
- * F_n(t*)) is monitored, the half-period copy of the followed one not
+ * Two things make stick_loss's system regular.  (1) z holds the twist rate
+ * w = phidot + psidot cos(theta) (the rate of the twist angle, a state of
+ * the model) in phidot's place, scaled as the tilt vector's spin rate
+ * (Omega theta).  On the orbit phidot and psidot are +-Omega and w is 1e-7
+ * of Omega (0.03 rad/s at the onset on mode_split = 0); F_t follows w
+ * (through the twist damping, 1.5e4 F_n_max per Omega, its rate through the
+ * twist spring 47 times that), so q is linear over 1e-2 of Omega theta in
+ * w, and 1e-4 of Omega in phidot alone, the rows' difference step in the
+ * Euler angles, changed w by 700 times its value and flipped F_t's sign:
+ * those rows were wrong, which was the singularity seen.  q is not steep;
+ * phidot is the wrong unknown.  (2) q's rate by a central difference of
+ * 1e-2 rad of Omega t, not F_n's 1e-5: F_t comes from phi'' and psi''
+ * (~1e9 rad/s^2) that nearly cancel, so q is rounded to 1e-12 of F_n_max,
+ * and over 1e-5 its rate was noisy at 2e-7 of F_n_max Omega, where Newton
+ * stalled (periodic_internal.h, usm_periodic_quantity_rate_step).
+ *
+ * The followed extreme must stay the orbit's global one: at every point the
+ * test function (the most extreme other local extreme of q over the orbit
+ * against q(t*)) is monitored, the half-period copy of the followed one not
  * counted as another where the orbit has the symmetry.  Where it vanishes
  * (a corner of the boundary) the piece ends (`corner`), is named a
- * codimension-two point (contact_loss/contact_loss) inside the box, and the
- * other minimum's piece starts there, in the half where the first one is no
- * longer the global.  At a seed where two minima are equal, the one whose
- * first step keeps it the global one is followed.
- *
- * stick_loss (stick models), where the orbit's largest |F_t| - mu0 F_n is
- * 0: in the Euler angles it is steep in the twist rate phidot + psidot
- * cos(theta) (1.5e4 F_n_max per Omega of phidot, its rate 7e5), which the
- * shooting resolves only to its tolerances, ~1e-11 Omega; the extended
- * system with t* came out singular to 1e-6 there, so stick_loss is posed on
- * the orbit shot from the envelope's t0: k + 1 equations, r and g = the
- * largest stick excess as the orbit's extremes are located (the sweep's
- * test function), in (x0, a, b).  g's row by forward differences (a shot
- * each), formed once a step and kept for the corrector's iterations there,
- * each step cut from 1e-4 of its unknown's scale by 100 until g moves by at
- * most 1e-2 F_n_max over it (phidot's and psidot's: 1e-8), and the
- * corrector's tolerance 1e-5: g's noise limits the curve to about that.
+ * codimension-two point (e.g. contact_loss/contact_loss) inside the box,
+ * and the other extreme's piece starts there, in the half where the first
+ * one is no longer the global.  At a seed where two extremes are equal, the
+ * one whose first step keeps it the global one is followed.
  *
  * Seeds: a one-parameter periodic sweep (usm_periodic_sweep) along each of
  * the box's four edges; each contact_loss and stick_loss event it locates
@@ -65,28 +70,30 @@
 #include "usm_periodic_sweep.h"
 
 #define PMAX (USM_MAX_NX + 3)
-/* Forward differences of r in the parameters: this fraction of the
- * unknown's scale (the sweep's: the residual's noise floor ~5e-10 of the
- * scales over it stays below 1e-4 of the column). */
-#define FD_REL 1e-5
+/* r's columns in the parameters, central differences of two shots of the
+ * state alone: this fraction of the unknown's scale (truncation 1e-8).  The
+ * forward difference against the full shot at 1e-5 had the full shot's
+ * other steps in it, 1e-9 of the scales: in a box of 0.02 rad the tangent's
+ * phase_error component was then noisy at 3e-3, and at stick_loss's turn
+ * the fold's location failed step after step until the curve was lost. */
+#define FD_REL 1e-4
 /* q's and its rate's rows, central differences: truncation ~1e-8, and the
  * rate's own rounding (~1e-11 of it, a difference along the motion) over
  * this step ~1e-7 of the row. */
 #define G_FD_REL 1e-4
-/* stick_loss: g's row by forward differences of the located extreme, the
- * step G_FD_REL_EXTREME of each unknown's scale, cut by G_FD_SHRINK (at
- * most G_FD_TRIES times) until g moves by at most G_FD_MOVE (of F_n_max)
- * over it: g's noise (the twist rate's) swamps a step of 1e-7 in most
- * unknowns, and a step of 1e-4 in phidot or psidot flips F_t's sign. */
-#define G_FD_REL_EXTREME 1e-4
-#define G_FD_MOVE 1e-2
-#define G_FD_SHRINK 1e-2
-#define G_FD_TRIES 3
+/* The central differences along the motion that give q's rate, in radians
+ * of Omega t: F_n's as the orbit's located extremes (solve/periodic.c);
+ * the stick excess's longer, above its rounding (periodic_internal.h). */
+#define RATE_STEP_F_N 1e-5
+#define RATE_STEP_STICK 1e-2
 /* The corrector's tolerance on its update (scaled): contact_loss's, and
- * stick_loss's above the noise of its g (at 1e-6 the steps shrank to 1e-3
- * of the box, 2.5 min of CPU for the box 0.44-0.56 rad x 0-3 %; 19 s). */
+ * stick_loss's, which is relative to the parameters' size where the box is
+ * small against them (0.02 rad at 0.65 rad: 3.3e-7 of the side, 1e-8 of
+ * the value).  The stick excess's rate and the twist angle's periodicity
+ * leave ~1e-9 rad of noise in phase_error; at 1e-8 of such a box's side the
+ * corrector failed near stick_loss's turn and the curve was lost. */
 #define NEWTON_TOL 1e-9
-#define NEWTON_TOL_STICK 1e-5
+#define NEWTON_TOL_STICK 1e-8
 /* Longest step (the box's sides 1). */
 #define H_MAX 0.05
 /* Shortest step (scaled). */
@@ -123,12 +130,12 @@ typedef struct penv {
     usm_periodic_quantity which;
     double sign;              /* +1 q's maximum is followed, -1 its minimum */
     int swap;                 /* 0 z = (x*, t*, px, py), 1 z = (x*, t*, py, px) */
-    int k, N;                 /* non-cyclic states; unknowns k + nt + 2 */
-    int nt;                   /* 1: t* an unknown (contact_loss); 0: the orbit
-                                 from the envelope's t0 and g its extreme */
-    double grow[PMAX];        /* nt 0: g's row, formed once a step */
-    int have_grow;
+    int k, N;                 /* non-cyclic states; unknowns k + 3 */
     int idx[USM_MAX_NX];
+    /* z's columns of the twist rate (in phidot's place), theta and psidot;
+     * tw -1: z holds the state as it is */
+    int tw, th, psd;
+    double rate_step;         /* q's rate: its central difference's step */
     double xfull[USM_MAX_NX]; /* the cyclic components (a gauge) */
     double scale[PMAX];
     double gscale, Omega, h_sample;
@@ -142,7 +149,7 @@ typedef struct penv {
 
 static void p_xy(const penv *pb, const double *z, double *px, double *py)
 {
-    const int j = pb->k + pb->nt;
+    const int j = pb->k + 1;
     *px = pb->swap ? z[j + 1] : z[j];
     *py = pb->swap ? z[j] : z[j + 1];
 }
@@ -153,6 +160,10 @@ static void p_unpack(const penv *pb, const double *z, double *x0, usm_params *q)
     memcpy(x0, pb->xfull, sizeof(double) * (size_t)pb->e->m->nx);
     for (int a = 0; a < pb->k; ++a)
         x0[pb->idx[a]] = z[a];
+    if (pb->tw >= 0) {
+        const usm_model *m = pb->e->m;
+        x0[m->x_phidot] = z[pb->tw] - x0[m->x_psidot] * cos(x0[m->x_theta]);
+    }
     p_xy(pb, z, &px, &py);
     *q = pb->e->p;
     *usm_params_field(q, pb->e->ax[0]) = px;
@@ -162,13 +173,13 @@ static void p_unpack(const penv *pb, const double *z, double *x0, usm_params *q)
 /* The parameter of unknown column j (k + 1 or k + 2). */
 static const usm_param_info *col_param(const penv *pb, int j)
 {
-    return pb->e->ax[(j == pb->k + pb->nt) == !pb->swap ? 0 : 1];
+    return pb->e->ax[(j == pb->k + 1) == !pb->swap ? 0 : 1];
 }
 
 /* The column of axis a (0 x, 1 y). */
 static int axis_col(const penv *pb, int a)
 {
-    return pb->k + pb->nt + ((a == 0) == !pb->swap ? 0 : 1);
+    return pb->k + 1 + ((a == 0) == !pb->swap ? 0 : 1);
 }
 
 /* The shot at z (its samples kept in w). */
@@ -177,7 +188,7 @@ static int shoot_at(penv *pb, const double *z, double *r)
     double x0[USM_MAX_NX];
     usm_params q;
     p_unpack(pb, z, x0, &q);
-    usm_periodic_shoot_set_t0(pb->w, pb->nt ? z[pb->k] : pb->e->opt.t0);
+    usm_periodic_shoot_set_t0(pb->w, z[pb->k]);
     const int rc = usm_periodic_shoot(pb->w, &q, NULL, 0.0, x0, r, NULL) == USM_OK ? 0 : -1;
     pb->have_shot_z = rc == 0;
     memcpy(pb->shot_z, z, sizeof(double) * (size_t)pb->N);
@@ -190,90 +201,20 @@ static int q_pair(penv *pb, const double *z, double *g, double *gd)
     double x0[USM_MAX_NX];
     usm_params q;
     p_unpack(pb, z, x0, &q);
-    if (usm_periodic_quantity_rate(pb->w, &q, pb->which, z[pb->k], x0, g, gd) != USM_OK)
+    if (usm_periodic_quantity_rate_step(pb->w, &q, pb->which, z[pb->k], x0, pb->rate_step, g,
+                                        gd) != USM_OK)
         return -1;
     *g /= pb->gscale;
     *gd /= pb->gscale * pb->Omega;
     return 0;
 }
 
-/* nt 0: g, the orbit's extreme as the sweep locates it, after a shot. */
-static double extreme_g(penv *pb)
-{
-    return pb->kind == USM_ENVELOPE_CONTACT_LOSS ? usm_periodic_shoot_F_n_min(pb->w)
-                                                 : usm_periodic_shoot_stick_excess(pb->w);
-}
-
-/* nt 0 (stick_loss, see the top of the file): r as for nt 1 at the
- * envelope's t0, g the orbit's extreme, its row by forward differences (a
- * shot each) formed once a step and kept for the corrector's iterations
- * there (Newton then converges linearly). */
-static int residual_extreme(const double *z, double *F, double *J, penv *pb)
-{
-    const int k = pb->k, N = pb->N, ja = k, jb = k + 1;
-    double x0[USM_MAX_NX], rb[USM_MAX_NX], Jk[USM_MAX_NX * (USM_MAX_NX + 1)];
-    usm_params q;
-    p_unpack(pb, z, x0, &q);
-    usm_periodic_shoot_set_t0(pb->w, pb->e->opt.t0);
-    if (J) {
-        const double d = FD_REL * pb->scale[jb];
-        usm_params q2 = q;
-        *usm_params_field(&q2, col_param(pb, jb)) += d;
-        if (usm_periodic_shoot_state(pb->w, &q2, x0, rb) != USM_OK ||
-            usm_periodic_shoot(pb->w, &q, col_param(pb, ja), FD_REL * pb->scale[ja], x0, F, Jk) !=
-                USM_OK)
-            return -1;
-        for (int a = 0; a < k; ++a) {
-            for (int b = 0; b <= k; ++b)
-                J[a * N + b] = Jk[a * (k + 1) + b];
-            J[a * N + jb] = (rb[a] - F[a]) / d;
-        }
-    } else if (usm_periodic_shoot(pb->w, &q, NULL, 0.0, x0, F, NULL) != USM_OK)
-        return -1;
-    const double g = extreme_g(pb);
-    if (!isfinite(g))
-        return -1;
-    F[k] = g / pb->gscale;
-    if (J) {
-        if (!pb->have_grow) {
-            double zs[PMAX], r[USM_MAX_NX];
-            memcpy(zs, z, sizeof(double) * (size_t)N);
-            for (int j = 0; j < N; ++j) {
-                double d = G_FD_REL_EXTREME * pb->scale[j], gj;
-                for (int tries = 0;; ++tries) {
-                    zs[j] = z[j] + d;
-                    const int rc = shoot_at(pb, zs, r);
-                    gj = rc == 0 ? extreme_g(pb) : NAN;
-                    zs[j] = z[j];
-                    if (!isfinite(gj))
-                        return -1;
-                    if (tries == G_FD_TRIES || fabs(gj - g) <= G_FD_MOVE * pb->gscale)
-                        break;
-                    d *= G_FD_SHRINK;
-                }
-                pb->grow[j] = (gj - g) / d / pb->gscale;
-            }
-            pb->have_grow = 1;
-            /* the kept shot is z's again */
-            if (shoot_at(pb, z, r) != 0)
-                return -1;
-        }
-        memcpy(J + k * N, pb->grow, sizeof(double) * (size_t)N);
-    }
-    return 0;
-}
-
 static int residual(const double *z, double *F, double *J, void *ctx)
 {
     penv *pb = ctx;
-    pb->have_shot_z = 0;
-    for (int j = 0; j < pb->N; ++j)
-        if (!isfinite(z[j]))
-            return -1;
-    if (!pb->nt)
-        return residual_extreme(z, F, J, pb);
     const int k = pb->k, N = pb->N, ja = k + 1, jb = k + 2;
-    double x0[USM_MAX_NX], rb[USM_MAX_NX], ct[USM_MAX_NX], Jk[USM_MAX_NX * (USM_MAX_NX + 1)];
+    double x0[USM_MAX_NX], rp[USM_MAX_NX], rm[USM_MAX_NX], ct[USM_MAX_NX];
+    double Jk[USM_MAX_NX * (USM_MAX_NX + 1)];
     usm_params q;
     pb->have_shot_z = 0;
     for (int j = 0; j < N; ++j)
@@ -282,21 +223,35 @@ static int residual(const double *z, double *F, double *J, void *ctx)
     p_unpack(pb, z, x0, &q);
     usm_periodic_shoot_set_t0(pb->w, z[k]);
     if (J) {
-        /* b's column first: the state alone keeps nothing */
-        const double d = FD_REL * pb->scale[jb];
-        usm_params q2 = q;
-        *usm_params_field(&q2, col_param(pb, jb)) += d;
-        if (usm_periodic_shoot_state(pb->w, &q2, x0, rb) != USM_OK ||
-            usm_periodic_shoot(pb->w, &q, col_param(pb, ja), FD_REL * pb->scale[ja], x0, F, Jk) !=
-                USM_OK ||
+        /* the parameters' columns first (the state alone keeps nothing),
+         * each from two shots of the state alone: a difference against the
+         * full shot, which takes other steps, is noisy at 1e-9 of the
+         * scales over the step */
+        for (int j = ja; j <= jb; ++j) {
+            const double d = FD_REL * pb->scale[j];
+            usm_params qp = q, qm = q;
+            *usm_params_field(&qp, col_param(pb, j)) += d;
+            *usm_params_field(&qm, col_param(pb, j)) -= d;
+            if (usm_periodic_shoot_state(pb->w, &qp, x0, rp) != USM_OK ||
+                usm_periodic_shoot_state(pb->w, &qm, x0, rm) != USM_OK)
+                return -1;
+            for (int a = 0; a < k; ++a)
+                J[a * N + j] = (rp[a] - rm[a]) / (2 * d);
+        }
+        if (usm_periodic_shoot(pb->w, &q, NULL, 0.0, x0, F, Jk) != USM_OK ||
             usm_periodic_shoot_t0_column(pb->w, ct) != USM_OK)
             return -1;
         for (int a = 0; a < k; ++a) {
             for (int b = 0; b < k; ++b)
                 J[a * N + b] = Jk[a * (k + 1) + b];
             J[a * N + k] = ct[a];
-            J[a * N + ja] = Jk[a * (k + 1) + k];
-            J[a * N + jb] = (rb[a] - F[a]) / d;
+            if (pb->tw >= 0) {
+                /* phidot = w - psidot cos(theta): the chain rule */
+                const usm_model *m = pb->e->m;
+                const double jw = J[a * N + pb->tw];
+                J[a * N + pb->th] += jw * x0[m->x_psidot] * sin(x0[m->x_theta]);
+                J[a * N + pb->psd] -= jw * cos(x0[m->x_theta]);
+            }
         }
     } else if (usm_periodic_shoot(pb->w, &q, NULL, 0.0, x0, F, NULL) != USM_OK)
         return -1;
@@ -308,11 +263,11 @@ static int residual(const double *z, double *F, double *J, void *ctx)
         for (int j = 0; j < N; ++j) {
             const double d = G_FD_REL * pb->scale[j];
             zs[j] = z[j] + d;
-            const int rp = q_pair(pb, zs, &gp, &gdp);
+            const int okp = q_pair(pb, zs, &gp, &gdp);
             zs[j] = z[j] - d;
-            const int rm = q_pair(pb, zs, &gm, &gdm);
+            const int okm = q_pair(pb, zs, &gm, &gdm);
             zs[j] = z[j];
-            if (rp != 0 || rm != 0)
+            if (okp != 0 || okm != 0)
                 return -1;
             J[k * N + j] = (gp - gm) / (2 * d);
             J[(k + 1) * N + j] = (gdp - gdm) / (2 * d);
@@ -512,7 +467,13 @@ static int run_piece(penv *pb, const double *z0, int dir, int check, pbuf *b,
     o.newton_max = 8;
     o.grow_its = 3;
     o.shrink_its = 6;
-    o.newton_tol = pb->nt ? NEWTON_TOL : NEWTON_TOL_STICK;
+    o.newton_tol = NEWTON_TOL;
+    if (pb->which == USM_PERIODIC_Q_STICK_EXCESS) {
+        double rel = 1.0;
+        for (int a = 0; a < 2; ++a)
+            rel = fmax(rel, fmax(fabs(e->lo[a]), fabs(e->hi[a])) / (e->hi[a] - e->lo[a]));
+        o.newton_tol = NEWTON_TOL_STICK * rel;
+    }
     o.event_tol = 1e-10;
     o.across_fold = 1;
     o.max_steps = 20 * e->opt.max_points;
@@ -531,16 +492,15 @@ static int run_piece(penv *pb, const double *z0, int dir, int check, pbuf *b,
         }
     }
     pb->tcorner = -1;
-    if (pb->nt && (pb->tcorner = usm_cont_add_test(pb->c, test_corner, pb,
+    if ((pb->tcorner = usm_cont_add_test(pb->c, test_corner, pb,
                                                    USM_CONT_TEST_STOP | USM_CONT_TEST_POINT)) < 0) {
         rc = PIECE_NOMEM;
         goto done;
     }
     p_xy(pb, z0, &pb->start[0], &pb->start[1]);
     /* at a corner (two extremes equal) the test has no sign at the start */
-    const double c0 = pb->nt ? corner_value(pb, z0, NULL) : 1.0;
+    const double c0 = corner_value(pb, z0, NULL);
     pb->skip = !(fabs(c0) > TIE_REL);
-    pb->have_grow = 0;
     if (usm_cont_start(pb->c, z0, dir) != 0)
         goto done;
     const size_t n_before = b->n;
@@ -549,12 +509,11 @@ static int run_piece(penv *pb, const double *z0, int dir, int check, pbuf *b,
         goto done;
     }
     for (long steps = 0; steps < e->opt.max_points; ++steps) {
-        pb->have_grow = 0;
         const int st = usm_cont_step(pb->c);
         if (st != USM_CONT_STEP && st != USM_CONT_END)
             break;
         const double *zc_ = usm_cont_point(pb->c);
-        if (steps == 0 && check && pb->nt && corner_value(pb, zc_, NULL) < 0) {
+        if (steps == 0 && check && corner_value(pb, zc_, NULL) < 0) {
             b->n = n_before;
             rc = PIECE_WRONG;
             goto done;
@@ -564,7 +523,7 @@ static int run_piece(penv *pb, const double *z0, int dir, int check, pbuf *b,
                 usm_cont_event_at(pb->c, usm_cont_event_count(pb->c) - 1);
             double zs[PMAX];
             memcpy(zs, zc_, sizeof(double) * (size_t)N);
-            if (ev && pb->nt && ev->test == pb->tcorner) {
+            if (ev && ev->test == pb->tcorner) {
                 *end = USM_ENVELOPE_END_CORNER;
                 memcpy(zc, zs, sizeof(double) * (size_t)N);
                 if (isnan(corner_value(pb, zs, t_other)))
@@ -577,7 +536,6 @@ static int run_piece(penv *pb, const double *z0, int dir, int check, pbuf *b,
                 *end = USM_ENVELOPE_END_BOX;
                 if (side >= 0) {
                     const int a = side / 2;
-                    pb->have_grow = 0;
                     const double side_value = side % 2 == 0 ? e->lo[a] : e->hi[a];
                     /* where Newton with the side's value held fails, the
                      * located point (within BOX_PAD of the side) put onto it */
@@ -637,6 +595,10 @@ static int z_at_extreme(penv *pb, double t, double px, double py, double *z)
         return -1;
     for (int a = 0; a < pb->k; ++a)
         z[a] = x[pb->idx[a]];
+    if (pb->tw >= 0) {
+        const usm_model *m = pb->e->m;
+        z[pb->tw] = x[m->x_phidot] + x[m->x_psidot] * cos(x[m->x_theta]);
+    }
     z[pb->k] = t;
     z[axis_col(pb, 0)] = px;
     z[axis_col(pb, 1)] = py;
@@ -668,15 +630,28 @@ static int trace(usm_envelope *e, penv *pb, const pseed *s)
     /* the edge's parameter held at the start: the last unknown */
     pb->swap = s->edge < 2 ? 1 : 0;
     pb->k = usm_periodic_shoot_layout(pb->w, pb->idx, sc);
-    pb->nt = s->kind == USM_ENVELOPE_CONTACT_LOSS;
-    pb->N = pb->k + pb->nt + 2;
+    pb->N = pb->k + 3;
     memcpy(pb->xfull, r.x0, sizeof(double) * (size_t)m->nx);
-    for (int a = 0; a < pb->k; ++a)
+    pb->tw = pb->th = pb->psd = -1;
+    for (int a = 0; a < pb->k; ++a) {
         pb->scale[a] = sc[pb->idx[a]];
+        if (m->coordinates == 0 && pb->idx[a] == m->x_phidot)
+            pb->tw = a;
+        if (m->coordinates == 0 && pb->idx[a] == m->x_theta)
+            pb->th = a;
+        if (m->coordinates == 0 && pb->idx[a] == m->x_psidot)
+            pb->psd = a;
+    }
     pb->Omega = 2.0 * 3.14159265358979323846 / r.period;
     pb->h_sample = r.period / USM_PERIODIC_SAMPLES;
-    if (pb->nt)
-        pb->scale[pb->k] = 1.0 / pb->Omega;
+    if (pb->tw >= 0 && pb->th >= 0 && pb->psd >= 0)
+        /* the twist rate's scale as the tilt vector's spin rate's
+         * (solve/periodic.c) */
+        pb->scale[pb->tw] = pb->Omega * sc[m->x_theta];
+    else
+        pb->tw = -1;
+    pb->scale[pb->k] = 1.0 / pb->Omega;
+    pb->rate_step = pb->which == USM_PERIODIC_Q_F_N ? RATE_STEP_F_N : RATE_STEP_STICK;
     pb->gscale = fmax(fabs(r.F_n_max), 1e-300);
     for (int a = 0; a < 2; ++a)
         pb->scale[axis_col(pb, a)] = e->hi[a] - e->lo[a];
@@ -690,15 +665,8 @@ static int trace(usm_envelope *e, penv *pb, const pseed *s)
     int rc = PIECE_WRONG;
     /* into the box: the held parameter away from its edge */
     const int dir = s->edge % 2 == 0 ? 1 : -1;
-    if (!pb->nt) {
-        for (int a = 0; a < pb->k; ++a)
-            z0[a] = r.x0[pb->idx[a]];
-        z0[axis_col(pb, 0)] = s->x;
-        z0[axis_col(pb, 1)] = s->y;
-        rc = run_piece(pb, z0, dir, 0, &b, &end, zc, &t_other);
-    }
     /* the extremes tied with the global one, each tried */
-    for (int i = 0; pb->nt && i < next && rc == PIECE_WRONG; ++i) {
+    for (int i = 0; i < next && rc == PIECE_WRONG; ++i) {
         if (pb->sign * (v[0] - v[i]) > TIE_REL * pb->gscale)
             break;
         /* the seed's shot again: a piece shoots from other start times */

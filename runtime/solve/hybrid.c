@@ -52,6 +52,11 @@ struct usm_hybrid {
     double Bspin[USM_MAX_NX * USM_MAX_NX]; /* the last monodromy in spin coordinates */
     double Phi[USM_MAX_NX * USM_MAX_NX];   /* and as integrated: x rows, spin columns */
     usm_multipliers *mult; /* its eigenvalues (solve/multipliers.h) */
+    /* the last converged orbit's B - I on the non-cyclic components (LU),
+     * at its section time: Newton's first Jacobian from a nearby start */
+    int jc_nr;
+    double jc_ts, jc_lu[USM_MAX_NX * USM_MAX_NX];
+    int jc_piv[USM_MAX_NX];
     /* the integration */
     int mode, n, ncol; /* mode (0 closed, 1 open), its state length, columns of Phi */
     usm_mode k[2];     /* the kernels of the closed and the open mode */
@@ -1008,7 +1013,14 @@ static double residual(const usm_hybrid *h, const int *idx, int nr, const double
  * (6.5 ms, 4-DOF) is followed by steps with its LU and maps without it (1.3
  * ms) while they contract the residual at least by CHORD_RATE (or reach
  * opt->tol); the orbit's multipliers come from a map with the monodromy at
- * the converged state.  rough (a cold start, 1e-4 off the orbit): the first
+ * the converged state.  From a start near the last converged orbit of this
+ * solver (same section time; a continuation's next point) the chord steps
+ * begin with that orbit's LU instead of a first map with the monodromy: the
+ * next orbit is then one map with the monodromy (its check and its
+ * multipliers) and the chord maps (measured, bench/bench_hybrid_cont 4-DOF
+ * steps of 5e-5: 2.4 maps with the monodromy an orbit before, 1 to 2 now);
+ * where they do not contract, Newton goes on as without it from the best
+ * iterate.  rough (a cold start, 1e-4 off the orbit): the first
  * map with the monodromy at ROUGH_RTOL and without the ripple samples (2 ms
  * instead of 6.5): its errors of 1e-7 in the step are far below the step's
  * own quadratic error, the chord maps and the last map run at opt->rtol.
@@ -1017,6 +1029,54 @@ static double residual(const usm_hybrid *h, const int *idx, int nr, const double
 #define CHORD_RATE 0.25
 #define CHORD_MAX 8
 #define CHORD_NOISE 10.0
+/* The chord steps with the last orbit's LU go on while they halve the
+ * residual: a map without the monodromy costs a fifth of one with it, and
+ * the first step from a zero-order start contracts by 0.2 to 0.3 only
+ * (measured), the noise floor near opt->tol by about 0.5. */
+#define REUSE_RATE 0.5
+/* Converged by chord maps within this (scaled) of the last map with the
+ * monodromy, the orbit takes that map's multipliers and period statistics
+ * instead of one more map with the monodromy: they move by about that
+ * (relative), a tenth of what Newton's tolerance leaves open near a
+ * multiplier 0.9, and the confirming map's residual agreed only to its own
+ * noise (CHORD_NOISE) anyway.  Met where the chord maps stall at their
+ * noise, 2e-9 to 7e-9, just above opt->tol: the Newton step from the map
+ * with the monodromy is then about 1e-8. */
+#define REUSE_B_STEP 1e-8
+
+/* What a period map leaves in h of its orbit (the orbit's statistics). */
+typedef struct map_stats {
+    double open_total, vmax, wmin, wmax;
+    int nsep, nimp, nslip, nmodes;
+    char seq[USM_HYBRID_MAX_SWITCHES + 1];
+} map_stats;
+
+static void stats_keep(const usm_hybrid *h, map_stats *st)
+{
+    st->open_total = h->open_total;
+    st->vmax = h->vmax;
+    st->wmin = h->wmin;
+    st->wmax = h->wmax;
+    st->nsep = h->nsep;
+    st->nimp = h->nimp;
+    st->nslip = h->nslip;
+    st->nmodes = h->nmodes;
+    memcpy(st->seq, h->seq, sizeof st->seq);
+}
+
+static void stats_restore(usm_hybrid *h, const map_stats *st)
+{
+    h->open_total = st->open_total;
+    h->vmax = st->vmax;
+    h->wmin = st->wmin;
+    h->wmax = st->wmax;
+    h->nsep = st->nsep;
+    h->nimp = st->nimp;
+    h->nslip = st->nslip;
+    h->nmodes = st->nmodes;
+    memcpy(h->seq, st->seq, sizeof st->seq);
+}
+
 static int newton(usm_hybrid *h, const usm_hybrid_options *opt, double ts, double *x0,
                   int rough, usm_hybrid_result *out)
 {
@@ -1029,10 +1089,36 @@ static int newton(usm_hybrid *h, const usm_hybrid_options *opt, double ts, doubl
             idx[nr++] = i;
     double res = INFINITY, mean = NAN;
     int it;
+    if (!rough && h->jc_nr == nr && fabs(ts - h->jc_ts) <= 1e-9 * h->T) {
+        double r[USM_MAX_NX], xt[USM_MAX_NX], rt[USM_MAX_NX], rest;
+        h->nsamp = 0;
+        if (period_map(h, ts, x0, x1, NULL, NULL) == USM_OK) {
+            res = residual(h, idx, nr, x0, x1, r);
+            for (int c = 0; c < CHORD_MAX && res > opt->tol; ++c) {
+                usm_lu_solve_dense(nr, h->jc_lu, h->jc_piv, r, 1);
+                memcpy(xt, x0, sizeof xt);
+                for (int a = 0; a < nr; ++a)
+                    xt[idx[a]] -= r[a];
+                if (period_map(h, ts, xt, x1, NULL, NULL) != USM_OK ||
+                    !((rest = residual(h, idx, nr, xt, x1, rt)) <= REUSE_RATE * res ||
+                      rest <= opt->tol))
+                    break; /* x0 the best iterate */
+                memcpy(x0, xt, sizeof xt);
+                memcpy(r, rt, sizeof rt);
+                res = rest;
+            }
+        }
+        /* the map with the monodromy below confirms a converged x0 */
+        if (!(res <= opt->tol))
+            res = INFINITY;
+    }
     /* every map with the monodromy samples the rotor speed for the ripple
      * (the converged one's counts): the samples are CVODES' interpolants,
      * its steps the same */
-    for (it = 0; it <= opt->max_iter; ++it) {
+    map_stats st;
+    double xB[USM_MAX_NX];
+    int from_B = 0; /* converged near the last map with the monodromy: its multipliers */
+    for (it = 0; it <= opt->max_iter && !from_B; ++it) {
         double r[USM_MAX_NX];
         int rough_map = rough && it == 0;
         h->nsamp = rough_map ? 0 : RIPPLE_SAMPLES;
@@ -1051,6 +1137,8 @@ static int newton(usm_hybrid *h, const usm_hybrid_options *opt, double ts, doubl
         h->nsamp = 0;
         if (rc != USM_OK)
             return rc;
+        stats_keep(h, &st);
+        memcpy(xB, x0, sizeof xB);
         const double res_b = residual(h, idx, nr, x0, x1, r);
         /* converged by a chord map: this map (other steps, as the monodromy
          * is in the error control) agrees to its integration noise */
@@ -1088,9 +1176,20 @@ static int newton(usm_hybrid *h, const usm_hybrid_options *opt, double ts, doubl
             memcpy(x0, xt, sizeof xt);
             memcpy(r, rt, sizeof rt);
             res = rest;
-            if (res <= opt->tol)
-                break; /* the map with the monodromy confirms it */
+            if (res <= opt->tol) {
+                /* the map with the monodromy confirms it, unless this one
+                 * lies within REUSE_B_STEP */
+                double step = 0;
+                for (int a = 0; a < nr; ++a)
+                    step = fmax(step, fabs(x0[idx[a]] - xB[idx[a]]) / h->scale[idx[a]]);
+                from_B = !rough_map && step <= REUSE_B_STEP;
+                break;
+            }
         }
+    }
+    if (from_B) {
+        --it; /* the loop's increment: `it` maps with the monodromy before */
+        stats_restore(h, &st);
     }
     out->iterations = it;
     out->residual = res;
@@ -1105,6 +1204,14 @@ static int newton(usm_hybrid *h, const usm_hybrid_options *opt, double ts, doubl
     }
     if ((rc = multipliers(h, B, &out->floquet)) != USM_OK)
         return rc;
+    h->jc_nr = 0;
+    for (int a = 0; a < nr; ++a)
+        for (int b = 0; b < nr; ++b)
+            h->jc_lu[a * nr + b] = B[idx[a] * nx + idx[b]] - (a == b);
+    if (usm_lu_factor_dense(nr, h->jc_lu, h->jc_piv) == 0) {
+        h->jc_nr = nr;
+        h->jc_ts = ts;
+    }
     out->rotor_speed_ripple = h->wmax - h->wmin; /* of the converged map */
     out->floquet.t0 = ts;
     out->converged = 1;
@@ -1126,7 +1233,7 @@ static int newton(usm_hybrid *h, const usm_hybrid_options *opt, double ts, doubl
  * engine converges is one that solve converges at once. */
 int usm_hybrid_shoot(usm_hybrid *h, const usm_params *p, double ts, const double *x0,
                      int *idx, int *nr, double *F, double *J, double *max_modulus,
-                     double *scale, char seq[USM_HYBRID_MAX_SWITCHES + 1])
+                     double crit[2], double *scale, char seq[USM_HYBRID_MAX_SWITCHES + 1])
 {
     usm_hybrid_options o;
     usm_hybrid_result unused;
@@ -1161,6 +1268,15 @@ int usm_hybrid_shoot(usm_hybrid *h, const usm_params *p, double ts, const double
             return rc;
         if (max_modulus)
             *max_modulus = f.max_modulus;
+        if (crit) {
+            int k = -1;
+            for (int i = 0; i < f.n; ++i)
+                if (!f.cyclic[i] &&
+                    (k < 0 || hypot(f.re[i], f.im[i]) > hypot(f.re[k], f.im[k])))
+                    k = i;
+            crit[0] = k >= 0 ? f.re[k] : NAN;
+            crit[1] = k >= 0 ? f.im[k] : NAN;
+        }
         if (scale)
             memcpy(scale, h->colscale, sizeof(double) * (size_t)nx);
     }

@@ -15,11 +15,12 @@
  * (w = x but for w[x_phidot] = phidot + psidot: in x the columns of phidot
  * and psidot are nearly equal and large, their difference carries the
  * multipliers, and B - I is ill-conditioned beyond the map's noise),
- * *max_modulus its largest |lambda| but the cyclic ones, and the scales of
- * w (nx values) into scale when not NULL.  seq: the map's mode sequence, when not NULL.  USM_OK, or
- * USM_EINPUT / USM_EFAILED (usm_hybrid_message). */
+ * *max_modulus its largest |lambda| but the cyclic ones, that multiplier
+ * (re, im) into crit when not NULL, and the scales of w (nx values) into
+ * scale when not NULL.  seq: the map's mode sequence, when not NULL.  USM_OK,
+ * or USM_EINPUT / USM_EFAILED (usm_hybrid_message). */
 int usm_hybrid_shoot(usm_hybrid *h, const usm_params *p, double ts, const double *x0,
                      int *idx, int *nr, double *F, double *J, double *max_modulus,
-                     double *scale, char seq[USM_HYBRID_MAX_SWITCHES + 1]);
+                     double crit[2], double *scale, char seq[USM_HYBRID_MAX_SWITCHES + 1]);
 
 #endif /* USM_HYBRID_INTERNAL_H */

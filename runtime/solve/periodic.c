@@ -369,7 +369,7 @@ static double quantity(const usm_periodic *w, int q, double t, const double *x)
  * (through the chain rule in the tilt vector);
  * the others by the central difference of q along the tangent (x', 1) of
  * the motion, exact to O(eps^2) (no integration). */
-static double rate(const usm_periodic *w, int q, double t, const double *x)
+static double rate_step(const usm_periodic *w, int q, double t, const double *x, double step)
 {
     const int n = w->n;
     double xdot[USM_MAX_NX], xp[USM_MAX_NX], xm[USM_MAX_NX];
@@ -377,12 +377,17 @@ static double rate(const usm_periodic *w, int q, double t, const double *x)
         return NAN;
     if (q == Q_THETA)
         return usm_coords_theta_rate(w->m, x, xdot);
-    const double e = RATE_STEP / w->Omega;
+    const double e = step / w->Omega;
     for (int i = 0; i < n; ++i) {
         xp[i] = x[i] + e * xdot[i];
         xm[i] = x[i] - e * xdot[i];
     }
     return (quantity(w, q, t + e, xp) - quantity(w, q, t - e, xm)) / (2.0 * e);
+}
+
+static double rate(const usm_periodic *w, int q, double t, const double *x)
+{
+    return rate_step(w, q, t, x, RATE_STEP);
 }
 
 /* The state on the orbit at time t (taken modulo the period into [t0, t0 +
@@ -1183,6 +1188,19 @@ int usm_periodic_quantity_rate(usm_periodic *w, const usm_params *p, usm_periodi
     if (dvalue)
         *dvalue = rate(w, q, t, x);
     return isfinite(*value) && (!dvalue || isfinite(*dvalue)) ? USM_OK : USM_EFAILED;
+}
+
+int usm_periodic_quantity_rate_step(usm_periodic *w, const usm_params *p,
+                                    usm_periodic_quantity which, double t, const double *x,
+                                    double step, double *value, double *dvalue)
+{
+    const int q = quantity_code(which);
+    if (!(step > 0 && step < 1))
+        return USM_EFAILED;
+    set_params(w, p);
+    *value = quantity(w, q, t, x);
+    *dvalue = rate_step(w, q, t, x, step);
+    return isfinite(*value) && isfinite(*dvalue) ? USM_OK : USM_EFAILED;
 }
 
 int usm_periodic_shoot_extremes(usm_periodic *w, usm_periodic_quantity which, double sign,

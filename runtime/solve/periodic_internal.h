@@ -119,6 +119,19 @@ int usm_periodic_shoot_t0_column(usm_periodic *w, double *col);
 int usm_periodic_quantity_rate(usm_periodic *w, const usm_params *p, usm_periodic_quantity which,
                                double t, const double *x, double *value, double *dvalue);
 
+/* The same with the central difference's step given, in radians of Omega
+ * t (usm_periodic_quantity_rate's is 1e-5): where the quantity is formed
+ * with cancellation its rounding over 1e-5 swamps the rate.  The stick
+ * excess takes F_t from the accelerations phi'' and psi'' (~1e9 rad/s^2
+ * each) that nearly cancel, so it is rounded to ~1e-12 of F_n_max per ulp
+ * of the state: its rate is noisy at 1e-7 of F_n_max Omega over 1e-5, at
+ * 1e-10 over 1e-2, where the truncation error is 4e-8 (it moves the
+ * extreme's time by as much, and its value by 1e-15).  USM_OK, or
+ * USM_EFAILED (the motion is singular there, or step not in (0, 1)). */
+int usm_periodic_quantity_rate_step(usm_periodic *w, const usm_params *p,
+                                    usm_periodic_quantity which, double t, const double *x,
+                                    double step, double *value, double *dvalue);
+
 /* The local maxima (sign +1) or minima (-1) of the quantity over the last
  * shot's orbit, each sample extreme (cyclic) located as the orbit's extremes
  * are: their times in [t0, t0 + T) into t and values into v, the most

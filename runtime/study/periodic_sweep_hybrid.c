@@ -84,12 +84,13 @@ typedef struct hbranch {
     double t0, xs[USM_MAX_NX];   /* section time; the state whose cyclic components stay */
     double scale[USM_MAX_NX + 1];
     char seq[USM_HYBRID_MAX_SWITCHES + 1]; /* the branch's mode sequence */
-    /* the last map with the monodromy: its point, max |lambda|, sequence */
+    /* the last map with the monodromy: its point, max |lambda| and that
+     * multiplier, sequence */
     int have;
-    double xc[USM_MAX_NX + 1], mod;
+    double xc[USM_MAX_NX + 1], mod, crit[2];
     char seqc[USM_HYBRID_MAX_SWITCHES + 1];
     usm_cont *c;
-    int k_stab, k_seq;
+    int k_seq;
     /* the engine on the branch (live) from one grid point to the next; its
      * events past the last grid point wait (pend) for the grid point after
      * them, and are dropped should the sweep leave the branch there */
@@ -132,7 +133,8 @@ static int shoot_at(hbranch *b, const double *x, double *F, double *J)
     state_of(b, x, xs);
     const usm_params q = params_at(b->s, x[b->nr]);
     b->have = 0;
-    if (usm_hybrid_shoot(b->s->hy, &q, b->t0, xs, NULL, NULL, F, J, &b->mod, NULL, b->seqc) !=
+    if (usm_hybrid_shoot(b->s->hy, &q, b->t0, xs, NULL, NULL, F, J, &b->mod, b->crit, NULL,
+                         b->seqc) !=
         USM_OK)
         return -1;
     memcpy(b->xc, x, sizeof(double) * (size_t)(b->nr + 1));
@@ -149,19 +151,19 @@ static int residual(const double *x, double *F, double *J, void *ctx)
         state_of(b, x, xs);
         const usm_params q = params_at(b->s, x[n]);
         return usm_hybrid_shoot(b->s->hy, &q, b->t0, xs, NULL, NULL, F, NULL, NULL, NULL,
-                                NULL) == USM_OK ? 0 : -1;
+                                NULL, NULL) == USM_OK ? 0 : -1;
     }
     if (shoot_at(b, x, F, Jx) != 0)
         return -1;
     state_of(b, x, xs);
     double dp = DP_REL * b->scale[n];
     usm_params q = params_at(b->s, x[n] + dp);
-    if (usm_hybrid_shoot(b->s->hy, &q, b->t0, xs, NULL, NULL, Fp, NULL, NULL, NULL, NULL) !=
-        USM_OK) {
+    if (usm_hybrid_shoot(b->s->hy, &q, b->t0, xs, NULL, NULL, Fp, NULL, NULL, NULL, NULL,
+                         NULL) != USM_OK) {
         dp = -dp; /* the parameter's bound just beyond */
         q = params_at(b->s, x[n] + dp);
         if (usm_hybrid_shoot(b->s->hy, &q, b->t0, xs, NULL, NULL, Fp, NULL, NULL, NULL,
-                             NULL) != USM_OK)
+                             NULL, NULL) != USM_OK)
             return -1;
     }
     for (int i = 0; i < n; ++i) {
@@ -229,8 +231,8 @@ static int branch_begin(hbranch *b, double v, const usm_hybrid_result *r, double
     snprintf(b->seq, sizeof b->seq, "%s", r->mode_sequence);
     const usm_params q = params_at(b->s, v);
     b->have = 0;
-    if (usm_hybrid_shoot(b->s->hy, &q, b->t0, r->x0, b->idx, &b->nr, F, J, &b->mod, b->scale,
-                         b->seqc) != USM_OK)
+    if (usm_hybrid_shoot(b->s->hy, &q, b->t0, r->x0, b->idx, &b->nr, F, J, &b->mod, b->crit,
+                         b->scale, b->seqc) != USM_OK)
         return -1;
     double sc[USM_MAX_NX + 1];
     /* the twist angle's corrector updates stall at 2e-8 to 5e-8 of its
@@ -254,7 +256,6 @@ static int branch_begin(hbranch *b, double v, const usm_hybrid_result *r, double
     o.event_tol = 1e-11;
     usm_cont_set_problem(b->c, residual, b);
     if (usm_cont_set_options(b->c, &o) != 0 || usm_cont_set_scale(b->c, b->scale) != 0 ||
-        (b->k_stab = usm_cont_add_test(b->c, stab_test, b, USM_CONT_TEST_MONITOR)) < 0 ||
         (b->k_seq = usm_cont_add_test(b->c, seq_test, b, USM_CONT_TEST_STOP)) < 0)
         return -2;
     return 0;
@@ -556,6 +557,107 @@ static int resection(hbranch *b, const double *x)
     return 0;
 }
 
+/* The cubic through a step's ends xa, xb with their directions da, db
+ * (dx/ds) at the parameter's value v (the chord when hermite is 0), into x. */
+static void step_cubic(int n, const double *xa, const double *da, const double *xb,
+                       const double *db, int hermite, double v, double *x)
+{
+    const double dp = xb[n] - xa[n], w = (v - xa[n]) / dp;
+    const double h00 = (1 + 2 * w) * (1 - w) * (1 - w), h10 = w * (1 - w) * (1 - w);
+    const double h01 = w * w * (3 - 2 * w), h11 = w * w * (w - 1);
+    for (int a = 0; a < n; ++a)
+        x[a] = hermite ? h00 * xa[a] + h10 * dp * da[a] / da[n] + h01 * xb[a] +
+                             h11 * dp * db[a] / db[n]
+                       : xa[a] + w * (xb[a] - xa[a]);
+    x[n] = v;
+}
+
+/* Brent's function for a stability change inside a step: max |lambda| - 1
+ * of the orbit at the parameter's value q, Newton (to STAB_NEWTON_TOL) from
+ * the step's cubic there plus the cubic's error at the last trial (the
+ * cubic misses the orbits of a long step by up to 1e-6, a smooth error: so
+ * the trials that close in on the zero start within Newton's tolerance and
+ * take one map with the monodromy each, not two), in the branch's
+ * sequence. */
+typedef struct cubic_ctx {
+    hbranch *b;
+    const double *xa, *da, *xb, *db;
+    double x[USM_MAX_NX + 1], q;
+    double err[USM_MAX_NX + 1]; /* the cubic's error at the last trial */
+    usm_hybrid_result at;       /* the orbit at q */
+} cubic_ctx;
+
+static double cubic_stab(double q, void *ctx)
+{
+    cubic_ctx *j = ctx;
+    hbranch *b = j->b;
+    double xc[USM_MAX_NX + 1];
+    step_cubic(b->nr, j->xa, j->da, j->xb, j->db, 1, q, xc);
+    for (int a = 0; a <= b->nr; ++a)
+        j->x[a] = xc[a] + j->err[a];
+    j->q = NAN;
+    if (orbit_at(b, j->x, STAB_NEWTON_TOL, &j->at) != 0 ||
+        strcmp(j->at.mode_sequence, b->seq) != 0)
+        return NAN;
+    unknowns_of(b, j->at.x0, j->x);
+    for (int a = 0; a < b->nr; ++a)
+        j->err[a] = j->x[a] - xc[a];
+    j->q = q;
+    return j->at.floquet.max_modulus - 1.0;
+}
+
+/* The stability change inside the last step (max |lambda| - 1 from g0 at
+ * its start, b->xs0, to g1 at the engine's point): its parameter value into
+ * *v and its orbit into *at; 0, or -1 when it is not located.  Where the
+ * critical multiplier is +1 (plus) the branch has a branch point there (B -
+ * I singular, the branch going on in the parameter: not a fold), where the
+ * arc's corrections fail within about 1e-4 of it (the noise amplified by
+ * 1 / (|lambda| - 1)); there Brent on the parameter, each trial an orbit
+ * from the step's cubic, comes first; elsewhere Brent on the step's arc.
+ * Each is the other's fallback.  (Before, a failed location rejected the
+ * step: the engine halved it some 25 times to h_min, about 2 s, before
+ * jump_across took the branch across by the same Brent on the parameter.) */
+static int stab_in_step(hbranch *b, double g0, double g1, int plus, double *v,
+                        usm_hybrid_result *at)
+{
+    const int n = b->nr;
+    const double *xb = usm_cont_point(b->c), *db = usm_cont_direction(b->c);
+    const double dp = xb[n] - b->xs0[n];
+    /* the cubic in the parameter needs it monotone along the step */
+    const int cubic = dp != 0.0 && b->dx0[n] * dp > 0 && db[n] * dp > 0;
+    for (int pass = 0; pass < 2; ++pass) {
+        if ((pass == 0) != (plus && cubic)) {
+            double x[USM_MAX_NX + 1], s;
+            if (usm_cont_arc_locate(b->c, stab_test, b, g0, g1, &s, x) == 0 &&
+                orbit_at(b, x, STAB_NEWTON_TOL, at) == 0) {
+                *v = x[n];
+                return 0;
+            }
+        } else if (cubic) {
+            cubic_ctx j = {.b = b, .xa = b->xs0, .da = b->dx0, .xb = xb, .db = db, .q = NAN};
+            usm_root *root = usm_root_alloc();
+            /* the trials' max |lambda| is good to about 1e-9 (Newton to
+             * STAB_NEWTON_TOL), the zero so to about 1e-11 of the
+             * parameter's scale at the slopes of 30 to 200 per unit met: a
+             * tighter stop only bisects that noise (measured, 4-DOF mode
+             * split 1.947 %: seven trials within 1e-13 of each other) */
+            const usm_root_stop stop = {1e-10 * b->scale[n], 0.0, 100};
+            double q;
+            const int ok = root &&
+                           usm_root_brent(root, cubic_stab, &j, b->xs0[n], xb[n], g0, g1, &stop,
+                                          &q) == 0 &&
+                           (j.q == q || isfinite(cubic_stab(q, &j)));
+            usm_root_free(root);
+            if (ok) {
+                *v = q;
+                *at = j.at;
+                return 0;
+            }
+        }
+    }
+    return -1;
+}
+
 /* One step of the engine on the branch, its events pending and its end
  * noted (b->ended); a jump across a branch point goes at most to v.  0, or
  * -1 when out of memory. */
@@ -565,6 +667,9 @@ static int branch_step(hbranch *b, double v)
     double x[USM_MAX_NX + 1];
     memcpy(b->xs0, usm_cont_point(b->c), sizeof(double) * (size_t)N);
     memcpy(b->dx0, usm_cont_direction(b->c), sizeof(double) * (size_t)N);
+    /* max |lambda| - 1 at the step's start (the cache: its corrector's last
+     * Jacobian) */
+    const double g0 = cached(b, b->xs0) == 0 ? b->mod - 1.0 : NAN;
     const int st = usm_cont_step(b->c);
     if (st == USM_CONT_LOST && strstr(usm_hybrid_message(b->s->hy), "section") != NULL) {
         /* the last map failed as its section left the closed phase: a new
@@ -590,16 +695,16 @@ static int branch_step(hbranch *b, double v)
         branch_ended(b, usm_cont_point(b->c)[b->nr], "Newton fails on its branch past %s%s", "");
         return 0;
     }
-    for (int k = 0; k < usm_cont_event_count(b->c); ++k) {
-        const usm_cont_event *e = usm_cont_event_at(b->c, k);
-        if (e->test != b->k_stab)
-            continue;
+    memcpy(x, usm_cont_point(b->c), sizeof(double) * (size_t)N);
+    if (isfinite(g0) && g0 != 0.0 && cached(b, x) == 0 && isfinite(b->mod) &&
+        (b->mod == 1.0 || (g0 < 0) != (b->mod < 1.0))) {
         usm_hybrid_result at;
-        memcpy(x, e->x, sizeof(double) * (size_t)N);
-        const int located = orbit_at(b, x, STAB_NEWTON_TOL, &at) == 0;
-        if (!located)
-            continue; /* no orbit to report: the grid points' multipliers say it */
-        if (pend_add(b, 0, x[b->nr], &at, located, e->before < 0, NULL, NULL) != 0)
+        double vs;
+        /* no orbit to report when it fails: the grid points' multipliers
+         * say it */
+        if (stab_in_step(b, g0, b->mod - 1.0, b->crit[1] == 0.0 && b->crit[0] > 0.0, &vs,
+                         &at) == 0 &&
+            pend_add(b, 0, vs, &at, 1, g0 < 0, NULL, NULL) != 0)
             return -1;
     }
     if (st == USM_CONT_STEP)
@@ -681,15 +786,9 @@ static int follow(usm_periodic_sweep *s, hbranch *b, double va, const usm_hybrid
                  * (an arc point would cost a correction more; the chord
                  * alone missed the orbit by 1e-4, Hermite's by 1e-8) */
                 const double *db = usm_cont_direction(b->c), *da = b->dx0;
-                const double dp = pb - xa[n], w = (v - xa[n]) / dp;
                 const int hermite = memcmp(xa, b->xs0, sizeof(double) * (size_t)(n + 1)) == 0 &&
                                     fabs(da[n]) > 0 && fabs(db[n]) > 0;
-                const double h00 = (1 + 2 * w) * (1 - w) * (1 - w), h10 = w * (1 - w) * (1 - w);
-                const double h01 = w * w * (3 - 2 * w), h11 = w * w * (w - 1);
-                for (int a = 0; a < n; ++a)
-                    x[a] = hermite ? h00 * xa[a] + h10 * dp * da[a] / da[n] + h01 * xb[a] +
-                                         h11 * dp * db[a] / db[n]
-                                   : xa[a] + w * (xb[a] - xa[a]);
+                step_cubic(n, xa, da, xb, db, hermite, v, x);
             }
             x[n] = v;
             if (pend_flush(s, b, v, dir, unstable_from) != 0)

@@ -1,6 +1,6 @@
 /* The imperfect motor's envelope in (phase_error, mode_split): contact_loss
- * as a curve (runtime/envelope/envelope_periodic.c), against independent
- * truth.
+ * and stick_loss as curves (runtime/envelope/envelope_periodic.c), against
+ * independent truth.
  *
  * 1. The curves pass through the one-parameter onsets (docs/unilateral.md,
  *    docs/periodic.md) on both axes, where F_n has two equal minima a
@@ -16,6 +16,20 @@
  *    steeply, to 1e-8 of the box's side.
  * 3. The regions: below the curve the orbit's stick is lost (stick_loss
  *    lies at 0.2724860 rad on the axis), above it the contact opens.
+ * 4. stick_loss (the orbit's largest |F_t| - mu0 F_n = 0) from its onset
+ *    on mode_split = 0, 0.2724860 rad (docs/periodic.md), into the box:
+ *    its end on the axis within 1e-8 (relative) of the sweep's located
+ *    event, five points against sweeps across it to 1e-8 of the box's
+ *    side, the stick admissible to its left and lost to its right.  (With
+ *    the orbit's located extreme as the defining function, the former
+ *    formulation, the points were 1e-5 of the side off.)
+ * 5. stick_loss around its turn in phase_error (0.65228 rad near mode
+ *    split 2.05 %, a fold of the curve in the plane): in a box of 0.005 rad
+ *    x 0.1 % about it the curve enters at one side and leaves at the
+ *    opposite one, its largest phase error inside, and that point agrees
+ *    with a sweep across it (the engine's arclength passes the turn; with
+ *    the parameters' columns by forward differences against the full shot
+ *    the curve was lost there, in the box's small units).
  */
 #include <math.h>
 #include <stdio.h>
@@ -100,30 +114,36 @@ static void onset(const usm_model *m, const usm_envelope *e, usm_envelope_kind k
           m->name, usm_envelope_kind_name(kind), axis[a], v, ref);
 }
 
+/* Point i (not the last) of the curve against a sweep across it: its
+ * distance from the sweep's located event, of the box's side. */
+static double point_check(const usm_model *m, const usm_envelope_curve *c, size_t i,
+                          usm_pevent_type type)
+{
+    const double span[2] = {box[1] - box[0], box[3] - box[2]};
+    const double *p = c->xy + 2 * i, *q = c->xy + 2 * (i + 1);
+    /* the parameter in which the curve is steeper is the one swept */
+    const int over = fabs((q[0] - p[0]) / span[0]) < fabs((q[1] - p[1]) / span[1]) ? 0 : 1;
+    const double h = 0.02 * span[over];
+    const double ref = sweep_event(m, over, p[1 - over], p[over] - h, p[over] + h, type);
+    /* of the box's side, as the stationary curves' (near an axis the value
+     * itself is small) */
+    const double d = fabs(p[over] - ref) / span[over];
+    printf("%s %s point %zu (%.9g, %.9g): sweep in %s %.12g (%.2e)\n", m->name,
+           usm_envelope_kind_name(c->kind), i, p[0], p[1], axis[over], ref, d);
+    CHECK(d <= 1e-8, "%s %s point %zu: %.12g, the sweep's event %.12g", m->name,
+          usm_envelope_kind_name(c->kind), i, p[over], ref);
+    return d;
+}
+
 /* Five interior points against sweeps across the curve. */
 static void five_points(const usm_model *m, const usm_envelope_curve *c, usm_pevent_type type)
 {
-    const double span[2] = {box[1] - box[0], box[3] - box[2]};
     CHECK(c->npoints >= 7, "%s: %zu points", usm_envelope_kind_name(c->kind), c->npoints);
     if (c->npoints < 7)
         return;
     double worst = 0;
-    for (int j = 1; j <= 5; ++j) {
-        const size_t i = (size_t)j * (c->npoints - 1) / 6;
-        const double *p = c->xy + 2 * i, *q = c->xy + 2 * (i + 1);
-        /* the parameter in which the curve is steeper is the one swept */
-        const int over = fabs((q[0] - p[0]) / span[0]) < fabs((q[1] - p[1]) / span[1]) ? 0 : 1;
-        const double h = 0.02 * span[over];
-        const double ref = sweep_event(m, over, p[1 - over], p[over] - h, p[over] + h, type);
-        /* of the box's side, as the stationary curves' (near an axis the value
-         * itself is small) */
-        const double d = fabs(p[over] - ref) / span[over];
-        worst = fmax(worst, d);
-        printf("%s %s point %zu (%.9g, %.9g): sweep in %s %.12g (%.2e)\n", m->name,
-               usm_envelope_kind_name(c->kind), i, p[0], p[1], axis[over], ref, d);
-        CHECK(d <= 1e-8, "%s %s point %zu: %.12g, the sweep's event %.12g", m->name,
-              usm_envelope_kind_name(c->kind), i, p[over], ref);
-    }
+    for (int j = 1; j <= 5; ++j)
+        worst = fmax(worst, point_check(m, c, (size_t)j * (c->npoints - 1) / 6, type));
     printf("%s %s: five points, largest relative difference %.2e\n", m->name,
            usm_envelope_kind_name(c->kind), worst);
 }
@@ -193,6 +213,42 @@ int main(void)
     if (CHECK(c != NULL, "3dof: no contact_loss curve at phase_error = 0")) {
         onset(m3, e, USM_ENVELOPE_CONTACT_LOSS, 0, 0.0164256, 5e-8, USM_PEVENT_CONTACT_LOSS);
         five_points(m3, c, USM_PEVENT_CONTACT_LOSS);
+    }
+    usm_envelope_free(e);
+
+    /* 3-DOF stick_loss from mode_split = 0 */
+    e = run(m3, 0.26, 0.29, 0.0, 0.004);
+    c = curve_of(e, USM_ENVELOPE_STICK_LOSS);
+    if (CHECK(c != NULL, "3dof: no stick_loss curve")) {
+        onset(m3, e, USM_ENVELOPE_STICK_LOSS, 1, 0.2724860, 5e-8, USM_PEVENT_STICK_LOSS);
+        five_points(m3, c, USM_PEVENT_STICK_LOSS);
+    }
+    CHECK(strcmp(class_at(e, 0.262, 0.0002), "stick_admissible") == 0,
+          "3dof at (0.262, 0.0002): %s", class_at(e, 0.262, 0.0002));
+    CHECK(strcmp(class_at(e, 0.288, 0.0002), "stick_lost") == 0, "3dof at (0.288, 0.0002): %s",
+          class_at(e, 0.288, 0.0002));
+    usm_envelope_free(e);
+
+    /* 3-DOF stick_loss around its turn */
+    e = run(m3, 0.65, 0.655, 0.020, 0.021);
+    c = curve_of(e, USM_ENVELOPE_STICK_LOSS);
+    if (CHECK(c != NULL && c->npoints >= 3, "3dof: no stick_loss curve at the turn")) {
+        const double *first = c->xy, *last = c->xy + 2 * (c->npoints - 1);
+        CHECK(c->end[0] == USM_ENVELOPE_END_BOX && c->end[1] == USM_ENVELOPE_END_BOX &&
+                  fabs(fabs(first[1] - last[1]) - 0.001) < 1e-12,
+              "3dof stick_loss at the turn: from (%.9g, %.9g) to (%.9g, %.9g), ends %s %s",
+              first[0], first[1], last[0], last[1], usm_envelope_end_name(c->end[0]),
+              usm_envelope_end_name(c->end[1]));
+        size_t imax = 0;
+        for (size_t i = 1; i < c->npoints; ++i)
+            if (c->xy[2 * i] > c->xy[2 * imax])
+                imax = i;
+        printf("3dof_imperfect stick_loss: the turn at point %zu of %zu, phase error %.10g\n",
+               imax, c->npoints, c->xy[2 * imax]);
+        CHECK(c->xy[2 * imax] > fmax(first[0], last[0]) + 5e-4 && imax + 1 < c->npoints,
+              "3dof stick_loss: the turn is not inside the box");
+        if (imax + 1 < c->npoints)
+            point_check(m3, c, imax, USM_PEVENT_STICK_LOSS);
     }
     usm_envelope_free(e);
 

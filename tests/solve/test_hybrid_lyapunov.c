@@ -21,6 +21,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "bouncing.h"
 #include "check.h"
 #include "usm.h"
 #include "usm_periodic.h"
@@ -59,36 +60,13 @@ static void check_orbit(const char *name, const char *par, double value)
     usm_hybrid_free(h);
 }
 
-typedef struct last_state {
-    double t, y[USM_MAX_NY];
-    int open;
-} last_state;
-
-static int keep_last(const usm_sim_sample *smp, void *data)
-{
-    last_state *l = data;
-    l->t = smp->t;
-    l->open = smp->open;
-    memcpy(l->y, smp->y, sizeof(double) * (size_t)smp->ny);
-    return 0;
-}
-
 static void check_chaotic(void)
 {
-    const usm_model *m = usm_model_find("4dof_imperfect_unilateral");
+    const usm_model *m;
     usm_params p;
-    usm_params_default(&p);
-    usm_params_set(&p, "mode_split", 0.05, NULL);
-    usm_sim *s = usm_sim_alloc(m);
-    usm_sim_options o;
-    usm_sim_options_default(&o);
-    o.duration = 100 / p.f;
-    o.rate = p.f;
-    last_state l;
-    const usm_sim_callbacks cb = {keep_last, NULL, &l, NULL};
-    usm_sim_summary sum;
-    CHECK(usm_sim_run(s, &p, &o, &cb, &sum) == USM_OK, "run: %s", usm_sim_message(s));
-    usm_sim_free(s);
+    bouncing_state l;
+    if (!bouncing_settle(&m, &p, &l))
+        return;
     usm_hybrid *h = usm_hybrid_alloc(m);
     double lam[2];
     for (int k = 0; k < 2; ++k) {

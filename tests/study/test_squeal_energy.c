@@ -18,6 +18,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "bouncing.h"
 #include "check.h"
 #include "usm.h"
 #include "usm_periodic.h"
@@ -67,36 +68,13 @@ static void check_periodic(void)
     CHECK(w.normal_stator != 0.0, "no normal power");
 }
 
-typedef struct last_state {
-    double t, y[USM_MAX_NY];
-    int open;
-} last_state;
-
-static int keep_last(const usm_sim_sample *smp, void *data)
-{
-    last_state *l = data;
-    l->t = smp->t;
-    l->open = smp->open;
-    memcpy(l->y, smp->y, sizeof(double) * (size_t)smp->ny);
-    return 0;
-}
-
 static void check_irregular(void)
 {
-    const usm_model *m = usm_model_find("4dof_imperfect_unilateral");
+    const usm_model *m;
     usm_params p;
-    usm_params_default(&p);
-    usm_params_set(&p, "mode_split", 0.05, NULL);
-    usm_sim *s = usm_sim_alloc(m);
-    usm_sim_options o;
-    usm_sim_options_default(&o);
-    o.duration = 100 / p.f;
-    o.rate = p.f;
-    last_state l;
-    const usm_sim_callbacks cb = {keep_last, NULL, &l, NULL};
-    usm_sim_summary sum;
-    CHECK(usm_sim_run(s, &p, &o, &cb, &sum) == USM_OK, "run: %s", usm_sim_message(s));
-    usm_sim_free(s);
+    bouncing_state l;
+    if (!bouncing_settle(&m, &p, &l))
+        return;
     usm_squeal_power w;
     char msg[USM_MSG_LEN];
     CHECK(usm_squeal_energy(m, &p, l.t, l.open, l.y, 60, 1e-9, &w, msg) == USM_OK, "energy: %s",

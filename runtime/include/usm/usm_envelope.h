@@ -143,8 +143,9 @@ typedef enum {
     USM_ENVELOPE_END_CLOSED = 3,   /* the curve closed on itself */
     USM_ENVELOPE_END_LOST = 4,     /* the continuation was lost */
     USM_ENVELOPE_END_LIMIT = 5,    /* max_points reached */
-    USM_ENVELOPE_END_CORNER = 6    /* imperfect models: where another extreme of the
-                                      orbit's F_n (stick excess) takes over; the next
+    USM_ENVELOPE_END_CORNER = 6    /* where another extreme takes over: of the orbit's
+                                      F_n (stick excess) in imperfect models, or another
+                                      pair of multipliers on a stability curve; the next
                                       curve of the kind starts there */
 } usm_envelope_end;
 
