@@ -776,36 +776,166 @@ int env_periodic_curves(usm_envelope *e)
     return rc;
 }
 
+/* A region's orbit: where the ideal motor's start finds none (the 4-DOF
+ * motor above F0 ~ 1 N, where the ideal motor has no stationary solution
+ * while the imperfect one's orbits exist), the start is an orbit the
+ * envelope knows: the curves' points hold the orbit's state at t0. */
+#define CLS_NEAR_CURVES 3
+/* the continuation in one parameter from a side of the box: first step,
+ * and the smallest before it is given up */
+#define CLS_STEP0 0.125
+#define CLS_STEP_MIN (1.0 / 256.0)
+
+static int cls_solve(usm_periodic *w, const usm_envelope *e, double x, double y, const double *x0,
+                     const usm_periodic_options *po, usm_periodic_result *res)
+{
+    usm_params q = e->p;
+    *usm_params_field(&q, e->ax[0]) = x;
+    *usm_params_field(&q, e->ax[1]) = y;
+    return usm_periodic_solve(w, &q, x0, po, res) == USM_OK ? 0 : -1;
+}
+
+/* From (x, y) where the ideal start finds an orbit to the sample (rx, ry)
+ * along a straight line, each step from the last orbit, halved where the
+ * solve fails.  0 with the orbit in res, or -1. */
+static int cls_continue(usm_periodic *w, const usm_envelope *e, double x, double y, double rx,
+                        double ry, const usm_periodic_options *po, usm_periodic_result *res)
+{
+    if (cls_solve(w, e, x, y, NULL, po, res) != 0)
+        return -1;
+    double s = 0.0, h = CLS_STEP0, x0[USM_MAX_NX];
+    memcpy(x0, res->x0, sizeof(double) * (size_t)e->m->nx);
+    while (s < 1.0) {
+        const double t = fmin(1.0, s + h);
+        if (cls_solve(w, e, x + t * (rx - x), y + t * (ry - y), x0, po, res) == 0) {
+            s = t;
+            memcpy(x0, res->x0, sizeof(double) * (size_t)e->m->nx);
+            h = fmin(2.0 * h, CLS_STEP0);
+        } else if ((h *= 0.5) < CLS_STEP_MIN)
+            return -1;
+    }
+    return 0;
+}
+
+/* The orbit at the sample (rx, ry): started from the nearest points of the
+ * CLS_NEAR_CURVES nearest curves (distance in the box's sides), else from
+ * the ideal motor, else continued from the four sides through the sample.
+ * *how says which; 0 with the orbit in res, or -1. */
+static int cls_orbit(usm_periodic *w, const usm_envelope *e, double rx, double ry,
+                     const usm_periodic_options *po, usm_periodic_result *res, const char **how,
+                     char *why, size_t whylen)
+{
+    const int nx = e->m->nx;
+    size_t best[CLS_NEAR_CURVES], pt[CLS_NEAR_CURVES];
+    double dist[CLS_NEAR_CURVES];
+    int nb = 0;
+    for (size_t c = 0; c < e->ncurves; ++c) {
+        const env_curve *cv = &e->curves[c];
+        if (!cv->u || cv->pub.nu != nx)
+            continue;
+        double d = INFINITY;
+        size_t j = 0;
+        for (size_t i = 0; i < cv->pub.npoints; ++i) {
+            const double dx = (cv->xy[2 * i] - rx) / (e->hi[0] - e->lo[0]),
+                         dy = (cv->xy[2 * i + 1] - ry) / (e->hi[1] - e->lo[1]);
+            if (hypot(dx, dy) < d) {
+                d = hypot(dx, dy);
+                j = i;
+            }
+        }
+        int at = nb < CLS_NEAR_CURVES ? nb++ : CLS_NEAR_CURVES;
+        while (at > 0 && dist[at - 1] > d) {
+            if (at < CLS_NEAR_CURVES) {
+                best[at] = best[at - 1];
+                pt[at] = pt[at - 1];
+                dist[at] = dist[at - 1];
+            }
+            --at;
+        }
+        if (at < CLS_NEAR_CURVES) {
+            best[at] = c;
+            pt[at] = j;
+            dist[at] = d;
+        }
+    }
+    for (int i = 0; i < nb; ++i)
+        if (cls_solve(w, e, rx, ry, e->curves[best[i]].u + (size_t)nx * pt[i], po, res) == 0) {
+            *how = "started from the nearest curve's orbit";
+            return 0;
+        } else if (i == 0)
+            snprintf(why, whylen, "from the nearest curve's orbit: %s", usm_periodic_message(w));
+    if (cls_solve(w, e, rx, ry, NULL, po, res) == 0) {
+        *how = "started from the ideal motor";
+        return 0;
+    }
+    if (nb == 0)
+        snprintf(why, whylen, "from the ideal motor: %s", usm_periodic_message(w));
+    const double from[4][2] = {
+        {rx, e->lo[1]}, {rx, e->hi[1]}, {e->lo[0], ry}, {e->hi[0], ry}};
+    for (int i = 0; i < 4; ++i)
+        if (cls_continue(w, e, from[i][0], from[i][1], rx, ry, po, res) == 0) {
+            *how = "continued from the box's side";
+            return 0;
+        }
+    return -1;
+}
+
 int env_periodic_classify(usm_envelope *e, usm_envelope_region *r)
 {
     usm_periodic *w = usm_periodic_alloc(e->m);
     usm_periodic_options po;
     usm_periodic_result res;
-    usm_params q = e->p;
     if (!w) {
         snprintf(e->msg, sizeof e->msg, "out of memory for the orbits");
         return USM_EFAILED;
     }
-    *usm_params_field(&q, e->ax[0]) = r->x;
-    *usm_params_field(&q, e->ax[1]) = r->y;
     usm_periodic_options_default(&po);
     po.t0 = e->opt.t0;
     r->root = -1;
     r->roots = 0;
     r->cls = USM_POINT_OP_NOT_EVALUATED;
-    if (usm_periodic_solve(w, &q, NULL, &po, &res) != USM_OK) {
+    const char *how = "";
+    char why[USM_MSG_LEN] = "";
+    if (cls_orbit(w, e, r->x, r->y, &po, &res, &how, why, sizeof why) != 0) {
         snprintf(r->class_name, sizeof r->class_name, "no_orbit");
-        snprintf(r->message, sizeof r->message, "%s", usm_periodic_message(w));
+        snprintf(r->message, sizeof r->message,
+                 "no orbit started from the curves' orbits, the ideal motor or continued from "
+                 "the box's sides; %s",
+                 why);
     } else {
         r->roots = 1;
+        /* the largest non-cyclic multiplier; where the orbit is unstable
+         * through a complex pair with the contact closed, the closed-contact
+         * squeal (docs/squeal.md).  Where the contact opens or the stick is
+         * lost the model does not describe the motor: those classes stand. */
+        const usm_floquet_result *fl = &res.floquet;
+        int c = -1;
+        for (int i = 0; i < fl->n; ++i)
+            if (!fl->cyclic[i] &&
+                (c < 0 || hypot(fl->re[i], fl->im[i]) > hypot(fl->re[c], fl->im[c])))
+                c = i;
+        const double mod = c >= 0 ? hypot(fl->re[c], fl->im[c]) : NAN;
+        const int unstable = c >= 0 && mod > 1.0;
+        const int pair = unstable && fabs(fl->im[c]) > USM_COMPLEX_PAIR_TOL * mod;
         const char *name = res.validity == USM_INVALID_CONTACT_OPEN ? "contact_open"
                            : res.validity == USM_INVALID_STICK     ? "stick_lost"
+                           : pair                                  ? "squeal"
+                           : unstable                              ? "unstable"
                            : e->m->friction                        ? "contact_closed"
                                                                    : "stick_admissible";
         snprintf(r->class_name, sizeof r->class_name, "%s", name);
-        snprintf(r->message, sizeof r->message,
-                 "the periodic orbit: F_n_min %.6g N, friction_needed_max %.6g", res.F_n_min,
-                 res.friction_needed_max);
+        if (pair && res.validity == USM_VALID)
+            snprintf(r->message, sizeof r->message,
+                     "the periodic orbit (%s): squeal at %.6f Hz, |lambda| %.9f; F_n_min %.6g N, "
+                     "friction_needed_max %.6g",
+                     how, usm_squeal_frequency(1.0 / res.period, fl->re[c], fl->im[c]), mod,
+                     res.F_n_min, res.friction_needed_max);
+        else
+            snprintf(r->message, sizeof r->message,
+                     "the periodic orbit (%s): largest multiplier %.9g%+.9gi (|lambda| %.9f); "
+                     "F_n_min %.6g N, friction_needed_max %.6g",
+                     how, c >= 0 ? fl->re[c] : NAN, c >= 0 ? fl->im[c] : NAN, mod, res.F_n_min,
+                     res.friction_needed_max);
     }
     usm_periodic_free(w);
     return USM_OK;

@@ -12,6 +12,12 @@
  * branch's arc) locates the neimark_sacker event: the curve's F0 equals it
  * to 1e-7 relative, and the curve's frequency there equals the event's
  * squeal frequency to 1e-6 relative.
+ *
+ * The regions on either side: above the curve the orbit is unstable through
+ * the complex pair with its contact closed, `squeal`, its frequency within
+ * 1 % of the curve's; below it is stable, `contact_closed`.  Each region's
+ * class agrees with the orbit solved at its sample point here (from the
+ * nearest curve point's orbit) and its multipliers read by usm_squeal.
  */
 #include <math.h>
 #include <stdio.h>
@@ -21,6 +27,7 @@
 
 #include "usm.h"
 #include "usm_envelope.h"
+#include "usm_periodic.h"
 #include "usm_periodic_sweep.h"
 
 #include "check.h"
@@ -67,7 +74,8 @@ int main(void)
     usm_envelope_options o;
     usm_envelope_options_default(&o);
     o.x = (usm_envelope_axis){"mode_split", 0.024, 0.026};
-    o.y = (usm_envelope_axis){"F0", 0.999, 1.0};
+    /* the curve near the middle: a region on either side of it */
+    o.y = (usm_envelope_axis){"F0", 0.999, 1.001};
     o.raster = 8;
     usm_envelope *e = usm_envelope_alloc(m);
     const int rc = usm_envelope_run(e, &p, &o);
@@ -106,6 +114,55 @@ int main(void)
                   "mode_split %g: curve %.6f Hz, sweep %.6f Hz", q[0], c->frequency[at[j]], freq);
         }
     }
+    /* the regions against the orbit and its multipliers at their samples */
+    int above = 0, below = 0;
+    usm_periodic *w = usm_periodic_alloc(m);
+    for (size_t i = 0; c && i < usm_envelope_region_count(e); ++i) {
+        const usm_envelope_region *r = usm_envelope_region_at(e, i);
+        size_t j = 0;
+        for (size_t k = 1; k < c->npoints; ++k)
+            if (fabs(c->xy[2 * k] - r->x) < fabs(c->xy[2 * j] - r->x))
+                j = k;
+        usm_params q = p;
+        q.mode_split = r->x;
+        q.F0 = r->y;
+        usm_periodic_options po;
+        usm_periodic_options_default(&po);
+        usm_periodic_result res;
+        if (!CHECK(usm_periodic_solve(w, &q, c->u + (size_t)c->nu * j, &po, &res) == USM_OK,
+                   "no orbit at (%g, %g): %s", r->x, r->y, usm_periodic_message(w)))
+            continue;
+        usm_squeal sq;
+        usm_floquet_squeal(&res.floquet, 1.0 / res.period, &sq);
+        const int unstable = res.floquet.max_modulus > 1.0;
+        const int pair =
+            unstable && sq.found && fabs(sq.modulus / res.floquet.max_modulus - 1) <= 1e-12;
+        const char *want = res.validity != USM_VALID ? "(invalid)"
+                           : pair                    ? "squeal"
+                           : unstable                ? "unstable"
+                                                     : "contact_closed";
+        double f = NAN;
+        (void)sscanf(strstr(r->message, "squeal at ") ? strstr(r->message, "squeal at ") : "",
+                     "squeal at %lf", &f);
+        printf("region %zu at (%.6g, %.7g), %zu cells: %s (%s); solved: max |lambda| %.9f, "
+               "pair %.9f at %.6f Hz; curve there F0 %.9g, %.6f Hz\n",
+               i, r->x, r->y, r->cells, r->class_name, r->message, res.floquet.max_modulus,
+               sq.modulus, sq.frequency, c->xy[2 * j + 1], c->frequency[j]);
+        CHECK(strcmp(r->class_name, want) == 0, "region at (%g, %g): %s, its orbit says %s", r->x,
+              r->y, r->class_name, want);
+        if (r->y > c->xy[2 * j + 1]) {
+            above++;
+            CHECK(strcmp(r->class_name, "squeal") == 0, "above the curve: %s", r->class_name);
+            CHECK(fabs(f / c->frequency[j] - 1) <= 0.01 && fabs(f / sq.frequency - 1) <= 1e-6,
+                  "squeal at %g Hz, curve %g Hz, orbit %g Hz", f, c->frequency[j], sq.frequency);
+        } else {
+            below++;
+            CHECK(strcmp(r->class_name, "contact_closed") == 0, "below the curve: %s",
+                  r->class_name);
+        }
+    }
+    usm_periodic_free(w);
+    CHECK(above >= 1 && below >= 1, "regions above %d, below %d", above, below);
     usm_envelope_free(e);
     printf("total: %.2f s CPU\n", (double)(clock() - c0) / CLOCKS_PER_SEC);
     return failures != 0;
