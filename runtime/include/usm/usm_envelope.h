@@ -73,8 +73,11 @@
  * fold; where the critical multiplier is a complex pair (neimark_sacker)
  * the curve's `frequency` holds its frequency at each point, as the sweep's
  * squeal frequency (envelope_periodic_stability.c).  Its regions are classified by
- * the periodic orbit there (usm_periodic_solve): stick_admissible,
- * stick_lost, contact_open (contact_closed in slip models), no_orbit.  The
+ * the periodic orbit there (usm_periodic_solve from the nearest curves'
+ * orbits, else the ideal motor, else continued from the box's sides):
+ * contact_open, stick_lost; else squeal (unstable through a complex pair,
+ * its frequency in the message), unstable (through a real multiplier),
+ * stick_admissible (contact_closed in slip models); no_orbit.  The
  * options lines, nodes, h_max, steady, floquet and op do not apply to them.
  *
  * Life cycle (GSL style): usm_envelope_alloc, usm_envelope_run, accessors,
@@ -182,8 +185,8 @@ typedef struct usm_envelope_region {
                                 models: USM_POINT_OP_NOT_EVALUATED) */
     char class_name[32];     /* usm_point_op_class_name(cls); imperfect models: the
                                 periodic orbit's "stick_admissible", "stick_lost",
-                                "contact_open", "contact_closed" (slip models) or
-                                "no_orbit" */
+                                "contact_open", "contact_closed" (slip models),
+                                "squeal", "unstable" or "no_orbit" */
     int root;                /* the operating point's root index, or -1 */
     int roots;               /* stationary roots at the sample */
     char message[USM_MSG_LEN];
