@@ -10,7 +10,8 @@
  *                           most at the seed: the engine's start holds the
  *                           last unknown fixed)
  * This file keeps the problems, the seeds and the curves; envelope_regions.c
- * the raster and the regions' classes.
+ * the raster and the regions' classes; envelope_result.c the object and the
+ * results it holds.
  */
 #include <math.h>
 #include <stdio.h>
@@ -42,21 +43,6 @@
 #define CORNER_TOL 1e-3
 /* The other leg's seed this far from the corner (the box's sides 1). */
 #define CORNER_STEP 2e-3
-
-const char *usm_envelope_kind_name(usm_envelope_kind kind)
-{
-    static const char *const names[] = {"tilt_zero", "fold",      "stick_limit",
-                                        "stall",     "stability", "friction_saturation",
-                                        "contact_loss", "stick_loss"};
-    return (unsigned)kind < USM_ENVELOPE_NKINDS ? names[kind] : NULL;
-}
-
-const char *usm_envelope_end_name(usm_envelope_end end)
-{
-    static const char *const names[] = {"box", "tilt_zero", "range_end", "closed", "lost",
-                                        "max_points", "corner"};
-    return (unsigned)end <= USM_ENVELOPE_END_CORNER ? names[end] : NULL;
-}
 
 void usm_envelope_options_default(usm_envelope_options *opt)
 {
@@ -603,28 +589,6 @@ static int add_seed(usm_envelope *e, int kind, const double *u, double px, doubl
     memcpy(s->u, u, sizeof(double) * (size_t)e->nu);
     s->x = px;
     s->y = py;
-    return 0;
-}
-
-int env_add_codim2(usm_envelope *e, const char *type, const double *u, double px, double py,
-                      size_t curve)
-{
-    /* found from both curves that meet: once */
-    for (size_t k = 0; k < e->ncodim2; ++k) {
-        const usm_envelope_codim2 *c = &e->codim2[k];
-        if (fabs(c->x - px) <= 1e-6 * (e->hi[0] - e->lo[0]) &&
-            fabs(c->y - py) <= 1e-6 * (e->hi[1] - e->lo[1]))
-            return 0;
-    }
-    if (usm_grow((void **)&e->codim2, &e->codim2cap, e->ncodim2 + 1, sizeof *e->codim2) != 0)
-        return -1;
-    usm_envelope_codim2 *c = &e->codim2[e->ncodim2++];
-    memset(c, 0, sizeof *c);
-    snprintf(c->type, sizeof c->type, "%s", type);
-    c->x = px;
-    c->y = py;
-    c->curve = curve;
-    memcpy(c->u, u, sizeof(double) * (size_t)e->nu);
     return 0;
 }
 
@@ -1282,66 +1246,6 @@ static int trace_curve(usm_envelope *e, const env_seed *s)
 
 /* ---- the run --------------------------------------------------------------------- */
 
-usm_envelope *usm_envelope_alloc(const usm_model *m)
-{
-    usm_envelope *e = calloc(1, sizeof *e);
-    if (!e)
-        return NULL;
-    e->m = m;
-    e->nu = m->nu;
-    e->steady = usm_steady_alloc(m);
-    e->fl = usm_floquet_alloc(m);
-    if (!e->steady || !e->fl) {
-        usm_envelope_free(e);
-        return NULL;
-    }
-    return e;
-}
-
-static void clear_result(usm_envelope *e)
-{
-    for (size_t c = 0; c < e->ncurves; ++c) {
-        free(e->curves[c].xy);
-        free(e->curves[c].u);
-        free(e->curves[c].freq);
-    }
-    e->ncurves = e->nseeds = e->ncodim2 = e->nregions = 0;
-    e->seeds_dropped = 0;
-    free(e->label);
-    e->label = NULL;
-}
-
-void usm_envelope_free(usm_envelope *e)
-{
-    if (!e)
-        return;
-    clear_result(e);
-    free(e->curves);
-    free(e->seeds);
-    free(e->codim2);
-    free(e->regions);
-    usm_steady_free(e->steady);
-    usm_floquet_free(e->fl);
-    free(e);
-}
-
-const char *usm_envelope_message(const usm_envelope *e) { return e->msg; }
-size_t usm_envelope_curve_count(const usm_envelope *e) { return e->ncurves; }
-const usm_envelope_curve *usm_envelope_curve_at(const usm_envelope *e, size_t i)
-{
-    return i < e->ncurves ? &e->curves[i].pub : NULL;
-}
-size_t usm_envelope_codim2_count(const usm_envelope *e) { return e->ncodim2; }
-const usm_envelope_codim2 *usm_envelope_codim2_at(const usm_envelope *e, size_t i)
-{
-    return i < e->ncodim2 ? &e->codim2[i] : NULL;
-}
-void usm_envelope_seed_counts(const usm_envelope *e, size_t *found, size_t *dropped)
-{
-    *found = e->nseeds;
-    *dropped = e->seeds_dropped;
-}
-
 static int check_options(usm_envelope *e, const usm_params *p, const usm_envelope_options *o)
 {
     const usm_envelope_axis *axes[2] = {&o->x, &o->y};
@@ -1393,7 +1297,7 @@ static int check_options(usm_envelope *e, const usm_params *p, const usm_envelop
 
 int usm_envelope_run(usm_envelope *e, const usm_params *p, const usm_envelope_options *opt)
 {
-    clear_result(e);
+    env_clear_result(e);
     e->msg[0] = '\0';
     e->opt = *opt;
     e->p = *p;

@@ -86,6 +86,9 @@ int env_kind_applies(const usm_envelope *e, int kind);
 int env_add_codim2(usm_envelope *e, const char *type, const double *u, double px, double py,
                    size_t curve);
 
+/* The results of the last run freed and counted 0 (envelope_result.c). */
+void env_clear_result(usm_envelope *e);
+
 /* envelope_regions.c: the raster, its regions and their classes.  USM_OK,
  * USM_EINPUT or USM_EFAILED with e->msg. */
 int env_regions(usm_envelope *e);
