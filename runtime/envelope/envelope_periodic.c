@@ -900,7 +900,7 @@ int env_periodic_classify(usm_envelope *e, usm_envelope_region *r)
         snprintf(r->class_name, sizeof r->class_name, "no_orbit");
         snprintf(r->message, sizeof r->message,
                  "no orbit started from the curves' orbits, the ideal motor or continued from "
-                 "the box's sides; %s",
+                 "the box's sides; %.150s",
                  why);
     } else {
         r->roots = 1;
