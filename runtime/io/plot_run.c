@@ -99,7 +99,10 @@ int usm_gnuplot_run(const char *dir, const char *const *stems, int n, int jobs,
                     failed_at = i;
             }
     }
-    if ((close(log_fd) != 0) | (usm_outfile_place(log_tmp, log_path, 1, path, sizeof path) != 0))
+    /* the log is put in place even when closing it failed */
+    const int log_closed = close(log_fd) == 0;
+    const int log_placed = usm_outfile_place(log_tmp, log_path, 1, path, sizeof path) == 0;
+    if (!log_closed || !log_placed)
         failed = 1, usm_io_msg(msg, "%.1000s", path);
     if (missing) {
         usm_io_msg(msg, "%s: not found, figures not rendered (install gnuplot-nox, or set "
