@@ -99,13 +99,16 @@ int env_regions(usm_envelope *e);
 int env_periodic_curves(usm_envelope *e);
 int env_periodic_classify(usm_envelope *e, usm_envelope_region *r);
 
-/* envelope_periodic_stability.c: the imperfect models' stability curve
- * through the stability_change event of the sweep along edge `edge` (0 x =
- * lo, 1 x = hi, 2 y = lo, 3 y = hi) at (x, y), the orbit's state x0 there,
+/* envelope_periodic_stability.c: the imperfect models' curve of the
+ * critical multiplier through the sweep's event along edge `edge` (0 x =
+ * lo, 1 x = hi, 2 y = lo, 3 y = hi) at (x, y): crossing
+ * USM_CROSSING_NEIMARK_SACKER or PERIOD_DOUBLING (kind stability) or FOLD
+ * (kind fold; x0 then an orbit of the branch near the fold, (x, y) its
+ * parameters, the fold found from it with the edge's parameter held),
  * continued into the box on w (usm_periodic_alloc of e->m) and kept as a
  * curve of e.  0 (also when it is lost at its start), or -1 when out of
  * memory. */
-int env_periodic_stability_trace(usm_envelope *e, usm_periodic *w, int edge, double x, double y,
-                                 const double *x0);
+int env_periodic_stability_trace(usm_envelope *e, usm_periodic *w, int edge, int crossing,
+                                 double x, double y, const double *x0);
 
 #endif /* USM_ENVELOPE_INTERNAL_H */

@@ -121,6 +121,10 @@ typedef struct pseed {
     int edge; /* 0 x = lo, 1 x = hi, 2 y = lo, 3 y = hi */
     double x, y;
     double x0[USM_MAX_NX];
+    /* stability and fold seeds: the sweep's crossing kind; a fold's x0 is
+     * the branch's orbit nearest it, at (sx, sy) */
+    int crossing;
+    double sx, sy;
 } pseed;
 
 typedef struct penv {
@@ -348,8 +352,8 @@ static int add_seed(pseed **s, size_t *n, size_t *cap, int kind, int edge, doubl
     memset(d, 0, sizeof *d);
     d->kind = kind;
     d->edge = edge;
-    d->x = x;
-    d->y = y;
+    d->x = d->sx = x;
+    d->y = d->sy = y;
     memcpy(d->x0, x0, sizeof(double) * (size_t)nx);
     return 0;
 }
@@ -383,16 +387,49 @@ static int edge_seeds(usm_envelope *e, int edge, pseed **s, size_t *n, size_t *c
             const usm_periodic_event *ev = usm_periodic_sweep_event_at(sw, i);
             const int kind = ev->type == USM_PEVENT_CONTACT_LOSS  ? USM_ENVELOPE_CONTACT_LOSS
                              : ev->type == USM_PEVENT_STICK_LOSS ? USM_ENVELOPE_STICK_LOSS
-                             /* a fold's is the branch's end: not followed */
                              : ev->type == USM_PEVENT_STABILITY_CHANGE &&
                                      ev->kind != USM_CROSSING_FOLD && e->opt.stability
                                  ? USM_ENVELOPE_STABILITY
+                             : ev->type == USM_PEVENT_FOLD && e->opt.stability
+                                 ? USM_ENVELOPE_FOLD
                                  : -1;
+            const double x = axis == 0 ? ev->value : fixed, y = axis == 0 ? fixed : ev->value;
+            if (kind == USM_ENVELOPE_FOLD) {
+                /* the fold has no orbit: the branch's orbit nearest it */
+                const usm_periodic_result *near = NULL;
+                double at = NAN;
+                for (size_t j = 0; j < i; ++j) {
+                    const usm_periodic_event *ej = usm_periodic_sweep_event_at(sw, j);
+                    if (ej->has_orbit && ej->orbit.converged &&
+                        !(fabs(ej->value - ev->value) >= fabs(at - ev->value))) {
+                        near = &ej->orbit;
+                        at = ej->value;
+                    }
+                }
+                for (size_t j = 0; j < usm_periodic_sweep_count(sw); ++j) {
+                    const usm_periodic_point *pj = usm_periodic_sweep_point_at(sw, j);
+                    if (pj->converged && !(fabs(pj->value - ev->value) >= fabs(at - ev->value))) {
+                        near = &pj->orbit;
+                        at = pj->value;
+                    }
+                }
+                if (!near)
+                    continue;
+                if (add_seed(s, n, cap, kind, edge, x, y, near->x0, e->m->nx) != 0) {
+                    rc = USM_EFAILED;
+                    break;
+                }
+                (*s)[*n - 1].crossing = USM_CROSSING_FOLD;
+                (*s)[*n - 1].sx = axis == 0 ? at : fixed;
+                (*s)[*n - 1].sy = axis == 0 ? fixed : at;
+                continue;
+            }
             if (kind < 0 || !ev->has_orbit)
                 continue;
-            const double x = axis == 0 ? ev->value : fixed, y = axis == 0 ? fixed : ev->value;
             if (add_seed(s, n, cap, kind, edge, x, y, ev->orbit.x0, e->m->nx) != 0)
                 rc = USM_EFAILED;
+            else
+                (*s)[*n - 1].crossing = ev->kind;
         }
     usm_periodic_sweep_free(sw);
     return rc;
@@ -760,12 +797,12 @@ int env_periodic_curves(usm_envelope *e)
                 rc = USM_EFAILED;
             }
         }
-    /* the orbit's stability: envelope_periodic_stability.c */
+    /* the orbit's multipliers, stability and fold: envelope_periodic_stability.c */
     for (size_t i = 0; i < n && rc == USM_OK; ++i)
-        if (s[i].kind == USM_ENVELOPE_STABILITY &&
+        if ((s[i].kind == USM_ENVELOPE_STABILITY || s[i].kind == USM_ENVELOPE_FOLD) &&
             (on_curve(e, &s[i]) ? (e->seeds_dropped++, 0)
-                                : env_periodic_stability_trace(e, pb.w, s[i].edge, s[i].x,
-                                                               s[i].y, s[i].x0) != 0)) {
+                                : env_periodic_stability_trace(e, pb.w, s[i].edge, s[i].crossing,
+                                                               s[i].sx, s[i].sy, s[i].x0) != 0)) {
             snprintf(e->msg, sizeof e->msg, "out of memory for the curves");
             rc = USM_EFAILED;
         }
