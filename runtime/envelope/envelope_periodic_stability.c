@@ -72,8 +72,8 @@
 /* The corrector's tolerance on its update (scaled), of the parameters'
  * values where the box is small against them. */
 #define NEWTON_TOL 1e-9
-/* Longest step (the box's sides 1). */
-#define H_MAX 0.1
+/* Longest step (the box's sides 1): the curves are nearly straight. */
+#define H_MAX 0.25
 #define H_MIN 1e-7
 #define BOX_PAD 1e-9
 /* Codimension-two tests monitored along a curve. */
@@ -495,7 +495,11 @@ static int s_run(sprob *pb, const double *z0, int dir, sbuf *b, usm_envelope_end
     if (!(pb->c_ = usm_cont_alloc(N - 1)))
         return -1;
     usm_cont_options_default(&o);
-    o.h0 = 0.25 * H_MAX;
+    o.h0 = H_MAX;
+    /* the Jacobian costs k + 1 full shots, F one: factored once a
+     * correction along the curve (the start, from an orbit away from the
+     * fold, takes Newton) */
+    o.chord = 0;
     o.h_max = H_MAX;
     o.h_min = H_MIN;
     o.newton_max = 8;
@@ -537,6 +541,11 @@ static int s_run(sprob *pb, const double *z0, int dir, sbuf *b, usm_envelope_end
     }
     if (usm_cont_start(pb->c_, z0, dir) != 0)
         goto done;
+    o.chord = 1;
+    if (usm_cont_set_options(pb->c_, &o) != 0) {
+        rc = -1;
+        goto done;
+    }
     if (s_push(b, pb, usm_cont_point(pb->c_)) != 0) {
         rc = -1;
         goto done;
