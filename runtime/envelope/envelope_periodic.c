@@ -66,6 +66,7 @@
 
 #include "core/grow.h"
 #include "envelope_internal.h"
+#include "envelope_periodic_problem.h"
 #include "solve/periodic_internal.h"
 #include "usm_periodic_sweep.h"
 
@@ -136,9 +137,7 @@ typedef struct penv {
     int swap;                 /* 0 z = (x*, t*, px, py), 1 z = (x*, t*, py, px) */
     int k, N;                 /* non-cyclic states; unknowns k + 3 */
     int idx[USM_MAX_NX];
-    /* z's columns of the twist rate (in phidot's place), theta and psidot;
-     * tw -1: z holds the state as it is */
-    int tw, th, psd;
+    env_twist twist;          /* the twist rate in phidot's place */
     double rate_step;         /* q's rate: its central difference's step */
     double xfull[USM_MAX_NX]; /* the cyclic components (a gauge) */
     double scale[PMAX];
@@ -161,13 +160,7 @@ static void p_xy(const penv *pb, const double *z, double *px, double *py)
 static void p_unpack(const penv *pb, const double *z, double *x0, usm_params *q)
 {
     double px, py;
-    memcpy(x0, pb->xfull, sizeof(double) * (size_t)pb->e->m->nx);
-    for (int a = 0; a < pb->k; ++a)
-        x0[pb->idx[a]] = z[a];
-    if (pb->tw >= 0) {
-        const usm_model *m = pb->e->m;
-        x0[m->x_phidot] = z[pb->tw] - x0[m->x_psidot] * cos(x0[m->x_theta]);
-    }
+    env_twist_unpack(&pb->twist, pb->e->m, pb->idx, pb->k, pb->xfull, z, x0);
     p_xy(pb, z, &px, &py);
     *q = pb->e->p;
     *usm_params_field(q, pb->e->ax[0]) = px;
@@ -217,7 +210,7 @@ static int residual(const double *z, double *F, double *J, void *ctx)
 {
     penv *pb = ctx;
     const int k = pb->k, N = pb->N, ja = k + 1, jb = k + 2;
-    double x0[USM_MAX_NX], rp[USM_MAX_NX], rm[USM_MAX_NX], ct[USM_MAX_NX];
+    double x0[USM_MAX_NX], ct[USM_MAX_NX];
     double Jk[USM_MAX_NX * (USM_MAX_NX + 1)];
     usm_params q;
     pb->have_shot_z = 0;
@@ -231,17 +224,10 @@ static int residual(const double *z, double *F, double *J, void *ctx)
          * each from two shots of the state alone: a difference against the
          * full shot, which takes other steps, is noisy at 1e-9 of the
          * scales over the step */
-        for (int j = ja; j <= jb; ++j) {
-            const double d = FD_REL * pb->scale[j];
-            usm_params qp = q, qm = q;
-            *usm_params_field(&qp, col_param(pb, j)) += d;
-            *usm_params_field(&qm, col_param(pb, j)) -= d;
-            if (usm_periodic_shoot_state(pb->w, &qp, x0, rp) != USM_OK ||
-                usm_periodic_shoot_state(pb->w, &qm, x0, rm) != USM_OK)
+        for (int j = ja; j <= jb; ++j)
+            if (env_param_column(pb->w, &q, col_param(pb, j), FD_REL * pb->scale[j], x0, k, J, N,
+                                 j) != 0)
                 return -1;
-            for (int a = 0; a < k; ++a)
-                J[a * N + j] = (rp[a] - rm[a]) / (2 * d);
-        }
         if (usm_periodic_shoot(pb->w, &q, NULL, 0.0, x0, F, Jk) != USM_OK ||
             usm_periodic_shoot_t0_column(pb->w, ct) != USM_OK)
             return -1;
@@ -249,13 +235,7 @@ static int residual(const double *z, double *F, double *J, void *ctx)
             for (int b = 0; b < k; ++b)
                 J[a * N + b] = Jk[a * (k + 1) + b];
             J[a * N + k] = ct[a];
-            if (pb->tw >= 0) {
-                /* phidot = w - psidot cos(theta): the chain rule */
-                const usm_model *m = pb->e->m;
-                const double jw = J[a * N + pb->tw];
-                J[a * N + pb->th] += jw * x0[m->x_psidot] * sin(x0[m->x_theta]);
-                J[a * N + pb->psd] -= jw * cos(x0[m->x_theta]);
-            }
+            env_twist_chain(&pb->twist, pb->e->m, x0, J + a * N);
         }
     } else if (usm_periodic_shoot(pb->w, &q, NULL, 0.0, x0, F, NULL) != USM_OK)
         return -1;
@@ -335,12 +315,9 @@ static double test_box(const double *z, const double *dz, void *ctx)
     (void)dz;
     const ptest *t = ctx;
     const penv *pb = t->pb;
-    double v[2];
-    p_xy(pb, z, &v[0], &v[1]);
-    const int a = t->side / 2;
-    const usm_envelope *e = pb->e;
-    const double pad = BOX_PAD * (e->hi[a] - e->lo[a]);
-    return t->side % 2 == 0 ? v[a] - (e->lo[a] - pad) : (e->hi[a] + pad) - v[a];
+    double px, py;
+    p_xy(pb, z, &px, &py);
+    return env_box_test(pb->e, t->side, px, py, BOX_PAD);
 }
 
 static int add_seed(pseed **s, size_t *n, size_t *cap, int kind, int edge, double x, double y,
@@ -630,12 +607,7 @@ static int z_at_extreme(penv *pb, double t, double px, double py, double *z)
     double x[USM_MAX_NX];
     if (usm_periodic_shoot_state_at(pb->w, t, x) != USM_OK)
         return -1;
-    for (int a = 0; a < pb->k; ++a)
-        z[a] = x[pb->idx[a]];
-    if (pb->tw >= 0) {
-        const usm_model *m = pb->e->m;
-        z[pb->tw] = x[m->x_phidot] + x[m->x_psidot] * cos(x[m->x_theta]);
-    }
+    env_twist_pack(&pb->twist, pb->e->m, pb->idx, pb->k, x, z);
     z[pb->k] = t;
     z[axis_col(pb, 0)] = px;
     z[axis_col(pb, 1)] = py;
@@ -669,24 +641,9 @@ static int trace(usm_envelope *e, penv *pb, const pseed *s)
     pb->k = usm_periodic_shoot_layout(pb->w, pb->idx, sc);
     pb->N = pb->k + 3;
     memcpy(pb->xfull, r.x0, sizeof(double) * (size_t)m->nx);
-    pb->tw = pb->th = pb->psd = -1;
-    for (int a = 0; a < pb->k; ++a) {
-        pb->scale[a] = sc[pb->idx[a]];
-        if (m->coordinates == 0 && pb->idx[a] == m->x_phidot)
-            pb->tw = a;
-        if (m->coordinates == 0 && pb->idx[a] == m->x_theta)
-            pb->th = a;
-        if (m->coordinates == 0 && pb->idx[a] == m->x_psidot)
-            pb->psd = a;
-    }
     pb->Omega = 2.0 * 3.14159265358979323846 / r.period;
     pb->h_sample = r.period / USM_PERIODIC_SAMPLES;
-    if (pb->tw >= 0 && pb->th >= 0 && pb->psd >= 0)
-        /* the twist rate's scale as the tilt vector's spin rate's
-         * (solve/periodic.c) */
-        pb->scale[pb->tw] = pb->Omega * sc[m->x_theta];
-    else
-        pb->tw = -1;
+    env_twist_setup(&pb->twist, m, pb->idx, pb->k, sc, pb->Omega, pb->scale);
     pb->scale[pb->k] = 1.0 / pb->Omega;
     pb->rate_step = pb->which == USM_PERIODIC_Q_F_N ? RATE_STEP_F_N : RATE_STEP_STICK;
     pb->gscale = fmax(fabs(r.F_n_max), 1e-300);

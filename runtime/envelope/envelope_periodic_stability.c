@@ -56,6 +56,7 @@
 
 #include "core/grow.h"
 #include "envelope_internal.h"
+#include "envelope_periodic_problem.h"
 #include "solve/periodic_internal.h"
 #include "usm_periodic_sweep.h"
 
@@ -88,7 +89,7 @@ typedef struct sprob {
     int swap;                 /* 0 (.., px, py), 1 (.., py, px) */
     int k, nk, N, neq;
     int idx[USM_MAX_NX];
-    int tw, th, psd;          /* the twist rate's, theta's and psidot's columns, or -1 */
+    env_twist twist;          /* the twist rate in phidot's place */
     double xfull[USM_MAX_NX]; /* the cyclic components (a gauge) */
     double scale[SMAX];
     double complex b[USM_MAX_NX], c[USM_MAX_NX];
@@ -124,27 +125,11 @@ static const usm_param_info *s_col_param(const sprob *pb, int j)
 static void s_unpack(const sprob *pb, const double *z, double *x0, usm_params *q)
 {
     double px, py;
-    memcpy(x0, pb->xfull, sizeof(double) * (size_t)pb->e->m->nx);
-    for (int a = 0; a < pb->k; ++a)
-        x0[pb->idx[a]] = z[a];
-    if (pb->tw >= 0) {
-        const usm_model *m = pb->e->m;
-        x0[m->x_phidot] = z[pb->tw] - x0[m->x_psidot] * cos(x0[m->x_theta]);
-    }
+    env_twist_unpack(&pb->twist, pb->e->m, pb->idx, pb->k, pb->xfull, z, x0);
     s_xy(pb, z, &px, &py);
     *q = pb->e->p;
     *usm_params_field(q, pb->e->ax[0]) = px;
     *usm_params_field(q, pb->e->ax[1]) = py;
-}
-
-static void s_pack_state(const sprob *pb, const double *x, double *z)
-{
-    for (int a = 0; a < pb->k; ++a)
-        z[a] = x[pb->idx[a]];
-    if (pb->tw >= 0) {
-        const usm_model *m = pb->e->m;
-        z[pb->tw] = x[m->x_phidot] + x[m->x_psidot] * cos(x[m->x_theta]);
-    }
 }
 
 /* The full shot at z (R and the samples kept in w). */
@@ -260,7 +245,7 @@ static int s_residual(const double *z, double *F, double *J, void *ctx)
 {
     sprob *pb = ctx;
     const int k = pb->k, N = pb->N;
-    double x0[USM_MAX_NX], rp[USM_MAX_NX], rm[USM_MAX_NX];
+    double x0[USM_MAX_NX];
     double Jk[USM_MAX_NX * (USM_MAX_NX + 1)];
     usm_params q;
     for (int j = 0; j < N; ++j)
@@ -269,17 +254,10 @@ static int s_residual(const double *z, double *F, double *J, void *ctx)
     s_unpack(pb, z, x0, &q);
     if (J) {
         /* the parameters' columns first (the state alone keeps nothing) */
-        for (int j = col_p0(pb); j <= col_p0(pb) + 1; ++j) {
-            const double d = FD_REL * pb->scale[j];
-            usm_params qp = q, qm = q;
-            *usm_params_field(&qp, s_col_param(pb, j)) += d;
-            *usm_params_field(&qm, s_col_param(pb, j)) -= d;
-            if (usm_periodic_shoot_state(pb->w, &qp, x0, rp) != USM_OK ||
-                usm_periodic_shoot_state(pb->w, &qm, x0, rm) != USM_OK)
+        for (int j = col_p0(pb); j <= col_p0(pb) + 1; ++j)
+            if (env_param_column(pb->w, &q, s_col_param(pb, j), FD_REL * pb->scale[j], x0, k, J,
+                                 N, j) != 0)
                 return -1;
-            for (int a = 0; a < k; ++a)
-                J[a * N + j] = (rp[a] - rm[a]) / (2 * d);
-        }
     }
     if (s_shoot(pb, z, F, J ? Jk : NULL) != 0)
         return -1;
@@ -299,13 +277,7 @@ static int s_residual(const double *z, double *F, double *J, void *ctx)
             J[a * N + b] = Jk[a * (k + 1) + b];
         if (pb->ns)
             J[a * N + col_om(pb)] = 0.0;
-        if (pb->tw >= 0) {
-            /* phidot = w - psidot cos(theta): the chain rule */
-            const usm_model *m = pb->e->m;
-            const double jw = J[a * N + pb->tw];
-            J[a * N + pb->th] += jw * x0[m->x_psidot] * sin(x0[m->x_theta]);
-            J[a * N + pb->psd] -= jw * cos(x0[m->x_theta]);
-        }
+        env_twist_chain(&pb->twist, pb->e->m, x0, J + a * N);
     }
     /* g's columns: R at z + h e_j in the same coordinates */
     double zs[SMAX];
@@ -401,11 +373,9 @@ static double s_test(const double *z, const double *dz, void *ctx)
     sprob *pb = t->pb;
     const usm_envelope *e = pb->e;
     if (t->what < 4) {
-        double v[2];
-        s_xy(pb, z, &v[0], &v[1]);
-        const int a = t->what / 2;
-        const double pad = BOX_PAD * (e->hi[a] - e->lo[a]);
-        return t->what % 2 == 0 ? v[a] - (e->lo[a] - pad) : (e->hi[a] + pad) - v[a];
+        double px, py;
+        s_xy(pb, z, &px, &py);
+        return env_box_test(e, t->what, px, py, BOX_PAD);
     }
     if (s_shot_at(pb, z) != 0)
         return NAN;
@@ -684,27 +654,14 @@ int env_periodic_stability_trace(usm_envelope *e, usm_periodic *w, int edge, int
     pb.N = pb.k + pb.ns + 2;
     pb.neq = pb.N - 1;
     memcpy(pb.xfull, r.x0, sizeof(double) * (size_t)m->nx);
-    pb.tw = pb.th = pb.psd = -1;
-    for (int a = 0; a < pb.k; ++a) {
-        pb.scale[a] = sc[pb.idx[a]];
-        if (m->coordinates == 0 && pb.idx[a] == m->x_phidot)
-            pb.tw = a;
-        if (m->coordinates == 0 && pb.idx[a] == m->x_theta)
-            pb.th = a;
-        if (m->coordinates == 0 && pb.idx[a] == m->x_psidot)
-            pb.psd = a;
-    }
-    if (pb.tw >= 0 && pb.th >= 0 && pb.psd >= 0)
-        /* the twist rate's scale as the tilt vector's spin rate's */
-        pb.scale[pb.tw] = 2.0 * 3.14159265358979323846 / r.period * sc[m->x_theta];
-    else
-        pb.tw = -1;
+    env_twist_setup(&pb.twist, m, pb.idx, pb.k, sc, 2.0 * 3.14159265358979323846 / r.period,
+                    pb.scale);
     pb.F_n_scale = fmax(fabs(r.F_n_max), 1e-300);
     if (pb.ns)
         pb.scale[col_om(&pb)] = 1.0;
     for (int a = 0; a < 2; ++a)
         pb.scale[s_axis_col(&pb, a)] = e->hi[a] - e->lo[a];
-    s_pack_state(&pb, r.x0, z0);
+    env_twist_pack(&pb.twist, m, pb.idx, pb.k, r.x0, z0);
     z0[s_axis_col(&pb, 0)] = x;
     z0[s_axis_col(&pb, 1)] = y;
     if (pb.ns)
