@@ -66,12 +66,17 @@
  * periodic sweeps (usm_periodic_sweep.h) along the box's four edges, each
  * from its edge to where it leaves the box (envelope_periodic.c).  A curve
  * point is a solution to the sweep's corrector tolerance (1e-8 in the scaled
- * unknowns).  With the option stability, also `stability`: the orbit's
- * largest non-cyclic Floquet multiplier on the unit circle (g = its
- * modulus minus 1 with the periodicity, in the state at t0 and both
- * parameters), from the edge sweeps' stability_change events other than a
- * fold; where the critical multiplier is a complex pair (neimark_sacker)
- * the curve's `frequency` holds its frequency at each point, as the sweep's
+ * unknowns).  With the option stability, also `stability` (a complex pair
+ * e^{+-i omega} of the orbit's non-cyclic Floquet multipliers on the unit
+ * circle, Neimark-Sacker, or a real one at -1) and `fold` (a real one at
+ * +1, where the branch turns): the periodicity plus the bordered test of
+ * R - mu I, R the monodromy with the cyclic directions deflated, mu =
+ * e^{i omega} with omega an unknown (Re g = Im g = 0) or mu = +-1, from
+ * the edge sweeps' stability_change and fold events; codimension-two
+ * points where they meet each other ("fold/stability") or contact_loss /
+ * stick_loss ("stability/contact_loss", ...).  Where the critical
+ * multiplier is a complex pair the curve's `frequency` holds f omega / 2 pi
+ * at each point, as the sweep's
  * squeal frequency (envelope_periodic_stability.c).  Its regions are classified by
  * the periodic orbit there (usm_periodic_solve from the nearest curves'
  * orbits, else the ideal motor, else continued from the box's sides):
@@ -126,7 +131,8 @@ typedef struct usm_envelope_options {
     double h_max;            /* longest continuation step, scaled arclength
                                 (the box's sides have length 1; default 0.02) */
     int max_points;          /* per curve and direction (default 4000) */
-    int stability;           /* 1: stability curves (default 1) */
+    int stability;           /* 1: stability curves (default 1); imperfect models:
+                                also the orbits' fold curves */
     int raster;              /* cells per side of the region raster (default 120) */
     usm_steady_options steady; /* the seeds' full searches and the tilt range */
     double t0;               /* Floquet start time [s] (default 0) */
