@@ -339,11 +339,7 @@ static void renew_borders(sprob *pb, const double *z)
 /* The multipliers of the last shot (the reduced R's eigenvalues). */
 static int shot_multipliers(sprob *pb, usm_floquet_result *fl)
 {
-    usm_periodic_result res;
-    if (usm_periodic_shoot_result(pb->w, &res) != USM_OK)
-        return -1;
-    *fl = res.floquet;
-    return 0;
+    return usm_periodic_shoot_multipliers(pb->w, fl) == USM_OK ? 0 : -1;
 }
 
 typedef struct sbox {

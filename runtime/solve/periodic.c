@@ -1152,6 +1152,13 @@ double usm_periodic_shoot_F_n_min(usm_periodic *w)
     return w->have_shot ? exact_extreme(w, Q_F_N, -1.0) : NAN;
 }
 
+int usm_periodic_shoot_multipliers(usm_periodic *w, usm_floquet_result *f)
+{
+    if (!w->have_shot)
+        return USM_EFAILED;
+    return multipliers(w, w->shot_Psi, f);
+}
+
 void usm_periodic_shoot_hold_balance(usm_periodic *w, int hold) { w->hold_bal = hold != 0; }
 
 int usm_periodic_shoot_reduced(usm_periodic *w, double *R)

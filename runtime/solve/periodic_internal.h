@@ -97,6 +97,11 @@ double usm_periodic_shoot_max_modulus(usm_periodic *w);
  * envelope's bordered systems on R - mu I. */
 int usm_periodic_shoot_reduced(usm_periodic *w, double *R);
 
+/* The multipliers of the last shot alone (usm_periodic_shoot_result's
+ * floquet without the orbit's outputs and extremes).  USM_OK, or
+ * USM_EFAILED without a shot or when the eigensolver fails. */
+int usm_periodic_shoot_multipliers(usm_periodic *w, usm_floquet_result *f);
+
 /* Hold (1) or release (0) the balancing of the shots' coordinates: held, a
  * shot keeps the diagonal scaling D of the last one (D is a power of two a
  * component and jumps between neighbouring states), so that R of nearby
