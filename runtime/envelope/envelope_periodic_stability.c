@@ -494,8 +494,8 @@ static int s_run(sprob *pb, const double *z0, int dir, sbuf *b, usm_envelope_end
              * pair's; both the contact's and, in stick models, the stick's */
             if ((ct == CT_FOLD && pb->kind != USM_ENVELOPE_STABILITY) ||
                 (ct == CT_PAIR && pb->kind != USM_ENVELOPE_FOLD) ||
-                (ct == CT_STICK && !env_kind_applies(e, USM_ENVELOPE_STICK_LOSS)) ||
-                (ct == CT_CONTACT && !env_kind_applies(e, USM_ENVELOPE_CONTACT_LOSS)))
+                /* the stick excess is a stick model's (the sweep's stick_loss) */
+                (ct == CT_STICK && e->m->slip))
                 continue;
         }
         if ((*slot = usm_cont_add_test(pb->c_, s_test, &tests[t],
