@@ -381,6 +381,8 @@ static int edge_seeds(usm_envelope *e, int edge, pseed **s, size_t *n, size_t *c
     } else
         for (size_t i = 0; i < usm_periodic_sweep_event_count(sw) && rc == USM_OK; ++i) {
             const usm_periodic_event *ev = usm_periodic_sweep_event_at(sw, i);
+            if (e->m->unilateral && env_hybrid_seed(e, edge, ev) != 0)
+                rc = USM_EFAILED;
             const int kind = ev->type == USM_PEVENT_CONTACT_LOSS  ? USM_ENVELOPE_CONTACT_LOSS
                              : ev->type == USM_PEVENT_STICK_LOSS ? USM_ENVELOPE_STICK_LOSS
                              /* a fold's is the branch's end: not followed */
@@ -769,6 +771,9 @@ int env_periodic_curves(usm_envelope *e)
             snprintf(e->msg, sizeof e->msg, "out of memory for the curves");
             rc = USM_EFAILED;
         }
+    /* the folds of the orbits with separation: envelope_hybrid.c */
+    if (env_hybrid_curves(e, rc == USM_OK) != USM_OK)
+        rc = USM_EFAILED;
     if (rc == USM_OK && e->ncurves == 0 && sweep_msg[0])
         snprintf(e->msg, sizeof e->msg, "%s", sweep_msg);
     free(s);

@@ -1,0 +1,128 @@
+/* The fold of the orbits with separation continued in two parameters
+ * (runtime/envelope/envelope_hybrid.c, curve kind separation_fold), against
+ * the one-parameter periodic sweep.
+ *
+ * The 4-DOF motor's orbit with separation followed from contact loss in the
+ * mode split loses stability through a real multiplier +1 at 1.9471712 %
+ * (phase error 0; docs/unilateral.md: the branch goes on through it, its
+ * half-period symmetry breaks).  The envelope in (mode_split, phase_error)
+ * continues that point as a curve from the sweeps along the box's edges.
+ * Checked: one separation_fold curve, box to box; its end on the axis
+ * phase_error = 0 against the sweep's located event there (and the
+ * documented 1.94717 %); two interior points against sweeps in mode_split
+ * across the curve at their phase error (the sweep's own continuation and
+ * location of max |lambda| = 1 on its arc).  Tolerances: 1e-7 of the box's
+ * side on the axis, 1e-6 inside: the sweep's location at such a branch point
+ * is good to ~3e-7 of this side (1e-10 of the mode split; measured against
+ * max |lambda| of orbits solved either side, docs/envelope.md).
+ */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "usm.h"
+#include "usm_envelope.h"
+#include "usm_periodic.h"
+#include "usm_periodic_sweep.h"
+
+#include "check.h"
+
+#define MS_LO 0.0185
+#define MS_HI 0.0195
+
+/* The mode split of the sweep's stability_change of kind fold of the
+ * orbit with separation at phase error pe (NaN when none). */
+static double sweep_fold(const usm_model *m, double pe)
+{
+    usm_params p;
+    usm_params_default(&p);
+    p.phase_error = pe;
+    usm_periodic_sweep *s = usm_periodic_sweep_alloc(m);
+    usm_periodic_sweep_options o;
+    usm_periodic_sweep_options_default(&o);
+    o.over = "mode_split";
+    o.from = 0.0194;
+    o.to = MS_HI;
+    o.points = 3;
+    double v = NAN;
+    const int rc = usm_periodic_sweep_run(s, &p, &o);
+    CHECK(rc == USM_OK, "sweep in mode_split at phase_error %g: %s", pe,
+          usm_periodic_sweep_message(s));
+    for (size_t i = 0; rc == USM_OK && i < usm_periodic_sweep_event_count(s); ++i) {
+        const usm_periodic_event *ev = usm_periodic_sweep_event_at(s, i);
+        if (ev->type == USM_PEVENT_STABILITY_CHANGE && ev->kind == USM_CROSSING_FOLD &&
+            ev->has_hybrid) {
+            v = ev->value;
+            break;
+        }
+    }
+    usm_periodic_sweep_free(s);
+    return v;
+}
+
+int main(void)
+{
+    const usm_model *m = usm_model_variant("4dof", "imperfect_unilateral");
+    const clock_t c0 = clock();
+    usm_params p;
+    usm_params_default(&p);
+    usm_envelope_options o;
+    usm_envelope_options_default(&o);
+    o.x = (usm_envelope_axis){"mode_split", MS_LO, MS_HI};
+    o.y = (usm_envelope_axis){"phase_error", 0.0, 0.02};
+    o.raster = 8;
+    usm_envelope *e = usm_envelope_alloc(m);
+    CHECK(m && e, "model and envelope");
+    const int rc = usm_envelope_run(e, &p, &o);
+    CHECK(rc == USM_OK, "envelope: %s", usm_envelope_message(e));
+    const usm_envelope_curve *fold = NULL;
+    int nfold = 0;
+    for (size_t i = 0; i < usm_envelope_curve_count(e); ++i) {
+        const usm_envelope_curve *c = usm_envelope_curve_at(e, i);
+        const char *name = usm_envelope_kind_name(c->kind);
+        if (name && strcmp(name, "separation_fold") == 0) {
+            fold = c;
+            ++nfold;
+        }
+    }
+    CHECK(nfold == 1, "one separation_fold curve (%d)", nfold);
+    if (!fold)
+        return failures != 0;
+    CHECK(fold->npoints >= 4, "points on the curve (%zu)", fold->npoints);
+    CHECK(fold->end[0] == USM_ENVELOPE_END_BOX && fold->end[1] == USM_ENVELOPE_END_BOX,
+          "box to box (%s, %s)", usm_envelope_end_name(fold->end[0]),
+          usm_envelope_end_name(fold->end[1]));
+    const double side = MS_HI - MS_LO;
+    /* the end on the axis phase_error = 0 */
+    const double *axis = NULL;
+    for (size_t i = 0; i < fold->npoints; i += fold->npoints - 1)
+        if (fold->xy[2 * i + 1] == 0.0)
+            axis = fold->xy + 2 * i;
+    CHECK(axis != NULL, "the curve ends on phase_error = 0");
+    if (axis) {
+        const double v = sweep_fold(m, 0.0);
+        CHECK(fabs(axis[0] - v) <= 1e-7 * side, "on the axis: curve %.12g, sweep %.12g (%.2g of "
+              "the side)", axis[0], v, fabs(axis[0] - v) / side);
+        CHECK(fabs(axis[0] - 0.019471712) <= 5e-9, "the documented 1.9471712 %%: %.12g",
+              axis[0]);
+        printf("axis: curve %.12g sweep %.12g: %.2g of the side\n", axis[0], v,
+               fabs(axis[0] - v) / side);
+    }
+    /* two interior points */
+    int inner = 0;
+    for (size_t i = 1; i + 1 < fold->npoints && inner < 2; ++i) {
+        const double x = fold->xy[2 * i], y = fold->xy[2 * i + 1];
+        const double v = sweep_fold(m, y);
+        CHECK(fabs(x - v) <= 1e-6 * side, "phase_error %.9g: curve %.12g, sweep %.12g (%.2g "
+              "of the side)", y, x, v, fabs(x - v) / side);
+        printf("phase_error %.9g: curve %.12g sweep %.12g: %.2g of the side\n", y, x, v,
+               fabs(x - v) / side);
+        ++inner;
+    }
+    CHECK(inner == 2, "two interior points (%d)", inner);
+    usm_envelope_free(e);
+    printf("CPU %.2f s\n", (double)(clock() - c0) / CLOCKS_PER_SEC);
+    return failures != 0;
+}
