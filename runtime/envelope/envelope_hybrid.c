@@ -561,7 +561,14 @@ static int trace(usm_envelope *e, hprob *pb, const hseed *s)
     o.h_max = fmin(H_MAX, e->opt.h_max > 0 ? 2.5 * e->opt.h_max : H_MAX);
     o.h_min = H_MIN;
     o.newton_max = 8;
-    o.newton_tol = NEWTON_TOL;
+    /* relative to the parameters' size where the box is small against them
+     * (envelope_periodic.c's stick_loss alike): the map's noise near the
+     * multiplier leaves ~1e-10 of the mode split (1.95 %) in the updates, and
+     * at 1e-8 of a side of 0.015 % the steps shrank to h_min */
+    double rel = 1.0;
+    for (int a = 0; a < 2; ++a)
+        rel = fmax(rel, fmax(fabs(e->lo[a]), fabs(e->hi[a])) / (e->hi[a] - e->lo[a]));
+    o.newton_tol = NEWTON_TOL * rel;
     o.event_tol = 1e-10;
     o.across_fold = 1;
     o.max_steps = 20 * e->opt.max_points;

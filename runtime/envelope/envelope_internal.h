@@ -120,4 +120,10 @@ struct usm_periodic_event;
 int env_hybrid_seed(usm_envelope *e, int edge, const struct usm_periodic_event *ev);
 int env_hybrid_curves(usm_envelope *e, int run);
 
+/* envelope_hybrid_regions.c: a unilateral model's region whose bilateral
+ * orbit's contact opens (or that has none) classed by the orbit with
+ * separation from rest at its sample (`separating`, `separating_unstable`);
+ * r unchanged but for the message where there is none. */
+void env_hybrid_classify(usm_envelope *e, usm_envelope_region *r);
+
 #endif /* USM_ENVELOPE_INTERNAL_H */

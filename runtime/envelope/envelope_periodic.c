@@ -942,6 +942,10 @@ int env_periodic_classify(usm_envelope *e, usm_envelope_region *r)
                      how, c >= 0 ? fl->re[c] : NAN, c >= 0 ? fl->im[c] : NAN, mod, res.F_n_min,
                      res.friction_needed_max);
     }
+    /* the unilateral model's orbit with separation: envelope_hybrid_regions.c */
+    if (e->m->unilateral && (strcmp(r->class_name, "contact_open") == 0 ||
+                             strcmp(r->class_name, "no_orbit") == 0))
+        env_hybrid_classify(e, r);
     usm_periodic_free(w);
     return USM_OK;
 }

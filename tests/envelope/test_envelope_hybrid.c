@@ -11,7 +11,11 @@
  * phase_error = 0 against the sweep's located event there (and the
  * documented 1.94717 %); two interior points against sweeps in mode_split
  * across the curve at their phase error (the sweep's own continuation and
- * location of max |lambda| = 1 on its arc).  Tolerances: 1e-7 of the box's
+ * location of max |lambda| = 1 on its arc); the regions on either side, whose
+ * bilateral orbit's contact is open: `separating` (the orbit with
+ * separation from rest, stable) left of the curve (before: contact_open),
+ * `separating_unstable` right of it should the raster give that thin strip
+ * a region.  Tolerances: 1e-7 of the box's
  * side on the axis, 1e-6 inside: the sweep's location at such a branch point
  * is good to ~3e-7 of this side (1e-10 of the mode split; measured against
  * max |lambda| of orbits solved either side, docs/envelope.md).
@@ -77,6 +81,7 @@ int main(void)
     CHECK(m && e, "model and envelope");
     const int rc = usm_envelope_run(e, &p, &o);
     CHECK(rc == USM_OK, "envelope: %s", usm_envelope_message(e));
+    printf("envelope: %.2f s CPU\n", (double)(clock() - c0) / CLOCKS_PER_SEC);
     const usm_envelope_curve *fold = NULL;
     int nfold = 0;
     for (size_t i = 0; i < usm_envelope_curve_count(e); ++i) {
@@ -122,6 +127,33 @@ int main(void)
         ++inner;
     }
     CHECK(inner == 2, "two interior points (%d)", inner);
+    /* the regions on either side: the orbit with separation, stable left of
+     * the curve (smaller mode split) and unstable right of it, where the
+     * bilateral orbit's class was contact_open */
+    int left = 0, right = 0;
+    for (size_t i = 0; i < usm_envelope_region_count(e); ++i) {
+        const usm_envelope_region *r = usm_envelope_region_at(e, i);
+        /* the curve's mode split at the sample's phase error, by its chords */
+        double xc = NAN;
+        for (size_t k = 0; k + 1 < fold->npoints; ++k) {
+            const double *a = fold->xy + 2 * k, *b = a + 2;
+            if ((a[1] - r->y) * (b[1] - r->y) <= 0 && a[1] != b[1])
+                xc = a[0] + (b[0] - a[0]) * (r->y - a[1]) / (b[1] - a[1]);
+        }
+        printf("region %s at (%.9g, %.9g): %s\n", r->class_name, r->x, r->y, r->message);
+        if (!isfinite(xc) || r->x < xc) {
+            left += strcmp(r->class_name, "separating") == 0;
+            CHECK(strcmp(r->class_name, "separating") == 0, "left of the curve: %s",
+                  r->class_name);
+        } else {
+            right += strcmp(r->class_name, "separating_unstable") == 0;
+            CHECK(strcmp(r->class_name, "separating_unstable") == 0, "right of the curve: %s",
+                  r->class_name);
+        }
+    }
+    /* the strip right of the curve (2.8 % of the side at most) is no region
+     * of this raster: left only (both: docs/envelope.md) */
+    CHECK(left >= 1, "regions left %d, right %d", left, right);
     usm_envelope_free(e);
     printf("CPU %.2f s\n", (double)(clock() - c0) / CLOCKS_PER_SEC);
     return failures != 0;
