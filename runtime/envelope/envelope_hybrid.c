@@ -73,11 +73,12 @@
 /* The orbit has the half-period symmetry where the half map's residual is
  * below this (of the scales): its orbit is good to 1e-7 or better */
 #define SYM_TOL 1e-5
+/* The longest step (the box's sides 1) */
+#define H_MAX 0.25
 /* The corrector's tolerance (scaled; the box's sides 1): the map's noise
  * near a multiplier +1 leaves the updates at ~1e-9, where a tolerance of
  * 1e-9 halved the steps to h_min (the sweep's corrector stops at 1e-8 too) */
 #define NEWTON_TOL 1e-8
-#define H_MAX 0.05
 #define H_MIN 1e-7
 #define BOX_PAD 1e-9
 /* A seed within this (box's sides 1) of a traced curve's end lies on it */
@@ -557,8 +558,11 @@ static int trace(usm_envelope *e, hprob *pb, const hseed *s)
     if (!(pb->c = usm_cont_alloc(pb->N - 1)))
         return -1;
     usm_cont_options_default(&o);
-    o.h0 = 0.2 * H_MAX;
-    o.h_max = fmin(H_MAX, e->opt.h_max > 0 ? 2.5 * e->opt.h_max : H_MAX);
+    o.h0 = 0.5 * e->opt.h_max;
+    /* the envelope's longest step (default 0.02) as the other periodic
+     * curves take it, 2.5 times: the curves of orbits are smooth and each
+     * point costs some 16 maps with the monodromy */
+    o.h_max = fmin(H_MAX, 2.5 * e->opt.h_max);
     o.h_min = H_MIN;
     o.newton_max = 8;
     /* relative to the parameters' size where the box is small against them

@@ -15,10 +15,15 @@
  * bilateral orbit's contact is open: `separating` (the orbit with
  * separation from rest, stable) left of the curve (before: contact_open),
  * `separating_unstable` right of it should the raster give that thin strip
- * a region.  Tolerances: 1e-7 of the box's
- * side on the axis, 1e-6 inside: the sweep's location at such a branch point
- * is good to ~3e-7 of this side (1e-10 of the mode split; measured against
- * max |lambda| of orbits solved either side, docs/envelope.md).
+ * a region.  Tolerances: 1e-7 of the box's side on the axis (measured
+ * 2e-8), 3e-6 inside (measured 3e-8 to 1.7e-6 with other steps): at this
+ * symmetry-breaking point the orbits' max |lambda| scatters by ~3e-6 over
+ * 1e-9 of the mode split (orbits solved 1.6e-9 apart: 1.000003 below the
+ * crossing, 1.0000004 above it), so the curve and the sweep's event agree
+ * to about that, 1e-9 of the mode split (5e-8 of its value), 1e-6 of this
+ * box's side of 0.1 %.  The fold where the branch turns back (F0 at 2.5 %
+ * mode split) agrees to 1e-9 of its box's side (docs/envelope.md), but its
+ * edge sweeps cost 8 s.
  */
 #include <math.h>
 #include <stdio.h>
@@ -120,7 +125,7 @@ int main(void)
     for (size_t i = 1; i + 1 < fold->npoints && inner < 2; ++i) {
         const double x = fold->xy[2 * i], y = fold->xy[2 * i + 1];
         const double v = sweep_fold(m, y);
-        CHECK(fabs(x - v) <= 1e-6 * side, "phase_error %.9g: curve %.12g, sweep %.12g (%.2g "
+        CHECK(fabs(x - v) <= 3e-6 * side, "phase_error %.9g: curve %.12g, sweep %.12g (%.2g "
               "of the side)", y, x, v, fabs(x - v) / side);
         printf("phase_error %.9g: curve %.12g sweep %.12g: %.2g of the side\n", y, x, v,
                fabs(x - v) / side);
