@@ -189,7 +189,10 @@ typedef struct usm_envelope_region {
     char class_name[32];     /* usm_point_op_class_name(cls); imperfect models: the
                                 periodic orbit's "stick_admissible", "stick_lost",
                                 "contact_open", "contact_closed" (slip models),
-                                "squeal", "unstable" or "no_orbit" */
+                                "squeal", "unstable" or "no_orbit"; unilateral
+                                models, where the bilateral orbit's contact
+                                opens: "separating" or "separating_unstable"
+                                (the orbit with separation from rest) */
     int root;                /* the operating point's root index, or -1 */
     int roots;               /* stationary roots at the sample */
     char message[USM_MSG_LEN];
