@@ -87,6 +87,7 @@
 #define APPROACH_STEPS 10
 
 typedef struct hseed {
+    int kind;                    /* separation_fold or separation_stability */
     int edge;                    /* 0 x = lo, 1 x = hi, 2 y = lo, 3 y = hi */
     double x, y;                 /* the fold's located value on the edge */
     double ox, oy;               /* where the start orbit is */
@@ -377,11 +378,17 @@ int env_hybrid_seed(usm_envelope *e, int edge, const usm_periodic_event *ev)
                                   : (edge == 2 ? e->lo[1] : e->hi[1]);
     double v, vo;
     const usm_hybrid_result *r;
+    int kind = USM_ENVELOPE_SEPARATION_FOLD;
     if (!ev->has_hybrid)
         return 0;
     if (ev->type == USM_PEVENT_STABILITY_CHANGE && ev->kind == USM_CROSSING_FOLD) {
         v = vo = ev->value;
         r = &ev->hybrid;
+    } else if (ev->type == USM_PEVENT_STABILITY_CHANGE &&
+               ev->kind == USM_CROSSING_PERIOD_DOUBLING && e->opt.stability) {
+        v = vo = ev->value;
+        r = &ev->hybrid;
+        kind = USM_ENVELOPE_SEPARATION_STABILITY;
     } else if (ev->type == USM_PEVENT_BRANCH_SWITCH && ev->branch_lost &&
                isfinite(ev->branch_end) && strstr(ev->what, "at a fold") != NULL) {
         v = ev->branch_end;
@@ -398,6 +405,7 @@ int env_hybrid_seed(usm_envelope *e, int edge, const usm_periodic_event *ev)
         return -1;
     hseed *s = &hs->s[hs->n++];
     memset(s, 0, sizeof *s);
+    s->kind = kind;
     s->edge = edge;
     s->x = axis == 0 ? v : fixed;
     s->y = axis == 0 ? fixed : v;
@@ -412,7 +420,7 @@ static int on_curve(const usm_envelope *e, const hseed *s)
 {
     for (size_t c = 0; c < e->ncurves; ++c) {
         const usm_envelope_curve *cv = &e->curves[c].pub;
-        if (cv->kind != USM_ENVELOPE_SEPARATION_FOLD || cv->npoints == 0)
+        if ((int)cv->kind != s->kind || cv->npoints == 0)
             continue;
         for (size_t i = 0; i < cv->npoints; i += cv->npoints - 1 > 0 ? cv->npoints - 1 : 1) {
             const double *p = cv->xy + 2 * i;
@@ -455,7 +463,7 @@ static int push(hbuf *b, const hprob *pb, const double *z)
     return 0;
 }
 
-static int keep(usm_envelope *e, hbuf *b, usm_envelope_end e1)
+static int keep(usm_envelope *e, int kind, hbuf *b, usm_envelope_end e1)
 {
     if (b->n < 2) {
         free(b->xy);
@@ -467,7 +475,7 @@ static int keep(usm_envelope *e, hbuf *b, usm_envelope_end e1)
     env_curve *cv = &e->curves[e->ncurves++];
     memset(cv, 0, sizeof *cv);
     cv->xy = b->xy;
-    cv->pub.kind = USM_ENVELOPE_SEPARATION_FOLD;
+    cv->pub.kind = (usm_envelope_kind)kind;
     cv->pub.npoints = b->n;
     cv->pub.xy = cv->xy;
     cv->pub.end[0] = USM_ENVELOPE_END_BOX;
@@ -543,8 +551,10 @@ static int trace(usm_envelope *e, hprob *pb, const hseed *s)
     const int okh = shoot(pb, z0, Fh, J) == 0;
     for (int a = 0; okh && a < pb->nr; ++a)
         res = fmax(res, fabs(Fh[a]) / pb->scale[a]);
-    pb->half = okh && res <= SYM_TOL;
-    pb->shift = 0.0;
+    /* a multiplier -1 of the period map: A = B + I on it (r is regular there,
+     * B - I invertible; on the half map it would be a pair +-i) */
+    pb->half = okh && res <= SYM_TOL && s->kind == USM_ENVELOPE_SEPARATION_FOLD;
+    pb->shift = s->kind == USM_ENVELOPE_SEPARATION_STABILITY ? 2.0 : 0.0;
     if (pb->half)
         pb->shift = sigma_min(pb, J, 2.0) < sigma_min(pb, J, 0.0) ? 2.0 : 0.0;
     else
@@ -633,7 +643,7 @@ static int trace(usm_envelope *e, hprob *pb, const hseed *s)
         if (refresh_borders(pb, zs, 0) != 0)
             break;
     }
-    if (rc == 0 && keep(e, &b, end) != 0)
+    if (rc == 0 && keep(e, s->kind, &b, end) != 0)
         rc = -1;
 done:
     free(b.xy);
