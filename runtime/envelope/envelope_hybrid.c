@@ -2,7 +2,10 @@
  * imperfect_unilateral) continued in two parameters: the curve kind
  * separation_fold, where the orbit with separation has a multiplier +1 (the
  * periodic sweep's `fold` of the followed orbit with separation: its
- * stability_change of kind fold, or the fold its branch ends at).
+ * stability_change of kind fold, or the fold its branch ends at); and
+ * separation_stability, its period doubling (a multiplier -1: the sweep's
+ * stability_change of kind period_doubling of it), the same system with A =
+ * B + I on the period map.
  *
  * The orbit is a fixed point of the event-driven map from the section time
  * t0 inside a closed phase (usm_hybrid_shoot, solve/hybrid_internal.h: the
