@@ -40,6 +40,8 @@ struct usm_envelope {
     usm_envelope_region *regions;
     size_t nregions, regioncap;
     int *label;                 /* raster x raster: region index, -1 on a curve */
+    struct env_hseeds *hseeds;  /* the edge sweeps' folds of orbits with separation
+                                   (envelope_hybrid.c) */
     char msg[USM_MSG_LEN];
 };
 
@@ -110,5 +112,21 @@ int env_periodic_classify(usm_envelope *e, usm_envelope_region *r);
  * memory. */
 int env_periodic_stability_trace(usm_envelope *e, usm_periodic *w, int edge, int crossing,
                                  double x, double y, const double *x0);
+
+/* envelope_hybrid.c: the folds of the orbits with separation (unilateral
+ * models), curve kind separation_fold.  env_hybrid_seed keeps the event ev
+ * of the sweep along edge `edge` (0 x = lo, 1 x = hi, 2 y = lo, 3 y = hi)
+ * when it is such a fold (0, or -1 when out of memory); env_hybrid_curves
+ * traces the kept seeds' curves when run is 1, and frees them (USM_OK, or
+ * USM_EFAILED with e->msg when out of memory). */
+struct usm_periodic_event;
+int env_hybrid_seed(usm_envelope *e, int edge, const struct usm_periodic_event *ev);
+int env_hybrid_curves(usm_envelope *e, int run);
+
+/* envelope_hybrid_regions.c: a unilateral model's region whose bilateral
+ * orbit's contact opens (or that has none) classed by the orbit with
+ * separation from rest at its sample (`separating`, `separating_unstable`);
+ * r unchanged but for the message where there is none. */
+void env_hybrid_classify(usm_envelope *e, usm_envelope_region *r);
 
 #endif /* USM_ENVELOPE_INTERNAL_H */

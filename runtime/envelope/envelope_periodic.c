@@ -362,6 +362,8 @@ static int edge_seeds(usm_envelope *e, int edge, pseed **s, size_t *n, size_t *c
     } else
         for (size_t i = 0; i < usm_periodic_sweep_event_count(sw) && rc == USM_OK; ++i) {
             const usm_periodic_event *ev = usm_periodic_sweep_event_at(sw, i);
+            if (e->m->unilateral && env_hybrid_seed(e, edge, ev) != 0)
+                rc = USM_EFAILED;
             const int kind = ev->type == USM_PEVENT_CONTACT_LOSS  ? USM_ENVELOPE_CONTACT_LOSS
                              : ev->type == USM_PEVENT_STICK_LOSS ? USM_ENVELOPE_STICK_LOSS
                              : ev->type == USM_PEVENT_STABILITY_CHANGE &&
@@ -763,6 +765,9 @@ int env_periodic_curves(usm_envelope *e)
             snprintf(e->msg, sizeof e->msg, "out of memory for the curves");
             rc = USM_EFAILED;
         }
+    /* the folds of the orbits with separation: envelope_hybrid.c */
+    if (env_hybrid_curves(e, rc == USM_OK) != USM_OK)
+        rc = USM_EFAILED;
     if (rc == USM_OK && e->ncurves == 0 && sweep_msg[0])
         snprintf(e->msg, sizeof e->msg, "%s", sweep_msg);
     free(s);
@@ -931,6 +936,10 @@ int env_periodic_classify(usm_envelope *e, usm_envelope_region *r)
                      how, c >= 0 ? fl->re[c] : NAN, c >= 0 ? fl->im[c] : NAN, mod, res.F_n_min,
                      res.friction_needed_max);
     }
+    /* the unilateral model's orbit with separation: envelope_hybrid_regions.c */
+    if (e->m->unilateral && (strcmp(r->class_name, "contact_open") == 0 ||
+                             strcmp(r->class_name, "no_orbit") == 0))
+        env_hybrid_classify(e, r);
     usm_periodic_free(w);
     return USM_OK;
 }

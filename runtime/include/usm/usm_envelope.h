@@ -109,13 +109,19 @@ typedef enum {
     USM_ENVELOPE_STABILITY = 4,
     USM_ENVELOPE_FRICTION_SATURATION = 5,
     USM_ENVELOPE_CONTACT_LOSS = 6,   /* imperfect models: the orbit's F_n_min = 0 */
-    USM_ENVELOPE_STICK_LOSS = 7      /* imperfect stick models: friction_needed_max = mu0 */
+    USM_ENVELOPE_STICK_LOSS = 7,     /* imperfect stick models: friction_needed_max = mu0 */
+    USM_ENVELOPE_SEPARATION_FOLD = 8, /* unilateral models: a multiplier +1 of the orbit with
+                                         separation (the periodic sweep's `fold` of it: the
+                                         branch turns back, or its symmetry breaks) */
+    USM_ENVELOPE_SEPARATION_STABILITY = 9 /* unilateral models: a multiplier -1 of the orbit
+                                             with separation (the sweep's stability_change of
+                                             kind period_doubling of it) */
 } usm_envelope_kind;
-#define USM_ENVELOPE_NKINDS 8
+#define USM_ENVELOPE_NKINDS 10
 
 /* "tilt_zero", "fold", "stick_limit", "stall", "stability",
- * "friction_saturation", "contact_loss", "stick_loss"; NULL for another
- * value. */
+ * "friction_saturation", "contact_loss", "stick_loss", "separation_fold",
+ * "separation_stability"; NULL for another value. */
 const char *usm_envelope_kind_name(usm_envelope_kind kind);
 
 /* One axis of the box: parameter `name` from lo to hi (lo < hi). */
@@ -192,7 +198,10 @@ typedef struct usm_envelope_region {
     char class_name[32];     /* usm_point_op_class_name(cls); imperfect models: the
                                 periodic orbit's "stick_admissible", "stick_lost",
                                 "contact_open", "contact_closed" (slip models),
-                                "squeal", "unstable" or "no_orbit" */
+                                "squeal", "unstable" or "no_orbit"; unilateral
+                                models, where the bilateral orbit's contact
+                                opens: "separating" or "separating_unstable"
+                                (the orbit with separation from rest) */
     int root;                /* the operating point's root index, or -1 */
     int roots;               /* stationary roots at the sample */
     char message[USM_MSG_LEN];
