@@ -39,9 +39,9 @@ echo "== configure and build ${targets[*]} (REGENERATE=OFF${generator[*]:+, ${ge
 # are short, so the whole check takes 106 instead of 128 CPU-seconds (measured
 # side by side); the error the tests must notice does not depend on it.  No -g
 # either: debug information is a third of the compile's CPU.  The kernels too
-# at -O0 (USM_KERNELS_O3=OFF): the first build 32 -> 18 CPU-seconds, each
+# at -O0 (USM_KERNEL_FLAGS empty): the first build 32 -> 18 CPU-seconds, each
 # mutant's 1.8 -> 1.1, and the four tests no slower (3.6 s a round)
-cmake -S "$tmp/src" -B "$build" "${generator[@]}" -DUSM_REGENERATE=OFF -DUSM_KERNELS_O3=OFF \
+cmake -S "$tmp/src" -B "$build" "${generator[@]}" -DUSM_REGENERATE=OFF -DUSM_KERNEL_FLAGS= \
       -DCMAKE_BUILD_TYPE=Debug -DCMAKE_C_FLAGS_DEBUG=-O0 \
       -DCMAKE_C_COMPILER="$cc" \
       > "$tmp/configure.log" 2>&1 || { cat "$tmp/configure.log"; fail "configure"; }
