@@ -41,7 +41,8 @@ static void usage(FILE *out)
             "  --lines N           interior seed lines per direction (default 3)\n"
             "  --nodes N           full searches per seed line (default 9)\n"
             "  --raster N          cells per side of the regions' raster (default 120)\n"
-            "  --no-stability      no stability curves (no Floquet multipliers on the way)\n"
+            "  --no-stability      no stability curves (no Floquet multipliers on the way; the\n"
+            "                      imperfect motor: nor its orbits' folds)\n"
             "  --t0 S              start of the Floquet period [s] (default 0)\n");
     cli_floquet_usage(out);
     cli_from_rest_usage(out);

@@ -40,6 +40,8 @@ struct usm_envelope {
     usm_envelope_region *regions;
     size_t nregions, regioncap;
     int *label;                 /* raster x raster: region index, -1 on a curve */
+    struct env_hseeds *hseeds;  /* the edge sweeps' folds of orbits with separation
+                                   (envelope_hybrid.c) */
     char msg[USM_MSG_LEN];
 };
 
@@ -99,13 +101,32 @@ int env_regions(usm_envelope *e);
 int env_periodic_curves(usm_envelope *e);
 int env_periodic_classify(usm_envelope *e, usm_envelope_region *r);
 
-/* envelope_periodic_stability.c: the imperfect models' stability curve
- * through the stability_change event of the sweep along edge `edge` (0 x =
- * lo, 1 x = hi, 2 y = lo, 3 y = hi) at (x, y), the orbit's state x0 there,
+/* envelope_periodic_stability.c: the imperfect models' curve of the
+ * critical multiplier through the sweep's event along edge `edge` (0 x =
+ * lo, 1 x = hi, 2 y = lo, 3 y = hi) at (x, y): crossing
+ * USM_CROSSING_NEIMARK_SACKER or PERIOD_DOUBLING (kind stability) or FOLD
+ * (kind fold; x0 then an orbit of the branch near the fold, (x, y) its
+ * parameters, the fold found from it with the edge's parameter held),
  * continued into the box on w (usm_periodic_alloc of e->m) and kept as a
  * curve of e.  0 (also when it is lost at its start), or -1 when out of
  * memory. */
-int env_periodic_stability_trace(usm_envelope *e, usm_periodic *w, int edge, double x, double y,
-                                 const double *x0);
+int env_periodic_stability_trace(usm_envelope *e, usm_periodic *w, int edge, int crossing,
+                                 double x, double y, const double *x0);
+
+/* envelope_hybrid.c: the folds of the orbits with separation (unilateral
+ * models), curve kind separation_fold.  env_hybrid_seed keeps the event ev
+ * of the sweep along edge `edge` (0 x = lo, 1 x = hi, 2 y = lo, 3 y = hi)
+ * when it is such a fold (0, or -1 when out of memory); env_hybrid_curves
+ * traces the kept seeds' curves when run is 1, and frees them (USM_OK, or
+ * USM_EFAILED with e->msg when out of memory). */
+struct usm_periodic_event;
+int env_hybrid_seed(usm_envelope *e, int edge, const struct usm_periodic_event *ev);
+int env_hybrid_curves(usm_envelope *e, int run);
+
+/* envelope_hybrid_regions.c: a unilateral model's region whose bilateral
+ * orbit's contact opens (or that has none) classed by the orbit with
+ * separation from rest at its sample (`separating`, `separating_unstable`);
+ * r unchanged but for the message where there is none. */
+void env_hybrid_classify(usm_envelope *e, usm_envelope_region *r);
 
 #endif /* USM_ENVELOPE_INTERNAL_H */

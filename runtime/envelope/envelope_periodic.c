@@ -66,6 +66,7 @@
 
 #include "core/grow.h"
 #include "envelope_internal.h"
+#include "envelope_periodic_problem.h"
 #include "solve/periodic_internal.h"
 #include "usm_periodic_sweep.h"
 
@@ -121,6 +122,10 @@ typedef struct pseed {
     int edge; /* 0 x = lo, 1 x = hi, 2 y = lo, 3 y = hi */
     double x, y;
     double x0[USM_MAX_NX];
+    /* stability and fold seeds: the sweep's crossing kind; a fold's x0 is
+     * the branch's orbit nearest it, at (sx, sy) */
+    int crossing;
+    double sx, sy;
 } pseed;
 
 typedef struct penv {
@@ -132,9 +137,7 @@ typedef struct penv {
     int swap;                 /* 0 z = (x*, t*, px, py), 1 z = (x*, t*, py, px) */
     int k, N;                 /* non-cyclic states; unknowns k + 3 */
     int idx[USM_MAX_NX];
-    /* z's columns of the twist rate (in phidot's place), theta and psidot;
-     * tw -1: z holds the state as it is */
-    int tw, th, psd;
+    env_twist twist;          /* the twist rate in phidot's place */
     double rate_step;         /* q's rate: its central difference's step */
     double xfull[USM_MAX_NX]; /* the cyclic components (a gauge) */
     double scale[PMAX];
@@ -157,13 +160,7 @@ static void p_xy(const penv *pb, const double *z, double *px, double *py)
 static void p_unpack(const penv *pb, const double *z, double *x0, usm_params *q)
 {
     double px, py;
-    memcpy(x0, pb->xfull, sizeof(double) * (size_t)pb->e->m->nx);
-    for (int a = 0; a < pb->k; ++a)
-        x0[pb->idx[a]] = z[a];
-    if (pb->tw >= 0) {
-        const usm_model *m = pb->e->m;
-        x0[m->x_phidot] = z[pb->tw] - x0[m->x_psidot] * cos(x0[m->x_theta]);
-    }
+    env_twist_unpack(&pb->twist, pb->e->m, pb->idx, pb->k, pb->xfull, z, x0);
     p_xy(pb, z, &px, &py);
     *q = pb->e->p;
     *usm_params_field(q, pb->e->ax[0]) = px;
@@ -213,7 +210,7 @@ static int residual(const double *z, double *F, double *J, void *ctx)
 {
     penv *pb = ctx;
     const int k = pb->k, N = pb->N, ja = k + 1, jb = k + 2;
-    double x0[USM_MAX_NX], rp[USM_MAX_NX], rm[USM_MAX_NX], ct[USM_MAX_NX];
+    double x0[USM_MAX_NX], ct[USM_MAX_NX];
     double Jk[USM_MAX_NX * (USM_MAX_NX + 1)];
     usm_params q;
     pb->have_shot_z = 0;
@@ -227,17 +224,10 @@ static int residual(const double *z, double *F, double *J, void *ctx)
          * each from two shots of the state alone: a difference against the
          * full shot, which takes other steps, is noisy at 1e-9 of the
          * scales over the step */
-        for (int j = ja; j <= jb; ++j) {
-            const double d = FD_REL * pb->scale[j];
-            usm_params qp = q, qm = q;
-            *usm_params_field(&qp, col_param(pb, j)) += d;
-            *usm_params_field(&qm, col_param(pb, j)) -= d;
-            if (usm_periodic_shoot_state(pb->w, &qp, x0, rp) != USM_OK ||
-                usm_periodic_shoot_state(pb->w, &qm, x0, rm) != USM_OK)
+        for (int j = ja; j <= jb; ++j)
+            if (env_param_column(pb->w, &q, col_param(pb, j), FD_REL * pb->scale[j], x0, k, J, N,
+                                 j) != 0)
                 return -1;
-            for (int a = 0; a < k; ++a)
-                J[a * N + j] = (rp[a] - rm[a]) / (2 * d);
-        }
         if (usm_periodic_shoot(pb->w, &q, NULL, 0.0, x0, F, Jk) != USM_OK ||
             usm_periodic_shoot_t0_column(pb->w, ct) != USM_OK)
             return -1;
@@ -245,13 +235,7 @@ static int residual(const double *z, double *F, double *J, void *ctx)
             for (int b = 0; b < k; ++b)
                 J[a * N + b] = Jk[a * (k + 1) + b];
             J[a * N + k] = ct[a];
-            if (pb->tw >= 0) {
-                /* phidot = w - psidot cos(theta): the chain rule */
-                const usm_model *m = pb->e->m;
-                const double jw = J[a * N + pb->tw];
-                J[a * N + pb->th] += jw * x0[m->x_psidot] * sin(x0[m->x_theta]);
-                J[a * N + pb->psd] -= jw * cos(x0[m->x_theta]);
-            }
+            env_twist_chain(&pb->twist, pb->e->m, x0, J + a * N);
         }
     } else if (usm_periodic_shoot(pb->w, &q, NULL, 0.0, x0, F, NULL) != USM_OK)
         return -1;
@@ -331,12 +315,9 @@ static double test_box(const double *z, const double *dz, void *ctx)
     (void)dz;
     const ptest *t = ctx;
     const penv *pb = t->pb;
-    double v[2];
-    p_xy(pb, z, &v[0], &v[1]);
-    const int a = t->side / 2;
-    const usm_envelope *e = pb->e;
-    const double pad = BOX_PAD * (e->hi[a] - e->lo[a]);
-    return t->side % 2 == 0 ? v[a] - (e->lo[a] - pad) : (e->hi[a] + pad) - v[a];
+    double px, py;
+    p_xy(pb, z, &px, &py);
+    return env_box_test(pb->e, t->side, px, py, BOX_PAD);
 }
 
 static int add_seed(pseed **s, size_t *n, size_t *cap, int kind, int edge, double x, double y,
@@ -348,8 +329,8 @@ static int add_seed(pseed **s, size_t *n, size_t *cap, int kind, int edge, doubl
     memset(d, 0, sizeof *d);
     d->kind = kind;
     d->edge = edge;
-    d->x = x;
-    d->y = y;
+    d->x = d->sx = x;
+    d->y = d->sy = y;
     memcpy(d->x0, x0, sizeof(double) * (size_t)nx);
     return 0;
 }
@@ -381,18 +362,53 @@ static int edge_seeds(usm_envelope *e, int edge, pseed **s, size_t *n, size_t *c
     } else
         for (size_t i = 0; i < usm_periodic_sweep_event_count(sw) && rc == USM_OK; ++i) {
             const usm_periodic_event *ev = usm_periodic_sweep_event_at(sw, i);
+            if (e->m->unilateral && env_hybrid_seed(e, edge, ev) != 0)
+                rc = USM_EFAILED;
             const int kind = ev->type == USM_PEVENT_CONTACT_LOSS  ? USM_ENVELOPE_CONTACT_LOSS
                              : ev->type == USM_PEVENT_STICK_LOSS ? USM_ENVELOPE_STICK_LOSS
-                             /* a fold's is the branch's end: not followed */
                              : ev->type == USM_PEVENT_STABILITY_CHANGE &&
                                      ev->kind != USM_CROSSING_FOLD && e->opt.stability
                                  ? USM_ENVELOPE_STABILITY
+                             : ev->type == USM_PEVENT_FOLD && e->opt.stability
+                                 ? USM_ENVELOPE_FOLD
                                  : -1;
+            const double x = axis == 0 ? ev->value : fixed, y = axis == 0 ? fixed : ev->value;
+            if (kind == USM_ENVELOPE_FOLD) {
+                /* the fold has no orbit: the branch's orbit nearest it */
+                const usm_periodic_result *near = NULL;
+                double at = NAN;
+                for (size_t j = 0; j < i; ++j) {
+                    const usm_periodic_event *ej = usm_periodic_sweep_event_at(sw, j);
+                    if (ej->has_orbit && ej->orbit.converged &&
+                        !(fabs(ej->value - ev->value) >= fabs(at - ev->value))) {
+                        near = &ej->orbit;
+                        at = ej->value;
+                    }
+                }
+                for (size_t j = 0; j < usm_periodic_sweep_count(sw); ++j) {
+                    const usm_periodic_point *pj = usm_periodic_sweep_point_at(sw, j);
+                    if (pj->converged && !(fabs(pj->value - ev->value) >= fabs(at - ev->value))) {
+                        near = &pj->orbit;
+                        at = pj->value;
+                    }
+                }
+                if (!near)
+                    continue;
+                if (add_seed(s, n, cap, kind, edge, x, y, near->x0, e->m->nx) != 0) {
+                    rc = USM_EFAILED;
+                    break;
+                }
+                (*s)[*n - 1].crossing = USM_CROSSING_FOLD;
+                (*s)[*n - 1].sx = axis == 0 ? at : fixed;
+                (*s)[*n - 1].sy = axis == 0 ? fixed : at;
+                continue;
+            }
             if (kind < 0 || !ev->has_orbit)
                 continue;
-            const double x = axis == 0 ? ev->value : fixed, y = axis == 0 ? fixed : ev->value;
             if (add_seed(s, n, cap, kind, edge, x, y, ev->orbit.x0, e->m->nx) != 0)
                 rc = USM_EFAILED;
+            else
+                (*s)[*n - 1].crossing = ev->kind;
         }
     usm_periodic_sweep_free(sw);
     return rc;
@@ -593,12 +609,7 @@ static int z_at_extreme(penv *pb, double t, double px, double py, double *z)
     double x[USM_MAX_NX];
     if (usm_periodic_shoot_state_at(pb->w, t, x) != USM_OK)
         return -1;
-    for (int a = 0; a < pb->k; ++a)
-        z[a] = x[pb->idx[a]];
-    if (pb->tw >= 0) {
-        const usm_model *m = pb->e->m;
-        z[pb->tw] = x[m->x_phidot] + x[m->x_psidot] * cos(x[m->x_theta]);
-    }
+    env_twist_pack(&pb->twist, pb->e->m, pb->idx, pb->k, x, z);
     z[pb->k] = t;
     z[axis_col(pb, 0)] = px;
     z[axis_col(pb, 1)] = py;
@@ -632,24 +643,9 @@ static int trace(usm_envelope *e, penv *pb, const pseed *s)
     pb->k = usm_periodic_shoot_layout(pb->w, pb->idx, sc);
     pb->N = pb->k + 3;
     memcpy(pb->xfull, r.x0, sizeof(double) * (size_t)m->nx);
-    pb->tw = pb->th = pb->psd = -1;
-    for (int a = 0; a < pb->k; ++a) {
-        pb->scale[a] = sc[pb->idx[a]];
-        if (m->coordinates == 0 && pb->idx[a] == m->x_phidot)
-            pb->tw = a;
-        if (m->coordinates == 0 && pb->idx[a] == m->x_theta)
-            pb->th = a;
-        if (m->coordinates == 0 && pb->idx[a] == m->x_psidot)
-            pb->psd = a;
-    }
     pb->Omega = 2.0 * 3.14159265358979323846 / r.period;
     pb->h_sample = r.period / USM_PERIODIC_SAMPLES;
-    if (pb->tw >= 0 && pb->th >= 0 && pb->psd >= 0)
-        /* the twist rate's scale as the tilt vector's spin rate's
-         * (solve/periodic.c) */
-        pb->scale[pb->tw] = pb->Omega * sc[m->x_theta];
-    else
-        pb->tw = -1;
+    env_twist_setup(&pb->twist, m, pb->idx, pb->k, sc, pb->Omega, pb->scale);
     pb->scale[pb->k] = 1.0 / pb->Omega;
     pb->rate_step = pb->which == USM_PERIODIC_Q_F_N ? RATE_STEP_F_N : RATE_STEP_STICK;
     pb->gscale = fmax(fabs(r.F_n_max), 1e-300);
@@ -760,15 +756,18 @@ int env_periodic_curves(usm_envelope *e)
                 rc = USM_EFAILED;
             }
         }
-    /* the orbit's stability: envelope_periodic_stability.c */
+    /* the orbit's multipliers, stability and fold: envelope_periodic_stability.c */
     for (size_t i = 0; i < n && rc == USM_OK; ++i)
-        if (s[i].kind == USM_ENVELOPE_STABILITY &&
+        if ((s[i].kind == USM_ENVELOPE_STABILITY || s[i].kind == USM_ENVELOPE_FOLD) &&
             (on_curve(e, &s[i]) ? (e->seeds_dropped++, 0)
-                                : env_periodic_stability_trace(e, pb.w, s[i].edge, s[i].x,
-                                                               s[i].y, s[i].x0) != 0)) {
+                                : env_periodic_stability_trace(e, pb.w, s[i].edge, s[i].crossing,
+                                                               s[i].sx, s[i].sy, s[i].x0) != 0)) {
             snprintf(e->msg, sizeof e->msg, "out of memory for the curves");
             rc = USM_EFAILED;
         }
+    /* the folds of the orbits with separation: envelope_hybrid.c */
+    if (env_hybrid_curves(e, rc == USM_OK) != USM_OK)
+        rc = USM_EFAILED;
     if (rc == USM_OK && e->ncurves == 0 && sweep_msg[0])
         snprintf(e->msg, sizeof e->msg, "%s", sweep_msg);
     free(s);
@@ -937,6 +936,10 @@ int env_periodic_classify(usm_envelope *e, usm_envelope_region *r)
                      how, c >= 0 ? fl->re[c] : NAN, c >= 0 ? fl->im[c] : NAN, mod, res.F_n_min,
                      res.friction_needed_max);
     }
+    /* the unilateral model's orbit with separation: envelope_hybrid_regions.c */
+    if (e->m->unilateral && (strcmp(r->class_name, "contact_open") == 0 ||
+                             strcmp(r->class_name, "no_orbit") == 0))
+        env_hybrid_classify(e, r);
     usm_periodic_free(w);
     return USM_OK;
 }

@@ -16,7 +16,8 @@ const char *usm_envelope_kind_name(usm_envelope_kind kind)
 {
     static const char *const names[] = {"tilt_zero", "fold",      "stick_limit",
                                         "stall",     "stability", "friction_saturation",
-                                        "contact_loss", "stick_loss"};
+                                        "contact_loss", "stick_loss", "separation_fold",
+                                        "separation_stability"};
     return (unsigned)kind < USM_ENVELOPE_NKINDS ? names[kind] : NULL;
 }
 

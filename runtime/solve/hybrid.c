@@ -73,6 +73,8 @@ struct usm_hybrid {
     int chatter;       /* a landing after rebounds was met (message set) */
     int long_run;      /* usm_hybrid_lyapunov: a landing after rebounds is a landing (the
                           simulation's rule), not a failure of the period map */
+    int half;          /* usm_hybrid_shoot maps half a period (usm_hybrid_shoot_half) */
+    int map_half;      /* the current period map's: half, in usm_hybrid_shoot only */
     char seq[USM_HYBRID_MAX_SWITCHES + 1];
     char msg[USM_MSG_LEN];
 };
@@ -425,7 +427,7 @@ static int period_map(usm_hybrid *h, double ts, const double *x0, double *x1, do
 {
     const int nx = h->nx;
     double z[MAXZ];
-    const double t_end = ts + h->T;
+    const double t_end = ts + (h->map_half ? 0.5 : 1.0) * h->T;
     h->mode = 0;
     h->n = nx;
     h->ncol = B ? nx : 0;
@@ -1228,6 +1230,8 @@ static int newton(usm_hybrid *h, const usm_hybrid_options *opt, double ts, doubl
     return USM_OK;
 }
 
+void usm_hybrid_shoot_half(usm_hybrid *h, int half) { h->half = half != 0; }
+
 /* The continuation engine's zero problem (hybrid_internal.h): the map of
  * usm_hybrid_solve_from's Newton at the same scales, so that a point the
  * engine converges is one that solve converges at once. */
@@ -1253,9 +1257,16 @@ int usm_hybrid_shoot(usm_hybrid *h, const usm_params *p, double ts, const double
             id[n++] = i;
     double x1[USM_MAX_NX], B[USM_MAX_NX * USM_MAX_NX];
     h->nsamp = 0;
-    if ((rc = period_map(h, ts, x0, x1, J ? B : NULL, NULL)) != USM_OK)
+    h->map_half = h->half;
+    rc = period_map(h, ts, x0, x1, J ? B : NULL, NULL);
+    h->map_half = 0;
+    if (rc != USM_OK)
         return rc;
     residual(h, id, n, x0, x1, F);
+    /* half a period on, phi has turned by pi (the drive's phase) */
+    for (int a = 0; h->half && a < n; ++a)
+        if (id[a] == h->m->x_phi)
+            F[a] += 0.5 * TWO_PI;
     if (J) {
         /* Phi - dx0/dw (x0 = T^-1 w: phidot = u - psidot) */
         usm_floquet_result f;

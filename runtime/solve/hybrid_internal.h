@@ -23,4 +23,16 @@ int usm_hybrid_shoot(usm_hybrid *h, const usm_params *p, double ts, const double
                      int *idx, int *nr, double *F, double *J, double *max_modulus,
                      double crit[2], double *scale, char seq[USM_HYBRID_MAX_SWITCHES + 1]);
 
+/* half 1: usm_hybrid_shoot maps from ts to ts + T / 2 (F = x(ts + T/2) -
+ * x(ts) on the non-cyclic components, less pi in phi; the drive's phase turns by pi), J that map's monodromy
+ * less I; 0 (the default): the period.  An orbit with the half-period symmetry (the
+ * imperfections force at 2 Omega: both openings of a `cococ` orbit alike)
+ * is a fixed point of the half map, whose multipliers mu are the roots of
+ * the period map's (lambda = mu^2): a multiplier +1 of the period map where
+ * the branch goes on is mu = -1, a symmetry-breaking bifurcation, at which
+ * the period map's fold system is singular and the half map's is not.  The
+ * solve and the period map (usm_hybrid_solve*, usm_hybrid_period_map) are
+ * never affected; set it back to 0 before them. */
+void usm_hybrid_shoot_half(usm_hybrid *h, int half);
+
 #endif /* USM_HYBRID_INTERNAL_H */

@@ -107,6 +107,13 @@ static void reduce(usm_multipliers *w, const double *Psi)
     }
 }
 
+int usm_multipliers_reduced(usm_multipliers *w, const double *Psi, double *R)
+{
+    reduce(w, Psi);
+    memcpy(R, w->R->data, sizeof(double) * (size_t)(w->nk * w->nk));
+    return w->nk;
+}
+
 int usm_multipliers_eigen(usm_multipliers *w, const double *Psi, char msg[USM_MSG_LEN])
 {
     reduce(w, Psi);

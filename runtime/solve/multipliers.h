@@ -31,6 +31,11 @@ void usm_multipliers_free(usm_multipliers *w);
  * coordinates).  0, or -1 when GSL's QR fails. */
 int usm_multipliers_basis(usm_multipliers *w, const double *S);
 
+/* R, the non-cyclic block of Qc^T Psi Qc (nk x nk row-major, nk the
+ * non-cyclic multipliers' count, returned): the monodromy with the cyclic
+ * directions deflated, whose eigenvalues the multipliers are. */
+int usm_multipliers_reduced(usm_multipliers *w, const double *Psi, double *R);
+
 /* The non-cyclic multipliers: the eigenvalues of R from Psi (n x n
  * row-major) and the basis of the last usm_multipliers_basis.  0, or -1 with
  * msg when the eigensolver does not converge. */

@@ -82,6 +82,10 @@ struct usm_periodic {
     double rtol;
     /* eigenproblem without the cyclic directions (solve/multipliers.h) */
     usm_multipliers *mult;
+    /* the balancing D of the last coordinates(), and whether it is held
+     * (usm_periodic_shoot_hold_balance) */
+    double bal[USM_MAX_NX];
+    int hold_bal, have_bal;
     usm_steady *steady;
     double samples[NS * (USM_MAX_NX + 4)];
     int have_samples;
@@ -231,9 +235,15 @@ static int coordinates(usm_periodic *w, const double *x0)
         w->Sinv[i * n + i] = 1.0;
     if (usm_solve_dense(n, T, w->Sinv) != 0 || motion(w, w->t0, x0, xdot, G) != 0)
         return -1;
-    usm_matmul_dense(n, w->S, G, W);
-    usm_matmul_dense(n, W, w->Sinv, G);
-    usm_balance_dense(n, G, d);
+    if (w->hold_bal && w->have_bal)
+        memcpy(d, w->bal, sizeof(double) * (size_t)n);
+    else {
+        usm_matmul_dense(n, w->S, G, W);
+        usm_matmul_dense(n, W, w->Sinv, G);
+        usm_balance_dense(n, G, d);
+        memcpy(w->bal, d, sizeof(double) * (size_t)n);
+        w->have_bal = 1;
+    }
     for (int i = 0; i < n; ++i)
         for (int j = 0; j < n; ++j) {
             w->S[i * n + j] /= d[i];
@@ -1140,6 +1150,22 @@ double usm_periodic_shoot_stick_excess(usm_periodic *w)
 double usm_periodic_shoot_F_n_min(usm_periodic *w)
 {
     return w->have_shot ? exact_extreme(w, Q_F_N, -1.0) : NAN;
+}
+
+int usm_periodic_shoot_multipliers(usm_periodic *w, usm_floquet_result *f)
+{
+    if (!w->have_shot)
+        return USM_EFAILED;
+    return multipliers(w, w->shot_Psi, f);
+}
+
+void usm_periodic_shoot_hold_balance(usm_periodic *w, int hold) { w->hold_bal = hold != 0; }
+
+int usm_periodic_shoot_reduced(usm_periodic *w, double *R)
+{
+    if (!w->have_shot)
+        return -1;
+    return usm_multipliers_reduced(w->mult, w->shot_Psi, R);
 }
 
 double usm_periodic_shoot_max_modulus(usm_periodic *w)

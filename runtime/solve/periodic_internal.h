@@ -88,6 +88,26 @@ double usm_periodic_shoot_stick_excess(usm_periodic *w);
 double usm_periodic_shoot_F_n_min(usm_periodic *w);
 double usm_periodic_shoot_max_modulus(usm_periodic *w);
 
+/* The monodromy of the last shot with the cyclic directions deflated: the
+ * block R of Qc^T Psi Qc (solve/multipliers.h) in the balanced coordinates
+ * of the variational integration, nk x nk row-major (nk the non-cyclic
+ * multipliers, returned; -1 without a shot).  Its eigenvalues are the
+ * multipliers; unlike the physical B (rounded to cond(S) eps, ~1e-5 where
+ * the tilt is 1e-5 rad) it carries the integration's accuracy, for the
+ * envelope's bordered systems on R - mu I. */
+int usm_periodic_shoot_reduced(usm_periodic *w, double *R);
+
+/* The multipliers of the last shot alone (usm_periodic_shoot_result's
+ * floquet without the orbit's outputs and extremes).  USM_OK, or
+ * USM_EFAILED without a shot or when the eigensolver fails. */
+int usm_periodic_shoot_multipliers(usm_periodic *w, usm_floquet_result *f);
+
+/* Hold (1) or release (0) the balancing of the shots' coordinates: held, a
+ * shot keeps the diagonal scaling D of the last one (D is a power of two a
+ * component and jumps between neighbouring states), so that R of nearby
+ * shots is in one smooth basis and its differences are derivatives. */
+void usm_periodic_shoot_hold_balance(usm_periodic *w, int hold);
+
 /* ---- an extreme's time as an unknown (runtime/envelope/envelope_periodic.c) ----
  *
  * Where F_n has two equal minima a period (a symmetry of the imperfections)

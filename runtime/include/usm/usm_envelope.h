@@ -66,12 +66,17 @@
  * periodic sweeps (usm_periodic_sweep.h) along the box's four edges, each
  * from its edge to where it leaves the box (envelope_periodic.c).  A curve
  * point is a solution to the sweep's corrector tolerance (1e-8 in the scaled
- * unknowns).  With the option stability, also `stability`: the orbit's
- * largest non-cyclic Floquet multiplier on the unit circle (g = its
- * modulus minus 1 with the periodicity, in the state at t0 and both
- * parameters), from the edge sweeps' stability_change events other than a
- * fold; where the critical multiplier is a complex pair (neimark_sacker)
- * the curve's `frequency` holds its frequency at each point, as the sweep's
+ * unknowns).  With the option stability, also `stability` (a complex pair
+ * e^{+-i omega} of the orbit's non-cyclic Floquet multipliers on the unit
+ * circle, Neimark-Sacker, or a real one at -1) and `fold` (a real one at
+ * +1, where the branch turns): the periodicity plus the bordered test of
+ * R - mu I, R the monodromy with the cyclic directions deflated, mu =
+ * e^{i omega} with omega an unknown (Re g = Im g = 0) or mu = +-1, from
+ * the edge sweeps' stability_change and fold events; codimension-two
+ * points where they meet each other ("fold/stability") or contact_loss /
+ * stick_loss ("stability/contact_loss", ...).  Where the critical
+ * multiplier is a complex pair the curve's `frequency` holds f omega / 2 pi
+ * at each point, as the sweep's
  * squeal frequency (envelope_periodic_stability.c).  Its regions are classified by
  * the periodic orbit there (usm_periodic_solve from the nearest curves'
  * orbits, else the ideal motor, else continued from the box's sides):
@@ -104,13 +109,19 @@ typedef enum {
     USM_ENVELOPE_STABILITY = 4,
     USM_ENVELOPE_FRICTION_SATURATION = 5,
     USM_ENVELOPE_CONTACT_LOSS = 6,   /* imperfect models: the orbit's F_n_min = 0 */
-    USM_ENVELOPE_STICK_LOSS = 7      /* imperfect stick models: friction_needed_max = mu0 */
+    USM_ENVELOPE_STICK_LOSS = 7,     /* imperfect stick models: friction_needed_max = mu0 */
+    USM_ENVELOPE_SEPARATION_FOLD = 8, /* unilateral models: a multiplier +1 of the orbit with
+                                         separation (the periodic sweep's `fold` of it: the
+                                         branch turns back, or its symmetry breaks) */
+    USM_ENVELOPE_SEPARATION_STABILITY = 9 /* unilateral models: a multiplier -1 of the orbit
+                                             with separation (the sweep's stability_change of
+                                             kind period_doubling of it) */
 } usm_envelope_kind;
-#define USM_ENVELOPE_NKINDS 8
+#define USM_ENVELOPE_NKINDS 10
 
 /* "tilt_zero", "fold", "stick_limit", "stall", "stability",
- * "friction_saturation", "contact_loss", "stick_loss"; NULL for another
- * value. */
+ * "friction_saturation", "contact_loss", "stick_loss", "separation_fold",
+ * "separation_stability"; NULL for another value. */
 const char *usm_envelope_kind_name(usm_envelope_kind kind);
 
 /* One axis of the box: parameter `name` from lo to hi (lo < hi). */
@@ -126,7 +137,8 @@ typedef struct usm_envelope_options {
     double h_max;            /* longest continuation step, scaled arclength
                                 (the box's sides have length 1; default 0.02) */
     int max_points;          /* per curve and direction (default 4000) */
-    int stability;           /* 1: stability curves (default 1) */
+    int stability;           /* 1: stability curves (default 1); imperfect models:
+                                also the orbits' fold curves */
     int raster;              /* cells per side of the region raster (default 120) */
     usm_steady_options steady; /* the seeds' full searches and the tilt range */
     double t0;               /* Floquet start time [s] (default 0) */
@@ -186,7 +198,10 @@ typedef struct usm_envelope_region {
     char class_name[32];     /* usm_point_op_class_name(cls); imperfect models: the
                                 periodic orbit's "stick_admissible", "stick_lost",
                                 "contact_open", "contact_closed" (slip models),
-                                "squeal", "unstable" or "no_orbit" */
+                                "squeal", "unstable" or "no_orbit"; unilateral
+                                models, where the bilateral orbit's contact
+                                opens: "separating" or "separating_unstable"
+                                (the orbit with separation from rest) */
     int root;                /* the operating point's root index, or -1 */
     int roots;               /* stationary roots at the sample */
     char message[USM_MSG_LEN];
