@@ -77,6 +77,15 @@
 #define H_MAX 0.25
 #define H_MIN 1e-7
 #define BOX_PAD 1e-9
+/* The Jacobian's costly part (r's parameter columns and g's rows, k + 5
+ * shots of its k + 6) is reused within this (scaled, max norm) of where it
+ * was last computed, the monodromy's block and omega's column always fresh:
+ * the tangent at a step's end then takes the corrector's, and the location
+ * of the box's side the step's.  Its accuracy sets the corrector's rate
+ * only.  In the start, which may come from an orbit away from the curve
+ * (the fold's seed), within JAC_REUSE_START: the last iterations. */
+#define JAC_REUSE 0.05
+#define JAC_REUSE_START 1e-4
 /* Codimension-two tests monitored along a curve. */
 enum { CT_FOLD, CT_PAIR, CT_CONTACT, CT_STICK, CT_N };
 
@@ -99,6 +108,10 @@ typedef struct sprob {
     int have_shot_z;
     int tbox[4], tcd[CT_N];
     usm_cont *c_;
+    /* the Jacobian's costly part (r's parameter columns, g's rows) of the
+     * last evaluation at jac_z (have_jac) */
+    double jac_z[SMAX], jac[(USM_MAX_NX + 2) * SMAX];
+    int have_jac, may_reuse;
 } sprob;
 
 static int col_om(const sprob *pb) { return pb->ns ? pb->k : -1; }
@@ -252,7 +265,18 @@ static int s_residual(const double *z, double *F, double *J, void *ctx)
         if (!isfinite(z[j]))
             return -1;
     s_unpack(pb, z, x0, &q);
-    if (J) {
+    int reuse = 0;
+    if (J && pb->have_jac) {
+        double d = 0;
+        for (int j = 0; j < N; ++j)
+            d = fmax(d, fabs(z[j] - pb->jac_z[j]) / pb->scale[j]);
+        reuse = d <= (pb->may_reuse ? JAC_REUSE : JAC_REUSE_START);
+    }
+    if (J && reuse) {
+        for (int j = col_p0(pb); j <= col_p0(pb) + 1; ++j)
+            for (int a = 0; a < k; ++a)
+                J[a * N + j] = pb->jac[a * N + j];
+    } else if (J) {
         /* the parameters' columns first (the state alone keeps nothing) */
         for (int j = col_p0(pb); j <= col_p0(pb) + 1; ++j)
             if (env_param_column(pb->w, &q, s_col_param(pb, j), FD_REL * pb->scale[j], x0, k, J,
@@ -282,6 +306,12 @@ static int s_residual(const double *z, double *F, double *J, void *ctx)
     /* g's columns: R at z + h e_j in the same coordinates */
     double zs[SMAX];
     int rc = 0;
+    if (reuse) {
+        for (int i = k; i < pb->neq; ++i)
+            for (int j = 0; j < N; ++j)
+                J[i * N + j] = pb->jac[i * N + j];
+        goto omega;
+    }
     memcpy(zs, z, sizeof(double) * (size_t)N);
     usm_periodic_shoot_hold_balance(pb->w, 1);
     for (int j = 0; j < N && rc == 0; ++j) {
@@ -301,6 +331,10 @@ static int s_residual(const double *z, double *F, double *J, void *ctx)
     usm_periodic_shoot_hold_balance(pb->w, 0);
     if (rc != 0)
         return -1;
+    memcpy(pb->jac, J, sizeof(double) * (size_t)(pb->neq * N));
+    memcpy(pb->jac_z, z, sizeof(double) * (size_t)N);
+    pb->have_jac = 1;
+omega:
     if (pb->ns) {
         /* dA/domega = -i mu I: dg = -w^H dA v / (w^H b) with the adjoint's
          * normalisation c^H... here w solves [A^H c; b^H 0][w; .] = [0; 1],
@@ -330,6 +364,8 @@ static void renew_borders(sprob *pb, const double *z)
     }
     if (!(nv > 0) || !(nw > 0) || !isfinite(nv) || !isfinite(nw))
         return;
+    /* g is another function with other borders: its rows are redone */
+    pb->have_jac = 0;
     for (int i = 0; i < pb->nk; ++i) {
         pb->c[i] = v[i] / sqrt(nv);
         pb->b[i] = wl[i] / sqrt(nw);
@@ -505,8 +541,10 @@ static int s_run(sprob *pb, const double *z0, int dir, sbuf *b, usm_envelope_end
             goto done;
         }
     }
+    pb->may_reuse = 0;
     if (usm_cont_start(pb->c_, z0, dir) != 0)
         goto done;
+    pb->may_reuse = 1;
     o.chord = 1;
     if (usm_cont_set_options(pb->c_, &o) != 0) {
         rc = -1;
