@@ -35,7 +35,11 @@
  * parameters (two shots of the state alone each), as contact_loss's; g's
  * by forward differences, one more shot a column (R at z + h e_j, with the
  * coordinates' balancing held so that both R are in one basis), omega's in
- * closed form (dg/domega = i mu w^H v, no shot).
+ * closed form (dg/domega = i mu w^H v, no shot).  The costly part (all
+ * but the monodromy's block and omega's column) is reused within JAC_REUSE
+ * of where it was computed, until the borders change: one Jacobian a step
+ * (chord Newton at the predicted point; the tangent at the step's end and
+ * the location of the box's side take it), half the curves' time.
  *
  * Seeds: the edge sweeps' stability_change events (neimark_sacker,
  * period_doubling) with their orbits, and their fold events (no orbit
