@@ -47,6 +47,7 @@ do for [fmt in 'png svg'] {
        csv using (column(xcol)):(line('stability')) with lines lw 2 lc rgb '#e6550d' title 'stability', \
        csv using (column(xcol)):(line('separation_fold')) with lines lw 2 dt 4 lc rgb '#a50f15' title 'separation_fold', \
        csv using (column(xcol)):(line('separation_stability')) with lines lw 2 dt 4 lc rgb '#e6550d' title 'separation_stability', \
+       csv using (column(xcol)):(line('separation_grazing')) with lines lw 2 dt 5 lc rgb '#31a354' title 'separation_grazing', \
        csv using (column(xcol)):(starts('codim2:') ? column(ycol) : NaN) with points pt 13 ps 1.6 lc rgb '#000000' title 'codimension two', \
        csv using (column(xcol)):(starts('sample:') ? column(ycol) : NaN):(label_of(0)) with labels font ',9' notitle
   unset output

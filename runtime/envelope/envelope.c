@@ -434,7 +434,8 @@ int env_kind_applies(const usm_envelope *e, int kind)
 {
     /* the periodic orbit's: envelope_periodic.c */
     if (kind == USM_ENVELOPE_CONTACT_LOSS || kind == USM_ENVELOPE_STICK_LOSS ||
-        kind == USM_ENVELOPE_SEPARATION_FOLD || kind == USM_ENVELOPE_SEPARATION_STABILITY)
+        kind == USM_ENVELOPE_SEPARATION_FOLD || kind == USM_ENVELOPE_SEPARATION_STABILITY ||
+        kind == USM_ENVELOPE_SEPARATION_GRAZING)
         return 0;
     if (kind == USM_ENVELOPE_STICK_LIMIT)
         return !e->m->slip;

@@ -415,6 +415,8 @@ int env_hybrid_seed(usm_envelope *e, int edge, const usm_periodic_event *ev)
     double v, vo;
     const usm_hybrid_result *r;
     int kind = USM_ENVELOPE_SEPARATION_FOLD;
+    if (env_grazing_seed(e, edge, ev) != 0)
+        return -1;
     if (!ev->has_hybrid)
         return 0;
     if (ev->type == USM_PEVENT_STABILITY_CHANGE && ev->kind == USM_CROSSING_FOLD) {
@@ -703,10 +705,10 @@ done:
 int env_hybrid_curves(usm_envelope *e, int run)
 {
     struct env_hseeds *hs = e->hseeds;
-    int rc = USM_OK;
+    int rc = env_grazing_curves(e, run);
     e->hseeds = NULL;
     if (!hs)
-        return USM_OK;
+        return rc;
     if (run) {
         hprob pb;
         memset(&pb, 0, sizeof pb);

@@ -42,6 +42,8 @@ struct usm_envelope {
     int *label;                 /* raster x raster: region index, -1 on a curve */
     struct env_hseeds *hseeds;  /* the edge sweeps' folds of orbits with separation
                                    (envelope_hybrid.c) */
+    struct env_gseeds *gseeds;  /* their branch ends where the closed phases vanish
+                                   (envelope_hybrid_grazing.c) */
     char msg[USM_MSG_LEN];
 };
 
@@ -122,6 +124,13 @@ int env_periodic_stability_trace(usm_envelope *e, usm_periodic *w, int edge, int
 struct usm_periodic_event;
 int env_hybrid_seed(usm_envelope *e, int edge, const struct usm_periodic_event *ev);
 int env_hybrid_curves(usm_envelope *e, int run);
+
+/* envelope_hybrid_grazing.c: where the orbit with separation's closed
+ * phases vanish, curve kind separation_grazing; called from the two above
+ * alike (env_hybrid_seed passes every event, env_hybrid_curves runs and
+ * frees the kept seeds). */
+int env_grazing_seed(usm_envelope *e, int edge, const struct usm_periodic_event *ev);
+int env_grazing_curves(usm_envelope *e, int run);
 
 /* envelope_hybrid_regions.c: a unilateral model's region whose bilateral
  * orbit's contact opens (or that has none) classed by the orbit with

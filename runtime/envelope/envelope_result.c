@@ -17,7 +17,7 @@ const char *usm_envelope_kind_name(usm_envelope_kind kind)
     static const char *const names[] = {"tilt_zero", "fold",      "stick_limit",
                                         "stall",     "stability", "friction_saturation",
                                         "contact_loss", "stick_loss", "separation_fold",
-                                        "separation_stability"};
+                                        "separation_stability", "separation_grazing"};
     return (unsigned)kind < USM_ENVELOPE_NKINDS ? names[kind] : NULL;
 }
 

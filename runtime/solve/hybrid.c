@@ -74,6 +74,16 @@ struct usm_hybrid {
     int long_run;      /* usm_hybrid_lyapunov: a landing after rebounds is a landing (the
                           simulation's rule), not a failure of the period map */
     int half;          /* usm_hybrid_shoot maps half a period (usm_hybrid_shoot_half) */
+    /* the last map's impacts (usm_hybrid_shoot_impacts): time, F_n of the
+     * closed mode just after, and whether the rotor landed */
+    int nimprec;
+    double imp_t[USM_HYBRID_MAX_SWITCHES], imp_fn[USM_HYBRID_MAX_SWITCHES];
+    int imp_lands[USM_HYBRID_MAX_SWITCHES];
+    /* > 0: the map stops just after this impact (usm_hybrid_impact_map),
+     * its time into stop_t and the state after (the first nx entries) into
+     * the map's x1 */
+    int stop_impacts;
+    double stop_t;
     int map_half;      /* the current period map's: half, in usm_hybrid_shoot only */
     char seq[USM_HYBRID_MAX_SWITCHES + 1];
     char msg[USM_MSG_LEN];
@@ -327,6 +337,11 @@ static int switch_at(usm_hybrid *h, double t, double *z)
             return USM_OK;
         }
         h->nimp++;
+        if (h->nimprec < USM_HYBRID_MAX_SWITCHES) {
+            h->imp_t[h->nimprec] = t;
+            h->imp_fn[h->nimprec] = closed_Fn(h, t, xp);
+            h->imp_lands[h->nimprec++] = io.lands;
+        }
         h->vmax = fmax(h->vmax, io.v);
         h->nslip += io.slipping;
         newmode = !io.lands;
@@ -434,10 +449,25 @@ static int period_map(usm_hybrid *h, double ts, const double *x0, double *x1, do
     h->open_total = 0;
     h->vmax = 0;
     h->nsep = h->nimp = h->nslip = h->nmodes = 0;
+    h->nimprec = 0;
     h->bounces = 0;
     h->seq[0] = '\0';
     note_mode(h, 0);
     memcpy(z, x0, sizeof(double) * (size_t)nx);
+    if (h->stop_impacts > 0 && !B && !(closed_Fn(h, ts, x0) >= 0)) {
+        /* the section at an impact after which the closed mode would pull:
+         * the rotor leaves at once (the touch of solve/impact.h), a closed
+         * phase of length 0; the map so goes on smoothly (to first order)
+         * from the closed phase that shrinks to nothing as F_n there falls
+         * to 0, the modes' accelerations being equal where F_n = 0 */
+        double sj[NY * (NY + 1)];
+        h->u->separation(x0, &h->p, sj);
+        memcpy(z, sj + h->u->separation_out.y, sizeof(double) * (size_t)h->ny);
+        h->mode = 1;
+        h->n = h->ny;
+        h->open_since = ts;
+        note_mode(h, 1);
+    }
     /* Phi's columns are perturbations in the spin coordinates w = (.., u =
      * phidot + psidot, .., psidot, ..): Phi(ts) = T^-1, the column of psidot
      * moves psidot at fixed spin.  In x the monodromy has two nearly equal
@@ -488,7 +518,15 @@ static int period_map(usm_hybrid *h, double ts, const double *x0, double *x1, do
             break;
         }
         memcpy(z, N_VGetArrayPointer(h->cv.y), sizeof(double) * (size_t)(h->n + h->n * h->ncol));
+        const int imps = h->nimprec;
         rc = switch_at(h, t, z);
+        if (rc == USM_OK && h->stop_impacts > 0 && h->nimprec == h->stop_impacts &&
+            imps < h->nimprec) {
+            h->stop_t = t;
+            memcpy(x1, z, sizeof(double) * (size_t)nx);
+            usm_cvodes_release(&h->cv);
+            return USM_OK;
+        }
         if (rc == USM_OK && h->nmodes > USM_HYBRID_MAX_SWITCHES) {
             /* the mode sequence names the orbit (the sweep compares it):
              * never a truncated one */
@@ -500,6 +538,11 @@ static int period_map(usm_hybrid *h, double ts, const double *x0, double *x1, do
             rc = setup(h, t, z, q, t_end);
         if (rc == USM_OK && h->nsamp > 0)
             sample_speed(h, t, z);
+    }
+    if (rc == USM_OK && h->stop_impacts > 0) {
+        snprintf(h->msg, USM_MSG_LEN, "fewer than %d impacts from t = %.9g s to %.9g s",
+                 h->stop_impacts, ts, t_end);
+        rc = USM_EFAILED;
     }
     if (rc == USM_OK && h->mode != 0) {
         snprintf(h->msg, USM_MSG_LEN, "the contact is open at the end of the period (t = %.9g s): "
@@ -1231,6 +1274,58 @@ static int newton(usm_hybrid *h, const usm_hybrid_options *opt, double ts, doubl
 }
 
 void usm_hybrid_shoot_half(usm_hybrid *h, int half) { h->half = half != 0; }
+
+int usm_hybrid_impact_map(usm_hybrid *h, const usm_params *p, double ts, const double *x0,
+                          int k, double *x1, double *t1, double *fn0,
+                          char seq[USM_HYBRID_MAX_SWITCHES + 1])
+{
+    usm_hybrid_options o;
+    usm_hybrid_result unused;
+    int rc;
+    usm_hybrid_options_default(&o);
+    if ((rc = check_start(h, p, &o, &unused)) != USM_OK)
+        return rc;
+    if (!isfinite(ts) || !(x0[h->m->x_theta] > 0) || k < 1 || k > USM_HYBRID_MAX_SWITCHES) {
+        snprintf(h->msg, USM_MSG_LEN, "x0: theta must be > 0, ts finite and k in [1, %d]",
+                 USM_HYBRID_MAX_SWITCHES);
+        return USM_EINPUT;
+    }
+    const int ird = h->m->x_phi_Rdot;
+    set_scales(h, x0[h->m->x_theta], ird >= 0 ? x0[ird] : h->Omega * x0[h->m->x_theta]);
+    h->nsamp = 0;
+    h->map_half = 0;
+    h->stop_impacts = k;
+    if (fn0)
+        *fn0 = closed_Fn(h, ts, x0);
+    /* the k-th impact comes about k / 2 periods on (two a period): room for
+     * it to come late */
+    const double T = h->T;
+    h->T = (0.5 * k + 1.0) * T;
+    rc = period_map(h, ts, x0, x1, NULL, NULL);
+    h->T = T;
+    h->stop_impacts = 0;
+    if (rc != USM_OK)
+        return rc;
+    if (t1)
+        *t1 = h->stop_t;
+    if (seq)
+        memcpy(seq, h->seq, sizeof h->seq);
+    return USM_OK;
+}
+
+int usm_hybrid_shoot_impacts(const usm_hybrid *h, double *t, double *fn, int *lands, int max)
+{
+    const int n = h->nimprec < max ? h->nimprec : max;
+    for (int k = 0; k < n; ++k) {
+        if (t)
+            t[k] = h->imp_t[k];
+        if (fn)
+            fn[k] = h->imp_fn[k];
+        if (lands)
+            lands[k] = h->imp_lands[k];
+    }
+    return h->nimprec;
+}
 
 /* The continuation engine's zero problem (hybrid_internal.h): the map of
  * usm_hybrid_solve_from's Newton at the same scales, so that a point the

@@ -35,4 +35,30 @@ int usm_hybrid_shoot(usm_hybrid *h, const usm_params *p, double ts, const double
  * never affected; set it back to 0 before them. */
 void usm_hybrid_shoot_half(usm_hybrid *h, int half);
 
+/* The impacts of the last period map (usm_hybrid_shoot's, or any other):
+ * their count, and of the first max of them, in order, the time into t, F_n
+ * of the closed mode at the state just after the impact into fn (what the
+ * landing rule of solve/impact.h tests: the rotor lands where it is >= 0)
+ * and whether the rotor landed into lands (each may be NULL).  F_n just
+ * after the impact that closes a contact phase is the smooth function that
+ * vanishes as that phase shrinks to nothing (envelope_hybrid_grazing.c):
+ * its impact is still there, and still the same one in order, on both
+ * sides. */
+int usm_hybrid_shoot_impacts(const usm_hybrid *h, double *t, double *fn, int *lands, int max);
+
+/* The impact map: from the closed state x0 at ts (the state just after an
+ * impact) to the state just after the k-th impact on (the first nx entries
+ * of the open or closed state: the same closed coordinates whether the
+ * rotor lands or only touches) into x1, its time into *t1, and F_n of the
+ * closed mode at (x0, ts) into *fn0 (NULL allowed).  Where F_n
+ * of the closed mode at (x0, ts) is negative the rotor leaves at once (a
+ * closed phase of length 0).  A section that moves with the orbit's
+ * impact: the stroboscopic map of usm_hybrid_shoot needs its fixed section
+ * time inside a closed phase, which has none left where the closed phases
+ * shrink to nothing.  No monodromy.  USM_OK, or USM_EINPUT / USM_EFAILED
+ * (usm_hybrid_message). */
+int usm_hybrid_impact_map(usm_hybrid *h, const usm_params *p, double ts, const double *x0,
+                          int k, double *x1, double *t1, double *fn0,
+                          char seq[USM_HYBRID_MAX_SWITCHES + 1]);
+
 #endif /* USM_HYBRID_INTERNAL_H */

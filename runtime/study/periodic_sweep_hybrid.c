@@ -671,6 +671,9 @@ static int branch_step(hbranch *b, double v)
      * Jacobian) */
     const double g0 = cached(b, b->xs0) == 0 ? b->mod - 1.0 : NAN;
     const int st = usm_cont_step(b->c);
+    /* the last point on the branch, before a failed resection replaces the
+     * engine (whose point is then no point of the branch) */
+    const double v_last = usm_cont_point(b->c)[b->nr];
     if (st == USM_CONT_LOST && strstr(usm_hybrid_message(b->s->hy), "section") != NULL) {
         /* the last map failed as its section left the closed phase: a new
          * section, and on */
@@ -692,7 +695,7 @@ static int branch_step(hbranch *b, double v)
         }
     }
     if (st != USM_CONT_STEP && st != USM_CONT_END) {
-        branch_ended(b, usm_cont_point(b->c)[b->nr], "Newton fails on its branch past %s%s", "");
+        branch_ended(b, v_last, "Newton fails on its branch past %s%s", "");
         return 0;
     }
     memcpy(x, usm_cont_point(b->c), sizeof(double) * (size_t)N);

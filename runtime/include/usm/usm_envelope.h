@@ -113,15 +113,18 @@ typedef enum {
     USM_ENVELOPE_SEPARATION_FOLD = 8, /* unilateral models: a multiplier +1 of the orbit with
                                          separation (the periodic sweep's `fold` of it: the
                                          branch turns back, or its symmetry breaks) */
-    USM_ENVELOPE_SEPARATION_STABILITY = 9 /* unilateral models: a multiplier -1 of the orbit
-                                             with separation (the sweep's stability_change of
-                                             kind period_doubling of it) */
+    USM_ENVELOPE_SEPARATION_STABILITY = 9, /* unilateral models: a multiplier -1 of the orbit
+                                              with separation (the sweep's stability_change of
+                                              kind period_doubling of it) */
+    USM_ENVELOPE_SEPARATION_GRAZING = 10 /* unilateral models: the orbit with separation's
+                                            closed phases vanish (F_n just after the landing
+                                            impact = 0; past it the rotor only touches) */
 } usm_envelope_kind;
-#define USM_ENVELOPE_NKINDS 10
+#define USM_ENVELOPE_NKINDS 11
 
 /* "tilt_zero", "fold", "stick_limit", "stall", "stability",
  * "friction_saturation", "contact_loss", "stick_loss", "separation_fold",
- * "separation_stability"; NULL for another value. */
+ * "separation_stability", "separation_grazing"; NULL for another value. */
 const char *usm_envelope_kind_name(usm_envelope_kind kind);
 
 /* One axis of the box: parameter `name` from lo to hi (lo < hi). */
