@@ -81,8 +81,9 @@
 #define H_MAX 0.25
 #define H_MIN 1e-7
 #define BOX_PAD 1e-9
-/* The Jacobian's costly part (r's parameter columns and g's rows, k + 5
- * shots of its k + 6) is reused within this (scaled, max norm) of where it
+/* The Jacobian's costly part (r's parameter columns and g's rows: k + 2
+ * of its k + 3 shots with the variational equations and its four of the
+ * state alone) is reused within this (scaled, max norm) of where it
  * was last computed, the monodromy's block and omega's column always fresh:
  * the tangent at a step's end then takes the corrector's, and the location
  * of the box's side the step's.  Its accuracy sets the corrector's rate
