@@ -42,7 +42,9 @@
  * along the null vector for all the state's columns at once, and one
  * difference of it in each parameter: four maps with the monodromy a
  * Jacobian, not nr + 2.  Its accuracy sets Newton's rate only: the points
- * solve the system to the corrector's tolerance.
+ * solve the system to the corrector's tolerance.  So the corrector is chord
+ * Newton after the start, and all but the monodromy's block is reused
+ * within JAC_REUSE of where it was computed, until the borders change.
  *
  * Seeds: the edge sweeps' (envelope_periodic.c) stability_change events of
  * kind fold of an orbit with separation (the located orbit is the start)
@@ -86,6 +88,16 @@
 #define BOX_PAD 1e-9
 /* A seed within this (box's sides 1) of a traced curve's end lies on it */
 #define SAME_TOL 1e-5
+/* The Jacobian's costly part (r's parameter columns and g's row: three
+ * maps with the monodromy and four without) is reused within this (scaled,
+ * max norm) of where it was computed, the monodromy's block always fresh:
+ * after the start the corrector is chord Newton (one Jacobian a step, at
+ * the predicted point) and the tangent at the step's end and the location
+ * of the box's side take that one.  In the start (Newton from the seed's
+ * orbit) within JAC_REUSE_START only: its last iterations.  Its accuracy
+ * sets the corrector's rate only. */
+#define JAC_REUSE 0.05
+#define JAC_REUSE_START 1e-4
 /* Halvings of the distance from a branch's last orbit to its fold */
 #define APPROACH_STEPS 10
 
@@ -114,6 +126,11 @@ typedef struct hprob {
     double bb[USM_MAX_NX], cc[USM_MAX_NX];
     char seq[USM_HYBRID_MAX_SWITCHES + 1], seqc[USM_HYBRID_MAX_SWITCHES + 1];
     usm_cont *c;
+    /* r's parameter columns and g's row of the last Jacobian, at jac_z
+     * (have_jac; dropped with the borders) */
+    double jac_z[HN], jac[(USM_MAX_NX + 1) * HN];
+    int have_jac;
+    double reuse_tol;
 } hprob;
 
 static void h_xy(const hprob *pb, const double *z, double *px, double *py)
@@ -240,6 +257,17 @@ static int residual(const double *z, double *F, double *J, void *ctx)
     F[n] = g;
     if (!J)
         return 0;
+    if (pb->have_jac) {
+        double d = 0;
+        for (int j = 0; j < N; ++j)
+            d = fmax(d, fabs(z[j] - pb->jac_z[j]) / pb->scale[j]);
+        if (d <= pb->reuse_tol) {
+            for (int a = 0; a <= n; ++a)
+                for (int j = 0; j < N; ++j)
+                    J[a * N + j] = a < n && j < n ? Jx[a * n + j] : pb->jac[a * N + j];
+            return 0;
+        }
+    }
     double zp[HN], Fp[USM_MAX_NX], Fm[USM_MAX_NX], Jp[USM_MAX_NX * USM_MAX_NX], u[USM_MAX_NX];
     /* r's parameter columns, and g's by the monodromy there */
     for (int j = n; j < N; ++j) {
@@ -289,6 +317,9 @@ static int residual(const double *z, double *F, double *J, void *ctx)
             s += w[a] / pb->scale[a] * (Jp[a * n + b] - Jx[a * n + b]);
         J[n * N + b] = -s / eps;
     }
+    memcpy(pb->jac, J, sizeof(double) * (size_t)((n + 1) * N));
+    memcpy(pb->jac_z, z, sizeof(double) * (size_t)N);
+    pb->have_jac = 1;
     return 0;
 }
 
@@ -340,6 +371,8 @@ static int refresh_borders(hprob *pb, const double *z, int init)
         pb->cc[a] = v[a] / sqrt(nv);
         pb->bb[a] = w[a] / sqrt(nw);
     }
+    /* g is another function with other borders */
+    pb->have_jac = 0;
     return 0;
 }
 
@@ -530,6 +563,7 @@ static int trace(usm_envelope *e, hprob *pb, const hseed *s)
     double sc[USM_MAX_NX], z0[HN];
     int rc = 0;
     hbuf b = {0};
+    pb->have_jac = 0;
     memset(pb->bb, 0, sizeof pb->bb);
     memset(pb->cc, 0, sizeof pb->cc);
     pb->t0 = s->t0;
@@ -610,8 +644,15 @@ static int trace(usm_envelope *e, hprob *pb, const hseed *s)
         }
     }
     /* into the box: the held parameter away from its edge */
+    pb->reuse_tol = JAC_REUSE_START;
     if (usm_cont_start(pb->c, z0, s->edge % 2 == 0 ? 1 : -1) != 0)
         goto done;
+    pb->reuse_tol = JAC_REUSE;
+    o.chord = 1;
+    if (usm_cont_set_options(pb->c, &o) != 0) {
+        rc = -1;
+        goto done;
+    }
     if (push(&b, pb, usm_cont_point(pb->c)) != 0) {
         rc = -1;
         goto done;

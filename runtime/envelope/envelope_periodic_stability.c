@@ -35,7 +35,11 @@
  * parameters (two shots of the state alone each), as contact_loss's; g's
  * by forward differences, one more shot a column (R at z + h e_j, with the
  * coordinates' balancing held so that both R are in one basis), omega's in
- * closed form (dg/domega = i mu w^H v, no shot).
+ * closed form (dg/domega = i mu w^H v, no shot).  The costly part (all
+ * but the monodromy's block and omega's column) is reused within JAC_REUSE
+ * of where it was computed, until the borders change: one Jacobian a step
+ * (chord Newton at the predicted point; the tangent at the step's end and
+ * the location of the box's side take it), half the curves' time.
  *
  * Seeds: the edge sweeps' stability_change events (neimark_sacker,
  * period_doubling) with their orbits, and their fold events (no orbit
@@ -77,6 +81,16 @@
 #define H_MAX 0.25
 #define H_MIN 1e-7
 #define BOX_PAD 1e-9
+/* The Jacobian's costly part (r's parameter columns and g's rows: k + 2
+ * of its k + 3 shots with the variational equations and its four of the
+ * state alone) is reused within this (scaled, max norm) of where it
+ * was last computed, the monodromy's block and omega's column always fresh:
+ * the tangent at a step's end then takes the corrector's, and the location
+ * of the box's side the step's.  Its accuracy sets the corrector's rate
+ * only.  In the start, which may come from an orbit away from the curve
+ * (the fold's seed), within JAC_REUSE_START: the last iterations. */
+#define JAC_REUSE 0.05
+#define JAC_REUSE_START 1e-4
 /* Codimension-two tests monitored along a curve. */
 enum { CT_FOLD, CT_PAIR, CT_CONTACT, CT_STICK, CT_N };
 
@@ -99,6 +113,10 @@ typedef struct sprob {
     int have_shot_z;
     int tbox[4], tcd[CT_N];
     usm_cont *c_;
+    /* the Jacobian's costly part (r's parameter columns, g's rows) of the
+     * last evaluation at jac_z (have_jac) */
+    double jac_z[SMAX], jac[(USM_MAX_NX + 2) * SMAX];
+    int have_jac, may_reuse;
 } sprob;
 
 static int col_om(const sprob *pb) { return pb->ns ? pb->k : -1; }
@@ -252,7 +270,18 @@ static int s_residual(const double *z, double *F, double *J, void *ctx)
         if (!isfinite(z[j]))
             return -1;
     s_unpack(pb, z, x0, &q);
-    if (J) {
+    int reuse = 0;
+    if (J && pb->have_jac) {
+        double d = 0;
+        for (int j = 0; j < N; ++j)
+            d = fmax(d, fabs(z[j] - pb->jac_z[j]) / pb->scale[j]);
+        reuse = d <= (pb->may_reuse ? JAC_REUSE : JAC_REUSE_START);
+    }
+    if (J && reuse) {
+        for (int j = col_p0(pb); j <= col_p0(pb) + 1; ++j)
+            for (int a = 0; a < k; ++a)
+                J[a * N + j] = pb->jac[a * N + j];
+    } else if (J) {
         /* the parameters' columns first (the state alone keeps nothing) */
         for (int j = col_p0(pb); j <= col_p0(pb) + 1; ++j)
             if (env_param_column(pb->w, &q, s_col_param(pb, j), FD_REL * pb->scale[j], x0, k, J,
@@ -282,6 +311,12 @@ static int s_residual(const double *z, double *F, double *J, void *ctx)
     /* g's columns: R at z + h e_j in the same coordinates */
     double zs[SMAX];
     int rc = 0;
+    if (reuse) {
+        for (int i = k; i < pb->neq; ++i)
+            for (int j = 0; j < N; ++j)
+                J[i * N + j] = pb->jac[i * N + j];
+        goto omega;
+    }
     memcpy(zs, z, sizeof(double) * (size_t)N);
     usm_periodic_shoot_hold_balance(pb->w, 1);
     for (int j = 0; j < N && rc == 0; ++j) {
@@ -301,6 +336,10 @@ static int s_residual(const double *z, double *F, double *J, void *ctx)
     usm_periodic_shoot_hold_balance(pb->w, 0);
     if (rc != 0)
         return -1;
+    memcpy(pb->jac, J, sizeof(double) * (size_t)(pb->neq * N));
+    memcpy(pb->jac_z, z, sizeof(double) * (size_t)N);
+    pb->have_jac = 1;
+omega:
     if (pb->ns) {
         /* dA/domega = -i mu I: dg = -w^H dA v / (w^H b) with the adjoint's
          * normalisation c^H... here w solves [A^H c; b^H 0][w; .] = [0; 1],
@@ -330,6 +369,8 @@ static void renew_borders(sprob *pb, const double *z)
     }
     if (!(nv > 0) || !(nw > 0) || !isfinite(nv) || !isfinite(nw))
         return;
+    /* g is another function with other borders: its rows are redone */
+    pb->have_jac = 0;
     for (int i = 0; i < pb->nk; ++i) {
         pb->c[i] = v[i] / sqrt(nv);
         pb->b[i] = wl[i] / sqrt(nw);
@@ -505,8 +546,10 @@ static int s_run(sprob *pb, const double *z0, int dir, sbuf *b, usm_envelope_end
             goto done;
         }
     }
+    pb->may_reuse = 0;
     if (usm_cont_start(pb->c_, z0, dir) != 0)
         goto done;
+    pb->may_reuse = 1;
     o.chord = 1;
     if (usm_cont_set_options(pb->c_, &o) != 0) {
         rc = -1;
