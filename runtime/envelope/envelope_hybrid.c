@@ -64,6 +64,7 @@
 #include "core/dense.h"
 #include "core/grow.h"
 #include "envelope_internal.h"
+#include "envelope_periodic_problem.h"
 #include "solve/hybrid_internal.h"
 #include "usm_periodic_sweep.h"
 
@@ -482,47 +483,16 @@ static double test_box(const double *z, const double *dz, void *ctx)
 {
     (void)dz;
     const htest *t = ctx;
-    const usm_envelope *e = t->pb->e;
-    double v[2];
-    h_xy(t->pb, z, &v[0], &v[1]);
-    const int a = t->side / 2;
-    const double pad = BOX_PAD * (e->hi[a] - e->lo[a]);
-    return t->side % 2 == 0 ? v[a] - (e->lo[a] - pad) : (e->hi[a] + pad) - v[a];
+    double px, py;
+    h_xy(t->pb, z, &px, &py);
+    return env_box_test(t->pb->e, t->side, px, py, BOX_PAD);
 }
 
-typedef struct hbuf {
-    double *xy;
-    size_t n, cap;
-} hbuf;
-
-static int push(hbuf *b, const hprob *pb, const double *z)
+static int push(env_xy_buf *b, const hprob *pb, const double *z)
 {
-    if (usm_grow((void **)&b->xy, &b->cap, 2 * (b->n + 1), sizeof(double)) != 0)
-        return -1;
-    h_xy(pb, z, &b->xy[2 * b->n], &b->xy[2 * b->n + 1]);
-    b->n++;
-    return 0;
-}
-
-static int keep(usm_envelope *e, int kind, hbuf *b, usm_envelope_end e1)
-{
-    if (b->n < 2) {
-        free(b->xy);
-        memset(b, 0, sizeof *b);
-        return 0;
-    }
-    if (usm_grow((void **)&e->curves, &e->curvecap, e->ncurves + 1, sizeof *e->curves) != 0)
-        return -1;
-    env_curve *cv = &e->curves[e->ncurves++];
-    memset(cv, 0, sizeof *cv);
-    cv->xy = b->xy;
-    cv->pub.kind = (usm_envelope_kind)kind;
-    cv->pub.npoints = b->n;
-    cv->pub.xy = cv->xy;
-    cv->pub.end[0] = USM_ENVELOPE_END_BOX;
-    cv->pub.end[1] = e1;
-    memset(b, 0, sizeof *b);
-    return 0;
+    double px, py;
+    h_xy(pb, z, &px, &py);
+    return env_xy_push(b, px, py);
 }
 
 /* The start orbit of seed s (at (ox, oy)) brought to the fold's value: from
@@ -562,7 +532,7 @@ static int trace(usm_envelope *e, hprob *pb, const hseed *s)
     double x0[USM_MAX_NX], vfree, F[USM_MAX_NX + 1], J[USM_MAX_NX * USM_MAX_NX];
     double sc[USM_MAX_NX], z0[HN];
     int rc = 0;
-    hbuf b = {0};
+    env_xy_buf b = {0};
     pb->have_jac = 0;
     memset(pb->bb, 0, sizeof pb->bb);
     memset(pb->cc, 0, sizeof pb->cc);
@@ -692,7 +662,7 @@ static int trace(usm_envelope *e, hprob *pb, const hseed *s)
         if (refresh_borders(pb, zs, 0) != 0)
             break;
     }
-    if (rc == 0 && keep(e, s->kind, &b, end) != 0)
+    if (rc == 0 && env_keep_xy_curve(e, s->kind, &b, USM_ENVELOPE_END_BOX, end) != 0)
         rc = -1;
 done:
     free(b.xy);

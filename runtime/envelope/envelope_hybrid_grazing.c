@@ -57,6 +57,7 @@
 #include "core/dense.h"
 #include "core/grow.h"
 #include "envelope_internal.h"
+#include "envelope_periodic_problem.h"
 #include "solve/hybrid_internal.h"
 #include "usm_periodic_sweep.h"
 
@@ -233,47 +234,16 @@ static double test_box(const double *z, const double *dz, void *ctx)
 {
     (void)dz;
     const gtest *t = ctx;
-    const usm_envelope *e = t->pb->e;
-    double v[2];
-    g_xy(t->pb, z, &v[0], &v[1]);
-    const int a = t->side / 2;
-    const double pad = BOX_PAD * (e->hi[a] - e->lo[a]);
-    return t->side % 2 == 0 ? v[a] - (e->lo[a] - pad) : (e->hi[a] + pad) - v[a];
+    double px, py;
+    g_xy(t->pb, z, &px, &py);
+    return env_box_test(t->pb->e, t->side, px, py, BOX_PAD);
 }
 
-typedef struct gbuf {
-    double *xy;
-    size_t n, cap;
-} gbuf;
-
-static int push(gbuf *b, const gprob *pb, const double *z)
+static int push(env_xy_buf *b, const gprob *pb, const double *z)
 {
-    if (usm_grow((void **)&b->xy, &b->cap, 2 * (b->n + 1), sizeof(double)) != 0)
-        return -1;
-    g_xy(pb, z, &b->xy[2 * b->n], &b->xy[2 * b->n + 1]);
-    b->n++;
-    return 0;
-}
-
-static int keep(usm_envelope *e, gbuf *b, usm_envelope_end e1)
-{
-    if (b->n < 2) {
-        free(b->xy);
-        memset(b, 0, sizeof *b);
-        return 0;
-    }
-    if (usm_grow((void **)&e->curves, &e->curvecap, e->ncurves + 1, sizeof *e->curves) != 0)
-        return -1;
-    env_curve *cv = &e->curves[e->ncurves++];
-    memset(cv, 0, sizeof *cv);
-    cv->xy = b->xy;
-    cv->pub.kind = USM_ENVELOPE_SEPARATION_GRAZING;
-    cv->pub.npoints = b->n;
-    cv->pub.xy = cv->xy;
-    cv->pub.end[0] = USM_ENVELOPE_END_BOX;
-    cv->pub.end[1] = e1;
-    memset(b, 0, sizeof *b);
-    return 0;
+    double px, py;
+    g_xy(pb, z, &px, &py);
+    return env_xy_push(b, px, py);
 }
 
 /* Newton on the extended system with the last unknown (the edge's
@@ -352,7 +322,7 @@ static int trace(usm_envelope *e, gprob *pb, const gseed *s)
     double x1[USM_MAX_NX], t1;
     int rc = 0;
     usm_cont *c = NULL;
-    gbuf b = {0};
+    env_xy_buf b = {0};
     double ts, xa[USM_MAX_NX], ox, oy;
     approach(pb, s, &ts, xa, &ox, &oy);
     usm_params q = e->p;
@@ -454,7 +424,7 @@ static int trace(usm_envelope *e, gprob *pb, const gseed *s)
         if (steps + 1 == e->opt.max_points)
             end = USM_ENVELOPE_END_LIMIT;
     }
-    if (rc == 0 && keep(e, &b, end) != 0)
+    if (rc == 0 && env_keep_xy_curve(e, USM_ENVELOPE_SEPARATION_GRAZING, &b, USM_ENVELOPE_END_BOX, end) != 0)
         rc = -1;
 done:
     free(b.xy);

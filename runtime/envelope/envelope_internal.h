@@ -93,6 +93,19 @@ int env_add_codim2(usm_envelope *e, const char *type, const double *u, double px
 /* The results of the last run freed and counted 0 (envelope_result.c). */
 void env_clear_result(usm_envelope *e);
 
+/* A curve's points (x, y) as they are traced, for the curves that keep no
+ * state a point (the orbits with separation's). */
+typedef struct env_xy_buf {
+    double *xy;
+    size_t n, cap;
+} env_xy_buf;
+/* (px, py) appended: 0, or -1 when out of memory. */
+int env_xy_push(env_xy_buf *b, double px, double py);
+/* b's points kept as a curve of `kind` with ends e0, e1 (b emptied; fewer
+ * than two points are dropped, no curve): 0, or -1 when out of memory. */
+int env_keep_xy_curve(usm_envelope *e, int kind, env_xy_buf *b, usm_envelope_end e0,
+                      usm_envelope_end e1);
+
 /* envelope_regions.c: the raster, its regions and their classes.  USM_OK,
  * USM_EINPUT or USM_EFAILED with e->msg. */
 int env_regions(usm_envelope *e);

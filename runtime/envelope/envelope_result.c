@@ -109,3 +109,35 @@ void usm_envelope_seed_counts(const usm_envelope *e, size_t *found, size_t *drop
     *found = e->nseeds;
     *dropped = e->seeds_dropped;
 }
+
+int env_xy_push(env_xy_buf *b, double px, double py)
+{
+    if (usm_grow((void **)&b->xy, &b->cap, 2 * (b->n + 1), sizeof(double)) != 0)
+        return -1;
+    b->xy[2 * b->n] = px;
+    b->xy[2 * b->n + 1] = py;
+    b->n++;
+    return 0;
+}
+
+int env_keep_xy_curve(usm_envelope *e, int kind, env_xy_buf *b, usm_envelope_end e0,
+                      usm_envelope_end e1)
+{
+    if (b->n < 2) {
+        free(b->xy);
+        memset(b, 0, sizeof *b);
+        return 0;
+    }
+    if (usm_grow((void **)&e->curves, &e->curvecap, e->ncurves + 1, sizeof *e->curves) != 0)
+        return -1;
+    env_curve *cv = &e->curves[e->ncurves++];
+    memset(cv, 0, sizeof *cv);
+    cv->xy = b->xy;
+    cv->pub.kind = (usm_envelope_kind)kind;
+    cv->pub.npoints = b->n;
+    cv->pub.xy = cv->xy;
+    cv->pub.end[0] = e0;
+    cv->pub.end[1] = e1;
+    memset(b, 0, sizeof *b);
+    return 0;
+}
