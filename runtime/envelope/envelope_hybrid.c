@@ -428,11 +428,8 @@ int env_hybrid_seed(usm_envelope *e, int edge, const usm_periodic_event *ev)
         v = vo = ev->value;
         r = &ev->hybrid;
         kind = USM_ENVELOPE_SEPARATION_STABILITY;
-    } else if (/* the branch's end: the sweep names a fold in its text ("its branch
-                * ends at a fold at ...", study/periodic_sweep_hybrid.c), the event
-                * has no field for how the branch ended */
-               ev->type == USM_PEVENT_BRANCH_SWITCH && ev->branch_lost &&
-               isfinite(ev->branch_end) && strstr(ev->what, "at a fold") != NULL) {
+    } else if (ev->type == USM_PEVENT_BRANCH_SWITCH && ev->branch_lost &&
+               ev->branch_end_how == USM_BRANCH_END_FOLD && isfinite(ev->branch_end)) {
         v = ev->branch_end;
         vo = ev->branch_last;
         r = &ev->hybrid_left;

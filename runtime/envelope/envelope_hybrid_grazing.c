@@ -186,10 +186,9 @@ int env_grazing_seed(usm_envelope *e, int edge, const usm_periodic_event *ev)
     const double fixed = edge < 2 ? (edge == 0 ? e->lo[0] : e->hi[0])
                                   : (edge == 2 ? e->lo[1] : e->hi[1]);
     /* a branch lost as its corrector failed, on an orbit with a closed
-     * phase besides the section's (the sweep's text, as envelope_hybrid.c
-     * reads "at a fold": the event has no field for how the branch ended) */
+     * phase besides the section's */
     if (ev->type != USM_PEVENT_BRANCH_SWITCH || !ev->branch_lost ||
-        strstr(ev->what, "Newton fails") == NULL || !ev->hybrid_left.converged ||
+        ev->branch_end_how != USM_BRANCH_END_NEWTON || !ev->hybrid_left.converged ||
         ev->hybrid_left.nmodes < 5 || ev->hybrid_left.impacts_per_period != 2 ||
         !isfinite(ev->branch_last) || !isfinite(ev->branch_end))
         return 0;

@@ -37,6 +37,17 @@ const char *usm_crossing_name(usm_crossing_kind kind)
     return "";
 }
 
+const char *usm_branch_end_how_name(usm_branch_end_how how)
+{
+    switch (how) {
+    case USM_BRANCH_END_NEWTON: return "newton_fails";
+    case USM_BRANCH_END_FOLD: return "fold";
+    case USM_BRANCH_END_SEQUENCE: return "mode_sequence";
+    case USM_BRANCH_END_NONE: break;
+    }
+    return "";
+}
+
 usm_periodic_event *psweep_event_add(usm_periodic_sweep *s, usm_pevent_type type, double v,
                                       const usm_periodic_result *orbit, const char *fmt, ...)
 {

@@ -97,6 +97,7 @@ typedef struct hbranch {
     int live, ended; /* ended: the branch ended (or was lost) at end_v */
     double end_v, sense;
     char end[256];
+    usm_branch_end_how end_how;
     int npend, jumps, grazings, resections;
     double xs0[USM_MAX_NX + 1], dx0[USM_MAX_NX + 1]; /* the last step's start and direction */
     struct pending {
@@ -225,6 +226,7 @@ static int branch_begin(hbranch *b, double v, const usm_hybrid_result *r, double
     b->npend = b->jumps = b->grazings = b->resections = 0;
     b->end_v = NAN;
     snprintf(b->end, sizeof b->end, "Newton fails on its branch");
+    b->end_how = USM_BRANCH_END_NEWTON;
     b->nx = r->nx;
     b->t0 = r->t0;
     memcpy(b->xs, r->x0, sizeof(double) * (size_t)r->nx);
@@ -491,10 +493,12 @@ static int pend_add(hbranch *b, int grazing, double v, const usm_hybrid_result *
 }
 
 /* The branch's end at x with its reason. */
-static void branch_ended(hbranch *b, double v_end, const char *fmt, const char *seq)
+static void branch_ended(hbranch *b, double v_end, usm_branch_end_how how, const char *fmt,
+                         const char *seq)
 {
     char vt[96];
     b->ended = 1;
+    b->end_how = how;
     b->end_v = v_end;
     psweep_value_text(b->s, v_end, vt);
     snprintf(b->end, sizeof b->end, fmt, vt, seq);
@@ -695,7 +699,8 @@ static int branch_step(hbranch *b, double v)
         }
     }
     if (st != USM_CONT_STEP && st != USM_CONT_END) {
-        branch_ended(b, v_last, "Newton fails on its branch past %s%s", "");
+        branch_ended(b, v_last, USM_BRANCH_END_NEWTON, "Newton fails on its branch past %s%s",
+                     "");
         return 0;
     }
     memcpy(x, usm_cont_point(b->c), sizeof(double) * (size_t)N);
@@ -716,15 +721,17 @@ static int branch_step(hbranch *b, double v)
     memcpy(x, usm_cont_point(b->c), sizeof(double) * (size_t)N);
     const double ve = x[b->nr];
     if (e->test == USM_CONT_FOLD) {
-        branch_ended(b, ve, "its branch ends at a fold at %s%s", "");
+        branch_ended(b, ve, USM_BRANCH_END_FOLD, "its branch ends at a fold at %s%s", "");
         return 0;
     }
     char from[USM_HYBRID_MAX_SWITCHES + 1];
     snprintf(from, sizeof from, "%s", b->seq);
     if (b->grazings++ >= MAX_GRAZINGS || !past_grazing(b, x, b->sense * INFINITY) ||
         usm_cont_start(b->c, x, (int)b->sense) != 0) {
-        branch_ended(b, ve, "its branch ends at %s, where its mode sequence %s changes and no "
-                     "orbit of another continues it", from);
+        branch_ended(b, ve, USM_BRANCH_END_SEQUENCE,
+                     "its branch ends at %s, where its mode sequence %s changes and no "
+                     "orbit of another continues it",
+                     from);
         return 0;
     }
     return pend_add(b, 1, ve, NULL, 1, 0, from, b->seq);
@@ -756,7 +763,7 @@ static int pend_flush(usm_periodic_sweep *s, hbranch *b, double v, double dir,
  * of memory. */
 static int follow(usm_periodic_sweep *s, hbranch *b, double va, const usm_hybrid_result *ra,
                   double v, double dir, usm_hybrid_result *out, double *v_end, char end[256],
-                  double *unstable_from)
+                  usm_branch_end_how *end_how, double *unstable_from)
 {
     double x[USM_MAX_NX + 1];
     *v_end = NAN;
@@ -764,12 +771,13 @@ static int follow(usm_periodic_sweep *s, hbranch *b, double va, const usm_hybrid
         const int rc = branch_begin(b, va, ra, x);
         if (rc != 0) {
             snprintf(end, 256, "%s", b->end);
+            *end_how = b->end_how;
             return rc == -2 ? -1 : 1;
         }
         b->sense = v > va ? 1 : -1;
         b->live = 1;
         if (usm_cont_start(b->c, x, (int)b->sense) != 0)
-            branch_ended(b, va, "Newton fails on its branch at %s%s", "");
+            branch_ended(b, va, USM_BRANCH_END_NEWTON, "Newton fails on its branch at %s%s", "");
     }
     const int n = b->nr;
     /* steps until the branch passes v or ends */
@@ -804,7 +812,7 @@ static int follow(usm_periodic_sweep *s, hbranch *b, double va, const usm_hybrid
                 usm_cont_arc_point(b->c, (v - xa[n]) / (pb - xa[n]) * s_end, x, NULL) == 0 &&
                 usm_cont_correct_fixed(b->c, x, n, v) >= 0 && orbit_at(b, x, ORBIT_TOL, out) == 0)
                 return 0;
-            branch_ended(b, v, "Newton fails on its branch at %s%s", "");
+            branch_ended(b, v, USM_BRANCH_END_NEWTON, "Newton fails on its branch at %s%s", "");
             break;
         }
         if (b->ended)
@@ -816,6 +824,7 @@ static int follow(usm_periodic_sweep *s, hbranch *b, double va, const usm_hybrid
         return -1;
     *v_end = b->end_v;
     snprintf(end, 256, "%s", b->end);
+    *end_how = b->end_how;
     b->live = 0;
     return 1;
 }
@@ -833,6 +842,7 @@ int psweep_separating(usm_periodic_sweep *s, double dir)
     double vl = NAN, v_end = NAN, unstable_from = NAN;
     usm_hybrid_result rl, alt, r;
     char end[256] = "";
+    usm_branch_end_how end_how = USM_BRANCH_END_NONE;
     for (size_t i = 0; i < s->npts && rc == 0; ++i) {
         usm_periodic_point *pt = &s->pts[i];
         pt->separating = pt->switched = 0;
@@ -843,7 +853,8 @@ int psweep_separating(usm_periodic_sweep *s, double dir)
         }
         int on = 0;
         if (have) {
-            const int f = follow(s, &b, vl, &rl, pt->value, dir, &r, &v_end, end, &unstable_from);
+            const int f = follow(s, &b, vl, &rl, pt->value, dir, &r, &v_end, end, &end_how,
+                                  &unstable_from);
             if (f < 0) {
                 rc = -1;
                 break;
@@ -873,6 +884,7 @@ int psweep_separating(usm_periodic_sweep *s, double dir)
                 break;
             }
             s->ev[s->nev - 1].branch_end = v_end;
+            s->ev[s->nev - 1].branch_end_how = end_how;
             pt->switched = 1;
             b.live = 0;
         } else if (on && !(r.floquet.max_modulus < 1) && solve_cold(s, pt->value, &alt) == 0 &&

@@ -149,6 +149,8 @@ static json_t *sweep_json(const usm_periodic_sweep *s, const usm_params *p)
                 usm_json_put(o, "last_value", usm_json_real(e->branch_last), &eok);
                 /* located on the branch (null where it could not be) */
                 usm_json_put(o, "branch_end", usm_json_real(e->branch_end), &eok);
+                usm_json_put(o, "branch_end_how",
+                             json_string(usm_branch_end_how_name(e->branch_end_how)), &eok);
             } else {
                 usm_json_put(o, "unstable_orbit", usm_json_hybrid_result(&e->hybrid_left),
                              &eok);

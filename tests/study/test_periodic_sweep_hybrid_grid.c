@@ -95,6 +95,10 @@ int main(void)
     }
 
     check_grids("branch end (fold)", 0.0206, 0.0191, USM_PEVENT_BRANCH_SWITCH, &e);
+    /* said as a fold in the event's field (the envelope seeds its fold
+     * curves from it), as the multiplier next to it shows below */
+    CHECK(e.branch_end_how == USM_BRANCH_END_FOLD, "the branch's end is \"%s\", not a fold",
+          usm_branch_end_how_name(e.branch_end_how));
     const double ve = e.branch_end;
     p.mode_split = ve + 1e-6;
     ok = usm_hybrid_solve_from(h, &p, NULL, e.hybrid_left.t0, e.hybrid_left.x0, &r1) == USM_OK;

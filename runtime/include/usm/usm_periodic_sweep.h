@@ -138,6 +138,18 @@ const char *usm_pevent_name(usm_pevent_type type);
 /* "", "fold", "period_doubling", "neimark_sacker". */
 const char *usm_crossing_name(usm_crossing_kind kind);
 
+/* How a followed branch of orbits with separation ended (a branch_switch
+ * with branch_lost). */
+typedef enum {
+    USM_BRANCH_END_NONE = 0,        /* not a lost branch */
+    USM_BRANCH_END_NEWTON = 1,      /* Newton failed on it (where, not located) */
+    USM_BRANCH_END_FOLD = 2,        /* it turns back: a fold, located */
+    USM_BRANCH_END_SEQUENCE = 3     /* its mode sequence changes and no orbit continues it */
+} usm_branch_end_how;
+
+/* "", "newton_fails", "fold", "mode_sequence". */
+const char *usm_branch_end_how_name(usm_branch_end_how how);
+
 /* One event located on the branch. */
 typedef struct usm_periodic_event {
     usm_pevent_type type;
@@ -171,6 +183,7 @@ typedef struct usm_periodic_event {
                                    ended, located on it by the continuation (a fold, or a
                                    change of its mode sequence that no orbit continues), NaN
                                    when Newton failed on it before either; 0 on other events */
+    usm_branch_end_how branch_end_how; /* branch_switch with branch_lost: how it ended */
 } usm_periodic_event;
 
 /* One requested grid value and the orbit there. */
