@@ -403,15 +403,9 @@ static int trace(usm_envelope *e, gprob *pb, const gseed *s)
         double zs[GN];
         memcpy(zs, usm_cont_point(c), sizeof(double) * (size_t)pb->N);
         if (st == USM_CONT_END) {
-            const usm_cont_event *ev = usm_cont_event_at(c, usm_cont_event_count(c) - 1);
-            for (int sd = 0; ev && sd < 4; ++sd)
-                if (ev->test == tbox[sd]) {
-                    const int a = sd / 2;
-                    const double side_value = sd % 2 == 0 ? e->lo[a] : e->hi[a];
-                    if (usm_cont_correct_fixed(c, zs, axis_col(pb, a), side_value) < 0)
-                        zs[axis_col(pb, a)] = side_value;
-                    end = USM_ENVELOPE_END_BOX;
-                }
+            const int col[2] = {axis_col(pb, 0), axis_col(pb, 1)};
+            if (env_end_on_side(e, c, tbox, col, zs, pb->N))
+                end = USM_ENVELOPE_END_BOX;
             if (push(&b, pb, zs) != 0)
                 rc = -1;
             break;

@@ -553,21 +553,9 @@ static int run_piece(penv *pb, const double *z0, int dir, int check, pbuf *b,
                 if (isnan(corner_value(pb, zs, t_other)))
                     *end = USM_ENVELOPE_END_LOST;
             } else {
-                int side = -1;
-                for (int sd = 0; ev && sd < 4; ++sd)
-                    if (ev->test == pb->tbox[sd])
-                        side = sd;
+                const int col[2] = {axis_col(pb, 0), axis_col(pb, 1)};
                 *end = USM_ENVELOPE_END_BOX;
-                if (side >= 0) {
-                    const int a = side / 2;
-                    const double side_value = side % 2 == 0 ? e->lo[a] : e->hi[a];
-                    /* where Newton with the side's value held fails, the
-                     * located point (within BOX_PAD of the side) put onto it */
-                    if (usm_cont_correct_fixed(pb->c, zs, axis_col(pb, a), side_value) < 0) {
-                        memcpy(zs, zc_, sizeof(double) * (size_t)N);
-                        zs[axis_col(pb, a)] = side_value;
-                    }
-                }
+                env_end_on_side(e, pb->c, pb->tbox, col, zs, N);
             }
             if (pbuf_push(b, pb, zs) != 0)
                 rc = PIECE_NOMEM;

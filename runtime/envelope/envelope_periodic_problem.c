@@ -62,6 +62,25 @@ double env_box_test(const usm_envelope *e, int side, double px, double py, doubl
     return side % 2 == 0 ? v - (e->lo[a] - p) : (e->hi[a] + p) - v;
 }
 
+int env_end_on_side(const usm_envelope *e, usm_cont *c, const int tbox[4], const int col[2],
+                    double *z, int N)
+{
+    const usm_cont_event *ev = usm_cont_event_at(c, usm_cont_event_count(c) - 1);
+    int side = -1;
+    for (int sd = 0; ev && sd < 4; ++sd)
+        if (ev->test == tbox[sd])
+            side = sd;
+    if (side < 0)
+        return 0;
+    const int a = side / 2;
+    const double v = side % 2 == 0 ? e->lo[a] : e->hi[a];
+    if (usm_cont_correct_fixed(c, z, col[a], v) < 0) {
+        memcpy(z, usm_cont_point(c), sizeof(double) * (size_t)N);
+        z[col[a]] = v;
+    }
+    return 1;
+}
+
 int env_param_column(usm_periodic *w, const usm_params *q, const usm_param_info *info, double d,
                      const double *x0, int k, double *J, int N, int j)
 {

@@ -49,4 +49,13 @@ int env_param_column(usm_periodic *w, const usm_params *q, const usm_param_info 
  * high) at (px, py): positive inside, with the pad outside the box. */
 double env_box_test(const usm_envelope *e, int side, double px, double py, double pad);
 
+/* Where one of the box's side tests (tbox: the engine's test indices, sides
+ * as env_box_test's) is the event that ended the continuation c: its point z
+ * (N unknowns) put onto that side, by Newton with the side's parameter
+ * (column col[a] for axis a) held at the side's value; where Newton fails,
+ * the located point (within the pad of the side) with the value set.  1
+ * when a side ended it, else 0 (z untouched). */
+int env_end_on_side(const usm_envelope *e, usm_cont *c, const int tbox[4], const int col[2],
+                    double *z, int N);
+
 #endif /* USM_ENVELOPE_PERIODIC_PROBLEM_H */

@@ -568,23 +568,9 @@ static int s_run(sprob *pb, const double *z0, int dir, sbuf *b, usm_envelope_end
         double zs[SMAX];
         memcpy(zs, usm_cont_point(pb->c_), sizeof(double) * (size_t)N);
         if (st == USM_CONT_END) {
-            const usm_cont_event *ev =
-                usm_cont_event_at(pb->c_, usm_cont_event_count(pb->c_) - 1);
-            int side = -1;
-            for (int sd = 0; ev && sd < 4; ++sd)
-                if (ev->test == pb->tbox[sd])
-                    side = sd;
+            const int col[2] = {s_axis_col(pb, 0), s_axis_col(pb, 1)};
             *end = USM_ENVELOPE_END_BOX;
-            if (side >= 0) {
-                const int a = side / 2;
-                const double v = side % 2 == 0 ? e->lo[a] : e->hi[a];
-                /* where Newton with the side's value held fails, the located
-                 * point (within BOX_PAD of the side) put onto it */
-                if (usm_cont_correct_fixed(pb->c_, zs, s_axis_col(pb, a), v) < 0) {
-                    memcpy(zs, usm_cont_point(pb->c_), sizeof(double) * (size_t)N);
-                    zs[s_axis_col(pb, a)] = v;
-                }
-            }
+            env_end_on_side(e, pb->c_, pb->tbox, col, zs, N);
             rc = s_push(b, pb, zs);
             break;
         }
